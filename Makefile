@@ -1,0 +1,49 @@
+# Quick start: `make demo` (set up, run the demo on bundled data) and `make test` (set up, run the tests).
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+PIP := $(VENV)/bin/pip
+STAMP_CORE := $(VENV)/.installed-core
+STAMP_ALL := $(VENV)/.installed-all
+DEBIAN_PKGS := chromium espeak-ng
+
+.PHONY: demo test venv install install-all system-deps bench clean
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+	$(PIP) install -q --upgrade pip
+
+$(STAMP_CORE): pyproject.toml | $(PY)
+	$(PIP) install -q -e .
+	touch $@
+
+$(STAMP_ALL): pyproject.toml | $(PY)
+	$(PIP) install -q -e ".[all]"
+	touch $@ $(STAMP_CORE)
+
+install: $(STAMP_CORE)
+install-all: $(STAMP_ALL) system-deps
+
+# Debian packages the browser and speech tests need (installed only when missing and apt is usable).
+system-deps:
+	@missing=""; \
+	command -v chromium >/dev/null 2>&1 || missing="$$missing chromium"; \
+	command -v espeak-ng >/dev/null 2>&1 || missing="$$missing espeak-ng"; \
+	if [ -n "$$missing" ]; then \
+	  if command -v apt-get >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
+	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null) \
+	      || echo "warning: could not install$$missing; the tests that need them will skip"; \
+	  else echo "warning: missing$$missing (not root or no apt); the tests that need them will skip"; fi; \
+	fi
+
+demo: $(STAMP_CORE)
+	$(VENV)/bin/spcotmhp demo --out demo-output
+
+test: install-all
+	$(PY) -m pytest -q
+
+bench: $(STAMP_ALL)
+	$(PY) benchmarks/grid_search.py
+
+clean:
+	rm -rf $(VENV) demo-output .pytest_cache

@@ -1,0 +1,6 @@
+"""SpCoTMHP: spatial concept-based topometric semantic mapping and hierarchical path planning.
+
+Taniguchi, Ito and Taniguchi (2024), Front. Robot. AI 11:1291426.
+"""
+
+__version__ = "0.1.0"

@@ -1,0 +1,170 @@
+"""The learned parameters Theta' = {mu, Sigma, psi, pi, phi, theta, W} and the model terms built from them.
+
+Every term is returned in log space. Equation numbers refer to Taniguchi, Ito and Taniguchi (2024).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+from scipy.special import logsumexp
+
+from spcotmhp.metric.maps import OccupancyMap
+
+LOG_2PI = float(np.log(2.0 * np.pi))
+
+
+@dataclass
+class Hyperparameters:
+    """Prior hyper-parameters (paper Section 5.1; reference-implementation notes for Experiment II).
+
+    alpha: pi ~ DP(alpha) (weak limit: Dir(alpha/L... given per component)); gamma: phi_l ~ DP(gamma);
+    beta: W_l ~ Dir(beta); chi: theta_l ~ Dir(chi); omega: psi_k ~ DP(omega); NIW (m0, kappa0, V0, nu0).
+    The values are per-component Dirichlet parameters as the authors used them (alpha = 10 / L etc.).
+    """
+
+    L: int = 20
+    K: int = 20
+    alpha: float = 0.5
+    gamma: float = 0.05
+    beta: float = 0.1
+    chi: float = 1.0
+    omega: float = 0.5
+    m0: tuple[float, float] = (0.0, 0.0)
+    kappa0: float = 1e-3
+    V0: tuple[tuple[float, float], tuple[float, float]] = ((2.0, 0.0), (0.0, 2.0))
+    nu0: float = 3.0
+
+
+@dataclass
+class SpatialConceptModel:
+    """Learned spatial concepts and places.
+
+    Attributes:
+        mu: (K, 2) place means (topological nodes).  Sigma: (K, 2, 2) place covariances.
+        psi: (K, K) place transitions, psi[a, b] = p(i_e = b | i_{e-1} = a) (rows sum to 1).
+        pi: (L,) concept weights.  phi: (L, K) place given concept.  W: (L, V) word given concept.
+        theta: (L, D) image feature distribution given concept, or None when no features were used.
+        vocabulary: the V words, index = column of W.
+        active_places / active_concepts: boolean masks of the components that hold data (weak-limit truncation
+            leaves the others at prior draws; planning ignores them).
+        hyper: the hyper-parameters used.
+        map: the occupancy map the model was learned on (kept with the model for planning).
+        costmap: cost map settings (inscribed_radius, inflation_radius, cost_scaling_factor).
+        info: free-form provenance (dataset, seed, iterations, selection criterion, ...), JSON-serialisable.
+    """
+
+    mu: np.ndarray
+    Sigma: np.ndarray
+    psi: np.ndarray
+    pi: np.ndarray
+    phi: np.ndarray
+    W: np.ndarray
+    vocabulary: list[str]
+    theta: np.ndarray | None = None
+    active_places: np.ndarray | None = None
+    active_concepts: np.ndarray | None = None
+    hyper: Hyperparameters = field(default_factory=Hyperparameters)
+    map: OccupancyMap | None = None
+    costmap: dict = field(default_factory=lambda: {
+        "inscribed_radius": 0.22, "inflation_radius": 1.0, "cost_scaling_factor": 10.0})
+    info: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.active_places is None:
+            self.active_places = np.ones(self.K, dtype=bool)
+        if self.active_concepts is None:
+            self.active_concepts = np.ones(self.L, dtype=bool)
+
+    # ---- sizes -------------------------------------------------------------------------------------------
+    @property
+    def K(self) -> int:
+        return int(self.mu.shape[0])
+
+    @property
+    def L(self) -> int:
+        return int(self.pi.shape[0])
+
+    @property
+    def word_index(self) -> dict[str, int]:
+        return {w: i for i, w in enumerate(self.vocabulary)}
+
+    # ---- metric / topological terms ----------------------------------------------------------------------
+    def log_place_density(self, x: np.ndarray) -> np.ndarray:
+        """log N(x | mu_k, Sigma_k) for every place k: x (..., 2) -> (..., K) (Eqs. 3, 9, 26)."""
+        return log_gaussian(np.asarray(x, dtype=float), self.mu, self.Sigma)
+
+    def log_place_prior(self) -> np.ndarray:
+        """log p(i = k) = log sum_l pi_l phi_l(k), the marginal place prior; -inf on inactive places."""
+        lp = logsumexp(np.log(self.pi)[:, None] + np.log(self.phi), axis=0)
+        return np.where(self.active_places, lp, -np.inf)
+
+    def place_posterior(self, x: np.ndarray) -> np.ndarray:
+        """p(i_0 = k | x_0) proportional to N(x_0 | mu_k, Sigma_k) p(k), over active places; x (..., 2) -> (..., K)."""
+        lp = self.log_place_density(x) + self.log_place_prior()
+        return np.exp(lp - logsumexp(lp, axis=-1, keepdims=True))
+
+    def log_psi(self) -> np.ndarray:
+        """log psi[a, b] = log Mult(i_e = b | psi_a) (Eq. 9, first factor)."""
+        with np.errstate(divide="ignore"):
+            return np.log(self.psi)
+
+    def log_unigram_rescaling(self) -> np.ndarray:
+        """log sum_c Mult(i | phi_c), the denominator of the unigram rescaling in Eqs. 9 and 28: (K,)."""
+        return logsumexp(np.log(self.phi), axis=0)
+
+    # ---- semantic terms ----------------------------------------------------------------------------------
+    def bag_vector(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
+        """A weighted bag of words (word -> weight, or a token list) as a length-V count vector; unknown words
+        are dropped."""
+        idx = self.word_index
+        vec = np.zeros(len(self.vocabulary))
+        items = bag.items() if isinstance(bag, Mapping) else ((w, 1.0) for w in bag)
+        for w, c in items:
+            if w in idx:
+                vec[idx[w]] += float(c)
+        return vec
+
+    def log_word_likelihood(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
+        """log Mult(S | W_l) for every concept l, up to the multinomial coefficient: (L,) (Eqs. 17, 28)."""
+        return np.log(self.W) @ self.bag_vector(bag)
+
+    def log_semantic(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
+        """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place i: (K,) (Eq. 28, last factor)."""
+        lw = self.log_word_likelihood(bag) + np.log(self.pi)
+        return logsumexp(lw[:, None] + np.log(self.phi), axis=0)
+
+    def log_place_given_words(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
+        """log p(i | S) over active places (normalised), used by the goal-sampling baselines: (K,)."""
+        ls = np.where(self.active_places, self.log_semantic(bag), -np.inf)
+        return ls - logsumexp(ls)
+
+    def place_names(self) -> list[str]:
+        """A readable name per place: the word with the highest rescaled probability
+        sum_l p(l | k) W_l(w) / sum_c W_c(w) (unigram rescaling suppresses function words such as "this")."""
+        lp_lk = np.log(self.pi)[:, None] + np.log(self.phi)            # (L, K) log p(l, k)
+        p_l_given_k = np.exp(lp_lk - logsumexp(lp_lk, axis=0, keepdims=True))
+        rescaled = self.W / self.W.sum(axis=0, keepdims=True)           # (L, V)
+        score = p_l_given_k.T @ rescaled                                # (K, V)
+        return [self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
+                for k, j in enumerate(np.argmax(score, axis=1))]
+
+
+def log_gaussian(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray:
+    """log N(x | mu_k, Sigma_k) for 2-D Gaussians, vectorised: x (..., 2), mu (K, 2), Sigma (K, 2, 2) -> (..., K).
+
+    Uses the closed-form 2x2 inverse and determinant; exact, no underflow.
+    """
+    a = Sigma[:, 0, 0]
+    b = Sigma[:, 0, 1]
+    c = Sigma[:, 1, 0]
+    d = Sigma[:, 1, 1]
+    det = a * d - b * c
+    if np.any(det <= 0):
+        raise ValueError("a place covariance is not positive definite")
+    dx = x[..., None, 0] - mu[:, 0]
+    dy = x[..., None, 1] - mu[:, 1]
+    maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det
+    return -0.5 * (maha + np.log(det)) - LOG_2PI

@@ -1,0 +1,87 @@
+"""The occupancy grid map (metric level) and world <-> cell transforms.
+
+Storage follows nav_msgs/OccupancyGrid: ``data[row, col]`` with row 0 the row at the map origin (the BOTTOM
+row of the map_server image), values 0 (free) .. 100 (occupied) and -1 (unknown).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+FREE = 0
+OCCUPIED = 100
+UNKNOWN = -1
+
+
+@dataclass
+class OccupancyMap:
+    """An occupancy grid in OccupancyGrid order.
+
+    Attributes:
+        data: int8 array (height, width); 0 free, 100 occupied, -1 unknown, 1..99 only in ``scale`` mode.
+        resolution: metres per cell.
+        origin: (x, y, yaw) of the lower-left corner of cell (0, 0) in the map frame; yaw must be 0.
+        mode, negate, occupied_thresh, free_thresh: the map_server settings it was loaded with (kept for saving).
+        source: the YAML file it came from, if any.
+    """
+
+    data: np.ndarray
+    resolution: float
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    mode: str = "trinary"
+    negate: bool = False
+    occupied_thresh: float = 0.65
+    free_thresh: float = 0.196
+    source: Path | None = field(default=None, compare=False)
+
+    @property
+    def height(self) -> int:
+        return int(self.data.shape[0])
+
+    @property
+    def width(self) -> int:
+        return int(self.data.shape[1])
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.height, self.width)
+
+    @property
+    def free(self) -> np.ndarray:
+        """Boolean mask of free cells (value 0)."""
+        return self.data == FREE
+
+    @property
+    def occupied(self) -> np.ndarray:
+        """Boolean mask of occupied cells (value >= 100 after map_server thresholds)."""
+        return self.data >= OCCUPIED
+
+    @property
+    def unknown(self) -> np.ndarray:
+        return self.data < 0
+
+    def world_to_cell(self, xy: np.ndarray) -> np.ndarray:
+        """Map-frame metres (..., 2) as (x, y) -> integer cells (..., 2) as (row, col); may lie off the map."""
+        xy = np.asarray(xy, dtype=float)
+        col = np.floor((xy[..., 0] - self.origin[0]) / self.resolution).astype(np.int64)
+        row = np.floor((xy[..., 1] - self.origin[1]) / self.resolution).astype(np.int64)
+        return np.stack([row, col], axis=-1)
+
+    def cell_to_world(self, rc: np.ndarray) -> np.ndarray:
+        """Cells (..., 2) as (row, col) -> the map-frame coordinates (x, y) of their centres."""
+        rc = np.asarray(rc, dtype=float)
+        x = self.origin[0] + (rc[..., 1] + 0.5) * self.resolution
+        y = self.origin[1] + (rc[..., 0] + 0.5) * self.resolution
+        return np.stack([x, y], axis=-1)
+
+    def in_bounds(self, rc: np.ndarray) -> np.ndarray:
+        rc = np.asarray(rc)
+        return (rc[..., 0] >= 0) & (rc[..., 0] < self.height) & (rc[..., 1] >= 0) & (rc[..., 1] < self.width)
+
+    def cell_centres(self) -> np.ndarray:
+        """World coordinates of every cell centre, shape (height, width, 2)."""
+        rows, cols = np.indices(self.shape)
+        return self.cell_to_world(np.stack([rows, cols], axis=-1))
