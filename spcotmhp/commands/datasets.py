@@ -1,0 +1,102 @@
+"""CLI commands for datasets: list the bundled ones, check any folder."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from spcotmhp.datasets.bundled import bundled_path, data_root, list_bundled
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.datasets.loader import DatasetWarning, available_languages, load_dataset
+
+
+def _n_places(d: Dataset) -> int | None:
+    if d.place_names is not None:
+        return len(d.place_names)
+    return None if d.truth_place is None else len(np.unique(d.truth_place))
+
+
+def _map_size(d: Dataset) -> str:
+    return f"{d.map.height}x{d.map.width} @ {d.map.resolution:g} m"
+
+
+def _load_quietly(path: Path, lang: str) -> tuple[Dataset, list[str]]:
+    """Load, returning the DatasetWarning messages instead of printing them."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DatasetWarning)
+        d = load_dataset(path, lang=lang)
+    return d, [str(w.message) for w in caught if issubclass(w.category, DatasetWarning)]
+
+
+def datasets() -> None:
+    """List the datasets bundled with the package (name, folder, events, places, map size, languages)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    root = data_root()
+    table = Table("name", "folder under data/", "events", "places", "map (cells @ m/cell)", "languages",
+                  "warnings", title=f"bundled datasets in {root}")
+    for name in list_bundled():
+        path = bundled_path(name)
+        langs = available_languages(path)
+        d, caught = _load_quietly(path, langs[0])
+        places = _n_places(d)
+        table.add_row(name, path.relative_to(root).as_posix(), str(d.n_events),
+                      "-" if places is None else str(places), _map_size(d), ",".join(langs), str(len(caught)))
+    Console(width=max(Console().width, 110)).print(table)
+
+
+def check_dataset(
+    folder: Annotated[Path, typer.Argument(help="Dataset folder (map.yaml, teaching.csv, optional extras).")],
+    lang: Annotated[str, typer.Option(help="en, ja, or auto (en when teaching.csv has words_en).")] = "auto",
+    strict: Annotated[bool, typer.Option(help="Exit with status 1 when there are warnings.")] = False,
+) -> None:
+    """Load a dataset folder, print a summary and every warning; errors are one line (exit status 2)."""
+    if lang == "auto":
+        langs = available_languages(folder) if (folder / "teaching.csv").is_file() else []
+        lang = langs[0] if langs else "en"
+    d, caught = _load_quietly(folder, lang)
+    m = d.map
+    free, occupied, unknown = (float(np.mean(mask)) for mask in (m.free, m.occupied, m.unknown))
+    n_words = sum(len(t) for t in d.tokens)
+    lines = [
+        f"dataset     {d.name} ({folder})",
+        (
+            f"map         {m.height} x {m.width} cells at {m.resolution:g} m, origin ({m.origin[0]:g}, "
+            f"{m.origin[1]:g}); {free:.0%} free, {occupied:.0%} occupied, {unknown:.0%} unknown"
+        ),
+        (
+            f"events      {d.n_events} teaching events, lang {d.lang}, {len(d.vocabulary)} distinct words, "
+            f"{n_words / max(d.n_events, 1):.1f} words per event"
+        ),
+        "vocabulary  " + " ".join(d.vocabulary[:30]) + (" ..." if len(d.vocabulary) > 30 else ""),
+    ]
+    if d.features is not None:
+        lines.append(f"features    {d.features.shape[1]}-d per event")
+    if d.trajectory is not None:
+        lines.append(f"trajectory  {len(d.trajectory)} poses; events at steps {d.event_steps[0]}..{d.event_steps[-1]}")
+    if d.truth_place is not None:
+        concepts = "" if d.truth_concept is None else f", {len(np.unique(d.truth_concept))} concepts"
+        lines.append(f"truth       {len(np.unique(d.truth_place))} places{concepts}")
+    if d.place_names is not None:
+        lines.append("places      " + ", ".join(d.place_names))
+    if d.adjacency is not None:
+        edges = int((np.triu(d.adjacency, 1) > 0).sum())
+        lines.append(f"adjacency   {len(d.adjacency)} x {len(d.adjacency)}, {edges} edges")
+    if d.costmap_ros is not None:
+        lines.append(f"costmap     costmap_ros.csv {d.costmap_ros.shape[0]} x {d.costmap_ros.shape[1]}")
+    lines.append(f"warnings    {len(caught)}")
+    lines += [f"  warning: {msg}" for msg in caught]
+    typer.echo("\n".join(lines))
+    if strict and caught:
+        raise typer.Exit(1)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the dataset commands to ``app``."""
+    app.command("datasets")(datasets)
+    app.command("check-dataset")(check_dataset)

@@ -1,0 +1,50 @@
+"""The real datasets shipped inside the package (spcotmhp/data/): SIGVerse homes 3LDK_01/05/06 and albert-b.
+
+A bundled dataset is any folder under spcotmhp/data/ holding a teaching.csv; it is named by its folder name
+("3LDK_01") or by its path under data/ ("sigverse-3ldk/3LDK_01").
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.datasets.loader import load_dataset
+from spcotmhp.errors import DatasetError
+
+
+def data_root() -> Path:
+    """The package's data folder on the file system."""
+    root = resources.files("spcotmhp") / "data"
+    if not isinstance(root, Path):  # e.g. imported from a zip file
+        raise DatasetError(f"the bundled data is not on the file system ({root}); install spcotmhp unzipped")
+    return root
+
+
+def _folders() -> dict[str, Path]:
+    """Relative path under data/ -> folder, for every bundled dataset."""
+    root = data_root()
+    return {p.parent.relative_to(root).as_posix(): p.parent for p in sorted(root.rglob("teaching.csv"))}
+
+
+def list_bundled() -> list[str]:
+    """Names of the bundled datasets, e.g. ["3LDK_01", "3LDK_05", "3LDK_06", "albert-b"]."""
+    return sorted((Path(rel).name for rel in _folders()), key=str.lower)
+
+
+def bundled_path(name: str) -> Path:
+    """The folder of a bundled dataset, by name ("3LDK_01") or path under data/ ("sigverse-3ldk/3LDK_01");
+    case-insensitive."""
+    folders = _folders()
+    wanted = name.strip().strip("/").lower()
+    for rel, folder in folders.items():
+        if wanted in (rel.lower(), folder.name.lower()):
+            return folder
+    known = ", ".join(list_bundled())
+    raise DatasetError(f"no bundled dataset named {name!r}; known: {known}")
+
+
+def load_bundled(name: str, lang: str = "en") -> Dataset:
+    """:func:`load_dataset` on a bundled dataset (albert-b has Japanese words only: use lang="ja")."""
+    return load_dataset(bundled_path(name), lang=lang)

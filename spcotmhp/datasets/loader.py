@@ -1,0 +1,343 @@
+"""Load a dataset folder (map.yaml + image, teaching.csv and optional extras) into a :class:`Dataset`.
+
+The layout is described in ``spcotmhp/data/README.md``. Fatal problems raise :class:`DatasetError`;
+recoverable ones (teaching points in walls, empty utterances, ...) emit a :class:`DatasetWarning`. Every
+message names the file and the 1-based line number in it.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from spcotmhp.datasets.alignment import align_events
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.datasets.tables import Table, read_matrix, read_table
+from spcotmhp.errors import DatasetError
+from spcotmhp.metric.map_io import load_map, read_map_yaml
+from spcotmhp.metric.maps import OCCUPIED, OccupancyMap
+
+LANGS = ("en", "ja")
+FEATURES_FILE = "image_features_places365.csv"
+TRAJECTORY_TOLERANCE_M = 1.0  # an event further than this from its trajectory pose gets a warning
+MAX_ROW_WARNINGS = 20  # per kind of problem; the rest are summarised in one warning
+
+_EN_WORD = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*")
+
+
+class DatasetWarning(UserWarning):
+    """A recoverable problem in a dataset folder (the data loads, but may not be what was meant)."""
+
+
+def _warn(message: str) -> None:
+    """Emit a DatasetWarning attributed to the first caller outside spcotmhp.datasets."""
+    frame, level = sys._getframe(1), 2
+    while frame is not None and frame.f_globals.get("__name__", "").startswith("spcotmhp.datasets"):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(DatasetWarning(message), stacklevel=level)
+
+
+def tokenize_en(text: str) -> list[str]:
+    """Lower-cased words split on whitespace and punctuation ("This is the Kitchen!" -> this is the kitchen);
+    an apostrophe inside a word is kept ("kitchen's")."""
+    return _EN_WORD.findall(text.lower())
+
+
+def tokenize_ja(text: str) -> list[str]:
+    """Japanese tokens as given: the utterances are already phrase-segmented with spaces (ASCII or U+3000)."""
+    return text.split()
+
+
+def features_to_counts(probabilities: np.ndarray, scale: float = 10) -> np.ndarray:
+    """Image features as multinomial counts for learning: int(p * scale + 1), as the authors did with
+    Places365 probabilities (scale 10), so every class has a count of at least 1."""
+    p = np.asarray(probabilities, dtype=float)
+    if not np.isfinite(p).all() or (p < 0).any():
+        raise DatasetError("features_to_counts needs finite, non-negative probabilities")
+    return (p * scale + 1).astype(np.int64)
+
+
+def available_languages(path: str | Path) -> list[str]:
+    """The languages ("en", "ja") that a folder's teaching.csv has words for."""
+    table = read_table(Path(path) / "teaching.csv", "a header row")
+    return [lang for lang in LANGS if table.has(f"words_{lang}")]
+
+
+def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
+    """Read a dataset folder.
+
+    Args:
+        path: a folder with map.yaml (+ image) and teaching.csv; optional truth.csv, places.csv,
+            adjacency.csv, costmap_ros.csv, image_features_places365.csv, trajectory.csv.
+        lang: "en" (tokens from words_en, lower-cased, split on whitespace and punctuation) or "ja"
+            (tokens from words_ja, split on whitespace only).
+
+    Raises:
+        DatasetError: a missing folder or required file, or a file that does not parse or does not agree
+            with the others (the message names the file and row). MapError: a bad map.yaml or image.
+    """
+    if lang not in LANGS:
+        raise DatasetError(f"lang must be 'en' or 'ja', got {lang!r}")
+    folder = Path(path)
+    if not folder.exists():
+        raise DatasetError(f"dataset folder {folder} does not exist")
+    if not folder.is_dir():
+        raise DatasetError(f"{folder} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
+    name = folder.resolve().name
+    for required, what in (("map.yaml", "the ROS map_server YAML"), ("teaching.csv", "the teaching events")):
+        if not (folder / required).is_file():
+            raise DatasetError(f"dataset folder {folder} has no {required} ({what})")
+    occupancy, image = _read_map(folder / "map.yaml")
+
+    teaching = read_table(
+        folder / "teaching.csv", "a header event,x,y,words_ja[,words_en][,step] and one row per teaching event"
+    )
+    if not teaching.rows:
+        raise DatasetError("teaching.csv has a header but no teaching events")
+    teaching.require(["event", "x", "y", "words_ja"], ["words_en", "step"])
+    _check_sequence(teaching, "event", "event ids")
+    positions = np.stack([teaching.floats("x"), teaching.floats("y")], axis=1)
+    tokens = _tokens(teaching, lang, name)
+    _report_cells(teaching, occupancy, positions, image)
+
+    trajectory, event_steps = _trajectory(folder, teaching, positions, occupancy, image)
+    truth_place, truth_concept = _truth(folder, teaching)
+    place_names = _places(folder, lang)
+    n_places = len(place_names) if place_names is not None else None
+    if truth_place is not None and n_places is not None and truth_place.max() >= n_places:
+        i = int(np.argmax(truth_place >= n_places))
+        raise DatasetError(f"truth.csv: place {truth_place[i]} (event {i}) is not in places.csv "
+                           f"(places 0..{n_places - 1})")
+    if n_places is None and truth_place is not None:
+        n_places = int(truth_place.max()) + 1
+    return Dataset(
+        name=name,
+        map=occupancy,
+        positions=positions,
+        tokens=tokens,
+        lang=lang,
+        features=_features(folder, teaching),
+        trajectory=trajectory,
+        event_steps=event_steps,
+        truth_place=truth_place,
+        truth_concept=truth_concept,
+        adjacency=_adjacency(folder, n_places),
+        place_names=place_names,
+        costmap_ros=_costmap(folder, occupancy, image),
+        path=folder,
+    )
+
+
+def _read_map(yaml_path: Path) -> tuple[OccupancyMap, str]:
+    """The map and its image's file name (for messages: "lies in an occupied cell of map.pgm")."""
+    return load_map(yaml_path), read_map_yaml(yaml_path).image.name
+
+
+def _check_sequence(table: Table, column: str, what: str) -> np.ndarray:
+    """The column must read 0, 1, 2, ... in file order; say where it does not."""
+    ids = table.ints(column)
+    bad = np.flatnonzero(ids != np.arange(len(ids)))
+    if len(bad):
+        i = int(bad[0])
+        earlier = np.flatnonzero(ids[:i] == ids[i])
+        if len(earlier):
+            raise DatasetError(f"{table.where(i)}: {column} {ids[i]} appears twice (also on row "
+                               f"{table.lines[earlier[0]]}); {what} must be 0, 1, 2, ... in file order")
+        after = f"follows {ids[i - 1]}" if i else "is the first"
+        raise DatasetError(f"{table.where(i)}: {column} {ids[i]} {after}; {what} must be 0, 1, 2, ... "
+                           "in file order")
+    return ids
+
+
+def _tokens(teaching: Table, lang: str, name: str) -> list[list[str]]:
+    column = f"words_{lang}"
+    if not teaching.has(column):
+        other = "ja" if lang == "en" else "en"
+        hint = f"; use lang='{other}'" if teaching.has(f"words_{other}") else ""
+        raise DatasetError(f"{name} has no {column} column (teaching.csv has {', '.join(teaching.header)})"
+                           f"{hint}")
+    split = tokenize_en if lang == "en" else tokenize_ja
+    tokens = [split(text) for text in teaching.column(column)]
+    empty = [i for i, t in enumerate(tokens) if not t]
+    for i in empty[:MAX_ROW_WARNINGS]:
+        text = teaching.rows[i][teaching.header.index(column)]
+        _warn(f"{teaching.where(i)}: empty utterance ({column} is {text!r}); the event has no words")
+    if len(empty) > MAX_ROW_WARNINGS:
+        _warn(f"teaching.csv: {len(empty) - MAX_ROW_WARNINGS} more empty utterances")
+    return tokens
+
+
+def _report_cells(table: Table, occupancy: OccupancyMap, xy: np.ndarray, image: str, summary: bool = False):
+    """Warn about points off the map or in occupied / unknown cells: one warning per row (up to
+    MAX_ROW_WARNINGS of each kind), or with ``summary`` one warning per kind."""
+    cells = occupancy.world_to_cell(xy)
+    inside = occupancy.in_bounds(cells)
+    value = np.zeros(len(xy), dtype=int)
+    value[inside] = occupancy.data[cells[inside, 0], cells[inside, 1]]
+    x0, y0 = occupancy.origin[0], occupancy.origin[1]
+    x1, y1 = x0 + occupancy.width * occupancy.resolution, y0 + occupancy.height * occupancy.resolution
+    kinds = (
+        (~inside, f"off the map ({image} covers x {x0:.2f}..{x1:.2f}, y {y0:.2f}..{y1:.2f})"),
+        (inside & (value >= OCCUPIED), f"in an occupied cell of {image}"),
+        (inside & (value < 0), f"in an unknown cell of {image}"),
+    )
+    for mask, where in kinds:
+        rows = np.flatnonzero(mask)
+        if summary and len(rows):
+            _warn(f"{table.name}: {len(rows)} of {len(xy)} points lie {where} (first on row "
+                  f"{table.lines[rows[0]]})")
+            continue
+        for i in rows[:MAX_ROW_WARNINGS]:
+            _warn(f"{table.where(i)}: (x, y) = ({xy[i, 0]:.2f}, {xy[i, 1]:.2f}) lies {where}")
+        if len(rows) > MAX_ROW_WARNINGS:
+            more = ", ".join(str(table.lines[i]) for i in rows[MAX_ROW_WARNINGS:])
+            _warn(f"{table.name}: {len(rows) - MAX_ROW_WARNINGS} more points lie {where} (rows {more})")
+
+
+def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy: OccupancyMap,
+                image: str) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """trajectory.csv (step,x,y) and each event's step: teaching.csv's step column, else the nearest poses
+    in walking order (:func:`align_events`)."""
+    path = folder / "trajectory.csv"
+    if not path.is_file():
+        if teaching.has("step"):
+            raise DatasetError("teaching.csv has a step column but the folder has no trajectory.csv")
+        return None, None
+    table = read_table(path, "a header step,x,y and one row per pose")
+    if not table.rows:
+        raise DatasetError("trajectory.csv has a header but no poses")
+    table.require(["step", "x", "y"])
+    _check_sequence(table, "step", "steps")
+    trajectory = np.stack([table.floats("x"), table.floats("y")], axis=1)
+    _report_cells(table, occupancy, trajectory, image, summary=True)
+    if teaching.has("step"):
+        steps = teaching.ints("step", minimum=0)
+        for i in range(len(steps)):
+            if steps[i] >= len(trajectory):
+                raise DatasetError(f"{teaching.where(i)}: step {steps[i]} is beyond trajectory.csv's last step "
+                                   f"{len(trajectory) - 1}")
+            if i and steps[i] < steps[i - 1]:
+                raise DatasetError(f"{teaching.where(i)}: step {steps[i]} is before the previous event's step "
+                                   f"{steps[i - 1]}; steps must not decrease")
+        how = "its trajectory pose"
+    else:
+        steps = align_events(positions, trajectory)
+        how = "the nearest trajectory pose in walking order"
+    gap = np.hypot(*(positions - trajectory[steps]).T)
+    far = np.flatnonzero(gap > TRAJECTORY_TOLERANCE_M)
+    for i in far[:MAX_ROW_WARNINGS]:
+        _warn(f"{teaching.where(i)}: (x, y) is {gap[i]:.2f} m from {how} (step {steps[i]}, "
+              f"trajectory.csv row {table.lines[steps[i]]})")
+    if len(far) > MAX_ROW_WARNINGS:
+        _warn(f"teaching.csv: {len(far) - MAX_ROW_WARNINGS} more events lie over "
+              f"{TRAJECTORY_TOLERANCE_M} m from their trajectory pose")
+    return trajectory, steps
+
+
+def _truth(folder: Path, teaching: Table) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """truth.csv (event,place[,concept]), one row per teaching event in any order, returned in event order."""
+    path = folder / "truth.csv"
+    if not path.is_file():
+        return None, None
+    table = read_table(path, "a header event,place[,concept] and one row per teaching event")
+    table.require(["event", "place"], ["concept"])
+    n_events = len(teaching.rows)
+    events = table.ints("event")
+    seen: dict[int, int] = {}
+    for i, event in enumerate(events):
+        if not 0 <= event < n_events:
+            raise DatasetError(f"{table.where(i)}: event {event} is not in teaching.csv "
+                               f"(events 0..{n_events - 1})")
+        if event in seen:
+            raise DatasetError(f"{table.where(i)}: event {event} appears twice (also on row {seen[event]})")
+        seen[int(event)] = table.lines[i]
+    missing = sorted(set(range(n_events)) - set(seen))
+    if missing:
+        listed = ", ".join(map(str, missing[:10])) + (" ..." if len(missing) > 10 else "")
+        raise DatasetError(f"truth.csv has no row for {len(missing)} of teaching.csv's {n_events} events "
+                           f"({listed})")
+    order = np.argsort(events)
+    place = table.ints("place", minimum=0)[order]
+    concept = table.ints("concept", minimum=0)[order] if table.has("concept") else None
+    return place, concept
+
+
+def _places(folder: Path, lang: str) -> list[str] | None:
+    """places.csv (place,name_ja,name_en): the place names in ``lang``, index = place id."""
+    path = folder / "places.csv"
+    if not path.is_file():
+        return None
+    column = f"name_{lang}"
+    table = read_table(path, "a header place,name_ja,name_en and one row per place")
+    if not table.rows:
+        raise DatasetError("places.csv has a header but no places")
+    table.require(["place", column], [c for c in ("name_ja", "name_en") if c != column])
+    _check_sequence(table, "place", "place ids")
+    names = table.column(column)
+    for i, text in enumerate(names):
+        if not text:
+            raise DatasetError(f"{table.where(i)}: {column} is blank")
+    return names
+
+
+def _adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
+    """adjacency.csv: a square, symmetric 0/1 matrix over the places (no header)."""
+    path = folder / "adjacency.csv"
+    if not path.is_file():
+        return None
+    values, lines = read_matrix(path)
+    rows, cols = values.shape
+    if rows != cols:
+        raise DatasetError(f"adjacency.csv is {rows}x{cols}; it must be square (one row and column per place)")
+    bad = np.argwhere((values != 0) & (values != 1))
+    if len(bad):
+        r, c = bad[0]
+        raise DatasetError(f"adjacency.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; "
+                           "entries must be 0 or 1")
+    bad = np.argwhere(values != values.T)
+    if len(bad):
+        r, c = bad[0]
+        raise DatasetError(f"adjacency.csv is not symmetric: row {lines[r]} column {c + 1} is {values[r, c]:g} "
+                           f"but row {lines[c]} column {r + 1} is {values[c, r]:g}")
+    if n_places is not None and rows != n_places:
+        source = "places.csv" if (folder / "places.csv").is_file() else "truth.csv"
+        raise DatasetError(f"adjacency.csv is {rows}x{cols} but {source} has {n_places} places")
+    return values.astype(np.int64)
+
+
+def _features(folder: Path, teaching: Table) -> np.ndarray | None:
+    """image_features_places365.csv: one row of non-negative numbers per event (raw values kept)."""
+    path = folder / FEATURES_FILE
+    if not path.is_file():
+        return None
+    values, lines = read_matrix(path, allow_header=True)
+    if len(values) != len(teaching.rows):
+        raise DatasetError(f"{FEATURES_FILE} has {len(values)} rows but teaching.csv has {len(teaching.rows)} "
+                           "events (one row per event, in event order)")
+    bad = np.argwhere(values < 0)
+    if len(bad):
+        r, c = bad[0]
+        raise DatasetError(f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:g}; "
+                           "features must be non-negative")
+    return values
+
+
+def _costmap(folder: Path, occupancy: OccupancyMap, image: str) -> np.ndarray | None:
+    """costmap_ros.csv: integers -1..100 in OccupancyGrid row order, the map's size."""
+    path = folder / "costmap_ros.csv"
+    if not path.is_file():
+        return None
+    values, lines = read_matrix(path)
+    if values.shape != occupancy.shape:
+        raise DatasetError(f"costmap_ros.csv is {values.shape[0]}x{values.shape[1]} (rows x columns) but "
+                           f"{image} is {occupancy.height}x{occupancy.width}")
+    bad = np.argwhere((values != np.round(values)) | (values < -1) | (values > 100))
+    if len(bad):
+        r, c = bad[0]
+        raise DatasetError(f"costmap_ros.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; "
+                           "costs must be integers 0..100 (or -1 for unknown)")
+    return values.astype(np.int16)

@@ -1,0 +1,161 @@
+"""Strict CSV reading for dataset folders: every problem becomes a DatasetError naming the file and the
+1-based line number in that file (the line a record starts on), never a traceback."""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from spcotmhp.errors import DatasetError
+
+
+@dataclass
+class Table:
+    """A CSV file with a header: lower-cased column names, string cells and each row's line number."""
+
+    path: Path
+    header: list[str]
+    rows: list[list[str]]
+    lines: list[int]
+
+    @property
+    def name(self) -> str:
+        return self.path.name
+
+    def where(self, i: int) -> str:
+        """'teaching.csv row 12' for data row ``i`` (0-based), 12 being the line number in the file."""
+        return f"{self.name} row {self.lines[i]}"
+
+    def column(self, name: str) -> list[str]:
+        j = self.header.index(name)
+        return [r[j] for r in self.rows]
+
+    def has(self, name: str) -> bool:
+        return name in self.header
+
+    def require(self, required: list[str], optional: list[str] = ()) -> None:
+        """DatasetError listing the missing columns, the columns found and the columns accepted."""
+        missing = [c for c in required if c not in self.header]
+        if missing:
+            accepted = ", ".join(list(required) + [f"[{c}]" for c in optional])
+            raise DatasetError(
+                f"{self.name}: missing column(s) {', '.join(missing)}; found {', '.join(self.header) or 'none'};"
+                f" accepted: {accepted}"
+            )
+
+    def ints(self, name: str, minimum: int | None = None) -> np.ndarray:
+        """A column of integers (integral floats such as '3.0' are accepted), at least ``minimum``."""
+        out = np.empty(len(self.rows), dtype=np.int64)
+        for i, text in enumerate(self.column(name)):
+            out[i] = parse_int(text, f"{self.where(i)}: {name}")
+            if minimum is not None and out[i] < minimum:
+                raise DatasetError(f"{self.where(i)}: {name} is {out[i]}, must be >= {minimum}")
+        return out
+
+    def floats(self, name: str) -> np.ndarray:
+        """A column of finite floats."""
+        return np.array(
+            [parse_float(t, f"{self.where(i)}: {name}") for i, t in enumerate(self.column(name))], dtype=float
+        )
+
+
+def parse_float(text: str, where: str) -> float:
+    """A finite float, or DatasetError '<where> is 'abc', not a number' / '... not a finite number'."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise DatasetError(f"{where} is {text.strip()!r}, not a number") from None
+    if not math.isfinite(value):
+        raise DatasetError(f"{where} is {text.strip()!r}, not a finite number")
+    return value
+
+
+def parse_int(text: str, where: str) -> int:
+    """An integer (or an integral float such as '3.0'), else DatasetError."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    value = parse_float(text, where)
+    if value != int(value):
+        raise DatasetError(f"{where} is {text.strip()!r}, not an integer")
+    return int(value)
+
+
+def _records(path: Path) -> list[tuple[int, list[str]]]:
+    """(first line number, fields) of every non-blank record of a UTF-8 CSV file (BOM allowed)."""
+    try:
+        with path.open(newline="", encoding="utf-8-sig") as fh:
+            reader = csv.reader(fh)
+            out: list[tuple[int, list[str]]] = []
+            start = 1
+            for fields in reader:
+                if fields and any(f.strip() for f in fields):
+                    out.append((start, [f.strip() for f in fields]))
+                start = reader.line_num + 1
+    except UnicodeDecodeError as exc:
+        raise DatasetError(f"{path.name} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    except csv.Error as exc:
+        raise DatasetError(f"{path.name} line {reader.line_num}: not valid CSV ({exc})") from None
+    except OSError as exc:
+        raise DatasetError(f"cannot read {path}: {exc.strerror or exc}") from None
+    return out
+
+
+def read_table(path: Path, what: str) -> Table:
+    """Read a CSV file with a header row; rows must have as many fields as the header.
+
+    ``what`` describes the expected content for the message when the file is empty.
+    """
+    records = _records(path)
+    if not records:
+        raise DatasetError(f"{path.name} is empty (expected {what})")
+    _, header = records[0]
+    header = [h.lower() for h in header]
+    dupes = sorted({h for h in header if header.count(h) > 1})
+    if dupes:
+        raise DatasetError(f"{path.name} line {records[0][0]}: column(s) {', '.join(dupes)} appear twice")
+    table = Table(path, header, [], [])
+    for line, fields in records[1:]:
+        if len(fields) != len(header):
+            raise DatasetError(
+                f"{path.name} row {line}: {len(fields)} fields, expected {len(header)} ({','.join(header)})"
+            )
+        table.rows.append(fields)
+        table.lines.append(line)
+    return table
+
+
+def read_matrix(path: Path, allow_header: bool = False) -> tuple[np.ndarray, list[int]]:
+    """A rectangular CSV of finite numbers as a float (R, C) array, with the line number of each row.
+
+    With ``allow_header`` a first row that does not start with a number (column names) is skipped.
+    """
+    records = _records(path)
+    if allow_header and records:
+        try:
+            float(records[0][1][0])
+        except ValueError:
+            records = records[1:]
+    if not records:
+        raise DatasetError(f"{path.name} is empty (expected rows of comma-separated numbers)")
+    width = len(records[0][1])
+    out = np.empty((len(records), width), dtype=float)
+    for i, (line, fields) in enumerate(records):
+        if len(fields) != width:
+            raise DatasetError(
+                f"{path.name} row {line}: {len(fields)} values, expected {width} as on row {records[0][0]}"
+            )
+        try:
+            out[i] = np.asarray(fields, dtype=float)
+        except ValueError:
+            for j, text in enumerate(fields):  # find the culprit for the message
+                parse_float(text, f"{path.name} row {line} column {j + 1}")
+        if not np.isfinite(out[i]).all():
+            j = int(np.flatnonzero(~np.isfinite(out[i]))[0])
+            raise DatasetError(f"{path.name} row {line} column {j + 1} is {fields[j]!r}, not a finite number")
+    return out, [line for line, _ in records]
