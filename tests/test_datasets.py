@@ -119,7 +119,7 @@ def test_bad_lang(tmp_path):
 
 
 def test_empty_teaching(tmp_path):
-    with raises("teaching.csv is empty (expected a header event,x,y,words_ja"):
+    with raises("teaching.csv is empty (expected a header event,x,y,words_ja,words_en[,step]"):
         load_dataset(make(tmp_path / "a", teaching_csv=""))
     with raises("teaching.csv has a header but no teaching events"):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_ja\n\n"))
@@ -127,8 +127,17 @@ def test_empty_teaching(tmp_path):
 
 def test_missing_columns_lists_found_and_accepted(tmp_path):
     with raises("teaching.csv: missing column(s) x; found event, xpos, y, words_ja; "
-                "accepted: event, x, y, words_ja, [words_en], [step]"):
-        load_dataset(make(tmp_path, teaching_csv="event,xpos,y,words_ja\n0,1,2,a\n"), lang="ja")
+                "accepted: event, x, y, words_ja and/or words_en, [step]"):
+        load_dataset(make(tmp_path / "a", teaching_csv="event,xpos,y,words_ja\n0,1,2,a\n"), lang="ja")
+    with raises("teaching.csv: missing column(s) words_ja or words_en; found event, x, y, words; "):
+        load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words\n0,1,2,a\n"), lang="ja")
+
+
+def test_english_only_teaching(tmp_path):
+    folder = make(tmp_path, teaching_csv="event,x,y,words_en\n0,0.2,0.2,This is the Hall\n")
+    assert load_dataset(folder).tokens == [["this", "is", "the", "hall"]]
+    with raises("home has no words_ja column (teaching.csv has event, x, y, words_en); use lang='en'"):
+        load_dataset(folder, lang="ja")
 
 
 def test_no_english_words(tmp_path):

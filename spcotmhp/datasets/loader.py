@@ -94,11 +94,12 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     occupancy, image = _read_map(folder / "map.yaml")
 
     teaching = read_table(
-        folder / "teaching.csv", "a header event,x,y,words_ja[,words_en][,step] and one row per teaching event"
+        folder / "teaching.csv", "a header event,x,y,words_ja,words_en[,step] (one words column or both) and one row per "
+        "teaching event"
     )
     if not teaching.rows:
         raise DatasetError("teaching.csv has a header but no teaching events")
-    teaching.require(["event", "x", "y", "words_ja"], ["words_en", "step"])
+    teaching.require(["event", "x", "y", ("words_ja", "words_en")], ["step"])
     _check_sequence(teaching, "event", "event ids")
     positions = np.stack([teaching.floats("x"), teaching.floats("y")], axis=1)
     tokens = _tokens(teaching, lang, name)

@@ -37,11 +37,17 @@ class Table:
     def has(self, name: str) -> bool:
         return name in self.header
 
-    def require(self, required: list[str], optional: list[str] = ()) -> None:
-        """DatasetError listing the missing columns, the columns found and the columns accepted."""
-        missing = [c for c in required if c not in self.header]
+    def require(self, required: list[str | tuple[str, ...]], optional: list[str] = ()) -> None:
+        """DatasetError listing the missing columns, the columns found and the columns accepted.
+
+        A tuple in ``required`` means "at least one of these columns"."""
+        missing = [c for c in required if not any(a in self.header for a in ((c,) if isinstance(c, str) else c))]
         if missing:
-            accepted = ", ".join(list(required) + [f"[{c}]" for c in optional])
+            def show(c: str | tuple[str, ...], join: str) -> str:
+                return c if isinstance(c, str) else join.join(c)
+
+            missing = [show(c, " or ") for c in missing]
+            accepted = ", ".join([show(c, " and/or ") for c in required] + [f"[{c}]" for c in optional])
             raise DatasetError(
                 f"{self.name}: missing column(s) {', '.join(missing)}; found {', '.join(self.header) or 'none'};"
                 f" accepted: {accepted}"
