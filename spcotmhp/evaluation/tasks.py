@@ -1,0 +1,238 @@
+"""Experiment I planning tasks (paper Section 4.2; the original evaluation protocol).
+
+Per home, over the ground-truth places (truth.csv):
+
+* **basic**: every ordered pair (i, j) with i != j and i, j not adjacent; instruction = the goal's name;
+* **advanced**: every (i, h, j) of a basic pair and a waypoint h not in {i, j} whose name differs from the
+  goal's; instruction = waypoint name, then goal name.
+
+The start is the free cell nearest the mean of place i's teaching positions. A place's success region is the
+box of its teaching positions plus 0.1 m (:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name
+is an *instance* of that name. For each task we compute, from free-space geodesics (8-connected, unit steps
+1 and sqrt 2, no costs), ``l`` = the length of the shortest path from the start that passes a region of the
+waypoint's name and ends in a region of the goal's name, and the goal instance where that path ends (the
+"closest" instance used by N-SPL). The shortest path through a waypoint is exact: it passes some waypoint cell
+``a``, so ``l = min_a d(start, a) + d(a, goal regions)`` with two distance fields.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from scipy import ndimage
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.errors import DatasetError
+from spcotmhp.evaluation.metrics import REGION_MARGIN_M, Box
+from spcotmhp.metric.grid_search import geodesic_distance
+
+TaskKind = Literal["basic", "advanced"]
+TASK_KINDS = ("basic", "advanced")
+
+
+@dataclass(frozen=True)
+class Place:
+    """A ground-truth place: index (truth.csv), name, mean of its teaching positions, success region."""
+
+    index: int
+    name: str
+    mean: np.ndarray
+    box: Box
+    cells: np.ndarray  # (n, 2) free (row, col) cells whose centres lie in the box
+
+
+@dataclass(frozen=True)
+class Task:
+    """One planning task; ``waypoint_*`` are None/empty for basic tasks."""
+
+    home: str
+    kind: TaskKind
+    index: int
+    start_place: int
+    goal_place: int
+    waypoint_place: int | None
+    start_cell: tuple[int, int]
+    start_xy: tuple[float, float]
+    goal_name: str
+    waypoint_name: str | None
+    goal_places: tuple[int, ...]
+    waypoint_places: tuple[int, ...]
+    closest_goal: int  # index into goal_places
+    l: float
+
+    @property
+    def goal_words(self) -> list[str]:
+        return self.goal_name.split()
+
+    @property
+    def waypoint_words(self) -> list[str]:
+        return self.waypoint_name.split() if self.waypoint_name else []
+
+    @property
+    def all_words(self) -> list[str]:
+        """Waypoint and goal words as one bag (how SpCoNavi and A* receive an advanced instruction)."""
+        return self.waypoint_words + self.goal_words
+
+    def label(self) -> str:
+        via = f" via {self.waypoint_name} ({self.waypoint_place})" if self.waypoint_name else ""
+        return f"{self.home} #{self.index}: {self.start_place} -> {self.goal_name} ({self.goal_place}){via}"
+
+
+@dataclass
+class HomeTasks:
+    """The places, adjacency and tasks of one home."""
+
+    home: str
+    places: list[Place]
+    adjacency: np.ndarray
+    adjacency_source: str
+    tasks: list[Task]
+    dropped: list[str] = field(default_factory=list)  # tasks left out (unreachable goal), with the reason
+
+    def boxes(self, place_ids: tuple[int, ...]) -> list[Box]:
+        return [self.places[k].box for k in place_ids]
+
+
+def build_places(dataset: Dataset) -> list[Place]:
+    """The ground-truth places of a dataset (truth.csv), named from places.csv or, without it, from the words.
+
+    Raises:
+        DatasetError: the dataset has no truth.csv, or a place has no teaching event.
+    """
+    if dataset.truth_place is None:
+        raise DatasetError(f"{dataset.name}: evaluation needs truth.csv (the true place of every teaching event)")
+    truth = np.asarray(dataset.truth_place)
+    n = int(truth.max()) + 1
+    empty = [k for k in range(n) if not np.any(truth == k)]
+    if empty:
+        raise DatasetError(f"{dataset.name}: truth.csv place(s) {empty} have no teaching event")
+    names = dataset.place_names if dataset.place_names is not None else names_from_words(dataset.tokens, truth)
+    if len(names) < n:
+        raise DatasetError(f"{dataset.name}: places.csv names {len(names)} places but truth.csv uses {n}")
+    occ = dataset.map
+    centres = occ.cell_centres()
+    free = occ.free
+    places = []
+    for k in range(n):
+        pts = dataset.positions[truth == k]
+        box = Box.around(pts, REGION_MARGIN_M)
+        cells = np.argwhere(box.contains(centres) & free)
+        places.append(Place(k, str(names[k]), pts.mean(axis=0), box, cells))
+    return places
+
+
+def names_from_words(tokens: list[list[str]], truth: np.ndarray) -> list[str]:
+    """A name per true place when places.csv is absent: the word w maximising n(w, k)^2 / n(w), i.e. frequent
+    at the place and specific to it (function words said everywhere score low)."""
+    total = Counter(w for toks in tokens for w in toks)
+    names = []
+    for k in range(int(truth.max()) + 1):
+        here = Counter(w for toks, t in zip(tokens, truth) if t == k for w in toks)
+        if not here:
+            names.append(f"place{k}")
+            continue
+        names.append(max(sorted(here), key=lambda w: here[w] ** 2 / total[w]))
+    return names
+
+
+def nearest_free_cell(dataset: Dataset, xy: np.ndarray) -> tuple[int, int]:
+    """The free cell whose centre is nearest to ``xy`` (Euclidean in cells)."""
+    occ = dataset.map
+    free = occ.free
+    if not free.any():
+        raise DatasetError(f"{dataset.name}: the map has no free cell")
+    rc = occ.world_to_cell(np.asarray(xy, float))
+    rc = np.clip(rc, 0, np.array(occ.shape) - 1)
+    if free[rc[0], rc[1]]:
+        return int(rc[0]), int(rc[1])
+    _, (ir, ic) = ndimage.distance_transform_edt(~free, return_indices=True)
+    return int(ir[rc[0], rc[1]]), int(ic[rc[0], rc[1]])
+
+
+def make_tasks(
+    dataset: Dataset,
+    kind: TaskKind,
+    adjacency: np.ndarray,
+    adjacency_source: str = "adjacency.csv",
+    places: list[Place] | None = None,
+) -> HomeTasks:
+    """All tasks of one kind for a home (see the module docstring).
+
+    Args:
+        dataset: the home (map, teaching positions, truth; names from places.csv or the words).
+        kind: "basic" or "advanced".
+        adjacency: (P, P) 0/1 place adjacency over the true places.
+        adjacency_source: where the adjacency came from (reported with the results).
+        places: precomputed :func:`build_places` output.
+    """
+    if kind not in TASK_KINDS:
+        raise ValueError(f"task kind must be one of {TASK_KINDS}, got {kind!r}")
+    places = build_places(dataset) if places is None else places
+    n = len(places)
+    adjacency = np.asarray(adjacency)
+    if adjacency.shape != (n, n):
+        raise DatasetError(f"{dataset.name}: adjacency is {adjacency.shape} but truth.csv has {n} places")
+    occ = dataset.map
+    free = occ.free
+    res = occ.resolution
+    starts = [nearest_free_cell(dataset, p.mean) for p in places]
+    from_start = [geodesic_distance(free, [s], 8, res) for s in starts]
+    to_region = [geodesic_distance(free, p.cells, 8, res) if len(p.cells) else None for p in places]
+    by_name: dict[str, list[int]] = {}
+    for p in places:
+        by_name.setdefault(p.name, []).append(p.index)
+
+    out = HomeTasks(dataset.name, places, adjacency, adjacency_source, [])
+    for i in range(n):
+        for j in range(n):
+            if i == j or adjacency[i, j]:
+                continue
+            goals = tuple(by_name[places[j].name])
+            waypoints: list[int | None] = [None] if kind == "basic" else [
+                h for h in range(n) if h not in (i, j) and places[h].name != places[j].name]
+            for h in waypoints:
+                wps = () if h is None else tuple(by_name[places[h].name])
+                l, closest = _shortest_success(from_start[i], to_region, places, goals, wps)
+                label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+                if not np.isfinite(l):
+                    out.dropped.append(f"{label}: no free-space path reaches the goal region")
+                    continue
+                r, c = starts[i]
+                x, y = occ.cell_to_world(np.array(starts[i]))
+                out.tasks.append(Task(
+                    dataset.name, kind, len(out.tasks), i, j, h, (r, c), (float(x), float(y)),
+                    places[j].name, None if h is None else places[h].name, goals, wps, closest, float(l)))
+    return out
+
+
+def _shortest_success(d_start, to_region, places, goals, waypoints) -> tuple[float, int]:
+    """(l, index into goals of the instance where the shortest successful path ends)."""
+    best = np.full(len(goals), np.inf)
+    if waypoints:
+        cells = np.vstack([places[w].cells for w in waypoints if len(places[w].cells)] or [np.empty((0, 2), int)])
+        if len(cells) == 0:
+            return np.inf, 0
+        via = d_start[cells[:, 0], cells[:, 1]]
+        for g_i, g in enumerate(goals):
+            if to_region[g] is not None:
+                best[g_i] = np.min(via + to_region[g][cells[:, 0], cells[:, 1]])
+    else:
+        for g_i, g in enumerate(goals):
+            cells = places[g].cells
+            if len(cells):
+                best[g_i] = np.min(d_start[cells[:, 0], cells[:, 1]])
+    k = int(np.argmin(best))
+    return float(best[k]), k
+
+
+def subset(tasks: list[Task], max_tasks: int | None, seed: int) -> list[Task]:
+    """A seeded random subset of at most ``max_tasks`` tasks, in their original order (all when None)."""
+    if max_tasks is None or max_tasks >= len(tasks):
+        return list(tasks)
+    if max_tasks < 1:
+        raise ValueError(f"max_tasks must be >= 1, got {max_tasks}")
+    keep = np.sort(np.random.default_rng(seed).choice(len(tasks), size=max_tasks, replace=False))
+    return [tasks[k] for k in keep]

@@ -1,0 +1,156 @@
+"""Experiment I task generation: a hand-made corridor home (every l worked out by hand) and the bundled homes."""
+
+import numpy as np
+import pytest
+
+from spcotmhp.datasets import load_bundled
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.errors import DatasetError
+from spcotmhp.evaluation.tasks import build_places, make_tasks, names_from_words, nearest_free_cell, subset
+from spcotmhp.metric.maps import OccupancyMap
+
+
+def corridor_home(**overrides) -> Dataset:
+    """A 3 x 13 all-free grid at 1 m per cell. Places along row 1 (cell centres at x = col + 0.5):
+    0 "a" at cols 0-1, 1 "bed" at cols 5-6, 2 "bed" at cols 10-11, 3 "hall" at col 9 (rows 0-2).
+    Adjacency is the chain 0 - 1 - 3 - 2."""
+    positions = np.array([
+        [0.5, 1.5], [1.5, 1.5],      # place 0, mean (1.0, 1.5) -> start cell (1, 1)
+        [5.5, 1.5], [6.5, 1.5],      # place 1, mean (6.0, 1.5) -> (1, 6)
+        [10.5, 1.5], [11.5, 1.5],    # place 2, mean (11.0, 1.5) -> (1, 11)
+        [9.5, 0.5], [9.5, 2.5],      # place 3, mean (9.5, 1.5) -> (1, 9)
+    ])
+    adjacency = np.eye(4, dtype=int)
+    for a, b in [(0, 1), (1, 3), (3, 2)]:
+        adjacency[a, b] = adjacency[b, a] = 1
+    kwargs = dict(
+        name="corridor",
+        map=OccupancyMap(np.zeros((3, 13), np.int8), resolution=1.0),
+        positions=positions,
+        tokens=[["a"], ["a"], ["bed"], ["bed"], ["bed"], ["bed"], ["hall"], ["hall"]],
+        truth_place=np.array([0, 0, 1, 1, 2, 2, 3, 3]),
+        adjacency=adjacency,
+        place_names=["a", "bed", "bed", "hall"],
+    )
+    kwargs.update(overrides)
+    return Dataset(**kwargs)
+
+
+def by_places(home_tasks):
+    return {(t.start_place, t.waypoint_place, t.goal_place): t for t in home_tasks.tasks}
+
+
+def test_places_regions_and_starts():
+    ds = corridor_home()
+    places = build_places(ds)
+    assert [p.name for p in places] == ["a", "bed", "bed", "hall"]
+    assert places[0].cells.tolist() == [[1, 0], [1, 1]]
+    assert places[3].cells.tolist() == [[0, 9], [1, 9], [2, 9]]
+    assert [nearest_free_cell(ds, p.mean) for p in places] == [(1, 1), (1, 6), (1, 11), (1, 9)]
+
+
+def test_basic_tasks_by_hand():
+    ht = make_tasks(corridor_home(), "basic", corridor_home().adjacency)
+    tasks = by_places(ht)
+    # the non-adjacent ordered pairs
+    assert sorted((i, j) for i, _, j in tasks) == [(0, 2), (0, 3), (1, 2), (2, 0), (2, 1), (3, 0)]
+    expect = {  # (i, j): (l, the goal place where the shortest successful path ends)
+        (0, 2): (4.0, 1),   # (1,1) -> nearest bed cell (1,5): 4 steps; "bed" includes place 1
+        (0, 3): (8.0, 3),   # (1,1) -> (1,9)
+        (1, 2): (0.0, 1),   # the start is already in a bedroom
+        (2, 0): (10.0, 0),  # (1,11) -> (1,1)
+        (2, 1): (0.0, 2),
+        (3, 0): (8.0, 0),
+    }
+    for (i, j), (l, goal) in expect.items():
+        t = tasks[(i, None, j)]
+        assert t.l == pytest.approx(l), (i, j)
+        assert t.goal_places[t.closest_goal] == goal, (i, j)
+        assert t.goal_words == [t.goal_name]
+        assert t.waypoint_place is None and t.waypoint_words == []
+    assert tasks[(0, None, 2)].goal_places == (1, 2)
+    assert tasks[(0, None, 2)].start_xy == (1.5, 1.5)
+
+
+def test_advanced_tasks_by_hand():
+    ht = make_tasks(corridor_home(), "advanced", corridor_home().adjacency)
+    tasks = by_places(ht)
+    expect = {  # (i, h, j): (l, closest goal place)
+        (0, 3, 2): (9.0, 2),   # via hall (1,9): 8, then the bed beyond it (1,10): 1; the near bed would need 3
+        (0, 1, 3): (8.0, 3), (0, 2, 3): (8.0, 3),  # "bed" = either bedroom; one passes it on the way
+        (1, 0, 2): (9.0, 1),   # (1,6) -> (1,1): 5, back to the first bed cell (1,5): 4
+        (1, 3, 2): (4.0, 2),   # (1,6) -> (1,9): 3 -> (1,10): 1
+        (2, 1, 0): (10.0, 0), (2, 3, 0): (10.0, 0),
+        (2, 0, 1): (14.0, 1),  # (1,11) -> (1,1): 10 -> (1,5): 4
+        (2, 3, 1): (3.0, 2),   # out to the hall and back into the same bedroom
+        (3, 1, 0): (8.0, 0), (3, 2, 0): (8.0, 0),
+    }
+    assert set(tasks) == set(expect)  # h never in {i, j}; the waypoint's name never the goal's
+    for key, (l, goal) in expect.items():
+        t = tasks[key]
+        assert t.l == pytest.approx(l), key
+        assert t.goal_places[t.closest_goal] == goal, key
+        assert t.all_words == t.waypoint_words + t.goal_words
+    assert tasks[(0, 1, 3)].waypoint_places == (1, 2)
+    assert [t.index for t in ht.tasks] == list(range(len(ht.tasks)))
+
+
+def test_unreachable_goal_is_dropped_with_reason():
+    data = np.zeros((3, 13), np.int8)
+    data[:, 8] = 100  # a wall cuts the hall and the far bedroom off
+    ht = make_tasks(corridor_home(map=OccupancyMap(data, 1.0)), "basic", corridor_home().adjacency)
+    assert (0, None, 3) not in by_places(ht)
+    assert any("start 0 -> hall (3): no free-space path" in d for d in ht.dropped)
+    assert by_places(ht)[(0, None, 2)].l == pytest.approx(4.0)  # the near bed still counts
+
+
+def test_bad_inputs():
+    with pytest.raises(DatasetError, match="evaluation needs truth.csv"):
+        build_places(corridor_home(truth_place=None))
+    with pytest.raises(DatasetError, match=r"adjacency is \(3, 3\) but truth.csv has 4 places"):
+        make_tasks(corridor_home(), "basic", np.eye(3))
+    with pytest.raises(DatasetError, match=r"place\(s\) \[1\] have no teaching event"):
+        build_places(corridor_home(truth_place=np.array([0, 0, 2, 2, 2, 2, 3, 3])))
+    with pytest.raises(DatasetError, match="places.csv names 2 places but truth.csv uses 4"):
+        build_places(corridor_home(place_names=["a", "bed"]))
+    with pytest.raises(ValueError, match="task kind must be one of"):
+        make_tasks(corridor_home(), "expert", corridor_home().adjacency)
+
+
+def test_names_from_words_prefers_specific_frequent_words():
+    tokens = [["this", "is", "kitchen"], ["kitchen"], ["this", "is", "bath"], ["this", "bath"], ["this"]]
+    truth = np.array([0, 0, 1, 1, 1])
+    # totals: this 4, is 2, kitchen 2, bath 2.  Place 0: kitchen 2^2/2 = 2 > is 1/2 > this 1/4.
+    # Place 1: this 3^2/4 = 2.25 > bath 2^2/2 = 2 (a word that dominates one place can win) ...
+    assert names_from_words(tokens, truth) == ["kitchen", "this"]
+    # ... and one more "bath" there makes it bath 3^2/3 = 3 > this 2.25
+    assert names_from_words(tokens + [["bath"]], np.append(truth, 1)) == ["kitchen", "bath"]
+
+
+def test_subset_is_seeded_and_ordered():
+    tasks = make_tasks(corridor_home(), "advanced", corridor_home().adjacency).tasks
+    a, b = subset(tasks, 4, seed=3), subset(tasks, 4, seed=3)
+    assert [t.index for t in a] == [t.index for t in b]
+    assert [t.index for t in a] == sorted(t.index for t in a) and len(a) == 4
+    assert subset(tasks, None, 0) == tasks and subset(tasks, 100, 0) == tasks
+    with pytest.raises(ValueError, match="max_tasks must be >= 1"):
+        subset(tasks, 0, 0)
+
+
+@pytest.mark.parametrize("home,n_basic", [("3LDK_01", 76), ("3LDK_05", 84), ("3LDK_06", 88)])
+def test_bundled_homes_follow_the_protocol(home, n_basic):
+    ds = load_bundled(home)
+    basic = make_tasks(ds, "basic", ds.adjacency)
+    # 11 places: 110 ordered pairs minus the adjacent ones (off-diagonal ones of adjacency.csv)
+    assert len(basic.tasks) == 110 - int(ds.adjacency.sum() - 11) == n_basic
+    assert not basic.dropped
+    adv = make_tasks(ds, "advanced", ds.adjacency, places=basic.places)
+    names = [p.name for p in basic.places]
+    for t in adv.tasks:
+        assert t.start_place != t.goal_place and not ds.adjacency[t.start_place, t.goal_place]
+        assert t.waypoint_place not in (t.start_place, t.goal_place)
+        assert names[t.waypoint_place] != names[t.goal_place]
+        assert ds.map.free[t.start_cell] and np.isfinite(t.l) and t.l > 0
+    per_pair = {(i, j): sum(1 for h in range(11) if h not in (i, j) and names[h] != names[j])
+                for i in range(11) for j in range(11) if i != j and not ds.adjacency[i, j]}
+    assert len(adv.tasks) == sum(per_pair.values())
