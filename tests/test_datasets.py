@@ -222,7 +222,7 @@ def test_places_and_adjacency(tmp_path):
         ({"places_csv": "place,name_ja,name_en\n0,a,b\n2,c,d\n"}, "places.csv row 3: place 2 follows 0; place ids"),
         ({"places_csv": "place,name_ja,name_en\n0,a,\n"}, "places.csv row 2: name_en is blank"),
         ({"places_csv": PLACES, "truth_csv": "event,place\n0,0\n1,0\n2,5\n"},
-         "truth.csv: place 5 (event 2) is not in places.csv (places 0..1)"),
+         "truth.csv row 4: place 5 is not in places.csv (places 0..1)"),
         ({"adjacency_csv": "1,1,0\n1,1,0\n"}, "adjacency.csv is 2x3; it must be square"),
         ({"adjacency_csv": "1,0.5\n0.5,1\n"}, "adjacency.csv row 1 column 2 is 0.5; entries must be 0 or 1"),
         ({"adjacency_csv": "1,1\n0,1\n"}, "adjacency.csv is not symmetric: row 1 column 2 is 1 but row 2 column 1 is 0"),
@@ -371,11 +371,20 @@ def test_trajectory_warnings(tmp_path):
 
 
 # --- robustness: arbitrary text never gives a traceback --------------------------------------------
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(st.text(alphabet="event,xywords_ja0123456789.-\n\"einfa 台", max_size=80))
-def test_garbage_teaching_never_tracebacks(body):
+GARBAGE = st.text(alphabet="event,xywords_japlacestp0123456789.-\n\"einfa 台", max_size=80)
+
+
+@pytest.mark.parametrize(
+    "name, header",
+    [("teaching_csv", "event,x,y,words_ja\n"), ("truth_csv", "event,place\n"), ("places_csv", "place,name_ja\n"),
+     ("trajectory_csv", "step,x,y\n"), ("adjacency_csv", ""), ("image_features_places365_csv", ""),
+     ("costmap_ros_csv", "")],
+)
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(body=GARBAGE)
+def test_garbage_files_never_traceback(name, header, body):
     with tempfile.TemporaryDirectory() as tmp:
-        folder = make(Path(tmp), teaching_csv="event,x,y,words_ja\n" + body)
+        folder = make(Path(tmp), **{name: header + body})
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", DatasetWarning)

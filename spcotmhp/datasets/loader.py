@@ -94,8 +94,8 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     occupancy, image = _read_map(folder / "map.yaml")
 
     teaching = read_table(
-        folder / "teaching.csv", "a header event,x,y,words_ja,words_en[,step] (one words column or both) and one row per "
-        "teaching event"
+        folder / "teaching.csv",
+        "a header event,x,y,words_ja,words_en[,step] (one words column or both) and one row per teaching event",
     )
     if not teaching.rows:
         raise DatasetError("teaching.csv has a header but no teaching events")
@@ -106,13 +106,9 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     _report_cells(teaching, occupancy, positions, image)
 
     trajectory, event_steps = _trajectory(folder, teaching, positions, occupancy, image)
-    truth_place, truth_concept = _truth(folder, teaching)
     place_names = _places(folder, lang)
     n_places = len(place_names) if place_names is not None else None
-    if truth_place is not None and n_places is not None and truth_place.max() >= n_places:
-        i = int(np.argmax(truth_place >= n_places))
-        raise DatasetError(f"truth.csv: place {truth_place[i]} (event {i}) is not in places.csv "
-                           f"(places 0..{n_places - 1})")
+    truth_place, truth_concept = _truth(folder, teaching, n_places)
     if n_places is None and truth_place is not None:
         n_places = int(truth_place.max()) + 1
     return Dataset(
@@ -239,8 +235,9 @@ def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy:
     return trajectory, steps
 
 
-def _truth(folder: Path, teaching: Table) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """truth.csv (event,place[,concept]), one row per teaching event in any order, returned in event order."""
+def _truth(folder: Path, teaching: Table, n_places: int | None) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """truth.csv (event,place[,concept]), one row per teaching event in any order, returned in event order;
+    places must be below ``n_places`` (places.csv's count) when given."""
     path = folder / "truth.csv"
     if not path.is_file():
         return None, None
@@ -261,8 +258,12 @@ def _truth(folder: Path, teaching: Table) -> tuple[np.ndarray | None, np.ndarray
         listed = ", ".join(map(str, missing[:10])) + (" ..." if len(missing) > 10 else "")
         raise DatasetError(f"truth.csv has no row for {len(missing)} of teaching.csv's {n_events} events "
                            f"({listed})")
+    place = table.ints("place", minimum=0)
+    if n_places is not None and place.max() >= n_places:
+        i = int(np.argmax(place >= n_places))
+        raise DatasetError(f"{table.where(i)}: place {place[i]} is not in places.csv (places 0..{n_places - 1})")
     order = np.argsort(events)
-    place = table.ints("place", minimum=0)[order]
+    place = place[order]
     concept = table.ints("concept", minimum=0)[order] if table.has("concept") else None
     return place, concept
 
