@@ -13,12 +13,13 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from spcotmhp.datasets.alignment import align_events
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.tables import Table, read_matrix, read_table
 from spcotmhp.errors import DatasetError
-from spcotmhp.metric.map_io import load_map, read_map_yaml
+from spcotmhp.metric.map_io import load_map
 from spcotmhp.metric.maps import OCCUPIED, OccupancyMap
 
 LANGS = ("en", "ja")
@@ -131,7 +132,12 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
 
 def _read_map(yaml_path: Path) -> tuple[OccupancyMap, str]:
     """The map and its image's file name (for messages: "lies in an occupied cell of map.pgm")."""
-    return load_map(yaml_path), read_map_yaml(yaml_path).image.name
+    occupancy = load_map(yaml_path)
+    try:  # load_map has validated the YAML; this only names the image in messages
+        image = Path(str(yaml.safe_load(yaml_path.read_text(encoding="utf-8"))["image"])).name
+    except (OSError, KeyError, TypeError, yaml.YAMLError):
+        image = yaml_path.name
+    return occupancy, image
 
 
 def _check_sequence(table: Table, column: str, what: str) -> np.ndarray:
