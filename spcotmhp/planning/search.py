@@ -1,0 +1,153 @@
+"""The exact joint topological search of Eq. 28 (Algorithm 1, line 11): max-product dynamic programming.
+
+Eq. 28 of Taniguchi et al. (2024) scores a sequence of candidate points n_1..n_E (each in place i_e) by
+
+    prod_e  Mult(i_e | psi_{i_{e-1}}) / sum_c' Mult(i_e | phi_c')          (transition, unigram rescaling)
+            * w-hat[n_{e-1}, n_e]                                          (partial-path likelihood, Eq. 27)
+            * sum_C Mult(i_e | phi_C) Mult(S_e | W_C) Mult(C | pi)         (word term of the bag S_e)
+
+In log space this is a sum of per-step terms. With waypoints, the bag S_e is the one of the *stage* being
+pursued (each waypoint in order, then the goal), so we search the product of the candidate graph with the
+stages: a state is (stage s, node j). Entering node j while pursuing stage s adds ``word[s, j]``; if node j is an
+instance of stage s (``completes[s, j]``) the stage may be completed there at no cost, moving to (s + 1, j) at
+the same step (stages with the same instances can be completed together). Completing the last stage ends the
+plan. The maximum over all sequences of 1..E steps is found by the Viterbi recursion over e (max-product), which
+is exact whatever the sign of the terms, and jointly chooses the waypoint instances and the goal instance (the
+reference implementation planned leg by leg to a sampled goal). Because a stage can only be completed at one of
+its instances, every returned sequence passes the waypoints in order and ends at a goal instance, however the
+word terms (a few nats) compare with w-hat (tens to hundreds of nats).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+NEG_INF = -np.inf
+
+
+@dataclass(frozen=True)
+class SearchProblem:
+    """Eq. 28 on M candidate nodes and S stages, every term a log weight (-inf = impossible).
+
+    Attributes:
+        transition: (M, M) log weight of a step from node i to node j without the word term:
+            log psi[i_a, i_b] - log sum_c phi_c(i_b) + w-hat[i, j].
+        start: (M,) the same for the first step, from the start pose x_0 to node j.
+        word: (S, M) log word term of entering node j while pursuing stage s.
+        completes: (S, M) bool, node j is an instance of stage s.
+        max_steps: the topological horizon E (steps e = 1..E).
+    """
+
+    transition: np.ndarray
+    start: np.ndarray
+    word: np.ndarray
+    completes: np.ndarray
+    max_steps: int
+
+    def __post_init__(self) -> None:
+        M = self.start.shape[0]
+        if self.transition.shape != (M, M):
+            raise ValueError(f"transition must be ({M}, {M}), got {self.transition.shape}")
+        if self.word.ndim != 2 or self.word.shape[1] != M or self.completes.shape != self.word.shape:
+            raise ValueError(f"word and completes must be (S, {M}), got {self.word.shape}, {self.completes.shape}")
+        if self.word.shape[0] < 1 or self.max_steps < 1:
+            raise ValueError("need at least one stage and max_steps >= 1")
+        if np.isnan(self.transition).any() or np.isnan(self.start).any() or np.isnan(self.word).any():
+            raise ValueError("log weights must not be NaN")
+
+
+@dataclass(frozen=True)
+class SearchResult:
+    """The best sequence: ``nodes[e]`` entered at step e + 1 while pursuing ``stages[e]``; ``completed[e]`` lists
+    the stages completed on arriving there. ``terminal[j]`` is the best log weight of a plan ending at node j.
+    """
+
+    nodes: np.ndarray
+    stages: np.ndarray
+    completed: tuple[tuple[int, ...], ...]
+    log_prob: float
+    terminal: np.ndarray
+    _pred: np.ndarray = field(repr=False)
+    _from_stage: np.ndarray = field(repr=False)
+    _terminal_step: np.ndarray = field(repr=False)
+
+    def ending_at(self, node: int) -> "SearchResult":
+        """The best sequence that ends at ``node`` (for comparing goal instances); raises if there is none."""
+        if not np.isfinite(self.terminal[node]):
+            raise ValueError(f"no plan ends at node {node}")
+        nodes, stages, completed = _backtrack(self._pred, self._from_stage, int(self._terminal_step[node]),
+                                              node, self.completes_last)
+        return SearchResult(nodes, stages, completed, float(self.terminal[node]), self.terminal, self._pred,
+                            self._from_stage, self._terminal_step)
+
+    @property
+    def completes_last(self) -> int:
+        return self._from_stage.shape[1] - 1
+
+
+def search(problem: SearchProblem) -> SearchResult | None:
+    """Maximise Eq. 28 over sequences of 1..E steps (module docstring); None if no sequence completes every
+    stage within E steps."""
+    S, M = problem.word.shape
+    E = problem.max_steps
+    word = problem.word
+    pred = np.full((E + 1, S, M), -1, dtype=np.int64)         # previous node (-1: the start pose)
+    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)   # >= 0: reached by completing that stage here
+    best_terminal = np.full(M, NEG_INF)
+    terminal_step = np.full(M, -1, dtype=np.int64)
+
+    value = np.full((S, M), NEG_INF)
+    value[0] = problem.start + word[0]
+    for e in range(1, E + 1):
+        if e > 1:
+            scores = value[:, :, None] + problem.transition[None, :, :]   # (S, M_from, M_to)
+            pred[e] = np.argmax(scores, axis=1)
+            value = np.take_along_axis(scores, pred[e][:, None, :], axis=1)[:, 0, :] + word
+        terminal = _complete_stages(value, problem.completes, from_stage[e])
+        better = terminal > best_terminal
+        best_terminal[better] = terminal[better]
+        terminal_step[better] = e
+        if not np.isfinite(value).any():
+            break
+    if not np.isfinite(best_terminal).any():
+        return None
+    end = int(np.argmax(best_terminal))
+    nodes, stages, completed = _backtrack(pred, from_stage, int(terminal_step[end]), end, S - 1)
+    return SearchResult(nodes, stages, completed, float(best_terminal[end]), best_terminal, pred, from_stage,
+                        terminal_step)
+
+
+def _complete_stages(value: np.ndarray, completes: np.ndarray, from_stage: np.ndarray) -> np.ndarray:
+    """Stage completion at the current step, in place: (s, j) -> (s + 1, j) where j is an instance of stage s.
+    Returns the log weight of finishing (completing the last stage) at each node. Completion is optional, so the
+    states stay: a plan may pass one goal instance on its way to a better one."""
+    S = value.shape[0]
+    for s in range(S - 1):
+        done = np.where(completes[s], value[s], NEG_INF)
+        better = done > value[s + 1]
+        value[s + 1, better] = done[better]
+        from_stage[s + 1, better] = s
+    terminal = np.where(completes[S - 1], value[S - 1], NEG_INF)
+    return terminal
+
+
+def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, stage: int):
+    nodes, stages, completed = [], [], []
+    done = [stage]
+    e, s, j = step, stage, node
+    while e >= 1:
+        prev_stage = from_stage[e, s, j]
+        if prev_stage >= 0:               # stage prev_stage was completed at node j on this same step
+            done.append(int(prev_stage))
+            s = int(prev_stage)
+            continue
+        nodes.append(j)
+        stages.append(s)
+        completed.append(tuple(sorted(done)))
+        done = []
+        j = int(pred[e, s, j])
+        e -= 1
+    return (np.array(nodes[::-1], dtype=np.int64), np.array(stages[::-1], dtype=np.int64),
+            tuple(completed[::-1]))
