@@ -2,8 +2,77 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
 import typer
+
+from spcotmhp.errors import MapError
 
 
 def register(app: typer.Typer) -> None:
     """Add the metric-level commands to ``app``."""
+    app.command("costmap")(costmap)
+
+
+def costmap(
+    map_yaml: Annotated[Path, typer.Argument(help="ROS map_server YAML file.")],
+    out: Annotated[Path, typer.Option("--out", help="CSV file to write (as costmap_ros.csv).")],
+    inscribed_radius: Annotated[
+        float | None,
+        typer.Option(help="Inscribed radius in metres (0.22 when neither this nor --robot-radius is given)."),
+    ] = None,
+    inflation_radius: Annotated[float, typer.Option(help="Inflation radius in metres.")] = 1.0,
+    cost_scaling_factor: Annotated[float, typer.Option(help="Exponential decay of the inflated cost.")] = 10.0,
+    robot_radius: Annotated[
+        float | None, typer.Option(help="Radius of a circular robot: its inscribed radius.")
+    ] = None,
+    track_unknown_space: Annotated[
+        bool, typer.Option(help="Keep unknown cells as NO_INFORMATION (-1 in the output) instead of free.")
+    ] = False,
+    png: Annotated[Path | None, typer.Option(help="Also draw the cost map to this PNG file.")] = None,
+) -> None:
+    """Inflate a map as ROS costmap_2d does and write the published 0..100 OccupancyGrid as CSV.
+
+    Rows are in OccupancyGrid order (row 0 is the row at the map origin), comma-separated, one row per line.
+    """
+    from spcotmhp.metric.costmap import inflate
+    from spcotmhp.metric.map_io import load_map
+
+    cost_map = inflate(
+        load_map(map_yaml),
+        inscribed_radius=inscribed_radius,
+        inflation_radius=inflation_radius,
+        cost_scaling_factor=cost_scaling_factor,
+        track_unknown_space=track_unknown_space,
+        robot_radius=robot_radius,
+    )
+    grid = cost_map.to_occupancy_grid()
+    try:
+        write_grid_csv(grid, out)
+        if png is not None:
+            draw_cost_map(grid, cost_map.map.unknown, png)
+    except OSError as exc:
+        raise MapError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    typer.echo(f"wrote {out} ({grid.shape[0]} rows x {grid.shape[1]} columns)", err=True)
+
+
+def write_grid_csv(grid: np.ndarray, path: Path) -> None:
+    """Integers, comma-separated, one grid row per line (newline-terminated), rows in the grid's order."""
+    with open(path, "w", encoding="ascii", newline="\n") as handle:
+        handle.writelines(",".join(map(str, row.tolist())) + "\n" for row in np.asarray(grid, dtype=np.int64))
+
+
+def draw_cost_map(grid: np.ndarray, unknown: np.ndarray, path: Path) -> None:
+    """A picture with the map's top row first: free white, cost darker red, lethal black, unknown grey."""
+    from PIL import Image
+
+    value = np.clip(grid.astype(np.float64), 0, 100) / 100.0
+    rgb = np.empty(grid.shape + (3,), dtype=np.float64)
+    rgb[..., 0] = 1.0 - 0.25 * value
+    rgb[..., 1] = rgb[..., 2] = 1.0 - value
+    rgb[grid >= 99] = (0.35, 0.0, 0.0)
+    rgb[grid == 100] = (0.0, 0.0, 0.0)
+    rgb[unknown | (grid < 0)] = (0.6, 0.6, 0.65)
+    Image.fromarray(np.round(rgb[::-1] * 255).astype(np.uint8), mode="RGB").save(path, format="PNG")

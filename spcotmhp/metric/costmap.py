@@ -1,0 +1,264 @@
+"""ROS costmap_2d cost maps (static layer + inflation layer) and the probabilistic cost map p(x|m).
+
+Reproduces ROS 1 costmap_2d cell for cell (``static_layer.cpp`` with ``trinary_costmap``, ``inflation_layer.cpp``,
+``costmap_2d_publisher.cpp``):
+
+* static layer: occupied (>= 100) -> LETHAL 254; unknown (-1) -> NO_INFORMATION 255 if ``track_unknown_space``
+  else FREE 0; everything else FREE 0.
+* inflation layer: a wavefront from every lethal cell, processed in order of increasing distance (bins keyed by
+  the cached ``hypot(dx, dy)`` kernel, cells appended to the end of their bin, 4-neighbour expansion in the order
+  x-1, y-1, x+1, y+1). Each cell keeps the source obstacle that reached it first, so its distance is costmap_2d's
+  (occasionally not the exact Euclidean distance to the nearest obstacle, which is why a plain distance transform
+  differs from ROS in a few cells per map). Cells are inflated while ``d <= ceil(inflation_radius / resolution)``
+  cells; the cost at d cells is 254 at d = 0, 253 (INSCRIBED) while ``d * resolution <= inscribed_radius``, else
+  ``int(252 * exp(-cost_scaling_factor * (d * resolution - inscribed_radius)))``; the new cost is the maximum with
+  the existing cost (unknown cells take it only if >= 253, or > 0 with ``inflate_unknown``).
+* published OccupancyGrid: 0 -> 0, 253 -> 99, 254 -> 100, 255 -> -1, 1..252 -> 1 + (97 * (v - 1)) // 251.
+
+The probabilistic cost map (paper Section 4, the p(x|m) factor of Eq. 28) is p(x|m) = (100 - cost) / 100 on the
+map's free cells below lethal, 0 on occupied and unknown cells; it is kept as log p (-inf where p = 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from numba import njit
+
+from spcotmhp.errors import MapError
+from spcotmhp.metric.maps import OccupancyMap
+
+FREE_SPACE = 0
+INSCRIBED_INFLATED_OBSTACLE = 253
+LETHAL_OBSTACLE = 254
+NO_INFORMATION = 255
+
+
+def _translation_table() -> np.ndarray:
+    table = np.empty(256, dtype=np.int8)
+    table[0], table[253], table[254], table[255] = 0, 99, 100, -1
+    v = np.arange(1, 253)
+    table[1:253] = 1 + (97 * (v - 1)) // 251
+    return table
+
+
+COST_TRANSLATION_TABLE = _translation_table()
+"""costmap_2d_publisher's table from 0..255 costs to 0..100 OccupancyGrid values (-1 unknown)."""
+
+
+@dataclass(frozen=True)
+class CostMapSettings:
+    """costmap_2d parameters (metres). ``inscribed_radius`` is the robot radius for a circular robot."""
+
+    inscribed_radius: float = 0.22
+    inflation_radius: float = 1.0
+    cost_scaling_factor: float = 10.0
+    track_unknown_space: bool = False
+    inflate_unknown: bool = False
+
+    def __post_init__(self) -> None:
+        for name in ("inscribed_radius", "inflation_radius", "cost_scaling_factor"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise MapError(f"cost map setting {name} must be a finite number, got {value!r}")
+            if value < 0:
+                raise MapError(f"cost map setting {name} must be >= 0, got {value!r}")
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class CostMap:
+    """A costmap_2d cost map over ``map``.
+
+    Attributes:
+        costs: uint8 (height, width) in OccupancyGrid order; 0 free .. 252 inflated, 253 inscribed, 254 lethal,
+            255 no information.
+        map: the occupancy map it was built from.
+        settings: the costmap_2d parameters used.
+        log_p: float64 (height, width), log p(x|m) with p = (100 - cost_ros) / 100 on free cells, -inf elsewhere.
+    """
+
+    costs: np.ndarray
+    map: OccupancyMap
+    settings: CostMapSettings
+    log_p: np.ndarray
+
+    def to_occupancy_grid(self) -> np.ndarray:
+        """The int8 0..100 (-1 unknown) grid that costmap_2d publishes, in OccupancyGrid order."""
+        return COST_TRANSLATION_TABLE[self.costs]
+
+    @property
+    def free(self) -> np.ndarray:
+        """Cells with p(x|m) > 0: the map's free cells below lethal cost."""
+        return np.isfinite(self.log_p)
+
+    @property
+    def p(self) -> np.ndarray:
+        """p(x|m) itself (0 on occupied and unknown cells)."""
+        return np.exp(self.log_p)
+
+
+def inflate(
+    occ_map: OccupancyMap,
+    inscribed_radius: float | None = None,
+    inflation_radius: float = 1.0,
+    cost_scaling_factor: float = 10.0,
+    track_unknown_space: bool = False,
+    inflate_unknown: bool = False,
+    robot_radius: float | None = None,
+) -> CostMap:
+    """Build the costmap_2d cost map of ``occ_map`` (static + inflation layers, module docstring).
+
+    ``robot_radius`` (a circular robot) is taken as the inscribed radius; give it or ``inscribed_radius``
+    (default 0.22 m), not both. ``track_unknown_space`` defaults to False as in ROS 1 (unknown space is free
+    for the inflation; it is still excluded from p(x|m)).
+    """
+    if robot_radius is not None and inscribed_radius is not None:
+        raise MapError("give either robot_radius or inscribed_radius, not both (a circular robot's radius is its "
+                       "inscribed radius)")
+    radius = robot_radius if robot_radius is not None else (0.22 if inscribed_radius is None else inscribed_radius)
+    settings = CostMapSettings(radius, inflation_radius, cost_scaling_factor, track_unknown_space, inflate_unknown)
+    costs = static_costs(occ_map, settings.track_unknown_space)
+    cell_radius = cell_distance(settings.inflation_radius, occ_map.resolution)
+    if cell_radius > 0:
+        bins, kernel_costs = inflation_kernel(cell_radius, occ_map.resolution, settings)
+        _wavefront(costs, bins, kernel_costs, cell_radius, settings.inflate_unknown)
+    return CostMap(costs=costs, map=occ_map, settings=settings, log_p=log_probability(costs, occ_map))
+
+
+def static_costs(occ_map: OccupancyMap, track_unknown_space: bool = False) -> np.ndarray:
+    """The static layer's costs (``trinary_costmap``): occupied -> 254, unknown -> 255 or 0, else 0."""
+    data = np.asarray(occ_map.data)
+    unknown_cost = NO_INFORMATION if track_unknown_space else FREE_SPACE
+    costs = np.where(data >= 100, LETHAL_OBSTACLE, FREE_SPACE)
+    costs = np.where(data == -1, unknown_cost, costs)
+    costs = np.where((data < -1), LETHAL_OBSTACLE, costs)  # bytes 128..254 read as unsigned: above lethal
+    return np.ascontiguousarray(costs, dtype=np.uint8)
+
+
+def cell_distance(world_distance: float, resolution: float) -> int:
+    """costmap_2d's ``Costmap2D::cellDistance``: ceil(distance / resolution) cells, at least 0."""
+    return int(max(0.0, math.ceil(world_distance / resolution)))
+
+
+def inflation_kernel(
+    cell_radius: int, resolution: float, settings: CostMapSettings
+) -> tuple[np.ndarray, np.ndarray]:
+    """costmap_2d's cached kernels over offsets (dx, dy) in 0..cell_radius+1: the rank of the distance
+    ``hypot(dx, dy)`` among the distinct distances (the bin), or -1 beyond the inflation radius, and the cost."""
+    offsets = np.arange(cell_radius + 2, dtype=np.float64)
+    dist = np.hypot(offsets[:, None], offsets[None, :])  # the C library's hypot, as costmap_2d's cache
+    values, bins = np.unique(dist, return_inverse=True)
+    bins = bins.reshape(dist.shape).astype(np.int64)
+    costs = np.array([compute_cost(float(d), resolution, settings) for d in values], dtype=np.uint8)[bins]
+    bins[dist > cell_radius] = -1
+    return bins, costs
+
+
+def compute_cost(distance_cells: float, resolution: float, settings: CostMapSettings) -> int:
+    """costmap_2d's ``InflationLayer::computeCost`` for a distance in cells."""
+    if distance_cells == 0:
+        return LETHAL_OBSTACLE
+    euclidean = distance_cells * resolution
+    if euclidean <= settings.inscribed_radius:
+        return INSCRIBED_INFLATED_OBSTACLE
+    factor = math.exp(-1.0 * settings.cost_scaling_factor * (euclidean - settings.inscribed_radius))
+    return int((INSCRIBED_INFLATED_OBSTACLE - 1) * factor)
+
+
+def log_probability(costs: np.ndarray, occ_map: OccupancyMap) -> np.ndarray:
+    """log p(x|m) with p = (100 - cost_ros) / 100 on the map's free cells below lethal, -inf elsewhere."""
+    cost_ros = COST_TRANSLATION_TABLE[costs].astype(np.float64)
+    free = occ_map.free & (costs < LETHAL_OBSTACLE)
+    log_p = np.full(costs.shape, -np.inf)
+    log_p[free] = np.log((100.0 - cost_ros[free]) / 100.0)
+    return log_p
+
+
+@njit(cache=True)
+def _wavefront(costs, bins, kernel_costs, cell_radius, inflate_unknown):  # pragma: no cover - numba
+    """InflationLayer::updateCosts on ``costs`` (uint8, modified in place), bins as linked lists."""
+    height, width = costs.shape
+    flat = costs.reshape(-1)
+    n_bins = bins.max() + 1
+    head = np.full(n_bins, -1, np.int64)
+    tail = np.full(n_bins, -1, np.int64)
+    capacity = 1024
+    cell = np.empty(capacity, np.int64)
+    source = np.empty(capacity, np.int64)
+    nxt = np.empty(capacity, np.int64)
+    count = 0
+    seen = np.zeros(height * width, np.bool_)
+    for index in range(height * width):
+        if flat[index] == LETHAL_OBSTACLE:
+            if count == capacity:
+                capacity *= 2
+                cell, source, nxt = _grow(cell, capacity), _grow(source, capacity), _grow(nxt, capacity)
+            cell[count], source[count], nxt[count] = index, index, -1
+            if head[0] == -1:
+                head[0] = count
+            else:
+                nxt[tail[0]] = count
+            tail[0] = count
+            count += 1
+    for b in range(n_bins):
+        entry = head[b]
+        while entry != -1:
+            index = cell[entry]
+            if not seen[index]:
+                seen[index] = True
+                src = source[entry]
+                my, mx = index // width, index % width
+                sy, sx = src // width, src % width
+                cost = kernel_costs[abs(mx - sx), abs(my - sy)]
+                old = flat[index]
+                if old == NO_INFORMATION and ((cost > FREE_SPACE) if inflate_unknown
+                                              else (cost >= INSCRIBED_INFLATED_OBSTACLE)):
+                    flat[index] = cost
+                else:
+                    flat[index] = max(old, cost)
+                for k in range(4):
+                    if k == 0:
+                        if mx == 0:
+                            continue
+                        ny, nx = my, mx - 1
+                    elif k == 1:
+                        if my == 0:
+                            continue
+                        ny, nx = my - 1, mx
+                    elif k == 2:
+                        if mx == width - 1:
+                            continue
+                        ny, nx = my, mx + 1
+                    else:
+                        if my == height - 1:
+                            continue
+                        ny, nx = my + 1, mx
+                    nindex = ny * width + nx
+                    if seen[nindex]:
+                        continue
+                    nb = bins[abs(nx - sx), abs(ny - sy)]
+                    if nb < b:  # beyond the radius (-1), or a bin already passed: std::map never visits it
+                        continue
+                    if count == capacity:
+                        capacity *= 2
+                        cell, source, nxt = _grow(cell, capacity), _grow(source, capacity), _grow(nxt, capacity)
+                    cell[count], source[count], nxt[count] = nindex, src, -1
+                    if head[nb] == -1:
+                        head[nb] = count
+                    else:
+                        nxt[tail[nb]] = count
+                    tail[nb] = count
+                    count += 1
+            entry = nxt[entry]
+
+
+@njit(cache=True)
+def _grow(array, capacity):  # pragma: no cover - numba
+    out = np.empty(capacity, array.dtype)
+    out[: array.shape[0]] = array
+    return out
