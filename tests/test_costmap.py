@@ -47,7 +47,8 @@ def test_translation_table() -> None:
     t = COST_TRANSLATION_TABLE
     assert t.dtype == np.int8 and t.shape == (256,)
     assert (t[0], t[253], t[254], t[255]) == (0, 99, 100, -1)
-    # 1 + (97 * (v - 1)) // 251: v=1 -> 1, v=127 -> 1 + 12222 // 251 = 49, v=243 -> 1 + 23474 // 251 = 94, v=252 -> 98
+    # 1 + (97 * (v - 1)) // 251: v=1 -> 1, v=127 -> 1 + 12222 // 251 = 49, v=243 -> 1 + 23474 // 251 = 94,
+    # v=252 -> 98
     assert (t[1], t[127], t[243], t[252]) == (1, 49, 94, 98)
     expected = [0] + [1 + (97 * (v - 1)) // 251 for v in range(1, 253)] + [99, 100, -1]
     assert t.tolist() == expected
@@ -58,7 +59,8 @@ def test_compute_cost_by_hand() -> None:
     s = CostMapSettings(inscribed_radius=0.22, inflation_radius=1.0, cost_scaling_factor=10.0)
     assert compute_cost(0.0, 0.1, s) == 254
     assert [compute_cost(d, 0.1, s) for d in (1.0, math.sqrt(2), 2.0)] == [253, 253, 253]
-    # int(252 * exp(-10 * (d * 0.1 - 0.22))): sqrt5 -> 243.08, 3 -> 113.24, sqrt8 -> 134.3, 4 -> 41.6, 5 -> 15.3
+    # int(252 * exp(-10 * (d * 0.1 - 0.22))): sqrt5 -> 243.08, 3 -> 113.24, sqrt8 -> 134.3, 4 -> 41.6,
+    # 5 -> 15.3
     assert compute_cost(math.sqrt(5), 0.1, s) == 243
     assert compute_cost(3.0, 0.1, s) == 113
     assert compute_cost(math.sqrt(8), 0.1, s) == 134
@@ -141,7 +143,8 @@ def test_track_unknown_space() -> None:
     assert cm.to_occupancy_grid()[0].tolist() == [99, 99, -1, -1, -1]
     inflated = inflate(m, track_unknown_space=True, inflate_unknown=True)
     assert inflated.costs[1].tolist() == [254, 253, 253, 113, 41]
-    assert inflated.costs[0].tolist() == [253, 253, 243, 96, int(252 * math.exp(-10 * (math.sqrt(17) * 0.1 - 0.22)))]
+    sqrt17_cost = int(252 * math.exp(-10 * (math.sqrt(17) * 0.1 - 0.22)))  # 36
+    assert inflated.costs[0].tolist() == [253, 253, 243, 96, sqrt17_cost]
     assert np.all(np.isneginf(inflated.log_p[m.unknown]))
 
 
@@ -187,7 +190,8 @@ def test_matches_ros_costmap_2d(csv: Path) -> None:
     m = load_map(csv.parent / "map.yaml")
     ros = np.loadtxt(csv, delimiter=",", dtype=int)
     assert ros.shape == m.shape
-    ours = inflate(m, inscribed_radius=0.22, inflation_radius=1.0, cost_scaling_factor=10.0).to_occupancy_grid()
+    cm = inflate(m, inscribed_radius=0.22, inflation_radius=1.0, cost_scaling_factor=10.0)
+    ours = cm.to_occupancy_grid()
     stats = agreement(ours, ros, m.free)
     assert stats["within2"] >= 0.995, stats
     # the reproduction is exact, on every cell (ROS ran with unknown space as free, as our default)
@@ -217,7 +221,8 @@ def test_wavefront_never_exceeds_the_exact_distance_cost(walls: np.ndarray) -> N
         assert np.all(cm.costs == 0)
         return
     d = ndimage.distance_transform_edt(~walls)
-    exact = np.array([compute_cost(x, 0.1, cm.settings) if x <= 10 else 0 for x in d.ravel()]).reshape(d.shape)
+    exact = np.array([compute_cost(x, 0.1, cm.settings) if x <= 10 else 0 for x in d.ravel()])
+    exact = exact.reshape(d.shape)
     assert np.all(cm.costs <= exact)
     assert np.mean(cm.costs == exact) >= 0.95
 
@@ -230,7 +235,8 @@ def test_wavefront_never_exceeds_the_exact_distance_cost(walls: np.ndarray) -> N
     ({"inflation_radius": -1.0}, "inflation_radius must be >= 0"),
     ({"cost_scaling_factor": float("nan")}, "cost_scaling_factor must be a finite number, got nan"),
     ({"inflation_radius": float("inf")}, "inflation_radius must be a finite number"),
-    ({"robot_radius": 0.3, "inscribed_radius": 0.2}, "give either robot_radius or inscribed_radius, not both"),
+    ({"robot_radius": 0.3, "inscribed_radius": 0.2},
+     "give either robot_radius or inscribed_radius, not both"),
     ({"robot_radius": -0.3}, "inscribed_radius must be >= 0"),
 ])
 def test_bad_settings(kwargs: dict, message: str) -> None:
@@ -248,8 +254,9 @@ def run_cli(*args: str) -> subprocess.CompletedProcess:
 def test_cli_reproduces_costmap_ros_csv_byte_for_byte(tmp_path: Path) -> None:
     home = DATA / "sigverse-3ldk" / "3LDK_05"
     out, png = tmp_path / "cm.csv", tmp_path / "cm.png"
-    result = run_cli("costmap", str(home / "map.yaml"), "--inscribed-radius", "0.22", "--inflation-radius", "1.0",
-                     "--cost-scaling-factor", "10", "--out", str(out), "--png", str(png))
+    result = run_cli("costmap", str(home / "map.yaml"), "--inscribed-radius", "0.22",
+                     "--inflation-radius", "1.0", "--cost-scaling-factor", "10",
+                     "--out", str(out), "--png", str(png))
     assert result.returncode == 0, result.stderr
     assert out.read_bytes() == (home / "costmap_ros.csv").read_bytes()
     with Image.open(png) as img:
@@ -291,4 +298,5 @@ def test_cli_unwritable_output(tmp_path: Path) -> None:
     yaml_path = str(DATA / "sigverse-3ldk" / "3LDK_01" / "map.yaml")
     result = run_cli("costmap", yaml_path, "--out", str(tmp_path / "missing" / "x.csv"))
     assert result.returncode == 2
-    assert result.stderr.strip() == f"error: cannot write {tmp_path / 'missing' / 'x.csv'}: No such file or directory"
+    target = tmp_path / "missing" / "x.csv"
+    assert result.stderr.strip() == f"error: cannot write {target}: No such file or directory"

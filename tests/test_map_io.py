@@ -19,7 +19,8 @@ from spcotmhp.metric.maps import OccupancyMap
 
 DATA = Path(__file__).resolve().parents[1] / "spcotmhp" / "data"
 HOMES = sorted((DATA / "sigverse-3ldk").glob("3LDK_*"))
-BASE = {"resolution": 0.1, "origin": [-1.0, 2.0, 0.0], "negate": 0, "occupied_thresh": 0.65, "free_thresh": 0.196}
+BASE = {"resolution": 0.1, "origin": [-1.0, 2.0, 0.0], "negate": 0,
+        "occupied_thresh": 0.65, "free_thresh": 0.196}
 
 
 def write_map(tmp_path: Path, pixels: np.ndarray, name: str = "map.png", img_mode: str | None = None,
@@ -96,7 +97,8 @@ def test_trinary_threshold_comparisons_are_strict(tmp_path: Path) -> None:
 
 def test_negate_swaps_black_and_white(tmp_path: Path) -> None:
     row = np.array([[0, 128, 255]], dtype=np.uint8)
-    for negate, expected in ((1, [0, -1, 100]), (True, [0, -1, 100]), (0, [100, -1, 0]), (False, [100, -1, 0])):
+    cases = ((1, [0, -1, 100]), (True, [0, -1, 100]), (0, [100, -1, 0]), (False, [100, -1, 0]))
+    for negate, expected in cases:
         m = load_map(write_map(tmp_path, row, negate=negate))
         assert m.negate is bool(negate)
         np.testing.assert_array_equal(m.data, [expected])
@@ -111,7 +113,8 @@ def test_rows_are_flipped(tmp_path: Path) -> None:
 def test_rgb_shade_is_the_channel_mean_not_luminance(tmp_path: Path) -> None:
     # red and blue: mean 85 -> occ 0.667 -> occupied; yellow and cyan: mean 170 -> occ 0.333 -> unknown
     # (a luminance conversion would make yellow, 226, free)
-    rgb = np.array([[[255, 0, 0], [255, 255, 0], [0, 0, 255], [0, 255, 255], [254, 254, 254]]], dtype=np.uint8)
+    rgb = np.array([[[255, 0, 0], [255, 255, 0], [0, 0, 255], [0, 255, 255], [254, 254, 254]]],
+                   dtype=np.uint8)
     m = load_map(write_map(tmp_path, rgb))
     np.testing.assert_array_equal(m.data, [[100, -1, 100, -1, 0]])
 
@@ -157,7 +160,8 @@ def test_raw_mode(tmp_path: Path) -> None:
 
 
 def test_sixteen_bit_pgm(tmp_path: Path) -> None:
-    # 16-bit grey: shade = v / 65535; 13107 -> occ 0.8 occupied; 52428 -> occ 0.2 unknown; 52700 -> 0.1959 free
+    # 16-bit grey: shade = v / 65535; 13107 -> occ 0.8 occupied; 52428 -> occ 0.2 unknown;
+    # 52700 -> occ 0.1959 free
     # (52700 lies between the 8-bit levels 205 and 206: 16-bit precision is kept)
     grey = np.array([[0, 13107, 52428, 52700, 65535]], dtype=np.uint16)
     path = write_map(tmp_path, grey, name="m16.pgm")
@@ -247,7 +251,8 @@ def test_missing_required_key(tmp_path: Path, key: str) -> None:
     ("origin", [0, 0, 0.5], r"origin yaw 0.5 is not supported; only axis-aligned maps \(yaw 0\)"),
     ("negate", 2, "key 'negate' must be 0, 1, true or false, got 2"),
     ("negate", "maybe", "key 'negate' must be 0, 1, true or false"),
-    ("occupied_thresh", 0.1, r"0 <= free_thresh < occupied_thresh <= 1, got free_thresh 0.196, occupied_thresh 0.1"),
+    ("occupied_thresh", 0.1,
+     r"0 <= free_thresh < occupied_thresh <= 1, got free_thresh 0.196, occupied_thresh 0.1"),
     ("occupied_thresh", 1.5, "free_thresh < occupied_thresh <= 1"),
     ("free_thresh", -0.1, "0 <= free_thresh"),
     ("free_thresh", 0.65, "free_thresh < occupied_thresh"),
@@ -362,7 +367,8 @@ def test_save_warns_when_the_map_will_not_load_back_the_same(tmp_path: Path) -> 
 
 
 @settings(max_examples=25, deadline=None)
-@given(data=arrays(np.int8, st.tuples(st.integers(1, 6), st.integers(1, 6)), elements=st.sampled_from([-1, 0, 100])),
+@given(data=arrays(np.int8, st.tuples(st.integers(1, 6), st.integers(1, 6)),
+                   elements=st.sampled_from([-1, 0, 100])),
        mode=st.sampled_from(["trinary", "raw", "scale"]))
 def test_round_trip_property(tmp_path_factory: pytest.TempPathFactory, data: np.ndarray, mode: str) -> None:
     tmp = tmp_path_factory.mktemp("rt")

@@ -24,7 +24,9 @@ def costmap(
         typer.Option(help="Inscribed radius in metres (0.22 when neither this nor --robot-radius is given)."),
     ] = None,
     inflation_radius: Annotated[float, typer.Option(help="Inflation radius in metres.")] = 1.0,
-    cost_scaling_factor: Annotated[float, typer.Option(help="Exponential decay of the inflated cost.")] = 10.0,
+    cost_scaling_factor: Annotated[
+        float, typer.Option(help="Exponential decay of the inflated cost.")
+    ] = 10.0,
     robot_radius: Annotated[
         float | None, typer.Option(help="Radius of a circular robot: its inscribed radius.")
     ] = None,

@@ -1,22 +1,23 @@
 """ROS costmap_2d cost maps (static layer + inflation layer) and the probabilistic cost map p(x|m).
 
-Reproduces ROS 1 costmap_2d cell for cell (``static_layer.cpp`` with ``trinary_costmap``, ``inflation_layer.cpp``,
-``costmap_2d_publisher.cpp``):
+Reproduces ROS 1 costmap_2d cell for cell (``static_layer.cpp`` with ``trinary_costmap``,
+``inflation_layer.cpp``, ``costmap_2d_publisher.cpp``):
 
-* static layer: occupied (>= 100) -> LETHAL 254; unknown (-1) -> NO_INFORMATION 255 if ``track_unknown_space``
-  else FREE 0; everything else FREE 0.
-* inflation layer: a wavefront from every lethal cell, processed in order of increasing distance (bins keyed by
-  the cached ``hypot(dx, dy)`` kernel, cells appended to the end of their bin, 4-neighbour expansion in the order
-  x-1, y-1, x+1, y+1). Each cell keeps the source obstacle that reached it first, so its distance is costmap_2d's
-  (occasionally not the exact Euclidean distance to the nearest obstacle, which is why a plain distance transform
-  differs from ROS in a few cells per map). Cells are inflated while ``d <= ceil(inflation_radius / resolution)``
-  cells; the cost at d cells is 254 at d = 0, 253 (INSCRIBED) while ``d * resolution <= inscribed_radius``, else
-  ``int(252 * exp(-cost_scaling_factor * (d * resolution - inscribed_radius)))``; the new cost is the maximum with
-  the existing cost (unknown cells take it only if >= 253, or > 0 with ``inflate_unknown``).
+* static layer: occupied (>= 100) -> LETHAL 254; unknown (-1) -> NO_INFORMATION 255 if
+  ``track_unknown_space`` else FREE 0; everything else FREE 0.
+* inflation layer: a wavefront from every lethal cell, processed in order of increasing distance (bins keyed
+  by the cached ``hypot(dx, dy)`` kernel, cells appended to the end of their bin, 4-neighbour expansion in
+  the order x-1, y-1, x+1, y+1). Each cell keeps the source obstacle that reached it first, so its distance
+  is costmap_2d's (occasionally not the exact Euclidean distance to the nearest obstacle, which is why a
+  plain distance transform differs from ROS in a few cells per map). Cells are inflated while
+  ``d <= ceil(inflation_radius / resolution)`` cells; the cost at d cells is 254 at d = 0, 253 (INSCRIBED)
+  while ``d * resolution <= inscribed_radius``, else
+  ``int(252 * exp(-cost_scaling_factor * (d * resolution - inscribed_radius)))``; the new cost is the
+  maximum with the existing cost (unknown cells take it only if >= 253, or > 0 with ``inflate_unknown``).
 * published OccupancyGrid: 0 -> 0, 253 -> 99, 254 -> 100, 255 -> -1, 1..252 -> 1 + (97 * (v - 1)) // 251.
 
-The probabilistic cost map (paper Section 4, the p(x|m) factor of Eq. 28) is p(x|m) = (100 - cost) / 100 on the
-map's free cells below lethal, 0 on occupied and unknown cells; it is kept as log p (-inf where p = 0).
+The probabilistic cost map (paper Section 4, the p(x|m) factor of Eq. 28) is p(x|m) = (100 - cost) / 100
+on the map's free cells below lethal, 0 on occupied and unknown cells; it is kept as log p (-inf where 0).
 """
 
 from __future__ import annotations
@@ -75,11 +76,12 @@ class CostMap:
     """A costmap_2d cost map over ``map``.
 
     Attributes:
-        costs: uint8 (height, width) in OccupancyGrid order; 0 free .. 252 inflated, 253 inscribed, 254 lethal,
-            255 no information.
+        costs: uint8 (height, width) in OccupancyGrid order; 0 free .. 252 inflated, 253 inscribed,
+            254 lethal, 255 no information.
         map: the occupancy map it was built from.
         settings: the costmap_2d parameters used.
-        log_p: float64 (height, width), log p(x|m) with p = (100 - cost_ros) / 100 on free cells, -inf elsewhere.
+        log_p: float64 (height, width), log p(x|m) with p = (100 - cost_ros) / 100 on free cells, -inf
+            elsewhere.
     """
 
     costs: np.ndarray
@@ -118,10 +120,18 @@ def inflate(
     for the inflation; it is still excluded from p(x|m)).
     """
     if robot_radius is not None and inscribed_radius is not None:
-        raise MapError("give either robot_radius or inscribed_radius, not both (a circular robot's radius is its "
-                       "inscribed radius)")
-    radius = robot_radius if robot_radius is not None else (0.22 if inscribed_radius is None else inscribed_radius)
-    settings = CostMapSettings(radius, inflation_radius, cost_scaling_factor, track_unknown_space, inflate_unknown)
+        raise MapError(
+            "give either robot_radius or inscribed_radius, not both (a circular robot's radius is its "
+            "inscribed radius)"
+        )
+    radius = inscribed_radius if robot_radius is None else robot_radius
+    settings = CostMapSettings(
+        0.22 if radius is None else radius,
+        inflation_radius,
+        cost_scaling_factor,
+        track_unknown_space,
+        inflate_unknown,
+    )
     costs = static_costs(occ_map, settings.track_unknown_space)
     cell_radius = cell_distance(settings.inflation_radius, occ_map.resolution)
     if cell_radius > 0:
@@ -149,7 +159,7 @@ def inflation_kernel(
     cell_radius: int, resolution: float, settings: CostMapSettings
 ) -> tuple[np.ndarray, np.ndarray]:
     """costmap_2d's cached kernels over offsets (dx, dy) in 0..cell_radius+1: the rank of the distance
-    ``hypot(dx, dy)`` among the distinct distances (the bin), or -1 beyond the inflation radius, and the cost."""
+    ``hypot(dx, dy)`` among the distinct distances (the bin; -1 beyond the inflation radius), and the cost."""
     offsets = np.arange(cell_radius + 2, dtype=np.float64)
     dist = np.hypot(offsets[:, None], offsets[None, :])  # the C library's hypot, as costmap_2d's cache
     values, bins = np.unique(dist, return_inverse=True)
@@ -197,7 +207,7 @@ def _wavefront(costs, bins, kernel_costs, cell_radius, inflate_unknown):  # prag
         if flat[index] == LETHAL_OBSTACLE:
             if count == capacity:
                 capacity *= 2
-                cell, source, nxt = _grow(cell, capacity), _grow(source, capacity), _grow(nxt, capacity)
+                cell, source, nxt = _grow(cell, source, nxt, capacity)
             cell[count], source[count], nxt[count] = index, index, -1
             if head[0] == -1:
                 head[0] = count
@@ -246,7 +256,7 @@ def _wavefront(costs, bins, kernel_costs, cell_radius, inflate_unknown):  # prag
                         continue
                     if count == capacity:
                         capacity *= 2
-                        cell, source, nxt = _grow(cell, capacity), _grow(source, capacity), _grow(nxt, capacity)
+                        cell, source, nxt = _grow(cell, source, nxt, capacity)
                     cell[count], source[count], nxt[count] = nindex, src, -1
                     if head[nb] == -1:
                         head[nb] = count
@@ -258,7 +268,9 @@ def _wavefront(costs, bins, kernel_costs, cell_radius, inflate_unknown):  # prag
 
 
 @njit(cache=True)
-def _grow(array, capacity):  # pragma: no cover - numba
-    out = np.empty(capacity, array.dtype)
-    out[: array.shape[0]] = array
+def _grow(cell, source, nxt, capacity):  # pragma: no cover - numba
+    """The three entry arrays copied into arrays of ``capacity`` entries."""
+    out = (np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64))
+    n = cell.shape[0]
+    out[0][:n], out[1][:n], out[2][:n] = cell, source, nxt
     return out

@@ -1,10 +1,10 @@
 """Read and write ROS map_server maps (YAML + image) exactly as Nav2's ``nav2_map_server/map_io.cpp`` does.
 
-Loading (``load_map``): the YAML names ``image`` (relative to the YAML), ``resolution``, ``origin`` [x, y, yaw],
-``negate``, ``occupied_thresh``, ``free_thresh`` and optionally ``mode`` (trinary, the default; scale; raw).
-Per pixel, ``shade`` in [0, 1] is the mean of the colour channels (R, G, B; a grey image counts its grey value
-three times); in trinary mode an image with an alpha channel averages the alpha in too (R, G, B, A), as Nav2 and
-ROS 1's map_server do. ``occ = shade`` if negate else ``1 - shade``, then
+Loading (``load_map``): the YAML names ``image`` (relative to the YAML), ``resolution``, ``origin``
+[x, y, yaw], ``negate``, ``occupied_thresh``, ``free_thresh`` and optionally ``mode`` (trinary, the default;
+scale; raw). Per pixel, ``shade`` in [0, 1] is the mean of the colour channels (R, G, B; a grey image counts
+its grey value three times); in trinary mode an image with an alpha channel averages the alpha in too
+(R, G, B, A), as Nav2 and ROS 1's map_server do. ``occ = shade`` if negate else ``1 - shade``, then
 
 * trinary: ``occ > occupied_thresh`` -> 100, ``occ < free_thresh`` -> 0, else -1;
 * scale: a pixel that is not fully opaque -> -1, else as trinary, with values in between
@@ -13,9 +13,10 @@ ROS 1's map_server do. ``occ = shade`` if negate else ``1 - shade``, then
 
 Image row 0 is the top of the map; OccupancyGrid row 0 is the row at the origin, so rows are flipped.
 
-Saving (``save_map``) follows Nav2's map_saver: trinary writes free 254, occupied 0, unknown 205 (8-bit grey);
-scale writes grey (100 - value) / 100 with unknown transparent (RGBA PNG); raw writes the value itself as the
-grey level and unknown as 255. The YAML gets image, mode, resolution, origin, ``negate: 0`` and the thresholds.
+Saving (``save_map``) follows Nav2's map_saver: trinary writes free 254, occupied 0, unknown 205 (8-bit
+grey); scale writes grey (100 - value) / 100 with unknown transparent (RGBA PNG); raw writes the value itself
+as the grey level and unknown as 255. The YAML gets image, mode, resolution, origin (at full precision, where
+Nav2 keeps 3 digits), ``negate: 0`` and the thresholds.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ class MapMetadata:
 
 
 def load_map(yaml_path: str | Path) -> OccupancyMap:
-    """Load a ROS map_server map (YAML + PGM/PNG/BMP image) into an ``OccupancyMap`` as Nav2's map_server does.
+    """Load a ROS map_server map (YAML + PGM/PNG/BMP image) into an ``OccupancyMap`` as Nav2 does.
 
     Only axis-aligned maps are supported: a non-zero origin yaw raises ``MapError``, as does any missing or
     malformed key, a missing or unreadable image, an unknown mode or inconsistent thresholds.
@@ -101,11 +102,14 @@ def read_map_yaml(yaml_path: str | Path) -> MapMetadata:
         raise MapError(f"map YAML {path}: key 'resolution' must be a positive number, got {resolution!r}")
     origin = need("origin")
     if not isinstance(origin, (list, tuple)) or len(origin) != 3:
-        raise MapError(f"map YAML {path}: key 'origin' must be a list of 3 numbers [x, y, yaw], got {origin!r}")
+        raise MapError(
+            f"map YAML {path}: key 'origin' must be a list of 3 numbers [x, y, yaw], got {origin!r}"
+        )
     ox, oy, yaw = (_number(path, "origin", v) for v in origin)
     if yaw != 0.0:
         raise MapError(
-            f"map YAML {path}: origin yaw {yaw!r} is not supported; only axis-aligned maps (yaw 0) are accepted"
+            f"map YAML {path}: origin yaw {yaw!r} is not supported; "
+            "only axis-aligned maps (yaw 0) are accepted"
         )
     negate = need("negate")
     if isinstance(negate, bool):
@@ -132,8 +136,8 @@ def read_map_yaml(yaml_path: str | Path) -> MapMetadata:
 
 
 def resolve_image_path(yaml_path: Path, image: str) -> Path:
-    """The image file a YAML names: relative names are taken beside the YAML (as Nav2 does); an absolute path
-    that does not exist falls back to the file of that name beside the YAML (maps copied from another machine)."""
+    """The image file a YAML names: relative names are taken beside the YAML (as Nav2 does); an absolute
+    path that does not exist falls back to the file of that name beside the YAML (a map from elsewhere)."""
     named = Path(image)
     if not named.is_absolute():
         return yaml_path.parent / named
@@ -146,9 +150,9 @@ def resolve_image_path(yaml_path: Path, image: str) -> Path:
 
 
 def read_image(path: Path) -> tuple[np.ndarray, np.ndarray | None, int]:
-    """Read a map image as (channels, alpha, maxval) in image row order: ``channels`` int (H, W, 3) with R, G, B
-    (a grey image repeats its grey value), ``alpha`` int (H, W) or None without alpha, both in 0..maxval
-    (255, or 65535 for 16-bit images)."""
+    """Read a map image as (channels, alpha, maxval) in image row order: ``channels`` int (H, W, 3) with
+    R, G, B (a grey image repeats its grey value), ``alpha`` int (H, W) or None without alpha, both in
+    0..maxval (255, or 65535 for 16-bit images)."""
     if not path.is_file():
         raise MapError(f"map image {path} does not exist")
     try:
@@ -244,7 +248,9 @@ def save_map(
     if fmt not in IMAGE_FORMATS:
         raise MapError(f"cannot save map: image format {fmt!r} is not one of {', '.join(IMAGE_FORMATS)}")
     if mode == "scale" and fmt != "png":
-        raise MapError(f"cannot save map: scale mode needs transparency for unknown cells, use png, not {fmt}")
+        raise MapError(
+            f"cannot save map: scale mode needs transparency for unknown cells, use png, not {fmt}"
+        )
     occupied = occ_map.occupied_thresh if occupied_thresh is None else float(occupied_thresh)
     free = occ_map.free_thresh if free_thresh is None else float(free_thresh)
     _check_thresholds("cannot save map", occupied, free)
@@ -279,8 +285,8 @@ def save_map(
     changed = int(np.count_nonzero(back != occ_map.data))
     if changed:
         warnings.warn(
-            f"saved map {yaml_path} will load back with {changed} cells changed (map_saver's {mode} mode with "
-            f"thresholds {occupied}/{free}); use mode='raw' for an exact copy",
+            f"saved map {yaml_path} will load back with {changed} cells changed (map_saver's {mode} mode "
+            f"with thresholds {occupied}/{free}); use mode='raw' for an exact copy",
             stacklevel=2,
         )
     return yaml_path
@@ -294,7 +300,7 @@ def grid_to_pixels(data: np.ndarray, mode: str, occupied_thresh: float, free_thr
     if mode == "trinary":
         free_int = int(np.rint(free_thresh * 100.0))
         occupied_int = int(np.rint(occupied_thresh * 100.0))
-        grey = np.where(cells <= free_int, SAVE_FREE, np.where(cells >= occupied_int, SAVE_OCCUPIED, SAVE_UNKNOWN))
+        grey = np.select([cells <= free_int, cells >= occupied_int], [SAVE_FREE, SAVE_OCCUPIED], SAVE_UNKNOWN)
         return np.where(unknown, SAVE_UNKNOWN, grey).astype(np.uint8)
     if mode == "raw":
         return np.where(unknown, 255, cells).astype(np.uint8)
@@ -308,7 +314,7 @@ def grid_to_pixels(data: np.ndarray, mode: str, occupied_thresh: float, free_thr
 
 
 def _magick_grey(level: np.ndarray) -> np.ndarray:
-    """8-bit grey that (Q16) GraphicsMagick writes for ``ColorGray(level)``: truncate to 16 bits, round to 8."""
+    """8-bit grey that (Q16) GraphicsMagick writes for ``ColorGray(level)``: truncate to 16 bits, round."""
     quantum = np.floor(np.clip(level, 0.0, 1.0) * 65535.0)
     return ((quantum + 128) // 257).astype(np.uint8)
 
