@@ -136,7 +136,7 @@ def inflate(
     cell_radius = cell_distance(settings.inflation_radius, occ_map.resolution)
     if cell_radius > 0:
         bins, kernel_costs = inflation_kernel(cell_radius, occ_map.resolution, settings)
-        _wavefront(costs, bins, kernel_costs, cell_radius, settings.inflate_unknown)
+        _wavefront(costs, bins, kernel_costs, settings.inflate_unknown)
     return CostMap(costs=costs, map=occ_map, settings=settings, log_p=log_probability(costs, occ_map))
 
 
@@ -190,7 +190,7 @@ def log_probability(costs: np.ndarray, occ_map: OccupancyMap) -> np.ndarray:
 
 
 @njit(cache=True)
-def _wavefront(costs, bins, kernel_costs, cell_radius, inflate_unknown):  # pragma: no cover - numba
+def _wavefront(costs, bins, kernel_costs, inflate_unknown):  # pragma: no cover - numba
     """InflationLayer::updateCosts on ``costs`` (uint8, modified in place), bins as linked lists."""
     height, width = costs.shape
     flat = costs.reshape(-1)
