@@ -16,7 +16,7 @@ OCCUPIED = 100
 UNKNOWN = -1
 
 
-@dataclass
+@dataclass(eq=False)
 class OccupancyMap:
     """An occupancy grid in OccupancyGrid order.
 
@@ -36,6 +36,17 @@ class OccupancyMap:
     occupied_thresh: float = 0.65
     free_thresh: float = 0.196
     source: Path | None = field(default=None, compare=False)
+
+    def __eq__(self, other: object) -> bool:
+        """Same grid values, resolution, origin and map_server settings (the source path is ignored)."""
+        if not isinstance(other, OccupancyMap):
+            return NotImplemented
+        return (self.data.shape == other.data.shape and bool(np.array_equal(self.data, other.data))
+                and self.resolution == other.resolution and tuple(self.origin) == tuple(other.origin)
+                and self.mode == other.mode and self.negate == other.negate
+                and self.occupied_thresh == other.occupied_thresh and self.free_thresh == other.free_thresh)
+
+    __hash__ = None  # type: ignore[assignment]  # mutable array inside
 
     @property
     def height(self) -> int:
