@@ -71,3 +71,17 @@ def test_check_dataset_errors_are_one_line(tmp_path):
     assert result.returncode == 2
     assert result.stderr == f"error: dataset folder {tmp_path / 'missing'} does not exist\n"
     assert "Traceback" not in result.stdout + result.stderr
+
+
+def test_synth_command_writes_a_loadable_dataset(tmp_path):
+    from typer.testing import CliRunner
+
+    from spcotmhp.cli import app
+    from spcotmhp.datasets import load_dataset
+
+    out = tmp_path / "flat"
+    res = CliRunner().invoke(app, ["synth", "flat", "--rooms", "4", "--seed", "2", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    d = load_dataset(out)
+    assert len(set(d.truth_place.tolist())) == 4
+    assert d.trajectory is not None and d.event_steps is not None

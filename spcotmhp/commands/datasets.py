@@ -96,7 +96,27 @@ def check_dataset(
         raise typer.Exit(1)
 
 
+def synth(
+    kind: Annotated[str, typer.Argument(help="flat, house or office")],
+    out: Annotated[Path, typer.Option("--out", help="dataset folder to write")],
+    rooms: Annotated[int | None, typer.Option("--rooms", help="number of places, corridors included")] = None,
+    size: Annotated[int | None, typer.Option("--size", help="map side in cells")] = None,
+    seed: Annotated[int, typer.Option("--seed")] = 0,
+    word_noise: Annotated[float, typer.Option("--word-noise", help="share of place words replaced")] = 0.0,
+    events_per_room: Annotated[int, typer.Option("--events-per-room")] = 15,
+) -> None:
+    """Generate a seeded synthetic environment (floor plan + teaching walk) as a dataset folder."""
+    from spcotmhp.datasets.synthetic import generate_environment, write_dataset
+
+    d = generate_environment(kind, seed=seed, n_rooms=rooms, size=size, word_noise=word_noise,
+                             events_per_room=events_per_room)
+    path = write_dataset(d, out)
+    typer.echo(f"wrote {path}: {d.n_events} events, {len(d.place_names or [])} places, "
+               f"map {_map_size(d)}, trajectory {0 if d.trajectory is None else len(d.trajectory)} poses")
+
+
 def register(app: typer.Typer) -> None:
     """Add the dataset commands to ``app``."""
     app.command("datasets")(datasets)
     app.command("check-dataset")(check_dataset)
+    app.command("synth")(synth)
