@@ -135,10 +135,24 @@ def test_astar_approximation_keeps_the_best_sampled_goal():
     # two goals of equal weight; the near one collects its weight sooner, so it wins the T-step objective
     log_w = np.full((1, 9), np.log(1e-6))
     log_w[0, 2] = log_w[0, 8] = 0.0
-    log_p = np.zeros((1, 9))
     rng = np.random.default_rng(5)
-    cells = astar_approximation(log_w, log_p, (0, 0), rng, J=10, T=20)
+    cells = astar_approximation(log_w, (0, 0), rng, J=10, T=20)
     assert tuple(cells[-1]) == (0, 2) and tuple(cells[0]) == (0, 0)
     # seeded: the same generator state gives the same path
-    again = astar_approximation(log_w, log_p, (0, 0), np.random.default_rng(5), J=10, T=20)
+    again = astar_approximation(log_w, (0, 0), np.random.default_rng(5), J=10, T=20)
     np.testing.assert_array_equal(cells, again)
+
+
+def test_astar_approximation_detours_through_likely_cells():
+    # a 2 x 5 room: the direct row-0 route crosses a low-weight cell (0, 2), a row-1 detour does not
+    log_w = np.full((2, 5), -3.0)
+    log_w[0, 2] = -30.0
+    log_w[0, 4] = 0.0    # the goal: the sampled candidate with the best T-step objective
+    log_w[1, 4] = -60.0
+    cells = astar_approximation(log_w, (0, 0), np.random.default_rng(0), J=30, T=10)
+    visited = [tuple(c) for c in cells]
+    # direct: 3 + 30 + 3 + 0 plus 4 log 5; any 6-step detour through row 1: 5 * 3 + 0 plus 6 log 5 (cheaper)
+    assert visited[0] == (0, 0) and visited[-1] == (0, 4) and len(visited) == 7
+    assert (0, 2) not in visited and (1, 4) not in visited
+    with pytest.raises(PlanningError, match="step cost -log w \\+ log\\|A\\| is negative"):
+        astar_approximation(np.full((2, 2), 2.0), (0, 0), np.random.default_rng(0))

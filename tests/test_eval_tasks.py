@@ -44,9 +44,12 @@ def test_places_regions_and_starts():
     ds = corridor_home()
     places = build_places(ds)
     assert [p.name for p in places] == ["a", "bed", "bed", "hall"]
-    assert places[0].cells.tolist() == [[1, 0], [1, 1]]
-    assert places[3].cells.tolist() == [[0, 9], [1, 9], [2, 9]]
-    assert [nearest_free_cell(ds, p.mean) for p in places] == [(1, 1), (1, 6), (1, 11), (1, 9)]
+    assert [p.cell for p in places] == [(1, 1), (1, 6), (1, 11), (1, 9)]
+    assert places[3].box.contains(np.array([[9.5, 2.55], [9.5, 2.65]])).tolist() == [True, False]
+    # a mean inside a wall moves to the nearest free cell
+    data = np.zeros((3, 13), np.int8)
+    data[:, 5:7] = 100  # (1, 6) is blocked; (1, 7) is 1 cell away, (1, 4) 2 cells
+    assert nearest_free_cell(corridor_home(map=OccupancyMap(data, 1.0)), np.array([6.6, 1.5])) == (1, 7)
 
 
 def test_basic_tasks_by_hand():
@@ -54,11 +57,11 @@ def test_basic_tasks_by_hand():
     tasks = by_places(ht)
     # the non-adjacent ordered pairs
     assert sorted((i, j) for i, _, j in tasks) == [(0, 2), (0, 3), (1, 2), (2, 0), (2, 1), (3, 0)]
-    expect = {  # (i, j): (l, the goal place where the shortest successful path ends)
-        (0, 2): (4.0, 1),   # (1,1) -> nearest bed cell (1,5): 4 steps; "bed" includes place 1
-        (0, 3): (8.0, 3),   # (1,1) -> (1,9)
-        (1, 2): (0.0, 1),   # the start is already in a bedroom
-        (2, 0): (10.0, 0),  # (1,11) -> (1,1)
+    expect = {  # (i, j): (l, the goal place where the shortest reference path ends); positions at cols 1, 6, 11, 9
+        (0, 2): (5.0, 1),   # "bed" = places 1 (5 m away) and 2 (10 m)
+        (0, 3): (8.0, 3),
+        (1, 2): (0.0, 1),   # the start is already a bedroom's position
+        (2, 0): (10.0, 0),
         (2, 1): (0.0, 2),
         (3, 0): (8.0, 0),
     }
@@ -75,14 +78,14 @@ def test_basic_tasks_by_hand():
 def test_advanced_tasks_by_hand():
     ht = make_tasks(corridor_home(), "advanced", corridor_home().adjacency)
     tasks = by_places(ht)
-    expect = {  # (i, h, j): (l, closest goal place)
-        (0, 3, 2): (9.0, 2),   # via hall (1,9): 8, then the bed beyond it (1,10): 1; the near bed would need 3
-        (0, 1, 3): (8.0, 3), (0, 2, 3): (8.0, 3),  # "bed" = either bedroom; one passes it on the way
-        (1, 0, 2): (9.0, 1),   # (1,6) -> (1,1): 5, back to the first bed cell (1,5): 4
-        (1, 3, 2): (4.0, 2),   # (1,6) -> (1,9): 3 -> (1,10): 1
+    expect = {  # (i, h, j): (l, closest goal place) = min over instances w, g of d(start, w) + d(w, g)
+        (0, 3, 2): (10.0, 2),  # to the hall 8, then the bed beyond it 2 (the near bed would be 3 back)
+        (0, 1, 3): (8.0, 3), (0, 2, 3): (8.0, 3),  # "bed" = either bedroom: via place 1, 5 + 3
+        (1, 0, 2): (10.0, 1),  # out to "a" 5 and back to the first bedroom 5
+        (1, 3, 2): (5.0, 2),   # hall 3, then the far bedroom 2
         (2, 1, 0): (10.0, 0), (2, 3, 0): (10.0, 0),
-        (2, 0, 1): (14.0, 1),  # (1,11) -> (1,1): 10 -> (1,5): 4
-        (2, 3, 1): (3.0, 2),   # out to the hall and back into the same bedroom
+        (2, 0, 1): (15.0, 1),  # "a" 10, back to the near bedroom 5
+        (2, 3, 1): (4.0, 2),   # out to the hall and back into the same bedroom
         (3, 1, 0): (8.0, 0), (3, 2, 0): (8.0, 0),
     }
     assert set(tasks) == set(expect)  # h never in {i, j}; the waypoint's name never the goal's
@@ -100,8 +103,10 @@ def test_unreachable_goal_is_dropped_with_reason():
     data[:, 8] = 100  # a wall cuts the hall and the far bedroom off
     ht = make_tasks(corridor_home(map=OccupancyMap(data, 1.0)), "basic", corridor_home().adjacency)
     assert (0, None, 3) not in by_places(ht)
-    assert any("start 0 -> hall (3): no free-space path" in d for d in ht.dropped)
-    assert by_places(ht)[(0, None, 2)].l == pytest.approx(4.0)  # the near bed still counts
+    assert ht.dropped == ["start 0 -> hall (3): no free-space path reaches a goal-named place",
+                          "start 2 -> a (0): no free-space path reaches a goal-named place",
+                          "start 3 -> a (0): no free-space path reaches a goal-named place"]
+    assert by_places(ht)[(0, None, 2)].l == pytest.approx(5.0)  # the near bed still counts
 
 
 def test_bad_inputs():
@@ -151,6 +156,7 @@ def test_bundled_homes_follow_the_protocol(home, n_basic):
         assert t.waypoint_place not in (t.start_place, t.goal_place)
         assert names[t.waypoint_place] != names[t.goal_place]
         assert ds.map.free[t.start_cell] and np.isfinite(t.l) and t.l > 0
+        assert t.start_cell == basic.places[t.start_place].cell
     per_pair = {(i, j): sum(1 for h in range(11) if h not in (i, j) and names[h] != names[j])
                 for i in range(11) for j in range(11) if i != j and not ds.adjacency[i, j]}
     assert len(adv.tasks) == sum(per_pair.values())

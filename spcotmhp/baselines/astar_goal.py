@@ -31,9 +31,10 @@ def sample_goal(model: SpatialConceptModel, words: Sequence[str], rng: np.random
 
 def reachable_cell_nearest(log_p: np.ndarray, occ_map: OccupancyMap, start: tuple[int, int],
                            xy: np.ndarray) -> tuple[int, int]:
-    """The traversable cell in the start's 8-connected component nearest to the point ``xy``."""
+    """The traversable cell in the start's component nearest to the point ``xy``. Components are 4-connected:
+    the grid search never squeezes diagonally between two blocked cells, so that is exactly what it can reach."""
     traversable = np.isfinite(log_p)
-    labels, _ = ndimage.label(traversable, structure=np.ones((3, 3), bool))
+    labels, _ = ndimage.label(traversable)
     mine = labels == labels[start[0], start[1]]
     rc = np.clip(occ_map.world_to_cell(np.asarray(xy, float)), 0, np.array(log_p.shape) - 1)
     if mine[rc[0], rc[1]]:
@@ -49,9 +50,10 @@ def astar_to_sampled_goal(
     start: tuple[int, int],
     words: Sequence[str],
     rng: np.random.Generator,
-    connectivity: int = 8,
+    connectivity: int = 4,
 ) -> np.ndarray | None:
-    """Baseline (A): the grid cells (n, 2) of the cheapest path from ``start`` to a sampled goal, or None."""
+    """Baseline (A): the grid cells (n, 2) of the cheapest path from ``start`` to a sampled goal, or None.
+    Moves are the paper's action set (4-connected plus stay) by default."""
     goal = reachable_cell_nearest(log_p, occ_map, start, sample_goal(model, words, rng))
     path = shortest_paths(step_cost_map(log_p, connectivity=connectivity), start, goal, connectivity=connectivity)
     return None if path is None else path.cells

@@ -14,8 +14,12 @@ as one bag, as in the paper.
 * :func:`viterbi`: exact max-product dynamic programming. Each step is a max over five shifted copies of the
   value array (numpy, log space), back-pointers kept as uint8: O(T * cells), under 0.1 s on a SIGVerse home,
   where the reference code's per-cell Python loops took about 45 minutes (paper: 2680 s).
-* :func:`astar_approximation`: J goal cells drawn from the normalised w, one grid search to all of them, and the
-  path whose SpCoNavi objective (the same sum over T steps) is highest is kept.
+* :func:`astar_approximation`: J goal cells drawn from the normalised w, the cheapest path to each with the
+  objective's own step cost -log w, and the path whose SpCoNavi objective (the same sum over T steps) is highest
+  is kept. The reference code drew the goals from the place Gaussians (sometimes inside walls), searched with a
+  sign-flipped heuristic and kept the path of highest mean log w per cell.
+
+Both use the paper's action set (4-connected moves plus stay) by default.
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ from scipy.special import logsumexp
 
 from spcotmhp.errors import PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.metric.grid_search import shortest_paths, step_cost_map
+from spcotmhp.metric.grid_search import shortest_paths
 
 # (d_row, d_col) of each action; index = back-pointer value. 4-connected: the paper's action set.
 ACTIONS_4 = np.array([(0, 0), (1, 0), (-1, 0), (0, -1), (0, 1)], dtype=np.int64)
@@ -142,19 +146,29 @@ def sample_cells(log_w: np.ndarray, n: int, rng: np.random.Generator) -> np.ndar
 
 def astar_approximation(
     log_w: np.ndarray,
-    log_p: np.ndarray,
     start: tuple[int, int],
     rng: np.random.Generator,
     J: int = 10,
     T: int = 200,
-    connectivity: int = 8,
+    connectivity: int = 4,
 ) -> np.ndarray | None:
-    """SpCoNavi's A* approximation: J goals drawn from w, the cost-map shortest path to each (one Dijkstra run
-    settles them all), and the path with the highest :func:`horizon_objective` kept. Returns its cells, or None
-    when no sampled goal is reachable."""
+    """SpCoNavi's A* approximation: J goal cells drawn from the normalised w (the posterior p(x | S, m)), the
+    cheapest path to each under the same per-step cost as the Viterbi objective, ``-log w(x) + log|A|`` (one
+    Dijkstra run settles all J goals), and the path with the highest :func:`horizon_objective` kept.
+
+    Returns the cells of the kept path, or None when no sampled goal is reachable.
+
+    Raises:
+        PlanningError: w exceeds |A| somewhere (a negative step cost; only for densities above |A| per m^2).
+    """
     goals = sample_cells(log_w, J, rng)
-    paths = shortest_paths(step_cost_map(log_p, connectivity=connectivity), start, goals,
-                           connectivity=connectivity, all_targets=True)
+    finite = np.isfinite(log_w)
+    cost = np.full(log_w.shape, np.inf)
+    cost[finite] = np.log(len(ACTIONS_4) if connectivity == 4 else len(ACTIONS_8)) - log_w[finite]
+    if (cost < 0).any():
+        raise PlanningError("the SpCoNavi weight exceeds the number of actions somewhere: its step cost "
+                            "-log w + log|A| is negative there and A* cannot search it")
+    paths = shortest_paths(cost, start, goals, connectivity=connectivity, all_targets=True)
     scored = [(horizon_objective(log_w, p.cells, T), i) for i, p in enumerate(paths) if p is not None]
     if not scored:
         return None

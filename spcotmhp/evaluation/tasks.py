@@ -6,13 +6,16 @@ Per home, over the ground-truth places (truth.csv):
 * **advanced**: every (i, h, j) of a basic pair and a waypoint h not in {i, j} whose name differs from the
   goal's; instruction = waypoint name, then goal name.
 
-The start is the free cell nearest the mean of place i's teaching positions. A place's success region is the
-box of its teaching positions plus 0.1 m (:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name
-is an *instance* of that name. For each task we compute, from free-space geodesics (8-connected, unit steps
-1 and sqrt 2, no costs), ``l`` = the length of the shortest path from the start that passes a region of the
-waypoint's name and ends in a region of the goal's name, and the goal instance where that path ends (the
-"closest" instance used by N-SPL). The shortest path through a waypoint is exact: it passes some waypoint cell
-``a``, so ``l = min_a d(start, a) + d(a, goal regions)`` with two distance fields.
+Each place's *position* is the free cell nearest the mean of its teaching positions; the start of a task is the
+position of place i. A place's success region is the box of its teaching positions plus 0.1 m
+(:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name is an *instance* of that name.
+
+The reference length ``l`` of SPL is, as in Anderson et al. (2018), a geodesic to the goal's position (not to the
+edge of its success region): the shortest free-space path (8-connected, steps 1 and sqrt 2 cells, no costs) from
+the start through the position of a waypoint-named place to the position of a goal-named place, minimised
+jointly over the instances, ``l = min_{w, g} d(start, w) + d(w, g)`` (``min_g d(start, g)`` for basic tasks).
+The goal instance of that minimum is the "closest" one that N-SPL asks for (computed from geodesics, not from
+hand-written tables as in the original).
 """
 
 from __future__ import annotations
@@ -35,13 +38,14 @@ TASK_KINDS = ("basic", "advanced")
 
 @dataclass(frozen=True)
 class Place:
-    """A ground-truth place: index (truth.csv), name, mean of its teaching positions, success region."""
+    """A ground-truth place: index (truth.csv), name, mean of its teaching positions, position (the free cell
+    nearest the mean), success region."""
 
     index: int
     name: str
     mean: np.ndarray
+    cell: tuple[int, int]
     box: Box
-    cells: np.ndarray  # (n, 2) free (row, col) cells whose centres lie in the box
 
 
 @dataclass(frozen=True)
@@ -112,15 +116,11 @@ def build_places(dataset: Dataset) -> list[Place]:
     names = dataset.place_names if dataset.place_names is not None else names_from_words(dataset.tokens, truth)
     if len(names) < n:
         raise DatasetError(f"{dataset.name}: places.csv names {len(names)} places but truth.csv uses {n}")
-    occ = dataset.map
-    centres = occ.cell_centres()
-    free = occ.free
     places = []
     for k in range(n):
         pts = dataset.positions[truth == k]
-        box = Box.around(pts, REGION_MARGIN_M)
-        cells = np.argwhere(box.contains(centres) & free)
-        places.append(Place(k, str(names[k]), pts.mean(axis=0), box, cells))
+        mean = pts.mean(axis=0)
+        places.append(Place(k, str(names[k]), mean, nearest_free_cell(dataset, mean), Box.around(pts, REGION_MARGIN_M)))
     return places
 
 
@@ -176,11 +176,10 @@ def make_tasks(
     if adjacency.shape != (n, n):
         raise DatasetError(f"{dataset.name}: adjacency is {adjacency.shape} but truth.csv has {n} places")
     occ = dataset.map
-    free = occ.free
-    res = occ.resolution
-    starts = [nearest_free_cell(dataset, p.mean) for p in places]
-    from_start = [geodesic_distance(free, [s], 8, res) for s in starts]
-    to_region = [geodesic_distance(free, p.cells, 8, res) if len(p.cells) else None for p in places]
+    # geodesic[a][b]: free-space distance between the positions of places a and b
+    cells = [p.cell for p in places]
+    geodesic = np.array([geodesic_distance(occ.free, [c], 8, occ.resolution)[tuple(np.array(cells).T)]
+                         for c in cells])
     by_name: dict[str, list[int]] = {}
     for p in places:
         by_name.setdefault(p.name, []).append(p.index)
@@ -195,37 +194,21 @@ def make_tasks(
                 h for h in range(n) if h not in (i, j) and places[h].name != places[j].name]
             for h in waypoints:
                 wps = () if h is None else tuple(by_name[places[h].name])
-                l, closest = _shortest_success(from_start[i], to_region, places, goals, wps)
-                label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+                if wps:  # (waypoint instance, goal instance) -> d(start, w) + d(w, g)
+                    via = geodesic[i, list(wps)][:, None] + geodesic[np.ix_(wps, goals)]
+                else:
+                    via = geodesic[i, list(goals)][None, :]
+                l = float(via.min())
                 if not np.isfinite(l):
-                    out.dropped.append(f"{label}: no free-space path reaches the goal region")
+                    label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+                    out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
                     continue
-                r, c = starts[i]
-                x, y = occ.cell_to_world(np.array(starts[i]))
+                closest = int(np.unravel_index(int(np.argmin(via)), via.shape)[1])
+                x, y = occ.cell_to_world(np.array(places[i].cell))
                 out.tasks.append(Task(
-                    dataset.name, kind, len(out.tasks), i, j, h, (r, c), (float(x), float(y)),
-                    places[j].name, None if h is None else places[h].name, goals, wps, closest, float(l)))
+                    dataset.name, kind, len(out.tasks), i, j, h, places[i].cell, (float(x), float(y)),
+                    places[j].name, None if h is None else places[h].name, goals, wps, closest, l))
     return out
-
-
-def _shortest_success(d_start, to_region, places, goals, waypoints) -> tuple[float, int]:
-    """(l, index into goals of the instance where the shortest successful path ends)."""
-    best = np.full(len(goals), np.inf)
-    if waypoints:
-        cells = np.vstack([places[w].cells for w in waypoints if len(places[w].cells)] or [np.empty((0, 2), int)])
-        if len(cells) == 0:
-            return np.inf, 0
-        via = d_start[cells[:, 0], cells[:, 1]]
-        for g_i, g in enumerate(goals):
-            if to_region[g] is not None:
-                best[g_i] = np.min(via + to_region[g][cells[:, 0], cells[:, 1]])
-    else:
-        for g_i, g in enumerate(goals):
-            cells = places[g].cells
-            if len(cells):
-                best[g_i] = np.min(d_start[cells[:, 0], cells[:, 1]])
-    k = int(np.argmin(best))
-    return float(best[k]), k
 
 
 def subset(tasks: list[Task], max_tasks: int | None, seed: int) -> list[Task]:
