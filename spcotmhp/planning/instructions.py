@@ -255,21 +255,34 @@ def _units(text: str, grammar: Grammar) -> list[str]:
     return _EN_UNIT.findall(text.lower())
 
 
-def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict]:
+_LEXICONS: dict = {}
+
+
+def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
+    """(place lexicon, grammar lexicon, longest entry) keyed by unit tuples; memoised per language and
+    vocabulary."""
+    memo_key = (grammar.lang, tuple(place_words))
+    if memo_key not in _LEXICONS:
+        if len(_LEXICONS) > 32:
+            _LEXICONS.clear()
+        _LEXICONS[memo_key] = _build_lexicon(grammar, place_words)
+    return _LEXICONS[memo_key]
+
+
+def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
     def key(phrase: str) -> tuple[str, ...]:
         return tuple(_units(phrase, grammar))
 
     grammar_lex = {key(p): ("marker", role) for p, role in grammar.markers.items()}
     grammar_lex.update({key(p): ("connector", "") for p in grammar.connectors})
     place_lex = {key(w): ("place", w) for w in place_words if key(w)}
-    return place_lex, grammar_lex
+    return place_lex, grammar_lex, max(map(len, [*place_lex, *grammar_lex]), default=1)
 
 
 def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[_Item]:
     """Longest-match segmentation into places, markers, connectors and other units (places win ties)."""
     units = _units(text, grammar)
-    place_lex, grammar_lex = _lexicon(grammar, place_words)
-    longest = max(map(len, [*place_lex, *grammar_lex]), default=1)
+    place_lex, grammar_lex, longest = _lexicon(grammar, place_words)
     joiner = "" if grammar.by_character else " "
     items: list[_Item] = []
     i = 0

@@ -104,7 +104,7 @@ def search(problem: SearchProblem) -> SearchResult | None:
         if e > 1:
             scores = value[:, :, None] + problem.transition[None, :, :]   # (S, M_from, M_to)
             pred[e] = np.argmax(scores, axis=1)
-            value = np.take_along_axis(scores, pred[e][:, None, :], axis=1)[:, 0, :] + word
+            value = np.max(scores, axis=1) + word
         terminal = _complete_stages(value, problem.completes, from_stage[e])
         better = terminal > best_terminal
         best_terminal[better] = terminal[better]

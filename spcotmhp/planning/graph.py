@@ -1,0 +1,275 @@
+"""The precomputed planning graph (Algorithm 1, lines 1-7): candidate points, partial paths and their w-hat.
+
+For every candidate node j (a point of place b = place[j]) we run one Dijkstra *into* j over the cost map of b,
+
+    c_b(x) = -log p(x|m) - log N(x | mu_b, Sigma_b) + log|A|          (Eqs. 26-27, control as inference)
+
+(steps into a diagonal neighbour weigh sqrt 2: the sum approximates the path integral of the per-cell term;
+|A| = connectivity + 1 moves including "stay"). The resulting cost-to-go field gives, at no further cost,
+
+* the partial path from any candidate i of a connected place into j (Eq. 27; the A* of the paper is exactly
+  this shortest path) and its log-likelihood ``w_hat[i, j] = -field_j[cell_i]``
+  = sum_t log N(x_t | mu_b, Sigma_b) + log p(x_t|m) - log|A|, i.e. log w_e summed along the path with the
+  uniform action prior p(x_t | x_{t-1}, u_t) = 1/|A| of Eq. 24 included;
+* the start leg from *any* start pose x_0 to j (``-field_j[x_0]``), which makes online planning from any start
+  a table look-up (the reference code ran an exhaustive grid search per query).
+
+Negative step costs: c_b(x) < 0 where N(x|mu_b, Sigma_b) p(x|m) > |A|, which happens only for very narrow
+Gaussians (sqrt(det Sigma) < 1 / (2 pi |A|), about 1.8 cm^2 with |A| = 9). A one-step likelihood above 1 has no
+meaning and would make shortest paths ill-defined (loops gain), so there the density is clipped to give the
+cost floor ``cost_floor`` (1e-3 nats); the number of clipped cells is kept in ``info["clipped_cells"]``.
+
+Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
+a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+from collections import OrderedDict
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.metric.costmap import inflate
+from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field, step_cost_map
+from spcotmhp.planning.places import (candidate_points, connected_places, main_component, nearest_cell_index,
+                                      place_regions)
+
+_CACHE: "OrderedDict[str, PlanningGraph]" = OrderedDict()
+CACHE_SIZE = 8
+
+
+@dataclass(frozen=True)
+class GraphSettings:
+    """Settings of the precomputation (part of the cache key).
+
+    n_candidates: candidate points per place (N of Section 3.4; 1 = the means, as in the paper's experiments).
+    seed: seed of the candidate sampling (N > 1).  connectivity: 4 or 8 grid moves.
+    edge_threshold: connected places have (psi_ab + psi_ba) / 2 above it (None: 1 / K, the paper's Figure 3).
+    candidate_quantile: samples are kept inside this chi-square ellipse of their place.
+    cost_floor: the smallest step cost (module docstring).
+    """
+
+    n_candidates: int = 1
+    seed: int = 0
+    connectivity: int = 8
+    edge_threshold: float | None = None
+    candidate_quantile: float = 0.95
+    cost_floor: float = 1e-3
+
+
+@dataclass
+class PlanningGraph:
+    """Candidate nodes, cost-to-go fields and partial-path likelihoods for one model + map + settings.
+
+    Grids (``log_p``, ``traversable``, ``dist``, ``next_step``) cover the crop ``offset`` .. ``offset + shape``
+    of the map; node cells are in crop coordinates (add ``offset`` for map cells).
+    """
+
+    model: SpatialConceptModel
+    settings: GraphSettings
+    key: str
+    offset: tuple[int, int]
+    log_p: np.ndarray
+    log_density: np.ndarray          # (K_active, h, w) clipped log N(x | mu_k, Sigma_k), -inf off the map
+    traversable: np.ndarray
+    node_place: np.ndarray
+    node_cell: np.ndarray
+    dist: np.ndarray                 # (M, h, w) cost to go into node j over c_place[j]
+    next_step: np.ndarray            # (M, h, w) flat index of the next cell (-1 at the node / unreachable)
+    w_hat: np.ndarray                # (M, M) partial-path log-likelihoods, -inf if not precomputed/unreachable
+    log_transition: np.ndarray       # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
+    connected: np.ndarray            # (K, K) connected places
+    time_precompute_s: float
+    info: dict = field(default_factory=dict)
+    _paths: dict = field(default_factory=dict, repr=False)
+    _centres: np.ndarray | None = field(default=None, repr=False)
+    _blocked: "OrderedDict" = field(default_factory=OrderedDict, repr=False)
+
+    # ---- construction ----------------------------------------------------------------------------------
+    @classmethod
+    def build(cls, model: SpatialConceptModel, settings: GraphSettings | None = None,
+              log_p: np.ndarray | None = None, use_cache: bool = True) -> "PlanningGraph":
+        """Precompute (or fetch from the cache) the graph of ``model`` on its map. ``log_p`` overrides the cost
+        map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap`` settings)."""
+        settings = settings or GraphSettings()
+        if model.map is None:
+            raise ModelError("the model has no map; planning needs the occupancy map it was learned on")
+        if not np.any(model.active_places):
+            raise ModelError("the model has no active place to plan with")
+        key = fingerprint(model, settings, log_p)
+        if use_cache and key in _CACHE:
+            _CACHE.move_to_end(key)
+            return _CACHE[key]
+        graph = cls._compute(model, settings, key, log_p)
+        if use_cache:
+            _CACHE[key] = graph
+            while len(_CACHE) > CACHE_SIZE:
+                _CACHE.popitem(last=False)
+        return graph
+
+    @classmethod
+    def _compute(cls, model, settings, key, log_p_full) -> "PlanningGraph":
+        t0 = time.perf_counter()
+        occ = model.map
+        if log_p_full is None:
+            log_p_full = inflate(occ, **model.costmap).log_p
+        if log_p_full.shape != occ.shape:
+            raise ModelError(f"log_p has shape {log_p_full.shape}, the model's map {occ.shape}")
+        finite = np.isfinite(log_p_full)
+        if not finite.any():
+            raise ModelError("the model's map has no free cell")
+        rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
+        r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+        log_p = np.ascontiguousarray(log_p_full[r0:r1, c0:c1])
+        traversable = np.isfinite(log_p)
+        rr, cc = np.indices(log_p.shape)
+        centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
+        act = np.flatnonzero(model.active_places)
+        n_actions = settings.connectivity + 1
+        ld = np.moveaxis(log_gaussian(centres, model.mu[act], model.Sigma[act]), -1, 0)
+        bound = math.log(n_actions) - np.where(traversable, log_p, 0.0) - settings.cost_floor
+        clipped = int(np.count_nonzero((ld > bound) & traversable))
+        ld = np.minimum(ld, bound)
+
+        # candidates (Alg. 1, line 2), snapped into the main free component
+        rng = np.random.default_rng(settings.seed)
+        node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
+        snap = nearest_cell_index(main_component(traversable))
+        raw = occ.world_to_cell(node_xy) - np.array([r0, c0])
+        raw = np.clip(raw, 0, np.array(log_p.shape) - 1)
+        cells = np.stack([snap[0][raw[:, 0], raw[:, 1]], snap[1][raw[:, 0], raw[:, 1]]], axis=1)
+        _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
+        keep = np.sort(keep)
+        node_place, cells = node_place[keep], cells[keep]
+
+        graph = cls(model=model, settings=settings, key=key, offset=(int(r0), int(c0)), log_p=log_p,
+                    log_density=ld, traversable=traversable, node_place=node_place, node_cell=cells,
+                    dist=np.empty(0), next_step=np.empty(0), w_hat=np.empty(0), log_transition=np.empty(0),
+                    connected=connected_places(model, settings.edge_threshold), time_precompute_s=0.0,
+                    info={"clipped_cells": clipped, "n_nodes": int(len(cells)), "crop": [int(r0), int(r1),
+                                                                                        int(c0), int(c1)]},
+                    _centres=centres)
+        graph._fill_fields(blocked=None, excluded=())
+        graph.time_precompute_s = time.perf_counter() - t0
+        return graph
+
+    def _fill_fields(self, blocked: np.ndarray | None, excluded) -> None:
+        """Cost-to-go fields into every node (Alg. 1, lines 4-7) and the partial-path terms of Eq. 28."""
+        M = len(self.node_place)
+        h, w = self.log_p.shape
+        self.dist = np.full((M, h, w), np.inf)
+        self.next_step = np.full((M, h, w), -1, dtype=np.int64)
+        act_index = {int(k): i for i, k in enumerate(np.flatnonzero(self.model.active_places))}
+        costs: dict[int, np.ndarray] = {}
+        for j, (k, cell) in enumerate(zip(self.node_place, self.node_cell)):
+            k = int(k)
+            if k in excluded or (blocked is not None and blocked[cell[0], cell[1]]):
+                continue
+            if k not in costs:
+                c = step_cost_map(self.log_p, self.log_density[act_index[k]], self.settings.connectivity)
+                if blocked is not None:
+                    c[blocked] = np.inf
+                costs[k] = c
+            self.dist[j], self.next_step[j] = cost_to_go(costs[k], cell[None, :], self.settings.connectivity,
+                                                         SQRT2)
+        src_r, src_c = self.node_cell[:, 0], self.node_cell[:, 1]
+        self.w_hat = -self.dist[:, src_r, src_c].T                      # w_hat[i, j] = -field_j[cell_i]
+        allowed = self.connected[self.node_place[:, None], self.node_place[None, :]]
+        allowed &= ~np.eye(M, dtype=bool)
+        self.w_hat = np.where(allowed, self.w_hat, -np.inf)
+        with np.errstate(divide="ignore"):
+            log_psi = self.model.log_psi()[self.node_place[:, None], self.node_place[None, :]]
+        log_ur = self.model.log_unigram_rescaling()[self.node_place]
+        self.log_transition = np.where(np.isfinite(self.w_hat), log_psi - log_ur[None, :] + self.w_hat, -np.inf)
+        self._paths = {}
+
+    # ---- queries ---------------------------------------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        return int(len(self.node_place))
+
+    def to_crop(self, cells: np.ndarray) -> np.ndarray:
+        return np.asarray(cells) - np.array(self.offset)
+
+    def to_map(self, cells: np.ndarray) -> np.ndarray:
+        return np.asarray(cells) + np.array(self.offset)
+
+    def in_crop(self, cell: np.ndarray) -> bool:
+        h, w = self.log_p.shape
+        return bool(0 <= cell[0] < h and 0 <= cell[1] < w)
+
+    def start_w_hat(self, cell: np.ndarray) -> np.ndarray:
+        """(M,) log-likelihood of the best start leg from crop cell ``cell`` into each node (-inf: none)."""
+        return -self.dist[:, cell[0], cell[1]]
+
+    def leg(self, cell: np.ndarray, node: int) -> GridPath:
+        """The best path from crop cell ``cell`` into ``node`` (crop cells)."""
+        return path_from_field(self.dist[node], self.next_step[node], cell, strict=True)
+
+    def edge_path(self, i: int, j: int) -> np.ndarray:
+        """The partial path (crop cells) from node i into node j (Eq. 27), extracted once and memoised."""
+        if (i, j) not in self._paths:
+            self._paths[(i, j)] = self.leg(self.node_cell[i], j).cells
+        return self._paths[(i, j)]
+
+    @property
+    def centres(self) -> np.ndarray:
+        """(h, w, 2) map-frame centres of the crop's cells."""
+        if self._centres is None:
+            rr, cc = np.indices(self.log_p.shape)
+            self._centres = self.model.map.cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
+        return self._centres
+
+    def with_avoided(self, places: tuple[int, ...], quantile: float) -> "PlanningGraph":
+        """A copy with no node in ``places`` and fields that never enter their regions
+        (:func:`~spcotmhp.planning.places.place_regions`); ``info["blocked"]`` holds the blocked crop mask.
+        Memoised for the few most recent place sets."""
+        key = (tuple(sorted(int(p) for p in places)), float(quantile))
+        if key in self._blocked:
+            self._blocked.move_to_end(key)
+            return self._blocked[key]
+        t0 = time.perf_counter()
+        blocked = place_regions(self.model, self.centres, np.array(key[0], dtype=np.int64), quantile)
+        other = PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
+                              log_p=self.log_p, log_density=self.log_density, traversable=self.traversable & ~blocked,
+                              node_place=self.node_place, node_cell=self.node_cell, dist=np.empty(0),
+                              next_step=np.empty(0), w_hat=np.empty(0), log_transition=np.empty(0),
+                              connected=self.connected, time_precompute_s=0.0,
+                              info={**self.info, "blocked": blocked, "avoided": key[0]})
+        other._fill_fields(blocked=blocked, excluded=set(key[0]))
+        other._centres = self.centres
+        other.time_precompute_s = time.perf_counter() - t0
+        self._blocked[key] = other
+        while len(self._blocked) > 4:
+            self._blocked.popitem(last=False)
+        return other
+
+
+def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.ndarray | None = None) -> str:
+    """A hash of everything the graph depends on: the model's parameters, its map and cost map settings, the
+    graph settings and an explicit cost map."""
+    h = hashlib.sha256()
+    for a in (model.mu, model.Sigma, model.psi, model.pi, model.phi, model.W, model.active_places,
+              model.active_concepts):
+        arr = np.ascontiguousarray(a)
+        h.update(str((arr.dtype.str, arr.shape)).encode())
+        h.update(arr.tobytes())
+    occ = model.map
+    h.update(np.ascontiguousarray(occ.data).tobytes())
+    h.update(json.dumps([list(model.vocabulary), occ.shape, occ.resolution, list(occ.origin),
+                         model.costmap, asdict(settings)], sort_keys=True, default=str).encode())
+    if log_p is not None:
+        h.update(np.ascontiguousarray(log_p, dtype=np.float64).tobytes())
+    return h.hexdigest()
+
+
+def clear_cache() -> None:
+    """Forget every cached graph."""
+    _CACHE.clear()

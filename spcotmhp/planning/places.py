@@ -1,0 +1,121 @@
+"""The places of the topological level as the planner uses them: candidate points, connectivity, instance sets
+and regions (Algorithm 1, lines 2-3, and the hard constraints of the search).
+
+Definitions (each a documented choice; the property tests check the planner against them):
+
+* **Candidate points** (Alg. 1, line 2; Section 3.4): N_i points per active place i. The first is the mean mu_i
+  (the paper's N = 1 setting); the others are seeded samples from N(mu_i, Sigma_i) kept inside the place's
+  ``quantile`` ellipse (rejection), so that "the candidate waypoints follow the rough shape of the place".
+  Each is snapped to the nearest traversable cell (p(x|m) > 0) of the largest connected free component, and
+  duplicates after snapping are dropped.
+* **Connected places** (Alg. 1, line 3): a and b are connected when (psi_ab + psi_ba) / 2 > 1 / K, the rule of
+  the paper's Figure 3; partial paths are precomputed only between candidates of connected places.
+* **Instances of a named place**: the active places whose p(i | S) is at least 1 / ``ratio`` of the best
+  (default ratio 10). Several places share a name (three bedrooms), and their posteriors differ a little with
+  their data counts, so taking only the arg-max would drop real instances; a place whose name merely overlaps
+  (p ~ beta-smoothed, about 100 times smaller in the SIGVerse homes) stays out.
+* **Region of a place**: cells within the ``quantile`` Mahalanobis ellipse of its Gaussian (chi-square with 2
+  degrees of freedom, default 0.95) where it is also the most probable place p(i | x). Avoided places block
+  their regions; "inside a place" means inside its ellipse.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+
+_EIGHT = np.ones((3, 3), dtype=bool)
+
+
+def chi2_2d(quantile: float) -> float:
+    """The ``quantile`` of the chi-square distribution with 2 degrees of freedom: -2 log(1 - q)."""
+    if not 0.0 < quantile < 1.0:
+        raise ValueError(f"quantile must be in (0, 1), got {quantile!r}")
+    return float(-2.0 * np.log1p(-quantile))
+
+
+def mahalanobis2(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray:
+    """Squared Mahalanobis distances of points x (..., 2) to every Gaussian: (..., K)."""
+    inv = np.linalg.inv(Sigma)
+    d = np.asarray(x, dtype=float)[..., None, :] - mu
+    return np.einsum("...ki,kij,...kj->...k", d, inv, d)
+
+
+def main_component(traversable: np.ndarray) -> np.ndarray:
+    """The largest 8-connected component of the traversable cells (empty mask if there are none)."""
+    labels, n = ndimage.label(traversable, structure=_EIGHT)
+    if n == 0:
+        return np.zeros_like(traversable, dtype=bool)
+    sizes = np.bincount(labels.ravel())
+    sizes[0] = 0
+    return labels == int(np.argmax(sizes))
+
+
+def nearest_cell_index(mask: np.ndarray) -> np.ndarray:
+    """For every cell, the (row, col) of the nearest True cell of ``mask``: (2, H, W) int array."""
+    _, idx = ndimage.distance_transform_edt(~mask, return_indices=True)
+    return idx
+
+
+def candidate_points(model: SpatialConceptModel, n: int, rng: np.random.Generator,
+                     quantile: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate points (Alg. 1, line 2): ``(place, xy)`` with place (M,) and xy (M, 2), places in index order,
+    the mean first, then ``n - 1`` samples inside the ``quantile`` ellipse."""
+    if n < 1:
+        raise ValueError(f"n_candidates must be >= 1, got {n}")
+    limit = chi2_2d(quantile)
+    places, points = [], []
+    for k in np.flatnonzero(model.active_places):
+        pts = [model.mu[k]]
+        chol = np.linalg.cholesky(model.Sigma[k])
+        while len(pts) < n:
+            z = rng.standard_normal((4 * n, 2))
+            z = z[(z * z).sum(axis=1) <= limit]        # inside the ellipse: |z|^2 = Mahalanobis^2
+            pts.extend(model.mu[k] + z[: n - len(pts)] @ chol.T)
+        places.extend([k] * n)
+        points.extend(pts[:n])
+    return np.asarray(places, dtype=np.int64), np.asarray(points, dtype=float).reshape(-1, 2)
+
+
+def connected_places(model: SpatialConceptModel, threshold: float | None = None) -> np.ndarray:
+    """(K, K) bool: (psi_ab + psi_ba) / 2 > threshold (default 1 / K, the paper's Figure 3), active places only;
+    the diagonal is True (moves between candidates of one place)."""
+    thr = 1.0 / model.K if threshold is None else float(threshold)
+    act = np.asarray(model.active_places, dtype=bool)
+    conn = ((model.psi + model.psi.T) / 2.0 > thr) & act[:, None] & act[None, :]
+    conn[np.diag_indices(model.K)] = act
+    return conn
+
+
+def instance_places(log_place_given_words: np.ndarray, ratio: float = 10.0) -> np.ndarray:
+    """(K,) bool: the places named by a bag S, from log p(i | S) (-inf on inactive places):
+    log p(i | S) >= max - log(ratio)."""
+    if ratio < 1.0:
+        raise ValueError(f"instance_ratio must be >= 1, got {ratio!r}")
+    lp = np.asarray(log_place_given_words)
+    return np.isfinite(lp) & (lp >= lp.max() - np.log(ratio))
+
+
+def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray,
+                  quantile: float = 0.95) -> np.ndarray:
+    """Bool mask over points ``xy`` (..., 2): inside the ``quantile`` ellipse of one of ``places``."""
+    places = np.asarray(places, dtype=np.int64)
+    if places.size == 0:
+        return np.zeros(np.shape(xy)[:-1], dtype=bool)
+    return (mahalanobis2(xy, model.mu[places], model.Sigma[places]) <= chi2_2d(quantile)).any(axis=-1)
+
+
+def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray,
+                  quantile: float = 0.95) -> np.ndarray:
+    """Bool mask over points ``xy`` (..., 2): inside the ``quantile`` ellipse of one of ``places`` *and* that
+    place is the arg-max of p(i | x) (the module docstring's region)."""
+    places = np.asarray(places, dtype=np.int64)
+    inside = inside_places(model, xy, places, quantile)
+    if not inside.any():
+        return inside
+    act = np.flatnonzero(model.active_places)
+    lp = log_gaussian(np.asarray(xy, dtype=float), model.mu[act], model.Sigma[act]) + model.log_place_prior()[act]
+    best = act[np.argmax(lp, axis=-1)]
+    return inside & np.isin(best, places)

@@ -1,0 +1,134 @@
+"""The result of hierarchical planning: the path, the places it visits with their roles, and an explanation."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from spcotmhp.planning.instructions import Instruction
+
+ROLES = ("start", "via", "waypoint", "goal")
+
+
+@dataclass(frozen=True)
+class PlanPlace:
+    """A place on the plan. ``role``: start (the most probable place of x_0), via (passed on the way),
+    waypoint, goal. ``instance``/``n_instances``: "bedroom #2" of 3 places sharing the name (1-based)."""
+
+    id: int
+    name: str
+    role: str
+    instance: int = 1
+    n_instances: int = 1
+
+    @property
+    def label(self) -> str:
+        return f"{self.name} #{self.instance}" if self.n_instances > 1 else self.name
+
+
+@dataclass(frozen=True)
+class GoalOption:
+    """The best plan ending in one instance of the goal name (for "closest of 3 bedrooms")."""
+
+    id: int
+    label: str
+    length_m: float
+    log_prob: float
+
+
+@dataclass
+class Plan:
+    """A planned path (Algorithm 1's output).
+
+    Attributes:
+        path: (n, 2) map-frame metres of the cell centres, from the start cell to the goal candidate.
+        cells: (n, 2) map cells (row, col) of the same path (8-connected).
+        places: the place sequence with roles.
+        length_m: path length in metres.
+        log_prob: the Eq. 28 log score of the chosen place/candidate sequence (before smoothing).
+        time_online_s: online planning time (instruction understanding to assembled path).
+        time_precompute_s: time of the precomputation it used (Algorithm 1, lines 1-7).
+        instruction: what was understood.
+        goal_options: the best plan into each reachable instance of the goal name, most probable first (only
+            when the name has several instances).
+        n_goal_instances: how many places the goal name denotes.
+        node_points: (e, 2) map-frame candidate points the plan passes, in order.
+        smoothed: whether the path was smoothed.
+    """
+
+    path: np.ndarray
+    cells: np.ndarray
+    places: list[PlanPlace]
+    length_m: float
+    log_prob: float
+    time_online_s: float
+    time_precompute_s: float
+    instruction: Instruction
+    goal_options: list[GoalOption] = field(default_factory=list)
+    n_goal_instances: int = 1
+    node_points: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    smoothed: bool = False
+
+    @property
+    def goal(self) -> PlanPlace:
+        return self.places[-1]
+
+    @property
+    def explanation(self) -> str:
+        """E.g. "kitchen -> corridor (waypoint) -> bedroom #2 (closest of 3 bedrooms), 9.4 m"."""
+        parts = []
+        for p in self.places:
+            if p.role == "waypoint":
+                parts.append(f"{p.label} (waypoint)")
+            elif p.role == "goal":
+                parts.append(p.label + self._goal_note(p))
+            else:
+                parts.append(p.label)
+        text = " -> ".join(parts) + f", {self.length_m:.1f} m"
+        if self.instruction.avoid:
+            text += ", avoiding " + " and ".join(a.label for a in self.instruction.avoid)
+        return text
+
+    def _goal_note(self, goal: PlanPlace) -> str:
+        if self.n_goal_instances < 2 or len(self.goal_options) < 2:
+            return ""
+        plural = _plural(goal.name)
+        n = self.n_goal_instances
+        reachable = len(self.goal_options)
+        shortest = min(self.goal_options, key=lambda o: o.length_m)
+        chosen = next((o for o in self.goal_options if o.id == goal.id), None)
+        of = f"{n} {plural}" if reachable == n else f"{reachable} reachable of {n} {plural}"
+        if chosen is None or chosen.length_m <= shortest.length_m + 1e-9:
+            return f" (closest of {of})"
+        return (f" (most probable of {of}; {shortest.label} would be "
+                f"{chosen.length_m - shortest.length_m:.1f} m shorter)")
+
+    def to_dict(self) -> dict:
+        """JSON-ready: path, places [{id, name, role}], length_m, log_prob, time_online_s, explanation, plus
+        time_precompute_s, instruction, goal_options."""
+        ins = self.instruction
+        return {
+            "path": np.round(self.path, 4).tolist(),
+            "places": [{"id": p.id, "name": p.name, "role": p.role, "label": p.label} for p in self.places],
+            "length_m": round(self.length_m, 4),
+            "log_prob": self.log_prob,
+            "time_online_s": self.time_online_s,
+            "time_precompute_s": self.time_precompute_s,
+            "explanation": self.explanation,
+            "instruction": {"text": ins.text, "goal": dict(ins.goal.words),
+                            "waypoints": [dict(w.words) for w in ins.waypoints],
+                            "avoid": [dict(a.words) for a in ins.avoid]},
+            "goal_options": [{"id": o.id, "label": o.label, "length_m": round(o.length_m, 4),
+                              "log_prob": o.log_prob} for o in self.goal_options],
+        }
+
+    def to_json(self, **kwargs) -> str:
+        return json.dumps(self.to_dict(), ensure_ascii=False, **kwargs)
+
+
+def _plural(name: str) -> str:
+    if not name.isascii() or not name.isalpha():
+        return f"places named {name}"
+    return name + ("es" if name.endswith(("s", "sh", "ch", "x", "z")) else "s")

@@ -1,0 +1,251 @@
+"""Hierarchical path planning from an instruction (Algorithm 1 of Taniguchi et al. 2024).
+
+Offline (lines 1-7): :class:`~spcotmhp.planning.graph.PlanningGraph`. Online, for an instruction and a start pose:
+
+* line 9: understand the instruction (:mod:`spcotmhp.planning.instructions`);
+* line 10: the start place i_0 is the posterior p(i_0 | x_0) over places, not only the nearest mean; it enters
+  the first step of Eq. 28 through the predictive transition log sum_k p(k | x_0) psi[k, i_1] (i_0 is
+  marginalised, as the sum over i_e of Eq. 24). Like every later step, the first one moves along the place
+  graph: i_1 must be a plausible start place (p(i_0 | x_0) >= ``start_min_posterior``) or connected to one, so
+  the place sequence of a plan is a walk on the topological map and its explanation names every place the
+  plan goes through. The most probable place names the start in the plan;
+* line 11: the exact joint search of Eq. 28 over (stage, candidate) (:mod:`spcotmhp.planning.search`). Stages
+  are the waypoints in order, then the goal; each may only be completed at one of its instances
+  (:func:`~spcotmhp.planning.places.instance_places`); avoided places get probability zero (their nodes are
+  removed) and their regions are blocked for every metric leg;
+* lines 12-13: the start leg (read from the precomputed field of the first node), the partial paths, and the
+  optional smoothing (:mod:`spcotmhp.planning.assemble`).
+
+The horizon E defaults to 10 steps per stage (10 for "go to the kitchen", as the paper's E = 10; 20 with one
+waypoint, as the reference code's two legs of 10).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, fields, replace
+from typing import Any, Sequence
+
+import numpy as np
+
+from spcotmhp.errors import PlanningError
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.planning.assemble import join_legs, path_length, smooth, smoothing_mask
+from spcotmhp.planning.graph import GraphSettings, PlanningGraph
+from spcotmhp.planning.instructions import Instruction, place_vocabulary, to_instruction
+from spcotmhp.planning.places import instance_places
+from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
+from spcotmhp.planning.search import SearchProblem, SearchResult, search
+from spcotmhp.planning.terms import ModelTerms
+
+
+@dataclass(frozen=True)
+class PlannerSettings:
+    """Every knob of the planner (the first six are the precomputation's :class:`GraphSettings`).
+
+    steps_per_stage / max_steps: the topological horizon E (max_steps overrides steps_per_stage x stages).
+    instance_ratio: instances of a name have p(i | S) >= best / ratio.  start_min_posterior: places with
+    p(i_0 | x_0) at least this are plausible start places (the first step stays next to one).  region_quantile: chi-square quantile of
+    a place's region (avoidance).  smooth: line-of-sight smoothing of the assembled path.
+    """
+
+    n_candidates: int = 1
+    seed: int = 0
+    connectivity: int = 8
+    edge_threshold: float | None = None
+    candidate_quantile: float = 0.95
+    cost_floor: float = 1e-3
+    steps_per_stage: int = 10
+    max_steps: int | None = None
+    instance_ratio: float = 10.0
+    start_min_posterior: float = 0.01
+    region_quantile: float = 0.95
+    smooth: bool = True
+
+    def graph_settings(self) -> GraphSettings:
+        return GraphSettings(**{f.name: getattr(self, f.name) for f in fields(GraphSettings)})
+
+
+class HierarchicalPlanner:
+    """SpCoTMHP planning with one model: ``HierarchicalPlanner(model).plan("go to the bedroom via the corridor",
+    start=(x, y))``. Construction runs (or fetches from the cache) the precomputation."""
+
+    def __init__(self, model: SpatialConceptModel, settings: PlannerSettings | None = None, *,
+                 log_p: np.ndarray | None = None, use_cache: bool = True, **overrides: Any) -> None:
+        unknown = set(overrides) - {f.name for f in fields(PlannerSettings)}
+        if unknown:
+            raise TypeError(f"unknown planner setting(s): {', '.join(sorted(unknown))}")
+        self.model = model
+        self.settings = replace(settings or PlannerSettings(), **overrides)
+        self.graph = PlanningGraph.build(model, self.settings.graph_settings(), log_p, use_cache)
+        self.place_words = place_vocabulary(model)
+        self.names = model.place_names()
+        self.terms = ModelTerms(model)
+        act = np.flatnonzero(model.active_places)
+        self._numbering = {int(k): (1 + sum(self.names[j] == self.names[k] for j in act if j < k),
+                                    sum(self.names[j] == self.names[k] for j in act)) for k in act}
+
+    # ---- Algorithm 1, lines 9-13 -----------------------------------------------------------------------
+    def plan(self, instruction: Any, start: Sequence[float], lang: str | None = None) -> Plan:
+        """Plan from the start pose ``start`` = (x, y) in metres for ``instruction`` (a sentence, a structured
+        mapping, an N-best list of (text, score) or an :class:`Instruction`).
+
+        Raises:
+            InstructionError: the instruction names no known place.
+            PlanningError: the start is off the map or not free, inside an avoided place, or no path satisfies
+                the instruction (the message says which stage cannot be reached).
+        """
+        t0 = time.perf_counter()
+        model, settings = self.model, self.settings
+        ins = to_instruction(instruction, self.place_words, lang)
+        x0, cell = self._start_cell(start)
+        stages = ins.stages
+        S = len(stages)
+        semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])     # (S, K), Eq. 28
+        inst = np.stack([instance_places(self.terms.normalise(ls), settings.instance_ratio) for ls in semantic])
+        graph = self.graph
+        avoided = np.zeros(model.K, dtype=bool)
+        for q in ins.avoid:
+            avoided |= instance_places(self.terms.log_place_given_words(q.words), settings.instance_ratio)
+        if avoided.any():
+            inst &= ~avoided
+            for s, q in enumerate(stages):
+                if not inst[s].any():
+                    raise PlanningError(f"every place named '{q.label}' is also to be avoided")
+            graph = graph.with_avoided(tuple(np.flatnonzero(avoided)), settings.region_quantile)
+            if graph.info["blocked"][cell[0], cell[1]]:
+                inside = [self.names[k] for k in np.flatnonzero(avoided)]
+                raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
+                                    f"({', '.join(sorted(set(inside)))})")
+        posterior = self.terms.place_posterior(x0)
+        problem = self._problem(graph, posterior, cell, semantic, inst, S)
+        result = search(problem)
+        if result is None:
+            raise PlanningError(self._why_not(graph, problem, ins, x0, avoided.any()))
+
+        cells, anchors = self._assemble(graph, cell, result)
+        raw_length = path_length(cells, model.map.resolution)
+        smoothed = False
+        if settings.smooth:
+            short = smooth(cells, smoothing_mask(graph.traversable, graph.log_p, cells), anchors)
+            if path_length(short, model.map.resolution) <= raw_length:
+                cells, smoothed = short, True
+        map_cells = graph.to_map(cells)
+        places = self._places(graph, posterior, result, S)
+        options = self._goal_options(graph, cell, result, inst[S - 1], raw_length)
+        plan = Plan(path=model.map.cell_to_world(map_cells), cells=map_cells, places=places,
+                    length_m=path_length(cells, model.map.resolution), log_prob=result.log_prob,
+                    time_online_s=0.0, time_precompute_s=self.graph.time_precompute_s, instruction=ins,
+                    goal_options=options, n_goal_instances=int(inst[S - 1].sum()),
+                    node_points=model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
+                    smoothed=smoothed)
+        plan.time_online_s = time.perf_counter() - t0
+        return plan
+
+    # ---- pieces ----------------------------------------------------------------------------------------
+    def _start_cell(self, start: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+        try:
+            x0 = np.asarray(start, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise PlanningError(f"the start must be two numbers (x, y) in metres, got {start!r}") from None
+        if x0.shape != (2,) or not np.isfinite(x0).all():
+            raise PlanningError(f"the start must be two finite numbers (x, y) in metres, got {start!r}")
+        occ = self.model.map
+        full = occ.world_to_cell(x0)
+        if not occ.in_bounds(full):
+            lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
+            hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
+            raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) is outside the map "
+                                f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
+        cell = self.graph.to_crop(full)
+        if not (self.graph.in_crop(cell) and self.graph.traversable[cell[0], cell[1]]):
+            value = int(occ.data[full[0], full[1]])
+            what = {100: "an occupied", -1: "an unknown"}.get(value, "a lethal (wall-touching)")
+            raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) is in {what} cell (row {full[0]}, "
+                                f"col {full[1]}); start from a free cell")
+        return x0, cell
+
+    def _problem(self, graph: PlanningGraph, posterior: np.ndarray, cell: np.ndarray, semantic: np.ndarray,
+                 inst: np.ndarray, S: int) -> SearchProblem:
+        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`)."""
+        nodes = graph.node_place
+        with np.errstate(divide="ignore"):
+            log_pred = np.log(posterior @ self.model.psi)                   # log sum_k p(k|x0) psi[k, i_1]
+        plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
+        first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
+        start = np.where(first, log_pred[nodes] - self.terms.log_ur[nodes] + graph.start_w_hat(cell), -np.inf)
+        E = self.settings.max_steps or self.settings.steps_per_stage * S
+        return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
+
+    def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
+        nodes = result.nodes
+        legs = [graph.leg(cell, int(nodes[0])).cells]
+        legs += [graph.edge_path(int(a), int(b)) for a, b in zip(nodes[:-1], nodes[1:])]
+        cells, ends = join_legs(legs)
+        anchors = [ends[e] for e, done in enumerate(result.completed) if done]
+        return cells, anchors
+
+    def _places(self, graph: PlanningGraph, posterior: np.ndarray, result: SearchResult,
+                S: int) -> list[PlanPlace]:
+        i0 = int(np.argmax(posterior))
+        out = [self._place(i0, "start")]
+        for node, done in zip(result.nodes, result.completed):
+            k = int(graph.node_place[node])
+            role = "goal" if S - 1 in done else "waypoint" if done else "via"
+            if role == "via" and k == out[-1].id:
+                continue
+            out.append(self._place(k, role))
+        return out
+
+    def _place(self, k: int, role: str) -> PlanPlace:
+        number, count = self._numbering[k]
+        return PlanPlace(k, self.names[k], role, number, count)
+
+    def _goal_options(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult,
+                      goal_places: np.ndarray, chosen_length: float) -> list[GoalOption]:
+        """The best plan into each goal instance, with its (unsmoothed) length; only when the name is shared."""
+        if goal_places.sum() < 2:
+            return []
+        options = []
+        end_place = int(graph.node_place[result.nodes[-1]])
+        for k in np.flatnonzero(goal_places):
+            ks = np.flatnonzero(graph.node_place == k)
+            if not len(ks) or not np.isfinite(result.terminal[ks]).any():
+                continue
+            node = int(ks[np.argmax(result.terminal[ks])])
+            if k == end_place:
+                alt, length = result, chosen_length
+                node = int(result.nodes[-1])
+            else:
+                alt = result.ending_at(node)
+                length = path_length(self._assemble(graph, cell, alt)[0], self.model.map.resolution)
+            options.append(GoalOption(int(k), self._place(int(k), "goal").label, length, alt.log_prob))
+        return sorted(options, key=lambda o: -o.log_prob)
+
+    def _why_not(self, graph: PlanningGraph, problem: SearchProblem, ins: Instruction, x0: np.ndarray,
+                 avoiding: bool) -> str:
+        """A one-line reason why no plan exists."""
+        where = f"from ({x0[0]:.2f}, {x0[1]:.2f})"
+        tail = " without entering the places to avoid" if avoiding else ""
+        reach = np.isfinite(problem.start)
+        if not reach.any():
+            return f"no place can be reached {where}{tail} (the start is cut off from every place)"
+        frontier = reach.copy()
+        step = np.isfinite(problem.transition)
+        while frontier.any():
+            new = step[frontier].any(axis=0) & ~reach
+            reach |= new
+            frontier = new
+        for s, q in enumerate(ins.stages):
+            if not (reach & problem.completes[s]).any():
+                role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"
+                return f"no path {where} reaches a place named '{q.label}' ({role}){tail}"
+        return (f"no sequence of at most {problem.max_steps} place-to-place steps {where} satisfies "
+                f"'{ins.describe()}'{tail}; raise max_steps")
+
+
+def plan(model: SpatialConceptModel, instruction: Any, start: Sequence[float], lang: str | None = None,
+         **settings: Any) -> Plan:
+    """One-call planning: ``plan(model, "go to the bedroom via the corridor", (x, y))``. The precomputation is
+    cached per model + map + settings, so repeated calls pay it once."""
+    return HierarchicalPlanner(model, **settings).plan(instruction, start, lang)

@@ -1,0 +1,130 @@
+"""The precomputation (Algorithm 1, lines 1-7): candidates, w-hat against independent searches, clipping, cache."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from planning_fixtures import ORDER, home_log_p, home_map, home_model
+
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.model import log_gaussian
+from spcotmhp.metric.grid_search import SQRT2, shortest_paths
+from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.planning.graph import GraphSettings, PlanningGraph, clear_cache, fingerprint
+from spcotmhp.planning.places import chi2_2d, connected_places, inside_places, mahalanobis2
+
+
+def build(model=None, **kw) -> PlanningGraph:
+    model = model or home_model()
+    return PlanningGraph.build(model, GraphSettings(**kw), log_p=home_log_p(model.map), use_cache=False)
+
+
+def test_candidates_are_the_snapped_means_and_edges_follow_psi():
+    g = build()
+    model = g.model
+    assert g.node_place.tolist() == [0, 1, 2, 3]
+    # each mean lies in a free cell of this map, so the candidate is the mean's own cell
+    assert (g.to_map(g.node_cell) == model.map.world_to_cell(model.mu)).all()
+    # connected: L-M, M-R, K-R (the Figure 3 rule (psi_ab + psi_ba) / 2 > 1 / K)
+    expected = {(0, 1), (1, 0), (1, 3), (3, 1), (2, 3), (3, 2)}
+    finite = {(int(i), int(j)) for i, j in zip(*np.nonzero(np.isfinite(g.w_hat)))}
+    assert finite == expected
+    assert connected_places(model).sum() == 4 + 6
+
+
+def test_w_hat_is_minus_the_shortest_path_cost_under_the_destination_gaussian():
+    g = build()
+    model, occ = g.model, g.model.map
+    centres = occ.cell_centres()
+    for i, j in zip(*np.nonzero(np.isfinite(g.w_hat))):
+        b = g.node_place[j]
+        log_n = log_gaussian(centres, model.mu[b:b + 1], model.Sigma[b:b + 1])[..., 0]
+        cost = np.where(occ.data == 0, -log_n + math.log(9), np.inf)      # p(x|m) = 1 on free cells, |A| = 9
+        ref = shortest_paths(cost, g.to_map(g.node_cell[i]), g.to_map(g.node_cell[j])[None], connectivity=8,
+                             diagonal_factor=SQRT2)
+        assert g.w_hat[i, j] == pytest.approx(-ref.cost, rel=1e-9)
+        # and the stored partial path has exactly that cost
+        path = g.to_map(g.edge_path(int(i), int(j)))
+        steps = np.where(np.abs(np.diff(path, axis=0)).sum(axis=1) == 2, SQRT2, 1.0)
+        assert (steps * cost[path[1:, 0], path[1:, 1]]).sum() == pytest.approx(ref.cost, rel=1e-9)
+
+
+def test_w_hat_by_hand_on_a_one_row_corridor():
+    # a single free row: the path from the left candidate to the right one is forced, so w-hat is a plain sum
+    data = np.full((3, 12), 100, dtype=np.int8)
+    data[1, 1:11] = 0
+    occ = OccupancyMap(data=data, resolution=1.0)
+    model = home_model()
+    model = dataclasses.replace(model, mu=np.array([[2.5, 1.5], [5.5, 1.5], [8.5, 1.5], [9.5, 1.5]]),
+                                Sigma=np.tile(np.diag([4.0, 1.0]), (4, 1, 1)), map=occ)
+    g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
+    # place 0 at col 2, place 1 at col 5; entering cols 3, 4, 5 under N(mu_1, diag(4, 1)), 4-neighbour steps
+    xs = np.array([3.5, 4.5, 5.5])
+    log_n = -0.5 * (xs - 5.5) ** 2 / 4.0 - 0.5 * math.log(4.0) - math.log(2 * math.pi)
+    assert g.w_hat[0, 1] == pytest.approx(np.sum(log_n - math.log(9)))
+    assert g.start_w_hat(g.to_crop(np.array([1, 2])))[1] == pytest.approx(g.w_hat[0, 1])
+    # from col 1 the start leg enters cols 2..5
+    xs = np.array([2.5, 3.5, 4.5, 5.5])
+    log_n = -0.5 * (xs - 5.5) ** 2 / 4.0 - 0.5 * math.log(4.0) - math.log(2 * math.pi)
+    assert g.start_w_hat(g.to_crop(np.array([1, 1])))[1] == pytest.approx(np.sum(log_n - math.log(9)))
+    assert g.leg(g.to_crop(np.array([1, 1])), 1).cells.tolist() == [[0, 0], [0, 1], [0, 2], [0, 3], [0, 4]]
+
+
+def test_narrow_gaussians_are_clipped_to_the_cost_floor():
+    model = home_model()
+    tiny = model.Sigma.copy()
+    tiny[0] = np.eye(2) * 1e-4                       # 1 cm: density 1590 > |A| = 9 at the mean
+    model = dataclasses.replace(model, Sigma=tiny)
+    g = build(model)
+    assert g.info["clipped_cells"] >= 1
+    c = -home_log_p(model.map)[1:12, 1:30] - g.log_density[0] + math.log(9)
+    assert np.nanmin(np.where(np.isfinite(c), c, np.nan)) == pytest.approx(1e-3)
+
+
+def test_sampled_candidates_are_seeded_inside_their_ellipse():
+    g1 = build(n_candidates=5, seed=3)
+    g2 = build(n_candidates=5, seed=3)
+    g3 = build(n_candidates=5, seed=4)
+    assert (g1.node_cell == g2.node_cell).all()
+    assert not np.array_equal(g1.node_cell, g3.node_cell)
+    model = g1.model
+    xy = model.map.cell_to_world(g1.to_map(g1.node_cell))
+    for k in range(len(ORDER)):
+        mine = g1.node_place == k
+        assert 1 <= mine.sum() <= 5
+        assert (g1.to_map(g1.node_cell[mine][0]) == model.map.world_to_cell(model.mu[k])).all()  # mean first
+        # the snapped cells (free rooms here: the sample's own cell) stay within the 0.95 ellipse up to the
+        # distance from a point to its cell centre (half a cell diagonal)
+        d2 = mahalanobis2(xy[mine], model.mu[k:k + 1], model.Sigma[k:k + 1])[:, 0]
+        slack = 0.5 * SQRT2 * 0.5 / math.sqrt(np.diag(model.Sigma[k]).min())
+        assert (np.sqrt(d2) <= math.sqrt(chi2_2d(0.95)) + slack).all()
+    assert inside_places(model, model.mu, np.arange(4)).all()
+
+
+def test_cache_is_keyed_by_model_map_and_settings():
+    clear_cache()
+    model = home_model()
+    log_p = home_log_p(model.map)
+    a = PlanningGraph.build(model, GraphSettings(), log_p=log_p)
+    assert PlanningGraph.build(model, GraphSettings(), log_p=log_p) is a
+    moved = dataclasses.replace(model, mu=model.mu + np.array([0.5, 0.0]))
+    assert PlanningGraph.build(moved, GraphSettings(), log_p=log_p) is not a
+    assert PlanningGraph.build(model, GraphSettings(n_candidates=2), log_p=log_p) is not a
+    data = model.map.data.copy()
+    data[5, 5] = 100
+    other_map = dataclasses.replace(model, map=dataclasses.replace(model.map, data=data))
+    assert fingerprint(other_map, GraphSettings()) != fingerprint(model, GraphSettings())
+    assert fingerprint(model, GraphSettings()) == fingerprint(home_model(), GraphSettings())
+
+
+def test_model_without_map_or_places_is_refused():
+    model = home_model()
+    with pytest.raises(ModelError, match="the model has no map"):
+        PlanningGraph.build(dataclasses.replace(model, map=None))
+    with pytest.raises(ModelError, match="no active place"):
+        PlanningGraph.build(dataclasses.replace(model, active_places=np.zeros(4, bool)))
+    with pytest.raises(ModelError, match="no free cell"):
+        PlanningGraph.build(model, log_p=np.full(home_map().shape, -np.inf), use_cache=False)

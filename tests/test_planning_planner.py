@@ -1,0 +1,200 @@
+"""Hierarchical planning on the hand-made four-room home (tests/planning_fixtures.py)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from planning_fixtures import home_log_p, home_model, world
+
+from spcotmhp.errors import InstructionError, PlanningError
+from spcotmhp.planning.assemble import path_length
+from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings, plan
+from spcotmhp.planning.places import inside_places, place_regions
+from spcotmhp.planning.terms import ModelTerms
+
+L, M, K, R = 0, 1, 2, 3
+
+
+@pytest.fixture(scope="module")
+def planner() -> HierarchicalPlanner:
+    model = home_model()
+    return HierarchicalPlanner(model, log_p=home_log_p(model.map))
+
+
+def check_path(planner: HierarchicalPlanner, plan, start_cell) -> None:
+    cells = plan.cells
+    assert (cells[0] == start_cell).all()
+    steps = np.abs(np.diff(cells, axis=0))
+    assert (steps.max(axis=1) == 1).all()                       # 8-connected, no repeated cell
+    assert (planner.model.map.data[cells[:, 0], cells[:, 1]] == 0).all()
+    assert plan.length_m == pytest.approx(path_length(cells, planner.model.map.resolution))
+    assert np.allclose(plan.path, planner.model.map.cell_to_world(cells))
+
+
+def test_goes_to_the_closest_bedroom(planner):
+    start = (3, 12)                                             # in the corridor, next to bedroom #1's door
+    p = planner.plan("go to the bedroom", world(planner.model.map, *start))
+    check_path(planner, p, start)
+    assert [(q.id, q.role) for q in p.places] == [(M, "start"), (L, "goal")]
+    assert (p.cells[-1] == planner.model.map.world_to_cell(planner.model.mu[L])).all()
+    assert p.explanation == f"corridor -> bedroom #1 (closest of 2 bedrooms), {p.length_m:.1f} m"
+    assert [o.id for o in p.goal_options] == [L, R]
+    assert p.goal_options[0].length_m < p.goal_options[1].length_m
+    q = planner.plan("go to the bedroom", world(planner.model.map, 3, 18))
+    assert q.goal.id == R and q.goal.label == "bedroom #2"
+
+
+def test_waypoint_changes_the_goal_instance(planner):
+    # the kitchen opens only into bedroom #2, so "via the kitchen" makes bedroom #2 the right goal
+    start = (3, 12)
+    p = planner.plan("go to the bedroom via the kitchen", world(planner.model.map, *start))
+    check_path(planner, p, start)
+    assert [(q.id, q.role) for q in p.places] == [(M, "start"), (R, "via"), (K, "waypoint"), (R, "goal")]
+    assert p.explanation.startswith("corridor -> bedroom #2 -> kitchen (waypoint) -> bedroom #2 (closest of 2")
+    model = planner.model
+    in_k = inside_places(model, p.path, [K])
+    assert in_k.any()
+    assert inside_places(model, p.path[-1:], [R]).all()
+    assert (p.cells[-1] == model.map.world_to_cell(model.mu[R])).all()
+    # passes the kitchen candidate exactly (an anchor of the smoothing)
+    assert (p.cells == model.map.world_to_cell(model.mu[K])).all(axis=1).any()
+
+
+def test_two_waypoints_in_order(planner):
+    start = (3, 12)
+    p = planner.plan("go to the corridor via the kitchen and then the bedroom", world(planner.model.map, *start))
+    roles = [(q.id, q.role) for q in p.places if q.role != "via"]
+    assert roles == [(M, "start"), (K, "waypoint"), (R, "waypoint"), (M, "goal")]
+    check_path(planner, p, start)
+
+
+def test_avoided_place_is_never_entered(planner):
+    model = planner.model
+    # from bedroom #2, the corridor is reachable; avoiding the kitchen changes nothing but must hold
+    p = planner.plan("go to the corridor avoiding the kitchen", world(model.map, 5, 25))
+    blocked = place_regions(model, p.path, [K])
+    assert not blocked.any()
+    assert p.explanation.endswith("avoiding kitchen")
+    # the only way into the kitchen is through bedroom #2
+    with pytest.raises(PlanningError) as info:
+        planner.plan("go to the kitchen avoiding the bedroom", world(model.map, 3, 12))
+    assert str(info.value) == ("no path from (6.25, 1.75) reaches a place named 'kitchen' (goal) without "
+                               "entering the places to avoid")
+    with pytest.raises(PlanningError, match=r"the start \(12.75, 1.75\) lies inside a place to avoid \(bedroom\)"):
+        planner.plan("go to the corridor avoiding the bedroom", world(model.map, 3, 25))
+    with pytest.raises(PlanningError, match="every place named 'bedroom' is also to be avoided"):
+        planner.plan("go to the bedroom avoiding the bedroom", world(model.map, 3, 12))
+
+
+def test_avoiding_blocks_metric_legs_too():
+    # connect bedroom #1 and bedroom #2 directly in psi: topologically L -> R -> K is allowed without the
+    # corridor, but the metric leg L -> R can only run through the corridor, so avoiding it must fail
+    model = home_model()
+    psi = model.psi.copy()
+    psi[L, R] = psi[R, L] = psi[L, M]
+    psi /= psi.sum(axis=1, keepdims=True)
+    model.psi = psi
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False)
+    assert np.isfinite(pl.graph.w_hat[L, R])
+    ok = pl.plan("go to the kitchen", world(model.map, 6, 3))
+    assert place_regions(model, ok.path, [M]).any()
+    with pytest.raises(PlanningError, match="reaches a place named 'kitchen' .goal. without entering the places"):
+        pl.plan("go to the kitchen avoiding the corridor", world(model.map, 6, 3))
+
+
+@pytest.mark.parametrize("start, message", [
+    ((0.2, 0.2), "the start (0.20, 0.20) is in an occupied cell (row 0, col 0); start from a free cell"),
+    ((-3.0, 1.0), "the start (-3.00, 1.00) is outside the map (x 0.00..15.50, y 0.00..6.50)"),
+    ((1.0,), "the start must be two finite numbers (x, y) in metres"),
+    ((np.nan, 1.0), "the start must be two finite numbers (x, y) in metres"),
+    ("here", "the start must be two numbers (x, y) in metres, got 'here'"),
+])
+def test_bad_starts(planner, start, message):
+    with pytest.raises(PlanningError) as info:
+        planner.plan("go to the kitchen", start)
+    assert message in str(info.value)
+
+
+def test_unknown_word(planner):
+    with pytest.raises(InstructionError, match="known place words: bedroom, corridor, kitchen"):
+        planner.plan("go to the garage", world(planner.model.map, 3, 12))
+
+
+def test_horizon_too_short():
+    model = home_model()
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), max_steps=1)
+    with pytest.raises(PlanningError) as info:
+        pl.plan("go to the bedroom via the kitchen", world(model.map, 3, 12))
+    assert "no sequence of at most 1 place-to-place steps from (6.25, 1.75) satisfies 'bedroom via kitchen'" \
+        in str(info.value)
+
+
+def test_smoothing_never_lengthens_and_keeps_the_ends(planner):
+    model = planner.model
+    raw = HierarchicalPlanner(model, log_p=home_log_p(model.map), smooth=False)
+    for text in ["go to the bedroom", "go to the bedroom via the kitchen", "go to the kitchen"]:
+        for start in [(3, 12), (9, 3), (10, 28)]:
+            a = planner.plan(text, world(model.map, *start))
+            b = raw.plan(text, world(model.map, *start))
+            assert a.length_m <= b.length_m + 1e-9
+            assert (a.cells[-1] == b.cells[-1]).all() and (a.cells[0] == b.cells[0]).all()
+            assert a.log_prob == b.log_prob and [p.id for p in a.places] == [p.id for p in b.places]
+            check_path(planner, a, start)
+
+
+def test_structured_and_nbest_instructions(planner):
+    start = world(planner.model.map, 3, 12)
+    a = planner.plan({"goal": ["bedroom"], "waypoints": [["kitchen"]]}, start)
+    b = planner.plan([("go to the bedroom via the kitchen", 0.9), ("go to the bedroom via the corridor", 0.1)],
+                     start)
+    assert a.goal.id == b.goal.id == R
+    assert b.instruction.waypoints[0].words == pytest.approx({"kitchen": 0.9, "corridor": 0.1})
+
+
+def test_start_place_is_the_posterior_arg_max_and_first_step_follows_the_graph(planner):
+    model = planner.model
+    x0 = world(model.map, 3, 12)
+    post = ModelTerms(model).place_posterior(x0)
+    assert post == pytest.approx(model.place_posterior(x0))
+    p = planner.plan("go to the kitchen", x0)
+    # the kitchen is not next to the corridor: the plan goes corridor -> bedroom #2 -> kitchen
+    assert [q.id for q in p.places] == [M, R, K]
+
+
+def test_terms_match_the_model(planner):
+    terms, model = planner.terms, planner.model
+    for bag in [{"bedroom": 1.0}, {"kitchen": 0.7, "corridor": 0.3}]:
+        assert terms.log_semantic(bag) == pytest.approx(model.log_semantic(bag))
+        assert terms.log_place_given_words(bag) == pytest.approx(model.log_place_given_words(bag))
+    assert terms.log_ur == pytest.approx(model.log_unigram_rescaling())
+
+
+def test_plan_json_and_timings(planner):
+    p = planner.plan("go to the bedroom via the kitchen", world(planner.model.map, 3, 12))
+    d = json.loads(p.to_json())
+    assert {"path", "places", "length_m", "log_prob", "time_online_s", "explanation"} <= set(d)
+    assert d["places"][0] == {"id": M, "name": "corridor", "role": "start", "label": "corridor"}
+    assert d["places"][-1]["role"] == "goal" and d["places"][-1]["label"] == "bedroom #2"
+    assert np.allclose(d["path"], p.path, atol=1e-4)
+    assert d["time_online_s"] > 0 and p.time_precompute_s > 0
+    assert np.isfinite(d["log_prob"]) and d["log_prob"] == p.log_prob
+
+
+def test_plan_function_and_settings():
+    model = home_model()
+    p = plan(model, "go to the bedroom", world(model.map, 3, 12), log_p=home_log_p(model.map))
+    assert p.goal.id == L
+    with pytest.raises(TypeError, match="unknown planner setting"):
+        HierarchicalPlanner(model, log_p=home_log_p(model.map), n_candidate=3)
+    assert PlannerSettings(n_candidates=3).graph_settings().n_candidates == 3
+
+
+def test_several_candidates_per_place():
+    model = home_model()
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), n_candidates=4, seed=1)
+    for start in [(3, 12), (9, 3)]:
+        p = pl.plan("go to the bedroom via the kitchen", world(model.map, *start))
+        check_path(pl, p, start)
+        assert p.goal.id == R and inside_places(model, p.path[-1:], [R]).all()
