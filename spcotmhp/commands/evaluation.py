@@ -1,0 +1,138 @@
+"""CLI commands of the evaluation area: ``spcotmhp evaluate`` (Experiment I on any homes) and
+``spcotmhp reproduce`` (Tables 4 and 5 on the bundled SIGVerse homes, the paper's rows beside ours)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+from typer.core import TyperCommand
+
+from spcotmhp.errors import DatasetError, SpcotmhpError
+
+METHOD_NAMES = "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2"
+
+
+class _OptionalRayAddress(TyperCommand):
+    """Lets ``--ray`` take an optional value: a bare ``--ray`` (last, or followed by another option) means a local
+    Ray instance; ``--ray ADDRESS`` joins a cluster (click supports optional values, Typer does not expose it)."""
+
+    def parse_args(self, ctx, args):
+        out = []
+        for i, arg in enumerate(args):
+            out.append(arg)
+            if arg == "--ray" and (i + 1 == len(args) or args[i + 1].startswith("-")):
+                out.append("local")
+        return super().parse_args(ctx, out)
+
+
+def load_home(name_or_path: str, lang: str):
+    """A dataset folder, or a bundled dataset by name."""
+    from spcotmhp.datasets import load_bundled, load_dataset
+
+    path = Path(name_or_path)
+    if path.is_dir():
+        return load_dataset(path, lang=lang)
+    if path.exists():
+        raise DatasetError(f"{name_or_path} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
+    try:
+        return load_bundled(name_or_path, lang=lang)
+    except DatasetError as exc:
+        raise DatasetError(f"{name_or_path!r} is neither a dataset folder nor a bundled dataset ({exc})") from None
+
+
+def _check(value: str, allowed: tuple[str, ...], option: str) -> str:
+    if value not in allowed:
+        raise SpcotmhpError(f"{option} must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+def _print_result(result: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    from spcotmhp.evaluation.tables import COLUMNS, METHOD_LABELS, fmt_time
+
+    console = Console()
+    keys = [k for k, _ in COLUMNS[result["task"]]]
+    heads = [h for _, h in COLUMNS[result["task"]]]
+    blocks = list(result["homes"].items()) + ([("all homes", result["mean"])] if len(result["homes"]) > 1 else [])
+    for home, metrics in blocks:
+        table = Table(title=f"{home}: {result['task']} tasks, {result['params']} parameters")
+        for h in ["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"]:
+            table.add_column(h, justify="left" if h == "Method" else "right")
+        for method, m in metrics.items():
+            table.add_row(METHOD_LABELS.get(method, method), *[f"{m[k]:.3f}" for k in keys], f"{m['success']:.3f}",
+                          fmt_time(m["time_median_s"]), fmt_time(m["time_p95_s"]), str(m["n_tasks"]))
+        console.print(table)
+    for home, note in result["notes"].items():
+        extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
+        console.print(f"{home}: adjacency from {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
+                      f"{extra}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``evaluate`` and ``reproduce`` to ``app``."""
+
+    @app.command(cls=_OptionalRayAddress)
+    def evaluate(
+        datasets: List[str] = typer.Argument(..., metavar="DATASET_DIR...",
+                                             help="Dataset folders or bundled dataset names (e.g. 3LDK_01)."),
+        task: str = typer.Option("basic", "--task", help="basic | advanced (with a waypoint)."),
+        method: str = typer.Option(METHOD_NAMES, "--method", help="Comma-separated methods."),
+        params: str = typer.Option("supervised", "--params",
+                                   help="supervised (truth labels, the paper's 'ideal' parameters) | learned."),
+        lang: str = typer.Option("en", "--lang", help="Language of the words: en | ja."),
+        workers: Optional[int] = typer.Option(None, "--workers", min=1, help="Processes (default: all cores)."),
+        max_tasks: Optional[int] = typer.Option(None, "--max-tasks", min=1,
+                                                help="A seeded random subset of each home's tasks."),
+        seed: int = typer.Option(0, "--seed", help="Seed of every random draw."),
+        as_json: bool = typer.Option(False, "--json", help="Print JSON."),
+        ray: Optional[str] = typer.Option(None, "--ray", metavar="[ADDRESS]",
+                                          help="Run on Ray (extra 'dist'): a local instance, or the cluster at "
+                                               "ADDRESS."),
+    ) -> None:
+        """Experiment I: plan every task of each home with each method and report SPL, N-SPL (and W-SPL, WN-SPL
+        for advanced tasks), success and online planning time."""
+        from spcotmhp.evaluation.runner import evaluate as run
+
+        _check(task, ("basic", "advanced"), "--task")
+        _check(params, ("supervised", "learned"), "--params")
+        _check(lang, ("en", "ja"), "--lang")
+        homes = [load_home(d, lang) for d in datasets]
+        result = run(homes, task, method.split(","), params, seed, workers, max_tasks,
+                     "ray" if ray else "local", ray)
+        if as_json:
+            typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
+        else:
+            _print_result(result)
+
+    @app.command(cls=_OptionalRayAddress)
+    def reproduce(
+        out: Optional[Path] = typer.Option(None, "--out", help="Write the markdown here (default: stdout)."),
+        params: str = typer.Option("supervised", "--params", help="supervised (as the paper) | learned."),
+        workers: Optional[int] = typer.Option(None, "--workers", min=1, help="Processes (default: all cores)."),
+        max_tasks: Optional[int] = typer.Option(None, "--max-tasks", min=1,
+                                                help="A seeded random subset of each home's tasks."),
+        seed: int = typer.Option(0, "--seed", help="Seed of every random draw."),
+        ray: Optional[str] = typer.Option(None, "--ray", metavar="[ADDRESS]", help="Run on Ray (see evaluate)."),
+    ) -> None:
+        """Tables 4 and 5 of the paper on the bundled SIGVerse homes, as markdown with the paper's rows beside
+        ours."""
+        from spcotmhp.datasets import list_bundled
+        from spcotmhp.evaluation.runner import evaluate as run
+        from spcotmhp.evaluation.tables import reproduce_markdown
+
+        _check(params, ("supervised", "learned"), "--params")
+        homes = [load_home(name, "en") for name in list_bundled() if name.upper().startswith("3LDK")]
+        methods = METHOD_NAMES.split(",")
+        results = [run(homes, kind, methods, params, seed, workers, max_tasks, "ray" if ray else "local", ray)
+                   for kind in ("basic", "advanced")]
+        text = reproduce_markdown(*results)
+        if out is None:
+            typer.echo(text)
+        else:
+            out.write_text(text, encoding="utf-8")
+            typer.echo(f"wrote {out}", err=True)

@@ -1,0 +1,118 @@
+"""Everything the methods need for one home, built once before the tasks run (the offline part, not timed as
+online planning): the parameters (supervised "ideal" ones as in the paper's Experiment I, or learned without
+labels), the cost map, the SpCoTMHP planning graph (shared with HPP-I/II), and the ground-truth places.
+
+Homes without adjacency.csv get their place adjacency from the map (the learning package's connectivity rule);
+the context says so in its notes, and the evaluation output carries them.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.errors import DatasetError
+from spcotmhp.evaluation.tasks import Place, build_places
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.costmap import CostMap, inflate
+
+PARAMS = ("supervised", "learned")
+
+
+@dataclass
+class HomeContext:
+    """One home, ready to plan in.
+
+    Attributes:
+        name: the home's name.  dataset: the loaded dataset.  model: the parameters used by every method.
+        params: "supervised" or "learned".  costmap: the cost map (log p(x|m)).
+        planner: the SpCoTMHP :class:`~spcotmhp.planning.planner.HierarchicalPlanner` (its graph is reused by HPP).
+        hpp: the HPP-I and HPP-II planners on that graph.  places: the ground-truth places (regions, names).
+        adjacency: the place adjacency the tasks use; adjacency_source: where it came from.
+        cell_xy: (H, W, 2) world coordinates of the map's cell centres.
+        timings: offline times in seconds (fit, costmap, graph precompute, HPP tables).
+    """
+
+    name: str
+    dataset: Dataset
+    model: SpatialConceptModel
+    params: str
+    costmap: CostMap
+    planner: object
+    hpp: dict
+    places: list[Place]
+    adjacency: np.ndarray
+    adjacency_source: str
+    cell_xy: np.ndarray
+    timings: dict = field(default_factory=dict)
+
+    def warmup(self) -> None:
+        """Compile (or load) the numba kernels so no task pays for it."""
+        from spcotmhp.metric.grid_search import warmup
+
+        warmup()
+
+    def notes(self) -> dict:
+        """What the output reports about this home."""
+        return {"params": self.params, "adjacency": self.adjacency_source,
+                "places": [p.name for p in self.places],
+                "precompute_s": round(float(self.timings.get("graph_s", 0.0)), 4),
+                "fit_s": round(float(self.timings.get("fit_s", 0.0)), 4)}
+
+
+def place_adjacency(dataset: Dataset, places: list[Place]) -> tuple[np.ndarray, str]:
+    """The true places' adjacency: adjacency.csv, or else the connectivity rule from the map."""
+    if dataset.adjacency is not None:
+        return np.asarray(dataset.adjacency), "adjacency.csv"
+    from spcotmhp.learning.connectivity import adjacency_from_map
+
+    truth = np.asarray(dataset.truth_place)
+    means = np.array([p.mean for p in places])
+    covs = np.array([np.cov(dataset.positions[truth == p.index].T) + 1e-4 * np.eye(2) for p in places])
+    adj = adjacency_from_map(dataset.map, means, covs)
+    return np.asarray(adj), "connectivity from the map (no adjacency.csv)"
+
+
+def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int) -> SpatialConceptModel:
+    """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
+    unsupervised Gibbs sampling, several runs, the learner's default selection) parameters."""
+    if params == "supervised":
+        from spcotmhp.learning.supervised import fit_supervised
+
+        return fit_supervised(dataset, adjacency=adjacency)
+    if params == "learned":
+        from spcotmhp.learning.gibbs import SpCoTMHP
+
+        return SpCoTMHP(seed=seed).fit(dataset).model_
+    raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
+
+
+def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0) -> HomeContext:
+    """Fit (or learn) the parameters and precompute everything offline for one home."""
+    from spcotmhp.baselines.hpp import EDGE_COSTS, HPP
+    from spcotmhp.planning.planner import HierarchicalPlanner
+
+    if params not in PARAMS:
+        raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
+    timings = {}
+    places = build_places(dataset)
+    adjacency, source = place_adjacency(dataset, places)
+    t0 = time.perf_counter()
+    model = fit_params(dataset, params, adjacency, seed)
+    if model.map is None:
+        model.map = dataset.map
+    timings["fit_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    costmap = inflate(dataset.map, **model.costmap)
+    timings["costmap_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    planner = HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False)
+    timings["graph_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    hpp = {name: HPP(planner.graph, cost) for name, cost in EDGE_COSTS.items()}
+    timings["hpp_s"] = time.perf_counter() - t0
+    return HomeContext(dataset.name, dataset, model, params, costmap, planner, hpp, places, adjacency, source,
+                       dataset.map.cell_centres(), timings)
