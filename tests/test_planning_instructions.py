@@ -169,3 +169,25 @@ def test_place_vocabulary_drops_function_words():
                                 psi=np.full((2, 2), 0.5), pi=np.array([0.5, 0.5]),
                                 phi=np.array([[0.99, 0.01], [0.01, 0.99]]), W=W, vocabulary=vocab)
     assert place_vocabulary(model) == ["corridor", "entrance", "kitchen"]
+
+
+def test_fillers_and_noise_are_not_place_words_and_labels_use_frequency():
+    # seven "office" places with a concept each (each scores 1/7 for "office"); "um" said once in place 0 and
+    # "called" everywhere but unevenly: neither may become a place word or a place's label
+    from spcotmhp.planning.instructions import place_labels
+
+    vocab = ["called", "kitchen", "office", "um"]
+    K = 8
+    counts = np.zeros((K, 4))
+    counts[:7, 2] = 15
+    counts[7, 1] = 15
+    counts[:, 0] = [1, 3, 0, 2, 5, 1, 0, 4]
+    counts[0, 3] = 2
+    W = (counts + 0.1) / (counts + 0.1).sum(axis=1, keepdims=True)
+    model = SpatialConceptModel(mu=np.zeros((K, 2)), Sigma=np.tile(np.eye(2), (K, 1, 1)),
+                                psi=np.full((K, K), 1 / K), pi=np.full(K, 1 / K),
+                                phi=(np.eye(K) * 15 + 0.1) / (15 + 0.1 * K), W=W, vocabulary=vocab)
+    words = place_vocabulary(model)
+    assert words == ["kitchen", "office"]
+    assert model.place_names()[0] == "um"           # the rescaled arg-max is fooled by the rare word ...
+    assert place_labels(model, words) == ["office"] * 7 + ["kitchen"]   # ... the planner's labels are not

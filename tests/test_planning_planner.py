@@ -175,7 +175,10 @@ def test_plan_json_and_timings(planner):
     p = planner.plan("go to the bedroom via the kitchen", world(planner.model.map, 3, 12))
     d = json.loads(p.to_json())
     assert {"path", "places", "length_m", "log_prob", "time_online_s", "explanation"} <= set(d)
-    assert d["places"][0] == {"id": M, "name": "corridor", "role": "start", "label": "corridor"}
+    assert d["places"][0] == {"id": M, "name": "corridor", "role": "start", "label": "corridor",
+                              "point": [6.25, 1.75]}
+    assert d["places"][2]["point"] == pytest.approx(list(planner.model.map.cell_to_world(
+        planner.model.map.world_to_cell(planner.model.mu[K]))))
     assert d["places"][-1]["role"] == "goal" and d["places"][-1]["label"] == "bedroom #2"
     assert np.allclose(d["path"], p.path, atol=1e-4)
     assert d["time_online_s"] > 0 and p.time_precompute_s > 0

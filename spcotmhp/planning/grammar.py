@@ -32,8 +32,9 @@ class Grammar:
         attach: "prefix" (marker before its place phrase) or "postfix" (marker after it).
         markers: phrase -> role, phrases as written (English: space-separated words).
         connectors: phrases that continue the previous role.
-        fillers: words that carry no meaning for the parse (English only: used to report which other words
-            were not understood).
+        fillers: words that carry no meaning for the parse. English: skipped, and not reported as "not
+            understood". Every language: never taken as place words unless a word is some place's best name
+            (:func:`~spcotmhp.planning.instructions.place_vocabulary`).
         by_character: match on characters (Japanese) instead of whitespace/punctuation-separated words.
     """
 
@@ -69,10 +70,11 @@ ENGLISH = Grammar(
                           ",", ";", "&"}),
     fillers=frozenset({"the", "a", "an", "my", "our", "your", "this", "that", "please", "go", "goes", "going",
                        "take", "me", "us", "bring", "get", "head", "move", "navigate", "drive", "walk", "come",
-                       "lead", "guide", "can", "could", "would", "you", "i", "want", "need", "let's", "let",
-                       "room", "place", "area", "way", "there", "here", "now", "robot", "hey", "ok", "okay",
-                       "again", "back", "along", "way", "of", "all", "by", "on", "in", "side", "way",
-                       "pass", "enter", "visit"}),
+                       "lead", "guide", "can", "could", "would", "you", "i", "we", "it", "want", "need", "let's",
+                       "let", "room", "place", "area", "way", "there", "here", "now", "robot", "hey", "ok", "okay",
+                       "again", "back", "along", "of", "all", "by", "on", "in", "side", "pass", "enter", "visit",
+                       "is", "are", "am", "be", "called", "name", "named", "this's", "um", "uh", "so", "well",
+                       "look"}),
 )
 
 JAPANESE = Grammar(
@@ -92,6 +94,8 @@ JAPANESE = Grammar(
         **{"from": ("から",)},
     ),
     connectors=frozenset({"と", "、", ",", "，", "それから", "そして", "その後", "そのあと", "や"}),
+    fillers=frozenset({"ここ", "ここが", "ここは", "ここわ", "こちら", "こちらが", "この", "ここの", "です", "だよ",
+                       "だ", "になります", "にきました", "ください", "ロボット"}),
     by_character=True,
 )
 

@@ -51,7 +51,7 @@ class GraphSettings:
 
     n_candidates: candidate points per place (N of Section 3.4; 1 = the means, as in the paper's experiments).
     seed: seed of the candidate sampling (N > 1).  connectivity: 4 or 8 grid moves.
-    edge_threshold: connected places have (psi_ab + psi_ba) / 2 above it (None: 1 / K, the paper's Figure 3).
+    edge_threshold: connected places have (psi_ab + psi_ba) / 2 at least this (None: 1 / K, Figure 3).
     candidate_quantile: samples are kept inside this chi-square ellipse of their place.
     cost_floor: the smallest step cost (module docstring).
     """

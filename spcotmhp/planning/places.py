@@ -8,8 +8,9 @@ Definitions (each a documented choice; the property tests check the planner agai
   ``quantile`` ellipse (rejection), so that "the candidate waypoints follow the rough shape of the place".
   Each is snapped to the nearest traversable cell (p(x|m) > 0) of the largest connected free component, and
   duplicates after snapping are dropped.
-* **Connected places** (Alg. 1, line 3): a and b are connected when (psi_ab + psi_ba) / 2 > 1 / K, the rule of
-  the paper's Figure 3; partial paths are precomputed only between candidates of connected places.
+* **Connected places** (Alg. 1, line 3): a and b are connected when (psi_ab + psi_ba) / 2 >= 1 / K, the rule of
+  the paper's Figure 3 (which writes >; with >= a fully connected home, whose psi is uniform = 1 / K, keeps its
+  edges); partial paths are precomputed only between candidates of connected places.
 * **Instances of a named place**: the active places whose p(i | S) is at least 1 / ``ratio`` of the best
   (default ratio 10). Several places share a name (three bedrooms), and their posteriors differ a little with
   their data counts, so taking only the arg-max would drop real instances; a place whose name merely overlaps
@@ -80,11 +81,12 @@ def candidate_points(model: SpatialConceptModel, n: int, rng: np.random.Generato
 
 
 def connected_places(model: SpatialConceptModel, threshold: float | None = None) -> np.ndarray:
-    """(K, K) bool: (psi_ab + psi_ba) / 2 > threshold (default 1 / K, the paper's Figure 3), active places only;
-    the diagonal is True (moves between candidates of one place)."""
+    """(K, K) bool: (psi_ab + psi_ba) / 2 >= threshold (default 1 / K, the paper's Figure 3; compared with a
+    relative tolerance of 1e-9), active places only; the diagonal is True (moves between candidates of one
+    place)."""
     thr = 1.0 / model.K if threshold is None else float(threshold)
     act = np.asarray(model.active_places, dtype=bool)
-    conn = ((model.psi + model.psi.T) / 2.0 > thr) & act[:, None] & act[None, :]
+    conn = ((model.psi + model.psi.T) / 2.0 >= thr * (1.0 - 1e-9)) & act[:, None] & act[None, :]
     conn[np.diag_indices(model.K)] = act
     return conn
 

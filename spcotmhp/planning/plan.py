@@ -15,13 +15,15 @@ ROLES = ("start", "via", "waypoint", "goal")
 @dataclass(frozen=True)
 class PlanPlace:
     """A place on the plan. ``role``: start (the most probable place of x_0), via (passed on the way),
-    waypoint, goal. ``instance``/``n_instances``: "bedroom #2" of 3 places sharing the name (1-based)."""
+    waypoint, goal. ``instance``/``n_instances``: "bedroom #2" of 3 places sharing the name (1-based).
+    ``point``: the candidate point (map frame) where the plan reaches the place; the start pose for the start."""
 
     id: int
     name: str
     role: str
     instance: int = 1
     n_instances: int = 1
+    point: tuple[float, float] | None = None
 
     @property
     def label(self) -> str:
@@ -111,7 +113,9 @@ class Plan:
         ins = self.instruction
         return {
             "path": np.round(self.path, 4).tolist(),
-            "places": [{"id": p.id, "name": p.name, "role": p.role, "label": p.label} for p in self.places],
+            "places": [{"id": p.id, "name": p.name, "role": p.role, "label": p.label,
+                        "point": None if p.point is None else [round(float(v), 4) for v in p.point]}
+                       for p in self.places],
             "length_m": round(self.length_m, 4),
             "log_prob": self.log_prob,
             "time_online_s": self.time_online_s,

@@ -32,7 +32,7 @@ from spcotmhp.errors import PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.assemble import join_legs, path_length, smooth, smoothing_mask
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph
-from spcotmhp.planning.instructions import Instruction, place_vocabulary, to_instruction
+from spcotmhp.planning.instructions import Instruction, place_labels, place_vocabulary, to_instruction
 from spcotmhp.planning.places import instance_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
 from spcotmhp.planning.search import SearchProblem, SearchResult, search
@@ -79,7 +79,7 @@ class HierarchicalPlanner:
         self.settings = replace(settings or PlannerSettings(), **overrides)
         self.graph = PlanningGraph.build(model, self.settings.graph_settings(), log_p, use_cache)
         self.place_words = place_vocabulary(model)
-        self.names = model.place_names()
+        self.names = place_labels(model, self.place_words)
         self.terms = ModelTerms(model)
         act = np.flatnonzero(model.active_places)
         self._numbering = {int(k): (1 + sum(self.names[j] == self.names[k] for j in act if j < k),
@@ -131,7 +131,7 @@ class HierarchicalPlanner:
             if path_length(short, model.map.resolution) <= raw_length:
                 cells, smoothed = short, True
         map_cells = graph.to_map(cells)
-        places = self._places(graph, posterior, result, S)
+        places = self._places(graph, posterior, x0, result, S)
         options = self._goal_options(graph, cell, result, inst[S - 1], raw_length)
         plan = Plan(path=model.map.cell_to_world(map_cells), cells=map_cells, places=places,
                     length_m=path_length(cells, model.map.resolution), log_prob=result.log_prob,
@@ -185,21 +185,23 @@ class HierarchicalPlanner:
         anchors = [ends[e] for e, done in enumerate(result.completed) if done]
         return cells, anchors
 
-    def _places(self, graph: PlanningGraph, posterior: np.ndarray, result: SearchResult,
+    def _places(self, graph: PlanningGraph, posterior: np.ndarray, x0: np.ndarray, result: SearchResult,
                 S: int) -> list[PlanPlace]:
         i0 = int(np.argmax(posterior))
-        out = [self._place(i0, "start")]
-        for node, done in zip(result.nodes, result.completed):
+        out = [self._place(i0, "start", x0)]
+        points = self.model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
+        for node, done, xy in zip(result.nodes, result.completed, points):
             k = int(graph.node_place[node])
             role = "goal" if S - 1 in done else "waypoint" if done else "via"
             if role == "via" and k == out[-1].id:
                 continue
-            out.append(self._place(k, role))
+            out.append(self._place(k, role, xy))
         return out
 
-    def _place(self, k: int, role: str) -> PlanPlace:
+    def _place(self, k: int, role: str, xy: np.ndarray | None = None) -> PlanPlace:
         number, count = self._numbering[k]
-        return PlanPlace(k, self.names[k], role, number, count)
+        point = None if xy is None else (float(xy[0]), float(xy[1]))
+        return PlanPlace(k, self.names[k], role, number, count, point)
 
     def _goal_options(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult,
                       goal_places: np.ndarray, chosen_length: float) -> list[GoalOption]:

@@ -1,0 +1,81 @@
+"""CLI command of the planning area: ``spcotmhp plan MODEL_DIR "go to the bedroom via the corridor" --start X Y``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from spcotmhp.errors import InstructionError, SpcotmhpError
+
+
+def register(app: typer.Typer) -> None:
+    """Add the planning commands to ``app``."""
+    app.command("plan")(plan_command)
+
+
+def plan_command(
+    model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
+    instruction: Annotated[str | None, typer.Argument(
+        help='The instruction, e.g. "go to the bedroom via the corridor" or "廊下を通って寝室へ行って", or a JSON '
+             'object {"goal": [...], "waypoints": [[...]], "avoid": [[...]]}. Omit it with --nbest.')] = None,
+    start: Annotated[tuple[float, float] | None, typer.Option(
+        "--start", help="Start pose X Y in metres (map frame).")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the plan as JSON.")] = False,
+    png: Annotated[Path | None, typer.Option("--png", help="Also draw the plan to this PNG file.")] = None,
+    nbest: Annotated[Path | None, typer.Option(
+        "--nbest", help='JSON file with recogniser hypotheses [["text", score], ...] (Eq. 25).')] = None,
+    lang: Annotated[str | None, typer.Option(help="Instruction language (en, ja); default: detected.")] = None,
+    candidates: Annotated[int, typer.Option(help="Candidate points per place (N of Section 3.4).")] = 1,
+    seed: Annotated[int, typer.Option(help="Seed of the candidate sampling.")] = 0,
+    smooth: Annotated[bool, typer.Option(help="Line-of-sight smoothing of the path.")] = True,
+    max_steps: Annotated[int | None, typer.Option(
+        help="Topological horizon E (default 10 per waypoint/goal).")] = None,
+) -> None:
+    """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
+    from spcotmhp.learning.io import load_model
+    from spcotmhp.planning.planner import HierarchicalPlanner
+
+    if start is None:
+        raise typer.BadParameter("give the start pose with --start X Y", param_hint="--start")
+    if (instruction is None) == (nbest is None):
+        raise typer.BadParameter("give either an INSTRUCTION or --nbest FILE (not both)")
+    source: Any = instruction if nbest is None else read_nbest(nbest)
+    model = load_model(model_dir)
+    planner = HierarchicalPlanner(model, n_candidates=candidates, seed=seed, smooth=smooth, max_steps=max_steps)
+    plan = planner.plan(source, start, lang=lang)
+    if png is not None:
+        from spcotmhp.planning.figure import draw_plan
+
+        try:
+            draw_plan(plan, model, png)
+        except OSError as exc:
+            raise SpcotmhpError(f"cannot write {png}: {exc.strerror or exc}") from None
+    if as_json:
+        typer.echo(plan.to_json())
+    else:
+        typer.echo(plan.explanation)
+        typer.echo(f"log p = {plan.log_prob:.2f}; planned in {plan.time_online_s * 1e3:.2f} ms "
+                   f"(precomputation {plan.time_precompute_s:.2f} s)", err=True)
+
+
+def read_nbest(path: Path) -> list[tuple[str, float]]:
+    """An N-best file: a JSON list of [text, score] pairs or {"text": ..., "score": ...} objects."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InstructionError(f"cannot read the N-best file {path}: {exc.strerror or exc}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise InstructionError(f"the N-best file {path} is not valid JSON: {exc}") from None
+    if not isinstance(data, list):
+        raise InstructionError(f"the N-best file {path} must hold a JSON list of [text, score] pairs")
+    out = []
+    for i, item in enumerate(data):
+        if isinstance(item, dict) and set(item) == {"text", "score"}:
+            item = [item["text"], item["score"]]
+        if not (isinstance(item, list) and len(item) == 2):
+            raise InstructionError(f"{path}: entry {i} must be [text, score] or {{\"text\", \"score\"}}, got {item!r}")
+        out.append((item[0], item[1]))
+    return out
