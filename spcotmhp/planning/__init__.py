@@ -1,0 +1,25 @@
+"""Hierarchical path planning from instructions (SpCoTMHP, Algorithm 1; Taniguchi, Ito and Taniguchi 2024).
+
+    >>> from spcotmhp.planning import HierarchicalPlanner
+    >>> planner = HierarchicalPlanner(model)                     # precomputation (Alg. 1, lines 1-7), cached
+    >>> plan = planner.plan("go to the bedroom via the corridor", start=(1.2, -0.5))
+    >>> plan.explanation
+    'kitchen -> corridor (waypoint) -> bedroom #2 (closest of 3 bedrooms), 9.4 m'
+
+Modules: ``instructions`` + ``grammar`` (understanding), ``places`` (candidates, connectivity, instances,
+regions), ``graph`` (precomputation), ``search`` (Eq. 28), ``assemble`` (joining, smoothing), ``planner``,
+``plan`` (the result), ``terms`` (model terms for fast queries), ``figure`` (a PNG of a plan).
+"""
+
+from spcotmhp.planning.graph import GraphSettings, PlanningGraph
+from spcotmhp.planning.instructions import (Instruction, PlaceQuery, parse_nbest, parse_structured, parse_text,
+                                            place_vocabulary, to_instruction)
+from spcotmhp.planning.plan import Plan, PlanPlace
+from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings
+
+# the one-call ``plan(model, instruction, start)`` lives in spcotmhp.planning.planner (exporting it here would
+# hide the ``spcotmhp.planning.plan`` module)
+
+__all__ = ["GraphSettings", "HierarchicalPlanner", "Instruction", "PlaceQuery", "Plan", "PlanPlace",
+           "PlannerSettings", "PlanningGraph", "parse_nbest", "parse_structured", "parse_text", "place_vocabulary",
+           "to_instruction"]
