@@ -327,6 +327,19 @@ def test_error_type_is_both_planning_and_value_error():
         cost_to_go(np.array([[1.0, np.inf]]), [(0, 0), (0, 1)])
     with pytest.raises(GridSearchError, match="must be the same 2-D shape"):
         path_from_field(np.zeros((2, 2)), np.zeros((2, 3), np.int64), (0, 0))
+    with pytest.raises(
+        GridSearchError, match="next_step must hold int32 or int64 flat cell indices, got dtype float64"
+    ):
+        path_from_field(np.zeros((2, 2)), np.zeros((2, 2)), (0, 0))
+
+
+def test_path_from_field_accepts_int64_links():
+    cost = random_grid(5)
+    free = free_cells(cost)
+    field, nxt = cost_to_go(cost, free[:1])
+    a = path_from_field(field, nxt, free[-1])
+    b = path_from_field(field, nxt.astype(np.int64), free[-1])
+    assert a is not None and np.array_equal(a.cells, b.cells) and a.cost == b.cost
 
 
 # ------------------------------------------------------------------------------- against scipy's Dijkstra

@@ -196,7 +196,7 @@ def cost_to_go(
     """Cost from every cell to the cheapest of ``sources`` (same move model as :func:`shortest_paths`).
 
     Returns ``(field, next_step)``: ``field`` float64 (H, W) equals the cost of the best path *from* that cell
-    into the sources (``inf`` where unreachable or blocked, 0 at sources); ``next_step`` int64 (H, W) the flat
+    into the sources (``inf`` where unreachable or blocked, 0 at sources); ``next_step`` int32 (H, W) the flat
     index of the next cell on that path (-1 at sources and unreachable cells). Read a path with
     :func:`path_from_field`.
     """
@@ -235,13 +235,18 @@ def path_from_field(
             raise PlanningError(f"start cell {_fmt(s)} cannot reach any source (blocked or disconnected)")
         return None
     W = field.shape[1]
-    cells = _k.follow_links(np.ascontiguousarray(next_step).reshape(-1), int(s[0] * W + s[1]), W)
+    if next_step.dtype not in (np.int32, np.int64):
+        raise GridSearchError(
+            f"next_step must hold int32 or int64 flat cell indices, got dtype {next_step.dtype}"
+        )
+    links = np.ascontiguousarray(next_step).reshape(-1)
+    cells, n_diagonal = _k.follow_links(links, int(s[0] * W + s[1]), W, False)
     index = -1
     if sources is not None:
         src = _check_cells(sources, field, "source", check_blocked=False)
         hit = np.flatnonzero((src == cells[-1]).all(axis=1))
         index = int(hit[0]) if len(hit) else -1
-    return GridPath(cells, float(field[s[0], s[1]]), _length_m(cells, resolution), index)
+    return GridPath(cells, float(field[s[0], s[1]]), _length_m(len(cells), n_diagonal, resolution), index)
 
 
 def geodesic_distance(
@@ -272,15 +277,12 @@ def warmup() -> None:
 def _forward_path(dist, parent, end, W, resolution, index) -> GridPath | None:
     if not np.isfinite(dist[end]):
         return None
-    cells = _k.follow_links(parent, int(end), W)[::-1].copy()
-    return GridPath(cells, float(dist[end]), _length_m(cells, resolution), index)
+    cells, n_diagonal = _k.follow_links(parent, int(end), W, True)
+    return GridPath(cells, float(dist[end]), _length_m(len(cells), n_diagonal, resolution), index)
 
 
-def _length_m(cells: np.ndarray, resolution: float) -> float:
-    if len(cells) < 2:
-        return 0.0
-    diagonal = np.count_nonzero(np.abs(np.diff(cells, axis=0)).sum(axis=1) == 2)
-    return float(resolution * ((len(cells) - 1 - diagonal) + SQRT2 * diagonal))
+def _length_m(n_cells: int, n_diagonal: int, resolution: float) -> float:
+    return float(resolution * ((n_cells - 1 - n_diagonal) + SQRT2 * n_diagonal))
 
 
 def _fmt(cell: np.ndarray) -> str:
@@ -304,6 +306,8 @@ def _check_cost(cell_cost: Any) -> np.ndarray:
     elif arr.ndim != 2 or arr.size == 0:
         raise GridSearchError(f"cell_cost must be a non-empty 2-D array (rows, cols), got shape {arr.shape}")
     arr = np.ascontiguousarray(arr)
+    if arr.size >= 2**31:
+        raise GridSearchError(f"cell_cost has {arr.size} cells; at most 2**31 - 1 are supported")
     low = arr.min()  # NaN propagates through min, so one pass checks both
     if np.isnan(low) or low < 0:
         bad = np.argwhere(np.isnan(arr) | (arr < 0))[0]
@@ -343,15 +347,13 @@ def _check_cells(cells: Any, grid: np.ndarray, what: str, check_blocked: bool = 
         raise GridSearchError(f"{what} cells must be integer (row, col) indices, got {arr.tolist()}")
     if arr.dtype.kind not in "iuf":
         raise GridSearchError(f"{what} cells must be integer (row, col) indices, got dtype {arr.dtype}")
-    arr = arr.astype(np.int64)
-    H, W = grid.shape
-    off = (arr[:, 0] < 0) | (arr[:, 0] >= H) | (arr[:, 1] < 0) | (arr[:, 1] >= W)
-    if off.any():
-        r, c = arr[np.argmax(off)]
-        raise GridSearchError(f"{what} cell (row, col) = ({r}, {c}) is off the grid of {H} rows x {W} cols")
-    if check_blocked:
-        blocked = ~np.isfinite(grid[arr[:, 0], arr[:, 1]])
-        if blocked.any():
-            r, c = arr[np.argmax(blocked)]
-            raise GridSearchError(f"{what} cell (row, col) = ({r}, {c}) is blocked (cost inf)")
-    return np.ascontiguousarray(arr)
+    arr = np.ascontiguousarray(arr, dtype=np.int64)
+    bad, reason = _k.first_invalid(arr, grid, check_blocked)
+    if reason == 1:
+        raise GridSearchError(
+            f"{what} cell (row, col) = {_fmt(arr[bad])} is off the grid of {grid.shape[0]} rows x "
+            f"{grid.shape[1]} cols"
+        )
+    if reason == 2:
+        raise GridSearchError(f"{what} cell (row, col) = {_fmt(arr[bad])} is blocked (cost inf)")
+    return arr
