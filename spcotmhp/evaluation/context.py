@@ -63,30 +63,29 @@ class HomeContext:
                 "fit_s": round(float(self.timings.get("fit_s", 0.0)), 4)}
 
 
-def place_adjacency(dataset: Dataset, places: list[Place]) -> tuple[np.ndarray, str]:
-    """The true places' adjacency: adjacency.csv, or else the connectivity rule from the map."""
+def place_adjacency(dataset: Dataset) -> tuple[np.ndarray, str]:
+    """The true places' adjacency: adjacency.csv, or else the learning package's connectivity rule applied to
+    the supervised place Gaussians (:func:`spcotmhp.learning.connectivity.map_adjacency`)."""
     if dataset.adjacency is not None:
         return np.asarray(dataset.adjacency), "adjacency.csv"
-    from spcotmhp.learning.connectivity import adjacency_from_map
+    from spcotmhp.learning.connectivity import map_adjacency
+    from spcotmhp.learning.supervised import fit_supervised
 
-    truth = np.asarray(dataset.truth_place)
-    means = np.array([p.mean for p in places])
-    covs = np.array([np.cov(dataset.positions[truth == p.index].T) + 1e-4 * np.eye(2) for p in places])
-    adj = adjacency_from_map(dataset.map, means, covs)
-    return np.asarray(adj), "connectivity from the map (no adjacency.csv)"
+    truth_model = fit_supervised(dataset, adjacency="map")
+    return np.asarray(map_adjacency(truth_model, dataset.map)), "connectivity from the map (no adjacency.csv)"
 
 
 def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int) -> SpatialConceptModel:
     """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
-    unsupervised Gibbs sampling, several runs, the learner's default selection) parameters."""
+    unsupervised Gibbs sampling: the learner's default number of runs and selection criterion) parameters."""
     if params == "supervised":
         from spcotmhp.learning.supervised import fit_supervised
 
-        return fit_supervised(dataset, adjacency=adjacency)
+        return fit_supervised(dataset, adjacency=np.asarray(adjacency))
     if params == "learned":
-        from spcotmhp.learning.gibbs import SpCoTMHP
+        from spcotmhp.learning.selection import fit_runs
 
-        return SpCoTMHP(seed=seed).fit(dataset).model_
+        return fit_runs(dataset, seed=seed).model_
     raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
 
 
@@ -99,7 +98,7 @@ def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0) -
         raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
     timings = {}
     places = build_places(dataset)
-    adjacency, source = place_adjacency(dataset, places)
+    adjacency, source = place_adjacency(dataset)
     t0 = time.perf_counter()
     model = fit_params(dataset, params, adjacency, seed)
     if model.map is None:

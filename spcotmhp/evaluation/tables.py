@@ -44,10 +44,10 @@ TITLES = {"basic": "Table 4: basic task", "advanced": "Table 5: advanced task"}
 
 
 def fmt_time(seconds: float) -> str:
-    """Seconds with 3 significant digits (milliseconds below 1 s)."""
+    """Seconds with 3 significant digits (milliseconds below 1 s; no exponent)."""
     if seconds < 1.0:
         return f"{seconds * 1e3:.3g} ms"
-    return f"{seconds:.3g} s"
+    return f"{seconds:.3g} s" if seconds < 1000 else f"{seconds:,.0f} s"
 
 
 def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: str | None = None) -> str:

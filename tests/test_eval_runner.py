@@ -1,0 +1,154 @@
+"""The experiment runner, the evaluate/reproduce commands and the tables, on a bundled SIGVerse home."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from spcotmhp.cli import app
+from spcotmhp.datasets import load_bundled
+from spcotmhp.errors import SpcotmhpError
+from spcotmhp.evaluation.context import build_context
+from spcotmhp.evaluation.methods import METHODS
+from spcotmhp.evaluation.runner import check_methods, evaluate, evaluate_chunk, run_local
+from spcotmhp.evaluation.tables import PAPER, markdown_table
+from spcotmhp.evaluation.tasks import make_tasks, subset
+
+EXE = Path(sys.executable).with_name("spcotmhp")
+ALL = list(METHODS)
+
+
+@pytest.fixture(scope="module")
+def ctx():
+    return build_context(load_bundled("3LDK_01"), "supervised", seed=0)
+
+
+@pytest.fixture(scope="module")
+def advanced(ctx):
+    return subset(make_tasks(ctx.dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, 6, seed=1)
+
+
+def outcomes(records):
+    return {(r.task_index, r.method): (r.outcome.success, r.outcome.n_success, r.outcome.w_success,
+                                       round(r.outcome.p, 9), r.outcome.ratio) for r in records}
+
+
+def test_context_reuses_one_planning_graph(ctx):
+    assert ctx.hpp["hpp1"].graph is ctx.planner.graph is ctx.hpp["hpp2"].graph
+    assert ctx.adjacency_source == "adjacency.csv"
+    assert ctx.notes()["places"][7:10] == ["bedroom"] * 3
+
+
+def test_every_method_plans_from_the_start(ctx, advanced):
+    for task in advanced:
+        for name in ALL:
+            path = METHODS[name](ctx, task, np.random.default_rng(0))
+            assert path is not None and len(path) >= 1, name
+            np.testing.assert_allclose(path[0], task.start_xy, atol=1e-9, err_msg=name)
+            cells = ctx.dataset.map.world_to_cell(path)
+            assert ctx.dataset.map.free[cells[:, 0], cells[:, 1]].all(), name
+
+
+def test_results_do_not_depend_on_order_or_chunking(ctx, advanced):
+    a = evaluate_chunk(ctx, advanced, ["astar", "hpp1", "spconavi-astar"], seed=3)
+    b = evaluate_chunk(ctx, advanced[::-1], ["spconavi-astar", "hpp1", "astar"], seed=3)
+    assert outcomes(a) == outcomes(b)
+    c = evaluate_chunk(ctx, advanced, ["astar", "hpp1", "spconavi-astar"], seed=4)
+    assert outcomes(a) != outcomes(c)  # the seed matters for the sampling baselines
+
+
+def test_process_pool_matches_in_process(ctx, advanced):
+    methods = ["spcotmhp", "astar", "hpp2"]
+    one = run_local(ctx, advanced, methods, 0, workers=1, advance=lambda n: None)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr("spcotmhp.evaluation.runner.CHUNK", 2)  # three chunks on two processes
+        two = run_local(ctx, advanced, methods, 0, workers=2, advance=lambda n: None)
+    assert outcomes(one) == outcomes(two)
+
+
+def test_evaluate_result_layout():
+    ds = load_bundled("3LDK_01")
+    res = evaluate([ds], "advanced", ALL, max_tasks=4, workers=1, quiet=True)
+    assert set(res) >= {"homes", "mean", "notes", "task", "params"}
+    keys = {"spl", "n_spl", "w_spl", "wn_spl", "success", "time_median_s", "time_p95_s", "n_tasks"}
+    for metrics in (res["homes"]["3LDK_01"], res["mean"]):
+        assert list(metrics) == ALL
+        for m in metrics.values():
+            assert keys <= set(m) and m["n_tasks"] == 4
+            assert all(0.0 <= m[k] <= 1.0 for k in ("spl", "n_spl", "w_spl", "wn_spl", "success"))
+            assert m["wn_spl"] <= min(m["w_spl"], m["n_spl"]) + 1e-12 and m["n_spl"] <= m["spl"] + 1e-12
+    assert res["notes"]["3LDK_01"]["adjacency"] == "adjacency.csv"
+    assert res["notes"]["3LDK_01"]["n_tasks_all"] == 648
+    basic = evaluate([ds], "basic", ["spcotmhp"], max_tasks=3, workers=1, quiet=True)
+    assert "w_spl" not in basic["mean"]["spcotmhp"] and "wn_spl" not in basic["mean"]["spcotmhp"]
+
+
+def test_check_methods():
+    assert check_methods(["hpp1", " astar", "hpp1"]) == ["hpp1", "astar"]
+    with pytest.raises(SpcotmhpError, match="unknown method\\(s\\) dijkstra; accepted: spcotmhp, astar"):
+        check_methods(["dijkstra"])
+    with pytest.raises(SpcotmhpError, match="\\(none given\\)"):
+        check_methods([""])
+
+
+def test_cli_evaluate_json():
+    out = CliRunner().invoke(app, ["evaluate", "3LDK_05", "--task", "basic", "--method", "spcotmhp,hpp2",
+                                   "--max-tasks", "5", "--workers", "1", "--json"])
+    assert out.exit_code == 0, out.output
+    res = json.loads(out.stdout)
+    assert list(res["homes"]) == ["3LDK_05"] and list(res["mean"]) == ["spcotmhp", "hpp2"]
+    assert res["mean"]["spcotmhp"]["n_tasks"] == 5
+
+
+@pytest.mark.parametrize("args,message", [
+    (["evaluate", "3LDK_01", "--method", "spcotmhp,teleport"], "error: unknown method(s) teleport; accepted:"),
+    (["evaluate", "3LDK_01", "--task", "expert"], "error: --task must be one of basic, advanced, got 'expert'"),
+    (["evaluate", "no-such-home"], "error: 'no-such-home' is neither a dataset folder nor a bundled dataset"),
+    (["evaluate", "3LDK_01", "--params", "guessed"], "error: --params must be one of supervised, learned"),
+])
+def test_cli_errors(args, message):
+    proc = subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    assert message in proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize("args,backend,address", [
+    (["--ray"], "ray", "local"),                          # bare, last
+    (["--ray", "--json"], "ray", "local"),                # bare, followed by an option
+    (["--ray", "ray://head:10001"], "ray", "ray://head:10001"),
+    (["--ray=auto"], "ray", "auto"),
+    ([], "local", None),
+])
+def test_ray_option_takes_an_optional_address(monkeypatch, args, backend, address):
+    seen = {}
+
+    def fake(homes, kind, methods, params, seed, workers, max_tasks, backend, ray_address):
+        seen.update(backend=backend, address=ray_address, homes=[h.name for h in homes])
+        return {"task": kind, "params": params, "seed": seed, "homes": {}, "mean": {}, "notes": {}}
+
+    monkeypatch.setattr("spcotmhp.evaluation.runner.evaluate", fake)
+    out = CliRunner().invoke(app, ["evaluate", "3LDK_01", *args, "--json"])
+    assert out.exit_code == 0, out.output
+    assert seen == {"backend": backend, "address": address, "homes": ["3LDK_01"]}
+
+
+def test_markdown_tables_put_paper_rows_beside_ours():
+    ours = {"spcotmhp": {"spl": 0.9, "n_spl": 0.88, "w_spl": 0.9, "wn_spl": 0.87, "success": 1.0,
+                         "time_median_s": 0.0012, "time_p95_s": 0.004, "n_tasks": 10},
+            "spconavi-viterbi": {"spl": 0.4, "n_spl": 0.3, "w_spl": 0.6, "wn_spl": 0.01, "success": 0.4,
+                                 "time_median_s": 0.08, "time_p95_s": 0.2, "n_tasks": 10}}
+    text = markdown_table("advanced", ours)
+    lines = text.splitlines()
+    assert lines[0] == "### Table 5: advanced task"
+    i = lines.index("| SpCoTMHP | paper | 0.922 | 0.906 | 0.794 | 0.781 |  | 390 ms |  |")
+    assert lines[i + 1] == "|  | ours | 0.900 | 0.900 | 0.880 | 0.870 | 1.000 | 1.2 ms / 4 ms | 10 |"
+    # the paper has no Viterbi row in Table 5: ours stands alone, labelled
+    assert "| SpCoNavi (Viterbi) | ours | 0.400 | 0.600 | 0.300 | 0.010 | 0.400 | 80 ms / 200 ms | 10 |" in lines
+    assert sum(" paper " in ln for ln in lines) == len(PAPER["advanced"])
+    basic = markdown_table("basic", {})
+    assert "| SpCoNavi (Viterbi) | paper | 0.976 | 0.965 |  | 2,680 s |  |" in basic
