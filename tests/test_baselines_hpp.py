@@ -2,8 +2,8 @@
 
 import numpy as np
 import pytest
-
 from planning_fixtures import ORDER, home_log_p, home_model, world
+
 from spcotmhp.baselines.hpp import EDGE_COSTS, HPP, draw_place, path_cost_edges, path_length_edges
 from spcotmhp.errors import PlanningError
 from spcotmhp.planning.assemble import path_length

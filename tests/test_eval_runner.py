@@ -111,7 +111,7 @@ def test_cli_evaluate_json():
     (["evaluate", "3LDK_01", "--params", "guessed"], "error: --params must be one of supervised, learned"),
 ])
 def test_cli_errors(args, message):
-    proc = subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120)
+    proc = subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 2
     assert message in proc.stderr
     assert "Traceback" not in proc.stderr

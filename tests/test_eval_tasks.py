@@ -23,15 +23,15 @@ def corridor_home(**overrides) -> Dataset:
     adjacency = np.eye(4, dtype=int)
     for a, b in [(0, 1), (1, 3), (3, 2)]:
         adjacency[a, b] = adjacency[b, a] = 1
-    kwargs = dict(
-        name="corridor",
-        map=OccupancyMap(np.zeros((3, 13), np.int8), resolution=1.0),
-        positions=positions,
-        tokens=[["a"], ["a"], ["bed"], ["bed"], ["bed"], ["bed"], ["hall"], ["hall"]],
-        truth_place=np.array([0, 0, 1, 1, 2, 2, 3, 3]),
-        adjacency=adjacency,
-        place_names=["a", "bed", "bed", "hall"],
-    )
+    kwargs = {
+        "name": "corridor",
+        "map": OccupancyMap(np.zeros((3, 13), np.int8), resolution=1.0),
+        "positions": positions,
+        "tokens": [["a"], ["a"], ["bed"], ["bed"], ["bed"], ["bed"], ["hall"], ["hall"]],
+        "truth_place": np.array([0, 0, 1, 1, 2, 2, 3, 3]),
+        "adjacency": adjacency,
+        "place_names": ["a", "bed", "bed", "hall"],
+    }
     kwargs.update(overrides)
     return Dataset(**kwargs)
 

@@ -8,7 +8,7 @@ grid search) leads there. No topology, no waypoint handling: an advanced instruc
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from scipy import ndimage

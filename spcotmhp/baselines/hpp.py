@@ -19,7 +19,8 @@ from the path (0 -> 9: 21,634 instead of 1,235); here it is the partial path's o
 
 from __future__ import annotations
 
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
+from itertools import pairwise
 
 import numpy as np
 from scipy.sparse import csr_matrix
@@ -105,5 +106,5 @@ class HPP:
         nodes = [node]
         for words in stages:
             nodes += self.route(nodes[-1], draw_place(g, words, rng))[1:]
-        legs = [g.leg(cell, nodes[0]).cells] + [g.edge_path(a, b) for a, b in zip(nodes[:-1], nodes[1:])]
+        legs = [g.leg(cell, nodes[0]).cells] + [g.edge_path(a, b) for a, b in pairwise(nodes)]
         return join_legs(legs)[0]

@@ -24,8 +24,8 @@ Both use the paper's action set (4-connected moves plus stay) by default.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 from scipy.special import logsumexp

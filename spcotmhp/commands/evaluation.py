@@ -4,8 +4,9 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
-from typing import List, Optional
+from typing import Annotated
 
 import typer
 from typer.core import TyperCommand
@@ -30,17 +31,25 @@ class _OptionalRayAddress(TyperCommand):
 
 def load_home(name_or_path: str, lang: str):
     """A dataset folder, or a bundled dataset by name."""
-    from spcotmhp.datasets import load_bundled, load_dataset
+    from spcotmhp.datasets import DatasetWarning, load_bundled, load_dataset
 
     path = Path(name_or_path)
-    if path.is_dir():
-        return load_dataset(path, lang=lang)
-    if path.exists():
+    if path.exists() and not path.is_dir():
         raise DatasetError(f"{name_or_path} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
-    try:
-        return load_bundled(name_or_path, lang=lang)
-    except DatasetError as exc:
-        raise DatasetError(f"{name_or_path!r} is neither a dataset folder nor a bundled dataset ({exc})") from None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DatasetWarning)
+        if path.is_dir():
+            dataset = load_dataset(path, lang=lang)
+        else:
+            try:
+                dataset = load_bundled(name_or_path, lang=lang)
+            except DatasetError as exc:
+                raise DatasetError(f"{name_or_path!r} is neither a dataset folder nor a bundled dataset "
+                                   f"({exc})") from None
+    notes = [str(w.message) for w in caught if issubclass(w.category, DatasetWarning)]
+    if notes:  # one line per home instead of one per teaching event
+        typer.echo(f"note: {dataset.name}: {len(notes)} dataset warning(s), e.g. {notes[0]}", err=True)
+    return dataset
 
 
 def _check(value: str, allowed: tuple[str, ...], option: str) -> str:
@@ -78,21 +87,21 @@ def register(app: typer.Typer) -> None:
 
     @app.command(cls=_OptionalRayAddress)
     def evaluate(
-        datasets: List[str] = typer.Argument(..., metavar="DATASET_DIR...",
-                                             help="Dataset folders or bundled dataset names (e.g. 3LDK_01)."),
-        task: str = typer.Option("basic", "--task", help="basic | advanced (with a waypoint)."),
-        method: str = typer.Option(METHOD_NAMES, "--method", help="Comma-separated methods."),
-        params: str = typer.Option("supervised", "--params",
-                                   help="supervised (truth labels, the paper's 'ideal' parameters) | learned."),
-        lang: str = typer.Option("en", "--lang", help="Language of the words: en | ja."),
-        workers: Optional[int] = typer.Option(None, "--workers", min=1, help="Processes (default: all cores)."),
-        max_tasks: Optional[int] = typer.Option(None, "--max-tasks", min=1,
-                                                help="A seeded random subset of each home's tasks."),
-        seed: int = typer.Option(0, "--seed", help="Seed of every random draw."),
-        as_json: bool = typer.Option(False, "--json", help="Print JSON."),
-        ray: Optional[str] = typer.Option(None, "--ray", metavar="[ADDRESS]",
-                                          help="Run on Ray (extra 'dist'): a local instance, or the cluster at "
-                                               "ADDRESS."),
+        datasets: Annotated[list[str], typer.Argument(
+            metavar="DATASET_DIR...", help="Dataset folders or bundled dataset names (e.g. 3LDK_01).")],
+        task: Annotated[str, typer.Option("--task", help="basic | advanced (with a waypoint).")] = "basic",
+        method: Annotated[str, typer.Option("--method", help="Comma-separated methods.")] = METHOD_NAMES,
+        params: Annotated[str, typer.Option(
+            "--params", help="supervised (truth labels, the paper's 'ideal' parameters) | learned.")] = "supervised",
+        lang: Annotated[str, typer.Option("--lang", help="Language of the words: en | ja.")] = "en",
+        workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
+        max_tasks: Annotated[int | None, typer.Option(
+            "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
+        seed: Annotated[int, typer.Option("--seed", help="Seed of every random draw.")] = 0,
+        as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+        ray: Annotated[str | None, typer.Option(
+            "--ray", metavar="[ADDRESS]",
+            help="Run on Ray (extra 'dist'): a local instance, or the cluster at ADDRESS.")] = None,
     ) -> None:
         """Experiment I: plan every task of each home with each method and report SPL, N-SPL (and W-SPL, WN-SPL
         for advanced tasks), success and online planning time."""
@@ -111,13 +120,13 @@ def register(app: typer.Typer) -> None:
 
     @app.command(cls=_OptionalRayAddress)
     def reproduce(
-        out: Optional[Path] = typer.Option(None, "--out", help="Write the markdown here (default: stdout)."),
-        params: str = typer.Option("supervised", "--params", help="supervised (as the paper) | learned."),
-        workers: Optional[int] = typer.Option(None, "--workers", min=1, help="Processes (default: all cores)."),
-        max_tasks: Optional[int] = typer.Option(None, "--max-tasks", min=1,
-                                                help="A seeded random subset of each home's tasks."),
-        seed: int = typer.Option(0, "--seed", help="Seed of every random draw."),
-        ray: Optional[str] = typer.Option(None, "--ray", metavar="[ADDRESS]", help="Run on Ray (see evaluate)."),
+        out: Annotated[Path | None, typer.Option("--out", help="Write the markdown here (default: stdout).")] = None,
+        params: Annotated[str, typer.Option("--params", help="supervised (as the paper) | learned.")] = "supervised",
+        workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
+        max_tasks: Annotated[int | None, typer.Option(
+            "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
+        seed: Annotated[int, typer.Option("--seed", help="Seed of every random draw.")] = 0,
+        ray: Annotated[str | None, typer.Option("--ray", metavar="[ADDRESS]", help="Run on Ray (see evaluate).")] = None,
     ) -> None:
         """Tables 4 and 5 of the paper on the bundled SIGVerse homes, as markdown with the paper's rows beside
         ours."""

@@ -9,7 +9,7 @@ the hierarchical methods get them as ordered stages.
 from __future__ import annotations
 
 from collections import Counter
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

@@ -21,8 +21,8 @@ asked to go to is as good as not moving) and 0 otherwise; every other task uses 
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence
 
 import numpy as np
 
@@ -39,7 +39,7 @@ class Box:
     ymax: float
 
     @classmethod
-    def around(cls, points: np.ndarray, margin: float = REGION_MARGIN_M) -> "Box":
+    def around(cls, points: np.ndarray, margin: float = REGION_MARGIN_M) -> Box:
         """The bounding box of (n, 2) points grown by ``margin`` on every side."""
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
         lo, hi = pts.min(axis=0) - margin, pts.max(axis=0) + margin

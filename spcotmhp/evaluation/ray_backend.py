@@ -8,7 +8,7 @@ from the task, not the worker).
 
 from __future__ import annotations
 
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext
@@ -60,8 +60,14 @@ def run_ray(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], see
     return out
 
 
+_WARM: set = set()  # (home, methods) already warmed up in this Ray worker process
+
+
 def _remote_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list:
     from spcotmhp.evaluation.runner import evaluate_chunk
 
-    ctx.warmup()
+    key = (ctx.name, tuple(methods))
+    if key not in _WARM:
+        ctx.warmup(tasks[0], methods)
+        _WARM.add(key)
     return evaluate_chunk(ctx, tasks, methods, seed)

@@ -13,9 +13,9 @@ import multiprocessing
 import os
 import time
 import zlib
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
-from typing import Callable, Iterable, Sequence
 
 import numpy as np
 from rich.console import Console
@@ -89,10 +89,10 @@ def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[st
 _WORKER_CTX: HomeContext | None = None
 
 
-def _init_worker(ctx: HomeContext) -> None:
+def _init_worker(ctx: HomeContext, task: Task, methods: Sequence[str]) -> None:
     global _WORKER_CTX
     _WORKER_CTX = ctx
-    ctx.warmup()
+    ctx.warmup(task, methods)
 
 
 def _pool_chunk(tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:
@@ -108,8 +108,10 @@ def run_local(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], s
               advance: Callable[[int], None]) -> list[TaskRecord]:
     """Evaluate on ``workers`` processes (in this process when 1); ``advance(n)`` after every chunk of n tasks."""
     parts = chunks(tasks)
+    if not parts:
+        return []
     if workers <= 1 or len(parts) <= 1:
-        ctx.warmup()
+        ctx.warmup(parts[0][0], methods)
         out = []
         for part in parts:
             out.extend(evaluate_chunk(ctx, part, methods, seed))
@@ -118,7 +120,7 @@ def run_local(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], s
     out = []
     mp = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=min(workers, len(parts)), mp_context=mp,
-                             initializer=_init_worker, initargs=(ctx,)) as pool:
+                             initializer=_init_worker, initargs=(ctx, parts[0][0], list(methods))) as pool:
         futures = {pool.submit(_pool_chunk, part, list(methods), seed): len(part) for part in parts}
         for fut in as_completed(futures):
             out.extend(fut.result())

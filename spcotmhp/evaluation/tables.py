@@ -7,7 +7,7 @@ i7-6850K, ideal "supervised" parameters) are transcribed in :data:`PAPER`. Our r
 
 from __future__ import annotations
 
-from typing import Mapping
+from collections.abc import Mapping
 
 METHOD_LABELS = {
     "astar": "A*",
@@ -88,11 +88,11 @@ def reproduce_markdown(basic: Mapping, advanced: Mapping) -> str:
     lines = [
         "## Experiment I: the paper's Tables 4 and 5 beside ours",
         "",
-        f"Homes: {homes} ({n_basic} basic, {n_adv} advanced tasks; the paper used five SIGVerse homes, 418 and "
-        f"3526 tasks). Parameters: {basic['params']}; seed {basic['seed']}. Times are online planning only "
-        f"(precomputation excluded, as in the paper), median / 95th percentile per task, measured on "
-        f"{platform.processor() or platform.machine()} with {os.cpu_count()} logical CPUs, Python "
-        f"{platform.python_version()}; the paper's are Python on an Intel i7-6850K.",
+        (f"Homes: {homes} ({n_basic} basic, {n_adv} advanced tasks; the paper used five SIGVerse homes, 418 and "
+         f"3526 tasks). Parameters: {basic['params']}; seed {basic['seed']}. Times are online planning only "
+         f"(precomputation excluded, as in the paper), median / 95th percentile per task, measured on "
+         f"{platform.processor() or platform.machine()} with {os.cpu_count()} logical CPUs, Python "
+         f"{platform.python_version()}; the paper's are Python on an Intel i7-6850K."),
         "",
         markdown_table("basic", basic["mean"]),
         markdown_table("advanced", advanced["mean"]),
