@@ -327,8 +327,22 @@ def test_refuses_to_overwrite_a_dataset(tmp_path, map_yaml):
     import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
     with pytest.raises(DatasetError, match=r"ds already holds a dataset \(teaching.csv\)"):
         import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
+    (tmp_path / "ds" / "truth.csv").write_text("event,place\n0,0\n")  # from some other dataset
     import_bag(bag, tmp_path / "ds", map_yaml=map_yaml, step=0, overwrite=True)
     assert len(load_dataset(tmp_path / "ds").trajectory) == len(POSES)
+    assert not (tmp_path / "ds" / "truth.csv").exists()
+
+
+def test_a_robot_that_never_moved(tmp_path, map_yaml):
+    ts = _store("ros2-sqlite3")
+    msgs = [("/amcl_pose", POSE_TYPES[0], 1.0, _pose_msg(ts, POSE_TYPES[0], 1.0, (1.0, 1.0))),
+            ("/speech", "std_msgs/msg/String", 2.0, ts.types["std_msgs/msg/String"](data="kitchen")),
+            ("/speech", "std_msgs/msg/String", 3.0, ts.types["std_msgs/msg/String"](data="this is the kitchen"))]
+    import_bag(write_bag(tmp_path / "still", "ros2-sqlite3", msgs), tmp_path / "ds", map_yaml=map_yaml)
+    d = load_dataset(tmp_path / "ds")
+    np.testing.assert_allclose(d.trajectory, [(1.0, 1.0)])
+    np.testing.assert_allclose(d.positions, [(1.0, 1.0), (1.0, 1.0)])
+    assert d.event_steps.tolist() == [0, 0]
 
 
 def test_bad_step_and_lang(tmp_path, map_yaml):

@@ -43,6 +43,9 @@ POSE_TYPES: dict[str, Callable[[Any], Any]] = {
 UTTERANCE_TYPE = "std_msgs/msg/String"
 MAP_TYPE = "nav_msgs/msg/OccupancyGrid"
 MAP_FRAME = "map"
+# files of a dataset folder that an import does not write: removed when it overwrites a folder, so that a
+# stale truth.csv or places.csv cannot be read with the new teaching events
+NOT_WRITTEN = ("truth.csv", "places.csv", "adjacency.csv", "costmap_ros.csv", "image_features_places365.csv")
 
 
 class BagImportWarning(UserWarning):
@@ -331,7 +334,8 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
 
     Raises:
         DatasetError: bad bag (see :func:`read_bag`), no map, no utterances or one before the first pose,
-            ``out`` holding a dataset already (unless ``overwrite``). MapError: a bad ``map_yaml``.
+            ``out`` holding a dataset already (unless ``overwrite``, which also removes the files of
+            :data:`NOT_WRITTEN`). MapError: a bad ``map_yaml``.
     """
     if lang not in ("en", "ja"):
         raise DatasetError(f"lang must be 'en' or 'ja', got {lang!r}")
@@ -354,6 +358,8 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
               "topic such as /amcl_pose)")
     trajectory, positions, steps, texts = teaching_events(log, step)
     folder.mkdir(parents=True, exist_ok=True)
+    for stale in NOT_WRITTEN:
+        (folder / stale).unlink(missing_ok=True)
     try:
         save_map(occupancy, folder / "map.yaml", mode=occupancy.mode)
     except MapError as exc:
