@@ -128,3 +128,14 @@ def test_model_without_map_or_places_is_refused():
         PlanningGraph.build(dataclasses.replace(model, active_places=np.zeros(4, bool)))
     with pytest.raises(ModelError, match="no free cell"):
         PlanningGraph.build(model, log_p=np.full(home_map().shape, -np.inf), use_cache=False)
+
+
+def test_main_component_does_not_join_through_a_diagonal_squeeze():
+    from spcotmhp.planning.places import main_component
+
+    free = np.zeros((4, 4), bool)
+    free[:2, :2] = True          # a 2x2 room
+    free[2, 2] = free[3, 3] = free[3, 2] = True   # touching the room only at the corner (1,1)-(2,2)
+    comp = main_component(free)
+    assert comp[:2, :2].all() and not comp[2:, 2:].any()
+    assert not main_component(np.zeros((2, 2), bool)).any()

@@ -27,7 +27,7 @@ from scipy import ndimage
 
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 
-_EIGHT = np.ones((3, 3), dtype=bool)
+_FOUR = ndimage.generate_binary_structure(2, 1)
 
 
 def chi2_2d(quantile: float) -> float:
@@ -45,8 +45,12 @@ def mahalanobis2(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray
 
 
 def main_component(traversable: np.ndarray) -> np.ndarray:
-    """The largest 8-connected component of the traversable cells (empty mask if there are none)."""
-    labels, n = ndimage.label(traversable, structure=_EIGHT)
+    """The largest component of the traversable cells (empty mask if there are none).
+
+    Components are 4-connected: the grid search never squeezes diagonally between two blocked cells, and a
+    diagonal step with a free cell beside it can also be walked in two orthogonal steps, so the cells reachable
+    from one another with 8-connected moves are exactly the 4-connected components."""
+    labels, n = ndimage.label(traversable, structure=_FOUR)
     if n == 0:
         return np.zeros_like(traversable, dtype=bool)
     sizes = np.bincount(labels.ravel())
