@@ -201,3 +201,10 @@ def test_several_candidates_per_place():
         p = pl.plan("go to the bedroom via the kitchen", world(model.map, *start))
         check_path(pl, p, start)
         assert p.goal.id == R and inside_places(model, p.path[-1:], [R]).all()
+
+
+def test_nbest_goal_follows_the_recogniser_unless_it_is_a_near_tie(planner):
+    x0 = world(planner.model.map, 3, 12)          # bedroom #1 is next door, the kitchen far away
+    assert planner.plan([("go to the kitchen", 0.7), ("go to the bedroom", 0.3)], x0).goal.id == K
+    # a near tie lets both names in (p(i|S) within the instance ratio); the cheaper path then wins
+    assert planner.plan([("go to the kitchen", 0.55), ("go to the bedroom", 0.45)], x0).goal.id == L

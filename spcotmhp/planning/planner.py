@@ -57,7 +57,7 @@ class PlannerSettings:
     cost_floor: float = 1e-3
     steps_per_stage: int = 10
     max_steps: int | None = None
-    instance_ratio: float = 10.0
+    instance_ratio: float = 4.0
     start_min_posterior: float = 0.01
     region_quantile: float = 0.95
     smooth: bool = True
