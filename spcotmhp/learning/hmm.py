@@ -1,0 +1,103 @@
+"""HMM pieces of the place layer: blocked sampling of the event place sequence, transition counts, and the
+place sequence of a continuous trajectory.
+
+Section 3.2: with utterances observed only at event times, inference of i_{1:E} "is equivalent to a HMM" with
+transitions psi and, per event, the emission N(x_e | mu_k, Sigma_k) phi[C_e, k] / sum_c phi[c, k] (Eq. 9).
+Forward filtering, backward sampling (FFBS) draws the whole sequence i_{1:E} jointly from that conditional,
+which mixes far better than resampling one i_e at a time.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _logsumexp_vec(v: np.ndarray) -> float:
+    m = v.max()
+    if m == -np.inf:
+        return -np.inf
+    s = 0.0
+    for x in v:
+        s += np.exp(x - m)
+    return m + np.log(s)
+
+
+@njit(cache=True)
+def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray,
+                uniforms: np.ndarray) -> np.ndarray:
+    """Forward filtering, backward sampling in log space.
+
+    log_emit (E, K), log_trans (K, K) with log_trans[a, b] = log p(b | a), log_init (K,), uniforms (E,) in [0, 1).
+    Returns a state sequence (E,) drawn from p(i_{1:E} | emissions) exactly.
+    """
+    E, K = log_emit.shape
+    alpha = np.empty((E, K))
+    alpha[0] = log_init + log_emit[0]
+    tmp = np.empty(K)
+    for e in range(1, E):
+        for k in range(K):
+            for j in range(K):
+                tmp[j] = alpha[e - 1, j] + log_trans[j, k]
+            alpha[e, k] = _logsumexp_vec(tmp) + log_emit[e, k]
+    states = np.empty(E, dtype=np.int64)
+    w = np.empty(K)
+    for e in range(E - 1, -1, -1):
+        for k in range(K):
+            w[k] = alpha[e, k]
+            if e < E - 1:
+                w[k] += log_trans[k, states[e + 1]]
+        m = w.max()
+        total = 0.0
+        for k in range(K):
+            w[k] = np.exp(w[k] - m)
+            total += w[k]
+        target = uniforms[e] * total
+        acc = 0.0
+        s = K - 1
+        for k in range(K):
+            acc += w[k]
+            if acc > target:
+                s = k
+                break
+        states[e] = s
+    return states
+
+
+def ffbs(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray,
+         rng: np.random.Generator) -> np.ndarray:
+    """Draw i_{1:E} from the HMM posterior (see ``ffbs_kernel``); seeded through ``rng``."""
+    return ffbs_kernel(np.ascontiguousarray(log_emit, dtype=np.float64),
+                       np.ascontiguousarray(log_trans, dtype=np.float64),
+                       np.ascontiguousarray(log_init, dtype=np.float64), rng.random(log_emit.shape[0]))
+
+
+def transition_counts(seq: np.ndarray, K: int, reverse_replay: bool = False) -> np.ndarray:
+    """n[a, b] = number of e with seq[e-1] = a and seq[e] = b; with reverse replay (Section 3.2) the reversed
+    sequence i'_{E:1} is counted too, which adds the transposed counts."""
+    n = np.zeros((K, K))
+    if len(seq) > 1:
+        np.add.at(n, (seq[:-1], seq[1:]), 1.0)
+    return n + n.T if reverse_replay else n
+
+
+def dwell_filtered_sequence(labels: np.ndarray, min_dwell: int) -> np.ndarray:
+    """The sequence of places visited along a per-pose label sequence: runs shorter than ``min_dwell`` poses are
+    dropped (flicker at a boundary between two places is not a visit), then consecutive duplicates collapse."""
+    if len(labels) == 0:
+        return labels
+    change = np.flatnonzero(np.diff(labels)) + 1
+    starts = np.concatenate(([0], change))
+    lengths = np.diff(np.concatenate((starts, [len(labels)])))
+    runs = labels[starts][lengths >= min_dwell]
+    if len(runs) == 0:
+        return runs
+    keep = np.concatenate(([True], runs[1:] != runs[:-1]))
+    return runs[keep]
+
+
+def visited_places(log_score: np.ndarray, min_dwell: int) -> np.ndarray:
+    """Places visited along a trajectory: the best place per pose from (T, K) log scores, then
+    ``dwell_filtered_sequence``."""
+    return dwell_filtered_sequence(np.argmax(log_score, axis=1), min_dwell)

@@ -1,0 +1,108 @@
+"""The learner's view of a dataset: positions, word counts and image feature counts as arrays, validated."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.datasets.loader import features_to_counts
+from spcotmhp.errors import DatasetError
+
+
+@dataclass
+class Observations:
+    """Arrays the sampler works on.
+
+    Attributes:
+        X: (E, 2) teaching positions x_e.
+        words: (E, V) counts of each vocabulary word in S_e (bag of words; Eq. 17 is a product over words).
+        vocabulary: the V words (sorted), index = column of ``words``.
+        features: (E, D) image feature counts f_e, or None.
+        trajectory: (T, 2) robot positions, or None.
+        event_steps: (E,) index into the trajectory of each event, or None.
+    """
+
+    X: np.ndarray
+    words: np.ndarray
+    vocabulary: list[str]
+    features: np.ndarray | None = None
+    trajectory: np.ndarray | None = None
+    event_steps: np.ndarray | None = None
+
+    @property
+    def E(self) -> int:
+        return int(self.X.shape[0])
+
+    @classmethod
+    def from_dataset(cls, dataset: Dataset, use_features: bool = True, use_trajectory: bool = True,
+                     vocabulary: list[str] | None = None, feature_weight: float | None = 1.0) -> Observations:
+        """Validate ``dataset`` and build the arrays; raises DatasetError naming the problem.
+
+        ``vocabulary`` fixes the word columns (words outside it are dropped); by default the dataset's own.
+        ``feature_weight``: each event's feature row is rescaled to sum to this weight (the image is one
+        observation of a scene distribution, like one word); None converts them as the authors did,
+        ``features_to_counts`` (p * 10 + 1 cast to int, about 375 counts per Places365 image).
+        """
+        name = dataset.name
+        X = np.asarray(dataset.positions, dtype=float)
+        if X.ndim != 2 or X.shape[1] != 2:
+            raise DatasetError(f"{name}: positions must be an (E, 2) array of x, y, got shape {X.shape}")
+        E = X.shape[0]
+        if E == 0:
+            raise DatasetError(f"{name}: no teaching events; learning needs at least 2")
+        if E < 2:
+            raise DatasetError(f"{name}: only 1 teaching event; learning needs at least 2 (places and "
+                               "transitions cannot be estimated from a single observation)")
+        bad = np.flatnonzero(~np.isfinite(X).all(axis=1))
+        if bad.size:
+            raise DatasetError(f"{name}: teaching event {int(bad[0])} has a non-finite position "
+                               f"{X[bad[0]].tolist()} ({bad.size} such events); positions must be finite metres")
+        if len(dataset.tokens) != E:
+            raise DatasetError(f"{name}: {len(dataset.tokens)} token lists for {E} teaching events")
+        vocab = sorted({t for toks in dataset.tokens for t in toks}) if vocabulary is None else list(vocabulary)
+        if not vocab:
+            raise DatasetError(f"{name}: no teaching event has any word; spatial concepts are learned from "
+                               "the words of the utterances")
+        index = {w: j for j, w in enumerate(vocab)}
+        words = np.zeros((E, len(vocab)))
+        for e, toks in enumerate(dataset.tokens):
+            for t in toks:
+                j = index.get(t)
+                if j is not None:
+                    words[e, j] += 1.0
+        features = None
+        if use_features and dataset.features is not None:
+            features = np.asarray(dataset.features, dtype=float)
+            if features.ndim != 2 or features.shape[0] != E:
+                raise DatasetError(f"{name}: image features must be an (E, D) array with one row per teaching "
+                                   f"event (E = {E}), got shape {features.shape}")
+            badf = np.flatnonzero(~(np.isfinite(features) & (features >= 0)).all(axis=1))
+            if badf.size:
+                raise DatasetError(f"{name}: image feature row {int(badf[0])} has a negative or non-finite "
+                                   "value; features must be non-negative")
+            features = scale_features(features, feature_weight)
+        trajectory = steps = None
+        if use_trajectory and dataset.trajectory is not None:
+            trajectory = np.asarray(dataset.trajectory, dtype=float)
+            if trajectory.ndim != 2 or trajectory.shape[1] != 2 or len(trajectory) < 2:
+                raise DatasetError(f"{name}: trajectory must be a (T, 2) array with T >= 2, got shape "
+                                   f"{trajectory.shape}")
+            if not np.isfinite(trajectory).all():
+                raise DatasetError(f"{name}: trajectory has non-finite positions")
+            if dataset.event_steps is not None:
+                steps = np.asarray(dataset.event_steps, dtype=np.int64)
+        return cls(X=X, words=words, vocabulary=vocab, features=features, trajectory=trajectory,
+                   event_steps=steps)
+
+
+def scale_features(features: np.ndarray, weight: float | None) -> np.ndarray:
+    """Feature rows as the counts f_e of Eq. 15: rows rescaled to sum to ``weight``, or (None) the authors'
+    integer counts ``features_to_counts``."""
+    if weight is None:
+        return features_to_counts(features).astype(float)
+    if not weight > 0:
+        raise DatasetError(f"feature_weight must be > 0 or None, got {weight}")
+    total = features.sum(axis=1, keepdims=True)
+    return np.divide(features * weight, total, out=np.zeros_like(features), where=total > 0)

@@ -1,0 +1,135 @@
+"""Sufficient statistics of an assignment (i_{1:E}, C_{1:E}), the posterior-mean model they imply, and the
+collapsed log joint probability used to compare runs.
+
+Shared by the Gibbs sampler (final estimate, run selection) and the supervised fit (truth assignments).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.observations import Observations
+
+
+@dataclass
+class SufficientStats:
+    """Counts behind every conditional of Eqs. 5-17 for one assignment.
+
+    gauss: place statistics of the positions; concepts (L,): events per concept (pi);
+    place_given_concept (L, K): events per (concept, place) (phi); features (L, D) or None: summed feature
+    counts per concept (theta); words (L, V): summed word counts per concept (W).
+    """
+
+    gauss: GaussianStats
+    concepts: np.ndarray
+    place_given_concept: np.ndarray
+    features: np.ndarray | None
+    words: np.ndarray
+    background: np.ndarray | None = None
+
+    @classmethod
+    def from_assignments(cls, obs: Observations, places: np.ndarray, concepts: np.ndarray,
+                         K: int, L: int, concept_words: np.ndarray | None = None,
+                         background: np.ndarray | None = None) -> SufficientStats:
+        """Counts of one assignment; ``concept_words`` (E, V) are the word counts of each event explained by its
+        concept (default: all of them) and ``background`` (V,) the counts of background tokens, if any."""
+        onehot_c = np.zeros((obs.E, L))
+        onehot_c[np.arange(obs.E), concepts] = 1.0
+        onehot_i = np.zeros((obs.E, K))
+        onehot_i[np.arange(obs.E), places] = 1.0
+        n = onehot_i.sum(axis=0)
+        sx = onehot_i.T @ obs.X
+        sxx = np.einsum("ek,ei,ej->kij", onehot_i, obs.X, obs.X)
+        return cls(gauss=GaussianStats(n, sx, sxx),
+                   concepts=onehot_c.sum(axis=0),
+                   place_given_concept=onehot_c.T @ onehot_i,
+                   features=None if obs.features is None else onehot_c.T @ obs.features,
+                   words=onehot_c.T @ (obs.words if concept_words is None else concept_words),
+                   background=background)
+
+
+@dataclass
+class Priors:
+    """The conjugate prior objects of one model size (K places, L concepts, V words, D features)."""
+
+    gauss: NIWGaussians
+    pi: DirichletCategoricals
+    phi: DirichletCategoricals
+    theta: DirichletCategoricals | None
+    W: DirichletCategoricals
+    psi: DirichletCategoricals
+    background: DirichletCategoricals
+    switch: DirichletCategoricals
+
+    @classmethod
+    def build(cls, hyper: Hyperparameters, K: int, L: int, V: int, D: int | None) -> Priors:
+        return cls(gauss=NIWGaussians(K, np.asarray(hyper.m0), hyper.kappa0, np.asarray(hyper.V0), hyper.nu0),
+                   pi=DirichletCategoricals(1, L, hyper.alpha),
+                   phi=DirichletCategoricals(L, K, hyper.gamma),
+                   theta=None if D is None else DirichletCategoricals(L, D, hyper.chi),
+                   W=DirichletCategoricals(L, V, hyper.beta),
+                   psi=DirichletCategoricals(K, K, hyper.omega),
+                   background=DirichletCategoricals(1, V, hyper.beta),
+                   switch=DirichletCategoricals(1, 2, 1.0))
+
+
+def posterior_mean_model(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None,
+                         vocabulary: list[str], hyper: Hyperparameters, info: dict | None = None,
+                         psi: np.ndarray | None = None) -> SpatialConceptModel:
+    """The model Theta' whose every parameter is its posterior mean given ``stats`` (and transition counts).
+
+    ``transitions`` (K, K) are the counts behind psi (None: uniform psi, the GMM/SpCoSLAM mode); ``psi`` given
+    explicitly overrides them (e.g. from an adjacency).  Active components are those holding events.
+    """
+    mu, Sigma = priors.gauss.posterior_mean(stats.gauss)
+    K = mu.shape[0]
+    if psi is None:
+        psi = (np.full((K, K), 1.0 / K) if transitions is None else priors.psi.posterior_mean(transitions))
+    W = priors.W.posterior_mean(stats.words)
+    if stats.background is not None:   # p(w | l) = lambda W_l(w) + (1 - lambda) W_0(w)
+        lam = priors.switch.posterior_mean(np.array([[stats.background.sum(), stats.words.sum()]]))[0, 1]
+        W = lam * W + (1.0 - lam) * priors.background.posterior_mean(stats.background[None, :])
+    return SpatialConceptModel(
+        mu=mu, Sigma=Sigma, psi=psi,
+        pi=priors.pi.posterior_mean(stats.concepts[None, :])[0],
+        phi=priors.phi.posterior_mean(stats.place_given_concept),
+        W=W,
+        vocabulary=list(vocabulary),
+        theta=None if priors.theta is None else priors.theta.posterior_mean(stats.features),
+        active_places=stats.gauss.n > 0,
+        active_concepts=stats.concepts > 0,
+        hyper=hyper, info=dict(info or {}))
+
+
+def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> float:
+    """Collapsed log joint log p(x, S, f, i, C | h) with every parameter integrated out.
+
+    Sum of the NIW marginal of the positions per place and the Dirichlet-multinomial marginals of C (pi),
+    i given C (phi), f (theta), S (W) and, unless ``transitions`` is None, of the place transitions (psi).
+    Eq. 9 combines psi and phi as a product of experts; here both enter as their own multinomial terms (the
+    normaliser of the product is not part of the comparison).  Deterministic given an assignment, so it
+    ranks runs without the noise of the last parameter draw.
+    """
+    lj = (priors.gauss.log_marginal(stats.gauss) + priors.pi.log_marginal(stats.concepts[None, :])
+          + priors.phi.log_marginal(stats.place_given_concept) + priors.W.log_marginal(stats.words))
+    if priors.theta is not None:
+        lj += priors.theta.log_marginal(stats.features)
+    if transitions is not None:
+        lj += priors.psi.log_marginal(transitions)
+    if stats.background is not None:
+        lj += priors.background.log_marginal(stats.background[None, :])
+        lj += priors.switch.log_marginal(np.array([[stats.background.sum(), stats.words.sum()]]))
+    return float(lj)
+
+
+def mutual_information(pi: np.ndarray, W: np.ndarray) -> float:
+    """I(C; S) = sum_l sum_w p(l) W_l(w) log(W_l(w) / p(w)) with p(w) = sum_l p(l) W_l(w): the word-concept
+    mutual information the authors used to choose among runs (SpCoSLAM)."""
+    pw = pi @ W
+    with np.errstate(divide="ignore", invalid="ignore"):
+        terms = pi[:, None] * W * (np.log(W) - np.log(pw)[None, :])
+    return float(np.nansum(terms))

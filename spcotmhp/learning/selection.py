@@ -1,0 +1,121 @@
+"""Several independent Gibbs runs and the choice of one (paper Section 5.1: ten runs, one kept).
+
+Criteria:
+
+* ``"mutual_information"`` (default, the authors' choice): the run whose word-concept mutual information
+  I(C; S) is highest, i.e. whose concepts are most clearly told apart by their words.
+* ``"log_joint"``: the run with the highest collapsed log joint probability log p(x, S, f, i, C | h).
+
+Why mutual information is the default: measured on 60 runs on albert-b (features on), the mutual information
+correlates with NMI/ARI of both C and i at +0.75..+0.86, while the log joint correlates at -0.2..-0.5: the
+365-dimensional image-feature term of the joint prefers fewer, merged concepts (the features of the rooms of
+one building are alike), so the most probable run is not the one that names places best.  Without features the
+two agree (both positive; the log joint is the principled choice there and remains available).
+
+Run r uses the r-th independent child stream of ``seed`` (``gibbs.make_rng``); runs can go to a process pool.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import time
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.connectivity import apply_connectivity
+from spcotmhp.learning.gibbs import SpCoTMHP
+from spcotmhp.learning.model import SpatialConceptModel
+
+CRITERIA = ("mutual_information", "log_joint")
+
+
+@dataclass
+class RunSummary:
+    """One run: its index, criteria and size."""
+
+    run: int
+    log_joint: float
+    mutual_information: float
+    n_places: int
+    n_concepts: int
+    fit_time: float
+
+
+class MultiRunSelector:
+    """Fit ``runs`` independent copies of ``estimator`` (run r = r-th child seed) and keep one.
+
+    Learned attributes: ``estimators_`` (all fitted runs), ``summaries_`` (RunSummary per run),
+    ``best_index_``, ``best_`` (the chosen SpCoTMHP), ``model_`` (its model, with the connectivity of
+    ``estimator.connectivity`` applied once, to the chosen run only), ``fit_time_``.
+    """
+
+    def __init__(self, estimator: SpCoTMHP | None = None, runs: int = 10, criterion: str = "mutual_information",
+                 n_jobs: int = 1) -> None:
+        self.estimator = estimator
+        self.runs = runs
+        self.criterion = criterion
+        self.n_jobs = n_jobs
+
+    def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> MultiRunSelector:
+        """Run everything; ``progress(n)`` is called with the number of sweeps just completed."""
+        if self.criterion not in CRITERIA:
+            raise ModelError(f"criterion must be one of {CRITERIA}, got {self.criterion!r}")
+        if self.runs < 1:
+            raise ModelError(f"runs must be >= 1, got {self.runs}")
+        t0 = time.perf_counter()
+        base = self.estimator or SpCoTMHP()
+        params = base.get_params()
+        connectivity = params.pop("connectivity")
+        params.pop("run")
+        jobs = [dict(params, run=r, connectivity="hmm") for r in range(self.runs)]
+        if self.n_jobs > 1 and self.runs > 1:
+            self.estimators_ = _fit_pool(dataset, jobs, self.n_jobs, progress)
+        else:
+            self.estimators_ = []
+            for job in jobs:
+                step = None if progress is None else (lambda _sweep: progress(1))
+                self.estimators_.append(SpCoTMHP(**job).fit(dataset, progress=step))
+        self.summaries_ = [RunSummary(r, e.log_joint_, e.mutual_information_,
+                                      int(e.model_.active_places.sum()), int(e.model_.active_concepts.sum()),
+                                      e.fit_time_) for r, e in enumerate(self.estimators_)]
+        score = [s.mutual_information if self.criterion == "mutual_information" else s.log_joint
+                 for s in self.summaries_]
+        self.best_index_ = int(np.argmax(score))
+        self.best_ = self.estimators_[self.best_index_]
+        self.model_: SpatialConceptModel = self.best_.model_
+        self.model_.info.update(selected_run=self.best_index_, runs=self.runs, criterion=self.criterion)
+        if self.best_.transitions == "hmm":
+            seen = dataset if base.use_trajectory else replace(dataset, trajectory=None, event_steps=None)
+            apply_connectivity(self.model_, seen, connectivity, self.best_.places_)
+        self.fit_time_ = time.perf_counter() - t0
+        return self
+
+
+def fit_runs(dataset: Dataset, runs: int = 10, criterion: str = "mutual_information", n_jobs: int = 1,
+             progress: Callable[[int], None] | None = None, **params) -> MultiRunSelector:
+    """``MultiRunSelector(SpCoTMHP(**params), runs, criterion, n_jobs).fit(dataset, progress)``."""
+    return MultiRunSelector(SpCoTMHP(**params), runs=runs, criterion=criterion, n_jobs=n_jobs).fit(
+        dataset, progress=progress)
+
+
+def _fit_one(dataset: Dataset, job: dict) -> SpCoTMHP:
+    return SpCoTMHP(**job).fit(dataset)
+
+
+def _fit_pool(dataset: Dataset, jobs: list[dict], n_jobs: int,
+              progress: Callable[[int], None] | None) -> list[SpCoTMHP]:
+    """Runs in worker processes (fork where the platform has it: no re-import, numba caches shared)."""
+    method = "fork" if "fork" in mp.get_all_start_methods() else "spawn"
+    with ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)), mp_context=mp.get_context(method)) as pool:
+        futures = [pool.submit(_fit_one, dataset, job) for job in jobs]
+        out = []
+        for job, fut in zip(jobs, futures):
+            out.append(fut.result())
+            if progress is not None:
+                progress(job["iterations"])
+        return out

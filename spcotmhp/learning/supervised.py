@@ -1,0 +1,96 @@
+"""The supervised ("ideal") fit: posterior means of every parameter given each event's true place and concept.
+
+This is what the paper's Experiment I planned with (see shared/notes/reference-implementation.md): the place and
+concept of every teaching event are the ground truth (concept = place when the dataset has no concept column,
+L = K = number of places), mu and Sigma are Normal-inverse-Wishart posterior means (m0 = 0, kappa0 = 1e-3,
+V0 = 2 I, nu0 = 3), pi, phi, theta and W Dirichlet posterior means (alpha = 1, gamma = 0.1, chi = 1, beta = 0.1),
+and psi comes from the hand-made adjacency: psi[k] = mean of Dir(0.1 + adjacency[k]).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.errors import DatasetError, ModelError
+from spcotmhp.learning.connectivity import (
+    ADJACENCY_CONCENTRATION,
+    apply_connectivity,
+    psi_from_adjacency,
+    trajectory_places,
+)
+from spcotmhp.learning.hmm import transition_counts
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.observations import Observations
+from spcotmhp.learning.posterior import Priors, SufficientStats, posterior_mean_model
+
+SUPERVISED_HYPER = Hyperparameters(alpha=1.0, gamma=0.1, beta=0.1, chi=1.0, omega=ADJACENCY_CONCENTRATION)
+ADJACENCY_SOURCES = ("auto", "given", "transitions", "walk", "map")
+
+
+def fit_supervised(dataset: Dataset, adjacency: str | np.ndarray = "auto", hyper: Hyperparameters | None = None,
+                   use_features: bool = True, feature_weight: float | None = 1.0,
+                   replay: bool = True, min_dwell: int = 3) -> SpatialConceptModel:
+    """Posterior-mean model given the dataset's truth (truth_place, and truth_concept when present).
+
+    Args:
+        adjacency: where psi comes from. "given": the dataset's adjacency (psi[k] = mean of Dir(0.1 + A[k]));
+            a (K, K) 0/1 array: that adjacency; "transitions": the posterior mean of Dir(0.1 + counts) of the
+            place transitions of the truth event sequence (with reverse replay when ``replay``) plus the place
+            changes along the trajectory when there is one; "walk": the adjacency of places visited one after
+            the other (trajectory, else event order; ``connectivity.walk_adjacency``); "map": the adjacency
+            implied by the map's free space (``connectivity.map_adjacency``); "auto": "given" when the dataset
+            has an adjacency, else "walk" when it has a trajectory, else "map".
+        hyper: priors (default ``SUPERVISED_HYPER``, the authors' Experiment I values).
+        use_features, feature_weight: image features as in ``Observations.from_dataset``.
+    """
+    if dataset.truth_place is None:
+        raise DatasetError(f"{dataset.name}: the supervised fit needs truth places (truth.csv)")
+    hyper = hyper or SUPERVISED_HYPER
+    obs = Observations.from_dataset(dataset, use_features=use_features, feature_weight=feature_weight)
+    places = np.asarray(dataset.truth_place, dtype=np.int64)
+    concepts = places if dataset.truth_concept is None else np.asarray(dataset.truth_concept, dtype=np.int64)
+    if len(places) != obs.E or len(concepts) != obs.E:
+        raise DatasetError(f"{dataset.name}: {len(places)} truth rows for {obs.E} teaching events")
+    K = max(int(places.max()) + 1, len(dataset.place_names or []),
+            0 if dataset.adjacency is None else len(dataset.adjacency))
+    L = int(concepts.max()) + 1
+    hyper = replace(hyper, L=L, K=K)
+    D = None if obs.features is None else obs.features.shape[1]
+    priors = Priors.build(hyper, K, L, len(obs.vocabulary), D)
+    stats = SufficientStats.from_assignments(obs, places, concepts, K, L)
+    source = _adjacency_source(dataset, adjacency)
+    model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper,
+                                 {"method": "supervised", "dataset": dataset.name})
+    model.map = dataset.map
+    if source in ("given", "array"):
+        A = np.asarray(dataset.adjacency if source == "given" else adjacency)
+        if A.shape != (K, K):
+            raise ModelError(f"adjacency must be {K}x{K} (one row per place), got {A.shape}")
+        model.psi = psi_from_adjacency(A, hyper.omega)
+        model.info["psi_from"] = "adjacency.csv" if source == "given" else "adjacency"
+    elif source == "transitions":
+        counts = transition_counts(places, K, replay)
+        if obs.trajectory is not None:
+            counts += transition_counts(trajectory_places(model, obs.trajectory, min_dwell), K, replay)
+        model.psi = priors.psi.posterior_mean(counts)
+        model.info["psi_from"] = "transitions"
+    else:
+        apply_connectivity(model, dataset, source, places)
+    return model
+
+
+def _adjacency_source(dataset: Dataset, adjacency: str | np.ndarray) -> str:
+    if isinstance(adjacency, np.ndarray):
+        return "array"
+    if adjacency not in ADJACENCY_SOURCES:
+        raise ModelError(f"adjacency must be one of {ADJACENCY_SOURCES} or an array, got {adjacency!r}")
+    if adjacency == "given" and dataset.adjacency is None:
+        raise DatasetError(f"{dataset.name}: adjacency='given' but the dataset has no adjacency.csv")
+    if adjacency != "auto":
+        return adjacency
+    if dataset.adjacency is not None:
+        return "given"
+    return "walk" if dataset.trajectory is not None else "map"
