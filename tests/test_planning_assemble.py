@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from spcotmhp.metric.grid_search import shortest_paths
 from spcotmhp.planning.assemble import _clear, join_legs, path_length, smooth, smoothing_mask
@@ -86,7 +88,7 @@ def test_smoothing_properties(case):
     if len(out) > 1:
         steps = np.abs(np.diff(out, axis=0))
         assert (steps.max(axis=1) == 1).all()
-        for (r0, c0), (r1, c1) in zip(out[:-1], out[1:]):   # no squeeze between two blocked corner cells
+        for (r0, c0), (r1, c1) in itertools.pairwise(out):   # no squeeze between two blocked corner cells
             if r0 != r1 and c0 != c1:
                 assert allowed[r0, c1] or allowed[r1, c0]
     assert path_length(out, 1.0) <= path_length(path.cells, 1.0) + 1e-9

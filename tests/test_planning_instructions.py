@@ -7,8 +7,16 @@ import pytest
 
 from spcotmhp.errors import InstructionError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.planning.instructions import (Instruction, PlaceQuery, detect_language, parse_nbest, parse_structured,
-                                            parse_text, place_vocabulary, to_instruction)
+from spcotmhp.planning.instructions import (
+    Instruction,
+    PlaceQuery,
+    detect_language,
+    parse_nbest,
+    parse_structured,
+    parse_text,
+    to_instruction,
+)
+from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
 EN = ["entrance", "living", "dining", "kitchen", "bath", "washroom", "toilet", "bedroom", "storeroom", "corridor",
       "hall"]
@@ -70,8 +78,8 @@ def test_hiragana_names_are_not_split_by_grammar_words():
 
 
 @pytest.mark.parametrize("text, words, message", [
-    ("go to the garage", EN, "no known place word in 'go to the garage' (not understood: garage); "
-                             "known place words: bath, bedroom, corridor"),
+    ("go to the garage", EN, ("no known place word in 'go to the garage' (not understood: garage); "
+                              "known place words: bath, bedroom, corridor")),
     ("go to the bedroom via the garage", EN, "'via' is followed by no known place word (not understood: garage)"),
     ("go to the bedroom avoiding", EN, "'avoiding' is followed by no known place word"),
     ("", EN, "the instruction is empty"),
@@ -174,8 +182,6 @@ def test_place_vocabulary_drops_function_words():
 def test_fillers_and_noise_are_not_place_words_and_labels_use_frequency():
     # seven "office" places with a concept each (each scores 1/7 for "office"); "um" said once in place 0 and
     # "called" everywhere but unevenly: neither may become a place word or a place's label
-    from spcotmhp.planning.instructions import place_labels
-
     vocab = ["called", "kitchen", "office", "um"]
     K = 8
     counts = np.zeros((K, 4))

@@ -10,8 +10,8 @@ from planning_fixtures import home_log_p, home_model, world
 
 from spcotmhp.errors import InstructionError, PlanningError
 from spcotmhp.planning.assemble import path_length
-from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings, plan
 from spcotmhp.planning.places import inside_places, place_regions
+from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings, plan
 from spcotmhp.planning.terms import ModelTerms
 
 L, M, K, R = 0, 1, 2, 3

@@ -6,7 +6,8 @@ import itertools
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from spcotmhp.planning.search import SearchProblem, search
 
@@ -98,7 +99,7 @@ def brute_force(problem: SearchProblem) -> float:
     for e in range(1, problem.max_steps + 1):
         for nodes in itertools.product(range(M), repeat=e):
             for stages in itertools.product(range(S), repeat=e):
-                if stages[0] != 0 or any(b < a for a, b in zip(stages, stages[1:])):
+                if stages[0] != 0 or any(b < a for a, b in itertools.pairwise(stages)):
                     continue
                 # advancing from stage a to b at node n needs n to complete a..b-1; finishing needs S-1 done
                 ok = all(problem.completes[s, nodes[t]] for t in range(e - 1)

@@ -8,18 +8,26 @@
 
 Modules: ``instructions`` + ``grammar`` (understanding), ``places`` (candidates, connectivity, instances,
 regions), ``graph`` (precomputation), ``search`` (Eq. 28), ``assemble`` (joining, smoothing), ``planner``,
-``plan`` (the result), ``terms`` (model terms for fast queries), ``figure`` (a PNG of a plan).
+``plan`` (the result), ``terms`` (model terms for fast queries), ``vocabulary`` (place words and labels),
+``figure`` (a PNG of a plan).
 """
 
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph
-from spcotmhp.planning.instructions import (Instruction, PlaceQuery, parse_nbest, parse_structured, parse_text,
-                                            place_vocabulary, to_instruction)
+from spcotmhp.planning.instructions import (
+                                            Instruction,
+                                            PlaceQuery,
+                                            parse_nbest,
+                                            parse_structured,
+                                            parse_text,
+                                            to_instruction,
+)
 from spcotmhp.planning.plan import Plan, PlanPlace
 from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings
+from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
 # the one-call ``plan(model, instruction, start)`` lives in spcotmhp.planning.planner (exporting it here would
 # hide the ``spcotmhp.planning.plan`` module)
 
 __all__ = ["GraphSettings", "HierarchicalPlanner", "Instruction", "PlaceQuery", "Plan", "PlanPlace",
-           "PlannerSettings", "PlanningGraph", "parse_nbest", "parse_structured", "parse_text", "place_vocabulary",
+           "PlannerSettings", "PlanningGraph", "parse_nbest", "parse_structured", "parse_text", "place_labels", "place_vocabulary",
            "to_instruction"]

@@ -38,10 +38,15 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field, step_cost_map
-from spcotmhp.planning.places import (candidate_points, connected_places, main_component, nearest_cell_index,
-                                      place_regions)
+from spcotmhp.planning.places import (
+    candidate_points,
+    connected_places,
+    main_component,
+    nearest_cell_index,
+    place_regions,
+)
 
-_CACHE: "OrderedDict[str, PlanningGraph]" = OrderedDict()
+_CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
 CACHE_SIZE = 8
 
 
@@ -90,12 +95,12 @@ class PlanningGraph:
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
-    _blocked: "OrderedDict" = field(default_factory=OrderedDict, repr=False)
+    _blocked: OrderedDict = field(default_factory=OrderedDict, repr=False)
 
     # ---- construction ----------------------------------------------------------------------------------
     @classmethod
     def build(cls, model: SpatialConceptModel, settings: GraphSettings | None = None,
-              log_p: np.ndarray | None = None, use_cache: bool = True) -> "PlanningGraph":
+              log_p: np.ndarray | None = None, use_cache: bool = True) -> PlanningGraph:
         """Precompute (or fetch from the cache) the graph of ``model`` on its map. ``log_p`` overrides the cost
         map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap`` settings)."""
         settings = settings or GraphSettings()
@@ -115,7 +120,7 @@ class PlanningGraph:
         return graph
 
     @classmethod
-    def _compute(cls, model, settings, key, log_p_full) -> "PlanningGraph":
+    def _compute(cls, model, settings, key, log_p_full) -> PlanningGraph:
         t0 = time.perf_counter()
         occ = model.map
         if log_p_full is None:
@@ -153,7 +158,7 @@ class PlanningGraph:
                     log_density=ld, traversable=traversable, node_place=node_place, node_cell=cells,
                     dist=np.empty(0), next_step=np.empty(0), w_hat=np.empty(0), log_transition=np.empty(0),
                     connected=connected_places(model, settings.edge_threshold), time_precompute_s=0.0,
-                    info={"clipped_cells": clipped, "n_nodes": int(len(cells)), "crop": [int(r0), int(r1),
+                    info={"clipped_cells": clipped, "n_nodes": len(cells), "crop": [int(r0), int(r1),
                                                                                         int(c0), int(c1)]},
                     _centres=centres)
         graph._fill_fields(blocked=None, excluded=())
@@ -193,7 +198,7 @@ class PlanningGraph:
     # ---- queries ---------------------------------------------------------------------------------------
     @property
     def n_nodes(self) -> int:
-        return int(len(self.node_place))
+        return len(self.node_place)
 
     def to_crop(self, cells: np.ndarray) -> np.ndarray:
         return np.asarray(cells) - np.array(self.offset)
@@ -227,7 +232,7 @@ class PlanningGraph:
             self._centres = self.model.map.cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
         return self._centres
 
-    def with_avoided(self, places: tuple[int, ...], quantile: float) -> "PlanningGraph":
+    def with_avoided(self, places: tuple[int, ...], quantile: float) -> PlanningGraph:
         """A copy with no node in ``places`` and fields that never enter their regions
         (:func:`~spcotmhp.planning.places.place_regions`); ``info["blocked"]`` holds the blocked crop mask.
         Memoised for the few most recent place sets."""

@@ -22,9 +22,11 @@ waypoint, as the reference code's two legs of 10).
 
 from __future__ import annotations
 
+import itertools
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -32,11 +34,12 @@ from spcotmhp.errors import PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.assemble import join_legs, path_length, smooth, smoothing_mask
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph
-from spcotmhp.planning.instructions import Instruction, place_labels, place_vocabulary, to_instruction
+from spcotmhp.planning.instructions import Instruction, to_instruction
 from spcotmhp.planning.places import instance_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
 from spcotmhp.planning.search import SearchProblem, SearchResult, search
 from spcotmhp.planning.terms import ModelTerms
+from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
 
 @dataclass(frozen=True)
@@ -180,7 +183,7 @@ class HierarchicalPlanner:
     def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
         nodes = result.nodes
         legs = [graph.leg(cell, int(nodes[0])).cells]
-        legs += [graph.edge_path(int(a), int(b)) for a, b in zip(nodes[:-1], nodes[1:])]
+        legs += [graph.edge_path(int(a), int(b)) for a, b in itertools.pairwise(nodes)]
         cells, ends = join_legs(legs)
         anchors = [ends[e] for e, done in enumerate(result.completed) if done]
         return cells, anchors

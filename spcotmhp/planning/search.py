@@ -73,7 +73,7 @@ class SearchResult:
     _from_stage: np.ndarray = field(repr=False)
     _terminal_step: np.ndarray = field(repr=False)
 
-    def ending_at(self, node: int) -> "SearchResult":
+    def ending_at(self, node: int) -> SearchResult:
         """The best sequence that ends at ``node`` (for comparing goal instances); raises if there is none."""
         if not np.isfinite(self.terminal[node]):
             raise ValueError(f"no plan ends at node {node}")

@@ -8,7 +8,7 @@ place prior precomputed and a plain max-shifted log-sum-exp, so that a query cos
 
 from __future__ import annotations
 
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
