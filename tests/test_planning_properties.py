@@ -1,0 +1,128 @@
+"""Property tests of the planner on synthetic homes (hypothesis, derandomized): every plan is 8-connected and
+collision-free, starts at the start, passes the waypoints in order, ends inside a goal-named place and never
+enters an avoided place, or the planner raises a PlanningError that says why."""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+from spcotmhp.datasets.synthetic import generate_environment
+from spcotmhp.errors import PlanningError
+from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.planning.places import inside_places, instance_places, place_regions
+from spcotmhp.planning.planner import HierarchicalPlanner
+
+ENVS = [("flat", 0), ("flat", 1), ("house", 0), ("house", 1), ("house", 2)]
+REASONS = ("no path from", "no place can be reached", "lies inside a place to avoid", "is also to be avoided",
+           "no sequence of at most")
+
+
+@cache
+def home(kind: str, seed: int):
+    dataset = generate_environment(kind, seed=seed)
+    model = fit_supervised(dataset)
+    if model.map is None:
+        model.map = dataset.map
+    planner = HierarchicalPlanner(model)
+    return dataset, model, planner
+
+
+def sentence(goal: str, waypoints: list[str], avoid: list[str]) -> str:
+    text = f"go to the {goal}"
+    if waypoints:
+        text += " via the " + " and then the ".join(waypoints)
+    if avoid:
+        text += " avoiding the " + " and the ".join(avoid)
+    return text
+
+
+@st.composite
+def queries(draw):
+    kind, seed = draw(st.sampled_from(ENVS))
+    dataset, _, planner = home(kind, seed)
+    names = sorted(set(dataset.place_names))
+    free = np.argwhere(planner.graph.traversable)
+    start = planner.graph.to_map(free[draw(st.integers(0, len(free) - 1))])
+    goal = draw(st.sampled_from(names))
+    waypoints = draw(st.lists(st.sampled_from(names), max_size=2))
+    others = [n for n in names if n != goal and n not in waypoints]   # avoiding the goal itself: planner tests
+    avoid = draw(st.lists(st.sampled_from(others), max_size=1)) if others else []
+    return (kind, seed), start, goal, waypoints, avoid
+
+
+def instances(model, word: str) -> np.ndarray:
+    return np.flatnonzero(instance_places(model.log_place_given_words({word: 1.0})))
+
+
+def check_plan(model, planner, start, plan, goal, waypoints, avoid) -> None:
+    cells = plan.cells
+    occ = model.map
+    # starts at the start, 8-connected, collision-free (no occupied, lethal or unknown cell: log p(x|m) finite)
+    assert (cells[0] == start).all()
+    steps = np.abs(np.diff(cells, axis=0))
+    assert len(cells) == 1 or (steps.max(axis=1) == 1).all()
+    crop = planner.graph.to_crop(cells)
+    assert np.isfinite(planner.graph.log_p[crop[:, 0], crop[:, 1]]).all()
+    assert (occ.data[cells[:, 0], cells[:, 1]] == 0).all()
+    # waypoints in order, then the goal, each inside (0.95 ellipse) a place of that name
+    xy = occ.cell_to_world(cells)
+    t = 0
+    for word in waypoints:
+        hits = np.flatnonzero(inside_places(model, xy[t:], instances(model, word)))
+        assert len(hits), f"waypoint {word!r} not passed after index {t}"
+        t += int(hits[0])
+    assert inside_places(model, xy[-1:], instances(model, goal)).all()
+    assert plan.places[-1].role == "goal" and plan.places[-1].name == goal
+    # never inside an avoided place's region
+    if avoid:
+        avoided = np.unique(np.concatenate([instances(model, a) for a in avoid]))
+        assert not place_regions(model, xy, avoided).any()
+
+
+@settings(max_examples=80, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(queries())
+def test_plans_satisfy_the_instruction_or_say_why(query):
+    (kind, seed), start, goal, waypoints, avoid = query
+    _, model, planner = home(kind, seed)
+    x0 = model.map.cell_to_world(start)
+    try:
+        plan = planner.plan(sentence(goal, waypoints, avoid), x0)
+    except PlanningError as exc:
+        reason = next((r for r in REASONS if r in str(exc)), None)
+        assert reason is not None, str(exc)
+        event(f"PlanningError: {reason}")
+        if avoid and goal in avoid:
+            assert "is also to be avoided" in str(exc) or "lies inside" in str(exc)
+        return
+    assert goal not in avoid and not set(waypoints) & set(avoid)
+    event(f"planned with {len(waypoints)} waypoint(s), {len(avoid)} avoided")
+    check_plan(model, planner, start, plan, goal, waypoints, avoid)
+
+
+@pytest.mark.parametrize("kind, seed", ENVS)
+def test_most_queries_succeed(kind, seed):
+    # a property test whose every example failed with PlanningError would prove nothing: from starts in the
+    # main free component and without avoidance, every query must succeed
+    dataset, model, planner = home(kind, seed)
+    rng = np.random.default_rng(seed)
+    names = sorted(set(dataset.place_names))
+    from spcotmhp.planning.places import main_component
+
+    free = np.argwhere(main_component(planner.graph.traversable))
+    for _ in range(20):
+        start = planner.graph.to_map(free[rng.integers(len(free))])
+        goal, *waypoints = rng.choice(names, size=1 + rng.integers(0, 3))
+        plan = planner.plan(sentence(goal, list(waypoints), []), model.map.cell_to_world(start))
+        check_plan(model, planner, start, plan, goal, list(waypoints), [])
+
+
+def test_instance_sets_are_the_same_named_places():
+    dataset, model, _ = home("house", 0)
+    for word in set(dataset.place_names):
+        expected = sorted(k for k, n in enumerate(dataset.place_names) if n == word)
+        assert instances(model, word).tolist() == expected
