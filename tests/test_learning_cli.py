@@ -59,7 +59,7 @@ def test_evaluate_learning_table():
 
 
 def _cli(*args):
-    return subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120)
+    return subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120, check=False)
 
 
 def test_unknown_dataset_is_a_one_line_error(tmp_path):

@@ -216,10 +216,10 @@ def test_trajectory_transitions_recover_the_synthetic_house_doors():
              for k in np.flatnonzero(m.active_places)}
     edges = np.zeros((P, P), dtype=bool)
     conn = (m.psi + m.psi.T) / 2 >= 1.0 / m.K          # the planner's edge rule (paper Fig. 3)
-    for a in label:
-        for b in label:
-            if a != b and conn[a, b] and label[a] != label[b]:
-                edges[label[a], label[b]] = True
+    for a, la in label.items():
+        for b, lb in label.items():
+            if a != b and conn[a, b] and la != lb:
+                edges[la, lb] = True
     truth = (data.adjacency > 0) & ~np.eye(P, dtype=bool)
     tp = (edges & truth).sum()
     assert tp / edges.sum() >= 0.8 and tp / truth.sum() >= 0.8

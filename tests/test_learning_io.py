@@ -153,3 +153,23 @@ def test_save_onto_a_file(model, tmp_path):
     with pytest.raises(ModelError, match="exists and is not a folder"):
         save_model(model, target)
     assert zipfile.is_zipfile(save_model(model, tmp_path / "ok") / "arrays.npz")
+
+
+def test_saved_model_predicts_the_events_it_was_fitted_on(model, saved):
+    from sklearn.metrics import normalized_mutual_info_score
+
+    from spcotmhp.learning.predict import predict_assignments
+
+    data = load_bundled("albert-b", lang="ja")
+    places, concepts = predict_assignments(load_model(saved), data)
+    assert normalized_mutual_info_score(data.truth_place, places) > 0.9
+    assert normalized_mutual_info_score(data.truth_concept, concepts) > 0.9
+
+
+def test_features_of_another_dimension_are_refused(saved):
+    from spcotmhp.learning.predict import predict_assignments
+
+    data = load_bundled("albert-b", lang="ja")
+    data.features = data.features[:, :100]
+    with pytest.raises(ModelError, match="image features have 100 dimensions but the model was learned with 365"):
+        predict_assignments(load_model(saved), data)

@@ -19,7 +19,11 @@ _EXPORTS = {
     "save_model": "io", "load_model": "io",
     "evaluate_learning": "table6",
 }
-__all__ = sorted(_EXPORTS)
+__all__ = [
+    "Hyperparameters", "MultiRunSelector", "SpCoTMHP", "SpatialConceptModel", "apply_connectivity",
+    "evaluate_learning", "fit_runs", "fit_supervised", "load_model", "make_rng", "map_adjacency",
+    "psi_from_adjacency", "save_model", "walk_adjacency",
+]
 
 
 def __getattr__(name: str) -> Any:

@@ -159,6 +159,7 @@ def _concept_sweep(C, places, order, uniforms, L, K, alpha, gamma, beta, chi,
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
     Every count array is updated in place."""
     logp = np.empty(L)
+    saved = np.empty(f_idx.shape[0])   # psi of the old concept before removal, restored if e stays there
     u = 0
     for t in range(order.shape[0]):
         e = order[t]
@@ -168,6 +169,8 @@ def _concept_sweep(C, places, order, uniforms, L, K, alpha, gamma, beta, chi,
         n_lk[old, k] -= 1.0
         _move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
         if use_features:
+            for p in range(f_ptr[e], f_ptr[e + 1]):
+                saved[p] = psi_ld[old, f_idx[p]]
             _move_features(old, e, -1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
             _refresh_psi(psi_ld, old, e, chi, F_ld, f_ptr, f_idx)
         empty_value = 0.0
@@ -193,7 +196,11 @@ def _concept_sweep(C, places, order, uniforms, L, K, alpha, gamma, beta, chi,
         _move_words(new, e, 1.0, W_lv, W_l, t_ptr, t_word, z)
         if use_features:
             _move_features(new, e, 1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
-            _refresh_psi(psi_ld, new, e, chi, F_ld, f_ptr, f_idx)
+            if new == old:
+                for p in range(f_ptr[e], f_ptr[e + 1]):
+                    psi_ld[new, f_idx[p]] = saved[p]
+            else:
+                _refresh_psi(psi_ld, new, e, chi, F_ld, f_ptr, f_idx)
         if background:
             u = _resample_switches(new, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_tot, t_ptr, t_word, z)
     return C
