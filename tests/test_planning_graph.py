@@ -11,7 +11,7 @@ from planning_fixtures import ORDER, home_log_p, home_map, home_model
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import log_gaussian
-from spcotmhp.metric.grid_search import SQRT2, shortest_paths
+from spcotmhp.metric.grid_search import SQRT2, cost_to_go, shortest_paths, step_cost_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph, clear_cache, fingerprint
 from spcotmhp.planning.places import chi2_2d, connected_places, inside_places, mahalanobis2
@@ -139,3 +139,47 @@ def test_main_component_does_not_join_through_a_diagonal_squeeze():
     comp = main_component(free)
     assert comp[:2, :2].all() and not comp[2:, 2:].any()
     assert not main_component(np.zeros((2, 2), bool)).any()
+
+
+def reference_avoiding(g: PlanningGraph, view: PlanningGraph, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """w-hat and start w-hat with every field recomputed from scratch on the blocked map."""
+    act = list(np.flatnonzero(g.model.active_places))
+    M = g.n_nodes
+    start = np.full(M, -np.inf)
+    w_hat = np.full((M, M), -np.inf)
+    for j in np.flatnonzero(view.usable):
+        cost = step_cost_map(g.log_p, g.log_density[act.index(g.node_place[j])], g.settings.connectivity)
+        cost[view.blocked] = np.inf
+        dist, _ = cost_to_go(cost, g.node_cell[j][None], g.settings.connectivity, SQRT2)
+        start[j] = -dist[cell[0], cell[1]]
+        w_hat[:, j] = -dist[g.node_cell[:, 0], g.node_cell[:, 1]]
+    return start, np.where(np.isfinite(g.w_hat) & view.usable[:, None], w_hat, -np.inf)
+
+
+def test_avoidance_views_are_exact():
+    import warnings
+
+    from spcotmhp.datasets.bundled import load_bundled
+    from spcotmhp.learning.supervised import fit_supervised
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        dataset = load_bundled("3LDK_06")
+    model = fit_supervised(dataset)
+    g = PlanningGraph.build(model, use_cache=False)
+    rng = np.random.default_rng(0)
+    free = np.argwhere(g.traversable)
+    recomputed = 0
+    for places in [(10,), (6,), (4, 9), (2,)]:                 # corridor, dining, living + washroom, kitchen
+        view = g.with_avoided(places, 0.95)
+        assert g.with_avoided(places, 0.95) is view
+        for cell in free[rng.integers(len(free), size=25)]:
+            if view.blocked[cell[0], cell[1]]:
+                continue
+            start, w_hat = reference_avoiding(g, view, cell)
+            assert np.allclose(view.start_w_hat(cell), start, equal_nan=False)
+            assert np.array_equal(np.isfinite(view.w_hat), np.isfinite(w_hat))
+            assert np.allclose(view.w_hat[np.isfinite(w_hat)], w_hat[np.isfinite(w_hat)])
+        assert not view.usable[np.isin(g.node_place, places)].any()
+        recomputed += len(view.info["recomputed_fields"])
+    assert 0 < recomputed < 4 * g.n_nodes                         # some fields shared, some recomputed

@@ -19,6 +19,11 @@ Gaussians (sqrt(det Sigma) < 1 / (2 pi |A|), about 1.8 cm^2 with |A| = 9). A one
 meaning and would make shortest paths ill-defined (loops gain), so there the density is clipped to give the
 cost floor ``cost_floor`` (1e-3 nats); the number of clipped cells is kept in ``info["clipped_cells"]``.
 
+Avoided places (:meth:`PlanningGraph.with_avoided`) block their regions. Blocking cells only removes paths, so
+a field value whose optimal path does not enter the blocked cells is still optimal; the view shares those fields
+and recomputes (exactly, with the region blocked) only the fields whose path from a node or from the query's
+start crosses the region, checked by walking the stored next-step links.
+
 Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
 a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
 """
@@ -33,6 +38,7 @@ from collections import OrderedDict
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
+from numba import njit
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
@@ -48,6 +54,7 @@ from spcotmhp.planning.places import (
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
 CACHE_SIZE = 8
+AVOID_CACHE_SIZE = 32
 
 
 @dataclass(frozen=True)
@@ -73,8 +80,9 @@ class GraphSettings:
 class PlanningGraph:
     """Candidate nodes, cost-to-go fields and partial-path likelihoods for one model + map + settings.
 
-    Grids (``log_p``, ``traversable``, ``dist``, ``next_step``) cover the crop ``offset`` .. ``offset + shape``
-    of the map; node cells are in crop coordinates (add ``offset`` for map cells).
+    Grids (``log_p``, ``traversable``, ``dist[j]``, ``next_step[j]``) cover the crop ``offset`` .. ``offset +
+    shape`` of the map; node cells are in crop coordinates (add ``offset`` for map cells). A graph made by
+    :meth:`with_avoided` has ``blocked`` (crop mask) and ``usable`` (nodes outside the avoided places).
     """
 
     model: SpatialConceptModel
@@ -86,8 +94,8 @@ class PlanningGraph:
     traversable: np.ndarray
     node_place: np.ndarray
     node_cell: np.ndarray
-    dist: np.ndarray                 # (M, h, w) cost to go into node j over c_place[j]
-    next_step: np.ndarray            # (M, h, w) flat index of the next cell (-1 at the node / unreachable)
+    dist: np.ndarray | list          # (M, h, w) cost to go into node j over c_place[j] (a list in views)
+    next_step: np.ndarray | list     # (M, h, w) flat index of the next cell (-1 at the node / unreachable)
     w_hat: np.ndarray                # (M, M) partial-path log-likelihoods, -inf if not precomputed/unreachable
     log_transition: np.ndarray       # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
     connected: np.ndarray            # (K, K) connected places
@@ -95,7 +103,10 @@ class PlanningGraph:
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
-    _blocked: OrderedDict = field(default_factory=OrderedDict, repr=False)
+    blocked: np.ndarray | None = None
+    usable: np.ndarray | None = None
+    _shared: set = field(default_factory=set, repr=False)        # fields still shared with the base graph
+    _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
 
     # ---- construction ----------------------------------------------------------------------------------
     @classmethod
@@ -156,39 +167,39 @@ class PlanningGraph:
 
         graph = cls(model=model, settings=settings, key=key, offset=(int(r0), int(c0)), log_p=log_p,
                     log_density=ld, traversable=traversable, node_place=node_place, node_cell=cells,
-                    dist=np.empty(0), next_step=np.empty(0), w_hat=np.empty(0), log_transition=np.empty(0),
+                    dist=[], next_step=[], w_hat=np.empty(0), log_transition=np.empty(0),
                     connected=connected_places(model, settings.edge_threshold), time_precompute_s=0.0,
                     info={"clipped_cells": clipped, "n_nodes": len(cells), "crop": [int(r0), int(r1),
                                                                                         int(c0), int(c1)]},
                     _centres=centres)
-        graph._fill_fields(blocked=None, excluded=())
+        graph.usable = np.ones(len(cells), dtype=bool)
+        fields = [graph._field(j) for j in range(len(cells))]
+        graph.dist = np.stack([d for d, _ in fields])                 # (M, h, w), shared by avoidance views
+        graph.next_step = np.stack([n for _, n in fields])
+        graph._edges()
         graph.time_precompute_s = time.perf_counter() - t0
         return graph
 
-    def _fill_fields(self, blocked: np.ndarray | None, excluded) -> None:
-        """Cost-to-go fields into every node (Alg. 1, lines 4-7) and the partial-path terms of Eq. 28."""
-        M = len(self.node_place)
-        h, w = self.log_p.shape
-        self.dist = np.full((M, h, w), np.inf)
-        self.next_step = np.full((M, h, w), -1, dtype=np.int64)
-        act_index = {int(k): i for i, k in enumerate(np.flatnonzero(self.model.active_places))}
-        costs: dict[int, np.ndarray] = {}
-        for j, (k, cell) in enumerate(zip(self.node_place, self.node_cell)):
-            k = int(k)
-            if k in excluded or (blocked is not None and blocked[cell[0], cell[1]]):
-                continue
-            if k not in costs:
-                c = step_cost_map(self.log_p, self.log_density[act_index[k]], self.settings.connectivity)
-                if blocked is not None:
-                    c[blocked] = np.inf
-                costs[k] = c
-            self.dist[j], self.next_step[j] = cost_to_go(costs[k], cell[None, :], self.settings.connectivity,
-                                                         SQRT2)
-        src_r, src_c = self.node_cell[:, 0], self.node_cell[:, 1]
-        self.w_hat = -self.dist[:, src_r, src_c].T                      # w_hat[i, j] = -field_j[cell_i]
-        allowed = self.connected[self.node_place[:, None], self.node_place[None, :]]
-        allowed &= ~np.eye(M, dtype=bool)
-        self.w_hat = np.where(allowed, self.w_hat, -np.inf)
+    def _field(self, j: int) -> tuple[np.ndarray, np.ndarray]:
+        """The cost-to-go field into node j (Alg. 1, lines 4-6), with the blocked cells blocked."""
+        act = np.flatnonzero(self.model.active_places)
+        k = int(np.flatnonzero(act == self.node_place[j])[0])
+        cost = step_cost_map(self.log_p, self.log_density[k], self.settings.connectivity)
+        if self.blocked is not None:
+            cost[self.blocked] = np.inf
+        return cost_to_go(cost, self.node_cell[j][None, :], self.settings.connectivity, SQRT2)
+
+    def _edges(self) -> None:
+        """w-hat of the partial paths between candidates of connected places (Alg. 1, line 6) and the per-step
+        factor of Eq. 28 without the word term."""
+        M = self.n_nodes
+        rows, cols = self.node_cell[:, 0], self.node_cell[:, 1]
+        w_hat = np.full((M, M), -np.inf)
+        for j in np.flatnonzero(self.usable):
+            w_hat[:, j] = -self.dist[j][rows, cols]                   # w_hat[i, j] = -field_j[cell_i]
+        allowed = self.connected[self.node_place[:, None], self.node_place[None, :]] & ~np.eye(M, dtype=bool)
+        allowed &= self.usable[:, None] & self.usable[None, :]
+        self.w_hat = np.where(allowed, w_hat, -np.inf)
         with np.errstate(divide="ignore"):
             log_psi = self.model.log_psi()[self.node_place[:, None], self.node_place[None, :]]
         log_ur = self.model.log_unigram_rescaling()[self.node_place]
@@ -211,8 +222,23 @@ class PlanningGraph:
         return bool(0 <= cell[0] < h and 0 <= cell[1] < w)
 
     def start_w_hat(self, cell: np.ndarray) -> np.ndarray:
-        """(M,) log-likelihood of the best start leg from crop cell ``cell`` into each node (-inf: none)."""
-        return -self.dist[:, cell[0], cell[1]]
+        """(M,) log-likelihood of the best start leg from crop cell ``cell`` into each node (-inf: none).
+
+        In an avoidance view, a shared field whose path from ``cell`` enters the blocked region is recomputed
+        first (and kept), so the value is exact for the blocked map."""
+        r, c = int(cell[0]), int(cell[1])
+        if self.blocked is not None and self._shared:
+            start = r * self.log_p.shape[1] + c
+            for j in list(self._shared):
+                if np.isfinite(self.dist[j][r, c]) and _crosses(self.next_step[j].reshape(-1), start,
+                                                                 self.blocked.reshape(-1)):
+                    self.dist[j], self.next_step[j] = self._field(j)
+                    self._shared.discard(j)
+                    self.info["recomputed_fields"].append(int(j))
+        out = np.full(self.n_nodes, -np.inf)
+        for j in np.flatnonzero(self.usable):
+            out[j] = -self.dist[j][r, c]
+        return out
 
     def leg(self, cell: np.ndarray, node: int) -> GridPath:
         """The best path from crop cell ``cell`` into ``node`` (crop cells)."""
@@ -233,28 +259,56 @@ class PlanningGraph:
         return self._centres
 
     def with_avoided(self, places: tuple[int, ...], quantile: float) -> PlanningGraph:
-        """A copy with no node in ``places`` and fields that never enter their regions
-        (:func:`~spcotmhp.planning.places.place_regions`); ``info["blocked"]`` holds the blocked crop mask.
-        Memoised for the few most recent place sets."""
+        """A view with no node in ``places`` whose paths never enter their regions
+        (:func:`~spcotmhp.planning.places.place_regions`), exact for the blocked map (module docstring):
+        fields are shared with this graph unless a path from a node into them crosses the regions, in which case
+        they are recomputed. Memoised for the most recent place sets."""
         key = (tuple(sorted(int(p) for p in places)), float(quantile))
-        if key in self._blocked:
-            self._blocked.move_to_end(key)
-            return self._blocked[key]
+        if key in self._views:
+            self._views.move_to_end(key)
+            return self._views[key]
         t0 = time.perf_counter()
         blocked = place_regions(self.model, self.centres, np.array(key[0], dtype=np.int64), quantile)
-        other = PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
-                              log_p=self.log_p, log_density=self.log_density, traversable=self.traversable & ~blocked,
-                              node_place=self.node_place, node_cell=self.node_cell, dist=np.empty(0),
-                              next_step=np.empty(0), w_hat=np.empty(0), log_transition=np.empty(0),
-                              connected=self.connected, time_precompute_s=0.0,
-                              info={**self.info, "blocked": blocked, "avoided": key[0]})
-        other._fill_fields(blocked=blocked, excluded=set(key[0]))
-        other._centres = self.centres
-        other.time_precompute_s = time.perf_counter() - t0
-        self._blocked[key] = other
-        while len(self._blocked) > 4:
-            self._blocked.popitem(last=False)
-        return other
+        usable = ~np.isin(self.node_place, key[0]) & ~blocked[self.node_cell[:, 0], self.node_cell[:, 1]]
+        view = PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
+                             log_p=self.log_p, log_density=self.log_density, traversable=self.traversable & ~blocked,
+                             node_place=self.node_place, node_cell=self.node_cell, dist=list(self.dist),
+                             next_step=list(self.next_step), w_hat=np.empty(0), log_transition=np.empty(0),
+                             connected=self.connected, time_precompute_s=0.0,
+                             info={**self.info, "avoided": key[0]}, blocked=blocked, usable=usable,
+                             _centres=self.centres)
+        width = self.log_p.shape[1]
+        sources = self.node_cell[:, 0] * width + self.node_cell[:, 1]
+        flat_blocked = blocked.reshape(-1)
+        recomputed = []
+        for j in np.flatnonzero(usable):
+            into_j = usable & self.connected[self.node_place, self.node_place[j]]
+            into_j[j] = False
+            links = self.next_step[j].reshape(-1)
+            if any(_crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
+                view.dist[j], view.next_step[j] = view._field(j)
+                recomputed.append(int(j))
+            else:
+                view._shared.add(int(j))
+        view._edges()
+        view.info["recomputed_fields"] = recomputed
+        view.time_precompute_s = time.perf_counter() - t0
+        self._views[key] = view
+        while len(self._views) > AVOID_CACHE_SIZE:
+            self._views.popitem(last=False)
+        return view
+
+
+@njit(cache=True)
+def _crosses(links, start, blocked):  # pragma: no cover - numba
+    """Whether the path that follows ``links`` (flat next-step indices, -1 at the end) from ``start`` enters a
+    blocked cell."""
+    i = start
+    while i >= 0:
+        if blocked[i]:
+            return True
+        i = links[i]
+    return False
 
 
 def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.ndarray | None = None) -> str:

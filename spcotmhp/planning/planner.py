@@ -116,7 +116,7 @@ class HierarchicalPlanner:
                 if not inst[s].any():
                     raise PlanningError(f"every place named '{q.label}' is also to be avoided")
             graph = graph.with_avoided(tuple(np.flatnonzero(avoided)), settings.region_quantile)
-            if graph.info["blocked"][cell[0], cell[1]]:
+            if graph.blocked[cell[0], cell[1]]:
                 inside = [self.names[k] for k in np.flatnonzero(avoided)]
                 raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
                                     f"({', '.join(sorted(set(inside)))})")
