@@ -143,3 +143,13 @@ def test_log_rising_factorial(a, x):
 @pytest.mark.parametrize("x", [1e-3, 0.5, 1.0, 3.7, 6.0, 40.0, 1234.5])
 def test_digamma(x):
     assert _digamma(x) == pytest.approx(digamma(x), rel=1e-11, abs=1e-12)
+
+
+def test_lean_logsumexp_matches_scipy():
+    from scipy.special import logsumexp as scipy_lse
+
+    from spcotmhp.learning.distributions import logsumexp
+
+    a = np.array([[0.0, -1.0, -np.inf], [-np.inf, -np.inf, -np.inf], [1000.0, 999.0, -5.0]])
+    np.testing.assert_allclose(logsumexp(a, axis=1), scipy_lse(a, axis=1))
+    np.testing.assert_allclose(logsumexp(a, axis=0, keepdims=True), scipy_lse(a, axis=0, keepdims=True))

@@ -144,3 +144,15 @@ def test_concept_sweep_keeps_counts_consistent(background):
     np.testing.assert_array_equal(sampler.concept_words().sum() + sampler.background_words().sum(), words.sum())
     if not background:
         assert sampler.background_words().sum() == 0
+
+
+def test_ffbs_log_fallback_agrees_with_the_scaled_pass():
+    # emissions that underflow any probability-space pass: the kernel falls back to log space
+    rng = np.random.default_rng(1)
+    log_emit = rng.normal(size=(6, 3)) * 5
+    log_emit[3] = [-2000.0, -1e6, -1e6]          # only state 0 is possible at e = 3 ...
+    log_trans = np.log(np.array([[1e-300, 0.5, 0.5], [0.5, 0.5, 1e-300], [0.5, 1e-300, 0.5]]))
+    log_trans[1, 0] = log_trans[2, 0] = -1e6     # ... and can only be reached from state 0
+    u = rng.random(6)
+    states = ffbs_kernel(log_emit, log_trans, np.zeros(3), u)
+    assert states[3] == 0 and states[2] == 0

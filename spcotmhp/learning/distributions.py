@@ -19,9 +19,19 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.special import gammaln, logsumexp, multigammaln
+from scipy.special import gammaln, multigammaln
 
 D = 2  # positions are 2-D
+
+
+def logsumexp(a: np.ndarray, axis: int = -1, keepdims: bool = False) -> np.ndarray:
+    """log sum exp along ``axis`` (a lean version of scipy's for the small arrays of the sampler); an all -inf
+    slice gives -inf."""
+    m = np.max(a, axis=axis, keepdims=True)
+    m = np.where(np.isfinite(m), m, 0.0)
+    with np.errstate(divide="ignore"):
+        out = np.log(np.sum(np.exp(a - m), axis=axis, keepdims=True)) + m
+    return out if keepdims else np.squeeze(out, axis=axis)
 
 
 def log_gamma_variates(rng: np.random.Generator, shape: np.ndarray) -> np.ndarray:

@@ -40,14 +40,13 @@ from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
-from scipy.special import logsumexp
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
-from spcotmhp.learning.distributions import GaussianStats, sample_categorical_log
+from spcotmhp.learning.distributions import GaussianStats, logsumexp, sample_categorical_log
 from spcotmhp.learning.hmm import ffbs, transition_counts, visited_places
 from spcotmhp.learning.init import INITS, initial_assignments
 from spcotmhp.learning.model import Hyperparameters, log_gaussian

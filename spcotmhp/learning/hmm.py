@@ -25,15 +25,37 @@ def _logsumexp_vec(v: np.ndarray) -> float:
 
 
 @njit(cache=True)
-def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray,
-                uniforms: np.ndarray) -> np.ndarray:
-    """Forward filtering, backward sampling in log space.
-
-    log_emit (E, K), log_trans (K, K) with log_trans[a, b] = log p(b | a), log_init (K,), uniforms (E,) in [0, 1).
-    Returns a state sequence (E,) drawn from p(i_{1:E} | emissions) exactly.
-    """
+def _forward_scaled(log_emit, log_trans, log_init, alpha):
+    """Forward pass in probability space, each step scaled by its row maximum; alpha[e] holds log filtered
+    probabilities up to a constant per e.  Returns False when a step underflows (then use the log pass)."""
     E, K = log_emit.shape
-    alpha = np.empty((E, K))
+    trans = np.exp(log_trans)
+    prev = np.empty(K)
+    cur = np.empty(K)
+    m = (log_init + log_emit[0]).max()
+    for k in range(K):
+        prev[k] = np.exp(log_init[k] + log_emit[0, k] - m)
+        alpha[0, k] = np.log(prev[k]) if prev[k] > 0 else -np.inf
+    for e in range(1, E):
+        me = log_emit[e].max()
+        total = 0.0
+        for k in range(K):
+            acc = 0.0
+            for j in range(K):
+                acc += prev[j] * trans[j, k]
+            cur[k] = acc * np.exp(log_emit[e, k] - me)
+            total += cur[k]
+        if not total > 1e-280:
+            return False
+        for k in range(K):
+            prev[k] = cur[k] / total
+            alpha[e, k] = np.log(prev[k]) if prev[k] > 0 else -np.inf
+    return True
+
+
+@njit(cache=True)
+def _forward_log(log_emit, log_trans, log_init, alpha):
+    E, K = log_emit.shape
     alpha[0] = log_init + log_emit[0]
     tmp = np.empty(K)
     for e in range(1, E):
@@ -41,6 +63,21 @@ def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarra
             for j in range(K):
                 tmp[j] = alpha[e - 1, j] + log_trans[j, k]
             alpha[e, k] = _logsumexp_vec(tmp) + log_emit[e, k]
+
+
+@njit(cache=True)
+def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray,
+                uniforms: np.ndarray) -> np.ndarray:
+    """Forward filtering, backward sampling.
+
+    log_emit (E, K), log_trans (K, K) with log_trans[a, b] = log p(b | a), log_init (K,), uniforms (E,) in [0, 1).
+    Returns a state sequence (E,) drawn from p(i_{1:E} | emissions) exactly.  The forward pass runs on scaled
+    probabilities (a matrix-vector product per event) and falls back to log space if a step underflows.
+    """
+    E, K = log_emit.shape
+    alpha = np.empty((E, K))
+    if not _forward_scaled(log_emit, log_trans, log_init, alpha):
+        _forward_log(log_emit, log_trans, log_init, alpha)
     states = np.empty(E, dtype=np.int64)
     w = np.empty(K)
     for e in range(E - 1, -1, -1):

@@ -43,7 +43,7 @@ class SufficientStats:
         onehot_i[np.arange(obs.E), places] = 1.0
         n = onehot_i.sum(axis=0)
         sx = onehot_i.T @ obs.X
-        sxx = np.einsum("ek,ei,ej->kij", onehot_i, obs.X, obs.X)
+        sxx = (onehot_i.T @ (obs.X[:, :, None] * obs.X[:, None, :]).reshape(obs.E, 4)).reshape(K, 2, 2)
         return cls(gauss=GaussianStats(n, sx, sxx),
                    concepts=onehot_c.sum(axis=0),
                    place_given_concept=onehot_c.T @ onehot_i,
