@@ -52,7 +52,7 @@ def test_plan_prints_the_explanation_and_json(model_dir, tmp_path):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_nbest_and_japanese(model_dir, tmp_path):
+def test_nbest_file(model_dir, tmp_path):
     folder, kitchen = model_dir
     x, y = (f"{v:.3f}" for v in kitchen)
     nbest = tmp_path / "nbest.json"
@@ -60,6 +60,20 @@ def test_nbest_and_japanese(model_dir, tmp_path):
     out = run(str(folder), "--nbest", str(nbest), "--start", x, y, "--json")
     assert out.returncode == 0, out.stderr
     assert json.loads(out.stdout)["places"][-1]["name"] == "bath"
+
+
+def test_japanese_instruction(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        dataset = load_bundled("3LDK_06", lang="ja")
+    model = fit_supervised(dataset)
+    folder = save_model(model, tmp_path / "ja")
+    x, y = (f"{v:.3f}" for v in model.mu[dataset.place_names.index("キッチン")])
+    out = run(str(folder), "廊下を通って寝室へ行って", "--start", x, y)
+    assert out.returncode == 0, out.stderr
+    line = out.stdout.strip()
+    assert line.startswith("キッチン -> ") and "廊下 (waypoint)" in line
+    assert "(closest of 3 places named 寝室)" in line or "places named 寝室;" in line
 
 
 @pytest.mark.parametrize("args, message", [
