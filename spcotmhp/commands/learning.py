@@ -58,6 +58,9 @@ def learn(
     criterion: Annotated[str, typer.Option(help="Run selection: mutual_information or log_joint.")]
     = "mutual_information",
     connectivity: Annotated[str, typer.Option(help="psi of the model: auto, hmm, walk or map.")] = "auto",
+    features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
+    max_places: Annotated[int, typer.Option(help="Truncation K of the place DP (more than the places).")] = 20,
+    max_concepts: Annotated[int, typer.Option(help="Truncation L of the concept DP.")] = 20,
     jobs: Annotated[int, typer.Option(help="Worker processes for the runs.")] = 1,
 ) -> None:
     """Learn spatial concepts and places from a dataset and save the model."""
@@ -69,14 +72,14 @@ def learn(
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
 
-        model = fit_supervised(data)
+        model = fit_supervised(data, use_features=features)
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
     else:
         from spcotmhp.learning.gibbs import SpCoTMHP
         from spcotmhp.learning.selection import MultiRunSelector
 
-        est = SpCoTMHP(iterations=iterations, seed=seed, replay=not no_replay,
-                       transitions="none" if gmm else "hmm", connectivity=connectivity)
+        est = SpCoTMHP(K=max_places, L=max_concepts, iterations=iterations, seed=seed, replay=not no_replay,
+                       transitions="none" if gmm else "hmm", connectivity=connectivity, use_features=features)
         with sweep_progress(runs * iterations, f"learning {data.name}") as progress:
             sel = MultiRunSelector(est, runs=runs, criterion=criterion, n_jobs=jobs).fit(data, progress=progress)
         model = sel.model_

@@ -1,0 +1,61 @@
+"""Several runs and the choice of one."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from learning_fixtures import planted_dataset
+
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.gibbs import SpCoTMHP
+from spcotmhp.learning.selection import MultiRunSelector, fit_runs
+
+
+@pytest.fixture(scope="module")
+def data():
+    return planted_dataset(E=80)
+
+
+def test_selects_the_best_run_by_each_criterion(data):
+    for criterion, key in (("mutual_information", "mutual_information"), ("log_joint", "log_joint")):
+        sel = fit_runs(data, runs=4, iterations=15, criterion=criterion, connectivity="hmm")
+        scores = [getattr(s, key) for s in sel.summaries_]
+        assert sel.best_index_ == int(np.argmax(scores))
+        assert sel.model_ is sel.estimators_[sel.best_index_].model_
+        assert sel.model_.info["selected_run"] == sel.best_index_ and sel.model_.info["criterion"] == criterion
+
+
+def test_runs_are_the_children_of_the_seed(data):
+    sel = fit_runs(data, runs=3, iterations=10, seed=5, connectivity="hmm")
+    for r, est in enumerate(sel.estimators_):
+        alone = SpCoTMHP(iterations=10, seed=5, run=r, connectivity="hmm").fit(data)
+        np.testing.assert_array_equal(est.places_, alone.places_)
+    assert len({tuple(e.places_) for e in sel.estimators_}) > 1 or len({e.log_joint_ for e in sel.estimators_}) > 1
+
+
+def test_process_pool_gives_the_same_runs(data):
+    one = fit_runs(data, runs=3, iterations=10, seed=2, n_jobs=1, connectivity="hmm")
+    two = fit_runs(data, runs=3, iterations=10, seed=2, n_jobs=2, connectivity="hmm")
+    for a, b in zip(one.estimators_, two.estimators_):
+        np.testing.assert_array_equal(a.concepts_, b.concepts_)
+        np.testing.assert_array_equal(a.model_.mu, b.model_.mu)
+
+
+def test_connectivity_is_applied_to_the_chosen_run_only(data):
+    sel = fit_runs(data, runs=2, iterations=10, connectivity="map")
+    assert sel.model_.info["psi_from"] == "map"
+    other = sel.estimators_[1 - sel.best_index_]
+    assert other.model_.info["psi_from"] == "hmm"
+
+
+def test_progress_counts_every_sweep(data):
+    seen = []
+    fit_runs(data, runs=2, iterations=7, progress=seen.append, connectivity="hmm")
+    assert sum(seen) == 14
+
+
+def test_bad_settings(data):
+    with pytest.raises(ModelError, match="criterion must be one of"):
+        MultiRunSelector(runs=2, criterion="coin").fit(data)
+    with pytest.raises(ModelError, match="runs must be >= 1"):
+        MultiRunSelector(runs=0).fit(data)
