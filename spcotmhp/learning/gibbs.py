@@ -48,6 +48,7 @@ Mult(i_e | phi_{C_e}) itself, without unigram rescaling, and the exported psi is
 
 from __future__ import annotations
 
+import inspect
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -136,7 +137,8 @@ class SpCoTMHP:
 
     def get_params(self) -> dict:
         """The constructor arguments (scikit-learn convention)."""
-        return {k: getattr(self, k) for k in self.__init__.__code__.co_varnames[1:self.__init__.__code__.co_argcount]}
+        names = inspect.signature(type(self).__init__).parameters
+        return {name: getattr(self, name) for name in names if name != "self"}
 
     # ---- public API --------------------------------------------------------------------------------------
     def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> SpCoTMHP:
