@@ -47,7 +47,7 @@ def plan_command(
     planner = HierarchicalPlanner(model, n_candidates=candidates, seed=seed, smooth=smooth, max_steps=max_steps)
     plan = planner.plan(source, start, lang=lang)
     if png is not None:
-        from spcotmhp.planning.figure import draw_plan
+        from spcotmhp.viz.plan import draw_plan
 
         try:
             draw_plan(plan, model, png)

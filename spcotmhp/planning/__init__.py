@@ -8,8 +8,8 @@
 
 Modules: ``instructions`` + ``grammar`` (understanding), ``places`` (candidates, connectivity, instances,
 regions), ``graph`` (precomputation), ``search`` (Eq. 28), ``assemble`` (joining, smoothing), ``planner``,
-``plan`` (the result), ``terms`` (model terms for fast queries), ``vocabulary`` (place words and labels),
-``figure`` (a PNG of a plan).
+``plan`` (the result), ``terms`` (model terms for fast queries), ``vocabulary`` (place words and labels).
+Pictures of plans are drawn by :mod:`spcotmhp.viz.plan`.
 """
 
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph

@@ -1,35 +1,43 @@
 """Pictures: the map, the places as Gaussian ellipses with names, the topological edges and a planned path.
 
 Plotting stays at the edge: these functions take arrays and dataclasses and draw on matplotlib axes (Agg backend,
-no display needed).
+no display needed). :func:`render` writes the framed figure of the CLI (axes in metres, legend, title);
+:func:`map_image` the frameless, georeferenced picture of the HTTP service, whose pixels map linearly onto its
+``extent`` so that a client can convert clicks to map coordinates.
 """
 
 from __future__ import annotations
 
+import io
+from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import BinaryIO
 
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.axes import Axes  # noqa: E402
-from matplotlib.patches import Ellipse  # noqa: E402
+import matplotlib.patheffects as pe
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.patches import Ellipse
+from matplotlib.text import Annotation
 
-from spcotmhp.learning.model import SpatialConceptModel  # noqa: E402
-from spcotmhp.metric.maps import OccupancyMap  # noqa: E402
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.viz.labels import arrange_labels, place_display_labels
 
-# Distinct, colour-blind-friendly colours (Okabe-Ito, then tab20 for more places).
-_BASE_COLOURS = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00", "#F0E442", "#000000"]
+# Saturated, mutually distinct place colours; no red (the path's colour) and no grey/black (walls, unknown).
+PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
+           "#393b79", "#1b9e77", "#e6ab02", "#e7298a", "#66a61e", "#7570b3", "#a6761d", "#0b6e4f"]
+PATH_COLOUR = "#d00000"
+MARK_STYLE = {"start": ("s", "#00a651"), "waypoint": ("D", "#6a3d9a"), "goal": ("*", PATH_COLOUR)}
 
 
-def place_colours(n: int) -> list:
-    """n distinct colours for places."""
-    if n <= len(_BASE_COLOURS):
-        return _BASE_COLOURS[:n]
-    cmap = plt.get_cmap("tab20")
-    return [cmap(i % 20) for i in range(n)]
+def place_colours(n: int) -> list[str]:
+    """n place colours (the palette repeats beyond 16 places)."""
+    return [PALETTE[i % len(PALETTE)] for i in range(n)]
 
 
 def map_extent(occ_map: OccupancyMap) -> tuple[float, float, float, float]:
@@ -65,71 +73,123 @@ def used_extent(occ_map: OccupancyMap, margin_m: float = 1.0) -> tuple[float, fl
 
 
 def topological_edges(model: SpatialConceptModel) -> list[tuple[int, int]]:
-    """Undirected edges drawn as in the paper's Figure 3: (psi_ab + psi_ba) / 2 > 1 / K, active places only."""
-    act = np.flatnonzero(model.active_places)
-    sym = (model.psi + model.psi.T) / 2.0
-    thresh = 1.0 / model.K
-    return [(int(a), int(b)) for i, a in enumerate(act) for b in act[i + 1:] if sym[a, b] > thresh]
+    """Undirected edges as in the paper's Figure 3, (psi_ab + psi_ba) / 2 >= 1 / K between active places: the
+    very place graph the planner moves on (:func:`spcotmhp.planning.places.connected_places`)."""
+    from spcotmhp.planning.places import connected_places
+
+    conn = np.triu(connected_places(model), k=1)
+    return [(int(a), int(b)) for a, b in zip(*np.nonzero(conn))]
 
 
 def draw_places(ax: Axes, model: SpatialConceptModel, names: Sequence[str] | None = None,
-                n_std: float = 2.0, edges: bool = True) -> None:
-    """Each active place's Gaussian as an n_std-sigma ellipse labelled with its name, plus the edges."""
-    names = list(names) if names is not None else model.place_names()
+                n_std: float = 2.0, edges: bool = True, fontsize: float = 8.0) -> list[Annotation]:
+    """Each active place's Gaussian as an n_std-sigma ellipse labelled with its name (default: the planner's
+    labels, :func:`place_display_labels`), plus the edges; returns the label annotations (for
+    :func:`arrange_labels`)."""
+    names = list(names) if names is not None else place_display_labels(model)
     act = np.flatnonzero(model.active_places)
     colours = place_colours(len(act))
     if edges:
         for a, b in topological_edges(model):
             ax.plot(*zip(model.mu[a], model.mu[b]), color="#555555", lw=1.2, alpha=0.8, zorder=2)
+    labels = []
     for c, k in zip(colours, act):
         vals, vecs = np.linalg.eigh(model.Sigma[k])
         vals = np.clip(vals, 1e-12, None)
         angle = float(np.degrees(np.arctan2(vecs[1, 1], vecs[0, 1])))
-        ell = Ellipse(model.mu[k], 2 * n_std * np.sqrt(vals[1]), 2 * n_std * np.sqrt(vals[0]), angle=angle,
-                      facecolor=c, edgecolor=c, alpha=0.25, lw=1.5, zorder=3)
-        ax.add_patch(ell)
-        ax.add_patch(Ellipse(model.mu[k], ell.width, ell.height, angle=angle, fill=False, edgecolor=c,
-                             lw=1.5, zorder=3))
-        ax.plot(*model.mu[k], "o", color=c, ms=4, zorder=4)
-        ax.annotate(f"{names[k]} ({k})", model.mu[k], xytext=(4, 4), textcoords="offset points", fontsize=8,
-                    zorder=6, bbox=dict(boxstyle="round,pad=0.2", fc="white", ec=c, alpha=0.85))
+        width, height = 2 * n_std * np.sqrt(vals[1]), 2 * n_std * np.sqrt(vals[0])
+        ax.add_patch(Ellipse(model.mu[k], width, height, angle=angle, facecolor=c, edgecolor="none", alpha=0.18,
+                             zorder=3))
+        ax.add_patch(Ellipse(model.mu[k], width, height, angle=angle, fill=False, edgecolor=c, lw=1.6, zorder=3))
+        ax.plot(*model.mu[k], "o", color=c, ms=4.5, mec="white", mew=0.8, zorder=4)
+        labels.append(ax.annotate(names[k], model.mu[k], xytext=(5, 5), textcoords="offset points",
+                                  fontsize=fontsize, color="#111111", zorder=8, annotation_clip=False,
+                                  bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": c, "lw": 1.2, "alpha": 0.9}))
+    return labels
 
 
-def draw_path(ax: Axes, path_xy: np.ndarray, marks: Sequence[tuple[np.ndarray, str, str]] = ()) -> None:
-    """A world path (n, 2) and labelled marks [(xy, label, role)] with role in start / waypoint / goal."""
+def draw_path(ax: Axes, path_xy: np.ndarray, marks: Sequence[tuple[np.ndarray, str, str]] = ()) -> np.ndarray:
+    """A world path (n, 2) and labelled marks [(xy, label, role)] with role in start / waypoint / goal; returns
+    the marks' points (m, 2)."""
     path_xy = np.asarray(path_xy, dtype=float)
     if len(path_xy):
-        ax.plot(path_xy[:, 0], path_xy[:, 1], "-", color="#D00000", lw=2.2, zorder=5, label="path")
-    style = {"start": ("s", "#1B9E77"), "waypoint": ("D", "#7570B3"), "goal": ("*", "#D00000")}
+        ax.plot(path_xy[:, 0], path_xy[:, 1], "-", color=PATH_COLOUR, lw=2.4, zorder=5, label="path",
+                path_effects=[pe.Stroke(linewidth=4.5, foreground="white"), pe.Normal()])
     for xy, label, role in marks:
-        m, c = style.get(role, ("o", "k"))
-        ax.plot(*xy, m, color=c, ms=12 if role == "goal" else 9, mec="white", mew=1.2, zorder=7,
+        m, c = MARK_STYLE.get(role, ("o", "k"))
+        ax.plot(*xy, m, color=c, ms=15 if role == "goal" else 10, mec="white", mew=1.4, zorder=7,
                 label=f"{role}: {label}")
+    return np.array([xy for xy, _, _ in marks], dtype=float).reshape(-1, 2)
 
 
-def render(occ_map: OccupancyMap, out: str | Path, model: SpatialConceptModel | None = None,
+def _centres(model: SpatialConceptModel | None) -> np.ndarray:
+    return np.empty((0, 2)) if model is None else model.mu[np.asarray(model.active_places, dtype=bool)]
+
+
+def render(occ_map: OccupancyMap, out: str | Path | BinaryIO, model: SpatialConceptModel | None = None,
            names: Sequence[str] | None = None, path_xy: np.ndarray | None = None,
            marks: Sequence[tuple[np.ndarray, str, str]] = (), title: str | None = None,
-           dpi: int = 150) -> Path:
-    """Draw the map (+ places, edges, path) and write a PNG; returns the path written."""
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
+           dpi: int = 150) -> Path | BinaryIO:
+    """Draw the map (+ places, edges, path) with axes in metres and write a PNG to a file (its folder is
+    created) or a binary stream; returns ``out`` (as a Path when it is a file name)."""
+    if isinstance(out, (str, Path)):
+        out = Path(out)
+        out.parent.mkdir(parents=True, exist_ok=True)
     x0, x1, y0, y1 = used_extent(occ_map)
     aspect = (y1 - y0) / max(x1 - x0, 1e-9)
     fig, ax = plt.subplots(figsize=(8, max(4.0, min(12.0, 8 * aspect)) + 0.6))
     try:
         draw_map(ax, occ_map)
-        if model is not None:
-            draw_places(ax, model, names)
+        labels = draw_places(ax, model, names) if model is not None else []
+        points = _centres(model)
         if path_xy is not None:
-            draw_path(ax, path_xy, marks)
+            points = np.vstack([points, draw_path(ax, path_xy, marks)])
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=True)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         if title:
             ax.set_title(title, fontsize=10, wrap=True)
         fig.tight_layout()
-        fig.savefig(out, dpi=dpi, bbox_inches="tight")
+        arrange_labels(ax, labels, points)
+        fig.savefig(out, format="png", dpi=dpi, bbox_inches="tight")
     finally:
         plt.close(fig)
     return out
+
+
+@dataclass(frozen=True)
+class MapImage:
+    """A frameless map picture: PNG bytes whose pixel (0, 0) is the top-left corner (x0, y1) of ``extent``
+    = (x0, x1, y0, y1) metres and whose pixel (width, height) is the bottom-right corner (x1, y0)."""
+
+    png: bytes
+    extent: tuple[float, float, float, float]
+    width: int
+    height: int
+
+    def to_world(self, px: float, py: float) -> tuple[float, float]:
+        """Map-frame metres of image pixel coordinates (px right, py down)."""
+        x0, x1, y0, y1 = self.extent
+        return (x0 + px / self.width * (x1 - x0), y1 - py / self.height * (y1 - y0))
+
+
+def map_image(model: SpatialConceptModel, px_per_m: float = 60.0, dpi: int = 100) -> MapImage:
+    """The learned map (places, names, edges) without axes, georeferenced by its extent (see :class:`MapImage`)."""
+    occ = model.map
+    x0, x1, y0, y1 = used_extent(occ)
+    width, height = max(1, round((x1 - x0) * px_per_m)), max(1, round((y1 - y0) * px_per_m))
+    fig = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi)
+    try:
+        ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+        draw_map(ax, occ)
+        labels = draw_places(ax, model, fontsize=9.0)
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("auto")
+        ax.set_axis_off()
+        arrange_labels(ax, labels, _centres(model))
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=dpi)
+    finally:
+        plt.close(fig)
+    return MapImage(buf.getvalue(), (float(x0), float(x1), float(y0), float(y1)), width, height)

@@ -1,0 +1,219 @@
+"""CLI commands of the demo area: ``spcotmhp demo`` (learn a bundled home, plan an instruction, draw it) and
+``spcotmhp show MODEL_DIR`` (list a learned model's places; ``--png`` draws the learned map)."""
+
+from __future__ import annotations
+
+import json
+import time
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
+
+DEMO_INSTRUCTION = "go to the bedroom via the corridor"
+
+
+@dataclass
+class DemoModel:
+    """The model the demo plans with, how it was obtained and why."""
+
+    model: Any
+    method: str
+    reason: str
+
+
+@contextmanager
+def _progress() -> Iterator[Any]:
+    """A rich progress display on stderr (spinner, bar, count, elapsed time)."""
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        SpinnerColumn,
+        TextColumn,
+        TimeElapsedColumn,
+    )
+
+    with Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TimeElapsedColumn(), console=Console(stderr=True)) as bar:
+        yield bar
+
+
+@contextmanager
+def _step(bar: Any, label: str) -> Iterator[None]:
+    task = bar.add_task(label, total=1)
+    yield
+    bar.update(task, completed=1)
+
+
+def learn_demo_model(dataset: Any, instruction: str, seed: int, runs: int, iterations: int, bar: Any,
+                     supervised: bool = False) -> DemoModel:
+    """The unsupervised SpCoTMHP learner (``runs`` Gibbs runs, the one with the highest word-concept mutual
+    information kept), accepted when its map names every place name of the home and the instruction can be
+    planned on it; otherwise (or with ``supervised``) the supervised fit from the truth labels."""
+    from spcotmhp.learning.gibbs import SpCoTMHP
+    from spcotmhp.learning.selection import MultiRunSelector
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.viz.labels import place_display_labels
+
+    if supervised:
+        return DemoModel(fit_supervised(dataset), "supervised fit (truth labels)", "asked for with --supervised")
+    task = bar.add_task(f"learning {dataset.name} (Gibbs sampling)", total=runs * iterations)
+    sel = MultiRunSelector(SpCoTMHP(iterations=iterations, seed=seed), runs=runs).fit(
+        dataset, progress=lambda n: bar.advance(task, n))
+    model = sel.model_
+    method = (f"unsupervised SpCoTMHP (Gibbs sampling, {runs} runs x {iterations} sweeps, seed {seed}; "
+              f"run {sel.best_index_} kept by mutual information)")
+    labels = [lab.split(" #")[0] for lab in place_display_labels(model) if lab]
+    missing = sorted(set(dataset.place_names or ()) - set(labels))
+    why = (f"the unsupervised map lacks the place name(s) {', '.join(missing)}" if missing else None)
+    if why is None:
+        try:
+            from spcotmhp.planning.planner import HierarchicalPlanner
+
+            HierarchicalPlanner(model).plan(instruction, model.mu[np.flatnonzero(model.active_places)[0]])
+        except InstructionError as exc:
+            why = f"the instruction cannot be understood on the unsupervised map ({exc})"
+        except PlanningError:
+            pass  # the start used for this check may be a wall; the real start is chosen later
+    if why is None:
+        n_names = len(set(labels))
+        return DemoModel(model, method, f"its {len(labels)} places carry all {n_names} place names of the home")
+    return DemoModel(fit_supervised(dataset), "supervised fit (truth labels)", why)
+
+
+def demo_start(planner: Any, place: str) -> tuple[np.ndarray, str]:
+    """The free cell nearest to the mean of the first place labelled ``place`` (else the first active place),
+    in the main free component of the planning grid; returns (x, y) and the place's label."""
+    from spcotmhp.planning.places import main_component, nearest_cell_index
+    from spcotmhp.viz.labels import place_display_labels
+
+    model, graph = planner.model, planner.graph
+    labels = place_display_labels(model)
+    act = np.flatnonzero(model.active_places)
+    named = [k for k in act if labels[k].split(" #")[0] == place]
+    k = int(named[0] if named else act[0])
+    snap = nearest_cell_index(main_component(graph.traversable))
+    cell = graph.to_crop(model.map.world_to_cell(model.mu[k]))
+    cell = np.clip(cell, 0, np.array(graph.traversable.shape) - 1)
+    free = np.array([snap[0][cell[0], cell[1]], snap[1][cell[0], cell[1]]])
+    return model.map.cell_to_world(graph.to_map(free)), labels[k]
+
+
+def demo(
+    out: Annotated[Path, typer.Option("--out", help="Folder for the picture, plan and model.")] = Path("demo-output"),
+    home: Annotated[str, typer.Option(help="Bundled home (3LDK_01, 3LDK_05, 3LDK_06) or a dataset folder.")]
+    = "3LDK_06",
+    instruction: Annotated[str, typer.Option(help="The instruction to plan.")] = DEMO_INSTRUCTION,
+    lang: Annotated[str, typer.Option(help="Language of the teaching words and the instruction (en, ja).")] = "en",
+    start: Annotated[tuple[float, float] | None, typer.Option(
+        help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
+    start_place: Annotated[str, typer.Option(help="Place to start from when --start is not given.")] = "entrance",
+    seed: Annotated[int, typer.Option(help="Random seed of the learner.")] = 0,
+    runs: Annotated[int, typer.Option(help="Independent Gibbs runs (one is kept).")] = 10,
+    iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
+    supervised: Annotated[bool, typer.Option(help="Skip the unsupervised learner: fit from the truth labels.")]
+    = False,
+) -> None:
+    """Learn a bundled home's map, plan "go to the bedroom via the corridor", print the explanation, draw it."""
+    from spcotmhp.commands.learning import load_dataset_arg
+    from spcotmhp.learning.io import save_model
+    from spcotmhp.planning.planner import HierarchicalPlanner
+    from spcotmhp.viz.draw import render
+    from spcotmhp.viz.plan import draw_plan
+
+    t0 = time.perf_counter()
+    with _progress() as bar:
+        with _step(bar, f"loading {home}"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            data = load_dataset_arg(home, lang)
+        chosen = learn_demo_model(data, instruction, seed, runs, iterations, bar, supervised)
+        model = chosen.model
+        with _step(bar, "precomputing the planning graph (Algorithm 1, lines 1-7)"):
+            planner = HierarchicalPlanner(model)
+        if start is None:
+            x0, start_label = demo_start(planner, start_place)
+        else:
+            x0, start_label = np.asarray(start, dtype=float), "given"
+        with _step(bar, "planning"):
+            plan = planner.plan(instruction, x0, lang=lang)
+        with _step(bar, "drawing and saving"):
+            try:
+                out.mkdir(parents=True, exist_ok=True)
+                model_dir = save_model(model, out / "model")
+                plan_png = draw_plan(plan, model, out / "plan.png")
+                map_png = render(model.map, out / "map.png", model=model,
+                                 title=f"learned map of {data.name}: places, names and edges")
+                (out / "plan.json").write_text(plan.to_json(indent=1), encoding="utf-8")
+            except OSError as exc:
+                raise SpcotmhpError(f"cannot write the demo output to {out}: {exc.strerror or exc}") from None
+    n_places = int(model.active_places.sum())
+    typer.echo(f"home:        {data.name} ({len(data.positions)} teaching utterances, lang {data.lang})")
+    typer.echo(f"model:       {chosen.method}, {n_places} places: {chosen.reason}")
+    typer.echo(f"instruction: {instruction!r}")
+    typer.echo(f"start:       ({x0[0]:.2f}, {x0[1]:.2f}) ({start_label})")
+    typer.echo(f"plan:        {plan.explanation}")
+    typer.echo(f"timing:      precomputation {plan.time_precompute_s:.2f} s, planning "
+               f"{plan.time_online_s * 1e3:.1f} ms, demo {time.perf_counter() - t0:.1f} s in all")
+    typer.echo(f"wrote:       {plan_png} (the plan), {map_png} (the learned map), {out / 'plan.json'}, "
+               f"{model_dir}/ (the model)")
+    typer.echo(f"next:        spcotmhp serve {model_dir}   # then open http://127.0.0.1:8000/")
+
+
+def show(
+    model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
+    png: Annotated[Path | None, typer.Option("--png", help="Draw the learned map to this PNG file.")] = None,
+    ids: Annotated[bool, typer.Option("--ids", help="Add the place ids to the labels in the picture.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the places and edges as JSON.")] = False,
+) -> None:
+    """List a learned model's places (label, mean, spread) and topological edges; --png draws the map."""
+    from spcotmhp.learning.io import load_model
+    from spcotmhp.viz.labels import place_display_labels
+
+    model = load_model(model_dir)
+    labels = place_display_labels(model)
+    edges = _edges(model)
+    act = [int(k) for k in np.flatnonzero(model.active_places)]
+    if png is not None:
+        if model.map is None:
+            raise SpcotmhpError(f"{model_dir}: the model has no map to draw")
+        from spcotmhp.viz.draw import render
+
+        try:
+            render(model.map, png, model=model, names=place_display_labels(model, ids=ids),
+                   title=f"learned map ({model_dir}): {len(act)} places")
+        except OSError as exc:
+            raise SpcotmhpError(f"cannot write {png}: {exc.strerror or exc}") from None
+    if as_json:
+        places = [{"id": k, "label": labels[k], "mean": model.mu[k].round(4).tolist(),
+                   "covariance": model.Sigma[k].round(6).tolist()} for k in act]
+        typer.echo(json.dumps({"places": places, "edges": edges}, ensure_ascii=False))
+        return
+    typer.echo(f"{len(act)} places, {len(edges)} edges ((psi_ab + psi_ba) / 2 >= 1/K = {1 / model.K:.3f})")
+    for k in act:
+        sd = np.sqrt(np.linalg.eigvalsh(model.Sigma[k]))
+        nbrs = ", ".join(labels[b if a == k else a] for a, b in edges if k in (a, b))
+        typer.echo(f"{k:3d}  {labels[k]:<16} mean ({model.mu[k][0]:6.2f}, {model.mu[k][1]:6.2f})  "
+                   f"sd {sd[1]:.2f} x {sd[0]:.2f} m  -> {nbrs or '(no edge)'}")
+    if png is not None:
+        typer.echo(f"wrote {png}")
+
+
+def _edges(model: Any) -> list[list[int]]:
+    from spcotmhp.viz.draw import topological_edges
+
+    return [[a, b] for a, b in topological_edges(model)]
+
+
+def register(app: typer.Typer) -> None:
+    """Add the demo commands to ``app``."""
+    app.command()(demo)
+    app.command()(show)
