@@ -34,7 +34,7 @@ class Grammar:
         connectors: phrases that continue the previous role.
         fillers: words that carry no meaning for the parse. English: skipped, and not reported as "not
             understood". Every language: never taken as place words unless a word is some place's best name
-            (:func:`~spcotmhp.planning.instructions.place_vocabulary`).
+            (:func:`~spcotmhp.planning.vocabulary.place_vocabulary`).
         by_character: match on characters (Japanese) instead of whitespace/punctuation-separated words.
     """
 

@@ -15,9 +15,9 @@ from spcotmhp.speech.recogniser import Recogniser, SpeechWarning, cached_recogni
 
 def recognise_for_model(audio: AudioSource, model: Any, nbest: int = 5) -> list[tuple[str, float]]:
     """N-best hypotheses for ``audio`` with the grammar built from ``model``'s place words
-    (:func:`spcotmhp.planning.instructions.place_vocabulary`); pass the result to the planner as the
+    (:func:`spcotmhp.planning.vocabulary.place_vocabulary`); pass the result to the planner as the
     instruction (``HierarchicalPlanner.plan(hypotheses, start)``), which weighs the bags of words by it."""
-    from spcotmhp.planning.instructions import place_vocabulary
+    from spcotmhp.planning.vocabulary import place_vocabulary
 
     return cached_recogniser(tuple(place_vocabulary(model)), "en").recognise(audio, nbest)
 

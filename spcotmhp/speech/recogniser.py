@@ -42,7 +42,7 @@ class Recogniser:
     """A pocketsphinx decoder for one vocabulary (build once, call :meth:`recognise` per utterance; thread-safe).
 
     Args:
-        vocabulary: the place words (e.g. :func:`spcotmhp.planning.instructions.place_vocabulary` of a model).
+        vocabulary: the place words (e.g. :func:`spcotmhp.planning.vocabulary.place_vocabulary` of a model).
         lang: "en" only (the pocketsphinx wheel ships an en-us acoustic model and CMUdict).
         unknown: place words missing from CMUdict: "spell" gives them letter-to-sound pronunciations,
             "error" rejects them with an InstructionError naming each.
