@@ -1,0 +1,68 @@
+"""CLI command of the service area: ``spcotmhp serve MODEL_DIR [NAME=MODEL_DIR ...] [--host] [--port]``."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from spcotmhp.errors import ModelError, SpcotmhpError
+
+LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
+
+
+def model_mapping(items: list[str]) -> dict[str, Path]:
+    """``["a/3LDK_06", "home=b/model"]`` -> {"3LDK_06": a/3LDK_06, "home": b/model}: a model is named by
+    ``NAME=`` or by its folder's name; names must be unique."""
+    out: dict[str, Path] = {}
+    for item in items:
+        match = re.fullmatch(r"([A-Za-z0-9_.-]+)=(.+)", item)
+        name, folder = (match.group(1), Path(match.group(2))) if match else (None, Path(item))
+        if name is None:
+            name = re.sub(r"[^A-Za-z0-9_.-]", "_", folder.resolve().name)[:64] or "model"
+        if name in out:
+            raise ModelError(f"two models are named {name!r} ({out[name]} and {folder}); name them with "
+                             "NAME=MODEL_DIR")
+        out[name] = folder
+    return out
+
+
+def serve(
+    models: Annotated[list[str], typer.Argument(
+        help="Model folders (as written by `spcotmhp learn`), each optionally NAME=FOLDER; the first is the "
+             "default.", metavar="MODEL_DIR...")],
+    host: Annotated[str, typer.Option(help="Interface to listen on (default: this machine only).")] = "127.0.0.1",
+    port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port.")] = 8000,
+    log_level: Annotated[str, typer.Option(help="uvicorn log level (critical, error, warning, info, debug).")]
+    = "info",
+) -> None:
+    """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /."""
+    from rich.console import Console
+
+    from spcotmhp.server import create_app
+
+    try:
+        import uvicorn
+    except ImportError:
+        raise SpcotmhpError("serving needs uvicorn: pip install 'spcotmhp[server]'") from None
+    console = Console(stderr=True)
+    mapping = model_mapping(models)
+    with console.status("loading models") as status:
+        app = create_app(mapping, progress=lambda name: status.update(
+            f"loading model {name!r} and precomputing its planner"))
+    for name, folder in mapping.items():
+        console.print(f"model {name!r}: {folder}")
+    if host not in LOCAL_HOSTS:
+        console.print(f"[yellow]warning: listening on {host}, reachable from other machines; the service has no "
+                      "authentication[/yellow]")
+    shown = f"[{host}]" if ":" in host else host
+    console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: "
+                  "/openapi.json)")
+    uvicorn.run(app, host=host, port=port, log_level=log_level)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the service commands to ``app``."""
+    app.command()(serve)

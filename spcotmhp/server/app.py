@@ -1,0 +1,187 @@
+"""The FastAPI application: plan from text, N-best lists, structured instructions or speech; places and map.
+
+``create_app({"home": "models/3LDK_06"})`` loads every model, precomputes its planner and draws its map at
+start-up (:mod:`spcotmhp.server.registry`); requests pick a model by name (``?model=`` or the body's
+``model``), the first one by default. Bad input is a 4xx with a one-line ``detail`` (see :class:`ErrorResponse`):
+413 for oversized bodies (:mod:`spcotmhp.server.limits`), 404 for an unknown model, 422 for invalid fields, an
+instruction naming no known place (with the known ``place_words``), a start in a wall or off the map, no path,
+or audio that is not a usable WAV file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Annotated, Any
+
+from fastapi import FastAPI, File, Form, Query, Request, UploadFile
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import FileResponse, JSONResponse, Response
+from fastapi.staticfiles import StaticFiles
+
+from spcotmhp import __version__
+from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.server.limits import AUDIO_LIMIT, JSON_LIMIT, BodySizeLimit
+from spcotmhp.server.registry import ServedModel, load_served
+from spcotmhp.server.schemas import (
+    AudioPlanResponse,
+    ErrorResponse,
+    Health,
+    MapInfo,
+    ModelsResponse,
+    PlacesResponse,
+    PlanRequest,
+    PlanResponse,
+)
+
+STATIC = Path(__file__).parent / "static"
+ModelQuery = Annotated[str | None, Query(max_length=200, description="Served model name (default: the first).")]
+ERRORS: dict[int | str, dict[str, Any]] = {code: {"model": ErrorResponse} for code in (404, 413, 422)}
+
+
+class APIError(Exception):
+    """An error answer: HTTP status, one-line message and extra JSON fields."""
+
+    def __init__(self, status: int, detail: str, **extra: Any) -> None:
+        super().__init__(detail)
+        self.status, self.detail, self.extra = status, detail, extra
+
+
+def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_limit: int = JSON_LIMIT,
+               audio_limit: int = AUDIO_LIMIT, progress: Callable[[str], None] | None = None) -> FastAPI:
+    """The service for ``models`` (name -> model folder or model; the first is the default)."""
+    served = load_served(models, progress)
+    default = next(iter(served))
+    app = FastAPI(title="spcotmhp", version=__version__,
+                  description="Hierarchical path planning from spoken or written instructions on learned "
+                              "topometric semantic maps (SpCoTMHP).")
+    app.state.served = served
+    app.add_middleware(BodySizeLimit, default=json_limit, limits={"/plan/audio": audio_limit})
+    _add_error_handlers(app)
+
+    def pick(name: str | None) -> ServedModel:
+        key = default if name is None else name
+        if key not in served:
+            raise APIError(404, f"no model named {key!r}; served: {', '.join(served)}", models=list(served))
+        return served[key]
+
+    @app.get("/", include_in_schema=False)
+    def index() -> FileResponse:
+        return FileResponse(STATIC / "index.html", media_type="text/html")
+
+    app.mount("/static", StaticFiles(directory=STATIC), name="static")
+
+    @app.get("/healthz", response_model=Health, tags=["service"])
+    def healthz() -> dict:
+        """Liveness: the service is up and its models are loaded."""
+        return {"status": "ok", "models": list(served)}
+
+    @app.get("/models", response_model=ModelsResponse, tags=["service"])
+    def list_models() -> dict:
+        """The served models (the default first) with their place words."""
+        return {"default": default, "models": [m.summary() for m in served.values()]}
+
+    @app.get("/places", response_model=PlacesResponse, responses=ERRORS, tags=["map"])
+    def places(model: ModelQuery = None) -> dict:
+        """The learned places (ids, names, labels, means, covariances, picture colours) and topological edges."""
+        return pick(model).places()
+
+    @app.get("/map.png", responses={200: {"content": {"image/png": {}}}, **ERRORS}, tags=["map"],
+             response_class=Response)
+    def map_png(model: ModelQuery = None, frame: bool = Query(False, description="Axes in metres and a title "
+                                                                                  "(not georeferenced).")):
+        """The learned map picture: places as ellipses with names, edges. Without ``frame`` its pixels map
+        linearly onto the extent given by ``GET /map.json``."""
+        sm = pick(model)
+        png = sm.figure_png() if frame else sm.image.png
+        return Response(png, media_type="image/png", headers={"Cache-Control": "max-age=300"})
+
+    @app.get("/map.json", response_model=MapInfo, responses=ERRORS, tags=["map"])
+    def map_json(model: ModelQuery = None) -> dict:
+        """Georeferencing of ``GET /map.png``: pixel (0, 0) is (x0, y1), pixel (width, height) is (x1, y0)."""
+        sm = pick(model)
+        return {"model": sm.name, "image": f"/map.png?model={sm.name}", "extent": sm.image.extent,
+                "width": sm.image.width, "height": sm.image.height, "resolution": sm.model.map.resolution}
+
+    @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
+    def plan(body: PlanRequest, model: ModelQuery = None) -> dict:
+        """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1)."""
+        if model is not None and body.model is not None and model != body.model:
+            raise APIError(422, f"the query names model {model!r} and the body {body.model!r}; give one")
+        return _plan(pick(body.model or model), body.source(), body.start, body.lang)
+
+    @app.post("/plan/audio", response_model=AudioPlanResponse, responses=ERRORS, tags=["planning"])
+    def plan_audio(
+        audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
+        start: Annotated[str, Form(description='Start pose "x,y" or "[x, y]" in metres.')],
+        model: Annotated[str | None, Form(max_length=200)] = None,
+        nbest: Annotated[int, Form(ge=1, le=20, description="Hypotheses to keep.")] = 5,
+    ) -> dict:
+        """Recognise a spoken instruction (pocketsphinx, grammar of the model's place words) and plan from its
+        N-best hypotheses (Eq. 25)."""
+        sm = pick(model)
+        xy = _parse_start(start)
+        try:
+            from spcotmhp.speech import AudioError, cached_recogniser
+        except ImportError:
+            raise APIError(501, "speech input needs pocketsphinx: pip install 'spcotmhp[speech]'") from None
+        data = audio.file.read()
+        try:
+            hypotheses = cached_recogniser(tuple(sm.place_words)).recognise(data, nbest, name=audio.filename)
+        except AudioError as exc:
+            raise APIError(422, str(exc)) from None
+        except InstructionError as exc:
+            raise APIError(422, str(exc), place_words=sm.place_words) from None
+        except SpcotmhpError as exc:
+            raise APIError(501, str(exc)) from None
+        out = _plan(sm, hypotheses, xy, "en")
+        out["hypotheses"] = [{"text": t, "score": s} for t, s in hypotheses]
+        return out
+
+    return app
+
+
+def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None) -> dict:
+    try:
+        result = sm.plan(source, start, lang)
+    except InstructionError as exc:
+        raise APIError(422, str(exc), place_words=sm.place_words) from None
+    except PlanningError as exc:
+        raise APIError(422, str(exc)) from None
+    return {"model": sm.name, **result.to_dict()}
+
+
+def _parse_start(text: str) -> tuple[float, float]:
+    import math
+
+    parts = text.strip().strip("[]()").replace(",", " ").split()
+    try:
+        xy = tuple(float(p) for p in parts)
+    except ValueError:
+        xy = ()
+    if len(xy) != 2 or not all(math.isfinite(v) for v in xy):
+        raise APIError(422, f"start must be two finite numbers \"x,y\" in metres, got {text!r}")
+    return xy  # type: ignore[return-value]
+
+
+def _add_error_handlers(app: FastAPI) -> None:
+    @app.exception_handler(APIError)
+    async def api_error(_: Request, exc: APIError) -> JSONResponse:
+        return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status)
+
+    @app.exception_handler(RequestValidationError)
+    async def invalid(_: Request, exc: RequestValidationError) -> JSONResponse:
+        errors = [_validation_error(e) for e in exc.errors()]
+        detail = "; ".join(f"{e['field']}: {e['msg']}" for e in errors) or "invalid request"
+        return JSONResponse({"detail": detail, "errors": errors}, status_code=422)
+
+
+def _validation_error(e: Mapping[str, Any]) -> dict[str, str]:
+    """One pydantic error as {field, msg}: "start/1", "body" (the whole body), "audio" (a form field)."""
+    loc = [str(p) for p in e.get("loc", ())]
+    msg = str(e.get("msg", "")).removeprefix("Value error, ")
+    if e.get("type") == "json_invalid":
+        where = f" at character {loc[1]}" if len(loc) > 1 else ""
+        return {"field": "body", "msg": f"not valid JSON{where}"}
+    return {"field": "/".join(loc[1:]) or (loc[0] if loc else "request"), "msg": msg}

@@ -1,0 +1,111 @@
+"""The models a service serves: each loaded once, its planner precomputed and its map picture drawn at start-up.
+
+Concurrency: a :class:`~spcotmhp.planning.planner.HierarchicalPlanner` keeps mutable memos in its
+:class:`~spcotmhp.planning.graph.PlanningGraph` (``_paths``, the partial paths extracted so far, and ``_views``,
+the avoidance views, an ``OrderedDict`` that is reordered and trimmed on use), and planners of identical models
+share one cached graph. So :meth:`ServedModel.plan` holds a lock per planning graph (shared by every served model
+using it). A plan takes milliseconds of mostly CPU-bound Python (the GIL would serialise it anyway); requests
+for different models run in parallel, and recognition (the slow part of ``/plan/audio``) runs outside the lock
+(the recogniser has its own).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+import threading
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.planning.plan import Plan
+from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.viz.draw import MapImage, map_image, place_colours, render, topological_edges
+from spcotmhp.viz.labels import place_display_labels
+
+NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
+_GRAPH_LOCKS: dict[str, threading.Lock] = {}      # planning graph key -> the lock of every planner using it
+_LOCKS_GUARD = threading.Lock()
+
+
+@dataclass
+class ServedModel:
+    """One served model: the model, its precomputed planner, display labels and cached pictures."""
+
+    name: str
+    source: str
+    model: SpatialConceptModel
+    planner: HierarchicalPlanner
+    labels: list[str]
+    image: MapImage
+    lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+    _figure: bytes | None = field(default=None, repr=False)
+
+    @classmethod
+    def build(cls, name: str, model: SpatialConceptModel, source: str = "") -> ServedModel:
+        """Precompute the planner (Algorithm 1, lines 1-7) and draw the map picture."""
+        if model.map is None:
+            raise ModelError(f"model {name!r} ({source}) has no map; the service plans on the model's map")
+        planner = HierarchicalPlanner(model)
+        with _LOCKS_GUARD:
+            lock = _GRAPH_LOCKS.setdefault(planner.graph.key, threading.Lock())
+        return cls(name, source, model, planner, place_display_labels(model, planner.place_words),
+                   map_image(model), lock)
+
+    @property
+    def place_words(self) -> list[str]:
+        return list(self.planner.place_words)
+
+    def plan(self, instruction: Any, start: Sequence[float], lang: str | None = None) -> Plan:
+        """Plan under this model's lock (module docstring)."""
+        with self.lock:
+            return self.planner.plan(instruction, start, lang)
+
+    def figure_png(self) -> bytes:
+        """The framed picture of the learned map (axes in metres), drawn on first use."""
+        with self.lock:
+            if self._figure is None:
+                buf = io.BytesIO()
+                render(self.model.map, buf, model=self.model, names=self.labels, title=f"learned map '{self.name}'")
+                self._figure = buf.getvalue()
+            return self._figure
+
+    def places(self) -> dict:
+        """Ids, names, labels, means, covariances and colours of the active places, and the Figure 3 edges."""
+        m = self.model
+        act = [int(k) for k in np.flatnonzero(m.active_places)]
+        colours = dict(zip(act, place_colours(len(act))))
+        names = self.planner.names
+        return {"model": self.name,
+                "places": [{"id": k, "name": names[k], "label": self.labels[k], "mean": m.mu[k].tolist(),
+                            "covariance": m.Sigma[k].tolist(), "colour": colours[k]} for k in act],
+                "edges": topological_edges(m), "place_words": self.place_words}
+
+    def summary(self) -> dict:
+        return {"name": self.name, "source": self.source, "places": int(self.model.active_places.sum()),
+                "place_words": self.place_words, "time_precompute_s": self.planner.graph.time_precompute_s}
+
+
+def load_served(models: Mapping[str, str | Path | SpatialConceptModel],
+                progress: Callable[[str], None] | None = None) -> dict[str, ServedModel]:
+    """Build every served model (name -> model folder or model), in order; the first is the default."""
+    from spcotmhp.learning.io import load_model
+
+    if not models:
+        raise ModelError("no model to serve: give at least one model folder")
+    out: dict[str, ServedModel] = {}
+    for name, item in models.items():
+        if not NAME.fullmatch(name):
+            raise ModelError(f"bad model name {name!r}: use letters, digits, '-', '_' or '.'")
+        if progress is not None:
+            progress(name)
+        if isinstance(item, SpatialConceptModel):
+            out[name] = ServedModel.build(name, item, "(in memory)")
+        else:
+            out[name] = ServedModel.build(name, load_model(item), str(item))
+    return out

@@ -1,0 +1,158 @@
+"""Request and response bodies of the HTTP service (pydantic; they also make its OpenAPI schema)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Word = Annotated[str, Field(min_length=1, max_length=100)]
+Point = tuple[Finite, Finite]
+
+MAX_TEXT = 1000
+MAX_HYPOTHESES = 50
+
+
+class Hypothesis(BaseModel):
+    """One recogniser hypothesis of an N-best list (Eq. 25): its text and score (a log-likelihood or a
+    probability; the planner normalises them)."""
+
+    model_config = ConfigDict(extra="forbid")
+    text: str = Field(min_length=1, max_length=MAX_TEXT)
+    score: Finite
+
+
+class StructuredInstruction(BaseModel):
+    """An instruction already understood: the goal's words, each waypoint's words in order, places to avoid."""
+
+    model_config = ConfigDict(extra="forbid")
+    goal: list[Word] = Field(min_length=1, max_length=20)
+    waypoints: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
+    avoid: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
+
+
+class PlanRequest(BaseModel):
+    """``POST /plan``: exactly one of ``instruction``, ``nbest`` or ``structured``, and the start pose."""
+
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
+        {"instruction": "go to the bedroom via the corridor", "start": [-3.9, -3.5]}]})
+    instruction: str | None = Field(None, min_length=1, max_length=MAX_TEXT,
+                                    description='A sentence, e.g. "go to the bedroom via the corridor".')
+    nbest: list[Hypothesis] | None = Field(None, min_length=1, max_length=MAX_HYPOTHESES,
+                                           description="Recogniser hypotheses, weighed as bags of words (Eq. 25).")
+    structured: StructuredInstruction | None = None
+    start: Point = Field(description="Start pose [x, y] in metres, map frame.")
+    model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
+    lang: Literal["en", "ja"] | None = Field(None, description="Instruction language (default: detected).")
+
+    @model_validator(mode="after")
+    def _one_instruction(self) -> PlanRequest:
+        given = [k for k in ("instruction", "nbest", "structured") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of 'instruction', 'nbest' or 'structured'"
+                             + (f" (got {', '.join(given)})" if given else ""))
+        return self
+
+    def source(self) -> str | list[tuple[str, float]] | dict:
+        """What the planner takes (a sentence, [(text, score)] or a structured mapping)."""
+        if self.nbest is not None:
+            return [(h.text, h.score) for h in self.nbest]
+        if self.structured is not None:
+            return self.structured.model_dump()
+        return str(self.instruction)
+
+
+class PlanPlaceOut(BaseModel):
+    id: int
+    name: str
+    role: Literal["start", "via", "waypoint", "goal"]
+    label: str
+    point: Point | None
+
+
+class InstructionOut(BaseModel):
+    text: str | None
+    goal: dict[str, float]
+    waypoints: list[dict[str, float]]
+    avoid: list[dict[str, float]]
+
+
+class GoalOptionOut(BaseModel):
+    id: int
+    label: str
+    length_m: float
+    log_prob: float
+
+
+class PlanResponse(BaseModel):
+    """A plan (``Plan.to_dict()``) and the model that made it."""
+
+    model: str
+    path: list[Point] = Field(description="[x, y] metres from the start to the goal.")
+    places: list[PlanPlaceOut]
+    length_m: float
+    log_prob: float
+    time_online_s: float
+    time_precompute_s: float
+    explanation: str
+    instruction: InstructionOut
+    goal_options: list[GoalOptionOut]
+
+
+class AudioPlanResponse(PlanResponse):
+    """A plan from speech, with the recognised hypotheses it was planned from."""
+
+    hypotheses: list[Hypothesis]
+
+
+class PlaceOut(BaseModel):
+    id: int
+    name: str
+    label: str = Field(description='Unique display label, e.g. "bedroom #2".')
+    mean: Point
+    covariance: tuple[Point, Point]
+    colour: str
+
+
+class PlacesResponse(BaseModel):
+    model: str
+    places: list[PlaceOut]
+    edges: list[tuple[int, int]] = Field(description="Place pairs with (psi_ab + psi_ba) / 2 >= 1/K (Fig. 3).")
+    place_words: list[str]
+
+
+class MapInfo(BaseModel):
+    """How ``GET /map.png`` maps onto the map frame: pixel (0, 0) is (x0, y1), pixel (width, height) is (x1, y0)."""
+
+    model: str
+    image: str
+    extent: tuple[float, float, float, float] = Field(description="[x0, x1, y0, y1] metres.")
+    width: int
+    height: int
+    resolution: float
+
+
+class ModelOut(BaseModel):
+    name: str
+    source: str
+    places: int
+    place_words: list[str]
+    time_precompute_s: float
+
+
+class ModelsResponse(BaseModel):
+    default: str
+    models: list[ModelOut]
+
+
+class Health(BaseModel):
+    status: Literal["ok"]
+    models: list[str]
+
+
+class ErrorResponse(BaseModel):
+    """Every 4xx/5xx answer: a one-line message, plus details where useful (known place words, models)."""
+
+    model_config = ConfigDict(extra="allow")
+    detail: str

@@ -1,0 +1,151 @@
+// SpCoTMHP web page: the learned map (GET /map.png, georeferenced by GET /map.json), click to set the start,
+// plan from text (POST /plan) or a WAV file (POST /plan/audio), draw the path as an SVG overlay.
+"use strict";
+
+const SVG = "http://www.w3.org/2000/svg";
+const $ = (id) => document.getElementById(id);
+const state = { model: null, info: null, start: null };
+
+function toPixel([x, y]) {
+  const [x0, x1, y0, y1] = state.info.extent;
+  return [(x - x0) / (x1 - x0) * state.info.width, (y1 - y) / (y1 - y0) * state.info.height];
+}
+
+function toWorld(px, py) {
+  const [x0, x1, y0, y1] = state.info.extent;
+  return [x0 + px / state.info.width * (x1 - x0), y1 - py / state.info.height * (y1 - y0)];
+}
+
+function svgEl(tag, attrs) {
+  const el = document.createElementNS(SVG, tag);
+  for (const [k, v] of Object.entries(attrs)) el.setAttribute(k, v);
+  return el;
+}
+
+function showError(message) { $("error").textContent = message || ""; }
+
+async function getJSON(url, options) {
+  const response = await fetch(url, options);
+  let body = null;
+  try { body = await response.json(); } catch (e) { body = null; }
+  if (!response.ok) {
+    let message = (body && body.detail) || `${response.status} ${response.statusText}`;
+    throw new Error(message);
+  }
+  return body;
+}
+
+function clearLayer(id) {
+  const old = $(id);
+  if (old) old.remove();
+}
+
+function drawStart() {
+  clearLayer("start-mark");
+  if (!state.start) return;
+  const [px, py] = toPixel(state.start);
+  const g = svgEl("g", { id: "start-mark" });
+  g.appendChild(svgEl("circle", { cx: px, cy: py, r: 9, fill: "#00a651", stroke: "#fff", "stroke-width": 2.5 }));
+  $("overlay").appendChild(g);
+  $("start").textContent = `Start: (${state.start[0].toFixed(2)}, ${state.start[1].toFixed(2)}) m`;
+}
+
+function drawPlan(plan) {
+  clearLayer("plan-layer");
+  const g = svgEl("g", { id: "plan-layer" });
+  const points = plan.path.map((p) => toPixel(p).map((v) => v.toFixed(1)).join(",")).join(" ");
+  g.appendChild(svgEl("polyline", { points, fill: "none", stroke: "#fff", "stroke-width": 7, "stroke-linejoin": "round" }));
+  g.appendChild(svgEl("polyline", { id: "path", points, fill: "none", stroke: "#d00000", "stroke-width": 4,
+                                    "stroke-linejoin": "round", "data-points": plan.path.length }));
+  for (const place of plan.places) {
+    if (!place.point || (place.role !== "waypoint" && place.role !== "goal")) continue;
+    const [px, py] = toPixel(place.point);
+    const colour = place.role === "goal" ? "#d00000" : "#6a3d9a";
+    const mark = svgEl("circle", { class: `mark ${place.role}`, cx: px, cy: py, r: place.role === "goal" ? 10 : 8,
+                                   fill: colour, stroke: "#fff", "stroke-width": 2.5 });
+    const title = svgEl("title", {});
+    title.textContent = `${place.role}: ${place.label}`;
+    mark.appendChild(title);
+    g.appendChild(mark);
+  }
+  $("overlay").insertBefore(g, $("start-mark"));
+  $("explanation").textContent = plan.explanation;
+}
+
+async function loadModel(name) {
+  state.model = name;
+  state.info = await getJSON(`/map.json?model=${encodeURIComponent(name)}`);
+  const overlay = $("overlay");
+  overlay.setAttribute("viewBox", `0 0 ${state.info.width} ${state.info.height}`);
+  overlay.replaceChildren();
+  $("map").src = state.info.image;
+  $("explanation").textContent = "";
+  $("hypotheses").textContent = "";
+  const places = await getJSON(`/places?model=${encodeURIComponent(name)}`);
+  $("words").textContent = `Known place words: ${places.place_words.join(", ")}`;
+  state.start = null;
+  $("start").textContent = "Start: not set (click on the map)";
+  overlay.dataset.ready = "1";
+}
+
+function onMapClick(event) {
+  if (!state.info) return;
+  const box = $("overlay").getBoundingClientRect();
+  const px = (event.clientX - box.left) / box.width * state.info.width;
+  const py = (event.clientY - box.top) / box.height * state.info.height;
+  state.start = toWorld(px, py);
+  showError("");
+  drawStart();
+}
+
+function needStart() {
+  if (state.start) return false;
+  showError("Click on the map to set the start first.");
+  return true;
+}
+
+async function planText(event) {
+  event.preventDefault();
+  if (needStart()) return;
+  showError("");
+  const body = { instruction: $("instruction").value, start: state.start, model: state.model };
+  try {
+    const plan = await getJSON("/plan", { method: "POST", headers: { "Content-Type": "application/json" },
+                                          body: JSON.stringify(body) });
+    $("hypotheses").textContent = "";
+    drawPlan(plan);
+  } catch (err) { showError(err.message); }
+}
+
+async function planAudio(event) {
+  event.preventDefault();
+  if (needStart()) return;
+  const file = $("wav").files[0];
+  if (!file) { showError("Choose a WAV file first."); return; }
+  showError("");
+  const form = new FormData();
+  form.append("audio", file);
+  form.append("start", state.start.join(","));
+  form.append("model", state.model);
+  try {
+    const plan = await getJSON("/plan/audio", { method: "POST", body: form });
+    $("hypotheses").textContent = "Heard: " + plan.hypotheses.map((h) => `"${h.text}" (${h.score.toFixed(2)})`).join(", ");
+    drawPlan(plan);
+  } catch (err) { showError(err.message); }
+}
+
+async function main() {
+  $("overlay").addEventListener("click", onMapClick);
+  $("text-form").addEventListener("submit", planText);
+  $("audio-form").addEventListener("submit", planAudio);
+  try {
+    const models = await getJSON("/models");
+    const select = $("model");
+    for (const m of models.models) select.appendChild(new Option(`${m.name} (${m.places} places)`, m.name));
+    select.value = models.default;
+    select.addEventListener("change", () => loadModel(select.value).catch((e) => showError(e.message)));
+    await loadModel(models.default);
+  } catch (err) { showError(err.message); }
+}
+
+main();

@@ -1,0 +1,88 @@
+"""Helpers shared by the service tests (importable, no pytest fixtures): model folders of the bundled homes
+(supervised fits, fast and deterministic), a start pose, free ports and a `spcotmhp serve` process."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import time
+import warnings
+from pathlib import Path
+from typing import Self
+
+import httpx
+import numpy as np
+
+from spcotmhp.datasets import load_bundled
+from spcotmhp.learning.io import save_model
+from spcotmhp.learning.supervised import fit_supervised
+
+INSTRUCTION = "go to the bedroom via the corridor"
+
+
+def supervised_model_dir(home: str, folder: Path) -> Path:
+    """The supervised fit of a bundled home, saved to ``folder``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = load_bundled(home, lang="en")
+    return save_model(fit_supervised(data), folder)
+
+
+def start_near(model, place: str = "entrance") -> list[float]:
+    """The demo's start: the free cell nearest the place's mean."""
+    from spcotmhp.commands.demo import demo_start
+    from spcotmhp.planning.planner import HierarchicalPlanner
+
+    xy, _ = demo_start(HierarchicalPlanner(model), place)
+    return [float(v) for v in xy]
+
+
+def wall_point(model) -> list[float]:
+    """A map-frame point in an occupied cell."""
+    rows, cols = np.nonzero(model.map.occupied)
+    return [float(v) for v in model.map.cell_to_world(np.array([rows[len(rows) // 2], cols[len(cols) // 2]]))]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+class ServerProcess:
+    """``spcotmhp serve ARGS --port P`` in a subprocess, ready when /healthz answers; a context manager."""
+
+    def __init__(self, args: list[str], timeout: float = 120.0) -> None:
+        self.args, self.timeout = args, timeout
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.proc: subprocess.Popen | None = None
+
+    def __enter__(self) -> Self:
+        cmd = [sys.executable, "-m", "spcotmhp.cli", "serve", *self.args, "--port", str(self.port),
+               "--log-level", "warning"]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                     env={**os.environ, "PYTHONUNBUFFERED": "1"})
+        deadline = time.monotonic() + self.timeout
+        while time.monotonic() < deadline:
+            if self.proc.poll() is not None:
+                raise RuntimeError(f"spcotmhp serve exited with {self.proc.returncode}:\n{self.proc.stdout.read()}")
+            try:
+                if httpx.get(self.url + "/healthz", timeout=1.0).status_code == 200:
+                    return self
+            except httpx.HTTPError:
+                pass
+            time.sleep(0.2)
+        self.__exit__()
+        raise RuntimeError(f"spcotmhp serve did not answer on {self.url} within {self.timeout} s")
+
+    def __exit__(self, *exc: object) -> None:
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()

@@ -1,0 +1,96 @@
+"""The web page end to end in headless Chromium (Debian `chromium` driven by Playwright): click a start on the
+map, submit "go to the bedroom via the corridor", see the path and the explanation.
+
+Skips only when Playwright or the chromium executable is missing (`make system-deps` installs chromium)."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from server_fixtures import INSTRUCTION, ServerProcess, start_near, supervised_model_dir
+
+from spcotmhp.learning.io import load_model
+
+sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (extra 'dev')")
+CHROMIUM = next((p for p in (shutil.which("chromium"), shutil.which("chromium-browser"), "/usr/bin/chromium")
+                 if p and Path(p).is_file()), None)
+if CHROMIUM is None:
+    pytest.skip("chromium is not installed (apt-get install chromium; `make system-deps` does it)",
+                allow_module_level=True)
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    model_dir = supervised_model_dir("3LDK_06", tmp_path_factory.mktemp("web") / "3LDK_06")
+    with ServerProcess([f"home={model_dir}"]) as srv:
+        srv.model = load_model(model_dir)
+        yield srv
+
+
+@pytest.fixture()
+def page(tmp_path):
+    with sync_api.sync_playwright() as pw:
+        browser = pw.chromium.launch_persistent_context(str(tmp_path / "profile"), executable_path=CHROMIUM,
+                                                        headless=True, args=ARGS,
+                                                        viewport={"width": 1280, "height": 1000})
+        try:
+            pg = browser.new_page()
+            errors: list[str] = []
+            pg.on("pageerror", lambda exc: errors.append(str(exc)))
+            pg.errors = errors
+            yield pg
+        finally:
+            browser.close()
+
+
+def click_world(page, xy):
+    """Click the map at map-frame point ``xy`` (the page's own georeferencing: GET /map.json)."""
+    info = page.evaluate("fetch('/map.json').then(r => r.json())")
+    x0, x1, y0, y1 = info["extent"]
+    box = page.locator("#overlay").bounding_box()
+    page.mouse.click(box["x"] + (xy[0] - x0) / (x1 - x0) * box["width"],
+                     box["y"] + (y1 - xy[1]) / (y1 - y0) * box["height"])
+
+
+def test_click_start_plan_and_see_the_path(server, page):
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    page.wait_for_function("document.getElementById('map').complete && "
+                           "document.getElementById('map').naturalWidth > 0")
+    assert "corridor" in page.text_content("#words")
+    start = start_near(server.model)
+    click_world(page, start)
+    assert _close(page.text_content("#start"), start)
+    page.fill("#instruction", INSTRUCTION)
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    points = page.get_attribute("#path", "points").split()
+    assert len(points) > 2
+    explanation = page.text_content("#explanation")
+    assert "corridor (waypoint)" in explanation and "bedroom" in explanation
+    assert page.locator("circle.mark.goal").count() == 1 and page.locator("circle.mark.waypoint").count() == 1
+    assert page.text_content("#error") == ""
+    assert page.errors == []
+
+
+def test_unknown_word_shows_the_message(server, page):
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    page.click("#plan-button")
+    assert page.text_content("#error") == "Click on the map to set the start first."
+    click_world(page, start_near(server.model))
+    page.fill("#instruction", "go to the garage")
+    page.click("#plan-button")
+    page.wait_for_function("document.getElementById('error').textContent.length > 0")
+    assert page.text_content("#error").startswith("no known place word in 'go to the garage'")
+    assert page.locator("#path").count() == 0
+
+
+def _close(shown: str, start: list[float]) -> bool:
+    """The click lands on a pixel: the shown start is within a pixel (< 0.05 m at 60 px/m) of the target."""
+    x, y = (float(v) for v in shown.removeprefix("Start: (").removesuffix(") m").split(", "))
+    return abs(x - start[0]) < 0.05 and abs(y - start[1]) < 0.05
