@@ -244,6 +244,11 @@ def test_audio_that_is_not_a_wav_file_or_a_bad_start_is_422(client):
     assert r.status_code == 422 and r.json()["detail"] == "start must be two finite numbers \"x,y\" in metres, got 'here'"
     r = client.post("/plan/audio", data={"start": "0,0"})
     assert r.status_code == 422 and r.json()["detail"] == "audio: Field required"
+    r = client.post("/plan/audio?model=zz", files={"audio": ("a.wav", b"RIFF", "audio/wav")}, data={"start": "0,0"})
+    assert r.status_code == 404 and r.json()["models"] == ["home6", "home1"]
+    r = client.post("/plan/audio?model=home1", files={"audio": ("a.wav", b"RIFF", "audio/wav")},
+                    data={"start": "0,0", "model": "home6"})
+    assert r.status_code == 422 and r.json()["detail"] == "the query names model 'home1' and the body 'home6'; give one"
 
 
 def test_spoken_instruction_plans_via_the_corridor(client, start):

@@ -23,7 +23,7 @@ from spcotmhp.viz.draw import (
     topological_edges,
     used_extent,
 )
-from spcotmhp.viz.labels import arrange_labels, place_display_labels
+from spcotmhp.viz.labels import arrange_labels, drawable, font_families, place_display_labels
 from spcotmhp.viz.plan import draw_plan, plan_marks
 
 
@@ -55,6 +55,12 @@ def test_labels_agree_with_the_plan(home):
     assert [p.id for p in plan.places] == [2, 3, 1, 0]
     assert [labels[p.id] for p in plan.places] == [p.label for p in plan.places]
     assert "bedroom #2 -> corridor (waypoint) -> bedroom #1" in plan.explanation
+
+
+def test_labels_no_font_can_draw_become_place_ids():
+    # U+0378 is unassigned in Unicode: no font has it. Plain text and spaces are kept.
+    assert drawable(["bedroom #1", "\u0378\u0378", "living room"]) == ["bedroom #1", "place 1", "living room"]
+    assert font_families()[0] == "DejaVu Sans"
 
 
 def test_edges_are_the_figure_3_rule_on_the_planners_graph(home):

@@ -6,6 +6,7 @@ Skips only when Playwright or the chromium executable is missing (`make system-d
 from __future__ import annotations
 
 import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -88,6 +89,26 @@ def test_unknown_word_shows_the_message(server, page):
     page.wait_for_function("document.getElementById('error').textContent.length > 0")
     assert page.text_content("#error").startswith("no known place word in 'go to the garage'")
     assert page.locator("#path").count() == 0
+
+
+def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
+    pytest.importorskip("pocketsphinx", reason="speech needs pocketsphinx (extra 'speech')")
+    espeak = shutil.which("espeak-ng")
+    if espeak is None:
+        pytest.skip("espeak-ng is not installed (apt-get install espeak-ng; `make system-deps` does it)")
+    wav = tmp_path / "say.wav"
+    wav.write_bytes(subprocess.run([espeak, "-v", "en-us", "--stdout", INSTRUCTION], capture_output=True,
+                                   check=True).stdout)
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, start_near(server.model))
+    page.set_input_files("#wav", str(wav))
+    page.click("#audio-button")
+    page.wait_for_selector("#path")
+    assert len(page.get_attribute("#path", "points").split()) > 2
+    assert page.text_content("#hypotheses").startswith(f'Heard: "{INSTRUCTION}"')
+    assert "corridor (waypoint)" in page.text_content("#explanation")
+    assert page.errors == []
 
 
 def _close(shown: str, start: list[float]) -> bool:

@@ -66,7 +66,7 @@ def learn_demo_model(dataset: Any, instruction: str, seed: int, runs: int, itera
 
     if supervised:
         return DemoModel(fit_supervised(dataset), "supervised fit (truth labels)", "asked for with --supervised")
-    task = bar.add_task(f"learning {dataset.name} (Gibbs sampling)", total=runs * iterations)
+    task = bar.add_task(f"learning {dataset.name}", total=runs * iterations)
     sel = MultiRunSelector(SpCoTMHP(iterations=iterations, seed=seed), runs=runs).fit(
         dataset, progress=lambda n: bar.advance(task, n))
     model = sel.model_
@@ -137,7 +137,7 @@ def demo(
             data = load_dataset_arg(home, lang)
         chosen = learn_demo_model(data, instruction, seed, runs, iterations, bar, supervised)
         model = chosen.model
-        with _step(bar, "precomputing the planning graph (Algorithm 1, lines 1-7)"):
+        with _step(bar, "precomputing the planner"):
             planner = HierarchicalPlanner(model)
         if start is None:
             x0, start_label = demo_start(planner, start_place)
@@ -145,7 +145,7 @@ def demo(
             x0, start_label = np.asarray(start, dtype=float), "given"
         with _step(bar, "planning"):
             plan = planner.plan(instruction, x0, lang=lang)
-        with _step(bar, "drawing and saving"):
+        with _step(bar, "drawing"):
             try:
                 out.mkdir(parents=True, exist_ok=True)
                 model_dir = save_model(model, out / "model")
@@ -165,7 +165,7 @@ def demo(
                f"{plan.time_online_s * 1e3:.1f} ms, demo {time.perf_counter() - t0:.1f} s in all")
     typer.echo(f"wrote:       {plan_png} (the plan), {map_png} (the learned map), {out / 'plan.json'}, "
                f"{model_dir}/ (the model)")
-    typer.echo(f"next:        spcotmhp serve {model_dir}   # then open http://127.0.0.1:8000/")
+    typer.echo(f"next:        spcotmhp serve {model_dir}   # extra 'server'; then open http://127.0.0.1:8000/")
 
 
 def show(

@@ -107,9 +107,7 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
     @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
     def plan(body: PlanRequest, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1)."""
-        if model is not None and body.model is not None and model != body.model:
-            raise APIError(422, f"the query names model {model!r} and the body {body.model!r}; give one")
-        return _plan(pick(body.model or model), body.source(), body.start, body.lang)
+        return _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang)
 
     @app.post("/plan/audio", response_model=AudioPlanResponse, responses=ERRORS, tags=["planning"])
     def plan_audio(
@@ -117,10 +115,11 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
         start: Annotated[str, Form(description='Start pose "x,y" or "[x, y]" in metres.')],
         model: Annotated[str | None, Form(max_length=200)] = None,
         nbest: Annotated[int, Form(ge=1, le=20, description="Hypotheses to keep.")] = 5,
+        query_model: Annotated[str | None, Query(alias="model", max_length=200)] = None,
     ) -> dict:
         """Recognise a spoken instruction (pocketsphinx, grammar of the model's place words) and plan from its
         N-best hypotheses (Eq. 25)."""
-        sm = pick(model)
+        sm = pick(_one_model(query_model, model))
         xy = _parse_start(start)
         try:
             from spcotmhp.speech import AudioError, cached_recogniser
@@ -140,6 +139,13 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
         return out
 
     return app
+
+
+def _one_model(query: str | None, body: str | None) -> str | None:
+    """The model named by the query or the body (the default when neither; an error when they differ)."""
+    if query is not None and body is not None and query != body:
+        raise APIError(422, f"the query names model {query!r} and the body {body!r}; give one")
+    return body if body is not None else query
 
 
 def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None) -> dict:

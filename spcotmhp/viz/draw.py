@@ -26,7 +26,7 @@ from matplotlib.text import Annotation
 
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.maps import OccupancyMap
-from spcotmhp.viz.labels import arrange_labels, place_display_labels
+from spcotmhp.viz.labels import arrange_labels, drawable, font_families, place_display_labels
 
 # Saturated, mutually distinct place colours; no red (the path's colour) and no grey/black (walls, unknown).
 PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
@@ -86,7 +86,7 @@ def draw_places(ax: Axes, model: SpatialConceptModel, names: Sequence[str] | Non
     """Each active place's Gaussian as an n_std-sigma ellipse labelled with its name (default: the planner's
     labels, :func:`place_display_labels`), plus the edges; returns the label annotations (for
     :func:`arrange_labels`)."""
-    names = list(names) if names is not None else place_display_labels(model)
+    names = drawable(list(names) if names is not None else place_display_labels(model))
     act = np.flatnonzero(model.active_places)
     colours = place_colours(len(act))
     if edges:
@@ -103,7 +103,8 @@ def draw_places(ax: Axes, model: SpatialConceptModel, names: Sequence[str] | Non
         ax.add_patch(Ellipse(model.mu[k], width, height, angle=angle, fill=False, edgecolor=c, lw=1.6, zorder=3))
         ax.plot(*model.mu[k], "o", color=c, ms=4.5, mec="white", mew=0.8, zorder=4)
         labels.append(ax.annotate(names[k], model.mu[k], xytext=(5, 5), textcoords="offset points",
-                                  fontsize=fontsize, color="#111111", zorder=8, annotation_clip=False,
+                                  fontsize=fontsize, family=list(font_families()), color="#111111", zorder=8,
+                                  annotation_clip=False,
                                   bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": c, "lw": 1.2, "alpha": 0.9}))
     return labels
 

@@ -12,6 +12,7 @@ the axes.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import lru_cache
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -42,6 +43,37 @@ def place_display_labels(model: SpatialConceptModel, place_words: Sequence[str] 
         label = PlanPlace(k, names[k], "", same.index(k) + 1, len(same)).label
         out[k] = f"{label} ({k})" if ids else label
     return out
+
+
+_CJK_FAMILIES = ("Noto Sans CJK JP", "Noto Sans JP", "IPAexGothic", "IPAGothic", "TakaoGothic", "Hiragino Sans",
+                 "Yu Gothic", "MS Gothic", "Droid Sans Fallback", "WenQuanYi Zen Hei")
+
+
+@lru_cache(maxsize=1)
+def font_families() -> tuple[str, ...]:
+    """The label fonts, in fallback order: DejaVu Sans (matplotlib's own), then any installed Japanese font."""
+    from matplotlib import font_manager
+
+    installed = {f.name for f in font_manager.fontManager.ttflist}
+    return ("DejaVu Sans",) + tuple(f for f in _CJK_FAMILIES if f in installed)
+
+
+@lru_cache(maxsize=1)
+def _fonts() -> tuple:
+    from matplotlib import font_manager
+    from matplotlib.ft2font import FT2Font
+
+    paths = {font_manager.findfont(font_manager.FontProperties(family=f), fallback_to_default=True)
+             for f in font_families()}
+    return tuple(FT2Font(p) for p in sorted(paths))
+
+
+def drawable(labels: Sequence[str]) -> list[str]:
+    """``labels`` with every label that no installed font can draw (e.g. Japanese names on a machine without a
+    Japanese font) replaced by "place k", so a picture never shows empty boxes; the names stay in the JSON."""
+    fonts = _fonts()
+    return [lab if all(c.isspace() or any(f.get_char_index(ord(c)) for f in fonts) for c in lab) else f"place {k}"
+            for k, lab in enumerate(labels)]
 
 
 def _alignment(dx: float, dy: float) -> tuple[str, str]:
