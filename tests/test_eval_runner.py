@@ -152,3 +152,30 @@ def test_markdown_tables_put_paper_rows_beside_ours():
     assert sum(" paper " in ln for ln in lines) == len(PAPER["advanced"])
     basic = markdown_table("basic", {})
     assert "| SpCoNavi (Viterbi) | paper | 0.976 | 0.965 |  | 2,680 s |  |" in basic
+
+
+def test_home_without_adjacency_uses_the_map_connectivity_rule():
+    from spcotmhp.datasets.synthetic import generate_environment
+    from spcotmhp.learning.connectivity import map_adjacency
+    from spcotmhp.learning.supervised import fit_supervised
+
+    ds = generate_environment("house", seed=4)
+    ds.adjacency = None
+    ctx = build_context(ds, "supervised", seed=0)
+    assert ctx.adjacency_source == "connectivity from the map (no adjacency.csv)"
+    np.testing.assert_array_equal(ctx.adjacency, map_adjacency(fit_supervised(ds, adjacency="map"), ds.map))
+    res = evaluate([ds], "basic", ["spcotmhp", "hpp2"], max_tasks=3, workers=1, quiet=True)
+    assert res["notes"][ds.name]["adjacency"] == "connectivity from the map (no adjacency.csv)"
+    assert res["mean"]["spcotmhp"]["n_tasks"] == 3
+
+
+def test_scale_benchmark_runs_on_a_small_office(capsys):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("scale", Path(__file__).parents[1] / "benchmarks" / "scale.py")
+    scale = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(scale)
+    assert scale.main(["--rooms", "6", "--size", "200", "--queries", "4"]) == 0
+    out = capsys.readouterr().out
+    assert "| precompute (planning graph) |" in out and "| plan, median / p95 |" in out
+    assert "| failed plans | 0 of 4 |" in out

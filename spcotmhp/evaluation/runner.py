@@ -118,7 +118,9 @@ def run_local(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], s
             advance(len(part))
         return out
     out = []
-    mp = multiprocessing.get_context("spawn")
+    # fork where the platform has it: workers inherit the loaded modules and compiled kernels (no re-import,
+    # nothing read from disk again); spawn elsewhere. The kernels run no threads of their own.
+    mp = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
     with ProcessPoolExecutor(max_workers=min(workers, len(parts)), mp_context=mp,
                              initializer=_init_worker, initargs=(ctx, parts[0][0], list(methods))) as pool:
         futures = {pool.submit(_pool_chunk, part, list(methods), seed): len(part) for part in parts}
