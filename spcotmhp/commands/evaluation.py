@@ -78,7 +78,7 @@ def _print_result(result: dict) -> None:
         console.print(table)
     for home, note in result["notes"].items():
         extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
-        console.print(f"{home}: adjacency from {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
+        console.print(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
                       f"{extra}")
 
 
