@@ -289,9 +289,28 @@ def test_concurrent_plans_equal_sequential_ones(model6, start):
     assert got == want
 
 
-def test_identical_models_share_one_lock(model6):
+def test_identical_models_share_one_lock_and_worker(model6):
     a, b = ServedModel.build("a", model6), ServedModel.build("b", model6)
-    assert a.lock is b.lock
+    assert a.lock is b.lock and a.worker is b.worker
+
+
+def test_async_plans_run_on_the_graphs_worker_thread(model6, start, monkeypatch):
+    import asyncio
+
+    served = ServedModel.build("w", model6)
+    threads = []
+    plan_once = served.planner.plan
+
+    def recording(*args, **kwargs):
+        threads.append((threading.current_thread().name, served.lock.locked()))
+        return plan_once(*args, **kwargs)
+
+    monkeypatch.setattr(served.planner, "plan", recording)
+    result = asyncio.run(served.plan_async(INSTRUCTION, start))
+    assert "corridor (waypoint)" in result.explanation
+    assert len(threads) == 1
+    name, locked = threads[0]
+    assert name.startswith("plan-") and name != threading.main_thread().name and locked
 
 
 def test_registry_rejects_bad_names_and_no_models(model6, tmp_path):

@@ -18,6 +18,7 @@ from fastapi import FastAPI, File, Form, Query, Request, UploadFile
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
+from starlette.concurrency import run_in_threadpool
 
 from spcotmhp import __version__
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
@@ -105,12 +106,12 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
                 "width": sm.image.width, "height": sm.image.height, "resolution": sm.model.map.resolution}
 
     @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
-    def plan(body: PlanRequest, model: ModelQuery = None) -> dict:
+    async def plan(body: PlanRequest, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1)."""
-        return _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang)
+        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang)
 
     @app.post("/plan/audio", response_model=AudioPlanResponse, responses=ERRORS, tags=["planning"])
-    def plan_audio(
+    async def plan_audio(
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
         start: Annotated[str, Form(description='Start pose "x,y" or "[x, y]" in metres.')],
         model: Annotated[str | None, Form(max_length=200)] = None,
@@ -125,16 +126,17 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
             from spcotmhp.speech import AudioError, cached_recogniser
         except ImportError:
             raise APIError(501, "speech input needs pocketsphinx: pip install 'spcotmhp[speech]'") from None
-        data = audio.file.read()
+        data = await audio.read()
         try:
-            hypotheses = cached_recogniser(tuple(sm.place_words)).recognise(data, nbest, name=audio.filename)
+            recogniser = await run_in_threadpool(cached_recogniser, tuple(sm.place_words))
+            hypotheses = await run_in_threadpool(recogniser.recognise, data, nbest, audio.filename)
         except AudioError as exc:
             raise APIError(422, str(exc)) from None
         except InstructionError as exc:
             raise APIError(422, str(exc), place_words=sm.place_words) from None
         except SpcotmhpError as exc:
             raise APIError(501, str(exc)) from None
-        out = _plan(sm, hypotheses, xy, "en")
+        out = await _plan(sm, hypotheses, xy, "en")
         out["hypotheses"] = [{"text": t, "score": s} for t, s in hypotheses]
         return out
 
@@ -148,9 +150,9 @@ def _one_model(query: str | None, body: str | None) -> str | None:
     return body if body is not None else query
 
 
-def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None) -> dict:
+async def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None) -> dict:
     try:
-        result = sm.plan(source, start, lang)
+        result = await sm.plan_async(source, start, lang)
     except InstructionError as exc:
         raise APIError(422, str(exc), place_words=sm.place_words) from None
     except PlanningError as exc:
