@@ -45,7 +45,7 @@ function drawStart() {
   if (!state.start) return;
   const [px, py] = toPixel(state.start);
   const g = svgEl("g", { id: "start-mark" });
-  g.appendChild(svgEl("circle", { cx: px, cy: py, r: 9, fill: "#00a651", stroke: "#fff", "stroke-width": 2.5 }));
+  g.appendChild(svgEl("circle", { cx: px, cy: py, r: 7, fill: "#00a651", stroke: "#fff", "stroke-width": 2 }));
   $("overlay").appendChild(g);
   $("start").textContent = `Start: (${state.start[0].toFixed(2)}, ${state.start[1].toFixed(2)}) m`;
 }
