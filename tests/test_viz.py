@@ -13,6 +13,7 @@ import pytest
 from PIL import Image
 from planning_fixtures import home_log_p, home_model, world
 
+from spcotmhp.datasets import load_bundled
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.viz.draw import (
     PALETTE,
@@ -166,3 +167,42 @@ def test_plan_figure_marks_start_waypoint_and_goal(home, tmp_path):
     np.testing.assert_allclose(marks[2][0], plan.goal.point)
     out = draw_plan(plan, model, tmp_path / "plan.png", dpi=60)
     assert Image.open(out).format == "PNG"
+
+
+def test_japanese_names_are_drawn_with_the_bundled_font(tmp_path):
+    """matplotlib-fontja (a dependency) ships IPAexGothic: Japanese place names are drawn, not replaced."""
+    import warnings
+
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.viz.draw import render
+
+    assert "IPAexGothic" in font_families()
+    names = ["きゅうけいじょ", "しろいたな #2"]
+    assert drawable(names) == names
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fit_supervised(load_bundled("albert-b", lang="ja"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        render(model.map, tmp_path / "ja.png", model=model, title="しろいたな を とおって きゅうけいじょ")
+    missing = [str(w.message) for w in caught if "missing from font" in str(w.message)]
+    assert missing == []
+    assert (tmp_path / "ja.png").stat().st_size > 10_000
+
+
+def test_picture_is_cropped_to_the_places_not_the_laser_rays():
+    """albert-b's map has free laser rays far beyond the building; the picture keeps to the places."""
+    import warnings
+
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.viz.draw import focus_points, used_extent
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fit_supervised(load_bundled("albert-b", lang="ja"))
+    known = used_extent(model.map)
+    focused = used_extent(model.map, focus=focus_points(model))
+    assert focused[1] - focused[0] < known[1] - known[0]
+    act = model.active_places
+    assert focused[0] <= model.mu[act, 0].min() and model.mu[act, 0].max() <= focused[1]
+    assert focused[2] <= model.mu[act, 1].min() and model.mu[act, 1].max() <= focused[3]

@@ -58,18 +58,40 @@ def draw_map(ax: Axes, occ_map: OccupancyMap) -> None:
     ax.set_aspect("equal")
 
 
-def used_extent(occ_map: OccupancyMap, margin_m: float = 1.0) -> tuple[float, float, float, float]:
-    """Bounding box (x0, x1, y0, y1) of the known (non-unknown) part of the map plus a margin, in metres."""
-    known = ~occ_map.unknown
-    if not known.any():
-        return map_extent(occ_map)
-    rows = np.flatnonzero(known.any(axis=1))
-    cols = np.flatnonzero(known.any(axis=0))
-    lo = occ_map.cell_to_world(np.array([rows[0], cols[0]]))
-    hi = occ_map.cell_to_world(np.array([rows[-1], cols[-1]]))
+def used_extent(occ_map: OccupancyMap, margin_m: float = 1.0,
+                focus: np.ndarray | None = None) -> tuple[float, float, float, float]:
+    """Bounding box (x0, x1, y0, y1) in metres of the known (non-unknown) part of the map plus a margin; with
+    ``focus`` points (n, 2), cut down to their bounding box plus the margin (real maps such as albert-b carry
+    laser rays far beyond the building, which would shrink the places to a corner of the picture)."""
     full = map_extent(occ_map)
-    return (max(full[0], lo[0] - margin_m), min(full[1], hi[0] + margin_m),
-            max(full[2], lo[1] - margin_m), min(full[3], hi[1] + margin_m))
+    known = ~occ_map.unknown
+    box = full
+    if known.any():
+        rows = np.flatnonzero(known.any(axis=1))
+        cols = np.flatnonzero(known.any(axis=0))
+        lo = occ_map.cell_to_world(np.array([rows[0], cols[0]]))
+        hi = occ_map.cell_to_world(np.array([rows[-1], cols[-1]]))
+        box = (lo[0] - margin_m, hi[0] + margin_m, lo[1] - margin_m, hi[1] + margin_m)
+    if focus is not None and len(focus):
+        f = np.asarray(focus, dtype=float).reshape(-1, 2)
+        fb = (f[:, 0].min() - margin_m, f[:, 0].max() + margin_m, f[:, 1].min() - margin_m, f[:, 1].max() + margin_m)
+        cut = (max(box[0], fb[0]), min(box[1], fb[1]), max(box[2], fb[2]), min(box[3], fb[3]))
+        if cut[0] < cut[1] and cut[2] < cut[3]:
+            box = cut
+    return (max(full[0], box[0]), min(full[1], box[1]), max(full[2], box[2]), min(full[3], box[3]))
+
+
+def focus_points(model: SpatialConceptModel | None, path_xy: np.ndarray | None = None,
+                 n_std: float = 2.5) -> np.ndarray | None:
+    """Points a picture must show: the corners of each active place's n_std-sigma box and the path."""
+    pts = []
+    if model is not None:
+        act = np.asarray(model.active_places, dtype=bool)
+        sd = np.sqrt(np.stack([model.Sigma[act, 0, 0], model.Sigma[act, 1, 1]], axis=1))
+        pts += [model.mu[act] - n_std * sd, model.mu[act] + n_std * sd]
+    if path_xy is not None and len(path_xy):
+        pts.append(np.asarray(path_xy, dtype=float).reshape(-1, 2))
+    return np.vstack(pts) if pts else None
 
 
 def topological_edges(model: SpatialConceptModel) -> list[tuple[int, int]]:
@@ -136,8 +158,17 @@ def render(occ_map: OccupancyMap, out: str | Path | BinaryIO, model: SpatialConc
     if isinstance(out, (str, Path)):
         out = Path(out)
         out.parent.mkdir(parents=True, exist_ok=True)
-    x0, x1, y0, y1 = used_extent(occ_map)
+    x0, x1, y0, y1 = used_extent(occ_map, focus=focus_points(model, path_xy))
     aspect = (y1 - y0) / max(x1 - x0, 1e-9)
+    with matplotlib.rc_context({"font.family": list(font_families())}):
+        _render(occ_map, out, model, names, path_xy, marks, title, dpi, (x0, x1, y0, y1), aspect)
+    return out
+
+
+def _render(occ_map: OccupancyMap, out: Path | BinaryIO, model: SpatialConceptModel | None,
+            names: Sequence[str] | None, path_xy: np.ndarray | None, marks: Sequence[tuple[np.ndarray, str, str]],
+            title: str | None, dpi: int, extent: tuple[float, float, float, float], aspect: float) -> None:
+    x0, x1, y0, y1 = extent
     fig, ax = plt.subplots(figsize=(8, max(4.0, min(12.0, 8 * aspect)) + 0.6))
     try:
         draw_map(ax, occ_map)
@@ -155,7 +186,6 @@ def render(occ_map: OccupancyMap, out: str | Path | BinaryIO, model: SpatialConc
         fig.savefig(out, format="png", dpi=dpi, bbox_inches="tight")
     finally:
         plt.close(fig)
-    return out
 
 
 @dataclass(frozen=True)
@@ -177,7 +207,7 @@ class MapImage:
 def map_image(model: SpatialConceptModel, px_per_m: float = 60.0, dpi: int = 100) -> MapImage:
     """The learned map (places, names, edges) without axes, georeferenced by its extent (see :class:`MapImage`)."""
     occ = model.map
-    x0, x1, y0, y1 = used_extent(occ)
+    x0, x1, y0, y1 = used_extent(occ, focus=focus_points(model))
     width, height = max(1, round((x1 - x0) * px_per_m)), max(1, round((y1 - y0) * px_per_m))
     fig = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi)
     try:

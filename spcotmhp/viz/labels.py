@@ -51,9 +51,16 @@ _CJK_FAMILIES = ("Noto Sans CJK JP", "Noto Sans JP", "IPAexGothic", "IPAGothic",
 
 @lru_cache(maxsize=1)
 def font_families() -> tuple[str, ...]:
-    """The label fonts, in fallback order: DejaVu Sans (matplotlib's own), then any installed Japanese font."""
+    """The fonts for every text in a picture, in fallback order: DejaVu Sans (matplotlib's own), then a Japanese
+    font: IPAexGothic shipped by the ``matplotlib-fontja`` dependency (registered here), or any installed one."""
     from matplotlib import font_manager
 
+    try:
+        from matplotlib_fontja import get_font_ttf_path
+
+        font_manager.fontManager.addfont(get_font_ttf_path())
+    except (ImportError, OSError, RuntimeError):  # the dependency missing or its file unreadable: fall back
+        pass
     installed = {f.name for f in font_manager.fontManager.ttflist}
     return ("DejaVu Sans",) + tuple(f for f in _CJK_FAMILIES if f in installed)
 
