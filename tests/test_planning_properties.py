@@ -1,6 +1,8 @@
 """Property tests of the planner on synthetic homes (hypothesis, derandomized): every plan is 8-connected and
 collision-free, starts at the start, passes the waypoints in order, ends inside a goal-named place and never
-enters an avoided place, or the planner raises a PlanningError that says why."""
+enters an avoided place, or the planner raises a PlanningError that says why. Smoothing (Algorithm 1, line 13)
+keeps the topological plan and never lengthens the path; with an arrival quantile the path ends inside the goal
+place's region at that quantile."""
 
 from __future__ import annotations
 
@@ -18,6 +20,7 @@ from spcotmhp.planning.places import inside_places, instance_places, place_regio
 from spcotmhp.planning.planner import HierarchicalPlanner
 
 ENVS = [("flat", 0), ("flat", 1), ("house", 0), ("house", 1), ("house", 2)]
+ARRIVAL = 0.39
 REASONS = ("no path from", "no place can be reached", "lies inside a place to avoid", "is also to be avoided",
            "no sequence of at most")
 
@@ -30,6 +33,15 @@ def home(kind: str, seed: int):
         model.map = dataset.map
     planner = HierarchicalPlanner(model)
     return dataset, model, planner
+
+
+@cache
+def variant(kind: str, seed: int, name: str) -> HierarchicalPlanner:
+    """The same model and precomputed graph, planned without line 13 ("raw") or with an arrival cut."""
+    _, model, _ = home(kind, seed)
+    if name == "raw":
+        return HierarchicalPlanner(model, smooth=False, arrival_quantile=None)
+    return HierarchicalPlanner(model, arrival_quantile=ARRIVAL)
 
 
 def sentence(goal: str, waypoints: list[str], avoid: list[str]) -> str:
@@ -52,14 +64,15 @@ def queries(draw):
     waypoints = draw(st.lists(st.sampled_from(names), max_size=2))
     others = [n for n in names if n != goal and n not in waypoints]   # avoiding the goal itself: planner tests
     avoid = draw(st.lists(st.sampled_from(others), max_size=1)) if others else []
-    return (kind, seed), start, goal, waypoints, avoid
+    arrive = draw(st.booleans())
+    return (kind, seed), start, goal, waypoints, avoid, arrive
 
 
 def instances(model, word: str) -> np.ndarray:
     return np.flatnonzero(instance_places(model.log_place_given_words({word: 1.0})))
 
 
-def check_plan(model, planner, start, plan, goal, waypoints, avoid) -> None:
+def check_plan(model, planner, start, plan, goal, waypoints, avoid, raw=None) -> None:
     cells = plan.cells
     occ = model.map
     # starts at the start, 8-connected, collision-free (no occupied, lethal or unknown cell: log p(x|m) finite)
@@ -82,13 +95,22 @@ def check_plan(model, planner, start, plan, goal, waypoints, avoid) -> None:
     if avoid:
         avoided = np.unique(np.concatenate([instances(model, a) for a in avoid]))
         assert not place_regions(model, xy, avoided).any()
+    if planner.settings.arrival_quantile is not None:
+        assert place_regions(model, xy[-1:], [plan.goal.id], planner.settings.arrival_quantile).all()
+    # smoothing and the arrival cut keep Eq. 28's plan and never lengthen the assembled path
+    if raw is not None:
+        assert raw.log_prob == plan.log_prob and [p.id for p in raw.places] == [p.id for p in plan.places]
+        assert plan.length_m <= raw.length_m + 1e-9
+        assert (raw.cells[0] == plan.cells[0]).all()
 
 
 @settings(max_examples=80, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(queries())
 def test_plans_satisfy_the_instruction_or_say_why(query):
-    (kind, seed), start, goal, waypoints, avoid = query
+    (kind, seed), start, goal, waypoints, avoid, arrive = query
     _, model, planner = home(kind, seed)
+    if arrive:
+        planner = variant(kind, seed, "arrival")
     x0 = model.map.cell_to_world(start)
     try:
         plan = planner.plan(sentence(goal, waypoints, avoid), x0)
@@ -100,8 +122,9 @@ def test_plans_satisfy_the_instruction_or_say_why(query):
             assert "is also to be avoided" in str(exc) or "lies inside" in str(exc)
         return
     assert goal not in avoid and not set(waypoints) & set(avoid)
-    event(f"planned with {len(waypoints)} waypoint(s), {len(avoid)} avoided")
-    check_plan(model, planner, start, plan, goal, waypoints, avoid)
+    event(f"planned with {len(waypoints)} waypoint(s), {len(avoid)} avoided" + (", arrival cut" if arrive else ""))
+    raw = variant(kind, seed, "raw").plan(sentence(goal, waypoints, avoid), x0)
+    check_plan(model, planner, start, plan, goal, waypoints, avoid, raw)
 
 
 @pytest.mark.parametrize("kind, seed", ENVS)
@@ -117,8 +140,12 @@ def test_most_queries_succeed(kind, seed):
     for _ in range(20):
         start = planner.graph.to_map(free[rng.integers(len(free))])
         goal, *waypoints = rng.choice(names, size=1 + rng.integers(0, 3))
-        plan = planner.plan(sentence(goal, list(waypoints), []), model.map.cell_to_world(start))
-        check_plan(model, planner, start, plan, goal, list(waypoints), [])
+        text = sentence(goal, list(waypoints), [])
+        x0 = model.map.cell_to_world(start)
+        raw = variant(kind, seed, "raw").plan(text, x0)
+        check_plan(model, planner, start, planner.plan(text, x0), goal, list(waypoints), [], raw)
+        arrival = variant(kind, seed, "arrival")
+        check_plan(model, arrival, start, arrival.plan(text, x0), goal, list(waypoints), [], raw)
 
 
 def test_instance_sets_are_the_same_named_places():

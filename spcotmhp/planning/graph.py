@@ -24,6 +24,11 @@ a field value whose optimal path does not enter the blocked cells is still optim
 and recomputes (exactly, with the region blocked) only the fields whose path from a node or from the query's
 start crosses the region, checked by walking the stored next-step links.
 
+For path smoothing (Algorithm 1, line 13; :mod:`spcotmhp.planning.assemble`) the graph also keeps each cell's
+most probable place (``territory``, :func:`~spcotmhp.planning.places.most_probable_place`), every place's
+territory grown by ``tube_margin`` metres (a window and a mask each), and the map-only step cost
+``log|A| - log p(x|m)`` (:attr:`PlanningGraph.map_cost`).
+
 Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
 a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
 """
@@ -39,6 +44,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from numba import njit
+from scipy import ndimage
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
@@ -48,6 +54,7 @@ from spcotmhp.planning.places import (
     candidate_points,
     connected_places,
     main_component,
+    most_probable_place,
     nearest_cell_index,
     place_regions,
 )
@@ -55,6 +62,7 @@ from spcotmhp.planning.places import (
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
 CACHE_SIZE = 8
 AVOID_CACHE_SIZE = 32
+_SQUARE = np.ones((3, 3), dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -66,6 +74,7 @@ class GraphSettings:
     edge_threshold: connected places have (psi_ab + psi_ba) / 2 at least this (None: 1 / K, Figure 3).
     candidate_quantile: samples are kept inside this chi-square ellipse of their place.
     cost_floor: the smallest step cost (module docstring).
+    tube_margin: metres by which each place's territory is grown for smoothing's tubes.
     """
 
     n_candidates: int = 1
@@ -74,6 +83,7 @@ class GraphSettings:
     edge_threshold: float | None = None
     candidate_quantile: float = 0.95
     cost_floor: float = 1e-3
+    tube_margin: float = 0.2
 
 
 @dataclass
@@ -100,6 +110,9 @@ class PlanningGraph:
     log_transition: np.ndarray       # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
     connected: np.ndarray            # (K, K) connected places
     time_precompute_s: float
+    territory: np.ndarray | None = None   # (h, w) most probable place of each cell
+    _territories: dict = field(default_factory=dict, repr=False)   # place -> (row, col, grown mask)
+    _map_cost: np.ndarray | None = field(default=None, repr=False)
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
@@ -149,7 +162,9 @@ class PlanningGraph:
         centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
         act = np.flatnonzero(model.active_places)
         n_actions = settings.connectivity + 1
-        ld = np.moveaxis(log_gaussian(centres, model.mu[act], model.Sigma[act]), -1, 0)
+        ld = log_gaussian(centres, model.mu[act], model.Sigma[act])
+        territory = most_probable_place(model, centres, ld)
+        ld = np.moveaxis(ld, -1, 0)
         bound = math.log(n_actions) - np.where(traversable, log_p, 0.0) - settings.cost_floor
         clipped = int(np.count_nonzero((ld > bound) & traversable))
         ld = np.minimum(ld, bound)
@@ -171,7 +186,8 @@ class PlanningGraph:
                     connected=connected_places(model, settings.edge_threshold), time_precompute_s=0.0,
                     info={"clipped_cells": clipped, "n_nodes": len(cells), "crop": [int(r0), int(r1),
                                                                                         int(c0), int(c1)]},
-                    _centres=centres)
+                    _centres=centres, territory=territory,
+                    _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution))
         graph.usable = np.ones(len(cells), dtype=bool)
         fields = [graph._field(j) for j in range(len(cells))]
         graph.dist = np.stack([d for d, _ in fields])                 # (M, h, w), shared by avoidance views
@@ -251,6 +267,28 @@ class PlanningGraph:
         return self._paths[(i, j)]
 
     @property
+    def map_cost(self) -> np.ndarray:
+        """(h, w) the step cost of Eq. 26 with the map term only, log|A| - log p(x|m), +inf off the traversable
+        cells (so also on an avoidance view's blocked cells); computed once per graph or view."""
+        if self._map_cost is None:
+            n_actions = self.settings.connectivity + 1
+            self._map_cost = np.where(self.traversable, math.log(n_actions) - self.log_p, np.inf)
+        return self._map_cost
+
+    def tube(self, places: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(origin, mask)``: the smallest window of the crop (corner at crop cell ``origin``) that holds the
+        territories of ``places`` grown by ``tube_margin``, and their union in it."""
+        parts = [self._territories[int(k)] for k in places if int(k) in self._territories]
+        if not parts:
+            return np.zeros(2, dtype=np.int64), np.zeros((0, 0), dtype=bool)
+        lo = np.min([(r, c) for r, c, _ in parts], axis=0)
+        hi = np.max([(r + m.shape[0], c + m.shape[1]) for r, c, m in parts], axis=0)
+        mask = np.zeros(tuple(hi - lo), dtype=bool)
+        for r, c, m in parts:
+            mask[r - lo[0]:r - lo[0] + m.shape[0], c - lo[1]:c - lo[1] + m.shape[1]] |= m
+        return lo, mask
+
+    @property
     def centres(self) -> np.ndarray:
         """(h, w, 2) map-frame centres of the crop's cells."""
         if self._centres is None:
@@ -276,7 +314,7 @@ class PlanningGraph:
                              next_step=list(self.next_step), w_hat=np.empty(0), log_transition=np.empty(0),
                              connected=self.connected, time_precompute_s=0.0,
                              info={**self.info, "avoided": key[0]}, blocked=blocked, usable=usable,
-                             _centres=self.centres)
+                             _centres=self.centres, territory=self.territory, _territories=self._territories)
         width = self.log_p.shape[1]
         sources = self.node_cell[:, 0] * width + self.node_cell[:, 1]
         flat_blocked = blocked.reshape(-1)
@@ -297,6 +335,26 @@ class PlanningGraph:
         while len(self._views) > AVOID_CACHE_SIZE:
             self._views.popitem(last=False)
         return view
+
+
+def grown_territories(territory: np.ndarray, places: np.ndarray, margin_cells: float) -> dict:
+    """place -> (row, col, mask): the cells of ``territory == place`` grown by ``margin_cells`` (chessboard
+    distance, rounded), as a mask over the window whose corner is (row, col)."""
+    m = max(0, round(margin_cells))
+    h, w = territory.shape
+    out = {}
+    for k in places:
+        own = territory == k
+        if not own.any():
+            continue
+        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
+        r0, r1 = max(rows[0] - m, 0), min(rows[-1] + m + 1, h)
+        c0, c1 = max(cols[0] - m, 0), min(cols[-1] + m + 1, w)
+        window = own[r0:r1, c0:c1]
+        if m:
+            window = ndimage.binary_dilation(window, _SQUARE, iterations=m)
+        out[int(k)] = (int(r0), int(c0), window)
+    return out
 
 
 @njit(cache=True)

@@ -21,7 +21,12 @@ Definitions (each a documented choice; the property tests check the planner agai
   names in, and the path cost then decides.
 * **Region of a place**: cells within the ``quantile`` Mahalanobis ellipse of its Gaussian (chi-square with 2
   degrees of freedom, default 0.95) where it is also the most probable place p(i | x). Avoided places block
-  their regions; "inside a place" means inside its ellipse.
+  their regions; "inside a place" means inside its ellipse. A plan *arrives* in its goal place at the first
+  cell of the goal's region at a smaller quantile (the planner's ``arrival_quantile``), which is inside the
+  0.95 ellipse too.
+* **Territory of a place**: the cells where it is the most probable place, arg max_i p(i | x)
+  (:func:`most_probable_place`); every cell of the map belongs to exactly one territory. Path smoothing
+  re-plans inside the territories the assembled path runs through (:mod:`spcotmhp.planning.assemble`).
 """
 
 from __future__ import annotations
@@ -117,6 +122,17 @@ def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray
     return (mahalanobis2(xy, model.mu[places], model.Sigma[places]) <= chi2_2d(quantile)).any(axis=-1)
 
 
+def most_probable_place(model: SpatialConceptModel, xy: np.ndarray,
+                        log_density: np.ndarray | None = None) -> np.ndarray:
+    """arg max_i p(i | x) = arg max_i N(x | mu_i, Sigma_i) p(i) over the active places, for points ``xy``
+    (..., 2): (...,) int place indices (the module docstring's territories). ``log_density`` (..., K_active),
+    if given, is log N(x | mu_i, Sigma_i) of the active places already computed for ``xy``."""
+    act = np.flatnonzero(model.active_places)
+    if log_density is None:
+        log_density = log_gaussian(np.asarray(xy, dtype=float), model.mu[act], model.Sigma[act])
+    return act[np.argmax(log_density + model.log_place_prior()[act], axis=-1)]
+
+
 def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray,
                   quantile: float = 0.95) -> np.ndarray:
     """Bool mask over points ``xy`` (..., 2): inside the ``quantile`` ellipse of one of ``places`` *and* that
@@ -125,7 +141,4 @@ def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray
     inside = inside_places(model, xy, places, quantile)
     if not inside.any():
         return inside
-    act = np.flatnonzero(model.active_places)
-    lp = log_gaussian(np.asarray(xy, dtype=float), model.mu[act], model.Sigma[act]) + model.log_place_prior()[act]
-    best = act[np.argmax(lp, axis=-1)]
-    return inside & np.isin(best, places)
+    return inside & np.isin(most_probable_place(model, xy), places)
