@@ -30,7 +30,9 @@ def plan_command(
     lang: Annotated[str | None, typer.Option(help="Instruction language (en, ja); default: detected.")] = None,
     candidates: Annotated[int, typer.Option(help="Candidate points per place (N of Section 3.4).")] = 1,
     seed: Annotated[int, typer.Option(help="Seed of the candidate sampling.")] = 0,
-    smooth: Annotated[bool, typer.Option(help="Line-of-sight smoothing of the path.")] = True,
+    smooth: Annotated[bool, typer.Option(help=(
+        "Smooth the path (Algorithm 1 line 13): exact re-planning between the waypoint and goal points within "
+        "the places passed, then line-of-sight shortcuts; never longer."))] = True,
     max_steps: Annotated[int | None, typer.Option(
         help="Topological horizon E (default 10 per waypoint/goal).")] = None,
 ) -> None:

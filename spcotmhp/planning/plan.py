@@ -32,7 +32,8 @@ class PlanPlace:
 
 @dataclass(frozen=True)
 class GoalOption:
-    """The best plan ending in one instance of the goal name (for "closest of 3 bedrooms")."""
+    """The best plan ending in one instance of the goal name (for "closest of 3 bedrooms"); ``length_m`` is the
+    length of that option's assembled path before smoothing (the same measure for every instance)."""
 
     id: int
     label: str
@@ -45,7 +46,8 @@ class Plan:
     """A planned path (Algorithm 1's output).
 
     Attributes:
-        path: (n, 2) map-frame metres of the cell centres, from the start cell to the goal candidate.
+        path: (n, 2) map-frame metres of the cell centres, from the start cell to the goal candidate (to
+            the first cell inside the goal place when the planner's ``arrival_quantile`` is set).
         cells: (n, 2) map cells (row, col) of the same path (8-connected).
         places: the place sequence with roles.
         length_m: path length in metres.
@@ -56,7 +58,8 @@ class Plan:
         goal_options: the best plan into each reachable instance of the goal name, most probable first (only
             when the name has several instances).
         n_goal_instances: how many places the goal name denotes.
-        node_points: (e, 2) map-frame candidate points the plan passes, in order.
+        node_points: (e, 2) map-frame candidate points of the topological plan, in order (smoothing may bypass
+            the points of places passed on the way; waypoint and goal points are always kept).
         smoothed: whether the path was smoothed.
     """
 
