@@ -101,7 +101,7 @@ def synth(
     out: Annotated[Path, typer.Option("--out", help="dataset folder to write")],
     rooms: Annotated[int | None, typer.Option("--rooms", help="number of places, corridors included")] = None,
     size: Annotated[int | None, typer.Option("--size", help="map side in cells")] = None,
-    seed: Annotated[int, typer.Option("--seed")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     word_noise: Annotated[float, typer.Option("--word-noise", help="share of place words replaced")] = 0.0,
     events_per_room: Annotated[int, typer.Option("--events-per-room")] = 15,
 ) -> None:

@@ -117,7 +117,7 @@ def demo(
     start: Annotated[tuple[float, float] | None, typer.Option(
         help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
     start_place: Annotated[str, typer.Option(help="Place to start from when --start is not given.")] = "entrance",
-    seed: Annotated[int, typer.Option(help="Random seed of the learner.")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Random seed of the learner.")] = 0,
     runs: Annotated[int, typer.Option(help="Independent Gibbs runs (one is kept).")] = 10,
     iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
     supervised: Annotated[bool, typer.Option(help="Skip the unsupervised learner: fit from the truth labels.")]

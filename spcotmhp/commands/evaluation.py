@@ -97,7 +97,7 @@ def register(app: typer.Typer) -> None:
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
         max_tasks: Annotated[int | None, typer.Option(
             "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
-        seed: Annotated[int, typer.Option("--seed", help="Seed of every random draw.")] = 0,
+        seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of every random draw.")] = 0,
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
         ray: Annotated[str | None, typer.Option(
             "--ray", metavar="[ADDRESS]",
@@ -125,7 +125,7 @@ def register(app: typer.Typer) -> None:
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
         max_tasks: Annotated[int | None, typer.Option(
             "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
-        seed: Annotated[int, typer.Option("--seed", help="Seed of every random draw.")] = 0,
+        seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of every random draw.")] = 0,
         ray: Annotated[str | None, typer.Option("--ray", metavar="[ADDRESS]", help="Run on Ray (see evaluate).")] = None,
     ) -> None:
         """Tables 4 and 5 of the paper on the bundled SIGVerse homes, as markdown with the paper's rows beside

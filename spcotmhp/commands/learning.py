@@ -52,7 +52,7 @@ def learn(
     supervised: Annotated[bool, typer.Option(help="Fit from the truth labels (paper Experiment I).")] = False,
     runs: Annotated[int, typer.Option(help="Independent Gibbs runs; one is kept.")] = 10,
     iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
-    seed: Annotated[int, typer.Option(help="Random seed (run r uses its r-th child stream).")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Random seed (run r uses its r-th child stream).")] = 0,
     no_replay: Annotated[bool, typer.Option("--no-replay", help="No reverse replay.")] = False,
     gmm: Annotated[bool, typer.Option("--gmm", help="SpCoSLAM baseline: Gaussian mixture, no transitions.")] = False,
     criterion: Annotated[str, typer.Option(help="Run selection: mutual_information or log_joint.")]
@@ -95,7 +95,7 @@ def learn(
 def evaluate_learning(
     dataset: Annotated[str, typer.Argument(help="Dataset folder with truth.csv, or a bundled dataset name.")],
     runs: Annotated[int, typer.Option(help="Runs per method.")] = 10,
-    seed: Annotated[int, typer.Option(help="Random seed.")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Random seed.")] = 0,
     iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,

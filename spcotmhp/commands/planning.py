@@ -29,7 +29,7 @@ def plan_command(
         "--nbest", help='JSON file with recogniser hypotheses [["text", score], ...] (Eq. 25).')] = None,
     lang: Annotated[str | None, typer.Option(help="Instruction language (en, ja); default: detected.")] = None,
     candidates: Annotated[int, typer.Option(help="Candidate points per place (N of Section 3.4).")] = 1,
-    seed: Annotated[int, typer.Option(help="Seed of the candidate sampling.")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of the candidate sampling.")] = 0,
     smooth: Annotated[bool, typer.Option(help=(
         "Smooth the path (Algorithm 1 line 13): exact re-planning between the waypoint and goal points within "
         "the places passed, then line-of-sight shortcuts; never longer."))] = True,

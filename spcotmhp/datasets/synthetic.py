@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, Room, generate_floor_plan
+from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, Room, generate_floor_plan, seeded_rng
 from spcotmhp.datasets.synthetic_walk import teaching_walk
 from spcotmhp.errors import DatasetError
 from spcotmhp.metric.map_io import save_map
@@ -34,7 +34,7 @@ def generate_environment(kind: str = "flat", seed: int = 0, n_rooms: int | None 
     See ``generate_floor_plan`` (kind, n_rooms, size, resolution, door_m) and ``teaching_walk``
     (events_per_room, step_m, word_noise, insert_noise). The dataset is named ``synthetic-<kind>-<seed>``.
     """
-    rng = np.random.default_rng(seed)
+    rng = seeded_rng(seed)
     plan = generate_floor_plan(kind, n_rooms=n_rooms, size=size, resolution=resolution, seed=rng, door_m=door_m)
     data = teaching_walk(plan, events_per_room=events_per_room, step_m=step_m, word_noise=word_noise,
                          insert_noise=insert_noise, seed=rng)

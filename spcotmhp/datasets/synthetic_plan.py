@@ -73,6 +73,16 @@ class FloorPlan:
         return list(dict.fromkeys(self.names))
 
 
+def seeded_rng(seed: int | np.random.Generator) -> np.random.Generator:
+    """``seed`` itself when it is a Generator, else ``np.random.default_rng(seed)`` for a non-negative integer;
+    anything else raises DatasetError (numpy's own message for a negative seed is a traceback)."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise DatasetError(f"seed must be a non-negative integer or a numpy Generator, got {seed!r}")
+    return np.random.default_rng(int(seed))
+
+
 def generate_floor_plan(kind: str = "flat", n_rooms: int | None = None, size: int | tuple[int, int] | None = None,
                         resolution: float = 0.1, seed: int | np.random.Generator = 0, door_m: float = 1.0,
                         wall_cells: int | None = None,
@@ -102,7 +112,7 @@ def generate_floor_plan(kind: str = "flat", n_rooms: int | None = None, size: in
     n = DEFAULT_ROOMS[kind] if n_rooms is None else n_rooms
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_ROOMS[kind]:
         raise DatasetError(f"n_rooms must be an integer >= {MIN_ROOMS[kind]} for a {kind}, got {n_rooms!r}")
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rng = seeded_rng(seed)
     shape = _shape(kind, int(n), size, resolution)
     door = math.ceil(door_m / resolution - 1e-9)
     jamb = max(1, math.ceil(JAMB_M / resolution - 1e-9))

@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.datasets.synthetic_plan import Door, FloorPlan
+from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, seeded_rng
 from spcotmhp.datasets.synthetic_vocab import ALL_WORDS, LIVING, PLACE_VOCABULARY, TEMPLATES
 from spcotmhp.errors import DatasetError
 
@@ -63,7 +63,7 @@ def teaching_walk(plan: FloorPlan, events_per_room: int = 15, step_m: float = 0.
     if not 0.25 <= clearance_m <= narrowest / 2:
         raise DatasetError(f"clearance_m must be in [0.25, {narrowest / 2:g}] m (half the narrowest door), "
                            f"got {clearance_m}")
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rng = seeded_rng(seed)
     walker = _Walker(plan, clearance_m / plan.map.resolution, int(events_per_room), rng)
     walker.run()
     trajectory, event_steps = _densify(np.array(walker.points), walker.event_points, plan, step_m)

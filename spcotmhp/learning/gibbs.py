@@ -78,7 +78,12 @@ TRANSITIONS = ("hmm", "none")
 
 def make_rng(seed: int | np.random.SeedSequence, run: int | None = None) -> np.random.Generator:
     """The generator of one run: run r of seed s uses the r-th child of SeedSequence(s) (what
-    ``SeedSequence(s).spawn`` would give), independent of the others; ``run=None`` uses the seed itself."""
+    ``SeedSequence(s).spawn`` would give), independent of the others; ``run=None`` uses the seed itself.
+    Raises ModelError for a seed or run that is not a non-negative integer."""
+    if not isinstance(seed, np.random.SeedSequence) and not _is_count(seed):
+        raise ModelError(f"seed must be a non-negative integer (or a numpy SeedSequence), got {seed!r}")
+    if run is not None and not _is_count(run):
+        raise ModelError(f"run must be a non-negative integer or None, got {run!r}")
     ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(int(seed))
     if run is not None:
         ss = np.random.SeedSequence(ss.entropy, spawn_key=tuple(ss.spawn_key) + (int(run),))
@@ -246,6 +251,11 @@ class SpCoTMHP:
         log_emit = log_emit - logsumexp(log_phi, axis=0)           # unigram rescaling, Eq. 9
         log_init = np.full(self.K, -np.log(self.K))
         return ffbs(log_emit, priors.psi.log_probs, log_init, rng)
+
+
+def _is_count(value: object) -> bool:
+    """A non-negative integer (numpy integers included, booleans not)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 0
 
 
 def _seed_repr(seed: int | np.random.SeedSequence) -> int | str:
