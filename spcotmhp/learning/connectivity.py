@@ -27,8 +27,9 @@ from scipy import ndimage
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.hmm import visited_places
-from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.hmm import runs
+from spcotmhp.learning.hmm import trajectory_places as hmm_trajectory_places
+from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.metric.maps import OccupancyMap
 
@@ -38,9 +39,10 @@ SOURCES = ("auto", "hmm", "walk", "map")
 
 
 def trajectory_places(model: SpatialConceptModel, trajectory: np.ndarray, min_dwell: int = 3) -> np.ndarray:
-    """The sequence of places visited along ``trajectory`` (most probable active place per pose, stays shorter
-    than ``min_dwell`` poses dropped, repeats collapsed)."""
-    return visited_places(model.log_place_density(trajectory) + model.log_place_prior(), min_dwell)
+    """The sequence of places visited along ``trajectory`` (most probable active place per pose under the
+    model's means and place prior, stays shorter than ``min_dwell`` poses dropped, repeats collapsed;
+    ``hmm.trajectory_places``)."""
+    return hmm_trajectory_places(trajectory, model.mu, model.Sigma, model.log_place_prior(), min_dwell)
 
 
 def walk_adjacency(model: SpatialConceptModel, dataset: Dataset, event_places: np.ndarray | None = None,
@@ -140,16 +142,9 @@ def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = Non
 
 
 def _partition_ok(xy, mu, Sigma, log_prior, i, j, min_run_cells) -> bool:
-    from spcotmhp.learning.model import log_gaussian
-
+    """No run of a third place's label of ``min_run_cells`` cells or more along the path ``xy``."""
     labels = np.argmax(log_gaussian(xy, mu, Sigma) + log_prior, axis=1)
-    third = (labels != i) & (labels != j)
-    if not third.any():
-        return True
-    change = np.flatnonzero(np.diff(labels)) + 1
-    starts = np.concatenate(([0], change))
-    lengths = np.diff(np.concatenate((starts, [len(labels)])))
-    run_labels = labels[starts]
+    run_labels, lengths = runs(labels)
     return not np.any((run_labels != i) & (run_labels != j) & (lengths >= min_run_cells))
 
 

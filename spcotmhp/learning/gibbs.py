@@ -1,16 +1,33 @@
-"""Unsupervised learning of SpCoTMHP by blocked Gibbs sampling (paper Section 3.2, Eq. 22).
+"""Unsupervised learning of SpCoTMHP by Gibbs sampling (paper Section 3.2, Eq. 22).
 
-One sweep, in the weak-limit truncation (K places, L concepts; Johnson and Willsky, 2013):
+One sweep, in the weak-limit truncation (K places, L concepts; Johnson and Willsky, 2013), each step given the
+current value of everything else:
 
-1. the place-level parameters from their conjugate posteriors given the assignments: mu_k, Sigma_k ~ NIW
-   posterior (Eqs. 5-6); psi_k ~ Dir(omega + transition counts) (Eq. 7, weak-limit DP);
+1. mu_k, Sigma_k ~ NIW posterior given the positions of the events in place k (Eqs. 5-6), and
    phi_l ~ Dir(gamma + place counts of concept l) (Eq. 11);
-2. the place sequence i_{1:E} jointly by forward filtering, backward sampling of the HMM over events with
+2. (with a trajectory) the places visited along it, labelled with the Gaussians just drawn and the place prior
+   of the current counts (``hmm.trajectory_places``, below): a deterministic function of the state;
+3. psi_k ~ Dir(omega + transition counts) (Eq. 7, weak-limit DP): the event sequence, its reversal (reverse
+   replay), and the place changes of step 2;
+4. the place sequence i_{1:E} jointly by forward filtering, backward sampling of the HMM over events with
    transitions psi and emissions N(x_e | mu_k, Sigma_k) phi[C_e, k] / sum_c phi[c, k] (Eqs. 3, 8-9);
-3. every concept C_e from pi_l phi_l(i_e) theta_l(f_e) prod_b W_l(S_e,b) (Eqs. 14-17) with pi, phi, theta and W
+5. every concept C_e from pi_l phi_l(i_e) theta_l(f_e) prod_b W_l(S_e,b) (Eqs. 14-17) with pi, phi, theta and W
    integrated out (direct assignment, Eqs. 10-13; see concepts.py, which also resamples the background-word
-   switches).  phi is re-drawn in step 1 before its next use, so collapsing it here is a valid partially
-   collapsed Gibbs sampler.
+   switches).
+
+Steps 1-3 come before step 4 so that psi is drawn with the trajectory labelled by the very Gaussians that step 4
+uses (in the first sweep, by Gaussians drawn from the initial assignment rather than all at the prior mode).
+
+What kind of sampler this is: the steps are not the conditionals of one joint distribution.  Step 4 uses
+Eq. 9's place term phi[C_e, k] / sum_c phi[c, k] (unigram rescaling, itself an approximation: a product of
+experts whose normaliser is dropped), while step 5 uses the plain mixture term phi_l(i_e) of Eq. 17; reverse
+replay and the trajectory place changes are pseudo-observations that enter psi's conditional only (and the
+trajectory labels depend on mu and Sigma without feeding back into their conditional).  So the chain is a
+Gibbs-style stochastic search over assignments, as in the authors' code, not an exact sampler of one
+posterior; runs are compared through their final assignment (collapsed log joint or word-concept mutual
+information, selection.py).  In GMM mode (``transitions="none"``: no psi, no rescaling) the same steps form a
+partially collapsed Gibbs sampler: phi is drawn in step 1 before its one use in step 4 and integrated out in
+step 5.
 
 The exported model holds the posterior means of every parameter given the final sample's assignments.
 
@@ -29,10 +46,14 @@ NMI C / NMI i / ARI C / ARI i): the defaults give 0.92 / 0.95 / 0.81 / 0.86.
 
 Transition counts come from the event sequence, plus (reverse replay, Section 3.2) the reversed sequence,
 plus (when the dataset has a trajectory) the places visited along the trajectory: each pose is given its most
-probable place under the current parameters (N(x_t | mu_k, Sigma_k) times the place's share of events, over the
-places holding events), runs shorter than ``min_dwell`` poses are dropped as boundary flicker, consecutive
-repeats collapse, and every remaining place change a -> b counts ``trajectory_weight`` (and b -> a as well under
-reverse replay).  Each traversal of a doorway thus counts like one observed event transition.
+probable place, argmax_k N(x_t | mu_k, Sigma_k) p(k) with p(k) = sum_l pi_l phi_l(k) over the places holding
+events (``hmm.trajectory_places``, the same labelling as ``connectivity.walk_adjacency``), runs shorter than
+``min_dwell`` poses are dropped as boundary flicker, consecutive repeats collapse, and every remaining place
+change a -> b counts ``trajectory_weight`` (and b -> a as well under reverse replay).  Each traversal of a
+doorway thus counts like one observed event transition.  During sampling the labelling uses the current draw
+of the Gaussians and the posterior-mean p(k) of the current counts; for the exported psi it uses the exported
+means, so the exported psi is the posterior mean of Dir(omega + counts) for counts consistent with the
+exported places.
 
 psi of the exported model (``connectivity``, see connectivity.py): "hmm" keeps the posterior mean of the
 transition counts above (the paper's psi); "walk" and "map" use psi[k] = mean of Dir(0.1 + A[k]) (the form of
@@ -40,7 +61,11 @@ the paper's Experiment I) for the adjacency A of the places visited one after th
 or implied by the map's free space; "auto" is "walk" with a trajectory and "map" without (the order of the
 utterances alone, e.g. fifteen per room taught room after room, says little about which rooms touch).  The
 HMM psi's self-transitions (many utterances per room) outweigh the few doorway crossings, so under the planner's
-edge rule (psi_ab + psi_ba) / 2 >= 1 / K it would show almost no edges; the adjacency form does not.
+edge rule (psi_ab + psi_ba) / 2 >= 1 / K it would show almost no edges; the adjacency form does not.  The
+HMM's psi is kept as ``model.psi_learned`` in every case.
+
+When every place (or concept) component holds events, the truncation K (or L) may be too small for the home:
+``fit`` then warns (``TruncationWarning``) and lists "places" / "concepts" in ``model.info["truncation_saturated"]``.
 
 ``transitions="none"`` is the SpCoSLAM baseline (a Gaussian mixture, no psi): the place term is then
 Mult(i_e | phi_{C_e}) itself, without unigram rescaling, and the exported psi is uniform.
@@ -50,6 +75,7 @@ from __future__ import annotations
 
 import inspect
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import replace
 
@@ -60,15 +86,16 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
-from spcotmhp.learning.distributions import GaussianStats, logsumexp, sample_categorical_log
-from spcotmhp.learning.hmm import ffbs, transition_counts, visited_places
+from spcotmhp.learning.distributions import logsumexp, sample_categorical_log
+from spcotmhp.learning.hmm import ffbs, trajectory_places, transition_counts
 from spcotmhp.learning.init import INITS, initial_assignments
-from spcotmhp.learning.model import Hyperparameters, log_gaussian
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.posterior import (
     Priors,
     SufficientStats,
     log_joint,
+    log_place_prior,
     mutual_information,
     posterior_mean_model,
 )
@@ -108,7 +135,9 @@ class SpCoTMHP:
             (init.py).
         trajectory_weight, min_dwell: weight of one place change along the trajectory, and the shortest stay
             (in poses) that counts as a visit.
-        hyper: prior hyper-parameters (default: paper Section 5.1; its L and K are replaced by these L and K).
+        hyper: prior hyper-parameters (default: paper Section 5.1); its L and K are replaced by these L and K,
+            and its alpha, gamma, omega follow them unless given (``Hyperparameters.resized``: 10 / L, 1 / K,
+            10 / K, the paper's 0.5, 0.05, 0.5 at L = K = 20).
         seed, run: the random stream (run r of seed s; see ``make_rng``).
 
     Learned attributes: ``model_`` (SpatialConceptModel of posterior means given the final assignment),
@@ -150,7 +179,7 @@ class SpCoTMHP:
         """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep."""
         self._check_settings()
         t0 = time.perf_counter()
-        hyper = replace(self.hyper or Hyperparameters(), L=self.L, K=self.K)
+        hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
         obs = Observations.from_dataset(dataset, use_features=self.use_features,
                                         use_trajectory=self.use_trajectory, feature_weight=self.feature_weight)
         rng = make_rng(self.seed, self.run)
@@ -163,10 +192,15 @@ class SpCoTMHP:
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
                 trace.append(log_joint(priors, stats, self._event_transitions(places)))
-            self._resample_parameters(priors, stats, self._transition_counts(priors, obs, places, stats), rng)
-            places = self._sample_places(priors, obs, concepts, rng)
+            priors.gauss.resample(stats.gauss, rng)                                  # step 1
+            priors.phi.resample(stats.place_given_concept, rng)
+            if self.transitions == "hmm":                                             # steps 2 and 3
+                counts = self._transition_counts(obs, places, priors.gauss.mu, priors.gauss.Sigma,
+                                                 log_place_prior(priors, stats))
+                priors.psi.resample(counts, rng)
+            places = self._sample_places(priors, obs, concepts, rng)                 # step 4
             concepts = sampler.sweep(concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta,
-                                     hyper.chi, rng)
+                                     hyper.chi, rng)                                 # step 5
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
@@ -178,19 +212,23 @@ class SpCoTMHP:
                 "transitions": self.transitions, "background_words": bool(self.background_words),
                 "trajectory": obs.trajectory is not None, "features": obs.features is not None,
                 "feature_weight": self.feature_weight}
-        self.model_ = posterior_mean_model(priors, stats, self._transition_counts(priors, obs, places, stats),
-                                           obs.vocabulary, hyper, info)
-        self.model_.map = dataset.map
+        model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper, info)
+        model.map = dataset.map
+        self.model_ = model
         self.places_ = places
         self.concepts_ = concepts
         self.log_joint_trace_ = np.asarray(trace)
-        self.mutual_information_ = mutual_information(self.model_.pi, self.model_.W)
-        self.model_.info.update(log_joint=self.log_joint_, mutual_information=self.mutual_information_)
-        if self.transitions == "hmm":
+        self.mutual_information_ = mutual_information(model.pi, model.W)
+        model.info.update(log_joint=self.log_joint_, mutual_information=self.mutual_information_)
+        self._record_truncation(model)
+        if self.transitions == "hmm":   # psi from counts labelled with the exported means (module docstring)
+            counts = self._transition_counts(obs, places, model.mu, model.Sigma, model.log_place_prior())
+            model.psi = priors.psi.posterior_mean(counts)
+            model.psi_learned = model.psi.copy()
             seen = dataset if obs.trajectory is not None else replace(dataset, trajectory=None, event_steps=None)
-            apply_connectivity(self.model_, seen, self.connectivity, places)
+            apply_connectivity(model, seen, self.connectivity, places)
         else:
-            self.model_.info["psi_from"] = "uniform (no transitions)"
+            model.info["psi_from"] = "uniform (no transitions)"
         self.fit_time_ = time.perf_counter() - t0
         return self
 
@@ -216,30 +254,23 @@ class SpCoTMHP:
         """Forward transition counts of the event sequence (the generative term of psi in the log joint)."""
         return None if self.transitions == "none" else transition_counts(places, self.K, False)
 
-    def _transition_counts(self, priors: Priors, obs: Observations, places: np.ndarray,
-                           stats: SufficientStats) -> np.ndarray | None:
-        """Counts behind psi: event sequence (+ reversed) (+ trajectory place changes); None in GMM mode."""
-        if self.transitions == "none":
-            return None
+    def _transition_counts(self, obs: Observations, places: np.ndarray, mu: np.ndarray, Sigma: np.ndarray,
+                           log_prior: np.ndarray) -> np.ndarray:
+        """Counts behind psi: the event sequence (+ reversed), plus the place changes along the trajectory
+        labelled with the Gaussians (mu, Sigma) and the place prior ``log_prior`` (module docstring)."""
         counts = transition_counts(places, self.K, self.replay)
         if obs.trajectory is not None:
-            seq = self.trajectory_places(priors, obs.trajectory, stats.gauss)
+            seq = trajectory_places(obs.trajectory, mu, Sigma, log_prior, self.min_dwell)
             counts += self.trajectory_weight * transition_counts(seq, self.K, self.replay)
         return counts
 
-    def trajectory_places(self, priors: Priors, trajectory: np.ndarray, gauss: GaussianStats) -> np.ndarray:
-        """The places visited along ``trajectory`` under the current place parameters (module docstring)."""
-        active = np.flatnonzero(gauss.n > 0)
-        lp = (log_gaussian(trajectory, priors.gauss.mu[active], priors.gauss.Sigma[active])
-              + np.log(gauss.n[active]))
-        return active[visited_places(lp, self.min_dwell)]
-
-    def _resample_parameters(self, priors: Priors, stats: SufficientStats, transitions: np.ndarray | None,
-                             rng: np.random.Generator) -> None:
-        priors.gauss.resample(stats.gauss, rng)
-        priors.phi.resample(stats.place_given_concept, rng)
-        if transitions is not None:
-            priors.psi.resample(transitions, rng)
+    def _record_truncation(self, model: SpatialConceptModel) -> None:
+        """List the saturated truncations in ``model.info`` and warn about each (TruncationWarning)."""
+        full = [what for what, used, cap in (("places", model.active_places.sum(), self.K),
+                                             ("concepts", model.active_concepts.sum(), self.L)) if used >= cap]
+        model.info["truncation_saturated"] = full
+        for message in truncation_messages(model):
+            warnings.warn(message, TruncationWarning, stacklevel=3)
 
     def _sample_places(self, priors: Priors, obs: Observations, concepts: np.ndarray,
                        rng: np.random.Generator) -> np.ndarray:
@@ -251,6 +282,22 @@ class SpCoTMHP:
         log_emit = log_emit - logsumexp(log_phi, axis=0)           # unigram rescaling, Eq. 9
         log_init = np.full(self.K, -np.log(self.K))
         return ffbs(log_emit, priors.psi.log_probs, log_init, rng)
+
+
+class TruncationWarning(UserWarning):
+    """Every place (or concept) component of the weak-limit truncation holds events: K (or L) may be too small."""
+
+
+def truncation_messages(model: SpatialConceptModel) -> list[str]:
+    """One sentence per saturated truncation listed in ``model.info["truncation_saturated"]``."""
+    hint = {"places": ("place", "K", model.K, "--max-places", "SpCoTMHP(K=...)"),
+            "concepts": ("concept", "L", model.L, "--max-concepts", "SpCoTMHP(L=...)")}
+    out = []
+    for what in model.info.get("truncation_saturated", []):
+        noun, symbol, size, option, api = hint[what]
+        out.append(f"all {symbol} = {size} {noun} components hold events (the weak-limit truncation is "
+                   f"saturated, so {what} may have been merged): learn again with a larger {option} ({api})")
+    return out
 
 
 def _is_count(value: object) -> bool:

@@ -12,6 +12,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from spcotmhp.learning.model import log_gaussian
+
 
 @njit(cache=True)
 def _logsumexp_vec(v: np.ndarray) -> float:
@@ -119,22 +121,37 @@ def transition_counts(seq: np.ndarray, K: int, reverse_replay: bool = False) -> 
     return n + n.T if reverse_replay else n
 
 
+def runs(labels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Run-length encoding of a label sequence: (label of each run, its length)."""
+    labels = np.asarray(labels)
+    if len(labels) == 0:
+        return labels, np.zeros(0, dtype=np.int64)
+    starts = np.concatenate(([0], np.flatnonzero(np.diff(labels)) + 1))
+    return labels[starts], np.diff(np.concatenate((starts, [len(labels)])))
+
+
 def dwell_filtered_sequence(labels: np.ndarray, min_dwell: int) -> np.ndarray:
     """The sequence of places visited along a per-pose label sequence: runs shorter than ``min_dwell`` poses are
     dropped (flicker at a boundary between two places is not a visit), then consecutive duplicates collapse."""
-    if len(labels) == 0:
-        return labels
-    change = np.flatnonzero(np.diff(labels)) + 1
-    starts = np.concatenate(([0], change))
-    lengths = np.diff(np.concatenate((starts, [len(labels)])))
-    runs = labels[starts][lengths >= min_dwell]
-    if len(runs) == 0:
-        return runs
-    keep = np.concatenate(([True], runs[1:] != runs[:-1]))
-    return runs[keep]
+    run_labels, lengths = runs(labels)
+    kept = run_labels[lengths >= min_dwell]
+    if len(kept) == 0:
+        return kept
+    return kept[np.concatenate(([True], kept[1:] != kept[:-1]))]
 
 
 def visited_places(log_score: np.ndarray, min_dwell: int) -> np.ndarray:
     """Places visited along a trajectory: the best place per pose from (T, K) log scores, then
     ``dwell_filtered_sequence``."""
     return dwell_filtered_sequence(np.argmax(log_score, axis=1), min_dwell)
+
+
+def trajectory_places(trajectory: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray,
+                      min_dwell: int = 3) -> np.ndarray:
+    """The places visited along ``trajectory`` (T, 2): each pose gets its most probable place,
+    argmax_k N(x_t | mu_k, Sigma_k) p(k) over the places with p(k) > 0 (``log_prior`` -inf elsewhere; cf. Eq. 3),
+    then ``dwell_filtered_sequence``.  The one labelling used by the sampler (current draws, place prior of
+    the current counts), the exported psi and the walk adjacency (a model's means and ``log_place_prior``)."""
+    active = np.flatnonzero(np.isfinite(log_prior))
+    lp = log_gaussian(np.asarray(trajectory, dtype=float), mu[active], Sigma[active]) + log_prior[active]
+    return active[visited_places(lp, min_dwell)]

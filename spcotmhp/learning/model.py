@@ -5,7 +5,7 @@ Every term is returned in log space. Equation numbers refer to Taniguchi, Ito an
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Mapping
 
 import numpy as np
@@ -16,26 +16,58 @@ from spcotmhp.metric.maps import OccupancyMap
 LOG_2PI = float(np.log(2.0 * np.pi))
 
 
+# Total concentrations of the weak-limit Dirichlet priors (the authors' code: alpha = 10 / L, gamma = 1 / K,
+# omega = 10 / K, i.e. the weak-limit approximation Dir(a0 / M, ..., a0 / M) of a DP(a0) over M components).
+ALPHA_TOTAL = 10.0
+GAMMA_TOTAL = 1.0
+OMEGA_TOTAL = 10.0
+SCALED_PRIORS = ("alpha", "gamma", "omega")
+
+
 @dataclass
 class Hyperparameters:
     """Prior hyper-parameters (paper Section 5.1; reference-implementation notes for Experiment II).
 
     alpha: pi ~ DP(alpha) (weak limit: Dir(alpha/L... given per component)); gamma: phi_l ~ DP(gamma);
     beta: W_l ~ Dir(beta); chi: theta_l ~ Dir(chi); omega: psi_k ~ DP(omega); NIW (m0, kappa0, V0, nu0).
-    The values are per-component Dirichlet parameters as the authors used them (alpha = 10 / L etc.).
+    The values are per-component Dirichlet parameters as the authors used them.
+
+    alpha, gamma and omega left as None follow the truncation: alpha = 10 / L, gamma = 1 / K, omega = 10 / K
+    (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20 and keeps the total prior
+    mass of each Dirichlet process fixed when --max-places / --max-concepts change.  ``resized(L, K)`` re-derives
+    the ones that were derived (``dataclasses.replace`` would keep their old values); given values are kept.
     """
 
     L: int = 20
     K: int = 20
-    alpha: float = 0.5
-    gamma: float = 0.05
+    alpha: float | None = None
+    gamma: float | None = None
     beta: float = 0.1
     chi: float = 1.0
-    omega: float = 0.5
+    omega: float | None = None
     m0: tuple[float, float] = (0.0, 0.0)
     kappa0: float = 1e-3
     V0: tuple[tuple[float, float], tuple[float, float]] = ((2.0, 0.0), (0.0, 2.0))
     nu0: float = 3.0
+
+    def __post_init__(self) -> None:
+        self._derived = tuple(name for name in SCALED_PRIORS if getattr(self, name) is None)
+        if self._derived and not (self.L >= 1 and self.K >= 1):
+            raise ValueError(f"L and K must be >= 1 to derive {', '.join(self._derived)}, got L={self.L}, "
+                             f"K={self.K}")
+        if self.alpha is None:
+            self.alpha = ALPHA_TOTAL / self.L
+        if self.gamma is None:
+            self.gamma = GAMMA_TOTAL / self.K
+        if self.omega is None:
+            self.omega = OMEGA_TOTAL / self.K
+
+    def resized(self, L: int, K: int) -> Hyperparameters:
+        """These priors for truncation levels L and K: alpha, gamma, omega that were derived from the old L and
+        K are derived again, values given explicitly are kept."""
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        values.update(L=L, K=K, **{name: None for name in getattr(self, "_derived", ())})
+        return Hyperparameters(**values)
 
 
 @dataclass
@@ -54,6 +86,8 @@ class SpatialConceptModel:
         map: the occupancy map the model was learned on (kept with the model for planning).
         costmap: cost map settings (inscribed_radius, inflation_radius, cost_scaling_factor).
         info: free-form provenance (dataset, seed, iterations, selection criterion, ...), JSON-serialisable.
+        psi_learned: (K, K) the transitions the HMM learned (posterior mean), kept when ``psi`` was replaced by
+            an adjacency-based psi for planning (connectivity "walk" / "map"); None when nothing was learned.
     """
 
     mu: np.ndarray
@@ -71,6 +105,7 @@ class SpatialConceptModel:
     costmap: dict = field(default_factory=lambda: {
         "inscribed_radius": 0.22, "inflation_radius": 1.0, "cost_scaling_factor": 10.0})
     info: dict = field(default_factory=dict)
+    psi_learned: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.active_places is None:

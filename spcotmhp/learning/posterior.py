@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
+from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians, logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 
@@ -103,6 +103,15 @@ def posterior_mean_model(priors: Priors, stats: SufficientStats, transitions: np
         active_places=stats.gauss.n > 0,
         active_concepts=stats.concepts > 0,
         hyper=hyper, info=dict(info or {}))
+
+
+def log_place_prior(priors: Priors, stats: SufficientStats) -> np.ndarray:
+    """log p(k) = log sum_l pi_l phi_l(k) with pi and phi the posterior means given ``stats``, -inf on places
+    without events: (K,).  Equal to ``log_place_prior()`` of the ``posterior_mean_model`` of the same stats."""
+    log_pi = np.log(priors.pi.posterior_mean(stats.concepts[None, :])[0])
+    log_phi = np.log(priors.phi.posterior_mean(stats.place_given_concept))
+    lp = logsumexp(log_pi[:, None] + log_phi, axis=0)
+    return np.where(stats.gauss.n > 0, lp, -np.inf)
 
 
 def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> float:

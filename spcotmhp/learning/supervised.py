@@ -9,8 +9,6 @@ and psi comes from the hand-made adjacency: psi[k] = mean of Dir(0.1 + adjacency
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
@@ -57,7 +55,7 @@ def fit_supervised(dataset: Dataset, adjacency: str | np.ndarray = "auto", hyper
     K = max(int(places.max()) + 1, len(dataset.place_names or []),
             0 if dataset.adjacency is None else len(dataset.adjacency))
     L = int(concepts.max()) + 1
-    hyper = replace(hyper, L=L, K=K)
+    hyper = hyper.resized(L, K)
     D = None if obs.features is None else obs.features.shape[1]
     priors = Priors.build(hyper, K, L, len(obs.vocabulary), D)
     stats = SufficientStats.from_assignments(obs, places, concepts, K, L)
