@@ -173,3 +173,139 @@ def test_features_of_another_dimension_are_refused(saved):
     data.features = data.features[:, :100]
     with pytest.raises(ModelError, match="image features have 100 dimensions but the model was learned with 365"):
         predict_assignments(load_model(saved), data)
+
+
+def _meta(folder):
+    return json.loads((folder / "model.json").read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize("changes,message", [
+    ({"K": 0}, r"\"K\" must be >= 1, got 0"),
+    ({"L": 0}, r"\"L\" must be >= 1, got 0"),
+    ({"D": 0}, r"\"D\" must be >= 1, got 0"),
+])
+def test_empty_sizes_are_refused(saved, changes, message):
+    _rewrite_json(saved, **changes)
+    with pytest.raises(ModelError, match=message):
+        load_model(saved)
+
+
+def test_a_model_with_no_place_is_refused_not_a_traceback(saved):
+    # K = 0 with arrays of matching (empty) shapes used to fail inside numpy (max of an empty array)
+    meta = _meta(saved)
+    _rewrite_json(saved, K=0)
+    _rewrite_npz(saved, mu=np.zeros((0, 2)), Sigma=np.zeros((0, 2, 2)), psi=np.zeros((0, 0)),
+                 phi=np.zeros((meta["L"], 0)), active_places=np.zeros(0, dtype=bool))
+    with pytest.raises(ModelError, match=r"model.json: \"K\" must be >= 1, got 0"):
+        load_model(saved)
+
+
+def test_repeated_word_is_refused(saved):
+    vocab = _meta(saved)["vocabulary"]
+    _rewrite_json(saved, vocabulary=vocab[:-1] + [vocab[0]])
+    with pytest.raises(ModelError, match=rf"\"vocabulary\" lists {vocab[0]!r} twice \(again at index "
+                                         rf"{len(vocab) - 1}\)"):
+        load_model(saved)
+
+
+@pytest.mark.parametrize("costmap,message", [
+    ({"inflation_radius": 1.0, "robot_size": 3}, r"unknown cost map setting\(s\) robot_size in \"costmap\" "
+                                                  r"\(known: inscribed_radius, inflation_radius"),
+    ({"inflation_radius": -1.0}, r"\"costmap.inflation_radius\" must be a finite number >= 0, got -1.0"),
+    ({"cost_scaling_factor": "steep"}, r"\"costmap.cost_scaling_factor\" must be a finite number >= 0, got 'steep'"),
+    ({"inscribed_radius": True}, r"\"costmap.inscribed_radius\" must be a finite number >= 0, got True"),
+    ({"track_unknown_space": 1}, r"\"costmap.track_unknown_space\" must be true or false, got 1"),
+])
+def test_cost_map_settings_are_checked(saved, costmap, message):
+    _rewrite_json(saved, costmap=costmap)
+    with pytest.raises(ModelError, match=message):
+        load_model(saved)
+
+
+def test_non_finite_cost_map_setting(saved):
+    (saved / "model.json").write_text((saved / "model.json").read_text(encoding="utf-8").replace(
+        '"inflation_radius": 1.0', '"inflation_radius": Infinity'), encoding="utf-8")
+    with pytest.raises(ModelError, match=r"\"costmap.inflation_radius\" must be a finite number >= 0, got inf"):
+        load_model(saved)
+
+
+@pytest.mark.parametrize("name,value,message", [
+    ("alpha", "big", r"hyper-parameter alpha must be a finite number > 0, got 'big'"),
+    ("gamma", -0.1, r"hyper-parameter gamma must be a finite number > 0, got -0.1"),
+    ("beta", 0, r"hyper-parameter beta must be a finite number > 0, got 0"),
+    ("omega", None, r"hyper-parameter omega must be a finite number > 0, got None"),
+    ("kappa0", 1e400, r"hyper-parameter kappa0 must be a finite number > 0, got inf"),
+    ("nu0", 1, r"hyper-parameter nu0 must be a finite number > 1"),
+    ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
+    ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
+    ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix"),
+])
+def test_bad_hyper_parameters_are_refused(saved, name, value, message):
+    _rewrite_json(saved, hyper={**_meta(saved)["hyper"], name: value})
+    with pytest.raises(ModelError, match=message):
+        load_model(saved)
+
+
+@pytest.mark.parametrize("weight", ["1", 0, -2.0, True, [1]])
+def test_feature_weight_must_be_a_positive_number_or_null(saved, weight):
+    _rewrite_json(saved, info={**_meta(saved)["info"], "feature_weight": weight})
+    with pytest.raises(ModelError, match=r"\"info.feature_weight\" must be a positive number, or null for the "
+                                         r"authors' counts, got "):
+        load_model(saved)
+
+
+def test_feature_weight_null_and_numbers_load(saved):
+    for weight in (None, 2, 0.5):
+        _rewrite_json(saved, info={**_meta(saved)["info"], "feature_weight": weight})
+        assert load_model(saved).info["feature_weight"] == weight
+
+
+def test_map_outside_the_model_folder_is_refused(saved, tmp_path):
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    for name in ("map.yaml", "map.pgm"):
+        (outside / name).write_bytes((saved / name).read_bytes())
+    _rewrite_json(saved, map="../elsewhere/map.yaml")
+    with pytest.raises(ModelError, match=r"\"map\" must be a file inside the model folder .*, got "
+                                         r"'../elsewhere/map.yaml'"):
+        load_model(saved)
+    _rewrite_json(saved, map=str(outside / "map.yaml"))          # an absolute path is outside too
+    with pytest.raises(ModelError, match=r"\"map\" must be a file inside the model folder"):
+        load_model(saved)
+
+
+def test_map_image_outside_the_model_folder_is_refused(saved, tmp_path):
+    (tmp_path / "secret.pgm").write_bytes((saved / "map.pgm").read_bytes())
+    yaml_text = (saved / "map.yaml").read_text(encoding="utf-8").replace("image: map.pgm", "image: ../secret.pgm")
+    (saved / "map.yaml").write_text(yaml_text, encoding="utf-8")
+    with pytest.raises(ModelError, match=r"the image of map.yaml must be a file inside the model folder"):
+        load_model(saved)
+
+
+def test_psi_learned_round_trip_and_checks(model, tmp_path):
+    m = fit_supervised(load_bundled("3LDK_05", lang="en"))
+    assert m.psi_learned is None
+    assert "psi_learned" not in np.load(save_model(m, tmp_path / "none") / "arrays.npz").files
+    assert load_model(tmp_path / "none").psi_learned is None
+    m.psi_learned = np.full((m.K, m.K), 1.0 / m.K)
+    back = load_model(save_model(m, tmp_path / "with"))
+    np.testing.assert_array_equal(back.psi_learned, m.psi_learned)
+    _rewrite_npz(tmp_path / "with", psi_learned=np.ones((m.K, m.K)))
+    with pytest.raises(ModelError, match="psi_learned must be non-negative with rows summing to 1"):
+        load_model(tmp_path / "with")
+    _rewrite_npz(tmp_path / "with", psi_learned=np.eye(m.K)[:, :2])
+    with pytest.raises(ModelError, match=r"psi_learned has shape \(\d+, 2\), but model.json"):
+        load_model(tmp_path / "with")
+    _rewrite_npz(tmp_path / "with", psi_learned=None, surprise=np.zeros(3))
+    with pytest.raises(ModelError, match=r"holds unknown array\(s\) surprise"):
+        load_model(tmp_path / "with")
+
+
+def test_unwritable_model_folder_is_a_model_error(model, tmp_path):
+    from spcotmhp.learning.io import prepare_model_folder
+
+    with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
+        prepare_model_folder("/proc/nope/m")
+    with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
+        save_model(model, "/proc/nope/m")
+    assert prepare_model_folder(tmp_path / "a" / "b").is_dir()

@@ -306,6 +306,27 @@ def test_write_dataset_refuses_a_file(tmp_path):
         write_dataset(generate_environment("flat"), target)
 
 
+def test_write_dataset_to_a_folder_that_cannot_be_made(tmp_path):
+    with pytest.raises(DatasetError, match=r"cannot write the dataset to /proc/nope/d: "):
+        write_dataset(generate_environment("flat"), "/proc/nope/d")
+    # a folder that exists but whose files cannot be written: a teaching.csv that is a folder
+    (tmp_path / "d" / "teaching.csv").mkdir(parents=True)
+    with pytest.raises(DatasetError, match=r"cannot write the dataset to .*/d: Is a directory"):
+        write_dataset(generate_environment("flat"), tmp_path / "d")
+
+
+def test_synth_command_reports_an_unwritable_folder_in_one_line():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    exe = Path(sys.executable).parent / "spcotmhp"
+    res = subprocess.run([str(exe), "synth", "flat", "--out", "/proc/nope/d"], capture_output=True, text=True,
+                         timeout=120, check=False)
+    assert res.returncode == 2
+    assert res.stderr.startswith("error: cannot write the dataset to /proc/nope/d: ") and "Traceback" not in res.stderr
+
+
 # ------------------------------------------------------------------------------------------------ bad input
 @pytest.mark.parametrize("kwargs, message", [
     ({"kind": "castle"}, r"unknown floor plan kind 'castle'; accepted: flat, house, office"),

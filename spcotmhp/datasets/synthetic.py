@@ -18,7 +18,7 @@ import numpy as np
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, Room, generate_floor_plan, seeded_rng
 from spcotmhp.datasets.synthetic_walk import teaching_walk
-from spcotmhp.errors import DatasetError
+from spcotmhp.errors import DatasetError, MapError
 from spcotmhp.metric.map_io import save_map
 
 __all__ = ["Door", "FloorPlan", "Room", "generate_environment", "generate_floor_plan", "teaching_walk",
@@ -58,7 +58,18 @@ def write_dataset(dataset: Dataset, folder: str | Path) -> Path:
     n = dataset.n_events
     if len(dataset.tokens) != n:
         raise DatasetError(f"dataset {dataset.name!r} has {n} positions but {len(dataset.tokens)} token lists")
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        _write_files(dataset, out)
+    except OSError as exc:
+        raise DatasetError(f"cannot write the dataset to {out}: {exc.strerror or exc}") from None
+    except MapError as exc:
+        raise DatasetError(f"cannot write the dataset to {out}: {exc}") from None
+    return out
+
+
+def _write_files(dataset: Dataset, out: Path) -> None:
+    """The files of ``write_dataset`` (OSError propagates)."""
     save_map(dataset.map, out / "map.yaml")
     words = [" ".join(tokens) for tokens in dataset.tokens]
     header = ["event", "x", "y", "words_ja", "words_en"]
@@ -81,7 +92,6 @@ def write_dataset(dataset: Dataset, folder: str | Path) -> Path:
                    [[i, name, name] for i, name in enumerate(dataset.place_names)])
     if dataset.adjacency is not None:
         _write_csv(out / "adjacency.csv", None, np.asarray(dataset.adjacency, dtype=np.int64).tolist())
-    return out
 
 
 def _num(value: float) -> str:
