@@ -209,8 +209,8 @@ def test_repeated_word_is_refused(saved):
 
 
 @pytest.mark.parametrize("costmap,message", [
-    ({"inflation_radius": 1.0, "robot_size": 3}, r"unknown cost map setting\(s\) robot_size in \"costmap\" "
-                                                  r"\(known: inscribed_radius, inflation_radius"),
+    ({"inflation_radius": 1.0, "robot_size": 3},
+     r"unknown cost map setting\(s\) robot_size in \"costmap\" \(known: inscribed_radius, inflation_radius"),
     ({"inflation_radius": -1.0}, r"\"costmap.inflation_radius\" must be a finite number >= 0, got -1.0"),
     ({"cost_scaling_factor": "steep"}, r"\"costmap.cost_scaling_factor\" must be a finite number >= 0, got 'steep'"),
     ({"inscribed_radius": True}, r"\"costmap.inscribed_radius\" must be a finite number >= 0, got True"),

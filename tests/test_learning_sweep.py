@@ -126,10 +126,10 @@ def test_saturated_truncation_warns_and_is_recorded():
     messages = [str(w.message) for w in caught]
     assert est.model_.info["truncation_saturated"] == ["places", "concepts"]
     assert messages == [
-        "all K = 2 place components hold events (the weak-limit truncation is saturated, so places may have "
-        "been merged): learn again with a larger --max-places (SpCoTMHP(K=...))",
-        "all L = 2 concept components hold events (the weak-limit truncation is saturated, so concepts may have "
-        "been merged): learn again with a larger --max-concepts (SpCoTMHP(L=...))"]
+        ("all K = 2 place components hold events (the weak-limit truncation is saturated, so places may have "
+         "been merged): learn again with a larger --max-places (SpCoTMHP(K=...))"),
+        ("all L = 2 concept components hold events (the weak-limit truncation is saturated, so concepts may have "
+         "been merged): learn again with a larger --max-concepts (SpCoTMHP(L=...))")]
     with warnings.catch_warnings():
         warnings.simplefilter("error", TruncationWarning)
         roomy = SpCoTMHP(iterations=5, seed=0, connectivity="hmm").fit(data)

@@ -3,7 +3,12 @@
 from spcotmhp.datasets.bundled import bundled_path, list_bundled, load_bundled
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.loader import DatasetWarning, features_to_counts, load_dataset
-from spcotmhp.datasets.synthetic import generate_environment, generate_floor_plan, teaching_walk, write_dataset
+from spcotmhp.datasets.synthetic import (
+    generate_environment,
+    generate_floor_plan,
+    teaching_walk,
+    write_dataset,
+)
 
 __all__ = [
     "Dataset",

@@ -5,8 +5,8 @@ Every term is returned in log space. Equation numbers refer to Taniguchi, Ito an
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
-from typing import Mapping
 
 import numpy as np
 from scipy.special import logsumexp
