@@ -80,7 +80,7 @@ def test_hiragana_names_are_not_split_by_grammar_words():
 @pytest.mark.parametrize("text, words, message", [
     ("go to the garage", EN, ("no known place word in 'go to the garage' (not understood: garage); "
                               "known place words: bath, bedroom, corridor")),
-    ("go to the bedroom via the garage", EN, "'via' is followed by no known place word (not understood: garage)"),
+    ("go to the bedroom via the garage", EN, "'garage' (after 'via') is not a known place word; known place words: "),
     ("go to the bedroom avoiding", EN, "'avoiding' is followed by no known place word"),
     ("", EN, "the instruction is empty"),
     ("   ", EN, "the instruction is empty"),
@@ -93,6 +93,89 @@ def test_errors(text, words, message):
     with pytest.raises(InstructionError) as info:
         parse_text(text, words)
     assert message in str(info.value)
+
+
+UNKNOWN = "is not a known place word; known place words: bath, bedroom, corridor, dining, entrance, hall, kitchen"
+UNKNOWN_JA = "is not a known place word; known place words: キッチン, ダイニング, トイレ"
+
+
+@pytest.mark.parametrize("text, words, message", [
+    # unknown words where a place word is expected (rule 6): never dropped silently
+    ("go to the garage via the kitchen", EN, "'garage' (after 'to') " + UNKNOWN),
+    ("go to the kitchen and the attic", EN, "'attic' (after 'and') " + UNKNOWN),
+    ("go to the attic, then the kitchen", EN, "'attic' (after 'to') " + UNKNOWN),
+    ("go to the kitchen, the attic", EN, "'attic' (after ',') " + UNKNOWN),
+    ("take me to the big attic", EN, "no known place word in 'take me to the big attic' (not understood: big, "
+                                     "attic)"),
+    ("go to the bedroom avoiding the garage and the kitchen", EN, "'garage' (after 'avoiding') " + UNKNOWN),
+    ("go to the bedroom instead of the garage", EN, "'garage' (after 'instead of') " + UNKNOWN),
+    ("go to the bedroom and then to", EN, "'to' is followed by no known place word"),
+    ("ガレージへ行ってキッチンを通って", JA, "'ガレージ' (before 'へ行って') " + UNKNOWN_JA),
+    ("キッチンとガレージを通って寝室へ", JA, "'ガレージ' (before 'を通って') " + UNKNOWN_JA),
+    ("ガレージとキッチンを通って寝室へ", JA, "'ガレージ' (before 'と') " + UNKNOWN_JA),
+    ("キッチンガレージ寝室へ", JA, "'キッチン' and '寝室' are not joined by a connector or a marker "
+                                 "(not understood: ガレージ)"),
+    # alternatives: the choice is the user's (rule 2)
+    ("go to the bedroom via the kitchen or the toilet", EN,
+     "'or' leaves the choice of a place open (kitchen or toilet); the planner needs one place for each waypoint "
+     "and one goal: say which one"),
+    ("go to either the kitchen or the toilet", EN, "'either' leaves the choice of a place open (kitchen)"),
+    ("キッチンかトイレを通って寝室へ", JA, "'か' leaves the choice of a place open (キッチン or トイレ)"),
+    ("キッチンまたはトイレへ行って", JA, "'または' leaves the choice of a place open (キッチン or トイレ)"),
+    # spatial relations are not modelled (rule 2)
+    ("go to the bedroom next to the kitchen", EN,
+     "'next to' describes a place by where it lies relative to another (kitchen); the map does not model spatial "
+     "relations between places: name the place itself; known place words: bath"),
+    ("go near the kitchen", EN, "'near' describes a place by where it lies relative to another (kitchen)"),
+    ("キッチンの隣の寝室へ行って", JA, "'の隣' describes a place by where it lies relative to another (キッチン)"),
+])
+def test_unknown_words_alternatives_and_relations_are_errors(text, words, message):
+    with pytest.raises(InstructionError) as info:
+        parse_text(text, words)
+    assert message in str(info.value)
+
+
+@pytest.mark.parametrize("text, waypoints, goal, avoid, not_goal", [
+    ("don't go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("do not go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("never go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("I don't want to go to the kitchen, take me to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("go to the bedroom, never pass the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("go to the bedroom, not through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("go to the bedroom without going through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("go to the bedroom avoid going through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+    ("go to the bedroom instead of the kitchen", [], {"bedroom": 1}, [], [{"kitchen": 1}]),
+    ("instead of going to the kitchen, go to the bedroom via the corridor", [{"corridor": 1}], {"bedroom": 1},
+     [], [{"kitchen": 1}]),
+    ("go to the bedroom rather than the kitchen", [], {"bedroom": 1}, [], [{"kitchen": 1}]),
+    ("I want to quickly go to the kitchen", [], {"kitchen": 1}, [], []),
+    ("go to the big kitchen", [], {"kitchen": 1}, [], []),
+    ("go to the kitchen, thanks", [], {"kitchen": 1}, [], []),
+    ("go to the kitchen right away", [], {"kitchen": 1}, [], []),
+    ("キッチンに行かないで寝室へ行って", [], {"寝室": 1}, [{"キッチン": 1}], []),
+    ("寝室へ行って、キッチンは通らないで", [], {"寝室": 1}, [{"キッチン": 1}], []),
+    ("キッチンを通らないで寝室へ行って", [], {"寝室": 1}, [{"キッチン": 1}], []),
+    ("キッチンに入らないで寝室へ", [], {"寝室": 1}, [{"キッチン": 1}], []),
+    ("キッチンを避けて寝室へ", [], {"寝室": 1}, [{"キッチン": 1}], []),
+    ("キッチンじゃなくて寝室へ行って", [], {"寝室": 1}, [], [{"キッチン": 1}]),
+    ("キッチンの代わりに寝室へ", [], {"寝室": 1}, [], [{"キッチン": 1}]),
+    ("寝室に早く行って", [], {"寝室": 1}, [], []),
+    ("ロボットさん、寝室へ行って", [], {"寝室": 1}, [], []),
+    ("玄関の廊下に行って", [], {"玄関": 1, "廊下": 1}, [], []),
+])
+def test_negations_and_tolerated_words(text, waypoints, goal, avoid, not_goal):
+    ins = parse_text(text, JA if detect_language(text) == "ja" else EN)
+    assert shape(ins) == (waypoints, goal, avoid)
+    assert [dict(q.words) for q in ins.not_goal] == not_goal
+
+
+def test_not_goal_in_structured_form_and_description():
+    ins = parse_structured({"goal": ["bedroom"], "not_goal": [["kitchen"]]}, EN)
+    assert [dict(q.words) for q in ins.not_goal] == [{"kitchen": 1}]
+    assert ins.describe() == "bedroom, instead of kitchen"
+    assert parse_text("go to the bedroom instead of the kitchen", EN).describe() == "bedroom, instead of kitchen"
+    with pytest.raises(InstructionError, match="names no place to go to"):
+        parse_text("instead of the kitchen", EN)
 
 
 def test_unknown_language():

@@ -5,9 +5,19 @@ module only lists the closed-class words that say what role a named place plays:
 
 * ``goal``: where the robot must end ("to", "into"; へ, に行って).
 * ``waypoint``: a place to pass on the way, in the order spoken ("via", "through", "passing by"; を通って, 経由して).
-* ``avoid``: a place the path must not enter ("avoiding", "without passing", "not through"; を避けて, を通らずに).
+* ``avoid``: a place the path must not enter ("avoiding", "without passing", "not through", and negations of going
+  there: "don't go to", "never pass"; を避けて, を通らずに, に行かないで, は通らないで). A negation followed by
+  other markers with only fillers between ("I don't want to go to the kitchen") keeps the avoid role.
+* ``not_goal``: a place that must not be the goal but may be passed ("instead of", "rather than"; ではなく,
+  の代わりに). "Go to the bedroom instead of the kitchen" corrects the destination; nothing in it forbids
+  driving through the kitchen, so the kitchen is not avoided, only never chosen as the goal.
 * ``from``: the place the robot starts in ("from"; から). The start is the pose given to the planner, so such a
   phrase is parsed and then ignored.
+
+Two kinds of phrases are recognised only to be refused (the parser raises an error saying why rather than
+guessing): ``alternatives`` ("or", "either"; または) leave the choice of a place open, and ``relations``
+("next to", "near", "behind"; の隣, の近く) describe a place by a spatial relation to another, which the model
+does not represent.
 
 ``attach`` says on which side of its place phrase a marker stands: English markers are prepositions (``prefix``:
 "via the corridor"), Japanese ones are postpositions (``postfix``: 廊下を通って). ``connectors`` ("and", "then", と)
@@ -18,9 +28,9 @@ entry wins, and a place word wins over a grammar word of the same length.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-ROLES = ("goal", "waypoint", "avoid", "from")
+ROLES = ("goal", "waypoint", "avoid", "not_goal", "from")
 
 
 @dataclass(frozen=True)
@@ -32,6 +42,15 @@ class Grammar:
         attach: "prefix" (marker before its place phrase) or "postfix" (marker after it).
         markers: phrase -> role, phrases as written (English: space-separated words).
         connectors: phrases that continue the previous role.
+        soft_connectors: the connectors that are only punctuation (",", 、): unknown words after them are
+            reported only when they follow a determiner ("go to the kitchen, thanks" is fine, "go to the kitchen,
+            the attic" is not).
+        determiners: fillers that open a noun phrase ("the", "my").
+        alternatives: phrases offering a choice between places ("or"), refused.
+        relations: spatial relations between places ("next to"), refused.
+        between_places: short words that mean something only when they stand alone between two place
+            phrases (Japanese: の joins them into one name, 玄関の廊下; か offers alternatives, キッチンかトイレ):
+            word -> "join" or "alternative". Elsewhere they are ordinary characters of other words.
         fillers: words that carry no meaning for the parse. English: skipped, and not reported as "not
             understood". Every language: never taken as place words unless a word is some place's best name
             (:func:`~spcotmhp.planning.vocabulary.place_vocabulary`).
@@ -44,6 +63,11 @@ class Grammar:
     connectors: frozenset[str]
     fillers: frozenset[str] = frozenset()
     by_character: bool = False
+    soft_connectors: frozenset[str] = frozenset()
+    determiners: frozenset[str] = frozenset()
+    alternatives: frozenset[str] = frozenset()
+    relations: frozenset[str] = frozenset()
+    between_places: dict[str, str] = field(default_factory=dict)
 
 
 def _roles(**groups: tuple[str, ...]) -> dict[str, str]:
@@ -63,18 +87,29 @@ ENGLISH = Grammar(
                "without going through", "without entering", "don't go through", "do not go through",
                "don't pass", "don't pass through", "do not pass", "do not pass through", "don't enter",
                "do not enter", "except", "but not", "bypass", "bypassing", "skip", "skipping", "stay out of",
-               "keep out of", "away from"),
+               "keep out of", "away from", "don't", "dont", "do not", "never", "don't go to", "do not go to",
+               "don't go into", "do not go into", "never go to", "never go into", "never go through", "never pass",
+               "never pass by", "never pass through", "never enter", "never visit", "don't visit", "do not visit",
+               "not to", "not into", "not via", "without going to", "without visiting"),
+        not_goal=("instead of", "rather than"),
         **{"from": ("from", "starting from", "leaving")},
     ),
-    connectors=frozenset({"and", "then", "and then", "after that", "afterwards", "next", "finally", "first", "or",
+    connectors=frozenset({"and", "then", "and then", "after that", "afterwards", "next", "finally", "first",
                           ",", ";", "&"}),
+    soft_connectors=frozenset({",", ";"}),
+    determiners=frozenset({"the", "a", "an", "my", "our", "your", "this", "that"}),
+    alternatives=frozenset({"or", "either", "or else", "whichever"}),
+    relations=frozenset({"next to", "near", "near to", "nearby", "close to", "beside", "behind", "in front of",
+                         "opposite", "opposite to", "across from", "between", "left of", "right of", "above",
+                         "below", "beyond"}),
     fillers=frozenset({"the", "a", "an", "my", "our", "your", "this", "that", "please", "go", "goes", "going",
                        "take", "me", "us", "bring", "get", "head", "move", "navigate", "drive", "walk", "come",
                        "lead", "guide", "can", "could", "would", "you", "i", "we", "it", "want", "need", "let's",
                        "let", "room", "place", "area", "way", "there", "here", "now", "robot", "hey", "ok", "okay",
                        "again", "back", "along", "of", "all", "by", "on", "in", "side", "pass", "enter", "visit",
                        "is", "are", "am", "be", "called", "name", "named", "this's", "um", "uh", "so", "well",
-                       "look"}),
+                       "look", "once", "quickly", "slowly", "carefully", "thanks", "thank", "immediately", "soon",
+                       "right", "away", "straight"}),
 )
 
 JAPANESE = Grammar(
@@ -90,10 +125,20 @@ JAPANESE = Grammar(
                   "を回って", "をまわって"),
         avoid=("を避けて", "をさけて", "避けて", "さけて", "を通らずに", "をとおらずに", "を通らないで", "をとおらないで",
                "を通らず", "をとおらず", "を経由せずに", "をけいゆせずに", "に入らずに", "にはいらずに", "に入らないで",
-               "にはいらないで", "に寄らずに", "によらずに", "以外", "いがい", "を除いて", "をのぞいて"),
+               "にはいらないで", "に寄らずに", "によらずに", "以外", "いがい", "を除いて", "をのぞいて",
+               "に行かないで", "へ行かないで", "には行かないで", "へは行かないで", "に行かずに", "へ行かずに",
+               "にいかないで", "へいかないで", "にはいかないで", "にいかずに", "行かないで", "いかないで",
+               "入らないで", "はいらないで", "には入らないで", "には入らずに", "は通らないで", "はとおらないで",
+               "は通らずに", "はとおらずに", "を通らないでください", "は避けて", "はさけて"),
+        not_goal=("ではなく", "ではなくて", "じゃなく", "じゃなくて", "の代わりに", "のかわりに", "ではなしに"),
         **{"from": ("から",)},
     ),
     connectors=frozenset({"と", "、", ",", "，", "それから", "そして", "その後", "そのあと", "や"}),
+    soft_connectors=frozenset({"、", ",", "，"}),
+    alternatives=frozenset({"または", "もしくは", "あるいは", "それとも"}),
+    between_places={"の": "join", "か": "alternative"},
+    relations=frozenset({"の隣", "のとなり", "の近く", "のちかく", "の横", "のよこ", "の前", "のまえ", "の後ろ",
+                         "のうしろ", "の向かい", "のむかい", "のそば", "の奥", "のおく", "の間", "のあいだ"}),
     fillers=frozenset({"ここ", "ここが", "ここは", "ここわ", "こちら", "こちらが", "この", "ここの", "です", "だよ",
                        "だ", "になります", "にきました", "ください", "ロボット", "このばしょ", "このばしょが",
                        "このばしょは", "このばしょわ", "このばしょの", "このばしょのなまえは", "このばしょのなまえわ",

@@ -8,16 +8,32 @@ words from the model (:func:`spcotmhp.planning.vocabulary.place_vocabulary`).
 
 Parse rules (documented behaviour, tested):
 1. The text is cut into place phrases (maximal runs of adjacent place words, so multi-word names such as
-   "entrance corridor" form one phrase), grammar markers, connectors and other words.
-2. A phrase takes the role of its marker (English: the last marker before it; Japanese: the first marker after
+   "entrance corridor" form one phrase; in Japanese also two names joined by a lone の, 玄関の廊下), grammar
+   markers, connectors, alternatives, relations, fillers and other words.
+2. Refused outright, with an error saying why: an alternative ("or", または, a lone か between two places: the
+   choice is the user's to make) and a spatial relation ("next to", の隣: not modelled).
+3. A phrase takes the role of its marker (English: the last marker before it; Japanese: the first marker after
    it). A phrase with only a connector takes its neighbour's role (English: the previous phrase's; Japanese:
-   the next phrase's). A phrase with no marker at all is a goal.
-3. Waypoints are kept in the order spoken. If several phrases are goals ("go to the toilet and then to the
+   the next phrase's). A phrase with no marker at all is a goal. A negation ("don't", "never", "instead of")
+   followed, through fillers only, by another marker keeps its own role: "I don't want to go to the kitchen"
+   avoids the kitchen.
+4. Waypoints are kept in the order spoken. If several phrases are goals ("go to the toilet and then to the
    kitchen"), the last one is the goal and the earlier ones become waypoints at their place in the sentence;
-   if none is ("through the corridor and then the bedroom"), the last waypoint is the goal.
-4. "from" phrases are dropped (the start is the pose given to the planner).
-5. A waypoint or avoid marker with no place word (e.g. "via the garage" with "garage" not learned) is an error
-   that names the words not understood and lists the known place words.
+   if none is ("through the corridor and then the bedroom"), the last waypoint is the goal. "not_goal" phrases
+   ("instead of the kitchen") may be passed but are never the goal.
+5. "from" phrases are dropped (the start is the pose given to the planner).
+6. Words where a place word is expected must be place words: other words (not place words, grammar words or
+   fillers) between a goal / waypoint / avoid / not_goal marker or a connector and the next grammar word or the
+   end of the sentence, with no place word there (English "go to the garage via the kitchen", "go to the kitchen
+   and the attic"), or between the previous grammar word and such a marker (Japanese ガレージへ行って), are an
+   error naming them and listing the known place words. Not counted: words between a marker and its place
+   ("go to the big kitchen", 寝室のほうへ), words after a marker that the next marker of the same role takes
+   over ("want to quickly go to"; 寝室に早く行って), and words after a punctuation connector unless they follow
+   a determiner ("go to the kitchen, thanks" is fine; "go to the kitchen, the attic" is not). In Japanese two
+   place phrases must be joined by a connector (と, や) or belong to different markers.
+7. A waypoint, avoid or not_goal marker with no place word (e.g. "via the garage" with "garage" not learned), or
+   a goal marker ending the sentence, is an error that names the words not understood and lists the known
+   place words.
 """
 
 from __future__ import annotations
@@ -53,13 +69,15 @@ class PlaceQuery:
 @dataclass(frozen=True)
 class Instruction:
     """An understood instruction: stages are the waypoints in order, then the goal (Eq. 28 uses the bag of the
-    stage being pursued at each step); ``avoid`` places get zero probability."""
+    stage being pursued at each step); ``avoid`` places get zero probability; ``not_goal`` places may be passed
+    but never end the plan ("instead of the kitchen")."""
 
     goal: PlaceQuery
     waypoints: tuple[PlaceQuery, ...] = ()
     avoid: tuple[PlaceQuery, ...] = ()
     text: str = ""
     lang: str = "en"
+    not_goal: tuple[PlaceQuery, ...] = ()
 
     @property
     def stages(self) -> tuple[PlaceQuery, ...]:
@@ -72,12 +90,14 @@ class Instruction:
             out += " via " + ", then ".join(w.label for w in self.waypoints)
         if self.avoid:
             out += ", avoiding " + " and ".join(a.label for a in self.avoid)
+        if self.not_goal:
+            out += ", instead of " + " and ".join(a.label for a in self.not_goal)
         return out
 
 
 @dataclass
 class _Item:
-    kind: str          # "place", "marker", "connector", "filler", "other"
+    kind: str          # "place", "marker", "connector", "alternative", "relation", "filler", "other"
     value: str         # the place word / the role / ""
     surface: str
     words: list[str] = field(default_factory=list)  # place words of a merged phrase
@@ -92,8 +112,9 @@ def parse_text(text: str, place_words: Sequence[str], lang: str | None = None) -
     """Understand one instruction sentence (rules in the module docstring).
 
     Raises:
-        InstructionError: empty text, no known place word, a dangling "via"/"avoiding" marker, or only places
-            to avoid; the message lists the known place words.
+        InstructionError: empty text, no known place word, an unknown word where a place word is expected, a
+            dangling marker, alternatives ("or"), a spatial relation ("next to"), or only places to avoid; the
+            message lists the known place words.
     """
     if not isinstance(text, str) or not text.strip():
         raise InstructionError("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
@@ -102,16 +123,19 @@ def parse_text(text: str, place_words: Sequence[str], lang: str | None = None) -
         raise InstructionError(f"no grammar for language {lang!r}; supported: {', '.join(sorted(GRAMMARS))}")
     grammar = GRAMMARS[lang]
     items = _merge_phrases(_scan(text, grammar, place_words), grammar)
+    _refuse(items, grammar, place_words)
     phrases = [it for it in items if it.kind == "place"]
     if not phrases:
         raise InstructionError(f"no known place word in {text!r}{_not_understood(items)}; "
                                f"{_known(place_words)}")
+    _check_place_positions(items, grammar, place_words)
     roles = _assign_roles(items, grammar, place_words)
     return _build(phrases, roles, text, lang, place_words)
 
 
 def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], lang: str = "en") -> Instruction:
-    """The structured form ``{"goal": [...], "waypoints": [[...], ...], "avoid": [[...], ...]}``.
+    """The structured form ``{"goal": [...], "waypoints": [[...], ...], "avoid": [[...], ...]}`` (optionally
+    ``"not_goal": [[...], ...]``, places that must not be the goal).
 
     Each place is a token list, or one string of space-separated tokens (so ``"waypoints": ["corridor",
     "entrance corridor"]`` is two waypoints); every token must be a place word. A JSON string is accepted too.
@@ -123,10 +147,10 @@ def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], l
             raise InstructionError(f"structured instruction is not valid JSON: {exc}") from None
     if not isinstance(obj, Mapping):
         raise InstructionError("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
-    unknown_keys = set(obj) - {"goal", "waypoints", "avoid"}
+    unknown_keys = set(obj) - {"goal", "waypoints", "avoid", "not_goal"}
     if unknown_keys:
         raise InstructionError(f"unknown key(s) {sorted(unknown_keys)} in the structured instruction; "
-                               "accepted: goal, waypoints, avoid")
+                               "accepted: goal, waypoints, avoid, not_goal")
     if "goal" not in obj:
         raise InstructionError("the structured instruction has no 'goal'")
     known = set(place_words)
@@ -149,7 +173,7 @@ def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], l
         return tuple(query(v, f"{key}[{i}]") for i, v in enumerate(value))
 
     return Instruction(goal=query(obj["goal"], "goal"), waypoints=queries("waypoints"), avoid=queries("avoid"),
-                       text=json.dumps(obj, ensure_ascii=False), lang=lang)
+                       text=json.dumps(obj, ensure_ascii=False), lang=lang, not_goal=queries("not_goal"))
 
 
 def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[str],
@@ -158,7 +182,7 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
 
     Scores are confidences >= 0 (normalised to sum 1) or, when all are <= 0 and some < 0, log-probabilities
     (soft-maxed). Each hypothesis is parsed; those that do not parse are dropped. Hypotheses are grouped by shape
-    (number of waypoints and avoided places); the group with the largest total weight wins and stage e's bag is
+    (number of waypoints, avoided places and excluded goals); the group with the largest total weight wins and stage e's bag is
     sum_h w_h S_{h,e} with the weights renormalised in the group.
     """
     if not hypotheses:
@@ -184,9 +208,9 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
             first_error = first_error or exc
     if not parsed:
         raise InstructionError(f"no N-best hypothesis names a known place (first: {first_error})")
-    groups: dict[tuple[int, int], list[tuple[Instruction, float]]] = {}
+    groups: dict[tuple[int, int, int], list[tuple[Instruction, float]]] = {}
     for ins, w in parsed:
-        groups.setdefault((len(ins.waypoints), len(ins.avoid)), []).append((ins, w))
+        groups.setdefault((len(ins.waypoints), len(ins.avoid), len(ins.not_goal)), []).append((ins, w))
     group = max(groups.values(), key=lambda g: (sum(w for _, w in g), -len(g)))
     total = sum(w for _, w in group)
     rel = [(ins, w / total if total > 0 else 1.0 / len(group)) for ins, w in group]
@@ -199,12 +223,12 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
                 bag[word] += w * c
         return PlaceQuery(dict(bag), pick(top).label)
 
-    n_way, n_avoid = len(top.waypoints), len(top.avoid)
     return Instruction(
         goal=combine(lambda i: i.goal),
-        waypoints=tuple(combine(lambda i, j=j: i.waypoints[j]) for j in range(n_way)),
-        avoid=tuple(combine(lambda i, j=j: i.avoid[j]) for j in range(n_avoid)),
-        text=top.text, lang=top.lang)
+        waypoints=tuple(combine(lambda i, j=j: i.waypoints[j]) for j in range(len(top.waypoints))),
+        avoid=tuple(combine(lambda i, j=j: i.avoid[j]) for j in range(len(top.avoid))),
+        text=top.text, lang=top.lang,
+        not_goal=tuple(combine(lambda i, j=j: i.not_goal[j]) for j in range(len(top.not_goal))))
 
 
 def to_instruction(source: Any, place_words: Sequence[str], lang: str | None = None) -> Instruction:
@@ -250,12 +274,14 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, 
 
     grammar_lex = {key(p): ("marker", role) for p, role in grammar.markers.items()}
     grammar_lex.update({key(p): ("connector", "") for p in grammar.connectors})
+    grammar_lex.update({key(p): ("alternative", "") for p in grammar.alternatives})
+    grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
     place_lex = {key(w): ("place", w) for w in place_words if key(w)}
     return place_lex, grammar_lex, max(map(len, [*place_lex, *grammar_lex]), default=1)
 
 
 def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[_Item]:
-    """Longest-match segmentation into places, markers, connectors and other units (places win ties)."""
+    """Longest-match segmentation into places, grammar phrases and other units (places win ties)."""
     units = _units(text, grammar)
     place_lex, grammar_lex, longest = _lexicon(grammar, place_words)
     joiner = "" if grammar.by_character else " "
@@ -280,46 +306,141 @@ def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[_Item
 
 
 def _merge_phrases(items: list[_Item], grammar: Grammar) -> list[_Item]:
-    """Adjacent place words form one phrase (a multi-word name)."""
+    """Adjacent place words form one phrase (a multi-word name); a word of ``grammar.between_places`` standing
+    alone between two phrases joins them or marks an alternative."""
     out: list[_Item] = []
     joiner = "" if grammar.by_character else " "
     for it in items:
         if it.kind == "place" and out and out[-1].kind == "place":
             out[-1].words.extend(it.words)
             out[-1].surface += joiner + it.surface
-        else:
-            out.append(it)
+            continue
+        if (it.kind == "place" and len(out) >= 2 and out[-2].kind == "place" and out[-1].kind == "other"
+                and out[-1].surface in grammar.between_places):
+            if grammar.between_places[out[-1].surface] == "join":
+                between = out.pop()
+                out[-1].words.extend(it.words)
+                out[-1].surface += between.surface + it.surface
+                continue
+            out[-1].kind = "alternative"
+        out.append(it)
     return out
 
 
+_ANCHORS = ("place", "marker", "connector", "alternative", "relation")
+
+
+def _neighbour_place(items: list[_Item], idx: int, step: int) -> _Item | None:
+    """The place phrase next to ``items[idx]`` in direction ``step`` with only fillers/other words between."""
+    j = idx + step
+    while 0 <= j < len(items) and items[j].kind in ("filler", "other"):
+        j += step
+    return items[j] if 0 <= j < len(items) and items[j].kind == "place" else None
+
+
+def _refuse(items: list[_Item], grammar: Grammar, place_words: Sequence[str]) -> None:
+    """Rule 2: alternatives and spatial relations are errors, not guesses."""
+    for idx, it in enumerate(items):
+        if it.kind == "alternative":
+            around = [p.surface for p in (_neighbour_place(items, idx, -1), _neighbour_place(items, idx, 1)) if p]
+            choice = f" ({' or '.join(around)})" if around else ""
+            raise InstructionError(f"'{it.surface}' leaves the choice of a place open{choice}; the planner needs "
+                                   "one place for each waypoint and one goal: say which one")
+        if it.kind == "relation":
+            step = 1 if grammar.attach == "prefix" else -1
+            other = _neighbour_place(items, idx, step)
+            what = f" ({other.surface})" if other else ""
+            raise InstructionError(f"'{it.surface}' describes a place by where it lies relative to another"
+                                   f"{what}; the map does not model spatial relations between places: name the "
+                                   f"place itself; {_known(place_words)}")
+
+
+def _expects_place(it: _Item) -> bool:
+    return (it.kind == "marker" and it.value != "from") or it.kind == "connector"
+
+
+def _check_place_positions(items: list[_Item], grammar: Grammar, place_words: Sequence[str]) -> None:
+    """Rule 6: other words where a place word is expected are an error naming them."""
+    anchors = [i for i, it in enumerate(items) if it.kind in _ANCHORS]
+    prefix = grammar.attach == "prefix"
+    for a, idx in enumerate(anchors):
+        it = items[idx]
+        if not _expects_place(it):
+            continue
+        if prefix:
+            end = anchors[a + 1] if a + 1 < len(anchors) else len(items)
+            run, neighbour = items[idx + 1:end], (items[end] if end < len(items) else None)
+        else:
+            begin = anchors[a - 1] if a > 0 else -1
+            run, neighbour = items[begin + 1:idx], (items[begin] if begin >= 0 else None)
+        if neighbour is not None and neighbour.kind == "place":
+            continue       # a marker and its place, words between being modifiers
+        if (it.kind == "marker" and neighbour is not None and neighbour.kind == "marker"
+                and neighbour.value == it.value):
+            continue       # taken over by the next (English) / previous (Japanese) marker of the same role
+        if it.kind == "connector" and it.surface in grammar.soft_connectors:
+            first = next((k for k, x in enumerate(run) if x.kind == "other"), None)
+            if first is None or not any(x.surface in grammar.determiners for x in run[:first]):
+                continue
+        others = [x.surface for x in run if x.kind == "other"]
+        if others:
+            where = "after" if prefix else "before"
+            words = ", ".join(f"'{w}'" for w in others)
+            verb = "is not a known place word" if len(others) == 1 else "are not known place words"
+            raise InstructionError(f"{words} ({where} '{it.surface}') {verb}; {_known(place_words)}")
+
+
 def _assign_roles(items: list[_Item], grammar: Grammar, place_words: Sequence[str]) -> list[str]:
-    """One role per place phrase (module docstring, rule 2)."""
-    roles: list[str] = []
+    """One role per place phrase (module docstring, rules 3 and 7)."""
     if grammar.attach == "prefix":
-        role, dangling = None, None
-        for idx, it in enumerate(items):
-            if it.kind == "marker":
-                _check_dangling(dangling, items, idx, place_words, "followed by")
-                role, dangling = it.value, (idx if it.value in ("waypoint", "avoid") else None)
-            elif it.kind == "place":
-                roles.append(role or "goal")
-                dangling = None
-        _check_dangling(dangling, items, len(items), place_words, "followed by")
-        return roles
-    # postfix: the first marker after a phrase decides; connectors defer to the next phrase
+        return _prefix_roles(items, place_words)
+    return _postfix_roles(items, place_words)
+
+
+def _prefix_roles(items: list[_Item], place_words: Sequence[str]) -> list[str]:
+    roles: list[str] = []
+    role, dangling = None, None
+    for idx, it in enumerate(items):
+        if it.kind == "marker":
+            if dangling is not None:
+                d = items[dangling]
+                only_fillers = all(x.kind == "filler" or (x.kind == "marker" and x.value != "from")
+                                   for x in items[dangling + 1:idx])
+                if d.value in ("avoid", "not_goal") and it.value != "from" and only_fillers:
+                    continue   # a negation governs the marker after it ("don't want to go to the kitchen")
+                if d.value != "goal":
+                    _check_dangling(dangling, items, idx, place_words, "followed by")
+            role, dangling = it.value, (idx if it.value != "from" else None)
+        elif it.kind == "place":
+            roles.append(role or "goal")
+            dangling = None
+    _check_dangling(dangling, items, len(items), place_words, "followed by")
+    return roles
+
+
+def _postfix_roles(items: list[_Item], place_words: Sequence[str]) -> list[str]:
+    """The first marker after a phrase decides; connectors defer to the next phrase."""
+    roles: list[str] = []
     pending: list[int] = []  # phrase indices waiting for a role
     since_phrase = True      # no marker yet after the last phrase
+    last_place = -1
     for idx, it in enumerate(items):
         if it.kind == "place":
+            if pending and not any(x.kind == "connector" for x in items[last_place + 1:idx]):
+                between = [x.surface for x in items[last_place + 1:idx] if x.kind == "other"]
+                raise InstructionError(f"'{items[last_place].surface}' and '{it.surface}' are not joined by a "
+                                       f"connector or a marker{_not_understood_words(between)}; join places with "
+                                       f"と or give each its own marker")
             roles.append("")
             pending.append(len(roles) - 1)
             since_phrase = True
+            last_place = idx
         elif it.kind == "marker":
             if pending and since_phrase:
                 for p in pending:
                     roles[p] = it.value
                 pending = []
-            elif it.value in ("waypoint", "avoid"):
+            elif it.value in ("waypoint", "avoid", "not_goal"):
                 last = max((j for j in range(idx) if items[j].kind in ("place", "marker")), default=-1)
                 between = [x.surface for x in items[last + 1:idx] if x.kind == "other"]
                 raise InstructionError(f"'{it.surface}' follows no known place word"
@@ -347,14 +468,16 @@ def _build(phrases: list[_Item], roles: list[str], text: str, lang: str, place_w
     if not goals:
         ways = [i for i, (_, r) in enumerate(kept) if r == "waypoint"]
         if not ways:
-            raise InstructionError(f"{text!r} names no place to go to, only places to avoid or to start from; "
-                                   f"{_known(place_words)}")
+            raise InstructionError(f"{text!r} names no place to go to, only places to avoid, not to end in or "
+                                   f"to start from; {_known(place_words)}")
         goals = [ways[-1]]
     goal = goals[-1]
     waypoints = tuple(query(it) for i, (it, r) in enumerate(kept)
                       if i != goal and (r == "waypoint" or r == "goal"))
     avoid = tuple(query(it) for it, r in kept if r == "avoid")
-    return Instruction(goal=query(kept[goal][0]), waypoints=waypoints, avoid=avoid, text=text, lang=lang)
+    not_goal = tuple(query(it) for it, r in kept if r == "not_goal")
+    return Instruction(goal=query(kept[goal][0]), waypoints=waypoints, avoid=avoid, text=text, lang=lang,
+                       not_goal=not_goal)
 
 
 def _normalise_scores(scores: np.ndarray) -> np.ndarray:

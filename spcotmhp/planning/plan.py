@@ -94,6 +94,8 @@ class Plan:
         text = " -> ".join(parts) + f", {self.length_m:.1f} m"
         if self.instruction.avoid:
             text += ", avoiding " + " and ".join(a.label for a in self.instruction.avoid)
+        if self.instruction.not_goal:
+            text += ", instead of " + " and ".join(a.label for a in self.instruction.not_goal)
         return text
 
     def _goal_note(self, goal: PlanPlace) -> str:
@@ -126,7 +128,8 @@ class Plan:
             "explanation": self.explanation,
             "instruction": {"text": ins.text, "goal": dict(ins.goal.words),
                             "waypoints": [dict(w.words) for w in ins.waypoints],
-                            "avoid": [dict(a.words) for a in ins.avoid]},
+                            "avoid": [dict(a.words) for a in ins.avoid],
+                            "not_goal": [dict(a.words) for a in ins.not_goal]},
             "goal_options": [{"id": o.id, "label": o.label, "length_m": round(o.length_m, 4),
                               "log_prob": o.log_prob} for o in self.goal_options],
         }

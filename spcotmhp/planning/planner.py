@@ -142,6 +142,11 @@ class HierarchicalPlanner:
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])     # (S, K), Eq. 28
         inst = np.stack([instance_places(self.terms.normalise(ls), settings.instance_ratio) for ls in semantic])
+        for q in ins.not_goal:     # may be passed, never the goal ("instead of the kitchen")
+            inst[S - 1] &= ~instance_places(self.terms.log_place_given_words(q.words), settings.instance_ratio)
+            if not inst[S - 1].any():
+                raise PlanningError(f"every place named '{ins.goal.label}' is one the instruction says not to "
+                                    f"end in ('{q.label}')")
         graph = self.graph
         avoided = np.zeros(model.K, dtype=bool)
         for q in ins.avoid:

@@ -24,12 +24,15 @@ class Hypothesis(BaseModel):
 
 
 class StructuredInstruction(BaseModel):
-    """An instruction already understood: the goal's words, each waypoint's words in order, places to avoid."""
+    """An instruction already understood: the goal's words, each waypoint's words in order, places to avoid,
+    places not to end in."""
 
     model_config = ConfigDict(extra="forbid")
     goal: list[Word] = Field(min_length=1, max_length=20)
     waypoints: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
     avoid: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
+    not_goal: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(
+        default=[], max_length=20, description="Places that must not be the goal (they may be passed).")
 
 
 class PlanRequest(BaseModel):
@@ -76,6 +79,7 @@ class InstructionOut(BaseModel):
     goal: dict[str, float]
     waypoints: list[dict[str, float]]
     avoid: list[dict[str, float]]
+    not_goal: list[dict[str, float]] = []
 
 
 class GoalOptionOut(BaseModel):
