@@ -300,3 +300,68 @@ def test_cli_unwritable_output(tmp_path: Path) -> None:
     assert result.returncode == 2
     target = tmp_path / "missing" / "x.csv"
     assert result.stderr.strip() == f"error: cannot write {target}: No such file or directory"
+
+
+# --------------------------------------------------------------------------------- huge inflation radii
+
+
+def _uncapped(occ: OccupancyMap, cell_radius: int, settings: CostMapSettings) -> np.ndarray:
+    """The wavefront with a kernel of any size (what inflate did before the cap)."""
+    from spcotmhp.metric.costmap import _wavefront, inflation_kernel
+
+    costs = static_costs(occ, settings.track_unknown_space)
+    bins, kernel_costs = inflation_kernel(cell_radius, occ.resolution, settings)
+    _wavefront(costs, bins, kernel_costs, settings.inflate_unknown)
+    return costs
+
+
+def test_a_huge_inflation_radius_is_capped_at_the_diagonal_with_the_same_costs() -> None:
+    from spcotmhp.metric.costmap import max_cell_radius
+
+    occ = grid(["#.......?.", "..........", "....#.....", "..........", ".........#", "....??...."])
+    assert max_cell_radius(occ) == math.ceil(math.hypot(6, 10)) == 12
+    settings = CostMapSettings(inscribed_radius=0.1, inflation_radius=1e9, cost_scaling_factor=0.5)
+    got = inflate(occ, inscribed_radius=0.1, inflation_radius=1e9, cost_scaling_factor=0.5)   # 1e10 cells
+    for cells in (12, 13, 40):   # at the cap and well beyond it (uncapped kernels): identical
+        np.testing.assert_array_equal(got.costs, _uncapped(occ, cells, settings))
+    assert got.settings.inflation_radius == 1e9
+    # with a slow decay every cell is inflated: the radius did reach across the whole map
+    assert (got.costs > 0).all() and (got.costs < 253).any()
+
+
+def test_a_huge_inflation_radius_on_a_bundled_home_stays_small() -> None:
+    m = load_map(DATA / "albert-b" / "map.yaml")    # 800 x 1184 cells: 1e9 m would be a 2e10-cell kernel
+    huge = inflate(m, inflation_radius=1e9, cost_scaling_factor=10.0)
+    np.testing.assert_array_equal(huge.costs, inflate(m, inflation_radius=80.0, cost_scaling_factor=10.0).costs)
+
+
+@pytest.mark.parametrize("distance, resolution, message", [
+    (float("inf"), 0.1, "a distance in metres must be a finite number, got inf"),
+    (float("nan"), 0.1, "a distance in metres must be a finite number, got nan"),
+    ("1", 0.1, "a distance in metres must be a finite number, got '1'"),
+    (1.0, 0.0, r"the map resolution must be a finite number > 0 \(metres per cell\), got 0.0"),
+    (1.0, float("inf"), "the map resolution must be a finite number > 0"),
+])
+def test_cell_distance_rejects_bad_numbers(distance: float, resolution: float, message: str) -> None:
+    with pytest.raises(MapError, match=message):
+        cell_distance(distance, resolution)
+
+
+def test_inflation_kernel_rejects_a_bad_radius() -> None:
+    from spcotmhp.metric.costmap import inflation_kernel
+
+    for bad in (-1, 2.5, True):
+        with pytest.raises(MapError, match="the inflation radius in cells must be an integer >= 0, got "):
+            inflation_kernel(bad, 0.1, CostMapSettings())
+
+
+def test_cli_huge_and_non_finite_radii(tmp_path: Path) -> None:
+    yaml_path = str(DATA / "sigverse-3ldk" / "3LDK_01" / "map.yaml")
+    ok = run_cli("costmap", yaml_path, "--inflation-radius", "1e9", "--out", str(tmp_path / "x.csv"))
+    assert ok.returncode == 0, ok.stderr
+    assert len((tmp_path / "x.csv").read_text().splitlines()) == 192
+    for option, value, message in (("--inflation-radius", "inf", "inflation_radius must be a finite number, got inf"),
+                                   ("--cost-scaling-factor", "nan", "cost_scaling_factor must be a finite number"),
+                                   ("--cost-scaling-factor", "-2", "cost_scaling_factor must be >= 0, got -2.0")):
+        bad = run_cli("costmap", yaml_path, option, value, "--out", str(tmp_path / "y.csv"))
+        assert bad.returncode == 2 and bad.stderr.startswith(f"error: cost map setting {message}"), bad.stderr

@@ -10,7 +10,8 @@ Reproduces ROS 1 costmap_2d cell for cell (``static_layer.cpp`` with ``trinary_c
   the order x-1, y-1, x+1, y+1). Each cell keeps the source obstacle that reached it first, so its distance
   is costmap_2d's (occasionally not the exact Euclidean distance to the nearest obstacle, which is why a
   plain distance transform differs from ROS in a few cells per map). Cells are inflated while
-  ``d <= ceil(inflation_radius / resolution)`` cells; the cost at d cells is 254 at d = 0, 253 (INSCRIBED)
+  ``d <= ceil(inflation_radius / resolution)`` cells (capped at the map's diagonal, ``max_cell_radius``: no
+  two cells are farther apart, so a larger radius gives the same costs and only a larger kernel); the cost at d cells is 254 at d = 0, 253 (INSCRIBED)
   while ``d * resolution <= inscribed_radius``, else
   ``int(252 * exp(-cost_scaling_factor * (d * resolution - inscribed_radius)))``; the new cost is the
   maximum with the existing cost (unknown cells take it only if >= 253, or > 0 with ``inflate_unknown``).
@@ -133,7 +134,7 @@ def inflate(
         inflate_unknown,
     )
     costs = static_costs(occ_map, settings.track_unknown_space)
-    cell_radius = cell_distance(settings.inflation_radius, occ_map.resolution)
+    cell_radius = min(cell_distance(settings.inflation_radius, occ_map.resolution), max_cell_radius(occ_map))
     if cell_radius > 0:
         bins, kernel_costs = inflation_kernel(cell_radius, occ_map.resolution, settings)
         _wavefront(costs, bins, kernel_costs, settings.inflate_unknown)
@@ -151,15 +152,35 @@ def static_costs(occ_map: OccupancyMap, track_unknown_space: bool = False) -> np
 
 
 def cell_distance(world_distance: float, resolution: float) -> int:
-    """costmap_2d's ``Costmap2D::cellDistance``: ceil(distance / resolution) cells, at least 0."""
+    """costmap_2d's ``Costmap2D::cellDistance``: ceil(distance / resolution) cells, at least 0.  A distance
+    that is not a finite number, or a resolution that is not a finite number > 0, raises MapError (negative
+    radii are refused earlier, by ``CostMapSettings``)."""
+    if not _finite(world_distance):
+        raise MapError(f"a distance in metres must be a finite number, got {world_distance!r}")
+    if not (_finite(resolution) and resolution > 0):
+        raise MapError(f"the map resolution must be a finite number > 0 (metres per cell), got {resolution!r}")
     return int(max(0.0, math.ceil(world_distance / resolution)))
+
+
+def max_cell_radius(occ_map: OccupancyMap) -> int:
+    """ceil(hypot(height, width)): no two cells of the map are this many cells apart, so inflating farther
+    changes no cost (the kernel would only grow: 1e9 m at 0.05 m per cell is a 2e10-cell square)."""
+    return math.ceil(math.hypot(occ_map.height, occ_map.width))
+
+
+def _finite(value: object) -> bool:
+    return (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+            and math.isfinite(value))
 
 
 def inflation_kernel(
     cell_radius: int, resolution: float, settings: CostMapSettings
 ) -> tuple[np.ndarray, np.ndarray]:
     """costmap_2d's cached kernels over offsets (dx, dy) in 0..cell_radius+1: the rank of the distance
-    ``hypot(dx, dy)`` among the distinct distances (the bin; -1 beyond the inflation radius), and the cost."""
+    ``hypot(dx, dy)`` among the distinct distances (the bin; -1 beyond the inflation radius), and the cost.
+    ``cell_radius`` must be an integer >= 0 (``inflate`` caps it at ``max_cell_radius``)."""
+    if isinstance(cell_radius, bool) or not isinstance(cell_radius, (int, np.integer)) or cell_radius < 0:
+        raise MapError(f"the inflation radius in cells must be an integer >= 0, got {cell_radius!r}")
     offsets = np.arange(cell_radius + 2, dtype=np.float64)
     dist = np.hypot(offsets[:, None], offsets[None, :])  # the C library's hypot, as costmap_2d's cache
     values, bins = np.unique(dist, return_inverse=True)
