@@ -314,3 +314,64 @@ def test_missing_pocketsphinx_is_a_clear_error(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", fake_import)
     with pytest.raises(SpcotmhpError, match=r"speech input needs pocketsphinx: pip install 'spcotmhp\[speech\]'"):
         recogniser._pocketsphinx()
+
+
+# ---- spcotmhp plan --audio -------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def model_folder(tmp_path_factory):
+    from spcotmhp.datasets import load_bundled
+    from spcotmhp.learning.io import save_model
+    from spcotmhp.learning.supervised import fit_supervised
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fit_supervised(load_bundled("3LDK_06", lang="en"))
+    return save_model(model, tmp_path_factory.mktemp("model") / "3LDK_06")
+
+
+def _plan_cli(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    import os
+    import sys
+    from pathlib import Path
+
+    exe = str(Path(sys.executable).with_name("spcotmhp"))
+    return subprocess.run([exe, "plan", *args], capture_output=True, text=True, timeout=120, check=False,
+                          env=None if env is None else {**os.environ, **env})
+
+
+def test_plan_cli_from_a_wav_file(ps, espeak, model_folder, tmp_path):
+    wav = tmp_path / "say.wav"
+    wav.write_bytes(synthesise(espeak, "go to the bedroom via the corridor"))
+    out = _plan_cli(str(model_folder), "--audio", str(wav), "--start", "-3.9", "-3.5")
+    assert out.returncode == 0, out.stderr
+    heard = [line for line in out.stderr.splitlines() if line.startswith("heard: ")]
+    assert 1 <= len(heard) <= 5 and heard[0].endswith(" go to the bedroom via the corridor")
+    line = out.stdout.strip()
+    assert line.startswith("entrance -> ") and "corridor (waypoint)" in line and "bedroom #" in line
+
+
+@pytest.mark.parametrize("args, message", [
+    (["go to the bath", "--audio", "{wav}"], "give exactly one of INSTRUCTION, --nbest FILE or --audio FILE (got "
+                                             "INSTRUCTION and --audio)"),
+    (["--nbest", "{wav}", "--audio", "{wav}"], "(got --nbest and --audio)"),
+])
+def test_plan_cli_audio_usage_errors(model_folder, tmp_path, args, message):
+    wav = tmp_path / "x.wav"
+    wav.write_bytes(b"RIFF")
+    out = _plan_cli(str(model_folder), *[a.format(wav=wav) for a in args], "--start", "0", "0")
+    assert out.returncode == 2
+    assert message in " ".join(out.stderr.replace("│", " ").split())
+
+
+def test_plan_cli_audio_errors_are_one_line(model_folder, tmp_path):
+    out = _plan_cli(str(model_folder), "--audio", str(tmp_path / "missing.wav"), "--start", "0", "0")
+    assert out.returncode == 2 and out.stderr.strip() == (f"error: the audio file {tmp_path / 'missing.wav'} does "
+                                                          "not exist or is not a file")
+    fake = tmp_path / "fake"
+    fake.mkdir()
+    (fake / "pocketsphinx.py").write_text("raise ImportError('no pocketsphinx here')\n")
+    wav = tmp_path / "x.wav"
+    wav.write_bytes(_wav_bytes(_tone(RATE).astype(np.int16), RATE))
+    out = _plan_cli(str(model_folder), "--audio", str(wav), "--start", "0", "0", env={"PYTHONPATH": str(fake)})
+    assert out.returncode == 2
+    assert out.stderr.strip() == "error: speech input needs pocketsphinx: pip install 'spcotmhp[speech]'"

@@ -20,21 +20,25 @@ def plan_command(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
     instruction: Annotated[str | None, typer.Argument(
         help='The instruction, e.g. "go to the bedroom via the corridor" or "廊下を通って寝室へ行って", or a JSON '
-             'object {"goal": [...], "waypoints": [[...]], "avoid": [[...]]}. Omit it with --nbest.')] = None,
+             'object {"goal": [...], "waypoints": [[...]], "avoid": [[...]]}. Omit it with --nbest or --audio.')]
+    = None,
     start: Annotated[tuple[float, float] | None, typer.Option(
         "--start", help="Start pose X Y in metres (map frame).")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the plan as JSON.")] = False,
     png: Annotated[Path | None, typer.Option("--png", help="Also draw the plan to this PNG file.")] = None,
     nbest: Annotated[Path | None, typer.Option(
         "--nbest", help='JSON file with recogniser hypotheses [["text", score], ...] (Eq. 25).')] = None,
+    audio: Annotated[Path | None, typer.Option(
+        "--audio", help="WAV file of a spoken English instruction: recognised with pocketsphinx (extra 'speech'), "
+                        "planned from its 5-best hypotheses (Eq. 25).")] = None,
     lang: Annotated[str | None, typer.Option(help="Instruction language (en, ja); default: detected.")] = None,
-    candidates: Annotated[int, typer.Option(help="Candidate points per place (N of Section 3.4).")] = 1,
+    candidates: Annotated[int, typer.Option(min=1, help="Candidate points per place (N of Section 3.4).")] = 1,
     seed: Annotated[int, typer.Option(min=0, help="Seed of the candidate sampling.")] = 0,
     smooth: Annotated[bool, typer.Option(help=(
         "Smooth the path (Algorithm 1 line 13): exact re-planning between the waypoint and goal points within "
         "the places passed, then line-of-sight shortcuts; never longer."))] = True,
     max_steps: Annotated[int | None, typer.Option(
-        help="Topological horizon E (default 10 per waypoint/goal).")] = None,
+        min=1, help="Topological horizon E (default 10 per waypoint/goal).")] = None,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
     from spcotmhp.learning.io import load_model
@@ -42,10 +46,15 @@ def plan_command(
 
     if start is None:
         raise typer.BadParameter("give the start pose with --start X Y", param_hint="--start")
-    if (instruction is None) == (nbest is None):
-        raise typer.BadParameter("give either an INSTRUCTION or --nbest FILE (not both)")
+    given = [name for name, value in (("INSTRUCTION", instruction), ("--nbest", nbest), ("--audio", audio))
+             if value is not None]
+    if len(given) != 1:
+        raise typer.BadParameter("give exactly one of INSTRUCTION, --nbest FILE or --audio FILE"
+                                 + (f" (got {' and '.join(given)})" if given else ""))
     source: Any = instruction if nbest is None else read_nbest(nbest)
     model = load_model(model_dir)
+    if audio is not None:
+        source = recognise_audio(audio, model)
     planner = HierarchicalPlanner(model, n_candidates=candidates, seed=seed, smooth=smooth, max_steps=max_steps)
     plan = planner.plan(source, start, lang=lang)
     if png is not None:
@@ -61,6 +70,18 @@ def plan_command(
         typer.echo(plan.explanation)
         typer.echo(f"log p = {plan.log_prob:.2f}; planned in {plan.time_online_s * 1e3:.2f} ms "
                    f"(precomputation {plan.time_precompute_s:.2f} s)", err=True)
+
+
+def recognise_audio(path: Path, model: Any) -> list[tuple[str, float]]:
+    """The 5-best hypotheses of a WAV file (:func:`spcotmhp.speech.recognise_for_model`), listed on stderr."""
+    from spcotmhp.speech import recognise_for_model
+
+    if not Path(path).is_file():
+        raise InstructionError(f"the audio file {path} does not exist or is not a file")
+    hypotheses = recognise_for_model(path, model, nbest=5)
+    for text, weight in hypotheses:
+        typer.echo(f"heard: {weight:.3f} {text}", err=True)
+    return hypotheses
 
 
 def read_nbest(path: Path) -> list[tuple[str, float]]:
