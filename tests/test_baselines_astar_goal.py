@@ -53,3 +53,19 @@ def test_astar_to_sampled_goal_reaches_the_named_place():
     cells = astar_to_sampled_goal(m, log_p, occ, (1, 1), ["bed"], np.random.default_rng(1))
     assert tuple(cells[0]) == (1, 1)
     assert abs(cells[-1][1] - 7) <= 1 and np.abs(np.diff(cells, axis=0)).max() <= 1
+
+
+def test_astar_moves_8_connected_like_spcotmhp():
+    # open 9 x 9 grid, goal (7, 7) from (1, 1): 6 diagonal steps, the octile (8-connected geodesic) length
+    occ = OccupancyMap(np.zeros((9, 9), np.int8), resolution=1.0)
+    m = model()
+    m.mu = np.array([[1.5, 1.5], [7.5, 7.5]])
+    m.Sigma = np.array([np.eye(2) * 1e-6, np.eye(2) * 1e-6])
+    m.phi = np.array([[1.0, 1e-9], [1e-9, 1.0]])
+    m.W = np.array([[0.999, 0.001], [0.001, 0.999]])
+    cells = astar_to_sampled_goal(m, np.zeros((9, 9)), occ, (1, 1), ["bed"], np.random.default_rng(0))
+    assert tuple(cells[-1]) == (7, 7)
+    assert len(cells) == 7 and (np.abs(np.diff(cells, axis=0)) == 1).all()
+    four = astar_to_sampled_goal(m, np.zeros((9, 9)), occ, (1, 1), ["bed"], np.random.default_rng(0),
+                                 connectivity=4)
+    assert len(four) == 13 and (np.abs(np.diff(four, axis=0)).sum(axis=1) == 1).all()

@@ -13,7 +13,7 @@ from spcotmhp.cli import app
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import build_context
-from spcotmhp.evaluation.methods import METHODS
+from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS
 from spcotmhp.evaluation.runner import check_methods, evaluate, evaluate_chunk, run_local
 from spcotmhp.evaluation.tables import PAPER, markdown_table
 from spcotmhp.evaluation.tasks import make_tasks, subset
@@ -53,6 +53,21 @@ def test_every_method_plans_from_the_start(ctx, advanced):
             assert ctx.dataset.map.free[cells[:, 0], cells[:, 1]].all(), name
 
 
+def test_move_models(ctx, advanced):
+    # A* moves like SpCoTMHP (8-connected, as the reference length l); SpCoNavi keeps the paper's action set
+    # {stay, up, down, left, right}
+    steps = {name: set() for name in ALL}
+    for task in advanced:
+        for name in ALL:
+            cells = ctx.dataset.map.world_to_cell(METHODS[name](ctx, task, np.random.default_rng(0)))
+            steps[name] |= set(np.abs(np.diff(cells, axis=0)).sum(axis=1).tolist())
+    for name in ("spcotmhp", "astar", "hpp1", "hpp2"):
+        assert steps[name] == {1, 2}, name
+    for name in ("spconavi-viterbi", "spconavi-astar"):
+        assert steps[name] == {1}, name
+    assert MOVE_MODELS["astar"] == "8-connected" and MOVE_MODELS["spconavi-viterbi"].startswith("4-connected")
+
+
 def test_results_do_not_depend_on_order_or_chunking(ctx, advanced):
     a = evaluate_chunk(ctx, advanced, ["astar", "hpp1", "spconavi-astar"], seed=3)
     b = evaluate_chunk(ctx, advanced[::-1], ["spconavi-astar", "hpp1", "astar"], seed=3)
@@ -83,6 +98,7 @@ def test_evaluate_result_layout():
             assert m["wn_spl"] <= min(m["w_spl"], m["n_spl"]) + 1e-12 and m["n_spl"] <= m["spl"] + 1e-12
     assert res["notes"]["3LDK_01"]["adjacency"] == "adjacency.csv"
     assert res["notes"]["3LDK_01"]["n_tasks_all"] == 648
+    assert res["moves"] == {m: MOVE_MODELS[m] for m in ALL}
     basic = evaluate([ds], "basic", ["spcotmhp"], max_tasks=3, workers=1, quiet=True)
     assert "w_spl" not in basic["mean"]["spcotmhp"] and "wn_spl" not in basic["mean"]["spcotmhp"]
 
@@ -115,6 +131,16 @@ def test_cli_errors(args, message):
     assert proc.returncode == 2
     assert message in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_reproduce_checks_its_output_path_before_running(tmp_path):
+    for out, message in [(tmp_path / "missing" / "x.md", f"error: --out {tmp_path / 'missing' / 'x.md'}: the "
+                                                          f"folder {tmp_path / 'missing'} does not exist"),
+                         (tmp_path, f"error: --out {tmp_path} is a folder; give a file name such as")]:
+        proc = subprocess.run([str(EXE), "reproduce", "--out", str(out), "--max-tasks", "1"], capture_output=True,
+                              text=True, timeout=60, check=False)
+        assert proc.returncode == 2 and message in proc.stderr and "Traceback" not in proc.stderr
+        assert len(proc.stderr.strip().splitlines()) == 1   # refused before any home was loaded or planned
 
 
 @pytest.mark.parametrize("args,backend,address", [
@@ -152,6 +178,18 @@ def test_markdown_tables_put_paper_rows_beside_ours():
     assert sum(" paper " in ln for ln in lines) == len(PAPER["advanced"])
     basic = markdown_table("basic", {})
     assert "| SpCoNavi (Viterbi) | paper | 0.976 | 0.965 |  | 2,680 s |  |" in basic
+
+
+def test_reproduce_markdown_says_how_each_method_moves():
+    from spcotmhp.evaluation.tables import reproduce_markdown
+
+    m = {"spl": 0.9, "n_spl": 0.8, "w_spl": 0.9, "wn_spl": 0.8, "success": 1.0, "time_median_s": 0.001,
+         "time_p95_s": 0.002, "n_tasks": 1}
+    basic = {"homes": {"h": {"spconavi-astar": m}}, "mean": {"spconavi-astar": m}, "notes": {}, "params": "supervised",
+             "seed": 0, "moves": {"spconavi-astar": MOVE_MODELS["spconavi-astar"], "astar": "8-connected"}}
+    text = reproduce_markdown(basic, {**basic, "homes": {}})
+    assert ("Moves: SpCoNavi (A* approximation) 4-connected + stay (the paper's SpCoNavi action set); A* 8-connected. "
+            "SPL's reference length l is an 8-connected geodesic.") in text
 
 
 def test_home_without_adjacency_uses_the_map_connectivity_rule():

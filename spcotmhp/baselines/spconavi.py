@@ -19,7 +19,11 @@ as one bag, as in the paper.
   is kept. The reference code drew the goals from the place Gaussians (sometimes inside walls), searched with a
   sign-flipped heuristic and kept the path of highest mean log w per cell.
 
-Both use the paper's action set (4-connected moves plus stay) by default.
+Both use the paper's action set {stay, up, down, left, right} by default, as Experiment I specifies for
+SpCoNavi (``connectivity=8`` adds the diagonals for other uses). Their paths are therefore 4-connected, while
+SpCoTMHP, the A* baseline and the reference length l of SPL (an 8-connected geodesic) move 8-connected: on a
+diagonal stretch a 4-connected path is up to sqrt 2 (41 %) longer, and SPL counts that against SpCoNavi. This
+is the method as published, kept so the comparison is with SpCoNavi itself; it is said beside the results.
 """
 
 from __future__ import annotations

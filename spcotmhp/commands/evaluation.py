@@ -58,6 +58,20 @@ def _check(value: str, allowed: tuple[str, ...], option: str) -> str:
     return value
 
 
+def check_writable(path: Path) -> None:
+    """Fail before a long run when ``path`` cannot be written: its folder must exist and be writable, and the path
+    must not be a folder."""
+    import os
+
+    folder = path.parent if str(path.parent) else Path(".")
+    if path.is_dir():
+        raise SpcotmhpError(f"--out {path} is a folder; give a file name such as {path / 'tables.md'}")
+    if not folder.is_dir():
+        raise SpcotmhpError(f"--out {path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise SpcotmhpError(f"--out {path}: not writable")
+
+
 def _print_result(result: dict) -> None:
     from rich.console import Console
     from rich.table import Table
@@ -80,6 +94,9 @@ def _print_result(result: dict) -> None:
         extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
         console.print(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
                       f"{extra}")
+    if result.get("moves"):
+        moves = "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in result["moves"].items())
+        console.print(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
 
 
 def register(app: typer.Typer) -> None:
@@ -135,6 +152,8 @@ def register(app: typer.Typer) -> None:
         from spcotmhp.evaluation.tables import reproduce_markdown
 
         _check(params, ("supervised", "learned"), "--params")
+        if out is not None:
+            check_writable(out)
         homes = [load_home(name, "en") for name in list_bundled() if name.upper().startswith("3LDK")]
         methods = METHOD_NAMES.split(",")
         results = [run(homes, kind, methods, params, seed, workers, max_tasks, "ray" if ray else "local", ray)
@@ -143,5 +162,8 @@ def register(app: typer.Typer) -> None:
         if out is None:
             typer.echo(text)
         else:
-            out.write_text(text, encoding="utf-8")
+            try:
+                out.write_text(text, encoding="utf-8")
+            except OSError as exc:
+                raise SpcotmhpError(f"cannot write {out}: {exc.strerror or exc}") from None
             typer.echo(f"wrote {out}", err=True)

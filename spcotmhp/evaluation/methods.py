@@ -4,6 +4,11 @@
 
 For advanced tasks, A* and SpCoNavi receive the waypoint and goal words as one bag of words (as in the paper);
 the hierarchical methods get them as ordered stages.
+
+Move models (:data:`MOVE_MODELS`, reported with the results): SpCoTMHP, HPP-I/II (the partial paths of the same
+planning graph) and A* move 8-connected, like the reference length l of SPL; SpCoNavi (Viterbi and its A*
+approximation) keeps the paper's action set {stay, up, down, left, right}, so its paths are 4-connected and up
+to sqrt 2 longer on diagonals.
 """
 
 from __future__ import annotations
@@ -22,6 +27,16 @@ SPCONAVI_T = 200   # the paper's SpCoNavi horizon
 SPCONAVI_J = 10    # goal candidates of the A* approximation
 
 Method = Callable[[HomeContext, Task, np.random.Generator], "np.ndarray | None"]
+
+MOVE_MODELS = {
+    "spcotmhp": "8-connected",
+    "astar": "8-connected",
+    "hpp1": "8-connected (the planning graph's partial paths)",
+    "hpp2": "8-connected (the planning graph's partial paths)",
+    "spconavi-viterbi": "4-connected + stay (the paper's SpCoNavi action set)",
+    "spconavi-astar": "4-connected + stay (the paper's SpCoNavi action set)",
+}
+"""How each method moves on the grid (the SPL reference length l is an 8-connected geodesic)."""
 
 
 def _world(ctx: HomeContext, cells: np.ndarray | None) -> np.ndarray | None:
@@ -46,20 +61,20 @@ def spcotmhp(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarr
 
 
 def astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
-    """(A) A* to a goal drawn from p(x | S, Theta)."""
+    """(A) A* to a goal drawn from p(x | S, Theta), with SpCoTMHP's move model (8-connected)."""
     cells = astar_to_sampled_goal(ctx.model, ctx.costmap.log_p, ctx.dataset.map, task.start_cell,
-                                  task.all_words, rng)
+                                  task.all_words, rng, connectivity=ctx.planner.graph.settings.connectivity)
     return _world(ctx, cells)
 
 
 def spconavi_viterbi(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
-    """(B) SpCoNavi, exact Viterbi over every free cell, T = 200."""
+    """(B) SpCoNavi, exact Viterbi over every free cell, T = 200, actions {stay, up, down, left, right}."""
     log_w = log_weight_map(ctx.model, ctx.costmap.log_p, ctx.cell_xy, task.all_words)
     return _world(ctx, viterbi(log_w, task.start_cell, SPCONAVI_T).cells)
 
 
 def spconavi_astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
-    """(C) SpCoNavi, A* approximation with J = 10 sampled goals."""
+    """(C) SpCoNavi, A* approximation with J = 10 sampled goals, actions {stay, up, down, left, right}."""
     log_w = log_weight_map(ctx.model, ctx.costmap.log_p, ctx.cell_xy, task.all_words)
     return _world(ctx, astar_approximation(log_w, task.start_cell, rng, SPCONAVI_J, SPCONAVI_T))
 

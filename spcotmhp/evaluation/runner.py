@@ -23,7 +23,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from spcotmhp.errors import PlanningError
 from spcotmhp.evaluation.context import HomeContext
-from spcotmhp.evaluation.methods import METHODS, run_method
+from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, run_method
 from spcotmhp.evaluation.metrics import Outcome, failed, score_path, summarise
 from spcotmhp.evaluation.tasks import Task
 
@@ -195,8 +195,8 @@ def evaluate(datasets: Sequence, kind: str, methods: Sequence[str], params: str 
              workers: int | None = None, max_tasks: int | None = None, backend: str = "local",
              ray_address: str | None = None, quiet: bool = False) -> dict:
     """Evaluate methods on the tasks of several homes; the JSON-ready result
-    ``{task, params, seed, homes: {name: {method: metrics}}, mean: {method: metrics}, notes: {name: {...}}}``
-    (``mean`` pools the tasks of all homes)."""
+    ``{task, params, seed, homes: {name: {method: metrics}}, mean: {method: metrics}, notes: {name: {...}},
+    moves: {method: move model}}`` (``mean`` pools the tasks of all homes)."""
     from spcotmhp.evaluation.context import build_context
     from spcotmhp.evaluation.tasks import make_tasks, subset
 
@@ -221,4 +221,4 @@ def evaluate(datasets: Sequence, kind: str, methods: Sequence[str], params: str 
     return {"task": kind, "params": params, "seed": seed,
             "homes": {r.home: r.metrics() for r in results},
             "mean": overall(results) if results else {},
-            "notes": notes}
+            "notes": notes, "moves": {m: MOVE_MODELS[m] for m in methods}}

@@ -105,4 +105,8 @@ def reproduce_markdown(basic: Mapping, advanced: Mapping) -> str:
                         + (f" / {a[m]['wn_spl']:.3f}" if m in a else "") for m, v in b.items())
         note = basic["notes"].get(home, {})
         lines.append(f"- {home} (adjacency: {note.get('adjacency', '?')}): {row}")
+    moves = basic.get("moves") or {}
+    if moves:
+        lines += ["", "Moves: " + "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in moves.items())
+                  + ". SPL's reference length l is an 8-connected geodesic."]
     return "\n".join(lines) + "\n"
