@@ -117,6 +117,21 @@ def test_show_lists_places_and_edges(model_dir):
     assert "entrance" in corridor.split("->")[1]
 
 
+def test_show_notes_the_kept_hmm_transitions(home, model_dir, tmp_path):
+    from spcotmhp.learning.gibbs import SpCoTMHP
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        learned = SpCoTMHP(iterations=3, seed=0, connectivity="map").fit(home).model_
+    folder = save_model(learned, tmp_path / "learned")
+    result = CliRunner().invoke(app, ["show", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert result.output.splitlines()[1] == ("note: the edges come from psi of map; the transitions the HMM "
+                                             "learned are kept as psi_learned in arrays.npz")
+    plain = CliRunner().invoke(app, ["show", str(model_dir)])       # supervised: nothing learned to keep
+    assert "psi_learned" not in plain.output
+
+
 def test_show_json_and_png(model_dir, tmp_path):
     out = tmp_path / "map.png"
     result = CliRunner().invoke(app, ["show", str(model_dir), "--json", "--png", str(out), "--ids"])

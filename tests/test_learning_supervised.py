@@ -104,3 +104,17 @@ def test_bad_requests(home):
     no_adj.adjacency = None
     with pytest.raises(DatasetError, match="has no adjacency.csv"):
         fit_supervised(no_adj, adjacency="given")
+
+
+def test_the_feature_weight_is_recorded_for_prediction():
+    from spcotmhp.learning.observations import scale_features
+
+    data = load_bundled("albert-b", lang="ja")
+    authors = fit_supervised(data, adjacency="transitions", feature_weight=None)
+    unit = fit_supervised(data, adjacency="transitions")
+    assert authors.info["feature_weight"] is None and unit.info["feature_weight"] == 1.0
+    assert authors.info["features"] is True
+    # theta is the Dir(chi = 1) posterior mean of the counts of the chosen scaling
+    counts = scale_features(np.asarray(data.features, dtype=float), None)[data.truth_concept == 0].sum(axis=0)
+    np.testing.assert_allclose(authors.theta[0], (1.0 + counts) / (counts.size + counts.sum()))
+    assert not np.allclose(authors.theta, unit.theta)

@@ -198,6 +198,9 @@ def show(
         typer.echo(json.dumps({"places": places, "edges": edges}, ensure_ascii=False))
         return
     typer.echo(f"{len(act)} places, {len(edges)} edges ((psi_ab + psi_ba) / 2 >= 1/K = {1 / model.K:.3f})")
+    if model.psi_learned is not None and not np.allclose(model.psi_learned, model.psi):
+        typer.echo(f"note: the edges come from psi of {model.info.get('psi_from', 'an adjacency')}; the "
+                   "transitions the HMM learned are kept as psi_learned in arrays.npz")
     for k in act:
         sd = np.sqrt(np.linalg.eigvalsh(model.Sigma[k]))
         nbrs = ", ".join(labels[b if a == k else a] for a, b in edges if k in (a, b))

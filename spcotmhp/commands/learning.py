@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -12,7 +13,11 @@ from typing import Annotated
 import typer
 
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.errors import DatasetError
+from spcotmhp.errors import DatasetError, ModelError
+
+SHOWN_WARNINGS = 3
+# learn --connectivity -> the adjacency source of the supervised fit ("hmm": the truth's transition counts)
+SUPERVISED_CONNECTIVITY = {"auto": "auto", "hmm": "transitions", "walk": "walk", "map": "map", "given": "given"}
 
 
 def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
@@ -33,6 +38,44 @@ def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
     return load_dataset(path, lang=lang)
 
 
+def load_dataset_reporting(dataset: str, lang: str | None) -> Dataset:
+    """``load_dataset_arg``, printing its DatasetWarnings to stderr as a count and the first few (as
+    ``check-dataset`` lists them); other warnings pass through unchanged."""
+    from spcotmhp.datasets.loader import DatasetWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DatasetWarning)
+        data = load_dataset_arg(dataset, lang)
+    messages = []
+    for w in caught:
+        if issubclass(w.category, DatasetWarning):
+            messages.append(str(w.message))
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if messages:
+        lines = [f"{data.name}: {len(messages)} dataset warning(s)"]
+        lines += [f"  warning: {m}" for m in messages[:SHOWN_WARNINGS]]
+        if len(messages) > SHOWN_WARNINGS:
+            lines.append(f"  ... {len(messages) - SHOWN_WARNINGS} more (spcotmhp check-dataset lists them all)")
+        typer.echo("\n".join(lines), err=True)
+    return data
+
+
+def parse_feature_weight(text: str) -> float | None:
+    """--feature-weight: a finite number > 0 (the total count of one image), or "authors" (None: the authors'
+    p * 10 + 1 counts)."""
+    if text.strip().lower() == "authors":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise ModelError(f"--feature-weight must be a number > 0 or 'authors' (the authors' p * 10 + 1 counts), "
+                         f"got {text!r}")
+    return value
+
+
 @contextmanager
 def sweep_progress(total: int, label: str) -> Iterator:
     """A rich progress bar on stderr counting Gibbs sweeps; yields the ``progress(n)`` callback."""
@@ -45,73 +88,121 @@ def sweep_progress(total: int, label: str) -> Iterator:
         yield lambda n: bar.advance(task, n)
 
 
+def _not_for_supervised(given: dict[str, bool]) -> None:
+    """--supervised fits the truth labels directly: options of the Gibbs learner are a mistake there."""
+    wrong = [name for name, is_given in given.items() if is_given]
+    if wrong:
+        raise ModelError(f"{', '.join(wrong)}: option(s) of the Gibbs learner, which --supervised (a fit from the "
+                         f"truth labels) does not use; drop {'it' if len(wrong) == 1 else 'them'}")
+
+
 def learn(
     dataset: Annotated[str, typer.Argument(help="Dataset folder, or a bundled dataset name (3LDK_01, albert-b).")],
     out: Annotated[Path, typer.Option("--out", help="Model folder to write (model.json, arrays.npz, map).")],
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     supervised: Annotated[bool, typer.Option(help="Fit from the truth labels (paper Experiment I).")] = False,
-    runs: Annotated[int, typer.Option(help="Independent Gibbs runs; one is kept.")] = 10,
-    iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
-    seed: Annotated[int, typer.Option(min=0, help="Random seed (run r uses its r-th child stream).")] = 0,
+    runs: Annotated[int | None, typer.Option(min=1, help="Independent Gibbs runs; one is kept (default 10).")]
+    = None,
+    iterations: Annotated[int | None, typer.Option(min=1, help="Gibbs sweeps per run (default 100).")] = None,
+    seed: Annotated[int | None, typer.Option(
+        min=0, help="Random seed (run r uses its r-th child stream; default 0).")] = None,
     no_replay: Annotated[bool, typer.Option("--no-replay", help="No reverse replay.")] = False,
     gmm: Annotated[bool, typer.Option("--gmm", help="SpCoSLAM baseline: Gaussian mixture, no transitions.")] = False,
-    criterion: Annotated[str, typer.Option(help="Run selection: mutual_information or log_joint.")]
-    = "mutual_information",
-    connectivity: Annotated[str, typer.Option(help="psi of the model: auto, hmm, walk or map.")] = "auto",
+    criterion: Annotated[str | None, typer.Option(
+        help="Run selection: mutual_information (default) or log_joint.")] = None,
+    connectivity: Annotated[str, typer.Option(help=(
+        "psi of the model: auto, hmm, walk or map (with --supervised also given: adjacency.csv; hmm there is "
+        "the truth's transition counts)."))] = "auto",
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
-    max_places: Annotated[int, typer.Option(help="Truncation K of the place DP (more than the places).")] = 20,
-    max_concepts: Annotated[int, typer.Option(help="Truncation L of the concept DP.")] = 20,
-    jobs: Annotated[int, typer.Option(help="Worker processes for the runs.")] = 1,
+    feature_weight: Annotated[str, typer.Option(help=(
+        "Total count of one image's features, or 'authors' for the authors' p * 10 + 1 counts."))] = "1",
+    max_places: Annotated[int | None, typer.Option(
+        min=1, help="Truncation K of the place DP (more than the places; default 20).")] = None,
+    max_concepts: Annotated[int | None, typer.Option(min=1, help="Truncation L of the concept DP (default 20).")]
+    = None,
+    jobs: Annotated[int | None, typer.Option(min=1, help="Worker processes for the runs (default 1).")] = None,
 ) -> None:
     """Learn spatial concepts and places from a dataset and save the model."""
-    from spcotmhp.learning.io import save_model
+    from spcotmhp.learning.io import prepare_model_folder, save_model
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        data = load_dataset_arg(dataset, lang)
+    weight = parse_feature_weight(feature_weight)
+    if supervised:
+        _not_for_supervised({"--runs": runs is not None, "--iterations": iterations is not None,
+                             "--seed": seed is not None, "--no-replay": no_replay, "--gmm": gmm,
+                             "--criterion": criterion is not None, "--max-places": max_places is not None,
+                             "--max-concepts": max_concepts is not None, "--jobs": jobs is not None})
+        if connectivity not in SUPERVISED_CONNECTIVITY:
+            raise ModelError(f"--connectivity must be one of {', '.join(SUPERVISED_CONNECTIVITY)} with "
+                             f"--supervised, got {connectivity!r}")
+    data = load_dataset_reporting(dataset, lang)
+    prepare_model_folder(out)            # a bad --out fails now, not after the fit
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
 
-        model = fit_supervised(data, use_features=features)
+        model = fit_supervised(data, adjacency=SUPERVISED_CONNECTIVITY[connectivity], use_features=features,
+                               feature_weight=weight)
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
     else:
-        from spcotmhp.learning.gibbs import SpCoTMHP
-        from spcotmhp.learning.selection import MultiRunSelector
-
-        est = SpCoTMHP(K=max_places, L=max_concepts, iterations=iterations, seed=seed, replay=not no_replay,
-                       transitions="none" if gmm else "hmm", connectivity=connectivity, use_features=features)
-        with sweep_progress(runs * iterations, f"learning {data.name}") as progress:
-            sel = MultiRunSelector(est, runs=runs, criterion=criterion, n_jobs=jobs).fit(data, progress=progress)
-        model = sel.model_
-        summary = (f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({criterion}), "
-                   f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
-                   f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s")
+        model, summary = _fit_gibbs(data, runs or 10, iterations or 100, seed or 0, not no_replay, gmm,
+                                    criterion or "mutual_information", connectivity, features, weight,
+                                    max_places or 20, max_concepts or 20, jobs or 1)
     save_model(model, out)
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
 
 
+def _fit_gibbs(data: Dataset, runs: int, iterations: int, seed: int, replay: bool, gmm: bool, criterion: str,
+               connectivity: str, features: bool, feature_weight: float | None, K: int, L: int, jobs: int):
+    """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
+    from spcotmhp.learning.gibbs import SpCoTMHP, TruncationWarning, truncation_messages
+    from spcotmhp.learning.selection import MultiRunSelector
+
+    est = SpCoTMHP(K=K, L=L, iterations=iterations, seed=seed, replay=replay,
+                   transitions="none" if gmm else "hmm", connectivity=connectivity, use_features=features,
+                   feature_weight=feature_weight)
+    with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
+        warnings.simplefilter("ignore", TruncationWarning)      # reported once below, for the kept run
+        sel = MultiRunSelector(est, runs=runs, criterion=criterion, n_jobs=jobs).fit(data, progress=progress)
+    model = sel.model_
+    for message in truncation_messages(model):
+        typer.echo(f"warning: {message}", err=True)
+    summary = (f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({criterion}), "
+               f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
+               f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s")
+    return model, summary
+
+
 def evaluate_learning(
     dataset: Annotated[str, typer.Argument(help="Dataset folder with truth.csv, or a bundled dataset name.")],
-    runs: Annotated[int, typer.Option(help="Runs per method.")] = 10,
+    runs: Annotated[int, typer.Option(min=1, help="Runs per method.")] = 10,
     seed: Annotated[int, typer.Option(min=0, help="Random seed.")] = 0,
-    iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
+    iterations: Annotated[int, typer.Option(min=1, help="Gibbs sweeps per run.")] = 100,
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
-    jobs: Annotated[int, typer.Option(help="Worker processes for the runs.")] = 1,
+    jobs: Annotated[int, typer.Option(min=1, help="Worker processes for the runs.")] = 1,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of the table.")] = False,
+    max_places: Annotated[int, typer.Option(min=1, help="Truncation K of the place DP.")] = 20,
+    max_concepts: Annotated[int, typer.Option(min=1, help="Truncation L of the concept DP.")] = 20,
 ) -> None:
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs), beside the paper's numbers."""
     from spcotmhp.learning import table6
+    from spcotmhp.learning.gibbs import TruncationWarning
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        data = load_dataset_arg(dataset, lang)
-    with sweep_progress(3 * runs * iterations, f"Table 6 on {data.name}") as progress:
+    data = load_dataset_reporting(dataset, lang)
+    with sweep_progress(3 * runs * iterations, f"Table 6 on {data.name}") as progress, warnings.catch_warnings():
+        warnings.simplefilter("ignore", TruncationWarning)      # counted per method, reported below
         results = table6.evaluate_learning(data, runs=runs, seed=seed, iterations=iterations, n_jobs=jobs,
-                                           progress=progress, use_features=features)
+                                           progress=progress, use_features=features, K=max_places,
+                                           L=max_concepts)
+    for name, scores in results.items():
+        for what, option, size in (("places", "--max-places", max_places), ("concepts", "--max-concepts",
+                                                                            max_concepts)):
+            if scores.saturated[what]:
+                typer.echo(f"warning: {table6.LABELS[name]}: all {size} {what[:-1]} components hold events in "
+                           f"{scores.saturated[what]} of {runs} run(s) (the weak-limit truncation is saturated, "
+                           f"so {what} may have been merged): evaluate again with a larger {option}", err=True)
     if as_json:
         typer.echo(json.dumps(table6.as_json(results), indent=1))
     else:

@@ -61,7 +61,8 @@ def fit_supervised(dataset: Dataset, adjacency: str | np.ndarray = "auto", hyper
     stats = SufficientStats.from_assignments(obs, places, concepts, K, L)
     source = _adjacency_source(dataset, adjacency)
     model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper,
-                                 {"method": "supervised", "dataset": dataset.name})
+                                 {"method": "supervised", "dataset": dataset.name,
+                                  "features": obs.features is not None, "feature_weight": feature_weight})
     model.map = dataset.map
     if source in ("given", "array"):
         A = np.asarray(dataset.adjacency if source == "given" else adjacency)

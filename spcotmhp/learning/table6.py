@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from sklearn.metrics import adjusted_rand_score, normalized_mutual_info_score
@@ -39,7 +39,8 @@ PAPER = {
 
 @dataclass
 class MethodScores:
-    """Means over ``runs`` runs (and their standard deviations) and the wall time of all runs."""
+    """Means over ``runs`` runs (and their standard deviations) and the wall time of all runs; ``saturated``
+    counts the runs whose place / concept truncation was saturated (``gibbs.TruncationWarning``)."""
 
     nmi_c: float
     nmi_i: float
@@ -48,6 +49,7 @@ class MethodScores:
     time_s: float
     runs: int
     std: dict
+    saturated: dict = field(default_factory=lambda: {"places": 0, "concepts": 0})
 
 
 def concept_truth(dataset: Dataset) -> np.ndarray:
@@ -75,7 +77,7 @@ def evaluate_learning(dataset: Dataset, runs: int = 10, seed: int = 0, iteration
                       methods: tuple[str, ...] = tuple(METHODS), progress: Callable[[int], None] | None = None,
                       **params) -> dict[str, MethodScores]:
     """Table 6 on ``dataset``: ``runs`` runs of each method (run r = r-th child of ``seed``); ``params`` go to
-    SpCoTMHP (e.g. use_features=False).  ``progress(n)`` reports completed sweeps."""
+    SpCoTMHP (e.g. use_features=False, K=30).  ``progress(n)`` reports completed sweeps."""
     concept_truth(dataset)
     out = {}
     for name in methods:
@@ -86,12 +88,14 @@ def evaluate_learning(dataset: Dataset, runs: int = 10, seed: int = 0, iteration
         scores = [score_run(dataset, e.places_, e.concepts_) for e in sel.estimators_]
         mean = {k: float(np.mean([s[k] for s in scores])) for k in scores[0]}
         std = {k: float(np.std([s[k] for s in scores])) for k in scores[0]}
-        out[name] = MethodScores(**mean, time_s=elapsed, runs=runs, std=std)
+        saturated = {what: sum(what in e.model_.info["truncation_saturated"] for e in sel.estimators_)
+                     for what in ("places", "concepts")}
+        out[name] = MethodScores(**mean, time_s=elapsed, runs=runs, std=std, saturated=saturated)
     return out
 
 
 def as_json(results: dict[str, MethodScores]) -> dict:
-    """{method: {nmi_c, nmi_i, ari_c, ari_i, time_s, runs, std}}."""
+    """{method: {nmi_c, nmi_i, ari_c, ari_i, time_s, runs, std, saturated}}."""
     return {name: asdict(s) for name, s in results.items()}
 
 
