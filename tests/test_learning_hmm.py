@@ -6,10 +6,17 @@ import itertools
 
 import numpy as np
 import pytest
-from scipy.special import gammaln, logsumexp
+from scipy.special import digamma, gammaln, logsumexp, polygamma
 
-from spcotmhp.learning.concepts import CollapsedConceptSampler, _concept_sweep
-from spcotmhp.learning.hmm import dwell_filtered_sequence, ffbs, ffbs_kernel, transition_counts
+from spcotmhp.learning.concepts import SMALL_COUNT, CollapsedConceptSampler, _concept_sweep, _feature_term
+from spcotmhp.learning.hmm import (
+    _forward_log,
+    _forward_scaled,
+    dwell_filtered_sequence,
+    ffbs,
+    ffbs_kernel,
+    transition_counts,
+)
 
 
 def test_ffbs_draws_from_the_exact_posterior():
@@ -146,13 +153,97 @@ def test_concept_sweep_keeps_counts_consistent(background):
         assert sampler.background_words().sum() == 0
 
 
-def test_ffbs_log_fallback_agrees_with_the_scaled_pass():
-    # emissions that underflow any probability-space pass: the kernel falls back to log space
+def _exact_sequence_posterior(log_emit, log_trans, log_init):
+    E, K = log_emit.shape
+    seqs = list(itertools.product(range(K), repeat=E))
+    lp = np.array([log_init[s[0]] + sum(log_emit[e, s[e]] for e in range(E))
+                   + sum(log_trans[s[e - 1], s[e]] for e in range(1, E)) for s in seqs])
+    return seqs, np.exp(lp - logsumexp(lp))
+
+
+def test_ffbs_log_fallback_runs_and_draws_from_the_exact_posterior():
+    # at e = 3 the best emission (state 1, log 0) is unreachable (log psi[:, 1] = -1e6) and the reachable
+    # state 0 has log emission -800: exp(-800) underflows in the scaled pass, which must give up
     rng = np.random.default_rng(1)
-    log_emit = rng.normal(size=(6, 3)) * 5
-    log_emit[3] = [-2000.0, -1e6, -1e6]          # only state 0 is possible at e = 3 ...
-    log_trans = np.log(np.array([[1e-300, 0.5, 0.5], [0.5, 0.5, 1e-300], [0.5, 1e-300, 0.5]]))
-    log_trans[1, 0] = log_trans[2, 0] = -1e6     # ... and can only be reached from state 0
-    u = rng.random(6)
-    states = ffbs_kernel(log_emit, log_trans, np.zeros(3), u)
-    assert states[3] == 0 and states[2] == 0
+    E, K = 6, 3
+    log_emit = rng.normal(size=(E, K))
+    log_emit[3] = [-800.0, 0.0, -1e6]
+    log_trans = np.log(rng.dirichlet(np.full(K, 2.0), size=K))
+    log_trans[:, 1] = -1e6
+    log_init = np.log([0.3, 0.3, 0.4])
+    assert not _forward_scaled(log_emit, log_trans, log_init, np.empty((E, K)))   # the fallback is taken
+    seqs, exact = _exact_sequence_posterior(log_emit, log_trans, log_init)
+    assert (exact > 1e-3).sum() > 30                                               # a spread posterior
+    n = 40000
+    index = {q: i for i, q in enumerate(seqs)}
+    uniforms = rng.random((n, E))
+    draws = [index[tuple(ffbs_kernel(log_emit, log_trans, log_init, u))] for u in uniforms]
+    freq = np.bincount(draws, minlength=len(seqs)) / n
+    np.testing.assert_allclose(freq, exact, atol=4 * np.sqrt(exact.max() / n))
+    assert all(seqs[d][3] == 0 for d in draws)
+
+
+def test_ffbs_scaled_pass_is_used_when_nothing_underflows():
+    rng = np.random.default_rng(2)
+    log_emit, log_trans = rng.normal(size=(5, 3)), np.log(rng.dirichlet(np.ones(3), size=3))
+    alpha_scaled, alpha_log = np.empty((5, 3)), np.empty((5, 3))
+    assert _forward_scaled(log_emit, log_trans, np.zeros(3), alpha_scaled)
+    _forward_log(log_emit, log_trans, np.zeros(3), alpha_log)
+    # the two passes agree up to a constant per event (the scaling)
+    diff = alpha_log - alpha_scaled
+    np.testing.assert_allclose(diff - diff[:, :1], 0.0, atol=1e-12)
+
+
+def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula():
+    # features scaled to weight 1 over D = 60 dimensions: many counts x <= SMALL_COUNT take the x psi(a)
+    # shortcut of log Gamma(a + x) - log Gamma(a); its error is below x^2 psi'(a) / 2 per count
+    rng = np.random.default_rng(3)
+    E, V, D, L, K, chi = 40, 5, 60, 4, 3, 1.0
+    words = rng.integers(0, 3, size=(E, V)).astype(float)
+    feats = rng.dirichlet(np.full(D, 0.2), size=E)
+    sampler = CollapsedConceptSampler(words, feats, background=False, rng=rng)
+    small = (sampler.f_cnt > 0) & (sampler.f_cnt <= SMALL_COUNT)
+    assert small.sum() > 100 and (sampler.f_cnt > SMALL_COUNT).sum() > 100
+    C = rng.integers(L, size=E)
+    places = rng.integers(K, size=E)
+    onehot = np.eye(L)[C]
+    F_ld, F_l = onehot.T @ sampler.varying, onehot.T @ sampler.n_feat
+    psi_ld = digamma(chi + F_ld)
+    n_l = onehot.sum(axis=0)
+    for e in range(E):
+        for l in range(L):
+            got = _feature_term(l, e, n_l[l], chi, float(D), F_ld, F_l, psi_ld, sampler.f_ptr, sampler.f_idx,
+                                sampler.f_cnt, sampler.c_val, sampler.c_mult, sampler.n_feat[e])
+            x, F = feats[e], F_ld[l]
+            exact = (np.sum(gammaln(chi + F + x) - gammaln(chi + F))
+                     - gammaln(D * chi + F_l[l] + x.sum()) + gammaln(D * chi + F_l[l]))
+            tiny = (x > 0) & (x <= SMALL_COUNT)
+            bound = np.sum(x[tiny] ** 2 * polygamma(1, chi + F[tiny]) / 2)
+            assert abs(got - exact) <= bound + 1e-12
+            assert bound < 1e-3                                          # the docstring's claim
+    # the tiny counts really read the cache: a wrong cache moves the value by far more than the bound
+    wrong = _feature_term(0, 0, n_l[0], chi, float(D), F_ld, F_l, psi_ld + 1.0, sampler.f_ptr, sampler.f_idx,
+                          sampler.f_cnt, sampler.c_val, sampler.c_mult, sampler.n_feat[0])
+    right = _feature_term(0, 0, n_l[0], chi, float(D), F_ld, F_l, psi_ld, sampler.f_ptr, sampler.f_idx,
+                          sampler.f_cnt, sampler.c_val, sampler.c_mult, sampler.n_feat[0])
+    x0 = feats[0]
+    assert wrong - right == pytest.approx(x0[(x0 > 0) & (x0 <= SMALL_COUNT)].sum(), rel=1e-9)
+    # the cache: after a sweep over every event, psi_ld is digamma(chi + F_ld) of the final counts
+    W_lv = onehot.T @ sampler.concept_words()
+    bg = sampler.background_words()
+    order = rng.permutation(E).astype(np.int64)
+    C_new = _concept_sweep(C.copy(), places, order, rng.random(E + len(sampler.t_word)), L, K, 0.5, 0.05, 0.1,
+                           chi, sampler.t_ptr, sampler.t_word, sampler.z.copy(), float(V), False, bg,
+                           np.array([bg.sum()]), np.array([0.0, float(sampler.z.sum())]), sampler.f_ptr,
+                           sampler.f_idx, sampler.f_cnt, float(D), sampler.c_val, sampler.c_mult, sampler.n_feat,
+                           n_l.copy(), _n_lk(C, places, L, K), W_lv,
+                           W_lv.sum(axis=1), F_ld, F_l, psi_ld, True)
+    assert not np.array_equal(C_new, C)
+    np.testing.assert_allclose(F_ld, np.eye(L)[C_new].T @ sampler.varying, atol=1e-12)
+    np.testing.assert_allclose(psi_ld, digamma(chi + F_ld), rtol=1e-12, atol=1e-12)
+
+
+def _n_lk(C, places, L, K):
+    n = np.zeros((L, K))
+    np.add.at(n, (C, places), 1.0)
+    return n
