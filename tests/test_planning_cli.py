@@ -102,3 +102,20 @@ def test_usage_errors(model_dir, tmp_path):
     bad.write_text("{not json")
     out = run(str(folder), "--nbest", str(bad), "--start", "0", "0")
     assert out.returncode == 2 and "is not valid JSON" in out.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--candidates", "0"], "Invalid value for '--candidates': Input should be greater than or equal to 1"),
+    (["--candidates", "-1"], "Invalid value for '--candidates': Input should be greater than or equal to 1"),
+    (["--max-steps", "-3"], "Invalid value for '--max-steps': Input should be greater than or equal to 1"),
+    (["--max-steps", "0"], "Invalid value for '--max-steps': Input should be greater than or equal to 1"),
+])
+def test_out_of_range_options_are_usage_errors(model_dir, args, message):
+    from typer.testing import CliRunner
+
+    from spcotmhp.cli import app
+
+    folder, _ = model_dir
+    out = CliRunner().invoke(app, ["plan", str(folder), "go to the bath", "--start", "0", "0", *args])
+    assert out.exit_code == 2
+    assert message in " ".join(out.output.replace("│", " ").split())

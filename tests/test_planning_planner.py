@@ -194,6 +194,43 @@ def test_plan_function_and_settings():
     assert PlannerSettings(n_candidates=3).graph_settings().n_candidates == 3
 
 
+@pytest.mark.parametrize("setting, message", [
+    ({"n_candidates": 0}, "n_candidates must be an integer >= 1, got 0"),
+    ({"n_candidates": -1}, "n_candidates must be an integer >= 1, got -1"),
+    ({"n_candidates": 2.5}, "n_candidates must be an integer >= 1, got 2.5"),
+    ({"seed": -1}, "seed must be an integer >= 0, got -1"),
+    ({"connectivity": 6}, "connectivity must be 4 or 8, got 6"),
+    ({"edge_threshold": 1.5}, "edge_threshold must be in [0, 1] (or None: 1/K), got 1.5"),
+    ({"candidate_quantile": 1.0}, "candidate_quantile must be in (0, 1), got 1.0"),
+    ({"cost_floor": 0.0}, "cost_floor must be > 0, got 0.0"),
+    ({"tube_margin": float("nan")}, "tube_margin must be >= 0, got nan"),
+    ({"steps_per_stage": 0}, "steps_per_stage must be an integer >= 1, got 0"),
+    ({"max_steps": 0}, "max_steps must be an integer >= 1, got 0"),
+    ({"max_steps": -3}, "max_steps must be an integer >= 1, got -3"),
+    ({"instance_ratio": 0.5}, "instance_ratio must be >= 1, got 0.5"),
+    ({"start_min_posterior": 2}, "start_min_posterior must be in [0, 1], got 2"),
+    ({"region_quantile": 0}, "region_quantile must be in (0, 1), got 0"),
+    ({"arrival_quantile": 1.2}, "arrival_quantile must be in (0, 1) (or None), got 1.2"),
+])
+def test_bad_settings_are_planning_errors(setting, message):
+    with pytest.raises(PlanningError) as info:
+        PlannerSettings(**setting)
+    assert str(info.value) == message
+    model = home_model()
+    with pytest.raises(PlanningError):
+        HierarchicalPlanner(model, log_p=home_log_p(model.map), **setting)
+
+
+def test_planner_settings_derive_from_graph_settings():
+    from dataclasses import fields
+
+    from spcotmhp.planning.graph import GraphSettings
+
+    graph_fields = [(f.name, f.default) for f in fields(GraphSettings)]
+    assert [(f.name, f.default) for f in fields(PlannerSettings)][:len(graph_fields)] == graph_fields
+    assert PlannerSettings(tube_margin=0.5, max_steps=3).graph_settings() == GraphSettings(tube_margin=0.5)
+
+
 def test_several_candidates_per_place():
     model = home_model()
     pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), n_candidates=4, seed=1)

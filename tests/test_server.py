@@ -6,6 +6,7 @@ import io
 import json
 import shutil
 import subprocess
+import sys
 import threading
 import warnings
 
@@ -15,7 +16,7 @@ from PIL import Image
 from server_fixtures import INSTRUCTION, start_near, supervised_model_dir, wall_point
 
 from spcotmhp.commands.service import model_mapping
-from spcotmhp.errors import ModelError
+from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.server import create_app
@@ -122,6 +123,17 @@ def test_start_in_a_wall_or_off_the_map_is_422(client, model6):
     assert r.json()["detail"].startswith("the start (100.00, 0.00) is outside the map")
 
 
+def test_a_huge_start_is_a_short_422_without_overflow(client, model6):
+    r = plan(client, instruction=INSTRUCTION, start=[1e308, -1e308])
+    assert r.status_code == 422
+    assert r.json()["detail"].startswith("the start (1e+308, -1e+308) is outside the map (x ")
+    assert len(r.json()["detail"]) < 100
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # no overflow RuntimeWarning from the cell index
+        with pytest.raises(PlanningError, match="the start \\(1e\\+308, 1e\\+308\\) is outside the map"):
+            HierarchicalPlanner(model6).plan(INSTRUCTION, (1e308, 1e308))
+
+
 @pytest.mark.parametrize(("body", "detail"), [
     ({"instruction": INSTRUCTION}, "start: Field required"),
     ({"start": [0, 0]}, "body: give exactly one of 'instruction', 'nbest' or 'structured'"),
@@ -222,8 +234,10 @@ def test_map_png_is_georeferenced_by_map_json(client, model6):
 
 def test_health_models_page_and_openapi(client):
     assert client.get("/healthz").json() == {"status": "ok", "models": ["home6", "home1"]}
-    models = client.get("/models").json()
+    r = client.get("/models")
+    models = r.json()
     assert models["default"] == "home6" and [m["name"] for m in models["models"]] == ["home6", "home1"]
+    assert all("source" not in m for m in models["models"]) and "3LDK_06" not in r.text   # no folder paths
     assert "corridor" in models["models"][0]["place_words"]
     page = client.get("/")
     assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
@@ -327,3 +341,43 @@ def test_model_mapping_names_models_by_folder_or_prefix(tmp_path):
     assert got == {"3LDK_06": tmp_path / "3LDK_06", "home": tmp_path / "m", "a_b": tmp_path / "a b"}
     with pytest.raises(ModelError, match=r"two models are named 'm'"):
         model_mapping([str(tmp_path / "x" / "m"), str(tmp_path / "y" / "m")])
+
+
+# ---- drawing from worker threads ---------------------------------------------------------------------------
+def test_pictures_never_use_pyplot():
+    code = ("import sys; from spcotmhp.server import create_app; from spcotmhp.viz.draw import render, map_image; "
+            "import spcotmhp.viz.plan; print('matplotlib.pyplot' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_two_models_drawn_at_once_equal_drawn_one_after_the_other(dirs):
+    models = [ServedModel.build(name, load_model(folder)) for name, folder in dirs.items()]
+    sequential = [m.figure_png() for m in models]
+    for m in models:
+        m._figure = None
+    results: dict[int, bytes] = {}
+    barrier = threading.Barrier(len(models))
+
+    def draw(i: int) -> None:
+        barrier.wait()
+        results[i] = models[i].figure_png()
+
+    threads = [threading.Thread(target=draw, args=(i,)) for i in range(len(models))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert [results[i] for i in range(len(models))] == sequential
+
+
+def test_serve_rejects_an_unknown_log_level(dirs):
+    from typer.testing import CliRunner
+
+    from spcotmhp.cli import app
+
+    out = CliRunner().invoke(app, ["serve", str(dirs["home6"]), "--log-level", "loud"])
+    assert out.exit_code == 2
+    text = " ".join(out.output.replace("│", " ").split())
+    assert "Invalid value for '--log-level': Value error, 'loud' is not one of 'critical', 'error', 'warning', " \
+           "'info', 'debug', 'trace'" in text

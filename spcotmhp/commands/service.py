@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
@@ -11,6 +12,17 @@ import typer
 from spcotmhp.errors import ModelError, SpcotmhpError
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
+
+
+class LogLevel(str, Enum):
+    """uvicorn's log levels (a bad value is a usage error listing them)."""
+
+    critical = "critical"
+    error = "error"
+    warning = "warning"
+    info = "info"
+    debug = "debug"
+    trace = "trace"
 
 
 def model_mapping(items: list[str]) -> dict[str, Path]:
@@ -35,8 +47,7 @@ def serve(
              "default.", metavar="MODEL_DIR...")],
     host: Annotated[str, typer.Option(help="Interface to listen on (default: this machine only).")] = "127.0.0.1",
     port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port.")] = 8000,
-    log_level: Annotated[str, typer.Option(help="uvicorn log level (critical, error, warning, info, debug).")]
-    = "info",
+    log_level: Annotated[LogLevel, typer.Option(help="uvicorn log level.")] = LogLevel.info,
 ) -> None:
     """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /."""
     from rich.console import Console
@@ -60,7 +71,7 @@ def serve(
     shown = f"[{host}]" if ":" in host else host
     console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: "
                   "/openapi.json)")
-    uvicorn.run(app, host=host, port=port, log_level=log_level)
+    uvicorn.run(app, host=host, port=port, log_level=LogLevel(log_level).value)
 
 
 def register(app: typer.Typer) -> None:

@@ -46,7 +46,7 @@ import numpy as np
 from numba import njit
 from scipy import ndimage
 
-from spcotmhp.errors import ModelError
+from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field, step_cost_map
@@ -84,6 +84,33 @@ class GraphSettings:
     candidate_quantile: float = 0.95
     cost_floor: float = 1e-3
     tube_margin: float = 0.2
+
+    def __post_init__(self) -> None:
+        """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
+        require_int(self.n_candidates, "n_candidates", 1)
+        require_int(self.seed, "seed", 0)
+        if self.connectivity not in (4, 8) or isinstance(self.connectivity, bool):
+            raise PlanningError(f"connectivity must be 4 or 8, got {self.connectivity!r}")
+        if self.edge_threshold is not None:
+            require_range(self.edge_threshold, "edge_threshold", 0.0, 1.0, "in [0, 1] (or None: 1/K)")
+        require_range(self.candidate_quantile, "candidate_quantile", 0.0, 1.0, "in (0, 1)", open_=True)
+        require_range(self.cost_floor, "cost_floor", 0.0, math.inf, "> 0", open_=True)
+        require_range(self.tube_margin, "tube_margin", 0.0, math.inf, ">= 0")
+
+
+def require_int(value: object, name: str, low: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise PlanningError(f"{name} must be an integer >= {low}, got {value!r}")
+
+
+def require_range(value: object, name: str, low: float, high: float, accepted: str, open_: bool = False) -> None:
+    """``value`` must be a real number in [low, high] ((low, high) with ``open_``, but always finite)."""
+    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+    if ok:
+        v = float(value)
+        ok = math.isfinite(v) and (low < v < high if open_ else low <= v <= high)
+    if not ok:
+        raise PlanningError(f"{name} must be {accepted}, got {value!r}")
 
 
 @dataclass

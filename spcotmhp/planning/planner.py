@@ -40,6 +40,7 @@ waypoint, as the reference code's two legs of 10).
 from __future__ import annotations
 
 import itertools
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
@@ -58,7 +59,7 @@ from spcotmhp.planning.assemble import (
     smooth_anchored,
     smoothing_mask,
 )
-from spcotmhp.planning.graph import GraphSettings, PlanningGraph
+from spcotmhp.planning.graph import GraphSettings, PlanningGraph, require_int, require_range
 from spcotmhp.planning.instructions import Instruction, to_instruction
 from spcotmhp.planning.places import inside_places, instance_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
@@ -74,25 +75,20 @@ tasks of 3LDK_06 (0.39, one sd: none of 248)."""
 
 
 @dataclass(frozen=True)
-class PlannerSettings:
-    """Every knob of the planner (the first seven are the precomputation's :class:`GraphSettings`).
+class PlannerSettings(GraphSettings):
+    """Every knob of the planner: the precomputation's :class:`GraphSettings` (inherited, with their defaults),
+    then the online ones.
 
     steps_per_stage / max_steps: the topological horizon E (max_steps overrides steps_per_stage x stages).
     instance_ratio: instances of a name have p(i | S) >= best / ratio.  start_min_posterior: places with
-    p(i_0 | x_0) at least this are plausible start places (the first step stays next to one).  region_quantile: chi-square quantile of
-    a place's region (avoidance).  smooth: Algorithm 1, line 13 (tube re-planning, then line-of-sight
-    shortcuts; :mod:`~spcotmhp.planning.assemble`).  arrival_quantile: the path ends at its first cell inside
-    the goal place's region at this chi-square quantile (None: at the goal's candidate point).
-    tube_margin: metres by which the territories of smoothing's tubes are grown (a precomputation setting).
+    p(i_0 | x_0) at least this are plausible start places (the first step stays next to one).  region_quantile:
+    chi-square quantile of a place's region (avoidance).  smooth: Algorithm 1, line 13 (tube re-planning, then
+    line-of-sight shortcuts; :mod:`~spcotmhp.planning.assemble`).  arrival_quantile: the path ends at its first
+    cell inside the goal place's region at this chi-square quantile (None: at the goal's candidate point).
+
+    Out-of-range values raise :class:`~spcotmhp.errors.PlanningError` on construction.
     """
 
-    n_candidates: int = 1
-    seed: int = 0
-    connectivity: int = 8
-    edge_threshold: float | None = None
-    candidate_quantile: float = 0.95
-    cost_floor: float = 1e-3
-    tube_margin: float = 0.2
     steps_per_stage: int = 10
     max_steps: int | None = None
     instance_ratio: float = 4.0
@@ -100,6 +96,17 @@ class PlannerSettings:
     region_quantile: float = 0.95
     smooth: bool = True
     arrival_quantile: float | None = ARRIVAL_QUANTILE
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        require_int(self.steps_per_stage, "steps_per_stage", 1)
+        if self.max_steps is not None:
+            require_int(self.max_steps, "max_steps", 1)
+        require_range(self.instance_ratio, "instance_ratio", 1.0, math.inf, ">= 1")
+        require_range(self.start_min_posterior, "start_min_posterior", 0.0, 1.0, "in [0, 1]")
+        require_range(self.region_quantile, "region_quantile", 0.0, 1.0, "in (0, 1)", open_=True)
+        if self.arrival_quantile is not None:
+            require_range(self.arrival_quantile, "arrival_quantile", 0.0, 1.0, "in (0, 1) (or None)", open_=True)
 
     def graph_settings(self) -> GraphSettings:
         return GraphSettings(**{f.name: getattr(self, f.name) for f in fields(GraphSettings)})
@@ -189,11 +196,12 @@ class HierarchicalPlanner:
         if x0.shape != (2,) or not np.isfinite(x0).all():
             raise PlanningError(f"the start must be two finite numbers (x, y) in metres, got {start!r}")
         occ = self.model.map
-        full = occ.world_to_cell(x0)
-        if not occ.in_bounds(full):
-            lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
-            hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
-            raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) is outside the map "
+        lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
+        hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
+        # bounds in floats first: a huge start would overflow the integer cell index
+        full = occ.world_to_cell(x0) if ((x0 >= lo) & (x0 < hi)).all() else None
+        if full is None or not occ.in_bounds(full):
+            raise PlanningError(f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
                                 f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
         cell = self.graph.to_crop(full)
         if not (self.graph.in_crop(cell) and self.graph.traversable[cell[0], cell[1]]):
@@ -212,7 +220,7 @@ class HierarchicalPlanner:
         plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
         first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
         start = np.where(first, log_pred[nodes] - self.terms.log_ur[nodes] + graph.start_w_hat(cell), -np.inf)
-        E = self.settings.max_steps or self.settings.steps_per_stage * S
+        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
         return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
 
     def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
@@ -329,6 +337,11 @@ class HierarchicalPlanner:
                 return f"no path {where} reaches a place named '{q.label}' ({role}){tail}"
         return (f"no sequence of at most {problem.max_steps} place-to-place steps {where} satisfies "
                 f"'{ins.describe()}'{tail}; raise max_steps")
+
+
+def _metres(v: float) -> str:
+    """A coordinate for a message: 2 decimals, or 4 significant digits when huge (no 300-digit numbers)."""
+    return f"{v:.2f}" if abs(v) < 1e6 else f"{v:.4g}"
 
 
 def plan(model: SpatialConceptModel, instruction: Any, start: Sequence[float], lang: str | None = None,

@@ -100,7 +100,8 @@ class ServedModel:
                 "edges": topological_edges(m), "place_words": self.place_words}
 
     def summary(self) -> dict:
-        return {"name": self.name, "source": self.source, "places": int(self.model.active_places.sum()),
+        """What ``GET /models`` shows: no folder path (the service may be reachable from other machines)."""
+        return {"name": self.name, "places": int(self.model.active_places.sum()),
                 "place_words": self.place_words, "time_precompute_s": self.planner.graph.time_precompute_s}
 
 

@@ -138,8 +138,9 @@ class MapInfo(BaseModel):
 
 
 class ModelOut(BaseModel):
+    """A served model as ``GET /models`` lists it (its folder is not disclosed)."""
+
     name: str
-    source: str
     places: int
     place_words: list[str]
     time_precompute_s: float

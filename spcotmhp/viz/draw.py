@@ -1,7 +1,10 @@
 """Pictures: the map, the places as Gaussian ellipses with names, the topological edges and a planned path.
 
-Plotting stays at the edge: these functions take arrays and dataclasses and draw on matplotlib axes (Agg backend,
-no display needed). :func:`render` writes the framed figure of the CLI (axes in metres, legend, title);
+Plotting stays at the edge: these functions take arrays and dataclasses and draw on matplotlib axes (Agg canvas,
+no display needed). Thread safety (the HTTP service draws from worker threads): figures are
+:class:`matplotlib.figure.Figure` objects with their own Agg canvas, never pyplot's global figure manager, and
+:func:`render` and :func:`map_image` hold one module-wide lock, because matplotlib's rcParams (the font family
+set for a picture) and its text caches are process-wide. :func:`render` writes the framed figure of the CLI (axes in metres, legend, title);
 :func:`map_image` the frameless, georeferenced picture of the HTTP service, whose pixels map linearly onto its
 ``extent`` so that a client can convert clicks to map coordinates.
 """
@@ -9,18 +12,18 @@ no display needed). :func:`render` writes the framed figure of the CLI (axes in 
 from __future__ import annotations
 
 import io
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
 import matplotlib
-
-matplotlib.use("Agg")
 import matplotlib.patheffects as pe
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 from matplotlib.patches import Ellipse
 from matplotlib.text import Annotation
 
@@ -33,6 +36,14 @@ PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#1
            "#393b79", "#1b9e77", "#e6ab02", "#e7298a", "#66a61e", "#7570b3", "#a6761d", "#0b6e4f"]
 PATH_COLOUR = "#d00000"
 MARK_STYLE = {"start": ("s", "#00a651"), "waypoint": ("D", "#6a3d9a"), "goal": ("*", PATH_COLOUR)}
+_DRAW_LOCK = threading.Lock()   # one picture at a time (module docstring)
+
+
+def _figure(figsize: tuple[float, float], dpi: float | None = None) -> Figure:
+    """A figure with its own Agg canvas (no pyplot)."""
+    fig = Figure(figsize=figsize, dpi=dpi)
+    FigureCanvasAgg(fig)
+    return fig
 
 
 def place_colours(n: int) -> list[str]:
@@ -160,7 +171,7 @@ def render(occ_map: OccupancyMap, out: str | Path | BinaryIO, model: SpatialConc
         out.parent.mkdir(parents=True, exist_ok=True)
     x0, x1, y0, y1 = used_extent(occ_map, focus=focus_points(model, path_xy))
     aspect = (y1 - y0) / max(x1 - x0, 1e-9)
-    with matplotlib.rc_context({"font.family": list(font_families())}):
+    with _DRAW_LOCK, matplotlib.rc_context({"font.family": list(font_families())}):
         _render(occ_map, out, model, names, path_xy, marks, title, dpi, (x0, x1, y0, y1), aspect)
     return out
 
@@ -169,23 +180,21 @@ def _render(occ_map: OccupancyMap, out: Path | BinaryIO, model: SpatialConceptMo
             names: Sequence[str] | None, path_xy: np.ndarray | None, marks: Sequence[tuple[np.ndarray, str, str]],
             title: str | None, dpi: int, extent: tuple[float, float, float, float], aspect: float) -> None:
     x0, x1, y0, y1 = extent
-    fig, ax = plt.subplots(figsize=(8, max(4.0, min(12.0, 8 * aspect)) + 0.6))
-    try:
-        draw_map(ax, occ_map)
-        labels = draw_places(ax, model, names) if model is not None else []
-        points = _centres(model)
-        if path_xy is not None:
-            points = np.vstack([points, draw_path(ax, path_xy, marks)])
-            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=True)
-        ax.set_xlim(x0, x1)
-        ax.set_ylim(y0, y1)
-        if title:
-            ax.set_title(title, fontsize=10, wrap=True)
-        fig.tight_layout()
-        arrange_labels(ax, labels, points)
-        fig.savefig(out, format="png", dpi=dpi, bbox_inches="tight")
-    finally:
-        plt.close(fig)
+    fig = _figure((8, max(4.0, min(12.0, 8 * aspect)) + 0.6))
+    ax = fig.subplots()
+    draw_map(ax, occ_map)
+    labels = draw_places(ax, model, names) if model is not None else []
+    points = _centres(model)
+    if path_xy is not None:
+        points = np.vstack([points, draw_path(ax, path_xy, marks)])
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=True)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    if title:
+        ax.set_title(title, fontsize=10, wrap=True)
+    fig.tight_layout()
+    arrange_labels(ax, labels, points)
+    fig.savefig(out, format="png", dpi=dpi, bbox_inches="tight")
 
 
 @dataclass(frozen=True)
@@ -209,8 +218,8 @@ def map_image(model: SpatialConceptModel, px_per_m: float = 60.0, dpi: int = 100
     occ = model.map
     x0, x1, y0, y1 = used_extent(occ, focus=focus_points(model))
     width, height = max(1, round((x1 - x0) * px_per_m)), max(1, round((y1 - y0) * px_per_m))
-    fig = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi)
-    try:
+    with _DRAW_LOCK:
+        fig = _figure((width / dpi, height / dpi), dpi)
         ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
         draw_map(ax, occ)
         labels = draw_places(ax, model, fontsize=9.0)
@@ -221,6 +230,4 @@ def map_image(model: SpatialConceptModel, px_per_m: float = 60.0, dpi: int = 100
         arrange_labels(ax, labels, _centres(model))
         buf = io.BytesIO()
         fig.savefig(buf, format="png", dpi=dpi)
-    finally:
-        plt.close(fig)
     return MapImage(buf.getvalue(), (float(x0), float(x1), float(y0), float(y1)), width, height)
