@@ -46,6 +46,10 @@ def test_connectivity_is_applied_to_the_chosen_run_only(data):
     assert sel.model_.info["psi_from"] == "map"
     other = sel.estimators_[1 - sel.best_index_]
     assert other.model_.info["psi_from"] == "hmm"
+    np.testing.assert_array_equal(other.model_.psi_learned, other.model_.psi)
+    # the chosen run plans with the map's psi and keeps the HMM's as psi_learned
+    assert sel.model_.psi_learned is not None and not np.allclose(sel.model_.psi_learned, sel.model_.psi)
+    np.testing.assert_allclose(sel.model_.psi_learned.sum(axis=1), 1.0)
 
 
 def test_progress_counts_every_sweep(data):
