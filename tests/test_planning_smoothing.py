@@ -375,3 +375,23 @@ def test_bundled_home_entrance_to_storeroom():
     new_crop = g.to_crop(new.cells)
     assert g.traversable[new_crop[:, 0], new_crop[:, 1]].all() and (new.cells[-1] == raw.cells[-1]).all()
     assert not np.isin(g.territory[new_crop[:, 0], new_crop[:, 1]], [1, 2]).any()
+
+
+@pytest.mark.parametrize("connectivity, length, steps", [(8, 4 * SQ2 + 2, {1, 2}), (4, 10.0, {1})])
+def test_shortcuts_keep_the_planners_move_model(connectivity, length, steps):
+    # an L-shaped path (0, 0) -> (0, 6) -> (4, 6) on an open 5 x 7 grid: the 8-connected shortcut is the
+    # Bresenham line (octile length), the 4-connected one a staircase of Manhattan length with no diagonal step
+    cells = np.array([(0, c) for c in range(7)] + [(r, 6) for r in range(1, 5)])
+    out = smooth(cells, np.ones((5, 7), dtype=bool), [], connectivity)
+    assert tuple(out[0]) == (0, 0) and tuple(out[-1]) == (4, 6)
+    assert set(np.abs(np.diff(out, axis=0)).sum(axis=1).tolist()) == steps
+    assert path_length(out, 1.0) == pytest.approx(length)
+    with pytest.raises(ValueError, match="connectivity must be 4 or 8, got 6"):
+        smooth(cells, np.ones((5, 7), dtype=bool), [], 6)
+
+
+def test_a_4_connected_planner_never_steps_diagonally():
+    model = make_home(**DETOUR)
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False, connectivity=4)
+    plan = pl.plan("go to the bedroom", model.map.cell_to_world(np.array([2, 2])))
+    assert plan.smoothed and (np.abs(np.diff(plan.cells, axis=0)).sum(axis=1) == 1).all()

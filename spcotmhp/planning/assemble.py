@@ -29,7 +29,9 @@ collision check); here it is two steps that never lengthen the path and never gi
      already used it;
    * the shortcut is drawn as the Bresenham line, whose cells are a subset of that supercover and whose
      length is the octile distance between a and b, the shortest 8-connected length, so a shortcut never
-     lengthens the path and a diagonal step never squeezes between two blocked cells;
+     lengthens the path and a diagonal step never squeezes between two blocked cells; a 4-connected planner
+     (``connectivity=4``) draws the 4-connected line instead (the supercover walk taking one side cell at each
+     corner), of Manhattan length, the shortest 4-connected one, so its paths keep no diagonal step;
    * the shortcut path is kept if it is :func:`better` than the re-planned one (a same-length shortcut that
      runs closer to the walls is not). Shortcuts of the assembled path itself are tried too, and the better
      of the two results is kept: the re-planned path keeps off the walls, so on long straight corridors (a
@@ -162,18 +164,22 @@ def smoothing_mask(traversable: np.ndarray, log_p: np.ndarray, cells: np.ndarray
     return allowed
 
 
-def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int]) -> np.ndarray:
-    """Line-of-sight shortcutting between consecutive ``anchors`` (indices into ``cells``, kept fixed)."""
-    return smooth_anchored(cells, allowed, anchors)[0]
+def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int], connectivity: int = 8) -> np.ndarray:
+    """Line-of-sight shortcutting between consecutive ``anchors`` (indices into ``cells``, kept fixed); the
+    shortcuts are ``connectivity``-connected lines (4 or 8, as the path)."""
+    return smooth_anchored(cells, allowed, anchors, connectivity)[0]
 
 
-def smooth_anchored(cells: np.ndarray, allowed: np.ndarray, anchors: Sequence[int]) -> tuple[np.ndarray, list[int]]:
+def smooth_anchored(cells: np.ndarray, allowed: np.ndarray, anchors: Sequence[int],
+                    connectivity: int = 8) -> tuple[np.ndarray, list[int]]:
     """:func:`smooth`, also returning the new index of each anchor."""
+    if connectivity not in (4, 8):
+        raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
     cells = np.ascontiguousarray(cells, dtype=np.int64)
     if len(cells) < 3:
         return cells, [int(a) for a in anchors]
     fixed = np.unique(np.clip(np.asarray([0, *anchors, len(cells) - 1], dtype=np.int64), 0, len(cells) - 1))
-    out, ends = _shortcut(cells, np.ascontiguousarray(allowed), fixed)
+    out, ends = _shortcut(cells, np.ascontiguousarray(allowed), fixed, connectivity == 4)
     return out, [int(ends[np.searchsorted(fixed, min(max(int(a), 0), len(cells) - 1))]) for a in anchors]
 
 
@@ -222,7 +228,30 @@ def _line(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
 
 
 @njit(cache=True)
-def _shortcut(cells, allowed, fixed):  # pragma: no cover - numba
+def _line4(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
+    """Write the 4-connected line after (r0, c0) up to (r1, c1) into out[k:] (the supercover walk of
+    :func:`_clear`, stepping along the row first at a corner), return the new k."""
+    nr, nc = abs(r1 - r0), abs(c1 - c0)
+    sr = 1 if r1 > r0 else -1
+    sc = 1 if c1 > c0 else -1
+    r, c = r0, c0
+    ir = 0
+    ic = 0
+    while ir < nr or ic < nc:
+        if (1 + 2 * ic) * nr - (1 + 2 * ir) * nc <= 0 and ic < nc:
+            c += sc
+            ic += 1
+        else:
+            r += sr
+            ir += 1
+        out[k, 0] = r
+        out[k, 1] = c
+        k += 1
+    return k
+
+
+@njit(cache=True)
+def _shortcut(cells, allowed, fixed, four):  # pragma: no cover - numba
     n = cells.shape[0]
     out = np.empty((n, 2), np.int64)
     out[0] = cells[0]
@@ -237,6 +266,8 @@ def _shortcut(cells, allowed, fixed):  # pragma: no cover - numba
             if j == i + 1:
                 out[k] = cells[j]
                 k += 1
+            elif four:
+                k = _line4(cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1], out, k)
             else:
                 k = _line(cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1], out, k)
             i = j

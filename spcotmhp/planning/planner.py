@@ -252,7 +252,8 @@ class HierarchicalPlanner:
                 return graph.tube(np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own))
 
             def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-                short, moved = smooth_anchored(path, smoothing_mask(graph.traversable, graph.log_p, path), marks)
+                short, moved = smooth_anchored(path, smoothing_mask(graph.traversable, graph.log_p, path), marks,
+                                               graph.settings.connectivity)
                 return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
 
             # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path
