@@ -245,3 +245,56 @@ def test_nbest_goal_follows_the_recogniser_unless_it_is_a_near_tie(planner):
     assert planner.plan([("go to the kitchen", 0.7), ("go to the bedroom", 0.3)], x0).goal.id == K
     # a near tie lets both names in (p(i|S) within the instance ratio); the cheaper path then wins
     assert planner.plan([("go to the kitchen", 0.55), ("go to the bedroom", 0.45)], x0).goal.id == L
+
+
+def test_plan_log_prob_is_eq_28_assembled_term_by_term():
+    """plan.log_prob = sum_e [log psi[i_{e-1}, i_e] - log sum_c phi_c(i_e) + w-hat_e + log sum_C phi_C(i_e)
+    Mult(S_{s(e)} | W_C) pi_C], with the first step's transition predicted from the start pose (sum_k p(k | x_0)
+    psi[k, i_1]) and its w-hat the start leg's; every term recomputed here from the model's arrays and an
+    independent A* search, on a model whose psi is not symmetric (so a transposed psi would not match)."""
+    from scipy.stats import multivariate_normal
+
+    from spcotmhp.metric.grid_search import shortest_paths, step_cost_map
+
+    model = home_model()
+    model.psi = np.array([[0.30, 0.60, 0.05, 0.05],    # L -> M likely, M -> L less so
+                          [0.20, 0.30, 0.05, 0.45],
+                          [0.05, 0.05, 0.30, 0.60],
+                          [0.05, 0.15, 0.50, 0.30]])
+    occ = model.map
+    log_p = home_log_p(occ)
+    pl = HierarchicalPlanner(model, log_p=log_p, use_cache=False)
+    assert pl.graph.info["clipped_cells"] == 0          # no density clipping: w-hat is the plain sum
+    start_cell = np.array([6, 5])                        # in L (bedroom #1)
+    x0 = world(occ, *start_cell)
+    plan = pl.plan("go to the kitchen via the corridor", x0)
+
+    # the node sequence (one candidate per place: a node is its place) and the stage pursued at each step
+    crop = pl.graph.to_crop(occ.world_to_cell(plan.node_points))
+    nodes = [int(np.flatnonzero((pl.graph.node_cell == c).all(axis=1))[0]) for c in crop]
+    places = pl.graph.node_place[nodes].tolist()
+    assert places.count(M) == 1 and places[-1] == K and places.index(M) < len(places) - 1
+    stages = [0 if e <= places.index(M) else 1 for e in range(len(places))]
+    bags = [1, 2]                                        # vocabulary index of "corridor", then "kitchen"
+
+    centres = occ.cell_centres()
+    cells = [start_cell] + [pl.graph.to_map(pl.graph.node_cell[n]) for n in nodes]
+
+    def w_hat(a: np.ndarray, b: np.ndarray, place: int) -> float:
+        log_n = multivariate_normal(model.mu[place], model.Sigma[place]).logpdf(centres)
+        cost = step_cost_map(log_p, np.where(np.isfinite(log_p), log_n, -np.inf), connectivity=8)
+        return -shortest_paths(cost, tuple(a), tuple(b), connectivity=8).cost
+
+    def total(psi: np.ndarray) -> float:
+        prior = (model.pi[:, None] * model.phi).sum(axis=0)
+        density = np.array([multivariate_normal(model.mu[k], model.Sigma[k]).pdf(x0) for k in range(model.K)])
+        posterior = density * prior / (density * prior).sum()
+        out = 0.0
+        for e, (i, s) in enumerate(zip(places, stages)):
+            transition = np.log(posterior @ psi[:, i]) if e == 0 else np.log(psi[places[e - 1], i])
+            word = np.log(np.sum(model.phi[:, i] * model.W[:, bags[s]] * model.pi))
+            out += transition - np.log(model.phi[:, i].sum()) + w_hat(cells[e], cells[e + 1], i) + word
+        return out
+
+    assert plan.log_prob == pytest.approx(total(model.psi), rel=1e-9, abs=1e-9)
+    assert abs(total(model.psi.T) - plan.log_prob) > 0.1
