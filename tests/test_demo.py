@@ -16,6 +16,7 @@ from typer.testing import CliRunner
 from spcotmhp.cli import app
 from spcotmhp.commands.demo import _progress, demo_start, learn_demo_model
 from spcotmhp.datasets import load_bundled
+from spcotmhp.errors import InstructionError
 from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning.planner import HierarchicalPlanner
@@ -98,8 +99,11 @@ def test_demo_start_is_the_free_cell_nearest_the_place_mean(home):
     rows, cols = np.nonzero(planner.graph.traversable)
     centres = model.map.cell_to_world(planner.graph.to_map(np.stack([rows, cols], axis=1)))
     assert np.linalg.norm(xy - entrance) <= np.linalg.norm(centres - entrance, axis=1).min() + 1e-9
-    _, label = demo_start(planner, "no such place")
-    assert label == "entrance"                      # the first active place (id 0) of 3LDK_06
+    assert demo_start(planner)[1] == "entrance"      # the default
+    with pytest.raises(InstructionError) as info:    # never a silent fallback to another place
+        demo_start(planner, "garage")
+    assert str(info.value) == ("--start-place 'garage' names no place of the learned map; its places: bath, "
+                               "bedroom, corridor, dining, entrance, kitchen, living, toilet, washroom")
 
 
 @pytest.fixture(scope="module")
@@ -162,3 +166,11 @@ def test_demo_reports_an_unwritable_output_folder(tmp_path):
                          text=True, check=False)
     assert run.returncode == 2
     assert f"error: cannot write the demo output to {blocker / 'out'}" in run.stderr
+
+
+def test_demo_refuses_an_unknown_start_place(tmp_path):
+    out = subprocess.run([*SPCOTMHP, "demo", "--supervised", "--start-place", "garage", "--out", str(tmp_path / "d")],
+                         capture_output=True, text=True, timeout=300, check=False)
+    assert out.returncode == 2
+    assert "error: --start-place 'garage' names no place of the learned map; its places: bath, bedroom" in out.stderr
+    assert "Traceback" not in out.stderr

@@ -16,12 +16,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from scipy import ndimage
 from scipy.special import logsumexp
 
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.grid_search import shortest_paths, step_cost_map
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.metric.snap import component_at, snap
 
 
 def sample_goal(model: SpatialConceptModel, words: Sequence[str], rng: np.random.Generator) -> np.ndarray:
@@ -36,16 +36,11 @@ def sample_goal(model: SpatialConceptModel, words: Sequence[str], rng: np.random
 
 def reachable_cell_nearest(log_p: np.ndarray, occ_map: OccupancyMap, start: tuple[int, int],
                            xy: np.ndarray) -> tuple[int, int]:
-    """The traversable cell in the start's component nearest to the point ``xy``. Components are 4-connected:
-    the grid search never squeezes diagonally between two blocked cells, so that is exactly what it can reach."""
-    traversable = np.isfinite(log_p)
-    labels, _ = ndimage.label(traversable)
-    mine = labels == labels[start[0], start[1]]
-    rc = np.clip(occ_map.world_to_cell(np.asarray(xy, float)), 0, np.array(log_p.shape) - 1)
-    if mine[rc[0], rc[1]]:
-        return int(rc[0]), int(rc[1])
-    _, (ir, ic) = ndimage.distance_transform_edt(~mine, return_indices=True)
-    return int(ir[rc[0], rc[1]]), int(ic[rc[0], rc[1]])
+    """The traversable cell in the start's (4-connected, :mod:`spcotmhp.metric.snap`) component nearest to the
+    point ``xy``: exactly the cells the grid search can reach from the start."""
+    mine = component_at(np.isfinite(log_p), start)
+    r, c = snap(mine, occ_map.world_to_cell(np.asarray(xy, float)))
+    return int(r), int(c)
 
 
 def astar_to_sampled_goal(

@@ -90,22 +90,28 @@ def learn_demo_model(dataset: Any, instruction: str, seed: int, runs: int, itera
     return DemoModel(fit_supervised(dataset), "supervised fit (truth labels)", why)
 
 
-def demo_start(planner: Any, place: str) -> tuple[np.ndarray, str]:
-    """The free cell nearest to the mean of the first place labelled ``place`` (else the first active place),
-    in the main free component of the planning grid; returns (x, y) and the place's label."""
-    from spcotmhp.planning.places import main_component, nearest_cell_index
+def demo_start(planner: Any, place: str | None = None) -> tuple[np.ndarray, str]:
+    """The free cell nearest to the mean of the first place labelled ``place``, in the main free component of
+    the planning grid; returns (x, y) and the place's label. ``place`` None: the entrance if the map has one,
+    else the first active place.
+
+    Raises:
+        InstructionError: no place is labelled ``place`` (the message lists the place names).
+    """
+    from spcotmhp.metric.snap import largest_component, snap
     from spcotmhp.viz.labels import place_display_labels
 
     model, graph = planner.model, planner.graph
     labels = place_display_labels(model)
     act = np.flatnonzero(model.active_places)
-    named = [k for k in act if labels[k].split(" #")[0] == place]
-    k = int(named[0] if named else act[0])
-    snap = nearest_cell_index(main_component(graph.traversable))
-    cell = graph.to_crop(model.map.world_to_cell(model.mu[k]))
-    cell = np.clip(cell, 0, np.array(graph.traversable.shape) - 1)
-    free = np.array([snap[0][cell[0], cell[1]], snap[1][cell[0], cell[1]]])
-    return model.map.cell_to_world(graph.to_map(free)), labels[k]
+    names = [labels[k].split(" #")[0] for k in act]
+    if place is not None and place not in names:
+        raise InstructionError(f"--start-place {place!r} names no place of the learned map; its places: "
+                               f"{', '.join(sorted(set(names)))}")
+    wanted = place if place is not None else "entrance"
+    k = int(act[names.index(wanted)] if wanted in names else act[0])
+    cell = snap(largest_component(graph.traversable), graph.to_crop(model.map.world_to_cell(model.mu[k])))
+    return model.map.cell_to_world(graph.to_map(cell)), labels[k]
 
 
 def demo(
@@ -116,7 +122,9 @@ def demo(
     lang: Annotated[str, typer.Option(help="Language of the teaching words and the instruction (en, ja).")] = "en",
     start: Annotated[tuple[float, float] | None, typer.Option(
         help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
-    start_place: Annotated[str, typer.Option(help="Place to start from when --start is not given.")] = "entrance",
+    start_place: Annotated[str | None, typer.Option(
+        help="Place to start from when --start is not given (default: the entrance, else the first place).")]
+    = None,
     seed: Annotated[int, typer.Option(min=0, help="Random seed of the learner.")] = 0,
     runs: Annotated[int, typer.Option(help="Independent Gibbs runs (one is kept).")] = 10,
     iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,

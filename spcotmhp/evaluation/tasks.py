@@ -25,12 +25,12 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from scipy import ndimage
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError
 from spcotmhp.evaluation.metrics import REGION_MARGIN_M, Box
 from spcotmhp.metric.grid_search import geodesic_distance
+from spcotmhp.metric.snap import snap
 
 TaskKind = Literal["basic", "advanced"]
 TASK_KINDS = ("basic", "advanced")
@@ -139,17 +139,12 @@ def names_from_words(tokens: list[list[str]], truth: np.ndarray) -> list[str]:
 
 
 def nearest_free_cell(dataset: Dataset, xy: np.ndarray) -> tuple[int, int]:
-    """The free cell whose centre is nearest to ``xy`` (Euclidean in cells)."""
+    """The free cell whose centre is nearest to ``xy`` (Euclidean in cells; :func:`spcotmhp.metric.snap.snap`)."""
     occ = dataset.map
-    free = occ.free
-    if not free.any():
+    if not occ.free.any():
         raise DatasetError(f"{dataset.name}: the map has no free cell")
-    rc = occ.world_to_cell(np.asarray(xy, float))
-    rc = np.clip(rc, 0, np.array(occ.shape) - 1)
-    if free[rc[0], rc[1]]:
-        return int(rc[0]), int(rc[1])
-    _, (ir, ic) = ndimage.distance_transform_edt(~free, return_indices=True)
-    return int(ir[rc[0], rc[1]]), int(ic[rc[0], rc[1]])
+    r, c = snap(occ.free, occ.world_to_cell(np.asarray(xy, float)))
+    return int(r), int(c)
 
 
 def make_tasks(

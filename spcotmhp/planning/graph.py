@@ -50,12 +50,11 @@ from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field, step_cost_map
+from spcotmhp.metric.snap import largest_component, snap
 from spcotmhp.planning.places import (
     candidate_points,
     connected_places,
-    main_component,
     most_probable_place,
-    nearest_cell_index,
     place_regions,
 )
 
@@ -199,10 +198,7 @@ class PlanningGraph:
         # candidates (Alg. 1, line 2), snapped into the main free component
         rng = np.random.default_rng(settings.seed)
         node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
-        snap = nearest_cell_index(main_component(traversable))
-        raw = occ.world_to_cell(node_xy) - np.array([r0, c0])
-        raw = np.clip(raw, 0, np.array(log_p.shape) - 1)
-        cells = np.stack([snap[0][raw[:, 0], raw[:, 1]], snap[1][raw[:, 0], raw[:, 1]]], axis=1)
+        cells = snap(largest_component(traversable), occ.world_to_cell(node_xy) - np.array([r0, c0]))
         _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
         keep = np.sort(keep)
         node_place, cells = node_place[keep], cells[keep]

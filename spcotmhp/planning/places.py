@@ -32,11 +32,12 @@ Definitions (each a documented choice; the property tests check the planner agai
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.metric.snap import largest_component as main_component
 
-_FOUR = ndimage.generate_binary_structure(2, 1)
+__all__ = ["candidate_points", "chi2_2d", "connected_places", "inside_places", "instance_places", "mahalanobis2",
+           "main_component", "most_probable_place", "place_regions"]
 
 
 def chi2_2d(quantile: float) -> float:
@@ -51,26 +52,6 @@ def mahalanobis2(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray
     inv = np.linalg.inv(Sigma)
     d = np.asarray(x, dtype=float)[..., None, :] - mu
     return np.einsum("...ki,kij,...kj->...k", d, inv, d)
-
-
-def main_component(traversable: np.ndarray) -> np.ndarray:
-    """The largest component of the traversable cells (empty mask if there are none).
-
-    Components are 4-connected: the grid search never squeezes diagonally between two blocked cells, and a
-    diagonal step with a free cell beside it can also be walked in two orthogonal steps, so the cells reachable
-    from one another with 8-connected moves are exactly the 4-connected components."""
-    labels, n = ndimage.label(traversable, structure=_FOUR)
-    if n == 0:
-        return np.zeros_like(traversable, dtype=bool)
-    sizes = np.bincount(labels.ravel())
-    sizes[0] = 0
-    return labels == int(np.argmax(sizes))
-
-
-def nearest_cell_index(mask: np.ndarray) -> np.ndarray:
-    """For every cell, the (row, col) of the nearest True cell of ``mask``: (2, H, W) int array."""
-    _, idx = ndimage.distance_transform_edt(~mask, return_indices=True)
-    return idx
 
 
 def candidate_points(model: SpatialConceptModel, n: int, rng: np.random.Generator,
