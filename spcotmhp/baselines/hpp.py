@@ -13,6 +13,9 @@ its own words); the legs start -> waypoint -> goal are planned one after another
 Eq. 28); the metric path is the start leg followed by the partial paths, all REUSED from the
 :class:`~spcotmhp.planning.graph.PlanningGraph` (nothing is recomputed).
 
+Moves: the partial paths and start legs are the planning graph's, so HPP moves with the graph's connectivity
+(8-connected in the evaluation, as SpCoTMHP), and its edges are the graph's (Figure 3's connected places).
+
 The reference code's HPP-I took its edge costs from the cost of the last cell an exhaustive search visited, not
 from the path (0 -> 9: 21,634 instead of 1,235); here it is the partial path's own cost.
 """
