@@ -134,8 +134,8 @@ def test_cli_errors(args, message):
 
 
 def test_reproduce_checks_its_output_path_before_running(tmp_path):
-    for out, message in [(tmp_path / "missing" / "x.md", f"error: --out {tmp_path / 'missing' / 'x.md'}: the "
-                                                          f"folder {tmp_path / 'missing'} does not exist"),
+    for out, message in [(tmp_path / "missing" / "x.md", (f"error: --out {tmp_path / 'missing' / 'x.md'}: the "
+                                                          f"folder {tmp_path / 'missing'} does not exist")),
                          (tmp_path, f"error: --out {tmp_path} is a folder; give a file name such as")]:
         proc = subprocess.run([str(EXE), "reproduce", "--out", str(out), "--max-tasks", "1"], capture_output=True,
                               text=True, timeout=60, check=False)

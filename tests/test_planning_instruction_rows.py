@@ -9,7 +9,6 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from spcotmhp.datasets.bundled import load_bundled
@@ -42,16 +41,16 @@ START = (-3.9, -3.5)   # the entrance
 
 
 @pytest.mark.parametrize("lang, text, message", [
-    ("en", "go to the garage via the kitchen", "'garage' (after 'to') is not a known place word; known place "
-                                               "words: bath, bedroom, corridor, dining, entrance, kitchen"),
+    ("en", "go to the garage via the kitchen", ("'garage' (after 'to') is not a known place word; known place "
+                                               "words: bath, bedroom, corridor, dining, entrance, kitchen")),
     ("en", "go to the kitchen and the attic", "'attic' (after 'and') is not a known place word"),
     ("en", "go to the attic, then the kitchen", "'attic' (after 'to') is not a known place word"),
-    ("en", "go to the bedroom next to the kitchen", "'next to' describes a place by where it lies relative to "
-                                                    "another (kitchen); the map does not model spatial relations"),
-    ("en", "go to the bedroom via the kitchen or the toilet", "'or' leaves the choice of a place open (kitchen or "
-                                                              "toilet)"),
-    ("ja", "ガレージへ行ってキッチンを通って", "'ガレージ' (before 'へ行って') is not a known place word; known "
-                                              "place words: キッチン"),
+    ("en", "go to the bedroom next to the kitchen", ("'next to' describes a place by where it lies relative to "
+                                                    "another (kitchen); the map does not model spatial relations")),
+    ("en", "go to the bedroom via the kitchen or the toilet", ("'or' leaves the choice of a place open (kitchen or "
+                                                              "toilet)")),
+    ("ja", "ガレージへ行ってキッチンを通って", ("'ガレージ' (before 'へ行って') is not a known place word; known "
+                                              "place words: キッチン")),
 ])
 def test_refused(planners, lang, text, message):
     planner, _ = planners[lang]

@@ -105,27 +105,27 @@ UNKNOWN_JA = "is not a known place word; known place words: キッチン, ダイ
     ("go to the kitchen and the attic", EN, "'attic' (after 'and') " + UNKNOWN),
     ("go to the attic, then the kitchen", EN, "'attic' (after 'to') " + UNKNOWN),
     ("go to the kitchen, the attic", EN, "'attic' (after ',') " + UNKNOWN),
-    ("take me to the big attic", EN, "no known place word in 'take me to the big attic' (not understood: big, "
-                                     "attic)"),
+    ("take me to the big attic", EN, ("no known place word in 'take me to the big attic' (not understood: big, "
+                                     "attic)")),
     ("go to the bedroom avoiding the garage and the kitchen", EN, "'garage' (after 'avoiding') " + UNKNOWN),
     ("go to the bedroom instead of the garage", EN, "'garage' (after 'instead of') " + UNKNOWN),
     ("go to the bedroom and then to", EN, "'to' is followed by no known place word"),
     ("ガレージへ行ってキッチンを通って", JA, "'ガレージ' (before 'へ行って') " + UNKNOWN_JA),
     ("キッチンとガレージを通って寝室へ", JA, "'ガレージ' (before 'を通って') " + UNKNOWN_JA),
     ("ガレージとキッチンを通って寝室へ", JA, "'ガレージ' (before 'と') " + UNKNOWN_JA),
-    ("キッチンガレージ寝室へ", JA, "'キッチン' and '寝室' are not joined by a connector or a marker "
-                                 "(not understood: ガレージ)"),
+    ("キッチンガレージ寝室へ", JA, ("'キッチン' and '寝室' are not joined by a connector or a marker "
+                                 "(not understood: ガレージ)")),
     # alternatives: the choice is the user's (rule 2)
     ("go to the bedroom via the kitchen or the toilet", EN,
-     "'or' leaves the choice of a place open (kitchen or toilet); the planner needs one place for each waypoint "
-     "and one goal: say which one"),
+     ("'or' leaves the choice of a place open (kitchen or toilet); the planner needs one place for each waypoint "
+     "and one goal: say which one")),
     ("go to either the kitchen or the toilet", EN, "'either' leaves the choice of a place open (kitchen)"),
     ("キッチンかトイレを通って寝室へ", JA, "'か' leaves the choice of a place open (キッチン or トイレ)"),
     ("キッチンまたはトイレへ行って", JA, "'または' leaves the choice of a place open (キッチン or トイレ)"),
     # spatial relations are not modelled (rule 2)
     ("go to the bedroom next to the kitchen", EN,
-     "'next to' describes a place by where it lies relative to another (kitchen); the map does not model spatial "
-     "relations between places: name the place itself; known place words: bath"),
+     ("'next to' describes a place by where it lies relative to another (kitchen); the map does not model spatial "
+     "relations between places: name the place itself; known place words: bath")),
     ("go near the kitchen", EN, "'near' describes a place by where it lies relative to another (kitchen)"),
     ("キッチンの隣の寝室へ行って", JA, "'の隣' describes a place by where it lies relative to another (キッチン)"),
 ])

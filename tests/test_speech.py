@@ -351,8 +351,8 @@ def test_plan_cli_from_a_wav_file(ps, espeak, model_folder, tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["go to the bath", "--audio", "{wav}"], "give exactly one of INSTRUCTION, --nbest FILE or --audio FILE (got "
-                                             "INSTRUCTION and --audio)"),
+    (["go to the bath", "--audio", "{wav}"], ("give exactly one of INSTRUCTION, --nbest FILE or --audio FILE (got "
+                                             "INSTRUCTION and --audio)")),
     (["--nbest", "{wav}", "--audio", "{wav}"], "(got --nbest and --audio)"),
 ])
 def test_plan_cli_audio_usage_errors(model_folder, tmp_path, args, message):
