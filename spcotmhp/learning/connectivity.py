@@ -23,7 +23,6 @@ other are not connected.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
@@ -32,6 +31,7 @@ from spcotmhp.learning.hmm import trajectory_places as hmm_trajectory_places
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.metric.snap import snap
 
 ADJACENCY_CONCENTRATION = 0.1   # psi[k] = mean of Dir(0.1 + A[k]), the authors' conversion (Experiment I)
 RULES = ("partition", "density")
@@ -99,11 +99,7 @@ def nearest_free_cells(occ_map: OccupancyMap, xy: np.ndarray) -> np.ndarray:
     free = occ_map.free
     if not free.any():
         raise ModelError("the map has no free cell; connectivity from the map needs free space")
-    rc = occ_map.world_to_cell(np.asarray(xy, dtype=float))
-    rc[:, 0] = np.clip(rc[:, 0], 0, occ_map.height - 1)
-    rc[:, 1] = np.clip(rc[:, 1], 0, occ_map.width - 1)
-    _, (ir, ic) = ndimage.distance_transform_edt(~free, return_indices=True)
-    return np.stack([ir[rc[:, 0], rc[:, 1]], ic[rc[:, 0], rc[:, 1]]], axis=1)
+    return snap(free, occ_map.world_to_cell(np.asarray(xy, dtype=float)))
 
 
 def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = None, rule: str = "partition",
