@@ -44,6 +44,11 @@ test: install-all
 
 bench: $(STAMP_ALL)
 	$(PY) benchmarks/grid_search.py
+	$(PY) benchmarks/learning.py
+	$(PY) benchmarks/planning.py
+	$(PY) benchmarks/scale.py
+	$(PY) benchmarks/load_test.py
+	$(PY) benchmarks/speech_accuracy.py
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache
