@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from planning_fixtures import draw_blocked, draw_ends
 
 from spcotmhp.metric.grid_search import shortest_paths
 from spcotmhp.planning.assemble import _clear, join_legs, path_length, smooth, smoothing_mask
@@ -60,15 +61,8 @@ def test_smoothing_mask_keeps_path_cells_and_refuses_new_inscribed_ones():
 
 @st.composite
 def grids(draw):
-    h, w = draw(st.integers(4, 14)), draw(st.integers(4, 14))
-    bits = draw(st.lists(st.booleans(), min_size=h * w, max_size=h * w))
-    blocked = np.array(bits).reshape(h, w) & (np.arange(h * w).reshape(h, w) % 3 == 0)
-    free = np.argwhere(~blocked)
-    if len(free) < 2:
-        blocked[:] = False
-        free = np.argwhere(~blocked)
-    a = free[draw(st.integers(0, len(free) - 1))]
-    b = free[draw(st.integers(0, len(free) - 1))]
+    blocked = draw_blocked(draw)
+    a, b = draw_ends(draw, blocked)
     conn = draw(st.sampled_from([4, 8]))
     return blocked, a, b, conn
 

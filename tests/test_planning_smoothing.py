@@ -11,14 +11,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from planning_fixtures import home_log_p, home_model, world
+from planning_fixtures import RES, draw_blocked, draw_ends, home_log_p, home_model, make_home, world
 
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.evaluation.tasks import build_places
-from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.grid_search import shortest_paths
-from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.assemble import (
     arrival,
     better,
@@ -34,39 +32,7 @@ from spcotmhp.planning.graph import grown_territories
 from spcotmhp.planning.places import most_probable_place, place_regions
 from spcotmhp.planning.planner import HierarchicalPlanner
 
-RES = 0.5
 SQ2 = math.sqrt(2.0)
-
-
-def make_home(rooms: dict, doors: list, names: dict, edges: list, shape: tuple[int, int]) -> SpatialConceptModel:
-    """A home of rectangular rooms (rows r0-r1, cols c0-c1 inclusive) joined by door cells, one Gaussian per
-    room (its centre, sd = a quarter of its extent), psi from the given edges, one word per room."""
-    data = np.full(shape, 100, dtype=np.int8)
-    for r0, r1, c0, c1 in rooms.values():
-        data[r0:r1 + 1, c0:c1 + 1] = 0
-    for rows, cols in doors:
-        data[rows, cols] = 0
-    occ = OccupancyMap(data=data, resolution=RES, origin=(0.0, 0.0, 0.0))
-    order = list(rooms)
-    K = len(order)
-    mu, Sigma = np.zeros((K, 2)), np.zeros((K, 2, 2))
-    for k, name in enumerate(order):
-        r0, r1, c0, c1 = rooms[name]
-        lo, hi = occ.cell_to_world(np.array([r0, c0])), occ.cell_to_world(np.array([r1, c1]))
-        mu[k] = (lo + hi) / 2
-        Sigma[k] = np.diag(((hi - lo + RES) / 4) ** 2)
-    adj = np.eye(K)
-    for a, b in edges:
-        adj[order.index(a), order.index(b)] = adj[order.index(b), order.index(a)] = 1
-    psi = (adj + 0.1) / (adj + 0.1).sum(axis=1, keepdims=True)
-    vocab = sorted(set(names.values()))
-    counts = np.zeros((K, len(vocab)))
-    for k, name in enumerate(order):
-        counts[k, vocab.index(names[name])] = 15
-    W = (counts + 0.1) / (counts + 0.1).sum(axis=1, keepdims=True)
-    phi = (np.eye(K) * 15 + 0.1) / (15 + 0.1 * K)
-    return SpatialConceptModel(mu=mu, Sigma=Sigma, psi=psi, pi=np.full(K, 1.0 / K), phi=phi, W=W,
-                               vocabulary=vocab, map=occ)
 
 
 # A kitchen (A) opens at its bottom right into a large living room (B), whose top-left door leads to the
@@ -275,17 +241,11 @@ def test_arrival_path_cost_and_better():
 
 @st.composite
 def grids(draw):
-    h, w = draw(st.integers(4, 14)), draw(st.integers(4, 14))
-    bits = draw(st.lists(st.booleans(), min_size=h * w, max_size=h * w))
-    blocked = np.array(bits).reshape(h, w) & (np.arange(h * w).reshape(h, w) % 3 == 0)
+    blocked = draw_blocked(draw)
+    h, w = blocked.shape
     weights = np.array(draw(st.lists(st.floats(1.0, 3.0), min_size=h * w, max_size=h * w))).reshape(h, w)
     tube_bits = draw(st.lists(st.booleans(), min_size=h * w, max_size=h * w))
-    free = np.argwhere(~blocked)
-    if len(free) < 2:
-        blocked[:] = False
-        free = np.argwhere(~blocked)
-    a = free[draw(st.integers(0, len(free) - 1))]
-    b = free[draw(st.integers(0, len(free) - 1))]
+    a, b = draw_ends(draw, blocked)
     return blocked, weights, np.array(tube_bits).reshape(h, w), a, b
 
 
