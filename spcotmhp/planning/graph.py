@@ -26,8 +26,9 @@ start crosses the region, checked by walking the stored next-step links.
 
 For path smoothing (Algorithm 1, line 13; :mod:`spcotmhp.planning.assemble`) the graph also keeps each cell's
 most probable place (``territory``, :func:`~spcotmhp.planning.places.most_probable_place`), every place's
-territory grown by ``tube_margin`` metres (a window and a mask each), and the map-only step cost
-``log|A| - log p(x|m)`` (:attr:`PlanningGraph.map_cost`).
+territory grown by ``tube_margin`` metres (a window and a mask each; :mod:`spcotmhp.planning.territory`, whose
+``grown_territories`` stays importable from here), and the map-only step cost ``log|A| - log p(x|m)``
+(:attr:`PlanningGraph.map_cost`).
 
 Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
 a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
@@ -44,7 +45,6 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from numba import njit
-from scipy import ndimage
 
 from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
@@ -57,11 +57,11 @@ from spcotmhp.planning.places import (
     most_probable_place,
     place_regions,
 )
+from spcotmhp.planning.territory import grown_territories, tube_window
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
 CACHE_SIZE = 8
 AVOID_CACHE_SIZE = 32
-_SQUARE = np.ones((3, 3), dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -301,15 +301,7 @@ class PlanningGraph:
     def tube(self, places: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(origin, mask)``: the smallest window of the crop (corner at crop cell ``origin``) that holds the
         territories of ``places`` grown by ``tube_margin``, and their union in it."""
-        parts = [self._territories[int(k)] for k in places if int(k) in self._territories]
-        if not parts:
-            return np.zeros(2, dtype=np.int64), np.zeros((0, 0), dtype=bool)
-        lo = np.min([(r, c) for r, c, _ in parts], axis=0)
-        hi = np.max([(r + m.shape[0], c + m.shape[1]) for r, c, m in parts], axis=0)
-        mask = np.zeros(tuple(hi - lo), dtype=bool)
-        for r, c, m in parts:
-            mask[r - lo[0]:r - lo[0] + m.shape[0], c - lo[1]:c - lo[1] + m.shape[1]] |= m
-        return lo, mask
+        return tube_window(self._territories, places)
 
     @property
     def centres(self) -> np.ndarray:
@@ -358,26 +350,6 @@ class PlanningGraph:
         while len(self._views) > AVOID_CACHE_SIZE:
             self._views.popitem(last=False)
         return view
-
-
-def grown_territories(territory: np.ndarray, places: np.ndarray, margin_cells: float) -> dict:
-    """place -> (row, col, mask): the cells of ``territory == place`` grown by ``margin_cells`` (chessboard
-    distance, rounded), as a mask over the window whose corner is (row, col)."""
-    m = max(0, round(margin_cells))
-    h, w = territory.shape
-    out = {}
-    for k in places:
-        own = territory == k
-        if not own.any():
-            continue
-        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
-        r0, r1 = max(rows[0] - m, 0), min(rows[-1] + m + 1, h)
-        c0, c1 = max(cols[0] - m, 0), min(cols[-1] + m + 1, w)
-        window = own[r0:r1, c0:c1]
-        if m:
-            window = ndimage.binary_dilation(window, _SQUARE, iterations=m)
-        out[int(k)] = (int(r0), int(c0), window)
-    return out
 
 
 @njit(cache=True)
