@@ -154,13 +154,7 @@ class SpatialConceptModel:
     def bag_vector(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
         """A weighted bag of words (word -> weight, or a token list) as a length-V count vector; unknown words
         are dropped."""
-        idx = self.word_index
-        vec = np.zeros(len(self.vocabulary))
-        items = bag.items() if isinstance(bag, Mapping) else ((w, 1.0) for w in bag)
-        for w, c in items:
-            if w in idx:
-                vec[idx[w]] += float(c)
-        return vec
+        return bag_counts(bag, self.word_index, len(self.vocabulary))
 
     def log_word_likelihood(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
         """log Mult(S | W_l) for every concept l, up to the multinomial coefficient: (L,) (Eqs. 17, 28)."""
@@ -185,6 +179,17 @@ class SpatialConceptModel:
         score = p_l_given_k.T @ rescaled                                # (K, V)
         return [self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
                 for k, j in enumerate(np.argmax(score, axis=1))]
+
+
+def bag_counts(bag: Mapping[str, float] | list[str], index: Mapping[str, int], size: int) -> np.ndarray:
+    """A weighted bag of words (word -> weight, or a token list, each token weighing 1) as a length-``size``
+    count vector whose column of word w is ``index[w]``; words outside ``index`` are dropped."""
+    vec = np.zeros(size)
+    items = bag.items() if isinstance(bag, Mapping) else ((w, 1.0) for w in bag)
+    for w, c in items:
+        if w in index:
+            vec[index[w]] += float(c)
+    return vec
 
 
 def log_gaussian(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray:

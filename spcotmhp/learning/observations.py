@@ -9,6 +9,7 @@ import numpy as np
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.loader import features_to_counts
 from spcotmhp.errors import DatasetError
+from spcotmhp.learning.model import bag_counts
 
 
 @dataclass
@@ -68,10 +69,7 @@ class Observations:
         index = {w: j for j, w in enumerate(vocab)}
         words = np.zeros((E, len(vocab)))
         for e, toks in enumerate(dataset.tokens):
-            for t in toks:
-                j = index.get(t)
-                if j is not None:
-                    words[e, j] += 1.0
+            words[e] = bag_counts(toks, index, len(vocab))
         features = None
         if use_features and dataset.features is not None:
             features = np.asarray(dataset.features, dtype=float)

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel, bag_counts, log_gaussian
 
 
 def _lse(a: np.ndarray, axis: int) -> np.ndarray:
@@ -44,11 +44,9 @@ class ModelTerms:
         return np.exp(lp - _lse(lp, axis=-1))
 
     def bag_vector(self, bag: Mapping[str, float]) -> np.ndarray:
-        vec = np.zeros(len(self.word_index))
-        for w, c in bag.items():
-            if w in self.word_index:
-                vec[self.word_index[w]] += float(c)
-        return vec
+        """The bag as a count vector over the vocabulary (the model's ``bag_vector``, with the word index
+        built once)."""
+        return bag_counts(bag, self.word_index, len(self.word_index))
 
     def log_semantic(self, bag: Mapping[str, float]) -> np.ndarray:
         """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place (K,) (Eq. 28, last factor)."""
