@@ -171,6 +171,21 @@ def test_terms_match_the_model(planner):
     assert terms.log_ur == pytest.approx(model.log_unigram_rescaling())
 
 
+def test_terms_match_the_model_when_w_holds_a_zero():
+    # a saved model may hold W_l(w) = 0; a word absent from the bag must then add nothing (not 0 * log 0 = NaN)
+    model = home_model()
+    W = model.W.copy()
+    W[0] = [1.0, 0.0, 0.0]                                  # concept 0 only ever says "bedroom"
+    model.W = W
+    terms = ModelTerms(model)
+    bag = {"bedroom": 1.0}
+    assert model.log_word_likelihood(bag)[0] == 0.0
+    assert np.isfinite(model.log_semantic(bag)).all()
+    assert terms.log_semantic(bag) == pytest.approx(model.log_semantic(bag))
+    assert terms.log_place_given_words(bag) == pytest.approx(model.log_place_given_words(bag))
+    assert model.log_word_likelihood({"kitchen": 1.0})[0] == -np.inf
+
+
 def test_plan_json_and_timings(planner):
     p = planner.plan("go to the bedroom via the kitchen", world(planner.model.map, 3, 12))
     d = json.loads(p.to_json())

@@ -157,8 +157,13 @@ class SpatialConceptModel:
         return bag_counts(bag, self.word_index, len(self.vocabulary))
 
     def log_word_likelihood(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
-        """log Mult(S | W_l) for every concept l, up to the multinomial coefficient: (L,) (Eqs. 17, 28)."""
-        return np.log(self.W) @ self.bag_vector(bag)
+        """log Mult(S | W_l) for every concept l, up to the multinomial coefficient: (L,) (Eqs. 17, 28).
+
+        Words absent from S contribute nothing, even where W_l(w) = 0 (a saved model may hold zeros), rather
+        than 0 * log 0 = NaN."""
+        v = self.bag_vector(bag)
+        with np.errstate(divide="ignore"):
+            return np.where(v != 0, np.log(self.W), 0.0) @ v
 
     def log_semantic(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
         """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place i: (K,) (Eq. 28, last factor)."""
