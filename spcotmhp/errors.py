@@ -1,10 +1,17 @@
-"""Exceptions raised for bad input. The CLI turns any of them into a one-line message and a non-zero exit."""
+"""Exceptions raised for bad input, one class per cause (in the spirit of Nav2's planner exceptions).
+
+The CLI turns any :class:`SpcotmhpError` into a one-line ``error: ...`` message and exit status 2; the HTTP
+service answers with the class's ``http_status`` and the message as ``detail``. Callers can catch a whole family
+(``except PlanningError``) or one cause (``except StartBlocked``).
+"""
 
 from __future__ import annotations
 
 
 class SpcotmhpError(Exception):
     """Base class of every error the library raises on purpose (bad files, bad arguments, impossible plans)."""
+
+    http_status: int = 422
 
 
 class MapError(SpcotmhpError):
@@ -19,9 +26,74 @@ class ModelError(SpcotmhpError):
     """A model folder is missing, corrupt, or from an incompatible format version."""
 
 
+# ---- instructions -----------------------------------------------------------------------------------------
 class InstructionError(SpcotmhpError):
-    """An instruction names no known place, or is empty."""
+    """An instruction cannot be understood (base class of the causes below)."""
 
 
+class EmptyInstruction(InstructionError):
+    """The instruction (text, structured form or N-best list) holds nothing to plan for."""
+
+
+class UnknownPlaceWord(InstructionError):
+    """A word is used as a place but no place of the map carries it (the message suggests near misses)."""
+
+
+class UnsupportedPhrase(InstructionError):
+    """The instruction asks for something the planner cannot honour yet ("the second bedroom", "or",
+    "next to", "on the left", "wait"); the message names the words."""
+
+
+class MalformedInstruction(InstructionError):
+    """A structured instruction or an N-best list does not have the accepted shape or values."""
+
+
+class InstructionTooLarge(InstructionError):
+    """The instruction is longer, or names more waypoints or avoided places, than the configured limits."""
+
+    http_status = 413
+
+
+class UnsupportedLanguage(InstructionError):
+    """No grammar (or recogniser) for the requested language."""
+
+
+# ---- planning ---------------------------------------------------------------------------------------------
 class PlanningError(SpcotmhpError):
-    """No path exists that satisfies the instruction (unreachable goal, start in a wall, ...)."""
+    """No plan can be made (base class of the causes below)."""
+
+
+class InvalidSettings(PlanningError):
+    """A planner or graph setting is out of range."""
+
+
+class StartOutsideMap(PlanningError):
+    """The start pose lies outside the map's bounds."""
+
+
+class StartBlocked(PlanningError):
+    """The start pose is in an occupied or unknown cell, or cut off from every place."""
+
+
+class StartInAvoidedPlace(PlanningError):
+    """The start pose lies inside a place the instruction says to avoid."""
+
+
+class ConflictingInstruction(PlanningError):
+    """Every place that could end a stage is excluded by the instruction itself (avoided, or "not the ...")."""
+
+
+class NoReachablePlace(PlanningError):
+    """No free path for the robot reaches a place carrying the requested words."""
+
+    http_status = 409
+
+
+class HorizonTooShort(PlanningError):
+    """A plan exists only with more place-to-place steps than the topological horizon E allows."""
+
+
+class PlanningTimeout(PlanningError):
+    """Planning did not finish within the time budget."""
+
+    http_status = 503

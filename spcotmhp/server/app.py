@@ -154,9 +154,9 @@ async def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None) -> d
     try:
         result = await sm.plan_async(source, start, lang)
     except InstructionError as exc:
-        raise APIError(422, str(exc), place_words=sm.place_words) from None
+        raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:
-        raise APIError(422, str(exc)) from None
+        raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
     return {"model": sm.name, **result.to_dict()}
 
 
