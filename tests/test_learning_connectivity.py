@@ -29,8 +29,8 @@ def three_rooms() -> OccupancyMap:
     data[1:31, 1:31] = 0          # A: x 0.1..3.1
     data[1:31, 32:62] = 0         # B
     data[1:31, 63:93] = 0         # C
-    data[14:17, 31] = 0           # door A-B
-    data[14:17, 62] = 0           # door B-C
+    data[11:19, 31] = 0           # door A-B (0.8 m: the 0.22 m robot fits)
+    data[11:19, 62] = 0           # door B-C
     data[33:41, 32:62] = 0        # D, closed
     return OccupancyMap(data=data, resolution=0.1)
 

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from planning_fixtures import draw_blocked, draw_ends
 
 from spcotmhp.metric.grid_search import shortest_paths
-from spcotmhp.planning.assemble import _clear, join_legs, path_length, smooth, smoothing_mask
+from spcotmhp.planning.assemble import _clear, join_legs, path_length, smooth
 
 
 def test_join_legs_drops_shared_junctions():
@@ -47,16 +47,6 @@ def test_staircase_becomes_a_straight_line():
     # anchors are kept: [1, 2] must stay on the path
     out = smooth(cells, allowed, [3, len(cells) - 1])
     assert [1, 2] in out.tolist() and out[-1].tolist() == [3, 3]
-
-
-def test_smoothing_mask_keeps_path_cells_and_refuses_new_inscribed_ones():
-    trav = np.ones((3, 3), bool)
-    trav[2, 2] = False
-    log_p = np.zeros((3, 3))
-    log_p[1, :] = math.log(0.01)                     # an inscribed row
-    cells = np.array([[1, 0], [1, 1]])
-    mask = smoothing_mask(trav, log_p, cells)
-    assert mask.tolist() == [[True, True, True], [True, True, False], [True, True, False]]
 
 
 @st.composite

@@ -35,17 +35,19 @@ def test_candidates_are_the_snapped_means_and_edges_follow_psi():
     assert connected_places(model).sum() == 4 + 6
 
 
-def test_w_hat_is_minus_the_shortest_path_cost_under_the_destination_gaussian():
+def test_w_hat_is_minus_the_map_cost_of_the_leg_plus_the_end_gaussian():
+    # Eq. 24 observed at a leg's end: w-hat = sum over the leg of [log p(x|m) - log|A|] + log N(x_j | mu_b)
     g = build()
     model, occ = g.model, g.model.map
-    centres = occ.cell_centres()
+    log_p = home_log_p(occ)
+    cost = np.where(np.isfinite(log_p), math.log(9) - log_p, np.inf)
     for i, j in zip(*np.nonzero(np.isfinite(g.w_hat))):
         b = g.node_place[j]
-        log_n = log_gaussian(centres, model.mu[b:b + 1], model.Sigma[b:b + 1])[..., 0]
-        cost = np.where(occ.data == 0, -log_n + math.log(9), np.inf)      # p(x|m) = 1 on free cells, |A| = 9
         ref = shortest_paths(cost, g.to_map(g.node_cell[i]), g.to_map(g.node_cell[j])[None], connectivity=8,
                              diagonal_factor=SQRT2)
-        assert g.w_hat[i, j] == pytest.approx(-ref.cost, rel=1e-9)
+        end = occ.cell_to_world(g.to_map(g.node_cell[j]))
+        log_n = log_gaussian(end, model.mu[b:b + 1], model.Sigma[b:b + 1])[0]
+        assert g.w_hat[i, j] == pytest.approx(log_n - ref.cost, rel=1e-9)
         # and the stored partial path has exactly that cost
         path = g.to_map(g.edge_path(int(i), int(j)))
         steps = np.where(np.abs(np.diff(path, axis=0)).sum(axis=1) == 2, SQRT2, 1.0)
@@ -61,27 +63,52 @@ def test_w_hat_by_hand_on_a_one_row_corridor():
     model = dataclasses.replace(model, mu=np.array([[2.5, 1.5], [5.5, 1.5], [8.5, 1.5], [9.5, 1.5]]),
                                 Sigma=np.tile(np.diag([4.0, 1.0]), (4, 1, 1)), map=occ)
     g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
-    # place 0 at col 2, place 1 at col 5; entering cols 3, 4, 5 under N(mu_1, diag(4, 1)), 4-neighbour steps
-    xs = np.array([3.5, 4.5, 5.5])
-    log_n = -0.5 * (xs - 5.5) ** 2 / 4.0 - 0.5 * math.log(4.0) - math.log(2 * math.pi)
-    assert g.w_hat[0, 1] == pytest.approx(np.sum(log_n - math.log(9)))
+    # place 0 at col 2, place 1 at col 5: three steps into cols 3, 4, 5 cost log 9 each (p(x|m) = 1); the leg
+    # ends at the mean of place 1: log N(mu | mu, diag(4, 1)) = -log(2 pi) - log(4) / 2
+    end = -math.log(2 * math.pi) - 0.5 * math.log(4.0)
+    assert g.w_hat[0, 1] == pytest.approx(end - 3 * math.log(9))
     assert g.start_w_hat(g.to_crop(np.array([1, 2])))[1] == pytest.approx(g.w_hat[0, 1])
-    # from col 1 the start leg enters cols 2..5
-    xs = np.array([2.5, 3.5, 4.5, 5.5])
-    log_n = -0.5 * (xs - 5.5) ** 2 / 4.0 - 0.5 * math.log(4.0) - math.log(2 * math.pi)
-    assert g.start_w_hat(g.to_crop(np.array([1, 1])))[1] == pytest.approx(np.sum(log_n - math.log(9)))
+    # from col 1 the start leg enters cols 2..5: the same end term, one more step
+    assert g.start_w_hat(g.to_crop(np.array([1, 1])))[1] == pytest.approx(end - 4 * math.log(9))
     assert g.leg(g.to_crop(np.array([1, 1])), 1).cells.tolist() == [[0, 0], [0, 1], [0, 2], [0, 3], [0, 4]]
 
 
-def test_narrow_gaussians_are_clipped_to_the_cost_floor():
+def test_leg_likelihood_grows_with_length_not_with_distance_from_the_mean():
+    # the cause of the "wrong bedroom": under the every-step Gaussian a short leg into a narrow Gaussian scored
+    # below a long leg into a broad one; end-observed, the shorter leg of two equal Gaussians always wins
+    data = np.full((3, 30), 100, dtype=np.int8)
+    data[1, 1:29] = 0
+    occ = OccupancyMap(data=data, resolution=0.1)
     model = home_model()
-    tiny = model.Sigma.copy()
-    tiny[0] = np.eye(2) * 1e-4                       # 1 cm: density 1590 > |A| = 9 at the mean
-    model = dataclasses.replace(model, Sigma=tiny)
-    g = build(model)
-    assert g.info["clipped_cells"] >= 1
-    c = -home_log_p(model.map)[1:12, 1:30] - g.log_density[0] + math.log(9)
-    assert np.nanmin(np.where(np.isfinite(c), c, np.nan)) == pytest.approx(1e-3)
+    Sigma = np.stack([np.eye(2) * 0.04, np.eye(2) * 0.04, np.diag([1.0, 0.04]), np.eye(2) * 0.04])
+    model = dataclasses.replace(model, mu=np.array([[0.85, 0.15], [0.55, 0.15], [2.25, 0.15], [2.85, 0.15]]),
+                                Sigma=Sigma, map=occ)
+    g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
+    start = g.start_w_hat(g.to_crop(occ.world_to_cell(np.array([0.95, 0.15]))))
+    # place 1 is 4 cells away, place 2 (broad along the row) 13 cells away: the near one scores higher
+    assert start[1] > start[2]
+
+
+def test_inscribed_cells_are_not_traversable_and_nodes_avoid_them():
+    import warnings
+
+    from spcotmhp.datasets.bundled import load_bundled
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.metric.costmap import inflate
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        dataset = load_bundled("3LDK_01")
+    model = fit_supervised(dataset)
+    cm = inflate(model.map, **model.costmap)
+    # the toilet's mean lies within the robot's radius of a wall (costmap_2d 253): its node moved out
+    toilet = model.map.world_to_cell(model.mu[dataset.place_names.index("toilet")])
+    assert cm.costs[toilet[0], toilet[1]] >= 253
+    g = PlanningGraph.build(model, GraphSettings(), log_p=cm.log_p, use_cache=False)
+    crop = (slice(g.offset[0], g.offset[0] + g.log_p.shape[0]), slice(g.offset[1], g.offset[1] + g.log_p.shape[1]))
+    assert not (g.traversable & (cm.costs[crop] >= 253)).any()
+    cells = g.to_map(g.node_cell)
+    assert (cm.costs[cells[:, 0], cells[:, 1]] < 253).all()
 
 
 def test_sampled_candidates_are_seeded_inside_their_ellipse():
@@ -143,16 +170,15 @@ def test_main_component_does_not_join_through_a_diagonal_squeeze():
 
 def reference_avoiding(g: PlanningGraph, view: PlanningGraph, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """w-hat and start w-hat with every field recomputed from scratch on the blocked map."""
-    act = list(np.flatnonzero(g.model.active_places))
     M = g.n_nodes
     start = np.full(M, -np.inf)
     w_hat = np.full((M, M), -np.inf)
     for j in np.flatnonzero(view.usable):
-        cost = step_cost_map(g.log_p, g.log_density[act.index(g.node_place[j])], g.settings.connectivity)
+        cost = step_cost_map(g.log_p, None, g.settings.connectivity)
         cost[view.blocked] = np.inf
         dist, _ = cost_to_go(cost, g.node_cell[j][None], g.settings.connectivity, SQRT2)
-        start[j] = -dist[cell[0], cell[1]]
-        w_hat[:, j] = -dist[g.node_cell[:, 0], g.node_cell[:, 1]]
+        start[j] = g.end_term[j] - dist[cell[0], cell[1]]
+        w_hat[:, j] = g.end_term[j] - dist[g.node_cell[:, 0], g.node_cell[:, 1]]
     return start, np.where(np.isfinite(g.w_hat) & view.usable[:, None], w_hat, -np.inf)
 
 

@@ -15,18 +15,17 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
-from scipy.sparse.csgraph import connected_components
 
 from spcotmhp.datasets.synthetic import generate_environment
 from spcotmhp.errors import PlanningError
 from spcotmhp.learning.supervised import fit_supervised
-from spcotmhp.planning.places import connected_places, inside_places, instance_places, place_regions
+from spcotmhp.planning.places import inside_places, instance_places, place_regions
 from spcotmhp.planning.planner import HierarchicalPlanner
 
 ENVS = [("flat", 0), ("flat", 1), ("house", 0), ("house", 1), ("house", 2)]
 ARRIVAL = 0.39
-REASONS = ("no path from", "no place can be reached", "lies inside a place to avoid", "is also to be avoided",
-           "no sequence of at most")
+REASONS = ("no free path from", "no place can be reached", "lies inside a place to avoid", "is also to be avoided",
+           "no sequence of at most", "is cut off")
 
 
 @cache
@@ -80,15 +79,15 @@ def instances(model, word: str) -> np.ndarray:
 def feasible(model, planner, start, goal: str, waypoints: list[str], avoid: list[str]) -> bool:
     """Whether a plan exists that the planner's definitions allow, by breadth-first search (not its search):
 
-    1. metric: the usable cells are traversable (finite log p(x|m)) and outside the regions of the avoided places
-       (:func:`place_regions`, 0.95); the cells reachable from the start are its 4-connected component of them
-       (what 4-connected moves reach, and also 8-connected moves that never squeeze between two blocked cells);
-    2. a stage is completed at the candidate point (the snapped mean) of one of its instances, so the places
-       that can be used are the active, not avoided places whose candidate point is reachable;
-    3. topological: the plan walks the place graph (Figure 3's connected places) over the usable places; its
-       first place is a plausible start place (p(i_0 | x_0) >= start_min_posterior) or connected to one; every
-       stage needs an instance in the graph component of such a first place. Reachability is symmetric, so the
-       order of the stages does not matter, and the horizon E = 10 steps per stage never binds on these homes.
+    1. metric: the usable cells are traversable (finite log p(x|m): the robot's footprint is clear) and outside
+       the regions of the avoided places (:func:`place_regions`, 0.95); the cells reachable from the start are
+       its 4-connected component of them (what 4-connected moves reach, and also 8-connected moves that never
+       squeeze between two blocked cells);
+    2. a stage is completed at a candidate point of one of its instances, so the places that can be used are
+       the active, not avoided places with a reachable candidate point;
+    3. the plan walks the place graph when it can, and otherwise takes the metric route (any candidate to any
+       other over the free space), so every stage only needs a usable instance. Reachability is symmetric, so
+       the order of the stages does not matter, and the horizon E = 10 steps per stage never binds here.
     """
     graph = planner.graph
     avoided = np.zeros(model.K, dtype=bool)
@@ -104,17 +103,10 @@ def feasible(model, planner, start, goal: str, waypoints: list[str], avoid: list
     reached = np.zeros(model.K, dtype=bool)
     reached[graph.node_place[labels[nodes[:, 0], nodes[:, 1]] == labels[s[0], s[1]]]] = True
     places = reached & ~avoided & np.asarray(model.active_places, dtype=bool)
-    conn = connected_places(model) & places[:, None] & places[None, :]
-    posterior = model.place_posterior(model.map.cell_to_world(start))
-    plausible = posterior >= min(planner.settings.start_min_posterior, posterior.max())
-    first = connected_places(model)[plausible].any(axis=0) & places
-    _, comp = connected_components(conn, directed=False)
-    ok_components = set(comp[first].tolist())
     for word in [*waypoints, goal]:
         inst = np.zeros(model.K, dtype=bool)
         inst[instances(model, word)] = True
-        inst &= places
-        if not any(c in ok_components for c in comp[inst]):
+        if not (inst & places).any():
             return False
     return True
 
@@ -149,12 +141,14 @@ def check_plan(model, planner, start, plan, goal, waypoints, avoid, raw=None) ->
         assert place_regions(model, xy[-1:], [plan.goal.id], planner.settings.arrival_quantile).all()
     # smoothing and the arrival cut keep Eq. 28's plan and never lengthen the assembled path
     if raw is not None:
-        # the same place/candidate sequence; a place merely passed ("via") is named only if the final path
-        # enters its territory, so smoothing may drop some of those
+        # the same place/candidate sequence; the places passed ("via") are those whose territory the final path
+        # drives through, so smoothing may change them
         assert raw.log_prob == plan.log_prob and np.array_equal(raw.node_points, plan.node_points)
         named = [(p.id, p.role) for p in plan.places]
         assert [(p.id, p.role) for p in raw.places if p.role != "via"] == [x for x in named if x[1] != "via"]
-        assert set(named) <= {(p.id, p.role) for p in raw.places}
+        crop = planner.graph.to_crop(cells)
+        entered = set(planner.graph.territory[crop[:, 0], crop[:, 1]].tolist())
+        assert {k for k, role in named if role == "via"} <= entered
         assert plan.length_m <= raw.length_m + 1e-9
         assert (raw.cells[0] == plan.cells[0]).all()
 

@@ -8,7 +8,16 @@ walk: use it only when the teaching was given along a walk).
 
 ``map_adjacency`` decides from the free space of the map alone (no trajectory, no adjacency).
 
-Rule ("partition", the default): walk the free-space geodesic between the means of places a and b, and label
+Rule "territory" (the default): partition the cells the robot can occupy (free, known, outside the inscribed
+radius of the model's cost map) among the places (:mod:`spcotmhp.learning.territory`: most probable place,
+made connected by geodesic growth from each place's own piece) and connect the places whose territories touch.
+Every robot cell of a free component is labelled, so whenever the robot can drive from one place to another
+the place graph connects them, directly or through other places, and a place whose mean or teaching points lie
+in unknown or occupied cells still owns the free cell nearest its mean and so gets its edges. (The rules below
+decide pair by pair and cannot promise that: on homes of the same public source they left a bedroom with no edge
+at all.)
+
+Rule "partition": walk the free-space geodesic between the means of places a and b, and label
 every cell of it with its most probable place, argmax_k N(x | mu_k, Sigma_k) p(k) over the active places (the
 partition of the map that the place posterior induces, cf. Eq. 3).  a and b are directly connected when that
 walk passes through no third place: runs of a third label shorter than ``min_run_m`` are ignored as grazing a
@@ -22,6 +31,8 @@ other are not connected.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
@@ -29,12 +40,14 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.hmm import runs
 from spcotmhp.learning.hmm import trajectory_places as hmm_trajectory_places
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.territory import place_territories, territory_adjacency
+from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.metric.snap import snap
 
 ADJACENCY_CONCENTRATION = 0.1   # psi[k] = mean of Dir(0.1 + A[k]), the authors' conversion (Experiment I)
-RULES = ("partition", "density")
+RULES = ("territory", "partition", "density")
 SOURCES = ("auto", "hmm", "walk", "map")
 
 
@@ -68,13 +81,18 @@ def apply_connectivity(model: SpatialConceptModel, dataset: Dataset, how: str = 
     """Set ``model.psi`` for planning and record the source in ``model.info["psi_from"]``.
 
     "hmm": keep the posterior mean of the learned HMM transitions (the paper); "walk": psi from
-    ``walk_adjacency``; "map": psi from ``map_adjacency``; "auto": "walk" when the dataset has a trajectory,
-    else "map".  Adjacencies become psi[k] = mean of Dir(0.1 + A[k]), the form of the paper's Experiment I.
+    ``walk_adjacency``; "map": psi from ``map_adjacency``; "auto": the union of both when the dataset has a
+    trajectory (the walk's evidence kept, the map's guarantee that free space connects the places added), else
+    "map".  Adjacencies become psi[k] = mean of Dir(0.1 + A[k]), the form of the paper's Experiment I.
     """
     if how not in SOURCES:
         raise ModelError(f"connectivity must be one of {SOURCES}, got {how!r}")
-    if how == "auto":
-        how = "walk" if dataset.trajectory is not None else "map"
+    if how == "auto" and dataset.trajectory is not None:
+        A = np.maximum(walk_adjacency(model, dataset, event_places), map_adjacency(model, dataset.map))
+        model.psi = psi_from_adjacency(A)
+        how = "walk+map"
+    elif how == "auto":
+        how = "map"
     if how == "walk":
         model.psi = psi_from_adjacency(walk_adjacency(model, dataset, event_places))
     elif how == "map":
@@ -102,7 +120,7 @@ def nearest_free_cells(occ_map: OccupancyMap, xy: np.ndarray) -> np.ndarray:
     return snap(free, occ_map.world_to_cell(np.asarray(xy, dtype=float)))
 
 
-def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = None, rule: str = "partition",
+def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = None, rule: str = "territory",
                   min_run_m: float = 0.3, radius: float = 1.0) -> np.ndarray:
     """(K, K) 0/1 adjacency of the model's places from the map's free space (module docstring); the diagonal
     is 1 on active places, rows and columns of inactive places are 0."""
@@ -117,6 +135,14 @@ def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = Non
     A[act, act] = 1
     if len(act) < 2:
         return A
+    if rule == "territory":
+        robot = inflate(occ_map, **model.costmap).free
+        if not robot.any():
+            raise ModelError("the map has no free cell the robot fits in; connectivity from the map needs one")
+        if model.map is None or model.map.shape != occ_map.shape:
+            model = dataclasses.replace(model, map=occ_map)
+        territory = place_territories(model, robot, occ_map.cell_centres())
+        return np.maximum(A, territory_adjacency(territory, K)) * (A.diagonal()[:, None] * A.diagonal()[None, :])
     cells = nearest_free_cells(occ_map, model.mu[act])
     unit = np.where(occ_map.free, 1.0, np.inf)
     mu, Sigma = model.mu[act], model.Sigma[act]

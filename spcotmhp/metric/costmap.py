@@ -17,8 +17,12 @@ Reproduces ROS 1 costmap_2d cell for cell (``static_layer.cpp`` with ``trinary_c
   maximum with the existing cost (unknown cells take it only if >= 253, or > 0 with ``inflate_unknown``).
 * published OccupancyGrid: 0 -> 0, 253 -> 99, 254 -> 100, 255 -> -1, 1..252 -> 1 + (97 * (v - 1)) // 251.
 
-The probabilistic cost map (paper Section 4, the p(x|m) factor of Eq. 28) is p(x|m) = (100 - cost) / 100
-on the map's free cells below lethal, 0 on occupied and unknown cells; it is kept as log p (-inf where 0).
+The probabilistic cost map (paper Section 4, the p(x|m) factor of Eqs. 24 and 26) is p(x|m) = (100 - cost) / 100
+on the map's free cells below the inscribed cost, and 0 on occupied and unknown cells *and on inscribed cells*;
+it is kept as log p (-inf where 0). The authors' code gave inscribed cells p = 0.01; we give them 0 because
+costmap_2d's INSCRIBED (253, published as 99) means that a circular robot centred there overlaps an obstacle,
+and Nav2's planners treat such cells as collisions. So every cell with p(x|m) > 0 is one the robot's footprint
+fits in, and every planner and baseline built on ``log_p`` keeps its footprint clear of obstacles.
 """
 
 from __future__ import annotations
@@ -81,8 +85,8 @@ class CostMap:
             254 lethal, 255 no information.
         map: the occupancy map it was built from.
         settings: the costmap_2d parameters used.
-        log_p: float64 (height, width), log p(x|m) with p = (100 - cost_ros) / 100 on free cells, -inf
-            elsewhere.
+        log_p: float64 (height, width), log p(x|m) with p = (100 - cost_ros) / 100 on free cells below the
+            inscribed cost, -inf elsewhere (occupied, unknown, lethal and inscribed cells).
     """
 
     costs: np.ndarray
@@ -96,7 +100,7 @@ class CostMap:
 
     @property
     def free(self) -> np.ndarray:
-        """Cells with p(x|m) > 0: the map's free cells below lethal cost."""
+        """Cells with p(x|m) > 0: the map's free cells below the inscribed cost (the robot fits there)."""
         return np.isfinite(self.log_p)
 
     @property
@@ -202,9 +206,10 @@ def compute_cost(distance_cells: float, resolution: float, settings: CostMapSett
 
 
 def log_probability(costs: np.ndarray, occ_map: OccupancyMap) -> np.ndarray:
-    """log p(x|m) with p = (100 - cost_ros) / 100 on the map's free cells below lethal, -inf elsewhere."""
+    """log p(x|m) with p = (100 - cost_ros) / 100 on the map's free cells below the inscribed cost, -inf elsewhere
+    (module docstring)."""
     cost_ros = COST_TRANSLATION_TABLE[costs].astype(np.float64)
-    free = occ_map.free & (costs < LETHAL_OBSTACLE)
+    free = occ_map.free & (costs < INSCRIBED_INFLATED_OBSTACLE)
     log_p = np.full(costs.shape, -np.inf)
     log_p[free] = np.log((100.0 - cost_ros[free]) / 100.0)
     return log_p

@@ -12,9 +12,8 @@ collision check); here it is two steps that never lengthen the path and never gi
    the instruction is completed (each waypoint's candidate point, then the goal's), so every waypoint place is
    still passed in order. Each piece between two anchors is planned again, exactly (grid A*,
    :func:`~spcotmhp.metric.grid_search.shortest_paths`), under the map term of Eq. 26 alone,
-   ``c(x) = log|A| - log p(x|m)`` (the place Gaussian, which pulls every partial path to a centre, is what
-   smoothing removes; the cost map still keeps the path off walls), restricted to a *tube*: the territories
-   (cells where a place is the most probable one, :func:`~spcotmhp.planning.places.most_probable_place`) of
+   ``c(x) = log|A| - log p(x|m)`` (the cost map keeps the path off walls), restricted to a *tube*: the
+   territories (:mod:`spcotmhp.learning.territory`) of
    the places the piece runs through and of the places of its nodes, grown by ``tube_margin``, plus the
    piece's own cells and their neighbours (so the original piece, diagonal steps included, is always a
    feasible answer). The tube keeps the path on the route that Eq. 28 chose, not through other rooms. Blocked
@@ -24,9 +23,8 @@ collision check); here it is two steps that never lengthen the path and never gi
    farthest visible cell of the piece, where
 
    * a shortcut from cell a to cell b is taken only if every cell the straight segment between their centres
-     touches (its *supercover*, corner crossings counting both side cells) is allowed: traversable, outside
-     avoided regions, and not an inscribed (p(x|m) <= 0.01, footprint in collision) cell unless the path
-     already used it;
+     touches (its *supercover*, corner crossings counting both side cells) is traversable (p(x|m) > 0: not
+     occupied, unknown, lethal or inscribed, so the robot's footprint stays clear) and outside avoided regions;
    * the shortcut is drawn as the Bresenham line, whose cells are a subset of that supercover and whose
      length is the octile distance between a and b, the shortest 8-connected length, so a shortcut never
      lengthens the path and a diagonal step never squeezes between two blocked cells; a 4-connected planner
@@ -53,8 +51,6 @@ from numba import njit
 
 from spcotmhp.metric.grid_search import shortest_paths
 
-INSCRIBED_P = 0.015
-"""Cells with p(x|m) below this are costmap_2d's inscribed (99) or lethal cells; shortcuts avoid new ones."""
 _AROUND = np.array([(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=np.int64)
 
 
@@ -155,13 +151,6 @@ def better(new: np.ndarray, old: np.ndarray, cost: np.ndarray) -> bool:
     """Whether ``new`` is strictly shorter than ``old``, or as long and no costlier under ``cost``."""
     a, b = path_length(new, 1.0), path_length(old, 1.0)
     return a < b - 1e-9 or (a <= b + 1e-9 and path_cost(new, cost) <= path_cost(old, cost) + 1e-9)
-
-
-def smoothing_mask(traversable: np.ndarray, log_p: np.ndarray, cells: np.ndarray) -> np.ndarray:
-    """Cells a shortcut may touch: traversable, not inscribed unless already on the path."""
-    allowed = traversable & (log_p > math.log(INSCRIBED_P))
-    allowed[cells[:, 0], cells[:, 1]] = traversable[cells[:, 0], cells[:, 1]]
-    return allowed
 
 
 def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int], connectivity: int = 8) -> np.ndarray:

@@ -1,23 +1,33 @@
 """The precomputed planning graph (Algorithm 1, lines 1-7): candidate points, partial paths and their w-hat.
 
-For every candidate node j (a point of place b = place[j]) we run one Dijkstra *into* j over the cost map of b,
+Partial paths (Eqs. 26-27, control as inference). The paper observes optimality o_t = 1 at every time step of a
+leg, with p(o_t = 1 | x_t) = N(x_t | mu_b, Sigma_b) of the leg's destination b, so a leg's log-likelihood sums
+log N(x_t | mu_b, Sigma_b) over *every* cell: it grows with the squared distance from mu_b along the whole
+leg, not with the leg's length, and Eq. 28 then prefers a farther instance of a shared name whose Gaussian is
+broad along the approach (measured: 45/566, 58/511 and 79/742 random starts on 3LDK_01/05/06 ended over 0.3 m
+farther than the nearest bedroom). We observe optimality once per leg, at its end, the event of Eqs. 3-4 that
+closes the HSMM segment (o_t = 1 only at t = t'_e):
 
-    c_b(x) = -log p(x|m) - log N(x | mu_b, Sigma_b) + log|A|          (Eqs. 26-27, control as inference)
+    w_hat[i, j] = sum_{t in leg} [log p(x_t|m) - log|A|]  +  log N(x_j | mu_b, Sigma_b)     (Eq. 24, end-observed)
 
-(steps into a diagonal neighbour weigh sqrt 2: the sum approximates the path integral of the per-cell term;
-|A| = connectivity + 1 moves including "stay"). The resulting cost-to-go field gives, at no further cost,
+i.e. the uniform action prior p(x_t | x_{t-1}, u_t) = 1/|A| and the map term of Eq. 24 along the leg (their
+negative sum is the cost of the leg under the step cost ``log|A| - log p(x|m)``, a length weighted by the
+inflation cost), and the destination's Gaussian at the candidate point the leg ends in. The best leg into node
+j is then the same for every destination place, so one cost-to-go field per node gives
 
-* the partial path from any candidate i of a connected place into j (Eq. 27; the A* of the paper is exactly
-  this shortest path) and its log-likelihood ``w_hat[i, j] = -field_j[cell_i]``
-  = sum_t log N(x_t | mu_b, Sigma_b) + log p(x_t|m) - log|A|, i.e. log w_e summed along the path with the
-  uniform action prior p(x_t | x_{t-1}, u_t) = 1/|A| of Eq. 24 included;
-* the start leg from *any* start pose x_0 to j (``-field_j[x_0]``), which makes online planning from any start
-  a table look-up (the reference code ran an exhaustive grid search per query).
+* the partial path from any candidate i of a connected place into j (Eq. 27) and ``w_hat[i, j] =
+  -field_j[cell_i] + log N(x_j | mu_b, Sigma_b)``;
+* the start leg from *any* start pose x_0 to j (``-field_j[x_0] + log N(x_j | ...)``), which makes online
+  planning from any start a table look-up (the reference code ran an exhaustive grid search per query).
 
-Negative step costs: c_b(x) < 0 where N(x|mu_b, Sigma_b) p(x|m) > |A|, which happens only for very narrow
-Gaussians (sqrt(det Sigma) < 1 / (2 pi |A|), about 1.8 cm^2 with |A| = 9). A one-step likelihood above 1 has no
-meaning and would make shortest paths ill-defined (loops gain), so there the density is clipped to give the
-cost floor ``cost_floor`` (1e-3 nats); the number of clipped cells is kept in ``info["clipped_cells"]``.
+Steps into a diagonal neighbour weigh sqrt 2. Every step cost is at least log|A| > 0, so shortest paths are
+well defined.
+
+The grid is the robot's: p(x|m) = 0 on occupied, unknown, lethal and inscribed cells (:mod:`spcotmhp.metric.
+costmap`), so no partial path, start leg or smoothed path puts the robot's centre where its footprint overlaps
+an obstacle. Candidate points are snapped into their own place's territory (:mod:`spcotmhp.learning.territory`)
+within the largest free component; a place with no such cell has no node and is reported in
+``info["unreachable_places"]``.
 
 Avoided places (:meth:`PlanningGraph.with_avoided`) block their regions. Blocking cells only removes paths, so
 a field value whose optimal path does not enter the blocked cells is still optimal; the view shares those fields
@@ -25,9 +35,8 @@ and recomputes (exactly, with the region blocked) only the fields whose path fro
 start crosses the region, checked by walking the stored next-step links.
 
 For path smoothing (Algorithm 1, line 13; :mod:`spcotmhp.planning.assemble`) the graph also keeps each cell's
-most probable place (``territory``, :func:`~spcotmhp.planning.places.most_probable_place`), every place's
-territory grown by ``tube_margin`` metres (a window and a mask each; :mod:`spcotmhp.planning.territory`, whose
-``grown_territories`` stays importable from here), and the map-only step cost ``log|A| - log p(x|m)``
+territory, every place's territory grown by ``tube_margin`` metres (a window and a mask each;
+:mod:`spcotmhp.planning.territory`), and the map-only step cost ``log|A| - log p(x|m)``
 (:attr:`PlanningGraph.map_cost`).
 
 Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
@@ -46,17 +55,13 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 from numba import njit
 
-from spcotmhp.errors import ModelError, PlanningError
+from spcotmhp.errors import InvalidSettings, ModelError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
-from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field, step_cost_map
+from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component, snap
-from spcotmhp.planning.places import (
-    candidate_points,
-    connected_places,
-    most_probable_place,
-    place_regions,
-)
+from spcotmhp.planning.places import candidate_points, connected_places, place_regions
 from spcotmhp.planning.territory import grown_territories, tube_window
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
@@ -72,7 +77,6 @@ class GraphSettings:
     seed: seed of the candidate sampling (N > 1).  connectivity: 4 or 8 grid moves.
     edge_threshold: connected places have (psi_ab + psi_ba) / 2 at least this (None: 1 / K, Figure 3).
     candidate_quantile: samples are kept inside this chi-square ellipse of their place.
-    cost_floor: the smallest step cost (module docstring).
     tube_margin: metres by which each place's territory is grown for smoothing's tubes.
     """
 
@@ -81,7 +85,6 @@ class GraphSettings:
     connectivity: int = 8
     edge_threshold: float | None = None
     candidate_quantile: float = 0.95
-    cost_floor: float = 1e-3
     tube_margin: float = 0.2
 
     def __post_init__(self) -> None:
@@ -89,17 +92,16 @@ class GraphSettings:
         require_int(self.n_candidates, "n_candidates", 1)
         require_int(self.seed, "seed", 0)
         if self.connectivity not in (4, 8) or isinstance(self.connectivity, bool):
-            raise PlanningError(f"connectivity must be 4 or 8, got {self.connectivity!r}")
+            raise InvalidSettings(f"connectivity must be 4 or 8, got {self.connectivity!r}")
         if self.edge_threshold is not None:
             require_range(self.edge_threshold, "edge_threshold", 0.0, 1.0, "in [0, 1] (or None: 1/K)")
         require_range(self.candidate_quantile, "candidate_quantile", 0.0, 1.0, "in (0, 1)", open_=True)
-        require_range(self.cost_floor, "cost_floor", 0.0, math.inf, "> 0", open_=True)
         require_range(self.tube_margin, "tube_margin", 0.0, math.inf, ">= 0")
 
 
 def require_int(value: object, name: str, low: int) -> None:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise PlanningError(f"{name} must be an integer >= {low}, got {value!r}")
+        raise InvalidSettings(f"{name} must be an integer >= {low}, got {value!r}")
 
 
 def require_range(value: object, name: str, low: float, high: float, accepted: str, open_: bool = False) -> None:
@@ -109,7 +111,7 @@ def require_range(value: object, name: str, low: float, high: float, accepted: s
         v = float(value)
         ok = math.isfinite(v) and (low < v < high if open_ else low <= v <= high)
     if not ok:
-        raise PlanningError(f"{name} must be {accepted}, got {value!r}")
+        raise InvalidSettings(f"{name} must be {accepted}, got {value!r}")
 
 
 @dataclass
@@ -126,17 +128,19 @@ class PlanningGraph:
     key: str
     offset: tuple[int, int]
     log_p: np.ndarray
-    log_density: np.ndarray          # (K_active, h, w) clipped log N(x | mu_k, Sigma_k), -inf off the map
     traversable: np.ndarray
     node_place: np.ndarray
     node_cell: np.ndarray
     dist: np.ndarray | list          # (M, h, w) cost to go into node j over c_place[j] (a list in views)
     next_step: np.ndarray | list     # (M, h, w) flat index of the next cell (-1 at the node / unreachable)
-    w_hat: np.ndarray                # (M, M) partial-path log-likelihoods, -inf if not precomputed/unreachable
+    end_term: np.ndarray             # (M,) log N(x_j | mu_b, Sigma_b) at each node (optimality at a leg's end)
+    w_hat: np.ndarray                # (M, M) partial-path log-likelihoods, -inf if not connected/unreachable
+    w_hat_metric: np.ndarray         # (M, M) the same between any two nodes (the metric fallback's legs)
     log_transition: np.ndarray       # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
     connected: np.ndarray            # (K, K) connected places
     time_precompute_s: float
-    territory: np.ndarray | None = None   # (h, w) most probable place of each cell
+    territory: np.ndarray | None = None   # (h, w) place of each traversable cell (-1 elsewhere)
+    main: np.ndarray | None = None        # (h, w) the largest free component (where the nodes are)
     _territories: dict = field(default_factory=dict, repr=False)   # place -> (row, col, grown mask)
     _map_cost: np.ndarray | None = field(default=None, repr=False)
     info: dict = field(default_factory=dict)
@@ -187,29 +191,31 @@ class PlanningGraph:
         rr, cc = np.indices(log_p.shape)
         centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
         act = np.flatnonzero(model.active_places)
-        n_actions = settings.connectivity + 1
-        ld = log_gaussian(centres, model.mu[act], model.Sigma[act])
-        territory = most_probable_place(model, centres, ld)
-        ld = np.moveaxis(ld, -1, 0)
-        bound = math.log(n_actions) - np.where(traversable, log_p, 0.0) - settings.cost_floor
-        clipped = int(np.count_nonzero((ld > bound) & traversable))
-        ld = np.minimum(ld, bound)
+        main = largest_component(traversable)
+        territory = place_territories(model, traversable, centres, offset=(int(r0), int(c0)))
 
-        # candidates (Alg. 1, line 2), snapped into the main free component
+        # candidates (Alg. 1, line 2), snapped into their own territory within the main free component
         rng = np.random.default_rng(settings.seed)
         node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
-        cells = snap(largest_component(traversable), occ.world_to_cell(node_xy) - np.array([r0, c0]))
+        cells, ok = _snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array([r0, c0]),
+                                           main, territory)
+        node_place, cells, node_xy = node_place[ok], cells[ok], node_xy[ok]
         _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
         keep = np.sort(keep)
         node_place, cells = node_place[keep], cells[keep]
+        xy = occ.cell_to_world(cells + np.array([r0, c0]))
+        end_term = np.array([log_gaussian(xy[n], model.mu[k:k + 1], model.Sigma[k:k + 1])[0]
+                             for n, k in enumerate(node_place)], dtype=float).reshape(-1)
+        unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
 
         graph = cls(model=model, settings=settings, key=key, offset=(int(r0), int(c0)), log_p=log_p,
-                    log_density=ld, traversable=traversable, node_place=node_place, node_cell=cells,
-                    dist=[], next_step=[], w_hat=np.empty(0), log_transition=np.empty(0),
+                    traversable=traversable, node_place=node_place, node_cell=cells, end_term=end_term,
+                    dist=[], next_step=[], w_hat=np.empty(0), w_hat_metric=np.empty(0),
+                    log_transition=np.empty(0),
                     connected=connected_places(model, settings.edge_threshold), time_precompute_s=0.0,
-                    info={"clipped_cells": clipped, "n_nodes": len(cells), "crop": [int(r0), int(r1),
-                                                                                        int(c0), int(c1)]},
-                    _centres=centres, territory=territory,
+                    info={"n_nodes": len(cells), "unreachable_places": unreachable,
+                          "crop": [int(r0), int(r1), int(c0), int(c1)]},
+                    _centres=centres, territory=territory, main=main,
                     _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution))
         graph.usable = np.ones(len(cells), dtype=bool)
         fields = [graph._field(j) for j in range(len(cells))]
@@ -220,13 +226,9 @@ class PlanningGraph:
         return graph
 
     def _field(self, j: int) -> tuple[np.ndarray, np.ndarray]:
-        """The cost-to-go field into node j (Alg. 1, lines 4-6), with the blocked cells blocked."""
-        act = np.flatnonzero(self.model.active_places)
-        k = int(np.flatnonzero(act == self.node_place[j])[0])
-        cost = step_cost_map(self.log_p, self.log_density[k], self.settings.connectivity)
-        if self.blocked is not None:
-            cost[self.blocked] = np.inf
-        return cost_to_go(cost, self.node_cell[j][None, :], self.settings.connectivity, SQRT2)
+        """The cost-to-go field into node j (Alg. 1, lines 4-6) under the step cost log|A| - log p(x|m), with
+        the blocked cells blocked (module docstring)."""
+        return cost_to_go(self.map_cost, self.node_cell[j][None, :], self.settings.connectivity, SQRT2)
 
     def _edges(self) -> None:
         """w-hat of the partial paths between candidates of connected places (Alg. 1, line 6) and the per-step
@@ -235,9 +237,10 @@ class PlanningGraph:
         rows, cols = self.node_cell[:, 0], self.node_cell[:, 1]
         w_hat = np.full((M, M), -np.inf)
         for j in np.flatnonzero(self.usable):
-            w_hat[:, j] = -self.dist[j][rows, cols]                   # w_hat[i, j] = -field_j[cell_i]
-        allowed = self.connected[self.node_place[:, None], self.node_place[None, :]] & ~np.eye(M, dtype=bool)
-        allowed &= self.usable[:, None] & self.usable[None, :]
+            w_hat[:, j] = self.end_term[j] - self.dist[j][rows, cols]      # -field_j[cell_i] + log N(x_j)
+        pairs = ~np.eye(M, dtype=bool) & self.usable[:, None] & self.usable[None, :]
+        self.w_hat_metric = np.where(pairs, w_hat, -np.inf)
+        allowed = pairs & self.connected[self.node_place[:, None], self.node_place[None, :]]
         self.w_hat = np.where(allowed, w_hat, -np.inf)
         with np.errstate(divide="ignore"):
             log_psi = self.model.log_psi()[self.node_place[:, None], self.node_place[None, :]]
@@ -276,7 +279,7 @@ class PlanningGraph:
                     self.info["recomputed_fields"].append(int(j))
         out = np.full(self.n_nodes, -np.inf)
         for j in np.flatnonzero(self.usable):
-            out[j] = -self.dist[j][r, c]
+            out[j] = self.end_term[j] - self.dist[j][r, c]
         return out
 
     def leg(self, cell: np.ndarray, node: int) -> GridPath:
@@ -324,18 +327,20 @@ class PlanningGraph:
         blocked = place_regions(self.model, self.centres, np.array(key[0], dtype=np.int64), quantile)
         usable = ~np.isin(self.node_place, key[0]) & ~blocked[self.node_cell[:, 0], self.node_cell[:, 1]]
         view = PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
-                             log_p=self.log_p, log_density=self.log_density, traversable=self.traversable & ~blocked,
-                             node_place=self.node_place, node_cell=self.node_cell, dist=list(self.dist),
-                             next_step=list(self.next_step), w_hat=np.empty(0), log_transition=np.empty(0),
+                             log_p=self.log_p, traversable=self.traversable & ~blocked,
+                             node_place=self.node_place, node_cell=self.node_cell, end_term=self.end_term,
+                             dist=list(self.dist), next_step=list(self.next_step), w_hat=np.empty(0),
+                             w_hat_metric=np.empty(0), log_transition=np.empty(0),
                              connected=self.connected, time_precompute_s=0.0,
                              info={**self.info, "avoided": key[0]}, blocked=blocked, usable=usable,
-                             _centres=self.centres, territory=self.territory, _territories=self._territories)
+                             _centres=self.centres, territory=self.territory, main=self.main,
+                             _territories=self._territories)
         width = self.log_p.shape[1]
         sources = self.node_cell[:, 0] * width + self.node_cell[:, 1]
         flat_blocked = blocked.reshape(-1)
         recomputed = []
         for j in np.flatnonzero(usable):
-            into_j = usable & self.connected[self.node_place, self.node_place[j]]
+            into_j = usable.copy()          # every node: the metric fallback may join any two
             into_j[j] = False
             links = self.next_step[j].reshape(-1)
             if any(_crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
@@ -362,6 +367,25 @@ def _crosses(links, start, blocked):  # pragma: no cover - numba
             return True
         i = links[i]
     return False
+
+
+def _snap_into_territories(node_place: np.ndarray, cells: np.ndarray, main: np.ndarray,
+                           territory: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each candidate moved to the nearest cell of its own place's territory inside ``main`` (searched in the
+    territory's bounding box only); ``ok`` is False for places that own no such cell."""
+    out = np.zeros_like(cells)
+    ok = np.zeros(len(cells), dtype=bool)
+    for k in np.unique(node_place):
+        own = main & (territory == k)
+        if not own.any():
+            continue
+        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
+        corner = np.array([rows[0], cols[0]])
+        window = own[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+        sel = node_place == k
+        out[sel] = snap(window, cells[sel] - corner) + corner
+        ok[sel] = True
+    return out, ok
 
 
 def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.ndarray | None = None) -> str:

@@ -33,7 +33,7 @@ class PlanPlace:
 @dataclass(frozen=True)
 class GoalOption:
     """The best plan ending in one instance of the goal name (for "closest of 3 bedrooms"); ``length_m`` is the
-    length of that option's assembled path before smoothing (the same measure for every instance)."""
+    length of that option's final path (assembled, smoothed, cut on arrival: the same as the chosen plan's)."""
 
     id: int
     label: str
@@ -61,6 +61,8 @@ class Plan:
         node_points: (e, 2) map-frame candidate points of the topological plan, in order (smoothing may bypass
             the points of places passed on the way; waypoint and goal points are always kept).
         smoothed: whether the path was smoothed.
+        notes: what the plan did that the instruction did not ask for (leaving a start within the robot's
+            radius of an obstacle; a metric route where the place graph had none), said in the explanation.
     """
 
     path: np.ndarray
@@ -75,6 +77,7 @@ class Plan:
     n_goal_instances: int = 1
     node_points: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
     smoothed: bool = False
+    notes: list[str] = field(default_factory=list)
 
     @property
     def goal(self) -> PlanPlace:
@@ -96,6 +99,8 @@ class Plan:
             text += ", avoiding " + " and ".join(a.label for a in self.instruction.avoid)
         if self.instruction.not_goal:
             text += ", instead of " + " and ".join(a.label for a in self.instruction.not_goal)
+        for note in self.notes:
+            text += f"; {note}"
         return text
 
     def _goal_note(self, goal: PlanPlace) -> str:
@@ -132,6 +137,7 @@ class Plan:
                             "not_goal": [dict(a.words) for a in ins.not_goal]},
             "goal_options": [{"id": o.id, "label": o.label, "length_m": round(o.length_m, 4),
                               "log_prob": o.log_prob} for o in self.goal_options],
+            "notes": list(self.notes),
         }
 
     def to_json(self, **kwargs) -> str:

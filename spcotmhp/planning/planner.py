@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import reprlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
@@ -48,8 +49,16 @@ from typing import Any
 
 import numpy as np
 
-from spcotmhp.errors import PlanningError
+from spcotmhp.errors import (
+    ConflictingInstruction,
+    HorizonTooShort,
+    NoReachablePlace,
+    StartBlocked,
+    StartInAvoidedPlace,
+    StartOutsideMap,
+)
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.grid_search import SQRT2, cost_to_go, path_from_field
 from spcotmhp.planning.assemble import (
     arrival,
     better,
@@ -57,7 +66,6 @@ from spcotmhp.planning.assemble import (
     path_length,
     shorten,
     smooth_anchored,
-    smoothing_mask,
 )
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph, require_int, require_range
 from spcotmhp.planning.instructions import Instruction, to_instruction
@@ -96,6 +104,7 @@ class PlannerSettings(GraphSettings):
     region_quantile: float = 0.95
     smooth: bool = True
     arrival_quantile: float | None = ARRIVAL_QUANTILE
+    first_step_adjacent: bool = False
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -144,7 +153,7 @@ class HierarchicalPlanner:
         t0 = time.perf_counter()
         model, settings = self.model, self.settings
         ins = to_instruction(instruction, self.place_words, lang)
-        x0, cell = self._start_cell(start)
+        x0, cell, escape = self._start_cell(start)
         stages = ins.stages
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])     # (S, K), Eq. 28
@@ -152,8 +161,8 @@ class HierarchicalPlanner:
         for q in ins.not_goal:     # may be passed, never the goal ("instead of the kitchen")
             inst[S - 1] &= ~instance_places(self.terms.log_place_given_words(q.words), settings.instance_ratio)
             if not inst[S - 1].any():
-                raise PlanningError(f"every place named '{ins.goal.label}' is one the instruction says not to "
-                                    f"end in ('{q.label}')")
+                raise ConflictingInstruction(f"every place named '{ins.goal.label}' is one the instruction says "
+                                             f"not to end in ('{q.label}')")
         graph = self.graph
         avoided = np.zeros(model.K, dtype=bool)
         for q in ins.avoid:
@@ -162,65 +171,102 @@ class HierarchicalPlanner:
             inst &= ~avoided
             for s, q in enumerate(stages):
                 if not inst[s].any():
-                    raise PlanningError(f"every place named '{q.label}' is also to be avoided")
+                    raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
             graph = graph.with_avoided(tuple(np.flatnonzero(avoided)), settings.region_quantile)
-            if graph.blocked[cell[0], cell[1]]:
+            if graph.blocked[cell[0], cell[1]] or (len(escape) and graph.blocked[escape[:, 0], escape[:, 1]].any()):
                 inside = [self.names[k] for k in np.flatnonzero(avoided)]
-                raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
-                                    f"({', '.join(sorted(set(inside)))})")
+                raise StartInAvoidedPlace(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
+                                          f"({', '.join(sorted(set(inside)))})")
         posterior = self.terms.place_posterior(x0)
         problem = self._problem(graph, posterior, cell, semantic, inst, S)
         result = search(problem)
+        notes = []
+        if len(escape):
+            notes.append(f"the start is within the robot's radius of an obstacle: the path first moves "
+                         f"{path_length(np.vstack([escape, cell[None]]), model.map.resolution):.2f} m clear")
         if result is None:
-            raise PlanningError(self._why_not(graph, problem, ins, x0, avoided.any()))
+            why = self._why_not(graph, problem, ins, x0, avoided.any())
+            if isinstance(why, HorizonTooShort):
+                raise why
+            metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
+            result = search(metric)
+            if result is None:
+                raise self._why_not(graph, metric, ins, x0, avoided.any())
+            notes.append("the place graph has no route for this instruction: metric route over the free space")
 
-        cells, smoothed, raw_length = self._metric_path(graph, cell, result)
+        cells, smoothed = self._metric_path(graph, cell, result)
+        if len(escape):
+            cells = np.vstack([escape, cells])
         map_cells = graph.to_map(cells)
         places = self._places(graph, posterior, x0, result, S, cells)
-        options = self._goal_options(graph, cell, result, inst[S - 1], raw_length)
+        length = path_length(cells, model.map.resolution)
+        options = self._goal_options(graph, cell, result, inst[S - 1], length - path_length(
+            np.vstack([escape, cell[None]]), model.map.resolution) if len(escape) else length)
         plan = Plan(path=model.map.cell_to_world(map_cells), cells=map_cells, places=places,
-                    length_m=path_length(cells, model.map.resolution), log_prob=result.log_prob,
+                    length_m=length, log_prob=result.log_prob,
                     time_online_s=0.0, time_precompute_s=self.graph.time_precompute_s, instruction=ins,
                     goal_options=options, n_goal_instances=int(inst[S - 1].sum()),
                     node_points=model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
-                    smoothed=smoothed)
+                    smoothed=smoothed, notes=notes)
         plan.time_online_s = time.perf_counter() - t0
         return plan
 
     # ---- pieces ----------------------------------------------------------------------------------------
-    def _start_cell(self, start: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+    def _start_cell(self, start: Sequence[float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """x_0, its crop cell where planning starts, and the escape cells before it: empty unless the start
+        is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
+        escape is the shortest run of free cells from the start to the nearest cell of the main free component
+        (the planning starts at its end)."""
         try:
             x0 = np.asarray(start, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            raise PlanningError(f"the start must be two numbers (x, y) in metres, got {start!r}") from None
+        except (TypeError, ValueError, OverflowError):
+            raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {_excerpt(start)}") from None
         if x0.shape != (2,) or not np.isfinite(x0).all():
-            raise PlanningError(f"the start must be two finite numbers (x, y) in metres, got {start!r}")
-        occ = self.model.map
+            raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
+        occ, graph = self.model.map, self.graph
         lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
         hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
         # bounds in floats first: a huge start would overflow the integer cell index
         full = occ.world_to_cell(x0) if ((x0 >= lo) & (x0 < hi)).all() else None
         if full is None or not occ.in_bounds(full):
-            raise PlanningError(f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
-                                f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
-        cell = self.graph.to_crop(full)
-        if not (self.graph.in_crop(cell) and self.graph.traversable[cell[0], cell[1]]):
-            value = int(occ.data[full[0], full[1]])
-            what = {100: "an occupied", -1: "an unknown"}.get(value, "a lethal (wall-touching)")
-            raise PlanningError(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) is in {what} cell (row {full[0]}, "
-                                f"col {full[1]}); start from a free cell")
-        return x0, cell
+            raise StartOutsideMap(f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
+                                  f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
+        cell = graph.to_crop(full)
+        where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
+        if graph.in_crop(cell) and graph.main[cell[0], cell[1]]:
+            return x0, cell, np.empty((0, 2), dtype=np.int64)
+        if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
+            raise StartBlocked(f"{where} is cut off from the places: the free space around it does not connect "
+                               f"to theirs for a robot of this size")
+        value = int(occ.data[full[0], full[1]])
+        if value != 0:
+            what = {100: "an occupied", -1: "an unknown"}.get(value, "a non-free")
+            raise StartBlocked(f"{where} is in {what} cell of the map (x {_metres(x0[0])}, y {_metres(x0[1])}); "
+                               f"start from a free cell")
+        escape = _escape(occ.free, graph, full, self.model.costmap.get("inscribed_radius", 0.22))
+        if escape is None:
+            raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is "
+                               f"reachable from it")
+        return x0, graph.to_crop(escape[-1]), graph.to_crop(escape[:-1])
 
     def _problem(self, graph: PlanningGraph, posterior: np.ndarray, cell: np.ndarray, semantic: np.ndarray,
-                 inst: np.ndarray, S: int) -> SearchProblem:
-        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`)."""
+                 inst: np.ndarray, S: int, metric: bool = False) -> SearchProblem:
+        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`). With ``metric``, the fallback:
+        any node may follow any other (the legs are free-space paths) and the transition term is dropped."""
         nodes = graph.node_place
+        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
+        start_w_hat = graph.start_w_hat(cell)
+        if metric:
+            ur = self.terms.log_ur[nodes]
+            return SearchProblem(graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes],
+                                 inst[:, nodes], int(E))
         with np.errstate(divide="ignore"):
             log_pred = np.log(posterior @ self.model.psi)                   # log sum_k p(k|x0) psi[k, i_1]
-        plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
-        first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
-        start = np.where(first, log_pred[nodes] - self.terms.log_ur[nodes] + graph.start_w_hat(cell), -np.inf)
-        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
+        start = log_pred[nodes] - self.terms.log_ur[nodes] + start_w_hat
+        if self.settings.first_step_adjacent:
+            plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
+            first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
+            start = np.where(first, start, -np.inf)
         return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
 
     def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
@@ -233,12 +279,10 @@ class HierarchicalPlanner:
         anchors = [ends[e] for e, done in enumerate(result.completed) if done]
         return cells, ends, anchors
 
-    def _metric_path(self, graph: PlanningGraph, cell: np.ndarray,
-                     result: SearchResult) -> tuple[np.ndarray, bool, float]:
-        """Algorithm 1, lines 12-13, then the arrival cut: the final crop cells, whether line 13 changed them
-        and the length in metres of the assembled path (line 12) (module docstring;
-        :mod:`spcotmhp.planning.assemble`). Every step keeps the path's start, its anchors (the cells where a
-        waypoint is completed) and its traversable, unblocked cells, and none lengthens it."""
+    def _metric_path(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult) -> tuple[np.ndarray, bool]:
+        """Algorithm 1, lines 12-13, then the arrival cut: the final crop cells and whether line 13 changed them
+        (module docstring; :mod:`spcotmhp.planning.assemble`). Every step keeps the path's start, its anchors
+        (the cells where a waypoint is completed) and its traversable, unblocked cells, and none lengthens it."""
         settings = self.settings
         cells, ends, anchors = self._assemble(graph, cell, result)
         raw = cells
@@ -252,7 +296,7 @@ class HierarchicalPlanner:
                 return graph.tube(np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own))
 
             def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-                short, moved = smooth_anchored(path, smoothing_mask(graph.traversable, graph.log_p, path), marks,
+                short, moved = smooth_anchored(path, graph.traversable, marks,
                                                graph.settings.connectivity)
                 return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
 
@@ -270,23 +314,40 @@ class HierarchicalPlanner:
             inside = (graph.territory[rest[:, 0], rest[:, 1]] == goal) & inside_places(
                 self.model, graph.centres[rest[:, 0], rest[:, 1]], [goal], settings.arrival_quantile)
             cells = cells[:first + arrival(rest, inside) + 1]
-        return cells, smoothed, path_length(raw, self.model.map.resolution)
+        return cells, smoothed
 
     def _places(self, graph: PlanningGraph, posterior: np.ndarray, x0: np.ndarray, result: SearchResult,
                 S: int, cells: np.ndarray) -> list[PlanPlace]:
-        """Start, then the places of the chosen sequence with their roles. A place passed on the way ("via")
-        is named only if the final path enters its territory: smoothing may cut past a place whose centre the
-        assembled path went through, and the explanation describes the path the robot drives."""
-        visited = set(np.unique(graph.territory[cells[:, 0], cells[:, 1]]).tolist())
-        i0 = int(np.argmax(posterior))
-        out = [self._place(i0, "start", x0)]
+        """Start, then the places the final path drives through, in order, with their roles: the territories
+        (:mod:`spcotmhp.learning.territory`) along the path, ignoring stretches shorter than the robot's
+        diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
+        sequence marked where the path reaches them. The explanation thus describes the path the robot drives,
+        also where a leg (or smoothing) crosses a place that is not a node of the sequence."""
+        labels = graph.territory[cells[:, 0], cells[:, 1]]
+        runs: list[list[int]] = []                       # [place, cells]
+        for lab in labels.tolist():
+            if runs and runs[-1][0] == lab:
+                runs[-1][1] += 1
+            else:
+                runs.append([lab, 1])
+        diameter = 2.0 * float(self.model.costmap.get("inscribed_radius", 0.22)) / self.model.map.resolution
+        seq = [k for k, n in runs if k >= 0 and n >= diameter]
+        seq = [k for i, k in enumerate(seq) if i == 0 or k != seq[i - 1]]
+        marks: list[tuple[int, str, np.ndarray]] = []    # the nodes that complete a stage, in order
         points = self.model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
         for node, done, xy in zip(result.nodes, result.completed, points):
-            k = int(graph.node_place[node])
-            role = "goal" if S - 1 in done else "waypoint" if done else "via"
-            if role == "via" and (k == out[-1].id or k not in visited):
-                continue
+            if done:
+                marks.append((int(graph.node_place[node]), "goal" if S - 1 in done else "waypoint", xy))
+        i0 = int(np.argmax(posterior))
+        out = [self._place(i0, "start", x0)]
+        pos = 1 if seq and seq[0] == i0 else 0
+        for k, role, xy in marks:
+            nxt = seq.index(k, pos) if k in seq[pos:] else None
+            for v in seq[pos:nxt] if nxt is not None else []:
+                if v != out[-1].id:
+                    out.append(self._place(v, "via"))
             out.append(self._place(k, role, xy))
+            pos = nxt + 1 if nxt is not None else pos
         return out
 
     def _place(self, k: int, role: str, xy: np.ndarray | None = None) -> PlanPlace:
@@ -296,10 +357,9 @@ class HierarchicalPlanner:
 
     def _goal_options(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult,
                       goal_places: np.ndarray, chosen_length: float) -> list[GoalOption]:
-        """The best plan into each goal instance, with the length of its assembled path (Algorithm 1, line 12:
-        the partial paths Eq. 28 compared, before smoothing), the same measure for every instance; only when the
-        name is shared. (Smoothing every alternative would cost one re-planning per instance: tens of ms per
-        instance on a 100 m office.)"""
+        """The best plan into each goal instance (Eq. 28 ending there) with the length of its final path (the
+        same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
+        about the paths the robot would drive; only when the name is shared."""
         if goal_places.sum() < 2:
             return []
         options = []
@@ -311,21 +371,20 @@ class HierarchicalPlanner:
             node = int(ks[np.argmax(result.terminal[ks])])
             if k == end_place:
                 alt, length = result, chosen_length
-                node = int(result.nodes[-1])
             else:
                 alt = result.ending_at(node)
-                length = path_length(self._assemble(graph, cell, alt)[0], self.model.map.resolution)
+                length = path_length(self._metric_path(graph, cell, alt)[0], self.model.map.resolution)
             options.append(GoalOption(int(k), self._place(int(k), "goal").label, length, alt.log_prob))
         return sorted(options, key=lambda o: -o.log_prob)
 
     def _why_not(self, graph: PlanningGraph, problem: SearchProblem, ins: Instruction, x0: np.ndarray,
-                 avoiding: bool) -> str:
-        """A one-line reason why no plan exists."""
+                 avoiding: bool) -> Exception:
+        """The typed error (one line) saying why no plan exists."""
         where = f"from ({x0[0]:.2f}, {x0[1]:.2f})"
         tail = " without entering the places to avoid" if avoiding else ""
         reach = np.isfinite(problem.start)
         if not reach.any():
-            return f"no place can be reached {where}{tail} (the start is cut off from every place)"
+            return StartBlocked(f"no place can be reached {where}{tail} (the start is cut off from every place)")
         frontier = reach.copy()
         step = np.isfinite(problem.transition)
         while frontier.any():
@@ -335,9 +394,49 @@ class HierarchicalPlanner:
         for s, q in enumerate(ins.stages):
             if not (reach & problem.completes[s]).any():
                 role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"
-                return f"no path {where} reaches a place named '{q.label}' ({role}){tail}"
-        return (f"no sequence of at most {problem.max_steps} place-to-place steps {where} satisfies "
-                f"'{ins.describe()}'{tail}; raise max_steps")
+                cut = [self.names[k] for k in graph.info.get("unreachable_places", [])]
+                hint = f" (no free cell the robot fits in: {', '.join(sorted(set(cut)))})" if cut else ""
+                return NoReachablePlace(f"no free path {where} reaches a place named '{q.label}' ({role}){tail}"
+                                        f"{hint}")
+        return HorizonTooShort(f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
+                               f"satisfies '{ins.describe()}'{tail}; raise max_steps")
+
+
+def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:
+    """Map cells from ``cell`` to the nearest cell of the graph's main free component, through free cells of
+    the map, within a window of the inscribed radius plus two cells; None if there is none."""
+    res = graph.model.map.resolution
+    r = math.ceil(max(radius_m, res) / res) + 2
+    h, w = free.shape
+    r0, c0 = max(cell[0] - r, 0), max(cell[1] - r, 0)
+    r1, c1 = min(cell[0] + r + 1, h), min(cell[1] + r + 1, w)
+    window = free[r0:r1, c0:c1].copy()
+    target = np.zeros_like(window)
+    o0, o1 = graph.offset
+    gr0, gc0 = max(r0 - o0, 0), max(c0 - o1, 0)
+    gr1, gc1 = min(r1 - o0, graph.main.shape[0]), min(c1 - o1, graph.main.shape[1])
+    if gr1 > gr0 and gc1 > gc0:
+        target[gr0 + o0 - r0:gr1 + o0 - r0, gc0 + o1 - c0:gc1 + o1 - c0] = graph.main[gr0:gr1, gc0:gc1]
+    if not target.any():
+        return None
+    window |= target
+    dist, nxt = cost_to_go(np.where(window, 1.0, np.inf), np.argwhere(target), graph.settings.connectivity, SQRT2)
+    path = path_from_field(dist, nxt, np.array([cell[0] - r0, cell[1] - c0]))
+    if path is None:
+        return None
+    return path.cells + np.array([r0, c0])
+
+
+_SHORT = reprlib.Repr()
+_SHORT.maxlist = _SHORT.maxtuple = 4
+_SHORT.maxstring = _SHORT.maxother = 40
+_SHORT.maxlevel = 2
+
+
+def _excerpt(value: Any, limit: int = 60) -> str:
+    """A short ``repr`` of ``value`` (error messages never repeat a huge input)."""
+    text = _SHORT.repr(value)
+    return text if len(text) <= limit else text[:limit] + "…"
 
 
 def _metres(v: float) -> str:

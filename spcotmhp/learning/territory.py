@@ -1,0 +1,154 @@
+"""Territories: the partition of the robot's free space among the places (the topological level on the map).
+
+Every cell the robot can occupy (``mask``: free, known, outside the inscribed radius of every obstacle) gets the
+place it belongs to, in two steps:
+
+1. **Most probable place.** Each cell starts with arg max_i N(x | mu_i, Sigma_i) p(i) over the active places
+   (the posterior of Eq. 3, the partition the place posterior induces). For each place the *seed* is the
+   4-connected piece of its cells that holds its anchor (the robot cell nearest its mean), else its largest
+   piece, else the anchor cell alone: a place whose mean lies in a wall, in unknown space or under a larger
+   Gaussian still owns a cell.
+2. **Geodesic growth.** Every other cell (stray fragments of a place's posterior region, cells no seed holds)
+   goes to the seed that a breadth-first wave from all seeds at once reaches first through free cells.
+
+Each territory is therefore connected, and every cell of a free component that holds a seed is labelled. Two
+places are *adjacent* when their territories touch (two 4-neighbouring cells). Because the labelled cells of a
+component cover it, the adjacency graph of the places in one free component is connected: whenever the robot
+can drive from one place to another, the place graph connects them, directly or through other places
+(:func:`territory_adjacency`). Cells in components without any seed keep -1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.metric.snap import snap
+
+__all__ = ["place_territories", "territory_adjacency"]
+
+
+def place_territories(model: SpatialConceptModel, mask: np.ndarray, centres: np.ndarray,
+                      log_density: np.ndarray | None = None, offset: tuple[int, int] = (0, 0)) -> np.ndarray:
+    """(H, W) int64 place index per cell of ``mask`` (-1 elsewhere and in components no place reaches).
+
+    Args:
+        model: the places (active ones only are used).
+        mask: (H, W) bool, the cells the robot can occupy.
+        centres: (H, W, 2) world coordinates of the cell centres.
+        log_density: optional (K_active, H, W) log N(x | mu_i, Sigma_i) already computed for ``centres``.
+        offset: the map cell of the grids' corner (a crop of ``model.map``).
+    """
+    mask = np.asarray(mask, dtype=bool)
+    act = np.flatnonzero(model.active_places)
+    labels = np.full(mask.shape, -1, dtype=np.int64)
+    if not mask.any() or len(act) == 0:
+        return labels
+    prior = model.log_place_prior()[act]
+    best = np.zeros(mask.shape, dtype=np.int64)
+    top = np.full(mask.shape, -np.inf)
+    for n, k in enumerate(act):       # running arg max: memory O(H W), not O(H W K)
+        score = (log_gaussian(centres, model.mu[k:k + 1], model.Sigma[k:k + 1])[..., 0] if log_density is None
+                 else log_density[n]) + prior[n]
+        higher = score > top
+        best[higher], top[higher] = n, score[higher]
+    labels[mask] = best[mask]                                                     # indices into act
+    # the anchor of each place: the mask cell nearest its mean
+    cells = model.map.world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
+    anchors = snap(mask, cells)
+    out = _partition(labels, anchors.astype(np.int64), len(act))
+    return np.where(out >= 0, act[np.maximum(out, 0)], -1)
+
+
+def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
+    """(K, K) 0/1: places whose territories touch (4-neighbouring cells), diagonal 1 for places that own cells."""
+    A = np.zeros((K, K), dtype=np.int64)
+    t = np.asarray(territory)
+    for a, b in ((t[:, :-1], t[:, 1:]), (t[:-1, :], t[1:, :])):
+        touch = (a >= 0) & (b >= 0) & (a != b)
+        A[a[touch], b[touch]] = 1
+    A = np.maximum(A, A.T)
+    owned = np.unique(t[t >= 0])
+    A[owned, owned] = 1
+    return A
+
+
+@njit(cache=True)
+def _partition(labels, anchors, n):  # pragma: no cover - numba
+    """Seeds, then breadth-first growth (module docstring); ``labels`` holds 0..n-1 on mask cells, -1 off."""
+    H, W = labels.shape
+    N = H * W
+    flat = labels.reshape(-1)
+    comp = np.full(N, -1, dtype=np.int64)
+    queue = np.empty(N, dtype=np.int64)
+    sizes = np.zeros(N, dtype=np.int64)
+    comp_label = np.zeros(N, dtype=np.int64)
+    n_comp = 0
+    for s in range(N):                         # 4-connected pieces of equal label
+        if flat[s] < 0 or comp[s] >= 0:
+            continue
+        head, tail = 0, 1
+        queue[0] = s
+        comp[s] = n_comp
+        while head < tail:
+            i = queue[head]
+            head += 1
+            r, c = i // W, i % W
+            for d in range(4):
+                rr = r + (1 if d == 0 else -1 if d == 1 else 0)
+                cc = c + (1 if d == 2 else -1 if d == 3 else 0)
+                if rr < 0 or rr >= H or cc < 0 or cc >= W:
+                    continue
+                j = rr * W + cc
+                if comp[j] < 0 and flat[j] == flat[s]:
+                    comp[j] = n_comp
+                    queue[tail] = j
+                    tail += 1
+        sizes[n_comp] = tail
+        comp_label[n_comp] = flat[s]
+        n_comp += 1
+    seed_comp = np.full(n, -1, dtype=np.int64)
+    for k in range(n):                         # the anchor's piece, else the largest piece
+        a = anchors[k, 0] * W + anchors[k, 1]
+        if flat[a] == k:
+            seed_comp[k] = comp[a]
+    for q in range(n_comp):
+        k = comp_label[q]
+        if flat[anchors[k, 0] * W + anchors[k, 1]] != k and (seed_comp[k] < 0 or sizes[q] > sizes[seed_comp[k]]):
+            seed_comp[k] = q
+    owner = np.full(n_comp, -1, dtype=np.int64)
+    for k in range(n):
+        if seed_comp[k] >= 0:
+            owner[seed_comp[k]] = k
+    out = np.full(N, -1, dtype=np.int64)
+    tail = 0
+    for i in range(N):
+        if flat[i] >= 0 and owner[comp[i]] >= 0:
+            out[i] = owner[comp[i]]
+            queue[tail] = i
+            tail += 1
+    for k in range(n):                         # a place with no cell of its own keeps its anchor cell
+        if seed_comp[k] < 0:
+            a = anchors[k, 0] * W + anchors[k, 1]
+            if flat[a] >= 0 and out[a] != k:
+                if out[a] < 0:
+                    queue[tail] = a
+                    tail += 1
+                out[a] = k
+    head = 0
+    while head < tail:                         # breadth-first growth from every seed at once
+        i = queue[head]
+        head += 1
+        r, c = i // W, i % W
+        for d in range(4):
+            rr = r + (1 if d == 0 else -1 if d == 1 else 0)
+            cc = c + (1 if d == 2 else -1 if d == 3 else 0)
+            if rr < 0 or rr >= H or cc < 0 or cc >= W:
+                continue
+            j = rr * W + cc
+            if flat[j] >= 0 and out[j] < 0:
+                out[j] = out[i]
+                queue[tail] = j
+                tail += 1
+    return out.reshape(H, W)
