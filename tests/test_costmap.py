@@ -157,10 +157,11 @@ def test_log_p_by_hand() -> None:
     # costs 254, 253, 253, 113, 41 (unknown, inflated as free), 15 -> ROS 100, 99, 99, 44, 16, 6
     assert cm.costs[0].tolist() == [254, 253, 253, 113, 41, 15]
     assert cm.to_occupancy_grid()[0].tolist() == [100, 99, 99, 44, 16, 6]
-    expected = [-np.inf, math.log(0.01), math.log(0.01), math.log(0.56), -np.inf, math.log(0.94)]
+    # inscribed cells (ROS 99) get p = 0: the robot's footprint would overlap the obstacle there
+    expected = [-np.inf, -np.inf, -np.inf, math.log(0.56), -np.inf, math.log(0.94)]
     np.testing.assert_allclose(cm.log_p[0], expected, rtol=0, atol=1e-12)
-    assert cm.free[0].tolist() == [False, True, True, True, False, True]
-    np.testing.assert_allclose(cm.p[0], [0, 0.01, 0.01, 0.56, 0, 0.94], atol=1e-12)
+    assert cm.free[0].tolist() == [False, False, False, True, False, True]
+    np.testing.assert_allclose(cm.p[0], [0, 0, 0, 0.56, 0, 0.94], atol=1e-12)
 
 
 def test_log_p_on_a_bundled_home() -> None:
@@ -168,8 +169,10 @@ def test_log_p_on_a_bundled_home() -> None:
     cm = inflate(m)
     ros = cm.to_occupancy_grid().astype(float)
     assert np.all(np.isneginf(cm.log_p[~m.free]))
-    np.testing.assert_allclose(np.exp(cm.log_p[m.free]), (100 - ros[m.free]) / 100)
-    assert np.all(cm.log_p[m.free] >= math.log(0.01))
+    robot = m.free & (ros < 99)                     # free, and not within the inscribed radius of an obstacle
+    np.testing.assert_allclose(np.exp(cm.log_p[robot]), (100 - ros[robot]) / 100)
+    assert np.all(np.isneginf(cm.log_p[m.free & (ros >= 99)])) and (m.free & (ros >= 99)).any()
+    assert np.all(cm.log_p[robot] >= math.log(0.02))
 
 
 # --------------------------------------------------------------------------------- against real ROS output

@@ -182,7 +182,7 @@ def test_trajectory_transitions_recover_the_synthetic_house_doors():
         warnings.simplefilter("ignore")
         est = SpCoTMHP(seed=0).fit(data)
     m = est.model_
-    assert m.info["psi_from"] == "walk"
+    assert m.info["psi_from"] == "walk+map"
     P = len(data.adjacency)
     label = {k: np.bincount(data.truth_place[est.places_ == k], minlength=P).argmax()
              for k in np.flatnonzero(m.active_places)}

@@ -61,7 +61,7 @@ def test_exported_psi_is_the_posterior_mean_for_counts_labelled_with_the_exporte
 def test_adjacency_psi_keeps_the_learned_psi(house):
     est = _fit(house, iterations=15, seed=1)            # connectivity "auto": "walk" with a trajectory
     hmm = _fit(house, iterations=15, seed=1, connectivity="hmm")
-    assert est.model_.info["psi_from"] == "walk"
+    assert est.model_.info["psi_from"] == "walk+map"
     assert not np.allclose(est.model_.psi, est.model_.psi_learned)
     np.testing.assert_array_equal(est.model_.psi_learned, hmm.model_.psi)
 

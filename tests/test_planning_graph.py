@@ -197,8 +197,8 @@ def test_avoidance_views_are_exact():
     free = np.argwhere(g.traversable)
     recomputed = 0
     for places in [(10,), (6,), (4, 9), (2,)]:                 # corridor, dining, living + washroom, kitchen
-        view = g.with_avoided(places, 0.95)
-        assert g.with_avoided(places, 0.95) is view
+        view = g.with_avoided(places)
+        assert g.with_avoided(places) is view
         for cell in free[rng.integers(len(free), size=25)]:
             if view.blocked[cell[0], cell[1]]:
                 continue

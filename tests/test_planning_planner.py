@@ -10,7 +10,7 @@ from planning_fixtures import home_log_p, home_model, world
 
 from spcotmhp.errors import InstructionError, PlanningError
 from spcotmhp.planning.assemble import path_length
-from spcotmhp.planning.places import inside_places, place_regions
+from spcotmhp.planning.places import inside_places
 from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings, plan
 from spcotmhp.planning.terms import ModelTerms
 
@@ -31,6 +31,13 @@ def check_path(planner: HierarchicalPlanner, plan, start_cell) -> None:
     assert (planner.model.map.data[cells[:, 0], cells[:, 1]] == 0).all()
     assert plan.length_m == pytest.approx(path_length(cells, planner.model.map.resolution))
     assert np.allclose(plan.path, planner.model.map.cell_to_world(cells))
+
+
+
+def territory_of(planner, cells, places) -> np.ndarray:
+    """Bool per path cell: inside the territory of one of ``places`` (what avoidance blocks)."""
+    crop = planner.graph.to_crop(cells)
+    return np.isin(planner.graph.territory[crop[:, 0], crop[:, 1]], places)
 
 
 def test_goes_to_the_closest_bedroom(planner):
@@ -74,7 +81,7 @@ def test_avoided_place_is_never_entered(planner):
     model = planner.model
     # from bedroom #2, the corridor is reachable; avoiding the kitchen changes nothing but must hold
     p = planner.plan("go to the corridor avoiding the kitchen", world(model.map, 5, 25))
-    blocked = place_regions(model, p.path, [K])
+    blocked = territory_of(planner, p.cells, [K])
     assert not blocked.any()
     assert p.explanation.endswith("avoiding kitchen")
     # the only way into the kitchen is through bedroom #2
@@ -99,7 +106,7 @@ def test_avoiding_blocks_metric_legs_too():
     pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False)
     assert np.isfinite(pl.graph.w_hat[L, R])
     ok = pl.plan("go to the kitchen", world(model.map, 6, 3))
-    assert place_regions(model, ok.path, [M]).any()
+    assert territory_of(pl, ok.cells, [M]).any()
     with pytest.raises(PlanningError, match="reaches a place named 'kitchen' .goal. without entering the places"):
         pl.plan("go to the kitchen avoiding the corridor", world(model.map, 6, 3))
 
@@ -223,7 +230,6 @@ def test_plan_function_and_settings():
     ({"max_steps": -3}, "max_steps must be an integer >= 1, got -3"),
     ({"instance_ratio": 0.5}, "instance_ratio must be >= 1, got 0.5"),
     ({"start_min_posterior": 2}, "start_min_posterior must be in [0, 1], got 2"),
-    ({"region_quantile": 0}, "region_quantile must be in (0, 1), got 0"),
     ({"arrival_quantile": 1.2}, "arrival_quantile must be in (0, 1) (or None), got 1.2"),
 ])
 def test_bad_settings_are_planning_errors(setting, message):

@@ -80,7 +80,7 @@ def feasible(model, planner, start, goal: str, waypoints: list[str], avoid: list
     """Whether a plan exists that the planner's definitions allow, by breadth-first search (not its search):
 
     1. metric: the usable cells are traversable (finite log p(x|m): the robot's footprint is clear) and outside
-       the regions of the avoided places (:func:`place_regions`, 0.95); the cells reachable from the start are
+       the territories of the avoided places; the cells reachable from the start are
        its 4-connected component of them (what 4-connected moves reach, and also 8-connected moves that never
        squeeze between two blocked cells);
     2. a stage is completed at a candidate point of one of its instances, so the places that can be used are
@@ -93,8 +93,7 @@ def feasible(model, planner, start, goal: str, waypoints: list[str], avoid: list
     avoided = np.zeros(model.K, dtype=bool)
     for word in avoid:
         avoided[instances(model, word)] = True
-    usable = graph.traversable & ~place_regions(model, graph.centres, np.flatnonzero(avoided),
-                                                planner.settings.region_quantile)
+    usable = graph.traversable & ~np.isin(graph.territory, np.flatnonzero(avoided))
     labels, _ = ndimage.label(usable, structure=ndimage.generate_binary_structure(2, 1))
     s = graph.to_crop(start)
     if labels[s[0], s[1]] == 0:
@@ -133,10 +132,11 @@ def check_plan(model, planner, start, plan, goal, waypoints, avoid, raw=None) ->
         t += int(hits[0])
     assert inside_places(model, xy[-1:], instances(model, goal)).all()
     assert plan.places[-1].role == "goal" and plan.places[-1].name == goal
-    # never inside an avoided place's region
+    # never inside an avoided place's territory
     if avoid:
         avoided = np.unique(np.concatenate([instances(model, a) for a in avoid]))
-        assert not place_regions(model, xy, avoided).any()
+        crop = planner.graph.to_crop(cells)
+        assert not np.isin(planner.graph.territory[crop[:, 0], crop[:, 1]], avoided).any()
     if planner.settings.arrival_quantile is not None:
         assert place_regions(model, xy[-1:], [plan.goal.id], planner.settings.arrival_quantile).all()
     # smoothing and the arrival cut keep Eq. 28's plan and never lengthen the assembled path

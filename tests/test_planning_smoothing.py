@@ -121,7 +121,8 @@ def test_waypoints_stay_anchored_and_avoidance_holds():
     assert (a.cells == wp).all(axis=1).any()                 # passes the living room's candidate exactly
     assert a.length_m <= raw.plan("go to the kitchen via the living", world(model.map, *start)).length_m
     c = new.plan("go to the bedroom avoiding the hall", world(model.map, *start))
-    assert not place_regions(model, model.map.cell_to_world(c.cells), [3]).any()
+    crop = new.graph.to_crop(c.cells)
+    assert not (new.graph.territory[crop[:, 0], crop[:, 1]] == 3).any()
     check_cells(new, c.cells, start)
 
 
@@ -298,7 +299,7 @@ def test_map_cost_is_the_map_term_of_eq26_and_views_block_avoided_regions():
     assert g.map_cost[cell[0], cell[1]] == pytest.approx(math.log(9) - math.log(0.01))
     assert g.map_cost[g.traversable & (g.log_p == 0)] == pytest.approx(math.log(9))
     assert np.isinf(g.map_cost[~g.traversable]).all()
-    view = g.with_avoided((3,), 0.95)
+    view = g.with_avoided((3,))
     assert np.isinf(view.map_cost[view.blocked]).all() and view.blocked.any()
     assert (view.map_cost[~view.blocked] == g.map_cost[~view.blocked]).all()
 

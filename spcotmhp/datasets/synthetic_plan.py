@@ -5,9 +5,9 @@ axis-aligned rectangular rooms separated by walls 1-2 cells thick, from a 3-room
 office of 60 places (rooms along corridors) on 1000 x 1000 cells. Corridors are places too, named ``corridor``;
 other names repeat (several bedrooms, many offices).
 
-Doors are ``door_m`` >= 0.9 m wide (1.0 m by default), so a robot still passes after costmap_2d inflation with
-inscribed radius 0.22 m and inflation radius 1.0 m at 0.1 m per cell: the door centre line is >= 0.45 m from
-both jambs, outside the lethal (254) and inscribed (253) zones. Outside the building is unknown (-1), walls are
+Doors are ``door_m`` >= 0.6 m wide (1.0 m by default), so a robot still passes after costmap_2d inflation with
+inscribed radius 0.22 m: the door's middle cells are at least 0.3 m from both jambs, outside the lethal (254)
+and inscribed (253) zones (a 0.6 m door at 0.1 m per cell leaves a gap of two cells). Outside the building is unknown (-1), walls are
 occupied (100), inside is free (0). Every random choice comes from one ``np.random.default_rng(seed)``.
 """
 
@@ -29,7 +29,7 @@ KINDS = ("flat", "house", "office")
 DEFAULT_ROOMS = {"flat": 3, "house": 11, "office": 20}
 AREA_PER_ROOM_M2 = {"flat": 12.0, "house": 12.0, "office": 150.0}
 MIN_ROOMS = {"flat": 1, "house": 4, "office": 3}
-MIN_DOOR_M = 0.9
+MIN_DOOR_M = 0.6
 JAMB_M = 0.2  # the least wall left between a door and the corner of a room
 
 
@@ -45,7 +45,8 @@ class Room:
 
     @property
     def is_corridor(self) -> bool:
-        return self.name == CORRIDOR
+        """A corridor place: "corridor" or a name ending in it ("east corridor")."""
+        return self.name == CORRIDOR or self.name.endswith(" " + CORRIDOR)
 
 
 @dataclass
@@ -96,7 +97,7 @@ def generate_floor_plan(kind: str = "flat", n_rooms: int | None = None, size: in
             flats and houses, 150 m^2 in offices: 60 office places -> about 1000 x 1000 cells at 0.1 m).
         resolution: metres per cell (0.01 .. 0.2).
         seed: an int or a numpy Generator; the same seed gives the same plan.
-        door_m: door width in metres, >= 0.9 (see the module docstring).
+        door_m: door width in metres, >= 0.6 (see the module docstring).
         wall_cells: wall thickness 1 or 2 cells (default: drawn at random).
         origin: (x, y) of the map's lower-left corner in metres.
     """

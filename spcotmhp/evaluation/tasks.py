@@ -6,12 +6,13 @@ Per home, over the ground-truth places (truth.csv):
 * **advanced**: every (i, h, j) of a basic pair and a waypoint h not in {i, j} whose name differs from the
   goal's; instruction = waypoint name, then goal name.
 
-Each place's *position* is the free cell nearest the mean of its teaching positions; the start of a task is the
-position of place i. A place's success region is the box of its teaching positions plus 0.1 m
+Each place's *position* is the robot cell nearest the mean of its teaching positions, where robot cells are the
+free cells outside the inscribed radius of costmap_2d's default settings (:func:`robot_cells`: a 0.22 m robot
+centred there touches no obstacle); the start of a task is the position of place i. A place's success region is the box of its teaching positions plus 0.1 m
 (:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name is an *instance* of that name.
 
 The reference length ``l`` of SPL is, as in Anderson et al. (2018), a geodesic to the goal's position (not to the
-edge of its success region): the shortest free-space path (8-connected, steps 1 and sqrt 2 cells, no costs) from
+edge of its success region): the shortest path over the robot cells (8-connected, steps 1 and sqrt 2 cells, no costs) from
 the start through the position of a waypoint-named place to the position of a goal-named place, minimised
 jointly over the instances, ``l = min_{w, g} d(start, w) + d(w, g)`` (``min_g d(start, g)`` for basic tasks).
 The goal instance of that minimum is the "closest" one that N-SPL asks for (computed from geodesics, not from
@@ -29,6 +30,7 @@ import numpy as np
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError
 from spcotmhp.evaluation.metrics import REGION_MARGIN_M, Box
+from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import geodesic_distance
 from spcotmhp.metric.snap import snap
 
@@ -117,10 +119,12 @@ def build_places(dataset: Dataset) -> list[Place]:
     if len(names) < n:
         raise DatasetError(f"{dataset.name}: places.csv names {len(names)} places but truth.csv uses {n}")
     places = []
+    robot = robot_cells(dataset)
     for k in range(n):
         pts = dataset.positions[truth == k]
         mean = pts.mean(axis=0)
-        places.append(Place(k, str(names[k]), mean, nearest_free_cell(dataset, mean), Box.around(pts, REGION_MARGIN_M)))
+        places.append(Place(k, str(names[k]), mean, nearest_free_cell(dataset, mean, robot),
+                            Box.around(pts, REGION_MARGIN_M)))
     return places
 
 
@@ -138,12 +142,19 @@ def names_from_words(tokens: list[list[str]], truth: np.ndarray) -> list[str]:
     return names
 
 
-def nearest_free_cell(dataset: Dataset, xy: np.ndarray) -> tuple[int, int]:
-    """The free cell whose centre is nearest to ``xy`` (Euclidean in cells; :func:`spcotmhp.metric.snap.snap`)."""
-    occ = dataset.map
-    if not occ.free.any():
-        raise DatasetError(f"{dataset.name}: the map has no free cell")
-    r, c = snap(occ.free, occ.world_to_cell(np.asarray(xy, float)))
+def robot_cells(dataset: Dataset) -> np.ndarray:
+    """(H, W) bool: the map's free cells outside the inscribed radius (costmap_2d defaults,
+    :class:`~spcotmhp.metric.costmap.CostMapSettings`): where a robot can be without touching an obstacle."""
+    return inflate(dataset.map).free
+
+
+def nearest_free_cell(dataset: Dataset, xy: np.ndarray, robot: np.ndarray | None = None) -> tuple[int, int]:
+    """The robot cell (:func:`robot_cells`) whose centre is nearest to ``xy`` (Euclidean in cells;
+    :func:`spcotmhp.metric.snap.snap`)."""
+    robot = robot_cells(dataset) if robot is None else robot
+    if not robot.any():
+        raise DatasetError(f"{dataset.name}: the map has no free cell a robot fits in")
+    r, c = snap(robot, dataset.map.world_to_cell(np.asarray(xy, float)))
     return int(r), int(c)
 
 
@@ -173,7 +184,8 @@ def make_tasks(
     occ = dataset.map
     # geodesic[a][b]: free-space distance between the positions of places a and b
     cells = [p.cell for p in places]
-    geodesic = np.array([geodesic_distance(occ.free, [c], 8, occ.resolution)[tuple(np.array(cells).T)]
+    robot = robot_cells(dataset)
+    geodesic = np.array([geodesic_distance(robot, [c], 8, occ.resolution)[tuple(np.array(cells).T)]
                          for c in cells])
     by_name: dict[str, list[int]] = {}
     for p in places:

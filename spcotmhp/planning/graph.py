@@ -29,7 +29,9 @@ an obstacle. Candidate points are snapped into their own place's territory (:mod
 within the largest free component; a place with no such cell has no node and is reported in
 ``info["unreachable_places"]``.
 
-Avoided places (:meth:`PlanningGraph.with_avoided`) block their regions. Blocking cells only removes paths, so
+Avoided places (:meth:`PlanningGraph.with_avoided`) block their territories: "avoid the dining room" keeps the
+robot out of every cell that belongs to the dining room, the same cells the explanation calls the dining room.
+Blocking cells only removes paths, so
 a field value whose optimal path does not enter the blocked cells is still optimal; the view shares those fields
 and recomputes (exactly, with the region blocked) only the fields whose path from a node or from the query's
 start crosses the region, checked by walking the stored next-step links.
@@ -61,7 +63,7 @@ from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component, snap
-from spcotmhp.planning.places import candidate_points, connected_places, place_regions
+from spcotmhp.planning.places import candidate_points, connected_places
 from spcotmhp.planning.territory import grown_territories, tube_window
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
@@ -314,25 +316,24 @@ class PlanningGraph:
             self._centres = self.model.map.cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
         return self._centres
 
-    def with_avoided(self, places: tuple[int, ...], quantile: float) -> PlanningGraph:
-        """A view with no node in ``places`` whose paths never enter their regions
-        (:func:`~spcotmhp.planning.places.place_regions`), exact for the blocked map (module docstring):
-        fields are shared with this graph unless a path from a node into them crosses the regions, in which case
-        they are recomputed. Memoised for the most recent place sets."""
-        key = (tuple(sorted(int(p) for p in places)), float(quantile))
+    def with_avoided(self, places: tuple[int, ...]) -> PlanningGraph:
+        """A view with no node in ``places`` whose paths never enter their territories, exact for the blocked
+        map (module docstring): fields are shared with this graph unless a path from a node into them crosses
+        the territories, in which case they are recomputed. Memoised for the most recent place sets."""
+        key = tuple(sorted(int(p) for p in places))
         if key in self._views:
             self._views.move_to_end(key)
             return self._views[key]
         t0 = time.perf_counter()
-        blocked = place_regions(self.model, self.centres, np.array(key[0], dtype=np.int64), quantile)
-        usable = ~np.isin(self.node_place, key[0]) & ~blocked[self.node_cell[:, 0], self.node_cell[:, 1]]
+        blocked = np.isin(self.territory, key)
+        usable = ~np.isin(self.node_place, key) & ~blocked[self.node_cell[:, 0], self.node_cell[:, 1]]
         view = PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
                              log_p=self.log_p, traversable=self.traversable & ~blocked,
                              node_place=self.node_place, node_cell=self.node_cell, end_term=self.end_term,
                              dist=list(self.dist), next_step=list(self.next_step), w_hat=np.empty(0),
                              w_hat_metric=np.empty(0), log_transition=np.empty(0),
                              connected=self.connected, time_precompute_s=0.0,
-                             info={**self.info, "avoided": key[0]}, blocked=blocked, usable=usable,
+                             info={**self.info, "avoided": key}, blocked=blocked, usable=usable,
                              _centres=self.centres, territory=self.territory, main=self.main,
                              _territories=self._territories)
         width = self.log_p.shape[1]

@@ -1,0 +1,186 @@
+"""The planner's acceptance battery: seeded synthetic homes with the hard cases of real ones.
+
+For every home of :func:`~spcotmhp.datasets.synthetic_battery.battery_home` (three bedrooms, "west/east
+corridor", narrow doors, a room taught partly in unknown space, dead ends) and every kind of parameters
+(supervised: truth labels and the doors' adjacency; learned: unsupervised Gibbs sampling, psi from the walk
+and the map), SpCoTMHP plans
+
+* every **basic** task (each ordered pair of non-adjacent true places; instruction = the goal's name),
+* **shared-word** tasks: "go to the corridor" from every other place (both corridor places are instances),
+* a seeded subset of the **advanced** tasks (a waypoint, then the goal; :mod:`~spcotmhp.evaluation.tasks`),
+
+and counts what a robot owner would notice:
+
+* ``refused``: plans refused although a path for the robot exists (every task kept has one: its reference
+  length over the robot cells is finite);
+* ``unsafe``: plans with a pose in a lethal or inscribed cell of the model's cost map (costmap_2d >= 253),
+  poses of the escape from a start that is itself in such a cell excepted;
+* ``closest``: among successful plans whose goal name has several instances, those ending in the instance with
+  the shortest path from the start, up to ``CLOSEST_TOLERANCE_M`` (cell rounding and the inflation cost, which
+  prefers a centred route, make equal-length instances differ by a few cells);
+* the SPL family (:mod:`~spcotmhp.evaluation.metrics`) of the basic and advanced tasks.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.datasets.synthetic_battery import battery_home
+from spcotmhp.errors import SpcotmhpError
+from spcotmhp.evaluation.context import HomeContext, build_context
+from spcotmhp.evaluation.metrics import Outcome, failed, score_path, summarise
+from spcotmhp.evaluation.tasks import Task, make_tasks, robot_cells, subset
+from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
+from spcotmhp.metric.grid_search import geodesic_distance
+from spcotmhp.planning.instructions import Instruction, PlaceQuery
+
+CLOSEST_TOLERANCE_M = 0.3
+SHARED_WORD = "corridor"
+
+
+@dataclass
+class HomeBattery:
+    """The battery's counts on one home with one kind of parameters."""
+
+    home: str
+    params: str
+    tasks: int = 0
+    refused: int = 0
+    unsafe: int = 0
+    closest: int = 0
+    repeated: int = 0
+    spl: float = 0.0
+    n_spl: float = 0.0
+    wn_spl: float = 0.0
+    time_median_ms: float = 0.0
+    errors: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def evaluate_home(dataset: Dataset, params: str, seed: int = 0, max_advanced: int | None = 60) -> HomeBattery:
+    """Build the home's context (fit or learn, precompute) and run the battery's tasks on it."""
+    ctx = build_context(dataset, params, seed)
+    out = HomeBattery(dataset.name, params)
+    basic = make_tasks(dataset, "basic", ctx.adjacency, places=ctx.places).tasks
+    advanced = subset(make_tasks(dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, max_advanced, seed)
+    shared = shared_word_tasks(ctx, len(basic) + len(advanced))
+    costs = inflate(dataset.map, **ctx.model.costmap).costs
+    outcomes: dict[str, list[Outcome]] = {"basic": [], "advanced": []}
+    times = []
+    for task in [*basic, *shared, *advanced]:
+        outcome, elapsed = _run(ctx, task, costs, out)
+        times.append(elapsed)
+        if task.goal_name != SHARED_WORD:
+            outcomes[task.kind].append(outcome)
+    b, a = summarise(outcomes["basic"]), summarise(outcomes["advanced"])
+    out.spl, out.n_spl, out.wn_spl = b["spl"], b["n_spl"], a["wn_spl"]
+    out.time_median_ms = 1000.0 * float(np.median(times))
+    return out
+
+
+def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
+    """"go to the corridor" from every place that is not a corridor: every place whose name holds the word is an
+    instance, the closest by the robot's geodesic is the one N-SPL asks for."""
+    data, places = ctx.dataset, ctx.places
+    goals = tuple(p.index for p in places if SHARED_WORD in p.name.split())
+    if len(goals) < 2:
+        return []
+    robot = robot_cells(data)
+    out = []
+    for p in places:
+        if p.index in goals:
+            continue
+        d = geodesic_distance(robot, [p.cell], 8, data.map.resolution)
+        lengths = np.array([d[places[g].cell] for g in goals])
+        if not np.isfinite(lengths).any():
+            continue
+        x, y = data.map.cell_to_world(np.array(p.cell))
+        out.append(Task(data.name, "basic", first_index + len(out), p.index, goals[int(np.argmin(lengths))], None,
+                        p.cell, (float(x), float(y)), SHARED_WORD, None, goals, (), int(np.argmin(lengths)),
+                        float(lengths.min())))
+    return out
+
+
+def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> tuple[Outcome, float]:
+    """Plan one task, score it and update the counts."""
+    def query(words: list[str]) -> PlaceQuery:
+        return PlaceQuery({w: 1.0 for w in words}, " ".join(words))
+
+    waypoints = (query(task.waypoint_words),) if task.waypoint_words else ()
+    ins = Instruction(goal=query(task.goal_words), waypoints=waypoints, lang=ctx.dataset.lang)
+    goal_boxes = [ctx.places[k].box for k in task.goal_places]
+    wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if task.kind == "advanced" else None
+    out.tasks += 1
+    t0 = time.perf_counter()
+    try:
+        plan = ctx.planner.plan(ins, task.start_xy)
+    except SpcotmhpError as exc:
+        elapsed = time.perf_counter() - t0
+        out.refused += 1
+        if len(out.errors) < 3:
+            out.errors.append(f"{task.label()}: {exc}")
+        return failed(task.l, elapsed, wp_boxes is not None), elapsed
+    elapsed = time.perf_counter() - t0
+    cells = plan.cells
+    start_cost = costs[cells[0, 0], cells[0, 1]]
+    body = cells
+    if start_cost >= INSCRIBED_INFLATED_OBSTACLE:      # the escape from the start is allowed
+        safe = np.flatnonzero(costs[cells[:, 0], cells[:, 1]] < INSCRIBED_INFLATED_OBSTACLE)
+        body = cells[safe[0]:] if len(safe) else cells[:0]
+    if (costs[body[:, 0], body[:, 1]] >= INSCRIBED_INFLATED_OBSTACLE).any():
+        out.unsafe += 1
+    outcome = score_path(plan.path, goal_boxes, task.closest_goal, task.l, elapsed, wp_boxes,
+                         step=ctx.dataset.map.resolution / 2)
+    if len(task.goal_places) > 1 and task.kind == "basic" and outcome.success:
+        out.repeated += 1
+        out.closest += int(_is_closest(ctx, task, plan.path[-1]))
+    return outcome, elapsed
+
+
+def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray) -> bool:
+    """Whether the goal instance the path ends in has the shortest robot path from the start (within the
+    tolerance)."""
+    data = ctx.dataset
+    d = geodesic_distance(robot_cells(data), [task.start_cell], 8, data.map.resolution)
+    lengths = np.array([d[ctx.places[g].cell] for g in task.goal_places])
+    reached = [i for i, g in enumerate(task.goal_places) if ctx.places[g].box.contains(end)]
+    return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)
+
+
+def run_battery(seeds: Sequence[int], params: Sequence[str] = ("supervised", "learned"),
+                max_advanced: int | None = 60,
+                advance: Callable[[str], None] | None = None) -> list[HomeBattery]:
+    """The battery over homes ``battery_home(seed)`` for each seed and each kind of parameters."""
+    out = []
+    for seed in seeds:
+        data = battery_home(int(seed))
+        for p in params:
+            out.append(evaluate_home(data, p, int(seed), max_advanced))
+            if advance is not None:
+                advance(f"{data.name} {p}")
+    return out
+
+
+def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
+    """Per kind of parameters: totals of the counts, the closest-instance rate, WN-SPL mean and minimum."""
+    out = {}
+    for p in dict.fromkeys(r.params for r in results):
+        rows = [r for r in results if r.params == p]
+        repeated = sum(r.repeated for r in rows)
+        out[p] = {"homes": len(rows), "tasks": sum(r.tasks for r in rows),
+                  "refused": sum(r.refused for r in rows), "unsafe": sum(r.unsafe for r in rows),
+                  "closest_rate": sum(r.closest for r in rows) / repeated if repeated else float("nan"),
+                  "repeated": repeated,
+                  "spl_mean": float(np.mean([r.spl for r in rows])),
+                  "n_spl_mean": float(np.mean([r.n_spl for r in rows])),
+                  "wn_spl_mean": float(np.mean([r.wn_spl for r in rows])),
+                  "wn_spl_min": float(np.min([r.wn_spl for r in rows])),
+                  "time_median_ms": float(np.median([r.time_median_ms for r in rows]))}
+    return out
