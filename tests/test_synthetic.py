@@ -337,7 +337,7 @@ def test_synth_command_reports_an_unwritable_folder_in_one_line():
     ({"kind": "house", "size": 40}, r"house: .* interior rows cannot hold a corridor and two rows of rooms"),
     ({"kind": "flat", "size": 10}, r"size \(10, 10\) cells is too small for any flat"),
     ({"kind": "flat", "size": (60, 0)}, r"size must be a positive int or \(height, width\) in cells"),
-    ({"door_m": 0.8}, r"door width 0.8 m is below 0.9 m"),
+    ({"door_m": 0.5}, r"door width 0.5 m is below 0.6 m"),
     ({"resolution": 0.5}, r"resolution 0.5 m per cell is outside 0.01 .. 0.2"),
     ({"wall_cells": 3}, r"wall_cells must be 1 or 2, got 3"),
 ])
