@@ -47,7 +47,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import reprlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
@@ -61,10 +60,8 @@ from spcotmhp.errors import (
     NoReachablePlace,
     StartBlocked,
     StartInAvoidedPlace,
-    StartOutsideMap,
 )
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.metric.grid_search import SQRT2, cost_to_go, path_from_field
 from spcotmhp.planning.assemble import (
     arrival,
     better,
@@ -75,9 +72,10 @@ from spcotmhp.planning.assemble import (
 )
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph, require_int, require_range
 from spcotmhp.planning.instructions import Instruction, to_instruction
-from spcotmhp.planning.places import inside_places, instance_places
+from spcotmhp.planning.places import inside_places, instance_places, named_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
 from spcotmhp.planning.search import SearchProblem, SearchResult, search
+from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
 from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
@@ -156,22 +154,22 @@ class HierarchicalPlanner:
                 the instruction (the message says which stage cannot be reached).
         """
         t0 = time.perf_counter()
-        model, settings = self.model, self.settings
+        model = self.model
         ins = to_instruction(instruction, self.place_words, lang)
-        x0, cell, escape = self._start_cell(start)
+        x0, cell, escape = start_cell(self.model, self.graph, start)
         stages = ins.stages
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])     # (S, K), Eq. 28
-        inst = np.stack([instance_places(self.terms.normalise(ls), settings.instance_ratio) for ls in semantic])
+        inst = np.stack([self._instances(q.words, self.terms.normalise(ls)) for q, ls in zip(stages, semantic)])
         for q in ins.not_goal:     # may be passed, never the goal ("instead of the kitchen")
-            inst[S - 1] &= ~instance_places(self.terms.log_place_given_words(q.words), settings.instance_ratio)
+            inst[S - 1] &= ~self._instances(q.words)
             if not inst[S - 1].any():
                 raise ConflictingInstruction(f"every place named '{ins.goal.label}' is one the instruction says "
                                              f"not to end in ('{q.label}')")
         graph = self.graph
         avoided = np.zeros(model.K, dtype=bool)
         for q in ins.avoid:
-            avoided |= instance_places(self.terms.log_place_given_words(q.words), settings.instance_ratio)
+            avoided |= self._instances(q.words)
         if avoided.any():
             inst &= ~avoided
             for s, q in enumerate(stages):
@@ -217,42 +215,15 @@ class HierarchicalPlanner:
         return plan
 
     # ---- pieces ----------------------------------------------------------------------------------------
-    def _start_cell(self, start: Sequence[float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """x_0, its crop cell where planning starts, and the escape cells before it: empty unless the start
-        is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
-        escape is the shortest run of free cells from the start to the nearest cell of the main free component
-        (the planning starts at its end)."""
-        try:
-            x0 = np.asarray(start, dtype=float).reshape(-1)
-        except (TypeError, ValueError, OverflowError):
-            raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {_excerpt(start)}") from None
-        if x0.shape != (2,) or not np.isfinite(x0).all():
-            raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
-        occ, graph = self.model.map, self.graph
-        lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
-        hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
-        # bounds in floats first: a huge start would overflow the integer cell index
-        full = occ.world_to_cell(x0) if ((x0 >= lo) & (x0 < hi)).all() else None
-        if full is None or not occ.in_bounds(full):
-            raise StartOutsideMap(f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
-                                  f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
-        cell = graph.to_crop(full)
-        where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
-        if graph.in_crop(cell) and graph.main[cell[0], cell[1]]:
-            return x0, cell, np.empty((0, 2), dtype=np.int64)
-        if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
-            raise StartBlocked(f"{where} is cut off from the places: the free space around it does not connect "
-                               f"to theirs for a robot of this size")
-        value = int(occ.data[full[0], full[1]])
-        if value != 0:
-            what = {100: "an occupied", -1: "an unknown"}.get(value, "a non-free")
-            raise StartBlocked(f"{where} is in {what} cell of the map (x {_metres(x0[0])}, y {_metres(x0[1])}); "
-                               f"start from a free cell")
-        escape = _escape(occ.free, graph, full, self.model.costmap.get("inscribed_radius", 0.22))
-        if escape is None:
-            raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is "
-                               f"reachable from it")
-        return x0, graph.to_crop(escape[-1]), graph.to_crop(escape[:-1])
+    def _instances(self, bag: dict, log_p: np.ndarray | None = None) -> np.ndarray:
+        """(K,) the places a bag of words names: p(i | S) within ``instance_ratio`` of the best
+        (:func:`~spcotmhp.planning.places.instance_places`) and, when some place's name carries one of the
+        words, only such places (:func:`~spcotmhp.planning.places.named_places`)."""
+        if log_p is None:
+            log_p = self.terms.log_place_given_words(bag)
+        inst = instance_places(log_p, self.settings.instance_ratio)
+        named = named_places(self.names, bag, self.settings.instance_ratio) & inst
+        return named if named.any() else inst
 
     def _problem(self, graph: PlanningGraph, posterior: np.ndarray, cell: np.ndarray, semantic: np.ndarray,
                  inst: np.ndarray, S: int, metric: bool = False) -> SearchProblem:
@@ -405,48 +376,6 @@ class HierarchicalPlanner:
                                         f"{hint}")
         return HorizonTooShort(f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
                                f"satisfies '{ins.describe()}'{tail}; raise max_steps")
-
-
-def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:
-    """Map cells from ``cell`` to the nearest cell of the graph's main free component, through free cells of
-    the map, within a window of the inscribed radius plus two cells; None if there is none."""
-    res = graph.model.map.resolution
-    r = math.ceil(max(radius_m, res) / res) + 2
-    h, w = free.shape
-    r0, c0 = max(cell[0] - r, 0), max(cell[1] - r, 0)
-    r1, c1 = min(cell[0] + r + 1, h), min(cell[1] + r + 1, w)
-    window = free[r0:r1, c0:c1].copy()
-    target = np.zeros_like(window)
-    o0, o1 = graph.offset
-    gr0, gc0 = max(r0 - o0, 0), max(c0 - o1, 0)
-    gr1, gc1 = min(r1 - o0, graph.main.shape[0]), min(c1 - o1, graph.main.shape[1])
-    if gr1 > gr0 and gc1 > gc0:
-        target[gr0 + o0 - r0:gr1 + o0 - r0, gc0 + o1 - c0:gc1 + o1 - c0] = graph.main[gr0:gr1, gc0:gc1]
-    if not target.any():
-        return None
-    window |= target
-    dist, nxt = cost_to_go(np.where(window, 1.0, np.inf), np.argwhere(target), graph.settings.connectivity, SQRT2)
-    path = path_from_field(dist, nxt, np.array([cell[0] - r0, cell[1] - c0]))
-    if path is None:
-        return None
-    return path.cells + np.array([r0, c0])
-
-
-_SHORT = reprlib.Repr()
-_SHORT.maxlist = _SHORT.maxtuple = 4
-_SHORT.maxstring = _SHORT.maxother = 40
-_SHORT.maxlevel = 2
-
-
-def _excerpt(value: Any, limit: int = 60) -> str:
-    """A short ``repr`` of ``value`` (error messages never repeat a huge input)."""
-    text = _SHORT.repr(value)
-    return text if len(text) <= limit else text[:limit] + "…"
-
-
-def _metres(v: float) -> str:
-    """A coordinate for a message: 2 decimals, or 4 significant digits when huge (no 300-digit numbers)."""
-    return f"{v:.2f}" if abs(v) < 1e6 else f"{v:.4g}"
 
 
 def plan(model: SpatialConceptModel, instruction: Any, start: Sequence[float], lang: str | None = None,

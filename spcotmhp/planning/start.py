@@ -1,0 +1,106 @@
+"""The start of a plan (Algorithm 1, line 10's x_0): checked, located on the planning graph's grid, and, when it
+lies within the robot's radius of an obstacle, the escape from it.
+
+A start outside the map is :class:`~spcotmhp.errors.StartOutsideMap`; in an occupied or unknown cell, or in free
+space cut off from the places for a robot of this size, :class:`~spcotmhp.errors.StartBlocked`. A start that is
+free on the map but inscribed in the cost map (the robot's footprint overlaps an obstacle there, so p(x|m) = 0)
+is allowed: the path first leaves it along the shortest run of free cells to the nearest cell of the main free
+component, and planning starts there. Messages quote at most a short excerpt of a bad value.
+"""
+
+from __future__ import annotations
+
+import math
+import reprlib
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from spcotmhp.errors import StartBlocked, StartOutsideMap
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.grid_search import SQRT2, cost_to_go, path_from_field
+from spcotmhp.planning.graph import PlanningGraph
+
+__all__ = ["start_cell"]
+
+
+def start_cell(model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float]
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """x_0, its crop cell where planning starts, and the escape cells before it: empty unless the start
+    is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
+    escape is the shortest run of free cells from the start to the nearest cell of the main free component
+    (the planning starts at its end)."""
+    try:
+        x0 = np.asarray(start, dtype=float).reshape(-1)
+    except (TypeError, ValueError, OverflowError):
+        raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {_excerpt(start)}") from None
+    if x0.shape != (2,) or not np.isfinite(x0).all():
+        raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
+    occ = model.map
+    lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
+    hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
+    # bounds in floats first: a huge start would overflow the integer cell index
+    full = occ.world_to_cell(x0) if ((x0 >= lo) & (x0 < hi)).all() else None
+    if full is None or not occ.in_bounds(full):
+        raise StartOutsideMap(f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
+                              f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
+    cell = graph.to_crop(full)
+    where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
+    if graph.in_crop(cell) and graph.main[cell[0], cell[1]]:
+        return x0, cell, np.empty((0, 2), dtype=np.int64)
+    if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
+        raise StartBlocked(f"{where} is cut off from the places: the free space around it does not connect "
+                           f"to theirs for a robot of this size")
+    value = int(occ.data[full[0], full[1]])
+    if value != 0:
+        what = {100: "an occupied", -1: "an unknown"}.get(value, "a non-free")
+        raise StartBlocked(f"{where} is in {what} cell of the map (x {_metres(x0[0])}, y {_metres(x0[1])}); "
+                           f"start from a free cell")
+    escape = _escape(occ.free, graph, full, model.costmap.get("inscribed_radius", 0.22))
+    if escape is None:
+        raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is "
+                           f"reachable from it")
+    return x0, graph.to_crop(escape[-1]), graph.to_crop(escape[:-1])
+
+
+def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:
+    """Map cells from ``cell`` to the nearest cell of the graph's main free component, through free cells of
+    the map, within a window of the inscribed radius plus two cells; None if there is none."""
+    res = graph.model.map.resolution
+    r = math.ceil(max(radius_m, res) / res) + 2
+    h, w = free.shape
+    r0, c0 = max(cell[0] - r, 0), max(cell[1] - r, 0)
+    r1, c1 = min(cell[0] + r + 1, h), min(cell[1] + r + 1, w)
+    window = free[r0:r1, c0:c1].copy()
+    target = np.zeros_like(window)
+    o0, o1 = graph.offset
+    gr0, gc0 = max(r0 - o0, 0), max(c0 - o1, 0)
+    gr1, gc1 = min(r1 - o0, graph.main.shape[0]), min(c1 - o1, graph.main.shape[1])
+    if gr1 > gr0 and gc1 > gc0:
+        target[gr0 + o0 - r0:gr1 + o0 - r0, gc0 + o1 - c0:gc1 + o1 - c0] = graph.main[gr0:gr1, gc0:gc1]
+    if not target.any():
+        return None
+    window |= target
+    dist, nxt = cost_to_go(np.where(window, 1.0, np.inf), np.argwhere(target), graph.settings.connectivity, SQRT2)
+    path = path_from_field(dist, nxt, np.array([cell[0] - r0, cell[1] - c0]))
+    if path is None:
+        return None
+    return path.cells + np.array([r0, c0])
+
+
+_SHORT = reprlib.Repr()
+_SHORT.maxlist = _SHORT.maxtuple = 4
+_SHORT.maxstring = _SHORT.maxother = 40
+_SHORT.maxlevel = 2
+
+
+def _excerpt(value: Any, limit: int = 60) -> str:
+    """A short ``repr`` of ``value`` (error messages never repeat a huge input)."""
+    text = _SHORT.repr(value)
+    return text if len(text) <= limit else text[:limit] + "…"
+
+
+def _metres(v: float) -> str:
+    """A coordinate for a message: 2 decimals, or 4 significant digits when huge (no 300-digit numbers)."""
+    return f"{v:.2f}" if abs(v) < 1e6 else f"{v:.4g}"
