@@ -123,7 +123,7 @@ ENGLISH = Grammar(
                "not to", "not into", "without going to", "without visiting", "steer clear of",
                "stay clear of", "keep clear of", "no going through", "don't cross", "do not cross", "without crossing",
                "don't go past", "do not go past", "don't use", "do not use"),
-        not_goal=("instead of", "rather than"),
+        not_goal=("instead of", "rather than", "not the"),
         **{"from": ("from", "starting from", "leaving", "starting at", "starting in")},
     ),
     connectors=frozenset({"and", "then", "and then", "after that", "afterwards", "next", "and next", "after which",
@@ -166,7 +166,7 @@ ENGLISH = Grammar(
                        "return", "returning", "over", "up", "down", "make", "your way", "way to", "trip",
                        "run", "hurry", "pop", "nearest", "closest", "nearby one", "do", "did", "does",
                        "help", "would like", "love", "sure", "alright", "buddy", "could you please",
-                       "when", "done", "finished", "with", "all right", "that's right", "asap", "quick", "thx", "pls", "plz", }),
+                       "when", "done", "finished", "with", "while", "instead", "lot", "as quickly as possible", "all right", "that's right", "asap", "quick", "thx", "pls", "plz", }),
     nouns=frozenset({"room", "place", "area", "side"}),
 )
 
@@ -199,8 +199,9 @@ JAPANESE = Grammar(
         **{"from": ("から",)},
     ),
     connectors=frozenset({"と", "、", ",", "，", "それから", "そして", "その後", "そのあと", "や", "次に", "つぎに",
-                          "その次に", "けど", "けど、"}),
-    sequencers=frozenset({"それから", "そして", "その後", "そのあと", "次に", "つぎに", "その次に"}),
+                          "その次に", "その後で", "そのあとで", "けど", "けど、"}),
+    sequencers=frozenset({"それから", "そして", "その後", "そのあと", "次に", "つぎに", "その次に", "その後で",
+                          "そのあとで"}),
     order={**dict.fromkeys(("まず", "まずは", "最初に", "さいしょに", "はじめに", "初めに", "先に", "さきに"), "first"),
            **dict.fromkeys(("最後に", "さいごに", "最終的に"), "last"),
            **dict.fromkeys(("前に", "まえに", "の前に", "のまえに"), "before"),
@@ -226,7 +227,7 @@ JAPANESE = Grammar(
                        "いちばん近い", "近くの", "待って", "待ってて", "まってて", "待っていて", "待機して", "止まって",
                        "もらえますか", "くれますか", "くれる", "ほしい", "欲しい", "ね", "よ", "。", "！", "？", "!",
                        "?", "ロボットさん", "もう一度", "もういちど", "また", "今から", "いまから", "急いで", "そこで",
-                       "そこ", "の方", "のほう", "行ってきて", "ください。"}),
+                       "そこ", "の方", "のほう", "でも", "行ってきて", "ください。"}),
     by_character=True,
 )
 

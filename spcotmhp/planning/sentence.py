@@ -363,7 +363,11 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
         p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1:p.index])
     for idx, it in enumerate(items):
         if it.kind == "order":
-            for n in _ordered_by(idx, it, out, items, clauses, grammar):
+            targets = _ordered_by(idx, it, out, items, clauses, grammar)
+            if not targets and it.value in ("before", "after", "before_that"):
+                raise MalformedInstruction(f"{excerpt(it.surface)} is followed by no known place word; say which "
+                                           "place, e.g. 'go to the bedroom after the kitchen'")
+            for n in targets:
                 out[n].orders.setdefault(it.value, it)
     return out
 
