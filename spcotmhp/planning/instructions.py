@@ -44,7 +44,7 @@ from spcotmhp.errors import (
 from spcotmhp.planning.grammar import GRAMMARS
 from spcotmhp.planning.sentence import Phrase, read_sentence
 from spcotmhp.planning.sequence import visiting_order
-from spcotmhp.planning.wording import excerpt, known_words, unknown_tail
+from spcotmhp.planning.wording import excerpt, unknown_tail
 
 MAX_CHARS = 500
 """Longest instruction text (characters) :func:`parse_text` accepts."""

@@ -20,15 +20,13 @@ Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_
    followed, through fillers only, by another marker keeps its own role: "I don't want to go to the kitchen"
    avoids the kitchen.
 6. Words where a place word is expected must be place words (:class:`~spcotmhp.errors.UnknownPlaceWord`,
-   with "did you mean" near misses): other words between a goal / waypoint / avoid / not_goal marker, a
-   before / after order word or a connector and the next grammar word or the end of the sentence, with no
-   place word there ("go to the garage via the kitchen"), or between the previous grammar word and such a
-   marker (Japanese ガレージへ行って); and other words right next to a place phrase, which would modify it
-   ("the big kitchen", "the kitchen counter", 大きいキッチン). Not counted: words after a marker that the next
-   marker of the same role takes over ("want to quickly go to"), and words after a punctuation connector unless
-   they follow a determiner ("go to the kitchen, thanks" is fine; "go to the kitchen, the attic" is not). In
-   Japanese two place phrases must be joined by a connector (と, や), an order word or belong to different
-   markers.
+   with "did you mean" near misses): other words between a marker, a before / after word or a connector and
+   the next grammar word with no place word there ("go to the garage via the kitchen"; ガレージへ行って), and
+   other words right next to a place phrase, which would modify it ("the big kitchen", 大きいキッチン). Not
+   counted: words after a marker that the next marker of the same role takes over ("want to quickly go to"),
+   and words after a punctuation connector unless they follow a determiner ("go to the kitchen, thanks" is
+   fine; "go to the kitchen, the attic" is not). Japanese places must be joined by a connector (と, や) or an
+   order word, or belong to different markers.
 7. A waypoint, avoid or not_goal marker with no place word, or a goal marker ending the sentence, is an error
    (:class:`~spcotmhp.errors.UnknownPlaceWord` naming the words not understood, or
    :class:`~spcotmhp.errors.MalformedInstruction` when there are none).
@@ -39,10 +37,11 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from itertools import pairwise
 
 from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
-from spcotmhp.planning.wording import excerpt, known_words, not_understood, unknown_tail
+from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
 
 _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 
@@ -51,8 +50,8 @@ _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 class Item:
     """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
 
-    kind: str          # "place", "marker", "connector", "order", "alternative", "relation", "modifier", "filler",
-    value: str         # "other"; value: the place word / role / order kind / "seq" for a sequencer / ""
+    kind: str          # place, marker, connector, order, alternative, relation, modifier, filler, other
+    value: str         # the place word / role / order kind / "seq" for a sequencer / ""
     surface: str
     words: list[str] = field(default_factory=list)  # place words of a merged phrase
 
@@ -66,7 +65,8 @@ class Phrase:
         role: "goal", "waypoint", "avoid", "not_goal" or "from".
         source: index of the marker that gave the role (-1: none, a goal by default).
         clause: index of its clause (clauses are separated by connectors).
-        orders: order words that apply to it (item indices of the order words, by kind).
+        index: its position among the scanned items.
+        orders: the order words that apply to it, by kind ("first", "after", ...).
         after_sequencer: a sequencer ("then") stands between it and the previous phrase.
     """
 
@@ -104,7 +104,7 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
 def _units(text: str, grammar: Grammar) -> list[str]:
     if grammar.by_character:
         return [ch for ch in text if not ch.isspace()]
-    return _EN_UNIT.findall(text.lower())
+    return _EN_UNIT.findall(text.lower().replace("\u2019", "'"))
 
 
 _LEXICONS: dict = {}
@@ -255,7 +255,7 @@ def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Seq
         if others:
             where = "after" if prefix else "before"
             verb = "is not a known place word" if len(others) == 1 else "are not known place words"
-            raise UnknownPlaceWord(f"{_quoted(others)} ({where} {excerpt(it.surface)}) {verb}"
+            raise UnknownPlaceWord(f"{named(others)} ({where} {excerpt(it.surface)}) {verb}"
                                    f"{unknown_tail(others, place_words)}")
 
 
@@ -269,12 +269,8 @@ def _check_modifiers(items: list[Item], grammar: Grammar, place_words: Sequence[
             if 0 <= j < len(items) and items[j].kind == "other":
                 word = items[j].surface
                 pair = [word, it.surface] if j < idx else [it.surface, word]
-                raise UnknownPlaceWord(f"{_quoted([word])} ({where} {excerpt(it.surface)}) is not a known place "
+                raise UnknownPlaceWord(f"{named([word])} ({where} {excerpt(it.surface)}) is not a known place "
                                        f"word{unknown_tail(pair, place_words)}")
-
-
-def _quoted(words: Sequence[str]) -> str:
-    return ", ".join(excerpt(w, 30) for w in words[:6]) + (f" and {len(words) - 6} more" if len(words) > 6 else "")
 
 
 def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[tuple[str, int]]:
@@ -310,13 +306,9 @@ def _postfix_roles(items: list[Item], grammar: Grammar) -> list[tuple[str, int]]
             between = items[last_place + 1:idx]
             if pending and not any(x.kind in ("connector", "order") for x in between):
                 others = [x.surface for x in between if x.kind == "other"]
-                if others:
-                    raise UnknownPlaceWord(f"{excerpt(items[last_place].surface)} and {excerpt(it.surface)} are "
-                                           f"not joined by a connector or a marker{not_understood(others)}; join "
-                                           f"places with と or give each its own marker")
-                raise MalformedInstruction(f"{excerpt(items[last_place].surface)} and {excerpt(it.surface)} are "
-                                           "not joined by a connector or a marker; join places with と or give "
-                                           "each its own marker")
+                raise (UnknownPlaceWord if others else MalformedInstruction)(
+                    f"{excerpt(items[last_place].surface)} and {excerpt(it.surface)} are not joined by a connector "
+                    f"or a marker{not_understood(others)}; join places with と or give each its own marker")
             roles.append(("", -1))
             pending.append(len(roles) - 1)
             since_phrase = True
@@ -359,7 +351,7 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
         clause += it.kind == "connector"
         clauses.append(clause)
     out = [Phrase(items[i], role, src, clauses[i], i) for i, (role, src) in zip(places, roles)]
-    for prev, p in zip(out, out[1:]):
+    for prev, p in pairwise(out):
         p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1:p.index])
     for idx, it in enumerate(items):
         if it.kind == "order":

@@ -10,6 +10,7 @@ replaces a word by its near miss.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from itertools import pairwise
 
 from rapidfuzz import fuzz, process
 
@@ -76,7 +77,7 @@ def suggestions(unknown: Sequence[str], place_words: Sequence[str]) -> list[str]
     choices = list(keys)
     candidates = [_key(w) for w in unknown[:2 * MAX_NAMED]]
     spelled_right = {c for c, w in zip(candidates, unknown) if w in place_words}
-    candidates += [a + b for a, b in zip(candidates, candidates[1:])]
+    candidates += [a + b for a, b in pairwise(candidates)]
     candidates += [c[:-len(n)] for c in candidates for n in GENERIC_NOUNS if c.endswith(n) and len(c) > len(n) + 2]
     out: list[str] = []
     for cand in candidates:
