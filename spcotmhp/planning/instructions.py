@@ -7,7 +7,17 @@ normalised hypothesis scores (Eq. 25). The grammar words come from :mod:`spcotmh
 words from the model (:func:`spcotmhp.planning.vocabulary.place_vocabulary`).
 
 The sentence grammar (how a text is cut into place phrases and what role each phrase plays, including the errors
-for unknown words, alternatives and spatial relations) is :mod:`spcotmhp.planning.sentence`.
+for unknown words, alternatives and spatial relations) is :mod:`spcotmhp.planning.sentence`; the visiting order
+(order words such as "first", "after", 途中で) is :mod:`spcotmhp.planning.sequence`.
+
+Bounded work (every limit is a keyword argument of the parse functions and of :func:`to_instruction`, defaulting
+to the module constants below, which a program may also set): an instruction longer than ``max_chars``
+characters (a spoken instruction is one or two sentences; 500 characters is about 80 English words), naming
+more than ``max_waypoints`` waypoints or more than ``max_avoided`` places to avoid or not to end in, an N-best
+list of more than ``max_hypotheses`` hypotheses, or a structured instruction whose JSON text exceeds
+``MAX_JSON_CHARS`` is refused with :class:`~spcotmhp.errors.InstructionTooLarge` before any costly work (the
+planner's search grows with the number of stages). Every error is a subclass of
+:class:`~spcotmhp.errors.InstructionError` with a one-line message quoting at most a short excerpt of the input.
 """
 
 from __future__ import annotations
@@ -17,15 +27,37 @@ import math
 import re
 from collections import Counter
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from scipy.special import logsumexp
 
-from spcotmhp.errors import InstructionError
+from spcotmhp.errors import (
+    EmptyInstruction,
+    InstructionError,
+    InstructionTooLarge,
+    MalformedInstruction,
+    UnknownPlaceWord,
+    UnsupportedLanguage,
+)
 from spcotmhp.planning.grammar import GRAMMARS
-from spcotmhp.planning.sentence import Item, known_words, read_sentence
+from spcotmhp.planning.sentence import Phrase, read_sentence
+from spcotmhp.planning.sequence import visiting_order
+from spcotmhp.planning.wording import excerpt, unknown_tail
+
+MAX_CHARS = 500
+"""Longest instruction text (characters) :func:`parse_text` accepts."""
+MAX_WAYPOINTS = 10
+"""Most waypoints an instruction may name."""
+MAX_AVOIDED = 10
+"""Most places an instruction may name to avoid plus not to end in."""
+MAX_HYPOTHESES = 50
+"""Most hypotheses of an N-best list."""
+MAX_JSON_CHARS = 20_000
+"""Longest JSON text of a structured instruction (its places are then bounded by the limits above)."""
+MAX_PLACE_WORDS = 8
+"""Most words in the name of one place of a structured instruction."""
 
 _CJK = re.compile(r"[\u3040-\u30ff\u3400-\u9fff\uff66-\uff9f]")
 
@@ -39,7 +71,7 @@ class PlaceQuery:
 
     def __post_init__(self) -> None:
         if not self.words:
-            raise InstructionError(f"the place '{self.label}' has no words")
+            raise MalformedInstruction(f"the place {excerpt(self.label)} has no words")
 
 
 @dataclass(frozen=True)
@@ -76,97 +108,158 @@ def detect_language(text: str) -> str:
     return "ja" if _CJK.search(text) else "en"
 
 
-def parse_text(text: str, place_words: Sequence[str], lang: str | None = None) -> Instruction:
-    """Understand one instruction sentence (the rules of :mod:`spcotmhp.planning.sentence`).
+def parse_text(text: str, place_words: Sequence[str], lang: str | None = None, *, max_chars: int | None = None,
+               max_waypoints: int | None = None, max_avoided: int | None = None) -> Instruction:
+    """Understand one instruction sentence (the rules of :mod:`spcotmhp.planning.sentence` and
+    :mod:`spcotmhp.planning.sequence`); limits default to the module constants.
 
     Raises:
-        InstructionError: empty text, no known place word, an unknown word where a place word is expected, a
-            dangling marker, alternatives ("or"), a spatial relation ("next to"), or only places to avoid; the
-            message lists the known place words.
+        EmptyInstruction: empty text, or only places to avoid / not to end in.
+        UnknownPlaceWord: no known place word, or an unknown word where a place word is expected (the message
+            suggests near misses and lists the known place words).
+        UnsupportedPhrase: alternatives ("or"), spatial relations ("next to"), modifiers ("second", "on the
+            left"), or a before / after that cannot be honoured.
+        MalformedInstruction: a marker with no place after it; the text is not a string.
+        InstructionTooLarge: past ``max_chars``, ``max_waypoints`` or ``max_avoided``.
+        UnsupportedLanguage: no grammar for ``lang``.
     """
-    if not isinstance(text, str) or not text.strip():
-        raise InstructionError("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
+    if not isinstance(text, str):
+        raise MalformedInstruction(f"an instruction text must be a string, got {excerpt(text)}")
+    limit = MAX_CHARS if max_chars is None else max_chars
+    if len(text) > limit:
+        raise InstructionTooLarge(f"the instruction has {len(text)} characters, more than the {limit} accepted: "
+                                  f"{excerpt(text)}")
+    if not text.strip():
+        raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     lang = lang or detect_language(text)
     if lang not in GRAMMARS:
-        raise InstructionError(f"no grammar for language {lang!r}; supported: {', '.join(sorted(GRAMMARS))}")
-    return _build(read_sentence(text, GRAMMARS[lang], place_words), text, lang, place_words)
+        raise UnsupportedLanguage(f"no grammar for language {excerpt(lang, 20)}; supported: "
+                                  f"{', '.join(sorted(GRAMMARS))}")
+    if not place_words:
+        raise UnknownPlaceWord(f"no known place word in {excerpt(text)}; the model knows no place words")
+    parts = visiting_order(read_sentence(text, GRAMMARS[lang], place_words), text, place_words)
+
+    def query(p: Phrase) -> PlaceQuery:
+        return PlaceQuery(dict(Counter(p.item.words)), p.item.surface)
+
+    visit = [query(p) for p in parts["visit"]]
+    ins = Instruction(goal=visit[-1], waypoints=tuple(visit[:-1]), avoid=tuple(map(query, parts["avoid"])),
+                      text=text, lang=lang, not_goal=tuple(map(query, parts["not_goal"])))
+    return _within_limits(ins, max_waypoints, max_avoided)
 
 
-def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], lang: str = "en") -> Instruction:
+def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], lang: str = "en", *,
+                     max_waypoints: int | None = None, max_avoided: int | None = None) -> Instruction:
     """The structured form ``{"goal": [...], "waypoints": [[...], ...], "avoid": [[...], ...]}`` (optionally
     ``"not_goal": [[...], ...]``, places that must not be the goal).
 
     Each place is a token list, or one string of space-separated tokens (so ``"waypoints": ["corridor",
     "entrance corridor"]`` is two waypoints); every token must be a place word. A JSON string is accepted too.
+
+    Raises:
+        MalformedInstruction: not a JSON object of that shape. UnknownPlaceWord: a token is no place word.
+        InstructionTooLarge: too long a JSON text, too many places or words.
     """
     if isinstance(obj, str):
+        if len(obj) > MAX_JSON_CHARS:
+            raise InstructionTooLarge(f"the structured instruction has {len(obj)} characters, more than the "
+                                      f"{MAX_JSON_CHARS} accepted")
         try:
             obj = json.loads(obj)
-        except json.JSONDecodeError as exc:
-            raise InstructionError(f"structured instruction is not valid JSON: {exc}") from None
+        except (json.JSONDecodeError, RecursionError) as exc:
+            why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
+            raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
     if not isinstance(obj, Mapping):
-        raise InstructionError("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
-    unknown_keys = set(obj) - {"goal", "waypoints", "avoid", "not_goal"}
+        raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, "
+                                   "avoid")
+    unknown_keys = [k for k in obj if k not in ("goal", "waypoints", "avoid", "not_goal")]
     if unknown_keys:
-        raise InstructionError(f"unknown key(s) {sorted(unknown_keys)} in the structured instruction; "
-                               "accepted: goal, waypoints, avoid, not_goal")
+        raise MalformedInstruction(f"unknown key(s) [{', '.join(excerpt(str(k), 30) for k in unknown_keys[:5])}] in "
+                                   "the structured instruction; accepted: goal, waypoints, avoid, not_goal")
     if "goal" not in obj:
-        raise InstructionError("the structured instruction has no 'goal'")
+        raise MalformedInstruction("the structured instruction has no 'goal'")
     known = set(place_words)
+    limits = {"waypoints": _limit(max_waypoints, MAX_WAYPOINTS), "avoid": _limit(max_avoided, MAX_AVOIDED),
+              "not_goal": _limit(max_avoided, MAX_AVOIDED)}
 
     def query(tokens: Any, where: str) -> PlaceQuery:
         if isinstance(tokens, str):
+            if len(tokens) > MAX_CHARS:
+                raise InstructionTooLarge(f"{where} has {len(tokens)} characters: {excerpt(tokens)}")
             tokens = tokens.split()
         if not isinstance(tokens, (list, tuple)) or not tokens or not all(isinstance(t, str) for t in tokens):
-            raise InstructionError(f"{where} must be a non-empty list of words, got {tokens!r}")
+            raise MalformedInstruction(f"{where} must be a non-empty list of words, got {excerpt(tokens)}")
+        if len(tokens) > MAX_PLACE_WORDS:
+            raise InstructionTooLarge(f"{where} has {len(tokens)} words, more than the {MAX_PLACE_WORDS} accepted")
         bad = [t for t in tokens if t not in known]
         if bad:
-            raise InstructionError(f"{where}: unknown place word(s) {', '.join(map(repr, bad))}; "
-                                   f"{known_words(place_words)}")
+            raise UnknownPlaceWord(f"{where}: unknown place word(s) {', '.join(excerpt(t, 30) for t in bad[:5])}"
+                                   f"{unknown_tail(bad, place_words)}")
         return PlaceQuery(dict(Counter(tokens)), " ".join(tokens))
 
     def queries(key: str) -> tuple[PlaceQuery, ...]:
         value = obj.get(key, [])
         if not isinstance(value, (list, tuple)):
-            raise InstructionError(f"'{key}' must be a list of places (each a list of words), got {value!r}")
+            raise MalformedInstruction(f"'{key}' must be a list of places (each a list of words), got "
+                                       f"{excerpt(value)}")
+        if len(value) > limits[key]:
+            raise InstructionTooLarge(f"'{key}' lists {len(value)} places, more than the {limits[key]} accepted")
         return tuple(query(v, f"{key}[{i}]") for i, v in enumerate(value))
 
-    return Instruction(goal=query(obj["goal"], "goal"), waypoints=queries("waypoints"), avoid=queries("avoid"),
-                       text=json.dumps(obj, ensure_ascii=False), lang=lang, not_goal=queries("not_goal"))
+    ins = Instruction(goal=query(obj["goal"], "goal"), waypoints=queries("waypoints"), avoid=queries("avoid"),
+                      text="", lang=lang, not_goal=queries("not_goal"))
+    text = json.dumps({"goal": ins.goal.label, **{k: [q.label for q in getattr(ins, k)]
+                                                   for k in ("waypoints", "avoid", "not_goal") if obj.get(k)}},
+                      ensure_ascii=False)
+    return _within_limits(replace(ins, text=text), max_waypoints, max_avoided)
 
 
 def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[str],
-                lang: str | None = None) -> Instruction:
+                lang: str | None = None, *, max_hypotheses: int | None = None, **limits: int | None) -> Instruction:
     """N-best recogniser hypotheses ``[(text, score), ...]`` -> one instruction with weighted bags (Eq. 25).
 
     Scores are confidences >= 0 (normalised to sum 1) or, when all are <= 0 and some < 0, log-probabilities
-    (soft-maxed). Each hypothesis is parsed; those that do not parse are dropped. Hypotheses are grouped by shape
-    (number of waypoints, avoided places and excluded goals); the group with the largest total weight wins and stage e's bag is
-    sum_h w_h S_{h,e} with the weights renormalised in the group.
+    (soft-maxed). Each hypothesis is parsed (``limits``: the keyword arguments of :func:`parse_text`); those that
+    do not parse are dropped. Hypotheses are grouped by shape (number of waypoints, avoided places and excluded
+    goals); the group with the largest total weight wins and stage e's bag is sum_h w_h S_{h,e} with the weights
+    renormalised in the group.
+
+    Raises:
+        EmptyInstruction: an empty list. MalformedInstruction: an entry is not [text, score] or a score not a
+        finite number. InstructionTooLarge: more than ``max_hypotheses`` entries. When no hypothesis parses,
+        the first hypothesis' error class, with its message.
     """
+    if not isinstance(hypotheses, (list, tuple)):
+        raise MalformedInstruction(f"an N-best list must be a list of [text, score] pairs, got {excerpt(hypotheses)}")
     if not hypotheses:
-        raise InstructionError("the N-best list is empty")
+        raise EmptyInstruction("the N-best list is empty")
+    most = _limit(max_hypotheses, MAX_HYPOTHESES)
+    if len(hypotheses) > most:
+        raise InstructionTooLarge(f"the N-best list has {len(hypotheses)} hypotheses, more than the {most} "
+                                  "accepted")
     texts, scores = [], []
     for i, h in enumerate(hypotheses):
         if not isinstance(h, (list, tuple)) or len(h) != 2 or not isinstance(h[0], str):
-            raise InstructionError(f"N-best entry {i} must be [text, score], got {h!r}")
+            raise MalformedInstruction(f"N-best entry {i} must be [text, score], got {excerpt(h)}")
+        if isinstance(h[1], bool) or not isinstance(h[1], (int, float, np.integer, np.floating)):
+            raise MalformedInstruction(f"N-best entry {i} has a non-numeric score {excerpt(h[1])}")
         try:
             s = float(h[1])
-        except (TypeError, ValueError):
-            raise InstructionError(f"N-best entry {i} has a non-numeric score {h[1]!r}") from None
+        except OverflowError:
+            s = math.inf
         if not math.isfinite(s):
-            raise InstructionError(f"N-best entry {i} has a non-finite score {h[1]!r}")
+            raise MalformedInstruction(f"N-best entry {i} has a non-finite score {excerpt(h[1])}")
         texts.append(h[0])
         scores.append(s)
     weights = _normalise_scores(np.array(scores))
     parsed, first_error = [], None
     for text, w in zip(texts, weights):
         try:
-            parsed.append((parse_text(text, place_words, lang), float(w)))
+            parsed.append((parse_text(text, place_words, lang, **limits), float(w)))
         except InstructionError as exc:
             first_error = first_error or exc
     if not parsed:
-        raise InstructionError(f"no N-best hypothesis names a known place (first: {first_error})")
+        raise type(first_error)(f"no N-best hypothesis names a known place (first: {first_error})")
     groups: dict[tuple[int, int, int], list[tuple[Instruction, float]]] = {}
     for ins, w in parsed:
         groups.setdefault((len(ins.waypoints), len(ins.avoid), len(ins.not_goal)), []).append((ins, w))
@@ -190,43 +283,39 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
         not_goal=tuple(combine(lambda i, j=j: i.not_goal[j]) for j in range(len(top.not_goal))))
 
 
-def to_instruction(source: Any, place_words: Sequence[str], lang: str | None = None) -> Instruction:
+def to_instruction(source: Any, place_words: Sequence[str], lang: str | None = None, *,
+                   max_chars: int | None = None, max_waypoints: int | None = None, max_avoided: int | None = None,
+                   max_hypotheses: int | None = None) -> Instruction:
     """Accept an :class:`Instruction`, a sentence, a structured mapping (or a JSON object string), or an N-best
-    list of (text, score) pairs."""
+    list of (text, score) pairs; the limits are those of the parse functions (module docstring)."""
+    bounds = {"max_waypoints": max_waypoints, "max_avoided": max_avoided}
     if isinstance(source, Instruction):
-        return source
+        return _within_limits(source, max_waypoints, max_avoided)
     if isinstance(source, Mapping):
-        return parse_structured(source, place_words, lang or "en")
+        return parse_structured(source, place_words, lang or "en", **bounds)
     if isinstance(source, str):
         if source.lstrip().startswith("{"):
-            return parse_structured(source, place_words, lang or "en")
-        return parse_text(source, place_words, lang)
+            return parse_structured(source, place_words, lang or "en", **bounds)
+        return parse_text(source, place_words, lang, max_chars=max_chars, **bounds)
     if isinstance(source, (list, tuple)):
-        return parse_nbest(source, place_words, lang)
-    raise InstructionError(f"cannot understand an instruction of type {type(source).__name__}")
+        return parse_nbest(source, place_words, lang, max_hypotheses=max_hypotheses, max_chars=max_chars, **bounds)
+    raise MalformedInstruction(f"cannot understand an instruction of type {type(source).__name__}")
 
 
 # ---- internals ---------------------------------------------------------------------------------------------
-def _build(phrases: list[tuple[Item, str]], text: str, lang: str, place_words) -> Instruction:
-    """Rules 4-5 of :mod:`spcotmhp.planning.sentence`: the instruction from the place phrases and their roles."""
-    def query(it: Item) -> PlaceQuery:
-        return PlaceQuery(dict(Counter(it.words)), it.surface)
+def _limit(value: int | None, default: int) -> int:
+    return default if value is None else int(value)
 
-    kept = [(it, r) for it, r in phrases if r != "from"]
-    goals = [i for i, (_, r) in enumerate(kept) if r == "goal"]
-    if not goals:
-        ways = [i for i, (_, r) in enumerate(kept) if r == "waypoint"]
-        if not ways:
-            raise InstructionError(f"{text!r} names no place to go to, only places to avoid, not to end in or "
-                                   f"to start from; {known_words(place_words)}")
-        goals = [ways[-1]]
-    goal = goals[-1]
-    waypoints = tuple(query(it) for i, (it, r) in enumerate(kept)
-                      if i != goal and (r == "waypoint" or r == "goal"))
-    avoid = tuple(query(it) for it, r in kept if r == "avoid")
-    not_goal = tuple(query(it) for it, r in kept if r == "not_goal")
-    return Instruction(goal=query(kept[goal][0]), waypoints=waypoints, avoid=avoid, text=text, lang=lang,
-                       not_goal=not_goal)
+
+def _within_limits(ins: Instruction, max_waypoints: int | None, max_avoided: int | None) -> Instruction:
+    most_ways, most_avoided = _limit(max_waypoints, MAX_WAYPOINTS), _limit(max_avoided, MAX_AVOIDED)
+    if len(ins.waypoints) > most_ways:
+        raise InstructionTooLarge(f"the instruction names {len(ins.waypoints)} waypoints, more than the "
+                                  f"{most_ways} accepted")
+    if len(ins.avoid) + len(ins.not_goal) > most_avoided:
+        raise InstructionTooLarge(f"the instruction names {len(ins.avoid) + len(ins.not_goal)} places to avoid or "
+                                  f"not to end in, more than the {most_avoided} accepted")
+    return ins
 
 
 def _normalise_scores(scores: np.ndarray) -> np.ndarray:
@@ -235,5 +324,5 @@ def _normalise_scores(scores: np.ndarray) -> np.ndarray:
         return scores / total if total > 0 else np.full(len(scores), 1.0 / len(scores))
     if (scores <= 0).all():
         return np.exp(scores - logsumexp(scores))
-    raise InstructionError("N-best scores must be all >= 0 (confidences) or all <= 0 (log-probabilities), "
-                           f"got {scores.tolist()}")
+    raise MalformedInstruction("N-best scores must be all >= 0 (confidences) or all <= 0 (log-probabilities), "
+                               f"got {excerpt(str(scores.tolist()))}")

@@ -1,37 +1,35 @@
 """The sentence grammar of instructions: a text -> place phrases, each with its role (goal, waypoint, avoid,
-not_goal, from), or an :class:`~spcotmhp.errors.InstructionError` saying what was not understood.
+not_goal, from) and its order words, or an :class:`~spcotmhp.errors.InstructionError` saying what was not
+understood.
 
 The grammar words of each language are tables in :mod:`spcotmhp.planning.grammar`; the place words are the
-model's. :func:`spcotmhp.planning.instructions.parse_text` turns the phrases into an instruction (rules 4-5).
+model's. :mod:`spcotmhp.planning.sequence` puts the phrases in visiting order (rules 4-5).
 
-Parse rules (documented behaviour, tested):
+Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_corpus.csv exercises them):
 1. The text is cut into place phrases (maximal runs of adjacent place words, so multi-word names such as
-   "entrance corridor" form one phrase; in Japanese also two names joined by a lone の, 玄関の廊下), grammar
-   markers, connectors, alternatives, relations, fillers and other words.
-2. Refused outright, with an error saying why: an alternative ("or", または, a lone か between two places: the
-   choice is the user's to make) and a spatial relation ("next to", の隣: not modelled).
+   "entrance corridor" or "alice's room" form one phrase; in Japanese also two names joined by a lone の,
+   玄関の廊下), grammar markers, order words, connectors, alternatives, relations, modifiers, fillers and other
+   words. "the first" / "the last" before a place are modifiers, elsewhere "first" / "last" are order words.
+2. Refused outright with :class:`~spcotmhp.errors.UnsupportedPhrase` naming the words: an alternative ("or",
+   または, a lone か between two places: the choice is the user's to make), a spatial relation ("next to",
+   の隣) and a modifier that picks one of several places ("second", "on the left", 二番目): the map holds
+   none of these, and dropping them would send the robot somewhere else than asked.
 3. A phrase takes the role of its marker (English: the last marker before it; Japanese: the first marker after
    it). A phrase with only a connector takes its neighbour's role (English: the previous phrase's; Japanese:
    the next phrase's). A phrase with no marker at all is a goal. A negation ("don't", "never", "instead of")
    followed, through fillers only, by another marker keeps its own role: "I don't want to go to the kitchen"
    avoids the kitchen.
-4. Waypoints are kept in the order spoken. If several phrases are goals ("go to the toilet and then to the
-   kitchen"), the last one is the goal and the earlier ones become waypoints at their place in the sentence;
-   if none is ("through the corridor and then the bedroom"), the last waypoint is the goal. "not_goal" phrases
-   ("instead of the kitchen") may be passed but are never the goal.
-5. "from" phrases are dropped (the start is the pose given to the planner).
-6. Words where a place word is expected must be place words: other words (not place words, grammar words or
-   fillers) between a goal / waypoint / avoid / not_goal marker or a connector and the next grammar word or the
-   end of the sentence, with no place word there (English "go to the garage via the kitchen", "go to the kitchen
-   and the attic"), or between the previous grammar word and such a marker (Japanese ガレージへ行って), are an
-   error naming them and listing the known place words. Not counted: words between a marker and its place
-   ("go to the big kitchen", 寝室のほうへ), words after a marker that the next marker of the same role takes
-   over ("want to quickly go to"; 寝室に早く行って), and words after a punctuation connector unless they follow
-   a determiner ("go to the kitchen, thanks" is fine; "go to the kitchen, the attic" is not). In Japanese two
-   place phrases must be joined by a connector (と, や) or belong to different markers.
-7. A waypoint, avoid or not_goal marker with no place word (e.g. "via the garage" with "garage" not learned), or
-   a goal marker ending the sentence, is an error that names the words not understood and lists the known
-   place words.
+6. Words where a place word is expected must be place words (:class:`~spcotmhp.errors.UnknownPlaceWord`,
+   with "did you mean" near misses): other words between a marker, a before / after word or a connector and
+   the next grammar word with no place word there ("go to the garage via the kitchen"; ガレージへ行って), and
+   other words right next to a place phrase, which would modify it ("the big kitchen", 大きいキッチン). Not
+   counted: words after a marker that the next marker of the same role takes over ("want to quickly go to"),
+   and words after a punctuation connector unless they follow a determiner ("go to the kitchen, thanks" is
+   fine; "go to the kitchen, the attic" is not). Japanese places must be joined by a connector (と, や) or an
+   order word, or belong to different markers.
+7. A waypoint, avoid or not_goal marker with no place word, or a goal marker ending the sentence, is an error
+   (:class:`~spcotmhp.errors.UnknownPlaceWord` naming the words not understood, or
+   :class:`~spcotmhp.errors.MalformedInstruction` when there are none).
 """
 
 from __future__ import annotations
@@ -39,9 +37,11 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from itertools import pairwise
 
-from spcotmhp.errors import InstructionError
+from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
+from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
 
 _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 
@@ -50,33 +50,61 @@ _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 class Item:
     """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
 
-    kind: str          # "place", "marker", "connector", "alternative", "relation", "filler", "other"
-    value: str         # the place word / the role / ""
+    kind: str          # place, marker, connector, order, alternative, relation, modifier, filler, other
+    value: str         # the place word / role / order kind / "seq" for a sequencer / ""
     surface: str
     words: list[str] = field(default_factory=list)  # place words of a merged phrase
 
 
-def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[tuple[Item, str]]:
-    """The place phrases of ``text`` in order, each with its role (rules 1-3, 6-7).
+@dataclass
+class Phrase:
+    """A place phrase of the sentence with what the grammar says about it.
+
+    Attributes:
+        item: the scanned phrase (its words and surface form).
+        role: "goal", "waypoint", "avoid", "not_goal" or "from".
+        source: index of the marker that gave the role (-1: none, a goal by default).
+        clause: index of its clause (clauses are separated by connectors).
+        index: its position among the scanned items.
+        orders: the order words that apply to it, by kind ("first", "after", ...).
+        after_sequencer: a sequencer ("then") stands between it and the previous phrase.
+    """
+
+    item: Item
+    role: str
+    source: int
+    clause: int
+    index: int
+    orders: dict[str, Item] = field(default_factory=dict)
+    after_sequencer: bool = False
+
+
+def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Phrase]:
+    """The place phrases of ``text`` in order, each with its role and order words (rules 1-3, 6-7).
 
     Raises:
-        InstructionError: no known place word, an unknown word where a place word is expected, a dangling
-            marker, an alternative or a spatial relation; the message lists the known place words.
+        UnknownPlaceWord: no known place word, or an unknown word where a place word is expected.
+        UnsupportedPhrase: an alternative, a spatial relation or a modifier.
+        MalformedInstruction: a marker with nothing after it; Japanese places not joined.
     """
     items = _merge_phrases(_scan(text, grammar, place_words), grammar)
+    places = [i for i, it in enumerate(items) if it.kind == "place"]
+    if not places:
+        others = [it.surface for it in items if it.kind == "other"]
+        words = [it.surface for it in items if it.kind == "other" or it.surface in grammar.nouns]
+        raise UnknownPlaceWord(f"no known place word in {excerpt(text)}{not_understood(others)}"
+                               f"{unknown_tail(words, place_words)}")
     _refuse(items, grammar, place_words)
-    phrases = [it for it in items if it.kind == "place"]
-    if not phrases:
-        raise InstructionError(f"no known place word in {text!r}{_not_understood(items)}; "
-                               f"{known_words(place_words)}")
     _check_place_positions(items, grammar, place_words)
-    return list(zip(phrases, _assign_roles(items, grammar, place_words)))
+    roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
+    _check_modifiers(items, grammar, place_words)
+    return _phrases(items, places, roles, grammar)
 
 
 def _units(text: str, grammar: Grammar) -> list[str]:
     if grammar.by_character:
         return [ch for ch in text if not ch.isspace()]
-    return _EN_UNIT.findall(text.lower())
+    return _EN_UNIT.findall(text.lower().replace("\u2019", "'"))
 
 
 _LEXICONS: dict = {}
@@ -97,10 +125,15 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, 
     def key(phrase: str) -> tuple[str, ...]:
         return tuple(_units(phrase, grammar))
 
-    grammar_lex = {key(p): ("marker", role) for p, role in grammar.markers.items()}
-    grammar_lex.update({key(p): ("connector", "") for p in grammar.connectors})
+    grammar_lex = {key(p): ("filler", "") for p in grammar.fillers}
+    grammar_lex.update({key(p): ("modifier", "") for p in grammar.modifiers})
+    grammar_lex.update({key(p): ("marker", role) for p, role in grammar.markers.items()})
+    grammar_lex.update({key(p): ("order", kind) for p, kind in grammar.order.items()})
+    grammar_lex.update({key(p): ("connector", "seq" if p in grammar.sequencers else "")
+                        for p in grammar.connectors})
     grammar_lex.update({key(p): ("alternative", "") for p in grammar.alternatives})
     grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
+    grammar_lex.pop((), None)
     place_lex = {key(w): ("place", w) for w in place_words if key(w)}
     return place_lex, grammar_lex, max(map(len, [*place_lex, *grammar_lex]), default=1)
 
@@ -124,9 +157,12 @@ def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]
             if grammar.by_character and items and items[-1].kind == "other":
                 items[-1].surface += units[i]
             else:
-                kind = "filler" if units[i] in grammar.fillers else "other"
-                items.append(Item(kind, "", units[i]))
+                items.append(Item("other", "", units[i]))
             i += 1
+    for a, b, c in zip(items, items[1:], items[2:]):   # "the first bedroom": an ordinal, not an order word
+        if (b.kind == "order" and b.value in ("first", "last") and a.surface in grammar.determiners
+                and c.kind in ("place", "other")):
+            b.kind = "modifier"
     return items
 
 
@@ -152,7 +188,7 @@ def _merge_phrases(items: list[Item], grammar: Grammar) -> list[Item]:
     return out
 
 
-_ANCHORS = ("place", "marker", "connector", "alternative", "relation")
+_ANCHORS = ("place", "marker", "connector", "order", "alternative", "relation", "modifier")
 
 
 def _neighbour_place(items: list[Item], idx: int, step: int) -> Item | None:
@@ -164,33 +200,41 @@ def _neighbour_place(items: list[Item], idx: int, step: int) -> Item | None:
 
 
 def _refuse(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> None:
-    """Rule 2: alternatives and spatial relations are errors, not guesses."""
+    """Rule 2: alternatives, spatial relations and modifiers are errors, not guesses."""
+    step = 1 if grammar.attach == "prefix" else -1
     for idx, it in enumerate(items):
+        word = excerpt(it.surface)
         if it.kind == "alternative":
             around = [p.surface for p in (_neighbour_place(items, idx, -1), _neighbour_place(items, idx, 1)) if p]
             choice = f" ({' or '.join(around)})" if around else ""
-            raise InstructionError(f"'{it.surface}' leaves the choice of a place open{choice}; the planner needs "
-                                   "one place for each waypoint and one goal: say which one")
+            raise UnsupportedPhrase(f"{word} leaves the choice of a place open{choice}; the planner needs one "
+                                    "place for each waypoint and one goal: say which one")
         if it.kind == "relation":
-            step = 1 if grammar.attach == "prefix" else -1
             other = _neighbour_place(items, idx, step)
             what = f" ({other.surface})" if other else ""
-            raise InstructionError(f"'{it.surface}' describes a place by where it lies relative to another"
-                                   f"{what}; the map does not model spatial relations between places: name the "
-                                   f"place itself; {known_words(place_words)}")
+            raise UnsupportedPhrase(f"{word} describes a place by where it lies relative to another{what}; the "
+                                    "map does not model spatial relations between places: name the place itself; "
+                                    f"{known_words(place_words)}")
+        if it.kind == "modifier":
+            place = _neighbour_place(items, idx, 1) or _neighbour_place(items, idx, -1)
+            which = f" {place.surface}" if place else " place"
+            raise UnsupportedPhrase(f"{word} picks one{which} by order, side or size, which the map does not "
+                                    f"hold; say the place's name alone (the planner goes to the closest place "
+                                    f"with that name)")
 
 
 def _expects_place(it: Item) -> bool:
-    return (it.kind == "marker" and it.value != "from") or it.kind == "connector"
+    return ((it.kind == "marker" and it.value != "from") or it.kind == "connector"
+            or (it.kind == "order" and it.value in ("before", "after")))
 
 
 def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> None:
-    """Rule 6: other words where a place word is expected are an error naming them."""
+    """Rule 6, first part: other words where a place word is expected are an error naming them."""
     anchors = [i for i, it in enumerate(items) if it.kind in _ANCHORS]
     prefix = grammar.attach == "prefix"
     for a, idx in enumerate(anchors):
         it = items[idx]
-        if not _expects_place(it):
+        if not _expects_place(it) or (it.kind == "order" and prefix != (it.value not in grammar.backward_order)):
             continue
         if prefix:
             end = anchors[a + 1] if a + 1 < len(anchors) else len(items)
@@ -199,7 +243,7 @@ def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Seq
             begin = anchors[a - 1] if a > 0 else -1
             run, neighbour = items[begin + 1:idx], (items[begin] if begin >= 0 else None)
         if neighbour is not None and neighbour.kind == "place":
-            continue       # a marker and its place, words between being modifiers
+            continue       # a marker and its place (words right next to the place: _check_modifiers)
         if (it.kind == "marker" and neighbour is not None and neighbour.kind == "marker"
                 and neighbour.value == it.value):
             continue       # taken over by the next (English) / previous (Japanese) marker of the same role
@@ -210,21 +254,28 @@ def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Seq
         others = [x.surface for x in run if x.kind == "other"]
         if others:
             where = "after" if prefix else "before"
-            words = ", ".join(f"'{w}'" for w in others)
             verb = "is not a known place word" if len(others) == 1 else "are not known place words"
-            raise InstructionError(f"{words} ({where} '{it.surface}') {verb}; {known_words(place_words)}")
+            raise UnknownPlaceWord(f"{named(others)} ({where} {excerpt(it.surface)}) {verb}"
+                                   f"{unknown_tail(others, place_words)}")
 
 
-def _assign_roles(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> list[str]:
-    """One role per place phrase (module docstring, rules 3 and 7)."""
-    if grammar.attach == "prefix":
-        return _prefix_roles(items, place_words)
-    return _postfix_roles(items, place_words)
+def _check_modifiers(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> None:
+    """Rule 6, second part: an other word right next to a place phrase would modify it ("the big kitchen",
+    "alices room", 大きいキッチン): refused, never dropped."""
+    for idx, it in enumerate(items):
+        if it.kind != "place":
+            continue
+        for j, where in ((idx - 1, "before"), (idx + 1, "after")):
+            if 0 <= j < len(items) and items[j].kind == "other":
+                word = items[j].surface
+                pair = [word, it.surface] if j < idx else [it.surface, word]
+                raise UnknownPlaceWord(f"{named([word])} ({where} {excerpt(it.surface)}) is not a known place "
+                                       f"word{unknown_tail(pair, place_words)}")
 
 
-def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[str]:
-    roles: list[str] = []
-    role, dangling = None, None
+def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[tuple[str, int]]:
+    roles: list[tuple[str, int]] = []
+    role, source, dangling = None, -1, None
     for idx, it in enumerate(items):
         if it.kind == "marker":
             if dangling is not None:
@@ -234,68 +285,116 @@ def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[str]:
                 if d.value in ("avoid", "not_goal") and it.value != "from" and only_fillers:
                     continue   # a negation governs the marker after it ("don't want to go to the kitchen")
                 if d.value != "goal":
-                    _check_dangling(dangling, items, idx, place_words, "followed by")
-            role, dangling = it.value, (idx if it.value != "from" else None)
+                    _check_dangling(dangling, items, idx, place_words)
+            role, source, dangling = it.value, idx, (idx if it.value != "from" else None)
         elif it.kind == "place":
-            roles.append(role or "goal")
+            roles.append((role or "goal", source))
             dangling = None
-    _check_dangling(dangling, items, len(items), place_words, "followed by")
+    _check_dangling(dangling, items, len(items), place_words)
     return roles
 
 
-def _postfix_roles(items: list[Item], place_words: Sequence[str]) -> list[str]:
-    """The first marker after a phrase decides; connectors defer to the next phrase."""
-    roles: list[str] = []
+def _postfix_roles(items: list[Item], grammar: Grammar) -> list[tuple[str, int]]:
+    """The first marker after a phrase decides; connectors defer to the next phrase; a backward order word
+    (キッチンの後で) closes its phrases as places to visit."""
+    roles: list[tuple[str, int]] = []
     pending: list[int] = []  # phrase indices waiting for a role
     since_phrase = True      # no marker yet after the last phrase
     last_place = -1
     for idx, it in enumerate(items):
         if it.kind == "place":
-            if pending and not any(x.kind == "connector" for x in items[last_place + 1:idx]):
-                between = [x.surface for x in items[last_place + 1:idx] if x.kind == "other"]
-                raise InstructionError(f"'{items[last_place].surface}' and '{it.surface}' are not joined by a "
-                                       f"connector or a marker{_not_understood_words(between)}; join places with "
-                                       f"と or give each its own marker")
-            roles.append("")
+            between = items[last_place + 1:idx]
+            if pending and not any(x.kind in ("connector", "order") for x in between):
+                others = [x.surface for x in between if x.kind == "other"]
+                raise (UnknownPlaceWord if others else MalformedInstruction)(
+                    f"{excerpt(items[last_place].surface)} and {excerpt(it.surface)} are not joined by a connector "
+                    f"or a marker{not_understood(others)}; join places with と or give each its own marker")
+            roles.append(("", -1))
             pending.append(len(roles) - 1)
             since_phrase = True
             last_place = idx
+        elif it.kind == "order" and it.value in grammar.backward_order and pending and since_phrase:
+            for p in pending:
+                roles[p] = ("goal", -1)
+            pending, since_phrase = [], False
         elif it.kind == "marker":
             if pending and since_phrase:
                 for p in pending:
-                    roles[p] = it.value
+                    roles[p] = (it.value, idx)
                 pending = []
             elif it.value in ("waypoint", "avoid", "not_goal"):
-                last = max((j for j in range(idx) if items[j].kind in ("place", "marker")), default=-1)
+                last = max((j for j in range(idx) if items[j].kind in ("place", "marker", "order")), default=-1)
                 between = [x.surface for x in items[last + 1:idx] if x.kind == "other"]
-                raise InstructionError(f"'{it.surface}' follows no known place word"
-                                       f"{_not_understood_words(between)}; {known_words(place_words)}")
+                err = UnknownPlaceWord if between else MalformedInstruction
+                raise err(f"{excerpt(it.surface)} follows no known place word{not_understood(between)}")
             since_phrase = False
     for p in pending:
-        roles[p] = "goal"
+        roles[p] = ("goal", -1)
     return roles
 
 
-def _check_dangling(dangling: int | None, items: list[Item], end: int, place_words, how: str) -> None:
+def _check_dangling(dangling: int | None, items: list[Item], end: int, place_words) -> None:
     if dangling is None:
         return
     between = [x.surface for x in items[dangling + 1:end] if x.kind == "other"]
-    raise InstructionError(f"'{items[dangling].surface}' is {how} no known place word"
-                           f"{_not_understood_words(between)}; {known_words(place_words)}")
+    if between:
+        raise UnknownPlaceWord(f"{excerpt(items[dangling].surface)} is followed by no known place word"
+                               f"{not_understood(between)}{unknown_tail(between, place_words)}")
+    raise MalformedInstruction(f"{excerpt(items[dangling].surface)} is followed by no known place word; say "
+                               "which place, e.g. 'avoiding the kitchen'")
 
 
-def _not_understood(items: list[Item]) -> str:
-    return _not_understood_words([it.surface for it in items if it.kind == "other"])
+def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]], grammar: Grammar) -> list[Phrase]:
+    """Phrases with their clause, the order words that apply to them and the sequencers before them."""
+    clause, clauses = 0, []
+    for it in items:
+        clause += it.kind == "connector"
+        clauses.append(clause)
+    out = [Phrase(items[i], role, src, clauses[i], i) for i, (role, src) in zip(places, roles)]
+    for prev, p in pairwise(out):
+        p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1:p.index])
+    for idx, it in enumerate(items):
+        if it.kind == "order":
+            targets = _ordered_by(idx, it, out, items, clauses, grammar)
+            if not targets and it.value in ("before", "after", "before_that"):
+                raise MalformedInstruction(f"{excerpt(it.surface)} is followed by no known place word; say which "
+                                           "place, e.g. 'go to the bedroom after the kitchen'")
+            for n in targets:
+                out[n].orders.setdefault(it.value, it)
+    return out
 
 
-def _not_understood_words(words: list[str]) -> str:
-    return f" (not understood: {', '.join(words)})" if words else ""
+def _ordered_by(idx: int, it: Item, phrases: list[Phrase], items: list[Item], clauses: list[int],
+                grammar: Grammar) -> list[int]:
+    """Indices of the phrases an order word applies to.
 
-
-def known_words(place_words: Sequence[str]) -> str:
-    """"known place words: a, b, ..." (at most 60 shown) for error messages."""
-    words = sorted(set(place_words))
-    if not words:
-        return "the model knows no place words"
-    shown = ", ".join(words[:60]) + (f", ... ({len(words)} in all)" if len(words) > 60 else "")
-    return f"known place words: {shown}"
+    before / after / before_that: the next phrase (Japanese 前に, 後で: the previous one) and the phrases joined
+    to it by "and" / と with the same role ("after the kitchen and the toilet"). first / last / on_the_way: in
+    English, every phrase of the order word's clause, or of the next clause with a phrase when its own has
+    none ("first, go to the kitchen"); in Japanese, the next phrase and its joined phrases (まずキッチンに行って).
+    """
+    if grammar.attach == "prefix" and it.value in ("first", "last", "on_the_way"):
+        mine = [n for n, p in enumerate(phrases) if p.clause == clauses[idx]]
+        if mine:
+            return mine
+        later = [p.clause for p in phrases if p.index > idx]
+        return [n for n, p in enumerate(phrases) if later and p.clause == later[0]]
+    backward = it.value in grammar.backward_order
+    if backward:
+        start = max((n for n, p in enumerate(phrases) if p.index < idx), default=None)
+    else:
+        start = next((n for n, p in enumerate(phrases) if p.index > idx), None)
+    if start is None:
+        return []
+    step = -1 if backward else 1
+    out, n = [start], start
+    while 0 <= n + step < len(phrases):
+        a, b = sorted((phrases[n], phrases[n + step]), key=lambda p: p.index)
+        between = items[a.index + 1:b.index]
+        joined = (any(x.kind == "connector" and x.surface not in grammar.soft_connectors for x in between)
+                  and all(x.kind in ("connector", "filler") for x in between))
+        if not joined or a.role != b.role or a.source != b.source or b.after_sequencer:
+            break
+        n += step
+        out.append(n)
+    return out

@@ -2,7 +2,7 @@
 
 The instruction parser matches place words against the model's vocabulary; these functions decide which
 vocabulary words count as place words (on-site names in any language, never function words) and give each place
-a readable label for plans and explanations.
+a readable label, its whole name ("alice's room", "east corridor"), for plans and explanations.
 """
 
 from __future__ import annotations
@@ -16,56 +16,93 @@ from scipy.special import logsumexp
 from spcotmhp.planning.grammar import GRAMMARS
 
 PLACE_WORD_RATIO = 0.75
-"""A word is a place word when, for some active place, its rescaled score is >= this fraction of the best
-word's score for that place (see :func:`place_vocabulary`)."""
+"""A word is a place word when, for some active place, its score is >= this fraction of that place's best
+word's score (see :func:`place_vocabulary`); the words of a place's label are chosen the same way."""
 
 
-_FUNCTION_WORDS = frozenset().union(*(g.fillers | g.connectors | set(g.markers) for g in GRAMMARS.values()))
-"""Grammar and filler words of every supported language (never place words)."""
+_FUNCTION_WORDS = frozenset().union(*(g.function_words for g in GRAMMARS.values()))
+"""Grammar and filler words of every supported language (never place words); generic nouns such as "room" are
+not among them, so that "alice's room" keeps its "room"."""
+
+
+def _word_scores(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(p(w | k) = sum_l p(l | k) W_l(w), its unigram-rescaled form, log p(l, k)) for every place k."""
+    with np.errstate(divide="ignore"):
+        lp_lk = np.log(model.pi)[:, None] + np.log(model.phi)
+    p_l_given_k = np.exp(lp_lk - logsumexp(lp_lk, axis=0, keepdims=True))
+    said = p_l_given_k.T @ model.W
+    rescaled = p_l_given_k.T @ (model.W / model.W.sum(axis=0, keepdims=True))
+    return said, rescaled, lp_lk
 
 
 def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio: float = 10.0) -> list[str]:
     """The words of ``model.vocabulary`` that name places, sorted.
 
-    Score of word w for place k: sum_l p(l | k) W_l(w) / sum_c W_c(w), the unigram-rescaled word probability that
-    :meth:`SpatialConceptModel.place_names` ranks by. Function words spread over the concepts ("this", です) score
-    about 1/(number of concepts using them); a name scores near 1 for its places (1/3 for each of three
-    bedrooms with a concept each, which is then also the best score of those places). A word is kept when
+    Two scores of word w for place k: how often it is said there, p(w | k) = sum_l p(l | k) W_l(w), and the
+    unigram-rescaled p(w | k) / sum_c W_c(w) that :meth:`SpatialConceptModel.place_names` ranks by. Rescaling
+    singles out the words said at few places: a function word spread over the concepts ("this", です) scores
+    about 1/(number of concepts using it), a name of its own near 1. A word is kept when
 
-    1. it scores at least ``ratio`` (0.75) times the best word of some active place, so every word of a
-       multi-word name ("entrance corridor") is kept and a function word shared by two concepts (1/2) is not;
+    1. it is a *core* name word of some active place (rescaled score at least ``ratio`` times that place's best
+       one: every word of a multi-word name that only this place has, and 1/3 for each of three bedrooms with a
+       concept each, which is then also the best score of those places), or it is said at some active place
+       at least ``ratio`` times as often as that place's core name words: a word shared by differently named
+       places ("corridor" in "east corridor" and "south corridor", "room" in "alice's room") is part of both
+       names although its rescaled score is only 1/2;
     2. and, with more than one active place, it does not name every active place: p(i | w) (Eq. 28's semantic
        term for the bag {w}) is below 1/``instance_ratio`` of its maximum for some place;
-    3. and it is not a grammar or filler word of a supported language ("here", "called", "um", です): rules 1-2
-       alone cannot tell a filler from a name shared by many places ("office" x 7 scores 1/7, as "called" or a
-       noise word may in little data). A site whose name is such a word cannot be named in instructions.
+    3. and it is not a grammar or filler word of a supported language ("here", "called", "the", です): said with
+       every name ("this is the kitchen"), such words would pass rule 1, and rule 2 removes them only where
+       they are said at every place. A site whose name is such a word cannot be named in instructions.
     """
     if not len(model.vocabulary):
         return []
     act = np.asarray(model.active_places, dtype=bool)
-    with np.errstate(divide="ignore"):
-        log_pi, log_phi, log_W = np.log(model.pi), np.log(model.phi), np.log(model.W)
-    lp_lk = log_pi[:, None] + log_phi
-    p_l_given_k = np.exp(lp_lk - logsumexp(lp_lk, axis=0, keepdims=True))
-    rescaled = model.W / model.W.sum(axis=0, keepdims=True)
-    score = (p_l_given_k.T @ rescaled)[act]
-    keep = (score >= ratio * score.max(axis=1, keepdims=True)).any(axis=0)
+    said, rescaled, lp_lk = _word_scores(model)
+    said, rescaled = said[act], rescaled[act]
+    core = rescaled >= ratio * rescaled.max(axis=1, keepdims=True)
+    core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
+    keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
-        semantic = logsumexp(lp_lk[:, :, None] + log_W[:, None, :], axis=0)[act]      # (K_active, V)
+        with np.errstate(divide="ignore"):
+            semantic = logsumexp(lp_lk[:, :, None] + np.log(model.W)[:, None, :], axis=0)[act]   # (K_active, V)
         keep &= ~(semantic >= semantic.max(axis=0) - np.log(instance_ratio)).all(axis=0)
     return sorted(w for w, k in zip(model.vocabulary, keep) if k and w not in _FUNCTION_WORDS)
 
 
-def place_labels(model: Any, place_words: Sequence[str]) -> list[str]:
-    """A name per place: the place word it is most often called, argmax_w sum_l p(l | k) W_l(w) over
-    ``place_words`` (function words are already out, so no rescaling is needed, and a name shared by many
-    places is not beaten by a rare noise word); ``model.place_names()`` where no place word is known."""
+def place_labels(model: Any, place_words: Sequence[str], names: Sequence[str] | None = None,
+                 ratio: float = PLACE_WORD_RATIO) -> list[str]:
+    """A name per place, whole ("alice's room", "entrance corridor"): the place words said there at least
+    ``ratio`` times as often as its most said place word (p(w | k) over ``place_words``; function words are
+    already out, so no rescaling is needed, and a name shared by many places is not beaten by a rare noise
+    word), joined by spaces; ``model.place_names()`` where no place word is known.
+
+    Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
+    spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
+    holds them) where one of these names holds exactly the label's words; otherwise a word shared by more
+    places comes later (the head of a compound name comes last in English and Japanese: "east corridor",
+    "alice's room"), ties in alphabetical order.
+    """
     fallback = model.place_names()
     if not place_words:
         return fallback
     idx = [model.word_index[w] for w in place_words]
-    with np.errstate(divide="ignore"):
-        lp_lk = np.log(model.pi)[:, None] + np.log(model.phi)
-    p_l_given_k = np.exp(lp_lk - logsumexp(lp_lk, axis=0, keepdims=True))
-    best = np.argmax(p_l_given_k.T @ model.W[:, idx], axis=1)
-    return [place_words[j] for j in best]
+    said = _word_scores(model)[0][:, idx]                               # (K, |place_words|)
+    act = np.asarray(model.active_places, dtype=bool)
+    chosen = said >= ratio * said.max(axis=1, keepdims=True)
+    shared = chosen[act].sum(axis=0)
+    if names is None:
+        info = getattr(model, "info", None) or {}
+        names = info.get("place_names") if isinstance(info.get("place_names"), list) else None
+    spoken = {}
+    for name in names or ():
+        if isinstance(name, str):
+            spoken.setdefault(frozenset(name.split()), name.split())
+    labels = []
+    for k in range(len(chosen)):
+        words = [place_words[j] for j in np.flatnonzero(chosen[k])]
+        order = spoken.get(frozenset(words))
+        if order is None or len(order) != len(words):
+            order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
+        labels.append(" ".join(order))
+    return labels

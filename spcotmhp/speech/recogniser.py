@@ -24,7 +24,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.special import logsumexp
 
-from spcotmhp.errors import InstructionError, SpcotmhpError
+from spcotmhp.errors import EmptyInstruction, SpcotmhpError, UnknownPlaceWord, UnsupportedLanguage
 from spcotmhp.speech.audio import AudioError, AudioSource, load_audio
 from spcotmhp.speech.jsgf import InstructionGrammar, instruction_grammar
 from spcotmhp.speech.lexicon import SPEAKABLE, dictionary_pronunciations, letter_to_sound
@@ -45,7 +45,7 @@ class Recogniser:
         vocabulary: the place words (e.g. :func:`spcotmhp.planning.vocabulary.place_vocabulary` of a model).
         lang: "en" only (the pocketsphinx wheel ships an en-us acoustic model and CMUdict).
         unknown: place words missing from CMUdict: "spell" gives them letter-to-sound pronunciations,
-            "error" rejects them with an InstructionError naming each.
+            "error" rejects them with an UnknownPlaceWord error naming each.
         spelling_variants: add the spelling pronunciation of every place word (module docstring of
             :mod:`spcotmhp.speech.lexicon`).
     """
@@ -53,7 +53,7 @@ class Recogniser:
     def __init__(self, vocabulary: Iterable[str], lang: str = "en", unknown: str = "spell",
                  spelling_variants: bool = True) -> None:
         if lang != "en":
-            raise InstructionError(f"speech recognition supports lang='en' only, not {lang!r}: the pocketsphinx "
+            raise UnsupportedLanguage(f"speech recognition supports lang='en' only, not {lang!r}: the pocketsphinx "
                                    "wheel ships an English (en-us) acoustic model and dictionary")
         if unknown not in ("spell", "error"):
             raise ValueError(f"unknown must be 'spell' or 'error', got {unknown!r}")
@@ -63,7 +63,7 @@ class Recogniser:
         speakable = [w for w in words if SPEAKABLE.fullmatch(w)]
         self.skipped = tuple(w for w in words if not SPEAKABLE.fullmatch(w))
         if not speakable:
-            raise InstructionError(
+            raise UnsupportedLanguage(
                 "none of the place words can be spoken to the English recogniser (it needs words of the letters "
                 f"a-z): {', '.join(self.skipped[:20]) or 'the vocabulary is empty'}")
         if self.skipped:
@@ -83,7 +83,7 @@ class Recogniser:
         lookup = self._decoder.lookup_word
         missing = [w for w in words if lookup(w) is None]
         if missing and unknown == "error":
-            raise InstructionError(f"no pronunciation for place word(s) {', '.join(missing)} in the recogniser's "
+            raise UnknownPlaceWord(f"no pronunciation for place word(s) {', '.join(missing)} in the recogniser's "
                                    "dictionary (CMUdict); use unknown='spell' for letter-to-sound pronunciations")
         for w in words:
             known = dictionary_pronunciations(w, lookup)
@@ -100,7 +100,7 @@ class Recogniser:
         samples; weights are > 0, sum to 1, best first.
 
         Raises:
-            AudioError: not a WAV file, empty, silent or too long. InstructionError: nothing was recognised.
+            AudioError: not a WAV file, empty, silent or too long. EmptyInstruction: nothing was recognised.
         """
         if nbest < 1:
             raise ValueError(f"nbest must be >= 1, got {nbest}")
@@ -127,7 +127,7 @@ class Recogniser:
 def _weights(paths: list[tuple[str, float]], nbest: int, accept, label: str) -> list[tuple[str, float]]:
     """Group paths by text, sum their posteriors, keep grammatical texts (if any) and the best ``nbest``."""
     if not paths:
-        raise InstructionError(f"no instruction was recognised in {label} (no speech matching the grammar)")
+        raise EmptyInstruction(f"no instruction was recognised in {label} (no speech matching the grammar)")
     texts = sorted({t for t, _ in paths})
     scaled = np.array([s for _, s in paths]) * (2 ** SENSCR_SHIFT / ASCALE)
     index = {t: i for i, t in enumerate(texts)}
