@@ -64,10 +64,19 @@ _CJK = re.compile(r"[\u3040-\u30ff\u3400-\u9fff\uff66-\uff9f]")
 
 @dataclass(frozen=True)
 class PlaceQuery:
-    """One named place of an instruction: a weighted bag of words S (Eq. 25) and a readable label."""
+    """One named place of an instruction: a weighted bag of words S (Eq. 25) and a readable label.
+
+    ``alternatives``: for a bag merged from N-best hypotheses, each hypothesis's own bag (one of them names the
+    place; empty for a single phrase, whose words all name it)."""
 
     words: Mapping[str, float]
     label: str
+    alternatives: tuple[Mapping[str, float], ...] = ()
+
+    @property
+    def phrases(self) -> tuple[Mapping[str, float], ...]:
+        """The bags each of which names the place on its own: the alternatives, or the words."""
+        return self.alternatives or (self.words,)
 
     def __post_init__(self) -> None:
         if not self.words:
@@ -273,7 +282,9 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
         for ins, w in rel:
             for word, c in pick(ins).words.items():
                 bag[word] += w * c
-        return PlaceQuery(dict(bag), pick(top).label)
+        alternatives = tuple(dict.fromkeys(tuple(sorted(pick(ins).words.items())) for ins, _ in rel))
+        return PlaceQuery(dict(bag), pick(top).label,
+                          tuple(dict(a) for a in alternatives) if len(alternatives) > 1 else ())
 
     return Instruction(
         goal=combine(lambda i: i.goal),

@@ -22,12 +22,11 @@ Definitions (each a documented choice; the property tests check the planner agai
 * **Named places**: with learned parameters a concept can spread over places of other names (a concept that
   says "bath" 70% of the time also covering a bedroom), so that p(i | S) for "bath" keeps a bedroom within the
   ratio. A place is then an instance of S only if its name (its label, what the explanation calls it) carries
-  nearly as much of S's weight as the best-named place: at most a 1 / ratio share of S's total weight less
-  (:func:`named_places`), whenever some place's name carries a word of S. "east corridor" then names the east
-  corridor only (the west one carries half the words), "corridor" names both, and an N-best bag {bath: 0.6,
-  bedroom: 0.4} both names while {bath: 0.7, bedroom: 0.3} names the baths (as p(i | S) does on the bundled
-  homes). A plan that ends in a place whose name is none of the requested words misreads the instruction. On
-  supervised parameters the two rules agree.
+  every word of S, or of one of S's N-best alternatives (:func:`named_places`), whenever some place's name
+  does: "east corridor" names the east corridor only, "corridor" names both corridors, and an N-best bag
+  {bath: 0.6, bedroom: 0.4} names baths and bedrooms (p(i | S) then decides, as on supervised parameters). A
+  plan that ends in a place whose name is none of the requested words misreads the instruction. When no label
+  carries a known word (a learned model may name no place by it), p(i | S) alone decides.
 * **Region of a place**: cells within the ``quantile`` Mahalanobis ellipse of its Gaussian (chi-square with 2
   degrees of freedom, default 0.95) where it is also the most probable place p(i | x). Avoided places block
   their regions; "inside a place" means inside its ellipse. A plan *arrives* in its goal place at the first
@@ -39,6 +38,8 @@ Definitions (each a documented choice; the property tests check the planner agai
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -103,15 +104,10 @@ def instance_places(log_place_given_words: np.ndarray, ratio: float = 4.0) -> np
     return np.isfinite(lp) & (lp >= lp.max() - np.log(ratio))
 
 
-def named_places(labels: list[str], bag: dict, ratio: float = 4.0) -> np.ndarray:
-    """(K,) bool: places whose label (space-separated words) carries a weight of ``bag``'s words within
-    total / ``ratio`` of the best-named place's (module docstring); all False when no label carries any."""
-    total = sum(c for c in bag.values() if c > 0)
-    match = np.array([sum(c for w, c in bag.items() if c > 0 and w in set(label.split())) for label in labels],
-                     dtype=float)
-    if total <= 0 or match.max(initial=0.0) <= 0:
-        return np.zeros(len(labels), dtype=bool)
-    return match >= match.max() - total / ratio - 1e-12
+def named_places(labels: list[str], phrases: Sequence[Mapping[str, float]]) -> np.ndarray:
+    """(K,) bool: places whose label (space-separated words) holds every word of at least one of ``phrases``."""
+    bags = [{w for w, c in p.items() if c > 0} for p in phrases]
+    return np.array([any(bag and bag <= set(label.split()) for bag in bags) for label in labels], dtype=bool)
 
 
 def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray,

@@ -106,7 +106,8 @@ class Plan:
     def _goal_note(self, goal: PlanPlace) -> str:
         if self.n_goal_instances < 2 or len(self.goal_options) < 2:
             return ""
-        plural = _plural(goal.name)
+        names = sorted({o.label.split(" #")[0] for o in self.goal_options} | {goal.name})
+        plural = _plural(goal.name) if len(names) == 1 else "places named " + " or ".join(names)
         n = self.n_goal_instances
         reachable = len(self.goal_options)
         shortest = min(self.goal_options, key=lambda o: o.length_m)

@@ -60,6 +60,7 @@ from spcotmhp.errors import (
     NoReachablePlace,
     StartBlocked,
     StartInAvoidedPlace,
+    UnknownPlaceWord,
 )
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.assemble import (
@@ -71,7 +72,7 @@ from spcotmhp.planning.assemble import (
     smooth_anchored,
 )
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph, require_int, require_range
-from spcotmhp.planning.instructions import Instruction, to_instruction
+from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
 from spcotmhp.planning.places import inside_places, instance_places, named_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
 from spcotmhp.planning.search import SearchProblem, SearchResult, search
@@ -160,16 +161,16 @@ class HierarchicalPlanner:
         stages = ins.stages
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])     # (S, K), Eq. 28
-        inst = np.stack([self._instances(q.words, self.terms.normalise(ls)) for q, ls in zip(stages, semantic)])
+        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic)])
         for q in ins.not_goal:     # may be passed, never the goal ("instead of the kitchen")
-            inst[S - 1] &= ~self._instances(q.words)
+            inst[S - 1] &= ~self._instances(q)
             if not inst[S - 1].any():
                 raise ConflictingInstruction(f"every place named '{ins.goal.label}' is one the instruction says "
                                              f"not to end in ('{q.label}')")
         graph = self.graph
         avoided = np.zeros(model.K, dtype=bool)
         for q in ins.avoid:
-            avoided |= self._instances(q.words)
+            avoided |= self._instances(q)
         if avoided.any():
             inst &= ~avoided
             for s, q in enumerate(stages):
@@ -215,15 +216,24 @@ class HierarchicalPlanner:
         return plan
 
     # ---- pieces ----------------------------------------------------------------------------------------
-    def _instances(self, bag: dict, log_p: np.ndarray | None = None) -> np.ndarray:
-        """(K,) the places a bag of words names: p(i | S) within ``instance_ratio`` of the best
-        (:func:`~spcotmhp.planning.places.instance_places`) and, when some place's name carries one of the
-        words, only such places (:func:`~spcotmhp.planning.places.named_places`)."""
+    def _instances(self, query: PlaceQuery, log_p: np.ndarray | None = None) -> np.ndarray:
+        """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
+        (:func:`~spcotmhp.planning.places.instance_places`) and, when some place's name carries all the words
+        of the query (or of one of its N-best alternatives), only such places
+        (:func:`~spcotmhp.planning.places.named_places`). Words that each name some place but no place
+        together ("the kitchen bedroom") are refused."""
         if log_p is None:
-            log_p = self.terms.log_place_given_words(bag)
+            log_p = self.terms.log_place_given_words(query.words)
         inst = instance_places(log_p, self.settings.instance_ratio)
-        named = named_places(self.names, bag, self.settings.instance_ratio) & inst
-        return named if named.any() else inst
+        named = named_places(self.names, query.phrases)
+        if named.any():
+            return (named & inst) if (named & inst).any() else named
+        carried = [w for w in query.words if any(w in n.split() for n in self.names)]
+        if len(query.phrases) == 1 and len(carried) > 1 and len(carried) == len(query.words):
+            raise UnknownPlaceWord(f"no place is called {query.label!r}: " + "; ".join(
+                f"'{w}' names {', '.join(sorted({n for n in self.names if w in n.split()}))}" for w in carried)
+                + "; name one place")
+        return inst
 
     def _problem(self, graph: PlanningGraph, posterior: np.ndarray, cell: np.ndarray, semantic: np.ndarray,
                  inst: np.ndarray, S: int, metric: bool = False) -> SearchProblem:
