@@ -100,7 +100,44 @@ def _print_result(result: dict) -> None:
 
 
 def register(app: typer.Typer) -> None:
-    """Add ``evaluate`` and ``reproduce`` to ``app``."""
+    """Add ``evaluate``, ``reproduce`` and ``battery`` to ``app``."""
+
+    @app.command()
+    def battery(
+        homes: Annotated[int, typer.Option("--homes", min=1, max=10_000, help="Number of seeded homes.")] = 50,
+        first_seed: Annotated[int, typer.Option("--first-seed", min=0, help="Seed of the first home.")] = 0,
+        params: Annotated[str, typer.Option(
+            "--params", help="Comma-separated: supervised, learned.")] = "supervised,learned",
+        max_tasks: Annotated[int, typer.Option(
+            "--max-tasks", min=1, help="Advanced tasks per home (a seeded subset).")] = 60,
+        workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
+        as_json: Annotated[bool, typer.Option("--json", help="Print JSON (every home).")] = False,
+    ) -> None:
+        """The planner's acceptance battery on seeded synthetic homes (three bedrooms, west/east corridor,
+        narrow doors, a room taught partly in unknown space): refusals although a path exists, plans touching
+        walls, the closest instance of a shared name, SPL family."""
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        from spcotmhp.evaluation.battery import markdown, run_battery, summary
+        from spcotmhp.evaluation.runner import default_workers
+
+        kinds = [p.strip() for p in params.split(",") if p.strip()]
+        for p in kinds:
+            _check(p, ("supervised", "learned"), "--params")
+        seeds = range(first_seed, first_seed + homes)
+        with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                      transient=True, disable=as_json) as bar:
+            job = bar.add_task("battery", total=homes * len(kinds))
+            results = run_battery(seeds, kinds, max_tasks, workers or default_workers(),
+                                  lambda label: bar.update(job, advance=1, description=label))
+        if as_json:
+            typer.echo(json.dumps({"summary": summary(results), "homes": [r.to_dict() for r in results]},
+                                  indent=2))
+            return
+        typer.echo(markdown(results))
+        for r in results:
+            for e in r.errors:
+                typer.echo(f"refused: {e}")
 
     @app.command(cls=_OptionalRayAddress)
     def evaluate(

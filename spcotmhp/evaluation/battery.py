@@ -23,8 +23,10 @@ and counts what a robot owner would notice:
 
 from __future__ import annotations
 
+import multiprocessing
 import time
 from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -154,18 +156,33 @@ def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray) -> bool:
     return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)
 
 
+def _one(job: tuple[int, str, int | None]) -> HomeBattery:
+    seed, params, max_advanced = job
+    return evaluate_home(battery_home(seed), params, seed, max_advanced)
+
+
 def run_battery(seeds: Sequence[int], params: Sequence[str] = ("supervised", "learned"),
-                max_advanced: int | None = 60,
+                max_advanced: int | None = 60, workers: int = 1,
                 advance: Callable[[str], None] | None = None) -> list[HomeBattery]:
-    """The battery over homes ``battery_home(seed)`` for each seed and each kind of parameters."""
-    out = []
-    for seed in seeds:
-        data = battery_home(int(seed))
-        for p in params:
-            out.append(evaluate_home(data, p, int(seed), max_advanced))
+    """The battery over homes ``battery_home(seed)`` for each seed and each kind of parameters, on ``workers``
+    processes; results in (seed, params) order whatever the scheduling."""
+    jobs = [(int(seed), p, max_advanced) for seed in seeds for p in params]
+    if workers <= 1:
+        out = []
+        for job in jobs:
+            out.append(_one(job))
             if advance is not None:
-                advance(f"{data.name} {p}")
-    return out
+                advance(f"{out[-1].home} {job[1]}")
+        return out
+    mp = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
+    results: dict[int, HomeBattery] = {}
+    with ProcessPoolExecutor(max_workers=workers, mp_context=mp) as pool:
+        futures = {pool.submit(_one, job): k for k, job in enumerate(jobs)}
+        for fut in as_completed(futures):
+            results[futures[fut]] = fut.result()
+            if advance is not None:
+                advance(f"{results[futures[fut]].home} {jobs[futures[fut]][1]}")
+    return [results[k] for k in range(len(jobs))]
 
 
 def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
@@ -184,3 +201,15 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
                   "wn_spl_min": float(np.min([r.wn_spl for r in rows])),
                   "time_median_ms": float(np.median([r.time_median_ms for r in rows]))}
     return out
+
+
+def markdown(results: Sequence[HomeBattery]) -> str:
+    """The summary as a markdown table (one row per kind of parameters)."""
+    rows = [("| parameters | homes | tasks | refused with a free path | plans touching walls | closest instance "
+            "| basic SPL | basic N-SPL | advanced WN-SPL mean (min) | online median |"),
+            "|---|---|---|---|---|---|---|---|---|---|"]
+    for p, s in summary(results).items():
+        rows.append(f"| {p} | {s['homes']} | {s['tasks']} | {s['refused']} | {s['unsafe']} | "
+                    f"{s['closest_rate']:.1%} of {s['repeated']} | {s['spl_mean']:.3f} | {s['n_spl_mean']:.3f} | "
+                    f"{s['wn_spl_mean']:.3f} ({s['wn_spl_min']:.3f}) | {s['time_median_ms']:.2f} ms |")
+    return "\n".join(rows)

@@ -200,7 +200,7 @@ def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], l
             raise MalformedInstruction(f"{where} must be a non-empty list of words, got {excerpt(tokens)}")
         if len(tokens) > MAX_PLACE_WORDS:
             raise InstructionTooLarge(f"{where} has {len(tokens)} words, more than the {MAX_PLACE_WORDS} accepted")
-        bad = [t for t in tokens if t not in known]
+        bad = list(dict.fromkeys(t for t in tokens if t not in known))
         if bad:
             raise UnknownPlaceWord(f"{where}: unknown place word(s) {', '.join(excerpt(t, 30) for t in bad[:5])}"
                                    f"{unknown_tail(bad, place_words)}")

@@ -34,7 +34,9 @@ def excerpt(value: object, limit: int = EXCERPT_CHARS) -> str:
     """A short, single-line, quoted rendering of a user value: ``'go to the ki…'`` or ``a dict``."""
     if isinstance(value, str):
         flat = " ".join(value.split())
-        return repr(flat if len(flat) <= limit else flat[:limit] + "…")
+        text = repr(flat if len(flat) <= limit else flat[:limit] + "…")
+        # escapes of unprintable characters (\U0001342f) can make the repr ten times longer: cut it too
+        return text if len(text) <= limit + 4 else text[:limit] + "…'"
     if isinstance(value, (int, float, bool)) or value is None:
         text = repr(value)
         return text if len(text) <= limit else text[:limit] + "…"
