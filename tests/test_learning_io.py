@@ -309,3 +309,27 @@ def test_unwritable_model_folder_is_a_model_error(model, tmp_path):
     with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
         save_model(model, "/proc/nope/m")
     assert prepare_model_folder(tmp_path / "a" / "b").is_dir()
+
+
+def test_predict_assignments_with_a_zero_in_w_and_the_one_word_likelihood():
+    # a saved model may hold W_l(w) = 0: words absent from an utterance add nothing (no NaN), a word said that a
+    # concept never says rules that concept out; the same function serves the model, the planner and prediction
+    import numpy as np
+
+    from spcotmhp.datasets.dataset import Dataset
+    from spcotmhp.learning.model import SpatialConceptModel, log_multinomial
+    from spcotmhp.learning.predict import predict_assignments
+    from spcotmhp.metric.maps import OccupancyMap
+
+    W = np.array([[1.0, 0.0], [0.0, 1.0]])                     # concept 0 says only "a", concept 1 only "b"
+    model = SpatialConceptModel(mu=np.array([[1.0, 1.0], [3.0, 1.0]]), Sigma=np.tile(np.eye(2) * 0.25, (2, 1, 1)),
+                                psi=np.full((2, 2), 0.5), pi=np.array([0.5, 0.5]), phi=np.eye(2) * 0.98 + 0.01,
+                                W=W, vocabulary=["a", "b"])
+    data = Dataset(name="z", map=OccupancyMap(data=np.zeros((20, 40), np.int8), resolution=0.1),
+                   positions=np.array([[1.0, 1.0], [3.0, 1.0], [1.0, 1.0]]), tokens=[["a"], ["b"], ["b"]])
+    places, concepts = predict_assignments(model, data, use_features=False)
+    assert concepts.tolist() == [0, 1, 1] and places.tolist() == [0, 1, 0]
+    with np.errstate(divide="ignore"):
+        lw = log_multinomial(np.log(W), np.array([[2.0, 0.0], [0.0, 0.0], [1.0, 1.0]]))
+    assert lw.tolist() == [[0.0, -np.inf], [0.0, 0.0], [-np.inf, -np.inf]]
+    assert model.log_word_likelihood(["a", "a"]).tolist() == [0.0, -np.inf]

@@ -77,11 +77,11 @@ def _unknown_strip(plan: FloorPlan, rng: np.random.Generator) -> Room:
     door_row, door_col = room.doors[0]
     data = plan.map.data
     if abs(door_row - (r0 + r1) / 2) >= abs(door_col - (c0 + c1) / 2):   # the door is on a row side
-        depth = int(round(UNKNOWN_SHARE * (r1 - r0)))
+        depth = round(UNKNOWN_SHARE * (r1 - r0))
         rows = slice(r1 - depth, r1) if door_row < (r0 + r1) / 2 else slice(r0, r0 + depth)
         data[rows, c0:c1] = UNKNOWN
     else:
-        depth = int(round(UNKNOWN_SHARE * (c1 - c0)))
+        depth = round(UNKNOWN_SHARE * (c1 - c0))
         cols = slice(c1 - depth, c1) if door_col < (c0 + c1) / 2 else slice(c0, c0 + depth)
         data[r0:r1, cols] = UNKNOWN
     return room

@@ -9,8 +9,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
 import numpy as np
-from scipy.special import logsumexp
 
+from spcotmhp.learning.distributions import logsumexp
 from spcotmhp.metric.maps import OccupancyMap
 
 LOG_2PI = float(np.log(2.0 * np.pi))
@@ -157,13 +157,16 @@ class SpatialConceptModel:
         return bag_counts(bag, self.word_index, len(self.vocabulary))
 
     def log_word_likelihood(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
-        """log Mult(S | W_l) for every concept l, up to the multinomial coefficient: (L,) (Eqs. 17, 28).
-
-        Words absent from S contribute nothing, even where W_l(w) = 0 (a saved model may hold zeros), rather
-        than 0 * log 0 = NaN."""
-        v = self.bag_vector(bag)
+        """log Mult(S | W_l) for every concept l, up to the multinomial coefficient: (L,) (Eqs. 17, 28;
+        :func:`log_multinomial`)."""
         with np.errstate(divide="ignore"):
-            return np.where(v != 0, np.log(self.W), 0.0) @ v
+            return log_multinomial(np.log(self.W), self.bag_vector(bag))
+
+    def log_concept_given_place(self) -> np.ndarray:
+        """log p(C = l | i = k) proportional to pi_l phi_l(k), normalised over l: (L, K)."""
+        with np.errstate(divide="ignore"):
+            lp_lk = np.log(self.pi)[:, None] + np.log(self.phi)
+        return lp_lk - logsumexp(lp_lk, axis=0, keepdims=True)
 
     def log_semantic(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
         """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place i: (K,) (Eq. 28, last factor)."""
@@ -178,12 +181,24 @@ class SpatialConceptModel:
     def place_names(self) -> list[str]:
         """A readable name per place: the word with the highest rescaled probability
         sum_l p(l | k) W_l(w) / sum_c W_c(w) (unigram rescaling suppresses function words such as "this")."""
-        lp_lk = np.log(self.pi)[:, None] + np.log(self.phi)            # (L, K) log p(l, k)
-        p_l_given_k = np.exp(lp_lk - logsumexp(lp_lk, axis=0, keepdims=True))
+        p_l_given_k = np.exp(self.log_concept_given_place())            # (L, K)
         rescaled = self.W / self.W.sum(axis=0, keepdims=True)           # (L, V)
         score = p_l_given_k.T @ rescaled                                # (K, V)
         return [self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
                 for k, j in enumerate(np.argmax(score, axis=1))]
+
+
+def log_multinomial(log_W: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """log Mult(S | W_l) up to the multinomial coefficient, sum_w n_w log W_l(w), for count vectors ``counts``
+    (..., V) and every row l of ``log_W`` (L, V): (..., L) (words: Eqs. 17, 28; image features: Eq. 15). The one
+    implementation every caller uses (the model, the planner's terms, the baselines, prediction). Entries absent
+    from S contribute nothing, even where W_l(w) = 0 (a saved model may hold zeros), rather than 0 * log 0 =
+    NaN; an entry of S with W_l(w) = 0 gives -inf."""
+    counts = np.asarray(counts, dtype=float)
+    finite = np.isfinite(log_W)
+    out = counts @ np.where(finite, log_W, 0.0).T
+    impossible = (counts > 0).astype(float) @ (~finite).T.astype(float) > 0
+    return np.where(impossible, -np.inf, out)
 
 
 def bag_counts(bag: Mapping[str, float] | list[str], index: Mapping[str, int], size: int) -> np.ndarray:

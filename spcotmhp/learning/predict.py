@@ -11,7 +11,7 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.model import SpatialConceptModel, log_multinomial
 from spcotmhp.learning.observations import Observations
 
 
@@ -27,9 +27,9 @@ def predict_assignments(model: SpatialConceptModel, dataset: Dataset, use_featur
         raise ModelError(f"{dataset.name}: the image features have {obs.features.shape[1]} dimensions but the "
                          f"model was learned with {model.theta.shape[1]}")
     with np.errstate(divide="ignore"):
-        score_c = np.log(model.pi) + obs.words @ np.log(model.W).T                       # (E, L)
+        score_c = np.log(model.pi) + log_multinomial(np.log(model.W), obs.words)   # (E, L)
         if obs.features is not None:
-            score_c = score_c + obs.features @ np.log(model.theta).T
+            score_c = score_c + log_multinomial(np.log(model.theta), obs.features)
         score_c = np.where(model.active_concepts, score_c, -np.inf)
         place = np.where(model.active_places, model.log_place_density(obs.X), -np.inf)  # (E, K)
         joint = score_c[:, :, None] + np.log(model.phi)[None] + place[:, None, :]         # (E, L, K)

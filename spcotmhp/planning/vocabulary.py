@@ -29,7 +29,7 @@ def _word_scores(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(p(w | k) = sum_l p(l | k) W_l(w), its unigram-rescaled form, log p(l, k)) for every place k."""
     with np.errstate(divide="ignore"):
         lp_lk = np.log(model.pi)[:, None] + np.log(model.phi)
-    p_l_given_k = np.exp(lp_lk - logsumexp(lp_lk, axis=0, keepdims=True))
+    p_l_given_k = np.exp(model.log_concept_given_place())
     said = p_l_given_k.T @ model.W
     rescaled = p_l_given_k.T @ (model.W / model.W.sum(axis=0, keepdims=True))
     return said, rescaled, lp_lk
