@@ -104,6 +104,9 @@ def register(app: typer.Typer) -> None:
 
     @app.command()
     def battery(
+        datasets: Annotated[list[str] | None, typer.Argument(
+            metavar="[DATASET_DIR]...", help="Run on these dataset folders or bundled homes instead of "
+                                             "generated ones (e.g. 3LDK_01 3LDK_05 3LDK_06).")] = None,
         homes: Annotated[int, typer.Option("--homes", min=1, max=10_000, help="Number of seeded homes.")] = 50,
         first_seed: Annotated[int, typer.Option("--first-seed", min=0, help="Seed of the first home.")] = 0,
         params: Annotated[str, typer.Option(
@@ -124,11 +127,11 @@ def register(app: typer.Typer) -> None:
         kinds = [p.strip() for p in params.split(",") if p.strip()]
         for p in kinds:
             _check(p, ("supervised", "learned"), "--params")
-        seeds = range(first_seed, first_seed + homes)
+        chosen = [load_home(d, "en") for d in datasets] if datasets else range(first_seed, first_seed + homes)
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                       transient=True, disable=as_json) as bar:
-            job = bar.add_task("battery", total=homes * len(kinds))
-            results = run_battery(seeds, kinds, max_tasks, workers or default_workers(),
+            job = bar.add_task("battery", total=len(chosen) * len(kinds))
+            results = run_battery(chosen, kinds, max_tasks, workers or default_workers(),
                                   lambda label: bar.update(job, advance=1, description=label))
         if as_json:
             typer.echo(json.dumps({"summary": summary(results), "homes": [r.to_dict() for r in results]},

@@ -156,17 +156,19 @@ def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray) -> bool:
     return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)
 
 
-def _one(job: tuple[int, str, int | None]) -> HomeBattery:
-    seed, params, max_advanced = job
-    return evaluate_home(battery_home(seed), params, seed, max_advanced)
+def _one(job: tuple[int | Dataset, str, int | None]) -> HomeBattery:
+    home, params, max_advanced = job
+    if isinstance(home, Dataset):
+        return evaluate_home(home, params, 0, max_advanced)
+    return evaluate_home(battery_home(home), params, home, max_advanced)
 
 
-def run_battery(seeds: Sequence[int], params: Sequence[str] = ("supervised", "learned"),
+def run_battery(homes: Sequence[int | Dataset], params: Sequence[str] = ("supervised", "learned"),
                 max_advanced: int | None = 60, workers: int = 1,
                 advance: Callable[[str], None] | None = None) -> list[HomeBattery]:
-    """The battery over homes ``battery_home(seed)`` for each seed and each kind of parameters, on ``workers``
-    processes; results in (seed, params) order whatever the scheduling."""
-    jobs = [(int(seed), p, max_advanced) for seed in seeds for p in params]
+    """The battery over ``homes`` (seeds of :func:`battery_home`, or datasets such as the bundled homes) and each
+    kind of parameters, on ``workers`` processes; results in (home, params) order whatever the scheduling."""
+    jobs = [(h if isinstance(h, Dataset) else int(h), p, max_advanced) for h in homes for p in params]
     if workers <= 1:
         out = []
         for job in jobs:

@@ -4,9 +4,8 @@ Partial paths (Eqs. 26-27, control as inference). The paper observes optimality 
 leg, with p(o_t = 1 | x_t) = N(x_t | mu_b, Sigma_b) of the leg's destination b, so a leg's log-likelihood sums
 log N(x_t | mu_b, Sigma_b) over *every* cell: it grows with the squared distance from mu_b along the whole
 leg, not with the leg's length, and Eq. 28 then prefers a farther instance of a shared name whose Gaussian is
-broad along the approach (measured: 45/566, 58/511 and 79/742 random starts on 3LDK_01/05/06 ended over 0.3 m
-farther than the nearest bedroom). We observe optimality once per leg, at its end, the event of Eqs. 3-4 that
-closes the HSMM segment (o_t = 1 only at t = t'_e):
+broad along the approach (the README gives the measurement). We observe optimality once per leg, at its end,
+the event of Eqs. 3-4 that closes the HSMM segment (o_t = 1 only at t = t'_e):
 
     w_hat[i, j] = sum_{t in leg} [log p(x_t|m) - log|A|]  +  log N(x_j | mu_b, Sigma_b)     (Eq. 24, end-observed)
 

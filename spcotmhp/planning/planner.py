@@ -34,10 +34,11 @@ path into every instance, and the explanation says "closest of 3 bedrooms" only 
 shortest of them; otherwise it names the shorter one and by how much.
 
 Every stage ends at one of its instances: places whose p(i | S) is at least 1/4 of the best (``instance_ratio``,
-:func:`~spcotmhp.planning.places.instance_places`). Eq. 28 alone has no such constraint: its word term is a
-factor of a few nats per step, which a shorter leg outweighs, so without it 378 of 441 plans on 3LDK_01 ended at
-a place of another name. We keep it as a hard constraint (an instruction names where to go; a planner that ends
-elsewhere misreads it), a departure from the paper stated here and in the README.
+:func:`~spcotmhp.planning.places.instance_places`) and whose name carries the words
+(:func:`~spcotmhp.planning.places.named_places`). Eq. 28 alone has no such constraint: its word term is a
+factor of a few nats per step, which a shorter leg outweighs, so without it most plans end at the nearest place
+whatever its name (the README gives the measurement). We keep it as a hard constraint (an instruction names
+where to go; a planner that ends elsewhere misreads it), a departure from the paper stated in the README.
 
 The horizon E defaults to 10 steps per stage (10 for "go to the kitchen", as the paper's E = 10; 20 with one
 waypoint, as the reference code's two legs of 10).
@@ -177,7 +178,9 @@ class HierarchicalPlanner:
                 if not inst[s].any():
                     raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
             graph = graph.with_avoided(tuple(np.flatnonzero(avoided)))
-            if graph.blocked[cell[0], cell[1]] or (len(escape) and graph.blocked[escape[:, 0], escape[:, 1]].any()):
+            esc = graph.to_crop(escape)
+            esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(graph.blocked.shape)).all(axis=1)]
+            if graph.blocked[cell[0], cell[1]] or graph.blocked[esc[:, 0], esc[:, 1]].any():
                 inside = [self.names[k] for k in np.flatnonzero(avoided)]
                 raise StartInAvoidedPlace(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
                                           f"({', '.join(sorted(set(inside)))})")
@@ -187,11 +190,13 @@ class HierarchicalPlanner:
         notes = []
         if len(escape):
             notes.append(f"the start is within the robot's radius of an obstacle: the path first moves "
-                         f"{path_length(np.vstack([escape, cell[None]]), model.map.resolution):.2f} m clear")
+                         f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.map.resolution):.2f} "
+                         f"m clear")
         if result is None:
-            why = self._why_not(graph, problem, ins, x0, avoided.any())
-            if isinstance(why, HorizonTooShort):
-                raise why
+            longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
+            if problem.max_steps < longest.max_steps and search(longest) is not None:
+                raise HorizonTooShort(f"no sequence of at most {problem.max_steps} place-to-place steps from "
+                                      f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps")
             metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
             result = search(metric)
             if result is None:
@@ -199,15 +204,11 @@ class HierarchicalPlanner:
             notes.append("the place graph has no route for this instruction: metric route over the free space")
 
         cells, smoothed = self._metric_path(graph, cell, result)
-        if len(escape):
-            cells = np.vstack([escape, cells])
-        map_cells = graph.to_map(cells)
         places = self._places(graph, posterior, x0, result, S, cells)
-        length = path_length(cells, model.map.resolution)
-        options = self._goal_options(graph, cell, result, inst[S - 1], length - path_length(
-            np.vstack([escape, cell[None]]), model.map.resolution) if len(escape) else length)
+        options = self._goal_options(graph, cell, result, inst[S - 1], path_length(cells, model.map.resolution))
+        map_cells = np.vstack([escape, graph.to_map(cells)]) if len(escape) else graph.to_map(cells)
         plan = Plan(path=model.map.cell_to_world(map_cells), cells=map_cells, places=places,
-                    length_m=length, log_prob=result.log_prob,
+                    length_m=path_length(map_cells, model.map.resolution), log_prob=result.log_prob,
                     time_online_s=0.0, time_precompute_s=self.graph.time_precompute_s, instruction=ins,
                     goal_options=options, n_goal_instances=int(inst[S - 1].sum()),
                     node_points=model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes])),

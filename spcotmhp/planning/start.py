@@ -27,7 +27,7 @@ __all__ = ["start_cell"]
 
 def start_cell(model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float]
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """x_0, its crop cell where planning starts, and the escape cells before it: empty unless the start
+    """x_0, its crop cell where planning starts, and the escape (map cells) before it: empty unless the start
     is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
     escape is the shortest run of free cells from the start to the nearest cell of the main free component
     (the planning starts at its end)."""
@@ -61,7 +61,7 @@ def start_cell(model: SpatialConceptModel, graph: PlanningGraph, start: Sequence
     if escape is None:
         raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is "
                            f"reachable from it")
-    return x0, graph.to_crop(escape[-1]), graph.to_crop(escape[:-1])
+    return x0, graph.to_crop(escape[-1]), escape[:-1]
 
 
 def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:

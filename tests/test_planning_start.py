@@ -1,0 +1,68 @@
+"""The start of a plan: typed errors, and the escape from a start within the robot's radius of a wall."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from spcotmhp.datasets import load_bundled
+from spcotmhp.errors import PlanningError, StartBlocked, StartOutsideMap
+from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
+from spcotmhp.planning.planner import HierarchicalPlanner
+
+
+@pytest.fixture(scope="module")
+def home():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = load_bundled("3LDK_01", lang="en")
+    model = fit_supervised(data)
+    return model, HierarchicalPlanner(model), inflate(model.map, **model.costmap)
+
+
+def test_a_start_next_to_a_wall_leaves_it_first_and_says_so(home):
+    model, planner, cm = home
+    inscribed = np.argwhere((cm.costs == INSCRIBED_INFLATED_OBSTACLE) & model.map.free)
+    rng = np.random.default_rng(0)
+    planned = 0
+    for cell in inscribed[rng.choice(len(inscribed), 30, replace=False)]:
+        try:
+            plan = planner.plan("go to the kitchen", model.map.cell_to_world(cell))
+        except StartBlocked:
+            continue                                            # a pocket cut off from every place
+        planned += 1
+        costs = cm.costs[plan.cells[:, 0], plan.cells[:, 1]]
+        clear = np.flatnonzero(costs < INSCRIBED_INFLATED_OBSTACLE)
+        assert (plan.cells[0] == cell).all() and len(clear)
+        assert (costs[clear[0]:] < INSCRIBED_INFLATED_OBSTACLE).all()       # once clear, it stays clear
+        assert clear[0] <= 4                                                  # a few cells at most
+        assert "the path first moves" in plan.explanation
+    assert planned >= 20
+
+
+@pytest.mark.parametrize("start, error", [("wall", StartBlocked), ("unknown", StartBlocked),
+                                          ((1e9, 0.0), StartOutsideMap), ((float("nan"), 1.0), StartOutsideMap),
+                                          ("x", StartOutsideMap), ((10**400, 0), StartOutsideMap)])
+def test_bad_starts_are_typed(home, start, error):
+    model, planner, _ = home
+    if start in ("wall", "unknown"):
+        start = model.map.cell_to_world(np.argwhere(model.map.data == (100 if start == "wall" else -1))[0])
+    with pytest.raises(error) as info:
+        planner.plan("go to the kitchen", start)
+    assert isinstance(info.value, PlanningError) and "\n" not in str(info.value) and len(str(info.value)) < 200
+
+
+def test_metric_fallback_when_the_place_graph_has_no_edge(home):
+    model, _, cm = home
+    import dataclasses
+
+    lone = dataclasses.replace(model, psi=np.eye(model.K) * 0.999 + 0.001 / model.K)
+    planner = HierarchicalPlanner(lone, use_cache=False)
+    assert not np.isfinite(planner.graph.w_hat).any()                        # no edge at all
+    plan = planner.plan("go to the kitchen via the toilet", tuple(model.mu[0]))
+    assert "metric route" in plan.explanation
+    assert (cm.costs[plan.cells[:, 0], plan.cells[:, 1]] < INSCRIBED_INFLATED_OBSTACLE).all()
+    assert [p.role for p in plan.places if p.role != "via"] == ["start", "waypoint", "goal"]
