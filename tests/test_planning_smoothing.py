@@ -51,7 +51,7 @@ TUBE = {"rooms": {"A": (1, 5, 1, 5), "B": (1, 15, 7, 21), "C": (17, 21, 1, 11), 
 def planners(spec: dict, **kw) -> tuple[HierarchicalPlanner, HierarchicalPlanner]:
     model = make_home(**spec)
     log_p = home_log_p(model.map)
-    raw_kw = {k: v for k, v in kw.items() if k == "first_step_adjacent"}
+    raw_kw = {k: v for k, v in kw.items() if k == "adjacent_only"}
     return (HierarchicalPlanner(model, log_p=log_p, use_cache=False, **kw),
             HierarchicalPlanner(model, log_p=log_p, use_cache=False, smooth=False, **raw_kw))
 
@@ -68,9 +68,9 @@ def check_cells(planner: HierarchicalPlanner, cells: np.ndarray, start) -> None:
 
 
 def test_tube_replanning_takes_the_door_corner_the_old_assembly_missed():
-    # the first step follows the place graph too (first_step_adjacent), so the assembled path runs through the
+    # the first step follows the place graph too (adjacent_only), so the assembled path runs through the
     # living room's centre and smoothing has work to do
-    new, raw = planners(DETOUR, first_step_adjacent=True)
+    new, raw = planners(DETOUR, adjacent_only=True)
     start = (3, 3)                                          # the kitchen's centre
     a = new.plan("go to the bedroom", world(new.model.map, *start))
     b = raw.plan("go to the bedroom", world(raw.model.map, *start))
@@ -93,7 +93,7 @@ def test_tube_replanning_takes_the_door_corner_the_old_assembly_missed():
 
 
 def test_tube_keeps_the_route_that_eq28_chose():
-    new, raw = planners(TUBE, first_step_adjacent=True)
+    new, raw = planners(TUBE, adjacent_only=True)
     model, g = new.model, new.graph
     hall = g.to_map(np.argwhere(g.territory == 3))
     rows, cols = hall[:, 0], hall[:, 1]
@@ -324,8 +324,8 @@ def test_bundled_home_entrance_to_storeroom():
     occ = dataset.map
     entrance, storeroom = (next(p for p in build_places(dataset) if p.name == n) for n in ("entrance", "storeroom"))
     x0 = occ.cell_to_world(np.array(entrance.cell))
-    new = HierarchicalPlanner(model, first_step_adjacent=True).plan("go to the storeroom", x0)
-    raw_planner = HierarchicalPlanner(model, smooth=False, first_step_adjacent=True)
+    new = HierarchicalPlanner(model, adjacent_only=True).plan("go to the storeroom", x0)
+    raw_planner = HierarchicalPlanner(model, smooth=False, adjacent_only=True)
     raw = raw_planner.plan("go to the storeroom", x0)
     via = [p.id for p in raw.places if p.role == "via"]
     assert len(raw.node_points) >= 2 and via

@@ -14,8 +14,10 @@ negative sum is the cost of the leg under the step cost ``log|A| - log p(x|m)``,
 inflation cost), and the destination's Gaussian at the candidate point the leg ends in. The best leg into node
 j is then the same for every destination place, so one cost-to-go field per node gives
 
-* the partial path from any candidate i of a connected place into j (Eq. 27) and ``w_hat[i, j] =
-  -field_j[cell_i] + log N(x_j | mu_b, Sigma_b)``;
+* the partial path from any candidate i into j (Eq. 27) and ``w_hat[i, j] = -field_j[cell_i] + log N(x_j |
+  mu_b, Sigma_b)``, between every pair of candidates (Algorithm 1, line 3: "a graph between the waypoint
+  candidates for all nodes"; ``w_hat_metric``, ``log_transition_all``) and restricted to Figure 3's connected
+  places (``w_hat``, ``log_transition``: the reference code's graph, which HPP-I/II use);
 * the start leg from *any* start pose x_0 to j (``-field_j[x_0] + log N(x_j | ...)``), which makes online
   planning from any start a table look-up (the reference code ran an exhaustive grid search per query).
 
@@ -141,6 +143,7 @@ class PlanningGraph:
     connected: np.ndarray            # (K, K) connected places
     time_precompute_s: float
     territory: np.ndarray | None = None   # (h, w) place of each traversable cell (-1 elsewhere)
+    log_transition_all: np.ndarray = field(default_factory=lambda: np.empty(0))   # log_transition, any two nodes
     main: np.ndarray | None = None        # (h, w) the largest free component (where the nodes are)
     _territories: dict = field(default_factory=dict, repr=False)   # place -> (row, col, grown mask)
     _map_cost: np.ndarray | None = field(default=None, repr=False)
@@ -247,6 +250,8 @@ class PlanningGraph:
             log_psi = self.model.log_psi()[self.node_place[:, None], self.node_place[None, :]]
         log_ur = self.model.log_unigram_rescaling()[self.node_place]
         self.log_transition = np.where(np.isfinite(self.w_hat), log_psi - log_ur[None, :] + self.w_hat, -np.inf)
+        self.log_transition_all = np.where(np.isfinite(self.w_hat_metric), log_psi - log_ur[None, :] + self.w_hat_metric,
+                                           -np.inf)
         self._paths = {}
 
     # ---- queries ---------------------------------------------------------------------------------------

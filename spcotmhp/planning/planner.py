@@ -5,20 +5,21 @@ Offline (lines 1-7): :class:`~spcotmhp.planning.graph.PlanningGraph`. Online, fo
 * line 9: understand the instruction (:mod:`spcotmhp.planning.instructions`);
 * line 10: the start place i_0 is the posterior p(i_0 | x_0) over places, not only the nearest mean; it enters
   the first step of Eq. 28 through the predictive transition log sum_k p(k | x_0) psi[k, i_1] (i_0 is
-  marginalised, as the sum over i_e of Eq. 24). The first leg is a free-space path from x_0 itself (read from
-  the precomputed field of its node), so it may head for any place: where it crosses other places, the
-  explanation names them. (With ``first_step_adjacent`` the first place must be a plausible start place or
-  connected to one, as every later step is: measured on random starts in the bundled homes this ended up to
-  1.1 m farther than the nearest instance of a shared name, because the leg then runs through a neighbour's
-  candidate point.) A start within the robot's radius of an obstacle (free on the map, inscribed in the cost
-  map) first leaves it along the shortest run of free cells, and the plan says so;
+  marginalised, as the sum over i_e of Eq. 24). Every step, the first included, may go from any candidate to
+  any other (Algorithm 1, line 3 builds the graph "for all nodes"), with Mult(i_e | psi_{i_{e-1}}) as Eq. 28's
+  transition factor: legs are free-space paths, and where one crosses other places, the explanation names them.
+  (With ``adjacent_only`` steps go only between Figure 3's connected places, as in the reference code: the legs
+  then run through the candidate points of the places in between, and the instance of a shared name is chosen
+  by those detours, not by the path the robot drives; the README gives the measurements.) A start within the
+  robot's radius of an obstacle (free on the map, inscribed in the cost map) first leaves it along the shortest
+  run of free cells, and the plan says so;
 * line 11: the exact joint search of Eq. 28 over (stage, candidate) (:mod:`spcotmhp.planning.search`). Stages
   are the waypoints in order, then the goal; each may only be completed at one of its instances
   (:func:`~spcotmhp.planning.places.instance_places`); avoided places get probability zero (their nodes are
-  removed) and their territories are blocked for every metric leg. When the place graph has no sequence that
-  satisfies the instruction but the robot's free space does, the same search runs on the metric graph (any
-  candidate to any other, the transition term dropped) and the explanation says so: the planner never answers
-  "no path" while a free path exists;
+  removed) and their territories are blocked for every metric leg. When no sequence satisfies the instruction
+  under the transition factor (``adjacent_only``, or psi with zeros) but the robot's free space does, the same
+  search runs with the transition term dropped and the explanation says so: the planner never answers "no
+  path" while a free path exists;
 * lines 12-13: the start leg, the partial paths, and the optional smoothing (:mod:`spcotmhp.planning.assemble`):
   every piece between the cells where a stage is completed is re-planned, exactly, under the map term of Eq. 26
   inside the territories of the places it runs through, and kept if shorter; then line-of-sight shortcuts.
@@ -95,8 +96,9 @@ class PlannerSettings(GraphSettings):
 
     steps_per_stage / max_steps: the topological horizon E (max_steps overrides steps_per_stage x stages).
     instance_ratio: instances of a name have p(i | S) >= best / ratio.  start_min_posterior: places with
-    p(i_0 | x_0) at least this are plausible start places (used with first_step_adjacent).  first_step_adjacent:
-    the first place must be a plausible start place or next to one (module docstring).  smooth: Algorithm 1,
+    p(i_0 | x_0) at least this are plausible start places (used with adjacent_only).  adjacent_only: steps go
+    only between connected places and the first from a plausible start place or its neighbours (module
+    docstring; default: between any two candidates).  smooth: Algorithm 1,
     line 13 (tube re-planning, then
     line-of-sight shortcuts; :mod:`~spcotmhp.planning.assemble`).  arrival_quantile: the path ends at its first
     cell inside the goal place's region at this chi-square quantile (None: at the goal's candidate point).
@@ -110,7 +112,7 @@ class PlannerSettings(GraphSettings):
     start_min_posterior: float = 0.01
     smooth: bool = True
     arrival_quantile: float | None = ARRIVAL_QUANTILE
-    first_step_adjacent: bool = False
+    adjacent_only: bool = False
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -221,16 +223,18 @@ class HierarchicalPlanner:
         """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
         (:func:`~spcotmhp.planning.places.instance_places`) and, when some place's name carries all the words
         of the query (or of one of its N-best alternatives), only such places
-        (:func:`~spcotmhp.planning.places.named_places`). Words that each name some place but no place
-        together ("the kitchen bedroom") are refused."""
+        (:func:`~spcotmhp.planning.places.named_places`). Two or more words that are each the whole name of a
+        place but name no place together ("the kitchen bedroom") are refused; otherwise, when no name carries
+        the words (a learned model's labels may merge two names), p(i | S) alone decides."""
         if log_p is None:
             log_p = self.terms.log_place_given_words(query.words)
         inst = instance_places(log_p, self.settings.instance_ratio)
         named = named_places(self.names, query.phrases)
         if named.any():
             return (named & inst) if (named & inst).any() else named
-        carried = [w for w in query.words if any(w in n.split() for n in self.names)]
-        if len(query.phrases) == 1 and len(carried) > 1 and len(carried) == len(query.words):
+        whole = [w for w in query.words if w in self.names]      # words that are a place's whole name
+        if len(query.phrases) == 1 and len(whole) > 1:
+            carried = whole
             raise UnknownPlaceWord(f"no place is called {query.label!r}: " + "; ".join(
                 f"'{w}' names {', '.join(sorted({n for n in self.names if w in n.split()}))}" for w in carried)
                 + "; name one place")
@@ -250,10 +254,11 @@ class HierarchicalPlanner:
         with np.errstate(divide="ignore"):
             log_pred = np.log(posterior @ self.model.psi)                   # log sum_k p(k|x0) psi[k, i_1]
         start = log_pred[nodes] - self.terms.log_ur[nodes] + start_w_hat
-        if self.settings.first_step_adjacent:
-            plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
-            first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
-            start = np.where(first, start, -np.inf)
+        if not self.settings.adjacent_only:
+            return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], int(E))
+        plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
+        first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
+        start = np.where(first, start, -np.inf)
         return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
 
     def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
