@@ -6,7 +6,8 @@ Every reader of a data, map or model file goes through these helpers, so the sam
 * ``load_yaml``: PyYAML's safe loader without anchors or aliases (no "billion laughs" expansion), at most
   ``MAX_DEPTH`` levels of nesting (no ``RecursionError``) and integers of at most ``MAX_INT_DIGITS`` digits (a
   400-digit integer cannot overflow a float later); only plain YAML types are built, nothing is executed.
-* ``load_json``: the same bounds for JSON (``NaN`` and ``Infinity`` refused too).
+* ``load_json`` / ``parse_json``: the same bounds for JSON (``NaN``, ``Infinity`` and numbers beyond a float's
+  range such as ``1e400`` refused too).
 * ``open_image``: only PGM/PPM, PNG and BMP are decoded (never EPS/PS, which would start Ghostscript), after
   checking the pixel count from the header against ``max_map_pixels()`` (no decompression bomb); any decoder
   failure (a corrupt chunk, a truncated file) is one error naming the file.
@@ -164,6 +165,13 @@ def _json_int(text: str) -> int:
     return int(text)
 
 
+def _json_float(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {excerpt(text, 30)} is too large for a float")
+    return value
+
+
 def _json_constant(name: str) -> float:
     raise ValueError(f"{name} is not a number JSON accepts (use a finite number)")
 
@@ -174,7 +182,7 @@ def parse_json(text: str, where: str, error: ErrorType) -> Any:
     if depth > MAX_DEPTH:
         raise error(f"{where} is nested {depth} levels deep; at most {MAX_DEPTH} are accepted")
     try:
-        return json.loads(text, parse_int=_json_int, parse_constant=_json_constant)
+        return json.loads(text, parse_int=_json_int, parse_float=_json_float, parse_constant=_json_constant)
     except json.JSONDecodeError as exc:
         raise error(f"{where} is not valid JSON: {exc.msg} (line {exc.lineno} column {exc.colno})") from None
     except (ValueError, RecursionError) as exc:

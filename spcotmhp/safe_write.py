@@ -49,6 +49,9 @@ def check_output(path: Path, overwrite: bool, inputs: Iterable[Path] = (), error
         raise error(f"{option} {path} is a folder; give a file name")
     if (path.exists() or path.is_symlink()) and not overwrite:
         raise error(f"{option} {path} exists; give --overwrite to replace it, or choose another name")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise error(f"{option} {path}: the folder {folder} does not exist")
     return path
 
 
