@@ -109,3 +109,9 @@ def test_synth_over_a_dataset_needs_overwrite_and_leaves_nothing_stale(dataset, 
     assert _cli("synth", "flat", "--rooms", "3", "--out", target, "--overwrite").exit_code == 0
     assert not (target / "costmap_ros.csv").exists()
     assert _cli("check-dataset", target).exit_code == 0
+
+
+def test_costmap_refuses_absurd_settings_in_one_line(dataset, tmp_path):
+    result = _cli("costmap", dataset / "map.yaml", "--inflation-radius", "1e308", "--out", tmp_path / "x.csv")
+    assert _error_line(result) == "error: cost map setting inflation_radius must be at most 1e+12, got 1e+308"
+    assert not (tmp_path / "x.csv").exists()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -10,6 +11,8 @@ import typer
 
 from spcotmhp.errors import MapError
 from spcotmhp.safe_write import atomic_write, check_output
+
+MAX_SETTING = 1e12      # metres (radii) or 1/metres (scaling): larger values overflow the cell arithmetic
 
 
 def register(app: typer.Typer) -> None:
@@ -46,6 +49,10 @@ def costmap(
     from spcotmhp.metric.costmap import inflate
     from spcotmhp.metric.map_io import load_map, read_map_yaml
 
+    for name, value in (("inscribed_radius", inscribed_radius), ("inflation_radius", inflation_radius),
+                        ("robot_radius", robot_radius), ("cost_scaling_factor", cost_scaling_factor)):
+        if value is not None and math.isfinite(value) and abs(value) > MAX_SETTING:
+            raise MapError(f"cost map setting {name} must be at most {MAX_SETTING:g}, got {value:g}")
     inputs = [map_yaml] + ([read_map_yaml(map_yaml).image] if Path(map_yaml).is_file() else [])
     check_output(out, overwrite, inputs, MapError, "--out")
     if png is not None:
