@@ -302,7 +302,7 @@ def test_cli_unwritable_output(tmp_path: Path) -> None:
     result = run_cli("costmap", yaml_path, "--out", str(tmp_path / "missing" / "x.csv"))
     assert result.returncode == 2
     target = tmp_path / "missing" / "x.csv"
-    assert result.stderr.strip() == f"error: cannot write {target}: No such file or directory"
+    assert result.stderr.strip() == f"error: --out {target}: the folder {target.parent} does not exist"
 
 
 # --------------------------------------------------------------------------------- huge inflation radii

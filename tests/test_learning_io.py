@@ -11,6 +11,7 @@ import pytest
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.io import load_model, save_model
+from spcotmhp.learning.model_folder import MANIFEST, manifest_of
 from spcotmhp.learning.supervised import fit_supervised
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
@@ -30,7 +31,8 @@ def saved(model, tmp_path):
 
 
 def test_round_trip(model, saved):
-    assert sorted(p.name for p in saved.iterdir()) == ["arrays.npz", "map.pgm", "map.yaml", "model.json"]
+    assert sorted(p.name for p in saved.iterdir()) == ["arrays.npz", "manifest.json", "map.pgm", "map.yaml",
+                                                       "model.json"]
     back = load_model(saved)
     for name in FIELDS:
         np.testing.assert_array_equal(getattr(back, name), getattr(model, name))
@@ -51,10 +53,17 @@ def test_model_without_features_or_map(model, tmp_path):
     np.testing.assert_array_equal(back.psi, bare.psi)
 
 
+def _reseal(folder):
+    """Rewrite the manifest after a test changed a file on purpose (so the check under test is reached)."""
+    names = sorted(p.name for p in folder.iterdir() if p.is_file() and p.name != MANIFEST)
+    (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")
+
+
 def _rewrite_json(folder, **changes):
     meta = json.loads((folder / "model.json").read_text(encoding="utf-8"))
     meta.update(changes)
     (folder / "model.json").write_text(json.dumps(meta), encoding="utf-8")
+    _reseal(folder)
 
 
 def _rewrite_npz(folder, **arrays):
@@ -64,15 +73,20 @@ def _rewrite_npz(folder, **arrays):
     for k in [k for k, v in arrays.items() if v is None]:
         del data[k]
     np.savez(folder / "arrays.npz", **data)
+    _reseal(folder)
 
 
 def test_missing_folder_and_files(saved, tmp_path):
     with pytest.raises(ModelError, match="does not exist"):
         load_model(tmp_path / "nowhere")
     (saved / "arrays.npz").unlink()
+    with pytest.raises(ModelError, match=r"arrays.npz is listed in manifest.json but missing \(a torn"):
+        load_model(saved)
+    _reseal(saved)
     with pytest.raises(ModelError, match=r"arrays.npz is missing"):
         load_model(saved)
     (saved / "model.json").unlink()
+    _reseal(saved)
     with pytest.raises(ModelError, match=r"model.json is missing"):
         load_model(saved)
 
@@ -80,10 +94,11 @@ def test_missing_folder_and_files(saved, tmp_path):
 @pytest.mark.parametrize("text,message", [
     ("{not json", "is not valid JSON"),
     ('{"format": "something-else"}', "is not a spcotmhp model"),
-    ('{"format": "spcotmhp-model", "format_version": 99}', "format version 99; this spcotmhp reads version 1"),
+    ('{"format": "spcotmhp-model", "format_version": 99}', "format version 99; this spcotmhp reads versions 1, 2"),
 ])
 def test_corrupt_or_foreign_json(saved, text, message):
     (saved / "model.json").write_text(text, encoding="utf-8")
+    _reseal(saved)
     with pytest.raises(ModelError, match=message):
         load_model(saved)
 
@@ -104,6 +119,7 @@ def test_unknown_hyper_parameter(saved):
 def test_truncated_npz(saved):
     data = (saved / "arrays.npz").read_bytes()
     (saved / "arrays.npz").write_bytes(data[: len(data) // 2])
+    _reseal(saved)
     with pytest.raises(ModelError, match="cannot be read as a numpy .npz archive"):
         load_model(saved)
 
@@ -116,7 +132,7 @@ def test_pickled_object_array_is_refused_not_executed(saved, tmp_path):
             return (marker.write_text, ("pwned",))
 
     _rewrite_npz(saved, W=np.array([Evil()], dtype=object))
-    with pytest.raises(ModelError, match="cannot be read as a numpy .npz archive of plain arrays"):
+    with pytest.raises(ModelError, match="W has dtype object; expected floating-point numbers"):
         load_model(saved)
     assert not marker.exists()
 
@@ -129,11 +145,12 @@ def test_missing_array(saved):
 
 @pytest.mark.parametrize("name,value,message", [
     ("psi", lambda m: m.psi[:, :-1], r"psi has shape \(\d+, \d+\), but model.json"),
-    ("theta", lambda m: m.theta[:, :10], r"theta has shape .* D=365"),
+    ("theta", lambda m: m.theta[:, :10], r"theta has shape \(\d+, 10\), but model.json needs \(\d+, 365\)"),
     ("pi", lambda m: m.pi * 2, "pi must be non-negative with rows summing to 1"),
     ("mu", lambda m: np.full_like(m.mu, np.nan), "mu must hold finite floating-point numbers"),
     ("Sigma", lambda m: -m.Sigma, r"Sigma\[0\] is not positive definite"),
-    ("active_places", lambda m: m.active_places.astype(float), "active_places must be boolean"),
+    ("active_places", lambda m: m.active_places.astype(float), ("active_places has dtype float64; expected "
+                                                               "booleans")),
 ])
 def test_mismatched_arrays(model, saved, name, value, message):
     _rewrite_npz(saved, **{name: value(model)})
@@ -143,6 +160,7 @@ def test_mismatched_arrays(model, saved, name, value, message):
 
 def test_broken_map(saved):
     (saved / "map.pgm").write_bytes(b"P5 garbage")
+    _reseal(saved)
     with pytest.raises(ModelError, match="the model's map cannot be loaded"):
         load_model(saved)
 
@@ -211,9 +229,11 @@ def test_repeated_word_is_refused(saved):
 @pytest.mark.parametrize("costmap,message", [
     ({"inflation_radius": 1.0, "robot_size": 3},
      r"unknown cost map setting\(s\) robot_size in \"costmap\" \(known: inscribed_radius, inflation_radius"),
-    ({"inflation_radius": -1.0}, r"\"costmap.inflation_radius\" must be a finite number >= 0, got -1.0"),
-    ({"cost_scaling_factor": "steep"}, r"\"costmap.cost_scaling_factor\" must be a finite number >= 0, got 'steep'"),
-    ({"inscribed_radius": True}, r"\"costmap.inscribed_radius\" must be a finite number >= 0, got True"),
+    ({"inflation_radius": -1.0}, r"\"costmap.inflation_radius\" must be a finite number in 0..10000, got -1.0"),
+    ({"inflation_radius": 1e308}, r"\"costmap.inflation_radius\" must be a finite number in 0..10000, got 1e\+308"),
+    ({"cost_scaling_factor": "steep"}, (r"\"costmap.cost_scaling_factor\" must be a finite number in 0..1e\+06, "
+                                       r"got 'steep'")),
+    ({"inscribed_radius": True}, r"\"costmap.inscribed_radius\" must be a finite number in 0..10000, got True"),
     ({"track_unknown_space": 1}, r"\"costmap.track_unknown_space\" must be true or false, got 1"),
 ])
 def test_cost_map_settings_are_checked(saved, costmap, message):
@@ -225,7 +245,8 @@ def test_cost_map_settings_are_checked(saved, costmap, message):
 def test_non_finite_cost_map_setting(saved):
     (saved / "model.json").write_text((saved / "model.json").read_text(encoding="utf-8").replace(
         '"inflation_radius": 1.0', '"inflation_radius": Infinity'), encoding="utf-8")
-    with pytest.raises(ModelError, match=r"\"costmap.inflation_radius\" must be a finite number >= 0, got inf"):
+    _reseal(saved)
+    with pytest.raises(ModelError, match=r"model.json is not accepted: Infinity is not a number JSON accepts"):
         load_model(saved)
 
 
@@ -234,7 +255,7 @@ def test_non_finite_cost_map_setting(saved):
     ("gamma", -0.1, r"hyper-parameter gamma must be a finite number > 0, got -0.1"),
     ("beta", 0, r"hyper-parameter beta must be a finite number > 0, got 0"),
     ("omega", None, r"hyper-parameter omega must be a finite number > 0, got None"),
-    ("kappa0", 1e400, r"hyper-parameter kappa0 must be a finite number > 0, got inf"),
+    ("kappa0", 1e400, r"model.json is not accepted: Infinity is not a number JSON accepts"),
     ("nu0", 1, r"hyper-parameter nu0 must be a finite number > 1"),
     ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
     ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
@@ -278,6 +299,7 @@ def test_map_image_outside_the_model_folder_is_refused(saved, tmp_path):
     (tmp_path / "secret.pgm").write_bytes((saved / "map.pgm").read_bytes())
     yaml_text = (saved / "map.yaml").read_text(encoding="utf-8").replace("image: map.pgm", "image: ../secret.pgm")
     (saved / "map.yaml").write_text(yaml_text, encoding="utf-8")
+    _reseal(saved)
     with pytest.raises(ModelError, match=r"the image of map.yaml must be a file inside the model folder"):
         load_model(saved)
 
@@ -297,7 +319,7 @@ def test_psi_learned_round_trip_and_checks(model, tmp_path):
     with pytest.raises(ModelError, match=r"psi_learned has shape \(\d+, 2\), but model.json"):
         load_model(tmp_path / "with")
     _rewrite_npz(tmp_path / "with", psi_learned=None, surprise=np.zeros(3))
-    with pytest.raises(ModelError, match=r"holds unknown array\(s\) surprise"):
+    with pytest.raises(ModelError, match=r"holds an unknown member 'surprise.npy'"):
         load_model(tmp_path / "with")
 
 
@@ -308,7 +330,8 @@ def test_unwritable_model_folder_is_a_model_error(model, tmp_path):
         prepare_model_folder("/proc/nope/m")
     with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
         save_model(model, "/proc/nope/m")
-    assert prepare_model_folder(tmp_path / "a" / "b").is_dir()
+    assert prepare_model_folder(tmp_path / "a" / "b") == tmp_path / "a" / "b"     # checked, not created
+    assert (tmp_path / "a").is_dir() and not (tmp_path / "a" / "b").exists()
 
 
 def test_predict_assignments_with_a_zero_in_w_and_the_one_word_likelihood():

@@ -240,8 +240,8 @@ def test_missing_required_key(tmp_path: Path, key: str) -> None:
 @pytest.mark.parametrize("key, value, message", [
     ("image", "", "key 'image' must be a non-empty file name"),
     ("image", 12, "key 'image' must be a non-empty file name"),
-    ("resolution", 0, "key 'resolution' must be a positive number, got 0"),
-    ("resolution", -0.05, "key 'resolution' must be a positive number"),
+    ("resolution", 0, r"key 'resolution' must be a number of metres per cell in 0.0001..1000, got 0"),
+    ("resolution", -0.05, "key 'resolution' must be a number of metres per cell"),
     ("resolution", "fine", "key 'resolution' must be a finite number, got 'fine'"),
     ("resolution", float("nan"), "key 'resolution' must be a finite number"),
     ("resolution", True, "key 'resolution' must be a finite number"),
@@ -273,7 +273,7 @@ def test_missing_image(tmp_path: Path) -> None:
     with pytest.raises(MapError, match=r"map image .*gone\.pgm does not exist"):
         load_map(path)
     path = write_yaml(tmp_path, {"image": "/elsewhere/gone.pgm", **BASE})
-    with pytest.raises(MapError, match=r"image /elsewhere/gone\.pgm does not exist, nor does .*gone\.pgm"):
+    with pytest.raises(MapError, match=r"image '/elsewhere/gone\.pgm' does not exist, nor does gone\.pgm"):
         load_map(path)
 
 
@@ -287,11 +287,11 @@ def test_unreadable_image(tmp_path: Path) -> None:
 
 
 def test_unsupported_pixel_formats(tmp_path: Path) -> None:
-    Image.fromarray(np.array([[0.5]], dtype=np.float32), mode="F").save(tmp_path / "f.tif")
-    with pytest.raises(MapError, match=r"f\.tif: unsupported pixel format F"):
-        load_map(write_yaml(tmp_path, {"image": "f.tif", **BASE}))
+    (tmp_path / "f.pfm").write_bytes(b"Pf\n1 1\n-1.0\n" + np.float32(0.5).tobytes())  # float grey, read by PPM
+    with pytest.raises(MapError, match=r"f\.pfm: unsupported pixel format F"):
+        load_map(write_yaml(tmp_path, {"image": "f.pfm", **BASE}))
     Image.fromarray(np.array([[70000]], dtype=np.int32), mode="I").save(tmp_path / "i.tif")
-    with pytest.raises(MapError, match=r"i\.tif: 32-bit images are not supported"):
+    with pytest.raises(MapError, match=r"i\.tif cannot be read as PGM/PPM, PNG, BMP"):   # TIFF is not accepted
         load_map(write_yaml(tmp_path, {"image": "i.tif", **BASE}))
 
 
@@ -406,5 +406,5 @@ def test_save_errors_on_yaw_and_unwritable_folder(tmp_path: Path) -> None:
     with pytest.raises(MapError, match="origin yaw 0.3 is not supported"):
         save_map(m, tmp_path / "x")
     m = OccupancyMap(np.zeros((2, 2), dtype=np.int8), 0.1)
-    with pytest.raises(MapError, match=r"cannot save map to .*nodir/x\.yaml"):
+    with pytest.raises(MapError, match=r"cannot write .*nodir/x\.pgm: No such file"):
         save_map(m, tmp_path / "nodir" / "x")

@@ -44,7 +44,7 @@ def model6(dirs):
 
 @pytest.fixture(scope="module")
 def client(dirs):
-    return TestClient(create_app(dirs))
+    return TestClient(create_app(dirs), base_url="http://localhost")
 
 
 @pytest.fixture(scope="module")
@@ -305,7 +305,7 @@ def test_concurrent_plans_equal_sequential_ones(model6, start):
 
 def test_identical_models_share_one_lock_and_worker(model6):
     a, b = ServedModel.build("a", model6), ServedModel.build("b", model6)
-    assert a.lock is b.lock and a.worker is b.worker
+    assert a.lock is b.lock and a.light is b.light and a.heavy is b.heavy
 
 
 def test_async_plans_run_on_the_graphs_worker_thread(model6, start, monkeypatch):

@@ -372,6 +372,9 @@ def test_plan_cli_audio_errors_are_one_line(model_folder, tmp_path):
     (fake / "pocketsphinx.py").write_text("raise ImportError('no pocketsphinx here')\n")
     wav = tmp_path / "x.wav"
     wav.write_bytes(_wav_bytes(_tone(RATE).astype(np.int16), RATE))
-    out = _plan_cli(str(model_folder), "--audio", str(wav), "--start", "0", "0", env={"PYTHONPATH": str(fake)})
+    import os  # the fake module first, then the spcotmhp under test
+
+    path = os.pathsep.join([str(fake), *filter(None, [os.environ.get("PYTHONPATH")])])
+    out = _plan_cli(str(model_folder), "--audio", str(wav), "--start", "0", "0", env={"PYTHONPATH": path})
     assert out.returncode == 2
     assert out.stderr.strip() == "error: speech input needs pocketsphinx: pip install 'spcotmhp[speech]'"

@@ -309,10 +309,24 @@ def test_write_dataset_refuses_a_file(tmp_path):
 def test_write_dataset_to_a_folder_that_cannot_be_made(tmp_path):
     with pytest.raises(DatasetError, match=r"cannot write the dataset to /proc/nope/d: "):
         write_dataset(generate_environment("flat"), "/proc/nope/d")
-    # a folder that exists but whose files cannot be written: a teaching.csv that is a folder
-    (tmp_path / "d" / "teaching.csv").mkdir(parents=True)
-    with pytest.raises(DatasetError, match=r"cannot write the dataset to .*/d: Is a directory"):
+    # a folder holding files that are not a dataset's is never replaced, and is left as it was
+    (tmp_path / "d").mkdir()
+    (tmp_path / "d" / "notes.txt").write_text("mine")
+    with pytest.raises(DatasetError, match=r"cannot write a dataset to .*/d: the folder holds files that are not a "
+                                           r"dataset's \(notes.txt\)"):
         write_dataset(generate_environment("flat"), tmp_path / "d")
+    assert [p.name for p in (tmp_path / "d").iterdir()] == ["notes.txt"]
+
+
+def test_write_dataset_replaces_a_dataset_whole_and_only_when_asked(tmp_path):
+    folder = write_dataset(generate_environment("flat", seed=1), tmp_path / "d")
+    (folder / "costmap_ros.csv").write_text("0\n")           # a stale extra of the old dataset
+    with pytest.raises(DatasetError, match=r"already holds a dataset; give --overwrite"):
+        write_dataset(generate_environment("flat", seed=2), folder, overwrite=False)
+    write_dataset(generate_environment("flat", seed=2), folder, overwrite=True)
+    assert not (folder / "costmap_ros.csv").exists()
+    assert load_dataset(folder).n_events == generate_environment("flat", seed=2).n_events
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]      # no staging folder left
 
 
 def test_synth_command_reports_an_unwritable_folder_in_one_line():

@@ -104,13 +104,18 @@ def synth(
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     word_noise: Annotated[float, typer.Option("--word-noise", help="share of place words replaced")] = 0.0,
     events_per_room: Annotated[int, typer.Option("--events-per-room")] = 15,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help=(
+        "Replace the dataset already in --out (a folder holding anything else is never replaced)."))] = False,
 ) -> None:
-    """Generate a seeded synthetic environment (floor plan + teaching walk) as a dataset folder."""
-    from spcotmhp.datasets.synthetic import generate_environment, write_dataset
+    """Generate a seeded synthetic environment (floor plan + teaching walk) as a dataset folder.
 
+    --out must be a new or empty folder, or with --overwrite a dataset folder, which is replaced whole."""
+    from spcotmhp.datasets.synthetic import check_dataset_target, generate_environment, write_dataset
+
+    check_dataset_target(out, overwrite)        # before generating
     d = generate_environment(kind, seed=seed, n_rooms=rooms, size=size, word_noise=word_noise,
                              events_per_room=events_per_room)
-    path = write_dataset(d, out)
+    path = write_dataset(d, out, overwrite=overwrite)
     typer.echo(f"wrote {path}: {d.n_events} events, {len(d.place_names or [])} places, "
                f"map {_map_size(d)}, trajectory {0 if d.trajectory is None else len(d.trajectory)} poses")
 

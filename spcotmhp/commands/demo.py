@@ -16,6 +16,7 @@ import numpy as np
 import typer
 
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
+from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output
 
 DEMO_INSTRUCTION = "go to the bedroom via the corridor"
 
@@ -130,14 +131,20 @@ def demo(
     iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
     supervised: Annotated[bool, typer.Option(help="Skip the unsupervised learner: fit from the truth labels.")]
     = False,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace the outputs of an earlier demo in --out.")]
+    = False,
 ) -> None:
     """Learn a bundled home's map, plan "go to the bedroom via the corridor", print the explanation, draw it."""
     from spcotmhp.commands.learning import load_dataset_arg
-    from spcotmhp.learning.io import save_model
+    from spcotmhp.learning.io import check_target, save_model
     from spcotmhp.planning.planner import HierarchicalPlanner
     from spcotmhp.viz.draw import render
     from spcotmhp.viz.plan import draw_plan
 
+    if out.is_dir():                # the outputs of an earlier demo are replaced only with --overwrite
+        for name in ("plan.png", "map.png", "plan.json"):
+            check_output(out / name, overwrite, (), SpcotmhpError, "--out")
+        check_target(out / "model", overwrite)
     t0 = time.perf_counter()
     with _progress() as bar:
         with _step(bar, f"loading {home}"), warnings.catch_warnings():
@@ -156,13 +163,13 @@ def demo(
         with _step(bar, "drawing"):
             try:
                 out.mkdir(parents=True, exist_ok=True)
-                model_dir = save_model(model, out / "model")
-                plan_png = draw_plan(plan, model, out / "plan.png")
-                map_png = render(model.map, out / "map.png", model=model,
-                                 title=f"learned map of {data.name}: places, names and edges")
-                (out / "plan.json").write_text(plan.to_json(indent=1), encoding="utf-8")
             except OSError as exc:
                 raise SpcotmhpError(f"cannot write the demo output to {out}: {exc.strerror or exc}") from None
+            model_dir = save_model(model, out / "model", overwrite=overwrite)
+            plan_png = atomic_write(out / "plan.png", lambda tmp: draw_plan(plan, model, tmp))
+            map_png = atomic_write(out / "map.png", lambda tmp: render(
+                model.map, tmp, model=model, title=f"learned map of {data.name}: places, names and edges"))
+            atomic_write_text(out / "plan.json", plan.to_json(indent=1))
     n_places = int(model.active_places.sum())
     typer.echo(f"home:        {data.name} ({len(data.positions)} teaching utterances, lang {data.lang})")
     typer.echo(f"model:       {chosen.method}, {n_places} places: {chosen.reason}")
@@ -181,11 +188,16 @@ def show(
     png: Annotated[Path | None, typer.Option("--png", help="Draw the learned map to this PNG file.")] = None,
     ids: Annotated[bool, typer.Option("--ids", help="Add the place ids to the labels in the picture.")] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print the places and edges as JSON.")] = False,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --png file.")] = False,
 ) -> None:
     """List a learned model's places (label, mean, spread) and topological edges; --png draws the map."""
     from spcotmhp.learning.io import load_model
     from spcotmhp.viz.labels import place_display_labels
 
+    if png is not None:
+        from spcotmhp.commands.planning import input_files
+
+        check_output(png, overwrite, input_files(model_dir), SpcotmhpError, "--png")
     model = load_model(model_dir)
     labels = place_display_labels(model)
     edges = _edges(model)
@@ -195,11 +207,8 @@ def show(
             raise SpcotmhpError(f"{model_dir}: the model has no map to draw")
         from spcotmhp.viz.draw import render
 
-        try:
-            render(model.map, png, model=model, names=place_display_labels(model, ids=ids),
-                   title=f"learned map ({model_dir}): {len(act)} places")
-        except OSError as exc:
-            raise SpcotmhpError(f"cannot write {png}: {exc.strerror or exc}") from None
+        atomic_write(png, lambda tmp: render(model.map, tmp, model=model, names=place_display_labels(model, ids=ids),
+                                             title=f"learned map ({model_dir}): {len(act)} places"))
     if as_json:
         places = [{"id": k, "label": labels[k], "mean": model.mu[k].round(4).tolist(),
                    "covariance": model.Sigma[k].round(6).tolist()} for k in act]

@@ -121,8 +121,13 @@ def learn(
     max_concepts: Annotated[int | None, typer.Option(min=1, help="Truncation L of the concept DP (default 20).")]
     = None,
     jobs: Annotated[int | None, typer.Option(min=1, help="Worker processes for the runs (default 1).")] = None,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help=(
+        "Replace the model already in --out (a folder holding anything else is never replaced)."))] = False,
 ) -> None:
-    """Learn spatial concepts and places from a dataset and save the model."""
+    """Learn spatial concepts and places from a dataset and save the model.
+
+    --out must be a new or empty folder, or with --overwrite a model folder; it is written whole or not at all
+    (the previous model stays loadable until the new one is complete), never onto the dataset itself."""
     from spcotmhp.learning.io import prepare_model_folder, save_model
 
     weight = parse_feature_weight(feature_weight)
@@ -135,7 +140,9 @@ def learn(
             raise ModelError(f"--connectivity must be one of {', '.join(SUPERVISED_CONNECTIVITY)} with "
                              f"--supervised, got {connectivity!r}")
     data = load_dataset_reporting(dataset, lang)
-    prepare_model_folder(out)            # a bad --out fails now, not after the fit
+    if data.path is not None and _overlaps(out, Path(data.path)):
+        raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
+    prepare_model_folder(out, overwrite)     # a bad --out fails now, not after the fit
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
 
@@ -146,10 +153,19 @@ def learn(
         model, summary = _fit_gibbs(data, runs or 10, iterations or 100, seed or 0, not no_replay, gmm,
                                     criterion or "mutual_information", connectivity, features, weight,
                                     max_places or 20, max_concepts or 20, jobs or 1)
-    save_model(model, out)
+    save_model(model, out, overwrite=overwrite)
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
+
+
+def _overlaps(out: Path, folder: Path) -> bool:
+    """Whether the folder ``out`` is ``folder`` or one of its parents (replacing it would replace ``folder``)."""
+    from spcotmhp.safe_write import same_file
+
+    target = Path(out).resolve()
+    here = folder.resolve()
+    return same_file(Path(out), folder) or here.is_relative_to(target)
 
 
 def _fit_gibbs(data: Dataset, runs: int, iterations: int, seed: int, replay: bool, gmm: bool, criterion: str,

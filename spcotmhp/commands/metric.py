@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -9,6 +10,9 @@ import numpy as np
 import typer
 
 from spcotmhp.errors import MapError
+from spcotmhp.safe_write import atomic_write, check_output
+
+MAX_SETTING = 1e12      # metres (radii) or 1/metres (scaling): larger values overflow the cell arithmetic
 
 
 def register(app: typer.Typer) -> None:
@@ -34,14 +38,25 @@ def costmap(
         bool, typer.Option(help="Keep unknown cells as NO_INFORMATION (-1 in the output) instead of free.")
     ] = False,
     png: Annotated[Path | None, typer.Option(help="Also draw the cost map to this PNG file.")] = None,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace existing output files.")] = False,
 ) -> None:
     """Inflate a map as ROS costmap_2d does and write the published 0..100 OccupancyGrid as CSV.
 
     Rows are in OccupancyGrid order (row 0 is the row at the map origin), comma-separated, one row per line.
+    Existing files are replaced only with --overwrite, the map's own files never; each file is written whole
+    or not at all.
     """
     from spcotmhp.metric.costmap import inflate
-    from spcotmhp.metric.map_io import load_map
+    from spcotmhp.metric.map_io import load_map, read_map_yaml
 
+    for name, value in (("inscribed_radius", inscribed_radius), ("inflation_radius", inflation_radius),
+                        ("robot_radius", robot_radius), ("cost_scaling_factor", cost_scaling_factor)):
+        if value is not None and math.isfinite(value) and abs(value) > MAX_SETTING:
+            raise MapError(f"cost map setting {name} must be at most {MAX_SETTING:g}, got {value:g}")
+    inputs = [map_yaml] + ([read_map_yaml(map_yaml).image] if Path(map_yaml).is_file() else [])
+    check_output(out, overwrite, inputs, MapError, "--out")
+    if png is not None:
+        check_output(png, overwrite, inputs + [out], MapError, "--png")
     cost_map = inflate(
         load_map(map_yaml),
         inscribed_radius=inscribed_radius,
@@ -51,12 +66,9 @@ def costmap(
         robot_radius=robot_radius,
     )
     grid = cost_map.to_occupancy_grid()
-    try:
-        write_grid_csv(grid, out)
-        if png is not None:
-            draw_cost_map(grid, cost_map.map.unknown, png)
-    except OSError as exc:
-        raise MapError(f"cannot write {exc.filename or out}: {exc.strerror or exc}") from None
+    atomic_write(out, lambda tmp: write_grid_csv(grid, tmp), MapError)
+    if png is not None:
+        atomic_write(png, lambda tmp: draw_cost_map(grid, cost_map.map.unknown, tmp), MapError)
     typer.echo(f"wrote {out} ({grid.shape[0]} rows x {grid.shape[1]} columns)", err=True)
 
 

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
 from spcotmhp.errors import InstructionError, SpcotmhpError
+from spcotmhp.safe_read import excerpt, parse_json
+from spcotmhp.safe_write import atomic_write, check_output
+
+MAX_NBEST_BYTES = 256 * 1024
 
 
 def register(app: typer.Typer) -> None:
@@ -39,6 +42,7 @@ def plan_command(
         "the places passed, then line-of-sight shortcuts; never longer."))] = True,
     max_steps: Annotated[int | None, typer.Option(
         min=1, help="Topological horizon E (default 10 per waypoint/goal).")] = None,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --png file.")] = False,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
     from spcotmhp.learning.io import load_model
@@ -51,6 +55,8 @@ def plan_command(
     if len(given) != 1:
         raise typer.BadParameter("give exactly one of INSTRUCTION, --nbest FILE or --audio FILE"
                                  + (f" (got {' and '.join(given)})" if given else ""))
+    if png is not None:
+        check_output(png, overwrite, input_files(model_dir, nbest, audio), SpcotmhpError, "--png")
     source: Any = instruction if nbest is None else read_nbest(nbest)
     model = load_model(model_dir)
     if audio is not None:
@@ -60,16 +66,22 @@ def plan_command(
     if png is not None:
         from spcotmhp.viz.plan import draw_plan
 
-        try:
-            draw_plan(plan, model, png)
-        except OSError as exc:
-            raise SpcotmhpError(f"cannot write {png}: {exc.strerror or exc}") from None
+        atomic_write(png, lambda tmp: draw_plan(plan, model, tmp), SpcotmhpError)
     if as_json:
         typer.echo(plan.to_json())
     else:
         typer.echo(plan.explanation)
         typer.echo(f"log p = {plan.log_prob:.2f}; planned in {plan.time_online_s * 1e3:.2f} ms "
                    f"(precomputation {plan.time_precompute_s:.2f} s)", err=True)
+
+
+def input_files(model_dir: Path, *files: Path | None) -> list[Path]:
+    """The files a command reads: every file of the model folder, and the other files given (an output must
+    not be one of them: ``plan --png m/model.json`` would destroy the model)."""
+    inputs = [f for f in files if f is not None]
+    if Path(model_dir).is_dir():
+        inputs += [p for p in Path(model_dir).iterdir() if p.is_file()]
+    return inputs
 
 
 def recognise_audio(path: Path, model: Any) -> list[tuple[str, float]]:
@@ -86,12 +98,10 @@ def recognise_audio(path: Path, model: Any) -> list[tuple[str, float]]:
 
 def read_nbest(path: Path) -> list[tuple[str, float]]:
     """An N-best file: a JSON list of [text, score] pairs or {"text": ..., "score": ...} objects."""
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InstructionError(f"cannot read the N-best file {path}: {exc.strerror or exc}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InstructionError(f"the N-best file {path} is not valid JSON: {exc}") from None
+    from spcotmhp.safe_read import read_text
+
+    text = read_text(Path(path), MAX_NBEST_BYTES, "N-best file", InstructionError)
+    data = parse_json(text, f"the N-best file {path}", InstructionError)
     if not isinstance(data, list):
         raise InstructionError(f"the N-best file {path} must hold a JSON list of [text, score] pairs")
     out = []
@@ -99,6 +109,7 @@ def read_nbest(path: Path) -> list[tuple[str, float]]:
         if isinstance(item, dict) and set(item) == {"text", "score"}:
             item = [item["text"], item["score"]]
         if not (isinstance(item, list) and len(item) == 2):
-            raise InstructionError(f"{path}: entry {i} must be [text, score] or {{\"text\", \"score\"}}, got {item!r}")
+            raise InstructionError(f"{path}: entry {i} must be [text, score] or {{\"text\", \"score\"}}, got "
+                                   f"{excerpt(item)}")
         out.append((item[0], item[1]))
     return out

@@ -10,8 +10,7 @@ from typing import Annotated
 import typer
 
 from spcotmhp.errors import ModelError, SpcotmhpError
-
-LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
+from spcotmhp.server.limits import LOCAL_HOSTS  # stdlib only: importable without the server extra
 
 
 class LogLevel(str, Enum):
@@ -48,11 +47,24 @@ def serve(
     host: Annotated[str, typer.Option(help="Interface to listen on (default: this machine only).")] = "127.0.0.1",
     port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port.")] = 8000,
     log_level: Annotated[LogLevel, typer.Option(help="uvicorn log level.")] = LogLevel.info,
+    allowed_host: Annotated[list[str] | None, typer.Option(
+        "--allowed-host", help="A host name clients may address (Host header), repeatable; default localhost, "
+                               "127.0.0.1 and ::1 (plus --host when it is a specific address); '*' allows any.")]
+    = None,
+    time_budget: Annotated[float, typer.Option(
+        min=0.1, max=600, help="Seconds a request may wait for its plan before a 503.")] = 5.0,
+    body_timeout: Annotated[float, typer.Option(
+        min=0.1, max=600, help="Seconds to receive a JSON request body before a 408.")] = 10.0,
 ) -> None:
-    """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /."""
+    """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /.
+
+    Requests must address an allowed host (DNS-rebinding protection); long instructions run on a second
+    planner per model with admission limits, so they cannot starve short ones; the API description at /docs
+    works offline."""
     from rich.console import Console
 
     from spcotmhp.server import create_app
+    from spcotmhp.server.scheduling import Budget
 
     try:
         import uvicorn
@@ -60,14 +72,19 @@ def serve(
         raise SpcotmhpError("serving needs uvicorn: pip install 'spcotmhp[server]'") from None
     console = Console(stderr=True)
     mapping = model_mapping(models)
+    hosts = list(allowed_host or LOCAL_HOSTS)
+    if not allowed_host and host not in LOCAL_HOSTS + ("0.0.0.0", "::"):
+        hosts.append(host)
     with console.status("loading models") as status:
         app = create_app(mapping, progress=lambda name: status.update(
-            f"loading model {name!r} and precomputing its planner"))
+            f"loading model {name!r} and precomputing its planner"), allowed_hosts=hosts,
+            body_timeout=body_timeout, budget=Budget(time_budget=time_budget))
     for name, folder in mapping.items():
         console.print(f"model {name!r}: {folder}")
     if host not in LOCAL_HOSTS:
         console.print(f"[yellow]warning: listening on {host}, reachable from other machines; the service has no "
                       "authentication[/yellow]")
+        console.print(f"allowed hosts (Host header): {', '.join(hosts)}; add names with --allowed-host NAME")
     shown = f"[{host}]" if ":" in host else host
     console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: "
                   "/openapi.json)")

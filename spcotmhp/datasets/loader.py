@@ -13,19 +13,20 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from spcotmhp.datasets.alignment import align_events
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.tables import Table, read_matrix, read_table
 from spcotmhp.errors import DatasetError
-from spcotmhp.metric.map_io import load_map
+from spcotmhp.metric.map_io import load_map, read_map_yaml
 from spcotmhp.metric.maps import OCCUPIED, OccupancyMap
 
 LANGS = ("en", "ja")
 FEATURES_FILE = "image_features_places365.csv"
 TRAJECTORY_TOLERANCE_M = 1.0  # an event further than this from its trajectory pose gets a warning
 MAX_ROW_WARNINGS = 20  # per kind of problem; the rest are summarised in one warning
+MAX_FEATURE = 1e9  # image features are probabilities or counts; larger values are refused (they overflow counts)
+MAX_LABEL = 9999  # place and concept ids in truth.csv (a dataset has at most 10,000 places or concepts)
 
 _EN_WORD = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*")
 
@@ -103,6 +104,7 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     teaching.require(["event", "x", "y", ("words_ja", "words_en")], ["step"])
     _check_sequence(teaching, "event", "event ids")
     positions = np.stack([teaching.floats("x"), teaching.floats("y")], axis=1)
+    _check_extent(teaching, occupancy, positions, image)
     tokens = _tokens(teaching, lang, name)
     _report_cells(teaching, occupancy, positions, image)
 
@@ -133,11 +135,7 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
 def _read_map(yaml_path: Path) -> tuple[OccupancyMap, str]:
     """The map and its image's file name (for messages: "lies in an occupied cell of map.pgm")."""
     occupancy = load_map(yaml_path)
-    try:  # load_map has validated the YAML; this only names the image in messages
-        image = Path(str(yaml.safe_load(yaml_path.read_text(encoding="utf-8"))["image"])).name
-    except (OSError, KeyError, TypeError, yaml.YAMLError):
-        image = yaml_path.name
-    return occupancy, image
+    return occupancy, read_map_yaml(yaml_path).image.name
 
 
 def _check_sequence(table: Table, column: str, what: str) -> np.ndarray:
@@ -201,6 +199,20 @@ def _report_cells(table: Table, occupancy: OccupancyMap, xy: np.ndarray, image: 
             _warn(f"{table.name}: {len(rows) - MAX_ROW_WARNINGS} more points lie {where} (rows {more})")
 
 
+def _check_extent(table: Table, occupancy: OccupancyMap, xy: np.ndarray, image: str) -> None:
+    """Refuse points more than one map size beyond the map (a slightly-off point only gets a warning from
+    :func:`_report_cells`): a coordinate of 1e308 is a corrupt row, and it would overflow the learner."""
+    x0, y0 = occupancy.origin[0], occupancy.origin[1]
+    x1, y1 = x0 + occupancy.width * occupancy.resolution, y0 + occupancy.height * occupancy.resolution
+    margin = max(x1 - x0, y1 - y0, 1.0)
+    far = (xy[:, 0] < x0 - margin) | (xy[:, 0] > x1 + margin) | (xy[:, 1] < y0 - margin) | (xy[:, 1] > y1 + margin)
+    if far.any():
+        i = int(np.flatnonzero(far)[0])
+        raise DatasetError(f"{table.where(i)}: (x, y) = ({xy[i, 0]:.4g}, {xy[i, 1]:.4g}) lies far outside the map "
+                           f"({image} covers x {x0:.2f}..{x1:.2f}, y {y0:.2f}..{y1:.2f}; points more than "
+                           f"{margin:.4g} m beyond it are refused)")
+
+
 def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy: OccupancyMap,
                 image: str) -> tuple[np.ndarray | None, np.ndarray | None]:
     """trajectory.csv (step,x,y) and each event's step: teaching.csv's step column, else the nearest poses
@@ -216,6 +228,7 @@ def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy:
     table.require(["step", "x", "y"])
     _check_sequence(table, "step", "steps")
     trajectory = np.stack([table.floats("x"), table.floats("y")], axis=1)
+    _check_extent(table, occupancy, trajectory, image)
     _report_cells(table, occupancy, trajectory, image, summary=True)
     if teaching.has("step"):
         steps = teaching.ints("step", minimum=0)
@@ -265,12 +278,17 @@ def _truth(folder: Path, teaching: Table, n_places: int | None) -> tuple[np.ndar
         raise DatasetError(f"truth.csv has no row for {len(missing)} of teaching.csv's {n_events} events "
                            f"({listed})")
     place = table.ints("place", minimum=0)
+    concept = table.ints("concept", minimum=0) if table.has("concept") else None
+    for column, ids in (("place", place), ("concept", concept)):
+        if ids is not None and ids.max() > MAX_LABEL:
+            i = int(np.argmax(ids > MAX_LABEL))
+            raise DatasetError(f"{table.where(i)}: {column} {ids[i]} is too large (ids 0..{MAX_LABEL} are accepted)")
     if n_places is not None and place.max() >= n_places:
         i = int(np.argmax(place >= n_places))
         raise DatasetError(f"{table.where(i)}: place {place[i]} is not in places.csv (places 0..{n_places - 1})")
     order = np.argsort(events)
     place = place[order]
-    concept = table.ints("concept", minimum=0)[order] if table.has("concept") else None
+    concept = concept[order] if concept is not None else None
     return place, concept
 
 
@@ -331,6 +349,11 @@ def _features(folder: Path, teaching: Table) -> np.ndarray | None:
         r, c = bad[0]
         raise DatasetError(f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:g}; "
                            "features must be non-negative")
+    bad = np.argwhere(values > MAX_FEATURE)
+    if len(bad):
+        r, c = bad[0]
+        raise DatasetError(f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:.4g}; "
+                           f"features must be at most {MAX_FEATURE:g}")
     return values
 
 

@@ -11,6 +11,7 @@ in their modules; this one joins them and writes the dataset folder layout of ``
 from __future__ import annotations
 
 import csv
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,11 @@ from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, Room, generate_flo
 from spcotmhp.datasets.synthetic_walk import teaching_walk
 from spcotmhp.errors import DatasetError, MapError
 from spcotmhp.metric.map_io import save_map
+from spcotmhp.safe_write import fresh_sibling, swap_folder
+
+DATASET_FILES = ("map.yaml", "map.pgm", "map.png", "map.bmp", "teaching.csv", "trajectory.csv", "truth.csv",
+                 "places.csv", "adjacency.csv", "costmap_ros.csv", "image_features_places365.csv")
+"""The files a dataset folder may hold (spcotmhp/data/README.md); a folder with others is never replaced."""
 
 __all__ = ["Door", "FloorPlan", "Room", "generate_environment", "generate_floor_plan", "teaching_walk",
            "write_dataset"]
@@ -42,8 +48,13 @@ def generate_environment(kind: str = "flat", seed: int = 0, n_rooms: int | None 
     return data
 
 
-def write_dataset(dataset: Dataset, folder: str | Path) -> Path:
+def write_dataset(dataset: Dataset, folder: str | Path, overwrite: bool = True) -> Path:
     """Write ``dataset`` as a dataset folder and return its path.
+
+    The folder is built beside ``folder`` and swapped into place (:func:`spcotmhp.safe_write.swap_folder`):
+    readers see the old dataset or the new one, and no file of an old dataset (a stale costmap_ros.csv) is
+    left behind. ``folder`` must be absent, empty, or (with ``overwrite``) a dataset folder holding only the
+    files of :data:`DATASET_FILES`; anything else is a DatasetError and is left untouched.
 
     Files: map.yaml + map.pgm (Nav2 map_saver, trinary); teaching.csv ``event,x,y,words_ja,words_en[,step]``
     (tokens joined by spaces, the same words, those of ``dataset.lang``, in both words columns: synthetic
@@ -53,19 +64,42 @@ def write_dataset(dataset: Dataset, folder: str | Path) -> Path:
     Python's shortest round-trip repr, so ``load_dataset`` reads back exactly the same numbers.
     """
     out = Path(folder)
-    if out.exists() and not out.is_dir():
-        raise DatasetError(f"cannot write a dataset to {out}: it exists and is not a folder")
+    check_dataset_target(out, overwrite)
     n = dataset.n_events
     if len(dataset.tokens) != n:
         raise DatasetError(f"dataset {dataset.name!r} has {n} positions but {len(dataset.tokens)} token lists")
+    staging = None
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        _write_files(dataset, out)
-    except OSError as exc:
-        raise DatasetError(f"cannot write the dataset to {out}: {exc.strerror or exc}") from None
-    except MapError as exc:
-        raise DatasetError(f"cannot write the dataset to {out}: {exc}") from None
+        staging = fresh_sibling(out, "new")
+        _write_files(dataset, staging)
+        swap_folder(staging, out)
+    except (OSError, MapError) as exc:
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)
+        reason = exc.strerror or exc if isinstance(exc, OSError) else exc
+        raise DatasetError(f"cannot write the dataset to {out}: {reason}") from None
+    except BaseException:
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)
+        raise
     return out
+
+
+def check_dataset_target(out: Path, overwrite: bool) -> None:
+    """DatasetError unless ``out`` is absent, an empty folder, or (with ``overwrite``) a dataset folder."""
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise DatasetError(f"cannot write a dataset to {out}: it exists and is not a folder")
+    present = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
+    if not present:
+        return
+    others = [name for name in present if name not in DATASET_FILES]
+    if others or "teaching.csv" not in present:
+        listed = ", ".join((others or present)[:5])
+        raise DatasetError(f"cannot write a dataset to {out}: the folder holds files that are not a dataset's "
+                           f"({listed}); choose an empty or new folder")
+    if not overwrite:
+        raise DatasetError(f"{out} already holds a dataset; give --overwrite to replace it, or choose another "
+                           "folder")
 
 
 def _write_files(dataset: Dataset, out: Path) -> None:

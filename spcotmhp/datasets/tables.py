@@ -1,5 +1,9 @@
 """Strict CSV reading for dataset folders: every problem becomes a DatasetError naming the file and the
-1-based line number in that file (the line a record starts on), never a traceback."""
+1-based line number in that file (the line a record starts on), never a traceback.
+
+Bounds: a CSV file holds at most ``MAX_CSV_BYTES`` (checked before reading), a field at most Python's csv
+field limit (128 KiB), an integer lies within +-``MAX_INT`` (2**53: exact as a float, no int64 overflow) and
+a number is finite; messages quote at most a short excerpt of an offending cell."""
 
 from __future__ import annotations
 
@@ -11,6 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from spcotmhp.errors import DatasetError
+from spcotmhp.safe_read import excerpt
+
+MAX_CSV_BYTES = 64 * 1024 * 1024
+MAX_INT = 2**53
 
 
 @dataclass
@@ -49,7 +57,8 @@ class Table:
             missing = [show(c, " or ") for c in missing]
             accepted = ", ".join([show(c, " and/or ") for c in required] + [f"[{c}]" for c in optional])
             raise DatasetError(
-                f"{self.name}: missing column(s) {', '.join(missing)}; found {', '.join(self.header) or 'none'};"
+                f"{self.name}: missing column(s) {', '.join(missing)}; found "
+                f"{_short(', '.join(self.header)) or 'none'};"
                 f" accepted: {accepted}"
             )
 
@@ -69,31 +78,48 @@ class Table:
         )
 
 
+def _short(text: str, limit: int = 120) -> str:
+    """``text`` cut to ``limit`` characters (a header of thousands of columns is not repeated in full)."""
+    return text if len(text) <= limit else text[:limit] + f"... ({len(text)} characters)"
+
+
 def parse_float(text: str, where: str) -> float:
     """A finite float, or DatasetError '<where> is 'abc', not a number' / '... not a finite number'."""
     try:
         value = float(text)
     except ValueError:
-        raise DatasetError(f"{where} is {text.strip()!r}, not a number") from None
+        raise DatasetError(f"{where} is {excerpt(text.strip())}, not a number") from None
     if not math.isfinite(value):
-        raise DatasetError(f"{where} is {text.strip()!r}, not a finite number")
+        raise DatasetError(f"{where} is {excerpt(text.strip())}, not a finite number")
     return value
 
 
 def parse_int(text: str, where: str) -> int:
-    """An integer (or an integral float such as '3.0'), else DatasetError."""
+    """An integer (or an integral float such as '3.0') within +-MAX_INT, else DatasetError."""
     try:
-        return int(text)
+        number = int(text) if len(text) <= 40 else None
     except ValueError:
-        pass
-    value = parse_float(text, where)
-    if value != int(value):
-        raise DatasetError(f"{where} is {text.strip()!r}, not an integer")
-    return int(value)
+        number = None
+    if number is None:
+        value = parse_float(text, where)
+        if value != int(value):
+            raise DatasetError(f"{where} is {excerpt(text.strip())}, not an integer")
+        number = int(value)
+    if abs(number) > MAX_INT:
+        raise DatasetError(f"{where} is {excerpt(text.strip())}, out of range (integers must lie within "
+                           f"+-2**53)")
+    return number
 
 
 def _records(path: Path) -> list[tuple[int, list[str]]]:
     """(first line number, fields) of every non-blank record of a UTF-8 CSV file (BOM allowed)."""
+    try:
+        size = path.stat().st_size
+    except OSError as exc:
+        raise DatasetError(f"cannot read {path}: {exc.strerror or exc}") from None
+    if size > MAX_CSV_BYTES:
+        raise DatasetError(f"{path.name} is {size} bytes; at most {MAX_CSV_BYTES} are accepted")
+    reader = None
     try:
         with path.open(newline="", encoding="utf-8-sig") as fh:
             reader = csv.reader(fh)
@@ -106,7 +132,8 @@ def _records(path: Path) -> list[tuple[int, list[str]]]:
     except UnicodeDecodeError as exc:
         raise DatasetError(f"{path.name} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     except csv.Error as exc:
-        raise DatasetError(f"{path.name} line {reader.line_num}: not valid CSV ({exc})") from None
+        line = reader.line_num if reader is not None else 1
+        raise DatasetError(f"{path.name} line {line}: not valid CSV ({exc})") from None
     except OSError as exc:
         raise DatasetError(f"cannot read {path}: {exc.strerror or exc}") from None
     return out
@@ -124,12 +151,14 @@ def read_table(path: Path, what: str) -> Table:
     header = [h.lower() for h in header]
     dupes = sorted({h for h in header if header.count(h) > 1})
     if dupes:
-        raise DatasetError(f"{path.name} line {records[0][0]}: column(s) {', '.join(dupes)} appear twice")
+        raise DatasetError(f"{path.name} line {records[0][0]}: column(s) {_short(', '.join(dupes))} appear "
+                           "twice")
     table = Table(path, header, [], [])
     for line, fields in records[1:]:
         if len(fields) != len(header):
             raise DatasetError(
-                f"{path.name} row {line}: {len(fields)} fields, expected {len(header)} ({','.join(header)})"
+                f"{path.name} row {line}: {len(fields)} fields, expected {len(header)} "
+                f"({_short(','.join(header))})"
             )
         table.rows.append(fields)
         table.lines.append(line)
@@ -163,5 +192,6 @@ def read_matrix(path: Path, allow_header: bool = False) -> tuple[np.ndarray, lis
                 parse_float(text, f"{path.name} row {line} column {j + 1}")
         if not np.isfinite(out[i]).all():
             j = int(np.flatnonzero(~np.isfinite(out[i]))[0])
-            raise DatasetError(f"{path.name} row {line} column {j + 1} is {fields[j]!r}, not a finite number")
+            raise DatasetError(f"{path.name} row {line} column {j + 1} is {excerpt(fields[j])}, not a finite "
+                               "number")
     return out, [line for line, _ in records]

@@ -1,23 +1,30 @@
-"""Saving and loading a learned model as a folder: model.json + arrays.npz (+ map.yaml and its image).
+"""Saving and loading a learned model as a folder: model.json + arrays.npz (+ map.yaml and its image) + manifest.
 
 * ``model.json``: format name and version, sizes, vocabulary, hyper-parameters, cost map settings, info.
 * ``arrays.npz``: mu, Sigma, psi, pi, phi, W, active_places, active_concepts and (when present) theta and
-  psi_learned, written with ``np.savez`` and read with ``allow_pickle=False``: loading a model executes nothing.
+  psi_learned, written with ``np.savez`` and read member by member without numpy's loader (sizes, dtypes and
+  shapes checked before any data is read; :func:`spcotmhp.learning.model_folder.read_npz`): loading a model
+  executes nothing and unpickles nothing.
 * ``map.yaml`` + ``map.pgm``: the occupancy map in the ROS map_server format (``metric.map_io``).
+* ``manifest.json``: the format version and each file's size and SHA-256 (:mod:`spcotmhp.learning.model_folder`).
 
-Every problem on loading (missing file, corrupt JSON or npz, unknown version, arrays that disagree with each
-other or with the vocabulary, probabilities that are not distributions, sizes below 1, a repeated word,
-hyper-parameters or cost map settings that are unknown, not numbers, negative or not finite, an
-``info.feature_weight`` that is not a positive number or null, a map outside the model folder) raises
-``ModelError`` naming the file, the field and what is wrong.
+Saving builds the whole folder beside the target and swaps it into place, so the previous model stays loadable
+until the new one is complete; a folder holding anything but a model's files is never replaced.
+
+Loading checks the manifest first (a torn or altered folder is refused), then every field. Format version 2
+(this one) requires the manifest; folders of version 1 (written before manifests existed) still load, with
+every other check, and are upgraded by saving them again. Every problem on loading (missing file, a file
+leading outside the folder, corrupt JSON or npz, unknown version, sizes over the limits below, arrays that
+disagree with each other or with the vocabulary, probabilities that are not distributions, a Sigma that is
+not symmetric positive definite, means or covariances beyond the limits, a repeated word, hyper-parameters or
+cost map settings that are unknown, not numbers, out of range or not finite, an ``info.feature_weight`` that is
+not a positive number or null) raises ``ModelError`` naming the file, the field and what is wrong.
 """
 
 from __future__ import annotations
 
 import json
-import math
-import tempfile
-import zipfile
+import os
 from dataclasses import asdict, fields
 from pathlib import Path
 
@@ -25,20 +32,37 @@ import numpy as np
 
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.model_folder import check_replaceable, inside, read_npz, verify_manifest, write_folder
 from spcotmhp.metric.costmap import CostMapSettings
 from spcotmhp.metric.map_io import load_map, read_map_yaml, save_map
+from spcotmhp.safe_read import excerpt, finite_number, load_json
+from spcotmhp.safe_write import fresh_sibling
 
 FORMAT = "spcotmhp-model"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+READABLE_VERSIONS = (1, 2)       # 1: before the manifest (still loaded; see the module docstring)
 ARRAYS = ("mu", "Sigma", "psi", "pi", "phi", "W", "active_places", "active_concepts")
 OPTIONAL_ARRAYS = ("theta", "psi_learned")
+MODEL_FILES = ("model.json", "arrays.npz", "map.yaml", "map.pgm", "map.png", "map.bmp")
 POSITIVE_HYPER = ("alpha", "gamma", "beta", "chi", "omega", "kappa0")
 PROB_TOL = 1e-6
+SYMMETRY_TOL = 1e-9              # relative asymmetry of a Sigma accepted (and removed) on loading
+MAX_JSON_BYTES = 16 * 1024 * 1024
+MAX_SIZES = {"K": 10_000, "L": 10_000, "V": 1_000_000, "D": 100_000}
+MAX_ELEMENTS = 32 * 1024 * 1024  # numbers in all arrays together (256 MiB of float64)
+MAX_WORD_CHARS = 256
+MAX_MEAN_M = 1e6                 # |mu| in metres
+MAX_VARIANCE_M2 = 1e12           # Sigma's diagonal in square metres
+MAX_COSTMAP = {"inscribed_radius": 1e4, "inflation_radius": 1e4, "cost_scaling_factor": 1e6}
 
 
-def save_model(model: SpatialConceptModel, folder: str | Path) -> Path:
-    """Write ``model`` to ``folder`` (created if needed; existing model files are replaced); returns the folder."""
-    out = prepare_model_folder(folder)
+def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = True) -> Path:
+    """Write ``model`` to ``folder`` atomically (module docstring) and return the folder.
+
+    An existing model folder is replaced (with ``overwrite=False`` it is a ModelError); a folder that holds
+    files other than a model's is never replaced. Raises ModelError naming the folder and the reason."""
+    out = Path(folder)
+    check_target(out, overwrite)
     arrays = {name: np.asarray(getattr(model, name)) for name in ARRAYS}
     for name in OPTIONAL_ARRAYS:
         if getattr(model, name) is not None:
@@ -54,29 +78,31 @@ def save_model(model: SpatialConceptModel, folder: str | Path) -> Path:
         "map": None if model.map is None else "map.yaml",
         "info": model.info,
     }
-    try:
-        np.savez(out / "arrays.npz", **arrays)
-        (out / "model.json").write_text(json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default),
-                                        encoding="utf-8")
-        if model.map is not None:
-            values = np.unique(model.map.data)
-            mode = "trinary" if np.isin(values, (-1, 0, 100)).all() else "raw"
-            save_map(model.map, out / "map.yaml", mode=mode)
-    except OSError as exc:
-        raise ModelError(f"cannot save the model to {out}: {exc}") from None
-    return out
+    text = json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default)
+    writers = {"arrays.npz": lambda path: np.savez(path, **arrays),
+               "model.json": lambda path: path.write_text(text, encoding="utf-8")}
+    if model.map is not None:
+        values = np.unique(model.map.data)
+        mode = "trinary" if np.isin(values, (-1, 0, 100)).all() else "raw"
+        writers["map.yaml"] = lambda path: save_map(model.map, path, mode=mode)
+    return write_folder(out, writers, MODEL_FILES)
 
 
-def prepare_model_folder(folder: str | Path) -> Path:
-    """Create ``folder`` (and its parents) if needed and check that files can be written in it, so that a
-    command can refuse a bad ``--out`` before a long fit; raises ModelError naming the folder and the reason."""
+def check_target(folder: Path, overwrite: bool) -> None:
+    """ModelError unless ``folder`` can receive a model: absent, empty, or (with ``overwrite``) a model folder."""
+    check_replaceable(folder, MODEL_FILES)
+    if not overwrite and (folder / "model.json").exists():
+        raise ModelError(f"{folder} already holds a model; give --overwrite to replace it, or choose another "
+                         "folder")
+
+
+def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
+    """Check that a model can be saved to ``folder`` (see :func:`save_model`) and that its parent folder is
+    writable, so that a command can refuse a bad ``--out`` before a long fit; creates nothing but the parent."""
     out = Path(folder)
-    if out.exists() and not out.is_dir():
-        raise ModelError(f"cannot save the model to {out}: it exists and is not a folder")
+    check_target(out, overwrite)
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=out):
-            pass
+        fresh_sibling(out, "check").rmdir()
     except OSError as exc:
         raise ModelError(f"cannot save the model to {out}: {exc.strerror or exc}") from None
     return out
@@ -88,28 +114,31 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
     if not root.is_dir():
         raise ModelError(f"model folder {root} does not exist" if not root.exists()
                          else f"{root} is not a folder (a model is a folder with model.json and arrays.npz)")
-    meta = _read_meta(root / "model.json")
-    arrays = _read_arrays(root / "arrays.npz", meta.get("D") is not None)
+    listed = verify_manifest(root)
+    meta = _read_meta(inside(root, "model.json", "model.json"))
+    if listed is None and meta["format_version"] >= 2:
+        raise ModelError(f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
+                         "has: the folder is torn or was altered; save the model again")
+    arrays = read_npz(inside(root, "arrays.npz", "arrays.npz"), _specs(meta), ("psi_learned",))
     model = _assemble(root, meta, arrays)
     if meta.get("map") is not None:
-        yaml_path = _inside(root, meta["map"], "\"map\"")
+        yaml_path = inside(root, meta["map"], "\"map\"")
         try:
-            _inside(root, read_map_yaml(yaml_path).image, f"the image of {meta['map']}")
+            inside(root, os.path.relpath(read_map_yaml(yaml_path).image, root), f"the image of {meta['map']}")
             model.map = load_map(yaml_path)
         except SpcotmhpError as exc:
             raise ModelError(f"{root}: the model's map cannot be loaded: {exc}") from None
     return model
 
 
-def _inside(root: Path, name: object, what: str) -> Path:
-    """``root / name`` when it is a file name inside the model folder ``root``; ModelError otherwise."""
-    if not isinstance(name, (str, Path)) or not str(name).strip():
-        raise ModelError(f"{root / 'model.json'}: {what} must be a file name, got {name!r}")
-    path = root / name
-    if not path.resolve().is_relative_to(root.resolve()):
-        raise ModelError(f"{root / 'model.json'}: {what} must be a file inside the model folder {root}, "
-                         f"got {str(name)!r}")
-    return path
+def _specs(meta: dict) -> dict[str, tuple[tuple[int, ...], str]]:
+    """Expected shape and dtype kinds of every array of ``meta``'s sizes."""
+    K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D")
+    specs = {"mu": (K, 2), "Sigma": (K, 2, 2), "psi": (K, K), "pi": (L,), "phi": (L, K), "W": (L, V),
+             "active_places": (K,), "active_concepts": (L,), "psi_learned": (K, K)}
+    if D is not None:
+        specs["theta"] = (L, D)
+    return {name: (shape, "b" if name.startswith("active") else "f") for name, shape in specs.items()}
 
 
 def _json_default(obj: object) -> object:
@@ -125,15 +154,13 @@ def _json_default(obj: object) -> object:
 def _read_meta(path: Path) -> dict:
     if not path.is_file():
         raise ModelError(f"{path} is missing (a model folder holds model.json and arrays.npz)")
-    try:
-        meta = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ModelError(f"{path} is not valid JSON: {exc}") from None
+    meta = load_json(path, MAX_JSON_BYTES, "model file", ModelError)
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise ModelError(f"{path} is not a spcotmhp model (its \"format\" is not {FORMAT!r})")
     version = meta.get("format_version")
-    if version != FORMAT_VERSION:
-        raise ModelError(f"{path} has format version {version!r}; this spcotmhp reads version {FORMAT_VERSION}")
+    if version not in READABLE_VERSIONS or isinstance(version, bool):
+        raise ModelError(f"{path} has format version {excerpt(version)}; this spcotmhp reads versions "
+                         f"{', '.join(map(str, READABLE_VERSIONS))}")
     for key, kind in (("K", int), ("L", int), ("V", int), ("vocabulary", list), ("hyper", dict),
                       ("costmap", dict), ("info", dict)):
         if not isinstance(meta.get(key), kind) or isinstance(meta.get(key), bool):
@@ -144,19 +171,30 @@ def _read_meta(path: Path) -> dict:
         if meta[key] < 1:
             raise ModelError(f"{path}: \"{key}\" must be >= 1, got {meta[key]} (a model has at least one place, "
                              "one concept and, with features, one feature dimension)")
+    for key, limit in MAX_SIZES.items():
+        if meta.get(key) is not None and meta[key] > limit:
+            raise ModelError(f"{path}: \"{key}\" is {meta[key]}; at most {limit} is accepted")
+    K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D") or 0
+    elements = K * 6 + 2 * K * K + L * (2 + K + V + D)
+    if elements > MAX_ELEMENTS:
+        raise ModelError(f"{path}: sizes K={K}, L={L}, V={V}, D={D or None} need {elements} numbers in arrays.npz; "
+                         f"at most {MAX_ELEMENTS} are accepted")
     if not all(isinstance(w, str) for w in meta["vocabulary"]) or len(meta["vocabulary"]) != meta["V"]:
         raise ModelError(f"{path}: \"vocabulary\" must list V = {meta['V']} words (strings)")
     seen: set[str] = set()
     for j, word in enumerate(meta["vocabulary"]):
         if word in seen:
-            raise ModelError(f"{path}: \"vocabulary\" lists {word!r} twice (again at index {j}); each word must "
-                             "be listed once (it names one column of W)")
+            raise ModelError(f"{path}: \"vocabulary\" lists {excerpt(word)} twice (again at index {j}); each word "
+                             "must be listed once (it names one column of W)")
+        if len(word) > MAX_WORD_CHARS:
+            raise ModelError(f"{path}: \"vocabulary\" word {j} has {len(word)} characters; at most "
+                             f"{MAX_WORD_CHARS} are accepted")
         seen.add(word)
     _check_costmap(path, meta["costmap"])
     weight = meta["info"].get("feature_weight")
     if weight is not None and not _positive(weight):
         raise ModelError(f"{path}: \"info.feature_weight\" must be a positive number, or null for the authors' "
-                         f"counts, got {weight!r}")
+                         f"counts, got {excerpt(weight)}")
     return meta
 
 
@@ -166,12 +204,12 @@ def _positive(value: object) -> bool:
 
 
 def _number(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    return finite_number(value)
 
 
 def _check_costmap(path: Path, raw: dict) -> None:
     """The cost map settings must be fields of CostMapSettings: flags true/false, distances and the scaling
-    factor finite numbers >= 0."""
+    factor finite numbers >= 0 and at most ``MAX_COSTMAP`` (1e4 m, 1e6)."""
     known = {f.name: f for f in fields(CostMapSettings)}
     unknown = sorted(set(raw) - set(known))
     if unknown:
@@ -180,27 +218,10 @@ def _check_costmap(path: Path, raw: dict) -> None:
     for key, value in raw.items():
         if isinstance(known[key].default, bool):
             if not isinstance(value, bool):
-                raise ModelError(f"{path}: \"costmap.{key}\" must be true or false, got {value!r}")
-        elif not (_number(value) and value >= 0):
-            raise ModelError(f"{path}: \"costmap.{key}\" must be a finite number >= 0, got {value!r}")
-
-
-def _read_arrays(path: Path, with_theta: bool) -> dict[str, np.ndarray]:
-    if not path.is_file():
-        raise ModelError(f"{path} is missing (a model folder holds model.json and arrays.npz)")
-    try:
-        with np.load(path, allow_pickle=False) as npz:
-            arrays = {name: npz[name] for name in npz.files}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise ModelError(f"{path} cannot be read as a numpy .npz archive of plain arrays: {exc}") from None
-    needed = ARRAYS + (("theta",) if with_theta else ())
-    extra = sorted(set(arrays) - set(ARRAYS) - set(OPTIONAL_ARRAYS))
-    if extra:
-        raise ModelError(f"{path} holds unknown array(s) {', '.join(extra)}")
-    missing = [name for name in needed if name not in arrays]
-    if missing:
-        raise ModelError(f"{path} lacks the array(s) {', '.join(missing)}")
-    return arrays
+                raise ModelError(f"{path}: \"costmap.{key}\" must be true or false, got {excerpt(value)}")
+        elif not (_number(value) and 0 <= value <= MAX_COSTMAP.get(key, 0)):
+            raise ModelError(f"{path}: \"costmap.{key}\" must be a finite number in 0..{MAX_COSTMAP.get(key, 0):g}, "
+                             f"got {excerpt(value)}")
 
 
 def _assemble(root: Path, meta: dict, arrays: dict[str, np.ndarray]) -> SpatialConceptModel:
@@ -232,15 +253,38 @@ def _assemble(root: Path, meta: dict, arrays: dict[str, np.ndarray]) -> SpatialC
             rows = np.atleast_2d(p)
             if (p < 0).any() or np.abs(rows.sum(axis=1) - 1.0).max() > PROB_TOL:
                 raise ModelError(f"{where}: {name} must be non-negative with rows summing to 1")
-    det = out["Sigma"][:, 0, 0] * out["Sigma"][:, 1, 1] - out["Sigma"][:, 0, 1] * out["Sigma"][:, 1, 0]
-    if (out["Sigma"][:, 0, 0] <= 0).any() or (det <= 0).any():
-        k = int(np.flatnonzero((out["Sigma"][:, 0, 0] <= 0) | (det <= 0))[0])
-        raise ModelError(f"{where}: Sigma[{k}] is not positive definite")
+    out["Sigma"] = _check_gaussians(where, out["mu"], out["Sigma"])
     return SpatialConceptModel(
         mu=out["mu"], Sigma=out["Sigma"], psi=out["psi"], pi=out["pi"], phi=out["phi"], W=out["W"],
         vocabulary=list(meta["vocabulary"]), theta=out.get("theta"), active_places=out["active_places"],
         active_concepts=out["active_concepts"], hyper=_hyper(root / "model.json", meta["hyper"]),
         costmap=dict(meta["costmap"]), info=dict(meta["info"]), psi_learned=out.get("psi_learned"))
+
+
+def _check_gaussians(where: Path, mu: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """Means within +-MAX_MEAN_M; each Sigma symmetric (up to SYMMETRY_TOL relative, then made exactly so),
+    its variances at most MAX_VARIANCE_M2 and positive definite with a condition number of at most 1e12
+    (a covariance planning can invert). Returns the symmetrised Sigma."""
+    if len(mu) and np.abs(mu).max() > MAX_MEAN_M:
+        k = int(np.argmax(np.abs(mu).max(axis=1)))
+        raise ModelError(f"{where}: mu[{k}] = {mu[k].tolist()} lies beyond +-{MAX_MEAN_M:g} m")
+    scale = np.maximum(np.abs(sigma).max(axis=(1, 2)), np.finfo(float).tiny)
+    asym = np.abs(sigma[:, 0, 1] - sigma[:, 1, 0]) / scale
+    if (asym > SYMMETRY_TOL).any():
+        k = int(np.argmax(asym))
+        raise ModelError(f"{where}: Sigma[{k}] is not symmetric ({sigma[k, 0, 1]:.6g} above the diagonal, "
+                         f"{sigma[k, 1, 0]:.6g} below); a covariance must be symmetric")
+    sym = (sigma + np.swapaxes(sigma, 1, 2)) / 2.0
+    if (np.diagonal(sym, axis1=1, axis2=2) > MAX_VARIANCE_M2).any():
+        k = int(np.argmax(np.diagonal(sym, axis1=1, axis2=2).max(axis=1)))
+        raise ModelError(f"{where}: Sigma[{k}] has a variance over {MAX_VARIANCE_M2:g} square metres")
+    eig = np.linalg.eigvalsh(sym) if len(sym) else np.ones((0, 2))
+    bad = (eig[:, 0] <= 0) | (eig[:, 0] < 1e-12 * eig[:, 1])
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise ModelError(f"{where}: Sigma[{k}] is not positive definite (eigenvalues {eig[k, 0]:.3g}, "
+                         f"{eig[k, 1]:.3g}); a covariance must be")
+    return sym
 
 
 def _hyper(path: Path, raw: dict) -> Hyperparameters:

@@ -21,19 +21,23 @@ Nav2 keeps 3 digits), ``negate: 0`` and the thresholds.
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import yaml
-from PIL import Image, UnidentifiedImageError
+from PIL import Image
 
 from spcotmhp.errors import MapError
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.safe_read import check_file_name, excerpt, finite_number, load_yaml, open_image
+from spcotmhp.safe_write import atomic_write
 
 MODES = ("trinary", "scale", "raw")
+MAX_YAML_BYTES = 64 * 1024          # a map_server YAML is a few hundred bytes
+MAX_ORIGIN_M = 1e6                  # |origin x, y| in metres (a map 1000 km from its frame is a mistake)
+MIN_RESOLUTION, MAX_RESOLUTION = 1e-4, 1e3   # metres per cell
 IMAGE_FORMATS = ("pgm", "png", "bmp")
 # grey levels that Nav2's map_saver writes in trinary mode
 SAVE_FREE, SAVE_OCCUPIED, SAVE_UNKNOWN = 254, 0, 205
@@ -77,15 +81,15 @@ def load_map(yaml_path: str | Path) -> OccupancyMap:
 
 
 def read_map_yaml(yaml_path: str | Path) -> MapMetadata:
-    """Parse and validate a map_server YAML file; the image path is resolved (see ``resolve_image_path``)."""
+    """Parse and validate a map_server YAML file; the image path is resolved (see ``resolve_image_path``).
+
+    The file is read with :func:`spcotmhp.safe_read.load_yaml` (at most 64 KiB, no anchors or aliases, bounded
+    nesting and integers); numbers must be finite, ``resolution`` within 1e-4..1e3 m and ``|origin|`` within
+    1e6 m; ``image`` a file name of at most 255 characters without control characters."""
     path = Path(yaml_path)
     if not path.is_file():
         raise MapError(f"map YAML {path} does not exist")
-    try:
-        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        reason = " ".join(str(exc).split())
-        raise MapError(f"map YAML {path} does not parse: {reason}") from None
+    doc = load_yaml(path, MAX_YAML_BYTES, "map YAML", MapError)
     if not isinstance(doc, dict):
         raise MapError(f"map YAML {path} must be a mapping of keys (image, resolution, origin, ...)")
 
@@ -94,18 +98,20 @@ def read_map_yaml(yaml_path: str | Path) -> MapMetadata:
             raise MapError(f"map YAML {path}: required key '{key}' is missing")
         return doc[key]
 
-    image = need("image")
-    if not isinstance(image, str) or not image.strip():
-        raise MapError(f"map YAML {path}: key 'image' must be a non-empty file name, got {image!r}")
+    image = check_file_name(need("image"), f"map YAML {path}: key 'image'", MapError)
     resolution = _number(path, "resolution", need("resolution"))
-    if resolution <= 0:
-        raise MapError(f"map YAML {path}: key 'resolution' must be a positive number, got {resolution!r}")
+    if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
+        raise MapError(f"map YAML {path}: key 'resolution' must be a number of metres per cell in "
+                       f"{MIN_RESOLUTION:g}..{MAX_RESOLUTION:g}, got {excerpt(resolution)}")
     origin = need("origin")
     if not isinstance(origin, (list, tuple)) or len(origin) != 3:
         raise MapError(
-            f"map YAML {path}: key 'origin' must be a list of 3 numbers [x, y, yaw], got {origin!r}"
+            f"map YAML {path}: key 'origin' must be a list of 3 numbers [x, y, yaw], got {excerpt(origin)}"
         )
     ox, oy, yaw = (_number(path, "origin", v) for v in origin)
+    if max(abs(ox), abs(oy)) > MAX_ORIGIN_M:
+        raise MapError(f"map YAML {path}: origin x and y must lie within +-{MAX_ORIGIN_M:g} m, got "
+                       f"[{ox:g}, {oy:g}]")
     if yaw != 0.0:
         raise MapError(
             f"map YAML {path}: origin yaw {yaw!r} is not supported; "
@@ -117,13 +123,13 @@ def read_map_yaml(yaml_path: str | Path) -> MapMetadata:
     elif isinstance(negate, int) and negate in (0, 1):
         negate_flag = bool(negate)
     else:
-        raise MapError(f"map YAML {path}: key 'negate' must be 0, 1, true or false, got {negate!r}")
+        raise MapError(f"map YAML {path}: key 'negate' must be 0, 1, true or false, got {excerpt(negate)}")
     occupied = _number(path, "occupied_thresh", need("occupied_thresh"))
     free = _number(path, "free_thresh", need("free_thresh"))
     _check_thresholds(f"map YAML {path}", occupied, free)
     mode = doc.get("mode", "trinary")
     if not isinstance(mode, str) or mode.lower() not in MODES:
-        raise MapError(f"map YAML {path}: key 'mode' must be one of {', '.join(MODES)}, got {mode!r}")
+        raise MapError(f"map YAML {path}: key 'mode' must be one of {', '.join(MODES)}, got {excerpt(mode)}")
     return MapMetadata(
         image=resolve_image_path(path, image),
         resolution=resolution,
@@ -146,21 +152,19 @@ def resolve_image_path(yaml_path: Path, image: str) -> Path:
     beside = yaml_path.parent / named.name
     if beside.exists():
         return beside
-    raise MapError(f"map YAML {yaml_path}: image {named} does not exist, nor does {beside}")
+    raise MapError(f"map YAML {yaml_path}: image {excerpt(str(named))} does not exist, nor does {beside.name} "
+                   "beside the YAML")
 
 
 def read_image(path: Path) -> tuple[np.ndarray, np.ndarray | None, int]:
     """Read a map image as (channels, alpha, maxval) in image row order: ``channels`` int (H, W, 3) with
-    R, G, B (a grey image repeats its grey value), ``alpha`` int (H, W) or None without alpha, both in
-    0..maxval (255, or 65535 for 16-bit images)."""
-    if not path.is_file():
-        raise MapError(f"map image {path} does not exist")
-    try:
-        with Image.open(path) as img:
-            img.load()
-            return _image_channels(path, img)
-    except (UnidentifiedImageError, OSError, ValueError) as exc:
-        raise MapError(f"map image {path} cannot be read: {exc}") from None
+    R, G, B (a grey image repeats its grey value: a read-only view, not a copy), ``alpha`` int (H, W) or None
+    without alpha, both in 0..maxval (255, or 65535 for 16-bit images).
+
+    Only PGM/PPM, PNG and BMP files are decoded, with at most ``safe_read.max_map_pixels()`` pixels
+    (:func:`spcotmhp.safe_read.open_image`); anything else is a MapError naming the file."""
+    with open_image(path, MapError) as img:
+        return _image_channels(path, img)
 
 
 def _image_channels(path: Path, img: Image.Image) -> tuple[np.ndarray, np.ndarray | None, int]:
@@ -176,15 +180,15 @@ def _image_channels(path: Path, img: Image.Image) -> tuple[np.ndarray, np.ndarra
     elif mode in ("La", "RGBa"):
         img = img.convert(mode.upper()[:-1] + "A")
         mode = img.mode
-    a = np.asarray(img).astype(np.int64)
+    a = np.asarray(img).astype(np.int32)   # int32 holds four 16-bit channels' sum; a quarter of int64's memory
     if mode.startswith("I;16") or mode == "I":
         if a.size and (a.min() < 0 or a.max() > 65535):
             raise MapError(f"map image {path}: 32-bit images are not supported (values beyond 16 bits)")
-        return np.repeat(a[:, :, None], 3, axis=2), None, 65535
+        return np.broadcast_to(a[:, :, None], a.shape + (3,)), None, 65535
     if mode == "L":
-        return np.repeat(a[:, :, None], 3, axis=2), None, 255
+        return np.broadcast_to(a[:, :, None], a.shape + (3,)), None, 255
     if mode == "LA":
-        return np.repeat(a[:, :, :1], 3, axis=2), a[:, :, 1], 255
+        return np.broadcast_to(a[:, :, :1], a.shape[:2] + (3,)), a[:, :, 1], 255
     if mode == "RGB":
         return a, None, 255
     if mode == "RGBA":
@@ -273,11 +277,10 @@ def save_map(
         "occupied_thresh": occupied,
         "free_thresh": free,
     }
-    try:
-        image.save(image_path, format="PPM" if fmt == "pgm" else fmt.upper())
-        yaml_path.write_text(yaml.safe_dump(meta, sort_keys=False, default_flow_style=None), encoding="utf-8")
-    except OSError as exc:
-        raise MapError(f"cannot save map to {yaml_path}: {exc}") from None
+    # each file is written atomically (a temporary renamed into place): a reader never sees half an image
+    atomic_write(image_path, lambda tmp: image.save(tmp, format="PPM" if fmt == "pgm" else fmt.upper()), MapError)
+    text = yaml.safe_dump(meta, sort_keys=False, default_flow_style=None)
+    atomic_write(yaml_path, lambda tmp: tmp.write_text(text, encoding="utf-8"), MapError)
 
     ints = pixels.astype(np.int64)
     rgb = ints[..., :3] if ints.ndim == 3 else np.repeat(ints[:, :, None], 3, axis=2)
@@ -323,8 +326,8 @@ def _magick_grey(level: np.ndarray) -> np.ndarray:
 
 
 def _number(path: Path, key: str, value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise MapError(f"map YAML {path}: key '{key}' must be a finite number, got {value!r}")
+    if not finite_number(value):
+        raise MapError(f"map YAML {path}: key '{key}' must be a finite number, got {excerpt(value)}")
     return float(value)
 
 

@@ -5,8 +5,9 @@
 
 Endpoints: ``POST /plan``, ``POST /plan/audio``, ``GET /places``, ``GET /map.png``, ``GET /map.json``,
 ``GET /models``, ``GET /healthz``, the web page at ``/`` and the OpenAPI schema at ``/openapi.json``
-(modules: ``app`` routes and errors, ``schemas`` bodies, ``registry`` served models, ``limits`` body sizes,
-``static/`` the page).
+(modules: ``app`` routes and errors, ``schemas`` bodies, ``registry`` served models, ``scheduling`` lanes,
+admission and the time budget, ``limits`` body sizes, body timeouts and trusted hosts, ``static/`` the page and
+the offline API description at ``/docs``).
 """
 
 from __future__ import annotations

@@ -3,14 +3,17 @@
 ``create_app({"home": "models/3LDK_06"})`` loads every model, precomputes its planner and draws its map at
 start-up (:mod:`spcotmhp.server.registry`); requests pick a model by name (``?model=`` or the body's
 ``model``), the first one by default. Bad input is a 4xx with a one-line ``detail`` (see :class:`ErrorResponse`):
-413 for oversized bodies (:mod:`spcotmhp.server.limits`), 404 for an unknown model, 422 for invalid fields, an
-instruction naming no known place (with the known ``place_words``), a start in a wall or off the map, no path,
-or audio that is not a usable WAV file.
+413 for oversized bodies (:mod:`spcotmhp.server.limits`), 408 for a body that arrives too slowly, 400 for a
+Host header naming a host that is not allowed (localhost only by default), 404 for an unknown model, 422 for
+invalid fields, an instruction naming no known place (with the known ``place_words``), a start in a wall or off
+the map, no path, or audio that is not a usable WAV file; 503 when the planner is busy or a plan exceeds the
+time budget (:mod:`spcotmhp.server.scheduling`). ``/docs`` is a self-contained page describing the API from
+``/openapi.json`` (no CDN, works offline).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -23,8 +26,17 @@ from starlette.concurrency import run_in_threadpool
 from spcotmhp import __version__
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.server.limits import AUDIO_LIMIT, JSON_LIMIT, BodySizeLimit
+from spcotmhp.server.limits import (
+    AUDIO_LIMIT,
+    AUDIO_TIMEOUT,
+    BODY_TIMEOUT,
+    JSON_LIMIT,
+    LOCAL_HOSTS,
+    BodySizeLimit,
+    TrustedHosts,
+)
 from spcotmhp.server.registry import ServedModel, load_served
+from spcotmhp.server.scheduling import Budget
 from spcotmhp.server.schemas import (
     AudioPlanResponse,
     ErrorResponse,
@@ -38,7 +50,7 @@ from spcotmhp.server.schemas import (
 
 STATIC = Path(__file__).parent / "static"
 ModelQuery = Annotated[str | None, Query(max_length=200, description="Served model name (default: the first).")]
-ERRORS: dict[int | str, dict[str, Any]] = {code: {"model": ErrorResponse} for code in (404, 413, 422)}
+ERRORS: dict[int | str, dict[str, Any]] = {code: {"model": ErrorResponse} for code in (404, 413, 422, 503)}
 
 
 class APIError(Exception):
@@ -50,15 +62,22 @@ class APIError(Exception):
 
 
 def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_limit: int = JSON_LIMIT,
-               audio_limit: int = AUDIO_LIMIT, progress: Callable[[str], None] | None = None) -> FastAPI:
-    """The service for ``models`` (name -> model folder or model; the first is the default)."""
-    served = load_served(models, progress)
+               audio_limit: int = AUDIO_LIMIT, progress: Callable[[str], None] | None = None,
+               allowed_hosts: Sequence[str] = LOCAL_HOSTS, body_timeout: float = BODY_TIMEOUT,
+               audio_timeout: float = AUDIO_TIMEOUT, budget: Budget | None = None) -> FastAPI:
+    """The service for ``models`` (name -> model folder or model; the first is the default).
+
+    ``allowed_hosts``: the host names requests may address (``"*"``: any); ``body_timeout`` /
+    ``audio_timeout``: seconds to receive a body; ``budget``: planning limits (:class:`Budget`)."""
+    served = load_served(models, progress, budget)
     default = next(iter(served))
-    app = FastAPI(title="spcotmhp", version=__version__,
+    app = FastAPI(title="spcotmhp", version=__version__, docs_url=None, redoc_url=None,
                   description="Hierarchical path planning from spoken or written instructions on learned "
                               "topometric semantic maps (SpCoTMHP).")
     app.state.served = served
-    app.add_middleware(BodySizeLimit, default=json_limit, limits={"/plan/audio": audio_limit})
+    app.add_middleware(BodySizeLimit, default=json_limit, limits={"/plan/audio": audio_limit},
+                       timeout=body_timeout, timeouts={"/plan/audio": audio_timeout})
+    app.add_middleware(TrustedHosts, allowed=allowed_hosts)     # added last: runs first
     _add_error_handlers(app)
 
     def pick(name: str | None) -> ServedModel:
@@ -70,6 +89,11 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
     @app.get("/", include_in_schema=False)
     def index() -> FileResponse:
         return FileResponse(STATIC / "index.html", media_type="text/html")
+
+    @app.get("/docs", include_in_schema=False)
+    def docs() -> FileResponse:
+        """The API described from /openapi.json by a page of this package (no CDN: works offline)."""
+        return FileResponse(STATIC / "docs.html", media_type="text/html")
 
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
 
@@ -106,12 +130,15 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
                 "width": sm.image.width, "height": sm.image.height, "resolution": sm.model.map.resolution}
 
     @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
-    async def plan(body: PlanRequest, model: ModelQuery = None) -> dict:
-        """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1)."""
-        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang)
+    async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
+        """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
+        503 when the planner is busy or the plan exceeds the time budget."""
+        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang,
+                           _client(request))
 
     @app.post("/plan/audio", response_model=AudioPlanResponse, responses=ERRORS, tags=["planning"])
     async def plan_audio(
+        request: Request,
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
         start: Annotated[str, Form(description='Start pose "x,y" or "[x, y]" in metres.')],
         model: Annotated[str | None, Form(max_length=200)] = None,
@@ -136,7 +163,7 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
             raise APIError(422, str(exc), place_words=sm.place_words) from None
         except SpcotmhpError as exc:
             raise APIError(501, str(exc)) from None
-        out = await _plan(sm, hypotheses, xy, "en")
+        out = await _plan(sm, hypotheses, xy, "en", _client(request))
         out["hypotheses"] = [{"text": t, "score": s} for t, s in hypotheses]
         return out
 
@@ -150,9 +177,14 @@ def _one_model(query: str | None, body: str | None) -> str | None:
     return body if body is not None else query
 
 
-async def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None) -> dict:
+def _client(request: Request) -> str:
+    """The client's address (the unit of fairness on the heavy lane)."""
+    return request.client.host if request.client is not None else ""
+
+
+async def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None, client: str = "") -> dict:
     try:
-        result = await sm.plan_async(source, start, lang)
+        result = await sm.plan_async(source, start, lang, client)
     except InstructionError as exc:
         raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:

@@ -1,26 +1,66 @@
-"""Bounded request bodies: an ASGI middleware that answers 413 before the application sees an oversized body.
+"""Request guards as ASGI middleware, answering before the application sees a request:
 
-The body is read here (at most ``limit`` bytes; a larger declared Content-Length is refused without reading)
-and replayed to the application, so the limit holds for chunked uploads as well as declared ones.
+* :class:`BodySizeLimit`: bodies over ``limit`` bytes get 413 (a larger declared Content-Length is refused
+  without reading; the body is read here and replayed, so the limit holds for chunked uploads too), and a body
+  that has not fully arrived ``timeout`` seconds after the request started gets 408 (a client trickling
+  2 bytes a second cannot hold a connection and a buffer forever).
+* :class:`TrustedHosts`: a request whose ``Host`` header names a host outside ``allowed`` gets 400 (a web page
+  on another site that rebinds its DNS name to 127.0.0.1 cannot reach the service). ``LOCAL_HOSTS`` by
+  default; ``"*"`` allows any host.
 """
 
 from __future__ import annotations
 
+import asyncio
 import json
-from collections.abc import Mapping
+import time
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 JSON_LIMIT = 64 * 1024
 AUDIO_LIMIT = 5 * 1024 * 1024
+BODY_TIMEOUT = 10.0         # seconds to receive a JSON body
+AUDIO_TIMEOUT = 60.0        # seconds to receive an audio upload
+LOCAL_HOSTS = ("localhost", "127.0.0.1", "::1")
+
+
+class TrustedHosts:
+    """ASGI middleware: HTTP requests must name an allowed host (port ignored) in their Host header."""
+
+    def __init__(self, app: Any, allowed: Iterable[str] = LOCAL_HOSTS) -> None:
+        self.app = app
+        self.allowed = {h.lower().strip("[]") for h in allowed}
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] != "http" or "*" in self.allowed:
+            await self.app(scope, receive, send)
+            return
+        raw = dict(scope.get("headers") or ()).get(b"host", b"").decode("latin-1").strip().lower()
+        if host_name(raw) not in self.allowed:
+            shown = raw[:60] or "(none)"
+            await _answer(send, 400, f"host {shown!r} is not served; allowed hosts: {', '.join(sorted(self.allowed))}"
+                          " (spcotmhp serve --allowed-host NAME adds one)")
+            return
+        await self.app(scope, receive, send)
+
+
+def host_name(header: str) -> str:
+    """The host of a Host header without its port: "localhost:8000" -> localhost, "[::1]:80" -> ::1."""
+    if header.startswith("["):
+        return header[1:].split("]", 1)[0]
+    return header.rsplit(":", 1)[0] if header.count(":") == 1 else header
 
 
 class BodySizeLimit:
     """ASGI middleware: request bodies above ``limits[path]`` (else ``default``) bytes get 413."""
 
-    def __init__(self, app: Any, default: int = JSON_LIMIT, limits: Mapping[str, int] | None = None) -> None:
+    def __init__(self, app: Any, default: int = JSON_LIMIT, limits: Mapping[str, int] | None = None,
+                 timeout: float = BODY_TIMEOUT, timeouts: Mapping[str, float] | None = None) -> None:
         self.app = app
         self.default = default
         self.limits = dict(limits or {})
+        self.timeout = timeout
+        self.timeouts = dict(timeouts or {})
 
     async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
         if scope["type"] != "http" or scope["method"] in ("GET", "HEAD", "OPTIONS"):
@@ -39,8 +79,15 @@ class BodySizeLimit:
                 await _answer(send, 413, _too_large(scope["path"], size, limit))
                 return
         chunks, size = [], 0
+        allowed = self.timeouts.get(scope["path"], self.timeout)
+        deadline = time.monotonic() + allowed
         while True:
-            message = await receive()
+            try:
+                message = await asyncio.wait_for(receive(), max(deadline - time.monotonic(), 0.0))
+            except TimeoutError:
+                await _answer(send, 408, f"request body for {scope['path']} not received within {allowed:g} s "
+                                         f"({size} bytes arrived)")
+                return
             if message["type"] == "http.disconnect":
                 return
             chunk = message.get("body", b"")

@@ -5,7 +5,8 @@ Concurrency: a :class:`~spcotmhp.planning.planner.HierarchicalPlanner` keeps mut
 the avoidance views, an ``OrderedDict`` that is reordered and trimmed on use), and planners of identical models
 share one cached graph. So every planning graph has one lock and one worker thread (shared by every served
 model using it): :meth:`ServedModel.plan` holds the lock, and :meth:`ServedModel.plan_async` runs it on the
-worker, off the event loop. A plan takes about a millisecond of mostly CPU-bound Python (the GIL would serialise
+worker, off the event loop. That is the *light lane*; costly instructions run on a *heavy lane* with a second
+planner of their own, within admission limits and a time budget (:mod:`spcotmhp.server.scheduling`). A plan takes about a millisecond of mostly CPU-bound Python (the GIL would serialise
 it anyway); one worker per graph instead of the web framework's shared pool of 40 threads saves the threads'
 contention for the lock and the GIL (measured with benchmarks/load_test.py: 200 concurrent requests ran at 340
 req/s through the shared pool and at about 420 req/s this way). Requests for different models run in parallel,
@@ -14,12 +15,10 @@ and recognition (the slow part of ``/plan/audio``) runs outside the lock (the re
 
 from __future__ import annotations
 
-import asyncio
 import io
 import re
 import threading
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -30,11 +29,13 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.server.scheduling import Budget, Lane, check_cost, estimate_cost, run_in_lane
 from spcotmhp.viz.draw import MapImage, map_image, place_colours, render, topological_edges
 from spcotmhp.viz.labels import place_display_labels
 
 NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
-_GRAPH_WORKERS: dict[str, tuple[threading.Lock, ThreadPoolExecutor]] = {}   # graph key -> its lock and worker
+_LANES: dict[tuple[str, str], Lane] = {}    # (graph key, "light" or "heavy") -> its lane
+_HEAVY_PLANNERS: dict[str, HierarchicalPlanner] = {}   # graph key -> the heavy lane's own planner
 _LOCKS_GUARD = threading.Lock()
 
 
@@ -48,22 +49,33 @@ class ServedModel:
     planner: HierarchicalPlanner
     labels: list[str]
     image: MapImage
-    lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
-    worker: ThreadPoolExecutor = field(default_factory=lambda: ThreadPoolExecutor(1), repr=False)
+    light: Lane = field(default_factory=lambda: Lane("light", Budget.max_light), repr=False)
+    heavy: Lane = field(default_factory=lambda: Lane("heavy", Budget.max_heavy, Budget.max_heavy_per_client),
+                        repr=False)
+    budget: Budget = field(default_factory=Budget, repr=False)
     _figure: bytes | None = field(default=None, repr=False)
 
+    @property
+    def lock(self) -> threading.Lock:
+        """The light lane's lock (the shared planner's)."""
+        return self.light.lock
+
     @classmethod
-    def build(cls, name: str, model: SpatialConceptModel, source: str = "") -> ServedModel:
+    def build(cls, name: str, model: SpatialConceptModel, source: str = "", budget: Budget | None = None
+              ) -> ServedModel:
         """Precompute the planner (Algorithm 1, lines 1-7) and draw the map picture."""
         if model.map is None:
             raise ModelError(f"model {name!r} ({source}) has no map; the service plans on the model's map")
+        budget = budget or Budget()
         planner = HierarchicalPlanner(model)
+        key = planner.graph.key
         with _LOCKS_GUARD:
-            if planner.graph.key not in _GRAPH_WORKERS:
-                _GRAPH_WORKERS[planner.graph.key] = (threading.Lock(), ThreadPoolExecutor(1, f"plan-{name}"))
-            lock, worker = _GRAPH_WORKERS[planner.graph.key]
+            if (key, "light") not in _LANES:
+                _LANES[key, "light"] = Lane(f"{name}-light", budget.max_light)
+                _LANES[key, "heavy"] = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
+            light, heavy = _LANES[key, "light"], _LANES[key, "heavy"]
         return cls(name, source, model, planner, place_display_labels(model, planner.place_words),
-                   map_image(model), lock, worker)
+                   map_image(model), light, heavy, budget)
 
     @property
     def place_words(self) -> list[str]:
@@ -74,10 +86,28 @@ class ServedModel:
         with self.lock:
             return self.planner.plan(instruction, start, lang)
 
-    async def plan_async(self, instruction: Any, start: Sequence[float], lang: str | None = None) -> Plan:
-        """:meth:`plan` on the graph's worker thread (module docstring)."""
-        loop = asyncio.get_running_loop()
-        return await loop.run_in_executor(self.worker, self.plan, instruction, start, lang)
+    async def plan_async(self, instruction: Any, start: Sequence[float], lang: str | None = None,
+                         client: str = "") -> Plan:
+        """Plan on the light or heavy lane by the instruction's cost, within the budget (module docstring)."""
+        cost = estimate_cost(instruction)
+        check_cost(cost, self.budget)
+        if cost <= self.budget.light_cost:
+            return await run_in_lane(self.light, client, self.budget.time_budget,
+                                     lambda: self.planner.plan(instruction, start, lang))
+        return await run_in_lane(self.heavy, client, self.budget.time_budget,
+                                 lambda: self._heavy_planner().plan(instruction, start, lang))
+
+    def _heavy_planner(self) -> HierarchicalPlanner:
+        """The heavy lane's planner: the same model and settings with a graph of its own (built on first use,
+        on the heavy worker, so that its precomputation never holds up the light lane)."""
+        key = self.planner.graph.key
+        with _LOCKS_GUARD:
+            planner = _HEAVY_PLANNERS.get(key)
+        if planner is None:
+            planner = HierarchicalPlanner(self.model, self.planner.settings, use_cache=False)
+            with _LOCKS_GUARD:
+                planner = _HEAVY_PLANNERS.setdefault(key, planner)
+        return planner
 
     def figure_png(self) -> bytes:
         """The framed picture of the learned map (axes in metres), drawn on first use."""
@@ -106,7 +136,8 @@ class ServedModel:
 
 
 def load_served(models: Mapping[str, str | Path | SpatialConceptModel],
-                progress: Callable[[str], None] | None = None) -> dict[str, ServedModel]:
+                progress: Callable[[str], None] | None = None, budget: Budget | None = None
+                ) -> dict[str, ServedModel]:
     """Build every served model (name -> model folder or model), in order; the first is the default."""
     from spcotmhp.learning.io import load_model
 
@@ -119,7 +150,7 @@ def load_served(models: Mapping[str, str | Path | SpatialConceptModel],
         if progress is not None:
             progress(name)
         if isinstance(item, SpatialConceptModel):
-            out[name] = ServedModel.build(name, item, "(in memory)")
+            out[name] = ServedModel.build(name, item, "(in memory)", budget)
         else:
-            out[name] = ServedModel.build(name, load_model(item), str(item))
+            out[name] = ServedModel.build(name, load_model(item), str(item), budget)
     return out

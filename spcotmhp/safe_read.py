@@ -1,0 +1,249 @@
+"""One home for reading untrusted files: bounded sizes, bounded nesting, no code execution, typed one-line errors.
+
+Every reader of a data, map or model file goes through these helpers, so the same guarantees hold everywhere:
+
+* ``read_text``: a UTF-8 text file of at most ``max_bytes`` (the size is checked before reading).
+* ``load_yaml``: PyYAML's safe loader without anchors or aliases (no "billion laughs" expansion), at most
+  ``MAX_DEPTH`` levels of nesting (no ``RecursionError``) and integers of at most ``MAX_INT_DIGITS`` digits (a
+  400-digit integer cannot overflow a float later); only plain YAML types are built, nothing is executed.
+* ``load_json`` / ``parse_json``: the same bounds for JSON (``NaN``, ``Infinity`` and numbers beyond a float's
+  range such as ``1e400`` refused too).
+* ``open_image``: only PGM/PPM, PNG and BMP are decoded (never EPS/PS, which would start Ghostscript), after
+  checking the pixel count from the header against ``max_map_pixels()`` (no decompression bomb); any decoder
+  failure (a corrupt chunk, a truncated file) is one error naming the file.
+* ``excerpt``: a short quotation of an offending value for messages (never the whole input).
+
+Limits are module constants; the map pixel cap can be changed per process with the environment variable
+``SPCOTMHP_MAX_MAP_PIXELS`` (a positive integer).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from spcotmhp.errors import SpcotmhpError
+
+MAX_DEPTH = 32                 # nesting levels of a YAML or JSON document
+MAX_INT_DIGITS = 30            # digits of an integer in YAML or JSON (int64 has 19)
+MAX_NAME_CHARS = 255           # characters of a file name given inside a file (map.yaml's image, model.json's map)
+DEFAULT_MAX_MAP_PIXELS = 16_000_000   # width x height of a map image (a 4000 x 4000 map at 0.05 m is 200 m wide)
+IMAGE_FORMATS = {"PPM": "PGM/PPM", "PNG": "PNG", "BMP": "BMP"}   # Pillow plugin -> name in messages
+EXCERPT_CHARS = 60
+
+ErrorType = type[SpcotmhpError]
+
+
+def excerpt(value: Any, limit: int = EXCERPT_CHARS) -> str:
+    """``repr(value)`` cut to about ``limit`` characters (with the total length when cut), for messages."""
+    if isinstance(value, (dict, list, tuple)) and len(value) > 8:
+        text = f"{type(value).__name__} of {len(value)} items"
+        return text
+    try:
+        text = repr(value)
+    except Exception:  # noqa: BLE001 - a repr that fails is shown by its type only
+        return f"<{type(value).__name__}>"
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit]}... ({len(text)} characters)"
+
+
+def max_map_pixels() -> int:
+    """The map image pixel cap: ``SPCOTMHP_MAX_MAP_PIXELS`` when set to a positive integer, else the default."""
+    raw = os.environ.get("SPCOTMHP_MAX_MAP_PIXELS", "").strip()
+    if raw.isdigit() and 0 < int(raw) < 2**62:
+        return int(raw)
+    return DEFAULT_MAX_MAP_PIXELS
+
+
+def check_file_name(name: Any, where: str, error: ErrorType) -> str:
+    """A file name given inside a file: a non-empty string of at most ``MAX_NAME_CHARS`` characters without
+    NUL or other control characters (``Path`` would raise ``ValueError`` or ``OSError`` on them)."""
+    if not isinstance(name, str) or not name.strip():
+        raise error(f"{where} must be a non-empty file name, got {excerpt(name)}")
+    if len(name) > MAX_NAME_CHARS:
+        raise error(f"{where} is a file name of {len(name)} characters; at most {MAX_NAME_CHARS} are accepted")
+    if any(ord(c) < 32 or ord(c) == 127 for c in name):
+        raise error(f"{where} must not contain control characters (NUL, newline, ...), got {excerpt(name)}")
+    return name
+
+
+def read_text(path: Path, max_bytes: int, what: str, error: ErrorType) -> str:
+    """The UTF-8 text of ``path`` (a regular file of at most ``max_bytes``)."""
+    try:
+        size = path.stat().st_size
+        if not path.is_file():
+            raise error(f"{what} {path} is not a regular file")
+        if size > max_bytes:
+            raise error(f"{what} {path} is {size} bytes; at most {max_bytes} are accepted")
+        with path.open("rb") as handle:
+            data = handle.read(max_bytes + 1)
+    except FileNotFoundError:
+        raise error(f"{what} {path} does not exist") from None
+    except OSError as exc:
+        raise error(f"cannot read {what} {path}: {exc.strerror or exc}") from None
+    if len(data) > max_bytes:
+        raise error(f"{what} {path} is over {max_bytes} bytes; at most {max_bytes} are accepted")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise error(f"{what} {path} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+
+
+# ---- YAML ---------------------------------------------------------------------------------------------------
+class _BoundedLoader(yaml.SafeLoader):
+    """SafeLoader refusing anchors and aliases, nesting deeper than MAX_DEPTH and integers over MAX_INT_DIGITS."""
+
+    _depth = 0
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        event = self.peek_event()
+        if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None) is not None:
+            raise _Refused("YAML anchors and aliases (&name, *name) are not accepted", event.start_mark)
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                raise _Refused(f"nested deeper than {MAX_DEPTH} levels", event.start_mark)
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+    def construct_yaml_int(self, node: Any) -> int:
+        digits = sum(c.isdigit() for c in str(node.value))
+        if digits > MAX_INT_DIGITS:
+            raise _Refused(f"an integer of {digits} digits is too large (at most {MAX_INT_DIGITS})", node.start_mark)
+        return super().construct_yaml_int(node)
+
+
+_BoundedLoader.add_constructor("tag:yaml.org,2002:int", _BoundedLoader.construct_yaml_int)
+
+
+class _Refused(Exception):
+    def __init__(self, reason: str, mark: Any) -> None:
+        super().__init__(reason)
+        self.reason, self.mark = reason, mark
+
+
+def load_yaml(path: Path, max_bytes: int, what: str, error: ErrorType) -> Any:
+    """Parse a YAML file under the module's bounds; any problem is ``error`` naming the file (and line)."""
+    text = read_text(path, max_bytes, what, error)
+    try:
+        return yaml.load(text, Loader=_BoundedLoader)   # a SafeLoader subclass: plain types only
+    except _Refused as exc:
+        line = f" (line {exc.mark.line + 1})" if exc.mark is not None else ""
+        raise error(f"{what} {path}{line}: {exc.reason}") from None
+    except (yaml.YAMLError, ValueError, TypeError, OverflowError, RecursionError) as exc:
+        reason = " ".join(str(exc).split())
+        raise error(f"{what} {path} does not parse: {reason[:200]}") from None
+
+
+# ---- JSON ---------------------------------------------------------------------------------------------------
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+
+
+def json_depth(text: str) -> int:
+    """The deepest nesting of brackets and braces in a JSON text, not counting those inside strings."""
+    skeleton = re.sub(r"[^\[\]{}]", "", _JSON_STRING.sub("", text))
+    if not skeleton:
+        return 0
+    codes = np.frombuffer(skeleton.encode("ascii"), dtype=np.uint8)
+    steps = np.where((codes == ord("[")) | (codes == ord("{")), 1, -1)
+    return int(np.cumsum(steps).max())
+
+
+def _json_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_INT_DIGITS:
+        raise ValueError(f"an integer of {len(text.lstrip('-'))} digits is too large (at most {MAX_INT_DIGITS})")
+    return int(text)
+
+
+def _json_float(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {excerpt(text, 30)} is too large for a float")
+    return value
+
+
+def _json_constant(name: str) -> float:
+    raise ValueError(f"{name} is not a number JSON accepts (use a finite number)")
+
+
+def parse_json(text: str, where: str, error: ErrorType) -> Any:
+    """Parse JSON text under the module's bounds (depth, integer size, no NaN/Infinity)."""
+    depth = json_depth(text)
+    if depth > MAX_DEPTH:
+        raise error(f"{where} is nested {depth} levels deep; at most {MAX_DEPTH} are accepted")
+    try:
+        return json.loads(text, parse_int=_json_int, parse_float=_json_float, parse_constant=_json_constant)
+    except json.JSONDecodeError as exc:
+        raise error(f"{where} is not valid JSON: {exc.msg} (line {exc.lineno} column {exc.colno})") from None
+    except (ValueError, RecursionError) as exc:
+        raise error(f"{where} is not accepted: {str(exc)[:200]}") from None
+
+
+def load_json(path: Path, max_bytes: int, what: str, error: ErrorType) -> Any:
+    """Parse a JSON file under the module's bounds; any problem is ``error`` naming the file."""
+    return parse_json(read_text(path, max_bytes, what, error), f"{what} {path}", error)
+
+
+def finite_number(value: Any) -> bool:
+    """A real number (not a boolean) that is finite as a float; huge integers are not (no OverflowError)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
+
+
+# ---- images -------------------------------------------------------------------------------------------------
+def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> Any:
+    """A decoded PIL image of a PGM/PPM, PNG or BMP file with at most ``max_pixels`` (default
+    ``max_map_pixels()``) pixels; the caller closes it. Every failure is ``error`` naming the file."""
+    from PIL import Image
+
+    cap = max_map_pixels() if max_pixels is None else max_pixels
+    accepted = ", ".join(dict.fromkeys(IMAGE_FORMATS.values()))
+    try:
+        if not path.is_file():
+            raise error(f"map image {path} does not exist")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            img = Image.open(path, formats=tuple(IMAGE_FORMATS))
+    except SpcotmhpError:
+        raise
+    except Image.DecompressionBombError:
+        raise error(f"map image {path} has more than {cap} pixels (the cap; set SPCOTMHP_MAX_MAP_PIXELS to "
+                    "raise it)") from None
+    except Exception as exc:  # noqa: BLE001 - Pillow's decoders raise many types (OSError, SyntaxError, ...)
+        raise error(f"map image {path} cannot be read as {accepted}: {_reason(exc)}") from None
+    try:
+        width, height = img.size
+        if width * height > cap:
+            raise error(f"map image {path} is {width} x {height} = {width * height} pixels, over the cap of {cap} "
+                        "(set SPCOTMHP_MAX_MAP_PIXELS to raise it)")
+        if width < 1 or height < 1:
+            raise error(f"map image {path} is {width} x {height} pixels; a map needs at least one pixel")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            img.load()
+    except SpcotmhpError:
+        img.close()
+        raise
+    except Exception as exc:  # noqa: BLE001 - as above: a corrupt chunk is a SyntaxError, a short file an OSError
+        img.close()
+        raise error(f"map image {path} cannot be read as {accepted}: {_reason(exc)}") from None
+    return img
+
+
+def _reason(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text[:200]

@@ -1,0 +1,137 @@
+"""One home for writing files and folders safely: refuse to clobber, write atomically, swap folders atomically.
+
+* ``check_output(path, overwrite, inputs)``: a command's output file may replace an existing file only with
+  ``--overwrite``, and never one of the command's own inputs (compared as the same file on disk, so
+  ``costmap map.yaml --out ./map.yaml`` and a hard link count too), nor a folder.
+* ``atomic_write(path, write)``: ``write(tmp)`` fills a temporary file beside ``path`` which is then renamed
+  over it (``os.replace``): readers see the old file or the new one, never half of one; a failure (an
+  exception, a full disk) leaves the old file untouched and no temporary behind.
+* ``swap_folder(new, target)``: put the finished folder ``new`` at ``target``. When ``target`` exists the two
+  are exchanged in one ``renameat2(RENAME_EXCHANGE)`` on Linux, so ``target`` names the old folder or the new
+  one at every instant; elsewhere (or on file systems without it) two renames leave a moment without it.
+  The old folder is removed afterwards.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import ctypes.util
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from spcotmhp.errors import SpcotmhpError
+
+ErrorType = type[SpcotmhpError]
+
+
+def same_file(a: Path, b: Path) -> bool:
+    """Whether ``a`` and ``b`` name the same existing file or folder (symlinks, ``..`` and hard links seen
+    through), or the same path when one does not exist yet."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return Path(os.path.abspath(a)) == Path(os.path.abspath(b))
+
+
+def check_output(path: Path, overwrite: bool, inputs: Iterable[Path] = (), error: ErrorType = SpcotmhpError,
+                 option: str = "--out") -> Path:
+    """Refuse an output file that is one of ``inputs``, a folder, or (without ``overwrite``) an existing file;
+    the message names the option, the file and the way out."""
+    path = Path(path)
+    for given in inputs:
+        if given is not None and Path(given).exists() and same_file(path, Path(given)):
+            raise error(f"{option} {path} is one of this command's inputs ({given}); write elsewhere")
+    if path.is_dir():
+        raise error(f"{option} {path} is a folder; give a file name")
+    if (path.exists() or path.is_symlink()) and not overwrite:
+        raise error(f"{option} {path} exists; give --overwrite to replace it, or choose another name")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise error(f"{option} {path}: the folder {folder} does not exist")
+    return path
+
+
+def atomic_write(path: Path, write: Callable[[Path], None], error: ErrorType = SpcotmhpError) -> Path:
+    """Call ``write(tmp)`` on a fresh temporary file beside ``path``, flush it to disk and rename it to
+    ``path``; the temporary is removed on any failure, which propagates (an ``OSError`` becomes ``error``)."""
+    path = Path(path)
+    try:
+        fd, name = tempfile.mkstemp(prefix=f".{path.name[:80]}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise error(f"cannot write {path}: {exc.strerror or exc}") from None
+    os.close(fd)
+    tmp = Path(name)
+    try:
+        write(tmp)
+        with open(tmp, "rb+") as handle:
+            os.fsync(handle.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise error(f"cannot write {path}: {exc.strerror or exc}") from None
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def atomic_write_text(path: Path, text: str, error: ErrorType = SpcotmhpError) -> Path:
+    """``atomic_write`` of UTF-8 text."""
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"), error)
+
+
+def fresh_sibling(target: Path, tag: str) -> Path:
+    """A new empty folder beside ``target`` (hidden, named after it) to build a replacement in."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return Path(tempfile.mkdtemp(prefix=f".{target.name[:80]}.{tag}-", dir=target.parent))
+
+
+def swap_folder(new: Path, target: Path) -> None:
+    """Move the finished folder ``new`` to ``target``, replacing a folder there (module docstring)."""
+    if not target.exists() and not target.is_symlink():
+        os.rename(new, target)
+        _fsync_dir(target.parent)
+        return
+    if _exchange(new, target):      # target is now the new folder, ``new`` the old one
+        _fsync_dir(target.parent)
+        shutil.rmtree(new, ignore_errors=True)
+        return
+    old = Path(tempfile.mkdtemp(prefix=f".{target.name[:80]}.old-", dir=target.parent))
+    os.rmdir(old)
+    os.rename(target, old)
+    try:
+        os.rename(new, target)
+    except BaseException:
+        os.rename(old, target)
+        raise
+    _fsync_dir(target.parent)
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """``renameat2(a, b, RENAME_EXCHANGE)``; False when the platform or file system lacks it."""
+    libc_name = ctypes.util.find_library("c")
+    if libc_name is None or not hasattr(os, "fsencode"):
+        return False
+    try:
+        libc = ctypes.CDLL(libc_name, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    at_fdcwd, rename_exchange = -100, 2
+    result = renameat2(at_fdcwd, os.fsencode(str(a)), at_fdcwd, os.fsencode(str(b)), rename_exchange)
+    return result == 0
+
+
+def _fsync_dir(folder: Path) -> None:
+    with contextlib.suppress(OSError):
+        fd = os.open(folder, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)

@@ -1,0 +1,134 @@
+"""Fair, bounded planning for the service: two lanes per planning graph, admission limits and a time budget.
+
+A plan of an ordinary instruction takes about a millisecond; one naming many waypoints can take seconds, and
+the planner cannot be interrupted. So that such requests cannot starve the others:
+
+* **Two lanes.** Each request gets a cost estimate (:func:`estimate_cost`: the characters of its instruction,
+  of every N-best hypothesis, or of the structured form's JSON). Requests up to ``Budget.light_cost`` run on the
+  *light* lane (the model's shared planner and its worker thread); costlier ones run on the *heavy* lane, a
+  second planner of the same model with its own graph, lock and worker thread, built on first use. A heavy
+  plan therefore never sits in front of a light one (both lanes share the CPU and the GIL, so a light plan
+  runs at most a few milliseconds slower while a heavy one is running).
+* **Admission.** A lane holds at most ``max_light`` / ``max_heavy`` requests (queued or running); the heavy
+  lane also at most ``max_heavy_per_client`` per client address. Past that a request is refused at once with
+  ``ServiceBusy`` (503); a request costlier than ``max_cost`` with ``InstructionTooLarge`` (413).
+* **Time budget.** A request waits at most ``time_budget`` seconds for its plan, then gets ``PlanningTimeout``
+  (503). A request still queued then is dropped from the queue; one already running finishes in the
+  background and keeps its lane slot until it does, so a client cannot pile up work by timing out.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import threading
+from collections import Counter
+from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+from spcotmhp.errors import InstructionTooLarge, PlanningError, PlanningTimeout
+
+T = TypeVar("T")
+
+
+class ServiceBusy(PlanningError):
+    """Too many plans are queued for this model (or for this client); try again shortly."""
+
+    http_status = 503
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Limits of the planning service (module docstring); ``create_app(budget=Budget(...))`` changes them."""
+
+    time_budget: float = 5.0            # seconds a request waits for its plan
+    light_cost: int = 200               # instructions up to this many characters run on the light lane
+    max_cost: int = 8192                # instructions beyond this are refused (413)
+    max_light: int = 512                # requests queued or running on a light lane
+    max_heavy: int = 4                  # ... on a heavy lane
+    max_heavy_per_client: int = 1       # ... on a heavy lane from one client address
+
+
+def estimate_cost(source: Any) -> int:
+    """The size of an instruction in characters: a sentence's length, the summed lengths of an N-best list's
+    hypotheses, or the length of a structured instruction's JSON (planning time grows with the places named,
+    and those grow with the text)."""
+    if isinstance(source, str):
+        return len(source)
+    if isinstance(source, (list, tuple)):
+        return sum(len(str(item[0])) if isinstance(item, (list, tuple)) and item else len(str(item))
+                   for item in source)
+    try:
+        return len(json.dumps(source, ensure_ascii=False, default=str))
+    except (TypeError, ValueError):
+        return len(str(source))
+
+
+class Lane:
+    """One worker thread and its lock, with admission counts (total and per client)."""
+
+    def __init__(self, name: str, limit: int, per_client: int | None = None) -> None:
+        self.lock = threading.Lock()
+        self.worker = ThreadPoolExecutor(1, thread_name_prefix=f"plan-{name}")
+        self.limit, self.per_client = limit, per_client
+        self._guard = threading.Lock()
+        self._total = 0
+        self._clients: Counter[str] = Counter()
+
+    def admit(self, client: str) -> None:
+        """Count a request in, or raise ServiceBusy (the message says which limit was reached)."""
+        with self._guard:
+            if self._total >= self.limit:
+                raise ServiceBusy(f"the planner is busy ({self._total} plans queued or running, the limit); "
+                                  "try again shortly")
+            if self.per_client is not None and self._clients[client] >= self.per_client:
+                raise ServiceBusy(f"this client already has {self._clients[client]} long plan(s) running (the "
+                                  f"limit is {self.per_client}); wait for it, or shorten the instruction")
+            self._total += 1
+            self._clients[client] += 1
+
+    def release(self, client: str) -> None:
+        with self._guard:
+            self._total -= 1
+            self._clients[client] -= 1
+            if self._clients[client] <= 0:
+                del self._clients[client]
+
+    @property
+    def load(self) -> int:
+        return self._total
+
+
+async def run_in_lane(lane: Lane, client: str, budget: float, call: Callable[[], T]) -> T:
+    """Run ``call`` under ``lane.lock`` on the lane's worker, admitted for ``client``, waiting at most
+    ``budget`` seconds (module docstring)."""
+    lane.admit(client)
+
+    def locked() -> T:
+        with lane.lock:
+            return call()
+
+    try:
+        future: Future = lane.worker.submit(locked)
+    except BaseException:
+        lane.release(client)
+        raise
+    future.add_done_callback(lambda _: lane.release(client))
+    try:
+        return await asyncio.wait_for(asyncio.wrap_future(future), budget)
+    except TimeoutError:
+        future.cancel()             # dropped if still queued; a running plan finishes and then frees its slot
+        raise PlanningTimeout(f"planning did not finish within the time budget of {budget:g} s; shorten the "
+                              "instruction (fewer waypoints) or try again") from None
+    except asyncio.CancelledError:  # the client went away: drop the plan if it has not started
+        future.cancel()
+        raise
+
+
+def check_cost(cost: int, limits: Budget) -> None:
+    """InstructionTooLarge (413) for an instruction costlier than ``limits.max_cost``."""
+    if cost > limits.max_cost:
+        raise InstructionTooLarge(f"the instruction has {cost} characters; the service plans instructions of at "
+                                  f"most {limits.max_cost}")
