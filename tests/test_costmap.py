@@ -368,3 +368,10 @@ def test_cli_huge_and_non_finite_radii(tmp_path: Path) -> None:
                                    ("--cost-scaling-factor", "-2", "cost_scaling_factor must be >= 0, got -2.0")):
         bad = run_cli("costmap", yaml_path, option, value, "--out", str(tmp_path / "y.csv"))
         assert bad.returncode == 2 and bad.stderr.startswith(f"error: cost map setting {message}"), bad.stderr
+
+
+def test_a_huge_inflation_radius_is_the_whole_map_not_an_overflow() -> None:
+    m = grid(["#...?."])
+    huge = inflate(m, inflation_radius=1e308)
+    whole = inflate(m, inflation_radius=100.0)
+    assert (huge.costs == whole.costs).all()

@@ -138,7 +138,9 @@ def inflate(
         inflate_unknown,
     )
     costs = static_costs(occ_map, settings.track_unknown_space)
-    cell_radius = min(cell_distance(settings.inflation_radius, occ_map.resolution), max_cell_radius(occ_map))
+    cap = max_cell_radius(occ_map)      # no two cells are farther apart: a larger radius changes nothing
+    reach = min(settings.inflation_radius, cap * occ_map.resolution)   # (1e308 m would overflow the division)
+    cell_radius = min(cell_distance(reach, occ_map.resolution), cap)
     if cell_radius > 0:
         bins, kernel_costs = inflation_kernel(cell_radius, occ_map.resolution, settings)
         _wavefront(costs, bins, kernel_costs, settings.inflate_unknown)
