@@ -94,14 +94,9 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
         while head < tail:
             i = queue[head]
             head += 1
-            r, c = i // W, i % W
             for d in range(4):
-                rr = r + (1 if d == 0 else -1 if d == 1 else 0)
-                cc = c + (1 if d == 2 else -1 if d == 3 else 0)
-                if rr < 0 or rr >= H or cc < 0 or cc >= W:
-                    continue
-                j = rr * W + cc
-                if comp[j] < 0 and flat[j] == flat[s]:
+                j = _neighbour(i, d, H, W)
+                if j >= 0 and comp[j] < 0 and flat[j] == flat[s]:
                     comp[j] = n_comp
                     queue[tail] = j
                     tail += 1
@@ -140,15 +135,22 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
     while head < tail:                         # breadth-first growth from every seed at once
         i = queue[head]
         head += 1
-        r, c = i // W, i % W
         for d in range(4):
-            rr = r + (1 if d == 0 else -1 if d == 1 else 0)
-            cc = c + (1 if d == 2 else -1 if d == 3 else 0)
-            if rr < 0 or rr >= H or cc < 0 or cc >= W:
-                continue
-            j = rr * W + cc
-            if flat[j] >= 0 and out[j] < 0:
+            j = _neighbour(i, d, H, W)
+            if j >= 0 and flat[j] >= 0 and out[j] < 0:
                 out[j] = out[i]
                 queue[tail] = j
                 tail += 1
     return out.reshape(H, W)
+
+
+@njit(cache=True, inline="always")
+def _neighbour(i, d, H, W):  # pragma: no cover - numba
+    """The flat index of the 4-neighbour ``d`` (0..3: down, up, right, left in rows/cols) of flat cell ``i`` on
+    an H x W grid, or -1 off the grid."""
+    r, c = i // W, i % W
+    r += 1 if d == 0 else -1 if d == 1 else 0
+    c += 1 if d == 2 else -1 if d == 3 else 0
+    if r < 0 or r >= H or c < 0 or c >= W:
+        return -1
+    return r * W + c
