@@ -62,7 +62,7 @@ def visiting_order(phrases: list[Phrase], text: str, place_words: Sequence[str])
         raise EmptyInstruction(f"{excerpt(text)} names no place to go to, only places to avoid, not to end in or "
                                f"to start from; {known_words(place_words)}")
     if len(visit) == 1:
-        timed = [p.orders[o] for o in ("before", "after") if o in visit[0].orders]
+        timed = [visit[0].orders[o] for o in ("before", "after") if o in visit[0].orders]
         if timed:
             raise UnsupportedPhrase(f"{excerpt(timed[0].surface)} orders {excerpt(visit[0].item.surface)} against "
                                     "no other place to visit; name both places (e.g. 'go to the bedroom after "
