@@ -123,6 +123,19 @@ def test_start_in_a_wall_or_off_the_map_is_422(client, model6):
     assert r.json()["detail"].startswith("the start (100.00, 0.00) is outside the map")
 
 
+def test_each_planning_error_has_its_status_and_cause(client, model6, start):
+    # typed errors: the service answers each cause with its own status and names it
+    r = plan(client, instruction="go to the bedroom, don't go through the dining", start=start)
+    assert r.status_code == 409 and r.json()["cause"] == "NoReachablePlace"
+    assert r.json()["detail"].startswith("no free path from")
+    r = plan(client, instruction="go to the second bedroom", start=start)
+    assert r.status_code == 422 and r.json()["cause"] == "UnsupportedPhrase"
+    r = plan(client, instruction="go to the kitchen avoiding the kitchen", start=start)
+    assert r.status_code == 422 and r.json()["cause"] == "ConflictingInstruction"
+    r = plan(client, instruction=INSTRUCTION, start=wall_point(model6))
+    assert r.status_code == 422 and r.json()["cause"] == "StartBlocked"
+
+
 def test_a_huge_start_is_a_short_422_without_overflow(client, model6):
     r = plan(client, instruction=INSTRUCTION, start=[1e308, -1e308])
     assert r.status_code == 422
