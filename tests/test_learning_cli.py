@@ -26,7 +26,7 @@ def test_learn_a_bundled_home(tmp_path):
     assert "model written to" in result.output and "psi from map" in result.output
     model = load_model(out)
     assert model.info["runs"] == 2 and model.info["iterations"] == 15 and model.info["dataset"] == "3LDK_01"
-    assert model.info["criterion"] == "mutual_information"
+    assert model.info["criterion"] == "log_joint"          # "auto" without image features
     assert model.map is not None and model.active_places.sum() >= 8
 
 
@@ -108,7 +108,7 @@ def test_bad_criterion_is_a_one_line_error(tmp_path):
     res = _cli("learn", "3LDK_01", "--out", str(tmp_path / "m"), "--criterion", "vibes", "--runs", "1",
                "--iterations", "1")
     assert res.returncode == 2
-    assert "error: criterion must be one of ('mutual_information', 'log_joint'), got 'vibes'" in res.stderr
+    assert "error: criterion must be one of ('auto', 'mutual_information', 'log_joint'), got 'vibes'" in res.stderr
     assert "Traceback" not in res.stderr
 
 

@@ -25,6 +25,38 @@ def test_selects_the_best_run_by_each_criterion(data):
         assert sel.model_.info["selected_run"] == sel.best_index_ and sel.model_.info["criterion"] == criterion
 
 
+def test_auto_uses_the_log_joint_without_features_and_the_mutual_information_with_them(data):
+    from dataclasses import replace
+
+    rng = np.random.default_rng(0)
+    featured = replace(data, features=rng.dirichlet(np.ones(5), size=data.n_events))
+    with_features = fit_runs(featured, runs=3, iterations=10, connectivity="hmm")
+    words_only = fit_runs(data, runs=3, iterations=10, connectivity="hmm")
+    assert data.features is None
+    assert with_features.criterion_ == "mutual_information"
+    assert with_features.best_index_ == int(np.argmax([s.mutual_information for s in with_features.summaries_]))
+    assert words_only.criterion_ == "log_joint" and words_only.model_.info["criterion"] == "log_joint"
+    assert words_only.best_index_ == int(np.argmax([s.log_joint for s in words_only.summaries_]))
+
+
+def test_log_joint_picks_better_runs_than_mutual_information_on_generated_homes():
+    # words-only teaching with templates: the mutual information can prefer concepts built from the templates'
+    # function words, which merge differently named places; the log joint does not (README: run selection)
+    from sklearn.metrics import adjusted_rand_score
+
+    from spcotmhp.datasets.synthetic_battery import battery_home
+
+    better = 0
+    for seed in (0, 9):
+        d = battery_home(seed)
+        sel = fit_runs(d, runs=6, seed=seed)
+        ari = [adjusted_rand_score(d.truth_concept, e.concepts_) for e in sel.estimators_]
+        mi = int(np.argmax([s.mutual_information for s in sel.summaries_]))
+        better += ari[sel.best_index_] >= ari[mi]
+        assert sel.criterion_ == "log_joint" and ari[sel.best_index_] >= 0.9
+    assert better == 2
+
+
 def test_runs_are_the_children_of_the_seed(data):
     sel = fit_runs(data, runs=3, iterations=10, seed=5, connectivity="hmm")
     for r, est in enumerate(sel.estimators_):

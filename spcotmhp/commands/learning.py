@@ -109,7 +109,8 @@ def learn(
     no_replay: Annotated[bool, typer.Option("--no-replay", help="No reverse replay.")] = False,
     gmm: Annotated[bool, typer.Option("--gmm", help="SpCoSLAM baseline: Gaussian mixture, no transitions.")] = False,
     criterion: Annotated[str | None, typer.Option(
-        help="Run selection: mutual_information (default) or log_joint.")] = None,
+        help="Run selection: auto (default: mutual_information with image features, else log_joint), "
+             "mutual_information or log_joint.")] = None,
     connectivity: Annotated[str, typer.Option(help=(
         "psi of the model: auto, hmm, walk or map (with --supervised also given: adjacency.csv; hmm there is "
         "the truth's transition counts)."))] = "auto",
@@ -151,7 +152,7 @@ def learn(
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
     else:
         model, summary = _fit_gibbs(data, runs or 10, iterations or 100, seed or 0, not no_replay, gmm,
-                                    criterion or "mutual_information", connectivity, features, weight,
+                                    criterion or "auto", connectivity, features, weight,
                                     max_places or 20, max_concepts or 20, jobs or 1)
     save_model(model, out, overwrite=overwrite)
     names = model.place_names()
@@ -183,7 +184,7 @@ def _fit_gibbs(data: Dataset, runs: int, iterations: int, seed: int, replay: boo
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
-    summary = (f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({criterion}), "
+    summary = (f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({sel.criterion_}), "
                f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
                f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s")
     return model, summary
