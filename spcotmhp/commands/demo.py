@@ -72,7 +72,7 @@ def learn_demo_model(dataset: Any, instruction: str, seed: int, runs: int, itera
         dataset, progress=lambda n: bar.advance(task, n))
     model = sel.model_
     method = (f"unsupervised SpCoTMHP (Gibbs sampling, {runs} runs x {iterations} sweeps, seed {seed}; "
-              f"run {sel.best_index_} kept by mutual information)")
+              f"run {sel.best_index_} kept by {sel.criterion_.replace('_', ' ')})")
     labels = [lab.split(" #")[0] for lab in place_display_labels(model) if lab]
     missing = sorted(set(dataset.place_names or ()) - set(labels))
     why = (f"the unsupervised map lacks the place name(s) {', '.join(missing)}" if missing else None)
