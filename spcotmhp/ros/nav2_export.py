@@ -21,7 +21,6 @@ with costmap_filter_info_server type 0 (keepout), base 0, multiplier 1 (README.m
 from __future__ import annotations
 
 import json
-import shutil
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -32,7 +31,7 @@ from spcotmhp.metric.map_io import save_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.planner import HierarchicalPlanner
-from spcotmhp.safe_write import fresh_sibling, same_file, swap_folder
+from spcotmhp.safe_write import build_folder, same_file
 
 ROUTE_GRAPH = "route_graph.geojson"
 KEEPOUT = "keepout"
@@ -101,19 +100,13 @@ def export_nav2(model_dir: str | Path, out: str | Path, avoid: Sequence[str] = (
     planner = HierarchicalPlanner(load_model(model_dir))
     doc = route_graph(planner, frame)
     mask, avoided = keepout_mask(planner, avoid) if avoid else (None, [])
-    staging = fresh_sibling(out, "new")
-    try:
-        (staging / ROUTE_GRAPH).write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
+    def fill(folder: Path) -> None:
+        (folder / ROUTE_GRAPH).write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
         if mask is not None:
-            save_map(mask, staging / KEEPOUT)
-        (staging / "README.md").write_text(readme(frame, [planner.names[k] for k in avoided]), encoding="utf-8")
-        swap_folder(staging, out)
-    except OSError as exc:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise SpcotmhpError(f"cannot write {out}: {exc.strerror or exc}") from None
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+            save_map(mask, folder / KEEPOUT)
+        (folder / "README.md").write_text(readme(frame, [planner.names[k] for k in avoided]), encoding="utf-8")
+
+    build_folder(out, fill)
     n_nodes = sum(f["geometry"]["type"] == "Point" for f in doc["features"])
     text = f"wrote {out}: route graph of {n_nodes} places and {len(doc['features']) - n_nodes} directed edges"
     if mask is not None:

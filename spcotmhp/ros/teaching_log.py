@@ -13,7 +13,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import shutil
 from pathlib import Path
 
 from spcotmhp.datasets.tables import read_table
@@ -22,7 +21,7 @@ from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.instructions import detect_language
 from spcotmhp.ros.shapes import map_mismatches
-from spcotmhp.safe_write import atomic_write_text, fresh_sibling, swap_folder
+from spcotmhp.safe_write import atomic_write_text, build_folder
 
 HEADER = ("event", "x", "y", "words_ja", "words_en")
 MAX_UTTERANCE_CHARS = 1000
@@ -49,13 +48,7 @@ class TeachingLog:
         if self.folder.is_dir():                  # an empty folder: fill it in place
             save_map(occ, self.folder / "map")
             return
-        new = fresh_sibling(self.folder, "new")
-        try:
-            save_map(occ, new / "map")
-            swap_folder(new, self.folder)
-        except BaseException:
-            shutil.rmtree(new, ignore_errors=True)
-            raise
+        build_folder(self.folder, lambda new: save_map(occ, new / "map"), DatasetError)
 
     def _adopt(self, occ: OccupancyMap) -> None:
         """Append to an existing dataset folder: its map must agree with the model's; its teaching.csv (if any)
