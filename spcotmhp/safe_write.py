@@ -135,3 +135,26 @@ def _fsync_dir(folder: Path) -> None:
             os.fsync(fd)
         finally:
             os.close(fd)
+
+
+def build_folder(target: Path, fill: Callable[[Path], None], error: ErrorType = SpcotmhpError,
+                 action: str | None = None) -> Path:
+    """Build the folder ``target`` whole or not at all: ``fill(staging)`` writes into a fresh sibling, which
+    then replaces ``target`` (:func:`swap_folder`); on any failure the sibling is removed and ``target`` is
+    left as it was (an ``OSError`` becomes ``error``: "cannot <action>: <reason>", action "write <target>")."""
+    target = Path(target)
+    action = action or f"write {target}"
+    try:
+        staging = fresh_sibling(target, "new")
+    except OSError as exc:
+        raise error(f"cannot {action}: {exc.strerror or exc}") from None
+    try:
+        fill(staging)
+        swap_folder(staging, target)
+    except OSError as exc:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise error(f"cannot {action}: {exc.strerror or exc}") from None
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return target

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from spcotmhp import safe_write
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import ModelError
 from spcotmhp.learning import model_folder
@@ -50,7 +51,7 @@ def _which(folder: Path, old, new) -> str:
 
 
 # every step that touches the disk while saving, in the modules that do it
-STEPS = [(model_folder, "fresh_sibling"), (model_folder, "manifest_of"), (model_folder, "swap_folder"),
+STEPS = [(safe_write, "fresh_sibling"), (model_folder, "manifest_of"), (safe_write, "swap_folder"),
          (map_io, "atomic_write"), (np, "savez"), (Path, "write_text"), (os, "rename"), (os, "replace"),
          (shutil, "rmtree"), (os, "fsync")]
 
@@ -123,13 +124,13 @@ def test_a_saving_process_killed_at_random_times(old_and_new, tmp_path):
 def test_the_previous_model_stays_while_the_new_one_is_written(old_and_new, tmp_path, monkeypatch):
     old, new = old_and_new
     folder = save_model(old, tmp_path / "m")
-    swap = model_folder.swap_folder
+    swap = safe_write.swap_folder
 
     def check_then_swap(staging, target):
         assert _which(target, old, new) == "old"        # still whole just before the swap
         swap(staging, target)
 
-    monkeypatch.setattr(model_folder, "swap_folder", check_then_swap)
+    monkeypatch.setattr(safe_write, "swap_folder", check_then_swap)
     save_model(new, folder)
     assert _which(folder, old, new) == "new"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m"]      # no staging or old folder left

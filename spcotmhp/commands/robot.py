@@ -1,4 +1,4 @@
-"""CLI commands for robot logs: import a ROS bag as a dataset folder."""
+"""CLI commands for robots: import a ROS bag as a dataset folder, run the ROS 2 node, export for Nav2."""
 
 from __future__ import annotations
 
@@ -40,6 +40,47 @@ def import_bag(
         f"{summary.path_length_m:.1f} m walked), map from {summary.map_source}")
 
 
+def ros2(
+    model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
+    frame: Annotated[str, typer.Option(help="Frame of the model's map, of the plans and of the start poses.")]
+    = "map",
+    start_topic: Annotated[str, typer.Option(help="Pose topic (geometry_msgs/PoseWithCovarianceStamped) planned "
+                                                  "from.")] = "/amcl_pose",
+    record: Annotated[Path | None, typer.Option(help="Dataset folder that utterances on /spcotmhp/teach are "
+                                                     "appended to (created with the model's map if new).")]
+    = None,
+) -> None:
+    """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
+    plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
+    /spcotmhp/places."""
+    from spcotmhp.ros import require_rclpy
+
+    require_rclpy()
+    from spcotmhp.ros.node import run_node
+
+    run_node(model_dir, frame=frame, start_topic=start_topic, record=record,
+             progress=lambda line: typer.echo(line, err=True))
+
+
+def export_nav2(
+    model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
+    out: Annotated[Path, typer.Option("--out", help="Folder to write (route_graph.geojson, README.md, and "
+                                                    "keepout.yaml + keepout.pgm with --avoid).")],
+    avoid: Annotated[list[str] | None, typer.Option(help="A place to keep out of (its name, e.g. kitchen or "
+                                                         "'east corridor'); repeat for more.")] = None,
+    frame: Annotated[str, typer.Option(help="Frame of the route graph's nodes.")] = "map",
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --out folder.")] = False,
+) -> None:
+    """Export the learned map for Nav2: a Route Server graph (places as nodes, partial paths as edges) and,
+    with --avoid, a keepout mask for the costmap filters."""
+    from spcotmhp.ros.nav2_export import export_nav2 as run_export
+
+    summary = run_export(model_dir, out, avoid=avoid or [], frame=frame, overwrite=overwrite)
+    typer.echo(summary)
+
+
 def register(app: typer.Typer) -> None:
-    """Add the robot-log commands to ``app``."""
+    """Add the robot commands to ``app``."""
     app.command("import-bag")(import_bag)
+    app.command("ros2")(ros2)
+    app.command("export-nav2")(export_nav2)

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import shutil
 import zipfile
 import zlib
 from collections.abc import Callable, Mapping
@@ -33,7 +32,7 @@ import numpy as np
 
 from spcotmhp.errors import ModelError
 from spcotmhp.safe_read import excerpt, load_json
-from spcotmhp.safe_write import fresh_sibling, swap_folder
+from spcotmhp.safe_write import build_folder
 
 MANIFEST = "manifest.json"
 MANIFEST_FORMAT = "spcotmhp-model-manifest"
@@ -125,22 +124,14 @@ def write_folder(target: Path, writers: Mapping[str, Callable[[Path], None]], kn
     (the files save_model writes, plus the manifest): a folder with anything else (a dataset, the user's own
     files) is never replaced. Raises ModelError naming the folder and the reason."""
     check_replaceable(target, known)
-    try:
-        staging = fresh_sibling(target, "new")
-    except OSError as exc:
-        raise ModelError(f"cannot save the model to {target}: {exc.strerror or exc}") from None
-    try:
+
+    def fill(staging: Path) -> None:
         for name, write in writers.items():
             write(staging / name)
         manifest = manifest_of(staging, [p.name for p in sorted(staging.iterdir()) if p.is_file()])
         (staging / MANIFEST).write_text(json.dumps(manifest, indent=1), encoding="utf-8")
-        swap_folder(staging, target)
-    except OSError as exc:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise ModelError(f"cannot save the model to {target}: {exc.strerror or exc}") from None
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+
+    build_folder(target, fill, ModelError, f"save the model to {target}")
     return target
 
 

@@ -218,6 +218,11 @@ class HierarchicalPlanner:
         plan.time_online_s = time.perf_counter() - t0
         return plan
 
+    def places_named(self, words: str | Sequence[str]) -> np.ndarray:
+        """(K,) the places a place phrase names ("kitchen", ["east", "corridor"]): as a stage or an avoided place of
+        an instruction would (every word must be a place word: :class:`~spcotmhp.errors.UnknownPlaceWord`)."""
+        return self._instances(to_instruction({"goal": words}, self.place_words).goal)
+
     # ---- pieces ----------------------------------------------------------------------------------------
     def _instances(self, query: PlaceQuery, log_p: np.ndarray | None = None) -> np.ndarray:
         """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best

@@ -1,0 +1,236 @@
+"""The ``spcotmhp`` ROS 2 node: plans from instructions at the robot's pose and publishes Nav2-ready paths.
+
+Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` and so on):
+
+* ``spcotmhp/instruction`` (std_msgs/String, in): a sentence ("go to the bedroom via the corridor") or the
+  structured JSON the service accepts (``{"goal": ["bedroom"], "waypoints": [["corridor"]]}``). Planned with
+  Algorithm 1 from the latest pose on the start topic.
+* ``amcl_pose`` (geometry_msgs/PoseWithCovarianceStamped, in; ``start_topic``): the robot's pose, as AMCL
+  publishes it (QoS "best available": transient local when the publisher is, so a node started after AMCL still
+  gets its last pose).
+* ``spcotmhp/plan`` (nav_msgs/Path, out, reliable, transient local depth 1): the plan in ``frame``, every pose
+  stamped and facing the next, the last keeping the last segment's heading (:mod:`spcotmhp.ros.shapes`).
+* ``spcotmhp/status`` (std_msgs/String, out): one JSON object per event: ``kind`` plan (explanation, places with
+  roles, length, planning time), error (the one-line error and its type), taught, map (the check of ``/map``).
+* ``spcotmhp/places`` (visualization_msgs/MarkerArray, out, transient local): place ellipses, names and
+  topological edges, for RViz (late subscribers get it too).
+* ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose, appended to the dataset
+  folder given with ``record`` (:mod:`spcotmhp.ros.teaching_log`).
+* ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
+  is logged as a warning and reported on the status topic.
+
+No message can stop the node: every callback answers a failure on the status topic (bad input as the library's
+one-line typed error; anything else as an internal error, also logged).
+"""
+
+from __future__ import annotations
+
+import colorsys
+import functools
+import json
+import math
+import time
+from collections.abc import Callable
+from pathlib import Path as FilePath
+
+import numpy as np
+import rclpy
+from geometry_msgs.msg import Point, PoseStamped, PoseWithCovarianceStamped
+from nav_msgs.msg import OccupancyGrid, Path
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
+from visualization_msgs.msg import Marker, MarkerArray
+
+from spcotmhp.errors import SpcotmhpError, StartBlocked
+from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.ros.shapes import (
+    error_status,
+    map_mismatches,
+    path_poses,
+    path_yaws,
+    place_shapes,
+    plan_status,
+    quaternion_yaw,
+    yaw_quaternion,
+)
+from spcotmhp.ros.teaching_log import TeachingLog
+
+LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+MATCH_PUBLISHER = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_AVAILABLE,
+                             durability=DurabilityPolicy.BEST_AVAILABLE)
+EVENTS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+
+
+def answered(kind: str) -> Callable:
+    """Wrap a callback so that any failure is answered on the status topic instead of ending the node."""
+    def wrap(callback: Callable) -> Callable:
+        @functools.wraps(callback)
+        def guarded(self: SpcotmhpNode, msg) -> None:
+            text = getattr(msg, "data", None)
+            try:
+                callback(self, msg)
+            except SpcotmhpError as exc:
+                self.status(error_status(exc, text, kind))
+            except Exception as exc:   # noqa: BLE001 - the node must keep serving; the cause is logged
+                self.get_logger().error(f"{kind}: internal error {type(exc).__name__}: {exc}")
+                self.status(error_status(RuntimeError(f"internal error ({type(exc).__name__}: {exc})"), text,
+                                         kind))
+        return guarded
+    return wrap
+
+
+class SpcotmhpNode(Node):
+    """The node (module docstring) around a :class:`HierarchicalPlanner`."""
+
+    def __init__(self, planner: HierarchicalPlanner, frame: str = "map", start_topic: str = "amcl_pose",
+                 log: TeachingLog | None = None) -> None:
+        super().__init__("spcotmhp")
+        self.planner, self.frame, self.log = planner, frame, log
+        self.pose: tuple[float, float, float] | None = None
+        self.plan_pub = self.create_publisher(Path, "spcotmhp/plan", LATCHED)
+        self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
+        self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
+        self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
+        self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
+        self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
+        self.create_subscription(OccupancyGrid, "map", self.on_map, MATCH_PUBLISHER)
+        self.places_pub.publish(self.markers())
+
+    # ---- output ----------------------------------------------------------------------------------------
+    def status(self, data: dict) -> None:
+        self.status_pub.publish(String(data=json.dumps(data, ensure_ascii=False)))
+
+    def markers(self) -> MarkerArray:
+        """Place ellipses (namespace places), names (names) and topological edges (edges) in ``frame``."""
+        places, edges = place_shapes(self.planner)
+        stamp = self.get_clock().now().to_msg()
+        out = [Marker(action=Marker.DELETEALL)]
+        for p in places:
+            r, g, b = colorsys.hsv_to_rgb((p["id"] * 0.618034) % 1.0, 0.65, 0.95)
+            shape = Marker(ns="places", id=p["id"], type=Marker.CYLINDER, action=Marker.ADD)
+            shape.pose.position.x, shape.pose.position.y = p["centre"]
+            _orient(shape.pose.orientation, p["yaw"])
+            shape.scale.x, shape.scale.y, shape.scale.z = p["length"], p["width"], 0.02
+            shape.color.r, shape.color.g, shape.color.b, shape.color.a = r, g, b, 0.35
+            name = Marker(ns="names", id=p["id"], type=Marker.TEXT_VIEW_FACING, action=Marker.ADD, text=p["name"])
+            name.pose.position.x, name.pose.position.y = p["centre"]
+            name.pose.position.z = 0.5
+            name.pose.orientation.w = 1.0
+            name.scale.z = 0.35
+            name.color.r = name.color.g = name.color.b = name.color.a = 1.0
+            out += [shape, name]
+        lines = Marker(ns="edges", id=0, type=Marker.LINE_LIST, action=Marker.ADD)
+        lines.pose.orientation.w = 1.0
+        lines.scale.x = 0.04
+        lines.color.r = lines.color.g = lines.color.b = 0.6
+        lines.color.a = 0.9
+        centre = {p["id"]: p["centre"] for p in places}
+        lines.points = [Point(x=centre[k][0], y=centre[k][1], z=0.01) for edge in edges for k in edge]
+        if lines.points:
+            out.append(lines)
+        for m in out:
+            m.header.frame_id, m.header.stamp = self.frame, stamp
+        return MarkerArray(markers=out)
+
+    def path_message(self, points: np.ndarray, fallback_yaw: float) -> Path:
+        msg = Path()
+        msg.header.frame_id = self.frame
+        msg.header.stamp = self.get_clock().now().to_msg()
+        for (x, y), yaw in zip(points, path_yaws(points, fallback_yaw)):
+            pose = PoseStamped()
+            pose.header.frame_id, pose.header.stamp = msg.header.frame_id, msg.header.stamp
+            pose.pose.position.x, pose.pose.position.y = float(x), float(y)
+            _orient(pose.pose.orientation, float(yaw))
+            msg.poses.append(pose)
+        return msg
+
+    # ---- input -----------------------------------------------------------------------------------------
+    @answered("error")
+    def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        frame = msg.header.frame_id.lstrip("/")
+        if frame and frame != self.frame:
+            raise StartBlocked(f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: "
+                               f"publish the pose in '{self.frame}' or start the node with --frame {frame})")
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        yaw = quaternion_yaw(q.x, q.y, q.z, q.w)
+        if not all(math.isfinite(v) for v in (p.x, p.y, yaw)):
+            raise StartBlocked(f"the pose ({p.x}, {p.y}, yaw {yaw}) is not finite")
+        self.pose = (float(p.x), float(p.y), float(yaw))
+
+    @answered("error")
+    def on_instruction(self, msg: String) -> None:
+        if self.pose is None:
+            raise StartBlocked("no robot pose yet: publish one on the start topic (AMCL's /amcl_pose, "
+                               "PoseWithCovarianceStamped) before an instruction")
+        x, y, yaw = self.pose
+        plan = self.planner.plan(msg.data, (x, y))
+        points = path_poses(plan.path, plan.cells, (x, y), self.planner.model.map)
+        self.plan_pub.publish(self.path_message(points, yaw))
+        self.status(plan_status(plan, msg.data, (x, y), points, self.frame))
+
+    @answered("taught")
+    def on_teach(self, msg: String) -> None:
+        if self.log is None:
+            raise SpcotmhpError("teaching needs a dataset folder: start the node with --record DIR")
+        if self.pose is None:
+            raise StartBlocked("no robot pose yet: an utterance is recorded at the latest pose")
+        x, y, _ = self.pose
+        event = self.log.append(x, y, msg.data)
+        self.status({"kind": "taught", "ok": True, "utterance": msg.data, "event": event, "x": round(x, 4),
+                     "y": round(y, 4), "dataset": str(self.log.folder)})
+
+    @answered("map")
+    def on_map(self, msg: OccupancyGrid) -> None:
+        info = msg.info
+        q = info.origin.orientation
+        differ = map_mismatches(info.width, info.height, info.resolution,
+                                (info.origin.position.x, info.origin.position.y,
+                                 quaternion_yaw(q.x, q.y, q.z, q.w)), self.planner.model.map)
+        if differ:
+            self.get_logger().warning("the map on /map differs from the model's: " + "; ".join(differ))
+        self.status({"kind": "map", "ok": not differ, "differences": differ})
+
+
+def _orient(orientation, yaw: float) -> None:
+    orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(yaw)
+
+
+def warm_up(planner: HierarchicalPlanner) -> None:
+    """Plan to the first places once (this compiles the numba kernels), so the first instruction is answered fast."""
+    graph = planner.graph
+    if not graph.n_nodes:
+        return
+    start = planner.model.map.cell_to_world(graph.to_map(graph.node_cell[0]))
+    for name in sorted({planner.names[k] for k in graph.node_place[:2]}):
+        try:
+            planner.plan({"goal": name.split()}, tuple(start))
+        except SpcotmhpError:
+            pass
+
+
+def run_node(model_dir: FilePath, frame: str = "map", start_topic: str = "amcl_pose",
+             record: FilePath | None = None, progress: Callable[[str], None] = print) -> None:
+    """Load the model, precompute its planner, and serve until interrupted (Ctrl-C or SIGTERM)."""
+    from spcotmhp.learning.io import load_model
+
+    t0 = time.perf_counter()
+    model = load_model(model_dir)
+    log = TeachingLog(record, model.map) if record is not None else None
+    planner = HierarchicalPlanner(model)
+    warm_up(planner)
+    rclpy.init()
+    try:
+        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log)
+        progress(f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
+                 f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
+                 + (f", teaching recorded in {record}" if record is not None else ""))
+        try:
+            rclpy.spin(node)
+        except (KeyboardInterrupt, ExternalShutdownException):
+            pass
+        finally:
+            node.destroy_node()
+    finally:
+        rclpy.try_shutdown()

@@ -1,0 +1,293 @@
+"""The ROS 2 node with real ROS 2 messages: `spcotmhp ros2 MODEL_DIR` runs in a subprocess, this test talks to it
+through real rclpy publishers and subscribers (no mocks), discovery kept on this machine and on a domain of its
+own. Skipped only when the `ros2` extra is not installed."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+rclpy = pytest.importorskip("rclpy")
+pytest.importorskip("nav_msgs.msg")
+pytest.importorskip("visualization_msgs.msg")
+
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav_msgs.msg import OccupancyGrid
+from nav_msgs.msg import Path as PathMsg
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
+from visualization_msgs.msg import Marker, MarkerArray
+
+from spcotmhp.datasets import load_dataset
+from spcotmhp.datasets.bundled import load_bundled
+from spcotmhp.learning.io import save_model
+from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.metric.grid_search import geodesic_distance
+from spcotmhp.planning import HierarchicalPlanner
+
+EXE = str(Path(sys.executable).with_name("spcotmhp"))
+DOMAIN = str(30 + os.getpid() % 60)      # a domain of this test run (0..101 are safe on Linux)
+LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory):
+    root = tmp_path_factory.mktemp("ros2")
+    env = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_DOMAIN_ID": DOMAIN, "ROS_LOG_DIR": str(root / "log")}
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)                           # before rclpy.init, for this process too
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        dataset = load_bundled("3LDK_06")
+    model = fit_supervised(dataset)
+    folder = save_model(model, root / "model")
+    record = root / "taught"
+    proc = subprocess.Popen([EXE, "ros2", str(folder), "--record", str(record)], env={**os.environ, **env},
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    client = Client(context)
+    try:
+        ready = client.spin_until(lambda: client.places or proc.poll() is not None, 120)
+        assert ready and proc.poll() is None, proc.communicate(timeout=5)
+        yield {"proc": proc, "client": client, "model": model, "dataset": dataset, "record": record,
+               "planner": HierarchicalPlanner(model)}
+    finally:
+        client.node.destroy_node()
+        context.try_shutdown()
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(10)
+        for k, v in saved.items():
+            os.environ.pop(k) if v is None else os.environ.__setitem__(k, v)
+
+
+class Client:
+    """Real publishers and subscribers on the node's topics."""
+
+    def __init__(self, context) -> None:
+        self.node = Node("spcotmhp_test_client", context=context)
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.node)
+        self.status: list[dict] = []
+        self.plans: list[tuple[float, PathMsg]] = []
+        self.places: list[MarkerArray] = []
+        self.node.create_subscription(String, "/spcotmhp/status", lambda m: self.status.append(json.loads(m.data)),
+                                      10)
+        self.node.create_subscription(PathMsg, "/spcotmhp/plan", lambda m: self.plans.append((time.monotonic(), m)),
+                                      LATCHED)
+        self.node.create_subscription(MarkerArray, "/spcotmhp/places", self.places.append, LATCHED)
+        self.pose_pub = self.node.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", LATCHED)  # as AMCL
+        self.instruction_pub = self.node.create_publisher(String, "/spcotmhp/instruction", 10)
+        self.teach_pub = self.node.create_publisher(String, "/spcotmhp/teach", 10)
+        self.map_pub = self.node.create_publisher(OccupancyGrid, "/map", LATCHED)                  # as map_server
+
+    def spin_until(self, done, timeout: float) -> bool:
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if done():
+                return True
+            self.executor.spin_once(timeout_sec=0.01)
+        return bool(done())
+
+    def publish(self, publisher, msg) -> float:
+        assert self.spin_until(lambda: publisher.get_subscription_count() > 0, 20), "the node does not subscribe"
+        sent = time.monotonic()
+        publisher.publish(msg)
+        return sent
+
+    def set_pose(self, x: float, y: float, yaw: float = 0.0, frame: str = "map") -> None:
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = frame
+        msg.pose.pose.position.x, msg.pose.pose.position.y = float(x), float(y)
+        msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        self.publish(self.pose_pub, msg)
+        self.spin_until(lambda: False, 0.3)          # let it arrive before what follows on other topics
+
+    def ask(self, publisher, text: str, timeout: float = 10.0) -> dict:
+        """Publish ``text`` and return the status line that answers it."""
+        n = len(self.status)
+        self.publish(publisher, String(data=text))
+        assert self.spin_until(lambda: len(self.status) > n, timeout), f"no status for {text!r}"
+        return self.status[n]
+
+
+def place_point(planner, name: str) -> np.ndarray:
+    """The candidate point of the first place called ``name`` (a free cell; a place's mean may not be)."""
+    graph = planner.graph
+    node = int(np.flatnonzero(graph.node_place == planner.names.index(name))[0])
+    return planner.model.map.cell_to_world(graph.to_map(graph.node_cell[node]))
+
+
+def yaw_of(q) -> float:
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y ** 2 + q.z ** 2))
+
+
+def test_places_for_rviz_reach_a_late_subscriber(setup):
+    planner = setup["planner"]
+    markers = setup["client"].places[-1].markers        # subscribed after the node published: transient local
+    assert markers[0].action == Marker.DELETEALL
+    shapes = [m for m in markers if m.ns == "places"]
+    names = [m for m in markers if m.ns == "names"]
+    assert len(shapes) == len(names) == 11 and all(m.type == Marker.CYLINDER for m in shapes)
+    assert sorted(m.text for m in names) == sorted(planner.names)
+    for m in shapes:
+        assert m.header.frame_id == "map"
+        assert np.allclose([m.pose.position.x, m.pose.position.y], setup["model"].mu[m.id])
+        assert m.scale.x >= m.scale.y > 0
+    edges = next(m for m in markers if m.ns == "edges")
+    connected = planner.graph.connected
+    assert len(edges.points) == 2 * int(np.triu(connected, 1).sum())
+
+
+def test_instruction_before_any_pose_is_an_error_status(setup):
+    status = setup["client"].ask(setup["client"].instruction_pub, "go to the kitchen")
+    assert status["ok"] is False and status["type"] == "StartBlocked" and "no robot pose" in status["error"]
+
+
+def test_bedroom_via_corridor_within_two_seconds(setup):
+    client, model, planner = setup["client"], setup["model"], setup["planner"]
+    names = planner.names
+    kitchen, corridor = names.index("kitchen"), names.index("corridor")
+    start = model.mu[kitchen] + np.array([0.03, -0.02])
+    client.set_pose(*start, yaw=0.3)
+    client.plans.clear()
+    n = len(client.status)
+    sent = client.publish(client.instruction_pub, String(data="go to the bedroom via the corridor"))
+    assert client.spin_until(lambda: client.plans and len(client.status) > n, 10)
+    arrived, path = client.plans[0]
+    assert arrived - sent < 2.0
+    status = client.status[n]
+    assert status["ok"] and status["kind"] == "plan"
+
+    assert path.header.frame_id == "map" and len(path.poses) > 10
+    xy = np.array([[p.pose.position.x, p.pose.position.y] for p in path.poses])
+    assert np.allclose(xy[0], start, atol=1e-9)                                   # starts at the pose
+    for p in path.poses:
+        assert p.header.frame_id == "map" and (p.header.stamp.sec, p.header.stamp.nanosec) != (0, 0)
+    cells = model.map.world_to_cell(xy)
+    assert (model.map.data[cells[:, 0], cells[:, 1]] == 0).all()                 # only free cells
+    assert (np.abs(np.diff(cells, axis=0)) <= 1).all()                             # 8-neighbour steps
+    graph = planner.graph
+    crop = graph.to_crop(cells)
+    places_on_path = graph.territory[crop[:, 0], crop[:, 1]]
+    assert corridor in places_on_path                                              # passes the corridor
+    goal = int(places_on_path[-1])
+    assert names[goal] == "bedroom"                                                # ends in a bedroom
+    # the closest bedroom from the corridor (independent: geodesic distances over the free cells)
+    node_cell = {int(k): graph.node_cell[i] for i, k in enumerate(graph.node_place)}
+    dist = geodesic_distance(graph.traversable, node_cell[corridor][None, :], 8, model.map.resolution)
+    bedrooms = {k: dist[tuple(node_cell[k])] for k in range(len(names)) if names[k] == "bedroom"}
+    assert goal == min(bedrooms, key=bedrooms.get)
+    # orientations follow the path; the last keeps the last segment's heading
+    yaws = np.array([yaw_of(p.pose.orientation) for p in path.poses])
+    step = np.diff(xy, axis=0)
+    assert (np.hypot(step[:, 0], step[:, 1]) > 0).all()
+    heading = np.arctan2(step[:, 1], step[:, 0])
+    assert np.allclose(np.angle(np.exp(1j * (yaws[:-1] - heading))), 0, atol=1e-6)
+    assert math.isclose(yaws[-1], heading[-1], abs_tol=1e-6)
+    for p in path.poses:
+        q = p.pose.orientation
+        assert q.x == q.y == 0 and math.isclose(q.z ** 2 + q.w ** 2, 1, rel_tol=1e-9)
+    # the status says the same as the path and the library
+    roles = [(p["name"], p["role"]) for p in status["places"]]
+    assert ("corridor", "waypoint") in roles and roles[-1] == ("bedroom", "goal") and roles[0][1] == "start"
+    assert status["places"][-1]["id"] == goal
+    assert math.isclose(status["length_m"], float(np.hypot(step[:, 0], step[:, 1]).sum()), abs_tol=1e-4)
+    library = planner.plan("go to the bedroom via the corridor", tuple(start))
+    assert np.allclose(library.path[1:], xy[1:]) and status["explanation"] == library.explanation
+
+
+@pytest.mark.parametrize("text, error", [
+    ("go to the garage", "UnknownPlaceWord"),
+    ('{"goal": ["garage"]}', "UnknownPlaceWord"),
+    ("{", "MalformedInstruction"),
+    ("   ", "EmptyInstruction"),
+    ("go to the second bedroom", "UnsupportedPhrase"),
+])
+def test_bad_instructions_get_an_error_status_and_the_node_keeps_serving(setup, text, error):
+    client, planner = setup["client"], setup["planner"]
+    client.set_pose(*place_point(planner, "living"))
+    status = client.ask(client.instruction_pub, text)
+    assert status == {**status, "kind": "error", "ok": False, "type": error, "instruction": text}
+    assert "\n" not in status["error"]
+    client.plans.clear()
+    status = client.ask(client.instruction_pub, '{"goal": ["kitchen"]}')
+    assert status["ok"] and status["places"][-1]["name"] == "kitchen" and client.plans
+    assert setup["proc"].poll() is None
+
+
+def test_bad_poses_are_refused(setup):
+    client, planner = setup["client"], setup["planner"]
+    n = len(client.status)
+    client.set_pose(1.0, 1.0, frame="odom")
+    client.set_pose(float("nan"), 0.0)
+    assert client.spin_until(lambda: len(client.status) >= n + 2, 5)
+    assert [s["type"] for s in client.status[n:n + 2]] == ["StartBlocked", "StartBlocked"]
+    assert "frame 'odom'" in client.status[n]["error"]
+    client.set_pose(500.0, 500.0)                              # off the map: the plan says so
+    assert client.ask(client.instruction_pub, "go to the kitchen")["type"] == "StartOutsideMap"
+    client.set_pose(*place_point(planner, "entrance"))
+    assert client.ask(client.instruction_pub, "go to the kitchen")["ok"]
+
+
+def test_teaching_is_recorded_as_a_dataset(setup):
+    client, model, record = setup["client"], setup["model"], setup["record"]
+    a, b = model.mu[3], model.mu[8]
+    client.set_pose(*a)
+    first = client.ask(client.teach_pub, "this is the study")
+    client.set_pose(*b)
+    second = client.ask(client.teach_pub, "ここは 書斎 です")
+    assert client.ask(client.teach_pub, "  ")["ok"] is False
+    assert (first["event"], second["event"]) == (0, 1) and first["ok"] and first["kind"] == "taught"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                          # the Japanese row has no English words
+        en, ja = load_dataset(record, lang="en"), load_dataset(record, lang="ja")
+    assert np.allclose(en.positions, [a, b], atol=1e-4)
+    assert en.tokens[0] == ["this", "is", "the", "study"] and ja.tokens[1] == ["ここは", "書斎", "です"]
+    assert en.map == model.map
+
+
+def grid(model, resolution=None, origin=None) -> OccupancyGrid:
+    occ = model.map
+    msg = OccupancyGrid()
+    msg.header.frame_id = "map"
+    msg.info.width, msg.info.height = occ.width, occ.height
+    msg.info.resolution = resolution or occ.resolution
+    msg.info.origin.position.x, msg.info.origin.position.y = origin or occ.origin[:2]
+    msg.info.origin.orientation.w = 1.0
+    msg.data = occ.data.reshape(-1).astype(int).tolist()
+    return msg
+
+
+def test_the_published_map_is_checked(setup):
+    client, model = setup["client"], setup["model"]
+    for msg, ok in ((grid(model), True), (grid(model, 0.05, (-9.0, -10.0)), False)):
+        n = len(client.status)
+        client.publish(client.map_pub, msg)
+        assert client.spin_until(lambda n=n: any(s["kind"] == "map" for s in client.status[n:]), 10)
+        status = next(s for s in client.status[n:] if s["kind"] == "map")
+        assert status["ok"] is ok
+    assert len(status["differences"]) == 2
+    assert "resolution 0.05" in status["differences"][0] and "origin (-9.000" in status["differences"][1]
+
+
+def test_sigint_stops_the_node_cleanly(setup):
+    proc = setup["proc"]
+    assert proc.poll() is None
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=20)
+    assert proc.returncode == 0, err
+    assert "Traceback" not in err and "spcotmhp node ready" in err
