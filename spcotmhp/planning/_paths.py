@@ -18,6 +18,8 @@ import math
 import numpy as np
 from numba import njit
 
+from spcotmhp.metric._grid_kernels import follow_links
+
 SQRT2 = math.sqrt(2.0)
 
 
@@ -68,27 +70,17 @@ def field_path_within(links, first, width, territory, places, lo0, lo1, hi0, hi1
     whether every cell lies in a territory flagged in ``places`` inside rows lo0..hi0, cols lo1..hi1 (and every
     diagonal step has such a side cell of finite ``cost``): the module docstring's condition for the path to be
     an answer of the tube re-planning."""
-    n = 1
-    v = first
-    while links[v] >= 0 and n <= links.shape[0]:
-        v = links[v]
-        n += 1
-    out = np.empty((n, 2), np.int64)
-    ok = True
-    v = first
-    for i in range(n):
-        r = v // width
-        c = v - r * width
-        out[i, 0] = r
-        out[i, 1] = c
-        if ok and not _allowed(r, c, territory, places, lo0, lo1, hi0, hi1):
-            ok = False
-        if ok and i > 0 and out[i - 1, 0] != r and out[i - 1, 1] != c:
+    out, _ = follow_links(links, first, width, False)
+    for i in range(out.shape[0]):
+        r = out[i, 0]
+        c = out[i, 1]
+        if not _allowed(r, c, territory, places, lo0, lo1, hi0, hi1):
+            return out, False
+        if i > 0 and out[i - 1, 0] != r and out[i - 1, 1] != c:
             pr = out[i - 1, 0]
             pc = out[i - 1, 1]
             side_a = _allowed(pr, c, territory, places, lo0, lo1, hi0, hi1) and np.isfinite(cost[pr, c])
             side_b = _allowed(r, pc, territory, places, lo0, lo1, hi0, hi1) and np.isfinite(cost[r, pc])
             if not (side_a or side_b):
-                ok = False
-        v = links[v]
-    return out, ok
+                return out, False
+    return out, True
