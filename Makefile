@@ -13,12 +13,15 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
 
+# after installing, compile every numba kernel into its on-disk cache, so the first demo or plan starts warm
 $(STAMP_CORE): pyproject.toml | $(PY)
 	$(PIP) install -q -e .
+	$(VENV)/bin/spcotmhp warmup
 	touch $@
 
 $(STAMP_ALL): pyproject.toml | $(PY)
 	$(PIP) install -q -e ".[all]"
+	$(VENV)/bin/spcotmhp warmup
 	touch $@ $(STAMP_CORE)
 
 install: $(STAMP_CORE)

@@ -13,11 +13,13 @@ step cost), measured in the same run. Prints a markdown table on stdout (progres
 from __future__ import annotations
 
 import argparse
+import resource
 import sys
 import time
 from statistics import median
 
 import numpy as np
+import pyastar2d
 from rich.console import Console
 
 from spcotmhp.datasets.synthetic import generate_environment
@@ -64,7 +66,8 @@ def main(argv: list[str] | None = None) -> int:
     free = np.argwhere(graph.traversable)
     truth = np.asarray(ds.truth_place)
     flat_cost = step_cost_map(costmap.log_p, connectivity=8)
-    plan_t, flat_t, lengths, failures = [], [], [], []
+    plan_t, flat_t, astar_t, lengths, failures = [], [], [], [], []
+    weights = np.ascontiguousarray(graph.map_cost, dtype=np.float32)
     for q in range(args.queries):
         start = graph.to_map(free[rng.integers(len(free))])
         xy = ds.map.cell_to_world(start)
@@ -89,6 +92,11 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         shortest_paths(flat_cost, start, targets, connectivity=8)
         flat_t.append(time.perf_counter() - t0)
+        # pyastar2d from the same start to the plan's final cell on the planning graph's cost grid
+        a, b = graph.to_crop(plan.cells[0]), graph.to_crop(plan.cells[-1])
+        t0 = time.perf_counter()
+        pyastar2d.astar_path(weights, (int(a[0]), int(a[1])), (int(b[0]), int(b[1])), allow_diagonal=True)
+        astar_t.append(time.perf_counter() - t0)
 
     h, w = graph.log_p.shape
     rows = [
@@ -98,6 +106,9 @@ def main(argv: list[str] | None = None) -> int:
         ("cost map (costmap_2d inflation)", f"{t_cost:.2f} s", "", ""),
         ("precompute (planning graph)", f"{t_pre:.2f} s ({graph.n_nodes} nodes, crop {h} x {w})",
          f"<= {PRECOMPUTE_TARGET_S:.0f} s", "yes" if t_pre <= PRECOMPUTE_TARGET_S else "NO"),
+        ("fields + next-step links (bytes)", f"{np.asarray(graph.dist).nbytes + np.asarray(graph.next_step).nbytes:,}",
+         "", ""),
+        ("peak resident memory", f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20:.2f} GiB", "", ""),
     ]
     if plan_t:
         med, p95 = median(plan_t), float(np.percentile(plan_t, 95))
@@ -107,6 +118,8 @@ def main(argv: list[str] | None = None) -> int:
              f"<= {PLAN_TARGET_S * 1e3:.0f} ms", "yes" if med <= PLAN_TARGET_S else "NO"),
             ("flat grid search, median (baseline)", f"{median(flat_t) * 1e3:.2f} ms", "",
              f"plan is {ratio:.1f}x faster" if ratio >= 1 else f"plan is {1 / ratio:.1f}x slower"),
+            ("pyastar2d to the plan's final cell, median", f"{median(astar_t) * 1e3:.2f} ms", "",
+             f"plan / pyastar2d = {med / median(astar_t):.2f}"),
             ("plan length, median", f"{median(lengths):.1f} m", "", ""),
         ]
     rows.append(("failed plans", f"{len(failures)} of {args.queries}", "", ""))

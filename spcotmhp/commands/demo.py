@@ -1,5 +1,6 @@
-"""CLI commands of the demo area: ``spcotmhp demo`` (learn a bundled home, plan an instruction, draw it) and
-``spcotmhp show MODEL_DIR`` (list a learned model's places; ``--png`` draws the learned map)."""
+"""CLI commands of the demo area: ``spcotmhp demo`` (learn a bundled home, plan an instruction, draw it),
+``spcotmhp show MODEL_DIR`` (list a learned model's places; ``--png`` draws the learned map) and ``spcotmhp
+warmup`` (compile every kernel into numba's cache, :mod:`spcotmhp.warmup`)."""
 
 from __future__ import annotations
 
@@ -233,7 +234,17 @@ def _edges(model: Any) -> list[list[int]]:
     return [[a, b] for a, b in topological_edges(model)]
 
 
+def warmup() -> None:
+    """Compile every numba kernel into numba's on-disk cache (once per install; ``make demo`` runs it), so that
+    later commands and processes start without compiling."""
+    from spcotmhp.warmup import warm_up
+
+    seconds = warm_up()
+    typer.echo(f"compiled kernels cached in {seconds:.1f} s")
+
+
 def register(app: typer.Typer) -> None:
     """Add the demo commands to ``app``."""
     app.command()(demo)
     app.command()(show)
+    app.command()(warmup)

@@ -43,13 +43,13 @@ most probable there), rather than at the goal's candidate point.
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
 from numba import njit
 
 from spcotmhp.metric.grid_search import shortest_paths
+from spcotmhp.planning._paths import cells_cost, is_better, octile_length
 
 _AROUND = np.array([(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=np.int64)
 
@@ -71,10 +71,7 @@ def join_legs(legs: list[np.ndarray]) -> tuple[np.ndarray, list[int]]:
 
 def path_length(cells: np.ndarray, resolution: float) -> float:
     """Length in metres of an 8-connected cell path (steps 1 or sqrt 2 cells)."""
-    if len(cells) < 2:
-        return 0.0
-    steps = np.abs(np.diff(cells, axis=0)).sum(axis=1)
-    return float(resolution * (np.count_nonzero(steps == 1) + math.sqrt(2.0) * np.count_nonzero(steps == 2)))
+    return float(resolution * octile_length(np.ascontiguousarray(cells, dtype=np.int64).reshape(-1, 2)))
 
 
 def replan_segment(cells: np.ndarray, cost: np.ndarray, origin: np.ndarray, tube: np.ndarray,
@@ -115,16 +112,23 @@ def replan_segment(cells: np.ndarray, cost: np.ndarray, origin: np.ndarray, tube
 
 def shorten(cells: np.ndarray, anchors: Sequence[int],
             tube: Callable[[int, int], tuple[np.ndarray, np.ndarray]], cost: np.ndarray,
-            connectivity: int = 8) -> tuple[np.ndarray, list[int]]:
+            connectivity: int = 8,
+            exact: Callable[[int, int], np.ndarray | None] | None = None) -> tuple[np.ndarray, list[int]]:
     """Step 1 of the module docstring: re-plan every piece between consecutive anchors (indices into ``cells``;
     the first and last cells are anchors too) with :func:`replan_segment`; ``tube(a, b)`` gives the
-    ``(origin, mask)`` of the piece ``cells[a:b + 1]``. Returns the new path and the new index of each anchor."""
+    ``(origin, mask)`` of the piece ``cells[a:b + 1]``. ``exact(a, b)``, when given, may return an answer of
+    that re-planning found without a search (:mod:`spcotmhp.planning._paths`), or None. Returns the new path
+    and the new index of each anchor."""
     cells = np.asarray(cells, dtype=np.int64)
     bounds = sorted({0, len(cells) - 1, *(int(a) for a in anchors)})
     pieces, where, n = [cells[:1]], {0: 0}, 1
     for a, b in itertools.pairwise(bounds):
-        origin, mask = tube(a, b)
-        piece = replan_segment(cells[a:b + 1], cost, origin, mask, connectivity)
+        old = cells[a:b + 1]
+        found = exact(a, b) if exact is not None and len(old) >= 3 else None
+        if found is None:
+            piece = replan_segment(old, cost, *tube(a, b), connectivity)
+        else:
+            piece = found if better(found, old, cost) else old
         pieces.append(piece[1:])
         n += len(piece) - 1
         where[b] = n - 1
@@ -141,16 +145,13 @@ def arrival(cells: np.ndarray, inside: np.ndarray, first: int = 0) -> int:
 def path_cost(cells: np.ndarray, cost: np.ndarray) -> float:
     """Sum of the step costs of an 8-connected cell path under the grid search's move model: entering cell v
     costs ``cost[v]`` times the step length (1 or sqrt 2); the first cell is not counted."""
-    if len(cells) < 2:
-        return 0.0
-    steps = np.abs(np.diff(cells, axis=0)).sum(axis=1)
-    return float(np.sum(cost[cells[1:, 0], cells[1:, 1]] * np.where(steps == 2, math.sqrt(2.0), 1.0)))
+    return float(cells_cost(np.ascontiguousarray(cells, dtype=np.int64).reshape(-1, 2), cost))
 
 
 def better(new: np.ndarray, old: np.ndarray, cost: np.ndarray) -> bool:
     """Whether ``new`` is strictly shorter than ``old``, or as long and no costlier under ``cost``."""
-    a, b = path_length(new, 1.0), path_length(old, 1.0)
-    return a < b - 1e-9 or (a <= b + 1e-9 and path_cost(new, cost) <= path_cost(old, cost) + 1e-9)
+    return bool(is_better(np.ascontiguousarray(new, dtype=np.int64).reshape(-1, 2),
+                          np.ascontiguousarray(old, dtype=np.int64).reshape(-1, 2), cost))
 
 
 def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int], connectivity: int = 8) -> np.ndarray:

@@ -64,6 +64,7 @@ from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component, snap
+from spcotmhp.planning._paths import field_path_within, octile_length
 from spcotmhp.planning.places import candidate_points, connected_places
 from spcotmhp.planning.territory import grown_territories, tube_window
 
@@ -297,6 +298,27 @@ class PlanningGraph:
         if (i, j) not in self._paths:
             self._paths[(i, j)] = self.leg(self.node_cell[i], j).cells
         return self._paths[(i, j)]
+
+    def field_piece(self, cells: np.ndarray, a: int, b: int, ends: np.ndarray, nodes: np.ndarray,
+                    places: np.ndarray) -> np.ndarray | None:
+        """An answer of the tube re-planning of the piece ``cells[a:b + 1]`` (which ends at a node, ``cells[b]``)
+        read from that node's field, or None when the field's path leaves the tube (:mod:`spcotmhp.planning.
+        _paths`). ``ends[e]``: index in ``cells`` where ``nodes[e]`` is reached; ``places``: the tube's places.
+        A piece that is one leg is already that field's path."""
+        inner = (ends > a) & (ends < b)
+        if not inner.any():
+            return cells[a:b + 1]
+        node = int(nodes[np.flatnonzero(ends == b)[-1]])
+        flags = np.zeros(self.model.K, dtype=np.bool_)
+        flags[places[places >= 0]] = True
+        piece = cells[a:b + 1]
+        first, last, half = piece[0], piece[-1], octile_length(piece) / 2
+        lo = np.maximum(np.floor((first + last) / 2 - half), 0).astype(np.int64)
+        hi = np.ceil((first + last) / 2 + half).astype(np.int64) + 1
+        width = self.log_p.shape[1]
+        path, ok = field_path_within(self.next_step[node].reshape(-1), int(first[0] * width + first[1]), width,
+                                     self.territory, flags, lo[0], lo[1], hi[0], hi[1], self.map_cost)
+        return path if ok else None
 
     @property
     def map_cost(self) -> np.ndarray:

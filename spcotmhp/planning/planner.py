@@ -287,10 +287,16 @@ class HierarchicalPlanner:
             node_place = graph.node_place[result.nodes]
             ends_arr = np.asarray(ends)
 
-            def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
+            def places(a: int, b: int) -> np.ndarray:
                 piece = raw[a:b + 1]
                 own = node_place[(ends_arr >= a) & (ends_arr <= b)]
-                return graph.tube(np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own))
+                return np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+
+            def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
+                return graph.tube(places(a, b))
+
+            def exact(a: int, b: int) -> np.ndarray | None:
+                return graph.field_piece(raw, a, b, ends_arr, result.nodes, places(a, b))
 
             def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
                 short, moved = smooth_anchored(path, graph.traversable, marks,
@@ -299,7 +305,7 @@ class HierarchicalPlanner:
 
             # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path
             # keeps off the walls, so shortcuts of the assembled one are occasionally shorter still
-            replanned = shortcut(*shorten(cells, anchors, tube, graph.map_cost, graph.settings.connectivity))
+            replanned = shortcut(*shorten(cells, anchors, tube, graph.map_cost, graph.settings.connectivity, exact))
             direct = shortcut(cells, anchors)
             cells, anchors = replanned if better(replanned[0], direct[0], graph.map_cost) else direct
         smoothed = settings.smooth and not np.array_equal(cells, raw)

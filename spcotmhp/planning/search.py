@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 NEG_INF = -np.inf
 
@@ -89,28 +90,13 @@ class SearchResult:
 
 def search(problem: SearchProblem) -> SearchResult | None:
     """Maximise Eq. 28 over sequences of 1..E steps (module docstring); None if no sequence completes every
-    stage within E steps."""
-    S, M = problem.word.shape
-    E = problem.max_steps
-    word = problem.word
-    pred = np.full((E + 1, S, M), -1, dtype=np.int64)         # previous node (-1: the start pose)
-    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)   # >= 0: reached by completing that stage here
-    best_terminal = np.full(M, NEG_INF)
-    terminal_step = np.full(M, -1, dtype=np.int64)
-
-    value = np.full((S, M), NEG_INF)
-    value[0] = problem.start + word[0]
-    for e in range(1, E + 1):
-        if e > 1:
-            scores = value[:, :, None] + problem.transition[None, :, :]   # (S, M_from, M_to)
-            pred[e] = np.argmax(scores, axis=1)
-            value = np.max(scores, axis=1) + word
-        terminal = _complete_stages(value, problem.completes, from_stage[e])
-        better = terminal > best_terminal
-        best_terminal[better] = terminal[better]
-        terminal_step[better] = e
-        if not np.isfinite(value).any():
-            break
+    stage within E steps. The recursion runs in one compiled kernel (:func:`_viterbi`)."""
+    S = problem.word.shape[0]
+    pred, from_stage, best_terminal, terminal_step = _viterbi(
+        np.ascontiguousarray(problem.transition, dtype=np.float64),
+        np.ascontiguousarray(problem.start, dtype=np.float64),
+        np.ascontiguousarray(problem.word, dtype=np.float64),
+        np.ascontiguousarray(problem.completes, dtype=np.bool_), int(problem.max_steps))
     if not np.isfinite(best_terminal).any():
         return None
     end = int(np.argmax(best_terminal))
@@ -119,18 +105,52 @@ def search(problem: SearchProblem) -> SearchResult | None:
                         terminal_step)
 
 
-def _complete_stages(value: np.ndarray, completes: np.ndarray, from_stage: np.ndarray) -> np.ndarray:
-    """Stage completion at the current step, in place: (s, j) -> (s + 1, j) where j is an instance of stage s.
-    Returns the log weight of finishing (completing the last stage) at each node. Completion is optional, so the
-    states stay: a plan may pass one goal instance on its way to a better one."""
-    S = value.shape[0]
-    for s in range(S - 1):
-        done = np.where(completes[s], value[s], NEG_INF)
-        better = done > value[s + 1]
-        value[s + 1, better] = done[better]
-        from_stage[s + 1, better] = s
-    terminal = np.where(completes[S - 1], value[S - 1], NEG_INF)
-    return terminal
+@njit(cache=True)
+def _viterbi(transition, start, word, completes, E):  # pragma: no cover - numba
+    """The max-product recursion over steps e = 1..E on states (stage, node); ties go to the lowest index.
+    Stage completion at each step, in place: (s, j) -> (s + 1, j) where j is an instance of stage s, optional
+    (the states stay, so a plan may pass one goal instance on its way to a better one). Returns the
+    predecessor and completed-stage tables, the best log weight of finishing at each node and its step."""
+    S, M = word.shape
+    pred = np.full((E + 1, S, M), -1, dtype=np.int64)         # previous node (-1: the start pose)
+    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)   # >= 0: reached by completing that stage here
+    best_terminal = np.full(M, NEG_INF)
+    terminal_step = np.full(M, -1, dtype=np.int64)
+    value = np.full((S, M), NEG_INF)
+    new = np.empty((S, M))
+    for j in range(M):
+        value[0, j] = start[j] + word[0, j]
+    for e in range(1, E + 1):
+        if e > 1:
+            for s in range(S):
+                for j in range(M):
+                    best = NEG_INF
+                    arg = 0
+                    for i in range(M):
+                        v = value[s, i] + transition[i, j]
+                        if v > best:
+                            best = v
+                            arg = i
+                    pred[e, s, j] = arg
+                    new[s, j] = best + word[s, j]
+            value[:, :] = new
+        for s in range(S - 1):
+            for j in range(M):
+                if completes[s, j] and value[s, j] > value[s + 1, j]:
+                    value[s + 1, j] = value[s, j]
+                    from_stage[e, s + 1, j] = s
+        alive = False
+        for j in range(M):
+            t = value[S - 1, j] if completes[S - 1, j] else NEG_INF
+            if t > best_terminal[j]:
+                best_terminal[j] = t
+                terminal_step[j] = e
+            for s in range(S):
+                if value[s, j] > NEG_INF:
+                    alive = True
+        if not alive:
+            break
+    return pred, from_stage, best_terminal, terminal_step
 
 
 def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, stage: int):

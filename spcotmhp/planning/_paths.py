@@ -1,0 +1,86 @@
+"""Compiled kernels of the online path (Algorithm 1, lines 12-13): lengths and costs of cell paths, the
+comparison that decides whether a smoothed piece replaces the old one, and the exact re-planning of a piece
+read from a precomputed cost-to-go field when that field's path stays inside the piece's tube.
+
+Why the field read is exact: every cost-to-go field of the planning graph uses the map-only step cost of Eq. 26,
+``log|A| - log p(x|m)`` (:mod:`spcotmhp.planning.graph`), which is also the cost the tube re-planning of
+:func:`spcotmhp.planning.assemble.replan_segment` minimises. The field's path from a piece's first cell into the
+node at its end is the cheapest one over the whole free space; if every cell of it is allowed in the restricted
+search (inside the tube and its window, and every diagonal step has an allowed side cell, so the corner rule
+"no squeeze" admits it there too), the restricted search's optimum has the same cost, so the field path is an
+answer of that search, read in O(path length) instead of a grid search. Otherwise the caller runs the search.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from spcotmhp.metric._grid_kernels import follow_links
+
+SQRT2 = math.sqrt(2.0)
+
+
+@njit(cache=True)
+def octile_length(cells):  # pragma: no cover - numba
+    """Length in cells of an 8-connected cell path (steps 1 or sqrt 2)."""
+    total = 0.0
+    for k in range(1, cells.shape[0]):
+        d = abs(cells[k, 0] - cells[k - 1, 0]) + abs(cells[k, 1] - cells[k - 1, 1])
+        if d == 1:
+            total += 1.0
+        elif d == 2:
+            total += SQRT2
+    return total
+
+
+@njit(cache=True)
+def cells_cost(cells, cost):  # pragma: no cover - numba
+    """Sum of the step costs of an 8-connected path: entering cell v costs ``cost[v]`` times the step length
+    (1 or sqrt 2); the first cell is not counted."""
+    total = 0.0
+    for k in range(1, cells.shape[0]):
+        d = abs(cells[k, 0] - cells[k - 1, 0]) + abs(cells[k, 1] - cells[k - 1, 1])
+        c = cost[cells[k, 0], cells[k, 1]]
+        total += c * SQRT2 if d == 2 else c
+    return total
+
+
+@njit(cache=True)
+def is_better(new, old, cost):  # pragma: no cover - numba
+    """Whether ``new`` is strictly shorter than ``old``, or as long and no costlier under ``cost``."""
+    a = octile_length(new)
+    b = octile_length(old)
+    return a < b - 1e-9 or (a <= b + 1e-9 and cells_cost(new, cost) <= cells_cost(old, cost) + 1e-9)
+
+
+@njit(cache=True, inline="always")
+def _allowed(r, c, territory, places, lo0, lo1, hi0, hi1):  # pragma: no cover - numba
+    if r < lo0 or r >= hi0 or c < lo1 or c >= hi1:
+        return False
+    k = territory[r, c]
+    return k >= 0 and k < places.shape[0] and places[k]
+
+
+@njit(cache=True)
+def field_path_within(links, first, width, territory, places, lo0, lo1, hi0, hi1, cost):  # pragma: no cover
+    """The chain ``first, links[first], ...`` (a cost-to-go field's path; -1 ends it) as (n, 2) cells, and
+    whether every cell lies in a territory flagged in ``places`` inside rows lo0..hi0, cols lo1..hi1 (and every
+    diagonal step has such a side cell of finite ``cost``): the module docstring's condition for the path to be
+    an answer of the tube re-planning."""
+    out, _ = follow_links(links, first, width, False)
+    for i in range(out.shape[0]):
+        r = out[i, 0]
+        c = out[i, 1]
+        if not _allowed(r, c, territory, places, lo0, lo1, hi0, hi1):
+            return out, False
+        if i > 0 and out[i - 1, 0] != r and out[i - 1, 1] != c:
+            pr = out[i - 1, 0]
+            pc = out[i - 1, 1]
+            side_a = _allowed(pr, c, territory, places, lo0, lo1, hi0, hi1) and np.isfinite(cost[pr, c])
+            side_b = _allowed(r, pc, territory, places, lo0, lo1, hi0, hi1) and np.isfinite(cost[r, pc])
+            if not (side_a or side_b):
+                return out, False
+    return out, True

@@ -1,0 +1,78 @@
+"""Compile every numba kernel once, ahead of the first real use, into numba's on-disk cache.
+
+Every kernel of the package is ``@njit(cache=True)``: the first call in the first process compiles it (tens of
+seconds for all of them together), later processes load the compiled code from the cache. :func:`warm_up`
+makes that first call on a small seeded synthetic home, through the same code paths (and so the same argument
+types) as real use: unsupervised learning (Gibbs sampling, one short run), the supervised fit, the cost map,
+the planning graph and plans with a waypoint, a place to avoid and the metric fallback, and the grid searches.
+``make demo`` runs it right after installing (``spcotmhp warmup``), so the demo itself starts warm.
+
+Where the cache lives: numba writes it next to the package's sources when they are writable and otherwise in
+the user's cache folder; :func:`cache_dir_default` (run when the package is imported) points
+``NUMBA_CACHE_DIR`` at ``$XDG_CACHE_HOME/spcotmhp/numba`` (default ``~/.cache``) when the package folder is not
+writable and the variable is unset, so the cache is shared by every environment of the user.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+from pathlib import Path
+
+__all__ = ["cache_dir_default", "warm_up"]
+
+
+def cache_dir_default() -> str | None:
+    """Set ``NUMBA_CACHE_DIR`` to a user cache folder when the package folder is not writable and the variable
+    is unset (call before numba is imported); returns the folder numba will use, None for its default."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return os.environ["NUMBA_CACHE_DIR"]
+    package = Path(__file__).resolve().parent
+    if os.access(package, os.W_OK):
+        return None
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    folder = base / "spcotmhp" / "numba"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return None
+    os.environ["NUMBA_CACHE_DIR"] = str(folder)
+    return str(folder)
+
+
+def warm_up() -> float:
+    """Run every compiled kernel once on a small synthetic home (module docstring); returns the seconds spent."""
+    import numpy as np
+
+    from spcotmhp.datasets.synthetic import generate_environment
+    from spcotmhp.errors import PlanningError
+    from spcotmhp.learning.gibbs import SpCoTMHP
+    from spcotmhp.learning.selection import MultiRunSelector
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.metric import grid_search
+    from spcotmhp.planning.graph import clear_cache
+    from spcotmhp.planning.places import main_component
+    from spcotmhp.planning.planner import HierarchicalPlanner
+
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        grid_search.warmup()
+        data = generate_environment("flat", seed=0, events_per_room=4)
+        learned = MultiRunSelector(SpCoTMHP(iterations=3, seed=0), runs=1).fit(data).model_
+        for model in (fit_supervised(data), learned):
+            for settings in ({}, {"adjacent_only": True}):       # Eq. 28 on all pairs; the reference graph
+                planner = HierarchicalPlanner(model, use_cache=False, **settings)
+                graph = planner.graph
+                names = sorted({planner.names[k] for k in np.flatnonzero(model.active_places)})
+                free = np.argwhere(main_component(graph.traversable))
+                start = model.map.cell_to_world(graph.to_map(free[len(free) // 2]))
+                for text in (f"go to the {names[-1]}", f"go to the {names[-1]} via the {names[0]}",
+                             f"go to the {names[-1]} avoiding the {names[0]}"):
+                    try:
+                        planner.plan(text, start)
+                    except PlanningError:
+                        pass
+    clear_cache()
+    return time.perf_counter() - t0

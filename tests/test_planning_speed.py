@@ -1,0 +1,66 @@
+"""The compiled online path: the field read of a tube re-planning equals the search's answer in cost, the
+compiled path measures agree with numpy, and the numba cache folder falls back to a user cache."""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+from spcotmhp import warmup
+from spcotmhp.datasets.bundled import load_bundled
+from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.planning._paths import cells_cost, is_better, octile_length
+from spcotmhp.planning.assemble import join_legs, path_cost, replan_segment
+from spcotmhp.planning.planner import HierarchicalPlanner
+
+
+def test_octile_length_and_cost_by_hand():
+    cells = np.array([[0, 0], [1, 1], [1, 2], [2, 3]])
+    cost = np.arange(16, dtype=float).reshape(4, 4)
+    assert octile_length(cells) == pytest.approx(1 + 2 * math.sqrt(2))
+    assert cells_cost(cells, cost) == pytest.approx(5 * math.sqrt(2) + 6 + 11 * math.sqrt(2))
+    assert is_better(cells[:2], cells, cost) and not is_better(cells, cells[:2], cost)
+
+
+def test_cache_dir_falls_back_to_user_cache(monkeypatch, tmp_path):
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.setattr(os, "access", lambda *a, **k: False)
+    assert warmup.cache_dir_default() == str(tmp_path / "spcotmhp" / "numba")
+    assert (tmp_path / "spcotmhp" / "numba").is_dir()
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "/somewhere")
+    assert warmup.cache_dir_default() == "/somewhere"
+
+
+@pytest.mark.parametrize("home", ["3LDK_01", "3LDK_06"])
+def test_field_read_is_an_optimum_of_the_tube_replanning(home):
+    """Two-leg pieces start -> node a -> node b: when the field of b gives a path, it lies in the tube and costs
+    no more than the tube search's answer (so it is an optimum there), and its cost is the field's value."""
+    with pytest.warns(Warning):
+        data = load_bundled(home, lang="en")
+    model = fit_supervised(data)
+    graph = HierarchicalPlanner(model).graph
+    rng = np.random.default_rng(0)
+    free = np.argwhere(graph.main)
+    read = 0
+    for _ in range(60):
+        start = free[rng.integers(len(free))]
+        a, b = rng.choice(graph.n_nodes, size=2, replace=False)
+        cells, ends = join_legs([graph.leg(start, int(a)).cells, graph.edge_path(int(a), int(b))])
+        ends = np.asarray(ends)
+        places = np.union1d(graph.territory[cells[:, 0], cells[:, 1]], graph.node_place[[a, b]])
+        found = graph.field_piece(cells, 0, len(cells) - 1, ends, np.array([a, b]), places)
+        if found is None:
+            continue
+        read += 1
+        origin, mask = graph.tube(places)
+        inside = found - origin
+        assert ((inside >= 0) & (inside < mask.shape)).all() and mask[inside[:, 0], inside[:, 1]].all()
+        searched = replan_segment(cells, graph.map_cost, origin, mask)
+        assert path_cost(found, graph.map_cost) <= path_cost(searched, graph.map_cost) + 1e-9
+        assert path_cost(found, graph.map_cost) == pytest.approx(graph.dist[b][start[0], start[1]])
+        assert (found[0] == start).all() and (found[-1] == graph.node_cell[b]).all()
+    assert read >= 20
