@@ -394,3 +394,9 @@ def test_serve_rejects_an_unknown_log_level(dirs):
     text = " ".join(out.output.replace("│", " ").split())
     assert "Invalid value for '--log-level': Value error, 'loud' is not one of 'critical', 'error', 'warning', " \
            "'info', 'debug', 'trace'" in text
+
+
+def test_an_instruction_over_the_planners_limit_is_413_with_its_cause(client, start):
+    r = plan(client, instruction="go to the bedroom " + "and then the kitchen " * 40, start=start)
+    assert r.status_code == 413 and r.json()["cause"] == "InstructionTooLarge"
+    assert "more than the 500 accepted" in r.json()["detail"]

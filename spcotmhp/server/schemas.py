@@ -6,12 +6,15 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from spcotmhp.planning.instructions import MAX_CHARS, MAX_HYPOTHESES
+
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Word = Annotated[str, Field(min_length=1, max_length=100)]
 Point = tuple[Finite, Finite]
 
-MAX_TEXT = 1000
-MAX_HYPOTHESES = 50
+# a size guard only: the planner's own limits (spcotmhp.planning.instructions.MAX_CHARS, MAX_WAYPOINTS, ...)
+# decide what is too large to plan and answer it with InstructionTooLarge (413), one rule in one place
+MAX_TEXT = 16 * MAX_CHARS
 
 
 class Hypothesis(BaseModel):
