@@ -122,7 +122,7 @@ def demo(
     instruction: Annotated[str, typer.Option(help="The instruction to plan.")] = DEMO_INSTRUCTION,
     lang: Annotated[str, typer.Option(help="Language of the teaching words and the instruction (en, ja).")] = "en",
     start: Annotated[tuple[float, float] | None, typer.Option(
-        help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
+        metavar="X Y", help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
     start_place: Annotated[str | None, typer.Option(
         help="Place to start from when --start is not given (default: the entrance, else the first place).")]
     = None,

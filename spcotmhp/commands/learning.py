@@ -31,7 +31,10 @@ def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
         try:
             path = bundled_path(dataset)
         except DatasetError:
-            raise DatasetError(f"{dataset} is neither a dataset folder nor a bundled dataset name") from None
+            from spcotmhp.datasets.bundled import list_bundled
+
+            raise DatasetError(f"{dataset} is neither a dataset folder nor a bundled dataset name (bundled: "
+                               f"{', '.join(list_bundled())}; `spcotmhp datasets` describes them)") from None
     if lang is None:
         langs = available_languages(path) if (path / "teaching.csv").is_file() else []
         lang = langs[0] if langs else "en"
