@@ -31,8 +31,10 @@ system-deps:
 	command -v espeak-ng >/dev/null 2>&1 || missing="$$missing espeak-ng"; \
 	if [ -n "$$missing" ]; then \
 	  if command -v apt-get >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
-	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null) \
-	      || echo "warning: could not install$$missing; the tests that need them will skip"; \
+	    mkdir -p $(VENV); echo "installing$$missing (Debian packages for the browser and speech tests; log: $(VENV)/apt.log)"; \
+	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing) \
+	      >$(VENV)/apt.log 2>&1 \
+	      || echo "warning: could not install$$missing (see $(VENV)/apt.log); the tests that need them will skip"; \
 	  else echo "warning: missing$$missing (not root or no apt); the tests that need them will skip"; fi; \
 	fi
 

@@ -119,15 +119,27 @@ def test_bad_lang(tmp_path):
 
 
 def test_empty_teaching(tmp_path):
-    with raises("teaching.csv is empty (expected a header event,x,y,words_ja,words_en[,step]"):
+    with raises("teaching.csv is empty (expected a header x,y,words_en (or words_ja, or both; optional event, "
+                "step)"):
         load_dataset(make(tmp_path / "a", teaching_csv=""))
     with raises("teaching.csv has a header but no teaching events"):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_ja\n\n"))
 
 
+def test_event_column_optional(tmp_path):
+    """Without an event column the events are the rows in file order; truth.csv refers to them by that index."""
+    folder = make(tmp_path, teaching_csv="x,y,words_en\n0.2,0.2,This is the Hall\n0.3,0.2,the hall\n")
+    (folder / "truth.csv").write_text("event,place\n1,0\n0,0\n")
+    d = load_dataset(folder)
+    assert d.n_events == 2 and d.tokens == [["this", "is", "the", "hall"], ["the", "hall"]]
+    assert d.truth_place.tolist() == [0, 0]
+    with raises("teaching.csv row 3: event 0 appears twice (also on row 2)"):   # given, it must count 0, 1, ...
+        load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_en\n0,0.2,0.2,a\n0,0.3,0.2,b\n"))
+
+
 def test_missing_columns_lists_found_and_accepted(tmp_path):
     with raises("teaching.csv: missing column(s) x; found event, xpos, y, words_ja; "
-                "accepted: event, x, y, words_ja and/or words_en, [step]"):
+                "accepted: x, y, words_ja and/or words_en, [event], [step]"):
         load_dataset(make(tmp_path / "a", teaching_csv="event,xpos,y,words_ja\n0,1,2,a\n"), lang="ja")
     with raises("teaching.csv: missing column(s) words_ja or words_en; found event, x, y, words; "):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words\n0,1,2,a\n"), lang="ja")

@@ -240,7 +240,7 @@ def understood(hypotheses) -> tuple:
     return top(ins.goal), tuple(top(w) for w in ins.waypoints), tuple(top(a) for a in ins.avoid)
 
 
-def test_recognition_accuracy_on_espeak_instructions(ps, wavs, capsys):
+def test_recognition_accuracy_on_espeak_instructions(ps, wavs):
     from spcotmhp.speech import recognise
 
     right, wrong = 0, []
@@ -253,10 +253,8 @@ def test_recognition_accuracy_on_espeak_instructions(ps, wavs, capsys):
         right += got == expected
         if got != expected:
             wrong.append((text, hyps[0][0], got))
-    with capsys.disabled():
-        print(f"\nspeech: {right}/{len(INSTRUCTIONS)} espeak-ng instructions with the right goal and waypoints"
-              + "".join(f"\n  {t!r} -> {h!r} {g}" for t, h, g in wrong))
-    assert right >= 0.9 * len(INSTRUCTIONS), wrong
+    assert right >= 0.9 * len(INSTRUCTIONS), (f"{right}/{len(INSTRUCTIONS)} espeak-ng instructions with the right "
+                                              f"goal and waypoints; wrong: {wrong}")
 
 
 def test_recognition_of_44k_stereo_audio(ps, espeak):

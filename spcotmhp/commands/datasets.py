@@ -51,11 +51,14 @@ def datasets() -> None:
 
 
 def check_dataset(
-    folder: Annotated[Path, typer.Argument(help="Dataset folder (map.yaml, teaching.csv, optional extras).")],
+    folder: Annotated[Path, typer.Argument(
+        metavar="DATASET", help="Dataset folder (map.yaml, teaching.csv, optional extras), or a bundled dataset's name.")],
     lang: Annotated[str, typer.Option(help="en, ja, or auto (en when teaching.csv has words_en).")] = "auto",
     strict: Annotated[bool, typer.Option(help="Exit with status 1 when there are warnings.")] = False,
 ) -> None:
     """Load a dataset folder, print a summary and every warning; errors are one line (exit status 2)."""
+    if not folder.exists() and str(folder) in list_bundled():
+        folder = bundled_path(str(folder))
     if lang == "auto":
         langs = available_languages(folder) if (folder / "teaching.csv").is_file() else []
         lang = langs[0] if langs else "en"

@@ -30,26 +30,10 @@ class _OptionalRayAddress(TyperCommand):
 
 
 def load_home(name_or_path: str, lang: str):
-    """A dataset folder, or a bundled dataset by name."""
-    from spcotmhp.datasets import DatasetWarning, load_bundled, load_dataset
+    """A dataset folder, or a bundled dataset by name; its dataset warnings as a count and the first few."""
+    from spcotmhp.commands.learning import load_dataset_reporting
 
-    path = Path(name_or_path)
-    if path.exists() and not path.is_dir():
-        raise DatasetError(f"{name_or_path} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", DatasetWarning)
-        if path.is_dir():
-            dataset = load_dataset(path, lang=lang)
-        else:
-            try:
-                dataset = load_bundled(name_or_path, lang=lang)
-            except DatasetError as exc:
-                raise DatasetError(f"{name_or_path!r} is neither a dataset folder nor a bundled dataset "
-                                   f"({exc})") from None
-    notes = [str(w.message) for w in caught if issubclass(w.category, DatasetWarning)]
-    if notes:  # one line per home instead of one per teaching event
-        typer.echo(f"note: {dataset.name}: {len(notes)} dataset warning(s), e.g. {notes[0]}", err=True)
-    return dataset
+    return load_dataset_reporting(name_or_path, lang)
 
 
 def _check(value: str, allowed: tuple[str, ...], option: str) -> str:
