@@ -5,6 +5,7 @@ library's own errors (``spcotmhp.cli.main``)."""
 
 from __future__ import annotations
 
+import itertools
 import re
 import sys
 from collections.abc import Sequence
@@ -64,7 +65,7 @@ def usage_message(exc: Exception, args: Sequence[str], group: Any = None) -> str
     """The one-line message of a click usage error, with a hint where the cause is a common slip (two numbers
     written with a comma) and a pointer to the command's ``--help``."""
     message = one_line(exc.format_message())
-    for option, value in zip(args, args[1:]):
+    for option, value in itertools.pairwise(args):
         pair = _PAIR.fullmatch(value)
         if option.startswith("--") and pair and option in message:
             message = (f"{option} takes two numbers separated by a space, e.g. {option} {pair[1]} {pair[2]} "

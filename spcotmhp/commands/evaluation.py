@@ -4,14 +4,13 @@
 from __future__ import annotations
 
 import json
-import warnings
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from typer.core import TyperCommand
 
-from spcotmhp.errors import DatasetError, SpcotmhpError
+from spcotmhp.errors import SpcotmhpError
 
 METHOD_NAMES = "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2"
 
