@@ -22,6 +22,7 @@ except ImportError:                     # pragma: no cover - older typer uses cl
 # the type part of typer's help label ("<int range>", "<path>") -> a click-style metavar
 METAVARS = {"str": "TEXT", "int": "INTEGER", "int range": "INTEGER", "float": "FLOAT", "float range": "FLOAT",
             "path": "PATH", "file": "FILE", "directory": "DIR", "list[str]": "TEXT"}
+_NUMBER = re.compile(r"-?[\d.,]+(?:e[-+]?\d+)?(?: ?(?:ms|s|%))?|-|")
 _PAIR = re.compile(r"\s*([-+]?[\d.]+(?:[eE][-+]?\d+)?)\s*,\s*([-+]?[\d.]+(?:[eE][-+]?\d+)?)\s*")
 
 
@@ -105,3 +106,18 @@ class ConventionalGroup(TyperGroup):
         if not standalone_mode:
             return code
         sys.exit(code if isinstance(code, int) else 0)
+
+
+def plain_table(headers: Sequence[str], rows: Sequence[Sequence[Any]], title: str | None = None) -> str:
+    """Rows as plain aligned text (columns of numbers right-aligned), never cut to the terminal's width: readable
+    piped, in a log or at 80 columns (long lines wrap, numbers stay whole)."""
+    cells = [list(map(str, headers))] + [list(map(str, r)) for r in rows]
+    widths = [max(len(r[j]) for r in cells) for j in range(len(headers))]
+    numeric = [all(_NUMBER.fullmatch(r[j]) for r in cells[1:]) and len(cells) > 1 for j in range(len(headers))]
+
+    def line(r: list[str]) -> str:
+        return "  ".join(c.rjust(w) if num else c.ljust(w) for c, w, num in zip(r, widths, numeric)).rstrip()
+
+    out = [title] if title else []
+    out += [line(cells[0]), "  ".join("-" * w for w in widths)] + [line(r) for r in cells[1:]]
+    return "\n".join(out)

@@ -34,20 +34,19 @@ def _load_quietly(path: Path, lang: str) -> tuple[Dataset, list[str]]:
 
 def datasets() -> None:
     """List the datasets bundled with the package (name, folder, events, places, map size, languages)."""
-    from rich.console import Console
-    from rich.table import Table
+    from spcotmhp.commands.conventions import plain_table
 
     root = data_root()
-    table = Table("name", "folder under data/", "events", "places", "map (cells @ m/cell)", "languages",
-                  "warnings", title=f"bundled datasets in {root}")
+    rows = []
     for name in list_bundled():
         path = bundled_path(name)
         langs = available_languages(path)
         d, caught = _load_quietly(path, langs[0])
         places = _n_places(d)
-        table.add_row(name, path.relative_to(root).as_posix(), str(d.n_events),
-                      "-" if places is None else str(places), _map_size(d), ",".join(langs), str(len(caught)))
-    Console(width=max(Console().width, 110)).print(table)
+        rows.append([name, path.relative_to(root).as_posix(), d.n_events, "-" if places is None else places,
+                     _map_size(d), ",".join(langs), len(caught)])
+    typer.echo(plain_table(["name", "folder under data/", "events", "places", "map (cells @ m/cell)", "languages",
+                            "warnings"], rows, title=f"bundled datasets in {root}"))
 
 
 def check_dataset(

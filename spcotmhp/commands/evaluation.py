@@ -56,30 +56,25 @@ def check_writable(path: Path) -> None:
 
 
 def _print_result(result: dict) -> None:
-    from rich.console import Console
-    from rich.table import Table
-
+    from spcotmhp.commands.conventions import plain_table
     from spcotmhp.evaluation.tables import COLUMNS, METHOD_LABELS, fmt_time
 
-    console = Console()
     keys = [k for k, _ in COLUMNS[result["task"]]]
     heads = [h for _, h in COLUMNS[result["task"]]]
     blocks = list(result["homes"].items()) + ([("all homes", result["mean"])] if len(result["homes"]) > 1 else [])
     for home, metrics in blocks:
-        table = Table(title=f"{home}: {result['task']} tasks, {result['params']} parameters")
-        for h in ["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"]:
-            table.add_column(h, justify="left" if h == "Method" else "right")
-        for method, m in metrics.items():
-            table.add_row(METHOD_LABELS.get(method, method), *[f"{m[k]:.3f}" for k in keys], f"{m['success']:.3f}",
-                          fmt_time(m["time_median_s"]), fmt_time(m["time_p95_s"]), str(m["n_tasks"]))
-        console.print(table)
+        rows = [[METHOD_LABELS.get(method, method), *[f"{m[k]:.3f}" for k in keys], f"{m['success']:.3f}",
+                 fmt_time(m["time_median_s"]), fmt_time(m["time_p95_s"]), m["n_tasks"]]
+                for method, m in metrics.items()]
+        typer.echo(plain_table(["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"], rows,
+                               title=f"{home}: {result['task']} tasks, {result['params']} parameters") + "\n")
     for home, note in result["notes"].items():
         extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
-        console.print(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
-                      f"{extra}")
+        typer.echo(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
+                   f"{extra}")
     if result.get("moves"):
         moves = "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in result["moves"].items())
-        console.print(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
+        typer.echo(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
 
 
 def register(app: typer.Typer) -> None:
