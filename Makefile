@@ -13,8 +13,9 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
 
+# the demo's install: the package and the extra 'server' (the demo's "next:" serves the model it learned)
 $(STAMP_CORE): pyproject.toml | $(PY)
-	$(PIP) install -q -e .
+	$(PIP) install -q -e ".[server]"
 	touch $@
 
 $(STAMP_ALL): pyproject.toml | $(PY)
