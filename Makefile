@@ -40,7 +40,7 @@ system-deps:
 	fi
 
 demo: $(STAMP_CORE)
-	$(VENV)/bin/spcotmhp demo --out demo-output
+	$(VENV)/bin/spcotmhp demo --out demo-output --overwrite
 
 test: install-all
 	$(PY) -m pytest -q

@@ -87,16 +87,16 @@ def test_a_hand_written_csv_to_a_plan(tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["plan", "m", "go"], "error: Missing option '--start' (see 'spcotmhp plan --help')"),
     (["plan", "m", "go", "--start", "-3.9,-3.5"],
-     "error: --start takes two numbers separated by a space, e.g. --start -3.9 -3.5 (got '-3.9,-3.5') "
-     "(see 'spcotmhp plan --help')"),
+     ("error: --start takes two numbers separated by a space, e.g. --start -3.9 -3.5 (got '-3.9,-3.5') "
+     "(see 'spcotmhp plan --help')")),
     (["plan", "m", "go", "--start", "1", "2", "--bogus"], "error: No such option: --bogus (see 'spcotmhp plan --help')"),
     (["lern", "3LDK_06"], "error: No such command 'lern'. Did you mean 'learn'? (see 'spcotmhp --help')"),
     (["learn", "nosuchdataset", "--out", "m"],
-     "error: nosuchdataset is neither a dataset folder nor a bundled dataset name (bundled: 3LDK_01, 3LDK_05, "
-     "3LDK_06, albert-b; `spcotmhp datasets` describes them)"),
+     ("error: nosuchdataset is neither a dataset folder nor a bundled dataset name (bundled: 3LDK_01, 3LDK_05, "
+     "3LDK_06, albert-b; `spcotmhp datasets` describes them)")),
     (["plan", "3LDK_06", "go", "--start", "1", "2"],
-     "error: model folder 3LDK_06 does not exist (3LDK_06 is the name of a bundled dataset); learn a model from "
-     "it first: spcotmhp learn 3LDK_06 --out 3LDK_06-model"),
+     ("error: model folder 3LDK_06 does not exist (3LDK_06 is the name of a bundled dataset); learn a model from "
+     "it first: spcotmhp learn 3LDK_06 --out 3LDK_06-model")),
 ])
 def test_usage_errors_are_one_line_with_status_2(tmp_path, args, message):
     out = run(*args, cwd=tmp_path)
@@ -127,7 +127,7 @@ def test_plain_table_keeps_every_number_whole():
 
 def test_datasets_piped_is_not_truncated(tmp_path):
     out = run("datasets", cwd=tmp_path).stdout
-    assert "…" not in out and re.search(r"^3LDK_05 .* 192x192 @ 0\.1 m .* 11$", out, re.M)
+    assert "…" not in out and re.search(r"^3LDK_05 .* 192x192 @ 0\.1 m .* 11$", out, re.MULTILINE)
 
 
 def test_examples_are_the_tours_inputs(tmp_path):
@@ -141,11 +141,15 @@ def test_examples_are_the_tours_inputs(tmp_path):
               "--map", "examples/map.yaml", "--out", "my-home", cwd=tmp_path)
     assert bag.returncode == 0, bag.stderr
     rows = (tmp_path / "my-home" / "teaching.csv").read_text().splitlines()
-    assert len(rows) == 16
+    assert len(rows) == 46
     numbers = [v for row in rows[1:] for v in row.split(",")[1:3]]
     assert all(len(v.partition(".")[2]) <= 4 for v in numbers), numbers      # 0.1 mm, not 8.1999999995
     cost = run("costmap", "examples/map.yaml", "--out", "cm.csv", cwd=tmp_path)
     assert cost.returncode == 0, cost.stderr
+    learn = run("learn", "my-home", "--out", "my-model", cwd=tmp_path)      # the README's bag steps to a plan
+    assert learn.returncode == 0, learn.stderr
+    plan = run("plan", "my-model", "go to the kitchen", "--start", "5.3", "3.5", cwd=tmp_path)
+    assert plan.returncode == 0 and plan.stdout.strip().endswith("m"), plan.stderr
 
 
 def test_install_hints_work_where_the_user_is(monkeypatch):

@@ -18,7 +18,7 @@ def examples(
     out: Annotated[Path, typer.Option("--out", help="Folder to write the example inputs to.")] = Path("examples"),
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace example files already in --out.")] = False,
 ) -> None:
-    """Write the Tour's example inputs: map.yaml + map.pgm (a generated flat, seed 0), robot.bag (a ROS 1 bag of
+    """Write the Tour's example inputs: map.yaml + map.pgm (a generated flat, seed 1), robot.bag (a ROS 1 bag of
     a teaching walk through that map: /amcl_pose and /speech; needs the extra 'ros') and say.wav (the spoken
     instruction "go to the bedroom via the corridor", 16 kHz mono)."""
     from spcotmhp.datasets.bag_export import write_teaching_bag
@@ -32,7 +32,7 @@ def examples(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise SpcotmhpError(f"cannot create {out}: {exc.strerror or exc}") from None
-    home = generate_environment("flat", seed=0, events_per_room=5)
+    home = generate_environment("flat", seed=1)      # 45 utterances: a model learned from it names its places
     save_map(home.map, out / "map")
     atomic_write(out / "say.wav", lambda tmp: shutil.copyfile(data_root() / "examples" / "say.wav", tmp))
     wrote = [(f"{out / 'map.yaml'} (+ map.pgm: {home.map.height} x {home.map.width} cells, places "
