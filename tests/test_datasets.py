@@ -459,12 +459,31 @@ def test_bundled_teaching_points_on_free_cells(name):
     lang = "ja" if name == "albert-b" else "en"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        d = load_bundled(name, lang=lang)
+        d = load_dataset(bundled_path(name), lang=lang)
     rc = d.map.world_to_cell(d.positions)
     assert d.map.in_bounds(rc).all()
     off = set(np.flatnonzero(d.map.data[rc[:, 0], rc[:, 1]] != 0).tolist())
     warned = {int(re.match(r"teaching.csv row (\d+):", str(w.message)).group(1)) - 2 for w in caught}
     assert warned == off == OFF_FREE[name]
+
+
+def test_load_bundled_says_its_known_warnings_once(monkeypatch):
+    """load_bundled summarises the bundled data's known warnings in one line, the first time in a process."""
+    from spcotmhp.datasets import bundled
+
+    monkeypatch.setattr(bundled, "_ANNOUNCED", set())
+    for expected in (1, 0):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            load_bundled("3LDK_05")
+        assert len(caught) == expected
+    monkeypatch.setattr(bundled, "_ANNOUNCED", set())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_bundled("3LDK_05")
+    assert [str(w.message) for w in caught] == [
+        ("3LDK_05: 11 known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
+        "spcotmhp/data/README.md); `spcotmhp check-dataset 3LDK_05` lists them")]
 
 
 def test_bad_map_is_a_map_error_naming_the_image(tmp_path):
