@@ -310,7 +310,8 @@ def test_missing_pocketsphinx_is_a_clear_error(monkeypatch):
         return real_import(name, *args, **kwargs)
 
     monkeypatch.setattr(builtins, "__import__", fake_import)
-    with pytest.raises(SpcotmhpError, match=r"speech input needs pocketsphinx: pip install 'spcotmhp\[speech\]'"):
+    with pytest.raises(SpcotmhpError, match=r"speech input \(pocketsphinx\) needs the extra 'speech': \S+ -m pip "
+                                            r"install -e '\S*\[speech\]'"):
         recogniser._pocketsphinx()
 
 
