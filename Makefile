@@ -13,9 +13,10 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
 
-# after installing, compile every numba kernel into its on-disk cache, so the first demo or plan starts warm
+# the demo's install: the package and the extra 'server' (the demo's "next:" serves the model it learned);
+# then every numba kernel is compiled into its on-disk cache, so the first demo or plan starts warm
 $(STAMP_CORE): pyproject.toml | $(PY)
-	$(PIP) install -q -e .
+	$(PIP) install -q -e ".[server]"
 	$(VENV)/bin/spcotmhp warmup
 	touch $@
 
@@ -34,13 +35,15 @@ system-deps:
 	command -v espeak-ng >/dev/null 2>&1 || missing="$$missing espeak-ng"; \
 	if [ -n "$$missing" ]; then \
 	  if command -v apt-get >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
-	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null) \
-	      || echo "warning: could not install$$missing; the tests that need them will skip"; \
+	    mkdir -p $(VENV); echo "installing$$missing (Debian packages for the browser and speech tests; log: $(VENV)/apt.log)"; \
+	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing) \
+	      >$(VENV)/apt.log 2>&1 \
+	      || echo "warning: could not install$$missing (see $(VENV)/apt.log); the tests that need them will skip"; \
 	  else echo "warning: missing$$missing (not root or no apt); the tests that need them will skip"; fi; \
 	fi
 
 demo: $(STAMP_CORE)
-	$(VENV)/bin/spcotmhp demo --out demo-output
+	$(VENV)/bin/spcotmhp demo --out demo-output --overwrite
 
 test: install-all
 	$(PY) -m pytest -q

@@ -5,22 +5,41 @@ from __future__ import annotations
 
 import importlib
 import sys
+from typing import Annotated
 
 import typer
 
+from spcotmhp.commands.conventions import ConventionalGroup
 from spcotmhp.errors import SpcotmhpError
 
 app = typer.Typer(
     name="spcotmhp",
+    cls=ConventionalGroup,
     help="Learn topometric semantic maps from teaching utterances and plan paths from instructions (SpCoTMHP).",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,      # plain help: the same piped, narrow or in a terminal
+    context_settings={"help_option_names": ["--help", "-h"]},
 )
 
+
+def _print_version(value: bool) -> None:
+    if value:
+        from spcotmhp import __version__
+
+        typer.echo(f"spcotmhp {__version__}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _root() -> None:
-    """Learn topometric semantic maps from teaching utterances and plan paths from instructions (SpCoTMHP)."""
+def _root(
+    version: Annotated[bool, typer.Option("--version", is_eager=True, callback=_print_version,
+                                          help="Print the version and exit.")] = False,
+) -> None:
+    """Learn topometric semantic maps from teaching utterances and plan paths from instructions (SpCoTMHP).
+
+    Run `spcotmhp COMMAND --help` for a command's options."""
 
 
 @app.command()
@@ -32,7 +51,8 @@ def version() -> None:
 
 
 # area modules, each with a ``register(app)`` function; a module that does not exist yet is skipped.
-COMMAND_MODULES = ("metric", "datasets", "learning", "planning", "evaluation", "service", "robot", "demo")
+COMMAND_MODULES = ("metric", "datasets", "learning", "planning", "evaluation", "service", "robot", "demo",
+                   "examples")
 
 for _name in COMMAND_MODULES:
     try:
@@ -45,7 +65,8 @@ for _name in COMMAND_MODULES:
 
 
 def main() -> None:
-    """Entry point: library errors become one line on stderr and exit status 2 (usage errors are click's)."""
+    """Entry point: library errors become one line on stderr and exit status 2 (usage errors too:
+    :class:`~spcotmhp.commands.conventions.ConventionalGroup`)."""
     try:
         app()
     except SpcotmhpError as exc:

@@ -19,7 +19,8 @@ runner = CliRunner()
 def test_datasets_lists_the_bundled_data():
     result = runner.invoke(app, ["datasets"])
     assert result.exit_code == 0, result.output
-    lines = {line.split()[1]: line for line in result.output.splitlines() if line.startswith("│")}
+    names = ("3LDK", "albert")          # plain rows, one per dataset (readable piped: nothing cut)
+    lines = {line.split()[0]: line for line in result.output.splitlines() if line.startswith(names)}
     assert set(lines) == {"3LDK_01", "3LDK_05", "3LDK_06", "albert-b"}
     assert "sigverse-3ldk/3LDK_01" in lines["3LDK_01"] and "192x192 @ 0.1 m" in lines["3LDK_01"]
     assert " 165 " in lines["3LDK_05"] and " 11 " in lines["3LDK_05"] and "en,ja" in lines["3LDK_05"]

@@ -119,15 +119,27 @@ def test_bad_lang(tmp_path):
 
 
 def test_empty_teaching(tmp_path):
-    with raises("teaching.csv is empty (expected a header event,x,y,words_ja,words_en[,step]"):
+    with raises("teaching.csv is empty (expected a header x,y,words_en (or words_ja, or both; optional event, "
+                "step)"):
         load_dataset(make(tmp_path / "a", teaching_csv=""))
     with raises("teaching.csv has a header but no teaching events"):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_ja\n\n"))
 
 
+def test_event_column_optional(tmp_path):
+    """Without an event column the events are the rows in file order; truth.csv refers to them by that index."""
+    folder = make(tmp_path, teaching_csv="x,y,words_en\n0.2,0.2,This is the Hall\n0.3,0.2,the hall\n")
+    (folder / "truth.csv").write_text("event,place\n1,0\n0,0\n")
+    d = load_dataset(folder)
+    assert d.n_events == 2 and d.tokens == [["this", "is", "the", "hall"], ["the", "hall"]]
+    assert d.truth_place.tolist() == [0, 0]
+    with raises("teaching.csv row 3: event 0 appears twice (also on row 2)"):   # given, it must count 0, 1, ...
+        load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_en\n0,0.2,0.2,a\n0,0.3,0.2,b\n"))
+
+
 def test_missing_columns_lists_found_and_accepted(tmp_path):
     with raises("teaching.csv: missing column(s) x; found event, xpos, y, words_ja; "
-                "accepted: event, x, y, words_ja and/or words_en, [step]"):
+                "accepted: x, y, words_ja and/or words_en, [event], [step]"):
         load_dataset(make(tmp_path / "a", teaching_csv="event,xpos,y,words_ja\n0,1,2,a\n"), lang="ja")
     with raises("teaching.csv: missing column(s) words_ja or words_en; found event, x, y, words; "):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words\n0,1,2,a\n"), lang="ja")
@@ -447,12 +459,31 @@ def test_bundled_teaching_points_on_free_cells(name):
     lang = "ja" if name == "albert-b" else "en"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        d = load_bundled(name, lang=lang)
+        d = load_dataset(bundled_path(name), lang=lang)
     rc = d.map.world_to_cell(d.positions)
     assert d.map.in_bounds(rc).all()
     off = set(np.flatnonzero(d.map.data[rc[:, 0], rc[:, 1]] != 0).tolist())
     warned = {int(re.match(r"teaching.csv row (\d+):", str(w.message)).group(1)) - 2 for w in caught}
     assert warned == off == OFF_FREE[name]
+
+
+def test_load_bundled_says_its_known_warnings_once(monkeypatch):
+    """load_bundled summarises the bundled data's known warnings in one line, the first time in a process."""
+    from spcotmhp.datasets import bundled
+
+    monkeypatch.setattr(bundled, "_ANNOUNCED", set())
+    for expected in (1, 0):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            load_bundled("3LDK_05")
+        assert len(caught) == expected
+    monkeypatch.setattr(bundled, "_ANNOUNCED", set())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_bundled("3LDK_05")
+    assert [str(w.message) for w in caught] == [
+        ("3LDK_05: 11 known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
+        "spcotmhp/data/README.md); `spcotmhp check-dataset 3LDK_05` lists them")]
 
 
 def test_bad_map_is_a_map_error_naming_the_image(tmp_path):

@@ -123,7 +123,7 @@ def test_cli_evaluate_json():
 @pytest.mark.parametrize("args,message", [
     (["evaluate", "3LDK_01", "--method", "spcotmhp,teleport"], "error: unknown method(s) teleport; accepted:"),
     (["evaluate", "3LDK_01", "--task", "expert"], "error: --task must be one of basic, advanced, got 'expert'"),
-    (["evaluate", "no-such-home"], "error: 'no-such-home' is neither a dataset folder nor a bundled dataset"),
+    (["evaluate", "no-such-home"], "error: no-such-home is neither a dataset folder nor a bundled dataset"),
     (["evaluate", "3LDK_01", "--params", "guessed"], "error: --params must be one of supervised, learned"),
 ])
 def test_cli_errors(args, message):

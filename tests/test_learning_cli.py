@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -91,7 +92,8 @@ def test_evaluate_learning_reports_saturated_truncations_and_dataset_warnings():
     assert table["tmhp"]["saturated"]["places"] == 2
     assert ("warning: SpCoTMHP: all 3 place components hold events in 2 of 2 run(s) (the weak-limit truncation "
             "is saturated, so places may have been merged): evaluate again with a larger --max-places") in res.stderr
-    assert "3LDK_05: 11 dataset warning(s)" in res.stderr
+    assert ("warning: 3LDK_05: 11 known warning(s) of the bundled data (teaching points recorded at the edge of a "
+            "wall; spcotmhp/data/README.md); `spcotmhp check-dataset 3LDK_05` lists them") in res.stderr
 
 
 def _cli(*args):
@@ -101,7 +103,9 @@ def _cli(*args):
 def test_unknown_dataset_is_a_one_line_error(tmp_path):
     res = _cli("learn", "no-such-home", "--out", str(tmp_path / "m"))
     assert res.returncode == 2
-    assert res.stderr.strip() == "error: no-such-home is neither a dataset folder nor a bundled dataset name"
+    assert res.stderr.strip() == ("error: no-such-home is neither a dataset folder nor a bundled dataset name "
+                                  "(bundled: 3LDK_01, 3LDK_05, 3LDK_06, albert-b; `spcotmhp datasets` describes "
+                                  "them)")
 
 
 def test_bad_criterion_is_a_one_line_error(tmp_path):
@@ -120,14 +124,16 @@ def test_unwritable_out_fails_before_the_fit(tmp_path):
 
 
 def test_learn_prints_the_dataset_warnings(tmp_path):
-    res = _cli("learn", "3LDK_05", "--supervised", "--out", str(tmp_path / "m"))
+    home = tmp_path / "home"
+    shutil.copytree(DATA / "sigverse-3ldk" / "3LDK_05", home)      # a folder of one's own: not the bundled data
+    res = _cli("learn", str(home), "--supervised", "--out", str(tmp_path / "m"))
     assert res.returncode == 0, res.stderr
     lines = res.stderr.splitlines()
-    start = lines.index("3LDK_05: 11 dataset warning(s)")
+    start = lines.index("home: 11 dataset warning(s)")
     assert all(line.startswith("  warning: ") for line in lines[start + 1:start + 4])
-    assert lines[start + 4] == "  ... 8 more (spcotmhp check-dataset lists them all)"
+    assert lines[start + 4] == f"  ... 8 more (`spcotmhp check-dataset {home}` lists them all)"
     # the same messages as check-dataset's
-    check = _cli("check-dataset", str(DATA / "sigverse-3ldk" / "3LDK_05"))
+    check = _cli("check-dataset", str(home))
     listed = [line for line in check.stdout.splitlines() if line.startswith("  warning: ")]
     assert lines[start + 1:start + 4] == listed[:3]
 

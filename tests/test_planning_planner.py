@@ -112,7 +112,8 @@ def test_avoiding_blocks_metric_legs_too():
 
 
 @pytest.mark.parametrize("start, message", [
-    ((0.2, 0.2), "the start (0.20, 0.20) is in an occupied cell of the map (x 0.20, y 0.20); start from a free"),
+    ((0.2, 0.2), ("the start (0.20, 0.20) is in an occupied cell of the map; start from a free cell, e.g. the "
+                 "nearest one the robot can plan from, (")),
     ((-3.0, 1.0), "the start (-3.00, 1.00) is outside the map (x 0.00..15.50, y 0.00..6.50)"),
     ((1.0,), "the start must be two finite numbers (x, y) in metres"),
     ((np.nan, 1.0), "the start must be two finite numbers (x, y) in metres"),
@@ -122,6 +123,16 @@ def test_bad_starts(planner, start, message):
     with pytest.raises(PlanningError) as info:
         planner.plan("go to the kitchen", start)
     assert message in str(info.value)
+
+
+def test_a_blocked_start_suggests_one_that_plans(planner):
+    import re
+
+    with pytest.raises(PlanningError) as info:
+        planner.plan("go to the kitchen", (0.2, 0.2))
+    x, y = map(float, re.search(r"plan from, \((\S+), (\S+)\)$", str(info.value)).groups())
+    assert np.hypot(x - 0.2, y - 0.2) < 1.0
+    assert planner.plan("go to the kitchen", (x, y)).length_m > 0
 
 
 def test_unknown_word(planner):

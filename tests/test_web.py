@@ -91,6 +91,50 @@ def test_unknown_word_shows_the_message(server, page):
     assert page.locator("#path").count() == 0
 
 
+def test_a_failed_plan_clears_the_previous_one(server, page):
+    """A plan, then an instruction that fails: the old path and explanation go, only the error stays (it used to
+    look as if "go to the garage" had planned the bedroom path)."""
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, start_near(server.model))
+    page.fill("#instruction", INSTRUCTION)
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    assert "bedroom" in page.text_content("#explanation")
+    page.fill("#instruction", "go to the garage")
+    page.click("#plan-button")
+    page.wait_for_function("document.getElementById('error').textContent.length > 0")
+    assert page.locator("#path").count() == 0 and page.locator("circle.mark").count() == 0
+    assert page.text_content("#explanation") == "" and page.text_content("#hypotheses") == ""
+    page.fill("#instruction", INSTRUCTION)       # planning again works, and the error goes
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    assert page.text_content("#error") == ""
+    click_world(page, start_near(server.model, "kitchen"))     # a new start: the plan from the old one goes
+    assert page.locator("#path").count() == 0 and page.text_content("#explanation") == ""
+    assert page.errors == []
+
+
+def test_the_start_mark_leaves_the_label_under_it_readable(server, page):
+    """The start is often set on a place's label (the demo starts at the entrance): the mark is a hollow ring
+    with a dot of at most 2 px, drawn above the plan, and it takes no clicks."""
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, start_near(server.model))
+    marks = page.eval_on_selector_all("#start-mark circle", "cs => cs.map(c => [c.getAttribute('class'), "
+                                      "c.getAttribute('fill'), parseFloat(c.getAttribute('r'))])")
+    assert marks and all(fill == "none" for kind, fill, _ in marks if kind == "ring")
+    assert all(r <= 2 for kind, _, r in marks if kind == "dot")
+    assert page.get_attribute("#start-mark", "pointer-events") == "none"
+    page.fill("#instruction", INSTRUCTION)
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    last = page.evaluate("document.getElementById('overlay').lastElementChild.id")
+    assert last == "start-mark"
+    goal = page.locator("circle.mark.goal")
+    assert float(goal.get_attribute("fill-opacity")) <= 0.3       # the goal's label shows through its mark
+
+
 def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
     pytest.importorskip("pocketsphinx", reason="speech needs pocketsphinx (extra 'speech')")
     espeak = shutil.which("espeak-ng")

@@ -34,28 +34,30 @@ def _load_quietly(path: Path, lang: str) -> tuple[Dataset, list[str]]:
 
 def datasets() -> None:
     """List the datasets bundled with the package (name, folder, events, places, map size, languages)."""
-    from rich.console import Console
-    from rich.table import Table
+    from spcotmhp.commands.conventions import plain_table
 
     root = data_root()
-    table = Table("name", "folder under data/", "events", "places", "map (cells @ m/cell)", "languages",
-                  "warnings", title=f"bundled datasets in {root}")
+    rows = []
     for name in list_bundled():
         path = bundled_path(name)
         langs = available_languages(path)
         d, caught = _load_quietly(path, langs[0])
         places = _n_places(d)
-        table.add_row(name, path.relative_to(root).as_posix(), str(d.n_events),
-                      "-" if places is None else str(places), _map_size(d), ",".join(langs), str(len(caught)))
-    Console(width=max(Console().width, 110)).print(table)
+        rows.append([name, path.relative_to(root).as_posix(), d.n_events, "-" if places is None else places,
+                     _map_size(d), ",".join(langs), len(caught)])
+    typer.echo(plain_table(["name", "folder under data/", "events", "places", "map (cells @ m/cell)", "languages",
+                            "warnings"], rows, title=f"bundled datasets in {root}"))
 
 
 def check_dataset(
-    folder: Annotated[Path, typer.Argument(help="Dataset folder (map.yaml, teaching.csv, optional extras).")],
+    folder: Annotated[Path, typer.Argument(
+        metavar="DATASET", help="Dataset folder (map.yaml, teaching.csv, optional extras), or a bundled dataset's name.")],
     lang: Annotated[str, typer.Option(help="en, ja, or auto (en when teaching.csv has words_en).")] = "auto",
     strict: Annotated[bool, typer.Option(help="Exit with status 1 when there are warnings.")] = False,
 ) -> None:
     """Load a dataset folder, print a summary and every warning; errors are one line (exit status 2)."""
+    if not folder.exists() and str(folder) in list_bundled():
+        folder = bundled_path(str(folder))
     if lang == "auto":
         langs = available_languages(folder) if (folder / "teaching.csv").is_file() else []
         lang = langs[0] if langs else "en"

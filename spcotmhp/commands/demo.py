@@ -123,7 +123,7 @@ def demo(
     instruction: Annotated[str, typer.Option(help="The instruction to plan.")] = DEMO_INSTRUCTION,
     lang: Annotated[str, typer.Option(help="Language of the teaching words and the instruction (en, ja).")] = "en",
     start: Annotated[tuple[float, float] | None, typer.Option(
-        help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
+        metavar="X Y", help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
     start_place: Annotated[str | None, typer.Option(
         help="Place to start from when --start is not given (default: the entrance, else the first place).")]
     = None,
@@ -181,7 +181,20 @@ def demo(
                f"{plan.time_online_s * 1e3:.1f} ms, demo {time.perf_counter() - t0:.1f} s in all")
     typer.echo(f"wrote:       {plan_png} (the plan), {map_png} (the learned map), {out / 'plan.json'}, "
                f"{model_dir}/ (the model)")
-    typer.echo(f"next:        spcotmhp serve {model_dir}   # extra 'server'; then open http://127.0.0.1:8000/")
+    typer.echo(f"next:        {next_command(model_dir)}")
+
+
+def next_command(model_dir: Path) -> str:
+    """The demo's hint, runnable as typed from here: serve the model (with the install of the extra 'server'
+    first when it is missing) and open the page."""
+    import importlib.util
+
+    from spcotmhp.extras import command_prefix, install_hint
+
+    serve = f"{command_prefix()} serve {model_dir}   # then open http://127.0.0.1:8000/"
+    if importlib.util.find_spec("uvicorn") is None or importlib.util.find_spec("fastapi") is None:
+        return f"{install_hint('server')} && {serve}"
+    return serve
 
 
 def show(

@@ -4,14 +4,13 @@
 from __future__ import annotations
 
 import json
-import warnings
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from typer.core import TyperCommand
 
-from spcotmhp.errors import DatasetError, SpcotmhpError
+from spcotmhp.errors import SpcotmhpError
 
 METHOD_NAMES = "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2"
 
@@ -30,26 +29,10 @@ class _OptionalRayAddress(TyperCommand):
 
 
 def load_home(name_or_path: str, lang: str):
-    """A dataset folder, or a bundled dataset by name."""
-    from spcotmhp.datasets import DatasetWarning, load_bundled, load_dataset
+    """A dataset folder, or a bundled dataset by name; its dataset warnings as a count and the first few."""
+    from spcotmhp.commands.learning import load_dataset_reporting
 
-    path = Path(name_or_path)
-    if path.exists() and not path.is_dir():
-        raise DatasetError(f"{name_or_path} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", DatasetWarning)
-        if path.is_dir():
-            dataset = load_dataset(path, lang=lang)
-        else:
-            try:
-                dataset = load_bundled(name_or_path, lang=lang)
-            except DatasetError as exc:
-                raise DatasetError(f"{name_or_path!r} is neither a dataset folder nor a bundled dataset "
-                                   f"({exc})") from None
-    notes = [str(w.message) for w in caught if issubclass(w.category, DatasetWarning)]
-    if notes:  # one line per home instead of one per teaching event
-        typer.echo(f"note: {dataset.name}: {len(notes)} dataset warning(s), e.g. {notes[0]}", err=True)
-    return dataset
+    return load_dataset_reporting(name_or_path, lang)
 
 
 def _check(value: str, allowed: tuple[str, ...], option: str) -> str:
@@ -73,30 +56,25 @@ def check_writable(path: Path) -> None:
 
 
 def _print_result(result: dict) -> None:
-    from rich.console import Console
-    from rich.table import Table
-
+    from spcotmhp.commands.conventions import plain_table
     from spcotmhp.evaluation.tables import COLUMNS, METHOD_LABELS, fmt_time
 
-    console = Console()
     keys = [k for k, _ in COLUMNS[result["task"]]]
     heads = [h for _, h in COLUMNS[result["task"]]]
     blocks = list(result["homes"].items()) + ([("all homes", result["mean"])] if len(result["homes"]) > 1 else [])
     for home, metrics in blocks:
-        table = Table(title=f"{home}: {result['task']} tasks, {result['params']} parameters")
-        for h in ["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"]:
-            table.add_column(h, justify="left" if h == "Method" else "right")
-        for method, m in metrics.items():
-            table.add_row(METHOD_LABELS.get(method, method), *[f"{m[k]:.3f}" for k in keys], f"{m['success']:.3f}",
-                          fmt_time(m["time_median_s"]), fmt_time(m["time_p95_s"]), str(m["n_tasks"]))
-        console.print(table)
+        rows = [[METHOD_LABELS.get(method, method), *[f"{m[k]:.3f}" for k in keys], f"{m['success']:.3f}",
+                 fmt_time(m["time_median_s"]), fmt_time(m["time_p95_s"]), m["n_tasks"]]
+                for method, m in metrics.items()]
+        typer.echo(plain_table(["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"], rows,
+                               title=f"{home}: {result['task']} tasks, {result['params']} parameters") + "\n")
     for home, note in result["notes"].items():
         extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
-        console.print(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
-                      f"{extra}")
+        typer.echo(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
+                   f"{extra}")
     if result.get("moves"):
         moves = "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in result["moves"].items())
-        console.print(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
+        typer.echo(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
 
 
 def register(app: typer.Typer) -> None:

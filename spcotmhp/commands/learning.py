@@ -31,7 +31,10 @@ def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
         try:
             path = bundled_path(dataset)
         except DatasetError:
-            raise DatasetError(f"{dataset} is neither a dataset folder nor a bundled dataset name") from None
+            from spcotmhp.datasets.bundled import list_bundled
+
+            raise DatasetError(f"{dataset} is neither a dataset folder nor a bundled dataset name (bundled: "
+                               f"{', '.join(list_bundled())}; `spcotmhp datasets` describes them)") from None
     if lang is None:
         langs = available_languages(path) if (path / "teaching.csv").is_file() else []
         lang = langs[0] if langs else "en"
@@ -52,11 +55,16 @@ def load_dataset_reporting(dataset: str, lang: str | None) -> Dataset:
             messages.append(str(w.message))
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if messages:
+    if messages and not Path(dataset).exists():      # a bundled dataset: its known warnings in one line
+        from spcotmhp.datasets.bundled import known_warnings_note
+
+        typer.echo(f"warning: {known_warnings_note(data.name, len(messages))}", err=True)
+    elif messages:
         lines = [f"{data.name}: {len(messages)} dataset warning(s)"]
         lines += [f"  warning: {m}" for m in messages[:SHOWN_WARNINGS]]
         if len(messages) > SHOWN_WARNINGS:
-            lines.append(f"  ... {len(messages) - SHOWN_WARNINGS} more (spcotmhp check-dataset lists them all)")
+            lines.append(f"  ... {len(messages) - SHOWN_WARNINGS} more (`spcotmhp check-dataset {dataset}` lists "
+                         "them all)")
         typer.echo("\n".join(lines), err=True)
     return data
 

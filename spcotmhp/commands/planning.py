@@ -21,12 +21,12 @@ def register(app: typer.Typer) -> None:
 
 def plan_command(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
+    start: Annotated[tuple[float, float], typer.Option(
+        "--start", metavar="X Y", help="Start pose in metres (map frame), e.g. --start -3.9 -3.5.")],
     instruction: Annotated[str | None, typer.Argument(
         help='The instruction, e.g. "go to the bedroom via the corridor" or "廊下を通って寝室へ行って", or a JSON '
              'object {"goal": [...], "waypoints": [[...]], "avoid": [[...]]}. Omit it with --nbest or --audio.')]
     = None,
-    start: Annotated[tuple[float, float] | None, typer.Option(
-        "--start", help="Start pose X Y in metres (map frame).")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the plan as JSON.")] = False,
     png: Annotated[Path | None, typer.Option("--png", help="Also draw the plan to this PNG file.")] = None,
     nbest: Annotated[Path | None, typer.Option(
@@ -48,8 +48,6 @@ def plan_command(
     from spcotmhp.learning.io import load_model
     from spcotmhp.planning.planner import HierarchicalPlanner
 
-    if start is None:
-        raise typer.BadParameter("give the start pose with --start X Y", param_hint="--start")
     given = [name for name, value in (("INSTRUCTION", instruction), ("--nbest", nbest), ("--audio", audio))
              if value is not None]
     if len(given) != 1:

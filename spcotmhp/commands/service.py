@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from spcotmhp.errors import ModelError, SpcotmhpError
+from spcotmhp.extras import missing_extra
 from spcotmhp.server.limits import LOCAL_HOSTS  # stdlib only: importable without the server extra
 
 
@@ -69,7 +70,7 @@ def serve(
     try:
         import uvicorn
     except ImportError:
-        raise SpcotmhpError("serving needs uvicorn: pip install 'spcotmhp[server]'") from None
+        raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
     console = Console(stderr=True)
     mapping = model_mapping(models)
     hosts = list(allowed_host or LOCAL_HOSTS)

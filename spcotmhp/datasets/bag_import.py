@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from spcotmhp.errors import DatasetError, MapError
+from spcotmhp.extras import missing_extra
 from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
 
@@ -110,7 +111,7 @@ def read_bag(bag: str | Path, pose_topic: str, utterance_topic: str, map_topic: 
     try:
         from rosbags.highlevel import AnyReader
     except ImportError:  # pragma: no cover - the extra is installed in the test environment
-        raise DatasetError("importing bags needs rosbags: pip install 'spcotmhp[ros]'") from None
+        raise DatasetError(missing_extra("importing bags (rosbags)", "ros")) from None
     path = _bag_path(Path(bag))
     try:
         with AnyReader([path]) as reader:
@@ -365,15 +366,21 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
     except MapError as exc:
         raise DatasetError(f"cannot write the map to {folder}: {exc}") from None
     _write_csv(folder / "trajectory.csv", ["step", "x", "y"],
-               [[t, repr(float(x)), repr(float(y))] for t, (x, y) in enumerate(trajectory)])
+               [[t, metres(x), metres(y)] for t, (x, y) in enumerate(trajectory)])
     _write_csv(folder / "teaching.csv", ["event", "x", "y", f"words_{lang}", "step"],
-               [[e, repr(float(x)), repr(float(y)), text, int(s)]
+               [[e, metres(x), metres(y), text, int(s)]
                 for e, ((x, y), text, s) in enumerate(zip(positions, texts, steps))])
     return ImportSummary(
         folder=folder, n_pose_messages=len(log.poses), n_trajectory=len(trajectory), n_events=len(texts),
         path_length_m=float(np.hypot(*np.diff(log.poses, axis=0).T).sum()),
         duration_s=float(log.pose_times[-1] - log.pose_times[0]) / 1e9,
         map_source=str(map_yaml) if map_yaml is not None else f"{map_topic} in the bag")
+
+
+def metres(value: float) -> str:
+    """A coordinate in metres for the CSV files, to 0.1 mm (finer than any map cell or pose estimate; the
+    interpolation's float noise, 8.1999999995, reads 8.2): the shortest text of the rounded value."""
+    return repr(round(float(value), 4) + 0.0)
 
 
 def _write_csv(path: Path, header: list[str], rows: list[list]) -> None:

@@ -6,12 +6,15 @@ A bundled dataset is any folder under spcotmhp/data/ holding a teaching.csv; it 
 
 from __future__ import annotations
 
+import warnings
 from importlib import resources
 from pathlib import Path
 
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.datasets.loader import load_dataset
+from spcotmhp.datasets.loader import DatasetWarning, load_dataset
 from spcotmhp.errors import DatasetError
+
+_ANNOUNCED: set[str] = set()    # bundled datasets whose known warnings this process has summarised
 
 
 def data_root() -> Path:
@@ -46,5 +49,28 @@ def bundled_path(name: str) -> Path:
 
 
 def load_bundled(name: str, lang: str = "en") -> Dataset:
-    """:func:`load_dataset` on a bundled dataset (albert-b has Japanese words only: use lang="ja")."""
-    return load_dataset(bundled_path(name), lang=lang)
+    """:func:`load_dataset` on a bundled dataset (albert-b has Japanese words only: use lang="ja").
+
+    The bundled data's known warnings (teaching points recorded at the edge of a wall, listed in
+    spcotmhp/data/README.md) are summarised in one DatasetWarning, the first time each dataset is loaded in a
+    process; ``spcotmhp check-dataset NAME`` lists them."""
+    path = bundled_path(name)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DatasetWarning)
+        data = load_dataset(path, lang=lang)
+    known = 0
+    for w in caught:
+        if issubclass(w.category, DatasetWarning):
+            known += 1
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if known and path.name not in _ANNOUNCED:
+        _ANNOUNCED.add(path.name)
+        warnings.warn(DatasetWarning(known_warnings_note(path.name, known)), stacklevel=2)
+    return data
+
+
+def known_warnings_note(name: str, count: int) -> str:
+    """The one line that stands for a bundled dataset's ``count`` known warnings."""
+    return (f"{name}: {count} known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
+            f"spcotmhp/data/README.md); `spcotmhp check-dataset {name}` lists them")

@@ -97,12 +97,13 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
 
     teaching = read_table(
         folder / "teaching.csv",
-        "a header event,x,y,words_ja,words_en[,step] (one words column or both) and one row per teaching event",
+        "a header x,y,words_en (or words_ja, or both; optional event, step) and one row per teaching event",
     )
     if not teaching.rows:
         raise DatasetError("teaching.csv has a header but no teaching events")
-    teaching.require(["event", "x", "y", ("words_ja", "words_en")], ["step"])
-    _check_sequence(teaching, "event", "event ids")
+    teaching.require(["x", "y", ("words_ja", "words_en")], ["event", "step"])
+    if teaching.has("event"):       # optional: the events are the rows in file order; if given, it must agree
+        _check_sequence(teaching, "event", "event ids")
     positions = np.stack([teaching.floats("x"), teaching.floats("y")], axis=1)
     _check_extent(teaching, occupancy, positions, image)
     tokens = _tokens(teaching, lang, name)

@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext
 from spcotmhp.evaluation.tasks import Task
+from spcotmhp.extras import missing_extra
 
 LOCAL = "local"
 """``--ray`` without an address: start (or join) a Ray instance on this machine."""
@@ -22,7 +23,7 @@ def _ray():
     try:
         import ray
     except ImportError:  # pragma: no cover - depends on the installation
-        raise SpcotmhpError("the Ray backend needs the 'dist' extra: pip install 'spcotmhp[dist]'") from None
+        raise SpcotmhpError(missing_extra("the Ray backend", "dist")) from None
     return ray
 
 

@@ -112,8 +112,10 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
     """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
     root = Path(folder)
     if not root.is_dir():
-        raise ModelError(f"model folder {root} does not exist" if not root.exists()
+        raise ModelError(f"model folder {root} does not exist{_learn_hint(root)}" if not root.exists()
                          else f"{root} is not a folder (a model is a folder with model.json and arrays.npz)")
+    if (root / "teaching.csv").is_file() and not (root / "model.json").exists():
+        raise ModelError(f"{root} is a dataset folder, not a model{_learn_hint(root)}")
     listed = verify_manifest(root)
     meta = _read_meta(inside(root, "model.json", "model.json"))
     if listed is None and meta["format_version"] >= 2:
@@ -129,6 +131,20 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
         except SpcotmhpError as exc:
             raise ModelError(f"{root}: the model's map cannot be loaded: {exc}") from None
     return model
+
+
+def _learn_hint(path: Path) -> str:
+    """'; learn one from it first: spcotmhp learn ...' when ``path`` is a dataset folder or names a bundled
+    dataset (a model is what `learn` writes), else ''."""
+    from spcotmhp.datasets.bundled import list_bundled
+
+    if (path / "teaching.csv").is_file():
+        what = ""
+    elif not path.exists() and str(path) in list_bundled():
+        what = f" ({path} is the name of a bundled dataset)"
+    else:
+        return ""
+    return f"{what}; learn a model from it first: spcotmhp learn {path} --out {path.name}-model"
 
 
 def _specs(meta: dict) -> dict[str, tuple[tuple[int, ...], str]]:

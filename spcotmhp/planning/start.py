@@ -51,12 +51,12 @@ def start_cell(model: SpatialConceptModel, graph: PlanningGraph, start: Sequence
         return x0, cell, np.empty((0, 2), dtype=np.int64)
     if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
         raise StartBlocked(f"{where} is cut off from the places: the free space around it does not connect "
-                           f"to theirs for a robot of this size")
+                           f"to theirs for a robot of this size{_nearest_start(graph, occ, cell)}")
     value = int(occ.data[full[0], full[1]])
     if value != 0:
         what = {100: "an occupied", -1: "an unknown"}.get(value, "a non-free")
-        raise StartBlocked(f"{where} is in {what} cell of the map (x {_metres(x0[0])}, y {_metres(x0[1])}); "
-                           f"start from a free cell")
+        raise StartBlocked(f"{where} is in {what} cell of the map; start from a free cell"
+                           f"{_nearest_start(graph, occ, cell)}")
     escape = _escape(occ.free, graph, full, model.costmap.get("inscribed_radius", 0.22))
     if escape is None:
         raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is "
@@ -93,6 +93,17 @@ _SHORT = reprlib.Repr()
 _SHORT.maxlist = _SHORT.maxtuple = 4
 _SHORT.maxstring = _SHORT.maxother = 40
 _SHORT.maxlevel = 2
+
+
+def _nearest_start(graph: PlanningGraph, occ: Any, cell: np.ndarray) -> str:
+    """', e.g. the nearest one the robot can plan from: (x, y)' (a cell of the main free component closest to
+    ``cell``, crop coordinates), or '' when there is none."""
+    free = np.argwhere(graph.main)
+    if not len(free):
+        return ""
+    best = free[np.argmin(((free - np.asarray(cell)) ** 2).sum(axis=1))]
+    x, y = occ.cell_to_world(graph.to_map(best))
+    return f", e.g. the nearest one the robot can plan from, ({_metres(x)}, {_metres(y)})"
 
 
 def _excerpt(value: Any, limit: int = 60) -> str:

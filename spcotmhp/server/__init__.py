@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from spcotmhp.extras import missing_extra
+
 
 def create_app(*args: Any, **kwargs: Any) -> Any:
     """:func:`spcotmhp.server.app.create_app` (imported on use, so that the package needs no FastAPI)."""
@@ -23,7 +25,7 @@ def create_app(*args: Any, **kwargs: Any) -> Any:
         if exc.name in ("fastapi", "starlette", "pydantic", "multipart", "python_multipart"):
             from spcotmhp.errors import SpcotmhpError
 
-            raise SpcotmhpError(f"the HTTP service needs {exc.name}: pip install 'spcotmhp[server]'") from None
+            raise SpcotmhpError(missing_extra(f"the HTTP service (module {exc.name})", "server")) from None
         raise
     return factory(*args, **kwargs)
 

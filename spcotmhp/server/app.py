@@ -25,6 +25,7 @@ from starlette.concurrency import run_in_threadpool
 
 from spcotmhp import __version__
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
+from spcotmhp.extras import missing_extra
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.server.limits import (
     AUDIO_LIMIT,
@@ -152,7 +153,7 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
         try:
             from spcotmhp.speech import AudioError, cached_recogniser
         except ImportError:
-            raise APIError(501, "speech input needs pocketsphinx: pip install 'spcotmhp[speech]'") from None
+            raise APIError(501, missing_extra("speech input (pocketsphinx)", "speech")) from None
         data = await audio.read()
         try:
             recogniser = await run_in_threadpool(cached_recogniser, tuple(sm.place_words))

@@ -25,6 +25,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from spcotmhp.errors import EmptyInstruction, SpcotmhpError, UnknownPlaceWord, UnsupportedLanguage
+from spcotmhp.extras import missing_extra
 from spcotmhp.speech.audio import AudioError, AudioSource, load_audio
 from spcotmhp.speech.jsgf import InstructionGrammar, instruction_grammar
 from spcotmhp.speech.lexicon import SPEAKABLE, dictionary_pronunciations, letter_to_sound
@@ -145,7 +146,7 @@ def _pocketsphinx():
     try:
         from pocketsphinx import Config, Decoder
     except ImportError:
-        raise SpcotmhpError("speech input needs pocketsphinx: pip install 'spcotmhp[speech]'") from None
+        raise SpcotmhpError(missing_extra("speech input (pocketsphinx)", "speech")) from None
     return Decoder, Config
 
 

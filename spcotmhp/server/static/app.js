@@ -24,6 +24,18 @@ function svgEl(tag, attrs) {
 
 function showError(message) { $("error").textContent = message || ""; }
 
+// the shown plan belongs to one start and one instruction: gone when either fails or the start moves
+function clearPlan() {
+  clearLayer("plan-layer");
+  $("explanation").textContent = "";
+  $("hypotheses").textContent = "";
+}
+
+function showFailure(message) {
+  clearPlan();
+  showError(message);
+}
+
 async function getJSON(url, options) {
   const response = await fetch(url, options);
   let body = null;
@@ -44,8 +56,13 @@ function drawStart() {
   clearLayer("start-mark");
   if (!state.start) return;
   const [px, py] = toPixel(state.start);
-  const g = svgEl("g", { id: "start-mark" });
-  g.appendChild(svgEl("circle", { cx: px, cy: py, r: 7, fill: "#00a651", stroke: "#fff", "stroke-width": 2 }));
+  // a hollow ring with a dot: the place label drawn in the map under a start stays readable
+  const g = svgEl("g", { id: "start-mark", "pointer-events": "none" });
+  g.appendChild(svgEl("circle", { class: "ring", cx: px, cy: py, r: 6, fill: "none", stroke: "#fff",
+                                  "stroke-width": 3.5 }));
+  g.appendChild(svgEl("circle", { class: "ring", cx: px, cy: py, r: 6, fill: "none", stroke: "#00a651",
+                                  "stroke-width": 2 }));
+  g.appendChild(svgEl("circle", { class: "dot", cx: px, cy: py, r: 1.5, fill: "#00a651" }));
   $("overlay").appendChild(g);
   $("start").textContent = `Start: (${state.start[0].toFixed(2)}, ${state.start[1].toFixed(2)}) m`;
 }
@@ -61,14 +78,14 @@ function drawPlan(plan) {
     if (!place.point || (place.role !== "waypoint" && place.role !== "goal")) continue;
     const [px, py] = toPixel(place.point);
     const colour = place.role === "goal" ? "#d00000" : "#6a3d9a";
-    const mark = svgEl("circle", { class: `mark ${place.role}`, cx: px, cy: py, r: place.role === "goal" ? 10 : 8,
-                                   fill: colour, stroke: "#fff", "stroke-width": 2.5 });
+    const mark = svgEl("circle", { class: `mark ${place.role}`, cx: px, cy: py, r: place.role === "goal" ? 9 : 7,
+                                   fill: colour, "fill-opacity": 0.2, stroke: colour, "stroke-width": 2.5 });
     const title = svgEl("title", {});
     title.textContent = `${place.role}: ${place.label}`;
     mark.appendChild(title);
     g.appendChild(mark);
   }
-  $("overlay").insertBefore(g, $("start-mark"));
+  $("overlay").insertBefore(g, $("start-mark"));   // the start stays on top
   $("explanation").textContent = plan.explanation;
 }
 
@@ -95,12 +112,13 @@ function onMapClick(event) {
   const py = (event.clientY - box.top) / box.height * state.info.height;
   state.start = toWorld(px, py);
   showError("");
+  clearPlan();
   drawStart();
 }
 
 function needStart() {
   if (state.start) return false;
-  showError("Click on the map to set the start first.");
+  showFailure("Click on the map to set the start first.");
   return true;
 }
 
@@ -114,14 +132,14 @@ async function planText(event) {
                                           body: JSON.stringify(body) });
     $("hypotheses").textContent = "";
     drawPlan(plan);
-  } catch (err) { showError(err.message); }
+  } catch (err) { showFailure(err.message); }
 }
 
 async function planAudio(event) {
   event.preventDefault();
   if (needStart()) return;
   const file = $("wav").files[0];
-  if (!file) { showError("Choose a WAV file first."); return; }
+  if (!file) { showFailure("Choose a WAV file first."); return; }
   showError("");
   const form = new FormData();
   form.append("audio", file);
@@ -131,7 +149,7 @@ async function planAudio(event) {
     const plan = await getJSON("/plan/audio", { method: "POST", body: form });
     $("hypotheses").textContent = "Heard: " + plan.hypotheses.map((h) => `"${h.text}" (${h.score.toFixed(2)})`).join(", ");
     drawPlan(plan);
-  } catch (err) { showError(err.message); }
+  } catch (err) { showFailure(err.message); }
 }
 
 async function main() {
