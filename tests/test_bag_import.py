@@ -325,12 +325,33 @@ def test_no_utterance_words(tmp_path, map_yaml):
 def test_refuses_to_overwrite_a_dataset(tmp_path, map_yaml):
     bag = teaching_bag(tmp_path, "ros1")
     import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
-    with pytest.raises(DatasetError, match=r"ds already holds a dataset \(teaching.csv\)"):
+    with pytest.raises(DatasetError, match=r"ds already holds a dataset; give --overwrite"):
         import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
     (tmp_path / "ds" / "truth.csv").write_text("event,place\n0,0\n")  # from some other dataset
     import_bag(bag, tmp_path / "ds", map_yaml=map_yaml, step=0, overwrite=True)
     assert len(load_dataset(tmp_path / "ds").trajectory) == len(POSES)
-    assert not (tmp_path / "ds" / "truth.csv").exists()
+    assert not (tmp_path / "ds" / "truth.csv").exists()              # replaced whole, nothing stale
+    (tmp_path / "ds" / "notes.txt").write_text("mine")                 # not a dataset's file: never replaced
+    with pytest.raises(DatasetError, match="files that are not a dataset's"):
+        import_bag(bag, tmp_path / "ds", map_yaml=map_yaml, overwrite=True)
+    assert (tmp_path / "ds" / "notes.txt").read_text() == "mine"
+
+
+def test_a_failed_import_leaves_the_old_dataset(tmp_path, map_yaml, monkeypatch):
+    import spcotmhp.datasets.bag_import as bi
+
+    bag = teaching_bag(tmp_path, "ros1")
+    import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
+    before = {p.name: p.read_bytes() for p in (tmp_path / "ds").iterdir()}
+
+    def broken(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(bi, "_write_csv", broken)
+    with pytest.raises(DatasetError, match="No space left on device"):
+        import_bag(bag, tmp_path / "ds", map_yaml=map_yaml, step=0, overwrite=True)
+    assert {p.name: p.read_bytes() for p in (tmp_path / "ds").iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".ds")) == []
 
 
 def test_a_robot_that_never_moved(tmp_path, map_yaml):

@@ -30,10 +30,12 @@ from typing import Any
 
 import numpy as np
 
+from spcotmhp.datasets.synthetic import check_dataset_target
 from spcotmhp.errors import DatasetError, MapError
 from spcotmhp.extras import missing_extra
 from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.safe_write import build_folder
 
 POSE_TYPES: dict[str, Callable[[Any], Any]] = {
     "geometry_msgs/msg/PoseWithCovarianceStamped": lambda m: m.pose.pose.position,
@@ -44,9 +46,6 @@ POSE_TYPES: dict[str, Callable[[Any], Any]] = {
 UTTERANCE_TYPE = "std_msgs/msg/String"
 MAP_TYPE = "nav_msgs/msg/OccupancyGrid"
 MAP_FRAME = "map"
-# files of a dataset folder that an import does not write: removed when it overwrites a folder, so that a
-# stale truth.csv or places.csv cannot be read with the new teaching events
-NOT_WRITTEN = ("truth.csv", "places.csv", "adjacency.csv", "costmap_ros.csv", "image_features_places365.csv")
 
 
 class BagImportWarning(UserWarning):
@@ -335,16 +334,13 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
 
     Raises:
         DatasetError: bad bag (see :func:`read_bag`), no map, no utterances or one before the first pose,
-            ``out`` holding a dataset already (unless ``overwrite``, which also removes the files of
-            :data:`NOT_WRITTEN`). MapError: a bad ``map_yaml``.
+            ``out`` holding a dataset already (unless ``overwrite``: the folder is then replaced whole) or files
+            that are not a dataset's. MapError: a bad ``map_yaml``.
     """
     if lang not in ("en", "ja"):
         raise DatasetError(f"lang must be 'en' or 'ja', got {lang!r}")
     folder = Path(out)
-    if folder.exists() and not folder.is_dir():
-        raise DatasetError(f"cannot write the dataset to {folder}: it exists and is not a folder")
-    if not overwrite and (folder / "teaching.csv").exists():
-        raise DatasetError(f"{folder} already holds a dataset (teaching.csv); choose another folder or overwrite")
+    check_dataset_target(folder, overwrite)      # before reading the bag
     occupancy = load_map(map_yaml) if map_yaml is not None else None  # fail on a bad map before reading the bag
     log = read_bag(bag, pose_topic, utterance_topic, None if occupancy is not None else map_topic, progress)
     if occupancy is None:
@@ -358,18 +354,21 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
               f"{log.map_frame or MAP_FRAME}; the dataset takes them as map coordinates (use a localised pose "
               "topic such as /amcl_pose)")
     trajectory, positions, steps, texts = teaching_events(log, step)
-    folder.mkdir(parents=True, exist_ok=True)
-    for stale in NOT_WRITTEN:
-        (folder / stale).unlink(missing_ok=True)
-    try:
-        save_map(occupancy, folder / "map.yaml", mode=occupancy.mode)
-    except MapError as exc:
-        raise DatasetError(f"cannot write the map to {folder}: {exc}") from None
-    _write_csv(folder / "trajectory.csv", ["step", "x", "y"],
-               [[t, metres(x), metres(y)] for t, (x, y) in enumerate(trajectory)])
-    _write_csv(folder / "teaching.csv", ["event", "x", "y", f"words_{lang}", "step"],
-               [[e, metres(x), metres(y), text, int(s)]
-                for e, ((x, y), text, s) in enumerate(zip(positions, texts, steps))])
+
+    def fill(staging: Path) -> None:
+        try:
+            save_map(occupancy, staging / "map.yaml", mode=occupancy.mode)
+        except MapError as exc:
+            raise DatasetError(f"cannot write the map to {folder}: {exc}") from None
+        _write_csv(staging / "trajectory.csv", ["step", "x", "y"],
+                   [[t, metres(x), metres(y)] for t, (x, y) in enumerate(trajectory)])
+        _write_csv(staging / "teaching.csv", ["event", "x", "y", f"words_{lang}", "step"],
+                   [[e, metres(x), metres(y), text, int(s)]
+                    for e, ((x, y), text, s) in enumerate(zip(positions, texts, steps))])
+
+    # built beside ``folder`` and swapped in whole: readers see the old dataset or the new one, and no file of
+    # the old one (a stale truth.csv) survives next to the new teaching events
+    build_folder(folder, fill, DatasetError, f"write the dataset to {folder}")
     return ImportSummary(
         folder=folder, n_pose_messages=len(log.poses), n_trajectory=len(trajectory), n_events=len(texts),
         path_length_m=float(np.hypot(*np.diff(log.poses, axis=0).T).sum()),
