@@ -80,7 +80,7 @@ from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
 from spcotmhp.planning.search import SearchProblem, SearchResult, search
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
-from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+from spcotmhp.planning.vocabulary import INSTANCE_RATIO, place_labels, place_vocabulary
 
 ARRIVAL_QUANTILE: float | None = None
 """Default ``arrival_quantile`` of :class:`PlannerSettings`: None, the path ends at the goal's candidate point
@@ -108,7 +108,7 @@ class PlannerSettings(GraphSettings):
 
     steps_per_stage: int = 10
     max_steps: int | None = None
-    instance_ratio: float = 4.0
+    instance_ratio: float = INSTANCE_RATIO
     start_min_posterior: float = 0.01
     smooth: bool = True
     arrival_quantile: float | None = ARRIVAL_QUANTILE

@@ -15,6 +15,9 @@ from scipy.special import logsumexp
 
 from spcotmhp.planning.grammar import GRAMMARS
 
+INSTANCE_RATIO = 4.0
+"""The planner's default ``instance_ratio`` (:class:`~spcotmhp.planning.planner.PlannerSettings`)."""
+
 PLACE_WORD_RATIO = 0.75
 """A word is a place word when, for some active place, its score is >= this fraction of that place's best
 word's score (see :func:`place_vocabulary`); the words of a place's label are chosen the same way."""
@@ -35,7 +38,7 @@ def _word_scores(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return said, rescaled, lp_lk
 
 
-def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio: float = 10.0) -> list[str]:
+def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio: float = INSTANCE_RATIO) -> list[str]:
     """The words of ``model.vocabulary`` that name places, sorted.
 
     Two scores of word w for place k: how often it is said there, p(w | k) = sum_l p(l | k) W_l(w), and the
@@ -50,7 +53,10 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
        places ("corridor" in "east corridor" and "south corridor", "room" in "alice's room") is part of both
        names although its rescaled score is only 1/2;
     2. and, with more than one active place, it does not name every active place: p(i | w) (Eq. 28's semantic
-       term for the bag {w}) is below 1/``instance_ratio`` of its maximum for some place;
+       term for the bag {w}) is below 1/``instance_ratio`` of its maximum for some place, the planner's own
+       test of which places a bag names (:func:`~spcotmhp.planning.places.instance_places`, ratio 4): a word
+       that makes every place an instance cannot tell places apart, while one that leaves some out can (with
+       little data, a few utterances per place, a real name is 5-10 times likelier at its place than elsewhere);
     3. and it is not a grammar or filler word of a supported language ("here", "called", "the", です): said with
        every name ("this is the kitchen"), such words would pass rule 1, and rule 2 removes them only where
        they are said at every place. A site whose name is such a word cannot be named in instructions.
