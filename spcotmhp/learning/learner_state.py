@@ -12,8 +12,9 @@ The batch learner stores its final sample this way (``from_batch``), so teaching
 from that sample; its posterior means are unchanged by storing it. A model without a learner state (a supervised
 fit, a folder written before this member existed) becomes a state of pseudo-counts that reproduce its posterior
 means (``pseudo_state``): a Dirichlet posterior mean (c + n_m) / (M c + N) determines n given N, and N is taken
-as the one that gives the least probable entry zero counts (exact whenever some entry had none); the Gaussians'
-counts follow from phi's, and their sums from mu and Sigma.  Such a state has no events to revise.
+as the one that gives the least probable entry zero counts (exact whenever some entry had none; when every concept
+is used, each concept's events are taken as its word count, one word per event); the Gaussians' counts follow
+from phi's, and their sums from mu and Sigma.  Such a state has no events to revise.
 """
 
 from __future__ import annotations
@@ -114,7 +115,10 @@ def pseudo_state(model: SpatialConceptModel, replay: bool, background: bool) -> 
     act_k, act_l = np.asarray(model.active_places, bool), np.asarray(model.active_concepts, bool)
     D = None if model.theta is None else int(model.theta.shape[1])
     st = CollapsedState(K, L, len(model.vocabulary), D, h, replay, False)
+    st.W_lv = _counts(model.W, h.beta) * act_l[:, None]
     st.n_l = _counts(model.pi[None], h.alpha)[0] * act_l
+    if not (st.n_l[act_l] > 0).all():     # every concept used (pi has no empty entry): one token per event
+        st.n_l = st.W_lv.sum(axis=1)
     st.n_lk = _counts(model.phi, h.gamma, st.n_l) * act_l[:, None] * act_k[None, :]
     st.n_k = st.n_lk.sum(axis=0)
     m0, V0 = np.asarray(h.m0, float), np.asarray(h.V0, float)
@@ -123,7 +127,6 @@ def pseudo_state(model: SpatialConceptModel, replay: bool, background: bool) -> 
     Vn = model.Sigma * np.where(nun > 3, nun - 3, nun + 3)[:, None, None]
     sxx = Vn - V0 - h.kappa0 * np.outer(m0, m0) + kn[:, None, None] * model.mu[:, :, None] * model.mu[:, None, :]
     st.sxx = sxx * act_k[:, None, None]
-    st.W_lv = _counts(model.W, h.beta) * act_l[:, None]
     st.z_tot = np.array([0.0, st.W_lv.sum()])
     if D is not None:
         weight = model.info.get("feature_weight") or 1.0

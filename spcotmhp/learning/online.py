@@ -120,9 +120,12 @@ class OnlineSpCoTMHP:
             a map; ``connectivity.map_adjacency``) or "hmm" (the posterior mean of the event transitions).
         hyper: priors (default as the batch learner); init_model: a learned model to continue from (its
             hyper-parameters, map and cost map are kept); map: the map teaching positions are checked against
-            and the exported model plans on (default: ``init_model.map``).
-        seed: the random stream; the update that starts at event n uses ``make_rng(seed, n)``, so a sequence of
-            updates is reproducible however it is split into calls (and processes).
+            and the exported model plans on (default: ``init_model.map``); its known area also gives the density
+            of a position under a place with no events yet, 1 / area (the NIW prior's predictive otherwise);
+            ``check_map=False`` checks positions only for being finite (streaming a recorded dataset).
+        seed: the random stream; the update by event n (counting every event of the state) uses
+            ``make_rng(seed, n)``, so a sequence of updates is reproducible however it is split into calls (and
+            processes).
 
     Learned attributes: ``state_`` (``collapsed.CollapsedState``), ``vocabulary_``, ``places_`` / ``concepts_``
     (E,) the current i and C of every event taught, ``update_times_`` (seconds per event), ``last_places_``
@@ -134,13 +137,13 @@ class OnlineSpCoTMHP:
                  rejuvenation: int = 10, replay: bool = True, background_words: bool = True,
                  use_features: bool = True, feature_weight: float | None = 1.0, connectivity: str = "auto",
                  hyper: Hyperparameters | None = None, init_model: SpatialConceptModel | None = None,
-                 map: OccupancyMap | None = None, seed: int = 0) -> None:
+                 map: OccupancyMap | None = None, check_map: bool = True, seed: int = 0) -> None:
         self.K, self.L, self.max_K, self.max_L = K, L, max_K, max_L
         self.lag, self.rejuvenation = lag, rejuvenation
         self.replay, self.background_words = replay, background_words
         self.use_features, self.feature_weight = use_features, feature_weight
         self.connectivity, self.hyper = connectivity, hyper
-        self.init_model, self.map, self.seed = init_model, map, seed
+        self.init_model, self.map, self.check_map, self.seed = init_model, map, check_map, seed
 
     # ---- public API ----------------------------------------------------------------------------------------
     def partial_fit(self, events: Iterable[object]) -> OnlineSpCoTMHP:
@@ -151,11 +154,10 @@ class OnlineSpCoTMHP:
             self._start()
         for event in batch:
             self._check(event)
-        rng = make_rng(self.seed, self.state_.E)
         first = self.state_.E
         for event in batch:
             t0 = time.perf_counter()
-            self._update(event, rng)
+            self._update(event, make_rng(self.seed, self.state_.E))
             self.update_times_.append(time.perf_counter() - t0)
         self._model = None
         self.last_places_ = self.state_.place[first:].copy()
@@ -206,6 +208,7 @@ class OnlineSpCoTMHP:
         self.word_index_ = {w: j for j, w in enumerate(self.vocabulary_)}
         self.update_times_: list[float] = []
         self.truncation_saturated_: list[str] = []
+        self._grow_if_saturated()       # a supervised fit uses every component: room for a new place first
 
     def _check(self, event: TeachingEvent) -> None:
         """TeachingError for a position that is not finite, off the map or in a wall, or features that do not
@@ -214,7 +217,7 @@ class OnlineSpCoTMHP:
         if not (math.isfinite(x) and math.isfinite(y)):
             raise TeachingError(f"the teaching position ({x}, {y}) is not finite")
         occ = self.map_
-        if occ is not None:
+        if occ is not None and self.check_map:
             cell = occ.world_to_cell(np.array([x, y]))
             if not occ.in_bounds(cell):
                 raise TeachingError(f"the teaching position ({x:g}, {y:g}) is off the map")
