@@ -59,8 +59,8 @@ def _mean_std(scores: list[dict]) -> dict:
 
 def format_report(result: dict) -> str:
     """The evaluation as a short table."""
-    lines = [f"Online learning on {result['dataset']}: {result['events']} events streamed in recorded order, "
-             f"{result['seeds']} seeds", f"{'':<8}" + "".join(f"{k.upper().replace('_', ' '):>15}" for k in SCORES)]
+    lines = [(f"Online learning on {result['dataset']}: {result['events']} events streamed in recorded order, "
+             f"{result['seeds']} seeds"), f"{'':<8}" + "".join(f"{k.upper().replace('_', ' '):>15}" for k in SCORES)]
     for name in ("online", "batch"):
         if name in result:
             r = result[name]

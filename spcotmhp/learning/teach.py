@@ -47,7 +47,7 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
 
     seed = (model.info.get("online") or {}).get("seed", 0) if isinstance(model.info, dict) else 0
     learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0)
-    before = set(int(k) for k in model.active_places.nonzero()[0])
+    before = {int(k) for k in model.active_places.nonzero()[0]}
     t0 = time.perf_counter()
     learner.partial_fit(list(events))
     t1 = time.perf_counter()
