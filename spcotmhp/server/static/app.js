@@ -145,6 +145,7 @@ async function teach(event) {
                                              body: JSON.stringify(body) });
     $("taught").textContent = `Learned: place ${taught.place} "${taught.label}"` +
       (taught.new_place ? " (a new place)" : "") + `, ${taught.places} places.`;
+    $("taught").dataset.count = String(Number($("taught").dataset.count || 0) + 1);
     $("words").textContent = `Known place words: ${taught.place_words.join(", ")}`;
     $("map").src = `${state.info.image}&v=${Date.now()}`;
   } catch (err) { showError(err.message); }
