@@ -51,8 +51,8 @@ def version() -> None:
 
 
 # area modules, each with a ``register(app)`` function; a module that does not exist yet is skipped.
-COMMAND_MODULES = ("metric", "datasets", "learning", "planning", "evaluation", "service", "robot", "demo",
-                   "examples")
+COMMAND_MODULES = ("metric", "datasets", "learning", "teaching", "planning", "evaluation", "service", "robot",
+                   "demo", "examples")
 
 for _name in COMMAND_MODULES:
     try:

@@ -97,3 +97,8 @@ class PlanningTimeout(PlanningError):
     """Planning did not finish within the time budget."""
 
     http_status = 503
+
+
+class TeachingError(SpcotmhpError):
+    """A teaching event cannot be learned from: an empty or over-long utterance, a position that is not finite,
+    off the map or in a wall, or image features that do not fit the model (the model is left unchanged)."""

@@ -252,6 +252,7 @@ def test_teaching_is_recorded_as_a_dataset(setup):
     second = client.ask(client.teach_pub, "ここは 書斎 です")
     assert client.ask(client.teach_pub, "  ")["ok"] is False
     assert (first["event"], second["event"]) == (0, 1) and first["ok"] and first["kind"] == "taught"
+    assert isinstance(first["place"], int) and isinstance(first["label"], str) and first["places"] >= 1
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")                          # the Japanese row has no English words
         en, ja = load_dataset(record, lang="en"), load_dataset(record, lang="ja")

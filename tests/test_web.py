@@ -159,3 +159,29 @@ def _close(shown: str, start: list[float]) -> bool:
     """The click lands on a pixel: the shown start is within a pixel (< 0.05 m at 60 px/m) of the target."""
     x, y = (float(v) for v in shown.removeprefix("Start: (").removesuffix(") m").split(", "))
     return abs(x - start[0]) < 0.05 and abs(y - start[1]) < 0.05
+
+
+def test_click_a_spot_and_teach_its_name(server, page):
+    """Last in this file: it changes the served model (a new place "alice's room")."""
+    import numpy as np
+
+    from spcotmhp.metric.costmap import inflate
+
+    model = server.model
+    xy = model.map.cell_centres()[inflate(model.map, **model.costmap).free]
+    spot = xy[int(np.argmax(np.sqrt(((xy[:, None] - model.mu[model.active_places][None]) ** 2).sum(-1)).min(1)))]
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, spot)
+    page.fill("#utterance", "this is alice's room")
+    for n in range(3):
+        page.click("#teach-button")
+        page.wait_for_function(f"document.getElementById('taught').dataset.count === '{n + 1}'")
+    assert "alice's room" in page.text_content("#taught"), page.text_content("#taught")
+    assert "alice's" in page.text_content("#words")
+    click_world(page, start_near(model))
+    page.fill("#instruction", "go to alice's room")
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    assert page.text_content("#explanation").find("alice's room") >= 0
+    assert page.text_content("#error") == "" and page.errors == []

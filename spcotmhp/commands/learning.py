@@ -209,6 +209,9 @@ def evaluate_learning(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of the table.")] = False,
     max_places: Annotated[int, typer.Option(min=1, help="Truncation K of the place DP.")] = 20,
     max_concepts: Annotated[int, typer.Option(min=1, help="Truncation L of the concept DP.")] = 20,
+    online: Annotated[bool, typer.Option("--online", help=(
+        "Stream the events one at a time to the online learner (one seed per run) and compare with batch "
+        "learning; reports the update time per event."))] = False,
 ) -> None:
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs), beside the paper's numbers."""
@@ -216,6 +219,9 @@ def evaluate_learning(
     from spcotmhp.learning.gibbs import TruncationWarning
 
     data = load_dataset_reporting(dataset, lang)
+    if online:
+        _evaluate_online(data, runs, seed, iterations, features, jobs, as_json, max_places, max_concepts)
+        return
     with sweep_progress(3 * runs * iterations, f"Table 6 on {data.name}") as progress, warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)      # counted per method, reported below
         results = table6.evaluate_learning(data, runs=runs, seed=seed, iterations=iterations, n_jobs=jobs,
@@ -232,6 +238,19 @@ def evaluate_learning(
         typer.echo(json.dumps(table6.as_json(results), indent=1))
     else:
         typer.echo(table6.format_table(results, f"{data.name} (lang {data.lang})"))
+
+
+def _evaluate_online(data: Dataset, runs: int, seed: int, iterations: int, features: bool, jobs: int,
+                     as_json: bool, K: int, L: int) -> None:
+    """evaluate-learning --online (``learning.online_eval``): JSON with an "online" key, or a short table."""
+    from spcotmhp.learning.gibbs import TruncationWarning
+    from spcotmhp.learning.online_eval import evaluate_online, format_report
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", TruncationWarning)
+        result = evaluate_online(data, seeds=runs, seed=seed, iterations=iterations, n_jobs=jobs,
+                                 use_features=features, K=K, L=L)
+    typer.echo(json.dumps(result, indent=1) if as_json else format_report(result))
 
 
 def register(app: typer.Typer) -> None:

@@ -89,6 +89,7 @@ from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.distributions import logsumexp, sample_categorical_log
 from spcotmhp.learning.hmm import ffbs, trajectory_places, transition_counts
 from spcotmhp.learning.init import INITS, initial_assignments
+from spcotmhp.learning.learner_state import from_batch
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.posterior import (
@@ -214,6 +215,8 @@ class SpCoTMHP:
                 "feature_weight": self.feature_weight}
         model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper, info)
         model.map = dataset.map
+        model.learner = from_batch(obs, places, concepts, sampler.t_ptr, sampler.t_word, sampler.z, self.K, self.L,
+                                   hyper, self.replay, self.background_words)
         self.model_ = model
         self.places_ = places
         self.concepts_ = concepts

@@ -6,6 +6,9 @@
   shapes checked before any data is read; :func:`spcotmhp.learning.model_folder.read_npz`): loading a model
   executes nothing and unpickles nothing.
 * ``map.yaml`` + ``map.pgm``: the occupancy map in the ROS map_server format (``metric.map_io``).
+* ``learner.json`` + ``learner.npz`` (optional): the state an online learner continues from
+  (:mod:`spcotmhp.learning.learner_state`); folders without them load as before; spcotmhp versions that do not
+  know them load the model (ignoring them) but refuse to overwrite the folder.
 * ``manifest.json``: the format version and each file's size and SHA-256 (:mod:`spcotmhp.learning.model_folder`).
 
 Saving builds the whole folder beside the target and swaps it into place, so the previous model stays loadable
@@ -43,7 +46,8 @@ FORMAT_VERSION = 2
 READABLE_VERSIONS = (1, 2)       # 1: before the manifest (still loaded; see the module docstring)
 ARRAYS = ("mu", "Sigma", "psi", "pi", "phi", "W", "active_places", "active_concepts")
 OPTIONAL_ARRAYS = ("theta", "psi_learned")
-MODEL_FILES = ("model.json", "arrays.npz", "map.yaml", "map.pgm", "map.png", "map.bmp")
+MODEL_FILES = ("model.json", "arrays.npz", "map.yaml", "map.pgm", "map.png", "map.bmp", "learner.json",
+               "learner.npz")
 POSITIVE_HYPER = ("alpha", "gamma", "beta", "chi", "omega", "kappa0")
 PROB_TOL = 1e-6
 SYMMETRY_TOL = 1e-9              # relative asymmetry of a Sigma accepted (and removed) on loading
@@ -81,6 +85,10 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
     text = json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default)
     writers = {"arrays.npz": lambda path: np.savez(path, **arrays),
                "model.json": lambda path: path.write_text(text, encoding="utf-8")}
+    if model.learner is not None:
+        from spcotmhp.learning.learner_state import learner_writers
+
+        writers.update(learner_writers(model.learner))
     if model.map is not None:
         values = np.unique(model.map.data)
         mode = "trinary" if np.isin(values, (-1, 0, 100)).all() else "raw"
@@ -123,6 +131,9 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
                          "has: the folder is torn or was altered; save the model again")
     arrays = read_npz(inside(root, "arrays.npz", "arrays.npz"), _specs(meta), ("psi_learned",))
     model = _assemble(root, meta, arrays)
+    from spcotmhp.learning.learner_state import read_learner
+
+    model.learner = read_learner(root, model)
     if meta.get("map") is not None:
         yaml_path = inside(root, meta["map"], "\"map\"")
         try:

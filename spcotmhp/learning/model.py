@@ -88,6 +88,8 @@ class SpatialConceptModel:
         info: free-form provenance (dataset, seed, iterations, selection criterion, ...), JSON-serialisable.
         psi_learned: (K, K) the transitions the HMM learned (posterior mean), kept when ``psi`` was replaced by
             an adjacency-based psi for planning (connectivity "walk" / "map"); None when nothing was learned.
+        learner: the state an online learner continues from (the events, their assignments and the counts;
+            :mod:`spcotmhp.learning.learner_state`), or None.
     """
 
     mu: np.ndarray
@@ -106,6 +108,7 @@ class SpatialConceptModel:
         "inscribed_radius": 0.22, "inflation_radius": 1.0, "cost_scaling_factor": 10.0})
     info: dict = field(default_factory=dict)
     psi_learned: np.ndarray | None = None
+    learner: dict | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.active_places is None:

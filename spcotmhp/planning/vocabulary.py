@@ -11,7 +11,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from scipy.special import logsumexp
 
 from spcotmhp.planning.grammar import GRAMMARS
 
@@ -52,11 +51,11 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
        at least ``ratio`` times as often as that place's core name words: a word shared by differently named
        places ("corridor" in "east corridor" and "south corridor", "room" in "alice's room") is part of both
        names although its rescaled score is only 1/2;
-    2. and, with more than one active place, it does not name every active place: p(i | w) (Eq. 28's semantic
-       term for the bag {w}) is below 1/``instance_ratio`` of its maximum for some place, the planner's own
-       test of which places a bag names (:func:`~spcotmhp.planning.places.instance_places`, ratio 4): a word
-       that makes every place an instance cannot tell places apart, while one that leaves some out can (with
-       little data, a few utterances per place, a real name is 5-10 times likelier at its place than elsewhere);
+    2. and, with more than one active place, it does not name every active place: p(w | i) is below
+       1/``instance_ratio`` of its maximum for some place (the likelihood, not the joint p(i, w) of Eq. 28's
+       semantic term: a name taught only a few times, at a place visited rarely, is still a name), with the
+       planner's own instance ratio (4, :func:`~spcotmhp.planning.places.instance_places`): with a few
+       utterances per place a real name is only 5-10 times likelier at its place than elsewhere;
     3. and it is not a grammar or filler word of a supported language ("here", "called", "the", です): said with
        every name ("this is the kitchen"), such words would pass rule 1, and rule 2 removes them only where
        they are said at every place. A site whose name is such a word cannot be named in instructions.
@@ -64,15 +63,13 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     if not len(model.vocabulary):
         return []
     act = np.asarray(model.active_places, dtype=bool)
-    said, rescaled, lp_lk = _word_scores(model)
+    said, rescaled, _ = _word_scores(model)
     said, rescaled = said[act], rescaled[act]
     core = rescaled >= ratio * rescaled.max(axis=1, keepdims=True)
     core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
     keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
-        with np.errstate(divide="ignore"):
-            semantic = logsumexp(lp_lk[:, :, None] + np.log(model.W)[:, None, :], axis=0)[act]   # (K_active, V)
-        keep &= ~(semantic >= semantic.max(axis=0) - np.log(instance_ratio)).all(axis=0)
+        keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
     return sorted(w for w, k in zip(model.vocabulary, keep) if k and w not in _FUNCTION_WORDS)
 
 

@@ -14,8 +14,9 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   roles, length, planning time), error (the one-line error and its type), taught, map (the check of ``/map``).
 * ``spcotmhp/places`` (visualization_msgs/MarkerArray, out, transient local): place ellipses, names and
   topological edges, for RViz (late subscribers get it too).
-* ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose, appended to the dataset
-  folder given with ``record`` (:mod:`spcotmhp.ros.teaching_log`).
+* ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose: learned at once (online
+  learning, :mod:`spcotmhp.learning.teach`; later instructions and the place markers use it; the model folder
+  is not rewritten) and, with ``record``, appended to that dataset folder (:mod:`spcotmhp.ros.teaching_log`).
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
 
@@ -44,6 +45,7 @@ from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from spcotmhp.errors import SpcotmhpError, StartBlocked
+from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.ros.shapes import (
     error_status,
@@ -172,14 +174,17 @@ class SpcotmhpNode(Node):
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
-        if self.log is None:
-            raise SpcotmhpError("teaching needs a dataset folder: start the node with --record DIR")
         if self.pose is None:
-            raise StartBlocked("no robot pose yet: an utterance is recorded at the latest pose")
+            raise StartBlocked("no robot pose yet: an utterance is learned at the latest pose")
         x, y, _ = self.pose
-        event = self.log.append(x, y, msg.data)
+        taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": msg.data}])
+        planner, seconds = planner_for(taught.model, self.planner.settings)
+        event = self.log.append(x, y, msg.data) if self.log is not None else None
+        self.planner = planner
+        self.places_pub.publish(self.markers())
         self.status({"kind": "taught", "ok": True, "utterance": msg.data, "event": event, "x": round(x, 4),
-                     "y": round(y, 4), "dataset": str(self.log.folder)})
+                     "y": round(y, 4), "dataset": None if self.log is None else str(self.log.folder),
+                     **taught.summary(), "time_planner_s": seconds})
 
     @answered("map")
     def on_map(self, msg: OccupancyGrid) -> None:

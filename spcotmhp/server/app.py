@@ -7,7 +7,7 @@ start-up (:mod:`spcotmhp.server.registry`); requests pick a model by name (``?mo
 Host header naming a host that is not allowed (localhost only by default), 404 for an unknown model, 422 for
 invalid fields, an instruction naming no known place (with the known ``place_words``), a start in a wall or off
 the map, no path, or audio that is not a usable WAV file; 503 when the planner is busy or a plan exceeds the
-time budget (:mod:`spcotmhp.server.scheduling`). ``/docs`` is a self-contained page describing the API from
+time budget (:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns a place name at run time. ``/docs`` is a self-contained page describing the API from
 ``/openapi.json`` (no CDN, works offline).
 """
 
@@ -24,7 +24,7 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from spcotmhp import __version__
-from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
+from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError, TeachingError
 from spcotmhp.extras import missing_extra
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.server.limits import (
@@ -47,6 +47,8 @@ from spcotmhp.server.schemas import (
     PlacesResponse,
     PlanRequest,
     PlanResponse,
+    TeachRequest,
+    TeachResponse,
 )
 
 STATIC = Path(__file__).parent / "static"
@@ -136,6 +138,17 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
         503 when the planner is busy or the plan exceeds the time budget."""
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang,
                            _client(request))
+
+    @app.post("/teach", response_model=TeachResponse, responses=ERRORS, tags=["learning"])
+    async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
+        """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
+        later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
+        then unchanged)."""
+        sm = pick(_one_model(model, body.model))
+        try:
+            return await run_in_threadpool(sm.teach, body.utterance, body.x, body.y)
+        except TeachingError as exc:
+            raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 
     @app.post("/plan/audio", response_model=AudioPlanResponse, responses=ERRORS, tags=["planning"])
     async def plan_audio(

@@ -54,6 +54,7 @@ class ServedModel:
                         repr=False)
     budget: Budget = field(default_factory=Budget, repr=False)
     _figure: bytes | None = field(default=None, repr=False)
+    _teaching: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     @property
     def lock(self) -> threading.Lock:
@@ -108,6 +109,24 @@ class ServedModel:
             with _LOCKS_GUARD:
                 planner = _HEAVY_PLANNERS.setdefault(key, planner)
         return planner
+
+    def teach(self, utterance: str, x: float, y: float) -> dict:
+        """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), rebuild
+        the planner off the lanes, then swap model, planner and pictures in under the light lane's lock, so that
+        every later plan uses the update. Teaches of one model run one at a time; the served model stays as it
+        was on a TeachingError. The update lives in memory (the model folder is not rewritten)."""
+        from spcotmhp.learning.teach import planner_for, teach
+
+        with self._teaching:
+            taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
+            planner, seconds = planner_for(taught.model, self.planner.settings)
+            labels = place_display_labels(taught.model, planner.place_words)
+            image = map_image(taught.model)
+            with self.lock:
+                self.model, self.planner, self.labels, self.image, self._figure = (taught.model, planner, labels,
+                                                                                 image, None)
+        return {"model": self.name, **taught.summary(), "place_words": self.place_words,
+                "time_planner_s": seconds}
 
     def figure_png(self) -> bytes:
         """The framed picture of the learned map (axes in metres), drawn on first use."""

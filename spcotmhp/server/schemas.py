@@ -69,6 +69,32 @@ class PlanRequest(BaseModel):
         return str(self.instruction)
 
 
+class TeachRequest(BaseModel):
+    """``POST /teach``: what a place is called (an utterance said there) and where, in the map frame."""
+
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
+        {"utterance": "this is alice's room", "x": -3.45, "y": 5.65}]})
+    utterance: str = Field(min_length=1, max_length=MAX_TEXT, description='e.g. "this is alice\'s room".')
+    x: Finite
+    y: Finite
+    model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
+
+
+class TeachResponse(BaseModel):
+    """The place the utterance was assigned to, its label and place words, and the times of the update."""
+
+    model: str
+    place: int
+    label: str
+    names: list[str]
+    new_place: bool
+    places: int
+    place_words: list[str]
+    time_update_s: float
+    time_export_s: float
+    time_planner_s: float
+
+
 class PlanPlaceOut(BaseModel):
     id: int
     name: str

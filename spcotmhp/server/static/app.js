@@ -1,5 +1,6 @@
 // SpCoTMHP web page: the learned map (GET /map.png, georeferenced by GET /map.json), click to set the start,
-// plan from text (POST /plan) or a WAV file (POST /plan/audio), draw the path as an SVG overlay.
+// plan from text (POST /plan) or a WAV file (POST /plan/audio), draw the path as an SVG overlay; teach what the
+// clicked spot is called (POST /teach), after which the map, its place words and later plans include it.
 "use strict";
 
 const SVG = "http://www.w3.org/2000/svg";
@@ -152,10 +153,27 @@ async function planAudio(event) {
   } catch (err) { showFailure(err.message); }
 }
 
+async function teach(event) {
+  event.preventDefault();
+  if (!state.start) { showError("Click on the map to choose the spot first."); return; }
+  showError("");
+  const body = { utterance: $("utterance").value, x: state.start[0], y: state.start[1], model: state.model };
+  try {
+    const taught = await getJSON("/teach", { method: "POST", headers: { "Content-Type": "application/json" },
+                                             body: JSON.stringify(body) });
+    $("taught").textContent = `Learned: place ${taught.place} "${taught.label}"` +
+      (taught.new_place ? " (a new place)" : "") + `, ${taught.places} places.`;
+    $("taught").dataset.count = String(Number($("taught").dataset.count || 0) + 1);
+    $("words").textContent = `Known place words: ${taught.place_words.join(", ")}`;
+    $("map").src = `${state.info.image}&v=${Date.now()}`;
+  } catch (err) { showError(err.message); }
+}
+
 async function main() {
   $("overlay").addEventListener("click", onMapClick);
   $("text-form").addEventListener("submit", planText);
   $("audio-form").addEventListener("submit", planAudio);
+  $("teach-form").addEventListener("submit", teach);
   try {
     const models = await getJSON("/models");
     const select = $("model");

@@ -1,0 +1,274 @@
+"""Online learning of spatial concepts: teaching events taken one at a time ("this is alice's room" at x, y).
+
+Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuvenation.
+
+* Each new event e gets its place i_e and concept C_e drawn from their collapsed conditional given every earlier
+  assignment (``collapsed.py``: the NIW predictive of the position, the transition from i_{e-1} with psi
+  integrated out, Eq. 9's unigram rescaling, pi, phi, theta and W integrated out, Eqs. 5-17), and its words'
+  background switches are drawn.  New places and concepts appear when an empty weak-limit component explains
+  the event best; new words extend the vocabulary (one more column of every count: the Dirichlet of W is over
+  the words heard so far).
+* Fixed-lag rejuvenation (SpCoSLAM 2.0: Taniguchi, Hagiwara, Taniguchi and Inamura, "Improved and scalable
+  online learning of spatial concepts and language models with mapping", Autonomous Robots 44, 2020): the last
+  ``lag`` events are resampled, in order, after each new one, so that an early assignment is revised once
+  later events make it clear (the second "kitchen" turns a one-event place into the kitchen).
+* Random rejuvenation (Canini, Shi and Griffiths, "Online inference of topics with latent Dirichlet
+  allocation", AISTATS 2009, the incremental Gibbs sampler): ``rejuvenation`` events drawn uniformly from the
+  older ones are resampled too, so old assignments keep moving toward the posterior of all the data.
+
+Each update costs O(lag + rejuvenation) Gibbs steps of O(K L + K^2) each, independent of the number of events
+seen (apart from appending it to the event arrays).
+
+Where this departs from SpCoSLAM 2.0: one chain instead of a Rao-Blackwellised particle filter.  SpCoSLAM 2.0's
+particles carry SLAM hypotheses (map and trajectory, weighted by the scan likelihood) with the concept
+assignments; here positions are given in a fixed map, so the particles would carry assignments only, and their
+diversity is what the rejuvenation steps provide (Canini et al. found incremental Gibbs with rejuvenation at
+least as accurate as particle filters of the same cost).  Its fixed-lag step resamples the lag's events given
+the particle's parameters; here every parameter is integrated out (the batch learner's collapsed concept step
+extended to places).  Positions of the robot between events (the trajectory) are not used.
+
+Starting from a batch-learned model: its ``learner`` member (the events, assignments and counts the batch
+sampler ended with, kept in the model folder) becomes the state, so the first update continues from exactly
+that sample; a model without it (a supervised fit, a folder saved before learner states existed) starts from
+pseudo-counts that reproduce its posterior means (``learner_state.pseudo_state``), with no earlier events to
+revise.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import time
+import warnings
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from spcotmhp.errors import TeachingError
+from spcotmhp.learning.collapsed import CollapsedState
+from spcotmhp.learning.gibbs import TruncationWarning, make_rng
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.metric.maps import OccupancyMap
+
+MAX_UTTERANCE_CHARS = 1000
+MAX_WORDS = 50
+_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*")
+
+
+@dataclass(frozen=True)
+class TeachingEvent:
+    """One teaching event: a position (map frame, metres), the words of the utterance, optional image features."""
+
+    x: float
+    y: float
+    words: tuple[str, ...]
+    features: np.ndarray | None = None
+
+    @classmethod
+    def from_utterance(cls, utterance: str, x: float, y: float, features: np.ndarray | None = None
+                       ) -> TeachingEvent:
+        """An event from a sentence: lower-cased words, punctuation dropped ("This is Alice's room!" ->
+        this, is, alice's, room). Raises TeachingError for an empty or over-long utterance."""
+        if not isinstance(utterance, str):
+            raise TeachingError(f"the utterance must be text, got {type(utterance).__name__}")
+        if len(utterance) > MAX_UTTERANCE_CHARS:
+            raise TeachingError(f"the utterance has {len(utterance)} characters, more than the "
+                                f"{MAX_UTTERANCE_CHARS} accepted; say the place's name, e.g. 'this is the kitchen'")
+        words = tuple(w.replace("\u2019", "'") for w in _UNIT.findall(utterance.lower()))
+        if not words:
+            raise TeachingError("the utterance is empty (no words); say the place's name, e.g. 'this is the "
+                                "kitchen'")
+        return cls(float(x), float(y), words, features)
+
+
+def as_event(item: object) -> TeachingEvent:
+    """A TeachingEvent, a mapping {"x", "y", "utterance" or "words"[, "features"]} or a tuple (x, y, utterance or
+    words) as a TeachingEvent; TeachingError for anything else."""
+    if isinstance(item, TeachingEvent):
+        return item
+    if isinstance(item, Mapping):
+        x, y, said, feats = item.get("x"), item.get("y"), item.get("utterance", item.get("words")), item.get(
+            "features")
+    elif isinstance(item, (tuple, list)) and len(item) in (3, 4):
+        x, y, said, feats = (*item, None)[:4]
+    else:
+        raise TeachingError(f"a teaching event is (x, y, utterance) or a mapping with x, y and utterance, got "
+                            f"{type(item).__name__}")
+    if not all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in (x, y)):
+        raise TeachingError(f"a teaching position must be two numbers (metres), got {x!r}, {y!r}")
+    if isinstance(said, str):
+        return TeachingEvent.from_utterance(said, x, y, feats)
+    if not isinstance(said, (list, tuple)) or not said or not all(isinstance(w, str) and w for w in said):
+        raise TeachingError("a teaching event needs an utterance (text) or a non-empty list of words")
+    if len(said) > MAX_WORDS or sum(len(w) for w in said) > MAX_UTTERANCE_CHARS:
+        raise TeachingError(f"a teaching event has more than {MAX_WORDS} words or {MAX_UTTERANCE_CHARS} characters")
+    return TeachingEvent(float(x), float(y), tuple(said), feats)
+
+
+class OnlineSpCoTMHP:
+    """The online SpCoTMHP learner (scikit-learn style: settings in ``__init__``, ``partial_fit`` returns self).
+
+    Args:
+        K, L: initial truncations of the place and concept Dirichlet processes; each doubles when all its
+            components hold events, up to ``max_K`` / ``max_L`` (then a TruncationWarning says so).
+        lag: events resampled after each new one (fixed-lag rejuvenation); rejuvenation: older events drawn at
+            random and resampled after each new one.
+        replay, background_words: as the batch learner (``gibbs.SpCoTMHP``).
+        use_features, feature_weight: image features of the events, each row rescaled to ``feature_weight``.
+        connectivity: psi of the exported model: "auto" or "map" (places whose territories touch, when there is
+            a map; ``connectivity.map_adjacency``) or "hmm" (the posterior mean of the event transitions).
+        hyper: priors (default as the batch learner); init_model: a learned model to continue from (its
+            hyper-parameters, map and cost map are kept); map: the map teaching positions are checked against
+            and the exported model plans on (default: ``init_model.map``); its known area also gives the density
+            of a position under a place with no events yet, 1 / area (the NIW prior's predictive otherwise);
+            ``check_map=False`` checks positions only for being finite (streaming a recorded dataset).
+        seed: the random stream; the update by event n (counting every event of the state) uses
+            ``make_rng(seed, n)``, so a sequence of updates is reproducible however it is split into calls (and
+            processes).
+
+    Learned attributes: ``state_`` (``collapsed.CollapsedState``), ``vocabulary_``, ``places_`` / ``concepts_``
+    (E,) the current i and C of every event taught, ``update_times_`` (seconds per event), ``last_places_``
+    (the place of each event of the last ``partial_fit`` as it ended), ``model_`` (the posterior-mean model of
+    the current state, exported on first access after an update).
+    """
+
+    def __init__(self, K: int = 20, L: int = 20, max_K: int = 200, max_L: int = 200, lag: int = 10,
+                 rejuvenation: int = 10, replay: bool = True, background_words: bool = True,
+                 use_features: bool = True, feature_weight: float | None = 1.0, connectivity: str = "auto",
+                 hyper: Hyperparameters | None = None, init_model: SpatialConceptModel | None = None,
+                 map: OccupancyMap | None = None, check_map: bool = True, seed: int = 0) -> None:
+        self.K, self.L, self.max_K, self.max_L = K, L, max_K, max_L
+        self.lag, self.rejuvenation = lag, rejuvenation
+        self.replay, self.background_words = replay, background_words
+        self.use_features, self.feature_weight = use_features, feature_weight
+        self.connectivity, self.hyper = connectivity, hyper
+        self.init_model, self.map, self.check_map, self.seed = init_model, map, check_map, seed
+
+    # ---- public API ----------------------------------------------------------------------------------------
+    def partial_fit(self, events: Iterable[object]) -> OnlineSpCoTMHP:
+        """Learn from ``events`` (TeachingEvent, mapping or tuple each; ``as_event``), one at a time in order.
+        Every event is checked first: on a TeachingError nothing has changed."""
+        batch = [as_event(item) for item in events]
+        if not hasattr(self, "state_"):
+            self._start()
+        for event in batch:
+            self._check(event)
+        first = self.state_.E
+        for event in batch:
+            t0 = time.perf_counter()
+            self._update(event, make_rng(self.seed, self.state_.E))
+            self.update_times_.append(time.perf_counter() - t0)
+        self._model = None
+        self.last_places_ = self.state_.place[first:].copy()
+        return self
+
+    @property
+    def places_(self) -> np.ndarray:
+        return self.state_.place.copy()
+
+    @property
+    def concepts_(self) -> np.ndarray:
+        return self.state_.concept.copy()
+
+    @property
+    def model_(self) -> SpatialConceptModel:
+        """The posterior-mean model of the current state (``learner_state.export_model``), cached until the next
+        update."""
+        from spcotmhp.learning.learner_state import export_model
+
+        if getattr(self, "_model", None) is None:
+            self._model = export_model(self)
+        return self._model
+
+    # ---- state ---------------------------------------------------------------------------------------------
+    def _start(self) -> None:
+        from spcotmhp.learning.learner_state import state_of_model
+
+        if self.connectivity not in ("auto", "map", "hmm"):
+            raise TeachingError(f"connectivity must be auto, map or hmm, got {self.connectivity!r}")
+        if not (1 <= self.K <= self.max_K and 1 <= self.L <= self.max_L and self.lag >= 0
+                and self.rejuvenation >= 0):
+            raise TeachingError(f"need 1 <= K <= max_K, 1 <= L <= max_L, lag >= 0 and rejuvenation >= 0, got "
+                                f"K={self.K}, L={self.L}, max_K={self.max_K}, max_L={self.max_L}, lag={self.lag}, "
+                                f"rejuvenation={self.rejuvenation}")
+        model = self.init_model
+        self.map_ = self.map if self.map is not None else (None if model is None else model.map)
+        if model is not None:
+            self.state_, self.vocabulary_ = state_of_model(model, self.replay, self.background_words)
+            if not self.use_features and self.state_.F_ld is not None:
+                self.state_.F_ld, self.state_.D = None, None
+        else:
+            hyper = self.hyper or Hyperparameters()
+            self.state_ = CollapsedState(self.K, self.L, 0, None, hyper, self.replay, self.background_words)
+            self.vocabulary_ = []
+        if self.map_ is not None:
+            known = ~self.map_.unknown
+            self.state_.log_new_place = -float(np.log(max(known.sum(), 1) * self.map_.resolution ** 2))
+        self.word_index_ = {w: j for j, w in enumerate(self.vocabulary_)}
+        self.update_times_: list[float] = []
+        self.truncation_saturated_: list[str] = []
+        self._grow_if_saturated()       # a supervised fit uses every component: room for a new place first
+
+    def _check(self, event: TeachingEvent) -> None:
+        """TeachingError for a position that is not finite, off the map or in a wall, or features that do not
+        fit the model."""
+        x, y = event.x, event.y
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise TeachingError(f"the teaching position ({x}, {y}) is not finite")
+        occ = self.map_
+        if occ is not None and self.check_map:
+            cell = occ.world_to_cell(np.array([x, y]))
+            if not occ.in_bounds(cell):
+                raise TeachingError(f"the teaching position ({x:g}, {y:g}) is off the map")
+            if occ.occupied[cell[0], cell[1]]:
+                raise TeachingError(f"the teaching position ({x:g}, {y:g}) is in a wall (an occupied cell of the "
+                                    "map); teach where the robot stands")
+        f = event.features
+        if f is not None and self.use_features:
+            f = np.asarray(f, dtype=float)
+            D = self.state_.D if self.state_.D is not None else (f.shape[0] if self.state_.E == 0 else None)
+            if D is None or f.ndim != 1 or f.shape[0] != D or not (np.isfinite(f).all() and (f >= 0).all()):
+                raise TeachingError("the image features must be non-negative finite numbers of the model's "
+                                    f"dimension ({self.state_.D or 'none: the model has no image features'})")
+
+    def _update(self, event: TeachingEvent, rng: np.random.Generator) -> None:
+        st = self.state_
+        new_words = [w for w in dict.fromkeys(event.words) if w not in self.word_index_]
+        if new_words:
+            for w in new_words:
+                self.word_index_[w] = len(self.vocabulary_)
+                self.vocabulary_.append(w)
+            st.grow(V=len(self.vocabulary_))
+        feats = None
+        if event.features is not None and self.use_features:
+            feats = np.asarray(event.features, dtype=float)
+            if st.D is None:
+                st.D, st.F_ld = feats.shape[0], np.zeros((st.L, feats.shape[0]))
+            total = feats.sum()
+            if self.feature_weight is not None and total > 0:
+                feats = feats * (self.feature_weight / total)
+        e = st.append(np.array([event.x, event.y]), np.array([self.word_index_[w] for w in event.words]), feats,
+                      rng)
+        for j in range(max(0, e - self.lag), e):
+            st.step(j, rng)
+        older = max(0, e - self.lag)
+        if older and self.rejuvenation:
+            for j in rng.integers(older, size=self.rejuvenation):
+                st.step(int(j), rng)
+        self._grow_if_saturated()
+
+    def _grow_if_saturated(self) -> None:
+        """Double a truncation whose every component holds events; warn once when it cannot grow further."""
+        st = self.state_
+        for what, used, size, cap in (("places", (st.n_k > 0).sum(), st.K, self.max_K),
+                                      ("concepts", (st.n_l > 0).sum(), st.L, self.max_L)):
+            if used < size:
+                continue
+            if size < cap:
+                st.grow(**{"K" if what == "places" else "L": min(2 * size, cap)})
+            elif what not in self.truncation_saturated_:
+                self.truncation_saturated_.append(what)
+                warnings.warn(f"all {size} {what[:-1]} components hold events (the weak-limit truncation is "
+                              f"saturated at its maximum, so {what} may be merged): use a larger "
+                              f"{'max_K' if what == 'places' else 'max_L'}", TruncationWarning, stacklevel=4)

@@ -1,0 +1,71 @@
+"""Teaching a learned model at run time: one call shared by the CLI (``spcotmhp teach``), the HTTP service
+(``POST /teach``) and the ROS 2 node (``/spcotmhp/teach``).
+
+``teach(model, events)`` continues the online learner from ``model`` (its learner state, else pseudo-counts;
+:mod:`spcotmhp.learning.online`) and returns the updated model and what each event was assigned to;
+``planner_for(model)`` gives the planner of the updated model (today a rebuild of the planning graph, cached by
+the model's fingerprint; the one place to switch to an incremental update of the graph).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.online import OnlineSpCoTMHP
+
+
+@dataclass
+class Taught:
+    """The result of a teach: the updated model, the place of each event (index and label), its place words,
+    whether the place is new, and the times of the update and of exporting the model (seconds)."""
+
+    model: SpatialConceptModel
+    places: list[int]
+    labels: list[str]
+    new_places: list[bool]
+    place_words: list[str]
+    time_update_s: float
+    time_export_s: float
+
+    def summary(self, k: int = -1) -> dict:
+        """JSON-ready: the place of event ``k`` (default the last), its label and words."""
+        label = self.labels[k]
+        return {"place": self.places[k], "label": label, "names": [w for w in label.split() if w in
+                                                                    self.place_words],
+                "new_place": self.new_places[k], "places": int(self.model.active_places.sum()),
+                "time_update_s": self.time_update_s, "time_export_s": self.time_export_s}
+
+
+def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
+    """Learn ``events`` (``online.as_event`` forms) into ``model``; the model given is not modified. Raises
+    TeachingError (nothing learned) for a bad event. The random stream is the model's online seed (0 unless an
+    online learner set one) at the model's event count, so teaching is reproducible."""
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+
+    seed = (model.info.get("online") or {}).get("seed", 0) if isinstance(model.info, dict) else 0
+    learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0)
+    before = {int(k) for k in model.active_places.nonzero()[0]}
+    t0 = time.perf_counter()
+    learner.partial_fit(list(events))
+    t1 = time.perf_counter()
+    updated = learner.model_
+    t2 = time.perf_counter()
+    words = place_vocabulary(updated)
+    labels = place_labels(updated, words)
+    places = [int(k) for k in learner.last_places_]
+    return Taught(updated, places, [labels[k] for k in places], [k not in before for k in places], words,
+                  t1 - t0, t2 - t1)
+
+
+def planner_for(model: SpatialConceptModel, settings=None):
+    """(HierarchicalPlanner of ``model``, seconds it took): the planning graph is rebuilt for the updated model
+    (``PlanningGraph.build``, cached by the model's fingerprint), so that a plan right after a teach uses the new
+    place. Kept as one function so that an incremental graph update can replace the rebuild."""
+    from spcotmhp.planning.planner import HierarchicalPlanner
+
+    t0 = time.perf_counter()
+    planner = HierarchicalPlanner(model, settings)
+    return planner, time.perf_counter() - t0
