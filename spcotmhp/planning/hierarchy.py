@@ -217,9 +217,9 @@ def build(cost: np.ndarray, territory: np.ndarray, node_cell: np.ndarray, n_plac
 
 
 def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int, int]]:
-    """(u_row, u_col, v_row, v_col) crossings: orthogonal neighbours u, v in different territories, each
-    entrance (a connected run of the u-side cells facing one other territory) getting ``ceil(n / spacing)``
-    crossings at the middles of equal parts."""
+    """(u_row, u_col, v_row, v_col) crossings: orthogonal neighbours u, v in different territories. Each
+    entrance (an 8-connected run of the n u-side cells facing one other territory) gets ``ceil(n / spacing)``
+    u cells at the middles of equal parts, each with every v it faces; ``spacing`` 1 keeps every crossing."""
     groups: dict[tuple[int, int], list] = {}
     for axis in (0, 1):
         a = territory[:-1, :] if axis == 0 else territory[:, :-1]
@@ -232,7 +232,9 @@ def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int,
             groups.setdefault((min(ta, tb), max(ta, tb)), []).append((u, v))
     out = []
     for crossing in groups.values():
-        partner = dict(crossing)                               # u -> one v
+        partner: dict = {}                                     # u -> its neighbours v across
+        for u, v in crossing:
+            partner.setdefault(u, []).append(v)
         seen: set = set()
         for start in sorted(partner):
             if start in seen:
@@ -252,7 +254,7 @@ def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int,
             n = math.ceil(len(run) / spacing)
             for i in range(n):
                 u = run[int((i + 0.5) * len(run) / n)]
-                out.append((*u, *partner[u]))
+                out += [(*u, *v) for v in partner[u]]
     return out
 
 
