@@ -29,7 +29,7 @@ def office():
 
 
 def pair(office, connectivity=8, spacing=None):
-    ds, model, log_p = office
+    _, model, log_p = office
     dense = PlanningGraph.build(model, GraphSettings(connectivity=connectivity), log_p=log_p, use_cache=False)
     hier = PlanningGraph.build(model, GraphSettings(connectivity=connectivity, max_dense_bytes=0,
                                                     portal_spacing=spacing or 1.0), log_p=log_p, use_cache=False)
@@ -80,7 +80,7 @@ def test_avoided_territories_are_never_entered_and_views_stay_exact(office):
 
 
 def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
-    ds, model, log_p = office
+    _, model, log_p = office
     s = GraphSettings(max_dense_bytes=0)
     base = PlanningGraph.build(model, s, log_p=log_p, use_cache=False)
     same = base.update(model, log_p=log_p, use_cache=False)
@@ -100,7 +100,7 @@ def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
 
 
 def test_planner_on_the_portal_graph(office):
-    ds, model, log_p = office
+    _, model, log_p = office
     planner = HierarchicalPlanner(model, PlannerSettings(max_dense_bytes=0), log_p=log_p, use_cache=False)
     free = np.argwhere(planner.graph.main)
     start = ds.map.cell_to_world(planner.graph.to_map(free[len(free) // 3]))
