@@ -100,7 +100,7 @@ def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
 
 
 def test_planner_on_the_portal_graph(office):
-    _, model, log_p = office
+    ds, model, log_p = office
     planner = HierarchicalPlanner(model, PlannerSettings(max_dense_bytes=0), log_p=log_p, use_cache=False)
     free = np.argwhere(planner.graph.main)
     start = ds.map.cell_to_world(planner.graph.to_map(free[len(free) // 3]))
