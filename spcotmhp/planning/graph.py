@@ -42,6 +42,13 @@ territory, every place's territory grown by ``tube_margin`` metres (a window and
 :mod:`spcotmhp.planning.territory`), and the map-only step cost ``log|A| - log p(x|m)``
 (:attr:`PlanningGraph.map_cost`).
 
+At building scale the per-node fields over the whole crop (M x h x w) do not fit: beyond
+``GraphSettings.max_dense_bytes`` the fields are territory-local and the nodes are joined through a portal graph
+(HPA* with the territories as clusters, :mod:`spcotmhp.planning.hierarchy`): the same step cost, the same queries
+(``start_w_hat``, ``leg``, ``edge_path``, ``field_piece``, ``with_avoided``, ``cost_to_nodes``), ``dist`` and
+``next_step`` empty, and :meth:`PlanningGraph.update_place` / :meth:`PlanningGraph.update` recompute only the
+fields of territories whose cells or costs changed.
+
 Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
 a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
 """
