@@ -62,7 +62,8 @@ def warm_up() -> float:
         data = generate_environment("flat", seed=0, events_per_room=4)
         learned = MultiRunSelector(SpCoTMHP(iterations=3, seed=0), runs=1).fit(data).model_
         for model in (fit_supervised(data), learned):
-            for settings in ({}, {"adjacent_only": True}):       # Eq. 28 on all pairs; the reference graph
+            # Eq. 28 on all pairs; the reference graph; the portal graph of building-scale maps
+            for settings in ({}, {"adjacent_only": True}, {"max_dense_bytes": 0}):
                 planner = HierarchicalPlanner(model, use_cache=False, **settings)
                 graph = planner.graph
                 names = sorted({planner.names[k] for k in np.flatnonzero(model.active_places)})

@@ -85,7 +85,7 @@ class HPP:
         nodes = np.flatnonzero(g.node_place == int(np.argmax(ld)))
         if not len(nodes):
             raise PlanningError("the start's most probable place has no candidate point")
-        return int(nodes[np.argmin(g.dist[nodes, cell[0], cell[1]])])
+        return int(nodes[np.argmin(g.cost_to_nodes(cell)[nodes])])
 
     def route(self, source: int, place: int) -> list[int]:
         """The cheapest node sequence from ``source`` to any candidate of ``place`` (source included)."""
@@ -104,7 +104,7 @@ class HPP:
         then the goal), leg after leg."""
         g = self.graph
         node = self.start_node(cell)
-        if not np.isfinite(g.dist[node, cell[0], cell[1]]):
+        if not np.isfinite(g.cost_to_nodes(cell)[node]):
             raise PlanningError("the start cannot reach the candidate point of its own place")
         nodes = [node]
         for words in stages:

@@ -21,9 +21,9 @@ can drive from one place to another, the place graph connects them, directly or 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import snap
 
 __all__ = ["place_territories", "territory_adjacency"]
@@ -46,13 +46,19 @@ def place_territories(model: SpatialConceptModel, mask: np.ndarray, centres: np.
     if not mask.any() or len(act) == 0:
         return labels
     prior = model.log_place_prior()[act]
-    best = np.zeros(mask.shape, dtype=np.int64)
-    top = np.full(mask.shape, -np.inf)
-    for n, k in enumerate(act):       # running arg max: memory O(H W), not O(H W K)
-        score = (log_gaussian(centres, model.mu[k:k + 1], model.Sigma[k:k + 1])[..., 0] if log_density is None
-                 else log_density[n]) + prior[n]
-        higher = score > top
-        best[higher], top[higher] = n, score[higher]
+    if log_density is None:           # compiled, both cores; memory O(H W), not O(H W K)
+        log_gaussian(centres[:1, :1], model.mu[act], model.Sigma[act])    # checks the covariances
+        S = model.Sigma[act].astype(float)
+        det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
+        best = _most_probable(np.ascontiguousarray(centres, dtype=float), model.mu[act].astype(float), S, det,
+                              np.log(det), prior.astype(float))
+    else:
+        best = np.zeros(mask.shape, dtype=np.int64)
+        top = np.full(mask.shape, -np.inf)
+        for n in range(len(act)):     # running arg max
+            score = log_density[n] + prior[n]
+            higher = score > top
+            best[higher], top[higher] = n, score[higher]
     labels[mask] = best[mask]                                                     # indices into act
     # the anchor of each place: the mask cell nearest its mean
     cells = model.map.world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
@@ -72,6 +78,28 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     owned = np.unique(t[t >= 0])
     A[owned, owned] = 1
     return A
+
+
+@njit(cache=True, parallel=True)
+def _most_probable(centres, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
+    """arg max_n log N(x | mu_n, Sigma_n) + prior_n per cell (first maximum on ties), with the arithmetic of
+    :func:`~spcotmhp.learning.model.log_gaussian`."""
+    H, W = centres.shape[0], centres.shape[1]
+    out = np.zeros((H, W), dtype=np.int64)
+    n = mu.shape[0]
+    for i in prange(H):
+        for j in range(W):
+            top = -np.inf
+            for k in range(n):
+                a, b, c, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
+                dx = centres[i, j, 0] - mu[k, 0]
+                dy = centres[i, j, 1] - mu[k, 1]
+                maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det[k]
+                score = (-0.5 * (maha + log_det[k]) - LOG_2PI) + prior[k]
+                if score > top:
+                    top = score
+                    out[i, j] = k
+    return out
 
 
 @njit(cache=True)

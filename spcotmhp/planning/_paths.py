@@ -84,3 +84,15 @@ def field_path_within(links, first, width, territory, places, lo0, lo1, hi0, hi1
             if not (side_a or side_b):
                 return out, False
     return out, True
+
+
+@njit(cache=True)
+def crosses(links, start, blocked):  # pragma: no cover - numba
+    """Whether the path that follows ``links`` (flat next-step indices, -1 at the end) from ``start`` enters a
+    blocked cell."""
+    i = start
+    while i >= 0:
+        if blocked[i]:
+            return True
+        i = links[i]
+    return False

@@ -42,80 +42,42 @@ territory, every place's territory grown by ``tube_margin`` metres (a window and
 :mod:`spcotmhp.planning.territory`), and the map-only step cost ``log|A| - log p(x|m)``
 (:attr:`PlanningGraph.map_cost`).
 
+At building scale the per-node fields over the whole crop (M x h x w) do not fit: beyond
+``GraphSettings.max_dense_bytes`` the fields are territory-local and the nodes are joined through a portal graph
+(HPA* with the territories as clusters, :mod:`spcotmhp.planning.hierarchy`): the same step cost, the same queries
+(``start_w_hat``, ``leg``, ``edge_path``, ``field_piece``, ``with_avoided``, ``cost_to_nodes``), ``dist`` and
+``next_step`` empty, and :meth:`PlanningGraph.update_place` / :meth:`PlanningGraph.update` recompute only the
+fields of territories whose cells or costs changed.
+
 Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
 a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
 """
 
 from __future__ import annotations
 
-import hashlib
-import json
+import copy
 import math
 import time
 from collections import OrderedDict
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
-from spcotmhp.errors import InvalidSettings, ModelError
+from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
-from spcotmhp.metric.snap import largest_component, snap
-from spcotmhp.planning._paths import field_path_within, octile_length
-from spcotmhp.planning.places import candidate_points, connected_places
+from spcotmhp.metric.snap import largest_component
+from spcotmhp.planning import hierarchy
+from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
+from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
+from spcotmhp.planning.places import candidate_points, connected_places, snap_into_territories
 from spcotmhp.planning.territory import grown_territories, tube_window
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
 CACHE_SIZE = 8
 AVOID_CACHE_SIZE = 32
-
-
-@dataclass(frozen=True)
-class GraphSettings:
-    """Settings of the precomputation (part of the cache key).
-
-    n_candidates: candidate points per place (N of Section 3.4; 1 = the means, as in the paper's experiments).
-    seed: seed of the candidate sampling (N > 1).  connectivity: 4 or 8 grid moves.
-    edge_threshold: connected places have (psi_ab + psi_ba) / 2 at least this (None: 1 / K, Figure 3).
-    candidate_quantile: samples are kept inside this chi-square ellipse of their place.
-    tube_margin: metres by which each place's territory is grown for smoothing's tubes.
-    """
-
-    n_candidates: int = 1
-    seed: int = 0
-    connectivity: int = 8
-    edge_threshold: float | None = None
-    candidate_quantile: float = 0.95
-    tube_margin: float = 0.2
-
-    def __post_init__(self) -> None:
-        """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
-        require_int(self.n_candidates, "n_candidates", 1)
-        require_int(self.seed, "seed", 0)
-        if self.connectivity not in (4, 8) or isinstance(self.connectivity, bool):
-            raise InvalidSettings(f"connectivity must be 4 or 8, got {self.connectivity!r}")
-        if self.edge_threshold is not None:
-            require_range(self.edge_threshold, "edge_threshold", 0.0, 1.0, "in [0, 1] (or None: 1/K)")
-        require_range(self.candidate_quantile, "candidate_quantile", 0.0, 1.0, "in (0, 1)", open_=True)
-        require_range(self.tube_margin, "tube_margin", 0.0, math.inf, ">= 0")
-
-
-def require_int(value: object, name: str, low: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise InvalidSettings(f"{name} must be an integer >= {low}, got {value!r}")
-
-
-def require_range(value: object, name: str, low: float, high: float, accepted: str, open_: bool = False) -> None:
-    """``value`` must be a real number in [low, high] ((low, high) with ``open_``, but always finite)."""
-    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-    if ok:
-        v = float(value)
-        ok = math.isfinite(v) and (low < v < high if open_ else low <= v <= high)
-    if not ok:
-        raise InvalidSettings(f"{name} must be {accepted}, got {value!r}")
 
 
 @dataclass
@@ -155,13 +117,17 @@ class PlanningGraph:
     usable: np.ndarray | None = None
     _shared: set = field(default_factory=set, repr=False)        # fields still shared with the base graph
     _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
+    hier: hierarchy.TerritoryFields | None = None   # territory-local fields (when dense ones exceed the budget)
 
     # ---- construction ----------------------------------------------------------------------------------
     @classmethod
     def build(cls, model: SpatialConceptModel, settings: GraphSettings | None = None,
-              log_p: np.ndarray | None = None, use_cache: bool = True) -> PlanningGraph:
+              log_p: np.ndarray | None = None, use_cache: bool = True,
+              reuse: PlanningGraph | None = None) -> PlanningGraph:
         """Precompute (or fetch from the cache) the graph of ``model`` on its map. ``log_p`` overrides the cost
-        map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap`` settings)."""
+        map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap`` settings).
+        ``reuse``: an earlier graph (same map size) whose territory-local fields are kept wherever a territory's
+        cells and costs did not change (:mod:`spcotmhp.planning.hierarchy`); the result is the same as without."""
         settings = settings or GraphSettings()
         if model.map is None:
             raise ModelError("the model has no map; planning needs the occupancy map it was learned on")
@@ -171,7 +137,7 @@ class PlanningGraph:
         if use_cache and key in _CACHE:
             _CACHE.move_to_end(key)
             return _CACHE[key]
-        graph = cls._compute(model, settings, key, log_p)
+        graph = cls._compute(model, settings, key, log_p, reuse)
         if use_cache:
             _CACHE[key] = graph
             while len(_CACHE) > CACHE_SIZE:
@@ -179,7 +145,7 @@ class PlanningGraph:
         return graph
 
     @classmethod
-    def _compute(cls, model, settings, key, log_p_full) -> PlanningGraph:
+    def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
         t0 = time.perf_counter()
         occ = model.map
         if log_p_full is None:
@@ -202,7 +168,7 @@ class PlanningGraph:
         # candidates (Alg. 1, line 2), snapped into their own territory within the main free component
         rng = np.random.default_rng(settings.seed)
         node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
-        cells, ok = _snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array([r0, c0]),
+        cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array([r0, c0]),
                                            main, territory)
         node_place, cells, node_xy = node_place[ok], cells[ok], node_xy[ok]
         _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
@@ -223,9 +189,17 @@ class PlanningGraph:
                     _centres=centres, territory=territory, main=main,
                     _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution))
         graph.usable = np.ones(len(cells), dtype=bool)
-        fields = [graph._field(j) for j in range(len(cells))]
-        graph.dist = np.stack([d for d, _ in fields])                 # (M, h, w), shared by avoidance views
-        graph.next_step = np.stack([n for _, n in fields])
+        if 12 * len(cells) * log_p.size <= settings.max_dense_bytes:
+            fields = [graph._field(j) for j in range(len(cells))]
+            graph.dist = np.stack([d for d, _ in fields])             # (M, h, w), shared by avoidance views
+            graph.next_step = np.stack([n for _, n in fields])
+        else:
+            old = reuse.hier if reuse is not None and reuse.offset == graph.offset else None
+            graph.hier = hierarchy.build(graph.map_cost, territory, cells, model.K,
+                                         round(settings.portal_spacing / occ.resolution), settings.connectivity,
+                                         reuse=old)
+            graph.info.update(graph.hier.info)
+        graph.info["field_bytes"] = graph.field_bytes
         graph._edges()
         graph.time_precompute_s = time.perf_counter() - t0
         return graph
@@ -241,8 +215,9 @@ class PlanningGraph:
         M = self.n_nodes
         rows, cols = self.node_cell[:, 0], self.node_cell[:, 1]
         w_hat = np.full((M, M), -np.inf)
-        for j in np.flatnonzero(self.usable):
-            w_hat[:, j] = self.end_term[j] - self.dist[j][rows, cols]      # -field_j[cell_i] + log N(x_j)
+        for j in np.flatnonzero(self.usable):                          # -field_j[cell_i] + log N(x_j)
+            to_j = self.hier.D[:M, j] if self.hier is not None else self.dist[j][rows, cols]
+            w_hat[:, j] = self.end_term[j] - to_j
         pairs = ~np.eye(M, dtype=bool) & self.usable[:, None] & self.usable[None, :]
         self.w_hat_metric = np.where(pairs, w_hat, -np.inf)
         allowed = pairs & self.connected[self.node_place[:, None], self.node_place[None, :]]
@@ -279,19 +254,38 @@ class PlanningGraph:
         if self.blocked is not None and self._shared:
             start = r * self.log_p.shape[1] + c
             for j in list(self._shared):
-                if np.isfinite(self.dist[j][r, c]) and _crosses(self.next_step[j].reshape(-1), start,
+                if np.isfinite(self.dist[j][r, c]) and crosses(self.next_step[j].reshape(-1), start,
                                                                  self.blocked.reshape(-1)):
                     self.dist[j], self.next_step[j] = self._field(j)
                     self._shared.discard(j)
                     self.info["recomputed_fields"].append(int(j))
-        out = np.full(self.n_nodes, -np.inf)
-        for j in np.flatnonzero(self.usable):
-            out[j] = self.end_term[j] - self.dist[j][r, c]
-        return out
+        return np.where(self.usable, self.end_term - self.cost_to_nodes(cell), -np.inf)
+
+    def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
+        """(M,) the cost of the best path from crop cell ``cell`` into each node (the fields' value there; inf:
+        none). In an avoidance view call :meth:`start_w_hat` first (it makes shared fields exact there)."""
+        if self.hier is not None:
+            return self.hier.cost_to_nodes(cell)
+        r, c = int(cell[0]), int(cell[1])
+        return np.array([self.dist[j][r, c] for j in range(self.n_nodes)], dtype=float)
+
+    @property
+    def field_bytes(self) -> int:
+        """Bytes held by the cost-to-go fields and next-step links (and the portal graph's tables)."""
+        if self.hier is not None:
+            return self.hier.nbytes
+        return int(sum(np.asarray(d).nbytes for d in self.dist) + sum(np.asarray(n).nbytes for n in self.next_step))
 
     def leg(self, cell: np.ndarray, node: int) -> GridPath:
         """The best path from crop cell ``cell`` into ``node`` (crop cells)."""
-        return path_from_field(self.dist[node], self.next_step[node], cell, strict=True)
+        if self.hier is None:
+            return path_from_field(self.dist[node], self.next_step[node], cell, strict=True)
+        cells = self.hier.path(cell, node)
+        if cells is None:
+            raise PlanningError(f"start cell ({int(cell[0])}, {int(cell[1])}) cannot reach node {node} "
+                                f"(blocked or disconnected)")
+        diagonal = int(np.count_nonzero(np.abs(np.diff(cells, axis=0)).sum(axis=1) == 2))
+        return GridPath(cells, float(cells_cost(cells, self.map_cost)), len(cells) - 1 + diagonal * (SQRT2 - 1), -1)
 
     def edge_path(self, i: int, j: int) -> np.ndarray:
         """The partial path (crop cells) from node i into node j (Eq. 27), extracted once and memoised."""
@@ -312,6 +306,9 @@ class PlanningGraph:
         flags = np.zeros(self.model.K, dtype=np.bool_)
         flags[places[places >= 0]] = True
         piece = cells[a:b + 1]
+        if self.hier is not None:      # the portal graph's path, if it stays in the tube's territories
+            path = self.hier.path(piece[0], node)
+            return path if path is not None and flags[self.territory[path[:, 0], path[:, 1]]].all() else None
         first, last, half = piece[0], piece[-1], octile_length(piece) / 2
         lo = np.maximum(np.floor((first + last) / 2 - half), 0).astype(np.int64)
         hi = np.ceil((first + last) / 2 + half).astype(np.int64) + 1
@@ -353,15 +350,9 @@ class PlanningGraph:
         t0 = time.perf_counter()
         blocked = np.isin(self.territory, key)
         usable = ~np.isin(self.node_place, key) & ~blocked[self.node_cell[:, 0], self.node_cell[:, 1]]
-        view = PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
-                             log_p=self.log_p, traversable=self.traversable & ~blocked,
-                             node_place=self.node_place, node_cell=self.node_cell, end_term=self.end_term,
-                             dist=list(self.dist), next_step=list(self.next_step), w_hat=np.empty(0),
-                             w_hat_metric=np.empty(0), log_transition=np.empty(0),
-                             connected=self.connected, time_precompute_s=0.0,
-                             info={**self.info, "avoided": key}, blocked=blocked, usable=usable,
-                             _centres=self.centres, territory=self.territory, main=self.main,
-                             _territories=self._territories)
+        if self.hier is not None:
+            return self._remember(key, self._hier_view(key, blocked, usable, t0))
+        view = self._view(key, blocked, usable, dist=list(self.dist), next_step=list(self.next_step))
         width = self.log_p.shape[1]
         sources = self.node_cell[:, 0] * width + self.node_cell[:, 1]
         flat_blocked = blocked.reshape(-1)
@@ -370,7 +361,7 @@ class PlanningGraph:
             into_j = usable.copy()          # every node: the metric fallback may join any two
             into_j[j] = False
             links = self.next_step[j].reshape(-1)
-            if any(_crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
+            if any(crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
                 view.dist[j], view.next_step[j] = view._field(j)
                 recomputed.append(int(j))
             else:
@@ -378,59 +369,57 @@ class PlanningGraph:
         view._edges()
         view.info["recomputed_fields"] = recomputed
         view.time_precompute_s = time.perf_counter() - t0
+        return self._remember(key, view)
+
+    def _view(self, key: tuple, blocked: np.ndarray, usable: np.ndarray, **kw) -> PlanningGraph:
+        return PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
+                             log_p=self.log_p, traversable=self.traversable & ~blocked,
+                             node_place=self.node_place, node_cell=self.node_cell, end_term=self.end_term,
+                             w_hat=np.empty(0), w_hat_metric=np.empty(0), log_transition=np.empty(0),
+                             connected=self.connected, time_precompute_s=0.0,
+                             info={**self.info, "avoided": key}, blocked=blocked, usable=usable,
+                             _centres=self.centres, territory=self.territory, main=self.main,
+                             _territories=self._territories, **kw)
+
+    def _hier_view(self, key: tuple, blocked: np.ndarray, usable: np.ndarray, t0: float) -> PlanningGraph:
+        """The avoidance view of a portal-graph graph: the avoided territories' abstract nodes removed; no
+        local field enters another territory, so every kept field stays exact (:mod:`~spcotmhp.planning.
+        hierarchy`)."""
+        view = self._view(key, blocked, usable, dist=[], next_step=[], hier=self.hier.without(key))
+        view._edges()
+        view.info["recomputed_fields"] = []
+        view.time_precompute_s = time.perf_counter() - t0
+        return view
+
+    def _remember(self, key: tuple, view: PlanningGraph) -> PlanningGraph:
         self._views[key] = view
         while len(self._views) > AVOID_CACHE_SIZE:
             self._views.popitem(last=False)
         return view
 
+    # ---- incremental update (online learning) -----------------------------------------------------------
+    def update_place(self, k: int, mu: np.ndarray, Sigma: np.ndarray, use_cache: bool = True) -> PlanningGraph:
+        """The graph of this model with place k's Gaussian replaced by N(mu, Sigma), reusing every territory-
+        local field whose territory's cells and costs did not change (:meth:`build` with ``reuse``)."""
+        K = self.model.K
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= k < K:
+            raise ModelError(f"place index must be an integer in 0..{K - 1}, got {k!r}")
+        mu, Sigma = np.asarray(mu, dtype=float), np.asarray(Sigma, dtype=float)
+        if mu.shape != (2,) or Sigma.shape != (2, 2) or not (np.isfinite(mu).all() and np.isfinite(Sigma).all()):
+            raise ModelError(f"place {k}: mu must be 2 finite numbers and Sigma 2 x 2 finite numbers, got shapes "
+                             f"{mu.shape} and {Sigma.shape}")
+        if not (np.allclose(Sigma, Sigma.T) and np.linalg.eigvalsh(Sigma)[0] > 0):
+            raise ModelError(f"place {k}: Sigma must be symmetric positive definite")
+        model = copy.copy(self.model)
+        model.mu, model.Sigma = self.model.mu.copy(), self.model.Sigma.copy()
+        model.mu[k], model.Sigma[k] = mu, Sigma
+        return self.update(model, use_cache=use_cache)
 
-@njit(cache=True)
-def _crosses(links, start, blocked):  # pragma: no cover - numba
-    """Whether the path that follows ``links`` (flat next-step indices, -1 at the end) from ``start`` enters a
-    blocked cell."""
-    i = start
-    while i >= 0:
-        if blocked[i]:
-            return True
-        i = links[i]
-    return False
-
-
-def _snap_into_territories(node_place: np.ndarray, cells: np.ndarray, main: np.ndarray,
-                           territory: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each candidate moved to the nearest cell of its own place's territory inside ``main`` (searched in the
-    territory's bounding box only); ``ok`` is False for places that own no such cell."""
-    out = np.zeros_like(cells)
-    ok = np.zeros(len(cells), dtype=bool)
-    for k in np.unique(node_place):
-        own = main & (territory == k)
-        if not own.any():
-            continue
-        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
-        corner = np.array([rows[0], cols[0]])
-        window = own[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
-        sel = node_place == k
-        out[sel] = snap(window, cells[sel] - corner) + corner
-        ok[sel] = True
-    return out, ok
-
-
-def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.ndarray | None = None) -> str:
-    """A hash of everything the graph depends on: the model's parameters, its map and cost map settings, the
-    graph settings and an explicit cost map."""
-    h = hashlib.sha256()
-    for a in (model.mu, model.Sigma, model.psi, model.pi, model.phi, model.W, model.active_places,
-              model.active_concepts):
-        arr = np.ascontiguousarray(a)
-        h.update(str((arr.dtype.str, arr.shape)).encode())
-        h.update(arr.tobytes())
-    occ = model.map
-    h.update(np.ascontiguousarray(occ.data).tobytes())
-    h.update(json.dumps([list(model.vocabulary), occ.shape, occ.resolution, list(occ.origin),
-                         model.costmap, asdict(settings)], sort_keys=True, default=str).encode())
-    if log_p is not None:
-        h.update(np.ascontiguousarray(log_p, dtype=np.float64).tobytes())
-    return h.hexdigest()
+    def update(self, model: SpatialConceptModel, log_p: np.ndarray | None = None,
+               use_cache: bool = True) -> PlanningGraph:
+        """The graph of a changed model or cost map (same map size), recomputing only what depends on the
+        change: :meth:`build` with ``reuse=self``."""
+        return PlanningGraph.build(model, self.settings, log_p=log_p, use_cache=use_cache, reuse=self)
 
 
 def clear_cache() -> None:

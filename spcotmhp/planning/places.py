@@ -42,9 +42,11 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+from scipy import ndimage
 
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import largest_component as main_component
+from spcotmhp.metric.snap import snap
 
 __all__ = ["candidate_points", "chi2_2d", "connected_places", "inside_places", "instance_places", "mahalanobis2",
            "main_component", "most_probable_place", "named_places", "place_regions"]
@@ -139,3 +141,26 @@ def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray
     if not inside.any():
         return inside
     return inside & np.isin(most_probable_place(model, xy), places)
+
+
+def snap_into_territories(node_place: np.ndarray, cells: np.ndarray, main: np.ndarray,
+                          territory: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each candidate moved to the nearest cell of its own place's territory inside ``main`` (searched in the
+    bounding box of those cells only); ``ok`` is False for places that own no such cell."""
+    out = np.zeros_like(cells)
+    ok = np.zeros(len(cells), dtype=bool)
+    boxes = ndimage.find_objects(territory + 1)
+    for k in np.unique(node_place):
+        if k >= len(boxes) or boxes[k] is None:
+            continue
+        box = boxes[k]
+        own = main[box] & (territory[box] == k)
+        if not own.any():
+            continue
+        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
+        corner = np.array([rows[0] + box[0].start, cols[0] + box[1].start])
+        window = own[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+        sel = node_place == k
+        out[sel] = snap(window, cells[sel] - corner) + corner
+        ok[sel] = True
+    return out, ok

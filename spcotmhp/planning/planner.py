@@ -73,7 +73,8 @@ from spcotmhp.planning.assemble import (
     shorten,
     smooth_anchored,
 )
-from spcotmhp.planning.graph import GraphSettings, PlanningGraph, require_int, require_range
+from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.graph_settings import GraphSettings, require_int, require_range
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
 from spcotmhp.planning.places import inside_places, instance_places, named_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace

@@ -1,0 +1,84 @@
+"""Settings of the planning graph's precomputation (Algorithm 1, lines 1-7) and their range checks."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from spcotmhp.errors import InvalidSettings
+from spcotmhp.learning.model import SpatialConceptModel
+
+
+@dataclass(frozen=True)
+class GraphSettings:
+    """Settings of the precomputation (part of the cache key).
+
+    n_candidates: candidate points per place (N of Section 3.4; 1 = the means, as in the paper's experiments).
+    seed: seed of the candidate sampling (N > 1).  connectivity: 4 or 8 grid moves.
+    edge_threshold: connected places have (psi_ab + psi_ba) / 2 at least this (None: 1 / K, Figure 3).
+    candidate_quantile: samples are kept inside this chi-square ellipse of their place.
+    tube_margin: metres by which each place's territory is grown for smoothing's tubes.
+    max_dense_bytes: the cost-to-go fields cover the whole crop, one per node (exact), when they take at most
+        this many bytes (12 per cell and node); beyond, territory-local fields and a portal graph
+        (:mod:`spcotmhp.planning.hierarchy`).
+    portal_spacing: metres between the crossings of one entrance of the portal graph.
+    """
+
+    n_candidates: int = 1
+    seed: int = 0
+    connectivity: int = 8
+    edge_threshold: float | None = None
+    candidate_quantile: float = 0.95
+    tube_margin: float = 0.2
+    max_dense_bytes: int = 2**28
+    portal_spacing: float = 1.0
+
+    def __post_init__(self) -> None:
+        """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
+        require_int(self.n_candidates, "n_candidates", 1)
+        require_int(self.seed, "seed", 0)
+        if self.connectivity not in (4, 8) or isinstance(self.connectivity, bool):
+            raise InvalidSettings(f"connectivity must be 4 or 8, got {self.connectivity!r}")
+        if self.edge_threshold is not None:
+            require_range(self.edge_threshold, "edge_threshold", 0.0, 1.0, "in [0, 1] (or None: 1/K)")
+        require_range(self.candidate_quantile, "candidate_quantile", 0.0, 1.0, "in (0, 1)", open_=True)
+        require_range(self.tube_margin, "tube_margin", 0.0, math.inf, ">= 0")
+        require_int(self.max_dense_bytes, "max_dense_bytes", 0)
+        require_range(self.portal_spacing, "portal_spacing", 0.0, math.inf, "> 0 (metres)", open_=True)
+
+
+def require_int(value: object, name: str, low: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise InvalidSettings(f"{name} must be an integer >= {low}, got {value!r}")
+
+
+def require_range(value: object, name: str, low: float, high: float, accepted: str, open_: bool = False) -> None:
+    """``value`` must be a real number in [low, high] ((low, high) with ``open_``, but always finite)."""
+    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+    if ok:
+        v = float(value)
+        ok = math.isfinite(v) and (low < v < high if open_ else low <= v <= high)
+    if not ok:
+        raise InvalidSettings(f"{name} must be {accepted}, got {value!r}")
+
+
+def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.ndarray | None = None) -> str:
+    """A hash of everything the graph depends on: the model's parameters, its map and cost map settings, the
+    graph settings and an explicit cost map."""
+    h = hashlib.sha256()
+    for a in (model.mu, model.Sigma, model.psi, model.pi, model.phi, model.W, model.active_places,
+              model.active_concepts):
+        arr = np.ascontiguousarray(a)
+        h.update(str((arr.dtype.str, arr.shape)).encode())
+        h.update(arr.tobytes())
+    occ = model.map
+    h.update(np.ascontiguousarray(occ.data).tobytes())
+    h.update(json.dumps([list(model.vocabulary), occ.shape, occ.resolution, list(occ.origin),
+                         model.costmap, asdict(settings)], sort_keys=True, default=str).encode())
+    if log_p is not None:
+        h.update(np.ascontiguousarray(log_p, dtype=np.float64).tobytes())
+    return h.hexdigest()

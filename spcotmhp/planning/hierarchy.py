@@ -1,0 +1,305 @@
+"""Territory-local cost-to-go fields and a portal graph: the planning graph's fields at building scale.
+
+Every leg of the planning graph uses the same step cost, the map term of Eq. 26, ``c(x) = log|A| - log p(x|m)``
+(optimality is observed at the leg's end; :mod:`spcotmhp.planning.graph`), so the partial path between two
+candidate points (Eq. 27), the start leg from any start and w-hat (Eq. 24) are all shortest paths under one cost
+map. Instead of one field per node over the whole map (M x h x w, 9.6 GB for 200 places on 2000 x 2000 cells),
+this is an HPA* abstraction (Botea, Mueller and Schaeffer 2004) whose clusters are the place territories
+(:mod:`spcotmhp.learning.territory`):
+
+* **Portals.** Where two territories touch (two 4-neighbouring cells), each connected run of such cells (an
+  *entrance*: a door, an open boundary between corridor places) gets ``ceil(length / portal_spacing)`` crossings
+  evenly spread along it; both cells of a crossing are abstract nodes, joined by the one grid step between them
+  (cost ``c(v)`` of the cell entered). The candidate points (Algorithm 1, line 2) are abstract nodes too.
+* **Exact local fields.** For every abstract node, the cost-to-go field into it over its own territory only
+  (bounded by the territory's bounding box; every other cell is blocked), computed once, in parallel on every
+  core (numba ``prange``). Intra-territory edges of the abstract graph read them: ``a -> b`` costs
+  ``field_b[cell_a]``.
+* **Abstract distances.** One Dijkstra per candidate on the (reversed) abstract graph gives ``D[a, j]``, the
+  cost from every abstract node ``a`` into node ``j``, and its next hop: w-hat (Eq. 24, end-observed) is
+  ``-D[i, j] + log N(x_j | mu_b, Sigma_b)``.
+* **The start leg from any start** x_0 in territory t stays a table look-up (Algorithm 1's online part):
+  ``min over abstract nodes a of t of field_a[x_0] + D[a, j]``.
+* **Refinement.** A chosen leg is read back cell by cell: the local field from the start into its best abstract
+  node, then hop by hop, each hop inside one territory following that territory's exact field. Its cost is
+  exactly the D above, so w-hat, the explanation and the path agree.
+
+What is kept: every cell of every path lies in a traversable cell of a territory (never an inscribed or lethal
+one); territories are 4-connected and adjacent territories share at least one crossing per entrance, so whenever
+the free space joins two cells the abstract graph joins them (never "no path"); an avoided place's territory is
+removed with its abstract nodes and no field enters another territory, so a view's paths never enter it and the
+other fields stay valid unchanged. What is approximate: a leg is the cheapest path through the chosen crossings,
+at least the exact grid optimum (HPA*'s error, about 1% in Botea et al.; the README gives ours).
+
+Incremental update: the fields of a territory depend only on its cells and their costs, so a rebuild reuses, for
+every territory whose cells and costs are unchanged, the field of every abstract node that is still there
+(:func:`build` with ``reuse``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numba import njit, prange
+from scipy import ndimage
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from spcotmhp.metric import _grid_kernels as _k
+from spcotmhp.metric.grid_search import SQRT2
+
+
+@dataclass
+class TerritoryFields:
+    """The abstraction of the module docstring. Abstract node ``a`` sits at crop cell ``cells[a]`` in territory
+    ``terr[a]``; the first ``n_nodes`` are the planning graph's nodes (same order). Fields are stored flat: node
+    ``a``'s field covers its territory's window ``win[terr[a]]`` (r0, c0, r1, c1) at ``fdist[off[a]:off[a + 1]]``
+    (cost to go, float64) and ``fnext`` (next cell, window-flat int32, -1 at ``a`` and off the territory)."""
+
+    cost: np.ndarray
+    territory: np.ndarray
+    n_nodes: int
+    cells: np.ndarray
+    terr: np.ndarray
+    win: np.ndarray
+    off: np.ndarray
+    fdist: np.ndarray
+    fnext: np.ndarray
+    members: list                      # territory -> abstract nodes in it (int64 array)
+    links: tuple                       # (src, dst, weight) of the abstract graph's edges
+    removed: np.ndarray                # (A,) abstract nodes of avoided territories
+    D: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))
+    hop: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=np.int64))
+    info: dict = field(default_factory=dict)
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes held by the fields and the abstract distance tables."""
+        return int(self.fdist.nbytes + self.fnext.nbytes + self.D.nbytes + self.hop.nbytes)
+
+    def solve(self) -> None:
+        """``D`` and ``hop`` by Dijkstra on the reversed abstract graph from every node (removed nodes cut)."""
+        src, dst, w = self.links
+        keep = ~self.removed[src] & ~self.removed[dst]
+        A = len(self.cells)
+        reverse = csr_matrix((w[keep], (dst[keep], src[keep])), shape=(A, A))
+        dist, pred = dijkstra(reverse, directed=True, indices=np.arange(self.n_nodes), return_predecessors=True)
+        self.D = np.ascontiguousarray(dist.T)
+        self.D[self.removed] = np.inf
+        self.hop = np.ascontiguousarray(pred.T).astype(np.int64)    # next abstract node on the way into j
+
+    def local(self, a: int, cell: np.ndarray) -> float:
+        """Node a's field at crop cell ``cell`` (inf outside a's territory window)."""
+        r0, c0, r1, c1 = self.win[self.terr[a]]
+        r, c = int(cell[0]) - r0, int(cell[1]) - c0
+        if not (0 <= r < r1 - r0 and 0 <= c < c1 - c0):
+            return math.inf
+        return float(self.fdist[self.off[a] + r * (c1 - c0) + c])
+
+    def entries(self, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(nodes, costs)``: the abstract nodes of ``cell``'s territory and the local cost from ``cell`` into
+        each (empty off every territory)."""
+        t = int(self.territory[int(cell[0]), int(cell[1])])
+        if t < 0:
+            return np.empty(0, dtype=np.int64), np.empty(0)
+        nodes = self.members[t][~self.removed[self.members[t]]]
+        r0, c0, _, c1 = self.win[t]
+        at = (int(cell[0]) - r0) * (c1 - c0) + int(cell[1]) - c0
+        return nodes, self.fdist[self.off[nodes] + at]
+
+    def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
+        """(n_nodes,) the cost of the best path from crop cell ``cell`` into each node (inf: none)."""
+        nodes, local = self.entries(cell)
+        if not len(nodes):
+            return np.full(self.n_nodes, np.inf)
+        return (local[:, None] + self.D[nodes]).min(axis=0)
+
+    def path(self, cell: np.ndarray, j: int) -> np.ndarray | None:
+        """The cells of the best path from crop cell ``cell`` into node j (module docstring), None if none."""
+        nodes, local = self.entries(cell)
+        if not len(nodes):
+            return None
+        total = local + self.D[nodes, j]
+        best = int(np.argmin(total))
+        if not np.isfinite(total[best]):
+            return None
+        a = int(nodes[best])
+        pieces = [self._follow(a, cell)]
+        while a != j:
+            b = int(self.hop[a, j])
+            pieces.append(self._follow(b, self.cells[a])[1:] if self.terr[b] == self.terr[a] else self.cells[b][None])
+            a = b
+        return np.concatenate(pieces)
+
+    def _follow(self, a: int, cell: np.ndarray) -> np.ndarray:
+        r0, c0, _, c1 = self.win[self.terr[a]]
+        width = c1 - c0
+        links = self.fnext[self.off[a]:self.off[a + 1]]
+        cells, _ = _k.follow_links(links, (int(cell[0]) - r0) * width + int(cell[1]) - c0, width, False)
+        return cells + np.array([r0, c0])
+
+    def without(self, places: tuple[int, ...]) -> TerritoryFields:
+        """A view whose abstract nodes in the territories of ``places`` are removed (fields shared)."""
+        removed = self.removed | np.isin(self.terr, places)
+        view = TerritoryFields(self.cost, self.territory, self.n_nodes, self.cells, self.terr, self.win, self.off,
+                               self.fdist, self.fnext, self.members, self.links, removed, info=dict(self.info))
+        view.solve()
+        return view
+
+
+def build(cost: np.ndarray, territory: np.ndarray, node_cell: np.ndarray, n_places: int, spacing: int,
+          connectivity: int, reuse: TerritoryFields | None = None) -> TerritoryFields:
+    """The abstraction over crop ``cost`` (log|A| - log p(x|m), inf off the traversable cells) and ``territory``
+    (labels 0..n_places-1, -1 elsewhere) with the planning graph's nodes ``node_cell`` first; crossings every
+    ``spacing`` cells along an entrance. ``reuse``: an earlier abstraction whose fields are copied for every
+    territory whose cells and costs are unchanged (module docstring)."""
+    territory = np.ascontiguousarray(territory, dtype=np.int64)
+    win = np.zeros((n_places, 4), dtype=np.int64)
+    for t, sl in enumerate(ndimage.find_objects(territory + 1, max_label=n_places)):
+        if sl is not None:
+            win[t] = (sl[0].start, sl[1].start, sl[0].stop, sl[1].stop)
+    pairs = _crossings(territory, max(1, int(spacing)))
+    flat_w = territory.shape[1]
+    index: dict[int, int] = {}
+    cells = [tuple(c) for c in np.asarray(node_cell, dtype=np.int64)]
+    for n, (r, c) in enumerate(cells):
+        index.setdefault(r * flat_w + c, n)
+
+    def node(r: int, c: int) -> int:
+        key = r * flat_w + c
+        if key not in index:
+            index[key] = len(cells)
+            cells.append((r, c))
+        return index[key]
+
+    inter = [(node(ur, uc), node(vr, vc)) for ur, uc, vr, vc in pairs]
+    cells_arr = np.array(cells, dtype=np.int64).reshape(-1, 2)
+    terr = territory[cells_arr[:, 0], cells_arr[:, 1]]
+    sizes = (win[terr, 2] - win[terr, 0]) * (win[terr, 3] - win[terr, 1])
+    off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    fdist = np.empty(int(off[-1]))
+    fnext = np.empty(int(off[-1]), dtype=np.int32)
+    todo = _reuse_fields(reuse, cost, territory, cells_arr, terr, win, off, fdist, fnext)
+    _local_fields(np.ascontiguousarray(cost), territory, cells_arr, terr, win, off, todo, fdist, fnext,
+                  connectivity, SQRT2)
+    members = [np.empty(0, dtype=np.int64)] * n_places
+    order = np.argsort(terr, kind="stable")
+    bounds = np.searchsorted(terr[order], np.arange(n_places + 1))
+    members = [order[bounds[t]:bounds[t + 1]].astype(np.int64) for t in range(n_places)]
+    src, dst, w = [], [], []
+    for t in range(n_places):
+        m = members[t]
+        if len(m) < 2:
+            continue
+        r0, c0, _, c1 = win[t]
+        at = (cells_arr[m, 0] - r0) * (c1 - c0) + cells_arr[m, 1] - c0
+        vals = fdist[off[m][None, :] + at[:, None]]               # [a, b]: from a into b
+        a_idx, b_idx = np.nonzero(np.isfinite(vals) & ~np.eye(len(m), dtype=bool))
+        src.append(m[a_idx])
+        dst.append(m[b_idx])
+        w.append(vals[a_idx, b_idx])
+    if inter:
+        u, v = np.array(inter, dtype=np.int64).T
+        src += [u, v]
+        dst += [v, u]
+        w += [cost[cells_arr[v, 0], cells_arr[v, 1]], cost[cells_arr[u, 0], cells_arr[u, 1]]]
+    links = tuple(np.concatenate(x) if x else np.empty(0) for x in (src, dst, w))
+    links = (links[0].astype(np.int64), links[1].astype(np.int64), links[2].astype(float))
+    out = TerritoryFields(cost, territory, len(node_cell), cells_arr, terr, win, off, fdist, fnext, members,
+                          links, np.zeros(len(cells_arr), dtype=bool),
+                          info={"abstract_nodes": len(cells_arr), "crossings": len(inter),
+                                "fields_computed": len(todo),
+                                "fields_reused": int(len(cells_arr) - len(todo))})
+    out.solve()
+    return out
+
+
+def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int, int]]:
+    """(u_row, u_col, v_row, v_col) crossings: orthogonal neighbours u, v in different territories. Each
+    entrance (an 8-connected run of the n u-side cells facing one other territory) gets ``ceil(n / spacing)``
+    u cells at the middles of equal parts, each with every v it faces; ``spacing`` 1 keeps every crossing."""
+    groups: dict[tuple[int, int], list] = {}
+    for axis in (0, 1):
+        a = territory[:-1, :] if axis == 0 else territory[:, :-1]
+        b = territory[1:, :] if axis == 0 else territory[:, 1:]
+        rows, cols = np.nonzero((a >= 0) & (b >= 0) & (a != b))
+        for r, c in zip(rows.tolist(), cols.tolist(), strict=True):
+            v = (r + 1, c) if axis == 0 else (r, c + 1)
+            ta, tb = int(a[r, c]), int(b[r, c])
+            u, v = ((r, c), v) if ta < tb else (v, (r, c))
+            groups.setdefault((min(ta, tb), max(ta, tb)), []).append((u, v))
+    out = []
+    for crossing in groups.values():
+        partner: dict = {}                                     # u -> its neighbours v across
+        for u, v in crossing:
+            partner.setdefault(u, []).append(v)
+        seen: set = set()
+        for start in sorted(partner):
+            if start in seen:
+                continue
+            run, stack = [], [start]
+            seen.add(start)
+            while stack:                                       # 8-connected run of u cells
+                r, c = stack.pop()
+                run.append((r, c))
+                for dr in (-1, 0, 1):
+                    for dc in (-1, 0, 1):
+                        q = (r + dr, c + dc)
+                        if q in partner and q not in seen:
+                            seen.add(q)
+                            stack.append(q)
+            run.sort()
+            n = math.ceil(len(run) / spacing)
+            for i in range(n):
+                u = run[int((i + 0.5) * len(run) / n)]
+                out += [(*u, *v) for v in partner[u]]
+    return out
+
+
+def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fdist, fnext) -> np.ndarray:
+    """Copy the fields of ``reuse`` for nodes at the same cell of a territory whose window, cells and costs are
+    unchanged; return the nodes still to compute."""
+    todo = np.ones(len(cells), dtype=bool)
+    if reuse is None or reuse.cost.shape != cost.shape:
+        return np.arange(len(cells))
+    old_at = {(int(reuse.terr[a]), int(r), int(c)): a for a, (r, c) in enumerate(reuse.cells)}
+    same: dict[int, bool] = {}
+    for a in range(len(cells)):
+        t = int(terr[a])
+        if t not in same:
+            ok = t < len(reuse.win) and np.array_equal(win[t], reuse.win[t])
+            if ok:
+                r0, c0, r1, c1 = win[t]
+                mine = territory[r0:r1, c0:c1] == t
+                ok = (np.array_equal(mine, reuse.territory[r0:r1, c0:c1] == t)
+                      and np.array_equal(cost[r0:r1, c0:c1][mine], reuse.cost[r0:r1, c0:c1][mine]))
+            same[t] = ok
+        old = old_at.get((t, int(cells[a, 0]), int(cells[a, 1])))
+        if same[t] and old is not None:
+            fdist[off[a]:off[a + 1]] = reuse.fdist[reuse.off[old]:reuse.off[old + 1]]
+            fnext[off[a]:off[a + 1]] = reuse.fnext[reuse.off[old]:reuse.off[old + 1]]
+            todo[a] = False
+    return np.flatnonzero(todo)
+
+
+@njit(cache=True, parallel=True)
+def _local_fields(cost, territory, cells, terr, win, off, todo, fdist, fnext, connectivity, diag):  # pragma: no cover
+    """The exact field into each abstract node of ``todo`` over its own territory (module docstring)."""
+    for n in prange(todo.shape[0]):
+        a = todo[n]
+        t = terr[a]
+        r0, c0, r1, c1 = win[t, 0], win[t, 1], win[t, 2], win[t, 3]
+        h, w = r1 - r0, c1 - c0
+        sub = np.empty((h, w))
+        for i in range(h):
+            for j in range(w):
+                sub[i, j] = cost[r0 + i, c0 + j] if territory[r0 + i, c0 + j] == t else np.inf
+        src = np.empty((1, 2), np.int64)
+        src[0, 0] = cells[a, 0] - r0
+        src[0, 1] = cells[a, 1] - c0
+        dist, parent, _ = _k.grid_search(sub, src, np.empty((0, 2), np.int64), connectivity, diag,
+                                         _k.CORNER_NO_SQUEEZE, True, _k.MODE_FIELD, 0.0)
+        fdist[off[a]:off[a] + h * w] = dist
+        fnext[off[a]:off[a] + h * w] = parent
