@@ -60,12 +60,16 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
                   t1 - t0, t2 - t1)
 
 
-def planner_for(model: SpatialConceptModel, settings=None):
-    """(HierarchicalPlanner of ``model``, seconds it took): the planning graph is rebuilt for the updated model
-    (``PlanningGraph.build``, cached by the model's fingerprint), so that a plan right after a teach uses the new
-    place. Kept as one function so that an incremental graph update can replace the rebuild."""
+def planner_for(model: SpatialConceptModel, settings=None, previous=None):
+    """(HierarchicalPlanner of ``model``, seconds it took), so that a plan right after a teach uses the new
+    place. With ``previous`` (the planner before the teach) its planning graph is updated incrementally
+    (``PlanningGraph.update``: territory-local fields whose territory did not change are kept); otherwise it is
+    built (``PlanningGraph.build``, cached by the model's fingerprint)."""
     from spcotmhp.planning.planner import HierarchicalPlanner
 
     t0 = time.perf_counter()
+    if previous is not None and previous.graph.model.map is not None and model.map is not None \
+            and previous.graph.model.map.shape == model.map.shape:
+        previous.graph.update(model)            # cached under the new model's fingerprint, found just below
     planner = HierarchicalPlanner(model, settings)
     return planner, time.perf_counter() - t0

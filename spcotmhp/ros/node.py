@@ -178,7 +178,7 @@ class SpcotmhpNode(Node):
             raise StartBlocked("no robot pose yet: an utterance is learned at the latest pose")
         x, y, _ = self.pose
         taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": msg.data}])
-        planner, seconds = planner_for(taught.model, self.planner.settings)
+        planner, seconds = planner_for(taught.model, self.planner.settings, self.planner)
         event = self.log.append(x, y, msg.data) if self.log is not None else None
         self.planner = planner
         self.places_pub.publish(self.markers())

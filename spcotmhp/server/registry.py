@@ -119,7 +119,7 @@ class ServedModel:
 
         with self._teaching:
             taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
-            planner, seconds = planner_for(taught.model, self.planner.settings)
+            planner, seconds = planner_for(taught.model, self.planner.settings, self.planner)
             labels = place_display_labels(taught.model, planner.place_words)
             image = map_image(taught.model)
             with self.lock:
