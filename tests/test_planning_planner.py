@@ -330,3 +330,45 @@ def test_plan_log_prob_is_eq_28_assembled_term_by_term():
 
     assert plan.log_prob == pytest.approx(total(model.psi), rel=1e-9, abs=1e-9)
     assert abs(total(model.psi.T) - plan.log_prob) > 0.1
+
+
+def test_goal_option_bounds_are_lower_bounds_of_the_final_paths():
+    # instances that cannot beat the chosen one get the octile bound through their anchors, not a smoothed path;
+    # the bound must never exceed the path the planner would have built for them
+    import warnings
+
+    from spcotmhp.datasets import load_bundled
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.planning.search import search
+    from spcotmhp.planning.start import start_cell
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fit_supervised(load_bundled("3LDK_06", lang="en"))
+    pl = HierarchicalPlanner(model)
+    rng = np.random.default_rng(3)
+    free = np.argwhere(pl.graph.main)
+    bounded = 0
+    for c in free[rng.integers(len(free), size=40)]:
+        x0 = model.map.cell_to_world(pl.graph.to_map(c))
+        for text in ("go to the bedroom", "go to the bedroom via the kitchen"):
+            p = pl.plan(text, x0)
+            for o in p.goal_options:
+                if o.exact:
+                    continue
+                bounded += 1
+                chosen = next(q for q in p.goal_options if q.id == p.goal.id)
+                assert chosen.exact and o.length_m > chosen.length_m
+                # the full path into that instance, as the planner would build it
+                ins = p.instruction
+                _, cell, _ = start_cell(model, pl.graph, x0)
+                S = len(ins.stages)
+                semantic = np.stack([pl.terms.log_semantic(q.words) for q in ins.stages])
+                inst = np.stack([pl._instances(q, pl.terms.normalise(ls)) for q, ls in zip(ins.stages, semantic)])
+                result = search(pl._problem(pl.graph, pl.terms.place_posterior(x0), cell, semantic, inst, S))
+                ks = np.flatnonzero(pl.graph.node_place == o.id)
+                alt = result.ending_at(int(ks[np.argmax(result.terminal[ks])]))
+                full = path_length(pl._metric_path(pl.graph, cell, alt)[0], model.map.resolution)
+                assert o.length_m <= full + 1e-9
+            assert ("closest of" in p.explanation) == (p.goal.id == min(p.goal_options, key=lambda q: q.length_m).id)
+    assert bounded >= 10

@@ -33,12 +33,14 @@ class PlanPlace:
 @dataclass(frozen=True)
 class GoalOption:
     """The best plan ending in one instance of the goal name (for "closest of 3 bedrooms"); ``length_m`` is the
-    length of that option's final path (assembled, smoothed, cut on arrival: the same as the chosen plan's)."""
+    length of that option's final path (assembled, smoothed, cut on arrival: the same as the chosen plan's), or,
+    with ``exact`` False, a lower bound of it that already exceeds the chosen plan's length."""
 
     id: int
     label: str
     length_m: float
     log_prob: float
+    exact: bool = True
 
 
 @dataclass
@@ -137,7 +139,7 @@ class Plan:
                             "avoid": [dict(a.words) for a in ins.avoid],
                             "not_goal": [dict(a.words) for a in ins.not_goal]},
             "goal_options": [{"id": o.id, "label": o.label, "length_m": round(o.length_m, 4),
-                              "log_prob": o.log_prob} for o in self.goal_options],
+                              "log_prob": o.log_prob, "exact": o.exact} for o in self.goal_options],
             "notes": list(self.notes),
         }
 

@@ -363,22 +363,32 @@ class HierarchicalPlanner:
                       goal_places: np.ndarray, chosen_length: float) -> list[GoalOption]:
         """The best plan into each goal instance (Eq. 28 ending there) with the length of its final path (the
         same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
-        about the paths the robot would drive; only when the name is shared."""
+        about the paths the robot would drive; only when the name is shared. An instance whose path cannot be
+        shorter than the chosen one — the octile distances from the start through its anchors (the cells that
+        smoothing keeps) already exceed the chosen length — gets that lower bound instead (``exact=False``),
+        so a building with 90 offices does not smooth 90 paths per plan."""
         if goal_places.sum() < 2:
             return []
         options = []
         end_place = int(graph.node_place[result.nodes[-1]])
+        res = self.model.map.resolution
         for k in np.flatnonzero(goal_places):
             ks = np.flatnonzero(graph.node_place == k)
             if not len(ks) or not np.isfinite(result.terminal[ks]).any():
                 continue
             node = int(ks[np.argmax(result.terminal[ks])])
+            label = self._place(int(k), "goal").label
             if k == end_place:
-                alt, length = result, chosen_length
-            else:
-                alt = result.ending_at(node)
-                length = path_length(self._metric_path(graph, cell, alt)[0], self.model.map.resolution)
-            options.append(GoalOption(int(k), self._place(int(k), "goal").label, length, alt.log_prob))
+                options.append(GoalOption(int(k), label, chosen_length, result.log_prob))
+                continue
+            alt = result.ending_at(node)
+            anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed) if done]
+            bound = res * sum(_octile(a, b) for a, b in itertools.pairwise(anchors))
+            if self.settings.arrival_quantile is None and bound > chosen_length + 1e-9:
+                options.append(GoalOption(int(k), label, bound, alt.log_prob, exact=False))
+                continue
+            length = path_length(self._metric_path(graph, cell, alt)[0], res)
+            options.append(GoalOption(int(k), label, length, alt.log_prob))
         return sorted(options, key=lambda o: -o.log_prob)
 
     def _why_not(self, graph: PlanningGraph, problem: SearchProblem, ins: Instruction, x0: np.ndarray,
@@ -404,6 +414,12 @@ class HierarchicalPlanner:
                                         f"{hint}")
         return HorizonTooShort(f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
                                f"satisfies '{ins.describe()}'{tail}; raise max_steps")
+
+
+def _octile(a: np.ndarray, b: np.ndarray) -> float:
+    """The shortest 8-connected length between two cells, in cells (a lower bound of any path's length)."""
+    d = np.abs(np.asarray(a) - np.asarray(b))
+    return float(d.max() + (math.sqrt(2.0) - 1.0) * d.min())
 
 
 def plan(model: SpatialConceptModel, instruction: Any, start: Sequence[float], lang: str | None = None,
