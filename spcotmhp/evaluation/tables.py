@@ -93,7 +93,7 @@ def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: st
             lines.append("| " + " | ".join(cells) + " |")
         mine = ours.get(method)
         if mine is not None:
-            cells = ([label, "ours"] + [pm(mine, k) for k, _ in cols + via]
+            cells = ([label, "ours"] + [pm(mine, k) if k in mine else "" for k, _ in cols + via]
                      + [pm(mine, "success"), f"{mine.get('collides', 0.0):.3f}",
                         f"{fmt_time(mine['time_median_s'])} / {fmt_time(mine['time_p95_s'])}",
                         str(mine["n_tasks"])])

@@ -101,8 +101,8 @@ def evaluate_learning(dataset: Dataset, runs: int = 10, seed: int = 0, iteration
 
 def warm_up(dataset: Dataset, **params) -> None:
     """Compile (or load) the numba kernels the sampler uses, so that no timed run pays for compilation."""
-    for name in METHODS:
-        SpCoTMHP(iterations=2, seed=0, connectivity="hmm", **{**params, **METHODS[name]}).fit(dataset)
+    for method in METHODS.values():
+        SpCoTMHP(iterations=2, seed=0, connectivity="hmm", **{**params, **method}).fit(dataset)
 
 
 def evaluate_seeds(dataset: Dataset, seeds: int = 5, seed: int = 0, runs: int = 10, iterations: int = 100,
@@ -152,3 +152,18 @@ def format_table(results: dict[str, dict], dataset_name: str = "") -> str:
                  "runs each; time for all runs of one seed together (numba compiled beforehand); "
                  "* the paper's Table 6: albert-b, 10 runs, Python, i7-6850K")
     return "\n".join(lines)
+
+
+def markdown(results: dict[str, dict], caption: str) -> str:
+    """Table 6 as markdown: the paper's row (albert-b) beside ours (mean ± sd over seeds) for each method."""
+    from spcotmhp.evaluation.spread import pm
+
+    keys = ("nmi_c", "nmi_i", "ari_c", "ari_i")
+    lines = [caption, "", "| Method | | NMI C | NMI i | ARI C | ARI i | Time |", "|---|---|---|---|---|---|---|"]
+    for name in ("gmm", "tmhp", "tmhp_replay"):
+        if name in results:
+            paper, ours = PAPER[name], results[name]
+            lines.append(f"| {LABELS[name]} | paper | " + " | ".join(f"{paper[k]:.3f}" for k in keys)
+                         + f" | {paper['time_s']:.0f} s |")
+            lines.append("| | ours | " + " | ".join(pm(ours, k) for k in keys) + f" | {pm(ours, 'time_s', 1)} s |")
+    return "\n".join(lines) + "\n"
