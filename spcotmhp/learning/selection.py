@@ -6,11 +6,12 @@ Criteria:
   I(C; S) is highest, i.e. whose concepts are most clearly told apart by their words.
 * ``"log_joint"``: the run with the highest collapsed log joint probability log p(x, S, f, i, C | h).
 
-Why mutual information is the default: measured on 60 runs on albert-b (features on), the mutual information
-correlates with NMI/ARI of both C and i at +0.75..+0.86, while the log joint correlates at -0.2..-0.5: the
-365-dimensional image-feature term of the joint prefers fewer, merged concepts (the features of the rooms of
-one building are alike), so the most probable run is not the one that names places best.  Without features the
-two agree (both positive; the log joint is the principled choice there and remains available).
+Why mutual information is the default: on albert-b with image features the mutual information correlates
+positively with NMI/ARI of C and i and the log joint negatively (docs/results.md gives the measurement and how
+it was chosen: on the data of Table 6): the 365-dimensional image-feature term of the joint prefers fewer,
+merged concepts (the features of the rooms of one building are alike), so the most probable run is not the one
+that names places best. Without features the two agree (the log joint, the principled choice there, remains
+available).
 
 Run r uses the r-th independent child stream of ``seed`` (``gibbs.make_rng``); runs can go to a process pool.
 """
