@@ -130,6 +130,9 @@ def test_cli_evaluate_json():
     (["evaluate", "3LDK_01", "--task", "expert"], "error: --task must be one of basic, advanced, got 'expert'"),
     (["evaluate", "no-such-home"], "error: 'no-such-home' is neither a dataset folder nor a bundled dataset"),
     (["evaluate", "3LDK_01", "--params", "guessed"], "error: --params must be one of supervised, learned"),
+    (["evaluate", "3LDK_01", "--connectivity", "magic"],
+     "error: --connectivity must be one of auto, hmm, walk, map, got 'magic'"),
+    (["reproduce", "--seeds", "0"], "Invalid value for '--seeds'"),
 ])
 def test_cli_errors(args, message):
     proc = subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120, check=False)
