@@ -19,7 +19,6 @@ from spcotmhp.learning.gibbs import make_rng
     ["evaluate-learning", "albert-b", "--seed", "-5"],
     ["synth", "flat", "--out", "unused", "--seed", "-1"],
     ["evaluate", "3LDK_01", "--seed", "-1"],
-    ["reproduce", "--seed", "-1"],
     ["demo", "--seed", "-1"],
     ["plan", "unused-model", "go to the kitchen", "--start", "0", "0", "--seed", "-1"],
 ])

@@ -11,6 +11,7 @@ from spcotmhp.evaluation.metrics import (
     densify,
     efficiency,
     failed,
+    off_free_space,
     path_length,
     score_path,
     summarise,
@@ -99,16 +100,48 @@ def test_missed_waypoint_zeroes_w_and_wn_only():
     assert (m["spl"], m["n_spl"], m["w_spl"], m["wn_spl"]) == (1.0, 1.0, 0.0, 0.0)
 
 
-def test_start_already_in_goal_region():
-    # l = 0: staying inside the start's goal region scores ratio 1, leaving it scores 0
-    stay = score_path(np.array([[4.5, 0.5], [5.5, 1.5]]), [BED_NEAR, BED_FAR], 0, 0.0, 0.0)
-    assert stay.success and stay.n_success and stay.ratio == 1.0
-    still = score_path(np.array([[4.5, 0.5]]), [BED_NEAR, BED_FAR], 0, 0.0, 0.0)
-    assert still.ratio == 1.0 and still.p == 0.0
-    wander = score_path(np.array([[4.5, 0.5], [4.5, 3.0], [5.0, 1.0]]), [BED_NEAR, BED_FAR], 0, 0.0, 0.0)
-    assert wander.success and wander.ratio == 0.0
-    far = score_path(np.array([[4.5, 0.5], [9.0, 9.0]]), [BED_NEAR, BED_FAR], 0, 0.0, 0.0)
-    assert far.success and not far.n_success and far.ratio == 0.0
+def test_zero_reference_length_is_refused():
+    # l = 0 tasks are not made (tasks.py); a zero l reaching the metric is a bug, not a score
+    with pytest.raises(ValueError, match="finite and > 0"):
+        score_path(np.array([[4.5, 0.5]]), [BED_NEAR, BED_FAR], 0, 0.0, 0.0)
+
+
+def test_waypoint_counts_only_after_the_path_leaves_its_start_cell():
+    # the start (1.5, 3.5) lies in CORRIDOR, in a coarse 1.2 m start cell covering all of it; a path that leaves
+    # eastwards never comes back to it
+    start = Box.around(np.array([[1.5, 3.5]]), 0.6)
+    path = np.array([[1.5, 3.5], [5.0, 3.5], [5.0, 1.0]])
+    assert score_path(path, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR]).w_success   # old rule
+    out = score_path(path, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR], start_box=start)
+    assert not out.w_success and out.success
+    # ... but a path that goes out of the start cell and through the corridor again passes it
+    back = np.array([[1.5, 3.5], [1.5, 4.5], [0.5, 4.5], [0.5, 3.2], [5.0, 3.2], [5.0, 1.0]])
+    assert score_path(back, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR], start_box=start).w_success
+    # a path that never leaves the start cell passes no waypoint
+    assert not score_path(np.array([[1.5, 3.5], [1.52, 3.5]]), [CORRIDOR], 0, 1.0, 0.0,
+                          waypoint_boxes=[CORRIDOR], start_box=start).w_success
+
+
+def test_n_from_the_start_and_n_via_the_waypoint_are_separate():
+    # ends in BED_FAR: closest from the start is BED_NEAR (index 0), closest via the waypoint BED_FAR (index 1)
+    path = np.array([[0.0, 1.0], [0.0, 9.0], [9.0, 9.0]])              # 8 + 9 = 17 m
+    out = score_path(path, [BED_NEAR, BED_FAR], 0, 17.0, 0.0, waypoint_boxes=[Box(-0.5, 4.0, 0.5, 5.0)],
+                     closest_goal_via=1)
+    assert (out.n_success, out.n_via_success, out.w_success) == (False, True, True)
+    m = summarise([out])
+    assert (m["n_spl"], m["wn_spl"], m["n_spl_via"], m["wn_spl_via"]) == (0.0, 0.0, 1.0, 1.0)
+
+
+def test_off_free_space():
+    free = np.ones((10, 10), bool)
+    free[5, 5] = False
+
+    def cell_of(xy):
+        return np.floor(xy[:, ::-1]).astype(int)       # 1 m cells, (x, y) -> (row, col)
+
+    assert not off_free_space(np.array([[0.5, 0.5], [9.5, 0.5]]), free, cell_of, 0.25)
+    assert off_free_space(np.array([[0.5, 0.5], [9.5, 9.5]]), free, cell_of, 0.25)    # the diagonal hits (5, 5)
+    assert off_free_space(np.array([[0.5, 0.5], [10.5, 0.5]]), free, cell_of, 0.25)   # leaves the map
 
 
 def test_empty_path_is_a_failure():

@@ -55,20 +55,21 @@ def test_places_regions_and_starts():
 def test_basic_tasks_by_hand():
     ht = make_tasks(corridor_home(), "basic", corridor_home().adjacency)
     tasks = by_places(ht)
-    # the non-adjacent ordered pairs
-    assert sorted((i, j) for i, _, j in tasks) == [(0, 2), (0, 3), (1, 2), (2, 0), (2, 1), (3, 0)]
+    # the non-adjacent ordered pairs, but for those whose start is already a "bed" (l = 0: counted, left out)
+    assert sorted((i, j) for i, _, j in tasks) == [(0, 2), (0, 3), (2, 0), (3, 0)]
+    assert ht.zero_length == ["start 1 -> bed (2): the start is a goal instance",
+                              "start 2 -> bed (1): the start is a goal instance"]
     expect = {  # (i, j): (l, the goal place where the shortest reference path ends); positions at cols 1, 6, 11, 9
         (0, 2): (5.0, 1),   # "bed" = places 1 (5 m away) and 2 (10 m)
         (0, 3): (8.0, 3),
-        (1, 2): (0.0, 1),   # the start is already a bedroom's position
         (2, 0): (10.0, 0),
-        (2, 1): (0.0, 2),
         (3, 0): (8.0, 0),
     }
     for (i, j), (l, goal) in expect.items():
         t = tasks[(i, None, j)]
         assert t.l == pytest.approx(l), (i, j)
         assert t.goal_places[t.closest_goal] == goal, (i, j)
+        assert t.closest_goal_via == t.closest_goal and not t.start_in_waypoint
         assert t.goal_words == [t.goal_name]
         assert t.waypoint_place is None and t.waypoint_words == []
     assert tasks[(0, None, 2)].goal_places == (1, 2)
@@ -78,23 +79,27 @@ def test_basic_tasks_by_hand():
 def test_advanced_tasks_by_hand():
     ht = make_tasks(corridor_home(), "advanced", corridor_home().adjacency)
     tasks = by_places(ht)
-    expect = {  # (i, h, j): (l, closest goal place) = min over instances w, g of d(start, w) + d(w, g)
-        (0, 3, 2): (10.0, 2),  # to the hall 8, then the bed beyond it 2 (the near bed would be 3 back)
-        (0, 1, 3): (8.0, 3), (0, 2, 3): (8.0, 3),  # "bed" = either bedroom: via place 1, 5 + 3
-        (1, 0, 2): (10.0, 1),  # out to "a" 5 and back to the first bedroom 5
-        (1, 3, 2): (5.0, 2),   # hall 3, then the far bedroom 2
-        (2, 1, 0): (10.0, 0), (2, 3, 0): (10.0, 0),
-        (2, 0, 1): (15.0, 1),  # "a" 10, back to the near bedroom 5
-        (2, 3, 1): (4.0, 2),   # out to the hall and back into the same bedroom
-        (3, 1, 0): (8.0, 0), (3, 2, 0): (8.0, 0),
+    expect = {  # (i, h, j): (l, goal place where the shortest path via the waypoint ends, closest goal from the
+        # start) with l = min over instances w, g of d(start, w) + d(w, g)
+        (0, 3, 2): (10.0, 2, 1),  # to the hall 8, then the bed beyond it 2 (from the start the near bed is closest)
+        (0, 1, 3): (8.0, 3, 3), (0, 2, 3): (8.0, 3, 3),  # "bed" = either bedroom: via place 1, 5 + 3
+        (1, 0, 2): (10.0, 1, 1),  # out to "a" 5 and back to the first bedroom 5
+        (1, 3, 2): (5.0, 2, 1),   # hall 3, then the far bedroom 2; from the start, its own bedroom
+        (2, 1, 0): (10.0, 0, 0), (2, 3, 0): (10.0, 0, 0),
+        (2, 0, 1): (15.0, 1, 2),  # "a" 10, back to the near bedroom 5
+        (2, 3, 1): (4.0, 2, 2),   # out to the hall and back into the same bedroom
+        (3, 1, 0): (8.0, 0, 0), (3, 2, 0): (8.0, 0, 0),
     }
     assert set(tasks) == set(expect)  # h never in {i, j}; the waypoint's name never the goal's
-    for key, (l, goal) in expect.items():
+    for key, (l, via, goal) in expect.items():
         t = tasks[key]
         assert t.l == pytest.approx(l), key
+        assert t.goal_places[t.closest_goal_via] == via, key
         assert t.goal_places[t.closest_goal] == goal, key
         assert t.all_words == t.waypoint_words + t.goal_words
     assert tasks[(0, 1, 3)].waypoint_places == (1, 2)
+    # the start of place 2 lies in a "bed" box: via "bed" it is set apart; via the hall it is not
+    assert tasks[(2, 1, 0)].start_in_waypoint and not tasks[(2, 3, 0)].start_in_waypoint
     assert [t.index for t in ht.tasks] == list(range(len(ht.tasks)))
 
 
@@ -146,17 +151,23 @@ def test_subset_is_seeded_and_ordered():
 def test_bundled_homes_follow_the_protocol(home, n_basic):
     ds = load_bundled(home)
     basic = make_tasks(ds, "basic", ds.adjacency)
-    # 11 places: 110 ordered pairs minus the adjacent ones (off-diagonal ones of adjacency.csv)
-    assert len(basic.tasks) == 110 - int(ds.adjacency.sum() - 11) == n_basic
+    # 11 places: 110 ordered pairs minus the adjacent ones (off-diagonal ones of adjacency.csv), of which the
+    # pairs of two places of one name (bedroom to bedroom: l = 0) are counted and left out
+    names = [p.name for p in basic.places]
+    same = sum(1 for i in range(11) for j in range(11)
+               if i != j and names[i] == names[j] and not ds.adjacency[i, j])
+    assert len(basic.tasks) + len(basic.zero_length) == 110 - int(ds.adjacency.sum() - 11) == n_basic
+    assert len(basic.zero_length) == same > 0
     assert not basic.dropped
     adv = make_tasks(ds, "advanced", ds.adjacency, places=basic.places)
-    names = [p.name for p in basic.places]
     for t in adv.tasks:
         assert t.start_place != t.goal_place and not ds.adjacency[t.start_place, t.goal_place]
         assert t.waypoint_place not in (t.start_place, t.goal_place)
         assert names[t.waypoint_place] != names[t.goal_place]
         assert ds.map.free[t.start_cell] and np.isfinite(t.l) and t.l > 0
         assert t.start_cell == basic.places[t.start_place].cell
+        start_in = any(basic.places[k].box.contains(np.array(t.start_xy)) for k in t.waypoint_places)
+        assert t.start_in_waypoint == start_in
     per_pair = {(i, j): sum(1 for h in range(11) if h not in (i, j) and names[h] != names[j])
                 for i in range(11) for j in range(11) if i != j and not ds.adjacency[i, j]}
     assert len(adv.tasks) == sum(per_pair.values())

@@ -45,13 +45,16 @@ def test_learn_supervised_and_gmm(tmp_path):
 
 
 def test_evaluate_learning_json(tmp_path):
-    res = CliRunner().invoke(app, ["evaluate-learning", "3LDK_06", "--runs", "2", "--iterations", "10", "--json"])
+    res = CliRunner().invoke(app, ["evaluate-learning", "3LDK_06", "--runs", "2", "--iterations", "10", "--seeds",
+                                   "3", "--json"])
     assert res.exit_code == 0, res.output
     table = json.loads(res.stdout[res.stdout.index("{"):])
-    assert set(table) == {"tmhp_replay", "tmhp", "gmm"}
+    assert set(table) == {"tmhp_replay", "tmhp", "gmm", "seeds"} and table.pop("seeds") == 3
     for scores in table.values():
-        assert {"nmi_c", "nmi_i", "ari_c", "ari_i", "time_s", "runs"} <= set(scores)
-        assert scores["runs"] == 2 and 0.5 < scores["nmi_i"] <= 1.0
+        keys = ("nmi_c", "nmi_i", "ari_c", "ari_i", "time_s")
+        assert {*keys, *(f"{k}_sd" for k in keys), "runs", "seeds"} <= set(scores)
+        assert scores["runs"] == 2 and scores["seeds"] == 3 and 0.5 < scores["nmi_i"] <= 1.0
+        assert 0.0 <= scores["nmi_i_sd"] < 0.5
 
 
 def _ours_rows(table: str) -> list[list[float]]:
@@ -60,19 +63,20 @@ def _ours_rows(table: str) -> list[list[float]]:
 
 
 def test_evaluate_learning_table():
-    args = ["evaluate-learning", "albert-b", "--runs", "1", "--iterations", "5", "--seed", "4"]
+    args = ["evaluate-learning", "albert-b", "--runs", "1", "--iterations", "5", "--seed", "4", "--seeds", "1"]
     res = CliRunner().invoke(app, args)
     assert res.exit_code == 0, res.output
     assert "SpCoTMHP (with reverse replay)" in res.stdout and "0.786" in res.stdout   # the paper's row
     as_json = CliRunner().invoke(app, [*args, "--json"])
     assert as_json.exit_code == 0, as_json.output
     table = json.loads(as_json.stdout[as_json.stdout.index("{"):])
-    assert set(table) == {"tmhp_replay", "tmhp", "gmm"}
+    assert set(table) == {"tmhp_replay", "tmhp", "gmm", "seeds"} and table.pop("seeds") == 1
     rows = _ours_rows(res.stdout)
     assert len(rows) == 3
     for name, row in zip(("gmm", "tmhp", "tmhp_replay"), rows):   # the table prints our numbers, not the paper's
         scores = table[name]
-        assert set(scores) == {"nmi_c", "nmi_i", "ari_c", "ari_i", "time_s", "runs", "std", "saturated"}
+        keys = ("nmi_c", "nmi_i", "ari_c", "ari_i", "time_s")
+        assert set(scores) == {*keys, *(f"{k}_sd" for k in keys), "runs", "std", "saturated", "seeds"}
         assert set(scores["std"]) == {"nmi_c", "nmi_i", "ari_c", "ari_i"}
         assert scores["runs"] == 1 and scores["std"]["nmi_i"] == 0.0            # one run: no spread
         assert scores["saturated"] == {"places": 0, "concepts": 0}
@@ -86,7 +90,7 @@ def test_evaluate_learning_table():
 
 def test_evaluate_learning_reports_saturated_truncations_and_dataset_warnings():
     res = CliRunner().invoke(app, ["evaluate-learning", "3LDK_05", "--runs", "2", "--iterations", "3",
-                                   "--max-places", "3", "--json"])
+                                   "--max-places", "3", "--seeds", "1", "--json"])
     assert res.exit_code == 0, res.output
     table = json.loads(res.stdout[res.stdout.index("{"):])
     assert table["tmhp"]["saturated"]["places"] == 2

@@ -99,15 +99,23 @@ class HPP:
             seq.append(node)
         return seq[::-1]
 
-    def plan(self, cell: np.ndarray, stages: Sequence[Sequence[str]], rng: np.random.Generator) -> np.ndarray:
+    def plan(self, cell: np.ndarray, stages: Sequence[Sequence[str]], rng: np.random.Generator,
+             smooth: bool = False) -> np.ndarray:
         """The crop cells of the path from crop cell ``cell`` through one drawn place per stage (the waypoints,
-        then the goal), leg after leg."""
+        then the goal), leg after leg; with ``smooth``, post-processed by SpCoTMHP's smoothing
+        (:func:`spcotmhp.baselines.smoothing.spcotmhp_smoothing`, the stage places kept as anchors)."""
         g = self.graph
         node = self.start_node(cell)
         if not np.isfinite(g.cost_to_nodes(cell)[node]):
             raise PlanningError("the start cannot reach the candidate point of its own place")
-        nodes = [node]
+        nodes, stage_ends = [node], []
         for words in stages:
             nodes += self.route(nodes[-1], draw_place(g, words, rng))[1:]
+            stage_ends.append(len(nodes) - 1)
         legs = [g.leg(cell, nodes[0]).cells] + [g.edge_path(a, b) for a, b in pairwise(nodes)]
-        return join_legs(legs)[0]
+        cells, ends = join_legs(legs)
+        if not smooth:
+            return cells
+        from spcotmhp.baselines.smoothing import spcotmhp_smoothing
+
+        return spcotmhp_smoothing(g, cells, ends, g.node_place[nodes], [ends[e] for e in stage_ends])

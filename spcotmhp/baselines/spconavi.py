@@ -12,8 +12,8 @@ paper Eqs. 17 and 28 without the topological term). For an advanced task the way
 as one bag, as in the paper.
 
 * :func:`viterbi`: exact max-product dynamic programming. Each step is a max over five shifted copies of the
-  value array (numpy, log space), back-pointers kept as uint8: O(T * cells), under 0.1 s on a SIGVerse home,
-  where the reference code's per-cell Python loops took about 45 minutes (paper: 2680 s).
+  value array (numpy, log space), back-pointers kept as uint8: O(T * cells) (times in docs/results.md; the
+  reference code's per-cell Python loops took about 45 minutes, the paper reports 2680 s).
 * :func:`astar_approximation`: J goal cells drawn from the normalised w, the cheapest path to each with the
   objective's own step cost -log w, and the path whose SpCoNavi objective (the same sum over T steps) is highest
   is kept. The reference code drew the goals from the place Gaussians (sometimes inside walls), searched with a

@@ -12,7 +12,8 @@ from typer.core import TyperCommand
 
 from spcotmhp.errors import SpcotmhpError
 
-METHOD_NAMES = "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2"
+METHOD_NAMES = ("spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2,hpp1-smoothed,hpp2-smoothed,"
+                "spcotmhp-unsmoothed,spcotmhp-ma,spcotmhp-nostage")
 
 
 class _OptionalRayAddress(TyperCommand):
@@ -132,51 +133,62 @@ def register(app: typer.Typer) -> None:
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
         max_tasks: Annotated[int | None, typer.Option(
             "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
-        seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of every random draw.")] = 0,
+        seed: Annotated[int, typer.Option("--seed", min=0, help="First seed of the random draws (and learning).")] = 0,
+        seeds: Annotated[int, typer.Option("--seeds", min=1, help=(
+            "Seeds (seed, seed + 1, ...): metrics are mean ± sd over them; learned parameters are learned again "
+            "for each."))] = 5,
+        connectivity: Annotated[str, typer.Option("--connectivity", help=(
+            "Where learned psi comes from: auto (walk, else map), hmm, walk or map."))] = "auto",
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
         ray: Annotated[str | None, typer.Option(
             "--ray", metavar="[ADDRESS]",
             help="Run on Ray (extra 'dist'): a local instance, or the cluster at ADDRESS.")] = None,
     ) -> None:
         """Experiment I: plan every task of each home with each method and report SPL, N-SPL (and W-SPL, WN-SPL
-        for advanced tasks), success and online planning time."""
+        for advanced tasks), success and online planning time, mean ± sd over seeds."""
+        from spcotmhp.evaluation.context import CONNECTIVITY
         from spcotmhp.evaluation.runner import evaluate as run
 
         _check(task, ("basic", "advanced"), "--task")
+        _check(connectivity, CONNECTIVITY, "--connectivity")
         _check(params, ("supervised", "learned"), "--params")
         _check(lang, ("en", "ja"), "--lang")
         homes = [load_home(d, lang) for d in datasets]
         result = run(homes, task, method.split(","), params, seed, workers, max_tasks,
-                     "ray" if ray else "local", ray)
+                     "ray" if ray else "local", ray, seeds=seeds, connectivity=connectivity)
         if as_json:
             typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
         else:
             _print_result(result)
 
-    @app.command(cls=_OptionalRayAddress)
+    @app.command()
     def reproduce(
         out: Annotated[Path | None, typer.Option("--out", help="Write the markdown here (default: stdout).")] = None,
-        params: Annotated[str, typer.Option("--params", help="supervised (as the paper) | learned.")] = "supervised",
+        seeds: Annotated[int, typer.Option("--seeds", min=1, help=(
+            "Seeds of Table 6 and of Tables 4-5 with supervised parameters."))] = 5,
+        learned_seeds: Annotated[int, typer.Option("--learned-seeds", min=1, help=(
+            "Seeds of the tables with learned parameters (each learns again)."))] = 3,
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
         max_tasks: Annotated[int | None, typer.Option(
             "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
-        seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of every random draw.")] = 0,
-        ray: Annotated[str | None, typer.Option("--ray", metavar="[ADDRESS]", help="Run on Ray (see evaluate).")] = None,
+        quick: Annotated[bool, typer.Option("--quick", help=(
+            "2 seeds, 30 tasks per home, few benchmark queries: a first look in a few minutes (the README's "
+            "figures come from the full run)."))] = False,
     ) -> None:
-        """Tables 4 and 5 of the paper on the bundled SIGVerse homes, as markdown with the paper's rows beside
-        ours."""
-        from spcotmhp.datasets import list_bundled
-        from spcotmhp.evaluation.runner import evaluate as run
-        from spcotmhp.evaluation.tables import reproduce_markdown
+        """Every results table of the README (Table 6, Tables 4 and 5 with supervised and learned parameters,
+        planning with the HMM's psi, the planning and scale benchmarks) as one markdown document with the
+        paper's rows beside ours, mean ± sd over seeds; prints the total run time."""
+        from spcotmhp.evaluation.reproduce import Plan
+        from spcotmhp.evaluation.reproduce import reproduce as run_all
 
-        _check(params, ("supervised", "learned"), "--params")
         if out is not None:
             check_writable(out)
-        homes = [load_home(name, "en") for name in list_bundled() if name.upper().startswith("3LDK")]
-        methods = METHOD_NAMES.split(",")
-        results = [run(homes, kind, methods, params, seed, workers, max_tasks, "ray" if ray else "local", ray)
-                   for kind in ("basic", "advanced")]
-        text = reproduce_markdown(*results)
+        plan = (Plan.quick(workers) if quick else
+                Plan(seeds=seeds, learned_seeds=learned_seeds, max_tasks=max_tasks, workers=workers))
+        if max_tasks is not None:
+            plan = Plan(**{**plan.__dict__, "max_tasks": max_tasks, "albert_tasks": max_tasks})
+        text = run_all(plan, lambda what: typer.echo(f"reproduce: {what}", err=True))
+        typer.echo(text.strip().splitlines()[-1], err=True)
         if out is None:
             typer.echo(text)
         else:

@@ -200,8 +200,10 @@ def _fit_gibbs(data: Dataset, runs: int, iterations: int, seed: int, replay: boo
 
 def evaluate_learning(
     dataset: Annotated[str, typer.Argument(help="Dataset folder with truth.csv, or a bundled dataset name.")],
-    runs: Annotated[int, typer.Option(min=1, help="Runs per method.")] = 10,
-    seed: Annotated[int, typer.Option(min=0, help="Random seed.")] = 0,
+    runs: Annotated[int, typer.Option(min=1, help="Runs per method and seed.")] = 10,
+    seed: Annotated[int, typer.Option(min=0, help="First random seed.")] = 0,
+    seeds: Annotated[int, typer.Option(min=1, help="Seeds (seed, seed + 1, ...): results are mean ± sd over "
+                                                   "them.")] = 5,
     iterations: Annotated[int, typer.Option(min=1, help="Gibbs sweeps per run.")] = 100,
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
@@ -214,7 +216,7 @@ def evaluate_learning(
         "learning; reports the update time per event."))] = False,
 ) -> None:
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
-    replay and the SpCoSLAM baseline (means over runs), beside the paper's numbers."""
+    replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
     from spcotmhp.learning import table6
     from spcotmhp.learning.gibbs import TruncationWarning
 
@@ -222,20 +224,21 @@ def evaluate_learning(
     if online:
         _evaluate_online(data, runs, seed, iterations, features, jobs, as_json, max_places, max_concepts)
         return
-    with sweep_progress(3 * runs * iterations, f"Table 6 on {data.name}") as progress, warnings.catch_warnings():
+    with sweep_progress(3 * seeds * runs * iterations, f"Table 6 on {data.name}") as progress, \
+            warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)      # counted per method, reported below
-        results = table6.evaluate_learning(data, runs=runs, seed=seed, iterations=iterations, n_jobs=jobs,
-                                           progress=progress, use_features=features, K=max_places,
-                                           L=max_concepts)
+        results = table6.evaluate_seeds(data, seeds=seeds, seed=seed, runs=runs, iterations=iterations,
+                                        n_jobs=jobs, progress=progress, use_features=features, K=max_places,
+                                        L=max_concepts)
     for name, scores in results.items():
         for what, option, size in (("places", "--max-places", max_places), ("concepts", "--max-concepts",
                                                                             max_concepts)):
-            if scores.saturated[what]:
+            if scores["saturated"][what]:
                 typer.echo(f"warning: {table6.LABELS[name]}: all {size} {what[:-1]} components hold events in "
-                           f"{scores.saturated[what]} of {runs} run(s) (the weak-limit truncation is saturated, "
-                           f"so {what} may have been merged): evaluate again with a larger {option}", err=True)
+                           f"{scores['saturated'][what]} of {seeds * runs} run(s) (the weak-limit truncation "
+                           f"is saturated, so {what} may have been merged): evaluate again with a larger {option}", err=True)
     if as_json:
-        typer.echo(json.dumps(table6.as_json(results), indent=1))
+        typer.echo(json.dumps({**results, "seeds": seeds}, indent=1))
     else:
         typer.echo(table6.format_table(results, f"{data.name} (lang {data.lang})"))
 

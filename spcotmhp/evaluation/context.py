@@ -2,6 +2,10 @@
 online planning): the parameters (supervised "ideal" ones as in the paper's Experiment I, or learned without
 labels), the cost map, the SpCoTMHP planning graph (shared with HPP-I/II), and the ground-truth places.
 
+Beside the planner as shipped, the context holds the planner variants the tables compare (:data:`VARIANTS`):
+without smoothing (Algorithm 1, line 13 off) and without the stage constraint (every active place may complete
+every stage, Eq. 28 alone decides; :class:`WithoutStageConstraint`).
+
 Homes without adjacency.csv get their place adjacency from the map (the learning package's connectivity rule);
 the context says so in its notes, and the evaluation output carries them.
 """
@@ -18,8 +22,21 @@ from spcotmhp.errors import DatasetError
 from spcotmhp.evaluation.tasks import Place, build_places
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import CostMap, inflate
+from spcotmhp.planning.planner import HierarchicalPlanner
 
 PARAMS = ("supervised", "learned")
+CONNECTIVITY = ("auto", "hmm", "walk", "map")
+VARIANTS = {  # name: (stage constraint, smoothing)
+    "ours": (True, True), "unsmoothed": (True, False), "nostage": (False, True), "nostage-unsmoothed": (False, False)}
+
+
+class WithoutStageConstraint(HierarchicalPlanner):
+    """The planner without the stage constraint (the paper's Eq. 28 as written): every active place is an
+    instance of every stage (no ``instance_ratio`` cut, no name filter), so the word term of Eq. 28 is the only
+    thing that ties a stage to its words. For measurement only: the planner has no setting for this."""
+
+    def _instances(self, query, log_p=None) -> np.ndarray:
+        return np.asarray(self.model.active_places, dtype=bool).copy()
 
 
 @dataclass
@@ -30,6 +47,7 @@ class HomeContext:
         name: the home's name.  dataset: the loaded dataset.  model: the parameters used by every method.
         params: "supervised" or "learned".  costmap: the cost map (log p(x|m)).
         planner: the SpCoTMHP :class:`~spcotmhp.planning.planner.HierarchicalPlanner` (its graph is reused by HPP).
+        planners: the planner variants of :data:`VARIANTS` by name ("ours" is ``planner``).
         hpp: the HPP-I and HPP-II planners on that graph.  places: the ground-truth places (regions, names).
         adjacency: the place adjacency the tasks use; adjacency_source: where it came from.
         cell_xy: (H, W, 2) world coordinates of the map's cell centres.
@@ -41,7 +59,8 @@ class HomeContext:
     model: SpatialConceptModel
     params: str
     costmap: CostMap
-    planner: object
+    planner: HierarchicalPlanner
+    planners: dict
     hpp: dict
     places: list[Place]
     adjacency: np.ndarray
@@ -66,6 +85,7 @@ class HomeContext:
     def notes(self) -> dict:
         """What the output reports about this home."""
         return {"params": self.params, "adjacency": self.adjacency_source,
+                "psi": str(self.model.info.get("psi_from", "given adjacency")),
                 "places": [p.name for p in self.places],
                 "precompute_s": round(float(self.timings.get("graph_s", 0.0)), 4),
                 "fit_s": round(float(self.timings.get("fit_s", 0.0)), 4)}
@@ -83,9 +103,11 @@ def place_adjacency(dataset: Dataset) -> tuple[np.ndarray, str]:
     return np.asarray(map_adjacency(truth_model, dataset.map)), "connectivity from the map (no adjacency.csv)"
 
 
-def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int) -> SpatialConceptModel:
+def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int,
+               connectivity: str = "auto") -> SpatialConceptModel:
     """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
-    unsupervised Gibbs sampling: the learner's default number of runs and selection criterion) parameters."""
+    unsupervised Gibbs sampling: the learner's default number of runs and selection criterion; ``connectivity``
+    is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`) parameters."""
     if params == "supervised":
         from spcotmhp.learning.supervised import fit_supervised
 
@@ -93,14 +115,16 @@ def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int) 
     if params == "learned":
         from spcotmhp.learning.selection import fit_runs
 
-        return fit_runs(dataset, seed=seed).model_
+        if connectivity not in CONNECTIVITY:
+            raise DatasetError(f"connectivity must be one of {', '.join(CONNECTIVITY)}, got {connectivity!r}")
+        return fit_runs(dataset, seed=seed, connectivity=connectivity).model_
     raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
 
 
-def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0) -> HomeContext:
+def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0,
+                  connectivity: str = "auto") -> HomeContext:
     """Fit (or learn) the parameters and precompute everything offline for one home."""
     from spcotmhp.baselines.hpp import EDGE_COSTS, HPP
-    from spcotmhp.planning.planner import HierarchicalPlanner
 
     if params not in PARAMS:
         raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
@@ -108,7 +132,7 @@ def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0) -
     places = build_places(dataset)
     adjacency, source = place_adjacency(dataset)
     t0 = time.perf_counter()
-    model = fit_params(dataset, params, adjacency, seed)
+    model = fit_params(dataset, params, adjacency, seed, connectivity)
     if model.map is None:
         model.map = dataset.map
     timings["fit_s"] = time.perf_counter() - t0
@@ -118,8 +142,12 @@ def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0) -
     t0 = time.perf_counter()
     planner = HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False)
     timings["graph_s"] = time.perf_counter() - t0
+    planners = {name: planner if name == "ours" else
+                (HierarchicalPlanner if stage else WithoutStageConstraint)(model, log_p=costmap.log_p,
+                                                                           use_cache=False, smooth=smooth)
+                for name, (stage, smooth) in VARIANTS.items()}
     t0 = time.perf_counter()
     hpp = {name: HPP(planner.graph, cost) for name, cost in EDGE_COSTS.items()}
     timings["hpp_s"] = time.perf_counter() - t0
-    return HomeContext(dataset.name, dataset, model, params, costmap, planner, hpp, places, adjacency, source,
-                       dataset.map.cell_centres(), timings)
+    return HomeContext(dataset.name, dataset, model, params, costmap, planner, planners, hpp, places, adjacency,
+                       source, dataset.map.cell_centres(), timings)

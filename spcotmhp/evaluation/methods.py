@@ -2,6 +2,11 @@
 ``method(ctx, task, rng) -> (n, 2) world path in metres, or None``. Everything a call does is online work
 (timed by the runner); the offline parts live in the :class:`~spcotmhp.evaluation.context.HomeContext`.
 
+Variants that separate the method from its post-processing (Algorithm 1, line 13) and from the stage constraint
+(:data:`~spcotmhp.evaluation.context.VARIANTS`): SpCoTMHP unsmoothed, with the paper's moving average
+(:func:`~spcotmhp.baselines.smoothing.moving_average`), without the stage constraint (Eq. 28 alone); without the stage constraint also unsmoothed or with the moving average; HPP-I/II with SpCoTMHP's own
+smoothing.
+
 For advanced tasks, A* and SpCoNavi receive the waypoint and goal words as one bag of words (as in the paper);
 the hierarchical methods get them as ordered stages.
 
@@ -19,6 +24,7 @@ from collections.abc import Callable
 import numpy as np
 
 from spcotmhp.baselines.astar_goal import astar_to_sampled_goal
+from spcotmhp.baselines.smoothing import moving_average
 from spcotmhp.baselines.spconavi import astar_approximation, log_weight_map, viterbi
 from spcotmhp.evaluation.context import HomeContext
 from spcotmhp.evaluation.tasks import Task
@@ -33,6 +39,13 @@ MOVE_MODELS = {
     "astar": "8-connected",
     "hpp1": "8-connected (the planning graph's partial paths)",
     "hpp2": "8-connected (the planning graph's partial paths)",
+    "hpp1-smoothed": "8-connected (the planning graph's partial paths, then SpCoTMHP's smoothing)",
+    "hpp2-smoothed": "8-connected (the planning graph's partial paths, then SpCoTMHP's smoothing)",
+    "spcotmhp-unsmoothed": "8-connected",
+    "spcotmhp-ma": "8-connected, then a moving average (off the grid)",
+    "spcotmhp-nostage": "8-connected",
+    "spcotmhp-nostage-unsmoothed": "8-connected",
+    "spcotmhp-nostage-ma": "8-connected, then a moving average (off the grid)",
     "spconavi-viterbi": "4-connected + stay (the paper's SpCoNavi action set)",
     "spconavi-astar": "4-connected + stay (the paper's SpCoNavi action set)",
 }
@@ -48,16 +61,22 @@ def _world(ctx: HomeContext, cells: np.ndarray | None) -> np.ndarray | None:
     return ctx.dataset.map.cell_to_world(cells[keep])
 
 
-def spcotmhp(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
-    """(E) SpCoTMHP: the hierarchical planner (Eq. 28, exact joint search) from the task's start."""
+def _spcotmhp(variant: str, average: bool = False) -> Method:
+    """(E) SpCoTMHP: the hierarchical planner (Eq. 28, exact joint search) from the task's start, as the planner
+    ``variant`` of the context; with ``average``, the path then gets the paper's moving average."""
     from spcotmhp.planning.instructions import Instruction, PlaceQuery
 
     def query(words: list[str]) -> PlaceQuery:
         return PlaceQuery(dict(Counter(words)), " ".join(words))
 
-    waypoints = (query(task.waypoint_words),) if task.waypoint_words else ()
-    ins = Instruction(goal=query(task.goal_words), waypoints=waypoints, lang=ctx.dataset.lang)
-    return ctx.planner.plan(ins, task.start_xy).path
+    def run(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
+        waypoints = (query(task.waypoint_words),) if task.waypoint_words else ()
+        ins = Instruction(goal=query(task.goal_words), waypoints=waypoints, lang=ctx.dataset.lang)
+        path = ctx.planners[variant].plan(ins, task.start_xy).path
+        return moving_average(path) if average else path
+
+    run.__doc__ = f"(E) SpCoTMHP, planner variant {variant!r}{', moving average' if average else ''}."
+    return run
 
 
 def astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
@@ -79,25 +98,36 @@ def spconavi_astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np
     return _world(ctx, astar_approximation(log_w, task.start_cell, rng, SPCONAVI_J, SPCONAVI_T))
 
 
-def _hpp(name: str) -> Method:
+def _hpp(name: str, smooth: bool = False) -> Method:
     def run(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
         hpp = ctx.hpp[name]
         cell = hpp.graph.to_crop(np.array(task.start_cell))
         stages = [task.waypoint_words] if task.waypoint_words else []
-        return _world(ctx, hpp.graph.to_map(hpp.plan(cell, stages + [task.goal_words], rng)))
+        return _world(ctx, hpp.graph.to_map(hpp.plan(cell, stages + [task.goal_words], rng, smooth=smooth)))
 
-    run.__doc__ = f"(D) {'HPP-I (edge cost: partial-path cost)' if name == 'hpp1' else 'HPP-II (edge cost: partial-path length)'}."
+    cost = "partial-path cost" if name == "hpp1" else "partial-path length"
+    run.__doc__ = f"(D) {'HPP-I' if name == 'hpp1' else 'HPP-II'} (edge cost: {cost}){', smoothed' * smooth}."
     return run
 
 
 METHODS: dict[str, Method] = {
-    "spcotmhp": spcotmhp,
+    "spcotmhp": _spcotmhp("ours"),
     "astar": astar,
     "spconavi-viterbi": spconavi_viterbi,
     "spconavi-astar": spconavi_astar,
     "hpp1": _hpp("hpp1"),
     "hpp2": _hpp("hpp2"),
+    "hpp1-smoothed": _hpp("hpp1", smooth=True),
+    "hpp2-smoothed": _hpp("hpp2", smooth=True),
+    "spcotmhp-unsmoothed": _spcotmhp("unsmoothed"),
+    "spcotmhp-ma": _spcotmhp("unsmoothed", average=True),
+    "spcotmhp-nostage": _spcotmhp("nostage"),
+    "spcotmhp-nostage-unsmoothed": _spcotmhp("nostage-unsmoothed"),
+    "spcotmhp-nostage-ma": _spcotmhp("nostage-unsmoothed", average=True),
 }
+RANDOM = frozenset({"astar", "spconavi-astar", "hpp1", "hpp2", "hpp1-smoothed", "hpp2-smoothed"})
+"""The methods that draw at random (goals, target places): the only ones whose result depends on the seed when
+the parameters do not."""
 
 
 def run_method(name: str, ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:

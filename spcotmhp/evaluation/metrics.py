@@ -6,22 +6,23 @@ free-space path that would have succeeded (computed per task by :mod:`spcotmhp.e
 variants weight the same ratio by a different success:
 
 * ``S``  (SPL):    the path ends inside the region of *any* place named like the goal;
-* ``N``  (N-SPL):  the path ends inside the region of the *closest* goal instance (the one where the shortest
-  successful path ends; the paper's "closest target from the initial position");
-* ``W``  (W-SPL):  some point of the path lies inside the region of any place named like the waypoint;
+* ``N``  (N-SPL):  the path ends inside the region of the goal instance *closest from the initial position*
+  (the paper's definition: the instance with the shortest free-space path from the start, waypoint or not);
+* ``W``  (W-SPL):  some pose of the path *after it has left its start cell* lies inside the region of a place
+  named like the waypoint (a path does not pass a waypoint by starting in it);
 * ``WN`` (WN-SPL): both W and N.
 
-A region is the axis-aligned box of a place's teaching positions grown by a margin (0.1 m).
+Our variant of N, ``N_via`` (columns N-SPL (via) and WN-SPL (via)), takes as "closest" the goal instance where
+the shortest path *through a waypoint* ends; on basic tasks the two coincide.
 
-``l = 0`` happens when the start already satisfies the task (a basic task from one bedroom to "bedroom"):
-``l / max(p, l)`` is then 0/0 for a path that stays put and 0 for any motion at all. We score such a task's
-ratio 1 when the path never leaves the goal region(s) the start lies in (staying in the room the robot was
-asked to go to is as good as not moving) and 0 otherwise; every other task uses the plain formula.
+A region is the axis-aligned box of a place's teaching positions grown by a margin (0.1 m). Tasks with
+``l = 0`` (the start already satisfies the task) are not made (:mod:`~spcotmhp.evaluation.tasks`), since their
+ratio ``0 / max(p, 0)`` is undefined for a path that stays put.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,6 +91,8 @@ class Outcome:
     l: float
     ratio: float
     time_s: float
+    n_via_success: bool | None = None
+    collides: bool = False
 
 
 def efficiency(p: float, l: float) -> float:
@@ -108,46 +111,66 @@ def score_path(
     time_s: float,
     waypoint_boxes: Sequence[Box] | None = None,
     step: float = 0.05,
+    closest_goal_via: int | None = None,
+    start_box: Box | None = None,
 ) -> Outcome:
     """The outcome of one path.
 
     Args:
         path_xy: (n, 2) planned path in metres; an empty path (no plan) scores as :func:`failed`.
         goal_boxes: the regions of every place named like the goal.
-        closest_goal: index into ``goal_boxes`` of the closest instance (for N).
-        l: the shortest successful path length (metres).
+        closest_goal: index into ``goal_boxes`` of the instance closest from the initial position (for N).
+        l: the shortest successful path length (metres, > 0).
         time_s: online planning time.
         waypoint_boxes: regions of every place named like the waypoint (advanced tasks), else None.
         step: densification step (metres) for the waypoint test.
+        closest_goal_via: index into ``goal_boxes`` of the instance closest via a waypoint (for N_via; None:
+            not scored).
+        start_box: the start cell; poses before the path first leaves it do not pass a waypoint (None: every
+            pose counts).
+
+    Raises:
+        ValueError: ``l`` is not finite and > 0.
     """
+    if not (np.isfinite(l) and l > 0):
+        raise ValueError(f"the reference length l must be finite and > 0, got {l}")
     pts = np.asarray(path_xy, dtype=float).reshape(-1, 2)
     if len(pts) == 0:
-        return failed(l, time_s, waypoint_boxes is not None)
-    dense = densify(pts, step)
+        return failed(l, time_s, waypoint_boxes is not None, closest_goal_via is not None)
     end = pts[-1]
     success = bool(any(b.contains(end) for b in goal_boxes))
     n_success = bool(goal_boxes[closest_goal].contains(end))
-    w_success = None if waypoint_boxes is None else in_any(dense, waypoint_boxes)
+    n_via = None if closest_goal_via is None else bool(goal_boxes[closest_goal_via].contains(end))
+    w_success = None
+    if waypoint_boxes is not None:
+        dense = densify(pts, step)
+        if start_box is not None:
+            left = np.flatnonzero(~start_box.contains(dense))
+            dense = dense[left[0]:] if len(left) else dense[:0]
+        w_success = in_any(dense, waypoint_boxes)
     p = path_length(pts)
-    if l == 0:  # the start already satisfies the task: stay inside the goal region(s) around it
-        home = [b for b in goal_boxes if b.contains(pts[0])]
-        stays = np.zeros(len(dense), dtype=bool)
-        for b in home:
-            stays |= b.contains(dense)
-        ratio = float(bool(home) and stays.all())
-    else:
-        ratio = efficiency(p, l)
-    return Outcome(success, n_success, w_success, p, float(l), ratio, float(time_s))
+    return Outcome(success, n_success, w_success, p, float(l), efficiency(p, l), float(time_s), n_via)
 
 
-def failed(l: float, time_s: float, advanced: bool) -> Outcome:
+def off_free_space(path_xy: np.ndarray, free: np.ndarray, cell_of: Callable[[np.ndarray], np.ndarray],
+                   step: float) -> bool:
+    """Whether some pose of the path (resampled every ``step`` metres, :func:`densify`) lies on a cell that is
+    not free (``free``: (H, W) bool; ``cell_of``: metres -> (row, col)), or off the map."""
+    cells = cell_of(densify(path_xy, step))
+    inside = (cells >= 0).all(axis=1) & (cells < np.array(free.shape)).all(axis=1)
+    return bool(not inside.all() or not free[cells[:, 0], cells[:, 1]].all())
+
+
+def failed(l: float, time_s: float, advanced: bool, via: bool = False) -> Outcome:
     """The outcome of a method that returned no path (every success is 0)."""
-    return Outcome(False, False, False if advanced else None, 0.0, float(l), 0.0, float(time_s))
+    return Outcome(False, False, False if advanced else None, 0.0, float(l), 0.0, float(time_s),
+                   False if via else None)
 
 
 def summarise(outcomes: Sequence[Outcome]) -> dict[str, float | int]:
-    """Mean metrics over tasks: spl, n_spl, success, n_success, time_median_s, time_p95_s, n_tasks and, when
-    the tasks have waypoints, w_spl, wn_spl, w_success.
+    """Mean metrics over tasks: spl, n_spl, success, n_success, collides (the share of paths that leave the free
+    space, :func:`off_free_space`), time_median_s, time_p95_s, n_tasks and, when
+    the tasks have waypoints, w_spl, wn_spl, w_success; when they have N_via, n_spl_via and wn_spl_via.
 
     Raises:
         ValueError: no outcomes, or a mix of basic and advanced outcomes.
@@ -167,7 +190,12 @@ def summarise(outcomes: Sequence[Outcome]) -> dict[str, float | int]:
         out["w_spl"] = float(np.mean(w * r))
         out["wn_spl"] = float(np.mean(w * n * r))
         out["w_success"] = float(np.mean(w))
+        if all(o.n_via_success is not None for o in outcomes):
+            nv = np.array([o.n_via_success for o in outcomes], dtype=float)
+            out["n_spl_via"] = float(np.mean(nv * r))
+            out["wn_spl_via"] = float(np.mean(w * nv * r))
     out["success"] = float(np.mean(s))
+    out["collides"] = float(np.mean([o.collides for o in outcomes]))
     out["n_success"] = float(np.mean(n))
     out["time_median_s"] = float(np.median(t))
     out["time_p95_s"] = float(np.percentile(t, 95))

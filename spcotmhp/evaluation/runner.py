@@ -4,7 +4,15 @@ Per home, :func:`spcotmhp.evaluation.context.build_context` does the offline wor
 planning graph); the tasks are then cut into chunks and evaluated by a local process pool (all cores by
 default) or by Ray (``backend="ray"``). Every random draw of a method uses its own generator seeded from
 (seed, home, task, method), so results do not depend on the backend, the number of workers or the order in
-which chunks finish. Only online planning is timed, inside the worker.
+which chunks finish. Only online planning is timed, inside the worker, after every method has run once on a
+task (numba compilation and first-call caches are never timed).
+
+With several seeds (:func:`evaluate`, ``seeds``) every seed is a complete repetition: learned parameters are
+learned again from that seed, and every random draw follows it. With supervised parameters nothing but the
+draws depends on the seed, so the methods that draw nothing (:data:`~spcotmhp.evaluation.methods.RANDOM`) run
+once and their outcomes count for every seed. Results are means over the seeds with their standard deviations
+(:mod:`spcotmhp.evaluation.spread`). Tasks whose start lies inside a waypoint-named place are summarised apart
+(``start_in_waypoint``), not in ``homes`` and ``mean``.
 """
 
 from __future__ import annotations
@@ -15,7 +23,7 @@ import time
 import zlib
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from rich.console import Console
@@ -23,8 +31,9 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from spcotmhp.errors import PlanningError
 from spcotmhp.evaluation.context import HomeContext
-from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, run_method
-from spcotmhp.evaluation.metrics import Outcome, failed, score_path, summarise
+from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM, run_method
+from spcotmhp.evaluation.metrics import Box, Outcome, failed, off_free_space, score_path, summarise
+from spcotmhp.evaluation.spread import aggregate_methods
 from spcotmhp.evaluation.tasks import Task
 
 CHUNK = 16  # tasks per work item: large enough to amortise IPC, small enough to balance two cores
@@ -38,6 +47,7 @@ class TaskRecord:
     method: str
     outcome: Outcome
     error: str | None = None
+    apart: bool = False  # the task's start lies inside a waypoint-named place (summarised apart)
 
 
 @dataclass
@@ -48,12 +58,19 @@ class HomeResult:
     records: list[TaskRecord]
     notes: dict = field(default_factory=dict)
 
-    def metrics(self) -> dict[str, dict]:
-        """{method: summarise(outcomes)} in the order methods were given."""
-        by_method: dict[str, list[Outcome]] = {}
-        for r in self.records:
+    def metrics(self, apart: bool = False) -> dict[str, dict]:
+        """{method: summarise(outcomes)} in the order methods were given, over the tasks not set apart (with
+        ``apart``: over those whose start lies inside a waypoint-named place)."""
+        return summarise_records(self.records, apart)
+
+
+def summarise_records(records: Iterable[TaskRecord], apart: bool = False) -> dict[str, dict]:
+    """{method: summarise(outcomes)} over the records with ``record.apart == apart``."""
+    by_method: dict[str, list[Outcome]] = {}
+    for r in records:
+        if r.apart == apart:
             by_method.setdefault(r.method, []).append(r.outcome)
-        return {m: summarise(o) for m, o in by_method.items()}
+    return {m: summarise(o) for m, o in by_method.items()}
 
 
 def task_seed(seed: int, home: str, task_index: int, method: str) -> np.random.SeedSequence:
@@ -66,7 +83,10 @@ def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[st
     out = []
     for task in tasks:
         goal_boxes = [ctx.places[k].box for k in task.goal_places]
-        wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if task.kind == "advanced" else None
+        advanced = task.kind == "advanced"
+        wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if advanced else None
+        occ, free = ctx.dataset.map, ctx.dataset.map.free
+        start_box = Box.around(np.array([task.start_xy]), ctx.dataset.map.resolution / 2)
         for method in methods:
             rng = np.random.default_rng(task_seed(seed, ctx.name, task.index, method))
             t0 = time.perf_counter()
@@ -76,12 +96,15 @@ def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[st
                 path, error = None, str(exc)
             elapsed = time.perf_counter() - t0
             if path is None or len(path) == 0:
-                outcome = failed(task.l, elapsed, wp_boxes is not None)
+                outcome = failed(task.l, elapsed, advanced, advanced)
                 error = error or "no path"
             else:
                 outcome = score_path(path, goal_boxes, task.closest_goal, task.l, elapsed, wp_boxes,
-                                     step=ctx.dataset.map.resolution / 2)
-            out.append(TaskRecord(task.index, method, outcome, error))
+                                     step=ctx.dataset.map.resolution / 2,
+                                     closest_goal_via=task.closest_goal_via if advanced else None,
+                                     start_box=start_box)
+                outcome = replace(outcome, collides=off_free_space(path, free, occ.world_to_cell, occ.resolution / 4))
+            out.append(TaskRecord(task.index, method, outcome, error, task.start_in_waypoint))
     return out
 
 
@@ -182,43 +205,67 @@ def evaluate_home(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str
     return HomeResult(ctx.name, records, ctx.notes())
 
 
-def overall(results: Sequence[HomeResult]) -> dict[str, dict]:
+def overall(results: Sequence[HomeResult], apart: bool = False) -> dict[str, dict]:
     """Metrics over the tasks of all homes pooled (so each home weighs by its number of tasks)."""
-    pooled: dict[str, list[Outcome]] = {}
-    for res in results:
-        for r in res.records:
-            pooled.setdefault(r.method, []).append(r.outcome)
-    return {m: summarise(o) for m, o in pooled.items()}
+    return summarise_records((r for res in results for r in res.records), apart)
 
 
 def evaluate(datasets: Sequence, kind: str, methods: Sequence[str], params: str = "supervised", seed: int = 0,
              workers: int | None = None, max_tasks: int | None = None, backend: str = "local",
-             ray_address: str | None = None, quiet: bool = False) -> dict:
-    """Evaluate methods on the tasks of several homes; the JSON-ready result
-    ``{task, params, seed, homes: {name: {method: metrics}}, mean: {method: metrics}, notes: {name: {...}},
-    moves: {method: move model}}`` (``mean`` pools the tasks of all homes)."""
+             ray_address: str | None = None, quiet: bool = False, seeds: int = 1,
+             connectivity: str = "auto") -> dict:
+    """Evaluate methods on the tasks of several homes over ``seeds`` seeds (seed, seed + 1, ...); the JSON-ready
+    result ``{task, params, seed, seeds, connectivity, homes: {name: {method: metrics}}, mean: {method: metrics},
+    start_in_waypoint: {method: metrics}, notes: {name: {...}}, moves: {method: move model}, time_s}``: every
+    metric is the mean over the seeds with ``<metric>_sd`` beside it (``mean`` pools the tasks of all homes;
+    ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is where learned psi comes from."""
     from spcotmhp.evaluation.context import build_context
     from spcotmhp.evaluation.tasks import make_tasks, subset
 
     methods = check_methods(methods)
-    results, notes = [], {}
+    if seeds < 1:
+        raise ValueError(f"seeds must be >= 1, got {seeds}")
+    t_start = time.perf_counter()
+    notes: dict = {}
+    per_seed: list[list[HomeResult]] = []
+    first: dict[str, HomeResult] = {}
     with progress_bar(quiet) as progress:
-        for ds in datasets:
-            ctx = build_context(ds, params, seed)
-            home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
-            tasks = subset(home_tasks.tasks, max_tasks, seed)
-            if not tasks:
-                notes[ds.name] = {**ctx.notes(), "n_tasks_all": 0, "dropped": home_tasks.dropped}
-                continue
-            res = evaluate_home(ctx, tasks, methods, seed, workers, backend, ray_address, progress)
-            failures: dict[str, int] = {}
-            for r in res.records:
-                if r.error:
-                    failures[r.method] = failures.get(r.method, 0) + 1
-            notes[ds.name] = {**res.notes, "n_tasks_all": len(home_tasks.tasks), "dropped": home_tasks.dropped,
-                              "no_path": failures}
-            results.append(res)
-    return {"task": kind, "params": params, "seed": seed,
-            "homes": {r.home: r.metrics() for r in results},
-            "mean": overall(results) if results else {},
-            "notes": notes, "moves": {m: MOVE_MODELS[m] for m in methods}}
+        for k in range(seeds):
+            results = []
+            for ds in datasets:
+                ctx = build_context(ds, params, seed + k, connectivity)
+                home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
+                tasks = subset(home_tasks.tasks, max_tasks, seed)
+                note = notes.setdefault(ds.name, {
+                    **ctx.notes(), "psi": [], "n_tasks_all": len(home_tasks.tasks), "dropped": home_tasks.dropped,
+                    "zero_length": len(home_tasks.zero_length),
+                    "start_in_waypoint": sum(t.start_in_waypoint for t in tasks), "no_path": {}})
+                note["psi"].append(ctx.notes()["psi"])
+                if not tasks:
+                    continue
+                again = [m for m in methods if k == 0 or params != "supervised" or m in RANDOM]
+                res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
+                if len(again) < len(methods):   # supervised: the methods that draw nothing gave this already
+                    res.records += [r for r in first[ds.name].records if r.method not in again]
+                first.setdefault(ds.name, res)
+                for r in res.records:
+                    if r.error:
+                        note["no_path"][r.method] = note["no_path"].get(r.method, 0) + 1
+                results.append(res)
+            per_seed.append(results)
+    order = {m: i for i, m in enumerate(methods)}
+
+    def ordered(d: dict) -> dict:
+        return dict(sorted(d.items(), key=lambda kv: order[kv[0]]))
+
+    homes = {name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
+             for name in first}
+    apart = [overall(rs, apart=True) for rs in per_seed if rs]
+    for note in notes.values():
+        note["psi"] = sorted(set(note["psi"]))
+    return {"task": kind, "params": params, "seed": seed, "seeds": seeds, "connectivity": connectivity,
+            "homes": homes,
+            "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
+            "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
+            "notes": notes, "moves": {m: MOVE_MODELS[m] for m in methods},
+            "time_s": time.perf_counter() - t_start}

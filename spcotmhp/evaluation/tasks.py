@@ -11,12 +11,18 @@ free cells outside the inscribed radius of costmap_2d's default settings (:func:
 centred there touches no obstacle); the start of a task is the position of place i. A place's success region is the box of its teaching positions plus 0.1 m
 (:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name is an *instance* of that name.
 
+Tasks whose ``l`` is 0 (a basic task from one bedroom to "bedroom": the start is already a goal instance's
+position) are left out and counted (``HomeTasks.zero_length``); tasks whose start lies inside the region of a
+waypoint-named place are flagged (``Task.start_in_waypoint``) and reported apart by the runner.
+
 The reference length ``l`` of SPL is, as in Anderson et al. (2018), a geodesic to the goal's position (not to the
 edge of its success region): the shortest path over the robot cells (8-connected, steps 1 and sqrt 2 cells, no costs) from
 the start through the position of a waypoint-named place to the position of a goal-named place, minimised
 jointly over the instances, ``l = min_{w, g} d(start, w) + d(w, g)`` (``min_g d(start, g)`` for basic tasks).
-The goal instance of that minimum is the "closest" one that N-SPL asks for (computed from geodesics, not from
-hand-written tables as in the original).
+N-SPL's "closest" instance is, as the paper defines it, the goal instance closest from the initial position,
+``argmin_g d(start, g)`` (``Task.closest_goal``); the goal instance of the minimum through a waypoint is our
+variant (``Task.closest_goal_via``; the same on basic tasks). Both come from geodesics, not from the hand-written
+tables of the original.
 """
 
 from __future__ import annotations
@@ -66,8 +72,10 @@ class Task:
     waypoint_name: str | None
     goal_places: tuple[int, ...]
     waypoint_places: tuple[int, ...]
-    closest_goal: int  # index into goal_places
+    closest_goal: int  # index into goal_places: closest from the start (the paper's N)
     l: float
+    closest_goal_via: int = -1  # index into goal_places: where the shortest path through a waypoint ends
+    start_in_waypoint: bool = False  # the start lies inside a waypoint-named place's region
 
     @property
     def goal_words(self) -> list[str]:
@@ -97,6 +105,7 @@ class HomeTasks:
     adjacency_source: str
     tasks: list[Task]
     dropped: list[str] = field(default_factory=list)  # tasks left out (unreachable goal), with the reason
+    zero_length: list[str] = field(default_factory=list)  # tasks left out because l = 0
 
     def boxes(self, place_ids: tuple[int, ...]) -> list[Box]:
         return [self.places[k].box for k in place_ids]
@@ -210,11 +219,17 @@ def make_tasks(
                     label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
                     out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
                     continue
-                closest = int(np.unravel_index(int(np.argmin(via)), via.shape)[1])
                 x, y = occ.cell_to_world(np.array(places[i].cell))
+                if l == 0:
+                    out.zero_length.append(f"start {i} -> {places[j].name} ({j}): the start is a goal instance")
+                    continue
+                via_goal = int(np.unravel_index(int(np.argmin(via)), via.shape)[1])
+                closest = int(np.argmin(geodesic[i, list(goals)]))
+                inside = any(places[k].box.contains(np.array([x, y])) for k in wps)
                 out.tasks.append(Task(
                     dataset.name, kind, len(out.tasks), i, j, h, places[i].cell, (float(x), float(y)),
-                    places[j].name, None if h is None else places[h].name, goals, wps, closest, l))
+                    places[j].name, None if h is None else places[h].name, goals, wps, closest, l, via_goal,
+                    bool(inside)))
     return out
 
 

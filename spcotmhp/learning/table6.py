@@ -6,7 +6,12 @@ mixture, the same sampler with ``transitions="none"``).  Scores use scikit-learn
 ``normalized_mutual_info_score`` (arithmetic normalisation) and ``adjusted_rand_score``.  The truth of C is the
 dataset's concept column; without one, events whose true places share a name share a concept (three bedrooms
 are one concept "bedroom"); without names, C is scored against the places.  ``time_s`` is the wall time of all
-the runs of a method together (the paper's 1.3e2 s is for its ten runs).
+the runs of a method together (the paper's 1.3e2 s is for its ten runs), measured after the numba kernels have
+been compiled (:func:`warm_up`).
+
+:func:`evaluate_seeds` repeats the whole evaluation for ``seeds`` seeds (seed, seed + 1, ...; each with its
+``runs`` runs) and reports each metric as the mean over the seeds of the per-seed means with ``<metric>_sd``,
+the standard deviation over seeds (:mod:`spcotmhp.evaluation.spread`).
 """
 
 from __future__ import annotations
@@ -94,28 +99,71 @@ def evaluate_learning(dataset: Dataset, runs: int = 10, seed: int = 0, iteration
     return out
 
 
+def warm_up(dataset: Dataset, **params) -> None:
+    """Compile (or load) the numba kernels the sampler uses, so that no timed run pays for compilation."""
+    for method in METHODS.values():
+        SpCoTMHP(iterations=2, seed=0, connectivity="hmm", **{**params, **method}).fit(dataset)
+
+
+def evaluate_seeds(dataset: Dataset, seeds: int = 5, seed: int = 0, runs: int = 10, iterations: int = 100,
+                   n_jobs: int = 1, methods: tuple[str, ...] = tuple(METHODS),
+                   progress: Callable[[int], None] | None = None, **params) -> dict[str, dict]:
+    """Table 6 over ``seeds`` seeds: {method: {nmi_c, nmi_c_sd, ..., time_s, time_s_sd, runs, std, saturated,
+    seeds}} (module docstring); ``std`` is the spread over the runs of the first seed, ``saturated`` sums
+    over seeds."""
+    from spcotmhp.evaluation.spread import aggregate_methods
+
+    if seeds < 1:
+        raise ValueError(f"seeds must be >= 1, got {seeds}")
+    warm_up(dataset, **params)
+    per_seed = [as_json(evaluate_learning(dataset, runs, seed + k, iterations, n_jobs, methods, progress, **params))
+                for k in range(seeds)]
+    out = aggregate_methods(per_seed)
+    for name in out:
+        out[name]["saturated"] = {w: sum(d[name]["saturated"][w] for d in per_seed) for w in ("places", "concepts")}
+    return out
+
+
 def as_json(results: dict[str, MethodScores]) -> dict:
     """{method: {nmi_c, nmi_i, ari_c, ari_i, time_s, runs, std, saturated}}."""
     return {name: asdict(s) for name, s in results.items()}
 
 
-def format_table(results: dict[str, MethodScores], dataset_name: str = "") -> str:
-    """Table 6 as text: for each method, the paper's row (albert-b) and ours."""
-    head = f"{'Method':<34}{'':>7}{'NMI C':>8}{'NMI i':>8}{'ARI C':>8}{'ARI i':>8}{'Time (s)':>10}"
+def format_table(results: dict[str, dict], dataset_name: str = "") -> str:
+    """Table 6 as text: for each method, the paper's row (albert-b) and ours (mean ± sd over seeds), from
+    :func:`evaluate_seeds` (or :func:`as_json`) results."""
+    from spcotmhp.evaluation.spread import pm
+
+    keys = ("nmi_c", "nmi_i", "ari_c", "ari_i")
+    head = f"{'Method':<32}{'':>7}" + "".join(f"{k.replace('_', ' ').upper()[:3] + ' ' + k[-1]:>16}" for k in keys)
+    head += f"{'Time (s)':>16}"
     lines = [f"Table 6 - learning of spatial concepts{f' on {dataset_name}' if dataset_name else ''}", head,
              "-" * len(head)]
     for name in ("gmm", "tmhp", "tmhp_replay"):
         if name not in results:
             continue
-        ours = results[name]
-        paper = PAPER[name]
-        lines.append(f"{LABELS[name]:<34}{'paper*':>7}" + "".join(f"{paper[k]:>8.3f}" for k in
-                                                                 ("nmi_c", "nmi_i", "ari_c", "ari_i"))
-                     + f"{paper['time_s']:>10.1f}")
-        lines.append(f"{'':<34}{'ours':>7}" + "".join(f"{getattr(ours, k):>8.3f}" for k in
-                                                      ("nmi_c", "nmi_i", "ari_c", "ari_i"))
-                     + f"{ours.time_s:>10.2f}")
-    runs = next(iter(results.values())).runs if results else 0
-    lines.append(f"ours: means over {runs} runs each, time for all of them together; "
+        ours, paper = results[name], PAPER[name]
+        lines.append(f"{LABELS[name]:<32}{'paper*':>7}" + "".join(f"{paper[k]:>16.3f}" for k in keys)
+                     + f"{paper['time_s']:>16.1f}")
+        lines.append(f"{'':<32}{'ours':>7}" + "".join(f"{pm(ours, k):>16}" for k in keys)
+                     + f"{pm(ours, 'time_s', 2):>16}")
+    first = next(iter(results.values()), {})
+    lines.append(f"ours: mean ± sd over {first.get('seeds', 1)} seed(s) of the means over {first.get('runs', 0)} "
+                 "runs each; time for all runs of one seed together (numba compiled beforehand); "
                  "* the paper's Table 6: albert-b, 10 runs, Python, i7-6850K")
     return "\n".join(lines)
+
+
+def markdown(results: dict[str, dict], caption: str) -> str:
+    """Table 6 as markdown: the paper's row (albert-b) beside ours (mean ± sd over seeds) for each method."""
+    from spcotmhp.evaluation.spread import pm
+
+    keys = ("nmi_c", "nmi_i", "ari_c", "ari_i")
+    lines = [caption, "", "| Method | | NMI C | NMI i | ARI C | ARI i | Time |", "|---|---|---|---|---|---|---|"]
+    for name in ("gmm", "tmhp", "tmhp_replay"):
+        if name in results:
+            paper, ours = PAPER[name], results[name]
+            lines.append(f"| {LABELS[name]} | paper | " + " | ".join(f"{paper[k]:.3f}" for k in keys)
+                         + f" | {paper['time_s']:.0f} s |")
+            lines.append("| | ours | " + " | ".join(pm(ours, k) for k in keys) + f" | {pm(ours, 'time_s', 1)} s |")
+    return "\n".join(lines) + "\n"

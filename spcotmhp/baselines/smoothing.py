@@ -1,0 +1,67 @@
+"""Path smoothing (Algorithm 1, line 13, "Path_Smoothing(x, m)") as post-processing for the compared methods of
+Experiment I, so that a table can give every method the same post-processing:
+
+* :func:`moving_average`: the paper's smoothing, "moving average smoothing with a window size of 5" (Section
+  4.2, Conditions): every pose of the path is replaced by the mean of the poses in a centred window of 5; near
+  the ends the window shrinks symmetrically (2k + 1 poses around pose k from the start), so the start and the
+  end stay where they are. As in the paper there is no collision check: an averaged corner may cut a wall.
+* :func:`spcotmhp_smoothing`: ours (:mod:`spcotmhp.planning.assemble`), for a path assembled from the planning
+  graph's legs by another method (HPP-I/II): re-planning each piece between the cells where a stage is
+  completed inside the territories it runs through (:func:`~spcotmhp.planning.assemble.shorten`), then
+  line-of-sight shortcuts (:func:`~spcotmhp.planning.assemble.smooth_anchored`), each kept only if
+  :func:`~spcotmhp.planning.assemble.better` -- the same calls, on the same graph, as
+  :class:`~spcotmhp.planning.planner.HierarchicalPlanner` makes for SpCoTMHP.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from spcotmhp.planning.assemble import better, shorten, smooth_anchored
+from spcotmhp.planning.graph import PlanningGraph
+
+PAPER_WINDOW = 5
+
+
+def moving_average(path: np.ndarray, window: int = PAPER_WINDOW) -> np.ndarray:
+    """The (n, 2) path with pose k replaced by the mean of poses k - h .. k + h, h = min((window - 1) // 2, k,
+    n - 1 - k) (a centred window, shrunk at the ends so that the first and last poses are kept).
+
+    Raises:
+        ValueError: ``window`` is not an odd integer >= 1.
+    """
+    if not isinstance(window, int) or window < 1 or window % 2 == 0:
+        raise ValueError(f"window must be an odd integer >= 1, got {window!r}")
+    pts = np.asarray(path, dtype=float).reshape(-1, 2)
+    n = len(pts)
+    if n < 3 or window == 1:
+        return pts.copy()
+    k = np.arange(n)
+    h = np.minimum((window - 1) // 2, np.minimum(k, n - 1 - k))
+    csum = np.vstack([np.zeros((1, 2)), np.cumsum(pts, axis=0)])
+    return (csum[k + h + 1] - csum[k - h]) / (2 * h + 1)[:, None]
+
+
+def spcotmhp_smoothing(graph: PlanningGraph, cells: np.ndarray, ends: Sequence[int], node_place: np.ndarray,
+                       anchors: Sequence[int]) -> np.ndarray:
+    """SpCoTMHP's line 13 on an assembled crop-cell path of ``graph``: ``ends[e]`` is the index where the e-th
+    node (of place ``node_place[e]``) is reached, ``anchors`` the indices where a stage is completed (kept)."""
+    raw = np.asarray(cells, dtype=np.int64)
+    ends_arr = np.asarray(ends)
+    connectivity = graph.settings.connectivity
+
+    def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
+        piece = raw[a:b + 1]
+        own = np.asarray(node_place)[(ends_arr >= a) & (ends_arr <= b)]
+        return graph.tube(np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own))
+
+    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
+        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity)
+        return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
+
+    marks = [int(a) for a in anchors]
+    replanned = shortcut(*shorten(raw, marks, tube, graph.map_cost, connectivity))
+    direct = shortcut(raw, marks)
+    return (replanned if better(replanned[0], direct[0], graph.map_cost) else direct)[0]
