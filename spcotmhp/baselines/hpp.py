@@ -118,4 +118,4 @@ class HPP:
             return cells
         from spcotmhp.baselines.smoothing import spcotmhp_smoothing
 
-        return spcotmhp_smoothing(g, cells, ends, g.node_place[nodes], [ends[e] for e in stage_ends])
+        return spcotmhp_smoothing(g, cells, ends, nodes, [ends[e] for e in stage_ends])

@@ -9,8 +9,8 @@ Experiment I, so that a table can give every method the same post-processing:
   graph's legs by another method (HPP-I/II): re-planning each piece between the cells where a stage is
   completed inside the territories it runs through (:func:`~spcotmhp.planning.assemble.shorten`), then
   line-of-sight shortcuts (:func:`~spcotmhp.planning.assemble.smooth_anchored`), each kept only if
-  :func:`~spcotmhp.planning.assemble.better` -- the same calls, on the same graph, as
-  :class:`~spcotmhp.planning.planner.HierarchicalPlanner` makes for SpCoTMHP.
+  :func:`~spcotmhp.planning.assemble.better` -- :func:`~spcotmhp.planning.assemble.smooth_on_graph`, the one
+  function :class:`~spcotmhp.planning.planner.HierarchicalPlanner` uses for SpCoTMHP.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from spcotmhp.planning.assemble import better, shorten, smooth_anchored
+from spcotmhp.planning.assemble import smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
 
 PAPER_WINDOW = 5
@@ -44,24 +44,9 @@ def moving_average(path: np.ndarray, window: int = PAPER_WINDOW) -> np.ndarray:
     return (csum[k + h + 1] - csum[k - h]) / (2 * h + 1)[:, None]
 
 
-def spcotmhp_smoothing(graph: PlanningGraph, cells: np.ndarray, ends: Sequence[int], node_place: np.ndarray,
+def spcotmhp_smoothing(graph: PlanningGraph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray,
                        anchors: Sequence[int]) -> np.ndarray:
-    """SpCoTMHP's line 13 on an assembled crop-cell path of ``graph``: ``ends[e]`` is the index where the e-th
-    node (of place ``node_place[e]``) is reached, ``anchors`` the indices where a stage is completed (kept)."""
-    raw = np.asarray(cells, dtype=np.int64)
-    ends_arr = np.asarray(ends)
-    connectivity = graph.settings.connectivity
-
-    def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
-        piece = raw[a:b + 1]
-        own = np.asarray(node_place)[(ends_arr >= a) & (ends_arr <= b)]
-        return graph.tube(np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own))
-
-    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity)
-        return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
-
-    marks = [int(a) for a in anchors]
-    replanned = shortcut(*shorten(raw, marks, tube, graph.map_cost, connectivity))
-    direct = shortcut(raw, marks)
-    return (replanned if better(replanned[0], direct[0], graph.map_cost) else direct)[0]
+    """SpCoTMHP's line 13 on an assembled crop-cell path of ``graph`` (``ends[e]``: the index where node
+    ``nodes[e]`` is reached; ``anchors``: the indices where a stage is completed, kept): the planner's own
+    :func:`~spcotmhp.planning.assemble.smooth_on_graph`."""
+    return smooth_on_graph(graph, cells, ends, nodes, anchors)[0]

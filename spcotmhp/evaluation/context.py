@@ -4,7 +4,7 @@ labels), the cost map, the SpCoTMHP planning graph (shared with HPP-I/II), and t
 
 Beside the planner as shipped, the context holds the planner variants the tables compare (:data:`VARIANTS`):
 without smoothing (Algorithm 1, line 13 off) and without the stage constraint (every active place may complete
-every stage, Eq. 28 alone decides; :class:`WithoutStageConstraint`).
+every stage, Eq. 28 alone decides: the planner's ``stage_constraint=False``).
 
 Homes without adjacency.csv get their place adjacency from the map (the learning package's connectivity rule);
 the context says so in its notes, and the evaluation output carries them.
@@ -28,15 +28,6 @@ PARAMS = ("supervised", "learned")
 CONNECTIVITY = ("auto", "hmm", "walk", "map")
 VARIANTS = {  # name: (stage constraint, smoothing)
     "ours": (True, True), "unsmoothed": (True, False), "nostage": (False, True), "nostage-unsmoothed": (False, False)}
-
-
-class WithoutStageConstraint(HierarchicalPlanner):
-    """The planner without the stage constraint (the paper's Eq. 28 as written): every active place is an
-    instance of every stage (no ``instance_ratio`` cut, no name filter), so the word term of Eq. 28 is the only
-    thing that ties a stage to its words. For measurement only: the planner has no setting for this."""
-
-    def _instances(self, query, log_p=None) -> np.ndarray:
-        return np.asarray(self.model.active_places, dtype=bool).copy()
 
 
 @dataclass
@@ -143,8 +134,8 @@ def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0,
     planner = HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False)
     timings["graph_s"] = time.perf_counter() - t0
     planners = {name: planner if name == "ours" else
-                (HierarchicalPlanner if stage else WithoutStageConstraint)(model, log_p=costmap.log_p,
-                                                                           use_cache=False, smooth=smooth)
+                HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False, smooth=smooth,
+                                    stage_constraint=stage)
                 for name, (stage, smooth) in VARIANTS.items()}
     t0 = time.perf_counter()
     hpp = {name: HPP(planner.graph, cost) for name, cost in EDGE_COSTS.items()}

@@ -2,11 +2,10 @@
 
 Line 12 joins the start leg and the partial paths of Eq. 27 into one cell path (:func:`join_legs`). Each partial
 path runs to the candidate point (the centre) of its place, so the joined path zig-zags through the centre of
-every place it passes: 3LDK_01's entrance -> storeroom (supervised parameters) runs through the centres of the
-living and the dining room, 12.6 m, 8.3 m after line-of-sight shortcuts alone (they cannot bend round a door
-corner that the path does not touch), where the free-space geodesic is 4.2 m; the tube re-planning below
-makes it 4.6 m. Line 13, Path_Smoothing(x, m), is optional in the paper (a moving average there, with no
-collision check); here it is two steps that never lengthen the path and never give up a guarantee of the plan:
+every place it passes on its way to a waypoint or the goal, and line-of-sight shortcuts alone cannot bend round
+a door corner that the path does not touch (docs/results.md gives a measured case). Line 13,
+Path_Smoothing(x, m), is optional in the paper (a moving average there, with no collision check); here it is
+two steps that never lengthen the path and never give up a guarantee of the plan (:func:`smooth_on_graph`):
 
 1. **Re-planning in a tube** (:func:`shorten`). The path is cut at its *anchors*, the cells where a stage of
    the instruction is completed (each waypoint's candidate point, then the goal's), so every waypoint place is
@@ -269,3 +268,42 @@ def _shortcut(cells, allowed, fixed, four):  # pragma: no cover - numba
             i = j
         ends[s + 1] = k - 1
     return out[:k].copy(), ends
+
+
+def smooth_on_graph(graph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray,
+                    anchors: Sequence[int]) -> tuple[np.ndarray, list[int]]:
+    """Algorithm 1, line 13, on a path assembled from a planning graph's legs (``graph``: a
+    :class:`~spcotmhp.planning.graph.PlanningGraph`): ``ends[e]`` is the index where node ``nodes[e]`` is
+    reached, ``anchors`` the indices where a stage is completed (kept). Each piece between anchors is re-planned
+    inside the territories it runs through (:func:`shorten`; the end node's field is read instead of searching
+    wherever it is an optimum there, ``PlanningGraph.field_piece``), then line-of-sight shortcuts
+    (:func:`smooth_anchored`) of the re-planned path and of the assembled one, each kept only if :func:`better`.
+    Returns the cells and the new anchor indices. The one implementation SpCoTMHP and the smoothed baselines
+    use."""
+    raw = np.asarray(cells, dtype=np.int64)
+    ends_arr = np.asarray(ends)
+    nodes = np.asarray(nodes, dtype=np.int64)
+    node_place = graph.node_place[nodes]
+    connectivity = graph.settings.connectivity
+
+    def places(a: int, b: int) -> np.ndarray:
+        piece = raw[a:b + 1]
+        own = node_place[(ends_arr >= a) & (ends_arr <= b)]
+        return np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+
+    def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
+        return graph.tube(places(a, b))
+
+    def exact(a: int, b: int) -> np.ndarray | None:
+        return graph.field_piece(raw, a, b, ends_arr, nodes, places(a, b))
+
+    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
+        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity)
+        return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
+
+    marks = [int(a) for a in anchors]
+    # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path keeps off the
+    # walls, so shortcuts of the assembled one are occasionally shorter still
+    replanned = shortcut(*shorten(raw, marks, tube, graph.map_cost, connectivity, exact))
+    direct = shortcut(raw, marks)
+    return replanned if better(replanned[0], direct[0], graph.map_cost) else direct

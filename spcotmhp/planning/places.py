@@ -13,12 +13,10 @@ Definitions (each a documented choice; the property tests check the planner agai
   edges); partial paths are precomputed only between candidates of connected places.
 * **Instances of a named place**: the active places whose p(i | S) is at least 1 / ``ratio`` of the best
   (default ratio 4). Several places share a name (three bedrooms), and their posteriors differ a little, so
-  taking only the arg-max would drop real instances. Measured on the bundled homes (supervised fits and
-  Gibbs-learned models, seeds 0-1): places sharing a name are within a factor 2.2 of each other (a learned model
-  that splits one bedroom into two places included), while a place that a concept only leaks onto, or a
-  beta-smoothed name, is at least 6.6 times less probable (up to ~100 times). An N-best bag {bath: 0.7,
-  bedroom: 0.3} (Eq. 25) keeps the bedrooms out (factor 7.5); a near tie (0.6 / 0.4, factor 2.8) lets both
-  names in, and the path cost then decides.
+  taking only the arg-max would drop real instances, while a place that a concept only leaks onto, or a
+  beta-smoothed name, is several times less probable (docs/results.md gives the measured factors). An N-best
+  bag {bath: 0.7, bedroom: 0.3} (Eq. 25) keeps the bedrooms out; a near tie (0.6 / 0.4) lets both names in,
+  and the path cost then decides.
 * **Named places**: with learned parameters a concept can spread over places of other names (a concept that
   says "bath" 70% of the time also covering a bedroom), so that p(i | S) for "bath" keeps a bedroom within the
   ratio. A place is then an instance of S only if its name (its label, what the explanation calls it) carries

@@ -65,14 +65,7 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
 )
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.planning.assemble import (
-    arrival,
-    better,
-    join_legs,
-    path_length,
-    shorten,
-    smooth_anchored,
-)
+from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import GraphSettings, require_int, require_range
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
@@ -86,8 +79,7 @@ from spcotmhp.planning.vocabulary import INSTANCE_RATIO, place_labels, place_voc
 ARRIVAL_QUANTILE: float | None = None
 """Default ``arrival_quantile`` of :class:`PlannerSettings`: None, the path ends at the goal's candidate point
 as in Algorithm 1. Stopping at the first cell inside the goal's region is an option: a place's Gaussian is not
-its room, and with quantile 0.5 the end already falls outside the room's teaching-point box in 6 of 88 basic
-tasks of 3LDK_06 (0.39, one sd: none of 248)."""
+its room, so a large quantile can end the path outside the room (docs/results.md)."""
 
 
 @dataclass(frozen=True)
@@ -99,7 +91,8 @@ class PlannerSettings(GraphSettings):
     instance_ratio: instances of a name have p(i | S) >= best / ratio.  start_min_posterior: places with
     p(i_0 | x_0) at least this are plausible start places (used with adjacent_only).  adjacent_only: steps go
     only between connected places and the first from a plausible start place or its neighbours (module
-    docstring; default: between any two candidates).  smooth: Algorithm 1,
+    docstring; default: between any two candidates).  stage_constraint: every stage ends at a place its words
+    name (module docstring; False: Eq. 28 as written, for measuring the departure).  smooth: Algorithm 1,
     line 13 (tube re-planning, then
     line-of-sight shortcuts; :mod:`~spcotmhp.planning.assemble`).  arrival_quantile: the path ends at its first
     cell inside the goal place's region at this chi-square quantile (None: at the goal's candidate point).
@@ -114,6 +107,7 @@ class PlannerSettings(GraphSettings):
     smooth: bool = True
     arrival_quantile: float | None = ARRIVAL_QUANTILE
     adjacent_only: bool = False
+    stage_constraint: bool = True
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -232,6 +226,8 @@ class HierarchicalPlanner:
         (:func:`~spcotmhp.planning.places.named_places`). Two or more words that are each the whole name of a
         place but name no place together ("the kitchen bedroom") are refused; otherwise, when no name carries
         the words (a learned model's labels may merge two names), p(i | S) alone decides."""
+        if not self.settings.stage_constraint:      # Eq. 28 as written: any place may complete any stage
+            return np.asarray(self.model.active_places, dtype=bool).copy()
         if log_p is None:
             log_p = self.terms.log_place_given_words(query.words)
         inst = instance_places(log_p, self.settings.instance_ratio)
@@ -285,30 +281,7 @@ class HierarchicalPlanner:
         cells, ends, anchors = self._assemble(graph, cell, result)
         raw = cells
         if settings.smooth:
-            node_place = graph.node_place[result.nodes]
-            ends_arr = np.asarray(ends)
-
-            def places(a: int, b: int) -> np.ndarray:
-                piece = raw[a:b + 1]
-                own = node_place[(ends_arr >= a) & (ends_arr <= b)]
-                return np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
-
-            def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
-                return graph.tube(places(a, b))
-
-            def exact(a: int, b: int) -> np.ndarray | None:
-                return graph.field_piece(raw, a, b, ends_arr, result.nodes, places(a, b))
-
-            def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-                short, moved = smooth_anchored(path, graph.traversable, marks,
-                                               graph.settings.connectivity)
-                return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
-
-            # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path
-            # keeps off the walls, so shortcuts of the assembled one are occasionally shorter still
-            replanned = shortcut(*shorten(cells, anchors, tube, graph.map_cost, graph.settings.connectivity, exact))
-            direct = shortcut(cells, anchors)
-            cells, anchors = replanned if better(replanned[0], direct[0], graph.map_cost) else direct
+            cells, anchors = smooth_on_graph(graph, cells, ends, result.nodes, anchors)
         smoothed = settings.smooth and not np.array_equal(cells, raw)
         if settings.arrival_quantile is not None:
             # the last cut: the path ends at the first cell, after the last waypoint, inside the goal's region
