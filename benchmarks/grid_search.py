@@ -157,9 +157,7 @@ def compare_with_pyastar2d(name: str, weights: np.ndarray, pairs, repeats: int) 
                 shortest_paths, weights, start, [goal], connectivity, diagonal_factor=1.0, corner_rule="free"
             )
             ms_ours, ours = best_of(ours_query, repeats)
-            theirs_query = partial(
-                pyastar2d.astar_path, weights, start, goal, allow_diagonal=connectivity == 8
-            )
+            theirs_query = partial(pyastar2d.astar_path, weights, start, goal, allow_diagonal=connectivity == 8)
             ms_theirs, theirs = best_of(theirs_query, repeats)
             assert (ours is None) == (theirs is None), f"{name}: reachability differs for {start} -> {goal}"
             if ours is not None:
@@ -198,9 +196,7 @@ def comparison_rows(repeats: int, n_pairs: int, progress: Progress) -> list[list
         rows += compare_with_pyastar2d(f"{name} (192x192)", weights, pairs, repeats)
         progress.advance(task)
     weights = synthetic_weights()
-    rows += compare_with_pyastar2d(
-        "synthetic 1000x1000", weights, random_pairs(weights, n_pairs, seed=1), repeats
-    )
+    rows += compare_with_pyastar2d("synthetic 1000x1000", weights, random_pairs(weights, n_pairs, seed=1), repeats)
     progress.advance(task)
     return rows
 

@@ -19,7 +19,12 @@ from spcotmhp.datasets import load_bundled
 from spcotmhp.learning import concepts, gibbs
 from spcotmhp.learning.selection import fit_runs
 
-CASES = (("albert-b", "ja", True), ("albert-b", "ja", False), ("3LDK_01", "en", False), ("3LDK_06", "ja", False))
+CASES = (
+    ("albert-b", "ja", True),
+    ("albert-b", "ja", False),
+    ("3LDK_01", "en", False),
+    ("3LDK_06", "ja", False),
+)
 
 
 def kernel_share(data, use_features: bool, iterations: int) -> tuple[float, float]:
@@ -56,22 +61,32 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2)
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    print(f"| dataset | features | {args.runs} runs, 1 process (s) | {args.runs} runs, {args.jobs} processes (s) "
-          "| ratio | ms per sweep | FFBS share | concept sweep share |")
+    print(
+        f"| dataset | features | {args.runs} runs, 1 process (s) | {args.runs} runs, {args.jobs} processes (s) "
+        "| ratio | ms per sweep | FFBS share | concept sweep share |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for name, lang, feats in CASES:
         data = load_bundled(name, lang=lang)
-        fit_runs(data, runs=1, iterations=2, use_features=feats)          # compile / load the numba caches
+        fit_runs(data, runs=1, iterations=2, use_features=feats)  # compile / load the numba caches
         times = []
         for jobs in (1, args.jobs):
             t0 = time.perf_counter()
-            fit_runs(data, runs=args.runs, iterations=args.iterations, n_jobs=jobs, use_features=feats,
-                     connectivity="hmm")
+            fit_runs(
+                data,
+                runs=args.runs,
+                iterations=args.iterations,
+                n_jobs=jobs,
+                use_features=feats,
+                connectivity="hmm",
+            )
             times.append(time.perf_counter() - t0)
         share = kernel_share(data, feats, args.iterations)
         per_sweep = 1000 * times[0] / (args.runs * args.iterations)
-        print(f"| {name} ({lang}) | {'yes' if feats else 'no'} | {times[0]:.2f} | {times[1]:.2f} "
-              f"| {times[0] / times[1]:.2f} | {per_sweep:.2f} | {share[0]:.0%} | {share[1]:.0%} |")
+        print(
+            f"| {name} ({lang}) | {'yes' if feats else 'no'} | {times[0]:.2f} | {times[1]:.2f} "
+            f"| {times[0] / times[1]:.2f} | {per_sweep:.2f} | {share[0]:.0%} | {share[1]:.0%} |"
+        )
 
 
 if __name__ == "__main__":

@@ -34,8 +34,14 @@ from spcotmhp.learning.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.viz.labels import place_display_labels
 
-INSTRUCTIONS = ["go to the bedroom via the corridor", "go to the kitchen", "go to the bath avoiding the kitchen",
-                "go to the living via the dining", "go to the toilet", "go to the bedroom avoiding the bath"]
+INSTRUCTIONS = [
+    "go to the bedroom via the corridor",
+    "go to the kitchen",
+    "go to the bath avoiding the kitchen",
+    "go to the living via the dining",
+    "go to the toilet",
+    "go to the bedroom avoiding the bath",
+]
 
 
 def workload(model, n: int) -> list[dict]:
@@ -51,9 +57,9 @@ def workload(model, n: int) -> list[dict]:
         body = {"instruction": INSTRUCTIONS[i % len(INSTRUCTIONS)], "start": starts[i // len(INSTRUCTIONS)]}
         try:
             length = planner.plan(body["instruction"], body["start"]).length_m
-        except SpcotmhpError:                            # an infeasible combination is left out
+        except SpcotmhpError:  # an infeasible combination is left out
             length = 0.0
-        if length > 0:                                   # feasible and not already there
+        if length > 0:  # feasible and not already there
             bodies.append(body)
     return [bodies[i % len(bodies)] for i in range(n)]
 
@@ -62,15 +68,17 @@ def summary(name: str, latencies: list[float], errors: int, wall: float, baselin
     q = np.percentile(np.array(latencies) * 1e3, [50, 95, 99]) if latencies else [float("nan")] * 3
     p50 = q[0]
     ratio = f"{p50 / baseline:9.1f}x" if baseline else "   (base)"
-    return (f"{name:<34} {len(latencies) + errors:>5} {errors:>6} {q[0]:8.1f} {q[1]:8.1f} {q[2]:8.1f} "
-            f"{(len(latencies) + errors) / wall:9.1f} {ratio}")
+    return (
+        f"{name:<34} {len(latencies) + errors:>5} {errors:>6} {q[0]:8.1f} {q[1]:8.1f} {q[2]:8.1f} "
+        f"{(len(latencies) + errors) / wall:9.1f} {ratio}"
+    )
 
 
 async def one(client: httpx.AsyncClient, body: dict) -> tuple[float, bool]:
     t0 = time.perf_counter()
     try:
         r = await client.post("/plan", json=body)
-        ok = r.status_code == 200 and len(r.json()["path"]) > 1         # every workload plan moves
+        ok = r.status_code == 200 and len(r.json()["path"]) > 1  # every workload plan moves
     except httpx.HTTPError:
         ok = False
     return time.perf_counter() - t0, ok
@@ -80,13 +88,16 @@ async def run_http(url: str, bodies: list[dict], concurrency: int) -> tuple[list
     """``concurrency`` clients (httpx.AsyncClient, one keep-alive connection each: one shared pool of hundreds
     of connections makes httpcore itself the bottleneck) send the bodies, all at once; returns the latencies of
     the successful requests, the number of failures and the wall time."""
-    clients = [httpx.AsyncClient(base_url=url, timeout=120.0, limits=httpx.Limits(max_connections=1))
-               for _ in range(concurrency)]
+    clients = [
+        httpx.AsyncClient(base_url=url, timeout=120.0, limits=httpx.Limits(max_connections=1))
+        for _ in range(concurrency)
+    ]
     try:
+
         async def lane(i: int, work: list[dict]) -> list[tuple[float, bool]]:
             return [await one(clients[i], body) for body in work]
 
-        await asyncio.gather(*(one(c, bodies[0]) for c in clients))           # warm up: open the connections
+        await asyncio.gather(*(one(c, bodies[0]) for c in clients))  # warm up: open the connections
         t0 = time.perf_counter()
         lanes = await asyncio.gather(*(lane(i, bodies[i::concurrency]) for i in range(concurrency)))
         wall = time.perf_counter() - t0
@@ -106,8 +117,9 @@ def heavy_bodies(model, start: list[float]) -> list[dict]:
     return [{"instruction": many[:1100], "start": start}, {"instruction": legal[:495], "start": start}]
 
 
-async def under_heavy_load(url: str, bodies: list[dict], heavy: list[dict], n_heavy: int
-                           ) -> tuple[list[float], int, dict[int, int]]:
+async def under_heavy_load(
+    url: str, bodies: list[dict], heavy: list[dict], n_heavy: int
+) -> tuple[list[float], int, dict[int, int]]:
     """Normal requests one at a time while ``n_heavy`` clients send ``heavy`` bodies without pause; returns the
     normal latencies, the normal failures and the heavy answers' status counts."""
     stop = asyncio.Event()
@@ -125,7 +137,7 @@ async def under_heavy_load(url: str, bodies: list[dict], heavy: list[dict], n_he
                 k += 1
 
     tasks = [asyncio.create_task(hammer(i)) for i in range(n_heavy)]
-    await asyncio.sleep(1.0)                              # let the heavy load build up
+    await asyncio.sleep(1.0)  # let the heavy load build up
     latencies, errors = [], 0
     async with httpx.AsyncClient(base_url=url, timeout=120.0) as c:
         for body in bodies:
@@ -165,17 +177,21 @@ def main() -> int:
             loaded = asyncio.run(under_heavy_load(server.url, bodies[:100], heavy, args.heavy_clients))
     base = statistics.median(direct) * 1e3
     print(f"model {model_dir}: {len(set(map(str, bodies)))} distinct requests, {args.requests} per scenario")
-    print(f"{'scenario':<34} {'reqs':>5} {'errors':>6} {'p50 ms':>8} {'p95 ms':>8} {'p99 ms':>8} "
-          f"{'req/s':>9} {'p50/base':>10}")
+    print(
+        f"{'scenario':<34} {'reqs':>5} {'errors':>6} {'p50 ms':>8} {'p95 ms':>8} {'p99 ms':>8} "
+        f"{'req/s':>9} {'p50/base':>10}"
+    )
     print(summary("in-process planner.plan", direct, 0, direct_wall, None))
     print(summary("HTTP, 1 at a time", seq[0], seq[1], seq[2], base))
     print(summary(f"HTTP, {args.concurrency} concurrent", conc[0], conc[1], conc[2], base))
     quiet = statistics.median(seq[0]) * 1e3
     busy = statistics.median(loaded[0]) * 1e3 if loaded[0] else float("inf")
     p95 = float(np.percentile(np.array(loaded[0]) * 1e3, 95)) if loaded[0] else float("inf")
-    print(f"normal /plan while {args.heavy_clients} clients send long instructions: median {busy:.1f} ms "
-          f"(unloaded {quiet:.1f} ms, +{busy - quiet:.1f} ms), p95 {p95:.1f} ms, {loaded[1]} failed; "
-          f"long instructions answered {dict(sorted(loaded[2].items()))}")
+    print(
+        f"normal /plan while {args.heavy_clients} clients send long instructions: median {busy:.1f} ms "
+        f"(unloaded {quiet:.1f} ms, +{busy - quiet:.1f} ms), p95 {p95:.1f} ms, {loaded[1]} failed; "
+        f"long instructions answered {dict(sorted(loaded[2].items()))}"
+    )
     return 1 if seq[1] or conc[1] or loaded[1] or busy - quiet > 200 else 0
 
 

@@ -39,8 +39,10 @@ from spcotmhp.planning.places import main_component
 from spcotmhp.planning.planner import HierarchicalPlanner
 
 KINDS = ("basic", "waypoint", "avoid")
-TEMPLATES = {"en": ("go to the {g}", "go to the {g} via the {w}", "go to the {g} avoiding the {w}"),
-             "ja": ("{g}へ行って", "{w}を通って{g}へ行って", "{w}を避けて{g}へ行って")}
+TEMPLATES = {
+    "en": ("go to the {g}", "go to the {g} via the {w}", "go to the {g} avoiding the {w}"),
+    "ja": ("{g}へ行って", "{w}を通って{g}へ行って", "{w}を避けて{g}へ行って"),
+}
 
 
 def queries(planner: HierarchicalPlanner, n: int, seed: int, lang: str) -> list[tuple[str, str, np.ndarray]]:
@@ -50,7 +52,7 @@ def queries(planner: HierarchicalPlanner, n: int, seed: int, lang: str) -> list[
     free = np.argwhere(main_component(graph.traversable))
     names = sorted({planner.names[k] for k in np.flatnonzero(model.active_places)})
     out = []
-    for kind, template in zip(KINDS, TEMPLATES[lang]):
+    for kind, template in zip(KINDS, TEMPLATES[lang], strict=False):
         for cell in free[rng.integers(len(free), size=n)]:
             goal, via = rng.choice(names, size=2, replace=False)
             out.append((kind, template.format(g=goal, w=via), model.map.cell_to_world(graph.to_map(cell))))
@@ -108,22 +110,41 @@ def bench_home(name: str, n: int, seed: int, previous: str | None) -> list[dict]
             shortest_paths(graph.map_cost, a, b[None])
             flat.append(time.perf_counter() - t0)
         med = statistics.median(times)
-        rows.append({"home": name, "kind": kind, "queries": len(times), "failures": failures,
-                     "median_ms": 1e3 * med, "p95_ms": 1e3 * float(np.percentile(times, 95)),
-                     "astar_ms": 1e3 * statistics.median(astar), "flat_ms": 1e3 * statistics.median(flat),
-                     "previous_ms": 1e3 * statistics.median(old[kind]) if old and old[kind] else None,
-                     "precompute_s": t_pre, "nodes": graph.n_nodes, "cells": int(graph.traversable.sum()),
-                     "field_bytes": int(np.asarray(graph.dist).nbytes + np.asarray(graph.next_step).nbytes)})
+        rows.append(
+            {
+                "home": name,
+                "kind": kind,
+                "queries": len(times),
+                "failures": failures,
+                "median_ms": 1e3 * med,
+                "p95_ms": 1e3 * float(np.percentile(times, 95)),
+                "astar_ms": 1e3 * statistics.median(astar),
+                "flat_ms": 1e3 * statistics.median(flat),
+                "previous_ms": 1e3 * statistics.median(old[kind]) if old and old[kind] else None,
+                "precompute_s": t_pre,
+                "nodes": graph.n_nodes,
+                "cells": int(graph.traversable.sum()),
+                "field_bytes": int(np.asarray(graph.dist).nbytes + np.asarray(graph.next_step).nbytes),
+            }
+        )
     return rows
 
 
 def _previous_times(folder: str, name: str, n: int, seed: int) -> dict[str, list[float]]:
     """This script's :func:`plan_times` run with the checkout ``folder`` first on the path."""
     env = {**os.environ, "PYTHONPATH": os.path.abspath(folder)}
-    code = (f"import sys, json; sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r}); "
-            f"import planning as b; print(json.dumps(b.plan_times({name!r}, {n}, {seed})))")
-    out = subprocess.run([sys.executable, "-c", code], env=env, cwd=os.path.abspath(folder), capture_output=True,
-                         text=True, check=True)
+    code = (
+        f"import sys, json; sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r}); "
+        f"import planning as b; print(json.dumps(b.plan_times({name!r}, {n}, {seed})))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        env=env,
+        cwd=os.path.abspath(folder),
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -141,22 +162,29 @@ def main(argv: list[str] | None = None) -> int:
     for name in args.homes:
         print(f"benchmarking {name} ...", file=sys.stderr)
         rows += bench_home(name, args.queries, args.seed, args.previous)
-    print(f"machine: {platform.machine()}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}; "
-          f"load average {os.getloadavg()[0]:.1f} at the end")
-    print("\n| home | instructions | plans (failed) | online median ms | p95 ms | (a) pyastar2d ms | plan / (a) "
-          "| (b) flat search ms | plan / (b) | (c) previous ms | (c) / plan | precompute s | fields MiB |")
+    print(
+        f"machine: {platform.machine()}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}; "
+        f"load average {os.getloadavg()[0]:.1f} at the end"
+    )
+    print(
+        "\n| home | instructions | plans (failed) | online median ms | p95 ms | (a) pyastar2d ms | plan / (a) "
+        "| (b) flat search ms | plan / (b) | (c) previous ms | (c) / plan | precompute s | fields MiB |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        prev = (f"{r['previous_ms']:.2f} | {r['previous_ms'] / r['median_ms']:.1f}x" if r["previous_ms"]
-                else "- | -")
-        print(f"| {r['home']} | {r['kind']} | {r['queries']} ({r['failures']}) | {r['median_ms']:.3f} | "
-              f"{r['p95_ms']:.3f} | {r['astar_ms']:.3f} | {r['median_ms'] / r['astar_ms']:.1f} | "
-              f"{r['flat_ms']:.3f} | {r['median_ms'] / r['flat_ms']:.1f} | {prev} | {r['precompute_s']:.3f} | "
-              f"{r['field_bytes'] / 2**20:.1f} |")
+        prev = f"{r['previous_ms']:.2f} | {r['previous_ms'] / r['median_ms']:.1f}x" if r["previous_ms"] else "- | -"
+        print(
+            f"| {r['home']} | {r['kind']} | {r['queries']} ({r['failures']}) | {r['median_ms']:.3f} | "
+            f"{r['p95_ms']:.3f} | {r['astar_ms']:.3f} | {r['median_ms'] / r['astar_ms']:.1f} | "
+            f"{r['flat_ms']:.3f} | {r['median_ms'] / r['flat_ms']:.1f} | {prev} | {r['precompute_s']:.3f} | "
+            f"{r['field_bytes'] / 2**20:.1f} |"
+        )
     ok = all(r["median_ms"] <= 0.5 and r["p95_ms"] <= 1.0 for r in rows)
     ratio = all(r["median_ms"] <= 3 * r["astar_ms"] for r in rows)
-    print(f"\ntargets: median <= 0.5 ms and p95 <= 1 ms: {'met' if ok else 'NOT met'}; "
-          f"median <= 3x one pyastar2d query: {'met' if ratio else 'NOT met'}")
+    print(
+        f"\ntargets: median <= 0.5 ms and p95 <= 1 ms: {'met' if ok else 'NOT met'}; "
+        f"median <= 3x one pyastar2d query: {'met' if ratio else 'NOT met'}"
+    )
     return 0
 
 

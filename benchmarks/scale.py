@@ -60,8 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     warmup()
 
     with err.status("generating the office"):
-        ds, t_gen = timed(lambda: generate_environment("office", seed=args.seed, n_rooms=args.rooms,
-                                                       size=args.size))
+        ds, t_gen = timed(lambda: generate_environment("office", seed=args.seed, n_rooms=args.rooms, size=args.size))
     with err.status("supervised fit"):
         model, t_fit = timed(lambda: fit_supervised(ds, adjacency="given"))
     with err.status("cost map"):
@@ -107,41 +106,66 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         pyastar2d.astar_path(weights, (int(a[0]), int(a[1])), (int(b[0]), int(b[1])), allow_diagonal=True)
         astar_t.append(time.perf_counter() - t0)
-        if not waypoints:     # basic task: against the free-space geodesic between the same cells
+        if not waypoints:  # basic task: against the free-space geodesic between the same cells
             geo = shortest_paths(free_cost, a, b[None], connectivity=8, resolution=ds.map.resolution)
             if geo is not None and geo.length_m > 0:
                 detour.append(plan.length_m / geo.length_m)
 
     h, w = graph.log_p.shape
+    kind = f"portal graph, {graph.info['abstract_nodes']} abstract nodes" if graph.hier else "dense"
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
     rows = [
         ("map", f"{ds.map.height} x {ds.map.width} cells, {args.rooms} places, {ds.n_events} events", "", ""),
         ("generate office + walk", f"{t_gen:.2f} s", "", ""),
         ("supervised fit", f"{t_fit * 1e3:.1f} ms", "", ""),
         ("cost map (costmap_2d inflation)", f"{t_cost:.2f} s", "", ""),
-        ("precompute (planning graph)", (f"{t_pre:.2f} s ({graph.n_nodes} nodes, crop {h} x {w}, "
-         f"{'portal graph, ' + str(graph.info['abstract_nodes']) + ' abstract nodes' if graph.hier else 'dense'})"),
-         f"<= {pre_target:.0f} s", "yes" if t_pre <= pre_target else "NO"),
+        (
+            "precompute (planning graph)",
+            f"{t_pre:.2f} s ({graph.n_nodes} nodes, crop {h} x {w}, {kind})",
+            f"<= {pre_target:.0f} s",
+            "yes" if t_pre <= pre_target else "NO",
+        ),
         ("fields + links + tables (bytes)", f"{graph.field_bytes:,}", "", ""),
-        ("peak resident memory (whole process)", f"{peak:.2f} GiB",
-         f"<= {mem_target:.0f} GiB" if mem_target else "", ("yes" if peak <= mem_target else "NO") if mem_target else ""),
+        (
+            "peak resident memory (whole process)",
+            f"{peak:.2f} GiB",
+            f"<= {mem_target:.0f} GiB" if mem_target else "",
+            ("yes" if peak <= mem_target else "NO") if mem_target else "",
+        ),
     ]
     if plan_t:
         med, p95 = median(plan_t), float(np.percentile(plan_t, 95))
         ratio = median(flat_t) / med
         rows += [
-            ("plan, median / p95", f"{med * 1e3:.2f} / {p95 * 1e3:.2f} ms ({len(plan_t)} plans)",
-             f"<= {plan_target * 1e3:.0f} ms", "yes" if med <= plan_target else "NO"),
-            ("flat grid search, median (baseline)", f"{median(flat_t) * 1e3:.2f} ms", "",
-             f"plan is {ratio:.1f}x faster" if ratio >= 1 else f"plan is {1 / ratio:.1f}x slower"),
-            ("pyastar2d to the plan's final cell, median", f"{median(astar_t) * 1e3:.2f} ms", ">= 10x",
-             f"plan is {median(astar_t) / med:.1f}x faster"),
+            (
+                "plan, median / p95",
+                f"{med * 1e3:.2f} / {p95 * 1e3:.2f} ms ({len(plan_t)} plans)",
+                f"<= {plan_target * 1e3:.0f} ms",
+                "yes" if med <= plan_target else "NO",
+            ),
+            (
+                "flat grid search, median (baseline)",
+                f"{median(flat_t) * 1e3:.2f} ms",
+                "",
+                f"plan is {ratio:.1f}x faster" if ratio >= 1 else f"plan is {1 / ratio:.1f}x slower",
+            ),
+            (
+                "pyastar2d to the plan's final cell, median",
+                f"{median(astar_t) * 1e3:.2f} ms",
+                ">= 10x",
+                f"plan is {median(astar_t) / med:.1f}x faster",
+            ),
             ("plan length, median", f"{median(lengths):.1f} m", "", ""),
         ]
     if detour:
-        rows.append(("basic plans / free-space geodesic, median / max", (f"{median(detour):.3f} / {max(detour):.3f} "
-                     f"({len(detour)} plans)"), f"<= {GEODESIC_TARGET:.2f}",
-                     "yes" if max(detour) <= GEODESIC_TARGET else "NO"))
+        rows.append(
+            (
+                "basic plans / free-space geodesic, median / max",
+                (f"{median(detour):.3f} / {max(detour):.3f} ({len(detour)} plans)"),
+                f"<= {GEODESIC_TARGET:.2f}",
+                "yes" if max(detour) <= GEODESIC_TARGET else "NO",
+            )
+        )
     rows.append(("failed plans", f"{len(failures)} of {args.queries}", "", ""))
     print("| step | measured | target | met |")
     print("|---|---|---|---|")

@@ -21,7 +21,17 @@ import numpy as np
 from spcotmhp.planning.instructions import parse_nbest
 from spcotmhp.speech import Recogniser, load_audio
 
-PLACES_3LDK_06 = ["bath", "bedroom", "corridor", "dining", "entrance", "kitchen", "living", "toilet", "washroom"]
+PLACES_3LDK_06 = [
+    "bath",
+    "bedroom",
+    "corridor",
+    "dining",
+    "entrance",
+    "kitchen",
+    "living",
+    "toilet",
+    "washroom",
+]
 GOAL = ["go to the", "take me to the", "bring me to the"]
 VIA = ["via the", "through the", "passing by the"]
 AVOID = ["avoiding the", "without passing through the"]
@@ -55,8 +65,9 @@ def understood(hypotheses, places) -> tuple:
 
 
 def synthesise(text: str, voice: str, rate: int) -> bytes:
-    return subprocess.run(["espeak-ng", "-v", voice, "-s", str(rate), "--stdout", text],
-                          capture_output=True, check=True).stdout
+    return subprocess.run(
+        ["espeak-ng", "-v", voice, "-s", str(rate), "--stdout", text], capture_output=True, check=True
+    ).stdout
 
 
 def main() -> None:
@@ -90,11 +101,14 @@ def main() -> None:
                     print(f"  {voice} {rate}: {text!r} -> {hyps[0][0]!r} {got}")
     print(f"{'voice':<12} {'rate':>5} {'right':>9} {'accuracy':>9} {'decode s / audio s':>19}")
     for (voice, rate), ok in right.items():
-        print(f"{voice:<12} {rate:>5} {ok:>4}/{len(sentences):<4} {ok / len(sentences):>9.1%} "
-              f"{seconds[voice, rate] / audio[voice, rate]:>19.3f}")
+        print(
+            f"{voice:<12} {rate:>5} {ok:>4}/{len(sentences):<4} {ok / len(sentences):>9.1%} "
+            f"{seconds[voice, rate] / audio[voice, rate]:>19.3f}"
+        )
     total = sum(right.values())
-    print(f"{'all':<12} {'':>5} {total:>4}/{len(sentences) * len(right):<4} "
-          f"{total / (len(sentences) * len(right)):>9.1%}")
+    print(
+        f"{'all':<12} {'':>5} {total:>4}/{len(sentences) * len(right):<4} {total / (len(sentences) * len(right)):>9.1%}"
+    )
 
 
 if __name__ == "__main__":

@@ -19,7 +19,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
-    rich_markup_mode=None,      # plain help: the same piped, narrow or in a terminal
+    rich_markup_mode=None,  # plain help: the same piped, narrow or in a terminal
     context_settings={"help_option_names": ["--help", "-h"]},
 )
 
@@ -34,8 +34,10 @@ def _print_version(value: bool) -> None:
 
 @app.callback()
 def _root(
-    version: Annotated[bool, typer.Option("--version", is_eager=True, callback=_print_version,
-                                          help="Print the version and exit.")] = False,
+    version: Annotated[
+        bool,
+        typer.Option("--version", is_eager=True, callback=_print_version, help="Print the version and exit."),
+    ] = False,
 ) -> None:
     """Learn topometric semantic maps from teaching utterances and plan paths from instructions (SpCoTMHP).
 
@@ -51,8 +53,18 @@ def version() -> None:
 
 
 # area modules, each with a ``register(app)`` function; a module that does not exist yet is skipped.
-COMMAND_MODULES = ("metric", "datasets", "learning", "teaching", "planning", "evaluation", "service", "robot",
-                   "demo", "examples")
+COMMAND_MODULES = (
+    "metric",
+    "datasets",
+    "learning",
+    "teaching",
+    "planning",
+    "evaluation",
+    "service",
+    "robot",
+    "demo",
+    "examples",
+)
 
 for _name in COMMAND_MODULES:
     try:

@@ -18,7 +18,7 @@ def _shown(path: Path) -> str:
     """``path`` relative to the working folder when it lies inside it, else absolute."""
     try:
         rel = os.path.relpath(path)
-    except ValueError:              # pragma: no cover - another drive (Windows)
+    except ValueError:  # pragma: no cover - another drive (Windows)
         return str(path)
     return str(path) if rel.startswith("..") else rel
 

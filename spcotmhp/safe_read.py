@@ -32,11 +32,11 @@ import yaml
 
 from spcotmhp.errors import SpcotmhpError
 
-MAX_DEPTH = 32                 # nesting levels of a YAML or JSON document
-MAX_INT_DIGITS = 30            # digits of an integer in YAML or JSON (int64 has 19)
-MAX_NAME_CHARS = 255           # characters of a file name given inside a file (map.yaml's image, model.json's map)
-DEFAULT_MAX_MAP_PIXELS = 16_000_000   # width x height of a map image (a 4000 x 4000 map at 0.05 m is 200 m wide)
-IMAGE_FORMATS = {"PPM": "PGM/PPM", "PNG": "PNG", "BMP": "BMP"}   # Pillow plugin -> name in messages
+MAX_DEPTH = 32  # nesting levels of a YAML or JSON document
+MAX_INT_DIGITS = 30  # digits of an integer in YAML or JSON (int64 has 19)
+MAX_NAME_CHARS = 255  # characters of a file name given inside a file (map.yaml's image, model.json's map)
+DEFAULT_MAX_MAP_PIXELS = 16_000_000  # width x height of a map image (a 4000 x 4000 map at 0.05 m is 200 m wide)
+IMAGE_FORMATS = {"PPM": "PGM/PPM", "PNG": "PNG", "BMP": "BMP"}  # Pillow plugin -> name in messages
 EXCERPT_CHARS = 60
 
 ErrorType = type[SpcotmhpError]
@@ -136,7 +136,7 @@ def load_yaml(path: Path, max_bytes: int, what: str, error: ErrorType) -> Any:
     """Parse a YAML file under the module's bounds; any problem is ``error`` naming the file (and line)."""
     text = read_text(path, max_bytes, what, error)
     try:
-        return yaml.load(text, Loader=_BoundedLoader)   # a SafeLoader subclass: plain types only
+        return yaml.load(text, Loader=_BoundedLoader)  # a SafeLoader subclass: plain types only
     except _Refused as exc:
         line = f" (line {exc.mark.line + 1})" if exc.mark is not None else ""
         raise error(f"{what} {path}{line}: {exc.reason}") from None
@@ -221,15 +221,18 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
     except SpcotmhpError:
         raise
     except Image.DecompressionBombError:
-        raise error(f"map image {path} has more than {cap} pixels (the cap; set SPCOTMHP_MAX_MAP_PIXELS to "
-                    "raise it)") from None
+        raise error(
+            f"map image {path} has more than {cap} pixels (the cap; set SPCOTMHP_MAX_MAP_PIXELS to raise it)"
+        ) from None
     except Exception as exc:  # noqa: BLE001 - Pillow's decoders raise many types (OSError, SyntaxError, ...)
         raise error(f"map image {path} cannot be read as {accepted}: {_reason(exc)}") from None
     try:
         width, height = img.size
         if width * height > cap:
-            raise error(f"map image {path} is {width} x {height} = {width * height} pixels, over the cap of {cap} "
-                        "(set SPCOTMHP_MAX_MAP_PIXELS to raise it)")
+            raise error(
+                f"map image {path} is {width} x {height} = {width * height} pixels, over the cap of {cap} "
+                "(set SPCOTMHP_MAX_MAP_PIXELS to raise it)"
+            )
         if width < 1 or height < 1:
             raise error(f"map image {path} is {width} x {height} pixels; a map needs at least one pixel")
         with warnings.catch_warnings():

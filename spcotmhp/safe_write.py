@@ -37,8 +37,13 @@ def same_file(a: Path, b: Path) -> bool:
         return Path(os.path.abspath(a)) == Path(os.path.abspath(b))
 
 
-def check_output(path: Path, overwrite: bool, inputs: Iterable[Path] = (), error: ErrorType = SpcotmhpError,
-                 option: str = "--out") -> Path:
+def check_output(
+    path: Path,
+    overwrite: bool,
+    inputs: Iterable[Path] = (),
+    error: ErrorType = SpcotmhpError,
+    option: str = "--out",
+) -> Path:
     """Refuse an output file that is one of ``inputs``, a folder, or (without ``overwrite``) an existing file;
     the message names the option, the file and the way out."""
     path = Path(path)
@@ -97,7 +102,7 @@ def swap_folder(new: Path, target: Path) -> None:
         os.rename(new, target)
         _fsync_dir(target.parent)
         return
-    if _exchange(new, target):      # target is now the new folder, ``new`` the old one
+    if _exchange(new, target):  # target is now the new folder, ``new`` the old one
         _fsync_dir(target.parent)
         shutil.rmtree(new, ignore_errors=True)
         return
@@ -137,8 +142,9 @@ def _fsync_dir(folder: Path) -> None:
             os.close(fd)
 
 
-def build_folder(target: Path, fill: Callable[[Path], None], error: ErrorType = SpcotmhpError,
-                 action: str | None = None) -> Path:
+def build_folder(
+    target: Path, fill: Callable[[Path], None], error: ErrorType = SpcotmhpError, action: str | None = None
+) -> Path:
     """Build the folder ``target`` whole or not at all: ``fill(staging)`` writes into a fresh sibling, which
     then replaces ``target`` (:func:`swap_folder`); on any failure the sibling is removed and ``target`` is
     left as it was (an ``OSError`` becomes ``error``: "cannot <action>: <reason>", action "write <target>")."""

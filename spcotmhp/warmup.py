@@ -69,8 +69,11 @@ def warm_up() -> float:
                 names = sorted({planner.names[k] for k in np.flatnonzero(model.active_places)})
                 free = np.argwhere(main_component(graph.traversable))
                 start = model.map.cell_to_world(graph.to_map(free[len(free) // 2]))
-                for text in (f"go to the {names[-1]}", f"go to the {names[-1]} via the {names[0]}",
-                             f"go to the {names[-1]} avoiding the {names[0]}"):
+                for text in (
+                    f"go to the {names[-1]}",
+                    f"go to the {names[-1]} via the {names[0]}",
+                    f"go to the {names[-1]} avoiding the {names[0]}",
+                ):
                     try:
                         planner.plan(text, start)
                     except PlanningError:

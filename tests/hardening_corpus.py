@@ -26,11 +26,41 @@ import numpy as np
 
 from spcotmhp.errors import SpcotmhpError
 
-HOSTILE_NUMBERS = ["1" + "0" * 400, "1e400", "-1e400", "1e20", "1e308", "-1e308", ".nan", "nan", "inf", "-inf",
-                   "0", "-1", "1e-320", "9" * 25, "0x1F", "1_000", "true", "null", "[]", "{}", "''", "'abc'",
-                   "1e308", "4.9e-324"]
-MAP_BASE = {"image": "map.pgm", "resolution": "0.05", "origin": "[-1.0, -1.0, 0.0]", "negate": "0",
-            "occupied_thresh": "0.65", "free_thresh": "0.196", "mode": "trinary"}
+HOSTILE_NUMBERS = [
+    "1" + "0" * 400,
+    "1e400",
+    "-1e400",
+    "1e20",
+    "1e308",
+    "-1e308",
+    ".nan",
+    "nan",
+    "inf",
+    "-inf",
+    "0",
+    "-1",
+    "1e-320",
+    "9" * 25,
+    "0x1F",
+    "1_000",
+    "true",
+    "null",
+    "[]",
+    "{}",
+    "''",
+    "'abc'",
+    "1e308",
+    "4.9e-324",
+]
+MAP_BASE = {
+    "image": "map.pgm",
+    "resolution": "0.05",
+    "origin": "[-1.0, -1.0, 0.0]",
+    "negate": "0",
+    "occupied_thresh": "0.65",
+    "free_thresh": "0.196",
+    "mode": "trinary",
+}
 
 
 def _pgm(rng: random.Random) -> bytes:
@@ -38,11 +68,11 @@ def _pgm(rng: random.Random) -> bytes:
     if kind == 0:
         return f"P5\n{rng.choice([100000, 40000, 70000])} {rng.choice([100000, 40000])}\n255\n".encode()
     if kind == 1:
-        return b"P5\n4 4\n255\n" + bytes(rng.randrange(16))                    # truncated pixels
+        return b"P5\n4 4\n255\n" + bytes(rng.randrange(16))  # truncated pixels
     if kind == 2:
         return bytes(rng.randrange(256) for _ in range(rng.randrange(1, 64)))  # noise
     if kind == 3:
-        return b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 10 10\nshowpage\n"   # must never reach Ghostscript
+        return b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 10 10\nshowpage\n"  # must never reach Ghostscript
     if kind == 4:
         return b"P5\n0 0\n255\n"
     if kind == 5:
@@ -55,14 +85,15 @@ def _png(rng: random.Random) -> bytes:
     import io
 
     from PIL import Image
+
     buf = io.BytesIO()
     Image.fromarray(np.full((rng.randrange(1, 30), rng.randrange(1, 30)), 254, np.uint8)).save(buf, "PNG")
     data = bytearray(buf.getvalue())
     if rng.random() < 0.7:
-        data[rng.randrange(8, len(data))] ^= 1 << rng.randrange(8)          # corrupt a chunk
+        data[rng.randrange(8, len(data))] ^= 1 << rng.randrange(8)  # corrupt a chunk
     if rng.random() < 0.3:
         w, h = rng.choice([(8000, 8000), (100000, 100000), (1, 10**9)])
-        data[16:24] = struct.pack(">II", w, h)                               # a lying header (bad CRC too)
+        data[16:24] = struct.pack(">II", w, h)  # a lying header (bad CRC too)
         data[29:33] = struct.pack(">I", zlib.crc32(bytes(data[12:29])))
     return bytes(data)
 
@@ -73,15 +104,33 @@ def map_case(rng: random.Random, folder: Path) -> str:
     label = []
     for _ in range(rng.randrange(0, 3)):
         key = rng.choice(list(keys))
-        keys[key] = rng.choice(HOSTILE_NUMBERS) if key != "image" else rng.choice(
-            ["a" * 5000 + ".pgm", '"a\\0b.pgm"', "map.eps", "../../etc/passwd", "/dev/zero", "map.png", "''",
-             "map.bmp", "[1, 2]", '"\\x01.pgm"'])
+        keys[key] = (
+            rng.choice(HOSTILE_NUMBERS)
+            if key != "image"
+            else rng.choice(
+                [
+                    "a" * 5000 + ".pgm",
+                    '"a\\0b.pgm"',
+                    "map.eps",
+                    "../../etc/passwd",
+                    "/dev/zero",
+                    "map.png",
+                    "''",
+                    "map.bmp",
+                    "[1, 2]",
+                    '"\\x01.pgm"',
+                ]
+            )
+        )
         label.append(f"{key}={keys[key][:20]}")
     text = "".join(f"{k}: {v}\n" for k, v in keys.items() if rng.random() > 0.05)
     extra = rng.randrange(10)
     if extra == 0:
-        text = 'a: &a ["lol","lol","lol","lol","lol","lol","lol","lol","lol"]\n' + "".join(
-            f"{chr(98 + i)}: &{chr(98 + i)} [" + ",".join([f"*{chr(97 + i)}"] * 9) + "]\n" for i in range(8)) + text
+        text = (
+            'a: &a ["lol","lol","lol","lol","lol","lol","lol","lol","lol"]\n'
+            + "".join(f"{chr(98 + i)}: &{chr(98 + i)} [" + ",".join([f"*{chr(97 + i)}"] * 9) + "]\n" for i in range(8))
+            + text
+        )
         label.append("billion laughs")
     elif extra == 1:
         text += "deep: " + "[" * 5000 + "]" * 5000 + "\n"
@@ -150,15 +199,33 @@ def model_case(rng: random.Random, folder: Path, template: Path) -> str:
     elif kind == 1:
         meta = json.loads((folder / "model.json").read_text(encoding="utf-8"))
         key = rng.choice(["K", "L", "V", "D", "vocabulary", "hyper", "costmap", "info", "map", "format_version"])
-        value = rng.choice([10**400, 10**20, -1, 0, 1e308, "x" * 5000, None, [], {}, True, 2**63,
-                            {"inflation_radius": 1e308}, "../outside.yaml", "/etc/passwd", "map.yaml\0"])
+        value = rng.choice(
+            [
+                10**400,
+                10**20,
+                -1,
+                0,
+                1e308,
+                "x" * 5000,
+                None,
+                [],
+                {},
+                True,
+                2**63,
+                {"inflation_radius": 1e308},
+                "../outside.yaml",
+                "/etc/passwd",
+                "map.yaml\0",
+            ]
+        )
         meta[key] = value
         text = json.dumps(meta).replace("1e+308", "1e400" if rng.random() < 0.5 else "1e308")
         (folder / "model.json").write_text(text, encoding="utf-8")
         label = f"model.json {key} = {str(value)[:20]}"
     elif kind == 2:
-        (folder / "model.json").write_text('{"format": "spcotmhp-model", "info": ' + "[" * 5000 + "]" * 5000 + "}",
-                                           encoding="utf-8")
+        (folder / "model.json").write_text(
+            '{"format": "spcotmhp-model", "info": ' + "[" * 5000 + "]" * 5000 + "}", encoding="utf-8"
+        )
         label = "deep model.json"
     elif kind == 3:
         outside = folder.parent / f"outside-{rng.randrange(10**6)}"
@@ -169,8 +236,10 @@ def model_case(rng: random.Random, folder: Path, template: Path) -> str:
         (folder / name).symlink_to(outside / name)
         label = f"{name} symlinked out"
     elif kind == 4:
-        with zipfile.ZipFile(folder / "arrays.npz", "w", zipfile.ZIP_DEFLATED) as archive, \
-                archive.open("mu.npy", "w", force_zip64=True) as member:      # 200 MiB unpacked, ~200 KiB packed
+        with (
+            zipfile.ZipFile(folder / "arrays.npz", "w", zipfile.ZIP_DEFLATED) as archive,
+            archive.open("mu.npy", "w", force_zip64=True) as member,
+        ):  # 200 MiB unpacked, ~200 KiB packed
             member.write(b"\x93NUMPY\x01\x00v\x00")
             for _ in range(200):
                 member.write(b"0" * (1024 * 1024))
@@ -195,8 +264,15 @@ def model_case(rng: random.Random, folder: Path, template: Path) -> str:
         with np.load(folder / "arrays.npz") as npz:
             arrays = {k: npz[k] for k in npz.files}
         name = rng.choice(sorted(arrays))
-        arrays[name] = rng.choice([np.zeros((10**4,)), np.array(["x"]), np.zeros(arrays[name].shape, np.complex64),
-                                   arrays[name].astype(np.int64), np.zeros((0,))])
+        arrays[name] = rng.choice(
+            [
+                np.zeros((10**4,)),
+                np.array(["x"]),
+                np.zeros(arrays[name].shape, np.complex64),
+                arrays[name].astype(np.int64),
+                np.zeros((0,)),
+            ]
+        )
         np.savez(folder / "arrays.npz", **arrays)
         label = f"{name} replaced"
     else:
@@ -239,9 +315,11 @@ def main(n: int) -> None:  # pragma: no cover - a command-line report
     root = Path(tempfile.mkdtemp())
     data = write_dataset(generate_environment("flat", seed=1, n_rooms=4), root / "template-data")
     model = save_model(fit_supervised(load_dataset(data)), root / "template-model")
-    kinds = {"map": (lambda r, f: map_case(r, f), lambda f: load_map(f / "map.yaml"), n),
-             "dataset": (lambda r, f: dataset_case(r, f, data), lambda f: load_dataset(f), n // 2),
-             "model": (lambda r, f: model_case(r, f, model), lambda f: load_model(f), n)}
+    kinds = {
+        "map": (lambda r, f: map_case(r, f), lambda f: load_map(f / "map.yaml"), n),
+        "dataset": (lambda r, f: dataset_case(r, f, data), lambda f: load_dataset(f), n // 2),
+        "model": (lambda r, f: model_case(r, f, model), lambda f: load_model(f), n),
+    }
     for kind, (make, load, count) in kinds.items():
         tally, slowest, worst = {"ok": 0, "error": 0, "traceback": 0}, 0.0, ""
         for seed in range(count):

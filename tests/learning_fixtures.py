@@ -8,8 +8,14 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.metric.maps import OccupancyMap
 
 PLANTED_MU = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 6.0], [0.0, 6.0]])
-PLANTED_SIGMA = np.array([[[0.30, 0.10], [0.10, 0.20]], [[0.15, 0.0], [0.0, 0.40]],
-                          [[0.25, -0.08], [-0.08, 0.25]], [[0.40, 0.0], [0.0, 0.15]]])
+PLANTED_SIGMA = np.array(
+    [
+        [[0.30, 0.10], [0.10, 0.20]],
+        [[0.15, 0.0], [0.0, 0.40]],
+        [[0.25, -0.08], [-0.08, 0.25]],
+        [[0.40, 0.0], [0.0, 0.15]],
+    ]
+)
 # a ring 0 - 1 - 2 - 3 - 0, sticky; symmetric, so reverse replay does not bias it
 PLANTED_PSI = np.array([[0.6, 0.2, 0.0, 0.2], [0.2, 0.6, 0.2, 0.0], [0.0, 0.2, 0.6, 0.2], [0.2, 0.0, 0.2, 0.6]])
 NAMES = ["kitchen", "bedroom", "bath", "toilet"]
@@ -28,9 +34,8 @@ def planted_dataset(E: int = 300, seed: int = 7) -> Dataset:
     concepts = CONCEPT_OF_PLACE[places]
     function = ["this", "is", "the", "here"]
     tokens = [[NAMES[c] if rng.random() < 0.5 else function[rng.integers(4)] for _ in range(3)] for c in concepts]
-    for c, toks in zip(concepts, tokens):
+    for c, toks in zip(concepts, tokens, strict=False):
         if NAMES[c] not in toks:
             toks[0] = NAMES[c]
     grid = OccupancyMap(data=np.zeros((100, 100), np.int8), resolution=0.1, origin=(-2.0, -2.0, 0.0))
-    return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places,
-                   truth_concept=concepts)
+    return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places, truth_concept=concepts)

@@ -33,14 +33,15 @@ def rooms_map(rooms: dict, doors: list, shape: tuple[int, int]) -> OccupancyMap:
     """Walls everywhere but the rectangular rooms (rows r0-r1, cols c0-c1 inclusive) and the door cells."""
     data = np.full(shape, 100, dtype=np.int8)
     for r0, r1, c0, c1 in rooms.values():
-        data[r0:r1 + 1, c0:c1 + 1] = 0
+        data[r0 : r1 + 1, c0 : c1 + 1] = 0
     for rows, cols in doors:
         data[rows, cols] = 0
     return OccupancyMap(data=data, resolution=RES, origin=(0.0, 0.0, 0.0))
 
 
-def make_home(rooms: dict, doors: list, names: dict, edges: list, shape: tuple[int, int],
-              sigma_scale: float = 0.25) -> SpatialConceptModel:
+def make_home(
+    rooms: dict, doors: list, names: dict, edges: list, shape: tuple[int, int], sigma_scale: float = 0.25
+) -> SpatialConceptModel:
     """A home of rectangular rooms joined by door cells (see :func:`rooms_map`), one Gaussian per room (its
     centre, sd = ``sigma_scale`` times its extent), psi from the given edges, one word per room."""
     occ = rooms_map(rooms, doors, shape)
@@ -62,8 +63,9 @@ def make_home(rooms: dict, doors: list, names: dict, edges: list, shape: tuple[i
         counts[k, vocab.index(names[name])] = 15
     W = (counts + 0.1) / (counts + 0.1).sum(axis=1, keepdims=True)
     phi = (np.eye(K) * 15 + 0.1) / (15 + 0.1 * K)
-    return SpatialConceptModel(mu=mu, Sigma=Sigma, psi=psi, pi=np.full(K, 1.0 / K), phi=phi, W=W,
-                               vocabulary=vocab, map=occ)
+    return SpatialConceptModel(
+        mu=mu, Sigma=Sigma, psi=psi, pi=np.full(K, 1.0 / K), phi=phi, W=W, vocabulary=vocab, map=occ
+    )
 
 
 def home_map() -> OccupancyMap:

@@ -25,14 +25,22 @@ from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
 
 S = 1_000_000_000  # ns per second
-POSE_TYPES = ["geometry_msgs/msg/PoseWithCovarianceStamped", "geometry_msgs/msg/PoseStamped",
-              "nav_msgs/msg/Odometry"]
+POSE_TYPES = [
+    "geometry_msgs/msg/PoseWithCovarianceStamped",
+    "geometry_msgs/msg/PoseStamped",
+    "nav_msgs/msg/Odometry",
+]
 FORMATS = ["ros1", "ros2-sqlite3", "ros2-mcap"]
 # an L-shaped walk, 1 m east then 1 m north, with a stop at the corner (three poses at (1.5, 0.5))
 POSES = [(0.0, (0.5, 0.5)), (1.0, (1.5, 0.5)), (1.2, (1.5, 0.5)), (1.4, (1.5, 0.5)), (2.4, (1.5, 1.5))]
 # (time s, text): at 0.3 s 0.3 m along the first leg; at 1.25 s standing at the corner; at 2.0 s 0.6 m up the
 # second leg; at 3.0 s after the last pose (held there)
-UTTERANCES = [(0.3, "This is the kitchen."), (1.25, "corner kitchen"), (2.0, "the corridor"), (3.0, "bedroom")]
+UTTERANCES = [
+    (0.3, "This is the kitchen."),
+    (1.25, "corner kitchen"),
+    (2.0, "the corridor"),
+    (3.0, "bedroom"),
+]
 EXPECTED_XY = [(0.8, 0.5), (1.5, 0.5), (1.5, 1.1), (1.5, 1.5)]
 EXPECTED_TOKENS = [["this", "is", "the", "kitchen"], ["corner", "kitchen"], ["the", "corridor"], ["bedroom"]]
 
@@ -53,8 +61,10 @@ def _header(ts, t: float, frame: str):
 
 def _pose_msg(ts, msgtype: str, t: float, xy, frame: str = "map"):
     T = ts.types
-    pose = T["geometry_msgs/msg/Pose"](position=T["geometry_msgs/msg/Point"](x=float(xy[0]), y=float(xy[1]), z=0.0),
-                                       orientation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0))
+    pose = T["geometry_msgs/msg/Pose"](
+        position=T["geometry_msgs/msg/Point"](x=float(xy[0]), y=float(xy[1]), z=0.0),
+        orientation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0),
+    )
     cov = np.zeros(36)
     if msgtype == "geometry_msgs/msg/PoseStamped":
         return T[msgtype](header=_header(ts, t, frame), pose=pose)
@@ -62,23 +72,32 @@ def _pose_msg(ts, msgtype: str, t: float, xy, frame: str = "map"):
     if msgtype == "geometry_msgs/msg/PoseWithCovarianceStamped":
         return T[msgtype](header=_header(ts, t, frame), pose=with_cov)
     twist = T["geometry_msgs/msg/TwistWithCovariance"](
-        twist=T["geometry_msgs/msg/Twist"](linear=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
-                                           angular=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)),
-        covariance=cov)
+        twist=T["geometry_msgs/msg/Twist"](
+            linear=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
+            angular=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
+        ),
+        covariance=cov,
+    )
     return T[msgtype](header=_header(ts, t, frame), child_frame_id="base_link", pose=with_cov, twist=twist)
 
 
 def _grid_msg(ts, occupancy: OccupancyMap, yaw: float = 0.0):
     T = ts.types
     info = T["nav_msgs/msg/MapMetaData"](
-        map_load_time=T["builtin_interfaces/msg/Time"](sec=0, nanosec=0), resolution=occupancy.resolution,
-        width=occupancy.width, height=occupancy.height,
+        map_load_time=T["builtin_interfaces/msg/Time"](sec=0, nanosec=0),
+        resolution=occupancy.resolution,
+        width=occupancy.width,
+        height=occupancy.height,
         origin=T["geometry_msgs/msg/Pose"](
             position=T["geometry_msgs/msg/Point"](x=occupancy.origin[0], y=occupancy.origin[1], z=0.0),
-            orientation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=float(np.sin(yaw / 2)),
-                                                          w=float(np.cos(yaw / 2)))))
-    return T["nav_msgs/msg/OccupancyGrid"](header=_header(ts, 0, "map"), info=info,
-                                           data=occupancy.data.astype(np.int8).ravel())
+            orientation=T["geometry_msgs/msg/Quaternion"](
+                x=0.0, y=0.0, z=float(np.sin(yaw / 2)), w=float(np.cos(yaw / 2))
+            ),
+        ),
+    )
+    return T["nav_msgs/msg/OccupancyGrid"](
+        header=_header(ts, 0, "map"), info=info, data=occupancy.data.astype(np.int8).ravel()
+    )
 
 
 def write_bag(path: Path, fmt: str, messages: list[tuple[str, str, float, object]]) -> Path:
@@ -102,8 +121,15 @@ def write_bag(path: Path, fmt: str, messages: list[tuple[str, str, float, object
     return path
 
 
-def teaching_bag(tmp_path: Path, fmt: str, pose_type: str = POSE_TYPES[0], frame: str = "map",
-                 utterances=UTTERANCES, grid: OccupancyMap | None = None, name: str = "log") -> Path:
+def teaching_bag(
+    tmp_path: Path,
+    fmt: str,
+    pose_type: str = POSE_TYPES[0],
+    frame: str = "map",
+    utterances=UTTERANCES,
+    grid: OccupancyMap | None = None,
+    name: str = "log",
+) -> Path:
     ts = _store(fmt)
     string = ts.types["std_msgs/msg/String"]
     msgs = [("/amcl_pose", pose_type, t, _pose_msg(ts, pose_type, t, xy, frame)) for t, xy in POSES]
@@ -137,8 +163,11 @@ def test_import_places_each_utterance_at_the_interpolated_pose(tmp_path, fmt, po
     assert d.tokens == EXPECTED_TOKENS
     # 2 m walked, resampled every 0.1 m: 21 poses; the three poses at the corner become one point
     assert len(d.trajectory) == 21
-    np.testing.assert_allclose(d.trajectory[[0, 5, 10, 15, 20]],
-                               [(0.5, 0.5), (1.0, 0.5), (1.5, 0.5), (1.5, 1.0), (1.5, 1.5)], atol=1e-12)
+    np.testing.assert_allclose(
+        d.trajectory[[0, 5, 10, 15, 20]],
+        [(0.5, 0.5), (1.0, 0.5), (1.5, 0.5), (1.5, 1.0), (1.5, 1.5)],
+        atol=1e-12,
+    )
     np.testing.assert_allclose(np.hypot(*np.diff(d.trajectory, axis=0).T), 0.1, atol=1e-12)
     # arc lengths of the events: 0.3, 1.0, 1.6 and 2.0 m
     assert d.event_steps.tolist() == [3, 10, 16, 20]
@@ -245,8 +274,11 @@ def test_folder_or_file_that_is_not_a_bag(tmp_path, map_yaml):
 
 def test_absent_topic_lists_the_topics_present(tmp_path, map_yaml):
     bag = teaching_bag(tmp_path, "ros1", "nav_msgs/msg/Odometry")
-    with pytest.raises(DatasetError, match=r"has no pose topic /odom; topics present: /amcl_pose "
-                                           r"\(nav_msgs/msg/Odometry\); /speech \(std_msgs/msg/String\)"):
+    with pytest.raises(
+        DatasetError,
+        match=r"has no pose topic /odom; topics present: /amcl_pose "
+        r"\(nav_msgs/msg/Odometry\); /speech \(std_msgs/msg/String\)",
+    ):
         import_bag(bag, tmp_path / "ds", pose_topic="/odom", map_yaml=map_yaml)
     with pytest.raises(DatasetError, match=r"has no utterance topic /asr; topics present: /amcl_pose"):
         import_bag(bag, tmp_path / "ds", utterance_topic="/asr", map_yaml=map_yaml)
@@ -254,24 +286,35 @@ def test_absent_topic_lists_the_topics_present(tmp_path, map_yaml):
 
 def test_unsupported_message_types(tmp_path, map_yaml):
     bag = teaching_bag(tmp_path, "ros2-sqlite3")
-    with pytest.raises(DatasetError, match=r"topic /speech carries std_msgs/msg/String, which is not a supported "
-                                           r"pose type; supported: geometry_msgs/msg/PoseStamped, "
-                                           r"geometry_msgs/msg/PoseWithCovarianceStamped, nav_msgs/msg/Odometry"):
+    with pytest.raises(
+        DatasetError,
+        match=r"topic /speech carries std_msgs/msg/String, which is not a supported "
+        r"pose type; supported: geometry_msgs/msg/PoseStamped, "
+        r"geometry_msgs/msg/PoseWithCovarianceStamped, nav_msgs/msg/Odometry",
+    ):
         import_bag(bag, tmp_path / "ds", pose_topic="/speech", map_yaml=map_yaml)
-    with pytest.raises(DatasetError, match=r"topic /amcl_pose carries geometry_msgs/msg/PoseWithCovarianceStamped, "
-                                           r"which is not a supported utterance type; supported: std_msgs/msg/String"):
+    with pytest.raises(
+        DatasetError,
+        match=r"topic /amcl_pose carries geometry_msgs/msg/PoseWithCovarianceStamped, "
+        r"which is not a supported utterance type; supported: std_msgs/msg/String",
+    ):
         import_bag(bag, tmp_path / "ds", utterance_topic="/amcl_pose", map_yaml=map_yaml)
 
 
 def test_utterance_before_the_first_pose(tmp_path, map_yaml):
     ts = _store("ros1")
     msgs = [("/amcl_pose", POSE_TYPES[1], t, _pose_msg(ts, POSE_TYPES[1], t, xy)) for t, xy in POSES[1:]]
-    msgs += [("/speech", "std_msgs/msg/String", 0.25, ts.types["std_msgs/msg/String"](data="kitchen")),
-             ("/speech", "std_msgs/msg/String", 2.0, ts.types["std_msgs/msg/String"](data="corridor"))]
+    msgs += [
+        ("/speech", "std_msgs/msg/String", 0.25, ts.types["std_msgs/msg/String"](data="kitchen")),
+        ("/speech", "std_msgs/msg/String", 2.0, ts.types["std_msgs/msg/String"](data="corridor")),
+    ]
     bag = write_bag(tmp_path / "early", "ros1", msgs)
-    with pytest.raises(DatasetError, match=r"utterance 'kitchen' was recorded 0\.750 s before the first pose "
-                                           r"\(utterance at 0\.250 s, first pose at 1\.000 s; 1 utterance\(s\) have "
-                                           r"no pose before them\)"):
+    with pytest.raises(
+        DatasetError,
+        match=r"utterance 'kitchen' was recorded 0\.750 s before the first pose "
+        r"\(utterance at 0\.250 s, first pose at 1\.000 s; 1 utterance\(s\) have "
+        r"no pose before them\)",
+    ):
         import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
 
 
@@ -293,8 +336,7 @@ def test_topic_without_messages(tmp_path, map_yaml):
     with Writer2(bag, version=9) as writer:
         writer.add_connection("/amcl_pose", POSE_TYPES[0], typestore=ts)
         conn = writer.add_connection("/speech", "std_msgs/msg/String", typestore=ts)
-        writer.write(conn, S, ts.serialize_cdr(ts.types["std_msgs/msg/String"](data="kitchen"),
-                                               "std_msgs/msg/String"))
+        writer.write(conn, S, ts.serialize_cdr(ts.types["std_msgs/msg/String"](data="kitchen"), "std_msgs/msg/String"))
     with pytest.raises(DatasetError, match=r"topic /amcl_pose has no messages in bag"):
         import_bag(bag, tmp_path / "ds", map_yaml=map_yaml)
 
@@ -309,8 +351,10 @@ def test_no_map(tmp_path):
 def test_rotated_map_topic(tmp_path):
     ts = _store("ros1")
     msgs = [("/amcl_pose", POSE_TYPES[0], t, _pose_msg(ts, POSE_TYPES[0], t, xy)) for t, xy in POSES]
-    msgs += [("/speech", "std_msgs/msg/String", 0.5, ts.types["std_msgs/msg/String"](data="kitchen")),
-             ("/map", "nav_msgs/msg/OccupancyGrid", 0.0, _grid_msg(ts, small_map(), yaw=0.5))]
+    msgs += [
+        ("/speech", "std_msgs/msg/String", 0.5, ts.types["std_msgs/msg/String"](data="kitchen")),
+        ("/map", "nav_msgs/msg/OccupancyGrid", 0.0, _grid_msg(ts, small_map(), yaw=0.5)),
+    ]
     bag = write_bag(tmp_path / "rot", "ros1", msgs)
     with pytest.raises(DatasetError, match=r"the map on /map is rotated \(origin yaw 0\.5000 rad\)"):
         import_bag(bag, tmp_path / "ds")
@@ -330,8 +374,8 @@ def test_refuses_to_overwrite_a_dataset(tmp_path, map_yaml):
     (tmp_path / "ds" / "truth.csv").write_text("event,place\n0,0\n")  # from some other dataset
     import_bag(bag, tmp_path / "ds", map_yaml=map_yaml, step=0, overwrite=True)
     assert len(load_dataset(tmp_path / "ds").trajectory) == len(POSES)
-    assert not (tmp_path / "ds" / "truth.csv").exists()              # replaced whole, nothing stale
-    (tmp_path / "ds" / "notes.txt").write_text("mine")                 # not a dataset's file: never replaced
+    assert not (tmp_path / "ds" / "truth.csv").exists()  # replaced whole, nothing stale
+    (tmp_path / "ds" / "notes.txt").write_text("mine")  # not a dataset's file: never replaced
     with pytest.raises(DatasetError, match="files that are not a dataset's"):
         import_bag(bag, tmp_path / "ds", map_yaml=map_yaml, overwrite=True)
     assert (tmp_path / "ds" / "notes.txt").read_text() == "mine"
@@ -356,9 +400,11 @@ def test_a_failed_import_leaves_the_old_dataset(tmp_path, map_yaml, monkeypatch)
 
 def test_a_robot_that_never_moved(tmp_path, map_yaml):
     ts = _store("ros2-sqlite3")
-    msgs = [("/amcl_pose", POSE_TYPES[0], 1.0, _pose_msg(ts, POSE_TYPES[0], 1.0, (1.0, 1.0))),
-            ("/speech", "std_msgs/msg/String", 2.0, ts.types["std_msgs/msg/String"](data="kitchen")),
-            ("/speech", "std_msgs/msg/String", 3.0, ts.types["std_msgs/msg/String"](data="this is the kitchen"))]
+    msgs = [
+        ("/amcl_pose", POSE_TYPES[0], 1.0, _pose_msg(ts, POSE_TYPES[0], 1.0, (1.0, 1.0))),
+        ("/speech", "std_msgs/msg/String", 2.0, ts.types["std_msgs/msg/String"](data="kitchen")),
+        ("/speech", "std_msgs/msg/String", 3.0, ts.types["std_msgs/msg/String"](data="this is the kitchen")),
+    ]
     import_bag(write_bag(tmp_path / "still", "ros2-sqlite3", msgs), tmp_path / "ds", map_yaml=map_yaml)
     d = load_dataset(tmp_path / "ds")
     np.testing.assert_allclose(d.trajectory, [(1.0, 1.0)])
@@ -378,19 +424,41 @@ def test_bad_step_and_lang(tmp_path, map_yaml):
 def _cli(*args: str) -> subprocess.CompletedProcess:
     exe = Path(sys.executable).with_name("spcotmhp")
     cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "spcotmhp.cli"]
-    return subprocess.run(cmd + list(args), check=False, capture_output=True, text=True, env={**os.environ, "COLUMNS": "200"})
+    return subprocess.run(
+        cmd + list(args), check=False, capture_output=True, text=True, env={**os.environ, "COLUMNS": "200"}
+    )
 
 
 def test_cli_import_bag(tmp_path, map_yaml):
     bag = teaching_bag(tmp_path, "ros2-mcap", "nav_msgs/msg/Odometry", frame="odom")
-    done = _cli("import-bag", str(bag), "--pose-topic", "/amcl_pose", "--utterance-topic", "/speech",
-                "--out", str(tmp_path / "ds"), "--map", str(map_yaml), "--step", "0.1")
+    done = _cli(
+        "import-bag",
+        str(bag),
+        "--pose-topic",
+        "/amcl_pose",
+        "--utterance-topic",
+        "/speech",
+        "--out",
+        str(tmp_path / "ds"),
+        "--map",
+        str(map_yaml),
+        "--step",
+        "0.1",
+    )
     assert done.returncode == 0, done.stderr
     assert "wrote" in done.stdout and "4 teaching events, 21 trajectory poses (from 5 pose messages" in done.stdout
     assert "warning: poses on /amcl_pose are in frame(s) odom" in done.stderr
     np.testing.assert_allclose(load_dataset(tmp_path / "ds").positions, EXPECTED_XY, atol=1e-12)
-    done = _cli("import-bag", str(bag), "--pose-topic", "/odom", "--out", str(tmp_path / "ds2"),
-                "--map", str(map_yaml))
+    done = _cli(
+        "import-bag",
+        str(bag),
+        "--pose-topic",
+        "/odom",
+        "--out",
+        str(tmp_path / "ds2"),
+        "--map",
+        str(map_yaml),
+    )
     assert done.returncode == 2
     assert done.stderr.startswith("error: bag ") and "has no pose topic /odom; topics present:" in done.stderr
     assert "Traceback" not in done.stderr

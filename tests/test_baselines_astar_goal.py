@@ -66,6 +66,5 @@ def test_astar_moves_8_connected_like_spcotmhp():
     cells = astar_to_sampled_goal(m, np.zeros((9, 9)), occ, (1, 1), ["bed"], np.random.default_rng(0))
     assert tuple(cells[-1]) == (7, 7)
     assert len(cells) == 7 and (np.abs(np.diff(cells, axis=0)) == 1).all()
-    four = astar_to_sampled_goal(m, np.zeros((9, 9)), occ, (1, 1), ["bed"], np.random.default_rng(0),
-                                 connectivity=4)
+    four = astar_to_sampled_goal(m, np.zeros((9, 9)), occ, (1, 1), ["bed"], np.random.default_rng(0), connectivity=4)
     assert len(four) == 13 and (np.abs(np.diff(four, axis=0)).sum(axis=1) == 1).all()

@@ -26,10 +26,10 @@ def test_edge_costs(graph):
     cost1, cost2 = path_cost_edges(graph), path_length_edges(graph)
     finite = np.isfinite(graph.w_hat)
     # one candidate per place (N = 1), edges exactly between connected places
-    assert sorted(zip(*np.nonzero(finite))) == sorted([(L, M), (M, L), (M, R), (R, M), (K, R), (R, K)])
+    assert sorted(zip(*np.nonzero(finite), strict=False)) == sorted([(L, M), (M, L), (M, R), (R, M), (K, R), (R, K)])
     np.testing.assert_array_equal(cost1[finite], -graph.w_hat[finite])
     assert (cost1[finite] > 0).all() and np.isinf(cost1[~finite]).all()
-    for i, j in zip(*np.nonzero(finite)):
+    for i, j in zip(*np.nonzero(finite), strict=False):
         assert cost2[i, j] == pytest.approx(path_length(graph.edge_path(i, j), 0.5))
         a, b = graph.node_cell[i], graph.node_cell[j]
         dr, dc = np.abs(a - b)
@@ -40,7 +40,7 @@ def test_edge_costs(graph):
 @pytest.mark.parametrize("name", ["hpp1", "hpp2"])
 def test_route_follows_the_place_graph(graph, name):
     hpp = HPP(graph, EDGE_COSTS[name])
-    assert hpp.route(L, K) == [L, M, R, K]   # the kitchen is reachable only through bedroom #2
+    assert hpp.route(L, K) == [L, M, R, K]  # the kitchen is reachable only through bedroom #2
     assert hpp.route(K, K) == [K]
 
 
@@ -61,19 +61,20 @@ def test_draw_place_follows_p_i_given_words(graph):
     p = np.exp(graph.model.log_place_given_words(["bedroom"]))
     for k in range(4):
         assert np.mean(draws == k) == pytest.approx(p[k], abs=0.02)
-    assert draw_place(graph, ["kitchen"], np.random.default_rng(1)) == draw_place(graph, ["kitchen"],
-                                                                                  np.random.default_rng(1))
+    assert draw_place(graph, ["kitchen"], np.random.default_rng(1)) == draw_place(
+        graph, ["kitchen"], np.random.default_rng(1)
+    )
 
 
 def test_plan_reuses_the_graph_paths(graph):
     occ = graph.model.map
     hpp = HPP(graph, path_length_edges)
-    start = crop(graph, occ, 3, 13)                    # inside the corridor M
+    start = crop(graph, occ, 3, 13)  # inside the corridor M
     assert hpp.start_node(start) == M
     cells = hpp.plan(start, [["kitchen"]], np.random.default_rng(0))
     assert tuple(cells[0]) == tuple(start)
     assert tuple(cells[-1]) == tuple(graph.node_cell[K])
-    assert np.abs(np.diff(cells, axis=0)).max() <= 1   # 8-connected
+    assert np.abs(np.diff(cells, axis=0)).max() <= 1  # 8-connected
     assert graph.traversable[cells[:, 0], cells[:, 1]].all()
     # the metric path is the start leg plus the graph's own partial paths M -> R -> K, not recomputed copies
     leg = graph.leg(start, M).cells
@@ -85,7 +86,7 @@ def test_plan_reuses_the_graph_paths(graph):
 def test_plan_with_waypoint_draws_each_stage(graph):
     hpp = HPP(graph, path_cost_edges)
     occ = graph.model.map
-    start = crop(graph, occ, 6, 3)                      # bedroom #1 (L)
+    start = crop(graph, occ, 6, 3)  # bedroom #1 (L)
     cells = hpp.plan(start, [["corridor"], ["kitchen"]], np.random.default_rng(0))
     xy = occ.cell_to_world(graph.to_map(cells))
     assert np.allclose(xy[-1], world(occ, *graph.to_map(graph.node_cell[K])))

@@ -41,8 +41,9 @@ def test_weight_map_matches_direct_sum():
         total = 0.0
         for C in range(2):
             mult = model.W[C, 1] ** 2  # Mult(S | W_C) up to the coefficient: two "bed"
-            dens = sum(model.phi[C, k] * multivariate_normal(model.mu[k], model.Sigma[k]).pdf(xy[r, c])
-                       for k in range(2))
+            dens = sum(
+                model.phi[C, k] * multivariate_normal(model.mu[k], model.Sigma[k]).pdf(xy[r, c]) for k in range(2)
+            )
             total += mult * model.pi[C] * dens
         assert got[r, c] == pytest.approx(np.log(np.exp(log_p[r, c]) * total), rel=1e-10)
     assert got[1, 1] == -np.inf
@@ -116,9 +117,9 @@ def test_viterbi_bad_input():
 
 def test_horizon_objective_pads_and_truncates():
     log_w = np.arange(12, dtype=float).reshape(3, 4) * -1.0
-    cells = np.array([[0, 0], [0, 1], [0, 2]])        # weights 0, -1, -2
+    cells = np.array([[0, 0], [0, 1], [0, 2]])  # weights 0, -1, -2
     assert horizon_objective(log_w, cells, T=4) == pytest.approx(-1 - 2 - 2 - 2)  # stays at (0, 2)
-    assert horizon_objective(log_w, cells, T=1) == pytest.approx(-1)               # truncated after 1 step
+    assert horizon_objective(log_w, cells, T=1) == pytest.approx(-1)  # truncated after 1 step
 
 
 def test_sample_cells_follows_weights():
@@ -147,7 +148,7 @@ def test_astar_approximation_detours_through_likely_cells():
     # a 2 x 5 room: the direct row-0 route crosses a low-weight cell (0, 2), a row-1 detour does not
     log_w = np.full((2, 5), -3.0)
     log_w[0, 2] = -30.0
-    log_w[0, 4] = 0.0    # the goal: the sampled candidate with the best T-step objective
+    log_w[0, 4] = 0.0  # the goal: the sampled candidate with the best T-step objective
     log_w[1, 4] = -60.0
     cells = astar_approximation(log_w, (0, 0), np.random.default_rng(0), J=30, T=10)
     visited = [tuple(c) for c in cells]

@@ -19,7 +19,7 @@ runner = CliRunner()
 def test_datasets_lists_the_bundled_data():
     result = runner.invoke(app, ["datasets"])
     assert result.exit_code == 0, result.output
-    names = ("3LDK", "albert")          # plain rows, one per dataset (readable piped: nothing cut)
+    names = ("3LDK", "albert")  # plain rows, one per dataset (readable piped: nothing cut)
     lines = {line.split()[0]: line for line in result.output.splitlines() if line.startswith(names)}
     assert set(lines) == {"3LDK_01", "3LDK_05", "3LDK_06", "albert-b"}
     assert "sigverse-3ldk/3LDK_01" in lines["3LDK_01"] and "192x192 @ 0.1 m" in lines["3LDK_01"]
@@ -66,8 +66,9 @@ def run(*args: str) -> subprocess.CompletedProcess:
 def test_check_dataset_errors_are_one_line(tmp_path):
     result = run("check-dataset", "--lang", "en", str(bundled_path("albert-b")))
     assert result.returncode == 2
-    assert result.stderr == ("error: albert-b has no words_en column (teaching.csv has event, x, y, words_ja); "
-                             "use lang='ja'\n")
+    assert result.stderr == (
+        "error: albert-b has no words_en column (teaching.csv has event, x, y, words_ja); use lang='ja'\n"
+    )
     result = run("check-dataset", str(tmp_path / "missing"))
     assert result.returncode == 2
     assert result.stderr == f"error: dataset folder {tmp_path / 'missing'} does not exist\n"

@@ -94,8 +94,9 @@ def test_plan_png_never_onto_the_model(model, tmp_path):
     assert _digest(model) == before
     png = tmp_path / "p.png"
     png.write_bytes(b"old")
-    assert "exists; give --overwrite" in _error_line(_cli("plan", model, "go to the kitchen", "--start", x, y,
-                                                          "--png", png))
+    assert "exists; give --overwrite" in _error_line(
+        _cli("plan", model, "go to the kitchen", "--start", x, y, "--png", png)
+    )
     assert png.read_bytes() == b"old"
 
 

@@ -14,14 +14,17 @@ from spcotmhp.errors import DatasetError, ModelError
 from spcotmhp.learning.gibbs import make_rng
 
 
-@pytest.mark.parametrize("args", [
-    ["learn", "3LDK_01", "--out", "unused", "--seed", "-1"],
-    ["evaluate-learning", "albert-b", "--seed", "-5"],
-    ["synth", "flat", "--out", "unused", "--seed", "-1"],
-    ["evaluate", "3LDK_01", "--seed", "-1"],
-    ["demo", "--seed", "-1"],
-    ["plan", "unused-model", "go to the kitchen", "--start", "0", "0", "--seed", "-1"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["learn", "3LDK_01", "--out", "unused", "--seed", "-1"],
+        ["evaluate-learning", "albert-b", "--seed", "-5"],
+        ["synth", "flat", "--out", "unused", "--seed", "-1"],
+        ["evaluate", "3LDK_01", "--seed", "-1"],
+        ["demo", "--seed", "-1"],
+        ["plan", "unused-model", "go to the kitchen", "--start", "0", "0", "--seed", "-1"],
+    ],
+)
 def test_negative_seed_is_a_usage_error(args):
     res = CliRunner().invoke(app, args)
     assert res.exit_code == 2, res.output

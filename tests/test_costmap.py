@@ -169,7 +169,7 @@ def test_log_p_on_a_bundled_home() -> None:
     cm = inflate(m)
     ros = cm.to_occupancy_grid().astype(float)
     assert np.all(np.isneginf(cm.log_p[~m.free]))
-    robot = m.free & (ros < 99)                     # free, and not within the inscribed radius of an obstacle
+    robot = m.free & (ros < 99)  # free, and not within the inscribed radius of an obstacle
     np.testing.assert_allclose(np.exp(cm.log_p[robot]), (100 - ros[robot]) / 100)
     assert np.all(np.isneginf(cm.log_p[m.free & (ros >= 99)])) and (m.free & (ros >= 99)).any()
     assert np.all(cm.log_p[robot] >= math.log(0.02))
@@ -180,8 +180,12 @@ def test_log_p_on_a_bundled_home() -> None:
 
 def agreement(ours: np.ndarray, ros: np.ndarray, mask: np.ndarray) -> dict[str, float]:
     diff = np.abs(ours.astype(int) - ros.astype(int))[mask]
-    return {"exact": float(np.mean(diff == 0)), "within1": float(np.mean(diff <= 1)),
-            "within2": float(np.mean(diff <= 2)), "max": int(diff.max())}
+    return {
+        "exact": float(np.mean(diff == 0)),
+        "within1": float(np.mean(diff <= 1)),
+        "within2": float(np.mean(diff <= 2)),
+        "max": int(diff.max()),
+    }
 
 
 def test_every_bundled_ros_costmap_is_present() -> None:
@@ -213,8 +217,13 @@ def test_albert_b_costmap_is_consistent() -> None:
 
 
 @settings(max_examples=40, deadline=None)
-@given(arrays(np.bool_, st.tuples(st.integers(3, 30), st.integers(3, 30)),
-              elements=st.sampled_from([False] * 12 + [True])))
+@given(
+    arrays(
+        np.bool_,
+        st.tuples(st.integers(3, 30), st.integers(3, 30)),
+        elements=st.sampled_from([False] * 12 + [True]),
+    )
+)
 def test_wavefront_never_exceeds_the_exact_distance_cost(walls: np.ndarray) -> None:
     """costmap_2d's wavefront distance is never shorter than the true nearest-obstacle distance, and equal on
     nearly every cell: cost <= the cost from the exact distance transform."""
@@ -233,15 +242,20 @@ def test_wavefront_never_exceeds_the_exact_distance_cost(walls: np.ndarray) -> N
 # --------------------------------------------------------------------------------- bad settings
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"inscribed_radius": -0.1}, "inscribed_radius must be >= 0, got -0.1"),
-    ({"inflation_radius": -1.0}, "inflation_radius must be >= 0"),
-    ({"cost_scaling_factor": float("nan")}, "cost_scaling_factor must be a finite number, got nan"),
-    ({"inflation_radius": float("inf")}, "inflation_radius must be a finite number"),
-    ({"robot_radius": 0.3, "inscribed_radius": 0.2},
-     "give either robot_radius or inscribed_radius, not both"),
-    ({"robot_radius": -0.3}, "inscribed_radius must be >= 0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"inscribed_radius": -0.1}, "inscribed_radius must be >= 0, got -0.1"),
+        ({"inflation_radius": -1.0}, "inflation_radius must be >= 0"),
+        ({"cost_scaling_factor": float("nan")}, "cost_scaling_factor must be a finite number, got nan"),
+        ({"inflation_radius": float("inf")}, "inflation_radius must be a finite number"),
+        (
+            {"robot_radius": 0.3, "inscribed_radius": 0.2},
+            "give either robot_radius or inscribed_radius, not both",
+        ),
+        ({"robot_radius": -0.3}, "inscribed_radius must be >= 0"),
+    ],
+)
 def test_bad_settings(kwargs: dict, message: str) -> None:
     with pytest.raises(MapError, match=message):
         inflate(grid(["#."]), **kwargs)
@@ -257,9 +271,20 @@ def run_cli(*args: str) -> subprocess.CompletedProcess:
 def test_cli_reproduces_costmap_ros_csv_byte_for_byte(tmp_path: Path) -> None:
     home = DATA / "sigverse-3ldk" / "3LDK_05"
     out, png = tmp_path / "cm.csv", tmp_path / "cm.png"
-    result = run_cli("costmap", str(home / "map.yaml"), "--inscribed-radius", "0.22",
-                     "--inflation-radius", "1.0", "--cost-scaling-factor", "10",
-                     "--out", str(out), "--png", str(png))
+    result = run_cli(
+        "costmap",
+        str(home / "map.yaml"),
+        "--inscribed-radius",
+        "0.22",
+        "--inflation-radius",
+        "1.0",
+        "--cost-scaling-factor",
+        "10",
+        "--out",
+        str(out),
+        "--png",
+        str(png),
+    )
     assert result.returncode == 0, result.stderr
     assert out.read_bytes() == (home / "costmap_ros.csv").read_bytes()
     with Image.open(png) as img:
@@ -269,8 +294,9 @@ def test_cli_reproduces_costmap_ros_csv_byte_for_byte(tmp_path: Path) -> None:
 def test_cli_robot_radius_and_unknown(tmp_path: Path) -> None:
     home = DATA / "sigverse-3ldk" / "3LDK_06"
     out = tmp_path / "cm.csv"
-    result = run_cli("costmap", str(home / "map.yaml"), "--robot-radius", "0.3", "--track-unknown-space",
-                     "--out", str(out))
+    result = run_cli(
+        "costmap", str(home / "map.yaml"), "--robot-radius", "0.3", "--track-unknown-space", "--out", str(out)
+    )
     assert result.returncode == 0, result.stderr
     text = out.read_text()
     assert text.endswith("\n") and len(text.splitlines()) == 192
@@ -281,12 +307,20 @@ def test_cli_robot_radius_and_unknown(tmp_path: Path) -> None:
     assert np.any(written == -1)
 
 
-@pytest.mark.parametrize("args, message", [
-    (["/nonexistent/map.yaml"], "error: map YAML /nonexistent/map.yaml does not exist"),
-    (["MAP", "--robot-radius", "0.3", "--inscribed-radius", "0.2"],
-     "error: give either robot_radius or inscribed_radius, not both"),
-    (["MAP", "--inflation-radius", "-1"], "error: cost map setting inflation_radius must be >= 0, got -1.0"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["/nonexistent/map.yaml"], "error: map YAML /nonexistent/map.yaml does not exist"),
+        (
+            ["MAP", "--robot-radius", "0.3", "--inscribed-radius", "0.2"],
+            "error: give either robot_radius or inscribed_radius, not both",
+        ),
+        (
+            ["MAP", "--inflation-radius", "-1"],
+            "error: cost map setting inflation_radius must be >= 0, got -1.0",
+        ),
+    ],
+)
 def test_cli_errors(tmp_path: Path, args: list[str], message: str) -> None:
     yaml_path = str(DATA / "sigverse-3ldk" / "3LDK_01" / "map.yaml")
     args = [yaml_path if a == "MAP" else a for a in args]
@@ -324,8 +358,8 @@ def test_a_huge_inflation_radius_is_capped_at_the_diagonal_with_the_same_costs()
     occ = grid(["#.......?.", "..........", "....#.....", "..........", ".........#", "....??...."])
     assert max_cell_radius(occ) == math.ceil(math.hypot(6, 10)) == 12
     settings = CostMapSettings(inscribed_radius=0.1, inflation_radius=1e9, cost_scaling_factor=0.5)
-    got = inflate(occ, inscribed_radius=0.1, inflation_radius=1e9, cost_scaling_factor=0.5)   # 1e10 cells
-    for cells in (12, 13, 40):   # at the cap and well beyond it (uncapped kernels): identical
+    got = inflate(occ, inscribed_radius=0.1, inflation_radius=1e9, cost_scaling_factor=0.5)  # 1e10 cells
+    for cells in (12, 13, 40):  # at the cap and well beyond it (uncapped kernels): identical
         np.testing.assert_array_equal(got.costs, _uncapped(occ, cells, settings))
     assert got.settings.inflation_radius == 1e9
     # with a slow decay every cell is inflated: the radius did reach across the whole map
@@ -333,18 +367,21 @@ def test_a_huge_inflation_radius_is_capped_at_the_diagonal_with_the_same_costs()
 
 
 def test_a_huge_inflation_radius_on_a_bundled_home_stays_small() -> None:
-    m = load_map(DATA / "albert-b" / "map.yaml")    # 800 x 1184 cells: 1e9 m would be a 2e10-cell kernel
+    m = load_map(DATA / "albert-b" / "map.yaml")  # 800 x 1184 cells: 1e9 m would be a 2e10-cell kernel
     huge = inflate(m, inflation_radius=1e9, cost_scaling_factor=10.0)
     np.testing.assert_array_equal(huge.costs, inflate(m, inflation_radius=80.0, cost_scaling_factor=10.0).costs)
 
 
-@pytest.mark.parametrize("distance, resolution, message", [
-    (float("inf"), 0.1, "a distance in metres must be a finite number, got inf"),
-    (float("nan"), 0.1, "a distance in metres must be a finite number, got nan"),
-    ("1", 0.1, "a distance in metres must be a finite number, got '1'"),
-    (1.0, 0.0, r"the map resolution must be a finite number > 0 \(metres per cell\), got 0.0"),
-    (1.0, float("inf"), "the map resolution must be a finite number > 0"),
-])
+@pytest.mark.parametrize(
+    "distance, resolution, message",
+    [
+        (float("inf"), 0.1, "a distance in metres must be a finite number, got inf"),
+        (float("nan"), 0.1, "a distance in metres must be a finite number, got nan"),
+        ("1", 0.1, "a distance in metres must be a finite number, got '1'"),
+        (1.0, 0.0, r"the map resolution must be a finite number > 0 \(metres per cell\), got 0.0"),
+        (1.0, float("inf"), "the map resolution must be a finite number > 0"),
+    ],
+)
 def test_cell_distance_rejects_bad_numbers(distance: float, resolution: float, message: str) -> None:
     with pytest.raises(MapError, match=message):
         cell_distance(distance, resolution)
@@ -363,9 +400,11 @@ def test_cli_huge_and_non_finite_radii(tmp_path: Path) -> None:
     ok = run_cli("costmap", yaml_path, "--inflation-radius", "1e9", "--out", str(tmp_path / "x.csv"))
     assert ok.returncode == 0, ok.stderr
     assert len((tmp_path / "x.csv").read_text().splitlines()) == 192
-    for option, value, message in (("--inflation-radius", "inf", "inflation_radius must be a finite number, got inf"),
-                                   ("--cost-scaling-factor", "nan", "cost_scaling_factor must be a finite number"),
-                                   ("--cost-scaling-factor", "-2", "cost_scaling_factor must be >= 0, got -2.0")):
+    for option, value, message in (
+        ("--inflation-radius", "inf", "inflation_radius must be a finite number, got inf"),
+        ("--cost-scaling-factor", "nan", "cost_scaling_factor must be a finite number"),
+        ("--cost-scaling-factor", "-2", "cost_scaling_factor must be >= 0, got -2.0"),
+    ):
         bad = run_cli("costmap", yaml_path, option, value, "--out", str(tmp_path / "y.csv"))
         assert bad.returncode == 2 and bad.stderr.startswith(f"error: cost map setting {message}"), bad.stderr
 

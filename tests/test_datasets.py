@@ -29,12 +29,14 @@ from spcotmhp.errors import DatasetError, SpcotmhpError
 
 # --- a 20 x 30 map at 0.1 m, origin (-1, -1): border walls, an unknown block at x 1.0..1.5, y 0.0..0.5 ---
 HEIGHT, WIDTH = 20, 30
-YAML = "image: map.pgm\nresolution: 0.1\norigin: [-1.0, -1.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+YAML = (
+    "image: map.pgm\nresolution: 0.1\norigin: [-1.0, -1.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+)
 TEACHING = (
     "event,x,y,words_ja,words_en\n"
     "0,0.25,0.25,台所,This is the Kitchen!\n"
     "1,0.35,0.15,台所 です,kitchen\n"
-    "2,-0.45,0.55,寝室,\"the bedroom, upstairs\"\n"
+    '2,-0.45,0.55,寝室,"the bedroom, upstairs"\n'
 )
 
 
@@ -119,8 +121,7 @@ def test_bad_lang(tmp_path):
 
 
 def test_empty_teaching(tmp_path):
-    with raises("teaching.csv is empty (expected a header x,y,words_en (or words_ja, or both; optional event, "
-                "step)"):
+    with raises("teaching.csv is empty (expected a header x,y,words_en (or words_ja, or both; optional event, step)"):
         load_dataset(make(tmp_path / "a", teaching_csv=""))
     with raises("teaching.csv has a header but no teaching events"):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_ja\n\n"))
@@ -133,13 +134,15 @@ def test_event_column_optional(tmp_path):
     d = load_dataset(folder)
     assert d.n_events == 2 and d.tokens == [["this", "is", "the", "hall"], ["the", "hall"]]
     assert d.truth_place.tolist() == [0, 0]
-    with raises("teaching.csv row 3: event 0 appears twice (also on row 2)"):   # given, it must count 0, 1, ...
+    with raises("teaching.csv row 3: event 0 appears twice (also on row 2)"):  # given, it must count 0, 1, ...
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words_en\n0,0.2,0.2,a\n0,0.3,0.2,b\n"))
 
 
 def test_missing_columns_lists_found_and_accepted(tmp_path):
-    with raises("teaching.csv: missing column(s) x; found event, xpos, y, words_ja; "
-                "accepted: x, y, words_ja and/or words_en, [event], [step]"):
+    with raises(
+        "teaching.csv: missing column(s) x; found event, xpos, y, words_ja; "
+        "accepted: x, y, words_ja and/or words_en, [event], [step]"
+    ):
         load_dataset(make(tmp_path / "a", teaching_csv="event,xpos,y,words_ja\n0,1,2,a\n"), lang="ja")
     with raises("teaching.csv: missing column(s) words_ja or words_en; found event, x, y, words; "):
         load_dataset(make(tmp_path / "b", teaching_csv="event,x,y,words\n0,1,2,a\n"), lang="ja")
@@ -168,8 +171,14 @@ def test_no_english_words(tmp_path):
         ("1,0.2,0.2,w", "teaching.csv row 3: 4 fields, expected 5 (event,x,y,words_ja,words_en)"),
         ("one,0.2,0.2,w,w", "teaching.csv row 3: event is 'one', not a number"),
         ("1.5,0.2,0.2,w,w", "teaching.csv row 3: event is '1.5', not an integer"),
-        ("0,0.2,0.2,w,w", "teaching.csv row 3: event 0 appears twice (also on row 2); event ids must be 0, 1, 2"),
-        ("3,0.2,0.2,w,w", "teaching.csv row 3: event 3 follows 0; event ids must be 0, 1, 2, ... in file order"),
+        (
+            "0,0.2,0.2,w,w",
+            "teaching.csv row 3: event 0 appears twice (also on row 2); event ids must be 0, 1, 2",
+        ),
+        (
+            "3,0.2,0.2,w,w",
+            "teaching.csv row 3: event 3 follows 0; event ids must be 0, 1, 2, ... in file order",
+        ),
     ],
 )
 def test_bad_teaching_rows(tmp_path, row, message):
@@ -203,7 +212,10 @@ def test_line_numbers_count_blank_lines_and_quoted_newlines(tmp_path):
         ("event,place\n0,0\n1,0\n", "truth.csv has no row for 1 of teaching.csv's 3 events (2)"),
         ("event,place\n0,0\n1,0\n1,0\n2,0\n", "truth.csv row 4: event 1 appears twice (also on row 3)"),
         ("event,place\n0,0\n1,-1\n2,0\n", "truth.csv row 3: place is -1, must be >= 0"),
-        ("event,where\n0,0\n", "truth.csv: missing column(s) place; found event, where; accepted: event, place, [concept]"),
+        (
+            "event,where\n0,0\n",
+            "truth.csv: missing column(s) place; found event, where; accepted: event, place, [concept]",
+        ),
     ],
 )
 def test_bad_truth(tmp_path, truth, message):
@@ -221,7 +233,9 @@ PLACES = "place,name_ja,name_en\n0,台所,kitchen\n1,寝室,bedroom\n"
 
 
 def test_places_and_adjacency(tmp_path):
-    d = load_dataset(make(tmp_path, places_csv=PLACES, adjacency_csv="1,1\n1,1\n", truth_csv="event,place\n0,0\n1,0\n2,1\n"))
+    d = load_dataset(
+        make(tmp_path, places_csv=PLACES, adjacency_csv="1,1\n1,1\n", truth_csv="event,place\n0,0\n1,0\n2,1\n")
+    )
     assert d.place_names == ["kitchen", "bedroom"]
     np.testing.assert_array_equal(d.adjacency, [[1, 1], [1, 1]])
     assert load_dataset(make(tmp_path / "j", places_csv=PLACES), lang="ja").place_names == ["台所", "寝室"]
@@ -230,19 +244,34 @@ def test_places_and_adjacency(tmp_path):
 @pytest.mark.parametrize(
     "files, message",
     [
-        ({"places_csv": "place,name_ja\n0,台所\n"}, "places.csv: missing column(s) name_en; found place, name_ja"),
-        ({"places_csv": "place,name_ja,name_en\n0,a,b\n2,c,d\n"}, "places.csv row 3: place 2 follows 0; place ids"),
+        (
+            {"places_csv": "place,name_ja\n0,台所\n"},
+            "places.csv: missing column(s) name_en; found place, name_ja",
+        ),
+        (
+            {"places_csv": "place,name_ja,name_en\n0,a,b\n2,c,d\n"},
+            "places.csv row 3: place 2 follows 0; place ids",
+        ),
         ({"places_csv": "place,name_ja,name_en\n0,a,\n"}, "places.csv row 2: name_en is blank"),
-        ({"places_csv": PLACES, "truth_csv": "event,place\n0,0\n1,0\n2,5\n"},
-         "truth.csv row 4: place 5 is not in places.csv (places 0..1)"),
+        (
+            {"places_csv": PLACES, "truth_csv": "event,place\n0,0\n1,0\n2,5\n"},
+            "truth.csv row 4: place 5 is not in places.csv (places 0..1)",
+        ),
         ({"adjacency_csv": "1,1,0\n1,1,0\n"}, "adjacency.csv is 2x3; it must be square"),
         ({"adjacency_csv": "1,0.5\n0.5,1\n"}, "adjacency.csv row 1 column 2 is 0.5; entries must be 0 or 1"),
-        ({"adjacency_csv": "1,1\n0,1\n"}, "adjacency.csv is not symmetric: row 1 column 2 is 1 but row 2 column 1 is 0"),
+        (
+            {"adjacency_csv": "1,1\n0,1\n"},
+            "adjacency.csv is not symmetric: row 1 column 2 is 1 but row 2 column 1 is 0",
+        ),
         ({"adjacency_csv": "1,x\nx,1\n"}, "adjacency.csv row 1 column 2 is 'x', not a number"),
-        ({"adjacency_csv": "1,1,0\n1,1,1\n0,1,1\n", "places_csv": PLACES},
-         "adjacency.csv is 3x3 but places.csv has 2 places"),
-        ({"adjacency_csv": "1,1,0\n1,1,1\n0,1,1\n", "truth_csv": "event,place\n0,0\n1,0\n2,1\n"},
-         "adjacency.csv is 3x3 but truth.csv has 2 places"),
+        (
+            {"adjacency_csv": "1,1,0\n1,1,1\n0,1,1\n", "places_csv": PLACES},
+            "adjacency.csv is 3x3 but places.csv has 2 places",
+        ),
+        (
+            {"adjacency_csv": "1,1,0\n1,1,1\n0,1,1\n", "truth_csv": "event,place\n0,0\n1,0\n2,1\n"},
+            "adjacency.csv is 3x3 but truth.csv has 2 places",
+        ),
     ],
 )
 def test_bad_places_and_adjacency(tmp_path, files, message):
@@ -262,8 +291,14 @@ def test_features_raw_values_kept_and_header_allowed(tmp_path):
     "rows, message",
     [
         ("0.5,0.5\n0.1,0.9\n", "image_features_places365.csv has 2 rows but teaching.csv has 3 events"),
-        ("0.5,0.5\n0.1,-0.9\n0,1\n", "image_features_places365.csv row 2 column 2 is -0.9; features must be non-negative"),
-        ("0.5,0.5\n0.1,nan\n0,1\n", "image_features_places365.csv row 2 column 2 is 'nan', not a finite number"),
+        (
+            "0.5,0.5\n0.1,-0.9\n0,1\n",
+            "image_features_places365.csv row 2 column 2 is -0.9; features must be non-negative",
+        ),
+        (
+            "0.5,0.5\n0.1,nan\n0,1\n",
+            "image_features_places365.csv row 2 column 2 is 'nan', not a finite number",
+        ),
         ("0.5,0.5\n0.1,0.9,0\n0,1\n", "image_features_places365.csv row 2: 3 values, expected 2 as on row 1"),
         ("", "image_features_places365.csv is empty"),
     ],
@@ -289,7 +324,7 @@ def test_costmap(tmp_path):
 
 # --- warnings --------------------------------------------------------------------------------------
 def test_points_in_walls_unknown_and_off_map_warn(tmp_path):
-    text = ("event,x,y,words_ja\n0,0.2,0.2,a\n1,-0.95,0.05,b\n2,1.25,0.25,c\n3,5.0,0.0,d\n")
+    text = "event,x,y,words_ja\n0,0.2,0.2,a\n1,-0.95,0.05,b\n2,1.25,0.25,c\n3,5.0,0.0,d\n"
     d, caught = load_warned(make(tmp_path, teaching_csv=text), lang="ja")
     assert d.n_events == 4
     assert caught == [
@@ -343,8 +378,9 @@ def test_align_events_matches_brute_force():
     for _ in range(30):
         traj, pos = rng.uniform(0, 3, (7, 2)), rng.uniform(0, 3, (3, 2))
         dist = np.hypot(*(pos[:, None, :] - traj[None, :, :]).transpose(2, 0, 1))
-        best = min(sum(dist[e, t] for e, t in enumerate(c))
-                   for c in itertools.combinations_with_replacement(range(7), 3))
+        best = min(
+            sum(dist[e, t] for e, t in enumerate(c)) for c in itertools.combinations_with_replacement(range(7), 3)
+        )
         steps = align_events(pos, traj)
         assert np.all(np.diff(steps) >= 0)
         assert dist[np.arange(3), steps].sum() == pytest.approx(best)
@@ -353,18 +389,38 @@ def test_align_events_matches_brute_force():
 @pytest.mark.parametrize(
     "teaching, trajectory, message",
     [
-        ("event,x,y,words_ja,step\n0,0.0,0.25,a,5\n", None,
-         "teaching.csv has a step column but the folder has no trajectory.csv"),
-        ("event,x,y,words_ja,step\n0,0.0,0.25,a,27\n", _walk(),
-         "teaching.csv row 2: step 27 is beyond trajectory.csv's last step 26"),
-        ("event,x,y,words_ja,step\n0,0.0,0.25,a,5\n1,0.0,0.25,a,4\n", _walk(),
-         "teaching.csv row 3: step 4 is before the previous event's step 5; steps must not decrease"),
-        ("event,x,y,words_ja,step\n0,0.0,0.25,a,-1\n", _walk(), "teaching.csv row 2: step is -1, must be >= 0"),
-        ("event,x,y,words_ja\n0,0.0,0.25,a\n", "step,x,y\n0,0,0\n2,0,0\n",
-         "trajectory.csv row 3: step 2 follows 0; steps must be 0, 1, 2, ... in file order"),
+        (
+            "event,x,y,words_ja,step\n0,0.0,0.25,a,5\n",
+            None,
+            "teaching.csv has a step column but the folder has no trajectory.csv",
+        ),
+        (
+            "event,x,y,words_ja,step\n0,0.0,0.25,a,27\n",
+            _walk(),
+            "teaching.csv row 2: step 27 is beyond trajectory.csv's last step 26",
+        ),
+        (
+            "event,x,y,words_ja,step\n0,0.0,0.25,a,5\n1,0.0,0.25,a,4\n",
+            _walk(),
+            "teaching.csv row 3: step 4 is before the previous event's step 5; steps must not decrease",
+        ),
+        (
+            "event,x,y,words_ja,step\n0,0.0,0.25,a,-1\n",
+            _walk(),
+            "teaching.csv row 2: step is -1, must be >= 0",
+        ),
+        (
+            "event,x,y,words_ja\n0,0.0,0.25,a\n",
+            "step,x,y\n0,0,0\n2,0,0\n",
+            "trajectory.csv row 3: step 2 follows 0; steps must be 0, 1, 2, ... in file order",
+        ),
         ("event,x,y,words_ja\n0,0.0,0.25,a\n", "step,x\n0,0\n", "trajectory.csv: missing column(s) y"),
         ("event,x,y,words_ja\n0,0.0,0.25,a\n", "step,x,y\n", "trajectory.csv has a header but no poses"),
-        ("event,x,y,words_ja\n0,0.0,0.25,a\n", "step,x,y\n0,0,inf\n", "trajectory.csv row 2: y is 'inf', not a finite"),
+        (
+            "event,x,y,words_ja\n0,0.0,0.25,a\n",
+            "step,x,y\n0,0,inf\n",
+            "trajectory.csv row 2: y is 'inf', not a finite",
+        ),
     ],
 )
 def test_bad_trajectories(tmp_path, teaching, trajectory, message):
@@ -383,14 +439,20 @@ def test_trajectory_warnings(tmp_path):
 
 
 # --- robustness: arbitrary text never gives a traceback --------------------------------------------
-GARBAGE = st.text(alphabet="event,xywords_japlacestp0123456789.-\n\"einfa 台", max_size=80)
+GARBAGE = st.text(alphabet='event,xywords_japlacestp0123456789.-\n"einfa 台', max_size=80)
 
 
 @pytest.mark.parametrize(
     "name, header",
-    [("teaching_csv", "event,x,y,words_ja\n"), ("truth_csv", "event,place\n"), ("places_csv", "place,name_ja\n"),
-     ("trajectory_csv", "step,x,y\n"), ("adjacency_csv", ""), ("image_features_places365_csv", ""),
-     ("costmap_ros_csv", "")],
+    [
+        ("teaching_csv", "event,x,y,words_ja\n"),
+        ("truth_csv", "event,place\n"),
+        ("places_csv", "place,name_ja\n"),
+        ("trajectory_csv", "step,x,y\n"),
+        ("adjacency_csv", ""),
+        ("image_features_places365_csv", ""),
+        ("costmap_ros_csv", ""),
+    ],
 )
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(body=GARBAGE)
@@ -407,12 +469,29 @@ def test_garbage_files_never_traceback(name, header, body):
 
 # --- bundled data ----------------------------------------------------------------------------------
 SIGVERSE = ["3LDK_01", "3LDK_05", "3LDK_06"]
-EN_WORDS = {"entrance", "living", "dining", "kitchen", "bath", "washroom", "toilet", "bedroom", "storeroom",
-            "corridor", "east", "south", "hall"}
+EN_WORDS = {
+    "entrance",
+    "living",
+    "dining",
+    "kitchen",
+    "bath",
+    "washroom",
+    "toilet",
+    "bedroom",
+    "storeroom",
+    "corridor",
+    "east",
+    "south",
+    "hall",
+}
 # teaching events whose recorded position is not on a free cell of its map (0-based event ids); each is
 # within 0.1-0.32 m of free space (see spcotmhp/data/README.md)
-OFF_FREE = {"3LDK_01": {65, 101, 102, 103, 104}, "3LDK_05": {39, 50, 57, 61, 62, 63, 72, 91, 93, 94, 118},
-            "3LDK_06": {130, 131, 164}, "albert-b": set()}
+OFF_FREE = {
+    "3LDK_01": {65, 101, 102, 103, 104},
+    "3LDK_05": {39, 50, 57, 61, 62, 63, 72, 91, 93, 94, 118},
+    "3LDK_06": {130, 131, 164},
+    "albert-b": set(),
+}
 
 
 def test_bundled_names_and_paths():
@@ -482,8 +561,11 @@ def test_load_bundled_says_its_known_warnings_once(monkeypatch):
         warnings.simplefilter("always")
         load_bundled("3LDK_05")
     assert [str(w.message) for w in caught] == [
-        ("3LDK_05: 11 known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
-        "spcotmhp/data/README.md); `spcotmhp check-dataset 3LDK_05` lists them")]
+        (
+            "3LDK_05: 11 known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
+            "spcotmhp/data/README.md); `spcotmhp check-dataset 3LDK_05` lists them"
+        )
+    ]
 
 
 def test_bad_map_is_a_map_error_naming_the_image(tmp_path):

@@ -64,8 +64,9 @@ def test_demo_writes_the_pictures_and_a_loadable_model(demo_run):
 
 
 def test_demo_supervised_fit(tmp_path):
-    result = CliRunner().invoke(app, ["demo", "--out", str(tmp_path), "--supervised",
-                                      "--instruction", "go to the kitchen"])
+    result = CliRunner().invoke(
+        app, ["demo", "--out", str(tmp_path), "--supervised", "--instruction", "go to the kitchen"]
+    )
     assert result.exit_code == 0, result.output
     assert "model:       supervised fit (truth labels), 11 places: asked for with --supervised" in result.output
     assert "-> kitchen, " in result.output
@@ -83,8 +84,9 @@ def test_learner_falls_back_when_the_instruction_is_not_understood(home):
     with _progress() as bar:
         chosen = learn_demo_model(home, "go to the garage", seed=0, runs=1, iterations=20, bar=bar)
     assert chosen.method == "supervised fit (truth labels)"
-    assert chosen.reason.startswith("the instruction cannot be understood on the unsupervised map (no known "
-                                    "place word in 'go to the garage'")
+    assert chosen.reason.startswith(
+        "the instruction cannot be understood on the unsupervised map (no known place word in 'go to the garage'"
+    )
 
 
 def test_demo_start_is_the_free_cell_nearest_the_place_mean(home):
@@ -99,11 +101,13 @@ def test_demo_start_is_the_free_cell_nearest_the_place_mean(home):
     rows, cols = np.nonzero(planner.graph.traversable)
     centres = model.map.cell_to_world(planner.graph.to_map(np.stack([rows, cols], axis=1)))
     assert np.linalg.norm(xy - entrance) <= np.linalg.norm(centres - entrance, axis=1).min() + 1e-9
-    assert demo_start(planner)[1] == "entrance"      # the default
-    with pytest.raises(InstructionError) as info:    # never a silent fallback to another place
+    assert demo_start(planner)[1] == "entrance"  # the default
+    with pytest.raises(InstructionError) as info:  # never a silent fallback to another place
         demo_start(planner, "garage")
-    assert str(info.value) == ("--start-place 'garage' names no place of the learned map; its places: bath, "
-                               "bedroom, corridor, dining, entrance, kitchen, living, toilet, washroom")
+    assert str(info.value) == (
+        "--start-place 'garage' names no place of the learned map; its places: bath, "
+        "bedroom, corridor, dining, entrance, kitchen, living, toilet, washroom"
+    )
 
 
 @pytest.fixture(scope="module")
@@ -130,9 +134,10 @@ def test_show_notes_the_kept_hmm_transitions(home, model_dir, tmp_path):
     folder = save_model(learned, tmp_path / "learned")
     result = CliRunner().invoke(app, ["show", str(folder)])
     assert result.exit_code == 0, result.output
-    assert result.output.splitlines()[1] == ("note: the edges come from psi of map; the transitions the HMM "
-                                             "learned are kept as psi_learned in arrays.npz")
-    plain = CliRunner().invoke(app, ["show", str(model_dir)])       # supervised: nothing learned to keep
+    assert result.output.splitlines()[1] == (
+        "note: the edges come from psi of map; the transitions the HMM learned are kept as psi_learned in arrays.npz"
+    )
+    plain = CliRunner().invoke(app, ["show", str(model_dir)])  # supervised: nothing learned to keep
     assert "psi_learned" not in plain.output
 
 
@@ -152,8 +157,12 @@ def test_show_and_demo_report_bad_input_without_a_traceback(tmp_path):
     run = subprocess.run(SPCOTMHP + ["show", str(tmp_path / "nope")], capture_output=True, text=True, check=False)
     assert run.returncode == 2
     assert run.stderr.strip() == f"error: model folder {tmp_path / 'nope'} does not exist"
-    run = subprocess.run(SPCOTMHP + ["demo", "--home", "nowhere", "--out", str(tmp_path)], capture_output=True,
-                         text=True, check=False)
+    run = subprocess.run(
+        SPCOTMHP + ["demo", "--home", "nowhere", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert run.returncode == 2
     assert "error: nowhere is neither a dataset folder nor a bundled dataset name" in run.stderr
     assert "Traceback" not in run.stderr
@@ -162,15 +171,24 @@ def test_show_and_demo_report_bad_input_without_a_traceback(tmp_path):
 def test_demo_reports_an_unwritable_output_folder(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    run = subprocess.run(SPCOTMHP + ["demo", "--supervised", "--out", str(blocker / "out")], capture_output=True,
-                         text=True, check=False)
+    run = subprocess.run(
+        SPCOTMHP + ["demo", "--supervised", "--out", str(blocker / "out")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert run.returncode == 2
     assert f"error: cannot write the demo output to {blocker / 'out'}" in run.stderr
 
 
 def test_demo_refuses_an_unknown_start_place(tmp_path):
-    out = subprocess.run([*SPCOTMHP, "demo", "--supervised", "--start-place", "garage", "--out", str(tmp_path / "d")],
-                         capture_output=True, text=True, timeout=300, check=False)
+    out = subprocess.run(
+        [*SPCOTMHP, "demo", "--supervised", "--start-place", "garage", "--out", str(tmp_path / "d")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
     assert out.returncode == 2
     assert "error: --start-place 'garage' names no place of the learned map; its places: bath, bedroom" in out.stderr
     assert "Traceback" not in out.stderr

@@ -111,22 +111,30 @@ def test_waypoint_counts_only_after_the_path_leaves_its_start_cell():
     # eastwards never comes back to it
     start = Box.around(np.array([[1.5, 3.5]]), 0.6)
     path = np.array([[1.5, 3.5], [5.0, 3.5], [5.0, 1.0]])
-    assert score_path(path, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR]).w_success   # old rule
+    assert score_path(path, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR]).w_success  # old rule
     out = score_path(path, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR], start_box=start)
     assert not out.w_success and out.success
     # ... but a path that goes out of the start cell and through the corridor again passes it
     back = np.array([[1.5, 3.5], [1.5, 4.5], [0.5, 4.5], [0.5, 3.2], [5.0, 3.2], [5.0, 1.0]])
     assert score_path(back, [BED_NEAR], 0, 6.0, 0.0, waypoint_boxes=[CORRIDOR], start_box=start).w_success
     # a path that never leaves the start cell passes no waypoint
-    assert not score_path(np.array([[1.5, 3.5], [1.52, 3.5]]), [CORRIDOR], 0, 1.0, 0.0,
-                          waypoint_boxes=[CORRIDOR], start_box=start).w_success
+    assert not score_path(
+        np.array([[1.5, 3.5], [1.52, 3.5]]),
+        [CORRIDOR],
+        0,
+        1.0,
+        0.0,
+        waypoint_boxes=[CORRIDOR],
+        start_box=start,
+    ).w_success
 
 
 def test_n_from_the_start_and_n_via_the_waypoint_are_separate():
     # ends in BED_FAR: closest from the start is BED_NEAR (index 0), closest via the waypoint BED_FAR (index 1)
-    path = np.array([[0.0, 1.0], [0.0, 9.0], [9.0, 9.0]])              # 8 + 9 = 17 m
-    out = score_path(path, [BED_NEAR, BED_FAR], 0, 17.0, 0.0, waypoint_boxes=[Box(-0.5, 4.0, 0.5, 5.0)],
-                     closest_goal_via=1)
+    path = np.array([[0.0, 1.0], [0.0, 9.0], [9.0, 9.0]])  # 8 + 9 = 17 m
+    out = score_path(
+        path, [BED_NEAR, BED_FAR], 0, 17.0, 0.0, waypoint_boxes=[Box(-0.5, 4.0, 0.5, 5.0)], closest_goal_via=1
+    )
     assert (out.n_success, out.n_via_success, out.w_success) == (False, True, True)
     m = summarise([out])
     assert (m["n_spl"], m["wn_spl"], m["n_spl_via"], m["wn_spl_via"]) == (0.0, 0.0, 1.0, 1.0)
@@ -137,11 +145,11 @@ def test_off_free_space():
     free[5, 5] = False
 
     def cell_of(xy):
-        return np.floor(xy[:, ::-1]).astype(int)       # 1 m cells, (x, y) -> (row, col)
+        return np.floor(xy[:, ::-1]).astype(int)  # 1 m cells, (x, y) -> (row, col)
 
     assert not off_free_space(np.array([[0.5, 0.5], [9.5, 0.5]]), free, cell_of, 0.25)
-    assert off_free_space(np.array([[0.5, 0.5], [9.5, 9.5]]), free, cell_of, 0.25)    # the diagonal hits (5, 5)
-    assert off_free_space(np.array([[0.5, 0.5], [10.5, 0.5]]), free, cell_of, 0.25)   # leaves the map
+    assert off_free_space(np.array([[0.5, 0.5], [9.5, 9.5]]), free, cell_of, 0.25)  # the diagonal hits (5, 5)
+    assert off_free_space(np.array([[0.5, 0.5], [10.5, 0.5]]), free, cell_of, 0.25)  # leaves the map
 
 
 def test_empty_path_is_a_failure():
@@ -152,10 +160,10 @@ def test_empty_path_is_a_failure():
 
 def test_summarise_means_and_times():
     outs = [
-        Outcome(True, True, True, 5.0, 5.0, 1.0, 0.1),     # all four successes, ratio 1
-        Outcome(True, False, True, 10.0, 5.0, 0.5, 0.2),   # far instance: S, W; ratio 0.5
+        Outcome(True, True, True, 5.0, 5.0, 1.0, 0.1),  # all four successes, ratio 1
+        Outcome(True, False, True, 10.0, 5.0, 0.5, 0.2),  # far instance: S, W; ratio 0.5
         Outcome(False, False, False, 3.0, 5.0, 1.0, 0.3),  # failure
-        Outcome(True, True, False, 8.0, 4.0, 0.5, 0.4),    # missed waypoint: S, N; ratio 0.5
+        Outcome(True, True, False, 8.0, 4.0, 0.5, 0.4),  # missed waypoint: S, N; ratio 0.5
     ]
     m = summarise(outs)
     assert m["spl"] == pytest.approx((1.0 + 0.5 + 0 + 0.5) / 4)

@@ -18,8 +18,18 @@ def local_ray():
 
 
 def key(res):
-    return [(r.task_index, r.method, r.outcome.success, r.outcome.n_success, r.outcome.w_success,
-             round(r.outcome.p, 9), r.error) for r in res.records]
+    return [
+        (
+            r.task_index,
+            r.method,
+            r.outcome.success,
+            r.outcome.n_success,
+            r.outcome.w_success,
+            round(r.outcome.p, 9),
+            r.error,
+        )
+        for r in res.records
+    ]
 
 
 @pytest.mark.slow

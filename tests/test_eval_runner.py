@@ -20,7 +20,7 @@ from spcotmhp.evaluation.tasks import make_tasks, subset
 
 EXE = Path(sys.executable).with_name("spcotmhp")
 ALL = list(METHODS)
-GRID = [m for m in ALL if not m.endswith("-ma")]   # the moving average leaves the grid (and may cut a wall)
+GRID = [m for m in ALL if not m.endswith("-ma")]  # the moving average leaves the grid (and may cut a wall)
 
 
 @pytest.fixture(scope="module")
@@ -34,8 +34,16 @@ def advanced(ctx):
 
 
 def outcomes(records):
-    return {(r.task_index, r.method): (r.outcome.success, r.outcome.n_success, r.outcome.w_success,
-                                       round(r.outcome.p, 9), r.outcome.ratio) for r in records}
+    return {
+        (r.task_index, r.method): (
+            r.outcome.success,
+            r.outcome.n_success,
+            r.outcome.w_success,
+            round(r.outcome.p, 9),
+            r.outcome.ratio,
+        )
+        for r in records
+    }
 
 
 def test_context_reuses_one_planning_graph(ctx):
@@ -114,8 +122,24 @@ def test_check_methods():
 
 
 def test_cli_evaluate_json():
-    out = CliRunner().invoke(app, ["evaluate", "3LDK_05", "--task", "basic", "--method", "spcotmhp,hpp2",
-                                   "--max-tasks", "5", "--workers", "1", "--seeds", "3", "--json"])
+    out = CliRunner().invoke(
+        app,
+        [
+            "evaluate",
+            "3LDK_05",
+            "--task",
+            "basic",
+            "--method",
+            "spcotmhp,hpp2",
+            "--max-tasks",
+            "5",
+            "--workers",
+            "1",
+            "--seeds",
+            "3",
+            "--json",
+        ],
+    )
     assert out.exit_code == 0, out.output
     res = json.loads(out.stdout)
     assert list(res["homes"]) == ["3LDK_05"] and list(res["mean"]) == ["spcotmhp", "hpp2"]
@@ -125,15 +149,32 @@ def test_cli_evaluate_json():
     assert {"spl", "spl_sd", "n_spl", "n_spl_sd", "success_sd"} <= set(res["mean"]["hpp2"])
 
 
-@pytest.mark.parametrize("args,message", [
-    (["evaluate", "3LDK_01", "--method", "spcotmhp,teleport"], "error: unknown method(s) teleport; accepted:"),
-    (["evaluate", "3LDK_01", "--task", "expert"], "error: --task must be one of basic, advanced, got 'expert'"),
-    (["evaluate", "no-such-home"], "error: no-such-home is neither a dataset folder nor a bundled dataset"),
-    (["evaluate", "3LDK_01", "--params", "guessed"], "error: --params must be one of supervised, learned"),
-    (["evaluate", "3LDK_01", "--connectivity", "magic"],
-     "error: --connectivity must be one of auto, hmm, walk, map, got 'magic'"),
-    (["reproduce", "--seeds", "0"], "Invalid value for '--seeds'"),
-])
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (
+            ["evaluate", "3LDK_01", "--method", "spcotmhp,teleport"],
+            "error: unknown method(s) teleport; accepted:",
+        ),
+        (
+            ["evaluate", "3LDK_01", "--task", "expert"],
+            "error: --task must be one of basic, advanced, got 'expert'",
+        ),
+        (
+            ["evaluate", "no-such-home"],
+            "error: no-such-home is neither a dataset folder nor a bundled dataset",
+        ),
+        (
+            ["evaluate", "3LDK_01", "--params", "guessed"],
+            "error: --params must be one of supervised, learned",
+        ),
+        (
+            ["evaluate", "3LDK_01", "--connectivity", "magic"],
+            "error: --connectivity must be one of auto, hmm, walk, map, got 'magic'",
+        ),
+        (["reproduce", "--seeds", "0"], "Invalid value for '--seeds'"),
+    ],
+)
 def test_cli_errors(args, message):
     proc = subprocess.run([str(EXE), *args], capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 2
@@ -142,22 +183,34 @@ def test_cli_errors(args, message):
 
 
 def test_reproduce_checks_its_output_path_before_running(tmp_path):
-    for out, message in [(tmp_path / "missing" / "x.md", (f"error: --out {tmp_path / 'missing' / 'x.md'}: the "
-                                                          f"folder {tmp_path / 'missing'} does not exist")),
-                         (tmp_path, f"error: --out {tmp_path} is a folder; give a file name such as")]:
-        proc = subprocess.run([str(EXE), "reproduce", "--out", str(out), "--max-tasks", "1"], capture_output=True,
-                              text=True, timeout=60, check=False)
+    for out, message in [
+        (
+            tmp_path / "missing" / "x.md",
+            (f"error: --out {tmp_path / 'missing' / 'x.md'}: the folder {tmp_path / 'missing'} does not exist"),
+        ),
+        (tmp_path, f"error: --out {tmp_path} is a folder; give a file name such as"),
+    ]:
+        proc = subprocess.run(
+            [str(EXE), "reproduce", "--out", str(out), "--max-tasks", "1"],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+        )
         assert proc.returncode == 2 and message in proc.stderr and "Traceback" not in proc.stderr
-        assert len(proc.stderr.strip().splitlines()) == 1   # refused before any home was loaded or planned
+        assert len(proc.stderr.strip().splitlines()) == 1  # refused before any home was loaded or planned
 
 
-@pytest.mark.parametrize("args,backend,address", [
-    (["--ray"], "ray", "local"),                          # bare, last
-    (["--ray", "--json"], "ray", "local"),                # bare, followed by an option
-    (["--ray", "ray://head:10001"], "ray", "ray://head:10001"),
-    (["--ray=auto"], "ray", "auto"),
-    ([], "local", None),
-])
+@pytest.mark.parametrize(
+    "args,backend,address",
+    [
+        (["--ray"], "ray", "local"),  # bare, last
+        (["--ray", "--json"], "ray", "local"),  # bare, followed by an option
+        (["--ray", "ray://head:10001"], "ray", "ray://head:10001"),
+        (["--ray=auto"], "ray", "auto"),
+        ([], "local", None),
+    ],
+)
 def test_ray_option_takes_an_optional_address(monkeypatch, args, backend, address):
     seen = {}
 
@@ -172,42 +225,81 @@ def test_ray_option_takes_an_optional_address(monkeypatch, args, backend, addres
 
 
 def test_markdown_tables_put_paper_rows_beside_ours():
-    ours = {"spcotmhp": {"spl": 0.9, "n_spl": 0.88, "w_spl": 0.9, "wn_spl": 0.87, "success": 1.0,
-                         "time_median_s": 0.0012, "time_p95_s": 0.004, "n_tasks": 10},
-            "spconavi-viterbi": {"spl": 0.4, "n_spl": 0.3, "w_spl": 0.6, "wn_spl": 0.01, "success": 0.4,
-                                 "time_median_s": 0.08, "time_p95_s": 0.2, "n_tasks": 10}}
+    ours = {
+        "spcotmhp": {
+            "spl": 0.9,
+            "n_spl": 0.88,
+            "w_spl": 0.9,
+            "wn_spl": 0.87,
+            "success": 1.0,
+            "time_median_s": 0.0012,
+            "time_p95_s": 0.004,
+            "n_tasks": 10,
+        },
+        "spconavi-viterbi": {
+            "spl": 0.4,
+            "n_spl": 0.3,
+            "w_spl": 0.6,
+            "wn_spl": 0.01,
+            "success": 0.4,
+            "time_median_s": 0.08,
+            "time_p95_s": 0.2,
+            "n_tasks": 10,
+        },
+    }
     text = markdown_table("advanced", ours)
     lines = text.splitlines()
     assert lines[0] == "### Table 5: advanced task"
     i = lines.index("| SpCoTMHP | paper | 0.922 | 0.906 | 0.794 | 0.781 |  |  | 390 ms |  |")
-    assert lines[i + 1] == ("| SpCoTMHP (ours: our smoothing) | ours | 0.900 | 0.900 | 0.880 | 0.870 | 1.000 | 0.000 "
-                            "| 1.2 ms / 4 ms | 10 |")
+    assert lines[i + 1] == (
+        "| SpCoTMHP (ours: our smoothing) | ours | 0.900 | 0.900 | 0.880 | 0.870 | 1.000 | 0.000 | 1.2 ms / 4 ms | 10 |"
+    )
     # the paper has no Viterbi row in Table 5: ours stands alone, labelled
-    assert ("| SpCoNavi (Viterbi) | ours | 0.400 | 0.600 | 0.300 | 0.010 | 0.400 | 0.000 | 80 ms / 200 ms | 10 |"
-            in lines)
+    assert (
+        "| SpCoNavi (Viterbi) | ours | 0.400 | 0.600 | 0.300 | 0.010 | 0.400 | 0.000 | 80 ms / 200 ms | 10 |" in lines
+    )
     assert sum(" paper " in ln for ln in lines) == len(PAPER["advanced"])
     basic = markdown_table("basic", {})
     assert "| SpCoNavi (Viterbi) | paper | 0.976 | 0.965 |  |  | 2,680 s |  |" in basic
     # several seeds: mean ± sd; a smoothed HPP row shares HPP's paper row; our N (via) columns when present
-    spread = {"hpp1": {**ours["spcotmhp"], "spl_sd": 0.01, "seeds": 3},
-              "hpp1-smoothed": {**ours["spcotmhp"], "n_spl_via": 0.5, "wn_spl_via": 0.4, "seeds": 3}}
+    spread = {
+        "hpp1": {**ours["spcotmhp"], "spl_sd": 0.01, "seeds": 3},
+        "hpp1-smoothed": {**ours["spcotmhp"], "n_spl_via": 0.5, "wn_spl_via": 0.4, "seeds": 3},
+    }
     lines = markdown_table("advanced", spread).splitlines()
     assert "N-SPL (via)" in lines[2] and sum(ln.startswith("| HPP-I (path cost) | paper") for ln in lines) == 1
     assert lines[lines.index(next(ln for ln in lines if ln.startswith("| HPP-I (path cost) | ours"))) + 1].startswith(
-        "| HPP-I + our smoothing | ours |")
+        "| HPP-I + our smoothing | ours |"
+    )
     assert "| HPP-I (path cost) | ours | 0.900 ± 0.010 | 0.900 |" in "\n".join(lines)
 
 
 def test_reproduce_markdown_says_how_each_method_moves():
     from spcotmhp.evaluation.tables import experiment_markdown
 
-    m = {"spl": 0.9, "n_spl": 0.8, "w_spl": 0.9, "wn_spl": 0.8, "success": 1.0, "time_median_s": 0.001,
-         "time_p95_s": 0.002, "n_tasks": 1}
-    basic = {"homes": {"h": {"spconavi-astar": m}}, "mean": {"spconavi-astar": m}, "notes": {}, "params": "supervised",
-             "seed": 0, "moves": {"spconavi-astar": MOVE_MODELS["spconavi-astar"], "astar": "8-connected"}}
+    m = {
+        "spl": 0.9,
+        "n_spl": 0.8,
+        "w_spl": 0.9,
+        "wn_spl": 0.8,
+        "success": 1.0,
+        "time_median_s": 0.001,
+        "time_p95_s": 0.002,
+        "n_tasks": 1,
+    }
+    basic = {
+        "homes": {"h": {"spconavi-astar": m}},
+        "mean": {"spconavi-astar": m},
+        "notes": {},
+        "params": "supervised",
+        "seed": 0,
+        "moves": {"spconavi-astar": MOVE_MODELS["spconavi-astar"], "astar": "8-connected"},
+    }
     text = experiment_markdown(basic, {**basic, "homes": {}}, "Tables", "About.")
-    assert ("Moves: SpCoNavi (A* approximation) 4-connected + stay (the paper's SpCoNavi action set); A* 8-connected. "
-            "SPL's reference length l is an 8-connected geodesic.") in text
+    assert (
+        "Moves: SpCoNavi (A* approximation) 4-connected + stay (the paper's SpCoNavi action set); A* 8-connected. "
+        "SPL's reference length l is an 8-connected geodesic."
+    ) in text
 
 
 def test_home_without_adjacency_uses_the_map_connectivity_rule():

@@ -8,15 +8,23 @@ from spcotmhp.evaluation.spread import aggregate, aggregate_methods, pm
 
 
 def test_aggregate_mean_and_sample_sd():
-    out = aggregate([{"spl": 0.5, "n_tasks": 10, "name": "x"}, {"spl": 0.7, "n_tasks": 10, "name": "y"},
-                     {"spl": 0.9, "n_tasks": 10, "name": "z"}])
+    out = aggregate(
+        [
+            {"spl": 0.5, "n_tasks": 10, "name": "x"},
+            {"spl": 0.7, "n_tasks": 10, "name": "y"},
+            {"spl": 0.9, "n_tasks": 10, "name": "z"},
+        ]
+    )
     # mean 0.7; sample sd sqrt((0.04 + 0 + 0.04) / 2) = 0.2
     assert out["spl"] == pytest.approx(0.7) and out["spl_sd"] == pytest.approx(0.2)
     assert (out["n_tasks"], out["name"], out["seeds"]) == (10, "x", 3) and "n_tasks_sd" not in out
     assert aggregate([{"spl": 0.5}])["spl_sd"] == 0.0
     assert pm({"spl": 0.7, "spl_sd": 0.2, "seeds": 3}, "spl") == "0.700 ± 0.200"
     assert pm({"spl": 0.7, "spl_sd": 0.0, "seeds": 1}, "spl") == "0.700"
-    assert list(aggregate_methods([{"b": {"v": 1.0}, "a": {"v": 2.0}}, {"b": {"v": 3.0}, "a": {"v": 2.0}}])) == ["b", "a"]
+    assert list(aggregate_methods([{"b": {"v": 1.0}, "a": {"v": 2.0}}, {"b": {"v": 3.0}, "a": {"v": 2.0}}])) == [
+        "b",
+        "a",
+    ]
     with pytest.raises(ValueError, match="no seeds"):
         aggregate([])
 
@@ -29,7 +37,7 @@ def test_moving_average_window_5_by_hand():
     np.testing.assert_allclose(out[-1], [3, 3])
     np.testing.assert_allclose(out[1], [1, 0])
     np.testing.assert_allclose(out[3], [(1 + 2 + 3 + 3 + 3) / 5, (0 + 0 + 0 + 1 + 2) / 5])
-    np.testing.assert_allclose(out[5], [3, 2])                  # poses 4-6: (3, 1), (3, 2), (3, 3)
+    np.testing.assert_allclose(out[5], [3, 2])  # poses 4-6: (3, 1), (3, 2), (3, 3)
     # the corner is cut: the averaged path is shorter
     assert np.linalg.norm(np.diff(out, axis=0), axis=1).sum() < 6.0
     np.testing.assert_allclose(moving_average(path[:2]), path[:2])
@@ -47,7 +55,7 @@ def test_hpp_with_our_smoothing_keeps_start_waypoint_and_is_not_longer():
     planner = HierarchicalPlanner(fit_supervised(load_bundled("3LDK_01")), use_cache=False)
     g = planner.graph
     hpp = HPP(g, EDGE_COSTS["hpp2"])
-    free = np.argwhere(np.isfinite(g.dist[0]) & g.traversable)   # cells connected to the places
+    free = np.argwhere(np.isfinite(g.dist[0]) & g.traversable)  # cells connected to the places
     for k in range(8):
         cell = free[np.random.default_rng(k).integers(len(free))]
         stages = [["kitchen"], ["bedroom"]]

@@ -14,12 +14,18 @@ def corridor_home(**overrides) -> Dataset:
     """A 3 x 13 all-free grid at 1 m per cell. Places along row 1 (cell centres at x = col + 0.5):
     0 "a" at cols 0-1, 1 "bed" at cols 5-6, 2 "bed" at cols 10-11, 3 "hall" at col 9 (rows 0-2).
     Adjacency is the chain 0 - 1 - 3 - 2."""
-    positions = np.array([
-        [0.5, 1.5], [1.5, 1.5],      # place 0, mean (1.0, 1.5) -> start cell (1, 1)
-        [5.5, 1.5], [6.5, 1.5],      # place 1, mean (6.0, 1.5) -> (1, 6)
-        [10.5, 1.5], [11.5, 1.5],    # place 2, mean (11.0, 1.5) -> (1, 11)
-        [9.5, 0.5], [9.5, 2.5],      # place 3, mean (9.5, 1.5) -> (1, 9)
-    ])
+    positions = np.array(
+        [
+            [0.5, 1.5],
+            [1.5, 1.5],  # place 0, mean (1.0, 1.5) -> start cell (1, 1)
+            [5.5, 1.5],
+            [6.5, 1.5],  # place 1, mean (6.0, 1.5) -> (1, 6)
+            [10.5, 1.5],
+            [11.5, 1.5],  # place 2, mean (11.0, 1.5) -> (1, 11)
+            [9.5, 0.5],
+            [9.5, 2.5],  # place 3, mean (9.5, 1.5) -> (1, 9)
+        ]
+    )
     adjacency = np.eye(4, dtype=int)
     for a, b in [(0, 1), (1, 3), (3, 2)]:
         adjacency[a, b] = adjacency[b, a] = 1
@@ -57,10 +63,12 @@ def test_basic_tasks_by_hand():
     tasks = by_places(ht)
     # the non-adjacent ordered pairs, but for those whose start is already a "bed" (l = 0: counted, left out)
     assert sorted((i, j) for i, _, j in tasks) == [(0, 2), (0, 3), (2, 0), (3, 0)]
-    assert ht.zero_length == ["start 1 -> bed (2): the start is a goal instance",
-                              "start 2 -> bed (1): the start is a goal instance"]
+    assert ht.zero_length == [
+        "start 1 -> bed (2): the start is a goal instance",
+        "start 2 -> bed (1): the start is a goal instance",
+    ]
     expect = {  # (i, j): (l, the goal place where the shortest reference path ends); positions at cols 1, 6, 11, 9
-        (0, 2): (5.0, 1),   # "bed" = places 1 (5 m away) and 2 (10 m)
+        (0, 2): (5.0, 1),  # "bed" = places 1 (5 m away) and 2 (10 m)
         (0, 3): (8.0, 3),
         (2, 0): (10.0, 0),
         (3, 0): (8.0, 0),
@@ -81,14 +89,21 @@ def test_advanced_tasks_by_hand():
     tasks = by_places(ht)
     expect = {  # (i, h, j): (l, goal place where the shortest path via the waypoint ends, closest goal from the
         # start) with l = min over instances w, g of d(start, w) + d(w, g)
-        (0, 3, 2): (10.0, 2, 1),  # to the hall 8, then the bed beyond it 2 (from the start the near bed is closest)
-        (0, 1, 3): (8.0, 3, 3), (0, 2, 3): (8.0, 3, 3),  # "bed" = either bedroom: via place 1, 5 + 3
+        (0, 3, 2): (
+            10.0,
+            2,
+            1,
+        ),  # to the hall 8, then the bed beyond it 2 (from the start the near bed is closest)
+        (0, 1, 3): (8.0, 3, 3),
+        (0, 2, 3): (8.0, 3, 3),  # "bed" = either bedroom: via place 1, 5 + 3
         (1, 0, 2): (10.0, 1, 1),  # out to "a" 5 and back to the first bedroom 5
-        (1, 3, 2): (5.0, 2, 1),   # hall 3, then the far bedroom 2; from the start, its own bedroom
-        (2, 1, 0): (10.0, 0, 0), (2, 3, 0): (10.0, 0, 0),
+        (1, 3, 2): (5.0, 2, 1),  # hall 3, then the far bedroom 2; from the start, its own bedroom
+        (2, 1, 0): (10.0, 0, 0),
+        (2, 3, 0): (10.0, 0, 0),
         (2, 0, 1): (15.0, 1, 2),  # "a" 10, back to the near bedroom 5
-        (2, 3, 1): (4.0, 2, 2),   # out to the hall and back into the same bedroom
-        (3, 1, 0): (8.0, 0, 0), (3, 2, 0): (8.0, 0, 0),
+        (2, 3, 1): (4.0, 2, 2),  # out to the hall and back into the same bedroom
+        (3, 1, 0): (8.0, 0, 0),
+        (3, 2, 0): (8.0, 0, 0),
     }
     assert set(tasks) == set(expect)  # h never in {i, j}; the waypoint's name never the goal's
     for key, (l, via, goal) in expect.items():
@@ -108,9 +123,11 @@ def test_unreachable_goal_is_dropped_with_reason():
     data[:, 8] = 100  # a wall cuts the hall and the far bedroom off
     ht = make_tasks(corridor_home(map=OccupancyMap(data, 1.0)), "basic", corridor_home().adjacency)
     assert (0, None, 3) not in by_places(ht)
-    assert ht.dropped == ["start 0 -> hall (3): no free-space path reaches a goal-named place",
-                          "start 2 -> a (0): no free-space path reaches a goal-named place",
-                          "start 3 -> a (0): no free-space path reaches a goal-named place"]
+    assert ht.dropped == [
+        "start 0 -> hall (3): no free-space path reaches a goal-named place",
+        "start 2 -> a (0): no free-space path reaches a goal-named place",
+        "start 3 -> a (0): no free-space path reaches a goal-named place",
+    ]
     assert by_places(ht)[(0, None, 2)].l == pytest.approx(5.0)  # the near bed still counts
 
 
@@ -154,8 +171,7 @@ def test_bundled_homes_follow_the_protocol(home, n_basic):
     # 11 places: 110 ordered pairs minus the adjacent ones (off-diagonal ones of adjacency.csv), of which the
     # pairs of two places of one name (bedroom to bedroom: l = 0) are counted and left out
     names = [p.name for p in basic.places]
-    same = sum(1 for i in range(11) for j in range(11)
-               if i != j and names[i] == names[j] and not ds.adjacency[i, j])
+    same = sum(1 for i in range(11) for j in range(11) if i != j and names[i] == names[j] and not ds.adjacency[i, j])
     assert len(basic.tasks) + len(basic.zero_length) == 110 - int(ds.adjacency.sum() - 11) == n_basic
     assert len(basic.zero_length) == same > 0
     assert not basic.dropped
@@ -168,6 +184,10 @@ def test_bundled_homes_follow_the_protocol(home, n_basic):
         assert t.start_cell == basic.places[t.start_place].cell
         start_in = any(basic.places[k].box.contains(np.array(t.start_xy)) for k in t.waypoint_places)
         assert t.start_in_waypoint == start_in
-    per_pair = {(i, j): sum(1 for h in range(11) if h not in (i, j) and names[h] != names[j])
-                for i in range(11) for j in range(11) if i != j and not ds.adjacency[i, j]}
+    per_pair = {
+        (i, j): sum(1 for h in range(11) if h not in (i, j) and names[h] != names[j])
+        for i in range(11)
+        for j in range(11)
+        if i != j and not ds.adjacency[i, j]
+    }
     assert len(adv.tasks) == sum(per_pair.values())

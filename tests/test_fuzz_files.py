@@ -75,15 +75,34 @@ def test_fuzzed_model_folders(templates, tmp_path_factory, seed):
 BASE = "resolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
 
 
-@pytest.mark.parametrize("yaml_text,image,message", [
-    (BASE.replace("0.05", "1" + "0" * 400) + "image: m.pgm\n", None, r"an integer of 401 digits is too large"),
-    ("image: m.pgm\n" + BASE + "x: " + "[" * 5000 + "]" * 5000 + "\n", None, r"nested deeper than 32 levels"),
-    ('a: &a ["lol","lol"]\nb: [*a,*a]\n' + BASE + "image: m.pgm\n", None, r"anchors and aliases .* not accepted"),
-    (BASE + "image: m.pgm\n", b"P5\n100000 100000\n255\n", r"m\.pgm has more than \d+ pixels \(the cap"),
-    (BASE + 'image: "a\\0b.pgm"\n', None, r"key 'image' must not contain control characters"),
-    (BASE + "image: " + "a" * 5000 + ".pgm\n", None, r"key 'image' is a file name of 5004 characters"),
-    (BASE + "image: m.pgm\n", b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 1 1\n", r"cannot be read as PGM/PPM, PNG"),
-])
+@pytest.mark.parametrize(
+    "yaml_text,image,message",
+    [
+        (
+            BASE.replace("0.05", "1" + "0" * 400) + "image: m.pgm\n",
+            None,
+            r"an integer of 401 digits is too large",
+        ),
+        (
+            "image: m.pgm\n" + BASE + "x: " + "[" * 5000 + "]" * 5000 + "\n",
+            None,
+            r"nested deeper than 32 levels",
+        ),
+        (
+            'a: &a ["lol","lol"]\nb: [*a,*a]\n' + BASE + "image: m.pgm\n",
+            None,
+            r"anchors and aliases .* not accepted",
+        ),
+        (BASE + "image: m.pgm\n", b"P5\n100000 100000\n255\n", r"m\.pgm has more than \d+ pixels \(the cap"),
+        (BASE + 'image: "a\\0b.pgm"\n', None, r"key 'image' must not contain control characters"),
+        (BASE + "image: " + "a" * 5000 + ".pgm\n", None, r"key 'image' is a file name of 5004 characters"),
+        (
+            BASE + "image: m.pgm\n",
+            b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 1 1\n",
+            r"cannot be read as PGM/PPM, PNG",
+        ),
+    ],
+)
 def test_issue_map_cases(tmp_path, yaml_text, image, message):
     (tmp_path / "m.pgm").write_bytes(image or b"P5\n2 2\n255\n" + bytes(4))
     (tmp_path / "map.yaml").write_text(yaml_text, encoding="utf-8")
@@ -103,18 +122,21 @@ def test_big_png_over_the_cap_and_a_corrupt_chunk(tmp_path, monkeypatch):
     monkeypatch.delenv("SPCOTMHP_MAX_MAP_PIXELS")
     assert load_map(tmp_path / "map.yaml").shape == (300, 300)
     data = bytearray((tmp_path / "m.png").read_bytes())
-    data[-20] ^= 0xFF                                       # inside the image data chunk: a CRC mismatch
+    data[-20] ^= 0xFF  # inside the image data chunk: a CRC mismatch
     (tmp_path / "m.png").write_bytes(bytes(data))
     with pytest.raises(MapError, match=r"m\.png cannot be read as PGM/PPM, PNG, BMP"):
         load_map(tmp_path / "map.yaml")
 
 
-@pytest.mark.parametrize("column,value,message", [
-    ("event", "1e20", r"teaching.csv row 2: event is '1e20', out of range"),
-    ("x", "1e308", r"teaching.csv row 2: \(x, y\) = \(1e\+308, .*\) lies far outside the map"),
-    ("y", "-1e308", r"lies far outside the map"),
-    ("x", "1" + "0" * 400, r"teaching.csv row 2: x is '1000.*not a finite number"),
-])
+@pytest.mark.parametrize(
+    "column,value,message",
+    [
+        ("event", "1e20", r"teaching.csv row 2: event is '1e20', out of range"),
+        ("x", "1e308", r"teaching.csv row 2: \(x, y\) = \(1e\+308, .*\) lies far outside the map"),
+        ("y", "-1e308", r"lies far outside the map"),
+        ("x", "1" + "0" * 400, r"teaching.csv row 2: x is '1000.*not a finite number"),
+    ],
+)
 def test_issue_dataset_cases(templates, tmp_path, column, value, message):
     folder = tmp_path / "d"
     shutil.copytree(templates[0], folder)
@@ -157,12 +179,15 @@ def _reseal(folder: Path) -> None:
     (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")
 
 
-@pytest.mark.parametrize("damage,message", [
-    ("bomb", r"mu.npy unpacks to \d+ bytes, more than its shape"),
-    ("bare", r"arrays.npz cannot be read as a numpy .npz archive"),
-    ("asymmetric", r"Sigma\[0\] is not symmetric"),
-    ("legacy-torn", r"has no manifest.json, which a model of format version 2 has"),
-])
+@pytest.mark.parametrize(
+    "damage,message",
+    [
+        ("bomb", r"mu.npy unpacks to \d+ bytes, more than its shape"),
+        ("bare", r"arrays.npz cannot be read as a numpy .npz archive"),
+        ("asymmetric", r"Sigma\[0\] is not symmetric"),
+        ("legacy-torn", r"has no manifest.json, which a model of format version 2 has"),
+    ],
+)
 def test_issue_npz_cases(templates, tmp_path, damage, message):
     import zipfile
 
@@ -197,6 +222,6 @@ def test_version_1_folders_without_a_manifest_still_load(templates, tmp_path):
     meta["format_version"] = 1
     (folder / "model.json").write_text(json.dumps(meta), encoding="utf-8")
     model = load_model(folder)
-    save_model(model, folder)                       # upgraded in place: now with a manifest
+    save_model(model, folder)  # upgraded in place: now with a manifest
     assert (folder / "manifest.json").is_file()
     assert json.loads((folder / "model.json").read_text(encoding="utf-8"))["format_version"] == 2

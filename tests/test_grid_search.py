@@ -122,9 +122,7 @@ def test_step_cost_map_negative_cost_is_reported_with_cell_and_reason():
     log_p = np.zeros((2, 3))
     log_n = np.zeros((2, 3))
     log_n[1, 2] = 2.0  # density e^2 > |A| = 5 there
-    with pytest.raises(
-        GridSearchError, match=r"negative at 1 cell\(s\), first \(row, col\) = \(1, 2\).*non-negative"
-    ):
+    with pytest.raises(GridSearchError, match=r"negative at 1 cell\(s\), first \(row, col\) = \(1, 2\).*non-negative"):
         step_cost_map(log_p, log_n, connectivity=4)
     with pytest.raises(ValueError, match="widen Sigma"):
         step_cost_map(log_p, log_n, connectivity=4)
@@ -193,12 +191,7 @@ def test_cheaper_detour_beats_expensive_straight_line():
 def test_start_equal_to_target_and_zero_costs():
     zero = np.zeros((4, 4))
     same = shortest_paths(zero, (2, 3), [(0, 0), (2, 3)])
-    assert (
-        same.cells.tolist() == [[2, 3]]
-        and same.cost == 0.0
-        and same.length_m == 0.0
-        and same.target_index == 1
-    )
+    assert same.cells.tolist() == [[2, 3]] and same.cost == 0.0 and same.length_m == 0.0 and same.target_index == 1
     free_ride = shortest_paths(zero, (0, 0), [(3, 3)])
     assert free_ride.cost == 0.0 and free_ride.cells[-1].tolist() == [3, 3]
 
@@ -361,7 +354,7 @@ def test_exact_against_scipy_on_random_grids(connectivity, rule, seed, diag, low
 
     # Dijkstra to every free cell at once
     paths = shortest_paths(cost, start, free, all_targets=True, **kw)
-    for cell, path in zip(free, paths):
+    for cell, path in zip(free, paths, strict=False):
         expected = ref[cell[0] * W + cell[1]]
         if np.isinf(expected):
             assert path is None
@@ -393,9 +386,7 @@ def test_exact_against_scipy_on_random_grids(connectivity, rule, seed, diag, low
     sources = free[rng.choice(len(free), 3, replace=False)]
     field, nxt = cost_to_go(cost, sources, connectivity, diag, corner_rule=rule)
     graph_t = reference_graph(cost, connectivity, rule, diag).T.tocsr()
-    ref_field = dijkstra(graph_t, indices=sources[:, 0] * W + sources[:, 1], min_only=True).reshape(
-        cost.shape
-    )
+    ref_field = dijkstra(graph_t, indices=sources[:, 0] * W + sources[:, 1], min_only=True).reshape(cost.shape)
     np.testing.assert_allclose(field, ref_field, rtol=1e-12)
     for cell in free[rng.choice(len(free), 10, replace=False)]:
         path = path_from_field(field, nxt, cell, sources)
@@ -447,9 +438,7 @@ def test_astar_equals_dijkstra_property(h, w, values, connectivity, rule, diag, 
     target = tuple(free[(pick // 7) % len(free)])
     ref = dijkstra(reference_graph(cost, connectivity, rule, diag), indices=start[0] * w + start[1])
     expected = ref[target[0] * w + target[1]]
-    path = shortest_paths(
-        cost, start, [target], connectivity=connectivity, diagonal_factor=diag, corner_rule=rule
-    )
+    path = shortest_paths(cost, start, [target], connectivity=connectivity, diagonal_factor=diag, corner_rule=rule)
     if np.isinf(expected):
         assert path is None
     else:
@@ -460,9 +449,7 @@ def test_astar_equals_dijkstra_property(h, w, values, connectivity, rule, diag, 
 # ------------------------------------------------------------------------------------- bundled SIGVerse home
 def load_home():
     meta = yaml.safe_load((HOME / "map.yaml").read_text())
-    occ = OccupancyMap(
-        data=np.zeros((192, 192), np.int8), resolution=meta["resolution"], origin=tuple(meta["origin"])
-    )
+    occ = OccupancyMap(data=np.zeros((192, 192), np.int8), resolution=meta["resolution"], origin=tuple(meta["origin"]))
     ros = np.loadtxt(HOME / "costmap_ros.csv", delimiter=",", dtype=np.int64)
     teach = np.loadtxt(HOME / "teaching.csv", delimiter=",", skiprows=1, usecols=(1, 2))
     place = np.loadtxt(HOME / "truth.csv", delimiter=",", skiprows=1, usecols=1, dtype=np.int64)
@@ -498,9 +485,7 @@ def test_control_as_inference_paths_on_a_bundled_home():
         a = shortest_paths(cost, centres[k], [centres[goal]], resolution=occ.resolution)
         b = path_from_field(field, nxt, centres[k], [centres[goal]], resolution=occ.resolution)
         assert a is not None and b is not None
-        assert (
-            a.cost == pytest.approx(b.cost, rel=1e-12) == pytest.approx(field[tuple(centres[k])], rel=1e-12)
-        )
+        assert a.cost == pytest.approx(b.cost, rel=1e-12) == pytest.approx(field[tuple(centres[k])], rel=1e-12)
         check_path(a, cost, centres[k], centres[goal], 8, "no_squeeze", SQRT2, occ.resolution)
         world = a.world(occ)
         assert (

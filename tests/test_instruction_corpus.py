@@ -45,9 +45,15 @@ def synthetic_model() -> SpatialConceptModel:
             counts[k, vocab.index(w)] = 10
     W = (counts + 0.1) / (counts + 0.1).sum(axis=1, keepdims=True)
     K = len(names)
-    return SpatialConceptModel(mu=np.arange(2 * K, dtype=float).reshape(K, 2), Sigma=np.tile(np.eye(2), (K, 1, 1)),
-                               psi=np.full((K, K), 1 / K), pi=np.full(K, 1 / K),
-                               phi=(np.eye(K) * 15 + 0.1) / (15 + 0.1 * K), W=W, vocabulary=vocab)
+    return SpatialConceptModel(
+        mu=np.arange(2 * K, dtype=float).reshape(K, 2),
+        Sigma=np.tile(np.eye(2), (K, 1, 1)),
+        psi=np.full((K, K), 1 / K),
+        pi=np.full(K, 1 / K),
+        phi=(np.eye(K) * 15 + 0.1) / (15 + 0.1 * K),
+        W=W,
+        vocabulary=vocab,
+    )
 
 
 @cache
@@ -80,7 +86,13 @@ def test_synthetic_vocabulary_keeps_shared_words_and_whole_labels():
     model = synthetic_model()
     words = place_vocabulary(model)
     assert words == ["alice's", "bob's", "corridor", "east", "kitchen", "room", "south"]
-    assert place_labels(model, words) == ["east corridor", "south corridor", "alice's room", "bob's room", "kitchen"]
+    assert place_labels(model, words) == [
+        "east corridor",
+        "south corridor",
+        "alice's room",
+        "bob's room",
+        "kitchen",
+    ]
 
 
 @pytest.mark.parametrize("row", ROWS, ids=[f"{i + 2}:{r['text'][:40]}" for i, r in enumerate(ROWS)])
@@ -94,8 +106,16 @@ def test_reading(row):
         assert row["message"] in str(info.value)
         return
     ins = parse_text(row["text"], words)
-    got = (dict(ins.goal.words), [dict(w.words) for w in ins.waypoints], [dict(a.words) for a in ins.avoid],
-           [dict(n.words) for n in ins.not_goal])
-    want = (bag(row["goal"]), [bag(w) for w in row["waypoints"].split(">") if w],
-            [bag(a) for a in row["avoid"].split(",") if a], [bag(n) for n in row["not_goal"].split(",") if n])
+    got = (
+        dict(ins.goal.words),
+        [dict(w.words) for w in ins.waypoints],
+        [dict(a.words) for a in ins.avoid],
+        [dict(n.words) for n in ins.not_goal],
+    )
+    want = (
+        bag(row["goal"]),
+        [bag(w) for w in row["waypoints"].split(">") if w],
+        [bag(a) for a in row["avoid"].split(",") if a],
+        [bag(n) for n in row["not_goal"].split(",") if n],
+    )
     assert got == want, ins.describe()

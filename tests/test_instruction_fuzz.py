@@ -17,11 +17,47 @@ from spcotmhp.planning import instructions
 from spcotmhp.planning.grammar import ENGLISH, JAPANESE
 from spcotmhp.planning.instructions import parse_nbest, parse_structured, parse_text, to_instruction
 
-EN = ["entrance", "living", "dining", "kitchen", "bath", "washroom", "toilet", "bedroom", "storeroom", "corridor",
-      "hall", "alice's", "room", "east"]
-JA = ["玄関", "リビング", "ダイニング", "キッチン", "風呂", "洗面所", "トイレ", "寝室", "物置き", "廊下", "広場"]
-GRAMMAR_WORDS = sorted({*ENGLISH.markers, *ENGLISH.connectors, *ENGLISH.order, *ENGLISH.fillers, "or", "next to",
-                        "second", "bedrom"})
+EN = [
+    "entrance",
+    "living",
+    "dining",
+    "kitchen",
+    "bath",
+    "washroom",
+    "toilet",
+    "bedroom",
+    "storeroom",
+    "corridor",
+    "hall",
+    "alice's",
+    "room",
+    "east",
+]
+JA = [
+    "玄関",
+    "リビング",
+    "ダイニング",
+    "キッチン",
+    "風呂",
+    "洗面所",
+    "トイレ",
+    "寝室",
+    "物置き",
+    "廊下",
+    "広場",
+]
+GRAMMAR_WORDS = sorted(
+    {
+        *ENGLISH.markers,
+        *ENGLISH.connectors,
+        *ENGLISH.order,
+        *ENGLISH.fillers,
+        "or",
+        "next to",
+        "second",
+        "bedrom",
+    }
+)
 JA_WORDS = sorted({*JAPANESE.markers, *JAPANESE.connectors, *JAPANESE.order, "か", "の", "の隣", "二番目"})
 FUZZ = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -69,9 +105,13 @@ def test_japanese_word_soup(words):
 
 
 @FUZZ
-@given(st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=20),
-                    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner,
-                                                                               max_size=4), max_leaves=30))
+@given(
+    st.recursive(
+        st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=20),
+        lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4),
+        max_leaves=30,
+    )
+)
 def test_random_structured_and_nbest(value):
     check(value)
     check({"goal": value})
@@ -108,7 +148,7 @@ def test_deep_nesting_is_malformed_not_a_recursion_error():
 
 def test_huge_numbers_in_nbest_scores():
     with pytest.raises(errors.MalformedInstruction, match="non-finite score"):
-        parse_nbest([("go to the kitchen", 10 ** 400)], EN)
+        parse_nbest([("go to the kitchen", 10**400)], EN)
 
 
 def test_limits_are_enforced_and_configurable(monkeypatch):
@@ -131,21 +171,24 @@ def test_limits_are_enforced_and_configurable(monkeypatch):
     assert dict(ins.goal.words) == {"kitchen": 1}
 
 
-@pytest.mark.parametrize("source, cls", [
-    ("", errors.EmptyInstruction),
-    ([], errors.EmptyInstruction),
-    ("avoid the kitchen", errors.EmptyInstruction),
-    ("go to the garage", errors.UnknownPlaceWord),
-    ({"goal": "garage"}, errors.UnknownPlaceWord),
-    ("go to the second bedroom", errors.UnsupportedPhrase),
-    ("go to the kitchen or the bath", errors.UnsupportedPhrase),
-    ("go to the bedroom avoiding", errors.MalformedInstruction),
-    ({"goal": []}, errors.MalformedInstruction),
-    ("{not json", errors.MalformedInstruction),
-    ([("kitchen",)], errors.MalformedInstruction),
-    (3, errors.MalformedInstruction),
-    ([("go to the garage", 1.0)], errors.UnknownPlaceWord),
-])
+@pytest.mark.parametrize(
+    "source, cls",
+    [
+        ("", errors.EmptyInstruction),
+        ([], errors.EmptyInstruction),
+        ("avoid the kitchen", errors.EmptyInstruction),
+        ("go to the garage", errors.UnknownPlaceWord),
+        ({"goal": "garage"}, errors.UnknownPlaceWord),
+        ("go to the second bedroom", errors.UnsupportedPhrase),
+        ("go to the kitchen or the bath", errors.UnsupportedPhrase),
+        ("go to the bedroom avoiding", errors.MalformedInstruction),
+        ({"goal": []}, errors.MalformedInstruction),
+        ("{not json", errors.MalformedInstruction),
+        ([("kitchen",)], errors.MalformedInstruction),
+        (3, errors.MalformedInstruction),
+        ([("go to the garage", 1.0)], errors.UnknownPlaceWord),
+    ],
+)
 def test_each_cause_has_its_class(source, cls):
     with pytest.raises(cls):
         to_instruction(source, EN)
@@ -156,11 +199,17 @@ def test_unsupported_language():
         parse_text("va à la cuisine", EN, lang="fr")
 
 
-@pytest.mark.parametrize("text, near", [
-    ("go to the bedrom", "bedroom"), ("take me to the dinning room", "dining"), ("go to the bed room", "bedroom"),
-    ("go to alices room", "alice's"), ("go to the kitchen via the coridor", "corridor"),
-    ("go to the bathroom", "bath"),
-])
+@pytest.mark.parametrize(
+    "text, near",
+    [
+        ("go to the bedrom", "bedroom"),
+        ("take me to the dinning room", "dining"),
+        ("go to the bed room", "bedroom"),
+        ("go to alices room", "alice's"),
+        ("go to the kitchen via the coridor", "corridor"),
+        ("go to the bathroom", "bath"),
+    ],
+)
 def test_near_misses_are_suggested_never_corrected(text, near):
     with pytest.raises(errors.UnknownPlaceWord) as info:
         parse_text(text, EN)

@@ -43,17 +43,30 @@ def old_and_new():
 def _which(folder: Path, old, new) -> str:
     model = load_model(folder)
     for name, reference in (("old", old), ("new", new)):
-        same = (model.mu.shape == reference.mu.shape and np.array_equal(model.mu, reference.mu)
-                and model.vocabulary == reference.vocabulary and np.array_equal(model.map.data, reference.map.data))
+        same = (
+            model.mu.shape == reference.mu.shape
+            and np.array_equal(model.mu, reference.mu)
+            and model.vocabulary == reference.vocabulary
+            and np.array_equal(model.map.data, reference.map.data)
+        )
         if same:
             return name
     raise AssertionError(f"{folder} loads a mixture of the old and the new model")
 
 
 # every step that touches the disk while saving, in the modules that do it
-STEPS = [(safe_write, "fresh_sibling"), (model_folder, "manifest_of"), (safe_write, "swap_folder"),
-         (map_io, "atomic_write"), (np, "savez"), (Path, "write_text"), (os, "rename"), (os, "replace"),
-         (shutil, "rmtree"), (os, "fsync")]
+STEPS = [
+    (safe_write, "fresh_sibling"),
+    (model_folder, "manifest_of"),
+    (safe_write, "swap_folder"),
+    (map_io, "atomic_write"),
+    (np, "savez"),
+    (Path, "write_text"),
+    (os, "rename"),
+    (os, "replace"),
+    (shutil, "rmtree"),
+    (os, "fsync"),
+]
 
 
 def test_a_save_interrupted_at_every_step_leaves_the_old_or_the_new_model(old_and_new, tmp_path, monkeypatch):
@@ -70,6 +83,7 @@ def test_a_save_interrupted_at_every_step_leaves_the_old_or_the_new_model(old_an
                 if calls["n"] == point + 1:
                     raise Interrupted(name)
                 return fn(*args, **kwargs)
+
             return step
 
         with monkeypatch.context() as patch:
@@ -84,7 +98,7 @@ def test_a_save_interrupted_at_every_step_leaves_the_old_or_the_new_model(old_an
         if finished:
             assert seen[-1] == "new"
             break
-    assert "old" in seen and seen[-1] == "new"          # interrupted early: old; past the swap or done: new
+    assert "old" in seen and seen[-1] == "new"  # interrupted early: old; past the swap or done: new
 
 
 SAVER = """
@@ -104,20 +118,23 @@ def test_a_saving_process_killed_at_random_times(old_and_new, tmp_path):
     import random
 
     old, new = old_and_new
-    blob = tmp_path / "models.pickle"                  # the test's own objects, written and read by this test only
+    blob = tmp_path / "models.pickle"  # the test's own objects, written and read by this test only
     blob.write_bytes(pickle.dumps((old, new)))
     rng = random.Random(0)
     outcomes = []
     for i in range(6):
         folder = tmp_path / f"k{i}"
         save_model(old, folder)
-        proc = subprocess.Popen([sys.executable, "-c", SAVER, str(folder), str(blob)], stdout=subprocess.PIPE,
-                                env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+        proc = subprocess.Popen(
+            [sys.executable, "-c", SAVER, str(folder), str(blob)],
+            stdout=subprocess.PIPE,
+            env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
+        )
         assert proc.stdout.readline().strip() == b"ready"
         time.sleep(rng.uniform(0.0, 1.5))
         proc.send_signal(signal.SIGKILL)
         proc.wait(timeout=30)
-        outcomes.append(_which(folder, old, new))      # never a mixture (raises otherwise)
+        outcomes.append(_which(folder, old, new))  # never a mixture (raises otherwise)
     assert len(outcomes) == 6
 
 
@@ -127,13 +144,13 @@ def test_the_previous_model_stays_while_the_new_one_is_written(old_and_new, tmp_
     swap = safe_write.swap_folder
 
     def check_then_swap(staging, target):
-        assert _which(target, old, new) == "old"        # still whole just before the swap
+        assert _which(target, old, new) == "old"  # still whole just before the swap
         swap(staging, target)
 
     monkeypatch.setattr(safe_write, "swap_folder", check_then_swap)
     save_model(new, folder)
     assert _which(folder, old, new) == "new"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["m"]      # no staging or old folder left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m"]  # no staging or old folder left
 
 
 def test_save_never_replaces_a_folder_that_is_not_a_model(old_and_new, tmp_path):

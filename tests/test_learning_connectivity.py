@@ -26,27 +26,33 @@ def three_rooms() -> OccupancyMap:
     """Rooms A | B | C side by side (3 m x 3 m each, 0.1 m cells), a door in each inner wall, and a closed room D
     below B."""
     data = np.full((42, 94), 100, dtype=np.int8)
-    data[1:31, 1:31] = 0          # A: x 0.1..3.1
-    data[1:31, 32:62] = 0         # B
-    data[1:31, 63:93] = 0         # C
-    data[11:19, 31] = 0           # door A-B (0.8 m: the 0.22 m robot fits)
-    data[11:19, 62] = 0           # door B-C
-    data[33:41, 32:62] = 0        # D, closed
+    data[1:31, 1:31] = 0  # A: x 0.1..3.1
+    data[1:31, 32:62] = 0  # B
+    data[1:31, 63:93] = 0  # C
+    data[11:19, 31] = 0  # door A-B (0.8 m: the 0.22 m robot fits)
+    data[11:19, 62] = 0  # door B-C
+    data[33:41, 32:62] = 0  # D, closed
     return OccupancyMap(data=data, resolution=0.1)
 
 
 def model_at(means: list[tuple[float, float]], sd: float = 0.7) -> SpatialConceptModel:
     K = len(means)
-    return SpatialConceptModel(mu=np.array(means, dtype=float), Sigma=np.tile(np.eye(2) * sd**2, (K, 1, 1)),
-                               psi=np.full((K, K), 1.0 / K), pi=np.array([1.0]), phi=np.full((1, K), 1.0 / K),
-                               W=np.array([[1.0]]), vocabulary=["x"])
+    return SpatialConceptModel(
+        mu=np.array(means, dtype=float),
+        Sigma=np.tile(np.eye(2) * sd**2, (K, 1, 1)),
+        psi=np.full((K, K), 1.0 / K),
+        pi=np.array([1.0]),
+        phi=np.full((1, K), 1.0 / K),
+        W=np.array([[1.0]]),
+        vocabulary=["x"],
+    )
 
 
 def test_rooms_in_a_row():
     m = model_at([(1.6, 1.6), (4.7, 1.6), (7.8, 1.6), (4.7, 3.7)])
     A = map_adjacency(m, three_rooms())
     want = np.array([[1, 1, 0, 0], [1, 1, 1, 0], [0, 1, 1, 0], [0, 0, 0, 1]])
-    np.testing.assert_array_equal(A, want)     # A-C passes through B; D cannot be reached
+    np.testing.assert_array_equal(A, want)  # A-C passes through B; D cannot be reached
     dens = map_adjacency(m, three_rooms(), rule="density", radius=1.0)
     np.testing.assert_array_equal(dens, want)
 
@@ -55,13 +61,12 @@ def test_inactive_places_are_left_out():
     m = model_at([(1.6, 1.6), (4.7, 1.6), (7.8, 1.6)])
     m.active_places = np.array([True, False, True])
     A = map_adjacency(m, three_rooms())
-    np.testing.assert_array_equal(A, [[1, 0, 1], [0, 0, 0], [1, 0, 1]])   # with B gone, A and C touch
+    np.testing.assert_array_equal(A, [[1, 0, 1], [0, 0, 0], [1, 0, 1]])  # with B gone, A and C touch
 
 
 def test_means_inside_walls_start_from_the_nearest_free_cell():
     grid = three_rooms()
-    np.testing.assert_array_equal(nearest_free_cells(grid, np.array([[3.15, 1.0], [-5.0, -5.0]])),
-                                  [[10, 30], [1, 1]])
+    np.testing.assert_array_equal(nearest_free_cells(grid, np.array([[3.15, 1.0], [-5.0, -5.0]])), [[10, 30], [1, 1]])
 
 
 def test_walk_adjacency_from_a_trajectory():
@@ -72,8 +77,9 @@ def test_walk_adjacency_from_a_trajectory():
     np.testing.assert_array_equal(walk_adjacency(m, data), [[1, 1, 0], [1, 1, 1], [0, 1, 1]])
     # without a trajectory: consecutive events
     data.trajectory = None
-    np.testing.assert_array_equal(walk_adjacency(m, data, event_places=np.array([0, 2, 2])),
-                                  [[1, 0, 1], [0, 1, 0], [1, 0, 1]])
+    np.testing.assert_array_equal(
+        walk_adjacency(m, data, event_places=np.array([0, 2, 2])), [[1, 0, 1], [0, 1, 0], [1, 0, 1]]
+    )
 
 
 def test_psi_from_adjacency_hand_case():

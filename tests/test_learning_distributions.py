@@ -43,13 +43,13 @@ def test_niw_posterior_hand_case():
     g = _niw(m0=np.array([1.0, 1.0]), kappa0=2.0, V0=np.eye(2), nu0=4.0)
     m_n, kappa_n, V_n, nu_n = g.posterior(GaussianStats.from_assignments(X, np.array([0, 0]), 1))
     assert kappa_n[0] == 4.0 and nu_n[0] == 6.0
-    np.testing.assert_allclose(m_n[0], [(2 * 1 + 4) / 4, (2 * 1 + 4) / 4])   # (kappa0 m0 + sum x) / kappa_n
+    np.testing.assert_allclose(m_n[0], [(2 * 1 + 4) / 4, (2 * 1 + 4) / 4])  # (kappa0 m0 + sum x) / kappa_n
     xbar = np.array([2.0, 2.0])
-    S = np.array([[2.0, 0.0], [0.0, 0.0]])                                  # scatter about the mean
+    S = np.array([[2.0, 0.0], [0.0, 0.0]])  # scatter about the mean
     want_V = np.eye(2) + S + (2.0 * 2 / 4) * np.outer(xbar - 1.0, xbar - 1.0)
     np.testing.assert_allclose(V_n[0], want_V)
     _mu, Sigma = g.posterior_mean(GaussianStats.from_assignments(X, np.array([0, 0]), 1))
-    np.testing.assert_allclose(Sigma[0], want_V / (6.0 - 3.0))             # E[Sigma] = V_n / (nu_n - p - 1)
+    np.testing.assert_allclose(Sigma[0], want_V / (6.0 - 3.0))  # E[Sigma] = V_n / (nu_n - p - 1)
 
 
 def test_niw_log_marginal_is_the_student_t_predictive():
@@ -98,7 +98,7 @@ def test_dirichlet_log_marginal_matches_scipy_dirichlet_multinomial():
     d = DirichletCategoricals(2, 4, 0.5)
     got = d.log_marginal(counts)
     want = 0.0
-    for row in counts:   # scipy's pmf counts unordered outcomes: remove the multinomial coefficient
+    for row in counts:  # scipy's pmf counts unordered outcomes: remove the multinomial coefficient
         n = row.sum()
         coef = gammaln(n + 1) - gammaln(row + 1).sum()
         want += stats.dirichlet_multinomial(np.full(4, 0.5), int(n)).logpmf(row) - coef

@@ -27,7 +27,7 @@ def _match(learned: np.ndarray, truth: np.ndarray, K: int) -> dict[int, int]:
     overlap = np.zeros((K, 4))
     np.add.at(overlap, (learned, truth), 1)
     rows, cols = linear_sum_assignment(-overlap)
-    return {int(r): int(c) for r, c in zip(rows, cols) if overlap[r, c] > 0}
+    return {int(r): int(c) for r, c in zip(rows, cols, strict=False) if overlap[r, c] > 0}
 
 
 def test_recovers_planted_places_and_concepts(planted_fit):
@@ -117,8 +117,8 @@ def test_gmm_mode_is_the_same_sampler_without_transitions():
 
 
 def test_map_connectivity_replaces_psi_with_an_adjacency():
-    data = planted_dataset(E=120)     # an empty (all free) map: the ring's sides are direct, the diagonals
-    est = SpCoTMHP(seed=0, connectivity="map").fit(data)   # pass through a third place
+    data = planted_dataset(E=120)  # an empty (all free) map: the ring's sides are direct, the diagonals
+    est = SpCoTMHP(seed=0, connectivity="map").fit(data)  # pass through a third place
     m = est.model_
     assert m.info["psi_from"] == "map"
     A = map_adjacency(m, data.map)
@@ -146,28 +146,37 @@ def _bad(**changes) -> Dataset:
     return data
 
 
-@pytest.mark.parametrize("changes,message", [
-    ({"positions": np.zeros((0, 2)), "tokens": []}, "no teaching events; learning needs at least 2"),
-    ({"positions": np.zeros((1, 2)), "tokens": [["kitchen"]]}, "only 1 teaching event"),
-    ({"positions": np.vstack([np.zeros((19, 2)), [[np.nan, 1.0]]])}, "teaching event 19 has a non-finite position"),
-    ({"positions": np.zeros((20, 3))}, r"positions must be an \(E, 2\) array"),
-    ({"tokens": [["a"]] * 19}, "19 token lists for 20 teaching events"),
-    ({"tokens": [[] for _ in range(20)]}, "no teaching event has any word"),
-    ({"features": np.ones((19, 4))}, r"one row per teaching event \(E = 20\), got shape \(19, 4\)"),
-    ({"features": -np.ones((20, 4))}, "image feature row 0 has a negative or non-finite value"),
-    ({"trajectory": np.full((5, 2), np.inf)}, "trajectory has non-finite positions"),
-])
+@pytest.mark.parametrize(
+    "changes,message",
+    [
+        ({"positions": np.zeros((0, 2)), "tokens": []}, "no teaching events; learning needs at least 2"),
+        ({"positions": np.zeros((1, 2)), "tokens": [["kitchen"]]}, "only 1 teaching event"),
+        (
+            {"positions": np.vstack([np.zeros((19, 2)), [[np.nan, 1.0]]])},
+            "teaching event 19 has a non-finite position",
+        ),
+        ({"positions": np.zeros((20, 3))}, r"positions must be an \(E, 2\) array"),
+        ({"tokens": [["a"]] * 19}, "19 token lists for 20 teaching events"),
+        ({"tokens": [[] for _ in range(20)]}, "no teaching event has any word"),
+        ({"features": np.ones((19, 4))}, r"one row per teaching event \(E = 20\), got shape \(19, 4\)"),
+        ({"features": -np.ones((20, 4))}, "image feature row 0 has a negative or non-finite value"),
+        ({"trajectory": np.full((5, 2), np.inf)}, "trajectory has non-finite positions"),
+    ],
+)
 def test_bad_datasets_get_clear_errors(changes, message):
     with pytest.raises(DatasetError, match=message):
         SpCoTMHP(iterations=2).fit(_bad(**changes))
 
 
-@pytest.mark.parametrize("kwargs,message", [
-    ({"transitions": "hsmm"}, "transitions must be one of"),
-    ({"connectivity": "magic"}, "connectivity must be one of"),
-    ({"init": "zeros"}, "init must be one of"),
-    ({"K": 0}, "K, L and iterations must be >= 1"),
-])
+@pytest.mark.parametrize(
+    "kwargs,message",
+    [
+        ({"transitions": "hsmm"}, "transitions must be one of"),
+        ({"connectivity": "magic"}, "connectivity must be one of"),
+        ({"init": "zeros"}, "init must be one of"),
+        ({"K": 0}, "K, L and iterations must be >= 1"),
+    ],
+)
 def test_bad_settings_get_clear_errors(kwargs, message):
     with pytest.raises(ModelError, match=message):
         SpCoTMHP(**kwargs).fit(planted_dataset(E=20))
@@ -184,10 +193,12 @@ def test_trajectory_transitions_recover_the_synthetic_house_doors():
     m = est.model_
     assert m.info["psi_from"] == "walk+map"
     P = len(data.adjacency)
-    label = {k: np.bincount(data.truth_place[est.places_ == k], minlength=P).argmax()
-             for k in np.flatnonzero(m.active_places)}
+    label = {
+        k: np.bincount(data.truth_place[est.places_ == k], minlength=P).argmax()
+        for k in np.flatnonzero(m.active_places)
+    }
     edges = np.zeros((P, P), dtype=bool)
-    conn = (m.psi + m.psi.T) / 2 >= 1.0 / m.K          # the planner's edge rule (paper Fig. 3)
+    conn = (m.psi + m.psi.T) / 2 >= 1.0 / m.K  # the planner's edge rule (paper Fig. 3)
     for a, la in label.items():
         for b, lb in label.items():
             if a != b and conn[a, b] and la != lb:

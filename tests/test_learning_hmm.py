@@ -27,8 +27,14 @@ def test_ffbs_draws_from_the_exact_posterior():
     log_init = np.log([0.2, 0.5, 0.3])
     # exact posterior by enumeration
     seqs = list(itertools.product(range(K), repeat=E))
-    lp = np.array([log_init[s[0]] + sum(log_emit[e, s[e]] for e in range(E))
-                   + sum(log_trans[s[e - 1], s[e]] for e in range(1, E)) for s in seqs])
+    lp = np.array(
+        [
+            log_init[s[0]]
+            + sum(log_emit[e, s[e]] for e in range(E))
+            + sum(log_trans[s[e - 1], s[e]] for e in range(1, E))
+            for s in seqs
+        ]
+    )
     exact = np.exp(lp - logsumexp(lp))
     n = 60000
     draws = [tuple(ffbs(log_emit, log_trans, log_init, rng)) for _ in range(n)]
@@ -52,8 +58,9 @@ def test_transition_counts_and_reverse_replay():
     want[0, 0] = want[0, 1] = want[1, 2] = want[2, 1] = 1
     np.testing.assert_array_equal(n, want)
     # the reversed sequence 1 2 1 0 0 adds the transposed counts
-    np.testing.assert_array_equal(transition_counts(seq, 3, reverse_replay=True),
-                                  want + transition_counts(seq[::-1], 3))
+    np.testing.assert_array_equal(
+        transition_counts(seq, 3, reverse_replay=True), want + transition_counts(seq[::-1], 3)
+    )
     assert transition_counts(np.array([2]), 3).sum() == 0
 
 
@@ -77,12 +84,41 @@ def _conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001):
         F_ld = onehot.T @ sampler.varying
         F_l = onehot.T @ sampler.n_feat
         bg = sampler.background_words()
-        out = _concept_sweep(C.copy(), places, np.array([e]), np.array([u]), L, K, alpha, gamma, beta, chi,
-                             sampler.t_ptr, sampler.t_word, sampler.z.copy(), float(sampler.V), False,
-                             bg, np.array([bg.sum()]), np.array([0.0, float(sampler.z.sum())]),
-                             sampler.f_ptr, sampler.f_idx, sampler.f_cnt, float(sampler.D), sampler.c_val,
-                             sampler.c_mult, sampler.n_feat, n_l, n_lk, W_lv, W_lv.sum(axis=1), F_ld, F_l,
-                             np.zeros_like(F_ld), True)
+        out = _concept_sweep(
+            C.copy(),
+            places,
+            np.array([e]),
+            np.array([u]),
+            L,
+            K,
+            alpha,
+            gamma,
+            beta,
+            chi,
+            sampler.t_ptr,
+            sampler.t_word,
+            sampler.z.copy(),
+            float(sampler.V),
+            False,
+            bg,
+            np.array([bg.sum()]),
+            np.array([0.0, float(sampler.z.sum())]),
+            sampler.f_ptr,
+            sampler.f_idx,
+            sampler.f_cnt,
+            float(sampler.D),
+            sampler.c_val,
+            sampler.c_mult,
+            sampler.n_feat,
+            n_l,
+            n_lk,
+            W_lv,
+            W_lv.sum(axis=1),
+            F_ld,
+            F_l,
+            np.zeros_like(F_ld),
+            True,
+        )
         counts[out[e]] += 1
     return counts / grid
 
@@ -106,11 +142,17 @@ def test_collapsed_concept_conditional_matches_hand_computation():
         Wc = words[mine].sum(axis=0) if mine else np.zeros(V)
         Fc = feats[mine].sum(axis=0) if mine else np.zeros(D)
         x, f = words[0], feats[0]
-        lp[l] = (np.log(n_l + alpha) + np.log(n_lk + gamma) - np.log(n_l + K * gamma)
-                 + gammaln(V * beta + Wc.sum()) - gammaln(V * beta + Wc.sum() + x.sum())
-                 + np.sum(gammaln(beta + Wc + x) - gammaln(beta + Wc))
-                 + gammaln(D * chi + Fc.sum()) - gammaln(D * chi + Fc.sum() + f.sum())
-                 + np.sum(gammaln(chi + Fc + f) - gammaln(chi + Fc)))
+        lp[l] = (
+            np.log(n_l + alpha)
+            + np.log(n_lk + gamma)
+            - np.log(n_l + K * gamma)
+            + gammaln(V * beta + Wc.sum())
+            - gammaln(V * beta + Wc.sum() + x.sum())
+            + np.sum(gammaln(beta + Wc + x) - gammaln(beta + Wc))
+            + gammaln(D * chi + Fc.sum())
+            - gammaln(D * chi + Fc.sum() + f.sum())
+            + np.sum(gammaln(chi + Fc + f) - gammaln(chi + Fc))
+        )
     want = np.exp(lp - logsumexp(lp))
     np.testing.assert_allclose(got, want, atol=2e-4)
 
@@ -129,11 +171,17 @@ def test_constant_feature_columns_are_handled_exactly():
         mine = [e for e in (0, 1) if C[e] == l]
         Wc, Fc = words[mine].sum(axis=0), feats[mine].sum(axis=0)
         x, f = words[2], feats[2]
-        lp[l] = (np.log(len(mine) + 1.0) + np.log(0 + 0.5) - np.log(len(mine) + 1.0)
-                 + gammaln(1.0 + Wc.sum()) - gammaln(1.0 + Wc.sum() + x.sum())
-                 + np.sum(gammaln(0.5 + Wc + x) - gammaln(0.5 + Wc))
-                 + gammaln(3.0 + Fc.sum()) - gammaln(3.0 + Fc.sum() + f.sum())
-                 + np.sum(gammaln(1.0 + Fc + f) - gammaln(1.0 + Fc)))
+        lp[l] = (
+            np.log(len(mine) + 1.0)
+            + np.log(0 + 0.5)
+            - np.log(len(mine) + 1.0)
+            + gammaln(1.0 + Wc.sum())
+            - gammaln(1.0 + Wc.sum() + x.sum())
+            + np.sum(gammaln(0.5 + Wc + x) - gammaln(0.5 + Wc))
+            + gammaln(3.0 + Fc.sum())
+            - gammaln(3.0 + Fc.sum() + f.sum())
+            + np.sum(gammaln(1.0 + Fc + f) - gammaln(1.0 + Fc))
+        )
     np.testing.assert_allclose(got, np.exp(lp - logsumexp(lp)), atol=2e-4)
 
 
@@ -156,8 +204,14 @@ def test_concept_sweep_keeps_counts_consistent(background):
 def _exact_sequence_posterior(log_emit, log_trans, log_init):
     E, K = log_emit.shape
     seqs = list(itertools.product(range(K), repeat=E))
-    lp = np.array([log_init[s[0]] + sum(log_emit[e, s[e]] for e in range(E))
-                   + sum(log_trans[s[e - 1], s[e]] for e in range(1, E)) for s in seqs])
+    lp = np.array(
+        [
+            log_init[s[0]]
+            + sum(log_emit[e, s[e]] for e in range(E))
+            + sum(log_trans[s[e - 1], s[e]] for e in range(1, E))
+            for s in seqs
+        ]
+    )
     return seqs, np.exp(lp - logsumexp(lp))
 
 
@@ -171,9 +225,9 @@ def test_ffbs_log_fallback_runs_and_draws_from_the_exact_posterior():
     log_trans = np.log(rng.dirichlet(np.full(K, 2.0), size=K))
     log_trans[:, 1] = -1e6
     log_init = np.log([0.3, 0.3, 0.4])
-    assert not _forward_scaled(log_emit, log_trans, log_init, np.empty((E, K)))   # the fallback is taken
+    assert not _forward_scaled(log_emit, log_trans, log_init, np.empty((E, K)))  # the fallback is taken
     seqs, exact = _exact_sequence_posterior(log_emit, log_trans, log_init)
-    assert (exact > 1e-3).sum() > 30                                               # a spread posterior
+    assert (exact > 1e-3).sum() > 30  # a spread posterior
     n = 40000
     index = {q: i for i, q in enumerate(seqs)}
     uniforms = rng.random((n, E))
@@ -212,32 +266,106 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
     n_l = onehot.sum(axis=0)
     for e in range(E):
         for l in range(L):
-            got = _feature_term(l, e, n_l[l], chi, float(D), F_ld, F_l, psi_ld, sampler.f_ptr, sampler.f_idx,
-                                sampler.f_cnt, sampler.c_val, sampler.c_mult, sampler.n_feat[e])
+            got = _feature_term(
+                l,
+                e,
+                n_l[l],
+                chi,
+                float(D),
+                F_ld,
+                F_l,
+                psi_ld,
+                sampler.f_ptr,
+                sampler.f_idx,
+                sampler.f_cnt,
+                sampler.c_val,
+                sampler.c_mult,
+                sampler.n_feat[e],
+            )
             x, F = feats[e], F_ld[l]
-            exact = (np.sum(gammaln(chi + F + x) - gammaln(chi + F))
-                     - gammaln(D * chi + F_l[l] + x.sum()) + gammaln(D * chi + F_l[l]))
+            exact = (
+                np.sum(gammaln(chi + F + x) - gammaln(chi + F))
+                - gammaln(D * chi + F_l[l] + x.sum())
+                + gammaln(D * chi + F_l[l])
+            )
             tiny = (x > 0) & (x <= SMALL_COUNT)
             bound = np.sum(x[tiny] ** 2 * polygamma(1, chi + F[tiny]) / 2)
             assert abs(got - exact) <= bound + 1e-12
-            assert bound < 1e-3                                          # the docstring's claim
+            assert bound < 1e-3  # the docstring's claim
     # the tiny counts really read the cache: a wrong cache moves the value by far more than the bound
-    wrong = _feature_term(0, 0, n_l[0], chi, float(D), F_ld, F_l, psi_ld + 1.0, sampler.f_ptr, sampler.f_idx,
-                          sampler.f_cnt, sampler.c_val, sampler.c_mult, sampler.n_feat[0])
-    right = _feature_term(0, 0, n_l[0], chi, float(D), F_ld, F_l, psi_ld, sampler.f_ptr, sampler.f_idx,
-                          sampler.f_cnt, sampler.c_val, sampler.c_mult, sampler.n_feat[0])
+    wrong = _feature_term(
+        0,
+        0,
+        n_l[0],
+        chi,
+        float(D),
+        F_ld,
+        F_l,
+        psi_ld + 1.0,
+        sampler.f_ptr,
+        sampler.f_idx,
+        sampler.f_cnt,
+        sampler.c_val,
+        sampler.c_mult,
+        sampler.n_feat[0],
+    )
+    right = _feature_term(
+        0,
+        0,
+        n_l[0],
+        chi,
+        float(D),
+        F_ld,
+        F_l,
+        psi_ld,
+        sampler.f_ptr,
+        sampler.f_idx,
+        sampler.f_cnt,
+        sampler.c_val,
+        sampler.c_mult,
+        sampler.n_feat[0],
+    )
     x0 = feats[0]
     assert wrong - right == pytest.approx(x0[(x0 > 0) & (x0 <= SMALL_COUNT)].sum(), rel=1e-9)
     # the cache: after a sweep over every event, psi_ld is digamma(chi + F_ld) of the final counts
     W_lv = onehot.T @ sampler.concept_words()
     bg = sampler.background_words()
     order = rng.permutation(E).astype(np.int64)
-    C_new = _concept_sweep(C.copy(), places, order, rng.random(E + len(sampler.t_word)), L, K, 0.5, 0.05, 0.1,
-                           chi, sampler.t_ptr, sampler.t_word, sampler.z.copy(), float(V), False, bg,
-                           np.array([bg.sum()]), np.array([0.0, float(sampler.z.sum())]), sampler.f_ptr,
-                           sampler.f_idx, sampler.f_cnt, float(D), sampler.c_val, sampler.c_mult, sampler.n_feat,
-                           n_l.copy(), _n_lk(C, places, L, K), W_lv,
-                           W_lv.sum(axis=1), F_ld, F_l, psi_ld, True)
+    C_new = _concept_sweep(
+        C.copy(),
+        places,
+        order,
+        rng.random(E + len(sampler.t_word)),
+        L,
+        K,
+        0.5,
+        0.05,
+        0.1,
+        chi,
+        sampler.t_ptr,
+        sampler.t_word,
+        sampler.z.copy(),
+        float(V),
+        False,
+        bg,
+        np.array([bg.sum()]),
+        np.array([0.0, float(sampler.z.sum())]),
+        sampler.f_ptr,
+        sampler.f_idx,
+        sampler.f_cnt,
+        float(D),
+        sampler.c_val,
+        sampler.c_mult,
+        sampler.n_feat,
+        n_l.copy(),
+        _n_lk(C, places, L, K),
+        W_lv,
+        W_lv.sum(axis=1),
+        F_ld,
+        F_l,
+        psi_ld,
+        True,
+    )
     assert not np.array_equal(C_new, C)
     np.testing.assert_allclose(F_ld, np.eye(L)[C_new].T @ sampler.varying, atol=1e-12)
     np.testing.assert_allclose(psi_ld, digamma(chi + F_ld), rtol=1e-12, atol=1e-12)

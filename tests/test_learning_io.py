@@ -20,7 +20,7 @@ FIELDS = ("mu", "Sigma", "psi", "pi", "phi", "W", "theta", "active_places", "act
 
 @pytest.fixture(scope="module")
 def model():
-    m = fit_supervised(load_bundled("albert-b", lang="ja"), adjacency="map")   # has features (theta)
+    m = fit_supervised(load_bundled("albert-b", lang="ja"), adjacency="map")  # has features (theta)
     m.info["note"] = "ひらがな ok"
     return m
 
@@ -31,8 +31,13 @@ def saved(model, tmp_path):
 
 
 def test_round_trip(model, saved):
-    assert sorted(p.name for p in saved.iterdir()) == ["arrays.npz", "manifest.json", "map.pgm", "map.yaml",
-                                                       "model.json"]
+    assert sorted(p.name for p in saved.iterdir()) == [
+        "arrays.npz",
+        "manifest.json",
+        "map.pgm",
+        "map.yaml",
+        "model.json",
+    ]
     back = load_model(saved)
     for name in FIELDS:
         np.testing.assert_array_equal(getattr(back, name), getattr(model, name))
@@ -42,7 +47,9 @@ def test_round_trip(model, saved):
     assert back.info == json.loads(json.dumps(model.info))
     np.testing.assert_array_equal(back.map.data, model.map.data)
     assert back.map.resolution == model.map.resolution and back.map.origin == model.map.origin
-    np.testing.assert_allclose(back.log_word_likelihood(["きゅうけいじょ"]), model.log_word_likelihood(["きゅうけいじょ"]))
+    np.testing.assert_allclose(
+        back.log_word_likelihood(["きゅうけいじょ"]), model.log_word_likelihood(["きゅうけいじょ"])
+    )
 
 
 def test_model_without_features_or_map(model, tmp_path):
@@ -91,11 +98,17 @@ def test_missing_folder_and_files(saved, tmp_path):
         load_model(saved)
 
 
-@pytest.mark.parametrize("text,message", [
-    ("{not json", "is not valid JSON"),
-    ('{"format": "something-else"}', "is not a spcotmhp model"),
-    ('{"format": "spcotmhp-model", "format_version": 99}', "format version 99; this spcotmhp reads versions 1, 2"),
-])
+@pytest.mark.parametrize(
+    "text,message",
+    [
+        ("{not json", "is not valid JSON"),
+        ('{"format": "something-else"}', "is not a spcotmhp model"),
+        (
+            '{"format": "spcotmhp-model", "format_version": 99}',
+            "format version 99; this spcotmhp reads versions 1, 2",
+        ),
+    ],
+)
 def test_corrupt_or_foreign_json(saved, text, message):
     (saved / "model.json").write_text(text, encoding="utf-8")
     _reseal(saved)
@@ -143,15 +156,25 @@ def test_missing_array(saved):
         load_model(saved)
 
 
-@pytest.mark.parametrize("name,value,message", [
-    ("psi", lambda m: m.psi[:, :-1], r"psi has shape \(\d+, \d+\), but model.json"),
-    ("theta", lambda m: m.theta[:, :10], r"theta has shape \(\d+, 10\), but model.json needs \(\d+, 365\)"),
-    ("pi", lambda m: m.pi * 2, "pi must be non-negative with rows summing to 1"),
-    ("mu", lambda m: np.full_like(m.mu, np.nan), "mu must hold finite floating-point numbers"),
-    ("Sigma", lambda m: -m.Sigma, r"Sigma\[0\] is not positive definite"),
-    ("active_places", lambda m: m.active_places.astype(float), ("active_places has dtype float64; expected "
-                                                               "booleans")),
-])
+@pytest.mark.parametrize(
+    "name,value,message",
+    [
+        ("psi", lambda m: m.psi[:, :-1], r"psi has shape \(\d+, \d+\), but model.json"),
+        (
+            "theta",
+            lambda m: m.theta[:, :10],
+            r"theta has shape \(\d+, 10\), but model.json needs \(\d+, 365\)",
+        ),
+        ("pi", lambda m: m.pi * 2, "pi must be non-negative with rows summing to 1"),
+        ("mu", lambda m: np.full_like(m.mu, np.nan), "mu must hold finite floating-point numbers"),
+        ("Sigma", lambda m: -m.Sigma, r"Sigma\[0\] is not positive definite"),
+        (
+            "active_places",
+            lambda m: m.active_places.astype(float),
+            ("active_places has dtype float64; expected booleans"),
+        ),
+    ],
+)
 def test_mismatched_arrays(model, saved, name, value, message):
     _rewrite_npz(saved, **{name: value(model)})
     with pytest.raises(ModelError, match=message):
@@ -197,11 +220,14 @@ def _meta(folder):
     return json.loads((folder / "model.json").read_text(encoding="utf-8"))
 
 
-@pytest.mark.parametrize("changes,message", [
-    ({"K": 0}, r"\"K\" must be >= 1, got 0"),
-    ({"L": 0}, r"\"L\" must be >= 1, got 0"),
-    ({"D": 0}, r"\"D\" must be >= 1, got 0"),
-])
+@pytest.mark.parametrize(
+    "changes,message",
+    [
+        ({"K": 0}, r"\"K\" must be >= 1, got 0"),
+        ({"L": 0}, r"\"L\" must be >= 1, got 0"),
+        ({"D": 0}, r"\"D\" must be >= 1, got 0"),
+    ],
+)
 def test_empty_sizes_are_refused(saved, changes, message):
     _rewrite_json(saved, **changes)
     with pytest.raises(ModelError, match=message):
@@ -212,8 +238,14 @@ def test_a_model_with_no_place_is_refused_not_a_traceback(saved):
     # K = 0 with arrays of matching (empty) shapes used to fail inside numpy (max of an empty array)
     meta = _meta(saved)
     _rewrite_json(saved, K=0)
-    _rewrite_npz(saved, mu=np.zeros((0, 2)), Sigma=np.zeros((0, 2, 2)), psi=np.zeros((0, 0)),
-                 phi=np.zeros((meta["L"], 0)), active_places=np.zeros(0, dtype=bool))
+    _rewrite_npz(
+        saved,
+        mu=np.zeros((0, 2)),
+        Sigma=np.zeros((0, 2, 2)),
+        psi=np.zeros((0, 0)),
+        phi=np.zeros((meta["L"], 0)),
+        active_places=np.zeros(0, dtype=bool),
+    )
     with pytest.raises(ModelError, match=r"model.json: \"K\" must be >= 1, got 0"):
         load_model(saved)
 
@@ -221,21 +253,43 @@ def test_a_model_with_no_place_is_refused_not_a_traceback(saved):
 def test_repeated_word_is_refused(saved):
     vocab = _meta(saved)["vocabulary"]
     _rewrite_json(saved, vocabulary=vocab[:-1] + [vocab[0]])
-    with pytest.raises(ModelError, match=rf"\"vocabulary\" lists {vocab[0]!r} twice \(again at index "
-                                         rf"{len(vocab) - 1}\)"):
+    with pytest.raises(
+        ModelError,
+        match=rf"\"vocabulary\" lists {vocab[0]!r} twice \(again at index "
+        rf"{len(vocab) - 1}\)",
+    ):
         load_model(saved)
 
 
-@pytest.mark.parametrize("costmap,message", [
-    ({"inflation_radius": 1.0, "robot_size": 3},
-     r"unknown cost map setting\(s\) robot_size in \"costmap\" \(known: inscribed_radius, inflation_radius"),
-    ({"inflation_radius": -1.0}, r"\"costmap.inflation_radius\" must be a finite number in 0..10000, got -1.0"),
-    ({"inflation_radius": 1e308}, r"\"costmap.inflation_radius\" must be a finite number in 0..10000, got 1e\+308"),
-    ({"cost_scaling_factor": "steep"}, (r"\"costmap.cost_scaling_factor\" must be a finite number in 0..1e\+06, "
-                                       r"got 'steep'")),
-    ({"inscribed_radius": True}, r"\"costmap.inscribed_radius\" must be a finite number in 0..10000, got True"),
-    ({"track_unknown_space": 1}, r"\"costmap.track_unknown_space\" must be true or false, got 1"),
-])
+@pytest.mark.parametrize(
+    "costmap,message",
+    [
+        (
+            {"inflation_radius": 1.0, "robot_size": 3},
+            r"unknown cost map setting\(s\) robot_size in \"costmap\" \(known: inscribed_radius, inflation_radius",
+        ),
+        (
+            {"inflation_radius": -1.0},
+            r"\"costmap.inflation_radius\" must be a finite number in 0..10000, got -1.0",
+        ),
+        (
+            {"inflation_radius": 1e308},
+            r"\"costmap.inflation_radius\" must be a finite number in 0..10000, got 1e\+308",
+        ),
+        (
+            {"cost_scaling_factor": "steep"},
+            (
+                r"\"costmap.cost_scaling_factor\" must be a finite number in 0..1e\+06, "
+                r"got 'steep'"
+            ),
+        ),
+        (
+            {"inscribed_radius": True},
+            r"\"costmap.inscribed_radius\" must be a finite number in 0..10000, got True",
+        ),
+        ({"track_unknown_space": 1}, r"\"costmap.track_unknown_space\" must be true or false, got 1"),
+    ],
+)
 def test_cost_map_settings_are_checked(saved, costmap, message):
     _rewrite_json(saved, costmap=costmap)
     with pytest.raises(ModelError, match=message):
@@ -243,24 +297,31 @@ def test_cost_map_settings_are_checked(saved, costmap, message):
 
 
 def test_non_finite_cost_map_setting(saved):
-    (saved / "model.json").write_text((saved / "model.json").read_text(encoding="utf-8").replace(
-        '"inflation_radius": 1.0', '"inflation_radius": Infinity'), encoding="utf-8")
+    (saved / "model.json").write_text(
+        (saved / "model.json")
+        .read_text(encoding="utf-8")
+        .replace('"inflation_radius": 1.0', '"inflation_radius": Infinity'),
+        encoding="utf-8",
+    )
     _reseal(saved)
     with pytest.raises(ModelError, match=r"model.json is not accepted: Infinity is not a number JSON accepts"):
         load_model(saved)
 
 
-@pytest.mark.parametrize("name,value,message", [
-    ("alpha", "big", r"hyper-parameter alpha must be a finite number > 0, got 'big'"),
-    ("gamma", -0.1, r"hyper-parameter gamma must be a finite number > 0, got -0.1"),
-    ("beta", 0, r"hyper-parameter beta must be a finite number > 0, got 0"),
-    ("omega", None, r"hyper-parameter omega must be a finite number > 0, got None"),
-    ("kappa0", 1e400, r"model.json is not accepted: Infinity is not a number JSON accepts"),
-    ("nu0", 1, r"hyper-parameter nu0 must be a finite number > 1"),
-    ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
-    ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
-    ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix"),
-])
+@pytest.mark.parametrize(
+    "name,value,message",
+    [
+        ("alpha", "big", r"hyper-parameter alpha must be a finite number > 0, got 'big'"),
+        ("gamma", -0.1, r"hyper-parameter gamma must be a finite number > 0, got -0.1"),
+        ("beta", 0, r"hyper-parameter beta must be a finite number > 0, got 0"),
+        ("omega", None, r"hyper-parameter omega must be a finite number > 0, got None"),
+        ("kappa0", 1e400, r"model.json is not accepted: Infinity is not a number JSON accepts"),
+        ("nu0", 1, r"hyper-parameter nu0 must be a finite number > 1"),
+        ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
+        ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
+        ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix"),
+    ],
+)
 def test_bad_hyper_parameters_are_refused(saved, name, value, message):
     _rewrite_json(saved, hyper={**_meta(saved)["hyper"], name: value})
     with pytest.raises(ModelError, match=message):
@@ -270,8 +331,11 @@ def test_bad_hyper_parameters_are_refused(saved, name, value, message):
 @pytest.mark.parametrize("weight", ["1", 0, -2.0, True, [1]])
 def test_feature_weight_must_be_a_positive_number_or_null(saved, weight):
     _rewrite_json(saved, info={**_meta(saved)["info"], "feature_weight": weight})
-    with pytest.raises(ModelError, match=r"\"info.feature_weight\" must be a positive number, or null for the "
-                                         r"authors' counts, got "):
+    with pytest.raises(
+        ModelError,
+        match=r"\"info.feature_weight\" must be a positive number, or null for the "
+        r"authors' counts, got ",
+    ):
         load_model(saved)
 
 
@@ -287,10 +351,13 @@ def test_map_outside_the_model_folder_is_refused(saved, tmp_path):
     for name in ("map.yaml", "map.pgm"):
         (outside / name).write_bytes((saved / name).read_bytes())
     _rewrite_json(saved, map="../elsewhere/map.yaml")
-    with pytest.raises(ModelError, match=r"\"map\" must be a file inside the model folder .*, got "
-                                         r"'../elsewhere/map.yaml'"):
+    with pytest.raises(
+        ModelError,
+        match=r"\"map\" must be a file inside the model folder .*, got "
+        r"'../elsewhere/map.yaml'",
+    ):
         load_model(saved)
-    _rewrite_json(saved, map=str(outside / "map.yaml"))          # an absolute path is outside too
+    _rewrite_json(saved, map=str(outside / "map.yaml"))  # an absolute path is outside too
     with pytest.raises(ModelError, match=r"\"map\" must be a file inside the model folder"):
         load_model(saved)
 
@@ -330,7 +397,7 @@ def test_unwritable_model_folder_is_a_model_error(model, tmp_path):
         prepare_model_folder("/proc/nope/m")
     with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
         save_model(model, "/proc/nope/m")
-    assert prepare_model_folder(tmp_path / "a" / "b") == tmp_path / "a" / "b"     # checked, not created
+    assert prepare_model_folder(tmp_path / "a" / "b") == tmp_path / "a" / "b"  # checked, not created
     assert (tmp_path / "a").is_dir() and not (tmp_path / "a" / "b").exists()
 
 
@@ -344,12 +411,22 @@ def test_predict_assignments_with_a_zero_in_w_and_the_one_word_likelihood():
     from spcotmhp.learning.predict import predict_assignments
     from spcotmhp.metric.maps import OccupancyMap
 
-    W = np.array([[1.0, 0.0], [0.0, 1.0]])                     # concept 0 says only "a", concept 1 only "b"
-    model = SpatialConceptModel(mu=np.array([[1.0, 1.0], [3.0, 1.0]]), Sigma=np.tile(np.eye(2) * 0.25, (2, 1, 1)),
-                                psi=np.full((2, 2), 0.5), pi=np.array([0.5, 0.5]), phi=np.eye(2) * 0.98 + 0.01,
-                                W=W, vocabulary=["a", "b"])
-    data = Dataset(name="z", map=OccupancyMap(data=np.zeros((20, 40), np.int8), resolution=0.1),
-                   positions=np.array([[1.0, 1.0], [3.0, 1.0], [1.0, 1.0]]), tokens=[["a"], ["b"], ["b"]])
+    W = np.array([[1.0, 0.0], [0.0, 1.0]])  # concept 0 says only "a", concept 1 only "b"
+    model = SpatialConceptModel(
+        mu=np.array([[1.0, 1.0], [3.0, 1.0]]),
+        Sigma=np.tile(np.eye(2) * 0.25, (2, 1, 1)),
+        psi=np.full((2, 2), 0.5),
+        pi=np.array([0.5, 0.5]),
+        phi=np.eye(2) * 0.98 + 0.01,
+        W=W,
+        vocabulary=["a", "b"],
+    )
+    data = Dataset(
+        name="z",
+        map=OccupancyMap(data=np.zeros((20, 40), np.int8), resolution=0.1),
+        positions=np.array([[1.0, 1.0], [3.0, 1.0], [1.0, 1.0]]),
+        tokens=[["a"], ["b"], ["b"]],
+    )
     places, concepts = predict_assignments(model, data, use_features=False)
     assert concepts.tolist() == [0, 1, 1] and places.tolist() == [0, 1, 0]
     with np.errstate(divide="ignore"):

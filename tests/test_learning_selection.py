@@ -68,7 +68,7 @@ def test_runs_are_the_children_of_the_seed(data):
 def test_process_pool_gives_the_same_runs(data):
     one = fit_runs(data, runs=3, iterations=10, seed=2, n_jobs=1, connectivity="hmm")
     two = fit_runs(data, runs=3, iterations=10, seed=2, n_jobs=2, connectivity="hmm")
-    for a, b in zip(one.estimators_, two.estimators_):
+    for a, b in zip(one.estimators_, two.estimators_, strict=False):
         np.testing.assert_array_equal(a.concepts_, b.concepts_)
         np.testing.assert_array_equal(a.model_.mu, b.model_.mu)
 

@@ -80,14 +80,14 @@ def test_transitions_and_map_sources(home):
 
 def test_walk_source_on_a_synthetic_home_with_a_trajectory():
     data = generate_environment("house", seed=1)
-    model = fit_supervised(data)                # auto: the synthetic home also has adjacency.csv
+    model = fit_supervised(data)  # auto: the synthetic home also has adjacency.csv
     assert model.info["psi_from"] == "adjacency.csv"
     walk = fit_supervised(data, adjacency="walk")
     A = walk_adjacency(walk, data).astype(bool)
     np.testing.assert_allclose(walk.psi, psi_from_adjacency(A))
     truth = data.adjacency.astype(bool)
     off = ~np.eye(walk.K, dtype=bool)
-    tp = (A & truth & off).sum()          # the doors the teaching walk went through
+    tp = (A & truth & off).sum()  # the doors the teaching walk went through
     assert tp / (A & off).sum() >= 0.9 and tp / (truth & off).sum() >= 0.8
 
 

@@ -24,7 +24,7 @@ def test_albert_b_meets_the_paper_floor():
 
 
 def test_concept_truth_falls_back_to_place_names():
-    home = load_bundled("3LDK_01", lang="en")        # no concept column: the three bedrooms share one concept
+    home = load_bundled("3LDK_01", lang="en")  # no concept column: the three bedrooms share one concept
     truth = concept_truth(home)
     bedrooms = [k for k, n in enumerate(home.place_names) if n == "bedroom"]
     assert len(bedrooms) == 3

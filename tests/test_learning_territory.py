@@ -28,9 +28,16 @@ def rooms() -> OccupancyMap:
 def model_at(means, sds, occ) -> SpatialConceptModel:
     K = len(means)
     Sigma = np.array([np.eye(2) * s**2 for s in sds])
-    return SpatialConceptModel(mu=np.array(means, float), Sigma=Sigma, psi=np.full((K, K), 1.0 / K),
-                               pi=np.array([1.0]), phi=np.full((1, K), 1.0 / K), W=np.array([[1.0]]),
-                               vocabulary=["x"], map=occ)
+    return SpatialConceptModel(
+        mu=np.array(means, float),
+        Sigma=Sigma,
+        psi=np.full((K, K), 1.0 / K),
+        pi=np.array([1.0]),
+        phi=np.full((1, K), 1.0 / K),
+        W=np.array([[1.0]]),
+        vocabulary=["x"],
+        map=occ,
+    )
 
 
 def test_every_free_cell_of_a_seeded_component_is_labelled_and_territories_are_connected():
@@ -54,7 +61,7 @@ def test_a_place_whose_mean_is_in_a_wall_or_under_a_broad_gaussian_still_owns_ce
     t = place_territories(m, mask, occ.cell_centres())
     assert (t == 1).any()
     A = territory_adjacency(t, 4)
-    assert A[1].sum() >= 2                                  # it has at least one edge besides itself
+    assert A[1].sum() >= 2  # it has at least one edge besides itself
 
 
 def test_a_stray_fragment_goes_to_the_place_that_reaches_it_first():
@@ -67,8 +74,8 @@ def test_a_stray_fragment_goes_to_the_place_that_reaches_it_first():
     mask = occ.data == 0
     t = place_territories(m, mask, occ.cell_centres())
     raw = np.argmax(np.stack([m.log_place_density(occ.cell_centres())[..., k] for k in range(2)]), axis=0)
-    assert ndimage.label((raw == 0) & mask, structure=FOUR)[1] == 2        # two pieces before
-    assert ndimage.label(t == 0, structure=FOUR)[1] == 1                  # one territory after
+    assert ndimage.label((raw == 0) & mask, structure=FOUR)[1] == 2  # two pieces before
+    assert ndimage.label(t == 0, structure=FOUR)[1] == 1  # one territory after
     assert (t[:, 40:][mask[:, 40:]] == 1).all()
 
 

@@ -19,12 +19,16 @@ from spcotmhp.metric.maps import OccupancyMap
 
 DATA = Path(__file__).resolve().parents[1] / "spcotmhp" / "data"
 HOMES = sorted((DATA / "sigverse-3ldk").glob("3LDK_*"))
-BASE = {"resolution": 0.1, "origin": [-1.0, 2.0, 0.0], "negate": 0,
-        "occupied_thresh": 0.65, "free_thresh": 0.196}
+BASE = {
+    "resolution": 0.1,
+    "origin": [-1.0, 2.0, 0.0],
+    "negate": 0,
+    "occupied_thresh": 0.65,
+    "free_thresh": 0.196,
+}
 
 
-def write_map(tmp_path: Path, pixels: np.ndarray, name: str = "map.png", img_mode: str | None = None,
-              **keys) -> Path:
+def write_map(tmp_path: Path, pixels: np.ndarray, name: str = "map.png", img_mode: str | None = None, **keys) -> Path:
     """Write ``pixels`` (image row order) with Pillow and a YAML naming it; ``keys`` override BASE."""
     Image.fromarray(pixels, mode=img_mode).save(tmp_path / name)
     meta = {"image": name, **BASE, **keys}
@@ -113,8 +117,7 @@ def test_rows_are_flipped(tmp_path: Path) -> None:
 def test_rgb_shade_is_the_channel_mean_not_luminance(tmp_path: Path) -> None:
     # red and blue: mean 85 -> occ 0.667 -> occupied; yellow and cyan: mean 170 -> occ 0.333 -> unknown
     # (a luminance conversion would make yellow, 226, free)
-    rgb = np.array([[[255, 0, 0], [255, 255, 0], [0, 0, 255], [0, 255, 255], [254, 254, 254]]],
-                   dtype=np.uint8)
+    rgb = np.array([[[255, 0, 0], [255, 255, 0], [0, 0, 255], [0, 255, 255], [254, 254, 254]]], dtype=np.uint8)
     m = load_map(write_map(tmp_path, rgb))
     np.testing.assert_array_equal(m.data, [[100, -1, 100, -1, 0]])
 
@@ -139,8 +142,19 @@ def test_grey_alpha_counts_grey_three_times(tmp_path: Path) -> None:
 def test_scale_mode(tmp_path: Path) -> None:
     # thresholds free 0.2, occupied 0.8; v = 128: occ = 0.49804 -> rint((0.49804 - 0.2) / 0.6 * 100) = 50;
     # v = 200: occ 0.2157 -> rint(2.61) = 3; transparent or half transparent -> unknown; alpha not averaged in
-    rgba = np.array([[[128, 128, 128, 255], [200, 200, 200, 255], [0, 0, 0, 255], [255, 255, 255, 255],
-                      [128, 128, 128, 0], [128, 128, 128, 254]]], dtype=np.uint8)
+    rgba = np.array(
+        [
+            [
+                [128, 128, 128, 255],
+                [200, 200, 200, 255],
+                [0, 0, 0, 255],
+                [255, 255, 255, 255],
+                [128, 128, 128, 0],
+                [128, 128, 128, 254],
+            ]
+        ],
+        dtype=np.uint8,
+    )
     m = load_map(write_map(tmp_path, rgba, mode="scale", occupied_thresh=0.8, free_thresh=0.2))
     np.testing.assert_array_equal(m.data, [[50, 3, 100, 0, -1, -1]])
     assert m.mode == "scale"
@@ -214,12 +228,15 @@ def test_missing_yaml(tmp_path: Path) -> None:
         load_map(tmp_path / "nothere.yaml")
 
 
-@pytest.mark.parametrize("text, message", [
-    ("image: [unclosed\n", "does not parse"),
-    ("image: a: b\n", "does not parse"),
-    ("- just\n- a list\n", "must be a mapping"),
-    ("", "must be a mapping"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("image: [unclosed\n", "does not parse"),
+        ("image: a: b\n", "does not parse"),
+        ("- just\n- a list\n", "must be a mapping"),
+        ("", "must be a mapping"),
+    ],
+)
 def test_yaml_that_does_not_parse(tmp_path: Path, text: str, message: str) -> None:
     path = write_yaml(tmp_path, text)
     with pytest.raises(MapError, match=message) as info:
@@ -237,29 +254,35 @@ def test_missing_required_key(tmp_path: Path, key: str) -> None:
     assert str(path) in str(info.value)
 
 
-@pytest.mark.parametrize("key, value, message", [
-    ("image", "", "key 'image' must be a non-empty file name"),
-    ("image", 12, "key 'image' must be a non-empty file name"),
-    ("resolution", 0, r"key 'resolution' must be a number of metres per cell in 0.0001..1000, got 0"),
-    ("resolution", -0.05, "key 'resolution' must be a number of metres per cell"),
-    ("resolution", "fine", "key 'resolution' must be a finite number, got 'fine'"),
-    ("resolution", float("nan"), "key 'resolution' must be a finite number"),
-    ("resolution", True, "key 'resolution' must be a finite number"),
-    ("origin", [0, 0], r"key 'origin' must be a list of 3 numbers \[x, y, yaw\]"),
-    ("origin", "0 0 0", "key 'origin' must be a list of 3 numbers"),
-    ("origin", [0, "x", 0], "key 'origin' must be a finite number, got 'x'"),
-    ("origin", [0, 0, 0.5], r"origin yaw 0.5 is not supported; only axis-aligned maps \(yaw 0\)"),
-    ("negate", 2, "key 'negate' must be 0, 1, true or false, got 2"),
-    ("negate", "maybe", "key 'negate' must be 0, 1, true or false"),
-    ("occupied_thresh", 0.1,
-     r"0 <= free_thresh < occupied_thresh <= 1, got free_thresh 0.196, occupied_thresh 0.1"),
-    ("occupied_thresh", 1.5, "free_thresh < occupied_thresh <= 1"),
-    ("free_thresh", -0.1, "0 <= free_thresh"),
-    ("free_thresh", 0.65, "free_thresh < occupied_thresh"),
-    ("free_thresh", "low", "key 'free_thresh' must be a finite number"),
-    ("mode", "binary", "key 'mode' must be one of trinary, scale, raw, got 'binary'"),
-    ("mode", 3, "key 'mode' must be one of trinary, scale, raw"),
-])
+@pytest.mark.parametrize(
+    "key, value, message",
+    [
+        ("image", "", "key 'image' must be a non-empty file name"),
+        ("image", 12, "key 'image' must be a non-empty file name"),
+        ("resolution", 0, r"key 'resolution' must be a number of metres per cell in 0.0001..1000, got 0"),
+        ("resolution", -0.05, "key 'resolution' must be a number of metres per cell"),
+        ("resolution", "fine", "key 'resolution' must be a finite number, got 'fine'"),
+        ("resolution", float("nan"), "key 'resolution' must be a finite number"),
+        ("resolution", True, "key 'resolution' must be a finite number"),
+        ("origin", [0, 0], r"key 'origin' must be a list of 3 numbers \[x, y, yaw\]"),
+        ("origin", "0 0 0", "key 'origin' must be a list of 3 numbers"),
+        ("origin", [0, "x", 0], "key 'origin' must be a finite number, got 'x'"),
+        ("origin", [0, 0, 0.5], r"origin yaw 0.5 is not supported; only axis-aligned maps \(yaw 0\)"),
+        ("negate", 2, "key 'negate' must be 0, 1, true or false, got 2"),
+        ("negate", "maybe", "key 'negate' must be 0, 1, true or false"),
+        (
+            "occupied_thresh",
+            0.1,
+            r"0 <= free_thresh < occupied_thresh <= 1, got free_thresh 0.196, occupied_thresh 0.1",
+        ),
+        ("occupied_thresh", 1.5, "free_thresh < occupied_thresh <= 1"),
+        ("free_thresh", -0.1, "0 <= free_thresh"),
+        ("free_thresh", 0.65, "free_thresh < occupied_thresh"),
+        ("free_thresh", "low", "key 'free_thresh' must be a finite number"),
+        ("mode", "binary", "key 'mode' must be one of trinary, scale, raw, got 'binary'"),
+        ("mode", 3, "key 'mode' must be one of trinary, scale, raw"),
+    ],
+)
 def test_invalid_key(tmp_path: Path, key: str, value: object, message: str) -> None:
     Image.fromarray(np.zeros((2, 2), dtype=np.uint8)).save(tmp_path / "m.pgm")
     path = write_yaml(tmp_path, {"image": "m.pgm", **BASE, key: value})
@@ -291,7 +314,7 @@ def test_unsupported_pixel_formats(tmp_path: Path) -> None:
     with pytest.raises(MapError, match=r"f\.pfm: unsupported pixel format F"):
         load_map(write_yaml(tmp_path, {"image": "f.pfm", **BASE}))
     Image.fromarray(np.array([[70000]], dtype=np.int32), mode="I").save(tmp_path / "i.tif")
-    with pytest.raises(MapError, match=r"i\.tif cannot be read as PGM/PPM, PNG, BMP"):   # TIFF is not accepted
+    with pytest.raises(MapError, match=r"i\.tif cannot be read as PGM/PPM, PNG, BMP"):  # TIFF is not accepted
         load_map(write_yaml(tmp_path, {"image": "i.tif", **BASE}))
 
 
@@ -303,8 +326,9 @@ def test_save_reproduces_the_bundled_pgm(tmp_path: Path, home: Path) -> None:
     m = load_map(home / "map.yaml")
     yaml_path = save_map(m, tmp_path / "copy")
     assert yaml_path == tmp_path / "copy.yaml"
-    np.testing.assert_array_equal(np.asarray(Image.open(tmp_path / "copy.pgm")),
-                                  np.asarray(Image.open(home / "map.pgm")))
+    np.testing.assert_array_equal(
+        np.asarray(Image.open(tmp_path / "copy.pgm")), np.asarray(Image.open(home / "map.pgm"))
+    )
     assert (tmp_path / "copy.pgm").read_bytes()[:2] == b"P5"
     assert_same_map(load_map(yaml_path), m)
 
@@ -313,11 +337,24 @@ def test_saved_yaml_content(tmp_path: Path) -> None:
     m = OccupancyMap(np.array([[0, 100], [-1, 0]], dtype=np.int8), 0.05, (-12.345678901, 3.5, 0.0))
     yaml_path = save_map(m, tmp_path / "out.yaml")
     text = yaml_path.read_text()
-    assert list(yaml.safe_load(text)) == ["image", "mode", "resolution", "origin", "negate",
-                                          "occupied_thresh", "free_thresh"]
-    assert yaml.safe_load(text) == {"image": "out.pgm", "mode": "trinary", "resolution": 0.05,
-                                    "origin": [-12.345678901, 3.5, 0.0], "negate": 0,
-                                    "occupied_thresh": 0.65, "free_thresh": 0.196}
+    assert list(yaml.safe_load(text)) == [
+        "image",
+        "mode",
+        "resolution",
+        "origin",
+        "negate",
+        "occupied_thresh",
+        "free_thresh",
+    ]
+    assert yaml.safe_load(text) == {
+        "image": "out.pgm",
+        "mode": "trinary",
+        "resolution": 0.05,
+        "origin": [-12.345678901, 3.5, 0.0],
+        "negate": 0,
+        "occupied_thresh": 0.65,
+        "free_thresh": 0.196,
+    }
     assert "origin: [-12.345678901, 3.5, 0.0]" in text
     # image row 0 is the top = grid's last row: [-1, 0] -> 205, 254; then [0, 100] -> 254, 0
     np.testing.assert_array_equal(np.asarray(Image.open(tmp_path / "out.pgm")), [[205, 254], [254, 0]])
@@ -367,9 +404,10 @@ def test_save_warns_when_the_map_will_not_load_back_the_same(tmp_path: Path) -> 
 
 
 @settings(max_examples=25, deadline=None)
-@given(data=arrays(np.int8, st.tuples(st.integers(1, 6), st.integers(1, 6)),
-                   elements=st.sampled_from([-1, 0, 100])),
-       mode=st.sampled_from(["trinary", "raw", "scale"]))
+@given(
+    data=arrays(np.int8, st.tuples(st.integers(1, 6), st.integers(1, 6)), elements=st.sampled_from([-1, 0, 100])),
+    mode=st.sampled_from(["trinary", "raw", "scale"]),
+)
 def test_round_trip_property(tmp_path_factory: pytest.TempPathFactory, data: np.ndarray, mode: str) -> None:
     tmp = tmp_path_factory.mktemp("rt")
     m = OccupancyMap(data, 0.05, (1.25, -2.5, 0.0))
@@ -388,13 +426,19 @@ def test_round_trip_all_values(tmp_path_factory: pytest.TempPathFactory, data: n
         assert_same_map(load_map(save_map(m, tmp / mode, mode=mode)), m)
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"mode": "fancy"}, "unknown mode 'fancy'; accepted: trinary, scale, raw"),
-    ({"image_format": "jpg"}, "image format 'jpg' is not one of pgm, png, bmp"),
-    ({"mode": "scale", "image_format": "pgm"}, "scale mode needs transparency for unknown cells, use png"),
-    ({"occupied_thresh": 1.2}, "0 <= free_thresh < occupied_thresh <= 1"),
-    ({"free_thresh": 0.7}, "free_thresh < occupied_thresh"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"mode": "fancy"}, "unknown mode 'fancy'; accepted: trinary, scale, raw"),
+        ({"image_format": "jpg"}, "image format 'jpg' is not one of pgm, png, bmp"),
+        (
+            {"mode": "scale", "image_format": "pgm"},
+            "scale mode needs transparency for unknown cells, use png",
+        ),
+        ({"occupied_thresh": 1.2}, "0 <= free_thresh < occupied_thresh <= 1"),
+        ({"free_thresh": 0.7}, "free_thresh < occupied_thresh"),
+    ],
+)
 def test_save_bad_arguments(tmp_path: Path, kwargs: dict, message: str) -> None:
     m = OccupancyMap(np.zeros((2, 2), dtype=np.int8), 0.1)
     with pytest.raises(MapError, match=message):

@@ -20,15 +20,15 @@ def test_snap_takes_the_nearest_true_cell_and_keeps_true_cells():
     m = grid()
     assert snap(m, np.array([0, 0])).tolist() == [0, 0]
     assert snap(m, np.array([3, 0])).tolist() == [2, 0]
-    assert snap(m, np.array([0, 3])).tolist() == [1, 4]     # sqrt 2 away; (2, 3) and (0, 1) are 2 away
-    assert snap(m, np.array([[3, 5], [-4, 99]])).tolist() == [[2, 5], [1, 5]]   # (-4, 99) is clipped to (0, 5)
+    assert snap(m, np.array([0, 3])).tolist() == [1, 4]  # sqrt 2 away; (2, 3) and (0, 1) are 2 away
+    assert snap(m, np.array([[3, 5], [-4, 99]])).tolist() == [[2, 5], [1, 5]]  # (-4, 99) is clipped to (0, 5)
     idx = nearest_index(m)
     assert idx.shape == (2, 4, 6) and (idx[:, 1, 4] == [1, 4]).all()
 
 
 def test_components_are_4_connected():
     m = np.zeros((3, 3), dtype=bool)
-    m[0, 0] = m[1, 1] = m[2, 2] = m[2, 1] = True      # (0, 0) touches the others only at a corner
+    m[0, 0] = m[1, 1] = m[2, 2] = m[2, 1] = True  # (0, 0) touches the others only at a corner
     assert component_at(m, (0, 0)).sum() == 1
     assert component_at(m, (2, 2)).tolist() == [[False] * 3, [False, True, False], [False, True, True]]
     assert not component_at(m, (0, 2)).any()

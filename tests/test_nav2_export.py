@@ -92,13 +92,16 @@ def test_route_graph_follows_the_route_server_rules(export, model_dir):
         cells = occ.world_to_cell(xy)
         assert (occ.data[cells[:, 0], cells[:, 1]] == 0).all() and (np.abs(np.diff(cells, axis=0)) <= 1).all()
         pairs.add((p["startid"], p["endid"]))
-    assert all((b, a) in pairs for a, b in pairs)                       # one edge per direction
+    assert all((b, a) in pairs for a, b in pairs)  # one edge per direction
 
 
 def test_route_graph_is_connected_wherever_the_place_graph_is(export, model_dir):
     doc = json.loads((export / "route_graph.geojson").read_text())
-    place_of = {f["properties"]["id"]: f["properties"]["metadata"]["place"] for f in doc["features"]
-                if f["geometry"]["type"] == "Point"}
+    place_of = {
+        f["properties"]["id"]: f["properties"]["metadata"]["place"]
+        for f in doc["features"]
+        if f["geometry"]["type"] == "Point"
+    }
     planner = HierarchicalPlanner(load_model_dir(model_dir))
     K = planner.model.K
     route = np.zeros((K, K), dtype=bool)
@@ -106,7 +109,7 @@ def test_route_graph_is_connected_wherever_the_place_graph_is(export, model_dir)
         if f["geometry"]["type"] != "Point":
             route[place_of[f["properties"]["startid"]], place_of[f["properties"]["endid"]]] = True
     connected = planner.graph.connected & ~np.eye(K, dtype=bool)
-    assert np.array_equal(route, connected)                              # every connected pair has its edge
+    assert np.array_equal(route, connected)  # every connected pair has its edge
     n_place, place_labels = connected_components(connected, directed=False)
     n_route, route_labels = connected_components(route, directed=True, connection="strong")
     assert n_place == n_route
@@ -123,7 +126,7 @@ def test_keepout_mask_is_a_map_of_the_avoided_territories(export, model_dir):
     graph = planner.graph
     (r0, c0), (h, w) = graph.offset, graph.territory.shape
     expected = np.zeros(occ.shape, dtype=bool)
-    expected[r0:r0 + h, c0:c0 + w] = np.isin(graph.territory, avoided)
+    expected[r0 : r0 + h, c0 : c0 + w] = np.isin(graph.territory, avoided)
     assert np.array_equal(mask.data == 100, expected)
     # a plan that avoids those places never enters the mask, one that goes there does
     start = occ.cell_to_world(graph.to_map(graph.node_cell[planner.names.index("entrance")]))
@@ -148,18 +151,23 @@ def test_refuses_to_overwrite_and_reports_bad_places(export, model_dir, tmp_path
     assert (export / "route_graph.geojson").read_bytes() == before
     done = run("export-nav2", str(model_dir), "--out", str(export), "--overwrite")
     assert done.returncode == 0, done.stderr
-    assert sorted(p.name for p in export.iterdir()) == ["README.md", "route_graph.geojson"]   # no stale mask
-    assert sorted(p.name for p in export.parent.iterdir()) == ["nav2"]                         # no leftovers
+    assert sorted(p.name for p in export.iterdir()) == ["README.md", "route_graph.geojson"]  # no stale mask
+    assert sorted(p.name for p in export.parent.iterdir()) == ["nav2"]  # no leftovers
 
 
 def test_ros2_without_the_extra_is_one_line(model_dir):
-    code = ("import sys; sys.modules['rclpy'] = None; sys.argv = ['spcotmhp', 'ros2', sys.argv[1]]; "
-            "from spcotmhp.cli import main; main()")
-    done = subprocess.run([sys.executable, "-c", code, str(model_dir)], capture_output=True, text=True,
-                          timeout=120, check=False)
+    code = (
+        "import sys; sys.modules['rclpy'] = None; sys.argv = ['spcotmhp', 'ros2', sys.argv[1]]; "
+        "from spcotmhp.cli import main; main()"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(model_dir)], capture_output=True, text=True, timeout=120, check=False
+    )
     assert done.returncode == 2
-    assert done.stderr == "error: the ROS 2 node needs rclpy and the ROS 2 messages (rclpy is missing): pip " \
-                          "install 'spcotmhp[ros2]'\n"
+    assert (
+        done.stderr == "error: the ROS 2 node needs rclpy and the ROS 2 messages (rclpy is missing): pip "
+        "install 'spcotmhp[ros2]'\n"
+    )
 
 
 def load_model_dir(folder: Path):

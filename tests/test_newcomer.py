@@ -49,34 +49,38 @@ def draw_home(folder: Path) -> None:
     pen.line([(0, 70), (80, 70)], fill=(0, 0, 0), width=3)
     pen.line([(120, 70), (199, 70)], fill=(0, 0, 0), width=3)
     image.save(folder / "map.png")
-    (folder / "map.yaml").write_text("image: map.png\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
-                                     "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    (folder / "map.yaml").write_text(
+        "image: map.png\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    )
 
 
 def test_a_hand_written_csv_to_a_plan(tmp_path):
     """The README's steps on a drawn map and 10 utterances; each error met on the way says how to fix it."""
     home = tmp_path / "my-home"
     draw_home(home)
-    missing = run("check-dataset", "my-home", cwd=tmp_path)         # forgot teaching.csv: says which file
+    missing = run("check-dataset", "my-home", cwd=tmp_path)  # forgot teaching.csv: says which file
     assert missing.returncode == 2 and missing.stderr.strip() == (
-        "error: dataset folder my-home has no teaching.csv (the teaching events)")
+        "error: dataset folder my-home has no teaching.csv (the teaching events)"
+    )
     (home / "teaching.csv").write_text(TEACHING)
     check = run("check-dataset", "my-home", cwd=tmp_path)
     assert check.returncode == 0, check.stderr
     assert "10 teaching events" in check.stdout and "warnings    0" in check.stdout
-    early = run("plan", "my-home", "go to the bedroom", "--start", "2", "1.5", cwd=tmp_path)   # before learning
+    early = run("plan", "my-home", "go to the bedroom", "--start", "2", "1.5", cwd=tmp_path)  # before learning
     assert early.returncode == 2 and early.stderr.strip() == (
         "error: my-home is a dataset folder, not a model; learn a model from it first: spcotmhp learn my-home "
-        "--out my-home-model")
+        "--out my-home-model"
+    )
     learn = run("learn", "my-home", "--out", "my-model", cwd=tmp_path)
     assert learn.returncode == 0, learn.stderr
     places = run("show", "my-model", cwd=tmp_path)
-    assert places.returncode == 0 and len(re.findall(r"mean \(", places.stdout)) == 3     # kitchen, bedroom, hall
+    assert places.returncode == 0 and len(re.findall(r"mean \(", places.stdout)) == 3  # kitchen, bedroom, hall
     plan = run("plan", "my-model", "go to the bedroom", "--start", "2", "1.5", "--json", cwd=tmp_path)
     assert plan.returncode == 0, plan.stderr
     end = np.array(__import__("json").loads(plan.stdout)["path"][-1])
-    assert 5.0 < end[0] < 10.0 and 3.5 < end[1] < 6.0            # in the bedroom (x 5..10 m, y 3.5..6 m)
-    wall = run("plan", "my-model", "go to the bedroom", "--start", "5", "0.05", cwd=tmp_path)   # on the wall
+    assert 5.0 < end[0] < 10.0 and 3.5 < end[1] < 6.0  # in the bedroom (x 5..10 m, y 3.5..6 m)
+    wall = run("plan", "my-model", "go to the bedroom", "--start", "5", "0.05", cwd=tmp_path)  # on the wall
     assert wall.returncode == 2
     suggested = re.search(r"plan from, \((\S+), (\S+)\)$", wall.stderr.strip())
     assert wall.stderr.count("\n") == 1 and suggested, wall.stderr
@@ -84,20 +88,40 @@ def test_a_hand_written_csv_to_a_plan(tmp_path):
     assert again.returncode == 0, again.stderr
 
 
-@pytest.mark.parametrize("args, message", [
-    (["plan", "m", "go"], "error: Missing option '--start' (see 'spcotmhp plan --help')"),
-    (["plan", "m", "go", "--start", "-3.9,-3.5"],
-     ("error: --start takes two numbers separated by a space, e.g. --start -3.9 -3.5 (got '-3.9,-3.5') "
-     "(see 'spcotmhp plan --help')")),
-    (["plan", "m", "go", "--start", "1", "2", "--bogus"], "error: No such option: --bogus (see 'spcotmhp plan --help')"),
-    (["lern", "3LDK_06"], "error: No such command 'lern'. Did you mean 'learn'? (see 'spcotmhp --help')"),
-    (["learn", "nosuchdataset", "--out", "m"],
-     ("error: nosuchdataset is neither a dataset folder nor a bundled dataset name (bundled: 3LDK_01, 3LDK_05, "
-     "3LDK_06, albert-b; `spcotmhp datasets` describes them)")),
-    (["plan", "3LDK_06", "go", "--start", "1", "2"],
-     ("error: model folder 3LDK_06 does not exist (3LDK_06 is the name of a bundled dataset); learn a model from "
-     "it first: spcotmhp learn 3LDK_06 --out 3LDK_06-model")),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["plan", "m", "go"], "error: Missing option '--start' (see 'spcotmhp plan --help')"),
+        (
+            ["plan", "m", "go", "--start", "-3.9,-3.5"],
+            (
+                "error: --start takes two numbers separated by a space, e.g. --start -3.9 -3.5 (got '-3.9,-3.5') "
+                "(see 'spcotmhp plan --help')"
+            ),
+        ),
+        (
+            ["plan", "m", "go", "--start", "1", "2", "--bogus"],
+            "error: No such option: --bogus (see 'spcotmhp plan --help')",
+        ),
+        (["lern", "3LDK_06"], "error: No such command 'lern'. Did you mean 'learn'? (see 'spcotmhp --help')"),
+        (
+            ["learn", "nosuchdataset", "--out", "m"],
+            (
+                "error: nosuchdataset is neither a dataset folder nor a bundled dataset name (bundled: 3LDK_01, "
+                "3LDK_05, "
+                "3LDK_06, albert-b; `spcotmhp datasets` describes them)"
+            ),
+        ),
+        (
+            ["plan", "3LDK_06", "go", "--start", "1", "2"],
+            (
+                "error: model folder 3LDK_06 does not exist (3LDK_06 is the name of a bundled dataset); learn a "
+                "model from "
+                "it first: spcotmhp learn 3LDK_06 --out 3LDK_06-model"
+            ),
+        ),
+    ],
+)
 def test_usage_errors_are_one_line_with_status_2(tmp_path, args, message):
     out = run(*args, cwd=tmp_path)
     assert out.returncode == 2 and out.stderr.strip() == message and out.stdout == ""
@@ -106,23 +130,28 @@ def test_usage_errors_are_one_line_with_status_2(tmp_path, args, message):
 def test_version_and_help(tmp_path):
     assert run("--version", cwd=tmp_path).stdout.strip() == f"spcotmhp {__version__}"
     text = run("plan", "--help", cwd=tmp_path).stdout
-    assert "<" not in text.replace("<=", "")                    # no <bool>, <str>, <path> type labels
+    assert "<" not in text.replace("<=", "")  # no <bool>, <str>, <path> type labels
     assert re.search(r"--start X Y .*\[required\]", " ".join(text.split()))
-    assert "[default: 1; x>=1]" in " ".join(text.split())      # defaults shown
-    assert "│" not in text                                     # plain text: the same piped and in a terminal
+    assert "[default: 1; x>=1]" in " ".join(text.split())  # defaults shown
+    assert "│" not in text  # plain text: the same piped and in a terminal
     synth = " ".join(run("synth", "--help", cwd=tmp_path).stdout.split())
     assert "--rooms INTEGER" in synth and "--overwrite Replace" in synth
 
 
 def test_plain_table_keeps_every_number_whole():
-    text = plain_table(["Method", "SPL", "Time median"], [["SpCoNavi (A* approximation)", "0.822", "30 ms"],
-                                                         ["SpCoTMHP", "0.948", "1.14 ms"]], title="basic")
+    text = plain_table(
+        ["Method", "SPL", "Time median"],
+        [["SpCoNavi (A* approximation)", "0.822", "30 ms"], ["SpCoTMHP", "0.948", "1.14 ms"]],
+        title="basic",
+    )
     lines = text.splitlines()
-    assert lines == ["basic",
-                     "Method                         SPL  Time median",
-                     "---------------------------  -----  -----------",
-                     "SpCoNavi (A* approximation)  0.822        30 ms",
-                     "SpCoTMHP                     0.948      1.14 ms"]
+    assert lines == [
+        "basic",
+        "Method                         SPL  Time median",
+        "---------------------------  -----  -----------",
+        "SpCoNavi (A* approximation)  0.822        30 ms",
+        "SpCoTMHP                     0.948      1.14 ms",
+    ]
 
 
 def test_datasets_piped_is_not_truncated(tmp_path):
@@ -134,19 +163,35 @@ def test_examples_are_the_tours_inputs(tmp_path):
     pytest.importorskip("rosbags", reason="the example bag needs rosbags (extra 'ros')")
     made = run("examples", cwd=tmp_path)
     assert made.returncode == 0, made.stderr
-    assert {p.name for p in (tmp_path / "examples").iterdir()} == {"map.yaml", "map.pgm", "robot.bag", "say.wav"}
+    assert {p.name for p in (tmp_path / "examples").iterdir()} == {
+        "map.yaml",
+        "map.pgm",
+        "robot.bag",
+        "say.wav",
+    }
     again = run("examples", cwd=tmp_path)
     assert again.returncode == 2 and "exists; give --overwrite" in again.stderr
-    bag = run("import-bag", "examples/robot.bag", "--pose-topic", "/amcl_pose", "--utterance-topic", "/speech",
-              "--map", "examples/map.yaml", "--out", "my-home", cwd=tmp_path)
+    bag = run(
+        "import-bag",
+        "examples/robot.bag",
+        "--pose-topic",
+        "/amcl_pose",
+        "--utterance-topic",
+        "/speech",
+        "--map",
+        "examples/map.yaml",
+        "--out",
+        "my-home",
+        cwd=tmp_path,
+    )
     assert bag.returncode == 0, bag.stderr
     rows = (tmp_path / "my-home" / "teaching.csv").read_text().splitlines()
     assert len(rows) == 46
     numbers = [v for row in rows[1:] for v in row.split(",")[1:3]]
-    assert all(len(v.partition(".")[2]) <= 4 for v in numbers), numbers      # 0.1 mm, not 8.1999999995
+    assert all(len(v.partition(".")[2]) <= 4 for v in numbers), numbers  # 0.1 mm, not 8.1999999995
     cost = run("costmap", "examples/map.yaml", "--out", "cm.csv", cwd=tmp_path)
     assert cost.returncode == 0, cost.stderr
-    learn = run("learn", "my-home", "--out", "my-model", cwd=tmp_path)      # the README's bag steps to a plan
+    learn = run("learn", "my-home", "--out", "my-model", cwd=tmp_path)  # the README's bag steps to a plan
     assert learn.returncode == 0, learn.stderr
     plan = run("plan", "my-model", "go to the kitchen", "--start", "5.3", "3.5", cwd=tmp_path)
     assert plan.returncode == 0 and plan.stdout.strip().endswith("m"), plan.stderr
@@ -155,10 +200,11 @@ def test_examples_are_the_tours_inputs(tmp_path):
 def test_install_hints_work_where_the_user_is(monkeypatch):
     from spcotmhp import extras
 
-    hint = extras.install_hint("server")        # these tests run from the source tree
+    hint = extras.install_hint("server")  # these tests run from the source tree
     assert re.fullmatch(r"\S+ -m pip install -e '\S*\[server\]'", hint), hint
     monkeypatch.setattr(extras, "source_tree", lambda: None)
     monkeypatch.setattr(extras, "extra_requirements", lambda extra: ["fastapi>=0.110", "uvicorn>=0.29"])
     assert extras.install_hint("server").endswith("-m pip install 'fastapi>=0.110' 'uvicorn>=0.29'")
-    assert extras.missing_extra("serving (uvicorn)", "server").startswith("serving (uvicorn) needs the extra "
-                                                                           "'server': ")
+    assert extras.missing_extra("serving (uvicorn)", "server").startswith(
+        "serving (uvicorn) needs the extra 'server': "
+    )

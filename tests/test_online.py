@@ -59,7 +59,7 @@ def test_predictive_is_the_student_t_of_the_niw_posterior():
     niw = NIWGaussians(2, np.asarray(hyper.m0), hyper.kappa0, np.asarray(hyper.V0), hyper.nu0)
     m, kappa, V, nu = niw.posterior(GaussianStats(st.n_k, st.sx, st.sxx))
     x = np.array([1.3, -1.1])
-    for k in range(2):   # a place with data and an empty one (the prior predictive)
+    for k in range(2):  # a place with data and an empty one (the prior predictive)
         dof = nu[k] - 1.0
         want = multivariate_t(m[k], V[k] * (kappa[k] + 1) / (kappa[k] * dof), df=dof).logpdf(x)
         assert st.log_predictive(x)[k] == pytest.approx(want, rel=1e-9)
@@ -80,7 +80,7 @@ def test_updates_are_reproducible_however_they_are_split():
     one = OnlineSpCoTMHP(seed=3).partial_fit(events)
     two = OnlineSpCoTMHP(seed=3)
     for i in range(0, 40, 7):
-        two.partial_fit(events[i:i + 7])
+        two.partial_fit(events[i : i + 7])
     assert np.array_equal(one.places_, two.places_) and np.array_equal(one.concepts_, two.concepts_)
 
 
@@ -97,16 +97,18 @@ def test_bad_teaching_is_refused_and_changes_nothing(batch_dir):
     learner = OnlineSpCoTMHP(init_model=model).partial_fit([])
     before = {k: np.copy(v) for k, v in vars(learner.state_).items() if isinstance(v, np.ndarray)}
     wall = wall_point(model)
-    bad = [({"x": wall[0], "y": wall[1], "utterance": ALICE}, "in a wall"),
-           ({"x": 1e4, "y": 0.0, "utterance": ALICE}, "off the map"),
-           ({"x": 0.0, "y": 0.0, "utterance": "  ...  "}, "empty"),
-           ({"x": 0.0, "y": 0.0, "utterance": "alice " * 2000}, "characters"),
-           ({"x": float("nan"), "y": 0.0, "utterance": ALICE}, "not finite"),
-           ({"x": "a", "y": 0.0, "utterance": ALICE}, "two numbers")]
+    bad = [
+        ({"x": wall[0], "y": wall[1], "utterance": ALICE}, "in a wall"),
+        ({"x": 1e4, "y": 0.0, "utterance": ALICE}, "off the map"),
+        ({"x": 0.0, "y": 0.0, "utterance": "  ...  "}, "empty"),
+        ({"x": 0.0, "y": 0.0, "utterance": "alice " * 2000}, "characters"),
+        ({"x": float("nan"), "y": 0.0, "utterance": ALICE}, "not finite"),
+        ({"x": "a", "y": 0.0, "utterance": ALICE}, "two numbers"),
+    ]
     good = {"x": float(new_spot(model)[0]), "y": float(new_spot(model)[1]), "utterance": ALICE}
     for event, message in bad:
         with pytest.raises(TeachingError, match=message):
-            learner.partial_fit([good, event])        # the good event before it is not learned either
+            learner.partial_fit([good, event])  # the good event before it is not learned either
     after = {k: v for k, v in vars(learner.state_).items() if isinstance(v, np.ndarray)}
     assert all(np.array_equal(before[k], after[k]) for k in before)
 
@@ -141,8 +143,7 @@ def test_learner_state_round_trips_through_the_folder(batch_dir, tmp_path):
         assert np.array_equal(saved.learner["arrays"][name], value), name
     again = teach(saved, [{"x": 0.0, "y": 0.5, "utterance": ALICE}])
     assert again.places == teach(taught.model, [{"x": 0.0, "y": 0.5, "utterance": ALICE}]).places
-    assert np.allclose(OnlineSpCoTMHP(init_model=model).partial_fit([]).state_.n_lk,
-                       model.learner["arrays"]["n_lk"])
+    assert np.allclose(OnlineSpCoTMHP(init_model=model).partial_fit([]).state_.n_lk, model.learner["arrays"]["n_lk"])
 
 
 def test_cli_teach_updates_the_folder_and_refuses_other_folders(batch_dir, tmp_path):

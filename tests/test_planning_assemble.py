@@ -16,8 +16,14 @@ from spcotmhp.planning.assemble import _clear, join_legs, path_length, smooth
 
 
 def test_join_legs_drops_shared_junctions():
-    cells, ends = join_legs([np.array([[0, 0], [0, 1]]), np.array([[0, 1], [1, 2]]), np.array([[1, 2]]),
-                             np.array([[1, 2], [2, 2]])])
+    cells, ends = join_legs(
+        [
+            np.array([[0, 0], [0, 1]]),
+            np.array([[0, 1], [1, 2]]),
+            np.array([[1, 2]]),
+            np.array([[1, 2], [2, 2]]),
+        ]
+    )
     assert cells.tolist() == [[0, 0], [0, 1], [1, 2], [2, 2]]
     assert ends == [1, 2, 2, 3]
 
@@ -30,11 +36,11 @@ def test_path_length():
 def test_supercover_counts_both_cells_at_an_exact_corner():
     allowed = np.ones((3, 3), bool)
     allowed[0, 1] = False
-    assert not _clear(allowed, 0, 0, 1, 1)          # the segment (0,0)-(1,1) passes the corner of (0,1)
+    assert not _clear(allowed, 0, 0, 1, 1)  # the segment (0,0)-(1,1) passes the corner of (0,1)
     assert _clear(allowed, 0, 0, 2, 0)
     allowed = np.ones((3, 5), bool)
     allowed[1, 2] = False
-    assert not _clear(allowed, 0, 0, 2, 4)          # through the centre of the blocked cell
+    assert not _clear(allowed, 0, 0, 2, 4)  # through the centre of the blocked cell
     assert _clear(allowed, 0, 0, 0, 4)
 
 
@@ -72,7 +78,7 @@ def test_smoothing_properties(case):
     if len(out) > 1:
         steps = np.abs(np.diff(out, axis=0))
         assert (steps.max(axis=1) == 1).all()
-        for (r0, c0), (r1, c1) in itertools.pairwise(out):   # no squeeze between two blocked corner cells
+        for (r0, c0), (r1, c1) in itertools.pairwise(out):  # no squeeze between two blocked corner cells
             if r0 != r1 and c0 != c1:
                 assert allowed[r0, c1] or allowed[r1, c0]
     assert path_length(out, 1.0) <= path_length(path.cells, 1.0) + 1e-9

@@ -76,13 +76,21 @@ def test_japanese_instruction(tmp_path):
     assert "(closest of 3 places named 寝室)" in line or "places named 寝室;" in line
 
 
-@pytest.mark.parametrize("args, message", [
-    (["go to the garage", "--start", "{x}", "{y}"],
-     "error: no known place word in 'go to the garage' (not understood: garage); known place words: bath,"),
-    (["go to the bath", "--start", "-10.0", "-10.0"], "error: the start (-10.00, -10.00) is in"),
-    (["go to the bath", "--start", "50", "0"], "error: the start (50.00, 0.00) is outside the map"),
-    (["go to the bath avoiding the kitchen", "--start", "{x}", "{y}"], "lies inside a place to avoid (kitchen)"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["go to the garage", "--start", "{x}", "{y}"],
+            "error: no known place word in 'go to the garage' (not understood: garage); known place words: bath,",
+        ),
+        (["go to the bath", "--start", "-10.0", "-10.0"], "error: the start (-10.00, -10.00) is in"),
+        (["go to the bath", "--start", "50", "0"], "error: the start (50.00, 0.00) is outside the map"),
+        (
+            ["go to the bath avoiding the kitchen", "--start", "{x}", "{y}"],
+            "lies inside a place to avoid (kitchen)",
+        ),
+    ],
+)
 def test_errors_are_one_line(model_dir, args, message):
     folder, kitchen = model_dir
     args = [a.format(x=f"{kitchen[0]:.3f}", y=f"{kitchen[1]:.3f}") for a in args]
@@ -104,12 +112,24 @@ def test_usage_errors(model_dir, tmp_path):
     assert out.returncode == 2 and "is not valid JSON" in out.stderr
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--candidates", "0"], "Invalid value for '--candidates': Input should be greater than or equal to 1"),
-    (["--candidates", "-1"], "Invalid value for '--candidates': Input should be greater than or equal to 1"),
-    (["--max-steps", "-3"], "Invalid value for '--max-steps': Input should be greater than or equal to 1"),
-    (["--max-steps", "0"], "Invalid value for '--max-steps': Input should be greater than or equal to 1"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["--candidates", "0"],
+            "Invalid value for '--candidates': Input should be greater than or equal to 1",
+        ),
+        (
+            ["--candidates", "-1"],
+            "Invalid value for '--candidates': Input should be greater than or equal to 1",
+        ),
+        (
+            ["--max-steps", "-3"],
+            "Invalid value for '--max-steps': Input should be greater than or equal to 1",
+        ),
+        (["--max-steps", "0"], "Invalid value for '--max-steps': Input should be greater than or equal to 1"),
+    ],
+)
 def test_out_of_range_options_are_usage_errors(model_dir, args, message):
     from typer.testing import CliRunner
 

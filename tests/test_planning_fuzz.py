@@ -16,9 +16,43 @@ from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning.planner import HierarchicalPlanner
 
-FILLER = ["go", "to", "the", "via", "then", "and", "avoiding", "first", "after", "before", "please", "not", "or",
-          "second", "next", "room", "wait", "back", "bedrom", ",", ";", "of", "a", "me", "take", "pass", "through",
-          "ベッドルーム", "へ", "まず", "💥", "\x00", "1e400", "-1", "NaN"]
+FILLER = [
+    "go",
+    "to",
+    "the",
+    "via",
+    "then",
+    "and",
+    "avoiding",
+    "first",
+    "after",
+    "before",
+    "please",
+    "not",
+    "or",
+    "second",
+    "next",
+    "room",
+    "wait",
+    "back",
+    "bedrom",
+    ",",
+    ";",
+    "of",
+    "a",
+    "me",
+    "take",
+    "pass",
+    "through",
+    "ベッドルーム",
+    "へ",
+    "まず",
+    "💥",
+    "\x00",
+    "1e400",
+    "-1",
+    "NaN",
+]
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +90,7 @@ def test_ten_thousand_generated_instructions(planner):
         start = planner.model.map.cell_to_world(planner.graph.to_map(cell))
         key = attempt(planner, text, tuple(start))
         outcomes[key] = outcomes.get(key, 0) + 1
-    assert outcomes.get("plan", 0) >= 800                # the generator also makes real instructions
+    assert outcomes.get("plan", 0) >= 800  # the generator also makes real instructions
     assert set(outcomes) - {"plan"} <= {c.__name__ for c in _subclasses(SpcotmhpError)}
 
 
@@ -69,20 +103,33 @@ def _subclasses(cls):
 
 starts = st.one_of(
     st.tuples(st.floats(allow_nan=True, allow_infinity=True), st.floats(allow_nan=True, allow_infinity=True)),
-    st.tuples(st.integers(min_value=-10**400, max_value=10**400), st.integers()),
-    st.lists(st.floats(-20, 20), max_size=4), st.text(max_size=20), st.none(),
+    st.tuples(st.integers(min_value=-(10**400), max_value=10**400), st.integers()),
+    st.lists(st.floats(-20, 20), max_size=4),
+    st.text(max_size=20),
+    st.none(),
     st.tuples(st.floats(-8, 8), st.floats(-8, 8)),
 )
-nbest = st.lists(st.tuples(st.text(max_size=40) | st.sampled_from(["go to the kitchen", "go to the bedroom"]),
-                           st.floats(allow_nan=True, allow_infinity=True) | st.integers(-10**400, 10**400)),
-                 max_size=6)
+nbest = st.lists(
+    st.tuples(
+        st.text(max_size=40) | st.sampled_from(["go to the kitchen", "go to the bedroom"]),
+        st.floats(allow_nan=True, allow_infinity=True) | st.integers(-(10**400), 10**400),
+    ),
+    max_size=6,
+)
 
 
 @settings(max_examples=400, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
-@given(instruction=st.one_of(st.text(max_size=200), nbest,
-                             st.dictionaries(st.sampled_from(["goal", "waypoints", "avoid", "x"]),
-                                             st.text(max_size=20) | st.lists(st.text(max_size=10), max_size=3),
-                                             max_size=4)),
-       start=starts)
+@given(
+    instruction=st.one_of(
+        st.text(max_size=200),
+        nbest,
+        st.dictionaries(
+            st.sampled_from(["goal", "waypoints", "avoid", "x"]),
+            st.text(max_size=20) | st.lists(st.text(max_size=10), max_size=3),
+            max_size=4,
+        ),
+    ),
+    start=starts,
+)
 def test_random_instructions_and_starts(planner, instruction, start):
     attempt(planner, instruction, start)

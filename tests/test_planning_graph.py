@@ -30,7 +30,7 @@ def test_candidates_are_the_snapped_means_and_edges_follow_psi():
     assert (g.to_map(g.node_cell) == model.map.world_to_cell(model.mu)).all()
     # connected: L-M, M-R, K-R (the Figure 3 rule (psi_ab + psi_ba) / 2 > 1 / K)
     expected = {(0, 1), (1, 0), (1, 3), (3, 1), (2, 3), (3, 2)}
-    finite = {(int(i), int(j)) for i, j in zip(*np.nonzero(np.isfinite(g.w_hat)))}
+    finite = {(int(i), int(j)) for i, j in zip(*np.nonzero(np.isfinite(g.w_hat)), strict=False)}
     assert finite == expected
     assert connected_places(model).sum() == 4 + 6
 
@@ -41,12 +41,17 @@ def test_w_hat_is_minus_the_map_cost_of_the_leg_plus_the_end_gaussian():
     model, occ = g.model, g.model.map
     log_p = home_log_p(occ)
     cost = np.where(np.isfinite(log_p), math.log(9) - log_p, np.inf)
-    for i, j in zip(*np.nonzero(np.isfinite(g.w_hat))):
+    for i, j in zip(*np.nonzero(np.isfinite(g.w_hat)), strict=False):
         b = g.node_place[j]
-        ref = shortest_paths(cost, g.to_map(g.node_cell[i]), g.to_map(g.node_cell[j])[None], connectivity=8,
-                             diagonal_factor=SQRT2)
+        ref = shortest_paths(
+            cost,
+            g.to_map(g.node_cell[i]),
+            g.to_map(g.node_cell[j])[None],
+            connectivity=8,
+            diagonal_factor=SQRT2,
+        )
         end = occ.cell_to_world(g.to_map(g.node_cell[j]))
-        log_n = log_gaussian(end, model.mu[b:b + 1], model.Sigma[b:b + 1])[0]
+        log_n = log_gaussian(end, model.mu[b : b + 1], model.Sigma[b : b + 1])[0]
         assert g.w_hat[i, j] == pytest.approx(log_n - ref.cost, rel=1e-9)
         # and the stored partial path has exactly that cost
         path = g.to_map(g.edge_path(int(i), int(j)))
@@ -60,8 +65,12 @@ def test_w_hat_by_hand_on_a_one_row_corridor():
     data[1, 1:11] = 0
     occ = OccupancyMap(data=data, resolution=1.0)
     model = home_model()
-    model = dataclasses.replace(model, mu=np.array([[2.5, 1.5], [5.5, 1.5], [8.5, 1.5], [9.5, 1.5]]),
-                                Sigma=np.tile(np.diag([4.0, 1.0]), (4, 1, 1)), map=occ)
+    model = dataclasses.replace(
+        model,
+        mu=np.array([[2.5, 1.5], [5.5, 1.5], [8.5, 1.5], [9.5, 1.5]]),
+        Sigma=np.tile(np.diag([4.0, 1.0]), (4, 1, 1)),
+        map=occ,
+    )
     g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
     # place 0 at col 2, place 1 at col 5: three steps into cols 3, 4, 5 cost log 9 each (p(x|m) = 1); the leg
     # ends at the mean of place 1: log N(mu | mu, diag(4, 1)) = -log(2 pi) - log(4) / 2
@@ -81,8 +90,9 @@ def test_leg_likelihood_grows_with_length_not_with_distance_from_the_mean():
     occ = OccupancyMap(data=data, resolution=0.1)
     model = home_model()
     Sigma = np.stack([np.eye(2) * 0.04, np.eye(2) * 0.04, np.diag([1.0, 0.04]), np.eye(2) * 0.04])
-    model = dataclasses.replace(model, mu=np.array([[0.85, 0.15], [0.55, 0.15], [2.25, 0.15], [2.85, 0.15]]),
-                                Sigma=Sigma, map=occ)
+    model = dataclasses.replace(
+        model, mu=np.array([[0.85, 0.15], [0.55, 0.15], [2.25, 0.15], [2.85, 0.15]]), Sigma=Sigma, map=occ
+    )
     g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
     start = g.start_w_hat(g.to_crop(occ.world_to_cell(np.array([0.95, 0.15]))))
     # place 1 is 4 cells away, place 2 (broad along the row) 13 cells away: the near one scores higher
@@ -105,7 +115,10 @@ def test_inscribed_cells_are_not_traversable_and_nodes_avoid_them():
     toilet = model.map.world_to_cell(model.mu[dataset.place_names.index("toilet")])
     assert cm.costs[toilet[0], toilet[1]] >= 253
     g = PlanningGraph.build(model, GraphSettings(), log_p=cm.log_p, use_cache=False)
-    crop = (slice(g.offset[0], g.offset[0] + g.log_p.shape[0]), slice(g.offset[1], g.offset[1] + g.log_p.shape[1]))
+    crop = (
+        slice(g.offset[0], g.offset[0] + g.log_p.shape[0]),
+        slice(g.offset[1], g.offset[1] + g.log_p.shape[1]),
+    )
     assert not (g.traversable & (cm.costs[crop] >= 253)).any()
     cells = g.to_map(g.node_cell)
     assert (cm.costs[cells[:, 0], cells[:, 1]] < 253).all()
@@ -125,7 +138,7 @@ def test_sampled_candidates_are_seeded_inside_their_ellipse():
         assert (g1.to_map(g1.node_cell[mine][0]) == model.map.world_to_cell(model.mu[k])).all()  # mean first
         # the snapped cells (free rooms here: the sample's own cell) stay within the 0.95 ellipse up to the
         # distance from a point to its cell centre (half a cell diagonal)
-        d2 = mahalanobis2(xy[mine], model.mu[k:k + 1], model.Sigma[k:k + 1])[:, 0]
+        d2 = mahalanobis2(xy[mine], model.mu[k : k + 1], model.Sigma[k : k + 1])[:, 0]
         slack = 0.5 * SQRT2 * 0.5 / math.sqrt(np.diag(model.Sigma[k]).min())
         assert (np.sqrt(d2) <= math.sqrt(chi2_2d(0.95)) + slack).all()
     assert inside_places(model, model.mu, np.arange(4)).all()
@@ -161,8 +174,8 @@ def test_main_component_does_not_join_through_a_diagonal_squeeze():
     from spcotmhp.planning.places import main_component
 
     free = np.zeros((4, 4), bool)
-    free[:2, :2] = True          # a 2x2 room
-    free[2, 2] = free[3, 3] = free[3, 2] = True   # touching the room only at the corner (1,1)-(2,2)
+    free[:2, :2] = True  # a 2x2 room
+    free[2, 2] = free[3, 3] = free[3, 2] = True  # touching the room only at the corner (1,1)-(2,2)
     comp = main_component(free)
     assert comp[:2, :2].all() and not comp[2:, 2:].any()
     assert not main_component(np.zeros((2, 2), bool)).any()
@@ -196,7 +209,7 @@ def test_avoidance_views_are_exact():
     rng = np.random.default_rng(0)
     free = np.argwhere(g.traversable)
     recomputed = 0
-    for places in [(10,), (6,), (4, 9), (2,)]:                 # corridor, dining, living + washroom, kitchen
+    for places in [(10,), (6,), (4, 9), (2,)]:  # corridor, dining, living + washroom, kitchen
         view = g.with_avoided(places)
         assert g.with_avoided(places) is view
         for cell in free[rng.integers(len(free), size=25)]:
@@ -208,4 +221,4 @@ def test_avoidance_views_are_exact():
             assert np.allclose(view.w_hat[np.isfinite(w_hat)], w_hat[np.isfinite(w_hat)])
         assert not view.usable[np.isin(g.node_place, places)].any()
         recomputed += len(view.info["recomputed_fields"])
-    assert 0 < recomputed < 4 * g.n_nodes                         # some fields shared, some recomputed
+    assert 0 < recomputed < 4 * g.n_nodes  # some fields shared, some recomputed

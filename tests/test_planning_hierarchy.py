@@ -31,8 +31,12 @@ def office():
 def pair(office, connectivity=8, spacing=None):
     _, model, log_p = office
     dense = PlanningGraph.build(model, GraphSettings(connectivity=connectivity), log_p=log_p, use_cache=False)
-    hier = PlanningGraph.build(model, GraphSettings(connectivity=connectivity, max_dense_bytes=0,
-                                                    portal_spacing=spacing or 1.0), log_p=log_p, use_cache=False)
+    hier = PlanningGraph.build(
+        model,
+        GraphSettings(connectivity=connectivity, max_dense_bytes=0, portal_spacing=spacing or 1.0),
+        log_p=log_p,
+        use_cache=False,
+    )
     return dense, hier
 
 
@@ -49,13 +53,13 @@ def test_every_crossing_a_portal_is_exact_with_four_connected_moves(office):
 def test_legs_are_real_paths_whose_cost_is_w_hat(office):
     dense, hier = pair(office)
     fin = np.isfinite(dense.w_hat_metric)
-    assert (fin == np.isfinite(hier.w_hat_metric)).all()                 # never stranded: same reachability
-    assert (hier.w_hat_metric[fin] <= dense.w_hat_metric[fin] + 1e-9).all()   # a real path: no cheaper
+    assert (fin == np.isfinite(hier.w_hat_metric)).all()  # never stranded: same reachability
+    assert (hier.w_hat_metric[fin] <= dense.w_hat_metric[fin] + 1e-9).all()  # a real path: no cheaper
     cost = hier.map_cost
     for i, j in zip(*np.nonzero(fin), strict=True):
         path = hier.edge_path(int(i), int(j))
         steps = np.abs(np.diff(path, axis=0))
-        assert steps.max() == 1 and (steps.sum(axis=1) >= 1).all()          # 8-connected, no repeats
+        assert steps.max() == 1 and (steps.sum(axis=1) >= 1).all()  # 8-connected, no repeats
         assert hier.traversable[path[:, 0], path[:, 1]].all()
         assert (path[0] == hier.node_cell[i]).all() and (path[-1] == hier.node_cell[j]).all()
         assert hier.end_term[j] - cells_cost(path, cost) == pytest.approx(hier.w_hat_metric[i, j], rel=1e-9)
@@ -76,7 +80,7 @@ def test_avoided_territories_are_never_entered_and_views_stay_exact(office):
     for i, j in zip(*np.nonzero(np.isfinite(hv.w_hat_metric)), strict=True):
         path = hv.edge_path(int(i), int(j))
         assert not hv.blocked[path[:, 0], path[:, 1]].any()
-    assert hier.with_avoided(tuple(corridor)) is hv                      # memoised
+    assert hier.with_avoided(tuple(corridor)) is hv  # memoised
 
 
 def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
@@ -92,7 +96,7 @@ def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
     assert np.array_equal(moved.territory, fresh.territory)
     assert np.array_equal(moved.w_hat_metric, fresh.w_hat_metric)
     assert np.array_equal(moved.hier.fdist, fresh.hier.fdist)
-    assert model.mu[k].tolist() != moved.model.mu[k].tolist()           # the base model is left alone
+    assert model.mu[k].tolist() != moved.model.mu[k].tolist()  # the base model is left alone
     with pytest.raises(ModelError, match="place index"):
         base.update_place(len(model.mu), model.mu[0], model.Sigma[0])
     with pytest.raises(ModelError, match="positive definite"):

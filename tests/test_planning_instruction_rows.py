@@ -36,21 +36,42 @@ def planners():
     return out
 
 
-START = (-3.9, -3.5)   # the entrance
+START = (-3.9, -3.5)  # the entrance
 
 
-@pytest.mark.parametrize("lang, text, message", [
-    ("en", "go to the garage via the kitchen", ("'garage' (after 'to') is not a known place word; known place "
-                                               "words: bath, bedroom, corridor, dining, entrance, kitchen")),
-    ("en", "go to the kitchen and the attic", "'attic' (after 'and') is not a known place word"),
-    ("en", "go to the attic, then the kitchen", "'attic' (after 'to') is not a known place word"),
-    ("en", "go to the bedroom next to the kitchen", ("'next to' describes a place by where it lies relative to "
-                                                    "another (kitchen); the map does not model spatial relations")),
-    ("en", "go to the bedroom via the kitchen or the toilet", ("'or' leaves the choice of a place open (kitchen or "
-                                                              "toilet)")),
-    ("ja", "ガレージへ行ってキッチンを通って", ("'ガレージ' (before 'へ行って') is not a known place word; known "
-                                              "place words: キッチン")),
-])
+@pytest.mark.parametrize(
+    "lang, text, message",
+    [
+        (
+            "en",
+            "go to the garage via the kitchen",
+            (
+                "'garage' (after 'to') is not a known place word; known place "
+                "words: bath, bedroom, corridor, dining, entrance, kitchen"
+            ),
+        ),
+        ("en", "go to the kitchen and the attic", "'attic' (after 'and') is not a known place word"),
+        ("en", "go to the attic, then the kitchen", "'attic' (after 'to') is not a known place word"),
+        (
+            "en",
+            "go to the bedroom next to the kitchen",
+            (
+                "'next to' describes a place by where it lies relative to "
+                "another (kitchen); the map does not model spatial relations"
+            ),
+        ),
+        (
+            "en",
+            "go to the bedroom via the kitchen or the toilet",
+            ("'or' leaves the choice of a place open (kitchen or toilet)"),
+        ),
+        (
+            "ja",
+            "ガレージへ行ってキッチンを通って",
+            ("'ガレージ' (before 'へ行って') is not a known place word; known place words: キッチン"),
+        ),
+    ],
+)
 def test_refused(planners, lang, text, message):
     planner, _ = planners[lang]
     with pytest.raises(InstructionError) as info:
@@ -58,13 +79,16 @@ def test_refused(planners, lang, text, message):
     assert message in str(info.value)
 
 
-@pytest.mark.parametrize("lang, text, goal, avoided", [
-    ("en", "don't go to the kitchen, go to the bedroom", "bedroom", "kitchen"),
-    ("en", "go to the bedroom, never pass the kitchen", "bedroom", "kitchen"),
-    ("en", "go to the bedroom without going through the living", "bedroom", "living"),
-    ("ja", "キッチンに行かないで寝室へ行って", "寝室", "キッチン"),
-    ("ja", "寝室へ行って、キッチンは通らないで", "寝室", "キッチン"),
-])
+@pytest.mark.parametrize(
+    "lang, text, goal, avoided",
+    [
+        ("en", "don't go to the kitchen, go to the bedroom", "bedroom", "kitchen"),
+        ("en", "go to the bedroom, never pass the kitchen", "bedroom", "kitchen"),
+        ("en", "go to the bedroom without going through the living", "bedroom", "living"),
+        ("ja", "キッチンに行かないで寝室へ行って", "寝室", "キッチン"),
+        ("ja", "寝室へ行って、キッチンは通らないで", "寝室", "キッチン"),
+    ],
+)
 def test_negations_avoid_the_place(planners, lang, text, goal, avoided):
     planner, names = planners[lang]
     plan = planner.plan(text, START)
@@ -79,15 +103,21 @@ def test_negations_avoid_the_place(planners, lang, text, goal, avoided):
 def test_avoiding_the_only_way_is_refused(planners):
     # 3LDK_06: from the entrance every bedroom lies behind the dining room
     planner, _ = planners["en"]
-    with pytest.raises(PlanningError, match="no free path from \\(-3.90, -3.50\\) reaches a place named 'bedroom' "
-                                            "\\(goal\\) without entering the places to avoid"):
+    with pytest.raises(
+        PlanningError,
+        match="no free path from \\(-3.90, -3.50\\) reaches a place named 'bedroom' "
+        "\\(goal\\) without entering the places to avoid",
+    ):
         planner.plan("go to the bedroom, don't go through the dining", START)
 
 
-@pytest.mark.parametrize("lang, text, goal, not_goal", [
-    ("en", "go to the bedroom instead of the kitchen", "bedroom", "kitchen"),
-    ("ja", "キッチンじゃなくて寝室へ行って", "寝室", "キッチン"),
-])
+@pytest.mark.parametrize(
+    "lang, text, goal, not_goal",
+    [
+        ("en", "go to the bedroom instead of the kitchen", "bedroom", "kitchen"),
+        ("ja", "キッチンじゃなくて寝室へ行って", "寝室", "キッチン"),
+    ],
+)
 def test_instead_of_is_not_the_goal(planners, lang, text, goal, not_goal):
     planner, _ = planners[lang]
     plan = planner.plan(text, START)
@@ -100,16 +130,23 @@ def test_instead_of_is_not_the_goal(planners, lang, text, goal, not_goal):
 
 def test_instead_of_the_goal_itself_is_a_planning_error(planners):
     planner, _ = planners["en"]
-    with pytest.raises(PlanningError, match="every place named 'bedroom' is one the instruction says not to end "
-                                            "in \\('bedroom'\\)"):
+    with pytest.raises(
+        PlanningError,
+        match="every place named 'bedroom' is one the instruction says not to end in \\('bedroom'\\)",
+    ):
         planner.plan({"goal": ["bedroom"], "not_goal": [["bedroom"]]}, START)
 
 
 def test_cli_refuses_with_one_line(tmp_path):
     model, _ = _model("en")
     folder = save_model(model, tmp_path / "m")
-    out = subprocess.run([EXE, "plan", str(folder), "go to the garage via the kitchen", "--start", *map(str, START)],
-                         capture_output=True, text=True, timeout=120, check=False)
+    out = subprocess.run(
+        [EXE, "plan", str(folder), "go to the garage via the kitchen", "--start", *map(str, START)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert out.returncode == 2 and out.stdout == ""
     assert out.stderr.startswith("error: 'garage' (after 'to') is not a known place word; known place words: ")
     assert len(out.stderr.strip().splitlines()) == 1

@@ -18,51 +18,97 @@ from spcotmhp.planning.instructions import (
 )
 from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
-EN = ["entrance", "living", "dining", "kitchen", "bath", "washroom", "toilet", "bedroom", "storeroom", "corridor",
-      "hall"]
-JA = ["玄関", "リビング", "ダイニング", "キッチン", "風呂", "洗面所", "トイレ", "寝室", "物置き", "廊下", "広場"]
+EN = [
+    "entrance",
+    "living",
+    "dining",
+    "kitchen",
+    "bath",
+    "washroom",
+    "toilet",
+    "bedroom",
+    "storeroom",
+    "corridor",
+    "hall",
+]
+JA = [
+    "玄関",
+    "リビング",
+    "ダイニング",
+    "キッチン",
+    "風呂",
+    "洗面所",
+    "トイレ",
+    "寝室",
+    "物置き",
+    "廊下",
+    "広場",
+]
 
 
 def shape(ins: Instruction) -> tuple:
     return ([dict(w.words) for w in ins.waypoints], dict(ins.goal.words), [dict(a.words) for a in ins.avoid])
 
 
-@pytest.mark.parametrize("text, waypoints, goal, avoid", [
-    ("go to the bedroom via the corridor", [{"corridor": 1}], {"bedroom": 1}, []),
-    ("go to the kitchen through the bedroom", [{"bedroom": 1}], {"kitchen": 1}, []),
-    ("take me to the kitchen passing by the toilet and then the dining",
-     [{"toilet": 1}, {"dining": 1}], {"kitchen": 1}, []),
-    ("go to the bedroom avoiding the living", [], {"bedroom": 1}, [{"living": 1}]),
-    ("bring me to the bath without passing the corridor", [], {"bath": 1}, [{"corridor": 1}]),
-    ("Go to the Entrance Corridor!", [], {"entrance": 1, "corridor": 1}, []),
-    ("go through the corridor and then the bedroom", [{"corridor": 1}], {"bedroom": 1}, []),
-    ("go to the toilet and then to the kitchen via the corridor", [{"toilet": 1}, {"corridor": 1}],
-     {"kitchen": 1}, []),
-    ("from the kitchen to the bedroom", [], {"bedroom": 1}, []),
-    ("go to the bedroom avoiding the living and the kitchen", [], {"bedroom": 1}, [{"living": 1}, {"kitchen": 1}]),
-    ("I want to go to the kitchen, please", [], {"kitchen": 1}, []),
-    ("kitchen", [], {"kitchen": 1}, []),
-    ("go to the bedroom, not through the corridor", [], {"bedroom": 1}, [{"corridor": 1}]),
-    ("don't go through the living, go to the bath via the washroom", [{"washroom": 1}], {"bath": 1},
-     [{"living": 1}]),
-])
+@pytest.mark.parametrize(
+    "text, waypoints, goal, avoid",
+    [
+        ("go to the bedroom via the corridor", [{"corridor": 1}], {"bedroom": 1}, []),
+        ("go to the kitchen through the bedroom", [{"bedroom": 1}], {"kitchen": 1}, []),
+        (
+            "take me to the kitchen passing by the toilet and then the dining",
+            [{"toilet": 1}, {"dining": 1}],
+            {"kitchen": 1},
+            [],
+        ),
+        ("go to the bedroom avoiding the living", [], {"bedroom": 1}, [{"living": 1}]),
+        ("bring me to the bath without passing the corridor", [], {"bath": 1}, [{"corridor": 1}]),
+        ("Go to the Entrance Corridor!", [], {"entrance": 1, "corridor": 1}, []),
+        ("go through the corridor and then the bedroom", [{"corridor": 1}], {"bedroom": 1}, []),
+        (
+            "go to the toilet and then to the kitchen via the corridor",
+            [{"toilet": 1}, {"corridor": 1}],
+            {"kitchen": 1},
+            [],
+        ),
+        ("from the kitchen to the bedroom", [], {"bedroom": 1}, []),
+        (
+            "go to the bedroom avoiding the living and the kitchen",
+            [],
+            {"bedroom": 1},
+            [{"living": 1}, {"kitchen": 1}],
+        ),
+        ("I want to go to the kitchen, please", [], {"kitchen": 1}, []),
+        ("kitchen", [], {"kitchen": 1}, []),
+        ("go to the bedroom, not through the corridor", [], {"bedroom": 1}, [{"corridor": 1}]),
+        (
+            "don't go through the living, go to the bath via the washroom",
+            [{"washroom": 1}],
+            {"bath": 1},
+            [{"living": 1}],
+        ),
+    ],
+)
 def test_english(text, waypoints, goal, avoid):
     ins = parse_text(text, EN)
     assert shape(ins) == (waypoints, goal, avoid)
     assert ins.lang == "en" and ins.text == text
 
 
-@pytest.mark.parametrize("text, waypoints, goal, avoid", [
-    ("廊下を通って寝室へ行って", [{"廊下": 1}], {"寝室": 1}, []),
-    ("寝室に行って", [], {"寝室": 1}, []),
-    ("トイレとダイニングを経由してキッチンへ", [{"トイレ": 1}, {"ダイニング": 1}], {"キッチン": 1}, []),
-    ("リビングを避けて寝室へ", [], {"寝室": 1}, [{"リビング": 1}]),
-    ("廊下を通らずに風呂に行って", [], {"風呂": 1}, [{"廊下": 1}]),
-    ("リビングから寝室へ", [], {"寝室": 1}, []),
-    ("玄関廊下に行って", [], {"玄関": 1, "廊下": 1}, []),
-    ("廊下 を 通って 寝室 へ 行って", [{"廊下": 1}], {"寝室": 1}, []),   # recogniser output with spaces
-    ("洗面所に寄ってから風呂へ", [{"洗面所": 1}], {"風呂": 1}, []),
-])
+@pytest.mark.parametrize(
+    "text, waypoints, goal, avoid",
+    [
+        ("廊下を通って寝室へ行って", [{"廊下": 1}], {"寝室": 1}, []),
+        ("寝室に行って", [], {"寝室": 1}, []),
+        ("トイレとダイニングを経由してキッチンへ", [{"トイレ": 1}, {"ダイニング": 1}], {"キッチン": 1}, []),
+        ("リビングを避けて寝室へ", [], {"寝室": 1}, [{"リビング": 1}]),
+        ("廊下を通らずに風呂に行って", [], {"風呂": 1}, [{"廊下": 1}]),
+        ("リビングから寝室へ", [], {"寝室": 1}, []),
+        ("玄関廊下に行って", [], {"玄関": 1, "廊下": 1}, []),
+        ("廊下 を 通って 寝室 へ 行って", [{"廊下": 1}], {"寝室": 1}, []),  # recogniser output with spaces
+        ("洗面所に寄ってから風呂へ", [{"洗面所": 1}], {"風呂": 1}, []),
+    ],
+)
 def test_japanese(text, waypoints, goal, avoid):
     ins = parse_text(text, JA)
     assert ins.lang == "ja"
@@ -77,18 +123,31 @@ def test_hiragana_names_are_not_split_by_grammar_words():
     assert parse_text("きょういんけんきゅうしつにいって", words).goal.label == "きょういんけんきゅうしつ"
 
 
-@pytest.mark.parametrize("text, words, message", [
-    ("go to the garage", EN, ("no known place word in 'go to the garage' (not understood: garage); "
-                              "known place words: bath, bedroom, corridor")),
-    ("go to the bedroom via the garage", EN, "'garage' (after 'via') is not a known place word; known place words: "),
-    ("go to the bedroom avoiding", EN, "'avoiding' is followed by no known place word"),
-    ("", EN, "the instruction is empty"),
-    ("   ", EN, "the instruction is empty"),
-    ("avoid the kitchen", EN, "names no place to go to"),
-    ("を通って寝室へ", JA, "'を通って' follows no known place word"),
-    ("車庫に行って", JA, "no known place word in '車庫に行って' (not understood: 車庫"),
-    ("go to the kitchen", [], "the model knows no place words"),
-])
+@pytest.mark.parametrize(
+    "text, words, message",
+    [
+        (
+            "go to the garage",
+            EN,
+            (
+                "no known place word in 'go to the garage' (not understood: garage); "
+                "known place words: bath, bedroom, corridor"
+            ),
+        ),
+        (
+            "go to the bedroom via the garage",
+            EN,
+            "'garage' (after 'via') is not a known place word; known place words: ",
+        ),
+        ("go to the bedroom avoiding", EN, "'avoiding' is followed by no known place word"),
+        ("", EN, "the instruction is empty"),
+        ("   ", EN, "the instruction is empty"),
+        ("avoid the kitchen", EN, "names no place to go to"),
+        ("を通って寝室へ", JA, "'を通って' follows no known place word"),
+        ("車庫に行って", JA, "no known place word in '車庫に行って' (not understood: 車庫"),
+        ("go to the kitchen", [], "the model knows no place words"),
+    ],
+)
 def test_errors(text, words, message):
     with pytest.raises(InstructionError) as info:
         parse_text(text, words)
@@ -99,72 +158,136 @@ UNKNOWN = "is not a known place word; known place words: bath, bedroom, corridor
 UNKNOWN_JA = "is not a known place word; known place words: キッチン, ダイニング, トイレ"
 
 
-@pytest.mark.parametrize("text, words, message", [
-    # unknown words where a place word is expected (rule 6): never dropped silently
-    ("go to the garage via the kitchen", EN, "'garage' (after 'to') " + UNKNOWN),
-    ("go to the kitchen and the attic", EN, "'attic' (after 'and') " + UNKNOWN),
-    ("go to the attic, then the kitchen", EN, "'attic' (after 'to') " + UNKNOWN),
-    ("go to the kitchen, the attic", EN, "'attic' (after ',') " + UNKNOWN),
-    ("take me to the big attic", EN, "no known place word in 'take me to the big attic' (not understood: attic)"),
-    # words that would modify a place are refused, never dropped (issue 9)
-    ("go to the big kitchen", EN, "'big' picks one kitchen by order, side or size, which the map does not hold"),
-    ("go to the cosy kitchen", EN, "'cosy' (before 'kitchen') is not a known place word; known place words: "),
-    ("go to the kitchen counter", EN, "'counter' (after 'kitchen') is not a known place word"),
-    ("go to the bedroom avoiding the garage and the kitchen", EN, "'garage' (after 'avoiding') " + UNKNOWN),
-    ("go to the bedroom instead of the garage", EN, "'garage' (after 'instead of') " + UNKNOWN),
-    ("go to the bedroom and then to", EN, "'to' is followed by no known place word"),
-    ("ガレージへ行ってキッチンを通って", JA, "'ガレージ' (before 'へ行って') " + UNKNOWN_JA),
-    ("キッチンとガレージを通って寝室へ", JA, "'ガレージ' (before 'を通って') " + UNKNOWN_JA),
-    ("ガレージとキッチンを通って寝室へ", JA, "'ガレージ' (before 'と') " + UNKNOWN_JA),
-    ("キッチンガレージ寝室へ", JA, ("'キッチン' and '寝室' are not joined by a connector or a marker "
-                                 "(not understood: ガレージ)")),
-    # alternatives: the choice is the user's (rule 2)
-    ("go to the bedroom via the kitchen or the toilet", EN,
-     ("'or' leaves the choice of a place open (kitchen or toilet); the planner needs one place for each waypoint "
-     "and one goal: say which one")),
-    ("go to either the kitchen or the toilet", EN, "'either' leaves the choice of a place open (kitchen)"),
-    ("キッチンかトイレを通って寝室へ", JA, "'か' leaves the choice of a place open (キッチン or トイレ)"),
-    ("キッチンまたはトイレへ行って", JA, "'または' leaves the choice of a place open (キッチン or トイレ)"),
-    # spatial relations are not modelled (rule 2)
-    ("go to the bedroom next to the kitchen", EN,
-     ("'next to' describes a place by where it lies relative to another (kitchen); the map does not model spatial "
-     "relations between places: name the place itself; known place words: bath")),
-    ("go near the kitchen", EN, "'near' describes a place by where it lies relative to another (kitchen)"),
-    ("キッチンの隣の寝室へ行って", JA, "'の隣' describes a place by where it lies relative to another (キッチン)"),
-])
+@pytest.mark.parametrize(
+    "text, words, message",
+    [
+        # unknown words where a place word is expected (rule 6): never dropped silently
+        ("go to the garage via the kitchen", EN, "'garage' (after 'to') " + UNKNOWN),
+        ("go to the kitchen and the attic", EN, "'attic' (after 'and') " + UNKNOWN),
+        ("go to the attic, then the kitchen", EN, "'attic' (after 'to') " + UNKNOWN),
+        ("go to the kitchen, the attic", EN, "'attic' (after ',') " + UNKNOWN),
+        (
+            "take me to the big attic",
+            EN,
+            "no known place word in 'take me to the big attic' (not understood: attic)",
+        ),
+        # words that would modify a place are refused, never dropped (issue 9)
+        (
+            "go to the big kitchen",
+            EN,
+            "'big' picks one kitchen by order, side or size, which the map does not hold",
+        ),
+        (
+            "go to the cosy kitchen",
+            EN,
+            "'cosy' (before 'kitchen') is not a known place word; known place words: ",
+        ),
+        ("go to the kitchen counter", EN, "'counter' (after 'kitchen') is not a known place word"),
+        (
+            "go to the bedroom avoiding the garage and the kitchen",
+            EN,
+            "'garage' (after 'avoiding') " + UNKNOWN,
+        ),
+        ("go to the bedroom instead of the garage", EN, "'garage' (after 'instead of') " + UNKNOWN),
+        ("go to the bedroom and then to", EN, "'to' is followed by no known place word"),
+        ("ガレージへ行ってキッチンを通って", JA, "'ガレージ' (before 'へ行って') " + UNKNOWN_JA),
+        ("キッチンとガレージを通って寝室へ", JA, "'ガレージ' (before 'を通って') " + UNKNOWN_JA),
+        ("ガレージとキッチンを通って寝室へ", JA, "'ガレージ' (before 'と') " + UNKNOWN_JA),
+        (
+            "キッチンガレージ寝室へ",
+            JA,
+            ("'キッチン' and '寝室' are not joined by a connector or a marker (not understood: ガレージ)"),
+        ),
+        # alternatives: the choice is the user's (rule 2)
+        (
+            "go to the bedroom via the kitchen or the toilet",
+            EN,
+            (
+                "'or' leaves the choice of a place open (kitchen or toilet); the planner needs one place for each "
+                "waypoint "
+                "and one goal: say which one"
+            ),
+        ),
+        (
+            "go to either the kitchen or the toilet",
+            EN,
+            "'either' leaves the choice of a place open (kitchen)",
+        ),
+        ("キッチンかトイレを通って寝室へ", JA, "'か' leaves the choice of a place open (キッチン or トイレ)"),
+        (
+            "キッチンまたはトイレへ行って",
+            JA,
+            "'または' leaves the choice of a place open (キッチン or トイレ)",
+        ),
+        # spatial relations are not modelled (rule 2)
+        (
+            "go to the bedroom next to the kitchen",
+            EN,
+            (
+                "'next to' describes a place by where it lies relative to another (kitchen); the map does not "
+                "model spatial "
+                "relations between places: name the place itself; known place words: bath"
+            ),
+        ),
+        (
+            "go near the kitchen",
+            EN,
+            "'near' describes a place by where it lies relative to another (kitchen)",
+        ),
+        (
+            "キッチンの隣の寝室へ行って",
+            JA,
+            "'の隣' describes a place by where it lies relative to another (キッチン)",
+        ),
+    ],
+)
 def test_unknown_words_alternatives_and_relations_are_errors(text, words, message):
     with pytest.raises(InstructionError) as info:
         parse_text(text, words)
     assert message in str(info.value)
 
 
-@pytest.mark.parametrize("text, waypoints, goal, avoid, not_goal", [
-    ("don't go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("do not go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("never go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("I don't want to go to the kitchen, take me to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("go to the bedroom, never pass the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("go to the bedroom, not through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("go to the bedroom without going through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("go to the bedroom avoid going through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
-    ("go to the bedroom instead of the kitchen", [], {"bedroom": 1}, [], [{"kitchen": 1}]),
-    ("instead of going to the kitchen, go to the bedroom via the corridor", [{"corridor": 1}], {"bedroom": 1},
-     [], [{"kitchen": 1}]),
-    ("go to the bedroom rather than the kitchen", [], {"bedroom": 1}, [], [{"kitchen": 1}]),
-    ("I want to quickly go to the kitchen", [], {"kitchen": 1}, [], []),
-    ("go to the kitchen, thanks", [], {"kitchen": 1}, [], []),
-    ("go to the kitchen right away", [], {"kitchen": 1}, [], []),
-    ("キッチンに行かないで寝室へ行って", [], {"寝室": 1}, [{"キッチン": 1}], []),
-    ("寝室へ行って、キッチンは通らないで", [], {"寝室": 1}, [{"キッチン": 1}], []),
-    ("キッチンを通らないで寝室へ行って", [], {"寝室": 1}, [{"キッチン": 1}], []),
-    ("キッチンに入らないで寝室へ", [], {"寝室": 1}, [{"キッチン": 1}], []),
-    ("キッチンを避けて寝室へ", [], {"寝室": 1}, [{"キッチン": 1}], []),
-    ("キッチンじゃなくて寝室へ行って", [], {"寝室": 1}, [], [{"キッチン": 1}]),
-    ("キッチンの代わりに寝室へ", [], {"寝室": 1}, [], [{"キッチン": 1}]),
-    ("寝室に早く行って", [], {"寝室": 1}, [], []),
-    ("ロボットさん、寝室へ行って", [], {"寝室": 1}, [], []),
-    ("玄関の廊下に行って", [], {"玄関": 1, "廊下": 1}, [], []),
-])
+@pytest.mark.parametrize(
+    "text, waypoints, goal, avoid, not_goal",
+    [
+        ("don't go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        ("do not go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        ("never go to the kitchen, go to the bedroom", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        (
+            "I don't want to go to the kitchen, take me to the bedroom",
+            [],
+            {"bedroom": 1},
+            [{"kitchen": 1}],
+            [],
+        ),
+        ("go to the bedroom, never pass the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        ("go to the bedroom, not through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        ("go to the bedroom without going through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        ("go to the bedroom avoid going through the kitchen", [], {"bedroom": 1}, [{"kitchen": 1}], []),
+        ("go to the bedroom instead of the kitchen", [], {"bedroom": 1}, [], [{"kitchen": 1}]),
+        (
+            "instead of going to the kitchen, go to the bedroom via the corridor",
+            [{"corridor": 1}],
+            {"bedroom": 1},
+            [],
+            [{"kitchen": 1}],
+        ),
+        ("go to the bedroom rather than the kitchen", [], {"bedroom": 1}, [], [{"kitchen": 1}]),
+        ("I want to quickly go to the kitchen", [], {"kitchen": 1}, [], []),
+        ("go to the kitchen, thanks", [], {"kitchen": 1}, [], []),
+        ("go to the kitchen right away", [], {"kitchen": 1}, [], []),
+        ("キッチンに行かないで寝室へ行って", [], {"寝室": 1}, [{"キッチン": 1}], []),
+        ("寝室へ行って、キッチンは通らないで", [], {"寝室": 1}, [{"キッチン": 1}], []),
+        ("キッチンを通らないで寝室へ行って", [], {"寝室": 1}, [{"キッチン": 1}], []),
+        ("キッチンに入らないで寝室へ", [], {"寝室": 1}, [{"キッチン": 1}], []),
+        ("キッチンを避けて寝室へ", [], {"寝室": 1}, [{"キッチン": 1}], []),
+        ("キッチンじゃなくて寝室へ行って", [], {"寝室": 1}, [], [{"キッチン": 1}]),
+        ("キッチンの代わりに寝室へ", [], {"寝室": 1}, [], [{"キッチン": 1}]),
+        ("寝室に早く行って", [], {"寝室": 1}, [], []),
+        ("ロボットさん、寝室へ行って", [], {"寝室": 1}, [], []),
+        ("玄関の廊下に行って", [], {"玄関": 1, "廊下": 1}, [], []),
+    ],
+)
 def test_negations_and_tolerated_words(text, waypoints, goal, avoid, not_goal):
     ins = parse_text(text, JA if detect_language(text) == "ja" else EN)
     assert shape(ins) == (waypoints, goal, avoid)
@@ -192,24 +315,28 @@ def test_detect_language():
 
 
 def test_structured():
-    ins = parse_structured({"goal": ["entrance", "corridor"], "waypoints": [["toilet"], "living"],
-                            "avoid": ["kitchen"]}, EN)
+    ins = parse_structured(
+        {"goal": ["entrance", "corridor"], "waypoints": [["toilet"], "living"], "avoid": ["kitchen"]}, EN
+    )
     assert shape(ins) == ([{"toilet": 1}, {"living": 1}], {"entrance": 1, "corridor": 1}, [{"kitchen": 1}])
     assert parse_structured('{"goal": "bedroom"}', EN).goal.words == {"bedroom": 1}
     assert to_instruction({"goal": ["bath"]}, EN).goal.label == "bath"
     assert to_instruction(' {"goal": ["bath"]}', EN).goal.label == "bath"
 
 
-@pytest.mark.parametrize("obj, message", [
-    ({"waypoints": [["toilet"]]}, "the structured instruction has no 'goal'"),
-    ({"goal": ["garage"]}, "goal: unknown place word(s) 'garage'; known place words: bath"),
-    ({"goal": []}, "goal must be a non-empty list of words"),
-    ({"goal": ["bath"], "waypoints": "toilet"}, "'waypoints' must be a list of places"),
-    ({"goal": ["bath"], "via": ["toilet"]}, "unknown key(s) ['via'] in the structured instruction"),
-    ({"goal": ["bath"], "avoid": [[1]]}, "avoid[0] must be a non-empty list of words"),
-    ("{not json", "structured instruction is not valid JSON"),
-    ("[1]", "must be a JSON object"),
-])
+@pytest.mark.parametrize(
+    "obj, message",
+    [
+        ({"waypoints": [["toilet"]]}, "the structured instruction has no 'goal'"),
+        ({"goal": ["garage"]}, "goal: unknown place word(s) 'garage'; known place words: bath"),
+        ({"goal": []}, "goal must be a non-empty list of words"),
+        ({"goal": ["bath"], "waypoints": "toilet"}, "'waypoints' must be a list of places"),
+        ({"goal": ["bath"], "via": ["toilet"]}, "unknown key(s) ['via'] in the structured instruction"),
+        ({"goal": ["bath"], "avoid": [[1]]}, "avoid[0] must be a non-empty list of words"),
+        ("{not json", "structured instruction is not valid JSON"),
+        ("[1]", "must be a JSON object"),
+    ],
+)
 def test_structured_errors(obj, message):
     with pytest.raises(InstructionError) as info:
         parse_structured(obj, EN)
@@ -217,8 +344,15 @@ def test_structured_errors(obj, message):
 
 
 def test_nbest_bags_are_score_weighted():
-    ins = parse_nbest([("go to the bedroom via the corridor", 0.6), ("go to the bath via the corridor", 0.2),
-                       ("go to the bedroom", 0.1), ("blah", 0.1)], EN)
+    ins = parse_nbest(
+        [
+            ("go to the bedroom via the corridor", 0.6),
+            ("go to the bath via the corridor", 0.2),
+            ("go to the bedroom", 0.1),
+            ("blah", 0.1),
+        ],
+        EN,
+    )
     # the one-stage hypothesis and the unparsable one are left out; 0.6 and 0.2 renormalise to 0.75 and 0.25
     assert ins.goal.words == pytest.approx({"bedroom": 0.75, "bath": 0.25})
     assert ins.waypoints[0].words == pytest.approx({"corridor": 1.0})
@@ -231,14 +365,20 @@ def test_nbest_log_scores_are_softmaxed():
     assert to_instruction([("kitchen", 1.0)], EN).goal.words == {"kitchen": 1.0}
 
 
-@pytest.mark.parametrize("nbest, message", [
-    ([], "the N-best list is empty"),
-    ([("kitchen", 0.5), ("bath", -0.5)], "must be all >= 0 (confidences) or all <= 0"),
-    ([("kitchen",)], "N-best entry 0 must be [text, score]"),
-    ([("kitchen", "high")], "N-best entry 0 has a non-numeric score 'high'"),
-    ([("kitchen", float("nan"))], "non-finite score"),
-    ([("garage", 1.0)], "no N-best hypothesis names a known place (first: no known place word in 'garage'"),
-])
+@pytest.mark.parametrize(
+    "nbest, message",
+    [
+        ([], "the N-best list is empty"),
+        ([("kitchen", 0.5), ("bath", -0.5)], "must be all >= 0 (confidences) or all <= 0"),
+        ([("kitchen",)], "N-best entry 0 must be [text, score]"),
+        ([("kitchen", "high")], "N-best entry 0 has a non-numeric score 'high'"),
+        ([("kitchen", float("nan"))], "non-finite score"),
+        (
+            [("garage", 1.0)],
+            "no N-best hypothesis names a known place (first: no known place word in 'garage'",
+        ),
+    ],
+)
 def test_nbest_errors(nbest, message):
     with pytest.raises(InstructionError) as info:
         parse_nbest(nbest, EN)
@@ -255,12 +395,22 @@ def test_to_instruction_rejects_other_types():
 def test_place_vocabulary_drops_function_words():
     # two concepts, one place each; "this" and "is" are in every utterance, the names in their own place's only
     vocab = ["this", "is", "entrance", "corridor", "kitchen"]
-    counts = np.array([[10, 10, 10, 10, 0],     # "this is entrance corridor"
-                       [10, 10, 0, 0, 10]])     # "this is kitchen"
+    counts = np.array(
+        [
+            [10, 10, 10, 10, 0],  # "this is entrance corridor"
+            [10, 10, 0, 0, 10],
+        ]
+    )  # "this is kitchen"
     W = (counts + 0.1) / (counts + 0.1).sum(axis=1, keepdims=True)
-    model = SpatialConceptModel(mu=np.zeros((2, 2)), Sigma=np.tile(np.eye(2), (2, 1, 1)),
-                                psi=np.full((2, 2), 0.5), pi=np.array([0.5, 0.5]),
-                                phi=np.array([[0.99, 0.01], [0.01, 0.99]]), W=W, vocabulary=vocab)
+    model = SpatialConceptModel(
+        mu=np.zeros((2, 2)),
+        Sigma=np.tile(np.eye(2), (2, 1, 1)),
+        psi=np.full((2, 2), 0.5),
+        pi=np.array([0.5, 0.5]),
+        phi=np.array([[0.99, 0.01], [0.01, 0.99]]),
+        W=W,
+        vocabulary=vocab,
+    )
     assert place_vocabulary(model) == ["corridor", "entrance", "kitchen"]
 
 
@@ -275,10 +425,16 @@ def test_fillers_and_noise_are_not_place_words_and_labels_use_frequency():
     counts[:, 0] = [1, 3, 0, 2, 5, 1, 0, 4]
     counts[0, 3] = 2
     W = (counts + 0.1) / (counts + 0.1).sum(axis=1, keepdims=True)
-    model = SpatialConceptModel(mu=np.zeros((K, 2)), Sigma=np.tile(np.eye(2), (K, 1, 1)),
-                                psi=np.full((K, K), 1 / K), pi=np.full(K, 1 / K),
-                                phi=(np.eye(K) * 15 + 0.1) / (15 + 0.1 * K), W=W, vocabulary=vocab)
+    model = SpatialConceptModel(
+        mu=np.zeros((K, 2)),
+        Sigma=np.tile(np.eye(2), (K, 1, 1)),
+        psi=np.full((K, K), 1 / K),
+        pi=np.full(K, 1 / K),
+        phi=(np.eye(K) * 15 + 0.1) / (15 + 0.1 * K),
+        W=W,
+        vocabulary=vocab,
+    )
     words = place_vocabulary(model)
     assert words == ["kitchen", "office"]
-    assert model.place_names()[0] == "um"           # the rescaled arg-max is fooled by the rare word ...
-    assert place_labels(model, words) == ["office"] * 7 + ["kitchen"]   # ... the planner's labels are not
+    assert model.place_names()[0] == "um"  # the rescaled arg-max is fooled by the rare word ...
+    assert place_labels(model, words) == ["office"] * 7 + ["kitchen"]  # ... the planner's labels are not

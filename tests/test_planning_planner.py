@@ -27,11 +27,10 @@ def check_path(planner: HierarchicalPlanner, plan, start_cell) -> None:
     cells = plan.cells
     assert (cells[0] == start_cell).all()
     steps = np.abs(np.diff(cells, axis=0))
-    assert (steps.max(axis=1) == 1).all()                       # 8-connected, no repeated cell
+    assert (steps.max(axis=1) == 1).all()  # 8-connected, no repeated cell
     assert (planner.model.map.data[cells[:, 0], cells[:, 1]] == 0).all()
     assert plan.length_m == pytest.approx(path_length(cells, planner.model.map.resolution))
     assert np.allclose(plan.path, planner.model.map.cell_to_world(cells))
-
 
 
 def territory_of(planner, cells, places) -> np.ndarray:
@@ -41,7 +40,7 @@ def territory_of(planner, cells, places) -> np.ndarray:
 
 
 def test_goes_to_the_closest_bedroom(planner):
-    start = (3, 12)                                             # in the corridor, next to bedroom #1's door
+    start = (3, 12)  # in the corridor, next to bedroom #1's door
     p = planner.plan("go to the bedroom", world(planner.model.map, *start))
     check_path(planner, p, start)
     assert [(q.id, q.role) for q in p.places] == [(M, "start"), (L, "goal")]
@@ -87,8 +86,9 @@ def test_avoided_place_is_never_entered(planner):
     # the only way into the kitchen is through bedroom #2
     with pytest.raises(PlanningError) as info:
         planner.plan("go to the kitchen avoiding the bedroom", world(model.map, 3, 12))
-    assert str(info.value) == ("no free path from (6.25, 1.75) reaches a place named 'kitchen' (goal) without "
-                               "entering the places to avoid")
+    assert str(info.value) == (
+        "no free path from (6.25, 1.75) reaches a place named 'kitchen' (goal) without entering the places to avoid"
+    )
     with pytest.raises(PlanningError, match=r"the start \(12.75, 1.75\) lies inside a place to avoid \(bedroom\)"):
         planner.plan("go to the corridor avoiding the bedroom", world(model.map, 3, 25))
     with pytest.raises(PlanningError, match="every place named 'bedroom' is also to be avoided"):
@@ -111,14 +111,22 @@ def test_avoiding_blocks_metric_legs_too():
         pl.plan("go to the kitchen avoiding the corridor", world(model.map, 6, 3))
 
 
-@pytest.mark.parametrize("start, message", [
-    ((0.2, 0.2), ("the start (0.20, 0.20) is in an occupied cell of the map; start from a free cell, e.g. the "
-                 "nearest one the robot can plan from, (")),
-    ((-3.0, 1.0), "the start (-3.00, 1.00) is outside the map (x 0.00..15.50, y 0.00..6.50)"),
-    ((1.0,), "the start must be two finite numbers (x, y) in metres"),
-    ((np.nan, 1.0), "the start must be two finite numbers (x, y) in metres"),
-    ("here", "the start must be two numbers (x, y) in metres, got 'here'"),
-])
+@pytest.mark.parametrize(
+    "start, message",
+    [
+        (
+            (0.2, 0.2),
+            (
+                "the start (0.20, 0.20) is in an occupied cell of the map; start from a free cell, e.g. the "
+                "nearest one the robot can plan from, ("
+            ),
+        ),
+        ((-3.0, 1.0), "the start (-3.00, 1.00) is outside the map (x 0.00..15.50, y 0.00..6.50)"),
+        ((1.0,), "the start must be two finite numbers (x, y) in metres"),
+        ((np.nan, 1.0), "the start must be two finite numbers (x, y) in metres"),
+        ("here", "the start must be two numbers (x, y) in metres, got 'here'"),
+    ],
+)
 def test_bad_starts(planner, start, message):
     with pytest.raises(PlanningError) as info:
         planner.plan("go to the kitchen", start)
@@ -145,8 +153,9 @@ def test_horizon_too_short():
     pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), max_steps=1)
     with pytest.raises(PlanningError) as info:
         pl.plan("go to the bedroom via the kitchen", world(model.map, 3, 12))
-    assert "no sequence of at most 1 place-to-place steps from (6.25, 1.75) satisfies 'bedroom via kitchen'" \
-        in str(info.value)
+    assert "no sequence of at most 1 place-to-place steps from (6.25, 1.75) satisfies 'bedroom via kitchen'" in str(
+        info.value
+    )
 
 
 def test_smoothing_never_lengthens_and_keeps_the_ends(planner):
@@ -165,8 +174,7 @@ def test_smoothing_never_lengthens_and_keeps_the_ends(planner):
 def test_structured_and_nbest_instructions(planner):
     start = world(planner.model.map, 3, 12)
     a = planner.plan({"goal": ["bedroom"], "waypoints": [["kitchen"]]}, start)
-    b = planner.plan([("go to the bedroom via the kitchen", 0.9), ("go to the bedroom via the corridor", 0.1)],
-                     start)
+    b = planner.plan([("go to the bedroom via the kitchen", 0.9), ("go to the bedroom via the corridor", 0.1)], start)
     assert a.goal.id == b.goal.id == R
     assert b.instruction.waypoints[0].words == pytest.approx({"kitchen": 0.9, "corridor": 0.1})
 
@@ -193,7 +201,7 @@ def test_terms_match_the_model_when_w_holds_a_zero():
     # a saved model may hold W_l(w) = 0; a word absent from the bag must then add nothing (not 0 * log 0 = NaN)
     model = home_model()
     W = model.W.copy()
-    W[0] = [1.0, 0.0, 0.0]                                  # concept 0 only ever says "bedroom"
+    W[0] = [1.0, 0.0, 0.0]  # concept 0 only ever says "bedroom"
     model.W = W
     terms = ModelTerms(model)
     bag = {"bedroom": 1.0}
@@ -208,10 +216,16 @@ def test_plan_json_and_timings(planner):
     p = planner.plan("go to the bedroom via the kitchen", world(planner.model.map, 3, 12))
     d = json.loads(p.to_json())
     assert {"path", "places", "length_m", "log_prob", "time_online_s", "explanation"} <= set(d)
-    assert d["places"][0] == {"id": M, "name": "corridor", "role": "start", "label": "corridor",
-                              "point": [6.25, 1.75]}
-    assert d["places"][2]["point"] == pytest.approx(list(planner.model.map.cell_to_world(
-        planner.model.map.world_to_cell(planner.model.mu[K]))))
+    assert d["places"][0] == {
+        "id": M,
+        "name": "corridor",
+        "role": "start",
+        "label": "corridor",
+        "point": [6.25, 1.75],
+    }
+    assert d["places"][2]["point"] == pytest.approx(
+        list(planner.model.map.cell_to_world(planner.model.map.world_to_cell(planner.model.mu[K])))
+    )
     assert d["places"][-1]["role"] == "goal" and d["places"][-1]["label"] == "bedroom #2"
     assert np.allclose(d["path"], p.path, atol=1e-4)
     assert d["time_online_s"] > 0 and p.time_precompute_s > 0
@@ -227,22 +241,25 @@ def test_plan_function_and_settings():
     assert PlannerSettings(n_candidates=3).graph_settings().n_candidates == 3
 
 
-@pytest.mark.parametrize("setting, message", [
-    ({"n_candidates": 0}, "n_candidates must be an integer >= 1, got 0"),
-    ({"n_candidates": -1}, "n_candidates must be an integer >= 1, got -1"),
-    ({"n_candidates": 2.5}, "n_candidates must be an integer >= 1, got 2.5"),
-    ({"seed": -1}, "seed must be an integer >= 0, got -1"),
-    ({"connectivity": 6}, "connectivity must be 4 or 8, got 6"),
-    ({"edge_threshold": 1.5}, "edge_threshold must be in [0, 1] (or None: 1/K), got 1.5"),
-    ({"candidate_quantile": 1.0}, "candidate_quantile must be in (0, 1), got 1.0"),
-    ({"tube_margin": float("nan")}, "tube_margin must be >= 0, got nan"),
-    ({"steps_per_stage": 0}, "steps_per_stage must be an integer >= 1, got 0"),
-    ({"max_steps": 0}, "max_steps must be an integer >= 1, got 0"),
-    ({"max_steps": -3}, "max_steps must be an integer >= 1, got -3"),
-    ({"instance_ratio": 0.5}, "instance_ratio must be >= 1, got 0.5"),
-    ({"start_min_posterior": 2}, "start_min_posterior must be in [0, 1], got 2"),
-    ({"arrival_quantile": 1.2}, "arrival_quantile must be in (0, 1) (or None), got 1.2"),
-])
+@pytest.mark.parametrize(
+    "setting, message",
+    [
+        ({"n_candidates": 0}, "n_candidates must be an integer >= 1, got 0"),
+        ({"n_candidates": -1}, "n_candidates must be an integer >= 1, got -1"),
+        ({"n_candidates": 2.5}, "n_candidates must be an integer >= 1, got 2.5"),
+        ({"seed": -1}, "seed must be an integer >= 0, got -1"),
+        ({"connectivity": 6}, "connectivity must be 4 or 8, got 6"),
+        ({"edge_threshold": 1.5}, "edge_threshold must be in [0, 1] (or None: 1/K), got 1.5"),
+        ({"candidate_quantile": 1.0}, "candidate_quantile must be in (0, 1), got 1.0"),
+        ({"tube_margin": float("nan")}, "tube_margin must be >= 0, got nan"),
+        ({"steps_per_stage": 0}, "steps_per_stage must be an integer >= 1, got 0"),
+        ({"max_steps": 0}, "max_steps must be an integer >= 1, got 0"),
+        ({"max_steps": -3}, "max_steps must be an integer >= 1, got -3"),
+        ({"instance_ratio": 0.5}, "instance_ratio must be >= 1, got 0.5"),
+        ({"start_min_posterior": 2}, "start_min_posterior must be in [0, 1], got 2"),
+        ({"arrival_quantile": 1.2}, "arrival_quantile must be in (0, 1) (or None), got 1.2"),
+    ],
+)
 def test_bad_settings_are_planning_errors(setting, message):
     with pytest.raises(PlanningError) as info:
         PlannerSettings(**setting)
@@ -258,7 +275,7 @@ def test_planner_settings_derive_from_graph_settings():
     from spcotmhp.planning.graph import GraphSettings
 
     graph_fields = [(f.name, f.default) for f in fields(GraphSettings)]
-    assert [(f.name, f.default) for f in fields(PlannerSettings)][:len(graph_fields)] == graph_fields
+    assert [(f.name, f.default) for f in fields(PlannerSettings)][: len(graph_fields)] == graph_fields
     assert PlannerSettings(tube_margin=0.5, max_steps=3).graph_settings() == GraphSettings(tube_margin=0.5)
 
 
@@ -272,7 +289,7 @@ def test_several_candidates_per_place():
 
 
 def test_nbest_goal_follows_the_recogniser_unless_it_is_a_near_tie(planner):
-    x0 = world(planner.model.map, 3, 12)          # bedroom #1 is next door, the kitchen far away
+    x0 = world(planner.model.map, 3, 12)  # bedroom #1 is next door, the kitchen far away
     assert planner.plan([("go to the kitchen", 0.7), ("go to the bedroom", 0.3)], x0).goal.id == K
     # a near tie lets both names in (p(i|S) within the instance ratio); the cheaper path then wins
     assert planner.plan([("go to the kitchen", 0.55), ("go to the bedroom", 0.45)], x0).goal.id == L
@@ -280,7 +297,8 @@ def test_nbest_goal_follows_the_recogniser_unless_it_is_a_near_tie(planner):
 
 def test_plan_log_prob_is_eq_28_assembled_term_by_term():
     """plan.log_prob = sum_e [log psi[i_{e-1}, i_e] - log sum_c phi_c(i_e) + w-hat_e + log sum_C phi_C(i_e)
-    Mult(S_{s(e)} | W_C) pi_C] (Eq. 28, w-hat observed at each leg's end), with the first step's transition predicted from the start pose (sum_k p(k | x_0)
+    Mult(S_{s(e)} | W_C) pi_C] (Eq. 28, w-hat observed at each leg's end), with the first step's transition predicted
+    from the start pose (sum_k p(k | x_0)
     psi[k, i_1]) and its w-hat the start leg's; every term recomputed here from the model's arrays and an
     independent A* search, on a model whose psi is not symmetric (so a transposed psi would not match)."""
     from scipy.stats import multivariate_normal
@@ -288,14 +306,18 @@ def test_plan_log_prob_is_eq_28_assembled_term_by_term():
     from spcotmhp.metric.grid_search import shortest_paths, step_cost_map
 
     model = home_model()
-    model.psi = np.array([[0.30, 0.60, 0.05, 0.05],    # L -> M likely, M -> L less so
-                          [0.20, 0.30, 0.05, 0.45],
-                          [0.05, 0.05, 0.30, 0.60],
-                          [0.05, 0.15, 0.50, 0.30]])
+    model.psi = np.array(
+        [
+            [0.30, 0.60, 0.05, 0.05],  # L -> M likely, M -> L less so
+            [0.20, 0.30, 0.05, 0.45],
+            [0.05, 0.05, 0.30, 0.60],
+            [0.05, 0.15, 0.50, 0.30],
+        ]
+    )
     occ = model.map
     log_p = home_log_p(occ)
     pl = HierarchicalPlanner(model, log_p=log_p, use_cache=False)
-    start_cell = np.array([6, 5])                        # in L (bedroom #1)
+    start_cell = np.array([6, 5])  # in L (bedroom #1)
     x0 = world(occ, *start_cell)
     plan = pl.plan("go to the kitchen via the corridor", x0)
 
@@ -305,7 +327,7 @@ def test_plan_log_prob_is_eq_28_assembled_term_by_term():
     places = pl.graph.node_place[nodes].tolist()
     assert places.count(M) == 1 and places[-1] == K and places.index(M) < len(places) - 1
     stages = [0 if e <= places.index(M) else 1 for e in range(len(places))]
-    bags = [1, 2]                                        # vocabulary index of "corridor", then "kitchen"
+    bags = [1, 2]  # vocabulary index of "corridor", then "kitchen"
 
     centres = occ.cell_centres()
     cells = [start_cell] + [pl.graph.to_map(pl.graph.node_cell[n]) for n in nodes]
@@ -322,7 +344,7 @@ def test_plan_log_prob_is_eq_28_assembled_term_by_term():
         density = np.array([multivariate_normal(model.mu[k], model.Sigma[k]).pdf(x0) for k in range(model.K)])
         posterior = density * prior / (density * prior).sum()
         out = 0.0
-        for e, (i, s) in enumerate(zip(places, stages)):
+        for e, (i, s) in enumerate(zip(places, stages, strict=False)):
             transition = np.log(posterior @ psi[:, i]) if e == 0 else np.log(psi[places[e - 1], i])
             word = np.log(np.sum(model.phi[:, i] * model.W[:, bags[s]] * model.pi))
             out += transition - np.log(model.phi[:, i].sum()) + w_hat(cells[e], cells[e + 1], i) + word
@@ -364,7 +386,9 @@ def test_goal_option_bounds_are_lower_bounds_of_the_final_paths():
                 _, cell, _ = start_cell(model, pl.graph, x0)
                 S = len(ins.stages)
                 semantic = np.stack([pl.terms.log_semantic(q.words) for q in ins.stages])
-                inst = np.stack([pl._instances(q, pl.terms.normalise(ls)) for q, ls in zip(ins.stages, semantic)])
+                inst = np.stack(
+                    [pl._instances(q, pl.terms.normalise(ls)) for q, ls in zip(ins.stages, semantic, strict=False)]
+                )
                 result = search(pl._problem(pl.graph, pl.terms.place_posterior(x0), cell, semantic, inst, S))
                 ks = np.flatnonzero(pl.graph.node_place == o.id)
                 alt = result.ending_at(int(ks[np.argmax(result.terminal[ks])]))

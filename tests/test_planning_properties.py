@@ -24,8 +24,14 @@ from spcotmhp.planning.planner import HierarchicalPlanner
 
 ENVS = [("flat", 0), ("flat", 1), ("house", 0), ("house", 1), ("house", 2)]
 ARRIVAL = 0.39
-REASONS = ("no free path from", "no place can be reached", "lies inside a place to avoid", "is also to be avoided",
-           "no sequence of at most", "is cut off")
+REASONS = (
+    "no free path from",
+    "no place can be reached",
+    "lies inside a place to avoid",
+    "is also to be avoided",
+    "no sequence of at most",
+    "is cut off",
+)
 
 
 @cache
@@ -66,7 +72,7 @@ def queries(draw):
     start = planner.graph.to_map(free[draw(st.integers(0, len(free) - 1))])
     goal = draw(st.sampled_from(names))
     waypoints = draw(st.lists(st.sampled_from(names), max_size=2))
-    others = [n for n in names if n != goal and n not in waypoints]   # avoiding the goal itself: planner tests
+    others = [n for n in names if n != goal and n not in waypoints]  # avoiding the goal itself: planner tests
     avoid = draw(st.lists(st.sampled_from(others), max_size=1)) if others else []
     arrive = draw(st.booleans())
     return (kind, seed, connectivity), start, goal, waypoints, avoid, arrive

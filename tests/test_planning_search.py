@@ -16,20 +16,25 @@ X = -np.inf
 
 def chain_problem(max_steps: int) -> SearchProblem:
     # nodes 0 - 1 - 2, plus a costly shortcut 0 -> 2; the goal is node 2
-    transition = np.array([[X, -1.0, -10.0],
-                           [X, X, -1.0],
-                           [X, X, X]])
-    return SearchProblem(transition=transition, start=np.array([-1.0, -5.0, -9.0]),
-                         word=np.array([[-0.5, -0.5, -0.1]]), completes=np.array([[False, False, True]]),
-                         max_steps=max_steps)
+    transition = np.array([[X, -1.0, -10.0], [X, X, -1.0], [X, X, X]])
+    return SearchProblem(
+        transition=transition,
+        start=np.array([-1.0, -5.0, -9.0]),
+        word=np.array([[-0.5, -0.5, -0.1]]),
+        completes=np.array([[False, False, True]]),
+        max_steps=max_steps,
+    )
 
 
-@pytest.mark.parametrize("max_steps, nodes, log_prob", [
-    (1, [2], -9.0 - 0.1),                          # start -> 2
-    (2, [1, 2], (-5.0 - 0.5) + (-1.0 - 0.1)),      # start -> 1 -> 2 = -6.6 beats start -> 0 -> 2 = -11.6
-    (3, [0, 1, 2], 3 * -1.0 + 2 * -0.5 - 0.1),     # -4.1
-    (10, [0, 1, 2], -4.1),
-])
+@pytest.mark.parametrize(
+    "max_steps, nodes, log_prob",
+    [
+        (1, [2], -9.0 - 0.1),  # start -> 2
+        (2, [1, 2], (-5.0 - 0.5) + (-1.0 - 0.1)),  # start -> 1 -> 2 = -6.6 beats start -> 0 -> 2 = -11.6
+        (3, [0, 1, 2], 3 * -1.0 + 2 * -0.5 - 0.1),  # -4.1
+        (10, [0, 1, 2], -4.1),
+    ],
+)
 def test_chain_by_hand(max_steps, nodes, log_prob):
     result = search(chain_problem(max_steps))
     assert result.nodes.tolist() == nodes
@@ -44,8 +49,12 @@ def test_waypoint_and_goal_instance_chosen_jointly():
     # start -> W' -> G1 costs -3 -0.5 = -3.5. Leg by leg (nearest waypoint, then nearest goal) gives W -> G1.
     t = np.full((4, 4), X)
     t[0, 1], t[0, 2], t[3, 1], t[3, 2] = -3.0, -1.0, -0.5, -6.0
-    word = np.array([[-0.1, -5.0, -5.0, -0.1],     # stage 0: the waypoint word
-                     [-5.0, -0.2, -0.2, -5.0]])    # stage 1: the goal word
+    word = np.array(
+        [
+            [-0.1, -5.0, -5.0, -0.1],  # stage 0: the waypoint word
+            [-5.0, -0.2, -0.2, -5.0],
+        ]
+    )  # stage 1: the goal word
     completes = np.array([[True, False, False, True], [False, True, True, False]])
     problem = SearchProblem(t, np.array([-1.0, -0.5, X, -3.0]), word, completes, max_steps=5)
     result = search(problem)
@@ -70,14 +79,17 @@ def test_goal_reached_before_the_waypoint_does_not_count():
     assert result.nodes.tolist() == [1, 0, 1]
     assert result.log_prob == pytest.approx(-4.0)
     assert result.completed == ((), (0,), (1,))
-    assert search(SearchProblem(t, np.array([-10.0, 0.0]), word, completes, max_steps=2)).nodes.tolist() == [0, 1]
+    assert search(SearchProblem(t, np.array([-10.0, 0.0]), word, completes, max_steps=2)).nodes.tolist() == [
+        0,
+        1,
+    ]
     assert search(SearchProblem(t, np.array([X, 0.0]), word, completes, max_steps=2)) is None
 
 
 def test_one_node_can_complete_consecutive_stages():
     t = np.full((2, 2), X)
     t[0, 1] = -1.0
-    completes = np.array([[False, True], [False, True]])   # "go to B via B"
+    completes = np.array([[False, True], [False, True]])  # "go to B via B"
     result = search(SearchProblem(t, np.array([0.0, -5.0]), np.zeros((2, 2)), completes, max_steps=3))
     assert result.nodes.tolist() == [0, 1]
     assert result.completed == ((), (0, 1))
@@ -102,8 +114,7 @@ def brute_force(problem: SearchProblem) -> float:
                 if stages[0] != 0 or any(b < a for a, b in itertools.pairwise(stages)):
                     continue
                 # advancing from stage a to b at node n needs n to complete a..b-1; finishing needs S-1 done
-                ok = all(problem.completes[s, nodes[t]] for t in range(e - 1)
-                         for s in range(stages[t], stages[t + 1]))
+                ok = all(problem.completes[s, nodes[t]] for t in range(e - 1) for s in range(stages[t], stages[t + 1]))
                 ok = ok and all(problem.completes[s, nodes[-1]] for s in range(stages[-1], S))
                 if not ok:
                     continue
@@ -120,8 +131,12 @@ def problems(draw):
     S = draw(st.integers(1, 2))
     E = draw(st.integers(1, 4 if M < 4 else 3))
     weights = st.one_of(st.just(-np.inf), st.floats(-5, 2, allow_nan=False))
-    arr = lambda shape: np.array(draw(st.lists(weights, min_size=int(np.prod(shape)),
-                                                max_size=int(np.prod(shape))))).reshape(shape)
+
+    def arr(shape):
+        return np.array(draw(st.lists(weights, min_size=int(np.prod(shape)), max_size=int(np.prod(shape))))).reshape(
+            shape
+        )
+
     completes = np.array(draw(st.lists(st.booleans(), min_size=S * M, max_size=S * M))).reshape(S, M)
     return SearchProblem(arr((M, M)), arr((M,)), arr((S, M)), completes, E)
 

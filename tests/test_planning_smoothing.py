@@ -36,24 +36,32 @@ SQ2 = math.sqrt(2.0)
 
 # A kitchen (A) opens at its bottom right into a large living room (B), whose top-left door leads to the
 # bedroom (C). The partial paths run to the living room's centre (8, 14), far right of the route.
-DETOUR = {"rooms": {"A": (1, 5, 1, 5), "B": (1, 15, 7, 21), "C": (17, 21, 7, 11)},
-              "doors": [(slice(2, 5), 6), (16, slice(8, 11))],
-              "names": {"A": "kitchen", "B": "living", "C": "bedroom"}, "edges": [("A", "B"), ("B", "C")],
-              "shape": (23, 23)}
+DETOUR = {
+    "rooms": {"A": (1, 5, 1, 5), "B": (1, 15, 7, 21), "C": (17, 21, 7, 11)},
+    "doors": [(slice(2, 5), 6), (16, slice(8, 11))],
+    "names": {"A": "kitchen", "B": "living", "C": "bedroom"},
+    "edges": [("A", "B"), ("B", "C")],
+    "shape": (23, 23),
+}
 # The same, plus a hall (D) that joins the kitchen and an (extended) bedroom directly, but psi never links it:
 # Eq. 28 plans kitchen -> living -> bedroom, and smoothing must not cut through the hall.
-TUBE = {"rooms": {"A": (1, 5, 1, 5), "B": (1, 15, 7, 21), "C": (17, 21, 1, 11), "D": (7, 15, 1, 5)},
-            "doors": [(slice(2, 5), 6), (16, slice(8, 11)), (6, slice(2, 5)), (16, slice(2, 5))],
-            "names": {"A": "kitchen", "B": "living", "C": "bedroom", "D": "hall"}, "edges": [("A", "B"), ("B", "C")],
-            "shape": (23, 23)}
+TUBE = {
+    "rooms": {"A": (1, 5, 1, 5), "B": (1, 15, 7, 21), "C": (17, 21, 1, 11), "D": (7, 15, 1, 5)},
+    "doors": [(slice(2, 5), 6), (16, slice(8, 11)), (6, slice(2, 5)), (16, slice(2, 5))],
+    "names": {"A": "kitchen", "B": "living", "C": "bedroom", "D": "hall"},
+    "edges": [("A", "B"), ("B", "C")],
+    "shape": (23, 23),
+}
 
 
 def planners(spec: dict, **kw) -> tuple[HierarchicalPlanner, HierarchicalPlanner]:
     model = make_home(**spec)
     log_p = home_log_p(model.map)
     raw_kw = {k: v for k, v in kw.items() if k == "adjacent_only"}
-    return (HierarchicalPlanner(model, log_p=log_p, use_cache=False, **kw),
-            HierarchicalPlanner(model, log_p=log_p, use_cache=False, smooth=False, **raw_kw))
+    return (
+        HierarchicalPlanner(model, log_p=log_p, use_cache=False, **kw),
+        HierarchicalPlanner(model, log_p=log_p, use_cache=False, smooth=False, **raw_kw),
+    )
 
 
 def check_cells(planner: HierarchicalPlanner, cells: np.ndarray, start) -> None:
@@ -62,7 +70,7 @@ def check_cells(planner: HierarchicalPlanner, cells: np.ndarray, start) -> None:
     assert len(cells) == 1 or (steps.max(axis=1) == 1).all()
     assert (planner.model.map.data[cells[:, 0], cells[:, 1]] == 0).all()
     occ_free = planner.model.map.data == 0
-    for (r0, c0), (r1, c1) in itertools.pairwise(cells):       # no squeeze between two wall corners
+    for (r0, c0), (r1, c1) in itertools.pairwise(cells):  # no squeeze between two wall corners
         if r0 != r1 and c0 != c1:
             assert occ_free[r0, c1] or occ_free[r1, c0]
 
@@ -71,13 +79,13 @@ def test_tube_replanning_takes_the_door_corner_the_old_assembly_missed():
     # the first step follows the place graph too (adjacent_only), so the assembled path runs through the
     # living room's centre and smoothing has work to do
     new, raw = planners(DETOUR, adjacent_only=True)
-    start = (3, 3)                                          # the kitchen's centre
+    start = (3, 3)  # the kitchen's centre
     a = new.plan("go to the bedroom", world(new.model.map, *start))
     b = raw.plan("go to the bedroom", world(raw.model.map, *start))
     assert [p.name for p in a.places] == [p.name for p in b.places] == ["kitchen", "living", "bedroom"]
     assert a.log_prob == b.log_prob
     check_cells(new, a.cells, start)
-    goal = new.model.map.world_to_cell(new.model.mu[2])     # (19, 9), the bedroom's candidate
+    goal = new.model.map.world_to_cell(new.model.mu[2])  # (19, 9), the bedroom's candidate
     assert (a.cells[-1] == goal).all() and (b.cells[-1] == goal).all()
     # by hand: through the door corner (4, 6), then 3 diagonal and 12 straight steps to (19, 9):
     # (1 + 3) diagonals and (2 + 12) straight steps; every path must pass a door cell (r, 6), r <= 4, and the
@@ -98,7 +106,7 @@ def test_tube_keeps_the_route_that_eq28_chose():
     hall = g.to_map(np.argwhere(g.territory == 3))
     rows, cols = hall[:, 0], hall[:, 1]
     in_hall = (rows >= 7) & (rows <= 15) & (cols >= 1) & (cols <= 5)
-    assert in_hall.sum() == 9 * 5                            # the hall's room is all hall territory
+    assert in_hall.sum() == 9 * 5  # the hall's room is all hall territory
     start = (3, 3)
     a = new.plan("go to the bedroom", world(model.map, *start))
     b = raw.plan("go to the bedroom", world(model.map, *start))
@@ -118,7 +126,7 @@ def test_waypoints_stay_anchored_and_avoidance_holds():
     start = (3, 3)
     a = new.plan("go to the kitchen via the living", world(model.map, *start))
     wp = model.map.world_to_cell(model.mu[1])
-    assert (a.cells == wp).all(axis=1).any()                 # passes the living room's candidate exactly
+    assert (a.cells == wp).all(axis=1).any()  # passes the living room's candidate exactly
     assert a.length_m <= raw.plan("go to the kitchen via the living", world(model.map, *start)).length_m
     c = new.plan("go to the bedroom avoiding the hall", world(model.map, *start))
     crop = new.graph.to_crop(c.cells)
@@ -132,11 +140,11 @@ def test_arrival_stops_at_the_first_cell_inside_the_goal_region():
     q = 0.39
     full = HierarchicalPlanner(model, log_p=log_p)
     cut = HierarchicalPlanner(model, log_p=log_p, arrival_quantile=q)
-    start = (3, 12)                                          # in the corridor, next to bedroom #1's door
+    start = (3, 12)  # in the corridor, next to bedroom #1's door
     a = full.plan("go to the bedroom", world(model.map, *start))
     b = cut.plan("go to the bedroom", world(model.map, *start))
     assert b.goal.id == a.goal.id == 0 and b.log_prob == a.log_prob
-    assert (b.cells == a.cells[:len(b.cells)]).all()        # the same path, cut
+    assert (b.cells == a.cells[: len(b.cells)]).all()  # the same path, cut
     xy = model.map.cell_to_world(b.cells)
     region = place_regions(model, xy, [0], q)
     assert region[-1] and not region[:-1].any()
@@ -157,11 +165,9 @@ def test_most_probable_place_and_grown_territories():
     # fragment of a place's region to reassign), -1 on walls
     assert (g.territory[g.traversable] == most_probable_place(model, g.centres)[g.traversable]).all()
     assert (g.territory[~g.traversable] == -1).all()
-    terr = np.array([[0, 0, 1, 1],
-                     [0, 0, 1, 1],
-                     [2, 2, 2, 2]])
+    terr = np.array([[0, 0, 1, 1], [0, 0, 1, 1], [2, 2, 2, 2]])
     grown = grown_territories(terr, np.array([0, 1, 2, 5]), 1.0)
-    assert set(grown) == {0, 1, 2}                           # place 5 owns no cell
+    assert set(grown) == {0, 1, 2}  # place 5 owns no cell
     r, c, m = grown[0]
     assert (r, c) == (0, 0) and m.tolist() == [[True, True, True], [True, True, True], [True, True, True]]
     r, c, m = grown[2]
@@ -176,20 +182,20 @@ def test_tube_window_covers_the_grown_territories(margin, cells):
     g = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False, tube_margin=margin).graph
     origin, mask = g.tube(np.array([0, 2]))
     full = np.zeros(g.log_p.shape, bool)
-    full[origin[0]:origin[0] + mask.shape[0], origin[1]:origin[1] + mask.shape[1]] = mask
-    expected = np.isin(g.territory, [0, 2])                  # grown by ``cells`` in chessboard distance
+    full[origin[0] : origin[0] + mask.shape[0], origin[1] : origin[1] + mask.shape[1]] = mask
+    expected = np.isin(g.territory, [0, 2])  # grown by ``cells`` in chessboard distance
     padded = np.pad(expected, cells)
     h, w = expected.shape
     grown = np.zeros_like(expected)
     for dr in range(-cells, cells + 1):
         for dc in range(-cells, cells + 1):
-            grown |= padded[cells + dr:cells + dr + h, cells + dc:cells + dc + w]
+            grown |= padded[cells + dr : cells + dr + h, cells + dc : cells + dc + w]
     assert (full == grown).all()
 
 
 def test_replan_segment_by_hand():
     cost = np.ones((5, 7))
-    cost[1:4, 3] = np.inf                                    # a wall at col 3 with gaps at rows 0 and 4
+    cost[1:4, 3] = np.inf  # a wall at col 3 with gaps at rows 0 and 4
     zero = np.zeros(2, np.int64)
     everything = np.ones((5, 7), bool)
     # over the top gap: 2 + 2 + 1 + 1 + 2 steps, 6 + 2 sqrt 2; the shortest is 2 + 4 sqrt 2 (either gap)
@@ -233,7 +239,7 @@ def test_shorten_maps_the_anchors_and_keeps_them():
 def test_arrival_path_cost_and_better():
     cells = np.zeros((4, 2), np.int64)
     assert arrival(cells, np.array([False, True, True, False])) == 1
-    assert arrival(cells, np.array([True, True, False, False]), first=2) == 3      # none after 2: the end
+    assert arrival(cells, np.array([True, True, False, False]), first=2) == 3  # none after 2: the end
     cost = np.array([[1.0, 2.0], [3.0, 4.0]])
     path = np.array([[0, 0], [0, 1], [1, 0]])
     assert path_cost(path, cost) == pytest.approx(2.0 + 3.0 * SQ2)
@@ -241,7 +247,7 @@ def test_arrival_path_cost_and_better():
     straight, bent = np.array([[0, 0], [1, 1]]), np.array([[0, 0], [0, 1], [1, 1]])
     assert better(straight, bent, cost) and not better(bent, straight, cost)
     a, b = np.array([[0, 0], [0, 1], [1, 1]]), np.array([[0, 0], [1, 0], [1, 1]])  # same length
-    assert better(a, b, cost) and not better(b, a, cost)    # 2 + 4 < 3 + 4
+    assert better(a, b, cost) and not better(b, a, cost)  # 2 + 4 < 3 + 4
 
 
 @st.composite
@@ -262,7 +268,7 @@ def test_replanning_properties(case):
     blocked, weights, tube, a, b = case
     cost = np.where(blocked, np.inf, weights)
     uniform = np.where(blocked, np.inf, 1.0)
-    start = shortest_paths(np.where(blocked, np.inf, 4.0 - weights), a, b[None], 4)   # some 4-connected piece
+    start = shortest_paths(np.where(blocked, np.inf, 4.0 - weights), a, b[None], 4)  # some 4-connected piece
     if start is None:
         return
     piece = start.cells
@@ -292,7 +298,7 @@ def test_replanning_properties(case):
 def test_map_cost_is_the_map_term_of_eq26_and_views_block_avoided_regions():
     model = make_home(**TUBE)
     log_p = home_log_p(model.map)
-    log_p[3, 3] = math.log(0.01)                             # one inscribed cell
+    log_p[3, 3] = math.log(0.01)  # one inscribed cell
     pl = HierarchicalPlanner(model, log_p=log_p, use_cache=False)
     g = pl.graph
     cell = g.to_crop(np.array([3, 3]))

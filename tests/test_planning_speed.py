@@ -40,7 +40,7 @@ def test_cache_dir_falls_back_to_user_cache(monkeypatch, tmp_path):
 def test_field_read_is_an_optimum_of_the_tube_replanning(home):
     """Two-leg pieces start -> node a -> node b: when the field of b gives a path, it lies in the tube and costs
     no more than the tube search's answer (so it is an optimum there), and its cost is the field's value."""
-    with warnings.catch_warnings():        # the bundled data's known warnings (said once per process)
+    with warnings.catch_warnings():  # the bundled data's known warnings (said once per process)
         warnings.simplefilter("ignore")
         data = load_bundled(home, lang="en")
     model = fit_supervised(data)

@@ -32,20 +32,28 @@ def test_a_start_next_to_a_wall_leaves_it_first_and_says_so(home):
         try:
             plan = planner.plan("go to the kitchen", model.map.cell_to_world(cell))
         except StartBlocked:
-            continue                                            # a pocket cut off from every place
+            continue  # a pocket cut off from every place
         planned += 1
         costs = cm.costs[plan.cells[:, 0], plan.cells[:, 1]]
         clear = np.flatnonzero(costs < INSCRIBED_INFLATED_OBSTACLE)
         assert (plan.cells[0] == cell).all() and len(clear)
-        assert (costs[clear[0]:] < INSCRIBED_INFLATED_OBSTACLE).all()       # once clear, it stays clear
-        assert clear[0] <= 4                                                  # a few cells at most
+        assert (costs[clear[0] :] < INSCRIBED_INFLATED_OBSTACLE).all()  # once clear, it stays clear
+        assert clear[0] <= 4  # a few cells at most
         assert "the path first moves" in plan.explanation
     assert planned >= 20
 
 
-@pytest.mark.parametrize("start, error", [("wall", StartBlocked), ("unknown", StartBlocked),
-                                          ((1e9, 0.0), StartOutsideMap), ((float("nan"), 1.0), StartOutsideMap),
-                                          ("x", StartOutsideMap), ((10**400, 0), StartOutsideMap)])
+@pytest.mark.parametrize(
+    "start, error",
+    [
+        ("wall", StartBlocked),
+        ("unknown", StartBlocked),
+        ((1e9, 0.0), StartOutsideMap),
+        ((float("nan"), 1.0), StartOutsideMap),
+        ("x", StartOutsideMap),
+        ((10**400, 0), StartOutsideMap),
+    ],
+)
 def test_bad_starts_are_typed(home, start, error):
     model, planner, _ = home
     if start in ("wall", "unknown"):
@@ -62,7 +70,7 @@ def test_metric_fallback_when_the_place_graph_has_no_edge(home):
 
     lone = dataclasses.replace(model, psi=np.eye(model.K) * 0.999 + 0.001 / model.K)
     planner = HierarchicalPlanner(lone, use_cache=False, adjacent_only=True)
-    assert not np.isfinite(planner.graph.w_hat).any()                        # no edge at all
+    assert not np.isfinite(planner.graph.w_hat).any()  # no edge at all
     plan = planner.plan("go to the kitchen via the toilet", tuple(model.mu[0]))
     assert "metric route" in plan.explanation
     assert (cm.costs[plan.cells[:, 0], plan.cells[:, 1]] < INSCRIBED_INFLATED_OBSTACLE).all()

@@ -38,32 +38,47 @@ from spcotmhp.metric.grid_search import geodesic_distance
 from spcotmhp.planning import HierarchicalPlanner
 
 EXE = str(Path(sys.executable).with_name("spcotmhp"))
-DOMAIN = str(30 + os.getpid() % 60)      # a domain of this test run (0..101 are safe on Linux)
+DOMAIN = str(30 + os.getpid() % 60)  # a domain of this test run (0..101 are safe on Linux)
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     root = tmp_path_factory.mktemp("ros2")
-    env = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_DOMAIN_ID": DOMAIN, "ROS_LOG_DIR": str(root / "log")}
+    env = {
+        "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
+        "ROS_DOMAIN_ID": DOMAIN,
+        "ROS_LOG_DIR": str(root / "log"),
+    }
     saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)                           # before rclpy.init, for this process too
+    os.environ.update(env)  # before rclpy.init, for this process too
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         dataset = load_bundled("3LDK_06")
     model = fit_supervised(dataset)
     folder = save_model(model, root / "model")
     record = root / "taught"
-    proc = subprocess.Popen([EXE, "ros2", str(folder), "--record", str(record)], env={**os.environ, **env},
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [EXE, "ros2", str(folder), "--record", str(record)],
+        env={**os.environ, **env},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     context = rclpy.Context()
     rclpy.init(context=context)
     client = Client(context)
     try:
         ready = client.spin_until(lambda: client.places or proc.poll() is not None, 120)
         assert ready and proc.poll() is None, proc.communicate(timeout=5)
-        yield {"proc": proc, "client": client, "model": model, "dataset": dataset, "record": record,
-               "planner": HierarchicalPlanner(model)}
+        yield {
+            "proc": proc,
+            "client": client,
+            "model": model,
+            "dataset": dataset,
+            "record": record,
+            "planner": HierarchicalPlanner(model),
+        }
     finally:
         client.node.destroy_node()
         context.try_shutdown()
@@ -84,15 +99,15 @@ class Client:
         self.status: list[dict] = []
         self.plans: list[tuple[float, PathMsg]] = []
         self.places: list[MarkerArray] = []
-        self.node.create_subscription(String, "/spcotmhp/status", lambda m: self.status.append(json.loads(m.data)),
-                                      10)
-        self.node.create_subscription(PathMsg, "/spcotmhp/plan", lambda m: self.plans.append((time.monotonic(), m)),
-                                      LATCHED)
+        self.node.create_subscription(String, "/spcotmhp/status", lambda m: self.status.append(json.loads(m.data)), 10)
+        self.node.create_subscription(
+            PathMsg, "/spcotmhp/plan", lambda m: self.plans.append((time.monotonic(), m)), LATCHED
+        )
         self.node.create_subscription(MarkerArray, "/spcotmhp/places", self.places.append, LATCHED)
         self.pose_pub = self.node.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", LATCHED)  # as AMCL
         self.instruction_pub = self.node.create_publisher(String, "/spcotmhp/instruction", 10)
         self.teach_pub = self.node.create_publisher(String, "/spcotmhp/teach", 10)
-        self.map_pub = self.node.create_publisher(OccupancyGrid, "/map", LATCHED)                  # as map_server
+        self.map_pub = self.node.create_publisher(OccupancyGrid, "/map", LATCHED)  # as map_server
 
     def spin_until(self, done, timeout: float) -> bool:
         end = time.monotonic() + timeout
@@ -114,7 +129,7 @@ class Client:
         msg.pose.pose.position.x, msg.pose.pose.position.y = float(x), float(y)
         msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
         self.publish(self.pose_pub, msg)
-        self.spin_until(lambda: False, 0.3)          # let it arrive before what follows on other topics
+        self.spin_until(lambda: False, 0.3)  # let it arrive before what follows on other topics
 
     def ask(self, publisher, text: str, timeout: float = 10.0) -> dict:
         """Publish ``text`` and return the status line that answers it."""
@@ -132,12 +147,12 @@ def place_point(planner, name: str) -> np.ndarray:
 
 
 def yaw_of(q) -> float:
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y ** 2 + q.z ** 2))
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y**2 + q.z**2))
 
 
 def test_places_for_rviz_reach_a_late_subscriber(setup):
     planner = setup["planner"]
-    markers = setup["client"].places[-1].markers        # subscribed after the node published: transient local
+    markers = setup["client"].places[-1].markers  # subscribed after the node published: transient local
     assert markers[0].action == Marker.DELETEALL
     shapes = [m for m in markers if m.ns == "places"]
     names = [m for m in markers if m.ns == "names"]
@@ -174,18 +189,18 @@ def test_bedroom_via_corridor_within_two_seconds(setup):
 
     assert path.header.frame_id == "map" and len(path.poses) > 10
     xy = np.array([[p.pose.position.x, p.pose.position.y] for p in path.poses])
-    assert np.allclose(xy[0], start, atol=1e-9)                                   # starts at the pose
+    assert np.allclose(xy[0], start, atol=1e-9)  # starts at the pose
     for p in path.poses:
         assert p.header.frame_id == "map" and (p.header.stamp.sec, p.header.stamp.nanosec) != (0, 0)
     cells = model.map.world_to_cell(xy)
-    assert (model.map.data[cells[:, 0], cells[:, 1]] == 0).all()                 # only free cells
-    assert (np.abs(np.diff(cells, axis=0)) <= 1).all()                             # 8-neighbour steps
+    assert (model.map.data[cells[:, 0], cells[:, 1]] == 0).all()  # only free cells
+    assert (np.abs(np.diff(cells, axis=0)) <= 1).all()  # 8-neighbour steps
     graph = planner.graph
     crop = graph.to_crop(cells)
     places_on_path = graph.territory[crop[:, 0], crop[:, 1]]
-    assert corridor in places_on_path                                              # passes the corridor
+    assert corridor in places_on_path  # passes the corridor
     goal = int(places_on_path[-1])
-    assert names[goal] == "bedroom"                                                # ends in a bedroom
+    assert names[goal] == "bedroom"  # ends in a bedroom
     # the closest bedroom from the corridor (independent: geodesic distances over the free cells)
     node_cell = {int(k): graph.node_cell[i] for i, k in enumerate(graph.node_place)}
     dist = geodesic_distance(graph.traversable, node_cell[corridor][None, :], 8, model.map.resolution)
@@ -200,7 +215,7 @@ def test_bedroom_via_corridor_within_two_seconds(setup):
     assert math.isclose(yaws[-1], heading[-1], abs_tol=1e-6)
     for p in path.poses:
         q = p.pose.orientation
-        assert q.x == q.y == 0 and math.isclose(q.z ** 2 + q.w ** 2, 1, rel_tol=1e-9)
+        assert q.x == q.y == 0 and math.isclose(q.z**2 + q.w**2, 1, rel_tol=1e-9)
     # the status says the same as the path and the library
     roles = [(p["name"], p["role"]) for p in status["places"]]
     assert ("corridor", "waypoint") in roles and roles[-1] == ("bedroom", "goal") and roles[0][1] == "start"
@@ -210,13 +225,16 @@ def test_bedroom_via_corridor_within_two_seconds(setup):
     assert np.allclose(library.path[1:], xy[1:]) and status["explanation"] == library.explanation
 
 
-@pytest.mark.parametrize("text, error", [
-    ("go to the garage", "UnknownPlaceWord"),
-    ('{"goal": ["garage"]}', "UnknownPlaceWord"),
-    ("{", "MalformedInstruction"),
-    ("   ", "EmptyInstruction"),
-    ("go to the second bedroom", "UnsupportedPhrase"),
-])
+@pytest.mark.parametrize(
+    "text, error",
+    [
+        ("go to the garage", "UnknownPlaceWord"),
+        ('{"goal": ["garage"]}', "UnknownPlaceWord"),
+        ("{", "MalformedInstruction"),
+        ("   ", "EmptyInstruction"),
+        ("go to the second bedroom", "UnsupportedPhrase"),
+    ],
+)
 def test_bad_instructions_get_an_error_status_and_the_node_keeps_serving(setup, text, error):
     client, planner = setup["client"], setup["planner"]
     client.set_pose(*place_point(planner, "living"))
@@ -235,9 +253,9 @@ def test_bad_poses_are_refused(setup):
     client.set_pose(1.0, 1.0, frame="odom")
     client.set_pose(float("nan"), 0.0)
     assert client.spin_until(lambda: len(client.status) >= n + 2, 5)
-    assert [s["type"] for s in client.status[n:n + 2]] == ["StartBlocked", "StartBlocked"]
+    assert [s["type"] for s in client.status[n : n + 2]] == ["StartBlocked", "StartBlocked"]
     assert "frame 'odom'" in client.status[n]["error"]
-    client.set_pose(500.0, 500.0)                              # off the map: the plan says so
+    client.set_pose(500.0, 500.0)  # off the map: the plan says so
     assert client.ask(client.instruction_pub, "go to the kitchen")["type"] == "StartOutsideMap"
     client.set_pose(*place_point(planner, "entrance"))
     assert client.ask(client.instruction_pub, "go to the kitchen")["ok"]
@@ -254,7 +272,7 @@ def test_teaching_is_recorded_as_a_dataset(setup):
     assert (first["event"], second["event"]) == (0, 1) and first["ok"] and first["kind"] == "taught"
     assert isinstance(first["place"], int) and isinstance(first["label"], str) and first["places"] >= 1
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")                          # the Japanese row has no English words
+        warnings.simplefilter("ignore")  # the Japanese row has no English words
         en, ja = load_dataset(record, lang="en"), load_dataset(record, lang="ja")
     assert np.allclose(en.positions, [a, b], atol=1e-4)
     assert en.tokens[0] == ["this", "is", "the", "study"] and ja.tokens[1] == ["ここは", "書斎", "です"]

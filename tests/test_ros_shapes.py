@@ -25,8 +25,9 @@ from spcotmhp.ros.teaching_log import TeachingLog
 
 def test_headings_face_the_next_distinct_point_and_the_last_keeps_the_last_segment():
     points = [(0, 0), (1, 0), (1, 0), (1, 1), (0, 2), (0, 2)]
-    assert np.allclose(path_yaws(points), [0, math.pi / 2, math.pi / 2, 3 * math.pi / 4, 3 * math.pi / 4,
-                                           3 * math.pi / 4])
+    assert np.allclose(
+        path_yaws(points), [0, math.pi / 2, math.pi / 2, 3 * math.pi / 4, 3 * math.pi / 4, 3 * math.pi / 4]
+    )
     assert np.allclose(path_yaws([(2, 3)], fallback=0.7), [0.7])
     assert np.allclose(path_yaws([(2, 3), (2, 3)], fallback=-1.0), [-1.0, -1.0])
 
@@ -39,7 +40,7 @@ def test_quaternions_round_trip(yaw):
 
 
 def test_ellipse_axes_and_heading():
-    scale = -2 * math.log(0.05)                 # the chi-square 0.95 quantile with 2 degrees of freedom
+    scale = -2 * math.log(0.05)  # the chi-square 0.95 quantile with 2 degrees of freedom
     length, width, yaw = ellipse(np.diag([4.0, 1.0]))
     assert math.isclose(length, 2 * math.sqrt(4 * scale)) and math.isclose(width, 2 * math.sqrt(scale))
     assert math.isclose(abs(math.cos(yaw)), 1.0, abs_tol=1e-9)
@@ -59,7 +60,7 @@ def small_map() -> OccupancyMap:
 def test_map_mismatches_name_what_differs():
     occ = small_map()
     assert map_mismatches(6, 4, 0.5, (-1.0, 2.0, 0.0), occ) == []
-    assert map_mismatches(6, 4, 0.5, (-0.96, 2.04, 0.0), occ) == []           # within a tenth of a cell
+    assert map_mismatches(6, 4, 0.5, (-0.96, 2.04, 0.0), occ) == []  # within a tenth of a cell
     found = map_mismatches(4, 6, 0.05, (-1.0, 2.2, 0.1), occ)
     assert len(found) == 3
     assert found[0].startswith("size 4x6 cells") and found[1].startswith("resolution 0.05 m")
@@ -72,7 +73,7 @@ def test_path_starts_at_the_pose():
     path = occ.cell_to_world(cells)
     inside = path[0] + [0.1, -0.2]
     assert np.allclose(path_poses(path, cells, inside, occ), [inside, path[1]])
-    outside = path[0] + [-0.3, 0.0]                                          # another cell: put before
+    outside = path[0] + [-0.3, 0.0]  # another cell: put before
     assert np.allclose(path_poses(path, cells, outside, occ), [outside, path[0], path[1]])
 
 
@@ -87,7 +88,7 @@ def test_teaching_log_writes_a_dataset_and_appends_to_it(tmp_path):
         log.append(0.3, 2.6, " \n ")
     with pytest.raises(DatasetError, match="not finite"):
         log.append(float("nan"), 2.6, "kitchen")
-    again = TeachingLog(folder, occ)                                        # an existing dataset: appended to
+    again = TeachingLog(folder, occ)  # an existing dataset: appended to
     assert again.append(0.8, 2.3, "the bath") == 2
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -33,8 +33,10 @@ with warnings.catch_warnings():
 @pytest.fixture(scope="module")
 def dirs(tmp_path_factory):
     root = tmp_path_factory.mktemp("models")
-    return {"home6": supervised_model_dir("3LDK_06", root / "3LDK_06"),
-            "home1": supervised_model_dir("3LDK_01", root / "3LDK_01")}
+    return {
+        "home6": supervised_model_dir("3LDK_06", root / "3LDK_06"),
+        "home1": supervised_model_dir("3LDK_01", root / "3LDK_01"),
+    }
 
 
 @pytest.fixture(scope="module")
@@ -69,13 +71,19 @@ def test_plan_from_text_is_the_planners_plan(client, model6, start):
     assert got["places"][0] == {**want["places"][0], "point": pytest.approx(want["places"][0]["point"])}
     roles = {p["role"]: p["name"] for p in got["places"]}
     assert roles["waypoint"] == "corridor" and roles["goal"] == "bedroom"
-    assert got["path"][0] == pytest.approx(start, abs=0.051)          # the start cell's centre (0.1 m cells)
+    assert got["path"][0] == pytest.approx(start, abs=0.051)  # the start cell's centre (0.1 m cells)
     assert got["instruction"]["goal"] == {"bedroom": 1} and got["instruction"]["waypoints"] == [{"corridor": 1}]
 
 
 def test_plan_from_nbest_and_structured(client, start):
-    r = plan(client, nbest=[{"text": "go to the kitchen", "score": -1.0},
-                            {"text": "go to the kitchen via the corridor", "score": -4.0}], start=start)
+    r = plan(
+        client,
+        nbest=[
+            {"text": "go to the kitchen", "score": -1.0},
+            {"text": "go to the kitchen via the corridor", "score": -4.0},
+        ],
+        start=start,
+    )
     assert r.status_code == 200, r.text
     assert r.json()["places"][-1]["name"] == "kitchen"
     r = plan(client, structured={"goal": ["bedroom"], "waypoints": [["corridor"]], "avoid": []}, start=start)
@@ -85,8 +93,10 @@ def test_plan_from_nbest_and_structured(client, start):
 
 def test_plan_picks_the_model_by_query_or_body(client, dirs):
     s1 = start_near(load_model(dirs["home1"]))
-    for r in (client.post("/plan?model=home1", json={"instruction": "go to the kitchen", "start": s1}),
-              plan(client, instruction="go to the kitchen", start=s1, model="home1")):
+    for r in (
+        client.post("/plan?model=home1", json={"instruction": "go to the kitchen", "start": s1}),
+        plan(client, instruction="go to the kitchen", start=s1, model="home1"),
+    ):
         assert r.status_code == 200, r.text
         assert r.json()["model"] == "home1" and r.json()["places"][-1]["name"] == "kitchen"
     r = client.post("/plan?model=home6", json={"instruction": "go to the kitchen", "start": s1, "model": "home1"})
@@ -142,24 +152,31 @@ def test_a_huge_start_is_a_short_422_without_overflow(client, model6):
     assert r.json()["detail"].startswith("the start (1e+308, -1e+308) is outside the map (x ")
     assert len(r.json()["detail"]) < 100
     with warnings.catch_warnings():
-        warnings.simplefilter("error")          # no overflow RuntimeWarning from the cell index
+        warnings.simplefilter("error")  # no overflow RuntimeWarning from the cell index
         with pytest.raises(PlanningError, match="the start \\(1e\\+308, 1e\\+308\\) is outside the map"):
             HierarchicalPlanner(model6).plan(INSTRUCTION, (1e308, 1e308))
 
 
-@pytest.mark.parametrize(("body", "detail"), [
-    ({"instruction": INSTRUCTION}, "start: Field required"),
-    ({"start": [0, 0]}, "body: give exactly one of 'instruction', 'nbest' or 'structured'"),
-    ({"instruction": INSTRUCTION, "nbest": [{"text": "go to the bath", "score": 0}], "start": [0, 0]},
-     "body: give exactly one of 'instruction', 'nbest' or 'structured' (got instruction, nbest)"),
-    ({"instruction": INSTRUCTION, "start": [0, "north"]},
-     "start/1: Input should be a valid number, unable to parse string as a number"),
-    ({"instruction": INSTRUCTION, "start": [0]}, "start/1: Field required"),
-    ({"instruction": "", "start": [0, 0]}, "instruction: String should have at least 1 character"),
-    ({"instruction": INSTRUCTION, "start": [0, 0], "speed": 3}, "speed: Extra inputs are not permitted"),
-    ({"nbest": [], "start": [0, 0]}, "nbest: List should have at least 1 item after validation, not 0"),
-    ({"instruction": INSTRUCTION, "start": [0, 0], "lang": "fr"}, "lang: Input should be 'en' or 'ja'"),
-])
+@pytest.mark.parametrize(
+    ("body", "detail"),
+    [
+        ({"instruction": INSTRUCTION}, "start: Field required"),
+        ({"start": [0, 0]}, "body: give exactly one of 'instruction', 'nbest' or 'structured'"),
+        (
+            {"instruction": INSTRUCTION, "nbest": [{"text": "go to the bath", "score": 0}], "start": [0, 0]},
+            "body: give exactly one of 'instruction', 'nbest' or 'structured' (got instruction, nbest)",
+        ),
+        (
+            {"instruction": INSTRUCTION, "start": [0, "north"]},
+            "start/1: Input should be a valid number, unable to parse string as a number",
+        ),
+        ({"instruction": INSTRUCTION, "start": [0]}, "start/1: Field required"),
+        ({"instruction": "", "start": [0, 0]}, "instruction: String should have at least 1 character"),
+        ({"instruction": INSTRUCTION, "start": [0, 0], "speed": 3}, "speed: Extra inputs are not permitted"),
+        ({"nbest": [], "start": [0, 0]}, "nbest: List should have at least 1 item after validation, not 0"),
+        ({"instruction": INSTRUCTION, "start": [0, 0], "lang": "fr"}, "lang: Input should be 'en' or 'ja'"),
+    ],
+)
 def test_invalid_bodies_are_422_with_the_field_named(client, body, detail):
     r = plan(client, **body)
     assert r.status_code == 422
@@ -167,8 +184,11 @@ def test_invalid_bodies_are_422_with_the_field_named(client, body, detail):
 
 
 def test_non_finite_start_and_bad_json_are_422(client):
-    r = client.post("/plan", content=b'{"instruction": "go to the bath", "start": [NaN, 0]}',
-                    headers={"content-type": "application/json"})
+    r = client.post(
+        "/plan",
+        content=b'{"instruction": "go to the bath", "start": [NaN, 0]}',
+        headers={"content-type": "application/json"},
+    )
     assert r.status_code == 422 and r.json()["detail"] == "start/0: Input should be a finite number"
     r = client.post("/plan", content=b'{"instruction": ', headers={"content-type": "application/json"})
     assert r.status_code == 422 and r.json()["detail"].startswith("body: not valid JSON")
@@ -178,8 +198,9 @@ def test_oversized_bodies_are_413(client):
     r = client.post("/plan", content=b" " * (JSON_LIMIT + 1), headers={"content-type": "application/json"})
     assert r.status_code == 413
     assert r.json()["detail"] == f"request body too large for /plan: {JSON_LIMIT + 1} bytes (limit {JSON_LIMIT} bytes)"
-    r = client.post("/plan/audio", files={"audio": ("big.wav", b"\0" * AUDIO_LIMIT, "audio/wav")},
-                    data={"start": "0,0"})
+    r = client.post(
+        "/plan/audio", files={"audio": ("big.wav", b"\0" * AUDIO_LIMIT, "audio/wav")}, data={"start": "0,0"}
+    )
     assert r.status_code == 413 and r.json()["detail"].startswith("request body too large for /plan/audio")
 
 
@@ -208,8 +229,8 @@ def _asgi_call(chunks, headers=()):
 
 
 def test_body_limit_counts_chunked_bodies():
-    assert _asgi_call([b"12345", b"67890"]) == (200, b"1234567890")     # exactly the limit: replayed whole
-    assert _asgi_call([b"12345", b"67890", b"1"]) == (413, None)        # one byte more: refused
+    assert _asgi_call([b"12345", b"67890"]) == (200, b"1234567890")  # exactly the limit: replayed whole
+    assert _asgi_call([b"12345", b"67890", b"1"]) == (413, None)  # one byte more: refused
     assert _asgi_call([b"1"], headers=[(b"content-length", b"11")]) == (413, None)
     assert _asgi_call([b"1"], headers=[(b"content-length", b"x")]) == (400, None)
 
@@ -240,7 +261,7 @@ def test_map_png_is_georeferenced_by_map_json(client, model6):
     assert Image.open(io.BytesIO(r.content)).size == (info["width"], info["height"])
     framed = client.get("/map.png?frame=true")
     assert framed.status_code == 200 and framed.content != r.content
-    assert client.get("/map.png?frame=true").content == framed.content          # cached
+    assert client.get("/map.png?frame=true").content == framed.content  # cached
     other = client.get("/map.json?model=home1").json()
     assert other["model"] == "home1" and other["image"] == "/map.png?model=home1"
 
@@ -250,7 +271,7 @@ def test_health_models_page_and_openapi(client):
     r = client.get("/models")
     models = r.json()
     assert models["default"] == "home6" and [m["name"] for m in models["models"]] == ["home6", "home1"]
-    assert all("source" not in m for m in models["models"]) and "3LDK_06" not in r.text   # no folder paths
+    assert all("source" not in m for m in models["models"]) and "3LDK_06" not in r.text  # no folder paths
     assert "corridor" in models["models"][0]["place_words"]
     page = client.get("/")
     assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
@@ -268,13 +289,18 @@ def test_audio_that_is_not_a_wav_file_or_a_bad_start_is_422(client):
     assert r.status_code == 422
     assert r.json()["detail"].startswith("note.txt is not a WAV file")
     r = client.post("/plan/audio", files={"audio": ("a.wav", b"RIFF", "audio/wav")}, data={"start": "here"})
-    assert r.status_code == 422 and r.json()["detail"] == "start must be two finite numbers \"x,y\" in metres, got 'here'"
+    assert (
+        r.status_code == 422 and r.json()["detail"] == "start must be two finite numbers \"x,y\" in metres, got 'here'"
+    )
     r = client.post("/plan/audio", data={"start": "0,0"})
     assert r.status_code == 422 and r.json()["detail"] == "audio: Field required"
     r = client.post("/plan/audio?model=zz", files={"audio": ("a.wav", b"RIFF", "audio/wav")}, data={"start": "0,0"})
     assert r.status_code == 404 and r.json()["models"] == ["home6", "home1"]
-    r = client.post("/plan/audio?model=home1", files={"audio": ("a.wav", b"RIFF", "audio/wav")},
-                    data={"start": "0,0", "model": "home6"})
+    r = client.post(
+        "/plan/audio?model=home1",
+        files={"audio": ("a.wav", b"RIFF", "audio/wav")},
+        data={"start": "0,0", "model": "home6"},
+    )
     assert r.status_code == 422 and r.json()["detail"] == "the query names model 'home1' and the body 'home6'; give one"
 
 
@@ -284,8 +310,11 @@ def test_spoken_instruction_plans_via_the_corridor(client, start):
     if espeak is None:
         pytest.skip("espeak-ng is not installed (apt-get install espeak-ng; `make system-deps` does it)")
     wav = subprocess.run([espeak, "-v", "en-us", "--stdout", INSTRUCTION], capture_output=True, check=True).stdout
-    r = client.post("/plan/audio", files={"audio": ("say.wav", wav, "audio/wav")},
-                    data={"start": json.dumps(start), "model": "home6"})
+    r = client.post(
+        "/plan/audio",
+        files={"audio": ("say.wav", wav, "audio/wav")},
+        data={"start": json.dumps(start), "model": "home6"},
+    )
     assert r.status_code == 200, r.text
     body = r.json()
     assert body["hypotheses"][0]["text"] == INSTRUCTION
@@ -297,8 +326,14 @@ def test_spoken_instruction_plans_via_the_corridor(client, start):
 # ---- concurrency and the registry --------------------------------------------------------------------------
 def test_concurrent_plans_equal_sequential_ones(model6, start):
     served = ServedModel.build("m", model6)
-    queries = [INSTRUCTION, "go to the kitchen avoiding the toilet", "go to the living avoiding the kitchen",
-               "go to the bedroom avoiding the bath", "go to the washroom avoiding the bath", "go to the toilet"] * 4
+    queries = [
+        INSTRUCTION,
+        "go to the kitchen avoiding the toilet",
+        "go to the living avoiding the kitchen",
+        "go to the bedroom avoiding the bath",
+        "go to the washroom avoiding the bath",
+        "go to the toilet",
+    ] * 4
     want = [HierarchicalPlanner(model6).plan(q, start).explanation for q in queries]
     got: list = [None] * len(queries)
     barrier = threading.Barrier(8)
@@ -358,8 +393,10 @@ def test_model_mapping_names_models_by_folder_or_prefix(tmp_path):
 
 # ---- drawing from worker threads ---------------------------------------------------------------------------
 def test_pictures_never_use_pyplot():
-    code = ("import sys; from spcotmhp.server import create_app; from spcotmhp.viz.draw import render, map_image; "
-            "import spcotmhp.viz.plan; print('matplotlib.pyplot' in sys.modules)")
+    code = (
+        "import sys; from spcotmhp.server import create_app; from spcotmhp.viz.draw import render, map_image; "
+        "import spcotmhp.viz.plan; print('matplotlib.pyplot' in sys.modules)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
     assert out.stdout.strip() == "False"
 
@@ -392,8 +429,10 @@ def test_serve_rejects_an_unknown_log_level(dirs):
     out = CliRunner().invoke(app, ["serve", str(dirs["home6"]), "--log-level", "loud"])
     assert out.exit_code == 2
     text = " ".join(out.output.replace("│", " ").split())
-    assert "Invalid value for '--log-level': Value error, 'loud' is not one of 'critical', 'error', 'warning', " \
-           "'info', 'debug', 'trace'" in text
+    assert (
+        "Invalid value for '--log-level': Value error, 'loud' is not one of 'critical', 'error', 'warning', "
+        "'info', 'debug', 'trace'" in text
+    )
 
 
 def test_an_instruction_over_the_planners_limit_is_413_with_its_cause(client, start):

@@ -23,7 +23,7 @@ with warnings.catch_warnings():
     warnings.simplefilter("ignore")
     from fastapi.testclient import TestClient
 
-LONG = "go to the bedroom " + "via the corridor " * 20          # over the light lane's 200 characters
+LONG = "go to the bedroom " + "via the corridor " * 20  # over the light lane's 200 characters
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,7 @@ def start(folder):
 def _app(folder, **kwargs):
     app = create_app({"home": folder}, **kwargs)
     sm = app.state.served["home"]
-    budget = kwargs.get("budget") or Budget()        # fresh lanes: slow fakes here must not hold other tests' lanes
+    budget = kwargs.get("budget") or Budget()  # fresh lanes: slow fakes here must not hold other tests' lanes
     sm.light = Lane("test-light", budget.max_light)
     sm.heavy = Lane("test-heavy", budget.max_heavy, budget.max_heavy_per_client)
     return app, sm
@@ -63,12 +63,12 @@ def test_docs_work_offline(folder):
     assert page.status_code == 200 and "/openapi.json" in page.text and "/static/docs.js" in page.text
     script = client.get("/static/docs.js")
     assert script.status_code == 200
-    assert "http://" not in page.text + script.text and "https://" not in page.text + script.text   # no CDN
+    assert "http://" not in page.text + script.text and "https://" not in page.text + script.text  # no CDN
     assert "/plan" in client.get("/openapi.json").json()["paths"]
 
 
 def test_a_trickled_body_is_cut_off():
-    async def app(scope, receive, send):       # pragma: no cover - never reached
+    async def app(scope, receive, send):  # pragma: no cover - never reached
         raise AssertionError("the application must not see the request")
 
     sent = []
@@ -93,11 +93,10 @@ def test_the_time_budget_gives_503(folder, start):
     real = sm.planner.plan
     sm.planner.plan = lambda *a, **k: (time.sleep(1.0), real(*a, **k))[1]
     t0 = time.perf_counter()
-    res = TestClient(app, base_url="http://localhost").post("/plan", json={"instruction": INSTRUCTION,
-                                                                           "start": start})
+    res = TestClient(app, base_url="http://localhost").post("/plan", json={"instruction": INSTRUCTION, "start": start})
     assert res.status_code == 503 and time.perf_counter() - t0 < 0.9
     assert res.json()["cause"] == "PlanningTimeout" and "time budget of 0.3 s" in res.json()["detail"]
-    time.sleep(1.0)                                  # let the running plan finish
+    time.sleep(1.0)  # let the running plan finish
 
 
 def test_long_plans_do_not_starve_short_ones(folder, start):
@@ -110,16 +109,17 @@ def test_long_plans_do_not_starve_short_ones(folder, start):
 
     sm._heavy_planner = lambda: Slow()
     client = TestClient(app, base_url="http://localhost")
-    heavy = [threading.Thread(target=client.post, args=("/plan",), kwargs={"json": {"instruction": LONG,
-                                                                                    "start": start}})
-             for _ in range(4)]
+    heavy = [
+        threading.Thread(target=client.post, args=("/plan",), kwargs={"json": {"instruction": LONG, "start": start}})
+        for _ in range(4)
+    ]
     for t in heavy:
         t.start()
     time.sleep(0.2)
     assert sm.heavy.load == 4
     t0 = time.perf_counter()
     res = client.post("/plan", json={"instruction": INSTRUCTION, "start": start})
-    assert res.status_code == 200 and time.perf_counter() - t0 < 1.0    # not behind 4 x 1.5 s of heavy plans
+    assert res.status_code == 200 and time.perf_counter() - t0 < 1.0  # not behind 4 x 1.5 s of heavy plans
     busy = client.post("/plan", json={"instruction": LONG, "start": start})
     assert busy.status_code == 503 and busy.json()["cause"] == "ServiceBusy"
     for t in heavy:
@@ -138,8 +138,9 @@ def test_one_client_holds_one_heavy_slot_and_the_cost_is_capped(folder, start):
 
     sm._heavy_planner = lambda: Blocked()
     client = TestClient(app, base_url="http://localhost")
-    first = threading.Thread(target=client.post, args=("/plan",), kwargs={"json": {"instruction": LONG,
-                                                                                   "start": start}})
+    first = threading.Thread(
+        target=client.post, args=("/plan",), kwargs={"json": {"instruction": LONG, "start": start}}
+    )
     first.start()
     time.sleep(0.2)
     second = client.post("/plan", json={"instruction": LONG, "start": start})
@@ -152,16 +153,46 @@ def test_one_client_holds_one_heavy_slot_and_the_cost_is_capped(folder, start):
 
 
 JSON_VALUES = st.recursive(
-    st.none() | st.booleans() | st.integers(-(10**30), 10**30) | st.floats(allow_nan=False)
-    | st.text(max_size=50) | st.sampled_from(["bedroom", "kitchen", "corridor", "go to the bedroom"]),
-    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(
-        st.sampled_from(["instruction", "start", "nbest", "structured", "goal", "waypoints", "avoid", "text",
-                         "score", "lang", "model", "x"]), inner, max_size=4),
-    max_leaves=12)
+    st.none()
+    | st.booleans()
+    | st.integers(-(10**30), 10**30)
+    | st.floats(allow_nan=False)
+    | st.text(max_size=50)
+    | st.sampled_from(["bedroom", "kitchen", "corridor", "go to the bedroom"]),
+    lambda inner: (
+        st.lists(inner, max_size=4)
+        | st.dictionaries(
+            st.sampled_from(
+                [
+                    "instruction",
+                    "start",
+                    "nbest",
+                    "structured",
+                    "goal",
+                    "waypoints",
+                    "avoid",
+                    "text",
+                    "score",
+                    "lang",
+                    "model",
+                    "x",
+                ]
+            ),
+            inner,
+            max_size=4,
+        )
+    ),
+    max_leaves=12,
+)
 
 
-@given(body=st.one_of(JSON_VALUES, st.fixed_dictionaries({"instruction": JSON_VALUES, "start": JSON_VALUES}),
-                      st.binary(max_size=200)))
+@given(
+    body=st.one_of(
+        JSON_VALUES,
+        st.fixed_dictionaries({"instruction": JSON_VALUES, "start": JSON_VALUES}),
+        st.binary(max_size=200),
+    )
+)
 @settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
 def test_fuzzed_plan_bodies_get_an_answer_with_a_detail(folder, body):
     client = _fuzz_client(folder)

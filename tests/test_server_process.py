@@ -36,7 +36,12 @@ def test_serve_answers_plan_requests_over_http(model_dir):
 
 
 def test_serve_reports_a_missing_model_folder(tmp_path):
-    run = subprocess.run([sys.executable, "-m", "spcotmhp.cli", "serve", str(tmp_path / "nope")],
-                         capture_output=True, text=True, timeout=120, check=False)
+    run = subprocess.run(
+        [sys.executable, "-m", "spcotmhp.cli", "serve", str(tmp_path / "nope")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert run.returncode == 2
     assert run.stderr.strip().splitlines()[-1] == f"error: model folder {tmp_path / 'nope'} does not exist"

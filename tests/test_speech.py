@@ -19,7 +19,17 @@ from spcotmhp.speech.audio import NOISE_FLOOR, RATE, AudioError, load_audio, rea
 from spcotmhp.speech.jsgf import CONNECTORS, GOAL_MARKERS, MARKERS, instruction_grammar
 from spcotmhp.speech.lexicon import PHONES, dictionary_pronunciations, letter_to_sound
 
-PLACES = ["bath", "bedroom", "corridor", "dining", "entrance", "kitchen", "living", "toilet", "washroom"]  # 3LDK_06
+PLACES = [
+    "bath",
+    "bedroom",
+    "corridor",
+    "dining",
+    "entrance",
+    "kitchen",
+    "living",
+    "toilet",
+    "washroom",
+]  # 3LDK_06
 # (sentence, (goal, waypoints, places to avoid)) -- 12 instructions over 3LDK_06's English place words
 INSTRUCTIONS = [
     ("go to the bedroom via the corridor", ("bedroom", ("corridor",), ())),
@@ -113,9 +123,18 @@ def test_audio_errors(tmp_path):
 
 # ---- pronunciations and grammar --------------------------------------------------------------------------
 def test_letter_to_sound_hand_cases():
-    cases = {"corridor": "K AO R IH D AO R", "white": "W AY T", "entrance": "EH N T R AE N S",
-             "office": "AA F IH S", "kitchen": "K IH CH EH N", "storage": "S T AO R AE JH", "hall": "HH AE L",
-             "city": "S IH T IY", "yard": "Y AA R D", "robolab": "R AA B AA L AE B"}
+    cases = {
+        "corridor": "K AO R IH D AO R",
+        "white": "W AY T",
+        "entrance": "EH N T R AE N S",
+        "office": "AA F IH S",
+        "kitchen": "K IH CH EH N",
+        "storage": "S T AO R AE JH",
+        "hall": "HH AE L",
+        "city": "S IH T IY",
+        "yard": "Y AA R D",
+        "robolab": "R AA B AA L AE B",
+    }
     for word, phones in cases.items():
         assert letter_to_sound(word) == phones, word
         assert set(phones.split()) <= PHONES
@@ -161,9 +180,13 @@ def ps():
 def test_nbest_weights_group_paths_and_keep_grammatical_texts(ps):
     from spcotmhp.speech.recogniser import ASCALE, SENSCR_SHIFT, _weights
 
-    k = 2 ** SENSCR_SHIFT / ASCALE
-    paths = [("go to the kitchen", -0.10), ("go to the kitchen", -0.11), ("go to the bedroom", -0.12),
-             ("go to the", -0.01)]
+    k = 2**SENSCR_SHIFT / ASCALE
+    paths = [
+        ("go to the kitchen", -0.10),
+        ("go to the kitchen", -0.11),
+        ("go to the bedroom", -0.12),
+        ("go to the", -0.01),
+    ]
     out = _weights(paths, 5, lambda t: t != "go to the", "x")
     w_kitchen = np.logaddexp(-0.10 * k, -0.11 * k)
     expected = np.exp(w_kitchen - np.logaddexp(w_kitchen, -0.12 * k))
@@ -182,8 +205,11 @@ def test_recogniser_errors(ps):
         Recogniser(PLACES, lang="ja")
     with pytest.raises(InstructionError, match="none of the place words can be spoken .*: キッチン, 寝室"):
         Recogniser(["キッチン", "寝室"])
-    with pytest.raises(InstructionError, match=r"no pronunciation for place word\(s\) robolab, zork in the "
-                                               r"recogniser's dictionary"):
+    with pytest.raises(
+        InstructionError,
+        match=r"no pronunciation for place word\(s\) robolab, zork in the "
+        r"recogniser's dictionary",
+    ):
         Recogniser(["kitchen", "zork", "robolab"], unknown="error")
     with pytest.warns(SpeechWarning, match=r"cannot listen for 1 place word\(s\) that are not a-z words: 寝室"):
         rec = Recogniser(["kitchen", "寝室"])
@@ -201,9 +227,16 @@ def test_unknown_place_words_get_spelling_pronunciations(ps):
     assert rec.spelled == ("robolab",)
     lookup = rec._decoder.lookup_word
     assert lookup("robolab") == "R AA B AA L AE B"
-    assert dictionary_pronunciations("corridor", lookup) == ["K AO R AH D ER", "K AO R IH D ER", "K AO R IH D AO R"]
+    assert dictionary_pronunciations("corridor", lookup) == [
+        "K AO R AH D ER",
+        "K AO R IH D ER",
+        "K AO R IH D AO R",
+    ]
     plain = Recogniser(["corridor"], spelling_variants=False)
-    assert dictionary_pronunciations("corridor", plain._decoder.lookup_word) == ["K AO R AH D ER", "K AO R IH D ER"]
+    assert dictionary_pronunciations("corridor", plain._decoder.lookup_word) == [
+        "K AO R AH D ER",
+        "K AO R IH D ER",
+    ]
 
 
 # ---- recognition of synthesised speech -------------------------------------------------------------------
@@ -244,7 +277,7 @@ def test_recognition_accuracy_on_espeak_instructions(ps, wavs):
     from spcotmhp.speech import recognise
 
     right, wrong = 0, []
-    for path, (text, expected) in zip(wavs, INSTRUCTIONS):
+    for path, (text, expected) in zip(wavs, INSTRUCTIONS, strict=False):
         hyps = recognise(path, PLACES, lang="en", nbest=5)
         weights = [w for _, w in hyps]
         assert 1 <= len(hyps) <= 5 and sum(weights) == pytest.approx(1.0)
@@ -253,8 +286,9 @@ def test_recognition_accuracy_on_espeak_instructions(ps, wavs):
         right += got == expected
         if got != expected:
             wrong.append((text, hyps[0][0], got))
-    assert right >= 0.9 * len(INSTRUCTIONS), (f"{right}/{len(INSTRUCTIONS)} espeak-ng instructions with the right "
-                                              f"goal and waypoints; wrong: {wrong}")
+    assert right >= 0.9 * len(INSTRUCTIONS), (
+        f"{right}/{len(INSTRUCTIONS)} espeak-ng instructions with the right goal and waypoints; wrong: {wrong}"
+    )
 
 
 def test_recognition_of_44k_stereo_audio(ps, espeak):
@@ -310,8 +344,11 @@ def test_missing_pocketsphinx_is_a_clear_error(monkeypatch):
         return real_import(name, *args, **kwargs)
 
     monkeypatch.setattr(builtins, "__import__", fake_import)
-    with pytest.raises(SpcotmhpError, match=r"speech input \(pocketsphinx\) needs the extra 'speech': \S+ -m pip "
-                                            r"install -e '\S*\[speech\]'"):
+    with pytest.raises(
+        SpcotmhpError,
+        match=r"speech input \(pocketsphinx\) needs the extra 'speech': \S+ -m pip "
+        r"install -e '\S*\[speech\]'",
+    ):
         recogniser._pocketsphinx()
 
 
@@ -334,8 +371,14 @@ def _plan_cli(*args: str, env: dict | None = None) -> subprocess.CompletedProces
     from pathlib import Path
 
     exe = str(Path(sys.executable).with_name("spcotmhp"))
-    return subprocess.run([exe, "plan", *args], capture_output=True, text=True, timeout=120, check=False,
-                          env=None if env is None else {**os.environ, **env})
+    return subprocess.run(
+        [exe, "plan", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+        env=None if env is None else {**os.environ, **env},
+    )
 
 
 def test_plan_cli_from_a_wav_file(ps, espeak, model_folder, tmp_path):
@@ -349,11 +392,16 @@ def test_plan_cli_from_a_wav_file(ps, espeak, model_folder, tmp_path):
     assert line.startswith("entrance -> ") and "corridor (waypoint)" in line and "bedroom #" in line
 
 
-@pytest.mark.parametrize("args, message", [
-    (["go to the bath", "--audio", "{wav}"], ("give exactly one of INSTRUCTION, --nbest FILE or --audio FILE (got "
-                                             "INSTRUCTION and --audio)")),
-    (["--nbest", "{wav}", "--audio", "{wav}"], "(got --nbest and --audio)"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["go to the bath", "--audio", "{wav}"],
+            ("give exactly one of INSTRUCTION, --nbest FILE or --audio FILE (got INSTRUCTION and --audio)"),
+        ),
+        (["--nbest", "{wav}", "--audio", "{wav}"], "(got --nbest and --audio)"),
+    ],
+)
 def test_plan_cli_audio_usage_errors(model_folder, tmp_path, args, message):
     wav = tmp_path / "x.wav"
     wav.write_bytes(b"RIFF")
@@ -364,8 +412,9 @@ def test_plan_cli_audio_usage_errors(model_folder, tmp_path, args, message):
 
 def test_plan_cli_audio_errors_are_one_line(model_folder, tmp_path):
     out = _plan_cli(str(model_folder), "--audio", str(tmp_path / "missing.wav"), "--start", "0", "0")
-    assert out.returncode == 2 and out.stderr.strip() == (f"error: the audio file {tmp_path / 'missing.wav'} does "
-                                                          "not exist or is not a file")
+    assert out.returncode == 2 and out.stderr.strip() == (
+        f"error: the audio file {tmp_path / 'missing.wav'} does not exist or is not a file"
+    )
     fake = tmp_path / "fake"
     fake.mkdir()
     (fake / "pocketsphinx.py").write_text("raise ImportError('no pocketsphinx here')\n")
@@ -376,6 +425,6 @@ def test_plan_cli_audio_errors_are_one_line(model_folder, tmp_path):
     path = os.pathsep.join([str(fake), *filter(None, [os.environ.get("PYTHONPATH")])])
     out = _plan_cli(str(model_folder), "--audio", str(wav), "--start", "0", "0", env={"PYTHONPATH": path})
     assert out.returncode == 2
-    message = out.stderr.strip()        # from this source tree: an editable install of the extra
+    message = out.stderr.strip()  # from this source tree: an editable install of the extra
     assert message.startswith("error: speech input (pocketsphinx) needs the extra 'speech': ") and "\n" not in message
     assert " -m pip install -e '" in message and message.endswith("[speech]'")

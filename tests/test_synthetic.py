@@ -137,8 +137,10 @@ def big_office():
     plan = generate_floor_plan("office", n_rooms=60, size=1000, seed=0)
     built = time.perf_counter()
     data = teaching_walk(plan, seed=0)
-    print(f"\n1000x1000 office, 60 places: plan {built - start:.3f} s, walk {time.perf_counter() - built:.3f} s, "
-          f"{len(data.trajectory)} poses, {data.n_events} events")
+    print(
+        f"\n1000x1000 office, 60 places: plan {built - start:.3f} s, walk {time.perf_counter() - built:.3f} s, "
+        f"{len(data.trajectory)} poses, {data.n_events} events"
+    )
     return plan, data
 
 
@@ -195,8 +197,12 @@ def test_half_resolution_maps(kind):
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(kind=st.sampled_from(["flat", "house", "office"]), n=st.integers(0, 12), seed=st.integers(0, 10_000),
-       wall=st.sampled_from([None, 1, 2]))
+@given(
+    kind=st.sampled_from(["flat", "house", "office"]),
+    n=st.integers(0, 12),
+    seed=st.integers(0, 10_000),
+    wall=st.sampled_from([None, 1, 2]),
+)
 def test_any_seed_and_room_count_at_the_default_size(kind, n, seed, wall):
     n_rooms = {"flat": 1 + n, "house": 4 + n, "office": 3 + 4 * n}[kind]
     plan = generate_floor_plan(kind, n_rooms=n_rooms, seed=seed, wall_cells=wall)
@@ -234,12 +240,12 @@ def test_a_generator_as_seed_gives_the_same_as_its_seed():
 def test_no_noise_names_the_room_in_every_utterance(big_office):
     plan, data = big_office
     templates = {tuple(t.split()) for t in TEMPLATES}
-    for tokens, place in zip(data.tokens, data.truth_place):
+    for tokens, place in zip(data.tokens, data.truth_place, strict=False):
         name = plan.rooms[place].name
         assert name in tokens
         assert tuple("{}" if w == name else w for w in tokens) in templates
     # function words are shared across places with different names
-    users_of_the = {plan.rooms[p].name for t, p in zip(data.tokens, data.truth_place) if "the" in t}
+    users_of_the = {plan.rooms[p].name for t, p in zip(data.tokens, data.truth_place, strict=False) if "the" in t}
     assert len(users_of_the) >= 5
     assert len({" ".join(t) for t in data.tokens}) >= len(TEMPLATES)
 
@@ -250,12 +256,12 @@ def test_word_noise_replaces_about_that_share_of_place_words(big_office):
     for level in (0.3, 0.5):
         data = teaching_walk(plan, seed=0, word_noise=level)
         np.testing.assert_array_equal(data.trajectory, clean.trajectory)
-        wrong = np.array([plan.rooms[p].name not in t for t, p in zip(data.tokens, data.truth_place)])
+        wrong = np.array([plan.rooms[p].name not in t for t, p in zip(data.tokens, data.truth_place, strict=False)])
         changed[level] = set(np.flatnonzero(wrong).tolist())
         # 900 events: the share lies within 0.05 of the level (more than 3 standard deviations)
         assert abs(wrong.mean() - level) < 0.05, (level, wrong.mean())
         for k in changed[level]:  # only the place word changed, into another place name
-            diff = [(a, b) for a, b in zip(data.tokens[k], clean.tokens[k]) if a != b]
+            diff = [(a, b) for a, b in zip(data.tokens[k], clean.tokens[k], strict=False) if a != b]
             assert len(diff) == 1 and diff[0][0] in PLACE_VOCABULARY and diff[0][0] != diff[0][1]
     assert changed[0.3] <= changed[0.5]  # one seed: a higher level only changes more words
 
@@ -264,7 +270,7 @@ def test_insert_noise_adds_one_word():
     plan = generate_floor_plan("house", seed=2)
     clean = teaching_walk(plan, seed=2)
     noisy = teaching_walk(plan, seed=2, insert_noise=0.4)
-    grown = np.array([len(a) - len(b) for a, b in zip(noisy.tokens, clean.tokens)])
+    grown = np.array([len(a) - len(b) for a, b in zip(noisy.tokens, clean.tokens, strict=False)])
     assert set(grown.tolist()) <= {0, 1} and 0.25 < grown.mean() < 0.55
     assert all(w in ALL_WORDS for t in noisy.tokens for w in t)
 
@@ -275,8 +281,15 @@ def test_written_folder_loads_back_equal(tmp_path, kind):
     data = generate_environment(kind, seed=3, word_noise=0.1, insert_noise=0.1)
     folder = write_dataset(data, tmp_path / "env")
     assert folder == tmp_path / "env"
-    assert {p.name for p in folder.iterdir()} == {"map.yaml", "map.pgm", "teaching.csv", "truth.csv", "places.csv",
-                                                  "adjacency.csv", "trajectory.csv"}
+    assert {p.name for p in folder.iterdir()} == {
+        "map.yaml",
+        "map.pgm",
+        "teaching.csv",
+        "truth.csv",
+        "places.csv",
+        "adjacency.csv",
+        "trajectory.csv",
+    }
     header = (folder / "teaching.csv").read_text().splitlines()[0]
     assert header == "event,x,y,words_ja,words_en,step"
     assert (folder / "trajectory.csv").read_text().startswith("step,x,y\n0,")
@@ -312,21 +325,24 @@ def test_write_dataset_to_a_folder_that_cannot_be_made(tmp_path):
     # a folder holding files that are not a dataset's is never replaced, and is left as it was
     (tmp_path / "d").mkdir()
     (tmp_path / "d" / "notes.txt").write_text("mine")
-    with pytest.raises(DatasetError, match=r"cannot write a dataset to .*/d: the folder holds files that are not a "
-                                           r"dataset's \(notes.txt\)"):
+    with pytest.raises(
+        DatasetError,
+        match=r"cannot write a dataset to .*/d: the folder holds files that are not a "
+        r"dataset's \(notes.txt\)",
+    ):
         write_dataset(generate_environment("flat"), tmp_path / "d")
     assert [p.name for p in (tmp_path / "d").iterdir()] == ["notes.txt"]
 
 
 def test_write_dataset_replaces_a_dataset_whole_and_only_when_asked(tmp_path):
     folder = write_dataset(generate_environment("flat", seed=1), tmp_path / "d")
-    (folder / "costmap_ros.csv").write_text("0\n")           # a stale extra of the old dataset
+    (folder / "costmap_ros.csv").write_text("0\n")  # a stale extra of the old dataset
     with pytest.raises(DatasetError, match=r"already holds a dataset; give --overwrite"):
         write_dataset(generate_environment("flat", seed=2), folder, overwrite=False)
     write_dataset(generate_environment("flat", seed=2), folder, overwrite=True)
     assert not (folder / "costmap_ros.csv").exists()
     assert load_dataset(folder).n_events == generate_environment("flat", seed=2).n_events
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]      # no staging folder left
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no staging folder left
 
 
 def test_synth_command_reports_an_unwritable_folder_in_one_line():
@@ -335,39 +351,56 @@ def test_synth_command_reports_an_unwritable_folder_in_one_line():
     from pathlib import Path
 
     exe = Path(sys.executable).parent / "spcotmhp"
-    res = subprocess.run([str(exe), "synth", "flat", "--out", "/proc/nope/d"], capture_output=True, text=True,
-                         timeout=120, check=False)
+    res = subprocess.run(
+        [str(exe), "synth", "flat", "--out", "/proc/nope/d"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert res.returncode == 2
     assert res.stderr.startswith("error: cannot write the dataset to /proc/nope/d: ") and "Traceback" not in res.stderr
 
 
 # ------------------------------------------------------------------------------------------------ bad input
-@pytest.mark.parametrize("kwargs, message", [
-    ({"kind": "castle"}, r"unknown floor plan kind 'castle'; accepted: flat, house, office"),
-    ({"kind": "house", "n_rooms": 3}, r"n_rooms must be an integer >= 4 for a house, got 3"),
-    ({"kind": "flat", "n_rooms": 2.5}, r"n_rooms must be an integer >= 1 for a flat, got 2.5"),
-    ({"kind": "flat", "n_rooms": 12, "size": 60}, r"flat: a .* area cannot hold .* rooms .* larger size"),
-    ({"kind": "office", "n_rooms": 200, "size": 300}, r"office: .* do not fit"),
-    ({"kind": "house", "size": 40}, r"house: .* interior rows cannot hold a corridor and two rows of rooms"),
-    ({"kind": "flat", "size": 10}, r"size \(10, 10\) cells is too small for any flat"),
-    ({"kind": "flat", "size": (60, 0)}, r"size must be a positive int or \(height, width\) in cells"),
-    ({"door_m": 0.5}, r"door width 0.5 m is below 0.6 m"),
-    ({"resolution": 0.5}, r"resolution 0.5 m per cell is outside 0.01 .. 0.2"),
-    ({"wall_cells": 3}, r"wall_cells must be 1 or 2, got 3"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"kind": "castle"}, r"unknown floor plan kind 'castle'; accepted: flat, house, office"),
+        ({"kind": "house", "n_rooms": 3}, r"n_rooms must be an integer >= 4 for a house, got 3"),
+        ({"kind": "flat", "n_rooms": 2.5}, r"n_rooms must be an integer >= 1 for a flat, got 2.5"),
+        ({"kind": "flat", "n_rooms": 12, "size": 60}, r"flat: a .* area cannot hold .* rooms .* larger size"),
+        ({"kind": "office", "n_rooms": 200, "size": 300}, r"office: .* do not fit"),
+        (
+            {"kind": "house", "size": 40},
+            r"house: .* interior rows cannot hold a corridor and two rows of rooms",
+        ),
+        ({"kind": "flat", "size": 10}, r"size \(10, 10\) cells is too small for any flat"),
+        ({"kind": "flat", "size": (60, 0)}, r"size must be a positive int or \(height, width\) in cells"),
+        ({"door_m": 0.5}, r"door width 0.5 m is below 0.6 m"),
+        ({"resolution": 0.5}, r"resolution 0.5 m per cell is outside 0.01 .. 0.2"),
+        ({"wall_cells": 3}, r"wall_cells must be 1 or 2, got 3"),
+    ],
+)
 def test_bad_plan_arguments(kwargs, message):
     with pytest.raises(DatasetError, match=message):
         generate_floor_plan(**kwargs)
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"lang": "ja"}, r"English only; got lang='ja'"),
-    ({"events_per_room": 0}, r"events_per_room must be an integer >= 1, got 0"),
-    ({"step_m": 0.0}, r"step_m must be in \(0, 0.5\] metres, got 0.0"),
-    ({"word_noise": 1.5}, r"word_noise is a probability in \[0, 1\], got 1.5"),
-    ({"insert_noise": -0.1}, r"insert_noise is a probability in \[0, 1\], got -0.1"),
-    ({"clearance_m": 0.6}, r"clearance_m must be in \[0.25, 0.5\] m \(half the narrowest door\), got 0.6"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"lang": "ja"}, r"English only; got lang='ja'"),
+        ({"events_per_room": 0}, r"events_per_room must be an integer >= 1, got 0"),
+        ({"step_m": 0.0}, r"step_m must be in \(0, 0.5\] metres, got 0.0"),
+        ({"word_noise": 1.5}, r"word_noise is a probability in \[0, 1\], got 1.5"),
+        ({"insert_noise": -0.1}, r"insert_noise is a probability in \[0, 1\], got -0.1"),
+        (
+            {"clearance_m": 0.6},
+            r"clearance_m must be in \[0.25, 0.5\] m \(half the narrowest door\), got 0.6",
+        ),
+    ],
+)
 def test_bad_walk_arguments(kwargs, message):
     plan = generate_floor_plan("flat", seed=0)
     with pytest.raises(DatasetError, match=message):

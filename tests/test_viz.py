@@ -38,8 +38,12 @@ def test_labels_number_places_that_share_a_name(home):
     model, _ = home
     # ORDER = L (bedroom), M (corridor), K (kitchen), R (bedroom): the bedrooms are #1 and #2 in id order
     assert place_display_labels(model) == ["bedroom #1", "corridor", "kitchen", "bedroom #2"]
-    assert place_display_labels(model, ids=True) == ["bedroom #1 (0)", "corridor (1)", "kitchen (2)",
-                                                     "bedroom #2 (3)"]
+    assert place_display_labels(model, ids=True) == [
+        "bedroom #1 (0)",
+        "corridor (1)",
+        "kitchen (2)",
+        "bedroom #2 (3)",
+    ]
 
 
 def test_labels_of_inactive_places_are_empty():
@@ -50,7 +54,7 @@ def test_labels_of_inactive_places_are_empty():
 
 def test_labels_agree_with_the_plan(home):
     model, planner = home
-    plan = planner.plan("go to the bedroom via the corridor", world(model.map, 9, 15))   # in the kitchen
+    plan = planner.plan("go to the bedroom via the corridor", world(model.map, 9, 15))  # in the kitchen
     labels = place_display_labels(model)
     # kitchen -> bedroom #2 -> corridor (waypoint) -> bedroom #1: the kitchen's only door opens into bedroom #2
     assert [p.id for p in plan.places] == [2, 3, 1, 0]
@@ -96,15 +100,17 @@ def test_arrange_labels_separates_labels_on_one_anchor_and_keeps_them_inside():
     try:
         ax.set_xlim(0, 10)
         ax.set_ylim(0, 10)
-        anns = [ax.annotate(t, (5, 5), xytext=(5, 5), textcoords="offset points", fontsize=9)
-                for t in ("bedroom #1", "bedroom #2", "corridor", "kitchen")]
+        anns = [
+            ax.annotate(t, (5, 5), xytext=(5, 5), textcoords="offset points", fontsize=9)
+            for t in ("bedroom #1", "bedroom #2", "corridor", "kitchen")
+        ]
         edge = ax.annotate("a long label at the edge", (9.9, 9.9), xytext=(5, 5), textcoords="offset points")
         arrange_labels(ax, anns + [edge])
         boxes = _boxes(fig, anns + [edge])
         frame = ax.get_window_extent(fig.canvas.get_renderer())
         for i, a in enumerate(boxes):
             assert frame.x0 <= a.x0 and a.x1 <= frame.x1 and frame.y0 <= a.y0 and a.y1 <= frame.y1
-            for b in boxes[i + 1:]:
+            for b in boxes[i + 1 :]:
                 assert not a.overlaps(b)
     finally:
         plt.close(fig)
@@ -116,7 +122,7 @@ def test_arrange_labels_avoids_obstacle_points():
         ax.set_xlim(0, 10)
         ax.set_ylim(0, 10)
         ann = ax.annotate("goal", (5, 5), xytext=(5, 5), textcoords="offset points")
-        obstacle = np.array([[5.6, 5.4]])                 # just north-east of the anchor, where the label would go
+        obstacle = np.array([[5.6, 5.4]])  # just north-east of the anchor, where the label would go
         arrange_labels(ax, [ann], obstacle)
         box = _boxes(fig, [ann])[0]
         px, py = ax.transData.transform(obstacle[0])
@@ -142,10 +148,10 @@ def test_map_image_is_georeferenced(home):
         py = (y1 - xy[1]) / (y1 - y0) * img.height
         return rgb[int(py), int(px)]
 
-    assert pixel(world(model.map, 0, 15)).max() < 60            # the bottom wall (row 0) is black
-    assert pixel(world(model.map, 12, 5)).max() < 60            # the top wall
-    assert pixel(world(model.map, 6, 20)).max() < 60            # the wall between corridor/kitchen and bedroom #2
-    assert pixel(world(model.map, 3, 20)).min() > 150           # the door M-R at col 20 rows 2-4 is light
+    assert pixel(world(model.map, 0, 15)).max() < 60  # the bottom wall (row 0) is black
+    assert pixel(world(model.map, 12, 5)).max() < 60  # the top wall
+    assert pixel(world(model.map, 6, 20)).max() < 60  # the wall between corridor/kitchen and bedroom #2
+    assert pixel(world(model.map, 3, 20)).min() > 150  # the door M-R at col 20 rows 2-4 is light
 
 
 def test_render_writes_a_framed_png_to_a_file_or_a_stream(home, tmp_path):

@@ -15,13 +15,29 @@ from server_fixtures import INSTRUCTION, ServerProcess, start_near, supervised_m
 from spcotmhp.learning.io import load_model
 
 sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (extra 'dev')")
-CHROMIUM = next((p for p in (shutil.which("chromium"), shutil.which("chromium-browser"), "/usr/bin/chromium")
-                 if p and Path(p).is_file()), None)
+CHROMIUM = next(
+    (
+        p
+        for p in (shutil.which("chromium"), shutil.which("chromium-browser"), "/usr/bin/chromium")
+        if p and Path(p).is_file()
+    ),
+    None,
+)
 if CHROMIUM is None:
-    pytest.skip("chromium is not installed (apt-get install chromium; `make system-deps` does it)",
-                allow_module_level=True)
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+    pytest.skip(
+        "chromium is not installed (apt-get install chromium; `make system-deps` does it)",
+        allow_module_level=True,
+    )
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 
 
 @pytest.fixture(scope="module")
@@ -35,9 +51,13 @@ def server(tmp_path_factory):
 @pytest.fixture()
 def page(tmp_path):
     with sync_api.sync_playwright() as pw:
-        browser = pw.chromium.launch_persistent_context(str(tmp_path / "profile"), executable_path=CHROMIUM,
-                                                        headless=True, args=ARGS,
-                                                        viewport={"width": 1280, "height": 1000})
+        browser = pw.chromium.launch_persistent_context(
+            str(tmp_path / "profile"),
+            executable_path=CHROMIUM,
+            headless=True,
+            args=ARGS,
+            viewport={"width": 1280, "height": 1000},
+        )
         try:
             pg = browser.new_page()
             errors: list[str] = []
@@ -53,15 +73,16 @@ def click_world(page, xy):
     info = page.evaluate("fetch('/map.json').then(r => r.json())")
     x0, x1, y0, y1 = info["extent"]
     box = page.locator("#overlay").bounding_box()
-    page.mouse.click(box["x"] + (xy[0] - x0) / (x1 - x0) * box["width"],
-                     box["y"] + (y1 - xy[1]) / (y1 - y0) * box["height"])
+    page.mouse.click(
+        box["x"] + (xy[0] - x0) / (x1 - x0) * box["width"],
+        box["y"] + (y1 - xy[1]) / (y1 - y0) * box["height"],
+    )
 
 
 def test_click_start_plan_and_see_the_path(server, page):
     page.goto(server.url + "/")
     page.wait_for_selector("#overlay[data-ready='1']")
-    page.wait_for_function("document.getElementById('map').complete && "
-                           "document.getElementById('map').naturalWidth > 0")
+    page.wait_for_function("document.getElementById('map').complete && document.getElementById('map').naturalWidth > 0")
     assert "corridor" in page.text_content("#words")
     start = start_near(server.model)
     click_world(page, start)
@@ -106,11 +127,11 @@ def test_a_failed_plan_clears_the_previous_one(server, page):
     page.wait_for_function("document.getElementById('error').textContent.length > 0")
     assert page.locator("#path").count() == 0 and page.locator("circle.mark").count() == 0
     assert page.text_content("#explanation") == "" and page.text_content("#hypotheses") == ""
-    page.fill("#instruction", INSTRUCTION)       # planning again works, and the error goes
+    page.fill("#instruction", INSTRUCTION)  # planning again works, and the error goes
     page.click("#plan-button")
     page.wait_for_selector("#path")
     assert page.text_content("#error") == ""
-    click_world(page, start_near(server.model, "kitchen"))     # a new start: the plan from the old one goes
+    click_world(page, start_near(server.model, "kitchen"))  # a new start: the plan from the old one goes
     assert page.locator("#path").count() == 0 and page.text_content("#explanation") == ""
     assert page.errors == []
 
@@ -121,8 +142,10 @@ def test_the_start_mark_leaves_the_label_under_it_readable(server, page):
     page.goto(server.url + "/")
     page.wait_for_selector("#overlay[data-ready='1']")
     click_world(page, start_near(server.model))
-    marks = page.eval_on_selector_all("#start-mark circle", "cs => cs.map(c => [c.getAttribute('class'), "
-                                      "c.getAttribute('fill'), parseFloat(c.getAttribute('r'))])")
+    marks = page.eval_on_selector_all(
+        "#start-mark circle",
+        "cs => cs.map(c => [c.getAttribute('class'), c.getAttribute('fill'), parseFloat(c.getAttribute('r'))])",
+    )
     assert marks and all(fill == "none" for kind, fill, _ in marks if kind == "ring")
     assert all(r <= 2 for kind, _, r in marks if kind == "dot")
     assert page.get_attribute("#start-mark", "pointer-events") == "none"
@@ -132,7 +155,7 @@ def test_the_start_mark_leaves_the_label_under_it_readable(server, page):
     last = page.evaluate("document.getElementById('overlay').lastElementChild.id")
     assert last == "start-mark"
     goal = page.locator("circle.mark.goal")
-    assert float(goal.get_attribute("fill-opacity")) <= 0.3       # the goal's label shows through its mark
+    assert float(goal.get_attribute("fill-opacity")) <= 0.3  # the goal's label shows through its mark
 
 
 def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
@@ -141,8 +164,9 @@ def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
     if espeak is None:
         pytest.skip("espeak-ng is not installed (apt-get install espeak-ng; `make system-deps` does it)")
     wav = tmp_path / "say.wav"
-    wav.write_bytes(subprocess.run([espeak, "-v", "en-us", "--stdout", INSTRUCTION], capture_output=True,
-                                   check=True).stdout)
+    wav.write_bytes(
+        subprocess.run([espeak, "-v", "en-us", "--stdout", INSTRUCTION], capture_output=True, check=True).stdout
+    )
     page.goto(server.url + "/")
     page.wait_for_selector("#overlay[data-ready='1']")
     click_world(page, start_near(server.model))

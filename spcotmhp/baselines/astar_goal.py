@@ -34,8 +34,9 @@ def sample_goal(model: SpatialConceptModel, words: Sequence[str], rng: np.random
     return rng.multivariate_normal(model.mu[k], model.Sigma[k])
 
 
-def reachable_cell_nearest(log_p: np.ndarray, occ_map: OccupancyMap, start: tuple[int, int],
-                           xy: np.ndarray) -> tuple[int, int]:
+def reachable_cell_nearest(
+    log_p: np.ndarray, occ_map: OccupancyMap, start: tuple[int, int], xy: np.ndarray
+) -> tuple[int, int]:
     """The traversable cell in the start's (4-connected, :mod:`spcotmhp.metric.snap`) component nearest to the
     point ``xy``: exactly the cells the grid search can reach from the start."""
     mine = component_at(np.isfinite(log_p), start)

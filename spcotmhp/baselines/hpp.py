@@ -46,7 +46,7 @@ def path_length_edges(graph: PlanningGraph) -> np.ndarray:
     """HPP-II: (M, M) edge costs = the partial path's length in metres; inf where no edge."""
     out = np.full(graph.w_hat.shape, np.inf)
     res = graph.model.map.resolution
-    for i, j in zip(*np.nonzero(np.isfinite(graph.w_hat))):
+    for i, j in zip(*np.nonzero(np.isfinite(graph.w_hat)), strict=False):
         out[i, j] = path_length(graph.edge_path(int(i), int(j)), res)
     return out
 
@@ -99,8 +99,13 @@ class HPP:
             seq.append(node)
         return seq[::-1]
 
-    def plan(self, cell: np.ndarray, stages: Sequence[Sequence[str]], rng: np.random.Generator,
-             smooth: bool = False) -> np.ndarray:
+    def plan(
+        self,
+        cell: np.ndarray,
+        stages: Sequence[Sequence[str]],
+        rng: np.random.Generator,
+        smooth: bool = False,
+    ) -> np.ndarray:
         """The crop cells of the path from crop cell ``cell`` through one drawn place per stage (the waypoints,
         then the goal), leg after leg; with ``smooth``, post-processed by SpCoTMHP's smoothing
         (:func:`spcotmhp.baselines.smoothing.spcotmhp_smoothing`, the stage places kept as anchors)."""

@@ -44,8 +44,9 @@ def moving_average(path: np.ndarray, window: int = PAPER_WINDOW) -> np.ndarray:
     return (csum[k + h + 1] - csum[k - h]) / (2 * h + 1)[:, None]
 
 
-def spcotmhp_smoothing(graph: PlanningGraph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray,
-                       anchors: Sequence[int]) -> np.ndarray:
+def spcotmhp_smoothing(
+    graph: PlanningGraph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray, anchors: Sequence[int]
+) -> np.ndarray:
     """SpCoTMHP's line 13 on an assembled crop-cell path of ``graph`` (``ends[e]``: the index where node
     ``nodes[e]`` is reached; ``anchors``: the indices where a stage is completed, kept): the planner's own
     :func:`~spcotmhp.planning.assemble.smooth_on_graph`."""

@@ -60,11 +60,11 @@ def log_weight_map(
     log_p = np.asarray(log_p, dtype=float)
     out = np.full(log_p.shape, -np.inf)
     ok = np.isfinite(log_p)
-    lg = model.log_place_density(cell_xy[ok])                                  # (n, K)
+    lg = model.log_place_density(cell_xy[ok])  # (n, K)
     with np.errstate(divide="ignore"):
-        log_phi, log_pi = np.log(model.phi), np.log(model.pi)                   # (L, K), (L,)
-    per_concept = logsumexp(lg[:, None, :] + log_phi[None, :, :], axis=2)     # (n, L)
-    concept_prior = model.log_word_likelihood(list(words)) + log_pi             # (L,)
+        log_phi, log_pi = np.log(model.phi), np.log(model.pi)  # (L, K), (L,)
+    per_concept = logsumexp(lg[:, None, :] + log_phi[None, :, :], axis=2)  # (n, L)
+    concept_prior = model.log_word_likelihood(list(words)) + log_pi  # (L,)
     out[ok] = log_p[ok] + logsumexp(per_concept + concept_prior, axis=1)
     return out
 
@@ -110,8 +110,9 @@ def viterbi(log_w: np.ndarray, start: tuple[int, int], T: int = 200, connectivit
     for t in range(T):
         cand.fill(-np.inf)
         for a, (dr, dc) in enumerate(actions):  # cand[a][r, c] = value[r - dr, c - dc]
-            cand[a][max(dr, 0):h + min(dr, 0), max(dc, 0):w + min(dc, 0)] = \
-                value[max(-dr, 0):h + min(-dr, 0), max(-dc, 0):w + min(-dc, 0)]
+            cand[a][max(dr, 0) : h + min(dr, 0), max(dc, 0) : w + min(dc, 0)] = value[
+                max(-dr, 0) : h + min(-dr, 0), max(-dc, 0) : w + min(-dc, 0)
+            ]
         best = cand.argmax(axis=0)
         back[t] = best
         value = np.take_along_axis(cand, best[None], axis=0)[0] + lw
@@ -132,7 +133,7 @@ def horizon_objective(log_w: np.ndarray, cells: np.ndarray, T: int = 200) -> flo
     """The SpCoNavi objective of a given path over T steps: sum of log w over x_1..x_T, the path followed for
     its first T steps and then staying at its last cell (the A* approximation's selection criterion)."""
     cells = np.asarray(cells).reshape(-1, 2)
-    vals = log_w[cells[1:T + 1, 0], cells[1:T + 1, 1]]
+    vals = log_w[cells[1 : T + 1, 0], cells[1 : T + 1, 1]]
     stays = T - len(vals)
     return float(vals.sum() + (stays * log_w[cells[-1, 0], cells[-1, 1]] if stays > 0 else 0.0))
 
@@ -170,8 +171,10 @@ def astar_approximation(
     cost = np.full(log_w.shape, np.inf)
     cost[finite] = np.log(len(ACTIONS_4) if connectivity == 4 else len(ACTIONS_8)) - log_w[finite]
     if (cost < 0).any():
-        raise PlanningError("the SpCoNavi weight exceeds the number of actions somewhere: its step cost "
-                            "-log w + log|A| is negative there and A* cannot search it")
+        raise PlanningError(
+            "the SpCoNavi weight exceeds the number of actions somewhere: its step cost "
+            "-log w + log|A| is negative there and A* cannot search it"
+        )
     paths = shortest_paths(cost, start, goals, connectivity=connectivity, all_targets=True)
     scored = [(horizon_objective(log_w, p.cells, T), i) for i, p in enumerate(paths) if p is not None]
     if not scored:

@@ -14,14 +14,23 @@ from typing import Any
 import typer
 from typer.core import TyperGroup
 
-try:                                    # typer >= 0.2x vendors click
+try:  # typer >= 0.2x vendors click
     from typer._click import exceptions as click_exceptions
-except ImportError:                     # pragma: no cover - older typer uses click itself
+except ImportError:  # pragma: no cover - older typer uses click itself
     from click import exceptions as click_exceptions
 
 # the type part of typer's help label ("<int range>", "<path>") -> a click-style metavar
-METAVARS = {"str": "TEXT", "int": "INTEGER", "int range": "INTEGER", "float": "FLOAT", "float range": "FLOAT",
-            "path": "PATH", "file": "FILE", "directory": "DIR", "list[str]": "TEXT"}
+METAVARS = {
+    "str": "TEXT",
+    "int": "INTEGER",
+    "int range": "INTEGER",
+    "float": "FLOAT",
+    "float range": "FLOAT",
+    "path": "PATH",
+    "file": "FILE",
+    "directory": "DIR",
+    "list[str]": "TEXT",
+}
 _NUMBER = re.compile(r"-?[\d.,]+(?:e[-+]?\d+)?(?: ?(?:ms|s|%))?|-|")
 _PAIR = re.compile(r"\s*([-+]?[\d.]+(?:[eE][-+]?\d+)?)\s*,\s*([-+]?[\d.]+(?:[eE][-+]?\d+)?)\s*")
 
@@ -37,7 +46,7 @@ def metavar(param: Any, ctx: Any) -> str:
         label = str(param.display_type(ctx)).strip("<>")
     except (AttributeError, TypeError):
         return ""
-    if "|" in label:                     # choices: shown as they are typed
+    if "|" in label:  # choices: shown as they are typed
         return f"[{label}]"
     return " ".join(METAVARS.get(part, part.upper()) for part in label.split(","))
 
@@ -48,7 +57,7 @@ def tidy_params(command: Any, ctx: Any = None) -> None:
         if param.metavar is None:
             param.metavar = metavar(param, ctx)
         if getattr(param, "param_type_name", "") == "argument" and hasattr(param, "display_type_rich"):
-            param.display_type_rich = _no_type     # the argument's name says what it is: MODEL_DIR, not <path>
+            param.display_type_rich = _no_type  # the argument's name says what it is: MODEL_DIR, not <path>
     for sub in getattr(command, "commands", {}).values():
         tidy_params(sub, ctx)
 
@@ -69,13 +78,14 @@ def usage_message(exc: Exception, args: Sequence[str], group: Any = None) -> str
     for option, value in itertools.pairwise(args):
         pair = _PAIR.fullmatch(value)
         if option.startswith("--") and pair and option in message:
-            message = (f"{option} takes two numbers separated by a space, e.g. {option} {pair[1]} {pair[2]} "
-                       f"(got {value!r})")
+            message = (
+                f"{option} takes two numbers separated by a space, e.g. {option} {pair[1]} {pair[2]} (got {value!r})"
+            )
             break
     ctx = getattr(exc, "ctx", None)
     if ctx is not None:
         path = ctx.command_path
-    else:                               # e.g. a missing value: the command is the first word that names one
+    else:  # e.g. a missing value: the command is the first word that names one
         names = getattr(group, "commands", {})
         path = " ".join(["spcotmhp"] + [a for a in args[:1] if a in names])
     return f"{message.rstrip('.')} (see '{path} --help')"
@@ -84,8 +94,14 @@ def usage_message(exc: Exception, args: Sequence[str], group: Any = None) -> str
 class ConventionalGroup(TyperGroup):
     """The top-level command group: tidy help and one-line usage errors (see the module docstring)."""
 
-    def main(self, args: Sequence[str] | None = None, prog_name: str | None = None, complete_var: str | None = None,
-             standalone_mode: bool = True, **extra: Any) -> Any:
+    def main(
+        self,
+        args: Sequence[str] | None = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        **extra: Any,
+    ) -> Any:
         argv = list(sys.argv[1:] if args is None else args)
         tidy_params(self)
         try:
@@ -93,7 +109,7 @@ class ConventionalGroup(TyperGroup):
         except click_exceptions.ClickException as exc:
             if not standalone_mode:
                 raise
-            if type(exc).__name__ == "NoArgsIsHelpError":   # `spcotmhp` alone: the help (status 2, as click)
+            if type(exc).__name__ == "NoArgsIsHelpError":  # `spcotmhp` alone: the help (status 2, as click)
                 exc.show()
                 sys.exit(2)
             typer.echo(f"error: {usage_message(exc, argv, self)}", err=True)
@@ -116,7 +132,9 @@ def plain_table(headers: Sequence[str], rows: Sequence[Sequence[Any]], title: st
     numeric = [all(_NUMBER.fullmatch(r[j]) for r in cells[1:]) and len(cells) > 1 for j in range(len(headers))]
 
     def line(r: list[str]) -> str:
-        return "  ".join(c.rjust(w) if num else c.ljust(w) for c, w, num in zip(r, widths, numeric)).rstrip()
+        return "  ".join(
+            c.rjust(w) if num else c.ljust(w) for c, w, num in zip(r, widths, numeric, strict=False)
+        ).rstrip()
 
     out = [title] if title else []
     out += [line(cells[0]), "  ".join("-" * w for w in widths)] + [line(r) for r in cells[1:]]

@@ -43,15 +43,42 @@ def datasets() -> None:
         langs = available_languages(path)
         d, caught = _load_quietly(path, langs[0])
         places = _n_places(d)
-        rows.append([name, path.relative_to(root).as_posix(), d.n_events, "-" if places is None else places,
-                     _map_size(d), ",".join(langs), len(caught)])
-    typer.echo(plain_table(["name", "folder under data/", "events", "places", "map (cells @ m/cell)", "languages",
-                            "warnings"], rows, title=f"bundled datasets in {root}"))
+        rows.append(
+            [
+                name,
+                path.relative_to(root).as_posix(),
+                d.n_events,
+                "-" if places is None else places,
+                _map_size(d),
+                ",".join(langs),
+                len(caught),
+            ]
+        )
+    typer.echo(
+        plain_table(
+            [
+                "name",
+                "folder under data/",
+                "events",
+                "places",
+                "map (cells @ m/cell)",
+                "languages",
+                "warnings",
+            ],
+            rows,
+            title=f"bundled datasets in {root}",
+        )
+    )
 
 
 def check_dataset(
-    folder: Annotated[Path, typer.Argument(
-        metavar="DATASET", help="Dataset folder (map.yaml, teaching.csv, optional extras), or a bundled dataset's name.")],
+    folder: Annotated[
+        Path,
+        typer.Argument(
+            metavar="DATASET",
+            help="Dataset folder (map.yaml, teaching.csv, optional extras), or a bundled dataset's name.",
+        ),
+    ],
     lang: Annotated[str, typer.Option(help="en, ja, or auto (en when teaching.csv has words_en).")] = "auto",
     strict: Annotated[bool, typer.Option(help="Exit with status 1 when there are warnings.")] = False,
 ) -> None:
@@ -106,20 +133,28 @@ def synth(
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     word_noise: Annotated[float, typer.Option("--word-noise", help="share of place words replaced")] = 0.0,
     events_per_room: Annotated[int, typer.Option("--events-per-room")] = 15,
-    overwrite: Annotated[bool, typer.Option("--overwrite", help=(
-        "Replace the dataset already in --out (a folder holding anything else is never replaced)."))] = False,
+    overwrite: Annotated[
+        bool,
+        typer.Option(
+            "--overwrite",
+            help=("Replace the dataset already in --out (a folder holding anything else is never replaced)."),
+        ),
+    ] = False,
 ) -> None:
     """Generate a seeded synthetic environment (floor plan + teaching walk) as a dataset folder.
 
     --out must be a new or empty folder, or with --overwrite a dataset folder, which is replaced whole."""
     from spcotmhp.datasets.synthetic import check_dataset_target, generate_environment, write_dataset
 
-    check_dataset_target(out, overwrite)        # before generating
-    d = generate_environment(kind, seed=seed, n_rooms=rooms, size=size, word_noise=word_noise,
-                             events_per_room=events_per_room)
+    check_dataset_target(out, overwrite)  # before generating
+    d = generate_environment(
+        kind, seed=seed, n_rooms=rooms, size=size, word_noise=word_noise, events_per_room=events_per_room
+    )
     path = write_dataset(d, out, overwrite=overwrite)
-    typer.echo(f"wrote {path}: {d.n_events} events, {len(d.place_names or [])} places, "
-               f"map {_map_size(d)}, trajectory {0 if d.trajectory is None else len(d.trajectory)} poses")
+    typer.echo(
+        f"wrote {path}: {d.n_events} events, {len(d.place_names or [])} places, "
+        f"map {_map_size(d)}, trajectory {0 if d.trajectory is None else len(d.trajectory)} poses"
+    )
 
 
 def register(app: typer.Typer) -> None:

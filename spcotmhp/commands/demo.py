@@ -44,8 +44,14 @@ def _progress() -> Iterator[Any]:
         TimeElapsedColumn,
     )
 
-    with Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                  TimeElapsedColumn(), console=Console(stderr=True)) as bar:
+    with Progress(
+        SpinnerColumn(),
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+    ) as bar:
         yield bar
 
 
@@ -56,8 +62,9 @@ def _step(bar: Any, label: str) -> Iterator[None]:
     bar.update(task, completed=1)
 
 
-def learn_demo_model(dataset: Any, instruction: str, seed: int, runs: int, iterations: int, bar: Any,
-                     supervised: bool = False) -> DemoModel:
+def learn_demo_model(
+    dataset: Any, instruction: str, seed: int, runs: int, iterations: int, bar: Any, supervised: bool = False
+) -> DemoModel:
     """The unsupervised SpCoTMHP learner (``runs`` Gibbs runs, the one with the highest word-concept mutual
     information kept), accepted when its map names every place name of the home and the instruction can be
     planned on it; otherwise (or with ``supervised``) the supervised fit from the truth labels."""
@@ -70,13 +77,16 @@ def learn_demo_model(dataset: Any, instruction: str, seed: int, runs: int, itera
         return DemoModel(fit_supervised(dataset), "supervised fit (truth labels)", "asked for with --supervised")
     task = bar.add_task(f"learning {dataset.name}", total=runs * iterations)
     sel = MultiRunSelector(SpCoTMHP(iterations=iterations, seed=seed), runs=runs).fit(
-        dataset, progress=lambda n: bar.advance(task, n))
+        dataset, progress=lambda n: bar.advance(task, n)
+    )
     model = sel.model_
-    method = (f"unsupervised SpCoTMHP (Gibbs sampling, {runs} runs x {iterations} sweeps, seed {seed}; "
-              f"run {sel.best_index_} kept by {sel.criterion_.replace('_', ' ')})")
+    method = (
+        f"unsupervised SpCoTMHP (Gibbs sampling, {runs} runs x {iterations} sweeps, seed {seed}; "
+        f"run {sel.best_index_} kept by {sel.criterion_.replace('_', ' ')})"
+    )
     labels = [lab.split(" #")[0] for lab in place_display_labels(model) if lab]
     missing = sorted(set(dataset.place_names or ()) - set(labels))
-    why = (f"the unsupervised map lacks the place name(s) {', '.join(missing)}" if missing else None)
+    why = f"the unsupervised map lacks the place name(s) {', '.join(missing)}" if missing else None
     if why is None:
         try:
             from spcotmhp.planning.planner import HierarchicalPlanner
@@ -108,8 +118,9 @@ def demo_start(planner: Any, place: str | None = None) -> tuple[np.ndarray, str]
     act = np.flatnonzero(model.active_places)
     names = [labels[k].split(" #")[0] for k in act]
     if place is not None and place not in names:
-        raise InstructionError(f"--start-place {place!r} names no place of the learned map; its places: "
-                               f"{', '.join(sorted(set(names)))}")
+        raise InstructionError(
+            f"--start-place {place!r} names no place of the learned map; its places: {', '.join(sorted(set(names)))}"
+        )
     wanted = place if place is not None else "entrance"
     k = int(act[names.index(wanted)] if wanted in names else act[0])
     cell = snap(largest_component(graph.traversable), graph.to_crop(model.map.world_to_cell(model.mu[k])))
@@ -118,22 +129,31 @@ def demo_start(planner: Any, place: str | None = None) -> tuple[np.ndarray, str]
 
 def demo(
     out: Annotated[Path, typer.Option("--out", help="Folder for the picture, plan and model.")] = Path("demo-output"),
-    home: Annotated[str, typer.Option(help="Bundled home (3LDK_01, 3LDK_05, 3LDK_06) or a dataset folder.")]
-    = "3LDK_06",
+    home: Annotated[
+        str, typer.Option(help="Bundled home (3LDK_01, 3LDK_05, 3LDK_06) or a dataset folder.")
+    ] = "3LDK_06",
     instruction: Annotated[str, typer.Option(help="The instruction to plan.")] = DEMO_INSTRUCTION,
     lang: Annotated[str, typer.Option(help="Language of the teaching words and the instruction (en, ja).")] = "en",
-    start: Annotated[tuple[float, float] | None, typer.Option(
-        metavar="X Y", help="Start pose X Y in metres (default: the free cell nearest the start place's mean).")] = None,
-    start_place: Annotated[str | None, typer.Option(
-        help="Place to start from when --start is not given (default: the entrance, else the first place).")]
-    = None,
+    start: Annotated[
+        tuple[float, float] | None,
+        typer.Option(
+            metavar="X Y",
+            help="Start pose X Y in metres (default: the free cell nearest the start place's mean).",
+        ),
+    ] = None,
+    start_place: Annotated[
+        str | None,
+        typer.Option(
+            help="Place to start from when --start is not given (default: the entrance, else the first place)."
+        ),
+    ] = None,
     seed: Annotated[int, typer.Option(min=0, help="Random seed of the learner.")] = 0,
     runs: Annotated[int, typer.Option(help="Independent Gibbs runs (one is kept).")] = 10,
     iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
-    supervised: Annotated[bool, typer.Option(help="Skip the unsupervised learner: fit from the truth labels.")]
-    = False,
-    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace the outputs of an earlier demo in --out.")]
-    = False,
+    supervised: Annotated[bool, typer.Option(help="Skip the unsupervised learner: fit from the truth labels.")] = False,
+    overwrite: Annotated[
+        bool, typer.Option("--overwrite", help="Replace the outputs of an earlier demo in --out.")
+    ] = False,
 ) -> None:
     """Learn a bundled home's map, plan "go to the bedroom via the corridor", print the explanation, draw it."""
     from spcotmhp.commands.learning import load_dataset_arg
@@ -142,7 +162,7 @@ def demo(
     from spcotmhp.viz.draw import render
     from spcotmhp.viz.plan import draw_plan
 
-    if out.is_dir():                # the outputs of an earlier demo are replaced only with --overwrite
+    if out.is_dir():  # the outputs of an earlier demo are replaced only with --overwrite
         for name in ("plan.png", "map.png", "plan.json"):
             check_output(out / name, overwrite, (), SpcotmhpError, "--out")
         check_target(out / "model", overwrite)
@@ -168,8 +188,12 @@ def demo(
                 raise SpcotmhpError(f"cannot write the demo output to {out}: {exc.strerror or exc}") from None
             model_dir = save_model(model, out / "model", overwrite=overwrite)
             plan_png = atomic_write(out / "plan.png", lambda tmp: draw_plan(plan, model, tmp))
-            map_png = atomic_write(out / "map.png", lambda tmp: render(
-                model.map, tmp, model=model, title=f"learned map of {data.name}: places, names and edges"))
+            map_png = atomic_write(
+                out / "map.png",
+                lambda tmp: render(
+                    model.map, tmp, model=model, title=f"learned map of {data.name}: places, names and edges"
+                ),
+            )
             atomic_write_text(out / "plan.json", plan.to_json(indent=1))
     n_places = int(model.active_places.sum())
     typer.echo(f"home:        {data.name} ({len(data.positions)} teaching utterances, lang {data.lang})")
@@ -177,10 +201,14 @@ def demo(
     typer.echo(f"instruction: {instruction!r}")
     typer.echo(f"start:       ({x0[0]:.2f}, {x0[1]:.2f}) ({start_label})")
     typer.echo(f"plan:        {plan.explanation}")
-    typer.echo(f"timing:      precomputation {plan.time_precompute_s:.2f} s, planning "
-               f"{plan.time_online_s * 1e3:.1f} ms, demo {time.perf_counter() - t0:.1f} s in all")
-    typer.echo(f"wrote:       {plan_png} (the plan), {map_png} (the learned map), {out / 'plan.json'}, "
-               f"{model_dir}/ (the model)")
+    typer.echo(
+        f"timing:      precomputation {plan.time_precompute_s:.2f} s, planning "
+        f"{plan.time_online_s * 1e3:.1f} ms, demo {time.perf_counter() - t0:.1f} s in all"
+    )
+    typer.echo(
+        f"wrote:       {plan_png} (the plan), {map_png} (the learned map), {out / 'plan.json'}, "
+        f"{model_dir}/ (the model)"
+    )
     typer.echo(f"next:        {next_command(model_dir)}")
 
 
@@ -221,22 +249,41 @@ def show(
             raise SpcotmhpError(f"{model_dir}: the model has no map to draw")
         from spcotmhp.viz.draw import render
 
-        atomic_write(png, lambda tmp: render(model.map, tmp, model=model, names=place_display_labels(model, ids=ids),
-                                             title=f"learned map ({model_dir}): {len(act)} places"))
+        atomic_write(
+            png,
+            lambda tmp: render(
+                model.map,
+                tmp,
+                model=model,
+                names=place_display_labels(model, ids=ids),
+                title=f"learned map ({model_dir}): {len(act)} places",
+            ),
+        )
     if as_json:
-        places = [{"id": k, "label": labels[k], "mean": model.mu[k].round(4).tolist(),
-                   "covariance": model.Sigma[k].round(6).tolist()} for k in act]
+        places = [
+            {
+                "id": k,
+                "label": labels[k],
+                "mean": model.mu[k].round(4).tolist(),
+                "covariance": model.Sigma[k].round(6).tolist(),
+            }
+            for k in act
+        ]
         typer.echo(json.dumps({"places": places, "edges": edges}, ensure_ascii=False))
         return
     typer.echo(f"{len(act)} places, {len(edges)} edges ((psi_ab + psi_ba) / 2 >= 1/K = {1 / model.K:.3f})")
     if model.psi_learned is not None and not np.allclose(model.psi_learned, model.psi):
-        typer.echo(f"note: the edges come from psi of {model.info.get('psi_from', 'an adjacency')}; the "
-                   "transitions the HMM learned are kept as psi_learned in arrays.npz")
+        typer.echo(
+            f"note: the edges come from psi of {model.info.get('psi_from', 'an adjacency')}; the "
+            "transitions the HMM learned are kept as psi_learned in arrays.npz"
+        )
     for k in act:
         sd = np.sqrt(np.linalg.eigvalsh(model.Sigma[k]))
         nbrs = ", ".join(labels[b if a == k else a] for a, b in edges if k in (a, b))
-        typer.echo(f"{k:3d}  {labels[k]:<16} mean ({model.mu[k][0]:6.2f}, {model.mu[k][1]:6.2f})  "
-                   f"sd {sd[1]:.2f} x {sd[0]:.2f} m  -> {nbrs or '(no edge)'}")
+        typer.echo(
+            f"{k:3d}  {labels[k]:<16} mean ({model.mu[k][0]:6.2f}, {model.mu[k][1]:6.2f})  "
+            f"sd {sd[1]:.2f} x {sd[0]:.2f} m  -> {nbrs or '(no edge)'}"
+        )
     if png is not None:
         typer.echo(f"wrote {png}")
 

@@ -12,8 +12,10 @@ from typer.core import TyperCommand
 
 from spcotmhp.errors import SpcotmhpError
 
-METHOD_NAMES = ("spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2,hpp1-smoothed,hpp2-smoothed,"
-                "spcotmhp-unsmoothed,spcotmhp-ma,spcotmhp-nostage")
+METHOD_NAMES = (
+    "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2,hpp1-smoothed,hpp2-smoothed,"
+    "spcotmhp-unsmoothed,spcotmhp-ma,spcotmhp-nostage"
+)
 
 
 class _OptionalRayAddress(TyperCommand):
@@ -64,15 +66,28 @@ def _print_result(result: dict) -> None:
     heads = [h for _, h in COLUMNS[result["task"]]]
     blocks = list(result["homes"].items()) + ([("all homes", result["mean"])] if len(result["homes"]) > 1 else [])
     for home, metrics in blocks:
-        rows = [[METHOD_LABELS.get(method, method), *[f"{m[k]:.3f}" for k in keys], f"{m['success']:.3f}",
-                 fmt_time(m["time_median_s"]), fmt_time(m["time_p95_s"]), m["n_tasks"]]
-                for method, m in metrics.items()]
-        typer.echo(plain_table(["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"], rows,
-                               title=f"{home}: {result['task']} tasks, {result['params']} parameters") + "\n")
+        rows = [
+            [
+                METHOD_LABELS.get(method, method),
+                *[f"{m[k]:.3f}" for k in keys],
+                f"{m['success']:.3f}",
+                fmt_time(m["time_median_s"]),
+                fmt_time(m["time_p95_s"]),
+                m["n_tasks"],
+            ]
+            for method, m in metrics.items()
+        ]
+        typer.echo(
+            plain_table(
+                ["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"],
+                rows,
+                title=f"{home}: {result['task']} tasks, {result['params']} parameters",
+            )
+            + "\n"
+        )
     for home, note in result["notes"].items():
         extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
-        typer.echo(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}"
-                   f"{extra}")
+        typer.echo(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}{extra}")
     if result.get("moves"):
         moves = "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in result["moves"].items())
         typer.echo(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
@@ -83,15 +98,22 @@ def register(app: typer.Typer) -> None:
 
     @app.command()
     def battery(
-        datasets: Annotated[list[str] | None, typer.Argument(
-            metavar="[DATASET_DIR]...", help="Run on these dataset folders or bundled homes instead of "
-                                             "generated ones (e.g. 3LDK_01 3LDK_05 3LDK_06).")] = None,
+        datasets: Annotated[
+            list[str] | None,
+            typer.Argument(
+                metavar="[DATASET_DIR]...",
+                help="Run on these dataset folders or bundled homes instead of "
+                "generated ones (e.g. 3LDK_01 3LDK_05 3LDK_06).",
+            ),
+        ] = None,
         homes: Annotated[int, typer.Option("--homes", min=1, max=10_000, help="Number of seeded homes.")] = 50,
         first_seed: Annotated[int, typer.Option("--first-seed", min=0, help="Seed of the first home.")] = 0,
-        params: Annotated[str, typer.Option(
-            "--params", help="Comma-separated: supervised, learned.")] = "supervised,learned",
-        max_tasks: Annotated[int, typer.Option(
-            "--max-tasks", min=1, help="Advanced tasks per home (a seeded subset).")] = 60,
+        params: Annotated[
+            str, typer.Option("--params", help="Comma-separated: supervised, learned.")
+        ] = "supervised,learned",
+        max_tasks: Annotated[
+            int, typer.Option("--max-tasks", min=1, help="Advanced tasks per home (a seeded subset).")
+        ] = 60,
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON (every home).")] = False,
     ) -> None:
@@ -107,14 +129,24 @@ def register(app: typer.Typer) -> None:
         for p in kinds:
             _check(p, ("supervised", "learned"), "--params")
         chosen = [load_home(d, "en") for d in datasets] if datasets else range(first_seed, first_seed + homes)
-        with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                      transient=True, disable=as_json) as bar:
+        with Progress(
+            TextColumn("{task.description}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            transient=True,
+            disable=as_json,
+        ) as bar:
             job = bar.add_task("battery", total=len(chosen) * len(kinds))
-            results = run_battery(chosen, kinds, max_tasks, workers or default_workers(),
-                                  lambda label: bar.update(job, advance=1, description=label))
+            results = run_battery(
+                chosen,
+                kinds,
+                max_tasks,
+                workers or default_workers(),
+                lambda label: bar.update(job, advance=1, description=label),
+            )
         if as_json:
-            typer.echo(json.dumps({"summary": summary(results), "homes": [r.to_dict() for r in results]},
-                                  indent=2))
+            typer.echo(json.dumps({"summary": summary(results), "homes": [r.to_dict() for r in results]}, indent=2))
             return
         typer.echo(markdown(results))
         for r in results:
@@ -123,26 +155,51 @@ def register(app: typer.Typer) -> None:
 
     @app.command(cls=_OptionalRayAddress)
     def evaluate(
-        datasets: Annotated[list[str], typer.Argument(
-            metavar="DATASET_DIR...", help="Dataset folders or bundled dataset names (e.g. 3LDK_01).")],
+        datasets: Annotated[
+            list[str],
+            typer.Argument(metavar="DATASET_DIR...", help="Dataset folders or bundled dataset names (e.g. 3LDK_01)."),
+        ],
         task: Annotated[str, typer.Option("--task", help="basic | advanced (with a waypoint).")] = "basic",
         method: Annotated[str, typer.Option("--method", help="Comma-separated methods.")] = METHOD_NAMES,
-        params: Annotated[str, typer.Option(
-            "--params", help="supervised (truth labels, the paper's 'ideal' parameters) | learned.")] = "supervised",
+        params: Annotated[
+            str,
+            typer.Option("--params", help="supervised (truth labels, the paper's 'ideal' parameters) | learned."),
+        ] = "supervised",
         lang: Annotated[str, typer.Option("--lang", help="Language of the words: en | ja.")] = "en",
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
-        max_tasks: Annotated[int | None, typer.Option(
-            "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
+        max_tasks: Annotated[
+            int | None,
+            typer.Option("--max-tasks", min=1, help="A seeded random subset of each home's tasks."),
+        ] = None,
         seed: Annotated[int, typer.Option("--seed", min=0, help="First seed of the random draws (and learning).")] = 0,
-        seeds: Annotated[int, typer.Option("--seeds", min=1, help=(
-            "Seeds (seed, seed + 1, ...): metrics are mean ± sd over them; learned parameters are learned again "
-            "for each."))] = 5,
-        connectivity: Annotated[str, typer.Option("--connectivity", help=(
-            "Where learned psi comes from: auto (walk, else map), hmm, walk or map."))] = "auto",
+        seeds: Annotated[
+            int,
+            typer.Option(
+                "--seeds",
+                min=1,
+                help=(
+                    "Seeds (seed, seed + 1, ...): metrics are mean ± sd over them; learned parameters are learned "
+                    "again "
+                    "for each."
+                ),
+            ),
+        ] = 5,
+        connectivity: Annotated[
+            str,
+            typer.Option(
+                "--connectivity",
+                help=("Where learned psi comes from: auto (walk, else map), hmm, walk or map."),
+            ),
+        ] = "auto",
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-        ray: Annotated[str | None, typer.Option(
-            "--ray", metavar="[ADDRESS]",
-            help="Run on Ray (extra 'dist'): a local instance, or the cluster at ADDRESS.")] = None,
+        ray: Annotated[
+            str | None,
+            typer.Option(
+                "--ray",
+                metavar="[ADDRESS]",
+                help="Run on Ray (extra 'dist'): a local instance, or the cluster at ADDRESS.",
+            ),
+        ] = None,
     ) -> None:
         """Experiment I: plan every task of each home with each method and report SPL, N-SPL (and W-SPL, WN-SPL
         for advanced tasks), success and online planning time, mean ± sd over seeds."""
@@ -154,8 +211,19 @@ def register(app: typer.Typer) -> None:
         _check(params, ("supervised", "learned"), "--params")
         _check(lang, ("en", "ja"), "--lang")
         homes = [load_home(d, lang) for d in datasets]
-        result = run(homes, task, method.split(","), params, seed, workers, max_tasks,
-                     "ray" if ray else "local", ray, seeds=seeds, connectivity=connectivity)
+        result = run(
+            homes,
+            task,
+            method.split(","),
+            params,
+            seed,
+            workers,
+            max_tasks,
+            "ray" if ray else "local",
+            ray,
+            seeds=seeds,
+            connectivity=connectivity,
+        )
         if as_json:
             typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
         else:
@@ -164,16 +232,33 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def reproduce(
         out: Annotated[Path | None, typer.Option("--out", help="Write the markdown here (default: stdout).")] = None,
-        seeds: Annotated[int, typer.Option("--seeds", min=1, help=(
-            "Seeds of Table 6 and of Tables 4-5 with supervised parameters."))] = 5,
-        learned_seeds: Annotated[int, typer.Option("--learned-seeds", min=1, help=(
-            "Seeds of the tables with learned parameters (each learns again)."))] = 3,
+        seeds: Annotated[
+            int,
+            typer.Option("--seeds", min=1, help=("Seeds of Table 6 and of Tables 4-5 with supervised parameters.")),
+        ] = 5,
+        learned_seeds: Annotated[
+            int,
+            typer.Option(
+                "--learned-seeds",
+                min=1,
+                help=("Seeds of the tables with learned parameters (each learns again)."),
+            ),
+        ] = 3,
         workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
-        max_tasks: Annotated[int | None, typer.Option(
-            "--max-tasks", min=1, help="A seeded random subset of each home's tasks.")] = None,
-        quick: Annotated[bool, typer.Option("--quick", help=(
-            "2 seeds, 30 tasks per home, few benchmark queries: a first look in a few minutes (the README's "
-            "figures come from the full run)."))] = False,
+        max_tasks: Annotated[
+            int | None,
+            typer.Option("--max-tasks", min=1, help="A seeded random subset of each home's tasks."),
+        ] = None,
+        quick: Annotated[
+            bool,
+            typer.Option(
+                "--quick",
+                help=(
+                    "2 seeds, 30 tasks per home, few benchmark queries: a first look in a few minutes (the README's "
+                    "figures come from the full run)."
+                ),
+            ),
+        ] = False,
     ) -> None:
         """Every results table of the README (Table 6, Tables 4 and 5 with supervised and learned parameters,
         planning with the HMM's psi, the planning and scale benchmarks) as one markdown document with the
@@ -183,8 +268,11 @@ def register(app: typer.Typer) -> None:
 
         if out is not None:
             check_writable(out)
-        plan = (Plan.quick(workers) if quick else
-                Plan(seeds=seeds, learned_seeds=learned_seeds, max_tasks=max_tasks, workers=workers))
+        plan = (
+            Plan.quick(workers)
+            if quick
+            else Plan(seeds=seeds, learned_seeds=learned_seeds, max_tasks=max_tasks, workers=workers)
+        )
         if max_tasks is not None:
             plan = Plan(**{**plan.__dict__, "max_tasks": max_tasks, "albert_tasks": max_tasks})
         text = run_all(plan, lambda what: typer.echo(f"reproduce: {what}", err=True))

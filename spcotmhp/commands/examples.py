@@ -32,11 +32,16 @@ def examples(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise SpcotmhpError(f"cannot create {out}: {exc.strerror or exc}") from None
-    home = generate_environment("flat", seed=1)      # 45 utterances: a model learned from it names its places
+    home = generate_environment("flat", seed=1)  # 45 utterances: a model learned from it names its places
     save_map(home.map, out / "map")
     atomic_write(out / "say.wav", lambda tmp: shutil.copyfile(data_root() / "examples" / "say.wav", tmp))
-    wrote = [(f"{out / 'map.yaml'} (+ map.pgm: {home.map.height} x {home.map.width} cells, places "
-             f"{', '.join(home.place_names or [])})"), f"{out / 'say.wav'}"]
+    wrote = [
+        (
+            f"{out / 'map.yaml'} (+ map.pgm: {home.map.height} x {home.map.width} cells, places "
+            f"{', '.join(home.place_names or [])})"
+        ),
+        f"{out / 'say.wav'}",
+    ]
     try:
         atomic_write(out / "robot.bag", lambda tmp: write_teaching_bag(home, tmp, every=3))
         wrote.append(f"{out / 'robot.bag'} ({len(home.tokens)} utterances on /speech, poses on /amcl_pose)")

@@ -17,7 +17,13 @@ from spcotmhp.errors import DatasetError, ModelError
 
 SHOWN_WARNINGS = 3
 # learn --connectivity -> the adjacency source of the supervised fit ("hmm": the truth's transition counts)
-SUPERVISED_CONNECTIVITY = {"auto": "auto", "hmm": "transitions", "walk": "walk", "map": "map", "given": "given"}
+SUPERVISED_CONNECTIVITY = {
+    "auto": "auto",
+    "hmm": "transitions",
+    "walk": "walk",
+    "map": "map",
+    "given": "given",
+}
 
 
 def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
@@ -33,8 +39,10 @@ def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
         except DatasetError:
             from spcotmhp.datasets.bundled import list_bundled
 
-            raise DatasetError(f"{dataset} is neither a dataset folder nor a bundled dataset name (bundled: "
-                               f"{', '.join(list_bundled())}; `spcotmhp datasets` describes them)") from None
+            raise DatasetError(
+                f"{dataset} is neither a dataset folder nor a bundled dataset name (bundled: "
+                f"{', '.join(list_bundled())}; `spcotmhp datasets` describes them)"
+            ) from None
     if lang is None:
         langs = available_languages(path) if (path / "teaching.csv").is_file() else []
         lang = langs[0] if langs else "en"
@@ -55,7 +63,7 @@ def load_dataset_reporting(dataset: str, lang: str | None) -> Dataset:
             messages.append(str(w.message))
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if messages and not Path(dataset).exists():      # a bundled dataset: its known warnings in one line
+    if messages and not Path(dataset).exists():  # a bundled dataset: its known warnings in one line
         from spcotmhp.datasets.bundled import known_warnings_note
 
         typer.echo(f"warning: {known_warnings_note(data.name, len(messages))}", err=True)
@@ -63,8 +71,9 @@ def load_dataset_reporting(dataset: str, lang: str | None) -> Dataset:
         lines = [f"{data.name}: {len(messages)} dataset warning(s)"]
         lines += [f"  warning: {m}" for m in messages[:SHOWN_WARNINGS]]
         if len(messages) > SHOWN_WARNINGS:
-            lines.append(f"  ... {len(messages) - SHOWN_WARNINGS} more (`spcotmhp check-dataset {dataset}` lists "
-                         "them all)")
+            lines.append(
+                f"  ... {len(messages) - SHOWN_WARNINGS} more (`spcotmhp check-dataset {dataset}` lists them all)"
+            )
         typer.echo("\n".join(lines), err=True)
     return data
 
@@ -79,8 +88,9 @@ def parse_feature_weight(text: str) -> float | None:
     except ValueError:
         value = math.nan
     if not (math.isfinite(value) and value > 0):
-        raise ModelError(f"--feature-weight must be a number > 0 or 'authors' (the authors' p * 10 + 1 counts), "
-                         f"got {text!r}")
+        raise ModelError(
+            f"--feature-weight must be a number > 0 or 'authors' (the authors' p * 10 + 1 counts), got {text!r}"
+        )
     return value
 
 
@@ -90,8 +100,14 @@ def sweep_progress(total: int, label: str) -> Iterator:
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=Console(stderr=True), transient=False) as bar:
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=False,
+    ) as bar:
         task = bar.add_task(label, total=total)
         yield lambda n: bar.advance(task, n)
 
@@ -100,8 +116,10 @@ def _not_for_supervised(given: dict[str, bool]) -> None:
     """--supervised fits the truth labels directly: options of the Gibbs learner are a mistake there."""
     wrong = [name for name, is_given in given.items() if is_given]
     if wrong:
-        raise ModelError(f"{', '.join(wrong)}: option(s) of the Gibbs learner, which --supervised (a fit from the "
-                         f"truth labels) does not use; drop {'it' if len(wrong) == 1 else 'them'}")
+        raise ModelError(
+            f"{', '.join(wrong)}: option(s) of the Gibbs learner, which --supervised (a fit from the "
+            f"truth labels) does not use; drop {'it' if len(wrong) == 1 else 'them'}"
+        )
 
 
 def learn(
@@ -109,29 +127,49 @@ def learn(
     out: Annotated[Path, typer.Option("--out", help="Model folder to write (model.json, arrays.npz, map).")],
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     supervised: Annotated[bool, typer.Option(help="Fit from the truth labels (paper Experiment I).")] = False,
-    runs: Annotated[int | None, typer.Option(min=1, help="Independent Gibbs runs; one is kept (default 10).")]
-    = None,
+    runs: Annotated[int | None, typer.Option(min=1, help="Independent Gibbs runs; one is kept (default 10).")] = None,
     iterations: Annotated[int | None, typer.Option(min=1, help="Gibbs sweeps per run (default 100).")] = None,
-    seed: Annotated[int | None, typer.Option(
-        min=0, help="Random seed (run r uses its r-th child stream; default 0).")] = None,
+    seed: Annotated[
+        int | None, typer.Option(min=0, help="Random seed (run r uses its r-th child stream; default 0).")
+    ] = None,
     no_replay: Annotated[bool, typer.Option("--no-replay", help="No reverse replay.")] = False,
     gmm: Annotated[bool, typer.Option("--gmm", help="SpCoSLAM baseline: Gaussian mixture, no transitions.")] = False,
-    criterion: Annotated[str | None, typer.Option(
-        help="Run selection: auto (default: mutual_information with image features, else log_joint), "
-             "mutual_information or log_joint.")] = None,
-    connectivity: Annotated[str, typer.Option(help=(
-        "psi of the model: auto, hmm, walk or map (with --supervised also given: adjacency.csv; hmm there is "
-        "the truth's transition counts)."))] = "auto",
+    criterion: Annotated[
+        str | None,
+        typer.Option(
+            help="Run selection: auto (default: mutual_information with image features, else log_joint), "
+            "mutual_information or log_joint."
+        ),
+    ] = None,
+    connectivity: Annotated[
+        str,
+        typer.Option(
+            help=(
+                "psi of the model: auto, hmm, walk or map (with --supervised also given: adjacency.csv; hmm there is "
+                "the truth's transition counts)."
+            )
+        ),
+    ] = "auto",
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
-    feature_weight: Annotated[str, typer.Option(help=(
-        "Total count of one image's features, or 'authors' for the authors' p * 10 + 1 counts."))] = "1",
-    max_places: Annotated[int | None, typer.Option(
-        min=1, help="Truncation K of the place DP (more than the places; default 20).")] = None,
-    max_concepts: Annotated[int | None, typer.Option(min=1, help="Truncation L of the concept DP (default 20).")]
-    = None,
+    feature_weight: Annotated[
+        str,
+        typer.Option(help=("Total count of one image's features, or 'authors' for the authors' p * 10 + 1 counts.")),
+    ] = "1",
+    max_places: Annotated[
+        int | None,
+        typer.Option(min=1, help="Truncation K of the place DP (more than the places; default 20)."),
+    ] = None,
+    max_concepts: Annotated[
+        int | None, typer.Option(min=1, help="Truncation L of the concept DP (default 20).")
+    ] = None,
     jobs: Annotated[int | None, typer.Option(min=1, help="Worker processes for the runs (default 1).")] = None,
-    overwrite: Annotated[bool, typer.Option("--overwrite", help=(
-        "Replace the model already in --out (a folder holding anything else is never replaced)."))] = False,
+    overwrite: Annotated[
+        bool,
+        typer.Option(
+            "--overwrite",
+            help=("Replace the model already in --out (a folder holding anything else is never replaced)."),
+        ),
+    ] = False,
 ) -> None:
     """Learn spatial concepts and places from a dataset and save the model.
 
@@ -141,27 +179,54 @@ def learn(
 
     weight = parse_feature_weight(feature_weight)
     if supervised:
-        _not_for_supervised({"--runs": runs is not None, "--iterations": iterations is not None,
-                             "--seed": seed is not None, "--no-replay": no_replay, "--gmm": gmm,
-                             "--criterion": criterion is not None, "--max-places": max_places is not None,
-                             "--max-concepts": max_concepts is not None, "--jobs": jobs is not None})
+        _not_for_supervised(
+            {
+                "--runs": runs is not None,
+                "--iterations": iterations is not None,
+                "--seed": seed is not None,
+                "--no-replay": no_replay,
+                "--gmm": gmm,
+                "--criterion": criterion is not None,
+                "--max-places": max_places is not None,
+                "--max-concepts": max_concepts is not None,
+                "--jobs": jobs is not None,
+            }
+        )
         if connectivity not in SUPERVISED_CONNECTIVITY:
-            raise ModelError(f"--connectivity must be one of {', '.join(SUPERVISED_CONNECTIVITY)} with "
-                             f"--supervised, got {connectivity!r}")
+            raise ModelError(
+                f"--connectivity must be one of {', '.join(SUPERVISED_CONNECTIVITY)} with "
+                f"--supervised, got {connectivity!r}"
+            )
     data = load_dataset_reporting(dataset, lang)
     if data.path is not None and _overlaps(out, Path(data.path)):
         raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
-    prepare_model_folder(out, overwrite)     # a bad --out fails now, not after the fit
+    prepare_model_folder(out, overwrite)  # a bad --out fails now, not after the fit
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
 
-        model = fit_supervised(data, adjacency=SUPERVISED_CONNECTIVITY[connectivity], use_features=features,
-                               feature_weight=weight)
+        model = fit_supervised(
+            data,
+            adjacency=SUPERVISED_CONNECTIVITY[connectivity],
+            use_features=features,
+            feature_weight=weight,
+        )
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
     else:
-        model, summary = _fit_gibbs(data, runs or 10, iterations or 100, seed or 0, not no_replay, gmm,
-                                    criterion or "auto", connectivity, features, weight,
-                                    max_places or 20, max_concepts or 20, jobs or 1)
+        model, summary = _fit_gibbs(
+            data,
+            runs or 10,
+            iterations or 100,
+            seed or 0,
+            not no_replay,
+            gmm,
+            criterion or "auto",
+            connectivity,
+            features,
+            weight,
+            max_places or 20,
+            max_concepts or 20,
+            jobs or 1,
+        )
     save_model(model, out, overwrite=overwrite)
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
@@ -177,24 +242,47 @@ def _overlaps(out: Path, folder: Path) -> bool:
     return same_file(Path(out), folder) or here.is_relative_to(target)
 
 
-def _fit_gibbs(data: Dataset, runs: int, iterations: int, seed: int, replay: bool, gmm: bool, criterion: str,
-               connectivity: str, features: bool, feature_weight: float | None, K: int, L: int, jobs: int):
+def _fit_gibbs(
+    data: Dataset,
+    runs: int,
+    iterations: int,
+    seed: int,
+    replay: bool,
+    gmm: bool,
+    criterion: str,
+    connectivity: str,
+    features: bool,
+    feature_weight: float | None,
+    K: int,
+    L: int,
+    jobs: int,
+):
     """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
     from spcotmhp.learning.gibbs import SpCoTMHP, TruncationWarning, truncation_messages
     from spcotmhp.learning.selection import MultiRunSelector
 
-    est = SpCoTMHP(K=K, L=L, iterations=iterations, seed=seed, replay=replay,
-                   transitions="none" if gmm else "hmm", connectivity=connectivity, use_features=features,
-                   feature_weight=feature_weight)
+    est = SpCoTMHP(
+        K=K,
+        L=L,
+        iterations=iterations,
+        seed=seed,
+        replay=replay,
+        transitions="none" if gmm else "hmm",
+        connectivity=connectivity,
+        use_features=features,
+        feature_weight=feature_weight,
+    )
     with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
-        warnings.simplefilter("ignore", TruncationWarning)      # reported once below, for the kept run
+        warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run
         sel = MultiRunSelector(est, runs=runs, criterion=criterion, n_jobs=jobs).fit(data, progress=progress)
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
-    summary = (f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({sel.criterion_}), "
-               f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
-               f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s")
+    summary = (
+        f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({sel.criterion_}), "
+        f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
+        f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s"
+    )
     return model, summary
 
 
@@ -202,8 +290,9 @@ def evaluate_learning(
     dataset: Annotated[str, typer.Argument(help="Dataset folder with truth.csv, or a bundled dataset name.")],
     runs: Annotated[int, typer.Option(min=1, help="Runs per method and seed.")] = 10,
     seed: Annotated[int, typer.Option(min=0, help="First random seed.")] = 0,
-    seeds: Annotated[int, typer.Option(min=1, help="Seeds (seed, seed + 1, ...): results are mean ± sd over "
-                                                   "them.")] = 5,
+    seeds: Annotated[
+        int, typer.Option(min=1, help="Seeds (seed, seed + 1, ...): results are mean ± sd over them.")
+    ] = 5,
     iterations: Annotated[int, typer.Option(min=1, help="Gibbs sweeps per run.")] = 100,
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
@@ -211,9 +300,16 @@ def evaluate_learning(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of the table.")] = False,
     max_places: Annotated[int, typer.Option(min=1, help="Truncation K of the place DP.")] = 20,
     max_concepts: Annotated[int, typer.Option(min=1, help="Truncation L of the concept DP.")] = 20,
-    online: Annotated[bool, typer.Option("--online", help=(
-        "Stream the events one at a time to the online learner (one seed per run) and compare with batch "
-        "learning; reports the update time per event."))] = False,
+    online: Annotated[
+        bool,
+        typer.Option(
+            "--online",
+            help=(
+                "Stream the events one at a time to the online learner (one seed per run) and compare with batch "
+                "learning; reports the update time per event."
+            ),
+        ),
+    ] = False,
 ) -> None:
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
@@ -224,35 +320,61 @@ def evaluate_learning(
     if online:
         _evaluate_online(data, runs, seed, iterations, features, jobs, as_json, max_places, max_concepts)
         return
-    with sweep_progress(3 * seeds * runs * iterations, f"Table 6 on {data.name}") as progress, \
-            warnings.catch_warnings():
-        warnings.simplefilter("ignore", TruncationWarning)      # counted per method, reported below
-        results = table6.evaluate_seeds(data, seeds=seeds, seed=seed, runs=runs, iterations=iterations,
-                                        n_jobs=jobs, progress=progress, use_features=features, K=max_places,
-                                        L=max_concepts)
+    with (
+        sweep_progress(3 * seeds * runs * iterations, f"Table 6 on {data.name}") as progress,
+        warnings.catch_warnings(),
+    ):
+        warnings.simplefilter("ignore", TruncationWarning)  # counted per method, reported below
+        results = table6.evaluate_seeds(
+            data,
+            seeds=seeds,
+            seed=seed,
+            runs=runs,
+            iterations=iterations,
+            n_jobs=jobs,
+            progress=progress,
+            use_features=features,
+            K=max_places,
+            L=max_concepts,
+        )
     for name, scores in results.items():
-        for what, option, size in (("places", "--max-places", max_places), ("concepts", "--max-concepts",
-                                                                            max_concepts)):
+        for what, option, size in (
+            ("places", "--max-places", max_places),
+            ("concepts", "--max-concepts", max_concepts),
+        ):
             if scores["saturated"][what]:
-                typer.echo(f"warning: {table6.LABELS[name]}: all {size} {what[:-1]} components hold events in "
-                           f"{scores['saturated'][what]} of {seeds * runs} run(s) (the weak-limit truncation "
-                           f"is saturated, so {what} may have been merged): evaluate again with a larger {option}", err=True)
+                typer.echo(
+                    f"warning: {table6.LABELS[name]}: all {size} {what[:-1]} components hold events in "
+                    f"{scores['saturated'][what]} of {seeds * runs} run(s) (the weak-limit truncation "
+                    f"is saturated, so {what} may have been merged): evaluate again with a larger {option}",
+                    err=True,
+                )
     if as_json:
         typer.echo(json.dumps({**results, "seeds": seeds}, indent=1))
     else:
         typer.echo(table6.format_table(results, f"{data.name} (lang {data.lang})"))
 
 
-def _evaluate_online(data: Dataset, runs: int, seed: int, iterations: int, features: bool, jobs: int,
-                     as_json: bool, K: int, L: int) -> None:
+def _evaluate_online(
+    data: Dataset,
+    runs: int,
+    seed: int,
+    iterations: int,
+    features: bool,
+    jobs: int,
+    as_json: bool,
+    K: int,
+    L: int,
+) -> None:
     """evaluate-learning --online (``learning.online_eval``): JSON with an "online" key, or a short table."""
     from spcotmhp.learning.gibbs import TruncationWarning
     from spcotmhp.learning.online_eval import evaluate_online, format_report
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)
-        result = evaluate_online(data, seeds=runs, seed=seed, iterations=iterations, n_jobs=jobs,
-                                 use_features=features, K=K, L=L)
+        result = evaluate_online(
+            data, seeds=runs, seed=seed, iterations=iterations, n_jobs=jobs, use_features=features, K=K, L=L
+        )
     typer.echo(json.dumps(result, indent=1) if as_json else format_report(result))
 
 

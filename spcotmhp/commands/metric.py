@@ -12,7 +12,7 @@ import typer
 from spcotmhp.errors import MapError
 from spcotmhp.safe_write import atomic_write, check_output
 
-MAX_SETTING = 1e12      # metres (radii) or 1/metres (scaling): larger values overflow the cell arithmetic
+MAX_SETTING = 1e12  # metres (radii) or 1/metres (scaling): larger values overflow the cell arithmetic
 
 
 def register(app: typer.Typer) -> None:
@@ -28,9 +28,7 @@ def costmap(
         typer.Option(help="Inscribed radius in metres (0.22 when neither this nor --robot-radius is given)."),
     ] = None,
     inflation_radius: Annotated[float, typer.Option(help="Inflation radius in metres.")] = 1.0,
-    cost_scaling_factor: Annotated[
-        float, typer.Option(help="Exponential decay of the inflated cost.")
-    ] = 10.0,
+    cost_scaling_factor: Annotated[float, typer.Option(help="Exponential decay of the inflated cost.")] = 10.0,
     robot_radius: Annotated[
         float | None, typer.Option(help="Radius of a circular robot: its inscribed radius.")
     ] = None,
@@ -49,8 +47,12 @@ def costmap(
     from spcotmhp.metric.costmap import inflate
     from spcotmhp.metric.map_io import load_map, read_map_yaml
 
-    for name, value in (("inscribed_radius", inscribed_radius), ("inflation_radius", inflation_radius),
-                        ("robot_radius", robot_radius), ("cost_scaling_factor", cost_scaling_factor)):
+    for name, value in (
+        ("inscribed_radius", inscribed_radius),
+        ("inflation_radius", inflation_radius),
+        ("robot_radius", robot_radius),
+        ("cost_scaling_factor", cost_scaling_factor),
+    ):
         if value is not None and math.isfinite(value) and abs(value) > MAX_SETTING:
             raise MapError(f"cost map setting {name} must be at most {MAX_SETTING:g}, got {value:g}")
     inputs = [map_yaml] + ([read_map_yaml(map_yaml).image] if Path(map_yaml).is_file() else [])

@@ -21,38 +21,62 @@ def register(app: typer.Typer) -> None:
 
 def plan_command(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
-    start: Annotated[tuple[float, float], typer.Option(
-        "--start", metavar="X Y", help="Start pose in metres (map frame), e.g. --start -3.9 -3.5.")],
-    instruction: Annotated[str | None, typer.Argument(
-        help='The instruction, e.g. "go to the bedroom via the corridor" or "廊下を通って寝室へ行って", or a JSON '
-             'object {"goal": [...], "waypoints": [[...]], "avoid": [[...]]}. Omit it with --nbest or --audio.')]
-    = None,
+    start: Annotated[
+        tuple[float, float],
+        typer.Option("--start", metavar="X Y", help="Start pose in metres (map frame), e.g. --start -3.9 -3.5."),
+    ],
+    instruction: Annotated[
+        str | None,
+        typer.Argument(
+            help='The instruction, e.g. "go to the bedroom via the corridor" or "廊下を通って寝室へ行って", or a JSON '
+            'object {"goal": [...], "waypoints": [[...]], "avoid": [[...]]}. Omit it with --nbest or --audio.'
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the plan as JSON.")] = False,
     png: Annotated[Path | None, typer.Option("--png", help="Also draw the plan to this PNG file.")] = None,
-    nbest: Annotated[Path | None, typer.Option(
-        "--nbest", help='JSON file with recogniser hypotheses [["text", score], ...] (Eq. 25).')] = None,
-    audio: Annotated[Path | None, typer.Option(
-        "--audio", help="WAV file of a spoken English instruction: recognised with pocketsphinx (extra 'speech'), "
-                        "planned from its 5-best hypotheses (Eq. 25).")] = None,
+    nbest: Annotated[
+        Path | None,
+        typer.Option("--nbest", help='JSON file with recogniser hypotheses [["text", score], ...] (Eq. 25).'),
+    ] = None,
+    audio: Annotated[
+        Path | None,
+        typer.Option(
+            "--audio",
+            help="WAV file of a spoken English instruction: recognised with pocketsphinx (extra 'speech'), "
+            "planned from its 5-best hypotheses (Eq. 25).",
+        ),
+    ] = None,
     lang: Annotated[str | None, typer.Option(help="Instruction language (en, ja); default: detected.")] = None,
     candidates: Annotated[int, typer.Option(min=1, help="Candidate points per place (N of Section 3.4).")] = 1,
     seed: Annotated[int, typer.Option(min=0, help="Seed of the candidate sampling.")] = 0,
-    smooth: Annotated[bool, typer.Option(help=(
-        "Smooth the path (Algorithm 1 line 13): exact re-planning between the waypoint and goal points within "
-        "the places passed, then line-of-sight shortcuts; never longer."))] = True,
-    max_steps: Annotated[int | None, typer.Option(
-        min=1, help="Topological horizon E (default 10 per waypoint/goal).")] = None,
+    smooth: Annotated[
+        bool,
+        typer.Option(
+            help=(
+                "Smooth the path (Algorithm 1 line 13): exact re-planning between the waypoint and goal points within "
+                "the places passed, then line-of-sight shortcuts; never longer."
+            )
+        ),
+    ] = True,
+    max_steps: Annotated[
+        int | None, typer.Option(min=1, help="Topological horizon E (default 10 per waypoint/goal).")
+    ] = None,
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --png file.")] = False,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
     from spcotmhp.learning.io import load_model
     from spcotmhp.planning.planner import HierarchicalPlanner
 
-    given = [name for name, value in (("INSTRUCTION", instruction), ("--nbest", nbest), ("--audio", audio))
-             if value is not None]
+    given = [
+        name
+        for name, value in (("INSTRUCTION", instruction), ("--nbest", nbest), ("--audio", audio))
+        if value is not None
+    ]
     if len(given) != 1:
-        raise typer.BadParameter("give exactly one of INSTRUCTION, --nbest FILE or --audio FILE"
-                                 + (f" (got {' and '.join(given)})" if given else ""))
+        raise typer.BadParameter(
+            "give exactly one of INSTRUCTION, --nbest FILE or --audio FILE"
+            + (f" (got {' and '.join(given)})" if given else "")
+        )
     if png is not None:
         check_output(png, overwrite, input_files(model_dir, nbest, audio), SpcotmhpError, "--png")
     source: Any = instruction if nbest is None else read_nbest(nbest)
@@ -69,8 +93,11 @@ def plan_command(
         typer.echo(plan.to_json())
     else:
         typer.echo(plan.explanation)
-        typer.echo(f"log p = {plan.log_prob:.2f}; planned in {plan.time_online_s * 1e3:.2f} ms "
-                   f"(precomputation {plan.time_precompute_s:.2f} s)", err=True)
+        typer.echo(
+            f"log p = {plan.log_prob:.2f}; planned in {plan.time_online_s * 1e3:.2f} ms "
+            f"(precomputation {plan.time_precompute_s:.2f} s)",
+            err=True,
+        )
 
 
 def input_files(model_dir: Path, *files: Path | None) -> list[Path]:
@@ -107,7 +134,8 @@ def read_nbest(path: Path) -> list[tuple[str, float]]:
         if isinstance(item, dict) and set(item) == {"text", "score"}:
             item = [item["text"], item["score"]]
         if not (isinstance(item, list) and len(item) == 2):
-            raise InstructionError(f"{path}: entry {i} must be [text, score] or {{\"text\", \"score\"}}, got "
-                                   f"{excerpt(item)}")
+            raise InstructionError(
+                f'{path}: entry {i} must be [text, score] or {{"text", "score"}}, got {excerpt(item)}'
+            )
         out.append((item[0], item[1]))
     return out

@@ -12,14 +12,21 @@ import typer
 def import_bag(
     bag: Annotated[Path, typer.Argument(help="ROS 1 .bag file, or ROS 2 bag folder (metadata.yaml + .db3/.mcap).")],
     out: Annotated[Path, typer.Option("--out", help="Dataset folder to write.")],
-    pose_topic: Annotated[str, typer.Option(help="Pose topic: PoseWithCovarianceStamped, PoseStamped or "
-                                                 "Odometry.")] = "/amcl_pose",
+    pose_topic: Annotated[
+        str, typer.Option(help="Pose topic: PoseWithCovarianceStamped, PoseStamped or Odometry.")
+    ] = "/amcl_pose",
     utterance_topic: Annotated[str, typer.Option(help="Utterance topic (std_msgs/String).")] = "/speech",
-    map_yaml: Annotated[Path | None, typer.Option("--map", help="map_server YAML to copy into the dataset "
-                                                     "(default: the last OccupancyGrid on --map-topic).")] = None,
+    map_yaml: Annotated[
+        Path | None,
+        typer.Option(
+            "--map",
+            help="map_server YAML to copy into the dataset (default: the last OccupancyGrid on --map-topic).",
+        ),
+    ] = None,
     map_topic: Annotated[str, typer.Option(help="OccupancyGrid topic read when --map is not given.")] = "/map",
-    step: Annotated[float, typer.Option(help="Trajectory spacing in metres along the path; 0 keeps every pose "
-                                             "message.")] = 0.1,
+    step: Annotated[
+        float, typer.Option(help="Trajectory spacing in metres along the path; 0 keeps every pose message.")
+    ] = 0.1,
     lang: Annotated[str, typer.Option(help="Language of the utterances: en (words_en) or ja (words_ja).")] = "en",
     overwrite: Annotated[bool, typer.Option(help="Replace a dataset already in --out.")] = False,
 ) -> None:
@@ -30,25 +37,40 @@ def import_bag(
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", BagImportWarning)
-        summary = run_import(bag, out, pose_topic=pose_topic, utterance_topic=utterance_topic, map_yaml=map_yaml,
-                             map_topic=map_topic, step=step, lang=lang, overwrite=overwrite, progress=True)
+        summary = run_import(
+            bag,
+            out,
+            pose_topic=pose_topic,
+            utterance_topic=utterance_topic,
+            map_yaml=map_yaml,
+            map_topic=map_topic,
+            step=step,
+            lang=lang,
+            overwrite=overwrite,
+            progress=True,
+        )
     for w in caught:
         typer.echo(f"warning: {w.message}", err=True)
     typer.echo(
         f"wrote {summary.folder}: {summary.n_events} teaching events, {summary.n_trajectory} trajectory poses "
         f"(from {summary.n_pose_messages} pose messages over {summary.duration_s:.1f} s, "
-        f"{summary.path_length_m:.1f} m walked), map from {summary.map_source}")
+        f"{summary.path_length_m:.1f} m walked), map from {summary.map_source}"
+    )
 
 
 def ros2(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
-    frame: Annotated[str, typer.Option(help="Frame of the model's map, of the plans and of the start poses.")]
-    = "map",
-    start_topic: Annotated[str, typer.Option(help="Pose topic (geometry_msgs/PoseWithCovarianceStamped) planned "
-                                                  "from.")] = "/amcl_pose",
-    record: Annotated[Path | None, typer.Option(help="Dataset folder that utterances on /spcotmhp/teach are "
-                                                     "appended to (created with the model's map if new).")]
-    = None,
+    frame: Annotated[str, typer.Option(help="Frame of the model's map, of the plans and of the start poses.")] = "map",
+    start_topic: Annotated[
+        str, typer.Option(help="Pose topic (geometry_msgs/PoseWithCovarianceStamped) planned from.")
+    ] = "/amcl_pose",
+    record: Annotated[
+        Path | None,
+        typer.Option(
+            help="Dataset folder that utterances on /spcotmhp/teach are "
+            "appended to (created with the model's map if new)."
+        ),
+    ] = None,
 ) -> None:
     """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
     plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
@@ -58,16 +80,28 @@ def ros2(
     require_rclpy()
     from spcotmhp.ros.node import run_node
 
-    run_node(model_dir, frame=frame, start_topic=start_topic, record=record,
-             progress=lambda line: typer.echo(line, err=True))
+    run_node(
+        model_dir,
+        frame=frame,
+        start_topic=start_topic,
+        record=record,
+        progress=lambda line: typer.echo(line, err=True),
+    )
 
 
 def export_nav2(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
-    out: Annotated[Path, typer.Option("--out", help="Folder to write (route_graph.geojson, README.md, and "
-                                                    "keepout.yaml + keepout.pgm with --avoid).")],
-    avoid: Annotated[list[str] | None, typer.Option(help="A place to keep out of (its name, e.g. kitchen or "
-                                                         "'east corridor'); repeat for more.")] = None,
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            help="Folder to write (route_graph.geojson, README.md, and keepout.yaml + keepout.pgm with --avoid).",
+        ),
+    ],
+    avoid: Annotated[
+        list[str] | None,
+        typer.Option(help="A place to keep out of (its name, e.g. kitchen or 'east corridor'); repeat for more."),
+    ] = None,
     frame: Annotated[str, typer.Option(help="Frame of the route graph's nodes.")] = "map",
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --out folder.")] = False,
 ) -> None:

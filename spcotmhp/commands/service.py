@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import re
-from enum import Enum
+from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
@@ -14,7 +14,7 @@ from spcotmhp.extras import missing_extra
 from spcotmhp.server.limits import LOCAL_HOSTS  # stdlib only: importable without the server extra
 
 
-class LogLevel(str, Enum):
+class LogLevel(StrEnum):
     """uvicorn's log levels (a bad value is a usage error listing them)."""
 
     critical = "critical"
@@ -35,27 +35,37 @@ def model_mapping(items: list[str]) -> dict[str, Path]:
         if name is None:
             name = re.sub(r"[^A-Za-z0-9_.-]", "_", folder.resolve().name)[:64] or "model"
         if name in out:
-            raise ModelError(f"two models are named {name!r} ({out[name]} and {folder}); name them with "
-                             "NAME=MODEL_DIR")
+            raise ModelError(f"two models are named {name!r} ({out[name]} and {folder}); name them with NAME=MODEL_DIR")
         out[name] = folder
     return out
 
 
 def serve(
-    models: Annotated[list[str], typer.Argument(
-        help="Model folders (as written by `spcotmhp learn`), each optionally NAME=FOLDER; the first is the "
-             "default.", metavar="MODEL_DIR...")],
+    models: Annotated[
+        list[str],
+        typer.Argument(
+            help="Model folders (as written by `spcotmhp learn`), each optionally NAME=FOLDER; the first is the "
+            "default.",
+            metavar="MODEL_DIR...",
+        ),
+    ],
     host: Annotated[str, typer.Option(help="Interface to listen on (default: this machine only).")] = "127.0.0.1",
     port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port.")] = 8000,
     log_level: Annotated[LogLevel, typer.Option(help="uvicorn log level.")] = LogLevel.info,
-    allowed_host: Annotated[list[str] | None, typer.Option(
-        "--allowed-host", help="A host name clients may address (Host header), repeatable; default localhost, "
-                               "127.0.0.1 and ::1 (plus --host when it is a specific address); '*' allows any.")]
-    = None,
-    time_budget: Annotated[float, typer.Option(
-        min=0.1, max=600, help="Seconds a request may wait for its plan before a 503.")] = 5.0,
-    body_timeout: Annotated[float, typer.Option(
-        min=0.1, max=600, help="Seconds to receive a JSON request body before a 408.")] = 10.0,
+    allowed_host: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--allowed-host",
+            help="A host name clients may address (Host header), repeatable; default localhost, "
+            "127.0.0.1 and ::1 (plus --host when it is a specific address); '*' allows any.",
+        ),
+    ] = None,
+    time_budget: Annotated[
+        float, typer.Option(min=0.1, max=600, help="Seconds a request may wait for its plan before a 503.")
+    ] = 5.0,
+    body_timeout: Annotated[
+        float, typer.Option(min=0.1, max=600, help="Seconds to receive a JSON request body before a 408.")
+    ] = 10.0,
 ) -> None:
     """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /.
 
@@ -77,18 +87,23 @@ def serve(
     if not allowed_host and host not in LOCAL_HOSTS + ("0.0.0.0", "::"):
         hosts.append(host)
     with console.status("loading models") as status:
-        app = create_app(mapping, progress=lambda name: status.update(
-            f"loading model {name!r} and precomputing its planner"), allowed_hosts=hosts,
-            body_timeout=body_timeout, budget=Budget(time_budget=time_budget))
+        app = create_app(
+            mapping,
+            progress=lambda name: status.update(f"loading model {name!r} and precomputing its planner"),
+            allowed_hosts=hosts,
+            body_timeout=body_timeout,
+            budget=Budget(time_budget=time_budget),
+        )
     for name, folder in mapping.items():
         console.print(f"model {name!r}: {folder}")
     if host not in LOCAL_HOSTS:
-        console.print(f"[yellow]warning: listening on {host}, reachable from other machines; the service has no "
-                      "authentication[/yellow]")
+        console.print(
+            f"[yellow]warning: listening on {host}, reachable from other machines; the service has no "
+            "authentication[/yellow]"
+        )
         console.print(f"allowed hosts (Host header): {', '.join(hosts)}; add names with --allowed-host NAME")
     shown = f"[{host}]" if ":" in host else host
-    console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: "
-                  "/openapi.json)")
+    console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: /openapi.json)")
     uvicorn.run(app, host=host, port=port, log_level=LogLevel(log_level).value)
 
 

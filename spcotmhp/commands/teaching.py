@@ -22,9 +22,11 @@ def teach(
     taught = teach_model(model, [{"x": at[0], "y": at[1], "utterance": utterance}])
     save_model(taught.model, model_dir, overwrite=True)
     s = taught.summary()
-    typer.echo(f"taught {utterance!r} at ({at[0]:g}, {at[1]:g}): place {s['place']} "
-               f"'{s['label']}'{' (a new place)' if s['new_place'] else ''}; {s['places']} places; update "
-               f"{1000 * s['time_update_s']:.0f} ms, model {1000 * s['time_export_s']:.0f} ms; saved to {model_dir}")
+    typer.echo(
+        f"taught {utterance!r} at ({at[0]:g}, {at[1]:g}): place {s['place']} "
+        f"'{s['label']}'{' (a new place)' if s['new_place'] else ''}; {s['places']} places; update "
+        f"{1000 * s['time_update_s']:.0f} ms, model {1000 * s['time_export_s']:.0f} ms; saved to {model_dir}"
+    )
 
 
 def register(app: typer.Typer) -> None:

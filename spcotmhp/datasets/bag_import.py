@@ -91,8 +91,13 @@ class ImportSummary:
 
 
 # ---- reading ---------------------------------------------------------------------------------------------
-def read_bag(bag: str | Path, pose_topic: str, utterance_topic: str, map_topic: str | None = None,
-             progress: bool = False) -> BagLog:
+def read_bag(
+    bag: str | Path,
+    pose_topic: str,
+    utterance_topic: str,
+    map_topic: str | None = None,
+    progress: bool = False,
+) -> BagLog:
     """Read poses, utterances and (optionally) the last map of a ROS 1 or ROS 2 bag.
 
     Args:
@@ -126,14 +131,17 @@ def _bag_path(path: Path) -> Path:
         raise DatasetError(f"bag {path} does not exist (give a ROS 1 .bag file or a ROS 2 bag folder)")
     if path.is_dir():
         if not (path / "metadata.yaml").is_file():
-            raise DatasetError(f"{path} is a folder without metadata.yaml, so not a ROS 2 bag (a ROS 2 bag is a "
-                               "folder with metadata.yaml and .db3 or .mcap files; a ROS 1 bag is a .bag file)")
+            raise DatasetError(
+                f"{path} is a folder without metadata.yaml, so not a ROS 2 bag (a ROS 2 bag is a "
+                "folder with metadata.yaml and .db3 or .mcap files; a ROS 1 bag is a .bag file)"
+            )
         return path
     if path.name == "metadata.yaml":
         return path.parent
     if path.suffix.lower() not in (".bag", ".db3", ".mcap"):
-        raise DatasetError(f"{path} is not a bag: expected a ROS 1 .bag file, a ROS 2 bag folder, or a .db3 / "
-                           ".mcap file")
+        raise DatasetError(
+            f"{path} is not a bag: expected a ROS 1 .bag file, a ROS 2 bag folder, or a .db3 / .mcap file"
+        )
     return path
 
 
@@ -144,8 +152,9 @@ def _reason(exc: Exception) -> str:
     return text
 
 
-def _read(reader: Any, path: Path, pose_topic: str, utterance_topic: str, map_topic: str | None,
-          progress: bool) -> BagLog:
+def _read(
+    reader: Any, path: Path, pose_topic: str, utterance_topic: str, map_topic: str | None, progress: bool
+) -> BagLog:
     topics: dict[str, str] = {}
     for c in reader.connections:
         topics.setdefault(c.topic, c.msgtype)
@@ -184,21 +193,28 @@ def _read(reader: Any, path: Path, pose_topic: str, utterance_topic: str, map_to
         raise DatasetError(f"topic {pose_topic} has no messages with a finite pose in bag {path}")
     grid, grid_frame = (None, None) if last_map is None else _grid(reader.deserialize(*last_map), map_topic)
     return BagLog(
-        pose_times=np.asarray(times, dtype=np.int64), poses=np.asarray(xy, dtype=float),
-        utterance_times=np.asarray(u_times, dtype=np.int64), utterances=texts, pose_frames=frames,
-        map=grid, map_frame=grid_frame, topics=topics)
+        pose_times=np.asarray(times, dtype=np.int64),
+        poses=np.asarray(xy, dtype=float),
+        utterance_times=np.asarray(u_times, dtype=np.int64),
+        utterances=texts,
+        pose_frames=frames,
+        map=grid,
+        map_frame=grid_frame,
+        topics=topics,
+    )
 
 
-def _connections(reader: Any, path: Path, topics: dict[str, str], topic: str, accepted: set[str],
-                 what: str) -> list:
+def _connections(reader: Any, path: Path, topics: dict[str, str], topic: str, accepted: set[str], what: str) -> list:
     if topic not in topics:
         present = "; ".join(f"{t} ({ty})" for t, ty in sorted(topics.items()))
         raise DatasetError(f"bag {path} has no {what} topic {topic}; topics present: {present}")
     conns = [c for c in reader.connections if c.topic == topic]
     for c in conns:
         if c.msgtype not in accepted:
-            raise DatasetError(f"topic {topic} carries {c.msgtype}, which is not a supported {what} type; "
-                               f"supported: {', '.join(sorted(accepted))}")
+            raise DatasetError(
+                f"topic {topic} carries {c.msgtype}, which is not a supported {what} type; "
+                f"supported: {', '.join(sorted(accepted))}"
+            )
     if sum(c.msgcount for c in conns) == 0:
         raise DatasetError(f"topic {topic} has no messages in bag {path}")
     return conns
@@ -210,18 +226,22 @@ def _grid(msg: Any, topic: str | None) -> tuple[OccupancyMap, str]:
     q = info.origin.orientation
     yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
     if abs(yaw) > 1e-9:
-        raise DatasetError(f"the map on {topic} is rotated (origin yaw {yaw:.4f} rad); only axis-aligned maps "
-                           "are supported: pass --map with a map_server YAML instead")
+        raise DatasetError(
+            f"the map on {topic} is rotated (origin yaw {yaw:.4f} rad); only axis-aligned maps "
+            "are supported: pass --map with a map_server YAML instead"
+        )
     data = np.asarray(msg.data, dtype=np.int8)
     if data.size != info.width * info.height or data.size == 0:
-        raise DatasetError(f"the map on {topic} has {data.size} cells but its info says {info.width} x "
-                           f"{info.height}")
+        raise DatasetError(f"the map on {topic} has {data.size} cells but its info says {info.width} x {info.height}")
     grid = data.reshape(info.height, info.width)
     trinary = bool(np.isin(grid, (-1, 0, 100)).all())
     # resolution is a float32 in the message: keep its shortest decimal form (0.05, not 0.0500000007)
-    occupancy = OccupancyMap(data=grid, resolution=float(str(np.float32(info.resolution))),
-                             origin=(float(info.origin.position.x), float(info.origin.position.y), 0.0),
-                             mode="trinary" if trinary else "raw")
+    occupancy = OccupancyMap(
+        data=grid,
+        resolution=float(str(np.float32(info.resolution))),
+        origin=(float(info.origin.position.x), float(info.origin.position.y), 0.0),
+        mode="trinary" if trinary else "raw",
+    )
     return occupancy, msg.header.frame_id.lstrip("/")
 
 
@@ -298,7 +318,8 @@ def teaching_events(log: BagLog, step: float) -> tuple[np.ndarray, np.ndarray, n
         raise DatasetError(
             f"utterance {texts[i]!r} was recorded {(t0 - int(u_times[i])) / 1e9:.3f} s before the first pose "
             f"(utterance at {_stamp(u_times[i])}, first pose at {_stamp(t0)}; {len(early)} utterance(s) have no "
-            "pose before them): start recording the pose topic before teaching")
+            "pose before them): start recording the pose topic before teaching"
+        )
     rel_pose = (log.pose_times - t0).astype(float)
     rel_utt = (u_times - t0).astype(float)
     positions = np.stack([np.interp(rel_utt, rel_pose, log.poses[:, j]) for j in (0, 1)], axis=1)
@@ -326,9 +347,18 @@ def _stamp(ns: int | np.integer) -> str:
 
 
 # ---- writing ---------------------------------------------------------------------------------------------
-def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose", utterance_topic: str = "/speech",
-               map_yaml: str | Path | None = None, map_topic: str | None = "/map", step: float = 0.1,
-               lang: str = "en", overwrite: bool = False, progress: bool = False) -> ImportSummary:
+def import_bag(
+    bag: str | Path,
+    out: str | Path,
+    pose_topic: str = "/amcl_pose",
+    utterance_topic: str = "/speech",
+    map_yaml: str | Path | None = None,
+    map_topic: str | None = "/map",
+    step: float = 0.1,
+    lang: str = "en",
+    overwrite: bool = False,
+    progress: bool = False,
+) -> ImportSummary:
     """Write the dataset folder ``out`` from a bag (module docstring); load it with
     :func:`spcotmhp.datasets.load_dataset` (``lang`` picks the words column: ``words_en`` or ``words_ja``).
 
@@ -340,7 +370,7 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
     if lang not in ("en", "ja"):
         raise DatasetError(f"lang must be 'en' or 'ja', got {lang!r}")
     folder = Path(out)
-    check_dataset_target(folder, overwrite)      # before reading the bag
+    check_dataset_target(folder, overwrite)  # before reading the bag
     occupancy = load_map(map_yaml) if map_yaml is not None else None  # fail on a bad map before reading the bag
     log = read_bag(bag, pose_topic, utterance_topic, None if occupancy is not None else map_topic, progress)
     if occupancy is None:
@@ -350,9 +380,11 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
         occupancy = log.map
     other = sorted(f for f in log.pose_frames if f != (log.map_frame or MAP_FRAME))
     if other:
-        _warn(f"poses on {pose_topic} are in frame(s) {', '.join(other)}, not the map frame "
-              f"{log.map_frame or MAP_FRAME}; the dataset takes them as map coordinates (use a localised pose "
-              "topic such as /amcl_pose)")
+        _warn(
+            f"poses on {pose_topic} are in frame(s) {', '.join(other)}, not the map frame "
+            f"{log.map_frame or MAP_FRAME}; the dataset takes them as map coordinates (use a localised pose "
+            "topic such as /amcl_pose)"
+        )
     trajectory, positions, steps, texts = teaching_events(log, step)
 
     def fill(staging: Path) -> None:
@@ -360,20 +392,32 @@ def import_bag(bag: str | Path, out: str | Path, pose_topic: str = "/amcl_pose",
             save_map(occupancy, staging / "map.yaml", mode=occupancy.mode)
         except MapError as exc:
             raise DatasetError(f"cannot write the map to {folder}: {exc}") from None
-        _write_csv(staging / "trajectory.csv", ["step", "x", "y"],
-                   [[t, metres(x), metres(y)] for t, (x, y) in enumerate(trajectory)])
-        _write_csv(staging / "teaching.csv", ["event", "x", "y", f"words_{lang}", "step"],
-                   [[e, metres(x), metres(y), text, int(s)]
-                    for e, ((x, y), text, s) in enumerate(zip(positions, texts, steps))])
+        _write_csv(
+            staging / "trajectory.csv",
+            ["step", "x", "y"],
+            [[t, metres(x), metres(y)] for t, (x, y) in enumerate(trajectory)],
+        )
+        _write_csv(
+            staging / "teaching.csv",
+            ["event", "x", "y", f"words_{lang}", "step"],
+            [
+                [e, metres(x), metres(y), text, int(s)]
+                for e, ((x, y), text, s) in enumerate(zip(positions, texts, steps, strict=False))
+            ],
+        )
 
     # built beside ``folder`` and swapped in whole: readers see the old dataset or the new one, and no file of
     # the old one (a stale truth.csv) survives next to the new teaching events
     build_folder(folder, fill, DatasetError, f"write the dataset to {folder}")
     return ImportSummary(
-        folder=folder, n_pose_messages=len(log.poses), n_trajectory=len(trajectory), n_events=len(texts),
+        folder=folder,
+        n_pose_messages=len(log.poses),
+        n_trajectory=len(trajectory),
+        n_events=len(texts),
         path_length_m=float(np.hypot(*np.diff(log.poses, axis=0).T).sum()),
         duration_s=float(log.pose_times[-1] - log.pose_times[0]) / 1e9,
-        map_source=str(map_yaml) if map_yaml is not None else f"{map_topic} in the bag")
+        map_source=str(map_yaml) if map_yaml is not None else f"{map_topic} in the bag",
+    )
 
 
 def metres(value: float) -> str:

@@ -14,7 +14,7 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.loader import DatasetWarning, load_dataset
 from spcotmhp.errors import DatasetError
 
-_ANNOUNCED: set[str] = set()    # bundled datasets whose known warnings this process has summarised
+_ANNOUNCED: set[str] = set()  # bundled datasets whose known warnings this process has summarised
 
 
 def data_root() -> Path:
@@ -72,5 +72,7 @@ def load_bundled(name: str, lang: str = "en") -> Dataset:
 
 def known_warnings_note(name: str, count: int) -> str:
     """The one line that stands for a bundled dataset's ``count`` known warnings."""
-    return (f"{name}: {count} known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
-            f"spcotmhp/data/README.md); `spcotmhp check-dataset {name}` lists them")
+    return (
+        f"{name}: {count} known warning(s) of the bundled data (teaching points recorded at the edge of a wall; "
+        f"spcotmhp/data/README.md); `spcotmhp check-dataset {name}` lists them"
+    )

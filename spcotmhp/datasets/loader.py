@@ -102,7 +102,7 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     if not teaching.rows:
         raise DatasetError("teaching.csv has a header but no teaching events")
     teaching.require(["x", "y", ("words_ja", "words_en")], ["event", "step"])
-    if teaching.has("event"):       # optional: the events are the rows in file order; if given, it must agree
+    if teaching.has("event"):  # optional: the events are the rows in file order; if given, it must agree
         _check_sequence(teaching, "event", "event ids")
     positions = np.stack([teaching.floats("x"), teaching.floats("y")], axis=1)
     _check_extent(teaching, occupancy, positions, image)
@@ -147,11 +147,12 @@ def _check_sequence(table: Table, column: str, what: str) -> np.ndarray:
         i = int(bad[0])
         earlier = np.flatnonzero(ids[:i] == ids[i])
         if len(earlier):
-            raise DatasetError(f"{table.where(i)}: {column} {ids[i]} appears twice (also on row "
-                               f"{table.lines[earlier[0]]}); {what} must be 0, 1, 2, ... in file order")
+            raise DatasetError(
+                f"{table.where(i)}: {column} {ids[i]} appears twice (also on row "
+                f"{table.lines[earlier[0]]}); {what} must be 0, 1, 2, ... in file order"
+            )
         after = f"follows {ids[i - 1]}" if i else "is the first"
-        raise DatasetError(f"{table.where(i)}: {column} {ids[i]} {after}; {what} must be 0, 1, 2, ... "
-                           "in file order")
+        raise DatasetError(f"{table.where(i)}: {column} {ids[i]} {after}; {what} must be 0, 1, 2, ... in file order")
     return ids
 
 
@@ -160,8 +161,7 @@ def _tokens(teaching: Table, lang: str, name: str) -> list[list[str]]:
     if not teaching.has(column):
         other = "ja" if lang == "en" else "en"
         hint = f"; use lang='{other}'" if teaching.has(f"words_{other}") else ""
-        raise DatasetError(f"{name} has no {column} column (teaching.csv has {', '.join(teaching.header)})"
-                           f"{hint}")
+        raise DatasetError(f"{name} has no {column} column (teaching.csv has {', '.join(teaching.header)}){hint}")
     split = tokenize_en if lang == "en" else tokenize_ja
     tokens = [split(text) for text in teaching.column(column)]
     empty = [i for i, t in enumerate(tokens) if not t]
@@ -190,8 +190,7 @@ def _report_cells(table: Table, occupancy: OccupancyMap, xy: np.ndarray, image: 
     for mask, where in kinds:
         rows = np.flatnonzero(mask)
         if summary and len(rows):
-            _warn(f"{table.name}: {len(rows)} of {len(xy)} points lie {where} (first on row "
-                  f"{table.lines[rows[0]]})")
+            _warn(f"{table.name}: {len(rows)} of {len(xy)} points lie {where} (first on row {table.lines[rows[0]]})")
             continue
         for i in rows[:MAX_ROW_WARNINGS]:
             _warn(f"{table.where(i)}: (x, y) = ({xy[i, 0]:.2f}, {xy[i, 1]:.2f}) lies {where}")
@@ -209,13 +208,16 @@ def _check_extent(table: Table, occupancy: OccupancyMap, xy: np.ndarray, image: 
     far = (xy[:, 0] < x0 - margin) | (xy[:, 0] > x1 + margin) | (xy[:, 1] < y0 - margin) | (xy[:, 1] > y1 + margin)
     if far.any():
         i = int(np.flatnonzero(far)[0])
-        raise DatasetError(f"{table.where(i)}: (x, y) = ({xy[i, 0]:.4g}, {xy[i, 1]:.4g}) lies far outside the map "
-                           f"({image} covers x {x0:.2f}..{x1:.2f}, y {y0:.2f}..{y1:.2f}; points more than "
-                           f"{margin:.4g} m beyond it are refused)")
+        raise DatasetError(
+            f"{table.where(i)}: (x, y) = ({xy[i, 0]:.4g}, {xy[i, 1]:.4g}) lies far outside the map "
+            f"({image} covers x {x0:.2f}..{x1:.2f}, y {y0:.2f}..{y1:.2f}; points more than "
+            f"{margin:.4g} m beyond it are refused)"
+        )
 
 
-def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy: OccupancyMap,
-                image: str) -> tuple[np.ndarray | None, np.ndarray | None]:
+def _trajectory(
+    folder: Path, teaching: Table, positions: np.ndarray, occupancy: OccupancyMap, image: str
+) -> tuple[np.ndarray | None, np.ndarray | None]:
     """trajectory.csv (step,x,y) and each event's step: teaching.csv's step column, else the nearest poses
     in walking order (:func:`align_events`)."""
     path = folder / "trajectory.csv"
@@ -235,11 +237,14 @@ def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy:
         steps = teaching.ints("step", minimum=0)
         for i in range(len(steps)):
             if steps[i] >= len(trajectory):
-                raise DatasetError(f"{teaching.where(i)}: step {steps[i]} is beyond trajectory.csv's last step "
-                                   f"{len(trajectory) - 1}")
+                raise DatasetError(
+                    f"{teaching.where(i)}: step {steps[i]} is beyond trajectory.csv's last step {len(trajectory) - 1}"
+                )
             if i and steps[i] < steps[i - 1]:
-                raise DatasetError(f"{teaching.where(i)}: step {steps[i]} is before the previous event's step "
-                                   f"{steps[i - 1]}; steps must not decrease")
+                raise DatasetError(
+                    f"{teaching.where(i)}: step {steps[i]} is before the previous event's step "
+                    f"{steps[i - 1]}; steps must not decrease"
+                )
         how = "its trajectory pose"
     else:
         steps = align_events(positions, trajectory)
@@ -247,11 +252,15 @@ def _trajectory(folder: Path, teaching: Table, positions: np.ndarray, occupancy:
     gap = np.hypot(*(positions - trajectory[steps]).T)
     far = np.flatnonzero(gap > TRAJECTORY_TOLERANCE_M)
     for i in far[:MAX_ROW_WARNINGS]:
-        _warn(f"{teaching.where(i)}: (x, y) is {gap[i]:.2f} m from {how} (step {steps[i]}, "
-              f"trajectory.csv row {table.lines[steps[i]]})")
+        _warn(
+            f"{teaching.where(i)}: (x, y) is {gap[i]:.2f} m from {how} (step {steps[i]}, "
+            f"trajectory.csv row {table.lines[steps[i]]})"
+        )
     if len(far) > MAX_ROW_WARNINGS:
-        _warn(f"teaching.csv: {len(far) - MAX_ROW_WARNINGS} more events lie over "
-              f"{TRAJECTORY_TOLERANCE_M} m from their trajectory pose")
+        _warn(
+            f"teaching.csv: {len(far) - MAX_ROW_WARNINGS} more events lie over "
+            f"{TRAJECTORY_TOLERANCE_M} m from their trajectory pose"
+        )
     return trajectory, steps
 
 
@@ -268,16 +277,14 @@ def _truth(folder: Path, teaching: Table, n_places: int | None) -> tuple[np.ndar
     seen: dict[int, int] = {}
     for i, event in enumerate(events):
         if not 0 <= event < n_events:
-            raise DatasetError(f"{table.where(i)}: event {event} is not in teaching.csv "
-                               f"(events 0..{n_events - 1})")
+            raise DatasetError(f"{table.where(i)}: event {event} is not in teaching.csv (events 0..{n_events - 1})")
         if event in seen:
             raise DatasetError(f"{table.where(i)}: event {event} appears twice (also on row {seen[event]})")
         seen[int(event)] = table.lines[i]
     missing = sorted(set(range(n_events)) - set(seen))
     if missing:
         listed = ", ".join(map(str, missing[:10])) + (" ..." if len(missing) > 10 else "")
-        raise DatasetError(f"truth.csv has no row for {len(missing)} of teaching.csv's {n_events} events "
-                           f"({listed})")
+        raise DatasetError(f"truth.csv has no row for {len(missing)} of teaching.csv's {n_events} events ({listed})")
     place = table.ints("place", minimum=0)
     concept = table.ints("concept", minimum=0) if table.has("concept") else None
     for column, ids in (("place", place), ("concept", concept)):
@@ -323,13 +330,14 @@ def _adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
     bad = np.argwhere((values != 0) & (values != 1))
     if len(bad):
         r, c = bad[0]
-        raise DatasetError(f"adjacency.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; "
-                           "entries must be 0 or 1")
+        raise DatasetError(f"adjacency.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; entries must be 0 or 1")
     bad = np.argwhere(values != values.T)
     if len(bad):
         r, c = bad[0]
-        raise DatasetError(f"adjacency.csv is not symmetric: row {lines[r]} column {c + 1} is {values[r, c]:g} "
-                           f"but row {lines[c]} column {r + 1} is {values[c, r]:g}")
+        raise DatasetError(
+            f"adjacency.csv is not symmetric: row {lines[r]} column {c + 1} is {values[r, c]:g} "
+            f"but row {lines[c]} column {r + 1} is {values[c, r]:g}"
+        )
     if n_places is not None and rows != n_places:
         source = "places.csv" if (folder / "places.csv").is_file() else "truth.csv"
         raise DatasetError(f"adjacency.csv is {rows}x{cols} but {source} has {n_places} places")
@@ -343,18 +351,23 @@ def _features(folder: Path, teaching: Table) -> np.ndarray | None:
         return None
     values, lines = read_matrix(path, allow_header=True)
     if len(values) != len(teaching.rows):
-        raise DatasetError(f"{FEATURES_FILE} has {len(values)} rows but teaching.csv has {len(teaching.rows)} "
-                           "events (one row per event, in event order)")
+        raise DatasetError(
+            f"{FEATURES_FILE} has {len(values)} rows but teaching.csv has {len(teaching.rows)} "
+            "events (one row per event, in event order)"
+        )
     bad = np.argwhere(values < 0)
     if len(bad):
         r, c = bad[0]
-        raise DatasetError(f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:g}; "
-                           "features must be non-negative")
+        raise DatasetError(
+            f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:g}; features must be non-negative"
+        )
     bad = np.argwhere(values > MAX_FEATURE)
     if len(bad):
         r, c = bad[0]
-        raise DatasetError(f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:.4g}; "
-                           f"features must be at most {MAX_FEATURE:g}")
+        raise DatasetError(
+            f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:.4g}; "
+            f"features must be at most {MAX_FEATURE:g}"
+        )
     return values
 
 
@@ -365,11 +378,15 @@ def _costmap(folder: Path, occupancy: OccupancyMap, image: str) -> np.ndarray | 
         return None
     values, lines = read_matrix(path)
     if values.shape != occupancy.shape:
-        raise DatasetError(f"costmap_ros.csv is {values.shape[0]}x{values.shape[1]} (rows x columns) but "
-                           f"{image} is {occupancy.height}x{occupancy.width}")
+        raise DatasetError(
+            f"costmap_ros.csv is {values.shape[0]}x{values.shape[1]} (rows x columns) but "
+            f"{image} is {occupancy.height}x{occupancy.width}"
+        )
     bad = np.argwhere((values != np.round(values)) | (values < -1) | (values > 100))
     if len(bad):
         r, c = bad[0]
-        raise DatasetError(f"costmap_ros.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; "
-                           "costs must be integers 0..100 (or -1 for unknown)")
+        raise DatasetError(
+            f"costmap_ros.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; "
+            "costs must be integers 0..100 (or -1 for unknown)"
+        )
     return values.astype(np.int16)

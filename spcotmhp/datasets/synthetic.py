@@ -23,18 +23,44 @@ from spcotmhp.errors import DatasetError, MapError
 from spcotmhp.metric.map_io import save_map
 from spcotmhp.safe_write import fresh_sibling, swap_folder
 
-DATASET_FILES = ("map.yaml", "map.pgm", "map.png", "map.bmp", "teaching.csv", "trajectory.csv", "truth.csv",
-                 "places.csv", "adjacency.csv", "costmap_ros.csv", "image_features_places365.csv")
+DATASET_FILES = (
+    "map.yaml",
+    "map.pgm",
+    "map.png",
+    "map.bmp",
+    "teaching.csv",
+    "trajectory.csv",
+    "truth.csv",
+    "places.csv",
+    "adjacency.csv",
+    "costmap_ros.csv",
+    "image_features_places365.csv",
+)
 """The files a dataset folder may hold (spcotmhp/data/README.md); a folder with others is never replaced."""
 
-__all__ = ["Door", "FloorPlan", "Room", "generate_environment", "generate_floor_plan", "teaching_walk",
-           "write_dataset"]
+__all__ = [
+    "Door",
+    "FloorPlan",
+    "Room",
+    "generate_environment",
+    "generate_floor_plan",
+    "teaching_walk",
+    "write_dataset",
+]
 
 
-def generate_environment(kind: str = "flat", seed: int = 0, n_rooms: int | None = None,
-                         size: int | tuple[int, int] | None = None, resolution: float = 0.1,
-                         events_per_room: int = 15, step_m: float = 0.1, word_noise: float = 0.0,
-                         insert_noise: float = 0.0, door_m: float = 1.0) -> Dataset:
+def generate_environment(
+    kind: str = "flat",
+    seed: int = 0,
+    n_rooms: int | None = None,
+    size: int | tuple[int, int] | None = None,
+    resolution: float = 0.1,
+    events_per_room: int = 15,
+    step_m: float = 0.1,
+    word_noise: float = 0.0,
+    insert_noise: float = 0.0,
+    door_m: float = 1.0,
+) -> Dataset:
     """A floor plan and a teaching walk through it, both drawn from one ``np.random.default_rng(seed)``.
 
     See ``generate_floor_plan`` (kind, n_rooms, size, resolution, door_m) and ``teaching_walk``
@@ -42,8 +68,14 @@ def generate_environment(kind: str = "flat", seed: int = 0, n_rooms: int | None 
     """
     rng = seeded_rng(seed)
     plan = generate_floor_plan(kind, n_rooms=n_rooms, size=size, resolution=resolution, seed=rng, door_m=door_m)
-    data = teaching_walk(plan, events_per_room=events_per_room, step_m=step_m, word_noise=word_noise,
-                         insert_noise=insert_noise, seed=rng)
+    data = teaching_walk(
+        plan,
+        events_per_room=events_per_room,
+        step_m=step_m,
+        word_noise=word_noise,
+        insert_noise=insert_noise,
+        seed=rng,
+    )
     data.name = f"synthetic-{kind}-{seed}"
     return data
 
@@ -95,11 +127,12 @@ def check_dataset_target(out: Path, overwrite: bool) -> None:
     others = [name for name in present if name not in DATASET_FILES]
     if others or "teaching.csv" not in present:
         listed = ", ".join((others or present)[:5])
-        raise DatasetError(f"cannot write a dataset to {out}: the folder holds files that are not a dataset's "
-                           f"({listed}); choose an empty or new folder")
+        raise DatasetError(
+            f"cannot write a dataset to {out}: the folder holds files that are not a dataset's "
+            f"({listed}); choose an empty or new folder"
+        )
     if not overwrite:
-        raise DatasetError(f"{out} already holds a dataset; give --overwrite to replace it, or choose another "
-                           "folder")
+        raise DatasetError(f"{out} already holds a dataset; give --overwrite to replace it, or choose another folder")
 
 
 def _write_files(dataset: Dataset, out: Path) -> None:
@@ -108,22 +141,33 @@ def _write_files(dataset: Dataset, out: Path) -> None:
     words = [" ".join(tokens) for tokens in dataset.tokens]
     header = ["event", "x", "y", "words_ja", "words_en"]
     has_steps = dataset.trajectory is not None and dataset.event_steps is not None
-    rows = [[e, _num(x), _num(y), w, w] for e, ((x, y), w) in enumerate(zip(dataset.positions, words))]
+    rows = [[e, _num(x), _num(y), w, w] for e, ((x, y), w) in enumerate(zip(dataset.positions, words, strict=False))]
     if has_steps:
         header.append("step")
-        rows = [row + [int(s)] for row, s in zip(rows, dataset.event_steps)]
+        rows = [row + [int(s)] for row, s in zip(rows, dataset.event_steps, strict=False)]
     _write_csv(out / "teaching.csv", header, rows)
     if dataset.trajectory is not None:
-        _write_csv(out / "trajectory.csv", ["step", "x", "y"],
-                   [[t, _num(x), _num(y)] for t, (x, y) in enumerate(dataset.trajectory)])
+        _write_csv(
+            out / "trajectory.csv",
+            ["step", "x", "y"],
+            [[t, _num(x), _num(y)] for t, (x, y) in enumerate(dataset.trajectory)],
+        )
     if dataset.truth_place is not None:
         concept = dataset.truth_concept
-        _write_csv(out / "truth.csv", ["event", "place"] + (["concept"] if concept is not None else []),
-                   [[e, int(p)] + ([int(concept[e])] if concept is not None else [])
-                    for e, p in enumerate(dataset.truth_place)])
+        _write_csv(
+            out / "truth.csv",
+            ["event", "place"] + (["concept"] if concept is not None else []),
+            [
+                [e, int(p)] + ([int(concept[e])] if concept is not None else [])
+                for e, p in enumerate(dataset.truth_place)
+            ],
+        )
     if dataset.place_names is not None:
-        _write_csv(out / "places.csv", ["place", "name_ja", "name_en"],
-                   [[i, name, name] for i, name in enumerate(dataset.place_names)])
+        _write_csv(
+            out / "places.csv",
+            ["place", "name_ja", "name_en"],
+            [[i, name, name] for i, name in enumerate(dataset.place_names)],
+        )
     if dataset.adjacency is not None:
         _write_csv(out / "adjacency.csv", None, np.asarray(dataset.adjacency, dtype=np.int64).tolist())
 

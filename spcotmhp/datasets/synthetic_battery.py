@@ -52,18 +52,18 @@ def battery_home(seed: int, events_per_room: int = 15) -> Dataset:
     room = _unknown_strip(plan, rng)
     data.name = f"battery-{seed}"
     data.map = plan.map
-    assert plan.map.data[room.box[0]:room.box[2], room.box[1]:room.box[3]].min() == UNKNOWN
+    assert plan.map.data[room.box[0] : room.box[2], room.box[1] : room.box[3]].min() == UNKNOWN
     return data
 
 
 def _rename(plan: FloorPlan, corridors: list[Room], spare: list[Room], rng: np.random.Generator) -> None:
     """West/east corridor by position; exactly three bedrooms among the rooms that are not kept by name."""
-    for room, side in zip(sorted(corridors, key=lambda r: r.box[1]), ("west", "east")):
+    for room, side in zip(sorted(corridors, key=lambda r: r.box[1]), ("west", "east"), strict=False):
         room.name = f"{side} {CORRIDOR}"
     bedrooms = [r for r in spare if r.name == "bedroom"]
     others = [r for r in spare if r.name != "bedroom"]
     order = rng.permutation(len(others))
-    for k in order[:max(0, 3 - len(bedrooms))]:
+    for k in order[: max(0, 3 - len(bedrooms))]:
         others[k].name = "bedroom"
     for k, room in enumerate([r for r in spare if r.name == "bedroom"][3:]):
         room.name = ("study", "storeroom", "office")[k % 3]
@@ -76,7 +76,7 @@ def _unknown_strip(plan: FloorPlan, rng: np.random.Generator) -> Room:
     r0, c0, r1, c1 = room.box
     door_row, door_col = room.doors[0]
     data = plan.map.data
-    if abs(door_row - (r0 + r1) / 2) >= abs(door_col - (c0 + c1) / 2):   # the door is on a row side
+    if abs(door_row - (r0 + r1) / 2) >= abs(door_col - (c0 + c1) / 2):  # the door is on a row side
         depth = round(UNKNOWN_SHARE * (r1 - r0))
         rows = slice(r1 - depth, r1) if door_row < (r0 + r1) / 2 else slice(r0, r0 + depth)
         data[rows, c0:c1] = UNKNOWN

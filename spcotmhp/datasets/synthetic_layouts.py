@@ -83,8 +83,15 @@ class Geometry:
         return round(metres / self.res)
 
 
-def _door(rng: np.random.Generator, rooms: tuple[int, int], axis: int, span: tuple[int, int],
-          wall: tuple[int, int], geo: Geometry, avoid: tuple[int, int] | None = None) -> Door | None:
+def _door(
+    rng: np.random.Generator,
+    rooms: tuple[int, int],
+    axis: int,
+    span: tuple[int, int],
+    wall: tuple[int, int],
+    geo: Geometry,
+    avoid: tuple[int, int] | None = None,
+) -> Door | None:
     """A door of width ``geo.door`` at a random place along ``span`` with jambs kept and not overlapping
     ``avoid`` (cells along the wall); None if it does not fit."""
     starts = np.arange(span[0] + geo.jamb, span[1] - geo.jamb - geo.door + 1)
@@ -96,16 +103,25 @@ def _door(rng: np.random.Generator, rooms: tuple[int, int], axis: int, span: tup
     return Door(rooms, axis, start, start + geo.door, wall[0], wall[1])
 
 
-def _split_length(rng: np.random.Generator, length: int, k: int, minimum: int, wall: int, what: str,
-                  first: int | None = None) -> list[int]:
+def _split_length(
+    rng: np.random.Generator,
+    length: int,
+    k: int,
+    minimum: int,
+    wall: int,
+    what: str,
+    first: int | None = None,
+) -> list[int]:
     """Widths of ``k`` parts >= ``minimum`` (the first one ``first`` if given) filling ``length`` with ``wall``
     cells between them."""
     if first is not None and k > 1:
         return [first] + _split_length(rng, length - first - wall, k - 1, minimum, wall, what)
     spare = length - (k - 1) * wall - k * minimum
     if spare < 0:
-        raise DatasetError(f"{what}: {k} rooms need {k * minimum + (k - 1) * wall} cells but only {length} "
-                           f"fit; use fewer rooms or a larger size")
+        raise DatasetError(
+            f"{what}: {k} rooms need {k * minimum + (k - 1) * wall} cells but only {length} "
+            f"fit; use fewer rooms or a larger size"
+        )
     cuts = np.floor(np.cumsum(rng.dirichlet(np.full(k, 4.0))) * spare).astype(int)
     cuts[-1] = spare
     return [int(w) for w in minimum + np.diff(np.concatenate([[0], cuts]))]
@@ -155,7 +171,7 @@ def flat_layout(inner: Box, n: int, geo: Geometry, rng: np.random.Generator) -> 
     others = sorted((i for i in range(n) if i != living), key=lambda i: (-degree[i], rng.random()))
     names = sorted(_names(FLAT_NAMES, FILLER_NAMES["flat"], n - 1, rng), key=THROUGH_ORDER.index)
     by_room = [LIVING] * n
-    for i, name in zip(others, names):
+    for i, name in zip(others, names, strict=False):
         by_room[i] = name
     return boxes, by_room, sorted(doors, key=lambda d: d.rooms)
 
@@ -184,8 +200,10 @@ def _bsp(rect: Box, n: int, geo: Geometry, rng: np.random.Generator) -> list[Box
         if lo <= hi:
             break
     else:
-        raise DatasetError(f"flat: a {h}x{w}-cell area cannot hold {n} rooms of at least {geo.min_side} cells a "
-                           f"side; use fewer rooms or a larger size")
+        raise DatasetError(
+            f"flat: a {h}x{w}-cell area cannot hold {n} rooms of at least {geo.min_side} cells a "
+            f"side; use fewer rooms or a larger size"
+        )
     part = int(np.clip(round(usable * n_a / n * rng.uniform(0.85, 1.15)), lo, hi))
     if axis == 0:
         a, b = (r0, c0, r0 + part, c1), (r0 + part + geo.wall, c0, r1, c1)
@@ -226,20 +244,23 @@ def house_layout(inner: Box, n: int, geo: Geometry, rng: np.random.Generator) ->
     cw = max(geo.cells(rng.uniform(1.5, 1.9)), geo.door + 2 * geo.jamb)
     depth = (r1 - r0 - cw - 2 * geo.wall) // 2
     if depth < geo.min_side:
-        raise DatasetError(f"house: {r1 - r0} interior rows cannot hold a corridor and two rows of rooms of at "
-                           f"least {geo.min_side} cells; use a larger size")
+        raise DatasetError(
+            f"house: {r1 - r0} interior rows cannot hold a corridor and two rows of rooms of at "
+            f"least {geo.min_side} cells; use a larger size"
+        )
     cr0 = r0 + depth + geo.wall + int(rng.integers(0, (r1 - r0 - cw - 2 * geo.wall) % 2 + 1))
     ew = max(geo.cells(rng.uniform(2.0, 3.0)), geo.min_side)  # entrance width = first room width in each band
     x = c0 + ew
     segments = 2 if n >= 8 and c1 - x - geo.wall >= geo.cells(10.0) else 1
-    bands = [_Band((r0, cr0 - geo.wall), (c0, c1), (cr0 - geo.wall, cr0), 0, ew),
-             _Band((cr0 + cw + geo.wall, r1), (c0, c1), (cr0 + cw, cr0 + cw + geo.wall), 0, ew)]
+    bands = [
+        _Band((r0, cr0 - geo.wall), (c0, c1), (cr0 - geo.wall, cr0), 0, ew),
+        _Band((cr0 + cw + geo.wall, r1), (c0, c1), (cr0 + cw, cr0 + cw + geo.wall), 0, ew),
+    ]
     n_rooms = n - 1 - segments
     rooms = _band_rooms(bands, n_rooms, geo, rng, geo.min_side, 0.35, "house", avoid=(x, x + geo.wall))
     boxes: list[Box] = [(cr0, c0, cr0 + cw, x)]
     names, doors = ["entrance"], []
-    corridor = _corridor(boxes, names, doors, (cr0, cr0 + cw), (x + geo.wall, c1), segments, rooms, geo, rng,
-                         "house")
+    corridor = _corridor(boxes, names, doors, (cr0, cr0 + cw), (x + geo.wall, c1), segments, rooms, geo, rng, "house")
     doors.append(_door(rng, (0, corridor[0][0]), 1, (cr0, cr0 + cw), (x, x + geo.wall), geo))
     new = _add_rooms(boxes, doors, rooms, [[(0, c0, x)] + corridor])
     areas = [(boxes[i][2] - boxes[i][0]) * (boxes[i][3] - boxes[i][1]) for i in new]
@@ -259,13 +280,18 @@ def office_layout(inner: Box, n: int, geo: Geometry, rng: np.random.Generator) -
     for k in range(n_corr):
         extra = spare // n_corr + (1 if k < spare % n_corr else 0)
         cr0 = row + depth + extra // 2 + geo.wall
-        bands.append(_Band((row, cr0 - geo.wall), (c0 if k == 0 else c0 + cw + geo.wall, c1),
-                           (cr0 - geo.wall, cr0), k))
+        bands.append(_Band((row, cr0 - geo.wall), (c0 if k == 0 else c0 + cw + geo.wall, c1), (cr0 - geo.wall, cr0), k))
         corridor_rows.append((cr0, cr0 + cw))
         last = k == n_corr - 1
         top = r1 if last else cr0 + cw + geo.wall + depth + extra - extra // 2
-        bands.append(_Band((cr0 + cw + geo.wall, top), (c0 if last else c0 + cw + geo.wall, c1),
-                           (cr0 + cw, cr0 + cw + geo.wall), k))
+        bands.append(
+            _Band(
+                (cr0 + cw + geo.wall, top),
+                (c0 if last else c0 + cw + geo.wall, c1),
+                (cr0 + cw, cr0 + cw + geo.wall),
+                k,
+            )
+        )
         row = top + geo.wall
     n_rooms = n - (n_corr * seg + n_corr - 1)
     min_width = max(geo.cells(3.0), geo.min_side)
@@ -281,10 +307,12 @@ def office_layout(inner: Box, n: int, geo: Geometry, rng: np.random.Generator) -
             boxes.append((corridor_rows[k - 1][1], c0, rows[0], c0 + cw))
             names.append(CORRIDOR)
             spine = len(boxes) - 1
-            doors += [Door((below, spine), 0, c0, c0 + cw, corridor_rows[k - 1][1], corridor_rows[k - 1][1]),
-                      Door((here, spine), 0, c0, c0 + cw, rows[0], rows[0])]
+            doors += [
+                Door((below, spine), 0, c0, c0 + cw, corridor_rows[k - 1][1], corridor_rows[k - 1][1]),
+                Door((here, spine), 0, c0, c0 + cw, rows[0], rows[0]),
+            ]
     _add_rooms(boxes, doors, rooms, strips)
-    names += _names(OFFICE_SPECIAL[:max(1, n_rooms // 3)], FILLER_NAMES["office"], n_rooms, rng)
+    names += _names(OFFICE_SPECIAL[: max(1, n_rooms // 3)], FILLER_NAMES["office"], n_rooms, rng)
     return boxes, names, doors
 
 
@@ -303,8 +331,10 @@ def _office_counts(inner: Box, n: int, cw: int, geo: Geometry) -> tuple[int, int
             break
         n_corr -= 1
     if not fits:
-        raise DatasetError(f"office: {n} places do not fit a {r1 - r0}x{c1 - c0}-cell interior (rooms at least "
-                           f"3 m deep, at least one room on each side of a corridor); change n_rooms or size")
+        raise DatasetError(
+            f"office: {n} places do not fit a {r1 - r0}x{c1 - c0}-cell interior (rooms at least "
+            f"3 m deep, at least one room on each side of a corridor); change n_rooms or size"
+        )
     return n_corr, seg, depth
 
 
@@ -316,21 +346,31 @@ class _BandRoom:
     to_previous: Door | None
 
 
-def _band_rooms(bands: list[_Band], n_rooms: int, geo: Geometry, rng: np.random.Generator, min_width: int,
-                p_between: float, what: str, avoid: tuple[int, int] | None = None) -> list[_BandRoom]:
+def _band_rooms(
+    bands: list[_Band],
+    n_rooms: int,
+    geo: Geometry,
+    rng: np.random.Generator,
+    min_width: int,
+    p_between: float,
+    what: str,
+    avoid: tuple[int, int] | None = None,
+) -> list[_BandRoom]:
     """Rooms side by side in each band, each with a door onto its corridor (not overlapping ``avoid``) and, with
     probability ``p_between``, a door to the previous room of its band."""
     lengths = np.array([b.cols[1] - b.cols[0] for b in bands])
     capacity = (lengths + geo.wall) // (min_width + geo.wall)
     if n_rooms < len(bands) or capacity.sum() < n_rooms or any(b.rows[1] - b.rows[0] < geo.min_side for b in bands):
-        raise DatasetError(f"{what}: {n_rooms} rooms do not fit {len(bands)} rows of rooms (between {len(bands)} "
-                           f"and {int(capacity.sum())} fit this size); change n_rooms or size")
+        raise DatasetError(
+            f"{what}: {n_rooms} rooms do not fit {len(bands)} rows of rooms (between {len(bands)} "
+            f"and {int(capacity.sum())} fit this size); change n_rooms or size"
+        )
     counts = np.ones(len(bands), dtype=int)
     for _ in range(n_rooms - len(bands)):  # proportional to length, random ties
         score = np.where(counts < capacity, lengths / counts + rng.random(len(bands)) * 1e-6, -np.inf)
         counts[int(np.argmax(score))] += 1
     rooms = []
-    for band, k in zip(bands, counts):
+    for band, k in zip(bands, counts, strict=False):
         col, length = band.cols[0], band.cols[1] - band.cols[0]
         rest = length - (band.first or 0) - geo.wall  # what the other rooms get when the first one is fixed
         fixed = band.first is not None and k > 1 and rest >= (k - 1) * min_width + (k - 2) * geo.wall
@@ -347,9 +387,19 @@ def _band_rooms(bands: list[_Band], n_rooms: int, geo: Geometry, rng: np.random.
     return rooms
 
 
-def _corridor(boxes: list[Box], names: list[str], doors: list[Door], rows: tuple[int, int], cols: tuple[int, int],
-              k: int, rooms: list[_BandRoom], geo: Geometry, rng: np.random.Generator, what: str,
-              strip: int = 0) -> list[tuple[int, int, int]]:
+def _corridor(
+    boxes: list[Box],
+    names: list[str],
+    doors: list[Door],
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+    k: int,
+    rooms: list[_BandRoom],
+    geo: Geometry,
+    rng: np.random.Generator,
+    what: str,
+    strip: int = 0,
+) -> list[tuple[int, int, int]]:
     """A horizontal corridor cut into ``k`` places joined by open boundaries, never cut through a door of
     ``rooms``; returns (index, col0, col1) of each place."""
     spans = [(r.door.lo, r.door.hi) for r in rooms if r.strip == strip]
@@ -373,8 +423,9 @@ def _corridor(boxes: list[Box], names: list[str], doors: list[Door], rows: tuple
     return [(first + j, cuts[j], cuts[j + 1]) for j in range(k)]
 
 
-def _add_rooms(boxes: list[Box], doors: list[Door], rooms: list[_BandRoom],
-               strips: list[list[tuple[int, int, int]]]) -> list[int]:
+def _add_rooms(
+    boxes: list[Box], doors: list[Door], rooms: list[_BandRoom], strips: list[list[tuple[int, int, int]]]
+) -> list[int]:
     """Number the band rooms after the corridor places; each door goes to the place its centre faces."""
     new = []
     for room in rooms:

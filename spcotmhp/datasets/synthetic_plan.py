@@ -7,7 +7,8 @@ other names repeat (several bedrooms, many offices).
 
 Doors are ``door_m`` >= 0.6 m wide (1.0 m by default), so a robot still passes after costmap_2d inflation with
 inscribed radius 0.22 m: the door's middle cells are at least 0.3 m from both jambs, outside the lethal (254)
-and inscribed (253) zones (a 0.6 m door at 0.1 m per cell leaves a gap of two cells). Outside the building is unknown (-1), walls are
+and inscribed (253) zones (a 0.6 m door at 0.1 m per cell leaves a gap of two cells). Outside the building is unknown
+(-1), walls are
 occupied (100), inside is free (0). Every random choice comes from one ``np.random.default_rng(seed)``.
 """
 
@@ -84,10 +85,16 @@ def seeded_rng(seed: int | np.random.Generator) -> np.random.Generator:
     return np.random.default_rng(int(seed))
 
 
-def generate_floor_plan(kind: str = "flat", n_rooms: int | None = None, size: int | tuple[int, int] | None = None,
-                        resolution: float = 0.1, seed: int | np.random.Generator = 0, door_m: float = 1.0,
-                        wall_cells: int | None = None,
-                        origin: tuple[float, float] = (0.0, 0.0)) -> FloorPlan:
+def generate_floor_plan(
+    kind: str = "flat",
+    n_rooms: int | None = None,
+    size: int | tuple[int, int] | None = None,
+    resolution: float = 0.1,
+    seed: int | np.random.Generator = 0,
+    door_m: float = 1.0,
+    wall_cells: int | None = None,
+    origin: tuple[float, float] = (0.0, 0.0),
+) -> FloorPlan:
     """A random floor plan of ``n_rooms`` places (corridor places included) on a ``size`` grid.
 
     Args:
@@ -106,8 +113,9 @@ def generate_floor_plan(kind: str = "flat", n_rooms: int | None = None, size: in
     if not (0.01 <= resolution <= 0.2):
         raise DatasetError(f"resolution {resolution} m per cell is outside 0.01 .. 0.2")
     if not door_m >= MIN_DOOR_M:
-        raise DatasetError(f"door width {door_m} m is below {MIN_DOOR_M} m: an inflated robot "
-                           f"(inscribed radius 0.22 m) would not pass")
+        raise DatasetError(
+            f"door width {door_m} m is below {MIN_DOOR_M} m: an inflated robot (inscribed radius 0.22 m) would not pass"
+        )
     if wall_cells is not None and wall_cells not in (1, 2):
         raise DatasetError(f"wall_cells must be 1 or 2, got {wall_cells}")
     n = DEFAULT_ROOMS[kind] if n_rooms is None else n_rooms
@@ -117,23 +125,27 @@ def generate_floor_plan(kind: str = "flat", n_rooms: int | None = None, size: in
     shape = _shape(kind, int(n), size, resolution)
     door = math.ceil(door_m / resolution - 1e-9)
     jamb = max(1, math.ceil(JAMB_M / resolution - 1e-9))
-    geo = Geometry(wall=int(wall_cells or rng.integers(1, 3)), door=door, jamb=jamb,
-                   min_side=max(math.ceil(2.0 / resolution), door + 2 * jamb + 2), res=resolution)
+    geo = Geometry(
+        wall=int(wall_cells or rng.integers(1, 3)),
+        door=door,
+        jamb=jamb,
+        min_side=max(math.ceil(2.0 / resolution), door + 2 * jamb + 2),
+        res=resolution,
+    )
     margin = max(1, round(0.02 * min(shape))) + int(rng.integers(0, 3))
     inner = (margin + geo.wall, margin + geo.wall, shape[0] - margin - geo.wall, shape[1] - margin - geo.wall)
     if min(inner[2] - inner[0], inner[3] - inner[1]) < geo.min_side:
         raise DatasetError(f"size {shape} cells is too small for any {kind} at {resolution} m per cell")
     boxes, names, doors = LAYOUTS[kind](inner, int(n), geo, rng)
     data = _rasterise(shape, boxes, doors, geo.wall)
-    rooms = [Room(name, i, box) for i, (name, box) in enumerate(zip(names, boxes))]
+    rooms = [Room(name, i, box) for i, (name, box) in enumerate(zip(names, boxes, strict=False))]
     adjacency = np.eye(len(rooms), dtype=np.int64)
     for d in doors:
         a, b = d.rooms
         adjacency[a, b] = adjacency[b, a] = 1
         rooms[a].doors.append(d.cell)
         rooms[b].doors.append(d.cell)
-    occupancy = OccupancyMap(data=data, resolution=float(resolution),
-                             origin=(float(origin[0]), float(origin[1]), 0.0))
+    occupancy = OccupancyMap(data=data, resolution=float(resolution), origin=(float(origin[0]), float(origin[1]), 0.0))
     return FloorPlan(map=occupancy, rooms=rooms, adjacency=adjacency, kind=kind, doors=doors, wall_cells=geo.wall)
 
 
@@ -157,7 +169,7 @@ def _rasterise(shape: tuple[int, int], boxes: list[Box], doors: list[Door], wall
     """Unknown outside; each room's box plus its wall ring occupied; then the boxes and doors carved free."""
     data = np.full(shape, UNKNOWN, dtype=np.int8)
     for r0, c0, r1, c1 in boxes:
-        data[r0 - wall:r1 + wall, c0 - wall:c1 + wall] = OCCUPIED
+        data[r0 - wall : r1 + wall, c0 - wall : c1 + wall] = OCCUPIED
     for r0, c0, r1, c1 in boxes:
         data[r0:r1, c0:c1] = FREE
     for d in doors:

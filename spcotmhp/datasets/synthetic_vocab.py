@@ -11,15 +11,51 @@ CORRIDOR = "corridor"
 LIVING = "living"
 
 #: Names given in this order of priority to the rooms of a flat (after the living room), then FILLER_NAMES.
-FLAT_NAMES = ["kitchen", "bedroom", "bath", "toilet", "bedroom", "entrance", "dining", "washroom", "storeroom",
-              "bedroom"]
+FLAT_NAMES = [
+    "kitchen",
+    "bedroom",
+    "bath",
+    "toilet",
+    "bedroom",
+    "entrance",
+    "dining",
+    "washroom",
+    "storeroom",
+    "bedroom",
+]
 #: The same for a house (which has an entrance and corridors of its own).
-HOUSE_NAMES = ["kitchen", "bedroom", "bath", "toilet", "bedroom", "dining", "washroom", "bedroom", "storeroom"]
+HOUSE_NAMES = [
+    "kitchen",
+    "bedroom",
+    "bath",
+    "toilet",
+    "bedroom",
+    "dining",
+    "washroom",
+    "bedroom",
+    "storeroom",
+]
 #: Special rooms of an office (about a third of its rooms), the others from FILLER_NAMES["office"].
-OFFICE_SPECIAL = ["meeting", "printer", "kitchen", "toilet", "lab", "storeroom", "meeting", "lounge", "library",
-                  "server", "toilet", "lab", "reception"]
-FILLER_NAMES = {"flat": ["bedroom", "storeroom"], "house": ["bedroom", "storeroom"],
-                "office": ["office", "office", "office", "meeting", "lab"]}
+OFFICE_SPECIAL = [
+    "meeting",
+    "printer",
+    "kitchen",
+    "toilet",
+    "lab",
+    "storeroom",
+    "meeting",
+    "lounge",
+    "library",
+    "server",
+    "toilet",
+    "lab",
+    "reception",
+]
+FILLER_NAMES = {
+    "flat": ["bedroom", "storeroom"],
+    "house": ["bedroom", "storeroom"],
+    "office": ["office", "office", "office", "meeting", "lab"],
+}
 #: Rooms people walk through first get these names (a kitchen before a toilet); the rest stay at the ends.
 THROUGH_ORDER = ["kitchen", "dining", "entrance", "washroom", "bedroom", "storeroom", "bath", "toilet"]
 

@@ -29,9 +29,16 @@ from spcotmhp.errors import DatasetError
 COORD_DECIMALS = 3  # poses are rounded to the millimetre (so they write to CSV exactly)
 
 
-def teaching_walk(plan: FloorPlan, events_per_room: int = 15, step_m: float = 0.1, word_noise: float = 0.0,
-                  lang: str = "en", seed: int | np.random.Generator = 0, insert_noise: float = 0.0,
-                  clearance_m: float = 0.4) -> Dataset:
+def teaching_walk(
+    plan: FloorPlan,
+    events_per_room: int = 15,
+    step_m: float = 0.1,
+    word_noise: float = 0.0,
+    lang: str = "en",
+    seed: int | np.random.Generator = 0,
+    insert_noise: float = 0.0,
+    clearance_m: float = 0.4,
+) -> Dataset:
     """Walk through every room of ``plan`` and teach each one ``events_per_room`` times.
 
     Args:
@@ -51,8 +58,7 @@ def teaching_walk(plan: FloorPlan, events_per_room: int = 15, step_m: float = 0.
     """
     if lang != "en":
         raise DatasetError(f"synthetic teaching utterances exist in English only; got lang={lang!r}, use 'en'")
-    if isinstance(events_per_room, bool) or not isinstance(events_per_room, (int, np.integer)) \
-            or events_per_room < 1:
+    if isinstance(events_per_room, bool) or not isinstance(events_per_room, (int, np.integer)) or events_per_room < 1:
         raise DatasetError(f"events_per_room must be an integer >= 1, got {events_per_room!r}")
     if not 0 < step_m <= 0.5:
         raise DatasetError(f"step_m must be in (0, 0.5] metres, got {step_m}")
@@ -61,8 +67,9 @@ def teaching_walk(plan: FloorPlan, events_per_room: int = 15, step_m: float = 0.
             raise DatasetError(f"{label} is a probability in [0, 1], got {p}")
     narrowest = min((d.hi - d.lo for d in plan.doors if d.w1 > d.w0), default=math.inf) * plan.map.resolution
     if not 0.25 <= clearance_m <= narrowest / 2:
-        raise DatasetError(f"clearance_m must be in [0.25, {narrowest / 2:g}] m (half the narrowest door), "
-                           f"got {clearance_m}")
+        raise DatasetError(
+            f"clearance_m must be in [0.25, {narrowest / 2:g}] m (half the narrowest door), got {clearance_m}"
+        )
     rng = seeded_rng(seed)
     walker = _Walker(plan, clearance_m / plan.map.resolution, int(events_per_room), rng)
     walker.run()
@@ -84,8 +91,7 @@ def teaching_walk(plan: FloorPlan, events_per_room: int = 15, step_m: float = 0.
     )
 
 
-def utterances(names: list[str], word_noise: float, insert_noise: float,
-               rng: np.random.Generator) -> list[list[str]]:
+def utterances(names: list[str], word_noise: float, insert_noise: float, rng: np.random.Generator) -> list[list[str]]:
     """One templated utterance (token list) per place name, with substitution and insertion noise.
 
     All random numbers are drawn for every utterance whatever the noise levels, so one seed gives the same
@@ -139,8 +145,11 @@ class _Walker:
                 missing = sorted(set(range(len(self.plan.rooms))) - seen)
                 raise DatasetError(f"rooms {missing} cannot be reached through the plan's doors")
             room, came_by = stack[-1]
-            options = [(float(np.hypot(*(self._approach(d, room) - self.points[-1]))), k, nb, d)
-                       for k, (nb, d) in enumerate(self.links[room]) if nb not in seen]
+            options = [
+                (float(np.hypot(*(self._approach(d, room) - self.points[-1]))), k, nb, d)
+                for k, (nb, d) in enumerate(self.links[room])
+                if nb not in seen
+            ]
             if options:
                 _, _, nb, door = min(options, key=lambda o: (o[0], o[1]))
                 self._cross(room, nb, door)
@@ -198,13 +207,16 @@ def _safe_rect(plan: FloorPlan, room: int, clearance: float) -> tuple[np.ndarray
     lo = np.array([r0 + shrink[0], c0 + shrink[1]])
     hi = np.array([r1 - shrink[2], c1 - shrink[3]])
     if np.any(hi < lo):
-        raise DatasetError(f"room {room} ({plan.rooms[room].name}) is narrower than twice the clearance "
-                           f"{clearance * plan.map.resolution:g} m")
+        raise DatasetError(
+            f"room {room} ({plan.rooms[room].name}) is narrower than twice the clearance "
+            f"{clearance * plan.map.resolution:g} m"
+        )
     return lo, hi
 
 
-def _densify(points: np.ndarray, event_points: list[int], plan: FloorPlan,
-             step_m: float) -> tuple[np.ndarray, np.ndarray]:
+def _densify(
+    points: np.ndarray, event_points: list[int], plan: FloorPlan, step_m: float
+) -> tuple[np.ndarray, np.ndarray]:
     """World poses (x, y) at most ``step_m`` apart along the waypoints, and each event's pose index."""
     res = plan.map.resolution
     gaps = np.hypot(*np.diff(points, axis=0).T) * res

@@ -51,6 +51,7 @@ class Table:
         A tuple in ``required`` means "at least one of these columns"."""
         missing = [c for c in required if not any(a in self.header for a in ((c,) if isinstance(c, str) else c))]
         if missing:
+
             def show(c: str | tuple[str, ...], join: str) -> str:
                 return c if isinstance(c, str) else join.join(c)
 
@@ -106,8 +107,7 @@ def parse_int(text: str, where: str) -> int:
             raise DatasetError(f"{where} is {excerpt(text.strip())}, not an integer")
         number = int(value)
     if abs(number) > MAX_INT:
-        raise DatasetError(f"{where} is {excerpt(text.strip())}, out of range (integers must lie within "
-                           f"+-2**53)")
+        raise DatasetError(f"{where} is {excerpt(text.strip())}, out of range (integers must lie within +-2**53)")
     return number
 
 
@@ -151,14 +151,12 @@ def read_table(path: Path, what: str) -> Table:
     header = [h.lower() for h in header]
     dupes = sorted({h for h in header if header.count(h) > 1})
     if dupes:
-        raise DatasetError(f"{path.name} line {records[0][0]}: column(s) {_short(', '.join(dupes))} appear "
-                           "twice")
+        raise DatasetError(f"{path.name} line {records[0][0]}: column(s) {_short(', '.join(dupes))} appear twice")
     table = Table(path, header, [], [])
     for line, fields in records[1:]:
         if len(fields) != len(header):
             raise DatasetError(
-                f"{path.name} row {line}: {len(fields)} fields, expected {len(header)} "
-                f"({_short(','.join(header))})"
+                f"{path.name} row {line}: {len(fields)} fields, expected {len(header)} ({_short(','.join(header))})"
             )
         table.rows.append(fields)
         table.lines.append(line)
@@ -192,6 +190,5 @@ def read_matrix(path: Path, allow_header: bool = False) -> tuple[np.ndarray, lis
                 parse_float(text, f"{path.name} row {line} column {j + 1}")
         if not np.isfinite(out[i]).all():
             j = int(np.flatnonzero(~np.isfinite(out[i]))[0])
-            raise DatasetError(f"{path.name} row {line} column {j + 1} is {excerpt(fields[j])}, not a finite "
-                               "number")
+            raise DatasetError(f"{path.name} row {line} column {j + 1} is {excerpt(fields[j])}, not a finite number")
     return out, [line for line, _ in records]

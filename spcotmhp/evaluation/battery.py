@@ -88,7 +88,7 @@ def evaluate_home(dataset: Dataset, params: str, seed: int = 0, max_advanced: in
 
 
 def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
-    """"go to the corridor" from every place that is not a corridor: every place whose name holds the word is an
+    """ "go to the corridor" from every place that is not a corridor: every place whose name holds the word is an
     instance, the closest by the robot's geodesic is the one N-SPL asks for."""
     data, places = ctx.dataset, ctx.places
     goals = tuple(p.index for p in places if SHARED_WORD in p.name.split())
@@ -104,14 +104,30 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
         if not np.isfinite(lengths).any():
             continue
         x, y = data.map.cell_to_world(np.array(p.cell))
-        out.append(Task(data.name, "basic", first_index + len(out), p.index, goals[int(np.argmin(lengths))], None,
-                        p.cell, (float(x), float(y)), SHARED_WORD, None, goals, (), int(np.argmin(lengths)),
-                        float(lengths.min())))
+        out.append(
+            Task(
+                data.name,
+                "basic",
+                first_index + len(out),
+                p.index,
+                goals[int(np.argmin(lengths))],
+                None,
+                p.cell,
+                (float(x), float(y)),
+                SHARED_WORD,
+                None,
+                goals,
+                (),
+                int(np.argmin(lengths)),
+                float(lengths.min()),
+            )
+        )
     return out
 
 
 def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> tuple[Outcome, float]:
     """Plan one task, score it and update the counts."""
+
     def query(words: list[str]) -> PlaceQuery:
         return PlaceQuery({w: 1.0 for w in words}, " ".join(words))
 
@@ -133,13 +149,20 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
     cells = plan.cells
     start_cost = costs[cells[0, 0], cells[0, 1]]
     body = cells
-    if start_cost >= INSCRIBED_INFLATED_OBSTACLE:      # the escape from the start is allowed
+    if start_cost >= INSCRIBED_INFLATED_OBSTACLE:  # the escape from the start is allowed
         safe = np.flatnonzero(costs[cells[:, 0], cells[:, 1]] < INSCRIBED_INFLATED_OBSTACLE)
-        body = cells[safe[0]:] if len(safe) else cells[:0]
+        body = cells[safe[0] :] if len(safe) else cells[:0]
     if (costs[body[:, 0], body[:, 1]] >= INSCRIBED_INFLATED_OBSTACLE).any():
         out.unsafe += 1
-    outcome = score_path(plan.path, goal_boxes, task.closest_goal, task.l, elapsed, wp_boxes,
-                         step=ctx.dataset.map.resolution / 2)
+    outcome = score_path(
+        plan.path,
+        goal_boxes,
+        task.closest_goal,
+        task.l,
+        elapsed,
+        wp_boxes,
+        step=ctx.dataset.map.resolution / 2,
+    )
     if len(task.goal_places) > 1 and task.kind == "basic" and outcome.success:
         out.repeated += 1
         out.closest += int(_is_closest(ctx, task, plan.path[-1]))
@@ -163,9 +186,13 @@ def _one(job: tuple[int | Dataset, str, int | None]) -> HomeBattery:
     return evaluate_home(battery_home(home), params, home, max_advanced)
 
 
-def run_battery(homes: Sequence[int | Dataset], params: Sequence[str] = ("supervised", "learned"),
-                max_advanced: int | None = 60, workers: int = 1,
-                advance: Callable[[str], None] | None = None) -> list[HomeBattery]:
+def run_battery(
+    homes: Sequence[int | Dataset],
+    params: Sequence[str] = ("supervised", "learned"),
+    max_advanced: int | None = 60,
+    workers: int = 1,
+    advance: Callable[[str], None] | None = None,
+) -> list[HomeBattery]:
     """The battery over ``homes`` (seeds of :func:`battery_home`, or datasets such as the bundled homes) and each
     kind of parameters, on ``workers`` processes; results in (home, params) order whatever the scheduling."""
     jobs = [(h if isinstance(h, Dataset) else int(h), p, max_advanced) for h in homes for p in params]
@@ -193,25 +220,35 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
     for p in dict.fromkeys(r.params for r in results):
         rows = [r for r in results if r.params == p]
         repeated = sum(r.repeated for r in rows)
-        out[p] = {"homes": len(rows), "tasks": sum(r.tasks for r in rows),
-                  "refused": sum(r.refused for r in rows), "unsafe": sum(r.unsafe for r in rows),
-                  "closest_rate": sum(r.closest for r in rows) / repeated if repeated else float("nan"),
-                  "repeated": repeated,
-                  "spl_mean": float(np.mean([r.spl for r in rows])),
-                  "n_spl_mean": float(np.mean([r.n_spl for r in rows])),
-                  "wn_spl_mean": float(np.mean([r.wn_spl for r in rows])),
-                  "wn_spl_min": float(np.min([r.wn_spl for r in rows])),
-                  "time_median_ms": float(np.median([r.time_median_ms for r in rows]))}
+        out[p] = {
+            "homes": len(rows),
+            "tasks": sum(r.tasks for r in rows),
+            "refused": sum(r.refused for r in rows),
+            "unsafe": sum(r.unsafe for r in rows),
+            "closest_rate": sum(r.closest for r in rows) / repeated if repeated else float("nan"),
+            "repeated": repeated,
+            "spl_mean": float(np.mean([r.spl for r in rows])),
+            "n_spl_mean": float(np.mean([r.n_spl for r in rows])),
+            "wn_spl_mean": float(np.mean([r.wn_spl for r in rows])),
+            "wn_spl_min": float(np.min([r.wn_spl for r in rows])),
+            "time_median_ms": float(np.median([r.time_median_ms for r in rows])),
+        }
     return out
 
 
 def markdown(results: Sequence[HomeBattery]) -> str:
     """The summary as a markdown table (one row per kind of parameters)."""
-    rows = [("| parameters | homes | tasks | refused with a free path | plans touching walls | closest instance "
-            "| basic SPL | basic N-SPL | advanced WN-SPL mean (min) | online median |"),
-            "|---|---|---|---|---|---|---|---|---|---|"]
+    rows = [
+        (
+            "| parameters | homes | tasks | refused with a free path | plans touching walls | closest instance "
+            "| basic SPL | basic N-SPL | advanced WN-SPL mean (min) | online median |"
+        ),
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for p, s in summary(results).items():
-        rows.append(f"| {p} | {s['homes']} | {s['tasks']} | {s['refused']} | {s['unsafe']} | "
-                    f"{s['closest_rate']:.1%} of {s['repeated']} | {s['spl_mean']:.3f} | {s['n_spl_mean']:.3f} | "
-                    f"{s['wn_spl_mean']:.3f} ({s['wn_spl_min']:.3f}) | {s['time_median_ms']:.2f} ms |")
+        rows.append(
+            f"| {p} | {s['homes']} | {s['tasks']} | {s['refused']} | {s['unsafe']} | "
+            f"{s['closest_rate']:.1%} of {s['repeated']} | {s['spl_mean']:.3f} | {s['n_spl_mean']:.3f} | "
+            f"{s['wn_spl_mean']:.3f} ({s['wn_spl_min']:.3f}) | {s['time_median_ms']:.2f} ms |"
+        )
     return "\n".join(rows)

@@ -27,7 +27,11 @@ from spcotmhp.planning.planner import HierarchicalPlanner
 PARAMS = ("supervised", "learned")
 CONNECTIVITY = ("auto", "hmm", "walk", "map")
 VARIANTS = {  # name: (stage constraint, smoothing)
-    "ours": (True, True), "unsmoothed": (True, False), "nostage": (False, True), "nostage-unsmoothed": (False, False)}
+    "ours": (True, True),
+    "unsmoothed": (True, False),
+    "nostage": (False, True),
+    "nostage-unsmoothed": (False, False),
+}
 
 
 @dataclass
@@ -75,11 +79,14 @@ class HomeContext:
 
     def notes(self) -> dict:
         """What the output reports about this home."""
-        return {"params": self.params, "adjacency": self.adjacency_source,
-                "psi": str(self.model.info.get("psi_from", "given adjacency")),
-                "places": [p.name for p in self.places],
-                "precompute_s": round(float(self.timings.get("graph_s", 0.0)), 4),
-                "fit_s": round(float(self.timings.get("fit_s", 0.0)), 4)}
+        return {
+            "params": self.params,
+            "adjacency": self.adjacency_source,
+            "psi": str(self.model.info.get("psi_from", "given adjacency")),
+            "places": [p.name for p in self.places],
+            "precompute_s": round(float(self.timings.get("graph_s", 0.0)), 4),
+            "fit_s": round(float(self.timings.get("fit_s", 0.0)), 4),
+        }
 
 
 def place_adjacency(dataset: Dataset) -> tuple[np.ndarray, str]:
@@ -94,8 +101,9 @@ def place_adjacency(dataset: Dataset) -> tuple[np.ndarray, str]:
     return np.asarray(map_adjacency(truth_model, dataset.map)), "connectivity from the map (no adjacency.csv)"
 
 
-def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int,
-               connectivity: str = "auto") -> SpatialConceptModel:
+def fit_params(
+    dataset: Dataset, params: str, adjacency: np.ndarray, seed: int, connectivity: str = "auto"
+) -> SpatialConceptModel:
     """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
     unsupervised Gibbs sampling: the learner's default number of runs and selection criterion; ``connectivity``
     is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`) parameters."""
@@ -112,8 +120,9 @@ def fit_params(dataset: Dataset, params: str, adjacency: np.ndarray, seed: int,
     raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
 
 
-def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0,
-                  connectivity: str = "auto") -> HomeContext:
+def build_context(
+    dataset: Dataset, params: str = "supervised", seed: int = 0, connectivity: str = "auto"
+) -> HomeContext:
     """Fit (or learn) the parameters and precompute everything offline for one home."""
     from spcotmhp.baselines.hpp import EDGE_COSTS, HPP
 
@@ -133,12 +142,27 @@ def build_context(dataset: Dataset, params: str = "supervised", seed: int = 0,
     t0 = time.perf_counter()
     planner = HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False)
     timings["graph_s"] = time.perf_counter() - t0
-    planners = {name: planner if name == "ours" else
-                HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False, smooth=smooth,
-                                    stage_constraint=stage)
-                for name, (stage, smooth) in VARIANTS.items()}
+    planners = {
+        name: planner
+        if name == "ours"
+        else HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False, smooth=smooth, stage_constraint=stage)
+        for name, (stage, smooth) in VARIANTS.items()
+    }
     t0 = time.perf_counter()
     hpp = {name: HPP(planner.graph, cost) for name, cost in EDGE_COSTS.items()}
     timings["hpp_s"] = time.perf_counter() - t0
-    return HomeContext(dataset.name, dataset, model, params, costmap, planner, planners, hpp, places, adjacency,
-                       source, dataset.map.cell_centres(), timings)
+    return HomeContext(
+        dataset.name,
+        dataset,
+        model,
+        params,
+        costmap,
+        planner,
+        planners,
+        hpp,
+        places,
+        adjacency,
+        source,
+        dataset.map.cell_centres(),
+        timings,
+    )

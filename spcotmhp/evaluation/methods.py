@@ -4,7 +4,8 @@
 
 Variants that separate the method from its post-processing (Algorithm 1, line 13) and from the stage constraint
 (:data:`~spcotmhp.evaluation.context.VARIANTS`): SpCoTMHP unsmoothed, with the paper's moving average
-(:func:`~spcotmhp.baselines.smoothing.moving_average`), without the stage constraint (Eq. 28 alone); without the stage constraint also unsmoothed or with the moving average; HPP-I/II with SpCoTMHP's own
+(:func:`~spcotmhp.baselines.smoothing.moving_average`), without the stage constraint (Eq. 28 alone); without the
+stage constraint also unsmoothed or with the moving average; HPP-I/II with SpCoTMHP's own
 smoothing.
 
 For advanced tasks, A* and SpCoNavi receive the waypoint and goal words as one bag of words (as in the paper);
@@ -29,8 +30,8 @@ from spcotmhp.baselines.spconavi import astar_approximation, log_weight_map, vit
 from spcotmhp.evaluation.context import HomeContext
 from spcotmhp.evaluation.tasks import Task
 
-SPCONAVI_T = 200   # the paper's SpCoNavi horizon
-SPCONAVI_J = 10    # goal candidates of the A* approximation
+SPCONAVI_T = 200  # the paper's SpCoNavi horizon
+SPCONAVI_J = 10  # goal candidates of the A* approximation
 
 Method = Callable[[HomeContext, Task, np.random.Generator], "np.ndarray | None"]
 
@@ -81,8 +82,15 @@ def _spcotmhp(variant: str, average: bool = False) -> Method:
 
 def astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
     """(A) A* to a goal drawn from p(x | S, Theta), with SpCoTMHP's move model (8-connected)."""
-    cells = astar_to_sampled_goal(ctx.model, ctx.costmap.log_p, ctx.dataset.map, task.start_cell,
-                                  task.all_words, rng, connectivity=ctx.planner.graph.settings.connectivity)
+    cells = astar_to_sampled_goal(
+        ctx.model,
+        ctx.costmap.log_p,
+        ctx.dataset.map,
+        task.start_cell,
+        task.all_words,
+        rng,
+        connectivity=ctx.planner.graph.settings.connectivity,
+    )
     return _world(ctx, cells)
 
 

@@ -146,14 +146,15 @@ def score_path(
         dense = densify(pts, step)
         if start_box is not None:
             left = np.flatnonzero(~start_box.contains(dense))
-            dense = dense[left[0]:] if len(left) else dense[:0]
+            dense = dense[left[0] :] if len(left) else dense[:0]
         w_success = in_any(dense, waypoint_boxes)
     p = path_length(pts)
     return Outcome(success, n_success, w_success, p, float(l), efficiency(p, l), float(time_s), n_via)
 
 
-def off_free_space(path_xy: np.ndarray, free: np.ndarray, cell_of: Callable[[np.ndarray], np.ndarray],
-                   step: float) -> bool:
+def off_free_space(
+    path_xy: np.ndarray, free: np.ndarray, cell_of: Callable[[np.ndarray], np.ndarray], step: float
+) -> bool:
     """Whether some pose of the path (resampled every ``step`` metres, :func:`densify`) lies on a cell that is
     not free (``free``: (H, W) bool; ``cell_of``: metres -> (row, col)), or off the map."""
     cells = cell_of(densify(path_xy, step))
@@ -163,8 +164,7 @@ def off_free_space(path_xy: np.ndarray, free: np.ndarray, cell_of: Callable[[np.
 
 def failed(l: float, time_s: float, advanced: bool, via: bool = False) -> Outcome:
     """The outcome of a method that returned no path (every success is 0)."""
-    return Outcome(False, False, False if advanced else None, 0.0, float(l), 0.0, float(time_s),
-                   False if via else None)
+    return Outcome(False, False, False if advanced else None, 0.0, float(l), 0.0, float(time_s), False if via else None)
 
 
 def summarise(outcomes: Sequence[Outcome]) -> dict[str, float | int]:

@@ -42,8 +42,14 @@ def connect(address: str | None) -> None:
         raise SpcotmhpError(f"cannot connect to Ray at {address!r}: {exc}") from None
 
 
-def run_ray(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int, address: str | None,
-            advance: Callable[[int], None]) -> list:
+def run_ray(
+    ctx: HomeContext,
+    tasks: Sequence[Task],
+    methods: Sequence[str],
+    seed: int,
+    address: str | None,
+    advance: Callable[[int], None],
+) -> list:
     """Evaluate the chunks as Ray tasks; ``advance(n)`` as each chunk of n tasks completes."""
     from spcotmhp.evaluation.runner import chunks
 

@@ -20,13 +20,26 @@ from pathlib import Path
 
 from spcotmhp.evaluation.tables import experiment_markdown, machine
 
-TABLE_METHODS = ("astar", "spconavi-viterbi", "spconavi-astar", "hpp1", "hpp1-smoothed", "hpp2", "hpp2-smoothed",
-                 "spcotmhp-unsmoothed", "spcotmhp-ma", "spcotmhp-nostage", "spcotmhp")
+TABLE_METHODS = (
+    "astar",
+    "spconavi-viterbi",
+    "spconavi-astar",
+    "hpp1",
+    "hpp1-smoothed",
+    "hpp2",
+    "hpp2-smoothed",
+    "spcotmhp-unsmoothed",
+    "spcotmhp-ma",
+    "spcotmhp-nostage",
+    "spcotmhp",
+)
 PSI_METHODS = ("hpp2", "spcotmhp-unsmoothed", "spcotmhp")
-LEARNER = ("10 runs x 100 Gibbs sweeps per seed, the run of highest word-concept mutual information kept; the "
-           "learner's departures from the paper (a shared background word distribution, k-means++ start, "
-           "selection by mutual information; feature weight 1 where there are image features) were chosen by "
-           "measuring NMI/ARI on albert-b")
+LEARNER = (
+    "10 runs x 100 Gibbs sweeps per seed, the run of highest word-concept mutual information kept; the "
+    "learner's departures from the paper (a shared background word distribution, k-means++ start, "
+    "selection by mutual information; feature weight 1 where there are image features) were chosen by "
+    "measuring NMI/ARI on albert-b"
+)
 
 
 @dataclass(frozen=True)
@@ -43,8 +56,15 @@ class Plan:
 
     @classmethod
     def quick(cls, workers: int | None = None) -> Plan:
-        return cls(seeds=2, learned_seeds=2, max_tasks=30, albert_tasks=30, queries=30, scale_queries=5,
-                   workers=workers)
+        return cls(
+            seeds=2,
+            learned_seeds=2,
+            max_tasks=30,
+            albert_tasks=30,
+            queries=30,
+            scale_queries=5,
+            workers=workers,
+        )
 
 
 def table6_section(plan: Plan, say: Callable[[str], None]) -> str:
@@ -60,23 +80,43 @@ def table6_section(plan: Plan, say: Callable[[str], None]) -> str:
         say("Table 6 on albert-b")
         t0 = time.perf_counter()
         res = table6.evaluate_seeds(load_bundled("albert-b", lang="ja"), seeds=plan.seeds)
-        out.append(table6.markdown(res, (
-            f"### Table 6: learning on albert-b\n\nJapanese words + Places365 image features; {LEARNER} (the data "
-            f"of this table). Mean ± sd over seeds 0..{plan.seeds - 1} of the means over each seed's 10 runs; our "
-            f"time is for the 10 runs of one seed after numba compilation, on {machine()} "
-            f"({time.perf_counter() - t0:.0f} s for this table); the paper's is Python on an Intel i7-6850K.")))
+        out.append(
+            table6.markdown(
+                res,
+                (
+                    f"### Table 6: learning on albert-b\n\nJapanese words + Places365 image features; {LEARNER} "
+                    f"(the data "
+                    f"of this table). Mean ± sd over seeds 0..{plan.seeds - 1} of the means over each seed's 10 "
+                    f"runs; our "
+                    f"time is for the 10 runs of one seed after numba compilation, on {machine()} "
+                    f"({time.perf_counter() - t0:.0f} s for this table); the paper's is Python on an Intel i7-6850K."
+                ),
+            )
+        )
         rows = []
         for home in ("3LDK_01", "3LDK_05", "3LDK_06"):
             say(f"Table 6 on {home}")
-            r = table6.evaluate_seeds(load_bundled(home, lang="en"), seeds=plan.seeds,
-                                      methods=("tmhp_replay", "gmm"))
-            rows.append(f"| {home} | " + " | ".join(
-                f"{r[m][k]:.3f} ± {r[m][k + '_sd']:.3f}" for m in ("tmhp_replay", "gmm")
-                for k in ("nmi_c", "nmi_i", "ari_c", "ari_i")) + " |")
-    out += [f"SIGVerse homes, English words only (no image features), the same learner, mean ± sd over {plan.seeds} seeds:",
-            "",
-            ("| home | replay NMI C | replay NMI i | replay ARI C | replay ARI i | GMM NMI C | GMM NMI i | GMM ARI C "
-             "| GMM ARI i |"), "|---|---|---|---|---|---|---|---|---|", *rows, ""]
+            r = table6.evaluate_seeds(load_bundled(home, lang="en"), seeds=plan.seeds, methods=("tmhp_replay", "gmm"))
+            rows.append(
+                f"| {home} | "
+                + " | ".join(
+                    f"{r[m][k]:.3f} ± {r[m][k + '_sd']:.3f}"
+                    for m in ("tmhp_replay", "gmm")
+                    for k in ("nmi_c", "nmi_i", "ari_c", "ari_i")
+                )
+                + " |"
+            )
+    out += [
+        f"SIGVerse homes, English words only (no image features), the same learner, mean ± sd over {plan.seeds} seeds:",
+        "",
+        (
+            "| home | replay NMI C | replay NMI i | replay ARI C | replay ARI i | GMM NMI C | GMM NMI i | GMM ARI C "
+            "| GMM ARI i |"
+        ),
+        "|---|---|---|---|---|---|---|---|---|",
+        *rows,
+        "",
+    ]
     return "\n".join(out)
 
 
@@ -87,17 +127,23 @@ def planning_section(plan: Plan, params: str, say: Callable[[str], None]) -> str
     homes = [load_bundled(n, lang="en") for n in list_bundled() if n.upper().startswith("3LDK")]
     seeds = plan.seeds if params == "supervised" else plan.learned_seeds
     say(f"Tables 4 and 5, {params} parameters")
-    res = [evaluate(homes, kind, TABLE_METHODS, params, 0, plan.workers, plan.max_tasks, seeds=seeds)
-           for kind in ("basic", "advanced")]
+    res = [
+        evaluate(homes, kind, TABLE_METHODS, params, 0, plan.workers, plan.max_tasks, seeds=seeds)
+        for kind in ("basic", "advanced")
+    ]
     if params == "supervised":
-        heading = "Tables 4 and 5, supervised (\"ideal\") parameters, as the paper's Experiment I"
-        about = ("Parameters fitted from the truth labels, psi from each home's hand-made adjacency.csv (as the "
-                 "paper's Experiment I); only the methods that draw at random change with the seed.")
+        heading = 'Tables 4 and 5, supervised ("ideal") parameters, as the paper\'s Experiment I'
+        about = (
+            "Parameters fitted from the truth labels, psi from each home's hand-made adjacency.csv (as the "
+            "paper's Experiment I); only the methods that draw at random change with the seed."
+        )
     else:
         heading = "Tables 4 and 5, learned parameters (fully unsupervised; beyond the paper)"
-        about = (f"Parameters learned from the English words alone ({LEARNER}); no bundled home has a "
-                 "trajectory, so psi comes from the map (places whose territories touch), not from the HMM, whose "
-                 "psi on these homes has 0-2 edges. Each seed learns again.")
+        about = (
+            f"Parameters learned from the English words alone ({LEARNER}); no bundled home has a "
+            "trajectory, so psi comes from the map (places whose territories touch), not from the HMM, whose "
+            "psi on these homes has 0-2 edges. Each seed learns again."
+        )
     return experiment_markdown(*res, heading, about)
 
 
@@ -108,28 +154,51 @@ def psi_section(plan: Plan, say: Callable[[str], None]) -> str:
     from spcotmhp.evaluation.tables import METHOD_LABELS
 
     home = load_bundled("albert-b", lang="ja")
-    lines = ["### Planning on albert-b: psi from the HMM against psi from the map", "",
-             (f"Learned parameters ({LEARNER}), mean ± sd over seeds 0..{plan.learned_seeds - 1}, a seeded subset "
-              f"of {plan.albert_tasks or 'all'} tasks per kind (the same tasks for both psi). albert-b has no "
-              "adjacency.csv: tasks are over the true places with the map's connectivity. Place names are the "
-              "most specific word of each true place."), "",
-             "| psi | Method | basic SPL | basic N-SPL | advanced SPL | advanced WN-SPL | advanced WN-SPL (via) |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "### Planning on albert-b: psi from the HMM against psi from the map",
+        "",
+        (
+            f"Learned parameters ({LEARNER}), mean ± sd over seeds 0..{plan.learned_seeds - 1}, a seeded subset "
+            f"of {plan.albert_tasks or 'all'} tasks per kind (the same tasks for both psi). albert-b has no "
+            "adjacency.csv: tasks are over the true places with the map's connectivity. Place names are the "
+            "most specific word of each true place."
+        ),
+        "",
+        "| psi | Method | basic SPL | basic N-SPL | advanced SPL | advanced WN-SPL | advanced WN-SPL (via) |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for conn, label in (("hmm", "HMM (the walk of teaching events, reverse replay)"), ("map", "the map")):
         say(f"albert-b planning, psi from {conn}")
-        b, a = (evaluate([home], kind, PSI_METHODS, "learned", 0, plan.workers, plan.albert_tasks,
-                         seeds=plan.learned_seeds, connectivity=conn, quiet=False) for kind in ("basic", "advanced"))
+        b, a = (
+            evaluate(
+                [home],
+                kind,
+                PSI_METHODS,
+                "learned",
+                0,
+                plan.workers,
+                plan.albert_tasks,
+                seeds=plan.learned_seeds,
+                connectivity=conn,
+                quiet=False,
+            )
+            for kind in ("basic", "advanced")
+        )
         for m in PSI_METHODS:
-            lines.append(f"| {label} | {METHOD_LABELS[m]} | {pm(b['mean'][m], 'spl')} | {pm(b['mean'][m], 'n_spl')} "
-                         f"| {pm(a['mean'][m], 'spl')} | {pm(a['mean'][m], 'wn_spl')} | "
-                         f"{pm(a['mean'][m], 'wn_spl_via')} |")
+            lines.append(
+                f"| {label} | {METHOD_LABELS[m]} | {pm(b['mean'][m], 'spl')} | {pm(b['mean'][m], 'n_spl')} "
+                f"| {pm(a['mean'][m], 'spl')} | {pm(a['mean'][m], 'wn_spl')} | "
+                f"{pm(a['mean'][m], 'wn_spl_via')} |"
+            )
     return "\n".join(lines) + "\n"
 
 
 def benchmark_section(plan: Plan, say: Callable[[str], None]) -> str:
     root = Path(__file__).resolve().parents[2] / "benchmarks"
-    runs = [("Planning speed", "planning.py", ["--queries", str(plan.queries)]),
-            ("Scale", "scale.py", ["--queries", str(plan.scale_queries)])]
+    runs = [
+        ("Planning speed", "planning.py", ["--queries", str(plan.queries)]),
+        ("Scale", "scale.py", ["--queries", str(plan.scale_queries)]),
+    ]
     out = []
     for title, script, args in runs:
         path = root / script
@@ -151,17 +220,22 @@ def reproduce(plan: Plan, say: Callable[[str], None] = lambda _: None) -> str:
 
     from spcotmhp.datasets import DatasetWarning
 
-    with warnings.catch_warnings():      # the homes' known teaching points in walls: check-dataset lists them
+    with warnings.catch_warnings():  # the homes' known teaching points in walls: check-dataset lists them
         warnings.simplefilter("ignore", DatasetWarning)
         return _reproduce(plan, say)
 
 
 def _reproduce(plan: Plan, say: Callable[[str], None]) -> str:
     t0 = time.perf_counter()
-    parts = ["## Results reproduced by `spcotmhp reproduce`" + (" --quick" if plan == Plan.quick(plan.workers)
-                                                               else ""), "",
-             table6_section(plan, say), planning_section(plan, "supervised", say),
-             planning_section(plan, "learned", say), psi_section(plan, say), benchmark_section(plan, say)]
+    parts = [
+        "## Results reproduced by `spcotmhp reproduce`" + (" --quick" if plan == Plan.quick(plan.workers) else ""),
+        "",
+        table6_section(plan, say),
+        planning_section(plan, "supervised", say),
+        planning_section(plan, "learned", say),
+        psi_section(plan, say),
+        benchmark_section(plan, say),
+    ]
     total = time.perf_counter() - t0
     parts.append(f"Total run time of `spcotmhp reproduce`: {total / 60:.1f} min on {machine()}.")
     return "\n".join(parts) + "\n"

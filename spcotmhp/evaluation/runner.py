@@ -99,10 +99,17 @@ def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[st
                 outcome = failed(task.l, elapsed, advanced, advanced)
                 error = error or "no path"
             else:
-                outcome = score_path(path, goal_boxes, task.closest_goal, task.l, elapsed, wp_boxes,
-                                     step=ctx.dataset.map.resolution / 2,
-                                     closest_goal_via=task.closest_goal_via if advanced else None,
-                                     start_box=start_box)
+                outcome = score_path(
+                    path,
+                    goal_boxes,
+                    task.closest_goal,
+                    task.l,
+                    elapsed,
+                    wp_boxes,
+                    step=ctx.dataset.map.resolution / 2,
+                    closest_goal_via=task.closest_goal_via if advanced else None,
+                    start_box=start_box,
+                )
                 outcome = replace(outcome, collides=off_free_space(path, free, occ.world_to_cell, occ.resolution / 4))
             out.append(TaskRecord(task.index, method, outcome, error, task.start_in_waypoint))
     return out
@@ -124,11 +131,17 @@ def _pool_chunk(tasks: Sequence[Task], methods: Sequence[str], seed: int) -> lis
 
 
 def chunks(tasks: Sequence[Task], size: int = CHUNK) -> list[list[Task]]:
-    return [list(tasks[i:i + size]) for i in range(0, len(tasks), size)]
+    return [list(tasks[i : i + size]) for i in range(0, len(tasks), size)]
 
 
-def run_local(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int, workers: int,
-              advance: Callable[[int], None]) -> list[TaskRecord]:
+def run_local(
+    ctx: HomeContext,
+    tasks: Sequence[Task],
+    methods: Sequence[str],
+    seed: int,
+    workers: int,
+    advance: Callable[[int], None],
+) -> list[TaskRecord]:
     """Evaluate on ``workers`` processes (in this process when 1); ``advance(n)`` after every chunk of n tasks."""
     parts = chunks(tasks)
     if not parts:
@@ -144,8 +157,12 @@ def run_local(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], s
     # fork where the platform has it: workers inherit the loaded modules and compiled kernels (no re-import,
     # nothing read from disk again); spawn elsewhere. The kernels run no threads of their own.
     mp = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
-    with ProcessPoolExecutor(max_workers=min(workers, len(parts)), mp_context=mp,
-                             initializer=_init_worker, initargs=(ctx, parts[0][0], list(methods))) as pool:
+    with ProcessPoolExecutor(
+        max_workers=min(workers, len(parts)),
+        mp_context=mp,
+        initializer=_init_worker,
+        initargs=(ctx, parts[0][0], list(methods)),
+    ) as pool:
         futures = {pool.submit(_pool_chunk, part, list(methods), seed): len(part) for part in parts}
         for fut in as_completed(futures):
             out.extend(fut.result())
@@ -169,20 +186,33 @@ def check_methods(methods: Iterable[str]) -> list[str]:
     names = [m.strip() for m in methods if m.strip()]
     bad = [m for m in names if m not in METHODS]
     if bad or not names:
-        raise SpcotmhpError(f"unknown method(s) {', '.join(bad) or '(none given)'}; "
-                            f"accepted: {', '.join(METHODS)}")
+        raise SpcotmhpError(f"unknown method(s) {', '.join(bad) or '(none given)'}; accepted: {', '.join(METHODS)}")
     return list(dict.fromkeys(names))
 
 
 def progress_bar(quiet: bool = False) -> Progress:
     """A rich progress bar on stderr."""
-    return Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
-                    TimeElapsedColumn(), console=Console(stderr=True), disable=quiet, transient=False)
+    return Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        disable=quiet,
+        transient=False,
+    )
 
 
-def evaluate_home(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int = 0,
-                  workers: int | None = None, backend: str = "local", ray_address: str | None = None,
-                  progress: Progress | None = None) -> HomeResult:
+def evaluate_home(
+    ctx: HomeContext,
+    tasks: Sequence[Task],
+    methods: Sequence[str],
+    seed: int = 0,
+    workers: int | None = None,
+    backend: str = "local",
+    ray_address: str | None = None,
+    progress: Progress | None = None,
+) -> HomeResult:
     """All methods on the given tasks of one home."""
     methods = check_methods(methods)
     workers = default_workers() if workers is None else workers
@@ -210,10 +240,20 @@ def overall(results: Sequence[HomeResult], apart: bool = False) -> dict[str, dic
     return summarise_records((r for res in results for r in res.records), apart)
 
 
-def evaluate(datasets: Sequence, kind: str, methods: Sequence[str], params: str = "supervised", seed: int = 0,
-             workers: int | None = None, max_tasks: int | None = None, backend: str = "local",
-             ray_address: str | None = None, quiet: bool = False, seeds: int = 1,
-             connectivity: str = "auto") -> dict:
+def evaluate(
+    datasets: Sequence,
+    kind: str,
+    methods: Sequence[str],
+    params: str = "supervised",
+    seed: int = 0,
+    workers: int | None = None,
+    max_tasks: int | None = None,
+    backend: str = "local",
+    ray_address: str | None = None,
+    quiet: bool = False,
+    seeds: int = 1,
+    connectivity: str = "auto",
+) -> dict:
     """Evaluate methods on the tasks of several homes over ``seeds`` seeds (seed, seed + 1, ...); the JSON-ready
     result ``{task, params, seed, seeds, connectivity, homes: {name: {method: metrics}}, mean: {method: metrics},
     start_in_waypoint: {method: metrics}, notes: {name: {...}}, moves: {method: move model}, time_s}``: every
@@ -236,16 +276,24 @@ def evaluate(datasets: Sequence, kind: str, methods: Sequence[str], params: str 
                 ctx = build_context(ds, params, seed + k, connectivity)
                 home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
                 tasks = subset(home_tasks.tasks, max_tasks, seed)
-                note = notes.setdefault(ds.name, {
-                    **ctx.notes(), "psi": [], "n_tasks_all": len(home_tasks.tasks), "dropped": home_tasks.dropped,
-                    "zero_length": len(home_tasks.zero_length),
-                    "start_in_waypoint": sum(t.start_in_waypoint for t in tasks), "no_path": {}})
+                note = notes.setdefault(
+                    ds.name,
+                    {
+                        **ctx.notes(),
+                        "psi": [],
+                        "n_tasks_all": len(home_tasks.tasks),
+                        "dropped": home_tasks.dropped,
+                        "zero_length": len(home_tasks.zero_length),
+                        "start_in_waypoint": sum(t.start_in_waypoint for t in tasks),
+                        "no_path": {},
+                    },
+                )
                 note["psi"].append(ctx.notes()["psi"])
                 if not tasks:
                     continue
                 again = [m for m in methods if k == 0 or params != "supervised" or m in RANDOM]
                 res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
-                if len(again) < len(methods):   # supervised: the methods that draw nothing gave this already
+                if len(again) < len(methods):  # supervised: the methods that draw nothing gave this already
                     res.records += [r for r in first[ds.name].records if r.method not in again]
                 first.setdefault(ds.name, res)
                 for r in res.records:
@@ -258,14 +306,23 @@ def evaluate(datasets: Sequence, kind: str, methods: Sequence[str], params: str 
     def ordered(d: dict) -> dict:
         return dict(sorted(d.items(), key=lambda kv: order[kv[0]]))
 
-    homes = {name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
-             for name in first}
+    homes = {
+        name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
+        for name in first
+    }
     apart = [overall(rs, apart=True) for rs in per_seed if rs]
     for note in notes.values():
         note["psi"] = sorted(set(note["psi"]))
-    return {"task": kind, "params": params, "seed": seed, "seeds": seeds, "connectivity": connectivity,
-            "homes": homes,
-            "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
-            "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
-            "notes": notes, "moves": {m: MOVE_MODELS[m] for m in methods},
-            "time_s": time.perf_counter() - t_start}
+    return {
+        "task": kind,
+        "params": params,
+        "seed": seed,
+        "seeds": seeds,
+        "connectivity": connectivity,
+        "homes": homes,
+        "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
+        "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
+        "notes": notes,
+        "moves": {m: MOVE_MODELS[m] for m in methods},
+        "time_s": time.perf_counter() - t_start,
+    }

@@ -74,12 +74,16 @@ def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: st
         raise ValueError(f"kind must be 'basic' or 'advanced', got {kind!r}")
     cols = COLUMNS[kind]
     via = VIA_COLUMNS if kind == "advanced" and any("n_spl_via" in m for m in ours.values()) else []
-    head = (["Method", "Source"] + [c for _, c in cols + via]
-            + ["Success", "Collides", "Time (median / p95)", "Tasks"])
-    lines = [f"### {title or TITLES[kind]}", "", "| " + " | ".join(head) + " |",
-             "|" + "|".join(["---"] * 2 + ["---:"] * (len(head) - 2)) + "|"]
-    order = [m for m in METHOD_LABELS if m in ours or (m in PAPER[kind] and not any(
-        PAPER_ROW.get(o) == m for o in ours))]
+    head = ["Method", "Source"] + [c for _, c in cols + via] + ["Success", "Collides", "Time (median / p95)", "Tasks"]
+    lines = [
+        f"### {title or TITLES[kind]}",
+        "",
+        "| " + " | ".join(head) + " |",
+        "|" + "|".join(["---"] * 2 + ["---:"] * (len(head) - 2)) + "|",
+    ]
+    order = [
+        m for m in METHOD_LABELS if m in ours or (m in PAPER[kind] and not any(PAPER_ROW.get(o) == m for o in ours))
+    ]
     order += [m for m in ours if m not in order]
     shown: set[str] = set()
     for method in order:
@@ -88,15 +92,25 @@ def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: st
         if paper is not None and PAPER_ROW.get(method, method) not in shown:
             shown.add(PAPER_ROW.get(method, method))
             name = METHOD_LABELS[PAPER_ROW.get(method, method)].split(" (ours")[0]
-            cells = ([name, "paper"] + [f"{paper[k]:.3f}" for k, _ in cols] + [""] * len(via)
-                     + ["", "", fmt_time(paper["time_s"]), ""])
+            cells = (
+                [name, "paper"]
+                + [f"{paper[k]:.3f}" for k, _ in cols]
+                + [""] * len(via)
+                + ["", "", fmt_time(paper["time_s"]), ""]
+            )
             lines.append("| " + " | ".join(cells) + " |")
         mine = ours.get(method)
         if mine is not None:
-            cells = ([label, "ours"] + [pm(mine, k) if k in mine else "" for k, _ in cols + via]
-                     + [pm(mine, "success"), f"{mine.get('collides', 0.0):.3f}",
-                        f"{fmt_time(mine['time_median_s'])} / {fmt_time(mine['time_p95_s'])}",
-                        str(mine["n_tasks"])])
+            cells = (
+                [label, "ours"]
+                + [pm(mine, k) if k in mine else "" for k, _ in cols + via]
+                + [
+                    pm(mine, "success"),
+                    f"{mine.get('collides', 0.0):.3f}",
+                    f"{fmt_time(mine['time_median_s'])} / {fmt_time(mine['time_p95_s'])}",
+                    str(mine["n_tasks"]),
+                ]
+            )
             lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
@@ -104,12 +118,13 @@ def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: st
 DEPARTURES = (
     "Departures from the paper on in every SpCoTMHP row unless the row says otherwise: the stage constraint "
     "(every stage ends at a place whose p(i|S) is at least 1/4 of the best and whose name carries the words; "
-    "the ratio 4 was chosen by measuring these same homes; \"Eq. 28 alone\" rows drop it), our smoothing "
+    'the ratio 4 was chosen by measuring these same homes; "Eq. 28 alone" rows drop it), our smoothing '
     "(tube re-planning and line-of-sight shortcuts, developed on these same homes; rows with the paper's "
     "moving average or unsmoothed replace it), steps of Eq. 28 between any two candidate points (not only "
-    "between connected places) and w-hat observing optimality at each leg's end. \"+ our smoothing\" HPP rows "
+    'between connected places) and w-hat observing optimality at each leg\'s end. "+ our smoothing" HPP rows '
     "get exactly SpCoTMHP's smoothing. The paper's moving average has no collision check: the Collides column "
-    "counts paths with a pose on an occupied or unknown cell.")
+    "counts paths with a pose on an occupied or unknown cell."
+)
 
 
 def machine() -> str:
@@ -117,8 +132,10 @@ def machine() -> str:
     import os
     import platform
 
-    return (f"{platform.processor() or platform.machine()} with {os.cpu_count()} logical CPUs, Python "
-            f"{platform.python_version()}")
+    return (
+        f"{platform.processor() or platform.machine()} with {os.cpu_count()} logical CPUs, Python "
+        f"{platform.python_version()}"
+    )
 
 
 def psi_sources(result: Mapping) -> str:
@@ -140,32 +157,46 @@ def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: 
     n_adv = next(iter(advanced["mean"].values()), {}).get("n_tasks", 0)
     seeds = basic.get("seeds", 1)
     lines = [
-        f"### {heading}", "",
-        (f"{about} Homes: {homes}: {n_basic} basic and {n_adv} advanced tasks (the paper: five homes, 418 and "
-         f"3526). Left out: {count(basic, 'zero_length')} basic and {count(advanced, 'zero_length')} advanced "
-         f"tasks whose reference length l is 0 (the start is already a goal instance); "
-         f"{count(advanced, 'start_in_waypoint')} advanced tasks whose start lies inside a waypoint-named place "
-         f"are reported apart below. psi: {psi_sources(basic)}. Seeds {basic['seed']}..{basic['seed'] + seeds - 1}"
-         f" ({seeds}): our rows are mean ± sd over the seeds. {DEPARTURES} Times: online planning only "
-         f"(precomputation and numba compilation excluded), median / p95 per task, means over seeds, on "
-         f"{machine()}; both tables took {basic.get('time_s', 0) + advanced.get('time_s', 0):.0f} s. The "
-         f"paper's times are Python on an Intel i7-6850K."),
+        f"### {heading}",
+        "",
+        (
+            f"{about} Homes: {homes}: {n_basic} basic and {n_adv} advanced tasks (the paper: five homes, 418 and "
+            f"3526). Left out: {count(basic, 'zero_length')} basic and {count(advanced, 'zero_length')} advanced "
+            f"tasks whose reference length l is 0 (the start is already a goal instance); "
+            f"{count(advanced, 'start_in_waypoint')} advanced tasks whose start lies inside a waypoint-named place "
+            f"are reported apart below. psi: {psi_sources(basic)}. Seeds {basic['seed']}..{basic['seed'] + seeds - 1}"
+            f" ({seeds}): our rows are mean ± sd over the seeds. {DEPARTURES} Times: online planning only "
+            f"(precomputation and numba compilation excluded), median / p95 per task, means over seeds, on "
+            f"{machine()}; both tables took {basic.get('time_s', 0) + advanced.get('time_s', 0):.0f} s. The "
+            f"paper's times are Python on an Intel i7-6850K."
+        ),
         "",
         markdown_table("basic", basic["mean"], "Table 4: basic task"),
         markdown_table("advanced", advanced["mean"], "Table 5: advanced task"),
     ]
     apart = advanced.get("start_in_waypoint") or {}
     if apart:
-        lines += [markdown_table("advanced", apart, "Table 5, tasks whose start lies inside a waypoint-named place "
-                                                    "(set apart)"), ""]
+        lines += [
+            markdown_table(
+                "advanced", apart, "Table 5, tasks whose start lies inside a waypoint-named place (set apart)"
+            ),
+            "",
+        ]
     lines += ["Per home (SPL / N-SPL basic; WN-SPL advanced; means over seeds):", ""]
     for home in basic["homes"]:
         b, a = basic["homes"][home], advanced["homes"].get(home, {})
-        row = ", ".join(f"{METHOD_LABELS.get(m, m)} {v['spl']:.3f} / {v['n_spl']:.3f}"
-                        + (f" / {a[m]['wn_spl']:.3f}" if m in a else "") for m, v in b.items())
+        row = ", ".join(
+            f"{METHOD_LABELS.get(m, m)} {v['spl']:.3f} / {v['n_spl']:.3f}"
+            + (f" / {a[m]['wn_spl']:.3f}" if m in a else "")
+            for m, v in b.items()
+        )
         lines.append(f"- {home} (adjacency: {basic['notes'].get(home, {}).get('adjacency', '?')}): {row}")
     moves = basic.get("moves") or {}
     if moves:
-        lines += ["", "Moves: " + "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in moves.items())
-                  + ". SPL's reference length l is an 8-connected geodesic."]
+        lines += [
+            "",
+            "Moves: "
+            + "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in moves.items())
+            + ". SPL's reference length l is an 8-connected geodesic.",
+        ]
     return "\n".join(lines) + "\n"

@@ -8,7 +8,8 @@ Per home, over the ground-truth places (truth.csv):
 
 Each place's *position* is the robot cell nearest the mean of its teaching positions, where robot cells are the
 free cells outside the inscribed radius of costmap_2d's default settings (:func:`robot_cells`: a 0.22 m robot
-centred there touches no obstacle); the start of a task is the position of place i. A place's success region is the box of its teaching positions plus 0.1 m
+centred there touches no obstacle); the start of a task is the position of place i. A place's success region is the
+box of its teaching positions plus 0.1 m
 (:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name is an *instance* of that name.
 
 Tasks whose ``l`` is 0 (a basic task from one bedroom to "bedroom": the start is already a goal instance's
@@ -16,7 +17,8 @@ position) are left out and counted (``HomeTasks.zero_length``); tasks whose star
 waypoint-named place are flagged (``Task.start_in_waypoint``) and reported apart by the runner.
 
 The reference length ``l`` of SPL is, as in Anderson et al. (2018), a geodesic to the goal's position (not to the
-edge of its success region): the shortest path over the robot cells (8-connected, steps 1 and sqrt 2 cells, no costs) from
+edge of its success region): the shortest path over the robot cells (8-connected, steps 1 and sqrt 2 cells, no costs)
+from
 the start through the position of a waypoint-named place to the position of a goal-named place, minimised
 jointly over the instances, ``l = min_{w, g} d(start, w) + d(w, g)`` (``min_g d(start, g)`` for basic tasks).
 N-SPL's "closest" instance is, as the paper defines it, the goal instance closest from the initial position,
@@ -132,8 +134,15 @@ def build_places(dataset: Dataset) -> list[Place]:
     for k in range(n):
         pts = dataset.positions[truth == k]
         mean = pts.mean(axis=0)
-        places.append(Place(k, str(names[k]), mean, nearest_free_cell(dataset, mean, robot),
-                            Box.around(pts, REGION_MARGIN_M)))
+        places.append(
+            Place(
+                k,
+                str(names[k]),
+                mean,
+                nearest_free_cell(dataset, mean, robot),
+                Box.around(pts, REGION_MARGIN_M),
+            )
+        )
     return places
 
 
@@ -143,7 +152,7 @@ def names_from_words(tokens: list[list[str]], truth: np.ndarray) -> list[str]:
     total = Counter(w for toks in tokens for w in toks)
     names = []
     for k in range(int(truth.max()) + 1):
-        here = Counter(w for toks, t in zip(tokens, truth) if t == k for w in toks)
+        here = Counter(w for toks, t in zip(tokens, truth, strict=False) if t == k for w in toks)
         if not here:
             names.append(f"place{k}")
             continue
@@ -194,8 +203,7 @@ def make_tasks(
     # geodesic[a][b]: free-space distance between the positions of places a and b
     cells = [p.cell for p in places]
     robot = robot_cells(dataset)
-    geodesic = np.array([geodesic_distance(robot, [c], 8, occ.resolution)[tuple(np.array(cells).T)]
-                         for c in cells])
+    geodesic = np.array([geodesic_distance(robot, [c], 8, occ.resolution)[tuple(np.array(cells).T)] for c in cells])
     by_name: dict[str, list[int]] = {}
     for p in places:
         by_name.setdefault(p.name, []).append(p.index)
@@ -206,8 +214,11 @@ def make_tasks(
             if i == j or adjacency[i, j]:
                 continue
             goals = tuple(by_name[places[j].name])
-            waypoints: list[int | None] = [None] if kind == "basic" else [
-                h for h in range(n) if h not in (i, j) and places[h].name != places[j].name]
+            waypoints: list[int | None] = (
+                [None]
+                if kind == "basic"
+                else [h for h in range(n) if h not in (i, j) and places[h].name != places[j].name]
+            )
             for h in waypoints:
                 wps = () if h is None else tuple(by_name[places[h].name])
                 if wps:  # (waypoint instance, goal instance) -> d(start, w) + d(w, g)
@@ -216,7 +227,9 @@ def make_tasks(
                     via = geodesic[i, list(goals)][None, :]
                 l = float(via.min())
                 if not np.isfinite(l):
-                    label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+                    label = f"start {i} -> {places[j].name} ({j})" + (
+                        "" if h is None else f" via {places[h].name} ({h})"
+                    )
                     out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
                     continue
                 x, y = occ.cell_to_world(np.array(places[i].cell))
@@ -226,10 +239,26 @@ def make_tasks(
                 via_goal = int(np.unravel_index(int(np.argmin(via)), via.shape)[1])
                 closest = int(np.argmin(geodesic[i, list(goals)]))
                 inside = any(places[k].box.contains(np.array([x, y])) for k in wps)
-                out.tasks.append(Task(
-                    dataset.name, kind, len(out.tasks), i, j, h, places[i].cell, (float(x), float(y)),
-                    places[j].name, None if h is None else places[h].name, goals, wps, closest, l, via_goal,
-                    bool(inside)))
+                out.tasks.append(
+                    Task(
+                        dataset.name,
+                        kind,
+                        len(out.tasks),
+                        i,
+                        j,
+                        h,
+                        places[i].cell,
+                        (float(x), float(y)),
+                        places[j].name,
+                        None if h is None else places[h].name,
+                        goals,
+                        wps,
+                        closest,
+                        l,
+                        via_goal,
+                        bool(inside),
+                    )
+                )
     return out
 
 

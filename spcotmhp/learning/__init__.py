@@ -10,19 +10,40 @@ import importlib
 from typing import Any
 
 _EXPORTS = {
-    "Hyperparameters": "model", "SpatialConceptModel": "model",
-    "SpCoTMHP": "gibbs", "make_rng": "gibbs", "TruncationWarning": "gibbs",
-    "MultiRunSelector": "selection", "fit_runs": "selection",
+    "Hyperparameters": "model",
+    "SpatialConceptModel": "model",
+    "SpCoTMHP": "gibbs",
+    "make_rng": "gibbs",
+    "TruncationWarning": "gibbs",
+    "MultiRunSelector": "selection",
+    "fit_runs": "selection",
     "fit_supervised": "supervised",
-    "apply_connectivity": "connectivity", "map_adjacency": "connectivity", "walk_adjacency": "connectivity",
+    "apply_connectivity": "connectivity",
+    "map_adjacency": "connectivity",
+    "walk_adjacency": "connectivity",
     "psi_from_adjacency": "connectivity",
-    "save_model": "io", "load_model": "io", "prepare_model_folder": "io",
+    "save_model": "io",
+    "load_model": "io",
+    "prepare_model_folder": "io",
     "evaluate_learning": "table6",
 }
 __all__ = [
-    "Hyperparameters", "MultiRunSelector", "SpCoTMHP", "SpatialConceptModel", "TruncationWarning",
-    "apply_connectivity", "evaluate_learning", "fit_runs", "fit_supervised", "load_model", "make_rng",
-    "map_adjacency", "prepare_model_folder", "psi_from_adjacency", "save_model", "walk_adjacency",
+    "Hyperparameters",
+    "MultiRunSelector",
+    "SpCoTMHP",
+    "SpatialConceptModel",
+    "TruncationWarning",
+    "apply_connectivity",
+    "evaluate_learning",
+    "fit_runs",
+    "fit_supervised",
+    "load_model",
+    "make_rng",
+    "map_adjacency",
+    "prepare_model_folder",
+    "psi_from_adjacency",
+    "save_model",
+    "walk_adjacency",
 ]
 
 

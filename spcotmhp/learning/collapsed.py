@@ -25,28 +25,40 @@ from scipy.special import gammaln
 
 from spcotmhp.learning.model import Hyperparameters
 
-SWITCH_PRIOR = 1.0   # Beta(1, 1) prior of the concept / background switch (as concepts.py)
+SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch (as concepts.py)
 
 
 class CollapsedState:
     """Counts and events of one learner (K places, L concepts, V words, D feature dimensions or None)."""
 
-    def __init__(self, K: int, L: int, V: int, D: int | None, hyper: Hyperparameters, replay: bool = True,
-                 background: bool = True) -> None:
+    def __init__(
+        self,
+        K: int,
+        L: int,
+        V: int,
+        D: int | None,
+        hyper: Hyperparameters,
+        replay: bool = True,
+        background: bool = True,
+    ) -> None:
         self.K, self.L, self.V, self.D = K, L, V, D
         self.hyper = hyper.resized(L, K)
         self.replay, self.background = replay, background
-        self.log_new_place: float | None = None     # log density of a position under an empty place (None: NIW)
+        self.log_new_place: float | None = None  # log density of a position under an empty place (None: NIW)
         self.n_k, self.sx, self.sxx = np.zeros(K), np.zeros((K, 2)), np.zeros((K, 2, 2))
         self.n_l, self.n_lk = np.zeros(L), np.zeros((L, K))
-        self.W_lv, self.bg_v, self.z_tot = np.zeros((L, V)), np.zeros(V), np.zeros(2)   # z_tot: background, concept
+        self.W_lv, self.bg_v, self.z_tot = (
+            np.zeros((L, V)),
+            np.zeros(V),
+            np.zeros(2),
+        )  # z_tot: background, concept
         self.F_ld = None if D is None else np.zeros((L, D))
-        self.trans = np.zeros((K, K))                    # forward transitions of the event sequence
+        self.trans = np.zeros((K, K))  # forward transitions of the event sequence
         self.X = np.zeros((0, 2))
         self.place = np.zeros(0, dtype=np.int64)
         self.concept = np.zeros(0, dtype=np.int64)
-        self.tokens: list[np.ndarray] = []               # word indices of each event
-        self.z: list[np.ndarray] = []                    # True: concept token, False: background token
+        self.tokens: list[np.ndarray] = []  # word indices of each event
+        self.z: list[np.ndarray] = []  # True: concept token, False: background token
         self.features: list[np.ndarray | None] = []
 
     # ---- sizes ---------------------------------------------------------------------------------------------
@@ -68,8 +80,7 @@ class CollapsedState:
         self.hyper = self.hyper.resized(L, K)
 
     # ---- events --------------------------------------------------------------------------------------------
-    def append(self, x: np.ndarray, tokens: np.ndarray, features: np.ndarray | None, rng: np.random.Generator
-               ) -> int:
+    def append(self, x: np.ndarray, tokens: np.ndarray, features: np.ndarray | None, rng: np.random.Generator) -> int:
         """Add a new event and draw its place, concept and switches; returns its index.
 
         The first draw leaves out the transition factors, and its tokens start as concept tokens. Teaching comes
@@ -84,7 +95,7 @@ class CollapsedState:
         self.place = np.append(self.place, -1)
         self.concept = np.append(self.concept, -1)
         self.tokens.append(np.asarray(tokens, dtype=np.int64))
-        self.z.append(np.ones(len(tokens), dtype=bool))     # concept tokens first; switches resampled after C_e
+        self.z.append(np.ones(len(tokens), dtype=bool))  # concept tokens first; switches resampled after C_e
         self.features.append(features)
         e = self.E - 1
         self.draw(e, rng, transitions=False)
@@ -118,9 +129,9 @@ class CollapsedState:
         if nxt >= 0 and transitions:
             place = place + np.log(R[:, nxt] + h.omega) - np.log(row)
         phi = (self.n_lk + h.gamma) / (self.n_l + self.K * h.gamma)[:, None]
-        place = place - np.log(phi.sum(axis=0))                                       # Eq. 9 rescaling
+        place = place - np.log(phi.sum(axis=0))  # Eq. 9 rescaling
         concept = np.log(self.n_l + h.alpha) + self._log_words(e) + self._log_features(e)
-        joint = np.log(phi.T) + concept[None, :]                                      # (K, L)
+        joint = np.log(phi.T) + concept[None, :]  # (K, L)
         return joint + place[:, None]
 
     def log_predictive(self, x: np.ndarray) -> np.ndarray:
@@ -137,8 +148,13 @@ class CollapsedState:
         det = np.maximum(a * d - b * b, 1e-300)
         dx, dy = x[0] - mn[:, 0], x[1] - mn[:, 1]
         maha = (d * dx * dx - 2.0 * b * dx * dy + a * dy * dy) / det
-        out = (gammaln((dof + 2.0) / 2.0) - gammaln(dof / 2.0) - np.log(dof * np.pi) - 0.5 * np.log(det)
-               - (dof + 2.0) / 2.0 * np.log1p(maha / dof))
+        out = (
+            gammaln((dof + 2.0) / 2.0)
+            - gammaln(dof / 2.0)
+            - np.log(dof * np.pi)
+            - 0.5 * np.log(det)
+            - (dof + 2.0) / 2.0 * np.log1p(maha / dof)
+        )
         if self.log_new_place is not None:
             out[self.n_k <= 0] = self.log_new_place
         return out

@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 
 SMALL_COUNT = 1e-3
-SWITCH_PRIOR = 1.0   # Beta(1, 1) prior of the concept / background switch
+SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch
 
 
 @njit(cache=True)
@@ -80,7 +80,7 @@ def _feature_term(l, e, n_l, chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_v
             lp += x * psi_ld[l, f_idx[p]]
         else:
             lp += _log_rising(chi + F_ld[l, f_idx[p]], x)
-    for g in range(c_val.shape[0]):   # constant columns: F_ld = n_l * value
+    for g in range(c_val.shape[0]):  # constant columns: F_ld = n_l * value
         lp += c_mult[g] * _log_rising(chi + n_l * c_val[g], c_val[g])
     return lp - _log_rising(D * chi + F_l[l], n_e_feat)
 
@@ -92,7 +92,7 @@ def _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z):
     j = 0.0
     for p in range(t_ptr[e], t_ptr[e + 1]):
         if z[p]:
-            rep = 0.0   # earlier concept tokens of the same word in this utterance
+            rep = 0.0  # earlier concept tokens of the same word in this utterance
             for q in range(t_ptr[e], p):
                 if z[q] and t_word[q] == t_word[p]:
                     rep += 1.0
@@ -152,14 +152,45 @@ def _resample_switches(l, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_to
 
 
 @njit(cache=True)
-def _concept_sweep(C, places, order, uniforms, L, K, alpha, gamma, beta, chi,
-                   t_ptr, t_word, z, V, background, bg_v, bg_tot, z_tot,
-                   f_ptr, f_idx, f_cnt, D, c_val, c_mult, n_feat,
-                   n_l, n_lk, W_lv, W_l, F_ld, F_l, psi_ld, use_features):
+def _concept_sweep(
+    C,
+    places,
+    order,
+    uniforms,
+    L,
+    K,
+    alpha,
+    gamma,
+    beta,
+    chi,
+    t_ptr,
+    t_word,
+    z,
+    V,
+    background,
+    bg_v,
+    bg_tot,
+    z_tot,
+    f_ptr,
+    f_idx,
+    f_cnt,
+    D,
+    c_val,
+    c_mult,
+    n_feat,
+    n_l,
+    n_lk,
+    W_lv,
+    W_l,
+    F_ld,
+    F_l,
+    psi_ld,
+    use_features,
+):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
     Every count array is updated in place."""
     logp = np.empty(L)
-    saved = np.empty(f_idx.shape[0])   # psi of the old concept before removal, restored if e stays there
+    saved = np.empty(f_idx.shape[0])  # psi of the old concept before removal, restored if e stays there
     u = 0
     for t in range(order.shape[0]):
         e = order[t]
@@ -176,14 +207,15 @@ def _concept_sweep(C, places, order, uniforms, L, K, alpha, gamma, beta, chi,
         empty_value = 0.0
         empty_done = False
         for l in range(L):
-            if n_l[l] == 0.0 and empty_done:   # empty concepts are exchangeable: one evaluation
+            if n_l[l] == 0.0 and empty_done:  # empty concepts are exchangeable: one evaluation
                 logp[l] = empty_value
                 continue
             lp = log(n_l[l] + alpha) + log(n_lk[l, k] + gamma) - log(n_l[l] + K * gamma)
             lp += _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z)
             if use_features:
-                lp += _feature_term(l, e, n_l[l], chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult,
-                                    n_feat[e])
+                lp += _feature_term(
+                    l, e, n_l[l], chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
+                )
             logp[l] = lp
             if n_l[l] == 0.0:
                 empty_value = lp
@@ -257,8 +289,18 @@ class CollapsedConceptSampler:
         """(V,) counts of the tokens currently explained by the background (z = 0)."""
         return np.bincount(self.t_word[~self.z], minlength=self.V).astype(float)
 
-    def sweep(self, concepts: np.ndarray, places: np.ndarray, L: int, K: int, alpha: float, gamma: float,
-              beta: float, chi: float, rng: np.random.Generator) -> np.ndarray:
+    def sweep(
+        self,
+        concepts: np.ndarray,
+        places: np.ndarray,
+        L: int,
+        K: int,
+        alpha: float,
+        gamma: float,
+        beta: float,
+        chi: float,
+        rng: np.random.Generator,
+    ) -> np.ndarray:
         """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,)."""
         E = len(concepts)
         C = concepts.astype(np.int64).copy()
@@ -276,11 +318,41 @@ class CollapsedConceptSampler:
         psi_ld = _digamma_table(chi + F_ld) if use_features else F_ld
         order = rng.permutation(E).astype(np.int64)
         uniforms = rng.random(E + len(self.t_word))
-        return _concept_sweep(C, places.astype(np.int64), order, uniforms, L, K, alpha, gamma, beta, chi,
-                              self.t_ptr, self.t_word, self.z, float(self.V), self.background,
-                              bg_v, np.array([bg_v.sum()]), z_tot,
-                              self.f_ptr, self.f_idx, self.f_cnt, float(self.D), self.c_val, self.c_mult,
-                              self.n_feat, n_l, n_lk, W_lv, W_lv.sum(axis=1), F_ld, F_l, psi_ld, use_features)
+        return _concept_sweep(
+            C,
+            places.astype(np.int64),
+            order,
+            uniforms,
+            L,
+            K,
+            alpha,
+            gamma,
+            beta,
+            chi,
+            self.t_ptr,
+            self.t_word,
+            self.z,
+            float(self.V),
+            self.background,
+            bg_v,
+            np.array([bg_v.sum()]),
+            z_tot,
+            self.f_ptr,
+            self.f_idx,
+            self.f_cnt,
+            float(self.D),
+            self.c_val,
+            self.c_mult,
+            self.n_feat,
+            n_l,
+            n_lk,
+            W_lv,
+            W_lv.sum(axis=1),
+            F_ld,
+            F_l,
+            psi_ld,
+            use_features,
+        )
 
 
 def _digamma_table(a: np.ndarray) -> np.ndarray:

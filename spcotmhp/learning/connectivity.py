@@ -46,7 +46,7 @@ from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.metric.snap import snap
 
-ADJACENCY_CONCENTRATION = 0.1   # psi[k] = mean of Dir(0.1 + A[k]), the authors' conversion (Experiment I)
+ADJACENCY_CONCENTRATION = 0.1  # psi[k] = mean of Dir(0.1 + A[k]), the authors' conversion (Experiment I)
 RULES = ("territory", "partition", "density")
 SOURCES = ("auto", "hmm", "walk", "map")
 
@@ -58,8 +58,9 @@ def trajectory_places(model: SpatialConceptModel, trajectory: np.ndarray, min_dw
     return hmm_trajectory_places(trajectory, model.mu, model.Sigma, model.log_place_prior(), min_dwell)
 
 
-def walk_adjacency(model: SpatialConceptModel, dataset: Dataset, event_places: np.ndarray | None = None,
-                   min_dwell: int = 3) -> np.ndarray:
+def walk_adjacency(
+    model: SpatialConceptModel, dataset: Dataset, event_places: np.ndarray | None = None, min_dwell: int = 3
+) -> np.ndarray:
     """(K, K) 0/1 adjacency of places visited consecutively: along the dataset's trajectory when it has one,
     else along the teaching events (``event_places``, default each event's most probable place)."""
     if dataset.trajectory is not None:
@@ -76,8 +77,9 @@ def walk_adjacency(model: SpatialConceptModel, dataset: Dataset, event_places: n
     return A
 
 
-def apply_connectivity(model: SpatialConceptModel, dataset: Dataset, how: str = "auto",
-                       event_places: np.ndarray | None = None) -> SpatialConceptModel:
+def apply_connectivity(
+    model: SpatialConceptModel, dataset: Dataset, how: str = "auto", event_places: np.ndarray | None = None
+) -> SpatialConceptModel:
     """Set ``model.psi`` for planning and record the source in ``model.info["psi_from"]``.
 
     "hmm": keep the posterior mean of the learned HMM transitions (the paper); "walk": psi from
@@ -120,8 +122,13 @@ def nearest_free_cells(occ_map: OccupancyMap, xy: np.ndarray) -> np.ndarray:
     return snap(free, occ_map.world_to_cell(np.asarray(xy, dtype=float)))
 
 
-def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = None, rule: str = "territory",
-                  min_run_m: float = 0.3, radius: float = 1.0) -> np.ndarray:
+def map_adjacency(
+    model: SpatialConceptModel,
+    occ_map: OccupancyMap | None = None,
+    rule: str = "territory",
+    min_run_m: float = 0.3,
+    radius: float = 1.0,
+) -> np.ndarray:
     """(K, K) 0/1 adjacency of the model's places from the map's free space (module docstring); the diagonal
     is 1 on active places, rows and columns of inactive places are 0."""
     occ_map = occ_map if occ_map is not None else model.map
@@ -148,7 +155,7 @@ def map_adjacency(model: SpatialConceptModel, occ_map: OccupancyMap | None = Non
     mu, Sigma = model.mu[act], model.Sigma[act]
     log_prior = model.log_place_prior()[act]
     for i in range(len(act) - 1):
-        field, nxt = cost_to_go(unit, cells[i:i + 1])
+        field, nxt = cost_to_go(unit, cells[i : i + 1])
         for j in range(i + 1, len(act)):
             path = path_from_field(field, nxt, cells[j])
             if path is None:

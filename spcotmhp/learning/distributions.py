@@ -99,8 +99,7 @@ class DirichletCategoricals:
         counts = self._check(counts)
         c = self.concentration
         n = counts.sum(axis=1)
-        return float(np.sum(gammaln(self.M * c) - gammaln(self.M * c + n))
-                     + np.sum(gammaln(c + counts) - gammaln(c)))
+        return float(np.sum(gammaln(self.M * c) - gammaln(self.M * c + n)) + np.sum(gammaln(c + counts) - gammaln(c)))
 
 
 # ---- Normal-inverse-Wishart Gaussians ------------------------------------------------------------------------
@@ -114,8 +113,7 @@ class GaussianStats:
     sxx: np.ndarray
 
     @classmethod
-    def from_assignments(cls, X: np.ndarray, z: np.ndarray, K: int, weights: np.ndarray | None = None
-                         ) -> GaussianStats:
+    def from_assignments(cls, X: np.ndarray, z: np.ndarray, K: int, weights: np.ndarray | None = None) -> GaussianStats:
         w = np.ones(len(X)) if weights is None else np.asarray(weights, dtype=float)
         n = np.bincount(z, weights=w, minlength=K).astype(float)
         sx = np.zeros((K, D))
@@ -157,8 +155,12 @@ class NIWGaussians:
         nu_n = self.nu0 + n
         m_n = (self.kappa0 * self.m0 + stats.sx) / kappa_n[:, None]
         # V_n = V0 + sum x x^T + kappa0 m0 m0^T - kappa_n m_n m_n^T
-        V_n = (self.V0 + stats.sxx + self.kappa0 * np.outer(self.m0, self.m0)
-               - kappa_n[:, None, None] * m_n[:, :, None] * m_n[:, None, :])
+        V_n = (
+            self.V0
+            + stats.sxx
+            + self.kappa0 * np.outer(self.m0, self.m0)
+            - kappa_n[:, None, None] * m_n[:, :, None] * m_n[:, None, :]
+        )
         V_n = 0.5 * (V_n + np.swapaxes(V_n, 1, 2))
         return m_n, kappa_n, V_n, nu_n
 
@@ -189,10 +191,14 @@ class NIWGaussians:
         has = n > 0
         _, logdet0 = np.linalg.slogdet(self.V0)
         _, logdet_n = np.linalg.slogdet(V_n[has])
-        out = (-0.5 * n[has] * D * np.log(np.pi)
-               + multigammaln_vec(nu_n[has] / 2.0) - multigammaln(self.nu0 / 2.0, D)
-               + 0.5 * self.nu0 * logdet0 - 0.5 * nu_n[has] * logdet_n
-               + 0.5 * D * (np.log(self.kappa0) - np.log(kappa_n[has])))
+        out = (
+            -0.5 * n[has] * D * np.log(np.pi)
+            + multigammaln_vec(nu_n[has] / 2.0)
+            - multigammaln(self.nu0 / 2.0, D)
+            + 0.5 * self.nu0 * logdet0
+            - 0.5 * nu_n[has] * logdet_n
+            + 0.5 * D * (np.log(self.kappa0) - np.log(kappa_n[has]))
+        )
         return float(out.sum())
 
 

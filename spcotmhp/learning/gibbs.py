@@ -147,12 +147,25 @@ class SpCoTMHP:
     ``fit_time_`` (seconds).
     """
 
-    def __init__(self, L: int = 20, K: int = 20, iterations: int = 100, replay: bool = True,
-                 transitions: str = "hmm", use_trajectory: bool = True, use_features: bool = True,
-                 feature_weight: float | None = 1.0, background_words: bool = True, connectivity: str = "auto",
-                 init: str = "kmeans", trajectory_weight: float = 1.0, min_dwell: int = 3,
-                 hyper: Hyperparameters | None = None, seed: int | np.random.SeedSequence = 0,
-                 run: int | None = None) -> None:
+    def __init__(
+        self,
+        L: int = 20,
+        K: int = 20,
+        iterations: int = 100,
+        replay: bool = True,
+        transitions: str = "hmm",
+        use_trajectory: bool = True,
+        use_features: bool = True,
+        feature_weight: float | None = 1.0,
+        background_words: bool = True,
+        connectivity: str = "auto",
+        init: str = "kmeans",
+        trajectory_weight: float = 1.0,
+        min_dwell: int = 3,
+        hyper: Hyperparameters | None = None,
+        seed: int | np.random.SeedSequence = 0,
+        run: int | None = None,
+    ) -> None:
         self.L = L
         self.K = K
         self.iterations = iterations
@@ -181,8 +194,12 @@ class SpCoTMHP:
         self._check_settings()
         t0 = time.perf_counter()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
-        obs = Observations.from_dataset(dataset, use_features=self.use_features,
-                                        use_trajectory=self.use_trajectory, feature_weight=self.feature_weight)
+        obs = Observations.from_dataset(
+            dataset,
+            use_features=self.use_features,
+            use_trajectory=self.use_trajectory,
+            feature_weight=self.feature_weight,
+        )
         rng = make_rng(self.seed, self.run)
         D = None if obs.features is None else obs.features.shape[1]
         priors = Priors.build(hyper, self.K, self.L, len(obs.vocabulary), D)
@@ -193,30 +210,50 @@ class SpCoTMHP:
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
                 trace.append(log_joint(priors, stats, self._event_transitions(places)))
-            priors.gauss.resample(stats.gauss, rng)                                  # step 1
+            priors.gauss.resample(stats.gauss, rng)  # step 1
             priors.phi.resample(stats.place_given_concept, rng)
-            if self.transitions == "hmm":                                             # steps 2 and 3
-                counts = self._transition_counts(obs, places, priors.gauss.mu, priors.gauss.Sigma,
-                                                 log_place_prior(priors, stats))
+            if self.transitions == "hmm":  # steps 2 and 3
+                counts = self._transition_counts(
+                    obs, places, priors.gauss.mu, priors.gauss.Sigma, log_place_prior(priors, stats)
+                )
                 priors.psi.resample(counts, rng)
-            places = self._sample_places(priors, obs, concepts, rng)                 # step 4
-            concepts = sampler.sweep(concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta,
-                                     hyper.chi, rng)                                 # step 5
+            places = self._sample_places(priors, obs, concepts, rng)  # step 4
+            concepts = sampler.sweep(
+                concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi, rng
+            )  # step 5
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
         self.log_joint_ = log_joint(priors, stats, self._event_transitions(places))
         trace.append(self.log_joint_)
-        info = {"method": "SpCoTMHP" if self.transitions == "hmm" else "SpCoSLAM (GMM)",
-                "dataset": dataset.name, "seed": _seed_repr(self.seed), "run": self.run,
-                "iterations": self.iterations, "reverse_replay": bool(self.replay),
-                "transitions": self.transitions, "background_words": bool(self.background_words),
-                "trajectory": obs.trajectory is not None, "features": obs.features is not None,
-                "feature_weight": self.feature_weight}
+        info = {
+            "method": "SpCoTMHP" if self.transitions == "hmm" else "SpCoSLAM (GMM)",
+            "dataset": dataset.name,
+            "seed": _seed_repr(self.seed),
+            "run": self.run,
+            "iterations": self.iterations,
+            "reverse_replay": bool(self.replay),
+            "transitions": self.transitions,
+            "background_words": bool(self.background_words),
+            "trajectory": obs.trajectory is not None,
+            "features": obs.features is not None,
+            "feature_weight": self.feature_weight,
+        }
         model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper, info)
         model.map = dataset.map
-        model.learner = from_batch(obs, places, concepts, sampler.t_ptr, sampler.t_word, sampler.z, self.K, self.L,
-                                   hyper, self.replay, self.background_words)
+        model.learner = from_batch(
+            obs,
+            places,
+            concepts,
+            sampler.t_ptr,
+            sampler.t_word,
+            sampler.z,
+            self.K,
+            self.L,
+            hyper,
+            self.replay,
+            self.background_words,
+        )
         self.model_ = model
         self.places_ = places
         self.concepts_ = concepts
@@ -224,7 +261,7 @@ class SpCoTMHP:
         self.mutual_information_ = mutual_information(model.pi, model.W)
         model.info.update(log_joint=self.log_joint_, mutual_information=self.mutual_information_)
         self._record_truncation(model)
-        if self.transitions == "hmm":   # psi from counts labelled with the exported means (module docstring)
+        if self.transitions == "hmm":  # psi from counts labelled with the exported means (module docstring)
             counts = self._transition_counts(obs, places, model.mu, model.Sigma, model.log_place_prior())
             model.psi = priors.psi.posterior_mean(counts)
             model.psi_learned = model.psi.copy()
@@ -237,28 +274,34 @@ class SpCoTMHP:
 
     # ---- one sweep ---------------------------------------------------------------------------------------
     def _check_settings(self) -> None:
-        for name, value, allowed in (("transitions", self.transitions, TRANSITIONS),
-                                     ("connectivity", self.connectivity, CONNECTIVITY),
-                                     ("init", self.init, INITS)):
+        for name, value, allowed in (
+            ("transitions", self.transitions, TRANSITIONS),
+            ("connectivity", self.connectivity, CONNECTIVITY),
+            ("init", self.init, INITS),
+        ):
             if value not in allowed:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
         if self.K < 1 or self.L < 1 or self.iterations < 1:
-            raise ModelError(f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, "
-                             f"iterations={self.iterations}")
+            raise ModelError(
+                f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"
+            )
 
-    def _stats(self, obs: Observations, places: np.ndarray, concepts: np.ndarray,
-               sampler: CollapsedConceptSampler) -> SufficientStats:
+    def _stats(
+        self, obs: Observations, places: np.ndarray, concepts: np.ndarray, sampler: CollapsedConceptSampler
+    ) -> SufficientStats:
         if not self.background_words:
             return SufficientStats.from_assignments(obs, places, concepts, self.K, self.L)
-        return SufficientStats.from_assignments(obs, places, concepts, self.K, self.L, sampler.concept_words(),
-                                                sampler.background_words())
+        return SufficientStats.from_assignments(
+            obs, places, concepts, self.K, self.L, sampler.concept_words(), sampler.background_words()
+        )
 
     def _event_transitions(self, places: np.ndarray) -> np.ndarray | None:
         """Forward transition counts of the event sequence (the generative term of psi in the log joint)."""
         return None if self.transitions == "none" else transition_counts(places, self.K, False)
 
-    def _transition_counts(self, obs: Observations, places: np.ndarray, mu: np.ndarray, Sigma: np.ndarray,
-                           log_prior: np.ndarray) -> np.ndarray:
+    def _transition_counts(
+        self, obs: Observations, places: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray
+    ) -> np.ndarray:
         """Counts behind psi: the event sequence (+ reversed), plus the place changes along the trajectory
         labelled with the Gaussians (mu, Sigma) and the place prior ``log_prior`` (module docstring)."""
         counts = transition_counts(places, self.K, self.replay)
@@ -269,20 +312,27 @@ class SpCoTMHP:
 
     def _record_truncation(self, model: SpatialConceptModel) -> None:
         """List the saturated truncations in ``model.info`` and warn about each (TruncationWarning)."""
-        full = [what for what, used, cap in (("places", model.active_places.sum(), self.K),
-                                             ("concepts", model.active_concepts.sum(), self.L)) if used >= cap]
+        full = [
+            what
+            for what, used, cap in (
+                ("places", model.active_places.sum(), self.K),
+                ("concepts", model.active_concepts.sum(), self.L),
+            )
+            if used >= cap
+        ]
         model.info["truncation_saturated"] = full
         for message in truncation_messages(model):
             warnings.warn(message, TruncationWarning, stacklevel=3)
 
-    def _sample_places(self, priors: Priors, obs: Observations, concepts: np.ndarray,
-                       rng: np.random.Generator) -> np.ndarray:
+    def _sample_places(
+        self, priors: Priors, obs: Observations, concepts: np.ndarray, rng: np.random.Generator
+    ) -> np.ndarray:
         """i_{1:E} given C, x and the parameters (Eq. 9; FFBS, or independent draws in GMM mode)."""
         log_phi = priors.phi.log_probs
         log_emit = priors.gauss.log_likelihood(obs.X) + log_phi[concepts]
         if self.transitions == "none":
             return sample_categorical_log(rng, log_emit)
-        log_emit = log_emit - logsumexp(log_phi, axis=0)           # unigram rescaling, Eq. 9
+        log_emit = log_emit - logsumexp(log_phi, axis=0)  # unigram rescaling, Eq. 9
         log_init = np.full(self.K, -np.log(self.K))
         return ffbs(log_emit, priors.psi.log_probs, log_init, rng)
 
@@ -293,13 +343,17 @@ class TruncationWarning(UserWarning):
 
 def truncation_messages(model: SpatialConceptModel) -> list[str]:
     """One sentence per saturated truncation listed in ``model.info["truncation_saturated"]``."""
-    hint = {"places": ("place", "K", model.K, "--max-places", "SpCoTMHP(K=...)"),
-            "concepts": ("concept", "L", model.L, "--max-concepts", "SpCoTMHP(L=...)")}
+    hint = {
+        "places": ("place", "K", model.K, "--max-places", "SpCoTMHP(K=...)"),
+        "concepts": ("concept", "L", model.L, "--max-concepts", "SpCoTMHP(L=...)"),
+    }
     out = []
     for what in model.info.get("truncation_saturated", []):
         noun, symbol, size, option, api = hint[what]
-        out.append(f"all {symbol} = {size} {noun} components hold events (the weak-limit truncation is "
-                   f"saturated, so {what} may have been merged): learn again with a larger {option} ({api})")
+        out.append(
+            f"all {symbol} = {size} {noun} components hold events (the weak-limit truncation is "
+            f"saturated, so {what} may have been merged): learn again with a larger {option} ({api})"
+        )
     return out
 
 

@@ -68,8 +68,7 @@ def _forward_log(log_emit, log_trans, log_init, alpha):
 
 
 @njit(cache=True)
-def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray,
-                uniforms: np.ndarray) -> np.ndarray:
+def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray, uniforms: np.ndarray) -> np.ndarray:
     """Forward filtering, backward sampling.
 
     log_emit (E, K), log_trans (K, K) with log_trans[a, b] = log p(b | a), log_init (K,), uniforms (E,) in [0, 1).
@@ -104,12 +103,14 @@ def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarra
     return states
 
 
-def ffbs(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray,
-         rng: np.random.Generator) -> np.ndarray:
+def ffbs(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """Draw i_{1:E} from the HMM posterior (see ``ffbs_kernel``); seeded through ``rng``."""
-    return ffbs_kernel(np.ascontiguousarray(log_emit, dtype=np.float64),
-                       np.ascontiguousarray(log_trans, dtype=np.float64),
-                       np.ascontiguousarray(log_init, dtype=np.float64), rng.random(log_emit.shape[0]))
+    return ffbs_kernel(
+        np.ascontiguousarray(log_emit, dtype=np.float64),
+        np.ascontiguousarray(log_trans, dtype=np.float64),
+        np.ascontiguousarray(log_init, dtype=np.float64),
+        rng.random(log_emit.shape[0]),
+    )
 
 
 def transition_counts(seq: np.ndarray, K: int, reverse_replay: bool = False) -> np.ndarray:
@@ -146,8 +147,9 @@ def visited_places(log_score: np.ndarray, min_dwell: int) -> np.ndarray:
     return dwell_filtered_sequence(np.argmax(log_score, axis=1), min_dwell)
 
 
-def trajectory_places(trajectory: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray,
-                      min_dwell: int = 3) -> np.ndarray:
+def trajectory_places(
+    trajectory: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray, min_dwell: int = 3
+) -> np.ndarray:
     """The places visited along ``trajectory`` (T, 2): each pose gets its most probable place,
     argmax_k N(x_t | mu_k, Sigma_k) p(k) over the places with p(k) > 0 (``log_prior`` -inf elsewhere; cf. Eq. 3),
     then ``dwell_filtered_sequence``.  The one labelling used by the sampler (current draws, place prior of

@@ -46,8 +46,9 @@ def keyword_concepts(words: np.ndarray, L: int, rng: np.random.Generator) -> np.
     return np.array([concept_of[int(w)] if w >= 0 else int(rng.integers(L)) for w in key])
 
 
-def initial_assignments(obs: Observations, K: int, L: int, how: str, rng: np.random.Generator
-                        ) -> tuple[np.ndarray, np.ndarray]:
+def initial_assignments(
+    obs: Observations, K: int, L: int, how: str, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
     """(places, concepts) to start from: "kmeans" (over-segmented places, random concepts), "keyword" (the
     same places, concepts from each utterance's rarest word) or "random" (both uniform)."""
     if how == "random":

@@ -43,20 +43,28 @@ from spcotmhp.safe_write import fresh_sibling
 
 FORMAT = "spcotmhp-model"
 FORMAT_VERSION = 2
-READABLE_VERSIONS = (1, 2)       # 1: before the manifest (still loaded; see the module docstring)
+READABLE_VERSIONS = (1, 2)  # 1: before the manifest (still loaded; see the module docstring)
 ARRAYS = ("mu", "Sigma", "psi", "pi", "phi", "W", "active_places", "active_concepts")
 OPTIONAL_ARRAYS = ("theta", "psi_learned")
-MODEL_FILES = ("model.json", "arrays.npz", "map.yaml", "map.pgm", "map.png", "map.bmp", "learner.json",
-               "learner.npz")
+MODEL_FILES = (
+    "model.json",
+    "arrays.npz",
+    "map.yaml",
+    "map.pgm",
+    "map.png",
+    "map.bmp",
+    "learner.json",
+    "learner.npz",
+)
 POSITIVE_HYPER = ("alpha", "gamma", "beta", "chi", "omega", "kappa0")
 PROB_TOL = 1e-6
-SYMMETRY_TOL = 1e-9              # relative asymmetry of a Sigma accepted (and removed) on loading
+SYMMETRY_TOL = 1e-9  # relative asymmetry of a Sigma accepted (and removed) on loading
 MAX_JSON_BYTES = 16 * 1024 * 1024
 MAX_SIZES = {"K": 10_000, "L": 10_000, "V": 1_000_000, "D": 100_000}
 MAX_ELEMENTS = 32 * 1024 * 1024  # numbers in all arrays together (256 MiB of float64)
 MAX_WORD_CHARS = 256
-MAX_MEAN_M = 1e6                 # |mu| in metres
-MAX_VARIANCE_M2 = 1e12           # Sigma's diagonal in square metres
+MAX_MEAN_M = 1e6  # |mu| in metres
+MAX_VARIANCE_M2 = 1e12  # Sigma's diagonal in square metres
 MAX_COSTMAP = {"inscribed_radius": 1e4, "inflation_radius": 1e4, "cost_scaling_factor": 1e6}
 
 
@@ -74,7 +82,9 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
     meta = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
-        "K": model.K, "L": model.L, "V": len(model.vocabulary),
+        "K": model.K,
+        "L": model.L,
+        "V": len(model.vocabulary),
         "D": None if model.theta is None else int(model.theta.shape[1]),
         "vocabulary": list(model.vocabulary),
         "hyper": asdict(model.hyper),
@@ -83,8 +93,10 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
         "info": model.info,
     }
     text = json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default)
-    writers = {"arrays.npz": lambda path: np.savez(path, **arrays),
-               "model.json": lambda path: path.write_text(text, encoding="utf-8")}
+    writers = {
+        "arrays.npz": lambda path: np.savez(path, **arrays),
+        "model.json": lambda path: path.write_text(text, encoding="utf-8"),
+    }
     if model.learner is not None:
         from spcotmhp.learning.learner_state import learner_writers
 
@@ -100,8 +112,7 @@ def check_target(folder: Path, overwrite: bool) -> None:
     """ModelError unless ``folder`` can receive a model: absent, empty, or (with ``overwrite``) a model folder."""
     check_replaceable(folder, MODEL_FILES)
     if not overwrite and (folder / "model.json").exists():
-        raise ModelError(f"{folder} already holds a model; give --overwrite to replace it, or choose another "
-                         "folder")
+        raise ModelError(f"{folder} already holds a model; give --overwrite to replace it, or choose another folder")
 
 
 def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
@@ -120,22 +131,27 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
     """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
     root = Path(folder)
     if not root.is_dir():
-        raise ModelError(f"model folder {root} does not exist{_learn_hint(root)}" if not root.exists()
-                         else f"{root} is not a folder (a model is a folder with model.json and arrays.npz)")
+        raise ModelError(
+            f"model folder {root} does not exist{_learn_hint(root)}"
+            if not root.exists()
+            else f"{root} is not a folder (a model is a folder with model.json and arrays.npz)"
+        )
     if (root / "teaching.csv").is_file() and not (root / "model.json").exists():
         raise ModelError(f"{root} is a dataset folder, not a model{_learn_hint(root)}")
     listed = verify_manifest(root)
     meta = _read_meta(inside(root, "model.json", "model.json"))
     if listed is None and meta["format_version"] >= 2:
-        raise ModelError(f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
-                         "has: the folder is torn or was altered; save the model again")
+        raise ModelError(
+            f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
+            "has: the folder is torn or was altered; save the model again"
+        )
     arrays = read_npz(inside(root, "arrays.npz", "arrays.npz"), _specs(meta), ("psi_learned",))
     model = _assemble(root, meta, arrays)
     from spcotmhp.learning.learner_state import read_learner
 
     model.learner = read_learner(root, model)
     if meta.get("map") is not None:
-        yaml_path = inside(root, meta["map"], "\"map\"")
+        yaml_path = inside(root, meta["map"], '"map"')
         try:
             inside(root, os.path.relpath(read_map_yaml(yaml_path).image, root), f"the image of {meta['map']}")
             model.map = load_map(yaml_path)
@@ -161,8 +177,17 @@ def _learn_hint(path: Path) -> str:
 def _specs(meta: dict) -> dict[str, tuple[tuple[int, ...], str]]:
     """Expected shape and dtype kinds of every array of ``meta``'s sizes."""
     K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D")
-    specs = {"mu": (K, 2), "Sigma": (K, 2, 2), "psi": (K, K), "pi": (L,), "phi": (L, K), "W": (L, V),
-             "active_places": (K,), "active_concepts": (L,), "psi_learned": (K, K)}
+    specs = {
+        "mu": (K, 2),
+        "Sigma": (K, 2, 2),
+        "psi": (K, K),
+        "pi": (L,),
+        "phi": (L, K),
+        "W": (L, V),
+        "active_places": (K,),
+        "active_concepts": (L,),
+        "psi_learned": (K, K),
+    }
     if D is not None:
         specs["theta"] = (L, D)
     return {name: (shape, "b" if name.startswith("active") else "f") for name, shape in specs.items()}
@@ -183,45 +208,63 @@ def _read_meta(path: Path) -> dict:
         raise ModelError(f"{path} is missing (a model folder holds model.json and arrays.npz)")
     meta = load_json(path, MAX_JSON_BYTES, "model file", ModelError)
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        raise ModelError(f"{path} is not a spcotmhp model (its \"format\" is not {FORMAT!r})")
+        raise ModelError(f'{path} is not a spcotmhp model (its "format" is not {FORMAT!r})')
     version = meta.get("format_version")
     if version not in READABLE_VERSIONS or isinstance(version, bool):
-        raise ModelError(f"{path} has format version {excerpt(version)}; this spcotmhp reads versions "
-                         f"{', '.join(map(str, READABLE_VERSIONS))}")
-    for key, kind in (("K", int), ("L", int), ("V", int), ("vocabulary", list), ("hyper", dict),
-                      ("costmap", dict), ("info", dict)):
+        raise ModelError(
+            f"{path} has format version {excerpt(version)}; this spcotmhp reads versions "
+            f"{', '.join(map(str, READABLE_VERSIONS))}"
+        )
+    for key, kind in (
+        ("K", int),
+        ("L", int),
+        ("V", int),
+        ("vocabulary", list),
+        ("hyper", dict),
+        ("costmap", dict),
+        ("info", dict),
+    ):
         if not isinstance(meta.get(key), kind) or isinstance(meta.get(key), bool):
-            raise ModelError(f"{path}: \"{key}\" is missing or not a {kind.__name__}")
+            raise ModelError(f'{path}: "{key}" is missing or not a {kind.__name__}')
     if meta.get("D") is not None and (not isinstance(meta["D"], int) or isinstance(meta["D"], bool)):
-        raise ModelError(f"{path}: \"D\" must be an integer or null")
+        raise ModelError(f'{path}: "D" must be an integer or null')
     for key in ("K", "L") + (("D",) if meta.get("D") is not None else ()):
         if meta[key] < 1:
-            raise ModelError(f"{path}: \"{key}\" must be >= 1, got {meta[key]} (a model has at least one place, "
-                             "one concept and, with features, one feature dimension)")
+            raise ModelError(
+                f'{path}: "{key}" must be >= 1, got {meta[key]} (a model has at least one place, '
+                "one concept and, with features, one feature dimension)"
+            )
     for key, limit in MAX_SIZES.items():
         if meta.get(key) is not None and meta[key] > limit:
-            raise ModelError(f"{path}: \"{key}\" is {meta[key]}; at most {limit} is accepted")
+            raise ModelError(f'{path}: "{key}" is {meta[key]}; at most {limit} is accepted')
     K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D") or 0
     elements = K * 6 + 2 * K * K + L * (2 + K + V + D)
     if elements > MAX_ELEMENTS:
-        raise ModelError(f"{path}: sizes K={K}, L={L}, V={V}, D={D or None} need {elements} numbers in arrays.npz; "
-                         f"at most {MAX_ELEMENTS} are accepted")
+        raise ModelError(
+            f"{path}: sizes K={K}, L={L}, V={V}, D={D or None} need {elements} numbers in arrays.npz; "
+            f"at most {MAX_ELEMENTS} are accepted"
+        )
     if not all(isinstance(w, str) for w in meta["vocabulary"]) or len(meta["vocabulary"]) != meta["V"]:
-        raise ModelError(f"{path}: \"vocabulary\" must list V = {meta['V']} words (strings)")
+        raise ModelError(f'{path}: "vocabulary" must list V = {meta["V"]} words (strings)')
     seen: set[str] = set()
     for j, word in enumerate(meta["vocabulary"]):
         if word in seen:
-            raise ModelError(f"{path}: \"vocabulary\" lists {excerpt(word)} twice (again at index {j}); each word "
-                             "must be listed once (it names one column of W)")
+            raise ModelError(
+                f'{path}: "vocabulary" lists {excerpt(word)} twice (again at index {j}); each word '
+                "must be listed once (it names one column of W)"
+            )
         if len(word) > MAX_WORD_CHARS:
-            raise ModelError(f"{path}: \"vocabulary\" word {j} has {len(word)} characters; at most "
-                             f"{MAX_WORD_CHARS} are accepted")
+            raise ModelError(
+                f'{path}: "vocabulary" word {j} has {len(word)} characters; at most {MAX_WORD_CHARS} are accepted'
+            )
         seen.add(word)
     _check_costmap(path, meta["costmap"])
     weight = meta["info"].get("feature_weight")
     if weight is not None and not _positive(weight):
-        raise ModelError(f"{path}: \"info.feature_weight\" must be a positive number, or null for the authors' "
-                         f"counts, got {excerpt(weight)}")
+        raise ModelError(
+            f'{path}: "info.feature_weight" must be a positive number, or null for the authors\' '
+            f"counts, got {excerpt(weight)}"
+        )
     return meta
 
 
@@ -240,22 +283,33 @@ def _check_costmap(path: Path, raw: dict) -> None:
     known = {f.name: f for f in fields(CostMapSettings)}
     unknown = sorted(set(raw) - set(known))
     if unknown:
-        raise ModelError(f"{path}: unknown cost map setting(s) {', '.join(unknown)} in \"costmap\" (known: "
-                         f"{', '.join(known)})")
+        raise ModelError(
+            f'{path}: unknown cost map setting(s) {", ".join(unknown)} in "costmap" (known: {", ".join(known)})'
+        )
     for key, value in raw.items():
         if isinstance(known[key].default, bool):
             if not isinstance(value, bool):
-                raise ModelError(f"{path}: \"costmap.{key}\" must be true or false, got {excerpt(value)}")
+                raise ModelError(f'{path}: "costmap.{key}" must be true or false, got {excerpt(value)}')
         elif not (_number(value) and 0 <= value <= MAX_COSTMAP.get(key, 0)):
-            raise ModelError(f"{path}: \"costmap.{key}\" must be a finite number in 0..{MAX_COSTMAP.get(key, 0):g}, "
-                             f"got {excerpt(value)}")
+            raise ModelError(
+                f'{path}: "costmap.{key}" must be a finite number in 0..{MAX_COSTMAP.get(key, 0):g}, '
+                f"got {excerpt(value)}"
+            )
 
 
 def _assemble(root: Path, meta: dict, arrays: dict[str, np.ndarray]) -> SpatialConceptModel:
     K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D")
     where = root / "arrays.npz"
-    shapes = {"mu": (K, 2), "Sigma": (K, 2, 2), "psi": (K, K), "pi": (L,), "phi": (L, K), "W": (L, V),
-              "active_places": (K,), "active_concepts": (L,)}
+    shapes = {
+        "mu": (K, 2),
+        "Sigma": (K, 2, 2),
+        "psi": (K, K),
+        "pi": (L,),
+        "phi": (L, K),
+        "W": (L, V),
+        "active_places": (K,),
+        "active_concepts": (L,),
+    }
     if D is not None:
         shapes["theta"] = (L, D)
     if "psi_learned" in arrays:
@@ -264,8 +318,9 @@ def _assemble(root: Path, meta: dict, arrays: dict[str, np.ndarray]) -> SpatialC
     for name, shape in shapes.items():
         a = arrays[name]
         if a.shape != shape:
-            raise ModelError(f"{where}: {name} has shape {a.shape}, but model.json (K={K}, L={L}, V={V}, D={D}) "
-                             f"needs {shape}")
+            raise ModelError(
+                f"{where}: {name} has shape {a.shape}, but model.json (K={K}, L={L}, V={V}, D={D}) needs {shape}"
+            )
         if name.startswith("active"):
             if a.dtype != bool:
                 raise ModelError(f"{where}: {name} must be boolean, got {a.dtype}")
@@ -282,10 +337,21 @@ def _assemble(root: Path, meta: dict, arrays: dict[str, np.ndarray]) -> SpatialC
                 raise ModelError(f"{where}: {name} must be non-negative with rows summing to 1")
     out["Sigma"] = _check_gaussians(where, out["mu"], out["Sigma"])
     return SpatialConceptModel(
-        mu=out["mu"], Sigma=out["Sigma"], psi=out["psi"], pi=out["pi"], phi=out["phi"], W=out["W"],
-        vocabulary=list(meta["vocabulary"]), theta=out.get("theta"), active_places=out["active_places"],
-        active_concepts=out["active_concepts"], hyper=_hyper(root / "model.json", meta["hyper"]),
-        costmap=dict(meta["costmap"]), info=dict(meta["info"]), psi_learned=out.get("psi_learned"))
+        mu=out["mu"],
+        Sigma=out["Sigma"],
+        psi=out["psi"],
+        pi=out["pi"],
+        phi=out["phi"],
+        W=out["W"],
+        vocabulary=list(meta["vocabulary"]),
+        theta=out.get("theta"),
+        active_places=out["active_places"],
+        active_concepts=out["active_concepts"],
+        hyper=_hyper(root / "model.json", meta["hyper"]),
+        costmap=dict(meta["costmap"]),
+        info=dict(meta["info"]),
+        psi_learned=out.get("psi_learned"),
+    )
 
 
 def _check_gaussians(where: Path, mu: np.ndarray, sigma: np.ndarray) -> np.ndarray:
@@ -299,8 +365,10 @@ def _check_gaussians(where: Path, mu: np.ndarray, sigma: np.ndarray) -> np.ndarr
     asym = np.abs(sigma[:, 0, 1] - sigma[:, 1, 0]) / scale
     if (asym > SYMMETRY_TOL).any():
         k = int(np.argmax(asym))
-        raise ModelError(f"{where}: Sigma[{k}] is not symmetric ({sigma[k, 0, 1]:.6g} above the diagonal, "
-                         f"{sigma[k, 1, 0]:.6g} below); a covariance must be symmetric")
+        raise ModelError(
+            f"{where}: Sigma[{k}] is not symmetric ({sigma[k, 0, 1]:.6g} above the diagonal, "
+            f"{sigma[k, 1, 0]:.6g} below); a covariance must be symmetric"
+        )
     sym = (sigma + np.swapaxes(sigma, 1, 2)) / 2.0
     if (np.diagonal(sym, axis1=1, axis2=2) > MAX_VARIANCE_M2).any():
         k = int(np.argmax(np.diagonal(sym, axis1=1, axis2=2).max(axis=1)))
@@ -309,8 +377,10 @@ def _check_gaussians(where: Path, mu: np.ndarray, sigma: np.ndarray) -> np.ndarr
     bad = (eig[:, 0] <= 0) | (eig[:, 0] < 1e-12 * eig[:, 1])
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
-        raise ModelError(f"{where}: Sigma[{k}] is not positive definite (eigenvalues {eig[k, 0]:.3g}, "
-                         f"{eig[k, 1]:.3g}); a covariance must be")
+        raise ModelError(
+            f"{where}: Sigma[{k}] is not positive definite (eigenvalues {eig[k, 0]:.3g}, "
+            f"{eig[k, 1]:.3g}); a covariance must be"
+        )
     return sym
 
 
@@ -323,15 +393,18 @@ def _hyper(path: Path, raw: dict) -> Hyperparameters:
         raise ModelError(f"{path}: unknown hyper-parameter(s) {', '.join(unknown)}")
     values = dict(raw)
     for name in ("L", "K"):
-        if name in values and not (isinstance(values[name], int) and not isinstance(values[name], bool)
-                                   and values[name] >= 1):
+        if name in values and not (
+            isinstance(values[name], int) and not isinstance(values[name], bool) and values[name] >= 1
+        ):
             raise ModelError(f"{path}: hyper-parameter {name} must be an integer >= 1, got {values[name]!r}")
     for name in POSITIVE_HYPER:
         if name in values and not _positive(values[name]):
             raise ModelError(f"{path}: hyper-parameter {name} must be a finite number > 0, got {values[name]!r}")
     if "nu0" in values and not (_number(values["nu0"]) and values["nu0"] > 1):
-        raise ModelError(f"{path}: hyper-parameter nu0 must be a finite number > 1 (the inverse-Wishart degrees "
-                         f"of freedom in 2-D), got {values['nu0']!r}")
+        raise ModelError(
+            f"{path}: hyper-parameter nu0 must be a finite number > 1 (the inverse-Wishart degrees "
+            f"of freedom in 2-D), got {values['nu0']!r}"
+        )
     if "m0" in values:
         m0 = values["m0"]
         if not (isinstance(m0, list) and len(m0) == 2 and all(_number(v) for v in m0)):
@@ -339,11 +412,16 @@ def _hyper(path: Path, raw: dict) -> Hyperparameters:
         values["m0"] = tuple(float(v) for v in m0)
     if "V0" in values:
         V0 = values["V0"]
-        ok = (isinstance(V0, list) and len(V0) == 2
-              and all(isinstance(r, list) and len(r) == 2 and all(_number(v) for v in r) for r in V0))
+        ok = (
+            isinstance(V0, list)
+            and len(V0) == 2
+            and all(isinstance(r, list) and len(r) == 2 and all(_number(v) for v in r) for r in V0)
+        )
         if not ok or V0[0][1] != V0[1][0] or V0[0][0] <= 0 or V0[0][0] * V0[1][1] - V0[0][1] ** 2 <= 0:
-            raise ModelError(f"{path}: hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix of "
-                             f"finite numbers, got {V0!r}")
+            raise ModelError(
+                f"{path}: hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix of "
+                f"finite numbers, got {V0!r}"
+            )
         values["V0"] = tuple(tuple(float(v) for v in row) for row in V0)
     try:
         return Hyperparameters(**values)

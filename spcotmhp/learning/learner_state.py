@@ -53,23 +53,23 @@ def state_of_member(member: dict, model: SpatialConceptModel) -> CollapsedState:
     """The CollapsedState a model's learner member describes (arrays copied)."""
     a = member["arrays"]
     D = None if "F_ld" not in a else int(a["F_ld"].shape[1])
-    st = CollapsedState(model.K, model.L, len(model.vocabulary), D, model.hyper, member["replay"],
-                        member["background"])
+    st = CollapsedState(model.K, model.L, len(model.vocabulary), D, model.hyper, member["replay"], member["background"])
     for name in COUNTS + ("X",):
         setattr(st, name, np.array(a[name], dtype=float))
     st.place, st.concept = np.array(a["place"], dtype=np.int64), np.array(a["concept"], dtype=np.int64)
     ptr = a["tok_ptr"]
-    st.tokens = [np.array(a["tok_word"][ptr[e]:ptr[e + 1]], dtype=np.int64) for e in range(len(st.place))]
-    st.z = [np.array(a["tok_z"][ptr[e]:ptr[e + 1]], dtype=bool) for e in range(len(st.place))]
+    st.tokens = [np.array(a["tok_word"][ptr[e] : ptr[e + 1]], dtype=np.int64) for e in range(len(st.place))]
+    st.z = [np.array(a["tok_z"][ptr[e] : ptr[e + 1]], dtype=bool) for e in range(len(st.place))]
     st.features = [None] * len(st.place)
     if D is not None:
         st.F_ld = np.array(a["F_ld"], dtype=float)
-        st.features = [np.array(f, dtype=float) if has else None for f, has in zip(a["features"], a["has_features"])]
+        st.features = [
+            np.array(f, dtype=float) if has else None for f, has in zip(a["features"], a["has_features"], strict=False)
+        ]
     return st
 
 
-def state_of_model(model: SpatialConceptModel, replay: bool, background: bool
-                   ) -> tuple[CollapsedState, list[str]]:
+def state_of_model(model: SpatialConceptModel, replay: bool, background: bool) -> tuple[CollapsedState, list[str]]:
     """The learner state a model continues from (its member, else pseudo-counts), and its vocabulary."""
     if model.learner is not None:
         return state_of_member(model.learner, model), list(model.vocabulary)
@@ -77,14 +77,25 @@ def state_of_model(model: SpatialConceptModel, replay: bool, background: bool
 
 
 # ---- from a batch sample or from posterior means -------------------------------------------------------------
-def from_batch(obs, places: np.ndarray, concepts: np.ndarray, tok_ptr: np.ndarray, tok_word: np.ndarray,
-               z: np.ndarray, K: int, L: int, hyper, replay: bool, background: bool) -> dict:
+def from_batch(
+    obs,
+    places: np.ndarray,
+    concepts: np.ndarray,
+    tok_ptr: np.ndarray,
+    tok_word: np.ndarray,
+    z: np.ndarray,
+    K: int,
+    L: int,
+    hyper,
+    replay: bool,
+    background: bool,
+) -> dict:
     """The learner member of a batch sample: events, assignments, switches, and the counts they imply."""
     D = None if obs.features is None else obs.features.shape[1]
     st = CollapsedState(K, L, len(obs.vocabulary), D, hyper, replay, background)
     st.X, st.place, st.concept = obs.X.copy(), places.astype(np.int64), concepts.astype(np.int64)
-    st.tokens = [tok_word[tok_ptr[e]:tok_ptr[e + 1]].astype(np.int64) for e in range(obs.E)]
-    st.z = [z[tok_ptr[e]:tok_ptr[e + 1]].astype(bool) for e in range(obs.E)]
+    st.tokens = [tok_word[tok_ptr[e] : tok_ptr[e + 1]].astype(np.int64) for e in range(obs.E)]
+    st.z = [z[tok_ptr[e] : tok_ptr[e + 1]].astype(bool) for e in range(obs.E)]
     st.features = [None] * obs.E if D is None else [row.copy() for row in obs.features]
     g = GaussianStats.from_assignments(st.X, st.place, K)
     st.n_k, st.sx, st.sxx = g.n, g.sx, g.sxx
@@ -117,7 +128,7 @@ def pseudo_state(model: SpatialConceptModel, replay: bool, background: bool) -> 
     st = CollapsedState(K, L, len(model.vocabulary), D, h, replay, False)
     st.W_lv = _counts(model.W, h.beta) * act_l[:, None]
     st.n_l = _counts(model.pi[None], h.alpha)[0] * act_l
-    if not (st.n_l[act_l] > 0).all():     # every concept used (pi has no empty entry): one token per event
+    if not (st.n_l[act_l] > 0).all():  # every concept used (pi has no empty entry): one token per event
         st.n_l = st.W_lv.sum(axis=1)
     st.n_lk = _counts(model.phi, h.gamma, st.n_l) * act_l[:, None] * act_k[None, :]
     st.n_k = st.n_lk.sum(axis=0)
@@ -147,15 +158,29 @@ def export_model(learner) -> SpatialConceptModel:
     if st.E == 0 and learner.init_model is None:
         raise TeachingError("the online learner has no teaching event yet: teach one before asking for a model")
     priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
-    stats = SufficientStats(GaussianStats(st.n_k.copy(), st.sx.copy(), st.sxx.copy()), np.maximum(st.n_l, 0),
-                            np.maximum(st.n_lk, 0), None if st.F_ld is None else np.maximum(st.F_ld, 0),
-                            np.maximum(st.W_lv, 0), np.maximum(st.bg_v, 0) if st.background else None)
+    stats = SufficientStats(
+        GaussianStats(st.n_k.copy(), st.sx.copy(), st.sxx.copy()),
+        np.maximum(st.n_l, 0),
+        np.maximum(st.n_lk, 0),
+        None if st.F_ld is None else np.maximum(st.F_ld, 0),
+        np.maximum(st.W_lv, 0),
+        np.maximum(st.bg_v, 0) if st.background else None,
+    )
     base = learner.init_model
     info = {k: v for k, v in (base.info if base is not None else {}).items() if k not in STALE_INFO}
-    info.update(method="SpCoTMHP (online)", online={"events": st.E, "lag": learner.lag,
-                                                     "rejuvenation": learner.rejuvenation, "seed": learner.seed},
-                truncation_saturated=list(learner.truncation_saturated_), feature_weight=learner.feature_weight,
-                reverse_replay=bool(st.replay), background_words=bool(st.background))
+    info.update(
+        method="SpCoTMHP (online)",
+        online={
+            "events": st.E,
+            "lag": learner.lag,
+            "rejuvenation": learner.rejuvenation,
+            "seed": learner.seed,
+        },
+        truncation_saturated=list(learner.truncation_saturated_),
+        feature_weight=learner.feature_weight,
+        reverse_replay=bool(st.replay),
+        background_words=bool(st.background),
+    )
     trans = st.trans + st.trans.T if st.replay else st.trans
     model = posterior_mean_model(priors, stats, np.maximum(trans, 0), learner.vocabulary_, st.hyper, info)
     model.psi_learned = model.psi.copy()
@@ -174,17 +199,29 @@ def check_member(member: dict, K: int, L: int, V: int, D: int | None, where: str
     """ModelError unless a learner member read from a folder fits the model's sizes and holds valid counts."""
     a = member["arrays"]
     E, T = len(a["place"]), len(a["tok_word"])
-    bad = next((n for n in COUNTS + ("X",) + (("F_ld", "features") if D is not None else ())
-                if not (np.isfinite(a[n]).all() and (n in ("sx", "sxx", "X") or (a[n] >= 0).all()))), None)
+    bad = next(
+        (
+            n
+            for n in COUNTS + ("X",) + (("F_ld", "features") if D is not None else ())
+            if not (np.isfinite(a[n]).all() and (n in ("sx", "sxx", "X") or (a[n] >= 0).all()))
+        ),
+        None,
+    )
     if bad:
         raise ModelError(f"{where}: {bad} must hold finite non-negative numbers")
     ptr = a["tok_ptr"]
-    ok = (ptr[0] == 0 and ptr[-1] == T and (np.diff(ptr) >= 0).all() and (a["tok_word"] < V).all()
-          and (a["tok_word"] >= 0).all() and ((a["place"] >= 0) & (a["place"] < K)).all()
-          and ((a["concept"] >= 0) & (a["concept"] < L)).all() and len(a["concept"]) == E)
+    ok = (
+        ptr[0] == 0
+        and ptr[-1] == T
+        and (np.diff(ptr) >= 0).all()
+        and (a["tok_word"] < V).all()
+        and (a["tok_word"] >= 0).all()
+        and ((a["place"] >= 0) & (a["place"] < K)).all()
+        and ((a["concept"] >= 0) & (a["concept"] < L)).all()
+        and len(a["concept"]) == E
+    )
     if not ok:
-        raise ModelError(f"{where}: the events' places, concepts or tokens do not fit the model (K={K}, L={L}, "
-                         f"V={V})")
+        raise ModelError(f"{where}: the events' places, concepts or tokens do not fit the model (K={K}, L={L}, V={V})")
 
 
 # ---- in the model folder -------------------------------------------------------------------------------------
@@ -199,10 +236,18 @@ def learner_writers(member: dict) -> dict:
     import json
 
     a = member["arrays"]
-    meta = {"format": LEARNER_FORMAT, "format_version": LEARNER_VERSION, "E": len(a["place"]),
-            "T": len(a["tok_word"]), "replay": member["replay"], "background": member["background"]}
-    return {"learner.json": lambda path: path.write_text(json.dumps(meta), encoding="utf-8"),
-            "learner.npz": lambda path: np.savez(path, **a)}
+    meta = {
+        "format": LEARNER_FORMAT,
+        "format_version": LEARNER_VERSION,
+        "E": len(a["place"]),
+        "T": len(a["tok_word"]),
+        "replay": member["replay"],
+        "background": member["background"],
+    }
+    return {
+        "learner.json": lambda path: path.write_text(json.dumps(meta), encoding="utf-8"),
+        "learner.npz": lambda path: np.savez(path, **a),
+    }
 
 
 def read_learner(root, model: SpatialConceptModel) -> dict | None:
@@ -214,26 +259,48 @@ def read_learner(root, model: SpatialConceptModel) -> dict | None:
         return None
     path = inside(root, "learner.json", "learner.json")
     meta = load_json(path, 4096, "learner state", ModelError)
-    ok = (isinstance(meta, dict) and meta.get("format") == LEARNER_FORMAT
-          and meta.get("format_version") == LEARNER_VERSION
-          and all(isinstance(meta.get(k), int) and not isinstance(meta.get(k), bool) for k in ("E", "T"))
-          and all(isinstance(meta.get(k), bool) for k in ("replay", "background")))
+    ok = (
+        isinstance(meta, dict)
+        and meta.get("format") == LEARNER_FORMAT
+        and meta.get("format_version") == LEARNER_VERSION
+        and all(isinstance(meta.get(k), int) and not isinstance(meta.get(k), bool) for k in ("E", "T"))
+        and all(isinstance(meta.get(k), bool) for k in ("replay", "background"))
+    )
     if not ok or not (0 <= meta["E"] <= MAX_EVENTS and 0 <= meta["T"] <= MAX_TOKENS):
-        raise ModelError(f"{path} is not a spcotmhp learner state of format version {LEARNER_VERSION} (format, "
-                         "format_version, E, T, replay, background)")
+        raise ModelError(
+            f"{path} is not a spcotmhp learner state of format version {LEARNER_VERSION} (format, "
+            "format_version, E, T, replay, background)"
+        )
     K, L, V, E, T = model.K, model.L, len(model.vocabulary), meta["E"], meta["T"]
     D = None if model.theta is None else int(model.theta.shape[1])
-    specs = {"n_k": (K,), "sx": (K, 2), "sxx": (K, 2, 2), "n_l": (L,), "n_lk": (L, K), "W_lv": (L, V), "bg_v": (V,),
-             "z_tot": (2,), "trans": (K, K), "X": (E, 2), "place": (E,), "concept": (E,), "tok_ptr": (E + 1,),
-             "tok_word": (T,), "tok_z": (T,)}
+    specs = {
+        "n_k": (K,),
+        "sx": (K, 2),
+        "sxx": (K, 2, 2),
+        "n_l": (L,),
+        "n_lk": (L, K),
+        "W_lv": (L, V),
+        "bg_v": (V,),
+        "z_tot": (2,),
+        "trans": (K, K),
+        "X": (E, 2),
+        "place": (E,),
+        "concept": (E,),
+        "tok_ptr": (E + 1,),
+        "tok_word": (T,),
+        "tok_z": (T,),
+    }
     kinds = {"place": "iu", "concept": "iu", "tok_ptr": "iu", "tok_word": "iu", "tok_z": "b"}
     optional: tuple[str, ...] = ()
     if D is not None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"
         optional = ("F_ld", "features", "has_features")
-    arrays = read_npz(inside(root, "learner.npz", "learner.npz"),
-                      {n: (s, kinds.get(n, "f")) for n, s in specs.items()}, optional)
+    arrays = read_npz(
+        inside(root, "learner.npz", "learner.npz"),
+        {n: (s, kinds.get(n, "f")) for n, s in specs.items()},
+        optional,
+    )
     if D is not None and not all(n in arrays for n in optional):
         for n in optional:
             arrays.pop(n, None)

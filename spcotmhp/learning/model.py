@@ -53,8 +53,7 @@ class Hyperparameters:
     def __post_init__(self) -> None:
         self._derived = tuple(name for name in SCALED_PRIORS if getattr(self, name) is None)
         if self._derived and not (self.L >= 1 and self.K >= 1):
-            raise ValueError(f"L and K must be >= 1 to derive {', '.join(self._derived)}, got L={self.L}, "
-                             f"K={self.K}")
+            raise ValueError(f"L and K must be >= 1 to derive {', '.join(self._derived)}, got L={self.L}, K={self.K}")
         if self.alpha is None:
             self.alpha = ALPHA_TOTAL / self.L
         if self.gamma is None:
@@ -104,8 +103,13 @@ class SpatialConceptModel:
     active_concepts: np.ndarray | None = None
     hyper: Hyperparameters = field(default_factory=Hyperparameters)
     map: OccupancyMap | None = None
-    costmap: dict = field(default_factory=lambda: {
-        "inscribed_radius": 0.22, "inflation_radius": 1.0, "cost_scaling_factor": 10.0})
+    costmap: dict = field(
+        default_factory=lambda: {
+            "inscribed_radius": 0.22,
+            "inflation_radius": 1.0,
+            "cost_scaling_factor": 10.0,
+        }
+    )
     info: dict = field(default_factory=dict)
     psi_learned: np.ndarray | None = None
     learner: dict | None = field(default=None, repr=False, compare=False)
@@ -184,11 +188,13 @@ class SpatialConceptModel:
     def place_names(self) -> list[str]:
         """A readable name per place: the word with the highest rescaled probability
         sum_l p(l | k) W_l(w) / sum_c W_c(w) (unigram rescaling suppresses function words such as "this")."""
-        p_l_given_k = np.exp(self.log_concept_given_place())            # (L, K)
-        rescaled = self.W / self.W.sum(axis=0, keepdims=True)           # (L, V)
-        score = p_l_given_k.T @ rescaled                                # (K, V)
-        return [self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
-                for k, j in enumerate(np.argmax(score, axis=1))]
+        p_l_given_k = np.exp(self.log_concept_given_place())  # (L, K)
+        rescaled = self.W / self.W.sum(axis=0, keepdims=True)  # (L, V)
+        score = p_l_given_k.T @ rescaled  # (K, V)
+        return [
+            self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
+            for k, j in enumerate(np.argmax(score, axis=1))
+        ]
 
 
 def log_multinomial(log_W: np.ndarray, counts: np.ndarray) -> np.ndarray:

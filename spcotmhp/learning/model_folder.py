@@ -38,7 +38,7 @@ MANIFEST = "manifest.json"
 MANIFEST_FORMAT = "spcotmhp-model-manifest"
 MANIFEST_VERSION = 2
 MAX_MANIFEST_BYTES = 64 * 1024
-MAX_HEADER_BYTES = 4096            # a .npy header (dict of descr, fortran_order, shape) is under 200 bytes
+MAX_HEADER_BYTES = 4096  # a .npy header (dict of descr, fortran_order, shape) is under 200 bytes
 CHUNK = 1 << 20
 
 
@@ -56,8 +56,9 @@ def inside(root: Path, name: object, what: str) -> Path:
         inner = False
     if not inner:
         shown = f"{excerpt(str(name))}" + (" (a symbolic link)" if path.is_symlink() else "")
-        raise ModelError(f"{root}: {what} must be a file inside the model folder {root}, got {shown}, which "
-                         "leads outside it")
+        raise ModelError(
+            f"{root}: {what} must be a file inside the model folder {root}, got {shown}, which leads outside it"
+        )
     return path
 
 
@@ -88,29 +89,33 @@ def verify_manifest(root: Path) -> dict[str, int] | None:
     inside(root, MANIFEST, MANIFEST)
     doc = load_json(path, MAX_MANIFEST_BYTES, "model manifest", ModelError)
     files = doc.get("files") if isinstance(doc, dict) else None
-    if (not isinstance(doc, dict) or doc.get("format") != MANIFEST_FORMAT or not isinstance(files, dict)
-            or not files):
-        raise ModelError(f"{path} is not a spcotmhp model manifest (format {MANIFEST_FORMAT!r} with \"files\")")
+    if not isinstance(doc, dict) or doc.get("format") != MANIFEST_FORMAT or not isinstance(files, dict) or not files:
+        raise ModelError(f'{path} is not a spcotmhp model manifest (format {MANIFEST_FORMAT!r} with "files")')
     if doc.get("format_version") != MANIFEST_VERSION:
-        raise ModelError(f"{path} has format version {excerpt(doc.get('format_version'))}; this spcotmhp reads "
-                         f"version {MANIFEST_VERSION}")
+        raise ModelError(
+            f"{path} has format version {excerpt(doc.get('format_version'))}; this spcotmhp reads "
+            f"version {MANIFEST_VERSION}"
+        )
     sizes = {}
     for name, entry in files.items():
         target = inside(root, name, f"the manifest's file {excerpt(name)}")
-        ok = (isinstance(entry, dict) and isinstance(entry.get("bytes"), int) and
-              isinstance(entry.get("sha256"), str))
+        ok = isinstance(entry, dict) and isinstance(entry.get("bytes"), int) and isinstance(entry.get("sha256"), str)
         if not ok:
-            raise ModelError(f"{path}: the entry of {excerpt(name)} must be {{\"bytes\": int, \"sha256\": hex}}")
+            raise ModelError(f'{path}: the entry of {excerpt(name)} must be {{"bytes": int, "sha256": hex}}')
         if not target.is_file():
-            raise ModelError(f"{root}: {name} is listed in {MANIFEST} but missing (a torn or altered model "
-                             "folder: save the model again)")
+            raise ModelError(
+                f"{root}: {name} is listed in {MANIFEST} but missing (a torn or altered model "
+                "folder: save the model again)"
+            )
         try:
             size, sha = file_digest(target)
         except OSError as exc:
             raise ModelError(f"cannot read {target}: {exc.strerror or exc}") from None
         if size != entry["bytes"] or sha != entry["sha256"]:
-            raise ModelError(f"{target} does not match its checksum in {MANIFEST} ({size} bytes, listed "
-                             f"{entry['bytes']}): the model folder is torn or was altered; save the model again")
+            raise ModelError(
+                f"{target} does not match its checksum in {MANIFEST} ({size} bytes, listed "
+                f"{entry['bytes']}): the model folder is torn or was altered; save the model again"
+            )
         sizes[name] = size
     return sizes
 
@@ -150,8 +155,10 @@ def check_replaceable(target: Path, known: tuple[str, ...]) -> None:
     others = [name for name in present if name not in known + (MANIFEST,)]
     if "model.json" not in present or others:
         listed = ", ".join(others[:5]) + (" ..." if len(others) > 5 else "")
-        raise ModelError(f"cannot save the model to {target}: the folder holds files that are not a model's "
-                         f"({listed or ', '.join(present[:5])}); choose an empty or new folder")
+        raise ModelError(
+            f"cannot save the model to {target}: the folder holds files that are not a model's "
+            f"({listed or ', '.join(present[:5])}); choose an empty or new folder"
+        )
 
 
 # ---- arrays ------------------------------------------------------------------------------------------------
@@ -167,8 +174,17 @@ def read_npz(path: Path, specs: Mapping[str, tuple[tuple[int, ...], str]], optio
             return {name: _read_member(path, archive, info, *specs[name]) for name, info in members.items()}
     except ModelError:
         raise
-    except (zipfile.BadZipFile, zlib.error, NotImplementedError, ValueError, EOFError, OSError, RuntimeError,
-            KeyError, TypeError) as exc:
+    except (
+        zipfile.BadZipFile,
+        zlib.error,
+        NotImplementedError,
+        ValueError,
+        EOFError,
+        OSError,
+        RuntimeError,
+        KeyError,
+        TypeError,
+    ) as exc:
         reason = " ".join(str(exc).split())[:160] or type(exc).__name__
         raise ModelError(f"{path} cannot be read as a numpy .npz archive of plain arrays: {reason}") from None
 
@@ -178,8 +194,9 @@ def _members(path: Path, infos: list, specs: Mapping, optional: tuple[str, ...])
     for info in infos:
         name = info.filename.removesuffix(".npy")
         if name not in specs or not info.filename.endswith(".npy"):
-            raise ModelError(f"{path} holds an unknown member {excerpt(info.filename)} (known arrays: "
-                             f"{', '.join(specs)})")
+            raise ModelError(
+                f"{path} holds an unknown member {excerpt(info.filename)} (known arrays: {', '.join(specs)})"
+            )
         if name in members:
             raise ModelError(f"{path} holds {info.filename} twice")
         if info.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
@@ -187,8 +204,10 @@ def _members(path: Path, infos: list, specs: Mapping, optional: tuple[str, ...])
         shape, _ = specs[name]
         limit = int(np.prod(shape, dtype=np.int64)) * 8 + MAX_HEADER_BYTES
         if info.file_size > limit:
-            raise ModelError(f"{path}: {info.filename} unpacks to {info.file_size} bytes, more than its shape "
-                             f"{shape} needs ({limit} bytes at most)")
+            raise ModelError(
+                f"{path}: {info.filename} unpacks to {info.file_size} bytes, more than its shape "
+                f"{shape} needs ({limit} bytes at most)"
+            )
         members[name] = info
     missing = [name for name in specs if name not in members and name not in optional]
     if missing:
@@ -196,8 +215,9 @@ def _members(path: Path, infos: list, specs: Mapping, optional: tuple[str, ...])
     return members
 
 
-def _read_member(path: Path, archive: zipfile.ZipFile, info: zipfile.ZipInfo, shape: tuple[int, ...],
-                 kinds: str) -> np.ndarray:
+def _read_member(
+    path: Path, archive: zipfile.ZipFile, info: zipfile.ZipInfo, shape: tuple[int, ...], kinds: str
+) -> np.ndarray:
     fmt = np.lib.format
     with archive.open(info) as handle:
         version = fmt.read_magic(handle)

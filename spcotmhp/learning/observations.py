@@ -37,8 +37,14 @@ class Observations:
         return int(self.X.shape[0])
 
     @classmethod
-    def from_dataset(cls, dataset: Dataset, use_features: bool = True, use_trajectory: bool = True,
-                     vocabulary: list[str] | None = None, feature_weight: float | None = 1.0) -> Observations:
+    def from_dataset(
+        cls,
+        dataset: Dataset,
+        use_features: bool = True,
+        use_trajectory: bool = True,
+        vocabulary: list[str] | None = None,
+        feature_weight: float | None = 1.0,
+    ) -> Observations:
         """Validate ``dataset`` and build the arrays; raises DatasetError naming the problem.
 
         ``vocabulary`` fixes the word columns (words outside it are dropped); by default the dataset's own.
@@ -54,18 +60,23 @@ class Observations:
         if E == 0:
             raise DatasetError(f"{name}: no teaching events; learning needs at least 2")
         if E < 2:
-            raise DatasetError(f"{name}: only 1 teaching event; learning needs at least 2 (places and "
-                               "transitions cannot be estimated from a single observation)")
+            raise DatasetError(
+                f"{name}: only 1 teaching event; learning needs at least 2 (places and "
+                "transitions cannot be estimated from a single observation)"
+            )
         bad = np.flatnonzero(~np.isfinite(X).all(axis=1))
         if bad.size:
-            raise DatasetError(f"{name}: teaching event {int(bad[0])} has a non-finite position "
-                               f"{X[bad[0]].tolist()} ({bad.size} such events); positions must be finite metres")
+            raise DatasetError(
+                f"{name}: teaching event {int(bad[0])} has a non-finite position "
+                f"{X[bad[0]].tolist()} ({bad.size} such events); positions must be finite metres"
+            )
         if len(dataset.tokens) != E:
             raise DatasetError(f"{name}: {len(dataset.tokens)} token lists for {E} teaching events")
         vocab = sorted({t for toks in dataset.tokens for t in toks}) if vocabulary is None else list(vocabulary)
         if not vocab:
-            raise DatasetError(f"{name}: no teaching event has any word; spatial concepts are learned from "
-                               "the words of the utterances")
+            raise DatasetError(
+                f"{name}: no teaching event has any word; spatial concepts are learned from the words of the utterances"
+            )
         index = {w: j for j, w in enumerate(vocab)}
         words = np.zeros((E, len(vocab)))
         for e, toks in enumerate(dataset.tokens):
@@ -74,25 +85,29 @@ class Observations:
         if use_features and dataset.features is not None:
             features = np.asarray(dataset.features, dtype=float)
             if features.ndim != 2 or features.shape[0] != E:
-                raise DatasetError(f"{name}: image features must be an (E, D) array with one row per teaching "
-                                   f"event (E = {E}), got shape {features.shape}")
+                raise DatasetError(
+                    f"{name}: image features must be an (E, D) array with one row per teaching "
+                    f"event (E = {E}), got shape {features.shape}"
+                )
             badf = np.flatnonzero(~(np.isfinite(features) & (features >= 0)).all(axis=1))
             if badf.size:
-                raise DatasetError(f"{name}: image feature row {int(badf[0])} has a negative or non-finite "
-                                   "value; features must be non-negative")
+                raise DatasetError(
+                    f"{name}: image feature row {int(badf[0])} has a negative or non-finite "
+                    "value; features must be non-negative"
+                )
             features = scale_features(features, feature_weight)
         trajectory = steps = None
         if use_trajectory and dataset.trajectory is not None:
             trajectory = np.asarray(dataset.trajectory, dtype=float)
             if trajectory.ndim != 2 or trajectory.shape[1] != 2 or len(trajectory) < 2:
-                raise DatasetError(f"{name}: trajectory must be a (T, 2) array with T >= 2, got shape "
-                                   f"{trajectory.shape}")
+                raise DatasetError(
+                    f"{name}: trajectory must be a (T, 2) array with T >= 2, got shape {trajectory.shape}"
+                )
             if not np.isfinite(trajectory).all():
                 raise DatasetError(f"{name}: trajectory has non-finite positions")
             if dataset.event_steps is not None:
                 steps = np.asarray(dataset.event_steps, dtype=np.int64)
-        return cls(X=X, words=words, vocabulary=vocab, features=features, trajectory=trajectory,
-                   event_steps=steps)
+        return cls(X=X, words=words, vocabulary=vocab, features=features, trajectory=trajectory, event_steps=steps)
 
 
 def scale_features(features: np.ndarray, weight: float | None) -> np.ndarray:

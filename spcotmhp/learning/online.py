@@ -66,19 +66,19 @@ class TeachingEvent:
     features: np.ndarray | None = None
 
     @classmethod
-    def from_utterance(cls, utterance: str, x: float, y: float, features: np.ndarray | None = None
-                       ) -> TeachingEvent:
+    def from_utterance(cls, utterance: str, x: float, y: float, features: np.ndarray | None = None) -> TeachingEvent:
         """An event from a sentence: lower-cased words, punctuation dropped ("This is Alice's room!" ->
         this, is, alice's, room). Raises TeachingError for an empty or over-long utterance."""
         if not isinstance(utterance, str):
             raise TeachingError(f"the utterance must be text, got {type(utterance).__name__}")
         if len(utterance) > MAX_UTTERANCE_CHARS:
-            raise TeachingError(f"the utterance has {len(utterance)} characters, more than the "
-                                f"{MAX_UTTERANCE_CHARS} accepted; say the place's name, e.g. 'this is the kitchen'")
+            raise TeachingError(
+                f"the utterance has {len(utterance)} characters, more than the "
+                f"{MAX_UTTERANCE_CHARS} accepted; say the place's name, e.g. 'this is the kitchen'"
+            )
         words = tuple(w.replace("\u2019", "'") for w in _UNIT.findall(utterance.lower()))
         if not words:
-            raise TeachingError("the utterance is empty (no words); say the place's name, e.g. 'this is the "
-                                "kitchen'")
+            raise TeachingError("the utterance is empty (no words); say the place's name, e.g. 'this is the kitchen'")
         return cls(float(x), float(y), words, features)
 
 
@@ -88,13 +88,18 @@ def as_event(item: object) -> TeachingEvent:
     if isinstance(item, TeachingEvent):
         return item
     if isinstance(item, Mapping):
-        x, y, said, feats = item.get("x"), item.get("y"), item.get("utterance", item.get("words")), item.get(
-            "features")
+        x, y, said, feats = (
+            item.get("x"),
+            item.get("y"),
+            item.get("utterance", item.get("words")),
+            item.get("features"),
+        )
     elif isinstance(item, (tuple, list)) and len(item) in (3, 4):
         x, y, said, feats = (*item, None)[:4]
     else:
-        raise TeachingError(f"a teaching event is (x, y, utterance) or a mapping with x, y and utterance, got "
-                            f"{type(item).__name__}")
+        raise TeachingError(
+            f"a teaching event is (x, y, utterance) or a mapping with x, y and utterance, got {type(item).__name__}"
+        )
     if not all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in (x, y)):
         raise TeachingError(f"a teaching position must be two numbers (metres), got {x!r}, {y!r}")
     if isinstance(said, str):
@@ -133,11 +138,25 @@ class OnlineSpCoTMHP:
     the current state, exported on first access after an update).
     """
 
-    def __init__(self, K: int = 20, L: int = 20, max_K: int = 200, max_L: int = 200, lag: int = 10,
-                 rejuvenation: int = 10, replay: bool = True, background_words: bool = True,
-                 use_features: bool = True, feature_weight: float | None = 1.0, connectivity: str = "auto",
-                 hyper: Hyperparameters | None = None, init_model: SpatialConceptModel | None = None,
-                 map: OccupancyMap | None = None, check_map: bool = True, seed: int = 0) -> None:
+    def __init__(
+        self,
+        K: int = 20,
+        L: int = 20,
+        max_K: int = 200,
+        max_L: int = 200,
+        lag: int = 10,
+        rejuvenation: int = 10,
+        replay: bool = True,
+        background_words: bool = True,
+        use_features: bool = True,
+        feature_weight: float | None = 1.0,
+        connectivity: str = "auto",
+        hyper: Hyperparameters | None = None,
+        init_model: SpatialConceptModel | None = None,
+        map: OccupancyMap | None = None,
+        check_map: bool = True,
+        seed: int = 0,
+    ) -> None:
         self.K, self.L, self.max_K, self.max_L = K, L, max_K, max_L
         self.lag, self.rejuvenation = lag, rejuvenation
         self.replay, self.background_words = replay, background_words
@@ -187,11 +206,12 @@ class OnlineSpCoTMHP:
 
         if self.connectivity not in ("auto", "map", "hmm"):
             raise TeachingError(f"connectivity must be auto, map or hmm, got {self.connectivity!r}")
-        if not (1 <= self.K <= self.max_K and 1 <= self.L <= self.max_L and self.lag >= 0
-                and self.rejuvenation >= 0):
-            raise TeachingError(f"need 1 <= K <= max_K, 1 <= L <= max_L, lag >= 0 and rejuvenation >= 0, got "
-                                f"K={self.K}, L={self.L}, max_K={self.max_K}, max_L={self.max_L}, lag={self.lag}, "
-                                f"rejuvenation={self.rejuvenation}")
+        if not (1 <= self.K <= self.max_K and 1 <= self.L <= self.max_L and self.lag >= 0 and self.rejuvenation >= 0):
+            raise TeachingError(
+                f"need 1 <= K <= max_K, 1 <= L <= max_L, lag >= 0 and rejuvenation >= 0, got "
+                f"K={self.K}, L={self.L}, max_K={self.max_K}, max_L={self.max_L}, lag={self.lag}, "
+                f"rejuvenation={self.rejuvenation}"
+            )
         model = self.init_model
         self.map_ = self.map if self.map is not None else (None if model is None else model.map)
         if model is not None:
@@ -204,11 +224,11 @@ class OnlineSpCoTMHP:
             self.vocabulary_ = []
         if self.map_ is not None:
             known = ~self.map_.unknown
-            self.state_.log_new_place = -float(np.log(max(known.sum(), 1) * self.map_.resolution ** 2))
+            self.state_.log_new_place = -float(np.log(max(known.sum(), 1) * self.map_.resolution**2))
         self.word_index_ = {w: j for j, w in enumerate(self.vocabulary_)}
         self.update_times_: list[float] = []
         self.truncation_saturated_: list[str] = []
-        self._grow_if_saturated()       # a supervised fit uses every component: room for a new place first
+        self._grow_if_saturated()  # a supervised fit uses every component: room for a new place first
 
     def _check(self, event: TeachingEvent) -> None:
         """TeachingError for a position that is not finite, off the map or in a wall, or features that do not
@@ -222,15 +242,19 @@ class OnlineSpCoTMHP:
             if not occ.in_bounds(cell):
                 raise TeachingError(f"the teaching position ({x:g}, {y:g}) is off the map")
             if occ.occupied[cell[0], cell[1]]:
-                raise TeachingError(f"the teaching position ({x:g}, {y:g}) is in a wall (an occupied cell of the "
-                                    "map); teach where the robot stands")
+                raise TeachingError(
+                    f"the teaching position ({x:g}, {y:g}) is in a wall (an occupied cell of the "
+                    "map); teach where the robot stands"
+                )
         f = event.features
         if f is not None and self.use_features:
             f = np.asarray(f, dtype=float)
             D = self.state_.D if self.state_.D is not None else (f.shape[0] if self.state_.E == 0 else None)
             if D is None or f.ndim != 1 or f.shape[0] != D or not (np.isfinite(f).all() and (f >= 0).all()):
-                raise TeachingError("the image features must be non-negative finite numbers of the model's "
-                                    f"dimension ({self.state_.D or 'none: the model has no image features'})")
+                raise TeachingError(
+                    "the image features must be non-negative finite numbers of the model's "
+                    f"dimension ({self.state_.D or 'none: the model has no image features'})"
+                )
 
     def _update(self, event: TeachingEvent, rng: np.random.Generator) -> None:
         st = self.state_
@@ -248,8 +272,7 @@ class OnlineSpCoTMHP:
             total = feats.sum()
             if self.feature_weight is not None and total > 0:
                 feats = feats * (self.feature_weight / total)
-        e = st.append(np.array([event.x, event.y]), np.array([self.word_index_[w] for w in event.words]), feats,
-                      rng)
+        e = st.append(np.array([event.x, event.y]), np.array([self.word_index_[w] for w in event.words]), feats, rng)
         for j in range(max(0, e - self.lag), e):
             st.step(j, rng)
         older = max(0, e - self.lag)
@@ -261,14 +284,20 @@ class OnlineSpCoTMHP:
     def _grow_if_saturated(self) -> None:
         """Double a truncation whose every component holds events; warn once when it cannot grow further."""
         st = self.state_
-        for what, used, size, cap in (("places", (st.n_k > 0).sum(), st.K, self.max_K),
-                                      ("concepts", (st.n_l > 0).sum(), st.L, self.max_L)):
+        for what, used, size, cap in (
+            ("places", (st.n_k > 0).sum(), st.K, self.max_K),
+            ("concepts", (st.n_l > 0).sum(), st.L, self.max_L),
+        ):
             if used < size:
                 continue
             if size < cap:
                 st.grow(**{"K" if what == "places" else "L": min(2 * size, cap)})
             elif what not in self.truncation_saturated_:
                 self.truncation_saturated_.append(what)
-                warnings.warn(f"all {size} {what[:-1]} components hold events (the weak-limit truncation is "
-                              f"saturated at its maximum, so {what} may be merged): use a larger "
-                              f"{'max_K' if what == 'places' else 'max_L'}", TruncationWarning, stacklevel=4)
+                warnings.warn(
+                    f"all {size} {what[:-1]} components hold events (the weak-limit truncation is "
+                    f"saturated at its maximum, so {what} may be merged): use a larger "
+                    f"{'max_K' if what == 'places' else 'max_L'}",
+                    TruncationWarning,
+                    stacklevel=4,
+                )

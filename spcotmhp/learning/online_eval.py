@@ -20,20 +20,33 @@ SCORES = ("nmi_c", "nmi_i", "ari_c", "ari_i")
 def dataset_events(dataset: Dataset, use_features: bool = True) -> list[TeachingEvent]:
     """The dataset's teaching events in recorded order."""
     feats = dataset.features if use_features else None
-    return [TeachingEvent(float(x), float(y), tuple(words), None if feats is None else np.asarray(feats[e]))
-            for e, ((x, y), words) in enumerate(zip(dataset.positions, dataset.tokens))]
+    return [
+        TeachingEvent(float(x), float(y), tuple(words), None if feats is None else np.asarray(feats[e]))
+        for e, ((x, y), words) in enumerate(zip(dataset.positions, dataset.tokens, strict=False))
+    ]
 
 
-def evaluate_online(dataset: Dataset, seeds: int = 5, seed: int = 0, iterations: int = 100, n_jobs: int = 1,
-                    use_features: bool = True, K: int = 20, L: int = 20, batch: bool = True, **params) -> dict:
+def evaluate_online(
+    dataset: Dataset,
+    seeds: int = 5,
+    seed: int = 0,
+    iterations: int = 100,
+    n_jobs: int = 1,
+    use_features: bool = True,
+    K: int = 20,
+    L: int = 20,
+    batch: bool = True,
+    **params,
+) -> dict:
     """{"dataset", "events", "seeds", "online": {scores, "std", "update_ms": {median, p95, max}}, "batch": {...},
     "difference": online - batch}; seed s of ``seeds`` is ``seed + s``; ``params`` go to OnlineSpCoTMHP."""
     concept_truth(dataset)
     events = dataset_events(dataset, use_features)
     scores, times = [], []
     for s in range(seeds):
-        learner = OnlineSpCoTMHP(K=K, L=L, use_features=use_features, map=dataset.map, check_map=False,
-                                 seed=seed + s, **params)
+        learner = OnlineSpCoTMHP(
+            K=K, L=L, use_features=use_features, map=dataset.map, check_map=False, seed=seed + s, **params
+        )
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TruncationWarning)
             for event in events:
@@ -41,26 +54,52 @@ def evaluate_online(dataset: Dataset, seeds: int = 5, seed: int = 0, iterations:
         scores.append(score_run(dataset, learner.places_, learner.concepts_))
         times.extend(learner.update_times_)
     ms = 1000.0 * np.asarray(times)
-    out = {"dataset": dataset.name, "events": len(events), "seeds": seeds,
-           "online": {**_mean_std(scores), "update_ms": {"median": float(np.median(ms)),
-                                                         "p95": float(np.percentile(ms, 95)), "max": float(ms.max())}}}
+    out = {
+        "dataset": dataset.name,
+        "events": len(events),
+        "seeds": seeds,
+        "online": {
+            **_mean_std(scores),
+            "update_ms": {
+                "median": float(np.median(ms)),
+                "p95": float(np.percentile(ms, 95)),
+                "max": float(ms.max()),
+            },
+        },
+    }
     if batch:
-        b = evaluate_learning(dataset, runs=seeds, seed=seed, iterations=iterations, n_jobs=n_jobs,
-                              methods=("tmhp_replay",), use_features=use_features, K=K, L=L)["tmhp_replay"]
+        b = evaluate_learning(
+            dataset,
+            runs=seeds,
+            seed=seed,
+            iterations=iterations,
+            n_jobs=n_jobs,
+            methods=("tmhp_replay",),
+            use_features=use_features,
+            K=K,
+            L=L,
+        )["tmhp_replay"]
         out["batch"] = {**{k: getattr(b, k) for k in SCORES}, "std": b.std, "time_s": b.time_s}
         out["difference"] = {k: out["online"][k] - out["batch"][k] for k in SCORES}
     return out
 
 
 def _mean_std(scores: list[dict]) -> dict:
-    return {**{k: float(np.mean([s[k] for s in scores])) for k in SCORES},
-            "std": {k: float(np.std([s[k] for s in scores])) for k in SCORES}}
+    return {
+        **{k: float(np.mean([s[k] for s in scores])) for k in SCORES},
+        "std": {k: float(np.std([s[k] for s in scores])) for k in SCORES},
+    }
 
 
 def format_report(result: dict) -> str:
     """The evaluation as a short table."""
-    lines = [(f"Online learning on {result['dataset']}: {result['events']} events streamed in recorded order, "
-             f"{result['seeds']} seeds"), f"{'':<8}" + "".join(f"{k.upper().replace('_', ' '):>15}" for k in SCORES)]
+    lines = [
+        (
+            f"Online learning on {result['dataset']}: {result['events']} events streamed in recorded order, "
+            f"{result['seeds']} seeds"
+        ),
+        f"{'':<8}" + "".join(f"{k.upper().replace('_', ' '):>15}" for k in SCORES),
+    ]
     for name in ("online", "batch"):
         if name in result:
             r = result[name]

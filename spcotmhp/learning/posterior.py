@@ -32,9 +32,16 @@ class SufficientStats:
     background: np.ndarray | None = None
 
     @classmethod
-    def from_assignments(cls, obs: Observations, places: np.ndarray, concepts: np.ndarray,
-                         K: int, L: int, concept_words: np.ndarray | None = None,
-                         background: np.ndarray | None = None) -> SufficientStats:
+    def from_assignments(
+        cls,
+        obs: Observations,
+        places: np.ndarray,
+        concepts: np.ndarray,
+        K: int,
+        L: int,
+        concept_words: np.ndarray | None = None,
+        background: np.ndarray | None = None,
+    ) -> SufficientStats:
         """Counts of one assignment; ``concept_words`` (E, V) are the word counts of each event explained by its
         concept (default: all of them) and ``background`` (V,) the counts of background tokens, if any."""
         onehot_c = np.zeros((obs.E, L))
@@ -44,12 +51,14 @@ class SufficientStats:
         n = onehot_i.sum(axis=0)
         sx = onehot_i.T @ obs.X
         sxx = (onehot_i.T @ (obs.X[:, :, None] * obs.X[:, None, :]).reshape(obs.E, 4)).reshape(K, 2, 2)
-        return cls(gauss=GaussianStats(n, sx, sxx),
-                   concepts=onehot_c.sum(axis=0),
-                   place_given_concept=onehot_c.T @ onehot_i,
-                   features=None if obs.features is None else onehot_c.T @ obs.features,
-                   words=onehot_c.T @ (obs.words if concept_words is None else concept_words),
-                   background=background)
+        return cls(
+            gauss=GaussianStats(n, sx, sxx),
+            concepts=onehot_c.sum(axis=0),
+            place_given_concept=onehot_c.T @ onehot_i,
+            features=None if obs.features is None else onehot_c.T @ obs.features,
+            words=onehot_c.T @ (obs.words if concept_words is None else concept_words),
+            background=background,
+        )
 
 
 @dataclass
@@ -67,19 +76,27 @@ class Priors:
 
     @classmethod
     def build(cls, hyper: Hyperparameters, K: int, L: int, V: int, D: int | None) -> Priors:
-        return cls(gauss=NIWGaussians(K, np.asarray(hyper.m0), hyper.kappa0, np.asarray(hyper.V0), hyper.nu0),
-                   pi=DirichletCategoricals(1, L, hyper.alpha),
-                   phi=DirichletCategoricals(L, K, hyper.gamma),
-                   theta=None if D is None else DirichletCategoricals(L, D, hyper.chi),
-                   W=DirichletCategoricals(L, V, hyper.beta),
-                   psi=DirichletCategoricals(K, K, hyper.omega),
-                   background=DirichletCategoricals(1, V, hyper.beta),
-                   switch=DirichletCategoricals(1, 2, 1.0))
+        return cls(
+            gauss=NIWGaussians(K, np.asarray(hyper.m0), hyper.kappa0, np.asarray(hyper.V0), hyper.nu0),
+            pi=DirichletCategoricals(1, L, hyper.alpha),
+            phi=DirichletCategoricals(L, K, hyper.gamma),
+            theta=None if D is None else DirichletCategoricals(L, D, hyper.chi),
+            W=DirichletCategoricals(L, V, hyper.beta),
+            psi=DirichletCategoricals(K, K, hyper.omega),
+            background=DirichletCategoricals(1, V, hyper.beta),
+            switch=DirichletCategoricals(1, 2, 1.0),
+        )
 
 
-def posterior_mean_model(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None,
-                         vocabulary: list[str], hyper: Hyperparameters, info: dict | None = None,
-                         psi: np.ndarray | None = None) -> SpatialConceptModel:
+def posterior_mean_model(
+    priors: Priors,
+    stats: SufficientStats,
+    transitions: np.ndarray | None,
+    vocabulary: list[str],
+    hyper: Hyperparameters,
+    info: dict | None = None,
+    psi: np.ndarray | None = None,
+) -> SpatialConceptModel:
     """The model Theta' whose every parameter is its posterior mean given ``stats`` (and transition counts).
 
     ``transitions`` (K, K) are the counts behind psi (None: uniform psi, the GMM/SpCoSLAM mode); ``psi`` given
@@ -88,13 +105,15 @@ def posterior_mean_model(priors: Priors, stats: SufficientStats, transitions: np
     mu, Sigma = priors.gauss.posterior_mean(stats.gauss)
     K = mu.shape[0]
     if psi is None:
-        psi = (np.full((K, K), 1.0 / K) if transitions is None else priors.psi.posterior_mean(transitions))
+        psi = np.full((K, K), 1.0 / K) if transitions is None else priors.psi.posterior_mean(transitions)
     W = priors.W.posterior_mean(stats.words)
-    if stats.background is not None:   # p(w | l) = lambda W_l(w) + (1 - lambda) W_0(w)
+    if stats.background is not None:  # p(w | l) = lambda W_l(w) + (1 - lambda) W_0(w)
         lam = priors.switch.posterior_mean(np.array([[stats.background.sum(), stats.words.sum()]]))[0, 1]
         W = lam * W + (1.0 - lam) * priors.background.posterior_mean(stats.background[None, :])
     return SpatialConceptModel(
-        mu=mu, Sigma=Sigma, psi=psi,
+        mu=mu,
+        Sigma=Sigma,
+        psi=psi,
         pi=priors.pi.posterior_mean(stats.concepts[None, :])[0],
         phi=priors.phi.posterior_mean(stats.place_given_concept),
         W=W,
@@ -102,7 +121,9 @@ def posterior_mean_model(priors: Priors, stats: SufficientStats, transitions: np
         theta=None if priors.theta is None else priors.theta.posterior_mean(stats.features),
         active_places=stats.gauss.n > 0,
         active_concepts=stats.concepts > 0,
-        hyper=hyper, info=dict(info or {}))
+        hyper=hyper,
+        info=dict(info or {}),
+    )
 
 
 def log_place_prior(priors: Priors, stats: SufficientStats) -> np.ndarray:
@@ -123,8 +144,12 @@ def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | 
     normaliser of the product is not part of the comparison).  Deterministic given an assignment, so it
     ranks runs without the noise of the last parameter draw.
     """
-    lj = (priors.gauss.log_marginal(stats.gauss) + priors.pi.log_marginal(stats.concepts[None, :])
-          + priors.phi.log_marginal(stats.place_given_concept) + priors.W.log_marginal(stats.words))
+    lj = (
+        priors.gauss.log_marginal(stats.gauss)
+        + priors.pi.log_marginal(stats.concepts[None, :])
+        + priors.phi.log_marginal(stats.place_given_concept)
+        + priors.W.log_marginal(stats.words)
+    )
     if priors.theta is not None:
         lj += priors.theta.log_marginal(stats.features)
     if transitions is not None:

@@ -58,8 +58,9 @@ class MultiRunSelector:
     ``estimator.connectivity`` applied once, to the chosen run only), ``fit_time_``.
     """
 
-    def __init__(self, estimator: SpCoTMHP | None = None, runs: int = 10, criterion: str = "auto",
-                 n_jobs: int = 1) -> None:
+    def __init__(
+        self, estimator: SpCoTMHP | None = None, runs: int = 10, criterion: str = "auto", n_jobs: int = 1
+    ) -> None:
         self.estimator = estimator
         self.runs = runs
         self.criterion = criterion
@@ -84,15 +85,22 @@ class MultiRunSelector:
             for job in jobs:
                 step = None if progress is None else (lambda _sweep: progress(1))
                 self.estimators_.append(SpCoTMHP(**job).fit(dataset, progress=step))
-        self.summaries_ = [RunSummary(r, e.log_joint_, e.mutual_information_,
-                                      int(e.model_.active_places.sum()), int(e.model_.active_concepts.sum()),
-                                      e.fit_time_) for r, e in enumerate(self.estimators_)]
+        self.summaries_ = [
+            RunSummary(
+                r,
+                e.log_joint_,
+                e.mutual_information_,
+                int(e.model_.active_places.sum()),
+                int(e.model_.active_concepts.sum()),
+                e.fit_time_,
+            )
+            for r, e in enumerate(self.estimators_)
+        ]
         criterion = self.criterion
         if criterion == "auto":
             criterion = "mutual_information" if self.estimators_[0].model_.info.get("features") else "log_joint"
         self.criterion_ = criterion
-        score = [s.mutual_information if criterion == "mutual_information" else s.log_joint
-                 for s in self.summaries_]
+        score = [s.mutual_information if criterion == "mutual_information" else s.log_joint for s in self.summaries_]
         self.best_index_ = int(np.argmax(score))
         self.best_ = self.estimators_[self.best_index_]
         self.model_: SpatialConceptModel = self.best_.model_
@@ -104,25 +112,33 @@ class MultiRunSelector:
         return self
 
 
-def fit_runs(dataset: Dataset, runs: int = 10, criterion: str = "auto", n_jobs: int = 1,
-             progress: Callable[[int], None] | None = None, **params) -> MultiRunSelector:
+def fit_runs(
+    dataset: Dataset,
+    runs: int = 10,
+    criterion: str = "auto",
+    n_jobs: int = 1,
+    progress: Callable[[int], None] | None = None,
+    **params,
+) -> MultiRunSelector:
     """``MultiRunSelector(SpCoTMHP(**params), runs, criterion, n_jobs).fit(dataset, progress)``."""
     return MultiRunSelector(SpCoTMHP(**params), runs=runs, criterion=criterion, n_jobs=n_jobs).fit(
-        dataset, progress=progress)
+        dataset, progress=progress
+    )
 
 
 def _fit_one(dataset: Dataset, job: dict) -> SpCoTMHP:
     return SpCoTMHP(**job).fit(dataset)
 
 
-def _fit_pool(dataset: Dataset, jobs: list[dict], n_jobs: int,
-              progress: Callable[[int], None] | None) -> list[SpCoTMHP]:
+def _fit_pool(
+    dataset: Dataset, jobs: list[dict], n_jobs: int, progress: Callable[[int], None] | None
+) -> list[SpCoTMHP]:
     """Runs in worker processes (fork where the platform has it: no re-import, numba caches shared)."""
     method = "fork" if "fork" in mp.get_all_start_methods() else "spawn"
     with ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)), mp_context=mp.get_context(method)) as pool:
         futures = [pool.submit(_fit_one, dataset, job) for job in jobs]
         out = []
-        for job, fut in zip(jobs, futures):
+        for job, fut in zip(jobs, futures, strict=False):
             out.append(fut.result())
             if progress is not None:
                 progress(job["iterations"])

@@ -28,9 +28,15 @@ SUPERVISED_HYPER = Hyperparameters(alpha=1.0, gamma=0.1, beta=0.1, chi=1.0, omeg
 ADJACENCY_SOURCES = ("auto", "given", "transitions", "walk", "map")
 
 
-def fit_supervised(dataset: Dataset, adjacency: str | np.ndarray = "auto", hyper: Hyperparameters | None = None,
-                   use_features: bool = True, feature_weight: float | None = 1.0,
-                   replay: bool = True, min_dwell: int = 3) -> SpatialConceptModel:
+def fit_supervised(
+    dataset: Dataset,
+    adjacency: str | np.ndarray = "auto",
+    hyper: Hyperparameters | None = None,
+    use_features: bool = True,
+    feature_weight: float | None = 1.0,
+    replay: bool = True,
+    min_dwell: int = 3,
+) -> SpatialConceptModel:
     """Posterior-mean model given the dataset's truth (truth_place, and truth_concept when present).
 
     Args:
@@ -52,17 +58,30 @@ def fit_supervised(dataset: Dataset, adjacency: str | np.ndarray = "auto", hyper
     concepts = places if dataset.truth_concept is None else np.asarray(dataset.truth_concept, dtype=np.int64)
     if len(places) != obs.E or len(concepts) != obs.E:
         raise DatasetError(f"{dataset.name}: {len(places)} truth rows for {obs.E} teaching events")
-    K = max(int(places.max()) + 1, len(dataset.place_names or []),
-            0 if dataset.adjacency is None else len(dataset.adjacency))
+    K = max(
+        int(places.max()) + 1,
+        len(dataset.place_names or []),
+        0 if dataset.adjacency is None else len(dataset.adjacency),
+    )
     L = int(concepts.max()) + 1
     hyper = hyper.resized(L, K)
     D = None if obs.features is None else obs.features.shape[1]
     priors = Priors.build(hyper, K, L, len(obs.vocabulary), D)
     stats = SufficientStats.from_assignments(obs, places, concepts, K, L)
     source = _adjacency_source(dataset, adjacency)
-    model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper,
-                                 {"method": "supervised", "dataset": dataset.name,
-                                  "features": obs.features is not None, "feature_weight": feature_weight})
+    model = posterior_mean_model(
+        priors,
+        stats,
+        None,
+        obs.vocabulary,
+        hyper,
+        {
+            "method": "supervised",
+            "dataset": dataset.name,
+            "features": obs.features is not None,
+            "feature_weight": feature_weight,
+        },
+    )
     model.map = dataset.map
     if source in ("given", "array"):
         A = np.asarray(dataset.adjacency if source == "given" else adjacency)

@@ -72,15 +72,24 @@ def concept_truth(dataset: Dataset) -> np.ndarray:
 def score_run(dataset: Dataset, places: np.ndarray, concepts: np.ndarray) -> dict[str, float]:
     """NMI and ARI of one run's C and i against the truth."""
     tc, ti = concept_truth(dataset), np.asarray(dataset.truth_place)
-    return {"nmi_c": float(normalized_mutual_info_score(tc, concepts)),
-            "nmi_i": float(normalized_mutual_info_score(ti, places)),
-            "ari_c": float(adjusted_rand_score(tc, concepts)),
-            "ari_i": float(adjusted_rand_score(ti, places))}
+    return {
+        "nmi_c": float(normalized_mutual_info_score(tc, concepts)),
+        "nmi_i": float(normalized_mutual_info_score(ti, places)),
+        "ari_c": float(adjusted_rand_score(tc, concepts)),
+        "ari_i": float(adjusted_rand_score(ti, places)),
+    }
 
 
-def evaluate_learning(dataset: Dataset, runs: int = 10, seed: int = 0, iterations: int = 100, n_jobs: int = 1,
-                      methods: tuple[str, ...] = tuple(METHODS), progress: Callable[[int], None] | None = None,
-                      **params) -> dict[str, MethodScores]:
+def evaluate_learning(
+    dataset: Dataset,
+    runs: int = 10,
+    seed: int = 0,
+    iterations: int = 100,
+    n_jobs: int = 1,
+    methods: tuple[str, ...] = tuple(METHODS),
+    progress: Callable[[int], None] | None = None,
+    **params,
+) -> dict[str, MethodScores]:
     """Table 6 on ``dataset``: ``runs`` runs of each method (run r = r-th child of ``seed``); ``params`` go to
     SpCoTMHP (e.g. use_features=False, K=30).  ``progress(n)`` reports completed sweeps."""
     concept_truth(dataset)
@@ -93,8 +102,10 @@ def evaluate_learning(dataset: Dataset, runs: int = 10, seed: int = 0, iteration
         scores = [score_run(dataset, e.places_, e.concepts_) for e in sel.estimators_]
         mean = {k: float(np.mean([s[k] for s in scores])) for k in scores[0]}
         std = {k: float(np.std([s[k] for s in scores])) for k in scores[0]}
-        saturated = {what: sum(what in e.model_.info["truncation_saturated"] for e in sel.estimators_)
-                     for what in ("places", "concepts")}
+        saturated = {
+            what: sum(what in e.model_.info["truncation_saturated"] for e in sel.estimators_)
+            for what in ("places", "concepts")
+        }
         out[name] = MethodScores(**mean, time_s=elapsed, runs=runs, std=std, saturated=saturated)
     return out
 
@@ -105,9 +116,17 @@ def warm_up(dataset: Dataset, **params) -> None:
         SpCoTMHP(iterations=2, seed=0, connectivity="hmm", **{**params, **method}).fit(dataset)
 
 
-def evaluate_seeds(dataset: Dataset, seeds: int = 5, seed: int = 0, runs: int = 10, iterations: int = 100,
-                   n_jobs: int = 1, methods: tuple[str, ...] = tuple(METHODS),
-                   progress: Callable[[int], None] | None = None, **params) -> dict[str, dict]:
+def evaluate_seeds(
+    dataset: Dataset,
+    seeds: int = 5,
+    seed: int = 0,
+    runs: int = 10,
+    iterations: int = 100,
+    n_jobs: int = 1,
+    methods: tuple[str, ...] = tuple(METHODS),
+    progress: Callable[[int], None] | None = None,
+    **params,
+) -> dict[str, dict]:
     """Table 6 over ``seeds`` seeds: {method: {nmi_c, nmi_c_sd, ..., time_s, time_s_sd, runs, std, saturated,
     seeds}} (module docstring); ``std`` is the spread over the runs of the first seed, ``saturated`` sums
     over seeds."""
@@ -116,8 +135,10 @@ def evaluate_seeds(dataset: Dataset, seeds: int = 5, seed: int = 0, runs: int = 
     if seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {seeds}")
     warm_up(dataset, **params)
-    per_seed = [as_json(evaluate_learning(dataset, runs, seed + k, iterations, n_jobs, methods, progress, **params))
-                for k in range(seeds)]
+    per_seed = [
+        as_json(evaluate_learning(dataset, runs, seed + k, iterations, n_jobs, methods, progress, **params))
+        for k in range(seeds)
+    ]
     out = aggregate_methods(per_seed)
     for name in out:
         out[name]["saturated"] = {w: sum(d[name]["saturated"][w] for d in per_seed) for w in ("places", "concepts")}
@@ -137,20 +158,29 @@ def format_table(results: dict[str, dict], dataset_name: str = "") -> str:
     keys = ("nmi_c", "nmi_i", "ari_c", "ari_i")
     head = f"{'Method':<32}{'':>7}" + "".join(f"{k.replace('_', ' ').upper()[:3] + ' ' + k[-1]:>16}" for k in keys)
     head += f"{'Time (s)':>16}"
-    lines = [f"Table 6 - learning of spatial concepts{f' on {dataset_name}' if dataset_name else ''}", head,
-             "-" * len(head)]
+    lines = [
+        f"Table 6 - learning of spatial concepts{f' on {dataset_name}' if dataset_name else ''}",
+        head,
+        "-" * len(head),
+    ]
     for name in ("gmm", "tmhp", "tmhp_replay"):
         if name not in results:
             continue
         ours, paper = results[name], PAPER[name]
-        lines.append(f"{LABELS[name]:<32}{'paper*':>7}" + "".join(f"{paper[k]:>16.3f}" for k in keys)
-                     + f"{paper['time_s']:>16.1f}")
-        lines.append(f"{'':<32}{'ours':>7}" + "".join(f"{pm(ours, k):>16}" for k in keys)
-                     + f"{pm(ours, 'time_s', 2):>16}")
+        lines.append(
+            f"{LABELS[name]:<32}{'paper*':>7}"
+            + "".join(f"{paper[k]:>16.3f}" for k in keys)
+            + f"{paper['time_s']:>16.1f}"
+        )
+        lines.append(
+            f"{'':<32}{'ours':>7}" + "".join(f"{pm(ours, k):>16}" for k in keys) + f"{pm(ours, 'time_s', 2):>16}"
+        )
     first = next(iter(results.values()), {})
-    lines.append(f"ours: mean ± sd over {first.get('seeds', 1)} seed(s) of the means over {first.get('runs', 0)} "
-                 "runs each; time for all runs of one seed together (numba compiled beforehand); "
-                 "* the paper's Table 6: albert-b, 10 runs, Python, i7-6850K")
+    lines.append(
+        f"ours: mean ± sd over {first.get('seeds', 1)} seed(s) of the means over {first.get('runs', 0)} "
+        "runs each; time for all runs of one seed together (numba compiled beforehand); "
+        "* the paper's Table 6: albert-b, 10 runs, Python, i7-6850K"
+    )
     return "\n".join(lines)
 
 
@@ -159,11 +189,19 @@ def markdown(results: dict[str, dict], caption: str) -> str:
     from spcotmhp.evaluation.spread import pm
 
     keys = ("nmi_c", "nmi_i", "ari_c", "ari_i")
-    lines = [caption, "", "| Method | | NMI C | NMI i | ARI C | ARI i | Time |", "|---|---|---|---|---|---|---|"]
+    lines = [
+        caption,
+        "",
+        "| Method | | NMI C | NMI i | ARI C | ARI i | Time |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for name in ("gmm", "tmhp", "tmhp_replay"):
         if name in results:
             paper, ours = PAPER[name], results[name]
-            lines.append(f"| {LABELS[name]} | paper | " + " | ".join(f"{paper[k]:.3f}" for k in keys)
-                         + f" | {paper['time_s']:.0f} s |")
+            lines.append(
+                f"| {LABELS[name]} | paper | "
+                + " | ".join(f"{paper[k]:.3f}" for k in keys)
+                + f" | {paper['time_s']:.0f} s |"
+            )
             lines.append("| | ours | " + " | ".join(pm(ours, k) for k in keys) + f" | {pm(ours, 'time_s', 1)} s |")
     return "\n".join(lines) + "\n"

@@ -33,10 +33,15 @@ class Taught:
     def summary(self, k: int = -1) -> dict:
         """JSON-ready: the place of event ``k`` (default the last), its label and words."""
         label = self.labels[k]
-        return {"place": self.places[k], "label": label, "names": [w for w in label.split() if w in
-                                                                    self.place_words],
-                "new_place": self.new_places[k], "places": int(self.model.active_places.sum()),
-                "time_update_s": self.time_update_s, "time_export_s": self.time_export_s}
+        return {
+            "place": self.places[k],
+            "label": label,
+            "names": [w for w in label.split() if w in self.place_words],
+            "new_place": self.new_places[k],
+            "places": int(self.model.active_places.sum()),
+            "time_update_s": self.time_update_s,
+            "time_export_s": self.time_export_s,
+        }
 
 
 def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
@@ -56,8 +61,15 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
     words = place_vocabulary(updated)
     labels = place_labels(updated, words)
     places = [int(k) for k in learner.last_places_]
-    return Taught(updated, places, [labels[k] for k in places], [k not in before for k in places], words,
-                  t1 - t0, t2 - t1)
+    return Taught(
+        updated,
+        places,
+        [labels[k] for k in places],
+        [k not in before for k in places],
+        words,
+        t1 - t0,
+        t2 - t1,
+    )
 
 
 def planner_for(model: SpatialConceptModel, settings=None, previous=None):
@@ -68,8 +80,12 @@ def planner_for(model: SpatialConceptModel, settings=None, previous=None):
     from spcotmhp.planning.planner import HierarchicalPlanner
 
     t0 = time.perf_counter()
-    if previous is not None and previous.graph.model.map is not None and model.map is not None \
-            and previous.graph.model.map.shape == model.map.shape:
-        previous.graph.update(model)            # cached under the new model's fingerprint, found just below
+    if (
+        previous is not None
+        and previous.graph.model.map is not None
+        and model.map is not None
+        and previous.graph.model.map.shape == model.map.shape
+    ):
+        previous.graph.update(model)  # cached under the new model's fingerprint, found just below
     planner = HierarchicalPlanner(model, settings)
     return planner, time.perf_counter() - t0

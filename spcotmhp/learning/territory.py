@@ -29,8 +29,13 @@ from spcotmhp.metric.snap import snap
 __all__ = ["place_territories", "territory_adjacency"]
 
 
-def place_territories(model: SpatialConceptModel, mask: np.ndarray, centres: np.ndarray,
-                      log_density: np.ndarray | None = None, offset: tuple[int, int] = (0, 0)) -> np.ndarray:
+def place_territories(
+    model: SpatialConceptModel,
+    mask: np.ndarray,
+    centres: np.ndarray,
+    log_density: np.ndarray | None = None,
+    offset: tuple[int, int] = (0, 0),
+) -> np.ndarray:
     """(H, W) int64 place index per cell of ``mask`` (-1 elsewhere and in components no place reaches).
 
     Args:
@@ -46,20 +51,26 @@ def place_territories(model: SpatialConceptModel, mask: np.ndarray, centres: np.
     if not mask.any() or len(act) == 0:
         return labels
     prior = model.log_place_prior()[act]
-    if log_density is None:           # compiled, both cores; memory O(H W), not O(H W K)
-        log_gaussian(centres[:1, :1], model.mu[act], model.Sigma[act])    # checks the covariances
+    if log_density is None:  # compiled, both cores; memory O(H W), not O(H W K)
+        log_gaussian(centres[:1, :1], model.mu[act], model.Sigma[act])  # checks the covariances
         S = model.Sigma[act].astype(float)
         det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
-        best = _most_probable(np.ascontiguousarray(centres, dtype=float), model.mu[act].astype(float), S, det,
-                              np.log(det), prior.astype(float))
+        best = _most_probable(
+            np.ascontiguousarray(centres, dtype=float),
+            model.mu[act].astype(float),
+            S,
+            det,
+            np.log(det),
+            prior.astype(float),
+        )
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
-        for n in range(len(act)):     # running arg max
+        for n in range(len(act)):  # running arg max
             score = log_density[n] + prior[n]
             higher = score > top
             best[higher], top[higher] = n, score[higher]
-    labels[mask] = best[mask]                                                     # indices into act
+    labels[mask] = best[mask]  # indices into act
     # the anchor of each place: the mask cell nearest its mean
     cells = model.map.world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
     anchors = snap(mask, cells)
@@ -113,7 +124,7 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
     sizes = np.zeros(N, dtype=np.int64)
     comp_label = np.zeros(N, dtype=np.int64)
     n_comp = 0
-    for s in range(N):                         # 4-connected pieces of equal label
+    for s in range(N):  # 4-connected pieces of equal label
         if flat[s] < 0 or comp[s] >= 0:
             continue
         head, tail = 0, 1
@@ -132,7 +143,7 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
         comp_label[n_comp] = flat[s]
         n_comp += 1
     seed_comp = np.full(n, -1, dtype=np.int64)
-    for k in range(n):                         # the anchor's piece, else the largest piece
+    for k in range(n):  # the anchor's piece, else the largest piece
         a = anchors[k, 0] * W + anchors[k, 1]
         if flat[a] == k:
             seed_comp[k] = comp[a]
@@ -151,7 +162,7 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
             out[i] = owner[comp[i]]
             queue[tail] = i
             tail += 1
-    for k in range(n):                         # a place with no cell of its own keeps its anchor cell
+    for k in range(n):  # a place with no cell of its own keeps its anchor cell
         if seed_comp[k] < 0:
             a = anchors[k, 0] * W + anchors[k, 1]
             if flat[a] >= 0 and out[a] != k:
@@ -160,7 +171,7 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
                     tail += 1
                 out[a] = k
     head = 0
-    while head < tail:                         # breadth-first growth from every seed at once
+    while head < tail:  # breadth-first growth from every seed at once
         i = queue[head]
         head += 1
         for d in range(4):

@@ -11,7 +11,8 @@ Reproduces ROS 1 costmap_2d cell for cell (``static_layer.cpp`` with ``trinary_c
   is costmap_2d's (occasionally not the exact Euclidean distance to the nearest obstacle, which is why a
   plain distance transform differs from ROS in a few cells per map). Cells are inflated while
   ``d <= ceil(inflation_radius / resolution)`` cells (capped at the map's diagonal, ``max_cell_radius``: no
-  two cells are farther apart, so a larger radius gives the same costs and only a larger kernel); the cost at d cells is 254 at d = 0, 253 (INSCRIBED)
+  two cells are farther apart, so a larger radius gives the same costs and only a larger kernel); the cost at d cells
+  is 254 at d = 0, 253 (INSCRIBED)
   while ``d * resolution <= inscribed_radius``, else
   ``int(252 * exp(-cost_scaling_factor * (d * resolution - inscribed_radius)))``; the new cost is the
   maximum with the existing cost (unknown cells take it only if >= 253, or > 0 with ``inflate_unknown``).
@@ -126,8 +127,7 @@ def inflate(
     """
     if robot_radius is not None and inscribed_radius is not None:
         raise MapError(
-            "give either robot_radius or inscribed_radius, not both (a circular robot's radius is its "
-            "inscribed radius)"
+            "give either robot_radius or inscribed_radius, not both (a circular robot's radius is its inscribed radius)"
         )
     radius = inscribed_radius if robot_radius is None else robot_radius
     settings = CostMapSettings(
@@ -138,8 +138,8 @@ def inflate(
         inflate_unknown,
     )
     costs = static_costs(occ_map, settings.track_unknown_space)
-    cap = max_cell_radius(occ_map)      # no two cells are farther apart: a larger radius changes nothing
-    reach = min(settings.inflation_radius, cap * occ_map.resolution)   # (1e308 m would overflow the division)
+    cap = max_cell_radius(occ_map)  # no two cells are farther apart: a larger radius changes nothing
+    reach = min(settings.inflation_radius, cap * occ_map.resolution)  # (1e308 m would overflow the division)
     cell_radius = min(cell_distance(reach, occ_map.resolution), cap)
     if cell_radius > 0:
         bins, kernel_costs = inflation_kernel(cell_radius, occ_map.resolution, settings)
@@ -175,13 +175,14 @@ def max_cell_radius(occ_map: OccupancyMap) -> int:
 
 
 def _finite(value: object) -> bool:
-    return (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-            and math.isfinite(value))
+    return (
+        isinstance(value, (int, float, np.integer, np.floating))
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+    )
 
 
-def inflation_kernel(
-    cell_radius: int, resolution: float, settings: CostMapSettings
-) -> tuple[np.ndarray, np.ndarray]:
+def inflation_kernel(cell_radius: int, resolution: float, settings: CostMapSettings) -> tuple[np.ndarray, np.ndarray]:
     """costmap_2d's cached kernels over offsets (dx, dy) in 0..cell_radius+1: the rank of the distance
     ``hypot(dx, dy)`` among the distinct distances (the bin; -1 beyond the inflation radius), and the cost.
     ``cell_radius`` must be an integer >= 0 (``inflate`` caps it at ``max_cell_radius``)."""
@@ -254,8 +255,9 @@ def _wavefront(costs, bins, kernel_costs, inflate_unknown):  # pragma: no cover 
                 sy, sx = src // width, src % width
                 cost = kernel_costs[abs(mx - sx), abs(my - sy)]
                 old = flat[index]
-                if old == NO_INFORMATION and ((cost > FREE_SPACE) if inflate_unknown
-                                              else (cost >= INSCRIBED_INFLATED_OBSTACLE)):
+                if old == NO_INFORMATION and (
+                    (cost > FREE_SPACE) if inflate_unknown else (cost >= INSCRIBED_INFLATED_OBSTACLE)
+                ):
                     flat[index] = cost
                 else:
                     flat[index] = max(old, cost)

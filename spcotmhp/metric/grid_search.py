@@ -113,7 +113,8 @@ def step_cost_map(
         if np.isnan(ld).any() or (ld == np.inf).any():
             bad = np.argwhere(np.isnan(ld) | (ld == np.inf))[0]
             raise GridSearchError(
-                f"log_density must be finite or -inf; cell (row, col) = ({bad[0]}, {bad[1]}) holds {float(ld[tuple(bad)])!r}"
+                f"log_density must be finite or -inf; cell (row, col) = ({bad[0]}, {bad[1]}) holds "
+                f"{float(ld[tuple(bad)])!r}"
             )
         cost = cost - ld
     cost[~np.isfinite(lp)] = np.inf
@@ -158,9 +159,7 @@ def shortest_paths(
         raise GridSearchError(f"start must be one (row, col) cell, got {len(src)} cells")
     tgt = _check_cells(targets, cost, "target")
     if all_targets:
-        dist, parent, _ = _k.grid_search(
-            cost, src, tgt, connectivity, diagonal_factor, rule, False, _k.MODE_ALL, 0.0
-        )
+        dist, parent, _ = _k.grid_search(cost, src, tgt, connectivity, diagonal_factor, rule, False, _k.MODE_ALL, 0.0)
         paths: list[GridPath | None] = []
         for i, (r, c) in enumerate(tgt):
             end = r * cost.shape[1] + c
@@ -168,8 +167,7 @@ def shortest_paths(
         missing = [i for i, p in enumerate(paths) if p is None]
         if strict and missing:
             raise PlanningError(
-                f"no path from start {_fmt(src[0])} to target(s) "
-                + ", ".join(f"#{i} {_fmt(tgt[i])}" for i in missing)
+                f"no path from start {_fmt(src[0])} to target(s) " + ", ".join(f"#{i} {_fmt(tgt[i])}" for i in missing)
             )
         return paths
     h_scale = float(cost.min()) if len(tgt) <= _MAX_HEURISTIC_TARGETS else 0.0
@@ -226,9 +224,7 @@ def path_from_field(
     field = np.asarray(field)
     next_step = np.asarray(next_step)
     if field.shape != next_step.shape or field.ndim != 2:
-        raise GridSearchError(
-            f"field {field.shape} and next_step {next_step.shape} must be the same 2-D shape"
-        )
+        raise GridSearchError(f"field {field.shape} and next_step {next_step.shape} must be the same 2-D shape")
     s = _check_cells(start, field, "start", check_blocked=False)[0]
     if not np.isfinite(field[s[0], s[1]]):
         if strict:
@@ -236,9 +232,7 @@ def path_from_field(
         return None
     W = field.shape[1]
     if next_step.dtype not in (np.int32, np.int64):
-        raise GridSearchError(
-            f"next_step must hold int32 or int64 flat cell indices, got dtype {next_step.dtype}"
-        )
+        raise GridSearchError(f"next_step must hold int32 or int64 flat cell indices, got dtype {next_step.dtype}")
     links = np.ascontiguousarray(next_step).reshape(-1)
     cells, n_diagonal = _k.follow_links(links, int(s[0] * W + s[1]), W, False)
     index = -1
@@ -340,9 +334,7 @@ def _check_cells(cells: Any, grid: np.ndarray, what: str, check_blocked: bool = 
     if arr.ndim == 1 and arr.shape[0] == 2:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] == 0:
-        raise GridSearchError(
-            f"{what} cells must be (row, col) pairs, shape (n, 2) with n >= 1; got {arr.shape}"
-        )
+        raise GridSearchError(f"{what} cells must be (row, col) pairs, shape (n, 2) with n >= 1; got {arr.shape}")
     if arr.dtype.kind == "f" and not np.all(np.isfinite(arr) & (arr == np.round(arr))):
         raise GridSearchError(f"{what} cells must be integer (row, col) indices, got {arr.tolist()}")
     if arr.dtype.kind not in "iuf":
@@ -351,8 +343,7 @@ def _check_cells(cells: Any, grid: np.ndarray, what: str, check_blocked: bool = 
     bad, reason = _k.first_invalid(arr, grid, check_blocked)
     if reason == 1:
         raise GridSearchError(
-            f"{what} cell (row, col) = {_fmt(arr[bad])} is off the grid of {grid.shape[0]} rows x "
-            f"{grid.shape[1]} cols"
+            f"{what} cell (row, col) = {_fmt(arr[bad])} is off the grid of {grid.shape[0]} rows x {grid.shape[1]} cols"
         )
     if reason == 2:
         raise GridSearchError(f"{what} cell (row, col) = {_fmt(arr[bad])} is blocked (cost inf)")

@@ -35,9 +35,9 @@ from spcotmhp.safe_read import check_file_name, excerpt, finite_number, load_yam
 from spcotmhp.safe_write import atomic_write
 
 MODES = ("trinary", "scale", "raw")
-MAX_YAML_BYTES = 64 * 1024          # a map_server YAML is a few hundred bytes
-MAX_ORIGIN_M = 1e6                  # |origin x, y| in metres (a map 1000 km from its frame is a mistake)
-MIN_RESOLUTION, MAX_RESOLUTION = 1e-4, 1e3   # metres per cell
+MAX_YAML_BYTES = 64 * 1024  # a map_server YAML is a few hundred bytes
+MAX_ORIGIN_M = 1e6  # |origin x, y| in metres (a map 1000 km from its frame is a mistake)
+MIN_RESOLUTION, MAX_RESOLUTION = 1e-4, 1e3  # metres per cell
 IMAGE_FORMATS = ("pgm", "png", "bmp")
 # grey levels that Nav2's map_saver writes in trinary mode
 SAVE_FREE, SAVE_OCCUPIED, SAVE_UNKNOWN = 254, 0, 205
@@ -101,21 +101,19 @@ def read_map_yaml(yaml_path: str | Path) -> MapMetadata:
     image = check_file_name(need("image"), f"map YAML {path}: key 'image'", MapError)
     resolution = _number(path, "resolution", need("resolution"))
     if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
-        raise MapError(f"map YAML {path}: key 'resolution' must be a number of metres per cell in "
-                       f"{MIN_RESOLUTION:g}..{MAX_RESOLUTION:g}, got {excerpt(resolution)}")
+        raise MapError(
+            f"map YAML {path}: key 'resolution' must be a number of metres per cell in "
+            f"{MIN_RESOLUTION:g}..{MAX_RESOLUTION:g}, got {excerpt(resolution)}"
+        )
     origin = need("origin")
     if not isinstance(origin, (list, tuple)) or len(origin) != 3:
-        raise MapError(
-            f"map YAML {path}: key 'origin' must be a list of 3 numbers [x, y, yaw], got {excerpt(origin)}"
-        )
+        raise MapError(f"map YAML {path}: key 'origin' must be a list of 3 numbers [x, y, yaw], got {excerpt(origin)}")
     ox, oy, yaw = (_number(path, "origin", v) for v in origin)
     if max(abs(ox), abs(oy)) > MAX_ORIGIN_M:
-        raise MapError(f"map YAML {path}: origin x and y must lie within +-{MAX_ORIGIN_M:g} m, got "
-                       f"[{ox:g}, {oy:g}]")
+        raise MapError(f"map YAML {path}: origin x and y must lie within +-{MAX_ORIGIN_M:g} m, got [{ox:g}, {oy:g}]")
     if yaw != 0.0:
         raise MapError(
-            f"map YAML {path}: origin yaw {yaw!r} is not supported; "
-            "only axis-aligned maps (yaw 0) are accepted"
+            f"map YAML {path}: origin yaw {yaw!r} is not supported; only axis-aligned maps (yaw 0) are accepted"
         )
     negate = need("negate")
     if isinstance(negate, bool):
@@ -152,8 +150,9 @@ def resolve_image_path(yaml_path: Path, image: str) -> Path:
     beside = yaml_path.parent / named.name
     if beside.exists():
         return beside
-    raise MapError(f"map YAML {yaml_path}: image {excerpt(str(named))} does not exist, nor does {beside.name} "
-                   "beside the YAML")
+    raise MapError(
+        f"map YAML {yaml_path}: image {excerpt(str(named))} does not exist, nor does {beside.name} beside the YAML"
+    )
 
 
 def read_image(path: Path) -> tuple[np.ndarray, np.ndarray | None, int]:
@@ -180,7 +179,7 @@ def _image_channels(path: Path, img: Image.Image) -> tuple[np.ndarray, np.ndarra
     elif mode in ("La", "RGBa"):
         img = img.convert(mode.upper()[:-1] + "A")
         mode = img.mode
-    a = np.asarray(img).astype(np.int32)   # int32 holds four 16-bit channels' sum; a quarter of int64's memory
+    a = np.asarray(img).astype(np.int32)  # int32 holds four 16-bit channels' sum; a quarter of int64's memory
     if mode.startswith("I;16") or mode == "I":
         if a.size and (a.min() < 0 or a.max() > 65535):
             raise MapError(f"map image {path}: 32-bit images are not supported (values beyond 16 bits)")
@@ -252,9 +251,7 @@ def save_map(
     if fmt not in IMAGE_FORMATS:
         raise MapError(f"cannot save map: image format {fmt!r} is not one of {', '.join(IMAGE_FORMATS)}")
     if mode == "scale" and fmt != "png":
-        raise MapError(
-            f"cannot save map: scale mode needs transparency for unknown cells, use png, not {fmt}"
-        )
+        raise MapError(f"cannot save map: scale mode needs transparency for unknown cells, use png, not {fmt}")
     occupied = occ_map.occupied_thresh if occupied_thresh is None else float(occupied_thresh)
     free = occ_map.free_thresh if free_thresh is None else float(free_thresh)
     _check_thresholds("cannot save map", occupied, free)

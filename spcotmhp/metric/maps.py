@@ -41,10 +41,16 @@ class OccupancyMap:
         """Same grid values, resolution, origin and map_server settings (the source path is ignored)."""
         if not isinstance(other, OccupancyMap):
             return NotImplemented
-        return (self.data.shape == other.data.shape and bool(np.array_equal(self.data, other.data))
-                and self.resolution == other.resolution and tuple(self.origin) == tuple(other.origin)
-                and self.mode == other.mode and self.negate == other.negate
-                and self.occupied_thresh == other.occupied_thresh and self.free_thresh == other.free_thresh)
+        return (
+            self.data.shape == other.data.shape
+            and bool(np.array_equal(self.data, other.data))
+            and self.resolution == other.resolution
+            and tuple(self.origin) == tuple(other.origin)
+            and self.mode == other.mode
+            and self.negate == other.negate
+            and self.occupied_thresh == other.occupied_thresh
+            and self.free_thresh == other.free_thresh
+        )
 
     __hash__ = None  # type: ignore[assignment]  # mutable array inside
 

@@ -14,12 +14,12 @@ Pictures of plans are drawn by :mod:`spcotmhp.viz.plan`.
 
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph
 from spcotmhp.planning.instructions import (
-                                            Instruction,
-                                            PlaceQuery,
-                                            parse_nbest,
-                                            parse_structured,
-                                            parse_text,
-                                            to_instruction,
+    Instruction,
+    PlaceQuery,
+    parse_nbest,
+    parse_structured,
+    parse_text,
+    to_instruction,
 )
 from spcotmhp.planning.plan import Plan, PlanPlace
 from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings
@@ -28,6 +28,19 @@ from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 # the one-call ``plan(model, instruction, start)`` lives in spcotmhp.planning.planner (exporting it here would
 # hide the ``spcotmhp.planning.plan`` module)
 
-__all__ = ["GraphSettings", "HierarchicalPlanner", "Instruction", "PlaceQuery", "Plan", "PlanPlace",
-           "PlannerSettings", "PlanningGraph", "parse_nbest", "parse_structured", "parse_text", "place_labels", "place_vocabulary",
-           "to_instruction"]
+__all__ = [
+    "GraphSettings",
+    "HierarchicalPlanner",
+    "Instruction",
+    "PlaceQuery",
+    "Plan",
+    "PlanPlace",
+    "PlannerSettings",
+    "PlanningGraph",
+    "parse_nbest",
+    "parse_structured",
+    "parse_text",
+    "place_labels",
+    "place_vocabulary",
+    "to_instruction",
+]

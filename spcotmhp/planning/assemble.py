@@ -73,8 +73,9 @@ def path_length(cells: np.ndarray, resolution: float) -> float:
     return float(resolution * octile_length(np.ascontiguousarray(cells, dtype=np.int64).reshape(-1, 2)))
 
 
-def replan_segment(cells: np.ndarray, cost: np.ndarray, origin: np.ndarray, tube: np.ndarray,
-                   connectivity: int = 8) -> np.ndarray:
+def replan_segment(
+    cells: np.ndarray, cost: np.ndarray, origin: np.ndarray, tube: np.ndarray, connectivity: int = 8
+) -> np.ndarray:
     """Re-plan the piece ``cells`` (grid cells, both ends kept) by exact A* on ``cost`` (+inf blocked)
     restricted to the cells where ``tube`` (a window of the grid with its corner at ``origin``) is True, the
     piece's own cells and their 8-neighbours added; returns the new piece if it is :func:`better` (the search
@@ -88,31 +89,34 @@ def replan_segment(cells: np.ndarray, cost: np.ndarray, origin: np.ndarray, tube
         return cells
     origin = np.asarray(origin, dtype=np.int64)
     a, b, L = cells[0], cells[-1], path_length(cells, 1.0)
-    reach_lo = np.floor((a + b) / 2 - L / 2).astype(np.int64)        # the ellipse lies in this square
+    reach_lo = np.floor((a + b) / 2 - L / 2).astype(np.int64)  # the ellipse lies in this square
     reach_hi = np.ceil((a + b) / 2 + L / 2).astype(np.int64) + 1
     lo = np.maximum(np.minimum(np.maximum(origin, reach_lo), cells.min(axis=0) - 1), 0)
     hi = np.minimum(np.maximum(np.minimum(origin + tube.shape, reach_hi), cells.max(axis=0) + 2), cost.shape)
-    window = cost[lo[0]:hi[0], lo[1]:hi[1]]
+    window = cost[lo[0] : hi[0], lo[1] : hi[1]]
     allowed = np.zeros(window.shape, dtype=bool)
     t0, t1 = np.maximum(lo - origin, 0), np.minimum(hi - origin, tube.shape)
     if (t1 > t0).all():
         w0 = origin + t0 - lo
-        allowed[w0[0]:w0[0] + t1[0] - t0[0], w0[1]:w0[1] + t1[1] - t0[1]] = tube[t0[0]:t1[0], t0[1]:t1[1]]
+        allowed[w0[0] : w0[0] + t1[0] - t0[0], w0[1] : w0[1] + t1[1] - t0[1]] = tube[t0[0] : t1[0], t0[1] : t1[1]]
     near = (cells[:, None, :] - lo + _AROUND[None]).reshape(-1, 2)
     near = near[(near >= 0).all(axis=1) & (near < window.shape).all(axis=1)]
     allowed[near[:, 0], near[:, 1]] = True
-    found = shortest_paths(np.where(allowed, window, np.inf), cells[0] - lo, (cells[-1] - lo)[None],
-                           connectivity)
+    found = shortest_paths(np.where(allowed, window, np.inf), cells[0] - lo, (cells[-1] - lo)[None], connectivity)
     if found is None:
         return cells
     new = found.cells + lo
     return new if better(new, cells, cost) else cells
 
 
-def shorten(cells: np.ndarray, anchors: Sequence[int],
-            tube: Callable[[int, int], tuple[np.ndarray, np.ndarray]], cost: np.ndarray,
-            connectivity: int = 8,
-            exact: Callable[[int, int], np.ndarray | None] | None = None) -> tuple[np.ndarray, list[int]]:
+def shorten(
+    cells: np.ndarray,
+    anchors: Sequence[int],
+    tube: Callable[[int, int], tuple[np.ndarray, np.ndarray]],
+    cost: np.ndarray,
+    connectivity: int = 8,
+    exact: Callable[[int, int], np.ndarray | None] | None = None,
+) -> tuple[np.ndarray, list[int]]:
     """Step 1 of the module docstring: re-plan every piece between consecutive anchors (indices into ``cells``;
     the first and last cells are anchors too) with :func:`replan_segment`; ``tube(a, b)`` gives the
     ``(origin, mask)`` of the piece ``cells[a:b + 1]``. ``exact(a, b)``, when given, may return an answer of
@@ -122,7 +126,7 @@ def shorten(cells: np.ndarray, anchors: Sequence[int],
     bounds = sorted({0, len(cells) - 1, *(int(a) for a in anchors)})
     pieces, where, n = [cells[:1]], {0: 0}, 1
     for a, b in itertools.pairwise(bounds):
-        old = cells[a:b + 1]
+        old = cells[a : b + 1]
         found = exact(a, b) if exact is not None and len(old) >= 3 else None
         if found is None:
             piece = replan_segment(old, cost, *tube(a, b), connectivity)
@@ -149,8 +153,13 @@ def path_cost(cells: np.ndarray, cost: np.ndarray) -> float:
 
 def better(new: np.ndarray, old: np.ndarray, cost: np.ndarray) -> bool:
     """Whether ``new`` is strictly shorter than ``old``, or as long and no costlier under ``cost``."""
-    return bool(is_better(np.ascontiguousarray(new, dtype=np.int64).reshape(-1, 2),
-                          np.ascontiguousarray(old, dtype=np.int64).reshape(-1, 2), cost))
+    return bool(
+        is_better(
+            np.ascontiguousarray(new, dtype=np.int64).reshape(-1, 2),
+            np.ascontiguousarray(old, dtype=np.int64).reshape(-1, 2),
+            cost,
+        )
+    )
 
 
 def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int], connectivity: int = 8) -> np.ndarray:
@@ -159,8 +168,9 @@ def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int], connectiv
     return smooth_anchored(cells, allowed, anchors, connectivity)[0]
 
 
-def smooth_anchored(cells: np.ndarray, allowed: np.ndarray, anchors: Sequence[int],
-                    connectivity: int = 8) -> tuple[np.ndarray, list[int]]:
+def smooth_anchored(
+    cells: np.ndarray, allowed: np.ndarray, anchors: Sequence[int], connectivity: int = 8
+) -> tuple[np.ndarray, list[int]]:
     """:func:`smooth`, also returning the new index of each anchor."""
     if connectivity not in (4, 8):
         raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
@@ -191,7 +201,7 @@ def _clear(allowed, r0, c0, r1, c1):  # pragma: no cover - numba
     ic = 0
     while ir < nr or ic < nc:
         decision = (1 + 2 * ic) * nr - (1 + 2 * ir) * nc
-        if decision == 0:                       # through a corner: both side cells are touched
+        if decision == 0:  # through a corner: both side cells are touched
             if not allowed[r + sr, c] or not allowed[r, c + sc]:
                 return False
             r += sr
@@ -250,12 +260,12 @@ def _shortcut(cells, allowed, fixed, four):  # pragma: no cover - numba
     n = cells.shape[0]
     out = np.empty((n, 2), np.int64)
     out[0] = cells[0]
-    ends = np.zeros(fixed.shape[0], np.int64)    # the new index of each fixed cell
+    ends = np.zeros(fixed.shape[0], np.int64)  # the new index of each fixed cell
     k = 1
     for s in range(fixed.shape[0] - 1):
         i, end = fixed[s], fixed[s + 1]
         while i < end:
-            j = end                             # the farthest visible cell of this segment
+            j = end  # the farthest visible cell of this segment
             while j > i + 1 and not _clear(allowed, cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1]):
                 j -= 1
             if j == i + 1:
@@ -270,8 +280,9 @@ def _shortcut(cells, allowed, fixed, four):  # pragma: no cover - numba
     return out[:k].copy(), ends
 
 
-def smooth_on_graph(graph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray,
-                    anchors: Sequence[int]) -> tuple[np.ndarray, list[int]]:
+def smooth_on_graph(
+    graph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray, anchors: Sequence[int]
+) -> tuple[np.ndarray, list[int]]:
     """Algorithm 1, line 13, on a path assembled from a planning graph's legs (``graph``: a
     :class:`~spcotmhp.planning.graph.PlanningGraph`): ``ends[e]`` is the index where node ``nodes[e]`` is
     reached, ``anchors`` the indices where a stage is completed (kept). Each piece between anchors is re-planned
@@ -287,7 +298,7 @@ def smooth_on_graph(graph, cells: np.ndarray, ends: Sequence[int], nodes: np.nda
     connectivity = graph.settings.connectivity
 
     def places(a: int, b: int) -> np.ndarray:
-        piece = raw[a:b + 1]
+        piece = raw[a : b + 1]
         own = node_place[(ends_arr >= a) & (ends_arr <= b)]
         return np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
 

@@ -97,33 +97,38 @@ class PlanningGraph:
     traversable: np.ndarray
     node_place: np.ndarray
     node_cell: np.ndarray
-    dist: np.ndarray | list          # (M, h, w) cost to go into node j over c_place[j] (a list in views)
-    next_step: np.ndarray | list     # (M, h, w) flat index of the next cell (-1 at the node / unreachable)
-    end_term: np.ndarray             # (M,) log N(x_j | mu_b, Sigma_b) at each node (optimality at a leg's end)
-    w_hat: np.ndarray                # (M, M) partial-path log-likelihoods, -inf if not connected/unreachable
-    w_hat_metric: np.ndarray         # (M, M) the same between any two nodes (the metric fallback's legs)
-    log_transition: np.ndarray       # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
-    connected: np.ndarray            # (K, K) connected places
+    dist: np.ndarray | list  # (M, h, w) cost to go into node j over c_place[j] (a list in views)
+    next_step: np.ndarray | list  # (M, h, w) flat index of the next cell (-1 at the node / unreachable)
+    end_term: np.ndarray  # (M,) log N(x_j | mu_b, Sigma_b) at each node (optimality at a leg's end)
+    w_hat: np.ndarray  # (M, M) partial-path log-likelihoods, -inf if not connected/unreachable
+    w_hat_metric: np.ndarray  # (M, M) the same between any two nodes (the metric fallback's legs)
+    log_transition: np.ndarray  # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
+    connected: np.ndarray  # (K, K) connected places
     time_precompute_s: float
-    territory: np.ndarray | None = None   # (h, w) place of each traversable cell (-1 elsewhere)
-    log_transition_all: np.ndarray = field(default_factory=lambda: np.empty(0))   # log_transition, any two nodes
-    main: np.ndarray | None = None        # (h, w) the largest free component (where the nodes are)
-    _territories: dict = field(default_factory=dict, repr=False)   # place -> (row, col, grown mask)
+    territory: np.ndarray | None = None  # (h, w) place of each traversable cell (-1 elsewhere)
+    log_transition_all: np.ndarray = field(default_factory=lambda: np.empty(0))  # log_transition, any two nodes
+    main: np.ndarray | None = None  # (h, w) the largest free component (where the nodes are)
+    _territories: dict = field(default_factory=dict, repr=False)  # place -> (row, col, grown mask)
     _map_cost: np.ndarray | None = field(default=None, repr=False)
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
     blocked: np.ndarray | None = None
     usable: np.ndarray | None = None
-    _shared: set = field(default_factory=set, repr=False)        # fields still shared with the base graph
+    _shared: set = field(default_factory=set, repr=False)  # fields still shared with the base graph
     _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
-    hier: hierarchy.TerritoryFields | None = None   # territory-local fields (when dense ones exceed the budget)
+    hier: hierarchy.TerritoryFields | None = None  # territory-local fields (when dense ones exceed the budget)
 
     # ---- construction ----------------------------------------------------------------------------------
     @classmethod
-    def build(cls, model: SpatialConceptModel, settings: GraphSettings | None = None,
-              log_p: np.ndarray | None = None, use_cache: bool = True,
-              reuse: PlanningGraph | None = None) -> PlanningGraph:
+    def build(
+        cls,
+        model: SpatialConceptModel,
+        settings: GraphSettings | None = None,
+        log_p: np.ndarray | None = None,
+        use_cache: bool = True,
+        reuse: PlanningGraph | None = None,
+    ) -> PlanningGraph:
         """Precompute (or fetch from the cache) the graph of ``model`` on its map. ``log_p`` overrides the cost
         map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap`` settings).
         ``reuse``: an earlier graph (same map size) whose territory-local fields are kept wherever a territory's
@@ -168,36 +173,61 @@ class PlanningGraph:
         # candidates (Alg. 1, line 2), snapped into their own territory within the main free component
         rng = np.random.default_rng(settings.seed)
         node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
-        cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array([r0, c0]),
-                                           main, territory)
+        cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array([r0, c0]), main, territory)
         node_place, cells, node_xy = node_place[ok], cells[ok], node_xy[ok]
         _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
         keep = np.sort(keep)
         node_place, cells = node_place[keep], cells[keep]
         xy = occ.cell_to_world(cells + np.array([r0, c0]))
-        end_term = np.array([log_gaussian(xy[n], model.mu[k:k + 1], model.Sigma[k:k + 1])[0]
-                             for n, k in enumerate(node_place)], dtype=float).reshape(-1)
+        end_term = np.array(
+            [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],
+            dtype=float,
+        ).reshape(-1)
         unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
 
-        graph = cls(model=model, settings=settings, key=key, offset=(int(r0), int(c0)), log_p=log_p,
-                    traversable=traversable, node_place=node_place, node_cell=cells, end_term=end_term,
-                    dist=[], next_step=[], w_hat=np.empty(0), w_hat_metric=np.empty(0),
-                    log_transition=np.empty(0),
-                    connected=connected_places(model, settings.edge_threshold), time_precompute_s=0.0,
-                    info={"n_nodes": len(cells), "unreachable_places": unreachable,
-                          "crop": [int(r0), int(r1), int(c0), int(c1)]},
-                    _centres=centres, territory=territory, main=main,
-                    _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution))
+        graph = cls(
+            model=model,
+            settings=settings,
+            key=key,
+            offset=(int(r0), int(c0)),
+            log_p=log_p,
+            traversable=traversable,
+            node_place=node_place,
+            node_cell=cells,
+            end_term=end_term,
+            dist=[],
+            next_step=[],
+            w_hat=np.empty(0),
+            w_hat_metric=np.empty(0),
+            log_transition=np.empty(0),
+            connected=connected_places(model, settings.edge_threshold),
+            time_precompute_s=0.0,
+            info={
+                "n_nodes": len(cells),
+                "unreachable_places": unreachable,
+                "crop": [int(r0), int(r1), int(c0), int(c1)],
+            },
+            _centres=centres,
+            territory=territory,
+            main=main,
+            _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution),
+        )
         graph.usable = np.ones(len(cells), dtype=bool)
         if 12 * len(cells) * log_p.size <= settings.max_dense_bytes:
             fields = [graph._field(j) for j in range(len(cells))]
-            graph.dist = np.stack([d for d, _ in fields])             # (M, h, w), shared by avoidance views
+            graph.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
             graph.next_step = np.stack([n for _, n in fields])
         else:
             old = reuse.hier if reuse is not None and reuse.offset == graph.offset else None
-            graph.hier = hierarchy.build(graph.map_cost, territory, cells, model.K,
-                                         round(settings.portal_spacing / occ.resolution), settings.connectivity,
-                                         reuse=old)
+            graph.hier = hierarchy.build(
+                graph.map_cost,
+                territory,
+                cells,
+                model.K,
+                round(settings.portal_spacing / occ.resolution),
+                settings.connectivity,
+                reuse=old,
+            )
             graph.info.update(graph.hier.info)
         graph.info["field_bytes"] = graph.field_bytes
         graph._edges()
@@ -215,7 +245,7 @@ class PlanningGraph:
         M = self.n_nodes
         rows, cols = self.node_cell[:, 0], self.node_cell[:, 1]
         w_hat = np.full((M, M), -np.inf)
-        for j in np.flatnonzero(self.usable):                          # -field_j[cell_i] + log N(x_j)
+        for j in np.flatnonzero(self.usable):  # -field_j[cell_i] + log N(x_j)
             to_j = self.hier.D[:M, j] if self.hier is not None else self.dist[j][rows, cols]
             w_hat[:, j] = self.end_term[j] - to_j
         pairs = ~np.eye(M, dtype=bool) & self.usable[:, None] & self.usable[None, :]
@@ -226,8 +256,9 @@ class PlanningGraph:
             log_psi = self.model.log_psi()[self.node_place[:, None], self.node_place[None, :]]
         log_ur = self.model.log_unigram_rescaling()[self.node_place]
         self.log_transition = np.where(np.isfinite(self.w_hat), log_psi - log_ur[None, :] + self.w_hat, -np.inf)
-        self.log_transition_all = np.where(np.isfinite(self.w_hat_metric), log_psi - log_ur[None, :] + self.w_hat_metric,
-                                           -np.inf)
+        self.log_transition_all = np.where(
+            np.isfinite(self.w_hat_metric), log_psi - log_ur[None, :] + self.w_hat_metric, -np.inf
+        )
         self._paths = {}
 
     # ---- queries ---------------------------------------------------------------------------------------
@@ -254,8 +285,9 @@ class PlanningGraph:
         if self.blocked is not None and self._shared:
             start = r * self.log_p.shape[1] + c
             for j in list(self._shared):
-                if np.isfinite(self.dist[j][r, c]) and crosses(self.next_step[j].reshape(-1), start,
-                                                                 self.blocked.reshape(-1)):
+                if np.isfinite(self.dist[j][r, c]) and crosses(
+                    self.next_step[j].reshape(-1), start, self.blocked.reshape(-1)
+                ):
                     self.dist[j], self.next_step[j] = self._field(j)
                     self._shared.discard(j)
                     self.info["recomputed_fields"].append(int(j))
@@ -282,8 +314,9 @@ class PlanningGraph:
             return path_from_field(self.dist[node], self.next_step[node], cell, strict=True)
         cells = self.hier.path(cell, node)
         if cells is None:
-            raise PlanningError(f"start cell ({int(cell[0])}, {int(cell[1])}) cannot reach node {node} "
-                                f"(blocked or disconnected)")
+            raise PlanningError(
+                f"start cell ({int(cell[0])}, {int(cell[1])}) cannot reach node {node} (blocked or disconnected)"
+            )
         diagonal = int(np.count_nonzero(np.abs(np.diff(cells, axis=0)).sum(axis=1) == 2))
         return GridPath(cells, float(cells_cost(cells, self.map_cost)), len(cells) - 1 + diagonal * (SQRT2 - 1), -1)
 
@@ -293,28 +326,39 @@ class PlanningGraph:
             self._paths[(i, j)] = self.leg(self.node_cell[i], j).cells
         return self._paths[(i, j)]
 
-    def field_piece(self, cells: np.ndarray, a: int, b: int, ends: np.ndarray, nodes: np.ndarray,
-                    places: np.ndarray) -> np.ndarray | None:
+    def field_piece(
+        self, cells: np.ndarray, a: int, b: int, ends: np.ndarray, nodes: np.ndarray, places: np.ndarray
+    ) -> np.ndarray | None:
         """An answer of the tube re-planning of the piece ``cells[a:b + 1]`` (which ends at a node, ``cells[b]``)
         read from that node's field, or None when the field's path leaves the tube (:mod:`spcotmhp.planning.
         _paths`). ``ends[e]``: index in ``cells`` where ``nodes[e]`` is reached; ``places``: the tube's places.
         A piece that is one leg is already that field's path."""
         inner = (ends > a) & (ends < b)
         if not inner.any():
-            return cells[a:b + 1]
+            return cells[a : b + 1]
         node = int(nodes[np.flatnonzero(ends == b)[-1]])
         flags = np.zeros(self.model.K, dtype=np.bool_)
         flags[places[places >= 0]] = True
-        piece = cells[a:b + 1]
-        if self.hier is not None:      # the portal graph's path, if it stays in the tube's territories
+        piece = cells[a : b + 1]
+        if self.hier is not None:  # the portal graph's path, if it stays in the tube's territories
             path = self.hier.path(piece[0], node)
             return path if path is not None and flags[self.territory[path[:, 0], path[:, 1]]].all() else None
         first, last, half = piece[0], piece[-1], octile_length(piece) / 2
         lo = np.maximum(np.floor((first + last) / 2 - half), 0).astype(np.int64)
         hi = np.ceil((first + last) / 2 + half).astype(np.int64) + 1
         width = self.log_p.shape[1]
-        path, ok = field_path_within(self.next_step[node].reshape(-1), int(first[0] * width + first[1]), width,
-                                     self.territory, flags, lo[0], lo[1], hi[0], hi[1], self.map_cost)
+        path, ok = field_path_within(
+            self.next_step[node].reshape(-1),
+            int(first[0] * width + first[1]),
+            width,
+            self.territory,
+            flags,
+            lo[0],
+            lo[1],
+            hi[0],
+            hi[1],
+            self.map_cost,
+        )
         return path if ok else None
 
     @property
@@ -358,7 +402,7 @@ class PlanningGraph:
         flat_blocked = blocked.reshape(-1)
         recomputed = []
         for j in np.flatnonzero(usable):
-            into_j = usable.copy()          # every node: the metric fallback may join any two
+            into_j = usable.copy()  # every node: the metric fallback may join any two
             into_j[j] = False
             links = self.next_step[j].reshape(-1)
             if any(crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
@@ -372,14 +416,30 @@ class PlanningGraph:
         return self._remember(key, view)
 
     def _view(self, key: tuple, blocked: np.ndarray, usable: np.ndarray, **kw) -> PlanningGraph:
-        return PlanningGraph(model=self.model, settings=self.settings, key=self.key, offset=self.offset,
-                             log_p=self.log_p, traversable=self.traversable & ~blocked,
-                             node_place=self.node_place, node_cell=self.node_cell, end_term=self.end_term,
-                             w_hat=np.empty(0), w_hat_metric=np.empty(0), log_transition=np.empty(0),
-                             connected=self.connected, time_precompute_s=0.0,
-                             info={**self.info, "avoided": key}, blocked=blocked, usable=usable,
-                             _centres=self.centres, territory=self.territory, main=self.main,
-                             _territories=self._territories, **kw)
+        return PlanningGraph(
+            model=self.model,
+            settings=self.settings,
+            key=self.key,
+            offset=self.offset,
+            log_p=self.log_p,
+            traversable=self.traversable & ~blocked,
+            node_place=self.node_place,
+            node_cell=self.node_cell,
+            end_term=self.end_term,
+            w_hat=np.empty(0),
+            w_hat_metric=np.empty(0),
+            log_transition=np.empty(0),
+            connected=self.connected,
+            time_precompute_s=0.0,
+            info={**self.info, "avoided": key},
+            blocked=blocked,
+            usable=usable,
+            _centres=self.centres,
+            territory=self.territory,
+            main=self.main,
+            _territories=self._territories,
+            **kw,
+        )
 
     def _hier_view(self, key: tuple, blocked: np.ndarray, usable: np.ndarray, t0: float) -> PlanningGraph:
         """The avoidance view of a portal-graph graph: the avoided territories' abstract nodes removed; no
@@ -406,8 +466,10 @@ class PlanningGraph:
             raise ModelError(f"place index must be an integer in 0..{K - 1}, got {k!r}")
         mu, Sigma = np.asarray(mu, dtype=float), np.asarray(Sigma, dtype=float)
         if mu.shape != (2,) or Sigma.shape != (2, 2) or not (np.isfinite(mu).all() and np.isfinite(Sigma).all()):
-            raise ModelError(f"place {k}: mu must be 2 finite numbers and Sigma 2 x 2 finite numbers, got shapes "
-                             f"{mu.shape} and {Sigma.shape}")
+            raise ModelError(
+                f"place {k}: mu must be 2 finite numbers and Sigma 2 x 2 finite numbers, got shapes "
+                f"{mu.shape} and {Sigma.shape}"
+            )
         if not (np.allclose(Sigma, Sigma.T) and np.linalg.eigvalsh(Sigma)[0] > 0):
             raise ModelError(f"place {k}: Sigma must be symmetric positive definite")
         model = copy.copy(self.model)
@@ -415,8 +477,9 @@ class PlanningGraph:
         model.mu[k], model.Sigma[k] = mu, Sigma
         return self.update(model, use_cache=use_cache)
 
-    def update(self, model: SpatialConceptModel, log_p: np.ndarray | None = None,
-               use_cache: bool = True) -> PlanningGraph:
+    def update(
+        self, model: SpatialConceptModel, log_p: np.ndarray | None = None, use_cache: bool = True
+    ) -> PlanningGraph:
         """The graph of a changed model or cost map (same map size), recomputing only what depends on the
         change: :meth:`build` with ``reuse=self``."""
         return PlanningGraph.build(model, self.settings, log_p=log_p, use_cache=use_cache, reuse=self)

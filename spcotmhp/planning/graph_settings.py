@@ -70,15 +70,35 @@ def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.n
     """A hash of everything the graph depends on: the model's parameters, its map and cost map settings, the
     graph settings and an explicit cost map."""
     h = hashlib.sha256()
-    for a in (model.mu, model.Sigma, model.psi, model.pi, model.phi, model.W, model.active_places,
-              model.active_concepts):
+    for a in (
+        model.mu,
+        model.Sigma,
+        model.psi,
+        model.pi,
+        model.phi,
+        model.W,
+        model.active_places,
+        model.active_concepts,
+    ):
         arr = np.ascontiguousarray(a)
         h.update(str((arr.dtype.str, arr.shape)).encode())
         h.update(arr.tobytes())
     occ = model.map
     h.update(np.ascontiguousarray(occ.data).tobytes())
-    h.update(json.dumps([list(model.vocabulary), occ.shape, occ.resolution, list(occ.origin),
-                         model.costmap, asdict(settings)], sort_keys=True, default=str).encode())
+    h.update(
+        json.dumps(
+            [
+                list(model.vocabulary),
+                occ.shape,
+                occ.resolution,
+                list(occ.origin),
+                model.costmap,
+                asdict(settings),
+            ],
+            sort_keys=True,
+            default=str,
+        ).encode()
+    )
     if log_p is not None:
         h.update(np.ascontiguousarray(log_p, dtype=np.float64).tobytes())
     return h.hexdigest()

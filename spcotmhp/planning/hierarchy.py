@@ -67,9 +67,9 @@ class TerritoryFields:
     off: np.ndarray
     fdist: np.ndarray
     fnext: np.ndarray
-    members: list                      # territory -> abstract nodes in it (int64 array)
-    links: tuple                       # (src, dst, weight) of the abstract graph's edges
-    removed: np.ndarray                # (A,) abstract nodes of avoided territories
+    members: list  # territory -> abstract nodes in it (int64 array)
+    links: tuple  # (src, dst, weight) of the abstract graph's edges
+    removed: np.ndarray  # (A,) abstract nodes of avoided territories
     D: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))
     hop: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=np.int64))
     info: dict = field(default_factory=dict)
@@ -88,7 +88,7 @@ class TerritoryFields:
         dist, pred = dijkstra(reverse, directed=True, indices=np.arange(self.n_nodes), return_predecessors=True)
         self.D = np.ascontiguousarray(dist.T)
         self.D[self.removed] = np.inf
-        self.hop = np.ascontiguousarray(pred.T).astype(np.int64)    # next abstract node on the way into j
+        self.hop = np.ascontiguousarray(pred.T).astype(np.int64)  # next abstract node on the way into j
 
     def local(self, a: int, cell: np.ndarray) -> float:
         """Node a's field at crop cell ``cell`` (inf outside a's territory window)."""
@@ -136,21 +136,41 @@ class TerritoryFields:
     def _follow(self, a: int, cell: np.ndarray) -> np.ndarray:
         r0, c0, _, c1 = self.win[self.terr[a]]
         width = c1 - c0
-        links = self.fnext[self.off[a]:self.off[a + 1]]
+        links = self.fnext[self.off[a] : self.off[a + 1]]
         cells, _ = _k.follow_links(links, (int(cell[0]) - r0) * width + int(cell[1]) - c0, width, False)
         return cells + np.array([r0, c0])
 
     def without(self, places: tuple[int, ...]) -> TerritoryFields:
         """A view whose abstract nodes in the territories of ``places`` are removed (fields shared)."""
         removed = self.removed | np.isin(self.terr, places)
-        view = TerritoryFields(self.cost, self.territory, self.n_nodes, self.cells, self.terr, self.win, self.off,
-                               self.fdist, self.fnext, self.members, self.links, removed, info=dict(self.info))
+        view = TerritoryFields(
+            self.cost,
+            self.territory,
+            self.n_nodes,
+            self.cells,
+            self.terr,
+            self.win,
+            self.off,
+            self.fdist,
+            self.fnext,
+            self.members,
+            self.links,
+            removed,
+            info=dict(self.info),
+        )
         view.solve()
         return view
 
 
-def build(cost: np.ndarray, territory: np.ndarray, node_cell: np.ndarray, n_places: int, spacing: int,
-          connectivity: int, reuse: TerritoryFields | None = None) -> TerritoryFields:
+def build(
+    cost: np.ndarray,
+    territory: np.ndarray,
+    node_cell: np.ndarray,
+    n_places: int,
+    spacing: int,
+    connectivity: int,
+    reuse: TerritoryFields | None = None,
+) -> TerritoryFields:
     """The abstraction over crop ``cost`` (log|A| - log p(x|m), inf off the traversable cells) and ``territory``
     (labels 0..n_places-1, -1 elsewhere) with the planning graph's nodes ``node_cell`` first; crossings every
     ``spacing`` cells along an entrance. ``reuse``: an earlier abstraction whose fields are copied for every
@@ -182,12 +202,23 @@ def build(cost: np.ndarray, territory: np.ndarray, node_cell: np.ndarray, n_plac
     fdist = np.empty(int(off[-1]))
     fnext = np.empty(int(off[-1]), dtype=np.int32)
     todo = _reuse_fields(reuse, cost, territory, cells_arr, terr, win, off, fdist, fnext)
-    _local_fields(np.ascontiguousarray(cost), territory, cells_arr, terr, win, off, todo, fdist, fnext,
-                  connectivity, SQRT2)
+    _local_fields(
+        np.ascontiguousarray(cost),
+        territory,
+        cells_arr,
+        terr,
+        win,
+        off,
+        todo,
+        fdist,
+        fnext,
+        connectivity,
+        SQRT2,
+    )
     members = [np.empty(0, dtype=np.int64)] * n_places
     order = np.argsort(terr, kind="stable")
     bounds = np.searchsorted(terr[order], np.arange(n_places + 1))
-    members = [order[bounds[t]:bounds[t + 1]].astype(np.int64) for t in range(n_places)]
+    members = [order[bounds[t] : bounds[t + 1]].astype(np.int64) for t in range(n_places)]
     src, dst, w = [], [], []
     for t in range(n_places):
         m = members[t]
@@ -195,7 +226,7 @@ def build(cost: np.ndarray, territory: np.ndarray, node_cell: np.ndarray, n_plac
             continue
         r0, c0, _, c1 = win[t]
         at = (cells_arr[m, 0] - r0) * (c1 - c0) + cells_arr[m, 1] - c0
-        vals = fdist[off[m][None, :] + at[:, None]]               # [a, b]: from a into b
+        vals = fdist[off[m][None, :] + at[:, None]]  # [a, b]: from a into b
         a_idx, b_idx = np.nonzero(np.isfinite(vals) & ~np.eye(len(m), dtype=bool))
         src.append(m[a_idx])
         dst.append(m[b_idx])
@@ -207,11 +238,26 @@ def build(cost: np.ndarray, territory: np.ndarray, node_cell: np.ndarray, n_plac
         w += [cost[cells_arr[v, 0], cells_arr[v, 1]], cost[cells_arr[u, 0], cells_arr[u, 1]]]
     links = tuple(np.concatenate(x) if x else np.empty(0) for x in (src, dst, w))
     links = (links[0].astype(np.int64), links[1].astype(np.int64), links[2].astype(float))
-    out = TerritoryFields(cost, territory, len(node_cell), cells_arr, terr, win, off, fdist, fnext, members,
-                          links, np.zeros(len(cells_arr), dtype=bool),
-                          info={"abstract_nodes": len(cells_arr), "crossings": len(inter),
-                                "fields_computed": len(todo),
-                                "fields_reused": int(len(cells_arr) - len(todo))})
+    out = TerritoryFields(
+        cost,
+        territory,
+        len(node_cell),
+        cells_arr,
+        terr,
+        win,
+        off,
+        fdist,
+        fnext,
+        members,
+        links,
+        np.zeros(len(cells_arr), dtype=bool),
+        info={
+            "abstract_nodes": len(cells_arr),
+            "crossings": len(inter),
+            "fields_computed": len(todo),
+            "fields_reused": int(len(cells_arr) - len(todo)),
+        },
+    )
     out.solve()
     return out
 
@@ -232,7 +278,7 @@ def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int,
             groups.setdefault((min(ta, tb), max(ta, tb)), []).append((u, v))
     out = []
     for crossing in groups.values():
-        partner: dict = {}                                     # u -> its neighbours v across
+        partner: dict = {}  # u -> its neighbours v across
         for u, v in crossing:
             partner.setdefault(u, []).append(v)
         seen: set = set()
@@ -241,7 +287,7 @@ def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int,
                 continue
             run, stack = [], [start]
             seen.add(start)
-            while stack:                                       # 8-connected run of u cells
+            while stack:  # 8-connected run of u cells
                 r, c = stack.pop()
                 run.append((r, c))
                 for dr in (-1, 0, 1):
@@ -273,13 +319,14 @@ def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fdist, fnext) -
             if ok:
                 r0, c0, r1, c1 = win[t]
                 mine = territory[r0:r1, c0:c1] == t
-                ok = (np.array_equal(mine, reuse.territory[r0:r1, c0:c1] == t)
-                      and np.array_equal(cost[r0:r1, c0:c1][mine], reuse.cost[r0:r1, c0:c1][mine]))
+                ok = np.array_equal(mine, reuse.territory[r0:r1, c0:c1] == t) and np.array_equal(
+                    cost[r0:r1, c0:c1][mine], reuse.cost[r0:r1, c0:c1][mine]
+                )
             same[t] = ok
         old = old_at.get((t, int(cells[a, 0]), int(cells[a, 1])))
         if same[t] and old is not None:
-            fdist[off[a]:off[a + 1]] = reuse.fdist[reuse.off[old]:reuse.off[old + 1]]
-            fnext[off[a]:off[a + 1]] = reuse.fnext[reuse.off[old]:reuse.off[old + 1]]
+            fdist[off[a] : off[a + 1]] = reuse.fdist[reuse.off[old] : reuse.off[old + 1]]
+            fnext[off[a] : off[a + 1]] = reuse.fnext[reuse.off[old] : reuse.off[old + 1]]
             todo[a] = False
     return np.flatnonzero(todo)
 
@@ -299,7 +346,16 @@ def _local_fields(cost, territory, cells, terr, win, off, todo, fdist, fnext, co
         src = np.empty((1, 2), np.int64)
         src[0, 0] = cells[a, 0] - r0
         src[0, 1] = cells[a, 1] - c0
-        dist, parent, _ = _k.grid_search(sub, src, np.empty((0, 2), np.int64), connectivity, diag,
-                                         _k.CORNER_NO_SQUEEZE, True, _k.MODE_FIELD, 0.0)
-        fdist[off[a]:off[a] + h * w] = dist
-        fnext[off[a]:off[a] + h * w] = parent
+        dist, parent, _ = _k.grid_search(
+            sub,
+            src,
+            np.empty((0, 2), np.int64),
+            connectivity,
+            diag,
+            _k.CORNER_NO_SQUEEZE,
+            True,
+            _k.MODE_FIELD,
+            0.0,
+        )
+        fdist[off[a] : off[a] + h * w] = dist
+        fnext[off[a] : off[a] + h * w] = parent

@@ -113,12 +113,19 @@ class Instruction:
 
 
 def detect_language(text: str) -> str:
-    """"ja" when the text holds kana or kanji, else "en"."""
+    """ "ja" when the text holds kana or kanji, else "en"."""
     return "ja" if _CJK.search(text) else "en"
 
 
-def parse_text(text: str, place_words: Sequence[str], lang: str | None = None, *, max_chars: int | None = None,
-               max_waypoints: int | None = None, max_avoided: int | None = None) -> Instruction:
+def parse_text(
+    text: str,
+    place_words: Sequence[str],
+    lang: str | None = None,
+    *,
+    max_chars: int | None = None,
+    max_waypoints: int | None = None,
+    max_avoided: int | None = None,
+) -> Instruction:
     """Understand one instruction sentence (the rules of :mod:`spcotmhp.planning.sentence` and
     :mod:`spcotmhp.planning.sequence`); limits default to the module constants.
 
@@ -136,14 +143,16 @@ def parse_text(text: str, place_words: Sequence[str], lang: str | None = None, *
         raise MalformedInstruction(f"an instruction text must be a string, got {excerpt(text)}")
     limit = MAX_CHARS if max_chars is None else max_chars
     if len(text) > limit:
-        raise InstructionTooLarge(f"the instruction has {len(text)} characters, more than the {limit} accepted: "
-                                  f"{excerpt(text)}")
+        raise InstructionTooLarge(
+            f"the instruction has {len(text)} characters, more than the {limit} accepted: {excerpt(text)}"
+        )
     if not text.strip():
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     lang = lang or detect_language(text)
     if lang not in GRAMMARS:
-        raise UnsupportedLanguage(f"no grammar for language {excerpt(lang, 20)}; supported: "
-                                  f"{', '.join(sorted(GRAMMARS))}")
+        raise UnsupportedLanguage(
+            f"no grammar for language {excerpt(lang, 20)}; supported: {', '.join(sorted(GRAMMARS))}"
+        )
     if not place_words:
         raise UnknownPlaceWord(f"no known place word in {excerpt(text)}; the model knows no place words")
     parts = visiting_order(read_sentence(text, GRAMMARS[lang], place_words), text, place_words)
@@ -152,13 +161,25 @@ def parse_text(text: str, place_words: Sequence[str], lang: str | None = None, *
         return PlaceQuery(dict(Counter(p.item.words)), p.item.surface)
 
     visit = [query(p) for p in parts["visit"]]
-    ins = Instruction(goal=visit[-1], waypoints=tuple(visit[:-1]), avoid=tuple(map(query, parts["avoid"])),
-                      text=text, lang=lang, not_goal=tuple(map(query, parts["not_goal"])))
+    ins = Instruction(
+        goal=visit[-1],
+        waypoints=tuple(visit[:-1]),
+        avoid=tuple(map(query, parts["avoid"])),
+        text=text,
+        lang=lang,
+        not_goal=tuple(map(query, parts["not_goal"])),
+    )
     return _within_limits(ins, max_waypoints, max_avoided)
 
 
-def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], lang: str = "en", *,
-                     max_waypoints: int | None = None, max_avoided: int | None = None) -> Instruction:
+def parse_structured(
+    obj: Mapping[str, Any] | str,
+    place_words: Sequence[str],
+    lang: str = "en",
+    *,
+    max_waypoints: int | None = None,
+    max_avoided: int | None = None,
+) -> Instruction:
     """The structured form ``{"goal": [...], "waypoints": [[...], ...], "avoid": [[...], ...]}`` (optionally
     ``"not_goal": [[...], ...]``, places that must not be the goal).
 
@@ -171,25 +192,30 @@ def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], l
     """
     if isinstance(obj, str):
         if len(obj) > MAX_JSON_CHARS:
-            raise InstructionTooLarge(f"the structured instruction has {len(obj)} characters, more than the "
-                                      f"{MAX_JSON_CHARS} accepted")
+            raise InstructionTooLarge(
+                f"the structured instruction has {len(obj)} characters, more than the {MAX_JSON_CHARS} accepted"
+            )
         try:
             obj = json.loads(obj)
         except (json.JSONDecodeError, RecursionError) as exc:
             why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
             raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
     if not isinstance(obj, Mapping):
-        raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, "
-                                   "avoid")
+        raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
     unknown_keys = [k for k in obj if k not in ("goal", "waypoints", "avoid", "not_goal")]
     if unknown_keys:
-        raise MalformedInstruction(f"unknown key(s) [{', '.join(excerpt(str(k), 30) for k in unknown_keys[:5])}] in "
-                                   "the structured instruction; accepted: goal, waypoints, avoid, not_goal")
+        raise MalformedInstruction(
+            f"unknown key(s) [{', '.join(excerpt(str(k), 30) for k in unknown_keys[:5])}] in "
+            "the structured instruction; accepted: goal, waypoints, avoid, not_goal"
+        )
     if "goal" not in obj:
         raise MalformedInstruction("the structured instruction has no 'goal'")
     known = set(place_words)
-    limits = {"waypoints": _limit(max_waypoints, MAX_WAYPOINTS), "avoid": _limit(max_avoided, MAX_AVOIDED),
-              "not_goal": _limit(max_avoided, MAX_AVOIDED)}
+    limits = {
+        "waypoints": _limit(max_waypoints, MAX_WAYPOINTS),
+        "avoid": _limit(max_avoided, MAX_AVOIDED),
+        "not_goal": _limit(max_avoided, MAX_AVOIDED),
+    }
 
     def query(tokens: Any, where: str) -> PlaceQuery:
         if isinstance(tokens, str):
@@ -202,29 +228,46 @@ def parse_structured(obj: Mapping[str, Any] | str, place_words: Sequence[str], l
             raise InstructionTooLarge(f"{where} has {len(tokens)} words, more than the {MAX_PLACE_WORDS} accepted")
         bad = list(dict.fromkeys(t for t in tokens if t not in known))
         if bad:
-            raise UnknownPlaceWord(f"{where}: unknown place word(s) {', '.join(excerpt(t, 30) for t in bad[:5])}"
-                                   f"{unknown_tail(bad, place_words)}")
+            raise UnknownPlaceWord(
+                f"{where}: unknown place word(s) {', '.join(excerpt(t, 30) for t in bad[:5])}"
+                f"{unknown_tail(bad, place_words)}"
+            )
         return PlaceQuery(dict(Counter(tokens)), " ".join(tokens))
 
     def queries(key: str) -> tuple[PlaceQuery, ...]:
         value = obj.get(key, [])
         if not isinstance(value, (list, tuple)):
-            raise MalformedInstruction(f"'{key}' must be a list of places (each a list of words), got "
-                                       f"{excerpt(value)}")
+            raise MalformedInstruction(f"'{key}' must be a list of places (each a list of words), got {excerpt(value)}")
         if len(value) > limits[key]:
             raise InstructionTooLarge(f"'{key}' lists {len(value)} places, more than the {limits[key]} accepted")
         return tuple(query(v, f"{key}[{i}]") for i, v in enumerate(value))
 
-    ins = Instruction(goal=query(obj["goal"], "goal"), waypoints=queries("waypoints"), avoid=queries("avoid"),
-                      text="", lang=lang, not_goal=queries("not_goal"))
-    text = json.dumps({"goal": ins.goal.label, **{k: [q.label for q in getattr(ins, k)]
-                                                   for k in ("waypoints", "avoid", "not_goal") if obj.get(k)}},
-                      ensure_ascii=False)
+    ins = Instruction(
+        goal=query(obj["goal"], "goal"),
+        waypoints=queries("waypoints"),
+        avoid=queries("avoid"),
+        text="",
+        lang=lang,
+        not_goal=queries("not_goal"),
+    )
+    text = json.dumps(
+        {
+            "goal": ins.goal.label,
+            **{k: [q.label for q in getattr(ins, k)] for k in ("waypoints", "avoid", "not_goal") if obj.get(k)},
+        },
+        ensure_ascii=False,
+    )
     return _within_limits(replace(ins, text=text), max_waypoints, max_avoided)
 
 
-def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[str],
-                lang: str | None = None, *, max_hypotheses: int | None = None, **limits: int | None) -> Instruction:
+def parse_nbest(
+    hypotheses: Sequence[tuple[str, float]],
+    place_words: Sequence[str],
+    lang: str | None = None,
+    *,
+    max_hypotheses: int | None = None,
+    **limits: int | None,
+) -> Instruction:
     """N-best recogniser hypotheses ``[(text, score), ...]`` -> one instruction with weighted bags (Eq. 25).
 
     Scores are confidences >= 0 (normalised to sum 1) or, when all are <= 0 and some < 0, log-probabilities
@@ -244,8 +287,7 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
         raise EmptyInstruction("the N-best list is empty")
     most = _limit(max_hypotheses, MAX_HYPOTHESES)
     if len(hypotheses) > most:
-        raise InstructionTooLarge(f"the N-best list has {len(hypotheses)} hypotheses, more than the {most} "
-                                  "accepted")
+        raise InstructionTooLarge(f"the N-best list has {len(hypotheses)} hypotheses, more than the {most} accepted")
     texts, scores = [], []
     for i, h in enumerate(hypotheses):
         if not isinstance(h, (list, tuple)) or len(h) != 2 or not isinstance(h[0], str):
@@ -262,7 +304,7 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
         scores.append(s)
     weights = _normalise_scores(np.array(scores))
     parsed, first_error = [], None
-    for text, w in zip(texts, weights):
+    for text, w in zip(texts, weights, strict=False):
         try:
             parsed.append((parse_text(text, place_words, lang, **limits), float(w)))
         except InstructionError as exc:
@@ -283,20 +325,30 @@ def parse_nbest(hypotheses: Sequence[tuple[str, float]], place_words: Sequence[s
             for word, c in pick(ins).words.items():
                 bag[word] += w * c
         alternatives = tuple(dict.fromkeys(tuple(sorted(pick(ins).words.items())) for ins, _ in rel))
-        return PlaceQuery(dict(bag), pick(top).label,
-                          tuple(dict(a) for a in alternatives) if len(alternatives) > 1 else ())
+        return PlaceQuery(
+            dict(bag), pick(top).label, tuple(dict(a) for a in alternatives) if len(alternatives) > 1 else ()
+        )
 
     return Instruction(
         goal=combine(lambda i: i.goal),
         waypoints=tuple(combine(lambda i, j=j: i.waypoints[j]) for j in range(len(top.waypoints))),
         avoid=tuple(combine(lambda i, j=j: i.avoid[j]) for j in range(len(top.avoid))),
-        text=top.text, lang=top.lang,
-        not_goal=tuple(combine(lambda i, j=j: i.not_goal[j]) for j in range(len(top.not_goal))))
+        text=top.text,
+        lang=top.lang,
+        not_goal=tuple(combine(lambda i, j=j: i.not_goal[j]) for j in range(len(top.not_goal))),
+    )
 
 
-def to_instruction(source: Any, place_words: Sequence[str], lang: str | None = None, *,
-                   max_chars: int | None = None, max_waypoints: int | None = None, max_avoided: int | None = None,
-                   max_hypotheses: int | None = None) -> Instruction:
+def to_instruction(
+    source: Any,
+    place_words: Sequence[str],
+    lang: str | None = None,
+    *,
+    max_chars: int | None = None,
+    max_waypoints: int | None = None,
+    max_avoided: int | None = None,
+    max_hypotheses: int | None = None,
+) -> Instruction:
     """Accept an :class:`Instruction`, a sentence, a structured mapping (or a JSON object string), or an N-best
     list of (text, score) pairs; the limits are those of the parse functions (module docstring)."""
     bounds = {"max_waypoints": max_waypoints, "max_avoided": max_avoided}
@@ -321,11 +373,14 @@ def _limit(value: int | None, default: int) -> int:
 def _within_limits(ins: Instruction, max_waypoints: int | None, max_avoided: int | None) -> Instruction:
     most_ways, most_avoided = _limit(max_waypoints, MAX_WAYPOINTS), _limit(max_avoided, MAX_AVOIDED)
     if len(ins.waypoints) > most_ways:
-        raise InstructionTooLarge(f"the instruction names {len(ins.waypoints)} waypoints, more than the "
-                                  f"{most_ways} accepted")
+        raise InstructionTooLarge(
+            f"the instruction names {len(ins.waypoints)} waypoints, more than the {most_ways} accepted"
+        )
     if len(ins.avoid) + len(ins.not_goal) > most_avoided:
-        raise InstructionTooLarge(f"the instruction names {len(ins.avoid) + len(ins.not_goal)} places to avoid or "
-                                  f"not to end in, more than the {most_avoided} accepted")
+        raise InstructionTooLarge(
+            f"the instruction names {len(ins.avoid) + len(ins.not_goal)} places to avoid or "
+            f"not to end in, more than the {most_avoided} accepted"
+        )
     return ins
 
 
@@ -335,5 +390,7 @@ def _normalise_scores(scores: np.ndarray) -> np.ndarray:
         return scores / total if total > 0 else np.full(len(scores), 1.0 / len(scores))
     if (scores <= 0).all():
         return np.exp(scores - logsumexp(scores))
-    raise MalformedInstruction("N-best scores must be all >= 0 (confidences) or all <= 0 (log-probabilities), "
-                               f"got {excerpt(str(scores.tolist()))}")
+    raise MalformedInstruction(
+        "N-best scores must be all >= 0 (confidences) or all <= 0 (log-probabilities), "
+        f"got {excerpt(str(scores.tolist()))}"
+    )

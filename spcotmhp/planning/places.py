@@ -46,8 +46,18 @@ from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import largest_component as main_component
 from spcotmhp.metric.snap import snap
 
-__all__ = ["candidate_points", "chi2_2d", "connected_places", "inside_places", "instance_places", "mahalanobis2",
-           "main_component", "most_probable_place", "named_places", "place_regions"]
+__all__ = [
+    "candidate_points",
+    "chi2_2d",
+    "connected_places",
+    "inside_places",
+    "instance_places",
+    "mahalanobis2",
+    "main_component",
+    "most_probable_place",
+    "named_places",
+    "place_regions",
+]
 
 
 def chi2_2d(quantile: float) -> float:
@@ -64,8 +74,9 @@ def mahalanobis2(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray
     return np.einsum("...ki,kij,...kj->...k", d, inv, d)
 
 
-def candidate_points(model: SpatialConceptModel, n: int, rng: np.random.Generator,
-                     quantile: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
+def candidate_points(
+    model: SpatialConceptModel, n: int, rng: np.random.Generator, quantile: float = 0.95
+) -> tuple[np.ndarray, np.ndarray]:
     """Candidate points (Alg. 1, line 2): ``(place, xy)`` with place (M,) and xy (M, 2), places in index order,
     the mean first, then ``n - 1`` samples inside the ``quantile`` ellipse."""
     if n < 1:
@@ -77,7 +88,7 @@ def candidate_points(model: SpatialConceptModel, n: int, rng: np.random.Generato
         chol = np.linalg.cholesky(model.Sigma[k])
         while len(pts) < n:
             z = rng.standard_normal((4 * n, 2))
-            z = z[(z * z).sum(axis=1) <= limit]        # inside the ellipse: |z|^2 = Mahalanobis^2
+            z = z[(z * z).sum(axis=1) <= limit]  # inside the ellipse: |z|^2 = Mahalanobis^2
             pts.extend(model.mu[k] + z[: n - len(pts)] @ chol.T)
         places.extend([k] * n)
         points.extend(pts[:n])
@@ -110,8 +121,7 @@ def named_places(labels: list[str], phrases: Sequence[Mapping[str, float]]) -> n
     return np.array([any(bag and bag <= set(label.split()) for bag in bags) for label in labels], dtype=bool)
 
 
-def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray,
-                  quantile: float = 0.95) -> np.ndarray:
+def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray, quantile: float = 0.95) -> np.ndarray:
     """Bool mask over points ``xy`` (..., 2): inside the ``quantile`` ellipse of one of ``places``."""
     places = np.asarray(places, dtype=np.int64)
     if places.size == 0:
@@ -119,8 +129,9 @@ def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray
     return (mahalanobis2(xy, model.mu[places], model.Sigma[places]) <= chi2_2d(quantile)).any(axis=-1)
 
 
-def most_probable_place(model: SpatialConceptModel, xy: np.ndarray,
-                        log_density: np.ndarray | None = None) -> np.ndarray:
+def most_probable_place(
+    model: SpatialConceptModel, xy: np.ndarray, log_density: np.ndarray | None = None
+) -> np.ndarray:
     """arg max_i p(i | x) = arg max_i N(x | mu_i, Sigma_i) p(i) over the active places, for points ``xy``
     (..., 2): (...,) int place indices (the module docstring's territories). ``log_density`` (..., K_active),
     if given, is log N(x | mu_i, Sigma_i) of the active places already computed for ``xy``."""
@@ -130,8 +141,7 @@ def most_probable_place(model: SpatialConceptModel, xy: np.ndarray,
     return act[np.argmax(log_density + model.log_place_prior()[act], axis=-1)]
 
 
-def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray,
-                  quantile: float = 0.95) -> np.ndarray:
+def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray, quantile: float = 0.95) -> np.ndarray:
     """Bool mask over points ``xy`` (..., 2): inside the ``quantile`` ellipse of one of ``places`` *and* that
     place is the arg-max of p(i | x) (the module docstring's region)."""
     places = np.asarray(places, dtype=np.int64)
@@ -141,8 +151,9 @@ def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray
     return inside & np.isin(most_probable_place(model, xy), places)
 
 
-def snap_into_territories(node_place: np.ndarray, cells: np.ndarray, main: np.ndarray,
-                          territory: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def snap_into_territories(
+    node_place: np.ndarray, cells: np.ndarray, main: np.ndarray, territory: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Each candidate moved to the nearest cell of its own place's territory inside ``main`` (searched in the
     bounding box of those cells only); ``ok`` is False for places that own no such cell."""
     out = np.zeros_like(cells)
@@ -157,7 +168,7 @@ def snap_into_territories(node_place: np.ndarray, cells: np.ndarray, main: np.nd
             continue
         rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
         corner = np.array([rows[0] + box[0].start, cols[0] + box[1].start])
-        window = own[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+        window = own[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
         sel = node_place == k
         out[sel] = snap(window, cells[sel] - corner) + corner
         ok[sel] = True

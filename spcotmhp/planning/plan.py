@@ -117,8 +117,9 @@ class Plan:
         of = f"{n} {plural}" if reachable == n else f"{reachable} reachable of {n} {plural}"
         if chosen is None or chosen.length_m <= shortest.length_m + 1e-9:
             return f" (closest of {of})"
-        return (f" (most probable of {of}; {shortest.label} would be "
-                f"{chosen.length_m - shortest.length_m:.1f} m shorter)")
+        return (
+            f" (most probable of {of}; {shortest.label} would be {chosen.length_m - shortest.length_m:.1f} m shorter)"
+        )
 
     def to_dict(self) -> dict:
         """JSON-ready: path, places [{id, name, role}], length_m, log_prob, time_online_s, explanation, plus
@@ -126,20 +127,38 @@ class Plan:
         ins = self.instruction
         return {
             "path": np.round(self.path, 4).tolist(),
-            "places": [{"id": p.id, "name": p.name, "role": p.role, "label": p.label,
-                        "point": None if p.point is None else [round(float(v), 4) for v in p.point]}
-                       for p in self.places],
+            "places": [
+                {
+                    "id": p.id,
+                    "name": p.name,
+                    "role": p.role,
+                    "label": p.label,
+                    "point": None if p.point is None else [round(float(v), 4) for v in p.point],
+                }
+                for p in self.places
+            ],
             "length_m": round(self.length_m, 4),
             "log_prob": self.log_prob,
             "time_online_s": self.time_online_s,
             "time_precompute_s": self.time_precompute_s,
             "explanation": self.explanation,
-            "instruction": {"text": ins.text, "goal": dict(ins.goal.words),
-                            "waypoints": [dict(w.words) for w in ins.waypoints],
-                            "avoid": [dict(a.words) for a in ins.avoid],
-                            "not_goal": [dict(a.words) for a in ins.not_goal]},
-            "goal_options": [{"id": o.id, "label": o.label, "length_m": round(o.length_m, 4),
-                              "log_prob": o.log_prob, "exact": o.exact} for o in self.goal_options],
+            "instruction": {
+                "text": ins.text,
+                "goal": dict(ins.goal.words),
+                "waypoints": [dict(w.words) for w in ins.waypoints],
+                "avoid": [dict(a.words) for a in ins.avoid],
+                "not_goal": [dict(a.words) for a in ins.not_goal],
+            },
+            "goal_options": [
+                {
+                    "id": o.id,
+                    "label": o.label,
+                    "length_m": round(o.length_m, 4),
+                    "log_prob": o.log_prob,
+                    "exact": o.exact,
+                }
+                for o in self.goal_options
+            ],
             "notes": list(self.notes),
         }
 

@@ -127,8 +127,15 @@ class HierarchicalPlanner:
     """SpCoTMHP planning with one model: ``HierarchicalPlanner(model).plan("go to the bedroom via the corridor",
     start=(x, y))``. Construction runs (or fetches from the cache) the precomputation."""
 
-    def __init__(self, model: SpatialConceptModel, settings: PlannerSettings | None = None, *,
-                 log_p: np.ndarray | None = None, use_cache: bool = True, **overrides: Any) -> None:
+    def __init__(
+        self,
+        model: SpatialConceptModel,
+        settings: PlannerSettings | None = None,
+        *,
+        log_p: np.ndarray | None = None,
+        use_cache: bool = True,
+        **overrides: Any,
+    ) -> None:
         unknown = set(overrides) - {f.name for f in fields(PlannerSettings)}
         if unknown:
             raise TypeError(f"unknown planner setting(s): {', '.join(sorted(unknown))}")
@@ -139,8 +146,13 @@ class HierarchicalPlanner:
         self.names = place_labels(model, self.place_words)
         self.terms = ModelTerms(model)
         act = np.flatnonzero(model.active_places)
-        self._numbering = {int(k): (1 + sum(self.names[j] == self.names[k] for j in act if j < k),
-                                    sum(self.names[j] == self.names[k] for j in act)) for k in act}
+        self._numbering = {
+            int(k): (
+                1 + sum(self.names[j] == self.names[k] for j in act if j < k),
+                sum(self.names[j] == self.names[k] for j in act),
+            )
+            for k in act
+        }
 
     # ---- Algorithm 1, lines 9-13 -----------------------------------------------------------------------
     def plan(self, instruction: Any, start: Sequence[float], lang: str | None = None) -> Plan:
@@ -158,13 +170,14 @@ class HierarchicalPlanner:
         x0, cell, escape = start_cell(self.model, self.graph, start)
         stages = ins.stages
         S = len(stages)
-        semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])     # (S, K), Eq. 28
-        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic)])
-        for q in ins.not_goal:     # may be passed, never the goal ("instead of the kitchen")
+        semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])  # (S, K), Eq. 28
+        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic, strict=False)])
+        for q in ins.not_goal:  # may be passed, never the goal ("instead of the kitchen")
             inst[S - 1] &= ~self._instances(q)
             if not inst[S - 1].any():
-                raise ConflictingInstruction(f"every place named '{ins.goal.label}' is one the instruction says "
-                                             f"not to end in ('{q.label}')")
+                raise ConflictingInstruction(
+                    f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
+                )
         graph = self.graph
         avoided = np.zeros(model.K, dtype=bool)
         for q in ins.avoid:
@@ -179,21 +192,27 @@ class HierarchicalPlanner:
             esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(graph.blocked.shape)).all(axis=1)]
             if graph.blocked[cell[0], cell[1]] or graph.blocked[esc[:, 0], esc[:, 1]].any():
                 inside = [self.names[k] for k in np.flatnonzero(avoided)]
-                raise StartInAvoidedPlace(f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
-                                          f"({', '.join(sorted(set(inside)))})")
+                raise StartInAvoidedPlace(
+                    f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
+                    f"({', '.join(sorted(set(inside)))})"
+                )
         posterior = self.terms.place_posterior(x0)
         problem = self._problem(graph, posterior, cell, semantic, inst, S)
         result = search(problem)
         notes = []
         if len(escape):
-            notes.append(f"the start is within the robot's radius of an obstacle: the path first moves "
-                         f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.map.resolution):.2f} "
-                         f"m clear")
+            notes.append(
+                f"the start is within the robot's radius of an obstacle: the path first moves "
+                f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.map.resolution):.2f} "
+                f"m clear"
+            )
         if result is None:
             longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
             if problem.max_steps < longest.max_steps and search(longest) is not None:
-                raise HorizonTooShort(f"no sequence of at most {problem.max_steps} place-to-place steps from "
-                                      f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps")
+                raise HorizonTooShort(
+                    f"no sequence of at most {problem.max_steps} place-to-place steps from "
+                    f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps"
+                )
             metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
             result = search(metric)
             if result is None:
@@ -204,12 +223,21 @@ class HierarchicalPlanner:
         places = self._places(graph, posterior, x0, result, S, cells)
         options = self._goal_options(graph, cell, result, inst[S - 1], path_length(cells, model.map.resolution))
         map_cells = np.vstack([escape, graph.to_map(cells)]) if len(escape) else graph.to_map(cells)
-        plan = Plan(path=model.map.cell_to_world(map_cells), cells=map_cells, places=places,
-                    length_m=path_length(map_cells, model.map.resolution), log_prob=result.log_prob,
-                    time_online_s=0.0, time_precompute_s=self.graph.time_precompute_s, instruction=ins,
-                    goal_options=options, n_goal_instances=int(inst[S - 1].sum()),
-                    node_points=model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
-                    smoothed=smoothed, notes=notes)
+        plan = Plan(
+            path=model.map.cell_to_world(map_cells),
+            cells=map_cells,
+            places=places,
+            length_m=path_length(map_cells, model.map.resolution),
+            log_prob=result.log_prob,
+            time_online_s=0.0,
+            time_precompute_s=self.graph.time_precompute_s,
+            instruction=ins,
+            goal_options=options,
+            n_goal_instances=int(inst[S - 1].sum()),
+            node_points=model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
+            smoothed=smoothed,
+            notes=notes,
+        )
         plan.time_online_s = time.perf_counter() - t0
         return plan
 
@@ -226,7 +254,7 @@ class HierarchicalPlanner:
         (:func:`~spcotmhp.planning.places.named_places`). Two or more words that are each the whole name of a
         place but name no place together ("the kitchen bedroom") are refused; otherwise, when no name carries
         the words (a learned model's labels may merge two names), p(i | S) alone decides."""
-        if not self.settings.stage_constraint:      # Eq. 28 as written: any place may complete any stage
+        if not self.settings.stage_constraint:  # Eq. 28 as written: any place may complete any stage
             return np.asarray(self.model.active_places, dtype=bool).copy()
         if log_p is None:
             log_p = self.terms.log_place_given_words(query.words)
@@ -234,16 +262,28 @@ class HierarchicalPlanner:
         named = named_places(self.names, query.phrases)
         if named.any():
             return (named & inst) if (named & inst).any() else named
-        whole = [w for w in query.words if w in self.names]      # words that are a place's whole name
+        whole = [w for w in query.words if w in self.names]  # words that are a place's whole name
         if len(query.phrases) == 1 and len(whole) > 1:
             carried = whole
-            raise UnknownPlaceWord(f"no place is called {query.label!r}: " + "; ".join(
-                f"'{w}' names {', '.join(sorted({n for n in self.names if w in n.split()}))}" for w in carried)
-                + "; name one place")
+            raise UnknownPlaceWord(
+                f"no place is called {query.label!r}: "
+                + "; ".join(
+                    f"'{w}' names {', '.join(sorted({n for n in self.names if w in n.split()}))}" for w in carried
+                )
+                + "; name one place"
+            )
         return inst
 
-    def _problem(self, graph: PlanningGraph, posterior: np.ndarray, cell: np.ndarray, semantic: np.ndarray,
-                 inst: np.ndarray, S: int, metric: bool = False) -> SearchProblem:
+    def _problem(
+        self,
+        graph: PlanningGraph,
+        posterior: np.ndarray,
+        cell: np.ndarray,
+        semantic: np.ndarray,
+        inst: np.ndarray,
+        S: int,
+        metric: bool = False,
+    ) -> SearchProblem:
         """The arrays of Eq. 28 for this query (see :class:`SearchProblem`). With ``metric``, the fallback:
         any node may follow any other (the legs are free-space paths) and the transition term is dropped."""
         nodes = graph.node_place
@@ -251,15 +291,16 @@ class HierarchicalPlanner:
         start_w_hat = graph.start_w_hat(cell)
         if metric:
             ur = self.terms.log_ur[nodes]
-            return SearchProblem(graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes],
-                                 inst[:, nodes], int(E))
+            return SearchProblem(
+                graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], int(E)
+            )
         with np.errstate(divide="ignore"):
-            log_pred = np.log(posterior @ self.model.psi)                   # log sum_k p(k|x0) psi[k, i_1]
+            log_pred = np.log(posterior @ self.model.psi)  # log sum_k p(k|x0) psi[k, i_1]
         start = log_pred[nodes] - self.terms.log_ur[nodes] + start_w_hat
         if not self.settings.adjacent_only:
             return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], int(E))
         plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
-        first = graph.connected[plausible].any(axis=0)[nodes]            # i_1 next to a plausible i_0
+        first = graph.connected[plausible].any(axis=0)[nodes]  # i_1 next to a plausible i_0
         start = np.where(first, start, -np.inf)
         return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
 
@@ -289,19 +330,27 @@ class HierarchicalPlanner:
             first = max(anchors[:-1], default=0)
             rest = cells[first:]
             inside = (graph.territory[rest[:, 0], rest[:, 1]] == goal) & inside_places(
-                self.model, graph.centres[rest[:, 0], rest[:, 1]], [goal], settings.arrival_quantile)
-            cells = cells[:first + arrival(rest, inside) + 1]
+                self.model, graph.centres[rest[:, 0], rest[:, 1]], [goal], settings.arrival_quantile
+            )
+            cells = cells[: first + arrival(rest, inside) + 1]
         return cells, smoothed
 
-    def _places(self, graph: PlanningGraph, posterior: np.ndarray, x0: np.ndarray, result: SearchResult,
-                S: int, cells: np.ndarray) -> list[PlanPlace]:
+    def _places(
+        self,
+        graph: PlanningGraph,
+        posterior: np.ndarray,
+        x0: np.ndarray,
+        result: SearchResult,
+        S: int,
+        cells: np.ndarray,
+    ) -> list[PlanPlace]:
         """Start, then the places the final path drives through, in order, with their roles: the territories
         (:mod:`spcotmhp.learning.territory`) along the path, ignoring stretches shorter than the robot's
         diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
         sequence marked where the path reaches them. The explanation thus describes the path the robot drives,
         also where a leg (or smoothing) crosses a place that is not a node of the sequence."""
         labels = graph.territory[cells[:, 0], cells[:, 1]]
-        runs: list[list[int]] = []                       # [place, cells]
+        runs: list[list[int]] = []  # [place, cells]
         for lab in labels.tolist():
             if runs and runs[-1][0] == lab:
                 runs[-1][1] += 1
@@ -310,9 +359,9 @@ class HierarchicalPlanner:
         diameter = 2.0 * float(self.model.costmap.get("inscribed_radius", 0.22)) / self.model.map.resolution
         seq = [k for k, n in runs if k >= 0 and n >= diameter]
         seq = [k for i, k in enumerate(seq) if i == 0 or k != seq[i - 1]]
-        marks: list[tuple[int, str, np.ndarray]] = []    # the nodes that complete a stage, in order
+        marks: list[tuple[int, str, np.ndarray]] = []  # the nodes that complete a stage, in order
         points = self.model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
-        for node, done, xy in zip(result.nodes, result.completed, points):
+        for node, done, xy in zip(result.nodes, result.completed, points, strict=False):
             if done:
                 marks.append((int(graph.node_place[node]), "goal" if S - 1 in done else "waypoint", xy))
         i0 = int(np.argmax(posterior))
@@ -332,8 +381,14 @@ class HierarchicalPlanner:
         point = None if xy is None else (float(xy[0]), float(xy[1]))
         return PlanPlace(k, self.names[k], role, number, count, point)
 
-    def _goal_options(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult,
-                      goal_places: np.ndarray, chosen_length: float) -> list[GoalOption]:
+    def _goal_options(
+        self,
+        graph: PlanningGraph,
+        cell: np.ndarray,
+        result: SearchResult,
+        goal_places: np.ndarray,
+        chosen_length: float,
+    ) -> list[GoalOption]:
         """The best plan into each goal instance (Eq. 28 ending there) with the length of its final path (the
         same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
         about the paths the robot would drive; only when the name is shared. An instance whose path cannot be
@@ -355,7 +410,7 @@ class HierarchicalPlanner:
                 options.append(GoalOption(int(k), label, chosen_length, result.log_prob))
                 continue
             alt = result.ending_at(node)
-            anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed) if done]
+            anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed, strict=False) if done]
             bound = res * sum(_octile(a, b) for a, b in itertools.pairwise(anchors))
             if self.settings.arrival_quantile is None and bound > chosen_length + 1e-9:
                 options.append(GoalOption(int(k), label, bound, alt.log_prob, exact=False))
@@ -364,8 +419,9 @@ class HierarchicalPlanner:
             options.append(GoalOption(int(k), label, length, alt.log_prob))
         return sorted(options, key=lambda o: -o.log_prob)
 
-    def _why_not(self, graph: PlanningGraph, problem: SearchProblem, ins: Instruction, x0: np.ndarray,
-                 avoiding: bool) -> Exception:
+    def _why_not(
+        self, graph: PlanningGraph, problem: SearchProblem, ins: Instruction, x0: np.ndarray, avoiding: bool
+    ) -> Exception:
         """The typed error (one line) saying why no plan exists."""
         where = f"from ({x0[0]:.2f}, {x0[1]:.2f})"
         tail = " without entering the places to avoid" if avoiding else ""
@@ -383,10 +439,11 @@ class HierarchicalPlanner:
                 role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"
                 cut = [self.names[k] for k in graph.info.get("unreachable_places", [])]
                 hint = f" (no free cell the robot fits in: {', '.join(sorted(set(cut)))})" if cut else ""
-                return NoReachablePlace(f"no free path {where} reaches a place named '{q.label}' ({role}){tail}"
-                                        f"{hint}")
-        return HorizonTooShort(f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
-                               f"satisfies '{ins.describe()}'{tail}; raise max_steps")
+                return NoReachablePlace(f"no free path {where} reaches a place named '{q.label}' ({role}){tail}{hint}")
+        return HorizonTooShort(
+            f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
+            f"satisfies '{ins.describe()}'{tail}; raise max_steps"
+        )
 
 
 def _octile(a: np.ndarray, b: np.ndarray) -> float:
@@ -395,8 +452,13 @@ def _octile(a: np.ndarray, b: np.ndarray) -> float:
     return float(d.max() + (math.sqrt(2.0) - 1.0) * d.min())
 
 
-def plan(model: SpatialConceptModel, instruction: Any, start: Sequence[float], lang: str | None = None,
-         **settings: Any) -> Plan:
+def plan(
+    model: SpatialConceptModel,
+    instruction: Any,
+    start: Sequence[float],
+    lang: str | None = None,
+    **settings: Any,
+) -> Plan:
     """One-call planning: ``plan(model, "go to the bedroom via the corridor", (x, y))``. The precomputation is
     cached per model + map + settings, so repeated calls pay it once."""
     return HierarchicalPlanner(model, **settings).plan(instruction, start, lang)

@@ -78,10 +78,19 @@ class SearchResult:
         """The best sequence that ends at ``node`` (for comparing goal instances); raises if there is none."""
         if not np.isfinite(self.terminal[node]):
             raise ValueError(f"no plan ends at node {node}")
-        nodes, stages, completed = _backtrack(self._pred, self._from_stage, int(self._terminal_step[node]),
-                                              node, self.completes_last)
-        return SearchResult(nodes, stages, completed, float(self.terminal[node]), self.terminal, self._pred,
-                            self._from_stage, self._terminal_step)
+        nodes, stages, completed = _backtrack(
+            self._pred, self._from_stage, int(self._terminal_step[node]), node, self.completes_last
+        )
+        return SearchResult(
+            nodes,
+            stages,
+            completed,
+            float(self.terminal[node]),
+            self.terminal,
+            self._pred,
+            self._from_stage,
+            self._terminal_step,
+        )
 
     @property
     def completes_last(self) -> int:
@@ -96,13 +105,16 @@ def search(problem: SearchProblem) -> SearchResult | None:
         np.ascontiguousarray(problem.transition, dtype=np.float64),
         np.ascontiguousarray(problem.start, dtype=np.float64),
         np.ascontiguousarray(problem.word, dtype=np.float64),
-        np.ascontiguousarray(problem.completes, dtype=np.bool_), int(problem.max_steps))
+        np.ascontiguousarray(problem.completes, dtype=np.bool_),
+        int(problem.max_steps),
+    )
     if not np.isfinite(best_terminal).any():
         return None
     end = int(np.argmax(best_terminal))
     nodes, stages, completed = _backtrack(pred, from_stage, int(terminal_step[end]), end, S - 1)
-    return SearchResult(nodes, stages, completed, float(best_terminal[end]), best_terminal, pred, from_stage,
-                        terminal_step)
+    return SearchResult(
+        nodes, stages, completed, float(best_terminal[end]), best_terminal, pred, from_stage, terminal_step
+    )
 
 
 @njit(cache=True)
@@ -112,8 +124,8 @@ def _viterbi(transition, start, word, completes, E):  # pragma: no cover - numba
     (the states stay, so a plan may pass one goal instance on its way to a better one). Returns the
     predecessor and completed-stage tables, the best log weight of finishing at each node and its step."""
     S, M = word.shape
-    pred = np.full((E + 1, S, M), -1, dtype=np.int64)         # previous node (-1: the start pose)
-    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)   # >= 0: reached by completing that stage here
+    pred = np.full((E + 1, S, M), -1, dtype=np.int64)  # previous node (-1: the start pose)
+    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)  # >= 0: reached by completing that stage here
     best_terminal = np.full(M, NEG_INF)
     terminal_step = np.full(M, -1, dtype=np.int64)
     value = np.full((S, M), NEG_INF)
@@ -159,7 +171,7 @@ def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, s
     e, s, j = step, stage, node
     while e >= 1:
         prev_stage = from_stage[e, s, j]
-        if prev_stage >= 0:               # stage prev_stage was completed at node j on this same step
+        if prev_stage >= 0:  # stage prev_stage was completed at node j on this same step
             done.append(int(prev_stage))
             s = int(prev_stage)
             continue
@@ -169,5 +181,8 @@ def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, s
         done = []
         j = int(pred[e, s, j])
         e -= 1
-    return (np.array(nodes[::-1], dtype=np.int64), np.array(stages[::-1], dtype=np.int64),
-            tuple(completed[::-1]))
+    return (
+        np.array(nodes[::-1], dtype=np.int64),
+        np.array(stages[::-1], dtype=np.int64),
+        tuple(completed[::-1]),
+    )

@@ -50,8 +50,8 @@ _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 class Item:
     """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
 
-    kind: str          # place, marker, connector, order, alternative, relation, modifier, filler, other
-    value: str         # the place word / role / order kind / "seq" for a sequencer / ""
+    kind: str  # place, marker, connector, order, alternative, relation, modifier, filler, other
+    value: str  # the place word / role / order kind / "seq" for a sequencer / ""
     surface: str
     words: list[str] = field(default_factory=list)  # place words of a merged phrase
 
@@ -92,8 +92,9 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
     if not places:
         others = [it.surface for it in items if it.kind == "other"]
         words = [it.surface for it in items if it.kind == "other" or it.surface in grammar.nouns]
-        raise UnknownPlaceWord(f"no known place word in {excerpt(text)}{not_understood(others)}"
-                               f"{unknown_tail(words, place_words)}")
+        raise UnknownPlaceWord(
+            f"no known place word in {excerpt(text)}{not_understood(others)}{unknown_tail(words, place_words)}"
+        )
     _refuse(items, grammar, place_words)
     _check_place_positions(items, grammar, place_words)
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
@@ -129,8 +130,7 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, 
     grammar_lex.update({key(p): ("modifier", "") for p in grammar.modifiers})
     grammar_lex.update({key(p): ("marker", role) for p, role in grammar.markers.items()})
     grammar_lex.update({key(p): ("order", kind) for p, kind in grammar.order.items()})
-    grammar_lex.update({key(p): ("connector", "seq" if p in grammar.sequencers else "")
-                        for p in grammar.connectors})
+    grammar_lex.update({key(p): ("connector", "seq" if p in grammar.sequencers else "") for p in grammar.connectors})
     grammar_lex.update({key(p): ("alternative", "") for p in grammar.alternatives})
     grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
     grammar_lex.pop((), None)
@@ -147,7 +147,7 @@ def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]
     i = 0
     while i < len(units):
         for n in range(min(longest, len(units) - i), 0, -1):
-            k = tuple(units[i:i + n])
+            k = tuple(units[i : i + n])
             hit = place_lex.get(k) or grammar_lex.get(k)
             if hit:
                 items.append(Item(hit[0], hit[1], joiner.join(k), [hit[1]] if hit[0] == "place" else []))
@@ -159,9 +159,13 @@ def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]
             else:
                 items.append(Item("other", "", units[i]))
             i += 1
-    for a, b, c in zip(items, items[1:], items[2:]):   # "the first bedroom": an ordinal, not an order word
-        if (b.kind == "order" and b.value in ("first", "last") and a.surface in grammar.determiners
-                and c.kind in ("place", "other")):
+    for a, b, c in zip(items, items[1:], items[2:], strict=False):  # "the first bedroom": an ordinal, not an order word
+        if (
+            b.kind == "order"
+            and b.value in ("first", "last")
+            and a.surface in grammar.determiners
+            and c.kind in ("place", "other")
+        ):
             b.kind = "modifier"
     return items
 
@@ -176,8 +180,13 @@ def _merge_phrases(items: list[Item], grammar: Grammar) -> list[Item]:
             out[-1].words.extend(it.words)
             out[-1].surface += joiner + it.surface
             continue
-        if (it.kind == "place" and len(out) >= 2 and out[-2].kind == "place" and out[-1].kind == "other"
-                and out[-1].surface in grammar.between_places):
+        if (
+            it.kind == "place"
+            and len(out) >= 2
+            and out[-2].kind == "place"
+            and out[-1].kind == "other"
+            and out[-1].surface in grammar.between_places
+        ):
             if grammar.between_places[out[-1].surface] == "join":
                 between = out.pop()
                 out[-1].words.extend(it.words)
@@ -207,25 +216,34 @@ def _refuse(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> 
         if it.kind == "alternative":
             around = [p.surface for p in (_neighbour_place(items, idx, -1), _neighbour_place(items, idx, 1)) if p]
             choice = f" ({' or '.join(around)})" if around else ""
-            raise UnsupportedPhrase(f"{word} leaves the choice of a place open{choice}; the planner needs one "
-                                    "place for each waypoint and one goal: say which one")
+            raise UnsupportedPhrase(
+                f"{word} leaves the choice of a place open{choice}; the planner needs one "
+                "place for each waypoint and one goal: say which one"
+            )
         if it.kind == "relation":
             other = _neighbour_place(items, idx, step)
             what = f" ({other.surface})" if other else ""
-            raise UnsupportedPhrase(f"{word} describes a place by where it lies relative to another{what}; the "
-                                    "map does not model spatial relations between places: name the place itself; "
-                                    f"{known_words(place_words)}")
+            raise UnsupportedPhrase(
+                f"{word} describes a place by where it lies relative to another{what}; the "
+                "map does not model spatial relations between places: name the place itself; "
+                f"{known_words(place_words)}"
+            )
         if it.kind == "modifier":
             place = _neighbour_place(items, idx, 1) or _neighbour_place(items, idx, -1)
             which = f" {place.surface}" if place else " place"
-            raise UnsupportedPhrase(f"{word} picks one{which} by order, side or size, which the map does not "
-                                    f"hold; say the place's name alone (the planner goes to the closest place "
-                                    f"with that name)")
+            raise UnsupportedPhrase(
+                f"{word} picks one{which} by order, side or size, which the map does not "
+                f"hold; say the place's name alone (the planner goes to the closest place "
+                f"with that name)"
+            )
 
 
 def _expects_place(it: Item) -> bool:
-    return ((it.kind == "marker" and it.value != "from") or it.kind == "connector"
-            or (it.kind == "order" and it.value in ("before", "after")))
+    return (
+        (it.kind == "marker" and it.value != "from")
+        or it.kind == "connector"
+        or (it.kind == "order" and it.value in ("before", "after"))
+    )
 
 
 def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> None:
@@ -238,15 +256,14 @@ def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Seq
             continue
         if prefix:
             end = anchors[a + 1] if a + 1 < len(anchors) else len(items)
-            run, neighbour = items[idx + 1:end], (items[end] if end < len(items) else None)
+            run, neighbour = items[idx + 1 : end], (items[end] if end < len(items) else None)
         else:
             begin = anchors[a - 1] if a > 0 else -1
-            run, neighbour = items[begin + 1:idx], (items[begin] if begin >= 0 else None)
+            run, neighbour = items[begin + 1 : idx], (items[begin] if begin >= 0 else None)
         if neighbour is not None and neighbour.kind == "place":
-            continue       # a marker and its place (words right next to the place: _check_modifiers)
-        if (it.kind == "marker" and neighbour is not None and neighbour.kind == "marker"
-                and neighbour.value == it.value):
-            continue       # taken over by the next (English) / previous (Japanese) marker of the same role
+            continue  # a marker and its place (words right next to the place: _check_modifiers)
+        if it.kind == "marker" and neighbour is not None and neighbour.kind == "marker" and neighbour.value == it.value:
+            continue  # taken over by the next (English) / previous (Japanese) marker of the same role
         if it.kind == "connector" and it.surface in grammar.soft_connectors:
             first = next((k for k, x in enumerate(run) if x.kind == "other"), None)
             if first is None or not any(x.surface in grammar.determiners for x in run[:first]):
@@ -255,8 +272,9 @@ def _check_place_positions(items: list[Item], grammar: Grammar, place_words: Seq
         if others:
             where = "after" if prefix else "before"
             verb = "is not a known place word" if len(others) == 1 else "are not known place words"
-            raise UnknownPlaceWord(f"{named(others)} ({where} {excerpt(it.surface)}) {verb}"
-                                   f"{unknown_tail(others, place_words)}")
+            raise UnknownPlaceWord(
+                f"{named(others)} ({where} {excerpt(it.surface)}) {verb}{unknown_tail(others, place_words)}"
+            )
 
 
 def _check_modifiers(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> None:
@@ -269,8 +287,10 @@ def _check_modifiers(items: list[Item], grammar: Grammar, place_words: Sequence[
             if 0 <= j < len(items) and items[j].kind == "other":
                 word = items[j].surface
                 pair = [word, it.surface] if j < idx else [it.surface, word]
-                raise UnknownPlaceWord(f"{named([word])} ({where} {excerpt(it.surface)}) is not a known place "
-                                       f"word{unknown_tail(pair, place_words)}")
+                raise UnknownPlaceWord(
+                    f"{named([word])} ({where} {excerpt(it.surface)}) is not a known place "
+                    f"word{unknown_tail(pair, place_words)}"
+                )
 
 
 def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[tuple[str, int]]:
@@ -280,10 +300,11 @@ def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[tuple[s
         if it.kind == "marker":
             if dangling is not None:
                 d = items[dangling]
-                only_fillers = all(x.kind == "filler" or (x.kind == "marker" and x.value != "from")
-                                   for x in items[dangling + 1:idx])
+                only_fillers = all(
+                    x.kind == "filler" or (x.kind == "marker" and x.value != "from") for x in items[dangling + 1 : idx]
+                )
                 if d.value in ("avoid", "not_goal") and it.value != "from" and only_fillers:
-                    continue   # a negation governs the marker after it ("don't want to go to the kitchen")
+                    continue  # a negation governs the marker after it ("don't want to go to the kitchen")
                 if d.value != "goal":
                     _check_dangling(dangling, items, idx, place_words)
             role, source, dangling = it.value, idx, (idx if it.value != "from" else None)
@@ -299,16 +320,17 @@ def _postfix_roles(items: list[Item], grammar: Grammar) -> list[tuple[str, int]]
     (キッチンの後で) closes its phrases as places to visit."""
     roles: list[tuple[str, int]] = []
     pending: list[int] = []  # phrase indices waiting for a role
-    since_phrase = True      # no marker yet after the last phrase
+    since_phrase = True  # no marker yet after the last phrase
     last_place = -1
     for idx, it in enumerate(items):
         if it.kind == "place":
-            between = items[last_place + 1:idx]
+            between = items[last_place + 1 : idx]
             if pending and not any(x.kind in ("connector", "order") for x in between):
                 others = [x.surface for x in between if x.kind == "other"]
                 raise (UnknownPlaceWord if others else MalformedInstruction)(
                     f"{excerpt(items[last_place].surface)} and {excerpt(it.surface)} are not joined by a connector "
-                    f"or a marker{not_understood(others)}; join places with と or give each its own marker")
+                    f"or a marker{not_understood(others)}; join places with と or give each its own marker"
+                )
             roles.append(("", -1))
             pending.append(len(roles) - 1)
             since_phrase = True
@@ -324,7 +346,7 @@ def _postfix_roles(items: list[Item], grammar: Grammar) -> list[tuple[str, int]]
                 pending = []
             elif it.value in ("waypoint", "avoid", "not_goal"):
                 last = max((j for j in range(idx) if items[j].kind in ("place", "marker", "order")), default=-1)
-                between = [x.surface for x in items[last + 1:idx] if x.kind == "other"]
+                between = [x.surface for x in items[last + 1 : idx] if x.kind == "other"]
                 err = UnknownPlaceWord if between else MalformedInstruction
                 raise err(f"{excerpt(it.surface)} follows no known place word{not_understood(between)}")
             since_phrase = False
@@ -336,12 +358,16 @@ def _postfix_roles(items: list[Item], grammar: Grammar) -> list[tuple[str, int]]
 def _check_dangling(dangling: int | None, items: list[Item], end: int, place_words) -> None:
     if dangling is None:
         return
-    between = [x.surface for x in items[dangling + 1:end] if x.kind == "other"]
+    between = [x.surface for x in items[dangling + 1 : end] if x.kind == "other"]
     if between:
-        raise UnknownPlaceWord(f"{excerpt(items[dangling].surface)} is followed by no known place word"
-                               f"{not_understood(between)}{unknown_tail(between, place_words)}")
-    raise MalformedInstruction(f"{excerpt(items[dangling].surface)} is followed by no known place word; say "
-                               "which place, e.g. 'avoiding the kitchen'")
+        raise UnknownPlaceWord(
+            f"{excerpt(items[dangling].surface)} is followed by no known place word"
+            f"{not_understood(between)}{unknown_tail(between, place_words)}"
+        )
+    raise MalformedInstruction(
+        f"{excerpt(items[dangling].surface)} is followed by no known place word; say "
+        "which place, e.g. 'avoiding the kitchen'"
+    )
 
 
 def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]], grammar: Grammar) -> list[Phrase]:
@@ -350,22 +376,25 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
     for it in items:
         clause += it.kind == "connector"
         clauses.append(clause)
-    out = [Phrase(items[i], role, src, clauses[i], i) for i, (role, src) in zip(places, roles)]
+    out = [Phrase(items[i], role, src, clauses[i], i) for i, (role, src) in zip(places, roles, strict=False)]
     for prev, p in pairwise(out):
-        p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1:p.index])
+        p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1 : p.index])
     for idx, it in enumerate(items):
         if it.kind == "order":
             targets = _ordered_by(idx, it, out, items, clauses, grammar)
             if not targets and it.value in ("before", "after", "before_that"):
-                raise MalformedInstruction(f"{excerpt(it.surface)} is followed by no known place word; say which "
-                                           "place, e.g. 'go to the bedroom after the kitchen'")
+                raise MalformedInstruction(
+                    f"{excerpt(it.surface)} is followed by no known place word; say which "
+                    "place, e.g. 'go to the bedroom after the kitchen'"
+                )
             for n in targets:
                 out[n].orders.setdefault(it.value, it)
     return out
 
 
-def _ordered_by(idx: int, it: Item, phrases: list[Phrase], items: list[Item], clauses: list[int],
-                grammar: Grammar) -> list[int]:
+def _ordered_by(
+    idx: int, it: Item, phrases: list[Phrase], items: list[Item], clauses: list[int], grammar: Grammar
+) -> list[int]:
     """Indices of the phrases an order word applies to.
 
     before / after / before_that: the next phrase (Japanese 前に, 後で: the previous one) and the phrases joined
@@ -390,9 +419,10 @@ def _ordered_by(idx: int, it: Item, phrases: list[Phrase], items: list[Item], cl
     out, n = [start], start
     while 0 <= n + step < len(phrases):
         a, b = sorted((phrases[n], phrases[n + step]), key=lambda p: p.index)
-        between = items[a.index + 1:b.index]
-        joined = (any(x.kind == "connector" and x.surface not in grammar.soft_connectors for x in between)
-                  and all(x.kind in ("connector", "filler") for x in between))
+        between = items[a.index + 1 : b.index]
+        joined = any(x.kind == "connector" and x.surface not in grammar.soft_connectors for x in between) and all(
+            x.kind in ("connector", "filler") for x in between
+        )
         if not joined or a.role != b.role or a.source != b.source or b.after_sequencer:
             break
         n += step

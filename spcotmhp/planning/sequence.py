@@ -54,37 +54,48 @@ def visiting_order(phrases: list[Phrase], text: str, place_words: Sequence[str])
             p.role = "waypoint"
         timed = [o for o in ("before", "after") if o in p.orders]
         if timed and p.role not in _VISIT:
-            raise UnsupportedPhrase(f"{excerpt(p.orders[timed[0]].surface)} orders {excerpt(p.item.surface)}, "
-                                    f"a place {'to avoid' if p.role == 'avoid' else 'not to end in'}; such a "
-                                    "place is kept out of the whole plan, so say it without before / after")
+            raise UnsupportedPhrase(
+                f"{excerpt(p.orders[timed[0]].surface)} orders {excerpt(p.item.surface)}, "
+                f"a place {'to avoid' if p.role == 'avoid' else 'not to end in'}; such a "
+                "place is kept out of the whole plan, so say it without before / after"
+            )
     visit = [p for p in kept if p.role in _VISIT]
     if not visit:
-        raise EmptyInstruction(f"{excerpt(text)} names no place to go to, only places to avoid, not to end in or "
-                               f"to start from; {known_words(place_words)}")
+        raise EmptyInstruction(
+            f"{excerpt(text)} names no place to go to, only places to avoid, not to end in or "
+            f"to start from; {known_words(place_words)}"
+        )
     if len(visit) == 1:
         timed = [visit[0].orders[o] for o in ("before", "after") if o in visit[0].orders]
         if timed:
-            raise UnsupportedPhrase(f"{excerpt(timed[0].surface)} orders {excerpt(visit[0].item.surface)} against "
-                                    "no other place to visit; name both places (e.g. 'go to the bedroom after "
-                                    "the kitchen')")
-    return {"visit": _order(visit), "avoid": [p for p in kept if p.role == "avoid"],
-            "not_goal": [p for p in kept if p.role == "not_goal"]}
+            raise UnsupportedPhrase(
+                f"{excerpt(timed[0].surface)} orders {excerpt(visit[0].item.surface)} against "
+                "no other place to visit; name both places (e.g. 'go to the bedroom after "
+                "the kitchen')"
+            )
+    return {
+        "visit": _order(visit),
+        "avoid": [p for p in kept if p.role == "avoid"],
+        "not_goal": [p for p in kept if p.role == "not_goal"],
+    }
 
 
 def _order(visit: list[Phrase]) -> list[Phrase]:
     step, steps = 0, []
-    for prev, p in zip([None, *visit], visit):
+    for prev, p in zip([None, *visit], visit, strict=False):
         step += prev is not None and p.after_sequencer and p.source != prev.source
         steps.append(step)
     rank = [min((_RANK[o] for o in p.orders if o in _RANK), default=1) for p in visit]
     group = [next((_GROUP[o] for o in ("after", "before") if o in p.orders), 1) for p in visit]
-    for part in {(r, s) for r, s in zip(rank, steps)}:
+    for part in {(r, s) for r, s in zip(rank, steps, strict=False)}:
         members = [n for n in range(len(visit)) if (rank[n], steps[n]) == part]
-        free = [n for n in members if visit[n].role == "goal" and group[n] == 1 and "before_that" not in visit[n].orders]
+        free = [
+            n for n in members if visit[n].role == "goal" and group[n] == 1 and "before_that" not in visit[n].orders
+        ]
         if free:
-            group[free[-1]] = 2                      # the step's destination comes after its other places
+            group[free[-1]] = 2  # the step's destination comes after its other places
     order = sorted(range(len(visit)), key=lambda n: (rank[n], steps[n], group[n], n))
-    for n in range(len(visit)):                     # "before that": right before the place spoken before it
+    for n in range(len(visit)):  # "before that": right before the place spoken before it
         if "before_that" in visit[n].orders and n > 0:
             order.remove(n)
             order.insert(order.index(n - 1), n)

@@ -25,8 +25,9 @@ from spcotmhp.planning.graph import PlanningGraph
 __all__ = ["start_cell"]
 
 
-def start_cell(model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float]
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def start_cell(
+    model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """x_0, its crop cell where planning starts, and the escape (map cells) before it: empty unless the start
     is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
     escape is the shortest run of free cells from the start to the nearest cell of the main free component
@@ -43,24 +44,28 @@ def start_cell(model: SpatialConceptModel, graph: PlanningGraph, start: Sequence
     # bounds in floats first: a huge start would overflow the integer cell index
     full = occ.world_to_cell(x0) if ((x0 >= lo) & (x0 < hi)).all() else None
     if full is None or not occ.in_bounds(full):
-        raise StartOutsideMap(f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
-                              f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})")
+        raise StartOutsideMap(
+            f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
+            f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})"
+        )
     cell = graph.to_crop(full)
     where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
     if graph.in_crop(cell) and graph.main[cell[0], cell[1]]:
         return x0, cell, np.empty((0, 2), dtype=np.int64)
     if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
-        raise StartBlocked(f"{where} is cut off from the places: the free space around it does not connect "
-                           f"to theirs for a robot of this size{_nearest_start(graph, occ, cell)}")
+        raise StartBlocked(
+            f"{where} is cut off from the places: the free space around it does not connect "
+            f"to theirs for a robot of this size{_nearest_start(graph, occ, cell)}"
+        )
     value = int(occ.data[full[0], full[1]])
     if value != 0:
         what = {100: "an occupied", -1: "an unknown"}.get(value, "a non-free")
-        raise StartBlocked(f"{where} is in {what} cell of the map; start from a free cell"
-                           f"{_nearest_start(graph, occ, cell)}")
+        raise StartBlocked(
+            f"{where} is in {what} cell of the map; start from a free cell{_nearest_start(graph, occ, cell)}"
+        )
     escape = _escape(occ.free, graph, full, model.costmap.get("inscribed_radius", 0.22))
     if escape is None:
-        raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is "
-                           f"reachable from it")
+        raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is reachable from it")
     return x0, graph.to_crop(escape[-1]), escape[:-1]
 
 
@@ -78,7 +83,7 @@ def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: 
     gr0, gc0 = max(r0 - o0, 0), max(c0 - o1, 0)
     gr1, gc1 = min(r1 - o0, graph.main.shape[0]), min(c1 - o1, graph.main.shape[1])
     if gr1 > gr0 and gc1 > gc0:
-        target[gr0 + o0 - r0:gr1 + o0 - r0, gc0 + o1 - c0:gc1 + o1 - c0] = graph.main[gr0:gr1, gc0:gc1]
+        target[gr0 + o0 - r0 : gr1 + o0 - r0, gc0 + o1 - c0 : gc1 + o1 - c0] = graph.main[gr0:gr1, gc0:gc1]
     if not target.any():
         return None
     window |= target

@@ -43,5 +43,5 @@ def tube_window(territories: dict, places: np.ndarray) -> tuple[np.ndarray, np.n
     hi = np.max([(r + m.shape[0], c + m.shape[1]) for r, c, m in parts], axis=0)
     mask = np.zeros(tuple(hi - lo), dtype=bool)
     for r, c, m in parts:
-        mask[r - lo[0]:r - lo[0] + m.shape[0], c - lo[1]:c - lo[1] + m.shape[1]] |= m
+        mask[r - lo[0] : r - lo[0] + m.shape[0], c - lo[1] : c - lo[1] + m.shape[1]] |= m
     return lo, mask

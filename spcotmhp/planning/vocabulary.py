@@ -70,11 +70,15 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
         keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
-    return sorted(w for w, k in zip(model.vocabulary, keep) if k and w not in _FUNCTION_WORDS)
+    return sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in _FUNCTION_WORDS)
 
 
-def place_labels(model: Any, place_words: Sequence[str], names: Sequence[str] | None = None,
-                 ratio: float = PLACE_WORD_RATIO) -> list[str]:
+def place_labels(
+    model: Any,
+    place_words: Sequence[str],
+    names: Sequence[str] | None = None,
+    ratio: float = PLACE_WORD_RATIO,
+) -> list[str]:
     """A name per place, whole ("alice's room", "entrance corridor"): the place words said there at least
     ``ratio`` times as often as its most said place word (p(w | k) over ``place_words``; function words are
     already out, so no rescaling is needed, and a name shared by many places is not beaten by a rare noise
@@ -90,7 +94,7 @@ def place_labels(model: Any, place_words: Sequence[str], names: Sequence[str] | 
     if not place_words:
         return fallback
     idx = [model.word_index[w] for w in place_words]
-    said = _word_scores(model)[0][:, idx]                               # (K, |place_words|)
+    said = _word_scores(model)[0][:, idx]  # (K, |place_words|)
     act = np.asarray(model.active_places, dtype=bool)
     chosen = said >= ratio * said.max(axis=1, keepdims=True)
     shared = chosen[act].sum(axis=0)

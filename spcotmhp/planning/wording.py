@@ -44,14 +44,14 @@ def excerpt(value: object, limit: int = EXCERPT_CHARS) -> str:
 
 
 def named(words: Iterable[str]) -> str:
-    """"'a', 'b'" for at most :data:`MAX_NAMED` words, each cut to :data:`WORD_CHARS` characters."""
+    """ "'a', 'b'" for at most :data:`MAX_NAMED` words, each cut to :data:`WORD_CHARS` characters."""
     words = list(dict.fromkeys(words))
     shown = [excerpt(w, WORD_CHARS) for w in words[:MAX_NAMED]]
     return ", ".join(shown) + (f" and {len(words) - MAX_NAMED} more" if len(words) > MAX_NAMED else "")
 
 
 def not_understood(words: Sequence[str]) -> str:
-    """" (not understood: a, b)" or ""."""
+    """ " (not understood: a, b)" or ""."""
     if not words:
         return ""
     words = list(dict.fromkeys(words))
@@ -61,7 +61,7 @@ def not_understood(words: Sequence[str]) -> str:
 
 
 def known_words(place_words: Sequence[str]) -> str:
-    """"known place words: a, b, ..." (at most :data:`MAX_LISTED` shown) for error messages."""
+    """ "known place words: a, b, ..." (at most :data:`MAX_LISTED` shown) for error messages."""
     words = sorted(set(place_words))
     if not words:
         return "the model knows no place words"
@@ -77,10 +77,10 @@ def suggestions(unknown: Sequence[str], place_words: Sequence[str]) -> list[str]
         return []
     keys = {_key(w): w for w in place_words}
     choices = list(keys)
-    candidates = [_key(w) for w in unknown[:2 * MAX_NAMED]]
-    spelled_right = {c for c, w in zip(candidates, unknown) if w in place_words}
+    candidates = [_key(w) for w in unknown[: 2 * MAX_NAMED]]
+    spelled_right = {c for c, w in zip(candidates, unknown, strict=False) if w in place_words}
     candidates += [a + b for a, b in pairwise(candidates)]
-    candidates += [c[:-len(n)] for c in candidates for n in GENERIC_NOUNS if c.endswith(n) and len(c) > len(n) + 2]
+    candidates += [c[: -len(n)] for c in candidates for n in GENERIC_NOUNS if c.endswith(n) and len(c) > len(n) + 2]
     out: list[str] = []
     for cand in candidates:
         if not cand or len(cand) > 4 * WORD_CHARS or cand in spelled_right:

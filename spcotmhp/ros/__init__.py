@@ -22,5 +22,6 @@ def require_rclpy() -> None:
         from std_msgs.msg import String  # noqa: F401
         from visualization_msgs.msg import MarkerArray  # noqa: F401
     except ImportError as exc:
-        raise SpcotmhpError(f"the ROS 2 node needs rclpy and the ROS 2 messages ({exc.name} is missing): "
-                            f"{ROS2_EXTRA_HINT}") from None
+        raise SpcotmhpError(
+            f"the ROS 2 node needs rclpy and the ROS 2 messages ({exc.name} is missing): {ROS2_EXTRA_HINT}"
+        ) from None

@@ -44,16 +44,24 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
     graph, model = planner.graph, planner.model
     node_of: dict[int, int] = {}
     for n, k in enumerate(graph.node_place.tolist()):
-        node_of.setdefault(int(k), n)                 # the first candidate of each place
+        node_of.setdefault(int(k), n)  # the first candidate of each place
     places = sorted(node_of)
     features, fid = [], {}
     for k in places:
         x, y = model.map.cell_to_world(graph.to_map(graph.node_cell[node_of[k]]))
         fid[k] = len(features)
         name = planner.names[k]
-        features.append({"type": "Feature", "geometry": {"type": "Point", "coordinates": [_m(x), _m(y)]},
-                         "properties": {"id": fid[k], "frame": frame,
-                                        "metadata": {"name": name, "words": name.split(), "place": k}}})
+        features.append(
+            {
+                "type": "Feature",
+                "geometry": {"type": "Point", "coordinates": [_m(x), _m(y)]},
+                "properties": {
+                    "id": fid[k],
+                    "frame": frame,
+                    "metadata": {"name": name, "words": name.split(), "place": k},
+                },
+            }
+        )
     for a in places:
         for b in places:
             i, j = node_of[a], node_of[b]
@@ -61,18 +69,33 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
                 continue
             cells = graph.to_map(graph.edge_path(i, j))
             line = [[_m(x), _m(y)] for x, y in model.map.cell_to_world(cells)]
-            features.append({"type": "Feature", "geometry": {"type": "MultiLineString", "coordinates": [line]},
-                             "properties": {"id": len(features), "startid": fid[a], "endid": fid[b],
-                                            "cost": _m(path_length(cells, model.map.resolution)),
-                                            "overridable": False,
-                                            "metadata": {"from": planner.names[a], "to": planner.names[b]}}})
+            features.append(
+                {
+                    "type": "Feature",
+                    "geometry": {"type": "MultiLineString", "coordinates": [line]},
+                    "properties": {
+                        "id": len(features),
+                        "startid": fid[a],
+                        "endid": fid[b],
+                        "cost": _m(path_length(cells, model.map.resolution)),
+                        "overridable": False,
+                        "metadata": {"from": planner.names[a], "to": planner.names[b]},
+                    },
+                }
+            )
     if len(features) == len(places):
-        raise ModelError("no two connected places are joined by a free path: a route graph needs an edge (the "
-                         "Route Server refuses a graph without)")
+        raise ModelError(
+            "no two connected places are joined by a free path: a route graph needs an edge (the "
+            "Route Server refuses a graph without)"
+        )
     if len(features) - 1 > MAX_ID:
         raise ModelError(f"the route graph has {len(features)} nodes and edges; ids must stay <= {MAX_ID}")
-    return {"type": "FeatureCollection", "name": "spcotmhp",
-            "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::3857"}}, "features": features}
+    return {
+        "type": "FeatureCollection",
+        "name": "spcotmhp",
+        "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::3857"}},
+        "features": features,
+    }
 
 
 def keepout_mask(planner: HierarchicalPlanner, avoid: Sequence[str]) -> tuple[OccupancyMap, list[int]]:
@@ -83,13 +106,18 @@ def keepout_mask(planner: HierarchicalPlanner, avoid: Sequence[str]) -> tuple[Oc
     graph, occ = planner.graph, planner.model.map
     data = np.zeros(occ.shape, dtype=np.int8)
     (r0, c0), (h, w) = graph.offset, graph.territory.shape
-    data[r0:r0 + h, c0:c0 + w][np.isin(graph.territory, np.flatnonzero(avoided))] = 100
+    data[r0 : r0 + h, c0 : c0 + w][np.isin(graph.territory, np.flatnonzero(avoided))] = 100
     mask = OccupancyMap(data=data, resolution=occ.resolution, origin=(occ.origin[0], occ.origin[1], 0.0))
     return mask, [int(k) for k in np.flatnonzero(avoided)]
 
 
-def export_nav2(model_dir: str | Path, out: str | Path, avoid: Sequence[str] = (), frame: str = "map",
-                overwrite: bool = False) -> str:
+def export_nav2(
+    model_dir: str | Path,
+    out: str | Path,
+    avoid: Sequence[str] = (),
+    frame: str = "map",
+    overwrite: bool = False,
+) -> str:
     """Write ``out``/route_graph.geojson, README.md and, with ``avoid``, keepout.yaml + keepout.pgm; the folder
     is built beside ``out`` and swapped in. ``out`` must be absent, an empty folder or (with ``overwrite``) an
     earlier export. Returns a one-line summary."""
@@ -100,6 +128,7 @@ def export_nav2(model_dir: str | Path, out: str | Path, avoid: Sequence[str] = (
     planner = HierarchicalPlanner(load_model(model_dir))
     doc = route_graph(planner, frame)
     mask, avoided = keepout_mask(planner, avoid) if avoid else (None, [])
+
     def fill(folder: Path) -> None:
         (folder / ROUTE_GRAPH).write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
         if mask is not None:
@@ -110,8 +139,10 @@ def export_nav2(model_dir: str | Path, out: str | Path, avoid: Sequence[str] = (
     n_nodes = sum(f["geometry"]["type"] == "Point" for f in doc["features"])
     text = f"wrote {out}: route graph of {n_nodes} places and {len(doc['features']) - n_nodes} directed edges"
     if mask is not None:
-        text += (f"; keepout mask of {', '.join(sorted({planner.names[k] for k in avoided}))} "
-                 f"({int((mask.data == 100).sum())} cells)")
+        text += (
+            f"; keepout mask of {', '.join(sorted({planner.names[k] for k in avoided}))} "
+            f"({int((mask.data == 100).sum())} cells)"
+        )
     return text
 
 
@@ -125,8 +156,9 @@ def _check_target(out: Path, model_dir: Path, overwrite: bool) -> None:
         return
     others = [name for name in present if name not in EXPORT_FILES]
     if others:
-        raise SpcotmhpError(f"--out {out} holds files that are not an export's ({', '.join(others[:5])}); "
-                            "choose an empty or new folder")
+        raise SpcotmhpError(
+            f"--out {out} holds files that are not an export's ({', '.join(others[:5])}); choose an empty or new folder"
+        )
     if not overwrite:
         raise SpcotmhpError(f"--out {out} exists; give --overwrite to replace it, or choose another folder")
 
@@ -154,7 +186,7 @@ route_server:
     if avoided:
         text += f"""
 `{KEEPOUT}.yaml` + `{KEEPOUT}.pgm`: keepout mask (map_server format, the model's map's size, resolution and
-origin); occupied = the territories of {', '.join(sorted(set(avoided)))}, free elsewhere. Serve it with a second
+origin); occupied = the territories of {", ".join(sorted(set(avoided)))}, free elsewhere. Serve it with a second
 map_server and a costmap_filter_info_server with these CostmapFilterInfo parameters:
 
 ```yaml

@@ -60,13 +60,15 @@ from spcotmhp.ros.shapes import (
 from spcotmhp.ros.teaching_log import TeachingLog
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-MATCH_PUBLISHER = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_AVAILABLE,
-                             durability=DurabilityPolicy.BEST_AVAILABLE)
+MATCH_PUBLISHER = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.BEST_AVAILABLE, durability=DurabilityPolicy.BEST_AVAILABLE
+)
 EVENTS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
 def answered(kind: str) -> Callable:
     """Wrap a callback so that any failure is answered on the status topic instead of ending the node."""
+
     def wrap(callback: Callable) -> Callable:
         @functools.wraps(callback)
         def guarded(self: SpcotmhpNode, msg) -> None:
@@ -75,19 +77,25 @@ def answered(kind: str) -> Callable:
                 callback(self, msg)
             except SpcotmhpError as exc:
                 self.status(error_status(exc, text, kind))
-            except Exception as exc:   # noqa: BLE001 - the node must keep serving; the cause is logged
+            except Exception as exc:  # noqa: BLE001 - the node must keep serving; the cause is logged
                 self.get_logger().error(f"{kind}: internal error {type(exc).__name__}: {exc}")
-                self.status(error_status(RuntimeError(f"internal error ({type(exc).__name__}: {exc})"), text,
-                                         kind))
+                self.status(error_status(RuntimeError(f"internal error ({type(exc).__name__}: {exc})"), text, kind))
+
         return guarded
+
     return wrap
 
 
 class SpcotmhpNode(Node):
     """The node (module docstring) around a :class:`HierarchicalPlanner`."""
 
-    def __init__(self, planner: HierarchicalPlanner, frame: str = "map", start_topic: str = "amcl_pose",
-                 log: TeachingLog | None = None) -> None:
+    def __init__(
+        self,
+        planner: HierarchicalPlanner,
+        frame: str = "map",
+        start_topic: str = "amcl_pose",
+        log: TeachingLog | None = None,
+    ) -> None:
         super().__init__("spcotmhp")
         self.planner, self.frame, self.log = planner, frame, log
         self.pose: tuple[float, float, float] | None = None
@@ -140,7 +148,7 @@ class SpcotmhpNode(Node):
         msg = Path()
         msg.header.frame_id = self.frame
         msg.header.stamp = self.get_clock().now().to_msg()
-        for (x, y), yaw in zip(points, path_yaws(points, fallback_yaw)):
+        for (x, y), yaw in zip(points, path_yaws(points, fallback_yaw), strict=False):
             pose = PoseStamped()
             pose.header.frame_id, pose.header.stamp = msg.header.frame_id, msg.header.stamp
             pose.pose.position.x, pose.pose.position.y = float(x), float(y)
@@ -153,8 +161,10 @@ class SpcotmhpNode(Node):
     def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
         frame = msg.header.frame_id.lstrip("/")
         if frame and frame != self.frame:
-            raise StartBlocked(f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: "
-                               f"publish the pose in '{self.frame}' or start the node with --frame {frame})")
+            raise StartBlocked(
+                f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: "
+                f"publish the pose in '{self.frame}' or start the node with --frame {frame})"
+            )
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         yaw = quaternion_yaw(q.x, q.y, q.z, q.w)
         if not all(math.isfinite(v) for v in (p.x, p.y, yaw)):
@@ -164,8 +174,10 @@ class SpcotmhpNode(Node):
     @answered("error")
     def on_instruction(self, msg: String) -> None:
         if self.pose is None:
-            raise StartBlocked("no robot pose yet: publish one on the start topic (AMCL's /amcl_pose, "
-                               "PoseWithCovarianceStamped) before an instruction")
+            raise StartBlocked(
+                "no robot pose yet: publish one on the start topic (AMCL's /amcl_pose, "
+                "PoseWithCovarianceStamped) before an instruction"
+            )
         x, y, yaw = self.pose
         plan = self.planner.plan(msg.data, (x, y))
         points = path_poses(plan.path, plan.cells, (x, y), self.planner.model.map)
@@ -182,17 +194,31 @@ class SpcotmhpNode(Node):
         event = self.log.append(x, y, msg.data) if self.log is not None else None
         self.planner = planner
         self.places_pub.publish(self.markers())
-        self.status({"kind": "taught", "ok": True, "utterance": msg.data, "event": event, "x": round(x, 4),
-                     "y": round(y, 4), "dataset": None if self.log is None else str(self.log.folder),
-                     **taught.summary(), "time_planner_s": seconds})
+        self.status(
+            {
+                "kind": "taught",
+                "ok": True,
+                "utterance": msg.data,
+                "event": event,
+                "x": round(x, 4),
+                "y": round(y, 4),
+                "dataset": None if self.log is None else str(self.log.folder),
+                **taught.summary(),
+                "time_planner_s": seconds,
+            }
+        )
 
     @answered("map")
     def on_map(self, msg: OccupancyGrid) -> None:
         info = msg.info
         q = info.origin.orientation
-        differ = map_mismatches(info.width, info.height, info.resolution,
-                                (info.origin.position.x, info.origin.position.y,
-                                 quaternion_yaw(q.x, q.y, q.z, q.w)), self.planner.model.map)
+        differ = map_mismatches(
+            info.width,
+            info.height,
+            info.resolution,
+            (info.origin.position.x, info.origin.position.y, quaternion_yaw(q.x, q.y, q.z, q.w)),
+            self.planner.model.map,
+        )
         if differ:
             self.get_logger().warning("the map on /map differs from the model's: " + "; ".join(differ))
         self.status({"kind": "map", "ok": not differ, "differences": differ})
@@ -215,8 +241,13 @@ def warm_up(planner: HierarchicalPlanner) -> None:
             pass
 
 
-def run_node(model_dir: FilePath, frame: str = "map", start_topic: str = "amcl_pose",
-             record: FilePath | None = None, progress: Callable[[str], None] = print) -> None:
+def run_node(
+    model_dir: FilePath,
+    frame: str = "map",
+    start_topic: str = "amcl_pose",
+    record: FilePath | None = None,
+    progress: Callable[[str], None] = print,
+) -> None:
     """Load the model, precompute its planner, and serve until interrupted (Ctrl-C or SIGTERM)."""
     from spcotmhp.learning.io import load_model
 
@@ -228,9 +259,11 @@ def run_node(model_dir: FilePath, frame: str = "map", start_topic: str = "amcl_p
     rclpy.init()
     try:
         node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log)
-        progress(f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
-                 f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
-                 + (f", teaching recorded in {record}" if record is not None else ""))
+        progress(
+            f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
+            f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
+            + (f", teaching recorded in {record}" if record is not None else "")
+        )
         try:
             rclpy.spin(node)
         except (KeyboardInterrupt, ExternalShutdownException):

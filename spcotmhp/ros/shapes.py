@@ -77,15 +77,22 @@ def place_shapes(planner: Any) -> tuple[list[dict], list[tuple[int, int]]]:
     places = []
     for k in active:
         length, width, yaw = ellipse(model.Sigma[k])
-        places.append({"id": int(k), "name": planner.names[k], "centre": [float(v) for v in model.mu[k]],
-                       "length": length, "width": width, "yaw": yaw})
+        places.append(
+            {
+                "id": int(k),
+                "name": planner.names[k],
+                "centre": [float(v) for v in model.mu[k]],
+                "length": length,
+                "width": width,
+                "yaw": yaw,
+            }
+        )
     connected = planner.graph.connected
-    edges = [(int(a), int(b)) for i, a in enumerate(active) for b in active[i + 1:] if connected[a, b]]
+    edges = [(int(a), int(b)) for i, a in enumerate(active) for b in active[i + 1 :] if connected[a, b]]
     return places, edges
 
 
-def map_mismatches(width: int, height: int, resolution: float, origin: Sequence[float],
-                   occ: OccupancyMap) -> list[str]:
+def map_mismatches(width: int, height: int, resolution: float, origin: Sequence[float], occ: OccupancyMap) -> list[str]:
     """What differs between a published map (OccupancyGrid info: size, resolution, origin x, y, yaw) and the
     model's map; empty when they agree (origin within a tenth of a cell, resolution to 1e-6 relative)."""
     out = []
@@ -96,27 +103,48 @@ def map_mismatches(width: int, height: int, resolution: float, origin: Sequence[
     x, y, yaw = (float(v) for v in origin)
     tolerance = 0.1 * occ.resolution
     if abs(x - occ.origin[0]) > tolerance or abs(y - occ.origin[1]) > tolerance or abs(yaw) > 1e-6:
-        out.append(f"origin ({x:.3f}, {y:.3f}, yaw {yaw:.3f}), the model's map ({occ.origin[0]:.3f}, "
-                   f"{occ.origin[1]:.3f}, yaw 0)")
+        out.append(
+            f"origin ({x:.3f}, {y:.3f}, yaw {yaw:.3f}), the model's map ({occ.origin[0]:.3f}, "
+            f"{occ.origin[1]:.3f}, yaw 0)"
+        )
     return out
 
 
 def plan_status(plan: Any, instruction: str, start: Sequence[float], points: np.ndarray, frame: str) -> dict:
     """The status line of a plan: what was understood, the places with their roles, length and time."""
     steps = np.diff(points, axis=0)
-    return {"kind": "plan", "ok": True, "instruction": instruction, "explanation": plan.explanation,
-            "places": [{"id": p.id, "name": p.name, "label": p.label, "role": p.role,
-                        "point": None if p.point is None else [round(v, 4) for v in p.point]}
-                       for p in plan.places],
-            "length_m": round(float(np.hypot(steps[:, 0], steps[:, 1]).sum()), 4),
-            "time_s": round(plan.time_online_s, 4), "start": [round(float(v), 4) for v in start[:2]],
-            "frame": frame, "n_poses": len(points), "notes": list(plan.notes)}
+    return {
+        "kind": "plan",
+        "ok": True,
+        "instruction": instruction,
+        "explanation": plan.explanation,
+        "places": [
+            {
+                "id": p.id,
+                "name": p.name,
+                "label": p.label,
+                "role": p.role,
+                "point": None if p.point is None else [round(v, 4) for v in p.point],
+            }
+            for p in plan.places
+        ],
+        "length_m": round(float(np.hypot(steps[:, 0], steps[:, 1]).sum()), 4),
+        "time_s": round(plan.time_online_s, 4),
+        "start": [round(float(v), 4) for v in start[:2]],
+        "frame": frame,
+        "n_poses": len(points),
+        "notes": list(plan.notes),
+    }
 
 
 def error_status(exc: BaseException, instruction: str | None = None, kind: str = "error") -> dict:
     """The status line of a message that could not be served: the one-line error and its type."""
-    out = {"kind": kind, "ok": False, "error": str(exc).splitlines()[0] if str(exc) else type(exc).__name__,
-           "type": type(exc).__name__}
+    out = {
+        "kind": kind,
+        "ok": False,
+        "error": str(exc).splitlines()[0] if str(exc) else type(exc).__name__,
+        "type": type(exc).__name__,
+    }
     if instruction is not None:
         out["instruction"] = instruction
     return out

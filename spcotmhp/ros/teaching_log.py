@@ -45,7 +45,7 @@ class TeachingLog:
     def _create(self, occ: OccupancyMap) -> None:
         if not self.folder.parent.is_dir():
             raise DatasetError(f"--record {self.folder}: the folder {self.folder.parent} does not exist")
-        if self.folder.is_dir():                  # an empty folder: fill it in place
+        if self.folder.is_dir():  # an empty folder: fill it in place
             save_map(occ, self.folder / "map")
             return
         build_folder(self.folder, lambda new: save_map(occ, new / "map"), DatasetError)
@@ -54,8 +54,10 @@ class TeachingLog:
         """Append to an existing dataset folder: its map must agree with the model's; its teaching.csv (if any)
         must have event, x, y and a words column and no step column (steps index a trajectory not recorded)."""
         if not (self.folder / "map.yaml").is_file():
-            raise DatasetError(f"--record {self.folder} is a folder with files but no map.yaml; give a new or "
-                               "empty folder, or a dataset folder to append to")
+            raise DatasetError(
+                f"--record {self.folder} is a folder with files but no map.yaml; give a new or "
+                "empty folder, or a dataset folder to append to"
+            )
         theirs = load_map(self.folder / "map.yaml")
         differ = map_mismatches(theirs.width, theirs.height, theirs.resolution, theirs.origin, occ)
         if differ:
@@ -65,8 +67,9 @@ class TeachingLog:
         table = read_table(self.teaching, "a header event,x,y,words_ja,words_en")
         table.require(["event", "x", "y", ("words_ja", "words_en")])
         if table.has("step"):
-            raise DatasetError(f"{self.teaching} has a step column (events aligned to a trajectory); record "
-                               "into a new folder")
+            raise DatasetError(
+                f"{self.teaching} has a step column (events aligned to a trajectory); record into a new folder"
+            )
         self.header = table.header
         self.n_events = len(table.rows)
 
@@ -76,8 +79,9 @@ class TeachingLog:
         if not text:
             raise DatasetError("the utterance is empty; say the place's name, e.g. 'this is the kitchen'")
         if len(text) > MAX_UTTERANCE_CHARS:
-            raise DatasetError(f"the utterance has {len(text)} characters, more than the {MAX_UTTERANCE_CHARS} "
-                               "accepted")
+            raise DatasetError(
+                f"the utterance has {len(text)} characters, more than the {MAX_UTTERANCE_CHARS} accepted"
+            )
         if not (math.isfinite(x) and math.isfinite(y)):
             raise DatasetError(f"the pose ({x}, {y}) is not finite")
         column = f"words_{detect_language(text)}"

@@ -7,7 +7,8 @@ start-up (:mod:`spcotmhp.server.registry`); requests pick a model by name (``?mo
 Host header naming a host that is not allowed (localhost only by default), 404 for an unknown model, 422 for
 invalid fields, an instruction naming no known place (with the known ``place_words``), a start in a wall or off
 the map, no path, or audio that is not a usable WAV file; 503 when the planner is busy or a plan exceeds the
-time budget (:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns a place name at run time. ``/docs`` is a self-contained page describing the API from
+time budget (:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns a place name at run time. ``/docs`` is a
+self-contained page describing the API from
 ``/openapi.json`` (no CDN, works offline).
 """
 
@@ -64,23 +65,40 @@ class APIError(Exception):
         self.status, self.detail, self.extra = status, detail, extra
 
 
-def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_limit: int = JSON_LIMIT,
-               audio_limit: int = AUDIO_LIMIT, progress: Callable[[str], None] | None = None,
-               allowed_hosts: Sequence[str] = LOCAL_HOSTS, body_timeout: float = BODY_TIMEOUT,
-               audio_timeout: float = AUDIO_TIMEOUT, budget: Budget | None = None) -> FastAPI:
+def create_app(
+    models: Mapping[str, str | Path | SpatialConceptModel],
+    *,
+    json_limit: int = JSON_LIMIT,
+    audio_limit: int = AUDIO_LIMIT,
+    progress: Callable[[str], None] | None = None,
+    allowed_hosts: Sequence[str] = LOCAL_HOSTS,
+    body_timeout: float = BODY_TIMEOUT,
+    audio_timeout: float = AUDIO_TIMEOUT,
+    budget: Budget | None = None,
+) -> FastAPI:
     """The service for ``models`` (name -> model folder or model; the first is the default).
 
     ``allowed_hosts``: the host names requests may address (``"*"``: any); ``body_timeout`` /
     ``audio_timeout``: seconds to receive a body; ``budget``: planning limits (:class:`Budget`)."""
     served = load_served(models, progress, budget)
     default = next(iter(served))
-    app = FastAPI(title="spcotmhp", version=__version__, docs_url=None, redoc_url=None,
-                  description="Hierarchical path planning from spoken or written instructions on learned "
-                              "topometric semantic maps (SpCoTMHP).")
+    app = FastAPI(
+        title="spcotmhp",
+        version=__version__,
+        docs_url=None,
+        redoc_url=None,
+        description="Hierarchical path planning from spoken or written instructions on learned "
+        "topometric semantic maps (SpCoTMHP).",
+    )
     app.state.served = served
-    app.add_middleware(BodySizeLimit, default=json_limit, limits={"/plan/audio": audio_limit},
-                       timeout=body_timeout, timeouts={"/plan/audio": audio_timeout})
-    app.add_middleware(TrustedHosts, allowed=allowed_hosts)     # added last: runs first
+    app.add_middleware(
+        BodySizeLimit,
+        default=json_limit,
+        limits={"/plan/audio": audio_limit},
+        timeout=body_timeout,
+        timeouts={"/plan/audio": audio_timeout},
+    )
+    app.add_middleware(TrustedHosts, allowed=allowed_hosts)  # added last: runs first
     _add_error_handlers(app)
 
     def pick(name: str | None) -> ServedModel:
@@ -115,10 +133,16 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
         """The learned places (ids, names, labels, means, covariances, picture colours) and topological edges."""
         return pick(model).places()
 
-    @app.get("/map.png", responses={200: {"content": {"image/png": {}}}, **ERRORS}, tags=["map"],
-             response_class=Response)
-    def map_png(model: ModelQuery = None, frame: bool = Query(False, description="Axes in metres and a title "
-                                                                                  "(not georeferenced).")):
+    @app.get(
+        "/map.png",
+        responses={200: {"content": {"image/png": {}}}, **ERRORS},
+        tags=["map"],
+        response_class=Response,
+    )
+    def map_png(
+        model: ModelQuery = None,
+        frame: bool = Query(False, description="Axes in metres and a title (not georeferenced)."),
+    ):
         """The learned map picture: places as ellipses with names, edges. Without ``frame`` its pixels map
         linearly onto the extent given by ``GET /map.json``."""
         sm = pick(model)
@@ -129,15 +153,20 @@ def create_app(models: Mapping[str, str | Path | SpatialConceptModel], *, json_l
     def map_json(model: ModelQuery = None) -> dict:
         """Georeferencing of ``GET /map.png``: pixel (0, 0) is (x0, y1), pixel (width, height) is (x1, y0)."""
         sm = pick(model)
-        return {"model": sm.name, "image": f"/map.png?model={sm.name}", "extent": sm.image.extent,
-                "width": sm.image.width, "height": sm.image.height, "resolution": sm.model.map.resolution}
+        return {
+            "model": sm.name,
+            "image": f"/map.png?model={sm.name}",
+            "extent": sm.image.extent,
+            "width": sm.image.width,
+            "height": sm.image.height,
+            "resolution": sm.model.map.resolution,
+        }
 
     @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
-        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang,
-                           _client(request))
+        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
     @app.post("/teach", response_model=TeachResponse, responses=ERRORS, tags=["learning"])
     async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
@@ -215,7 +244,7 @@ def _parse_start(text: str) -> tuple[float, float]:
     except ValueError:
         xy = ()
     if len(xy) != 2 or not all(math.isfinite(v) for v in xy):
-        raise APIError(422, f"start must be two finite numbers \"x,y\" in metres, got {text!r}")
+        raise APIError(422, f'start must be two finite numbers "x,y" in metres, got {text!r}')
     return xy  # type: ignore[return-value]
 
 

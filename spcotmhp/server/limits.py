@@ -19,8 +19,8 @@ from typing import Any
 
 JSON_LIMIT = 64 * 1024
 AUDIO_LIMIT = 5 * 1024 * 1024
-BODY_TIMEOUT = 10.0         # seconds to receive a JSON body
-AUDIO_TIMEOUT = 60.0        # seconds to receive an audio upload
+BODY_TIMEOUT = 10.0  # seconds to receive a JSON body
+AUDIO_TIMEOUT = 60.0  # seconds to receive an audio upload
 LOCAL_HOSTS = ("localhost", "127.0.0.1", "::1")
 
 
@@ -38,8 +38,12 @@ class TrustedHosts:
         raw = dict(scope.get("headers") or ()).get(b"host", b"").decode("latin-1").strip().lower()
         if host_name(raw) not in self.allowed:
             shown = raw[:60] or "(none)"
-            await _answer(send, 400, f"host {shown!r} is not served; allowed hosts: {', '.join(sorted(self.allowed))}"
-                          " (spcotmhp serve --allowed-host NAME adds one)")
+            await _answer(
+                send,
+                400,
+                f"host {shown!r} is not served; allowed hosts: {', '.join(sorted(self.allowed))}"
+                " (spcotmhp serve --allowed-host NAME adds one)",
+            )
             return
         await self.app(scope, receive, send)
 
@@ -54,8 +58,14 @@ def host_name(header: str) -> str:
 class BodySizeLimit:
     """ASGI middleware: request bodies above ``limits[path]`` (else ``default``) bytes get 413."""
 
-    def __init__(self, app: Any, default: int = JSON_LIMIT, limits: Mapping[str, int] | None = None,
-                 timeout: float = BODY_TIMEOUT, timeouts: Mapping[str, float] | None = None) -> None:
+    def __init__(
+        self,
+        app: Any,
+        default: int = JSON_LIMIT,
+        limits: Mapping[str, int] | None = None,
+        timeout: float = BODY_TIMEOUT,
+        timeouts: Mapping[str, float] | None = None,
+    ) -> None:
         self.app = app
         self.default = default
         self.limits = dict(limits or {})
@@ -85,8 +95,11 @@ class BodySizeLimit:
             try:
                 message = await asyncio.wait_for(receive(), max(deadline - time.monotonic(), 0.0))
             except TimeoutError:
-                await _answer(send, 408, f"request body for {scope['path']} not received within {allowed:g} s "
-                                         f"({size} bytes arrived)")
+                await _answer(
+                    send,
+                    408,
+                    f"request body for {scope['path']} not received within {allowed:g} s ({size} bytes arrived)",
+                )
                 return
             if message["type"] == "http.disconnect":
                 return
@@ -118,7 +131,15 @@ def _too_large(path: str, size: int | None, limit: int) -> str:
 
 async def _answer(send: Any, status: int, detail: str) -> None:
     body = json.dumps({"detail": detail}).encode()
-    await send({"type": "http.response.start", "status": status,
-                "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
-                            (b"connection", b"close")]})
+    await send(
+        {
+            "type": "http.response.start",
+            "status": status,
+            "headers": [
+                (b"content-type", b"application/json"),
+                (b"content-length", str(len(body)).encode()),
+                (b"connection", b"close"),
+            ],
+        }
+    )
     await send({"type": "http.response.body", "body": body})

@@ -6,7 +6,8 @@ the avoidance views, an ``OrderedDict`` that is reordered and trimmed on use), a
 share one cached graph. So every planning graph has one lock and one worker thread (shared by every served
 model using it): :meth:`ServedModel.plan` holds the lock, and :meth:`ServedModel.plan_async` runs it on the
 worker, off the event loop. That is the *light lane*; costly instructions run on a *heavy lane* with a second
-planner of their own, within admission limits and a time budget (:mod:`spcotmhp.server.scheduling`). A plan takes about a millisecond of mostly CPU-bound Python (the GIL would serialise
+planner of their own, within admission limits and a time budget (:mod:`spcotmhp.server.scheduling`). A plan takes
+about a millisecond of mostly CPU-bound Python (the GIL would serialise
 it anyway); one worker per graph instead of the web framework's shared pool of 40 threads saves the threads'
 contention for the lock and the GIL (measured with benchmarks/load_test.py: 200 concurrent requests ran at 340
 req/s through the shared pool and at about 420 req/s this way). Requests for different models run in parallel,
@@ -34,8 +35,8 @@ from spcotmhp.viz.draw import MapImage, map_image, place_colours, render, topolo
 from spcotmhp.viz.labels import place_display_labels
 
 NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
-_LANES: dict[tuple[str, str], Lane] = {}    # (graph key, "light" or "heavy") -> its lane
-_HEAVY_PLANNERS: dict[str, HierarchicalPlanner] = {}   # graph key -> the heavy lane's own planner
+_LANES: dict[tuple[str, str], Lane] = {}  # (graph key, "light" or "heavy") -> its lane
+_HEAVY_PLANNERS: dict[str, HierarchicalPlanner] = {}  # graph key -> the heavy lane's own planner
 _LOCKS_GUARD = threading.Lock()
 
 
@@ -50,8 +51,9 @@ class ServedModel:
     labels: list[str]
     image: MapImage
     light: Lane = field(default_factory=lambda: Lane("light", Budget.max_light), repr=False)
-    heavy: Lane = field(default_factory=lambda: Lane("heavy", Budget.max_heavy, Budget.max_heavy_per_client),
-                        repr=False)
+    heavy: Lane = field(
+        default_factory=lambda: Lane("heavy", Budget.max_heavy, Budget.max_heavy_per_client), repr=False
+    )
     budget: Budget = field(default_factory=Budget, repr=False)
     _figure: bytes | None = field(default=None, repr=False)
     _teaching: threading.Lock = field(default_factory=threading.Lock, repr=False)
@@ -62,8 +64,9 @@ class ServedModel:
         return self.light.lock
 
     @classmethod
-    def build(cls, name: str, model: SpatialConceptModel, source: str = "", budget: Budget | None = None
-              ) -> ServedModel:
+    def build(
+        cls, name: str, model: SpatialConceptModel, source: str = "", budget: Budget | None = None
+    ) -> ServedModel:
         """Precompute the planner (Algorithm 1, lines 1-7) and draw the map picture."""
         if model.map is None:
             raise ModelError(f"model {name!r} ({source}) has no map; the service plans on the model's map")
@@ -75,8 +78,17 @@ class ServedModel:
                 _LANES[key, "light"] = Lane(f"{name}-light", budget.max_light)
                 _LANES[key, "heavy"] = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
             light, heavy = _LANES[key, "light"], _LANES[key, "heavy"]
-        return cls(name, source, model, planner, place_display_labels(model, planner.place_words),
-                   map_image(model), light, heavy, budget)
+        return cls(
+            name,
+            source,
+            model,
+            planner,
+            place_display_labels(model, planner.place_words),
+            map_image(model),
+            light,
+            heavy,
+            budget,
+        )
 
     @property
     def place_words(self) -> list[str]:
@@ -87,16 +99,25 @@ class ServedModel:
         with self.lock:
             return self.planner.plan(instruction, start, lang)
 
-    async def plan_async(self, instruction: Any, start: Sequence[float], lang: str | None = None,
-                         client: str = "") -> Plan:
+    async def plan_async(
+        self, instruction: Any, start: Sequence[float], lang: str | None = None, client: str = ""
+    ) -> Plan:
         """Plan on the light or heavy lane by the instruction's cost, within the budget (module docstring)."""
         cost = estimate_cost(instruction)
         check_cost(cost, self.budget)
         if cost <= self.budget.light_cost:
-            return await run_in_lane(self.light, client, self.budget.time_budget,
-                                     lambda: self.planner.plan(instruction, start, lang))
-        return await run_in_lane(self.heavy, client, self.budget.time_budget,
-                                 lambda: self._heavy_planner().plan(instruction, start, lang))
+            return await run_in_lane(
+                self.light,
+                client,
+                self.budget.time_budget,
+                lambda: self.planner.plan(instruction, start, lang),
+            )
+        return await run_in_lane(
+            self.heavy,
+            client,
+            self.budget.time_budget,
+            lambda: self._heavy_planner().plan(instruction, start, lang),
+        )
 
     def _heavy_planner(self) -> HierarchicalPlanner:
         """The heavy lane's planner: the same model and settings with a graph of its own (built on first use,
@@ -123,17 +144,32 @@ class ServedModel:
             labels = place_display_labels(taught.model, planner.place_words)
             image = map_image(taught.model)
             with self.lock:
-                self.model, self.planner, self.labels, self.image, self._figure = (taught.model, planner, labels,
-                                                                                 image, None)
-        return {"model": self.name, **taught.summary(), "place_words": self.place_words,
-                "time_planner_s": seconds}
+                self.model, self.planner, self.labels, self.image, self._figure = (
+                    taught.model,
+                    planner,
+                    labels,
+                    image,
+                    None,
+                )
+        return {
+            "model": self.name,
+            **taught.summary(),
+            "place_words": self.place_words,
+            "time_planner_s": seconds,
+        }
 
     def figure_png(self) -> bytes:
         """The framed picture of the learned map (axes in metres), drawn on first use."""
         with self.lock:
             if self._figure is None:
                 buf = io.BytesIO()
-                render(self.model.map, buf, model=self.model, names=self.labels, title=f"learned map '{self.name}'")
+                render(
+                    self.model.map,
+                    buf,
+                    model=self.model,
+                    names=self.labels,
+                    title=f"learned map '{self.name}'",
+                )
                 self._figure = buf.getvalue()
             return self._figure
 
@@ -141,22 +177,40 @@ class ServedModel:
         """Ids, names, labels, means, covariances and colours of the active places, and the Figure 3 edges."""
         m = self.model
         act = [int(k) for k in np.flatnonzero(m.active_places)]
-        colours = dict(zip(act, place_colours(len(act))))
+        colours = dict(zip(act, place_colours(len(act)), strict=False))
         names = self.planner.names
-        return {"model": self.name,
-                "places": [{"id": k, "name": names[k], "label": self.labels[k], "mean": m.mu[k].tolist(),
-                            "covariance": m.Sigma[k].tolist(), "colour": colours[k]} for k in act],
-                "edges": topological_edges(m), "place_words": self.place_words}
+        return {
+            "model": self.name,
+            "places": [
+                {
+                    "id": k,
+                    "name": names[k],
+                    "label": self.labels[k],
+                    "mean": m.mu[k].tolist(),
+                    "covariance": m.Sigma[k].tolist(),
+                    "colour": colours[k],
+                }
+                for k in act
+            ],
+            "edges": topological_edges(m),
+            "place_words": self.place_words,
+        }
 
     def summary(self) -> dict:
         """What ``GET /models`` shows: no folder path (the service may be reachable from other machines)."""
-        return {"name": self.name, "places": int(self.model.active_places.sum()),
-                "place_words": self.place_words, "time_precompute_s": self.planner.graph.time_precompute_s}
+        return {
+            "name": self.name,
+            "places": int(self.model.active_places.sum()),
+            "place_words": self.place_words,
+            "time_precompute_s": self.planner.graph.time_precompute_s,
+        }
 
 
-def load_served(models: Mapping[str, str | Path | SpatialConceptModel],
-                progress: Callable[[str], None] | None = None, budget: Budget | None = None
-                ) -> dict[str, ServedModel]:
+def load_served(
+    models: Mapping[str, str | Path | SpatialConceptModel],
+    progress: Callable[[str], None] | None = None,
+    budget: Budget | None = None,
+) -> dict[str, ServedModel]:
     """Build every served model (name -> model folder or model), in order; the first is the default."""
     from spcotmhp.learning.io import load_model
 

@@ -43,12 +43,12 @@ class ServiceBusy(PlanningError):
 class Budget:
     """Limits of the planning service (module docstring); ``create_app(budget=Budget(...))`` changes them."""
 
-    time_budget: float = 5.0            # seconds a request waits for its plan
-    light_cost: int = 200               # instructions up to this many characters run on the light lane
-    max_cost: int = 8192                # instructions beyond this are refused (413)
-    max_light: int = 512                # requests queued or running on a light lane
-    max_heavy: int = 4                  # ... on a heavy lane
-    max_heavy_per_client: int = 1       # ... on a heavy lane from one client address
+    time_budget: float = 5.0  # seconds a request waits for its plan
+    light_cost: int = 200  # instructions up to this many characters run on the light lane
+    max_cost: int = 8192  # instructions beyond this are refused (413)
+    max_light: int = 512  # requests queued or running on a light lane
+    max_heavy: int = 4  # ... on a heavy lane
+    max_heavy_per_client: int = 1  # ... on a heavy lane from one client address
 
 
 def estimate_cost(source: Any) -> int:
@@ -58,8 +58,7 @@ def estimate_cost(source: Any) -> int:
     if isinstance(source, str):
         return len(source)
     if isinstance(source, (list, tuple)):
-        return sum(len(str(item[0])) if isinstance(item, (list, tuple)) and item else len(str(item))
-                   for item in source)
+        return sum(len(str(item[0])) if isinstance(item, (list, tuple)) and item else len(str(item)) for item in source)
     try:
         return len(json.dumps(source, ensure_ascii=False, default=str))
     except (TypeError, ValueError):
@@ -81,11 +80,14 @@ class Lane:
         """Count a request in, or raise ServiceBusy (the message says which limit was reached)."""
         with self._guard:
             if self._total >= self.limit:
-                raise ServiceBusy(f"the planner is busy ({self._total} plans queued or running, the limit); "
-                                  "try again shortly")
+                raise ServiceBusy(
+                    f"the planner is busy ({self._total} plans queued or running, the limit); try again shortly"
+                )
             if self.per_client is not None and self._clients[client] >= self.per_client:
-                raise ServiceBusy(f"this client already has {self._clients[client]} long plan(s) running (the "
-                                  f"limit is {self.per_client}); wait for it, or shorten the instruction")
+                raise ServiceBusy(
+                    f"this client already has {self._clients[client]} long plan(s) running (the "
+                    f"limit is {self.per_client}); wait for it, or shorten the instruction"
+                )
             self._total += 1
             self._clients[client] += 1
 
@@ -119,9 +121,11 @@ async def run_in_lane(lane: Lane, client: str, budget: float, call: Callable[[],
     try:
         return await asyncio.wait_for(asyncio.wrap_future(future), budget)
     except TimeoutError:
-        future.cancel()             # dropped if still queued; a running plan finishes and then frees its slot
-        raise PlanningTimeout(f"planning did not finish within the time budget of {budget:g} s; shorten the "
-                              "instruction (fewer waypoints) or try again") from None
+        future.cancel()  # dropped if still queued; a running plan finishes and then frees its slot
+        raise PlanningTimeout(
+            f"planning did not finish within the time budget of {budget:g} s; shorten the "
+            "instruction (fewer waypoints) or try again"
+        ) from None
     except asyncio.CancelledError:  # the client went away: drop the plan if it has not started
         future.cancel()
         raise
@@ -130,5 +134,6 @@ async def run_in_lane(lane: Lane, client: str, budget: float, call: Callable[[],
 def check_cost(cost: int, limits: Budget) -> None:
     """InstructionTooLarge (413) for an instruction costlier than ``limits.max_cost``."""
     if cost > limits.max_cost:
-        raise InstructionTooLarge(f"the instruction has {cost} characters; the service plans instructions of at "
-                                  f"most {limits.max_cost}")
+        raise InstructionTooLarge(
+            f"the instruction has {cost} characters; the service plans instructions of at most {limits.max_cost}"
+        )

@@ -35,18 +35,29 @@ class StructuredInstruction(BaseModel):
     waypoints: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
     avoid: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
     not_goal: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(
-        default=[], max_length=20, description="Places that must not be the goal (they may be passed).")
+        default=[], max_length=20, description="Places that must not be the goal (they may be passed)."
+    )
 
 
 class PlanRequest(BaseModel):
     """``POST /plan``: exactly one of ``instruction``, ``nbest`` or ``structured``, and the start pose."""
 
-    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
-        {"instruction": "go to the bedroom via the corridor", "start": [-3.9, -3.5]}]})
-    instruction: str | None = Field(None, min_length=1, max_length=MAX_TEXT,
-                                    description='A sentence, e.g. "go to the bedroom via the corridor".')
-    nbest: list[Hypothesis] | None = Field(None, min_length=1, max_length=MAX_HYPOTHESES,
-                                           description="Recogniser hypotheses, weighed as bags of words (Eq. 25).")
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{"instruction": "go to the bedroom via the corridor", "start": [-3.9, -3.5]}]},
+    )
+    instruction: str | None = Field(
+        None,
+        min_length=1,
+        max_length=MAX_TEXT,
+        description='A sentence, e.g. "go to the bedroom via the corridor".',
+    )
+    nbest: list[Hypothesis] | None = Field(
+        None,
+        min_length=1,
+        max_length=MAX_HYPOTHESES,
+        description="Recogniser hypotheses, weighed as bags of words (Eq. 25).",
+    )
     structured: StructuredInstruction | None = None
     start: Point = Field(description="Start pose [x, y] in metres, map frame.")
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
@@ -56,8 +67,10 @@ class PlanRequest(BaseModel):
     def _one_instruction(self) -> PlanRequest:
         given = [k for k in ("instruction", "nbest", "structured") if getattr(self, k) is not None]
         if len(given) != 1:
-            raise ValueError("give exactly one of 'instruction', 'nbest' or 'structured'"
-                             + (f" (got {', '.join(given)})" if given else ""))
+            raise ValueError(
+                "give exactly one of 'instruction', 'nbest' or 'structured'"
+                + (f" (got {', '.join(given)})" if given else "")
+            )
         return self
 
     def source(self) -> str | list[tuple[str, float]] | dict:
@@ -72,8 +85,10 @@ class PlanRequest(BaseModel):
 class TeachRequest(BaseModel):
     """``POST /teach``: what a place is called (an utterance said there) and where, in the map frame."""
 
-    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
-        {"utterance": "this is alice's room", "x": -3.45, "y": 5.65}]})
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{"utterance": "this is alice's room", "x": -3.45, "y": 5.65}]},
+    )
     utterance: str = Field(min_length=1, max_length=MAX_TEXT, description='e.g. "this is alice\'s room".')
     x: Finite
     y: Finite

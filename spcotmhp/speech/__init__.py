@@ -22,5 +22,13 @@ def recognise_for_model(audio: AudioSource, model: Any, nbest: int = 5) -> list[
     return cached_recogniser(tuple(place_vocabulary(model)), "en").recognise(audio, nbest)
 
 
-__all__ = ["AudioError", "AudioSource", "Recogniser", "SpeechWarning", "cached_recogniser", "load_audio",
-           "recognise", "recognise_for_model"]
+__all__ = [
+    "AudioError",
+    "AudioSource",
+    "Recogniser",
+    "SpeechWarning",
+    "cached_recogniser",
+    "load_audio",
+    "recognise",
+    "recognise_for_model",
+]

@@ -56,8 +56,10 @@ def read_wav(source: AudioSource, name: str | None = None) -> tuple[np.ndarray, 
     if not data:
         raise AudioError(f"{label} is empty (0 bytes); expected a WAV file")
     if data[:4] != b"RIFF" or data[8:12] != b"WAVE":
-        raise AudioError(f"{label} is not a WAV file (it does not start with a RIFF/WAVE header); "
-                         "record or convert to WAV, ideally 16 kHz mono 16-bit")
+        raise AudioError(
+            f"{label} is not a WAV file (it does not start with a RIFF/WAVE header); "
+            "record or convert to WAV, ideally 16 kHz mono 16-bit"
+        )
     try:
         with warnings.catch_warnings():  # a streamed WAV (from a pipe) has a placeholder length: read what is there
             warnings.simplefilter("ignore", wavfile.WavFileWarning)
@@ -83,11 +85,14 @@ def to_16k_mono(samples: np.ndarray, rate: int, label: str = "the audio") -> np.
     if len(x) == 0:
         raise AudioError(f"{label} holds no audio samples")
     if seconds < MIN_SECONDS:
-        raise AudioError(f"{label} is {seconds * 1000:.0f} ms long; an instruction needs at least "
-                         f"{MIN_SECONDS * 1000:.0f} ms of speech")
+        raise AudioError(
+            f"{label} is {seconds * 1000:.0f} ms long; an instruction needs at least "
+            f"{MIN_SECONDS * 1000:.0f} ms of speech"
+        )
     if seconds > MAX_SECONDS:
-        raise AudioError(f"{label} is {seconds:.1f} s long; instructions longer than {MAX_SECONDS:.0f} s are "
-                         "not accepted")
+        raise AudioError(
+            f"{label} is {seconds:.1f} s long; instructions longer than {MAX_SECONDS:.0f} s are not accepted"
+        )
     if not np.any(x):
         raise AudioError(f"{label} is silent (every sample is zero)")
     if rate != RATE:

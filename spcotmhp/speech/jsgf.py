@@ -27,8 +27,20 @@ from spcotmhp.speech.lexicon import SPEAKABLE
 # a compact subset of the parser's English markers and connectors: every alternative widens the search, and
 # a grammar with all of them (about 70 phrases) recognises less accurately and several times more slowly
 GOAL_MARKERS = ("to", "into", "towards")
-MARKERS = ("via", "through", "passing", "passing by", "passing through", "by way of", "avoiding", "without passing",
-           "without passing by", "without passing through", "without going through", "from")
+MARKERS = (
+    "via",
+    "through",
+    "passing",
+    "passing by",
+    "passing through",
+    "by way of",
+    "avoiding",
+    "without passing",
+    "without passing by",
+    "without passing through",
+    "without going through",
+    "from",
+)
 CONNECTORS = ("and", "then", "and then", "after that")
 VERBS = ("go", "take me", "bring me", "head", "move", "navigate", "guide me")
 DETERMINERS = ("the", "my")
@@ -81,7 +93,13 @@ def instruction_grammar(place_words: Iterable[str], pronounceable: Callable[[str
     connectors = usable(c for c in CONNECTORS if c in ENGLISH.connectors)
     verbs, dets, kinds, polite = (usable(x) for x in (VERBS, DETERMINERS, PLACE_KINDS, POLITE))
     rules = {
-        "goal": goals, "marker": markers, "connector": connectors, "verb": verbs, "det": dets, "kind": kinds, "polite": polite,
+        "goal": goals,
+        "marker": markers,
+        "connector": connectors,
+        "verb": verbs,
+        "det": dets,
+        "kind": kinds,
+        "polite": polite,
         "word": list(places),
     }
     lines = [
@@ -94,5 +112,9 @@ def instruction_grammar(place_words: Iterable[str], pronounceable: Callable[[str
     ]
     lines += [f"<{name}> = {' | '.join(alts)};" for name, alts in rules.items()]
     words = {w for name, alts in rules.items() if name != "word" for a in alts for w in a.split()}
-    return InstructionGrammar(jsgf="\n".join(lines) + "\n", place_words=places,
-                              grammar_words=tuple(sorted(words - set(places))), dropped=tuple(sorted(dropped)))
+    return InstructionGrammar(
+        jsgf="\n".join(lines) + "\n",
+        place_words=places,
+        grammar_words=tuple(sorted(words - set(places))),
+        dropped=tuple(sorted(dropped)),
+    )

@@ -20,27 +20,128 @@ import re
 from collections.abc import Callable
 
 # 39 ARPAbet phones of the CMU en-us acoustic model
-PHONES = frozenset([
-    "AA", "AE", "AH", "AO", "AW", "AY", "B", "CH", "D", "DH", "EH", "ER", "EY", "F", "G", "HH", "IH", "IY", "JH", "K",
-    "L", "M", "N", "NG", "OW", "OY", "P", "R", "S", "SH", "T", "TH", "UH", "UW", "V", "W", "Y", "Z", "ZH",
-])
+PHONES = frozenset(
+    [
+        "AA",
+        "AE",
+        "AH",
+        "AO",
+        "AW",
+        "AY",
+        "B",
+        "CH",
+        "D",
+        "DH",
+        "EH",
+        "ER",
+        "EY",
+        "F",
+        "G",
+        "HH",
+        "IH",
+        "IY",
+        "JH",
+        "K",
+        "L",
+        "M",
+        "N",
+        "NG",
+        "OW",
+        "OY",
+        "P",
+        "R",
+        "S",
+        "SH",
+        "T",
+        "TH",
+        "UH",
+        "UW",
+        "V",
+        "W",
+        "Y",
+        "Z",
+        "ZH",
+    ]
+)
 
 RULES: tuple[tuple[str, str], ...] = (
-    ("tion", "SH AH N"), ("sion", "ZH AH N"), ("ough", "AO"), ("augh", "AO"), ("eigh", "EY"), ("igh", "AY"),
-    ("tch", "CH"), ("dge", "JH"), ("sch", "S K"),
-    ("sh", "SH"), ("ch", "CH"), ("th", "TH"), ("ph", "F"), ("ng", "NG"), ("ck", "K"), ("qu", "K W"),
-    ("wh", "W"), ("kn", "N"), ("wr", "R"), ("gh", "G"),
-    ("ee", "IY"), ("ea", "IY"), ("oo", "UW"), ("ou", "AW"), ("ow", "OW"), ("ai", "EY"), ("ay", "EY"),
-    ("oi", "OY"), ("oy", "OY"), ("au", "AO"), ("aw", "AO"), ("ew", "UW"), ("ie", "IY"), ("ei", "EY"),
-    ("oa", "OW"), ("ue", "UW"),
-    ("er", "ER"), ("ir", "ER"), ("ur", "ER"), ("ar", "AA R"), ("or", "AO R"),
-    ("a", "AE"), ("b", "B"), ("c", "K"), ("d", "D"), ("e", "EH"), ("f", "F"), ("g", "G"), ("h", "HH"),
-    ("i", "IH"), ("j", "JH"), ("k", "K"), ("l", "L"), ("m", "M"), ("n", "N"), ("o", "AA"), ("p", "P"),
-    ("q", "K"), ("r", "R"), ("s", "S"), ("t", "T"), ("u", "AH"), ("v", "V"), ("w", "W"), ("x", "K S"),
-    ("y", "IH"), ("z", "Z"),
+    ("tion", "SH AH N"),
+    ("sion", "ZH AH N"),
+    ("ough", "AO"),
+    ("augh", "AO"),
+    ("eigh", "EY"),
+    ("igh", "AY"),
+    ("tch", "CH"),
+    ("dge", "JH"),
+    ("sch", "S K"),
+    ("sh", "SH"),
+    ("ch", "CH"),
+    ("th", "TH"),
+    ("ph", "F"),
+    ("ng", "NG"),
+    ("ck", "K"),
+    ("qu", "K W"),
+    ("wh", "W"),
+    ("kn", "N"),
+    ("wr", "R"),
+    ("gh", "G"),
+    ("ee", "IY"),
+    ("ea", "IY"),
+    ("oo", "UW"),
+    ("ou", "AW"),
+    ("ow", "OW"),
+    ("ai", "EY"),
+    ("ay", "EY"),
+    ("oi", "OY"),
+    ("oy", "OY"),
+    ("au", "AO"),
+    ("aw", "AO"),
+    ("ew", "UW"),
+    ("ie", "IY"),
+    ("ei", "EY"),
+    ("oa", "OW"),
+    ("ue", "UW"),
+    ("er", "ER"),
+    ("ir", "ER"),
+    ("ur", "ER"),
+    ("ar", "AA R"),
+    ("or", "AO R"),
+    ("a", "AE"),
+    ("b", "B"),
+    ("c", "K"),
+    ("d", "D"),
+    ("e", "EH"),
+    ("f", "F"),
+    ("g", "G"),
+    ("h", "HH"),
+    ("i", "IH"),
+    ("j", "JH"),
+    ("k", "K"),
+    ("l", "L"),
+    ("m", "M"),
+    ("n", "N"),
+    ("o", "AA"),
+    ("p", "P"),
+    ("q", "K"),
+    ("r", "R"),
+    ("s", "S"),
+    ("t", "T"),
+    ("u", "AH"),
+    ("v", "V"),
+    ("w", "W"),
+    ("x", "K S"),
+    ("y", "IH"),
+    ("z", "Z"),
 )
 """Grapheme -> phones, longest grapheme first (the first match at a position wins)."""
-_LONG = {"a": "EY", "e": "IY", "i": "AY", "o": "OW", "u": "UW", "y": "AY"}  # vowel before consonant + silent e
+_LONG = {
+    "a": "EY",
+    "e": "IY",
+    "i": "AY",
+    "o": "OW",
+    "u": "UW",
+    "y": "AY",
+}  # vowel before consonant + silent e
 _SOFT = {"c": "S", "g": "JH"}  # before e, i, y
 _VOWELS = set("aeiouy")
 SPEAKABLE = re.compile(r"[a-z]+(?:'[a-z]+)*")
@@ -61,12 +162,16 @@ def letter_to_sound(word: str) -> str:
     w = re.sub(r"([b-df-hj-np-tv-z])\1", r"\1", w)  # doubled consonants are read once
     silent_e = len(w) > 2 and w[-1] == "e" and w[-2] not in _VOWELS
     # c before e, i, y reads S ("entrance", "office"); g only in a final "-ge" reads JH ("storage")
-    soft = {i for i in range(len(w) - 1) if (w[i] == "c" and w[i + 1] in "eiy")
-            or (w[i] == "g" and silent_e and i == len(w) - 2)}
+    soft = {
+        i
+        for i in range(len(w) - 1)
+        if (w[i] == "c" and w[i + 1] in "eiy") or (w[i] == "g" and silent_e and i == len(w) - 2)
+    }
     # in a one-syllable word a silent final e lengthens the vowel before its consonant ("white", "rote")
     one_vowel = len(re.findall(r"[aeiouy]+", w[:-1])) == 1
-    long_vowel = len(w) - 3 if (silent_e and one_vowel and len(w) > 3 and w[-3] in _VOWELS
-                                and w[-4] not in _VOWELS) else -1
+    long_vowel = (
+        len(w) - 3 if (silent_e and one_vowel and len(w) > 3 and w[-3] in _VOWELS and w[-4] not in _VOWELS) else -1
+    )
     if silent_e:
         w = w[:-1]
     phones: list[str] = []

@@ -51,11 +51,18 @@ class Recogniser:
             :mod:`spcotmhp.speech.lexicon`).
     """
 
-    def __init__(self, vocabulary: Iterable[str], lang: str = "en", unknown: str = "spell",
-                 spelling_variants: bool = True) -> None:
+    def __init__(
+        self,
+        vocabulary: Iterable[str],
+        lang: str = "en",
+        unknown: str = "spell",
+        spelling_variants: bool = True,
+    ) -> None:
         if lang != "en":
-            raise UnsupportedLanguage(f"speech recognition supports lang='en' only, not {lang!r}: the pocketsphinx "
-                                   "wheel ships an English (en-us) acoustic model and dictionary")
+            raise UnsupportedLanguage(
+                f"speech recognition supports lang='en' only, not {lang!r}: the pocketsphinx "
+                "wheel ships an English (en-us) acoustic model and dictionary"
+            )
         if unknown not in ("spell", "error"):
             raise ValueError(f"unknown must be 'spell' or 'error', got {unknown!r}")
         decoder_cls, config_cls = _pocketsphinx()
@@ -66,10 +73,16 @@ class Recogniser:
         if not speakable:
             raise UnsupportedLanguage(
                 "none of the place words can be spoken to the English recogniser (it needs words of the letters "
-                f"a-z): {', '.join(self.skipped[:20]) or 'the vocabulary is empty'}")
+                f"a-z): {', '.join(self.skipped[:20]) or 'the vocabulary is empty'}"
+            )
         if self.skipped:
-            warnings.warn(SpeechWarning(f"the recogniser cannot listen for {len(self.skipped)} place word(s) that "
-                                        f"are not a-z words: {', '.join(self.skipped[:20])}"), stacklevel=2)
+            warnings.warn(
+                SpeechWarning(
+                    f"the recogniser cannot listen for {len(self.skipped)} place word(s) that "
+                    f"are not a-z words: {', '.join(self.skipped[:20])}"
+                ),
+                stacklevel=2,
+            )
         self.spelled = self._add_pronunciations(speakable, unknown, spelling_variants)
         lookup = self._decoder.lookup_word
         self.grammar: InstructionGrammar = instruction_grammar(speakable, lambda w: lookup(w) is not None)
@@ -84,8 +97,10 @@ class Recogniser:
         lookup = self._decoder.lookup_word
         missing = [w for w in words if lookup(w) is None]
         if missing and unknown == "error":
-            raise UnknownPlaceWord(f"no pronunciation for place word(s) {', '.join(missing)} in the recogniser's "
-                                   "dictionary (CMUdict); use unknown='spell' for letter-to-sound pronunciations")
+            raise UnknownPlaceWord(
+                f"no pronunciation for place word(s) {', '.join(missing)} in the recogniser's "
+                "dictionary (CMUdict); use unknown='spell' for letter-to-sound pronunciations"
+            )
         for w in words:
             known = dictionary_pronunciations(w, lookup)
             if known and not variants:
@@ -95,8 +110,9 @@ class Recogniser:
                 self._decoder.add_word(f"{w}({len(known) + 1})" if known else w, spelled, True)
         return tuple(missing)
 
-    def recognise(self, audio: AudioSource | np.ndarray, nbest: int = 5,
-                  name: str | None = None) -> list[tuple[str, float]]:
+    def recognise(
+        self, audio: AudioSource | np.ndarray, nbest: int = 5, name: str | None = None
+    ) -> list[tuple[str, float]]:
         """N-best hypotheses [(text, weight)] for a WAV file / bytes / file object, or 16 kHz mono int16
         samples; weights are > 0, sum to 1, best first.
 
@@ -130,7 +146,7 @@ def _weights(paths: list[tuple[str, float]], nbest: int, accept, label: str) -> 
     if not paths:
         raise EmptyInstruction(f"no instruction was recognised in {label} (no speech matching the grammar)")
     texts = sorted({t for t, _ in paths})
-    scaled = np.array([s for _, s in paths]) * (2 ** SENSCR_SHIFT / ASCALE)
+    scaled = np.array([s for _, s in paths]) * (2**SENSCR_SHIFT / ASCALE)
     index = {t: i for i, t in enumerate(texts)}
     groups = np.array([index[t] for t, _ in paths])
     logw = np.array([logsumexp(scaled[groups == i]) for i in range(len(texts))])
@@ -139,7 +155,7 @@ def _weights(paths: list[tuple[str, float]], nbest: int, accept, label: str) -> 
         logw[~ok] = -np.inf
     order = [i for i in np.argsort(-logw, kind="stable") if np.isfinite(logw[i])][:nbest]
     w = np.exp(logw[order] - logsumexp(logw[order]))
-    return [(texts[i], float(x)) for i, x in zip(order, w)]
+    return [(texts[i], float(x)) for i, x in zip(order, w, strict=False)]
 
 
 def _pocketsphinx():
@@ -156,8 +172,9 @@ def cached_recogniser(vocabulary: tuple[str, ...], lang: str = "en", unknown: st
     return Recogniser(vocabulary, lang, unknown)
 
 
-def recognise(wav_path: AudioSource, vocabulary: Iterable[str], lang: str = "en",
-              nbest: int = 5) -> list[tuple[str, float]]:
+def recognise(
+    wav_path: AudioSource, vocabulary: Iterable[str], lang: str = "en", nbest: int = 5
+) -> list[tuple[str, float]]:
     """Recognise a spoken instruction: N-best [(text, weight)], best first, weights summing to 1.
 
     ``vocabulary`` is the list of place words the grammar accepts (see :class:`Recogniser`).

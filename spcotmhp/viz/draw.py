@@ -4,7 +4,8 @@ Plotting stays at the edge: these functions take arrays and dataclasses and draw
 no display needed). Thread safety (the HTTP service draws from worker threads): figures are
 :class:`matplotlib.figure.Figure` objects with their own Agg canvas, never pyplot's global figure manager, and
 :func:`render` and :func:`map_image` hold one module-wide lock, because matplotlib's rcParams (the font family
-set for a picture) and its text caches are process-wide. :func:`render` writes the framed figure of the CLI (axes in metres, legend, title);
+set for a picture) and its text caches are process-wide. :func:`render` writes the framed figure of the CLI (axes in
+metres, legend, title);
 :func:`map_image` the frameless, georeferenced picture of the HTTP service, whose pixels map linearly onto its
 ``extent`` so that a client can convert clicks to map coordinates.
 """
@@ -32,11 +33,27 @@ from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.viz.labels import arrange_labels, drawable, font_families, place_display_labels
 
 # Saturated, mutually distinct place colours; no red (the path's colour) and no grey/black (walls, unknown).
-PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
-           "#393b79", "#1b9e77", "#e6ab02", "#e7298a", "#66a61e", "#7570b3", "#a6761d", "#0b6e4f"]
+PALETTE = [
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#17becf",
+    "#bcbd22",
+    "#393b79",
+    "#1b9e77",
+    "#e6ab02",
+    "#e7298a",
+    "#66a61e",
+    "#7570b3",
+    "#a6761d",
+    "#0b6e4f",
+]
 PATH_COLOUR = "#d00000"
 MARK_STYLE = {"start": ("s", "#00a651"), "waypoint": ("D", "#6a3d9a"), "goal": ("*", PATH_COLOUR)}
-_DRAW_LOCK = threading.Lock()   # one picture at a time (module docstring)
+_DRAW_LOCK = threading.Lock()  # one picture at a time (module docstring)
 
 
 def _figure(figsize: tuple[float, float], dpi: float | None = None) -> Figure:
@@ -62,15 +79,15 @@ def draw_map(ax: Axes, occ_map: OccupancyMap) -> None:
     img = np.full(occ_map.shape, 0.8)
     img[occ_map.free] = 1.0
     img[occ_map.occupied] = 0.0
-    ax.imshow(img, cmap="gray", vmin=0, vmax=1, origin="lower", extent=map_extent(occ_map),
-              interpolation="nearest")
+    ax.imshow(img, cmap="gray", vmin=0, vmax=1, origin="lower", extent=map_extent(occ_map), interpolation="nearest")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_aspect("equal")
 
 
-def used_extent(occ_map: OccupancyMap, margin_m: float = 1.0,
-                focus: np.ndarray | None = None) -> tuple[float, float, float, float]:
+def used_extent(
+    occ_map: OccupancyMap, margin_m: float = 1.0, focus: np.ndarray | None = None
+) -> tuple[float, float, float, float]:
     """Bounding box (x0, x1, y0, y1) in metres of the known (non-unknown) part of the map plus a margin; with
     ``focus`` points (n, 2), cut down to their bounding box plus the margin (real maps such as albert-b carry
     laser rays far beyond the building, which would shrink the places to a corner of the picture)."""
@@ -85,15 +102,21 @@ def used_extent(occ_map: OccupancyMap, margin_m: float = 1.0,
         box = (lo[0] - margin_m, hi[0] + margin_m, lo[1] - margin_m, hi[1] + margin_m)
     if focus is not None and len(focus):
         f = np.asarray(focus, dtype=float).reshape(-1, 2)
-        fb = (f[:, 0].min() - margin_m, f[:, 0].max() + margin_m, f[:, 1].min() - margin_m, f[:, 1].max() + margin_m)
+        fb = (
+            f[:, 0].min() - margin_m,
+            f[:, 0].max() + margin_m,
+            f[:, 1].min() - margin_m,
+            f[:, 1].max() + margin_m,
+        )
         cut = (max(box[0], fb[0]), min(box[1], fb[1]), max(box[2], fb[2]), min(box[3], fb[3]))
         if cut[0] < cut[1] and cut[2] < cut[3]:
             box = cut
     return (max(full[0], box[0]), min(full[1], box[1]), max(full[2], box[2]), min(full[3], box[3]))
 
 
-def focus_points(model: SpatialConceptModel | None, path_xy: np.ndarray | None = None,
-                 n_std: float = 2.5) -> np.ndarray | None:
+def focus_points(
+    model: SpatialConceptModel | None, path_xy: np.ndarray | None = None, n_std: float = 2.5
+) -> np.ndarray | None:
     """Points a picture must show: the corners of each active place's n_std-sigma box and the path."""
     pts = []
     if model is not None:
@@ -111,11 +134,17 @@ def topological_edges(model: SpatialConceptModel) -> list[tuple[int, int]]:
     from spcotmhp.planning.places import connected_places
 
     conn = np.triu(connected_places(model), k=1)
-    return [(int(a), int(b)) for a, b in zip(*np.nonzero(conn))]
+    return [(int(a), int(b)) for a, b in zip(*np.nonzero(conn), strict=False)]
 
 
-def draw_places(ax: Axes, model: SpatialConceptModel, names: Sequence[str] | None = None,
-                n_std: float = 2.0, edges: bool = True, fontsize: float = 8.0) -> list[Annotation]:
+def draw_places(
+    ax: Axes,
+    model: SpatialConceptModel,
+    names: Sequence[str] | None = None,
+    n_std: float = 2.0,
+    edges: bool = True,
+    fontsize: float = 8.0,
+) -> list[Annotation]:
     """Each active place's Gaussian as an n_std-sigma ellipse labelled with its name (default: the planner's
     labels, :func:`place_display_labels`), plus the edges; returns the label annotations (for
     :func:`arrange_labels`)."""
@@ -124,21 +153,32 @@ def draw_places(ax: Axes, model: SpatialConceptModel, names: Sequence[str] | Non
     colours = place_colours(len(act))
     if edges:
         for a, b in topological_edges(model):
-            ax.plot(*zip(model.mu[a], model.mu[b]), color="#555555", lw=1.2, alpha=0.8, zorder=2)
+            ax.plot(*zip(model.mu[a], model.mu[b], strict=False), color="#555555", lw=1.2, alpha=0.8, zorder=2)
     labels = []
-    for c, k in zip(colours, act):
+    for c, k in zip(colours, act, strict=False):
         vals, vecs = np.linalg.eigh(model.Sigma[k])
         vals = np.clip(vals, 1e-12, None)
         angle = float(np.degrees(np.arctan2(vecs[1, 1], vecs[0, 1])))
         width, height = 2 * n_std * np.sqrt(vals[1]), 2 * n_std * np.sqrt(vals[0])
-        ax.add_patch(Ellipse(model.mu[k], width, height, angle=angle, facecolor=c, edgecolor="none", alpha=0.18,
-                             zorder=3))
+        ax.add_patch(
+            Ellipse(model.mu[k], width, height, angle=angle, facecolor=c, edgecolor="none", alpha=0.18, zorder=3)
+        )
         ax.add_patch(Ellipse(model.mu[k], width, height, angle=angle, fill=False, edgecolor=c, lw=1.6, zorder=3))
         ax.plot(*model.mu[k], "o", color=c, ms=4.5, mec="white", mew=0.8, zorder=4)
-        labels.append(ax.annotate(names[k], model.mu[k], xytext=(5, 5), textcoords="offset points",
-                                  fontsize=fontsize, family=list(font_families()), color="#111111", zorder=8,
-                                  annotation_clip=False,
-                                  bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": c, "lw": 1.2, "alpha": 0.9}))
+        labels.append(
+            ax.annotate(
+                names[k],
+                model.mu[k],
+                xytext=(5, 5),
+                textcoords="offset points",
+                fontsize=fontsize,
+                family=list(font_families()),
+                color="#111111",
+                zorder=8,
+                annotation_clip=False,
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": c, "lw": 1.2, "alpha": 0.9},
+            )
+        )
     return labels
 
 
@@ -147,12 +187,28 @@ def draw_path(ax: Axes, path_xy: np.ndarray, marks: Sequence[tuple[np.ndarray, s
     the marks' points (m, 2)."""
     path_xy = np.asarray(path_xy, dtype=float)
     if len(path_xy):
-        ax.plot(path_xy[:, 0], path_xy[:, 1], "-", color=PATH_COLOUR, lw=2.4, zorder=5, label="path",
-                path_effects=[pe.Stroke(linewidth=4.5, foreground="white"), pe.Normal()])
+        ax.plot(
+            path_xy[:, 0],
+            path_xy[:, 1],
+            "-",
+            color=PATH_COLOUR,
+            lw=2.4,
+            zorder=5,
+            label="path",
+            path_effects=[pe.Stroke(linewidth=4.5, foreground="white"), pe.Normal()],
+        )
     for xy, label, role in marks:
         m, c = MARK_STYLE.get(role, ("o", "k"))
-        ax.plot(*xy, m, color=c, ms=15 if role == "goal" else 10, mec="white", mew=1.4, zorder=7,
-                label=f"{role}: {label}")
+        ax.plot(
+            *xy,
+            m,
+            color=c,
+            ms=15 if role == "goal" else 10,
+            mec="white",
+            mew=1.4,
+            zorder=7,
+            label=f"{role}: {label}",
+        )
     return np.array([xy for xy, _, _ in marks], dtype=float).reshape(-1, 2)
 
 
@@ -160,10 +216,16 @@ def _centres(model: SpatialConceptModel | None) -> np.ndarray:
     return np.empty((0, 2)) if model is None else model.mu[np.asarray(model.active_places, dtype=bool)]
 
 
-def render(occ_map: OccupancyMap, out: str | Path | BinaryIO, model: SpatialConceptModel | None = None,
-           names: Sequence[str] | None = None, path_xy: np.ndarray | None = None,
-           marks: Sequence[tuple[np.ndarray, str, str]] = (), title: str | None = None,
-           dpi: int = 150) -> Path | BinaryIO:
+def render(
+    occ_map: OccupancyMap,
+    out: str | Path | BinaryIO,
+    model: SpatialConceptModel | None = None,
+    names: Sequence[str] | None = None,
+    path_xy: np.ndarray | None = None,
+    marks: Sequence[tuple[np.ndarray, str, str]] = (),
+    title: str | None = None,
+    dpi: int = 150,
+) -> Path | BinaryIO:
     """Draw the map (+ places, edges, path) with axes in metres and write a PNG to a file (its folder is
     created) or a binary stream; returns ``out`` (as a Path when it is a file name)."""
     if isinstance(out, (str, Path)):
@@ -176,9 +238,18 @@ def render(occ_map: OccupancyMap, out: str | Path | BinaryIO, model: SpatialConc
     return out
 
 
-def _render(occ_map: OccupancyMap, out: Path | BinaryIO, model: SpatialConceptModel | None,
-            names: Sequence[str] | None, path_xy: np.ndarray | None, marks: Sequence[tuple[np.ndarray, str, str]],
-            title: str | None, dpi: int, extent: tuple[float, float, float, float], aspect: float) -> None:
+def _render(
+    occ_map: OccupancyMap,
+    out: Path | BinaryIO,
+    model: SpatialConceptModel | None,
+    names: Sequence[str] | None,
+    path_xy: np.ndarray | None,
+    marks: Sequence[tuple[np.ndarray, str, str]],
+    title: str | None,
+    dpi: int,
+    extent: tuple[float, float, float, float],
+    aspect: float,
+) -> None:
     x0, x1, y0, y1 = extent
     fig = _figure((8, max(4.0, min(12.0, 8 * aspect)) + 0.6))
     ax = fig.subplots()

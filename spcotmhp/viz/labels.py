@@ -27,8 +27,9 @@ _SIDES = [(1, 1), (1, -1), (-1, 1), (-1, -1), (0, 1.4), (0, -1.4), (1.4, 0), (-1
 _CANDIDATES = [(dx * r, dy * r) for r in (5.0, 12.0, 20.0) for dx, dy in _SIDES]
 
 
-def place_display_labels(model: SpatialConceptModel, place_words: Sequence[str] | None = None,
-                         ids: bool = False) -> list[str]:
+def place_display_labels(
+    model: SpatialConceptModel, place_words: Sequence[str] | None = None, ids: bool = False
+) -> list[str]:
     """One label per place (K,): the planner's name, "#n" when several active places share it, "" for an
     inactive place; ``ids`` appends the place id ("bedroom #2 (9)")."""
     from spcotmhp.planning.plan import PlanPlace
@@ -45,8 +46,18 @@ def place_display_labels(model: SpatialConceptModel, place_words: Sequence[str] 
     return out
 
 
-_CJK_FAMILIES = ("Noto Sans CJK JP", "Noto Sans JP", "IPAexGothic", "IPAGothic", "TakaoGothic", "Hiragino Sans",
-                 "Yu Gothic", "MS Gothic", "Droid Sans Fallback", "WenQuanYi Zen Hei")
+_CJK_FAMILIES = (
+    "Noto Sans CJK JP",
+    "Noto Sans JP",
+    "IPAexGothic",
+    "IPAGothic",
+    "TakaoGothic",
+    "Hiragino Sans",
+    "Yu Gothic",
+    "MS Gothic",
+    "Droid Sans Fallback",
+    "WenQuanYi Zen Hei",
+)
 
 
 @lru_cache(maxsize=1)
@@ -70,8 +81,9 @@ def _fonts() -> tuple:
     from matplotlib import font_manager
     from matplotlib.ft2font import FT2Font
 
-    paths = {font_manager.findfont(font_manager.FontProperties(family=f), fallback_to_default=True)
-             for f in font_families()}
+    paths = {
+        font_manager.findfont(font_manager.FontProperties(family=f), fallback_to_default=True) for f in font_families()
+    }
     return tuple(FT2Font(p) for p in sorted(paths))
 
 
@@ -79,8 +91,10 @@ def drawable(labels: Sequence[str]) -> list[str]:
     """``labels`` with every label that no installed font can draw (e.g. Japanese names on a machine without a
     Japanese font) replaced by "place k", so a picture never shows empty boxes; the names stay in the JSON."""
     fonts = _fonts()
-    return [lab if all(c.isspace() or any(f.get_char_index(ord(c)) for f in fonts) for c in lab) else f"place {k}"
-            for k, lab in enumerate(labels)]
+    return [
+        lab if all(c.isspace() or any(f.get_char_index(ord(c)) for f in fonts) for c in lab) else f"place {k}"
+        for k, lab in enumerate(labels)
+    ]
 
 
 def _alignment(dx: float, dy: float) -> tuple[str, str]:
@@ -95,8 +109,9 @@ def _overlap(a: Bbox, b: Bbox) -> float:
     return max(w, 0.0) * max(h, 0.0)
 
 
-def arrange_labels(ax: Axes, labels: Sequence[Annotation], obstacles: np.ndarray | None = None,
-                   pad_px: float = 3.0) -> None:
+def arrange_labels(
+    ax: Axes, labels: Sequence[Annotation], obstacles: np.ndarray | None = None, pad_px: float = 3.0
+) -> None:
     """Move each annotation (``textcoords="offset points"``) to its least crowded candidate offset.
 
     Cost of a candidate: overlap area (pixels^2) with the labels placed so far and with a small square around
@@ -121,8 +136,12 @@ def arrange_labels(ax: Axes, labels: Sequence[Annotation], obstacles: np.ndarray
             box = ann.get_window_extent(renderer).padded(pad_px)
             inside = Bbox.intersection(box, frame)
             outside = box.width * box.height - (0.0 if inside is None else inside.width * inside.height)
-            cost = (sum(_overlap(box, o) for o in placed) + sum(_overlap(box, d) for d in dots)
-                    + 4.0 * outside + 2.0 * np.hypot(dx, dy))
+            cost = (
+                sum(_overlap(box, o) for o in placed)
+                + sum(_overlap(box, d) for d in dots)
+                + 4.0 * outside
+                + 2.0 * np.hypot(dx, dy)
+            )
             if best is None or cost < best[0]:
                 best = (cost, dx, dy, box)
         _, dx, dy, box = best
