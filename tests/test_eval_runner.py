@@ -189,7 +189,10 @@ def test_reproduce_checks_its_output_path_before_running(tmp_path):
             (f"error: --out {tmp_path / 'missing' / 'x.md'}: the folder {tmp_path / 'missing'} does not exist"),
         ),
         (tmp_path, f"error: --out {tmp_path} is a folder; give a file name such as"),
+        (tmp_path / "mine.md", f"error: --out {tmp_path / 'mine.md'} exists; give --overwrite to replace it"),
     ]:
+        if out.name == "mine.md":
+            out.write_text("someone's notes")
         proc = subprocess.run(
             [str(EXE), "reproduce", "--out", str(out), "--max-tasks", "1"],
             capture_output=True,
@@ -199,6 +202,7 @@ def test_reproduce_checks_its_output_path_before_running(tmp_path):
         )
         assert proc.returncode == 2 and message in proc.stderr and "Traceback" not in proc.stderr
         assert len(proc.stderr.strip().splitlines()) == 1  # refused before any home was loaded or planned
+    assert (tmp_path / "mine.md").read_text() == "someone's notes"
 
 
 @pytest.mark.parametrize(

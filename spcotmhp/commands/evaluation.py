@@ -11,6 +11,7 @@ import typer
 from typer.core import TyperCommand
 
 from spcotmhp.errors import SpcotmhpError
+from spcotmhp.safe_write import atomic_write_text, check_output
 
 METHOD_NAMES = (
     "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2,hpp1-smoothed,hpp2-smoothed,"
@@ -249,6 +250,7 @@ def register(app: typer.Typer) -> None:
             int | None,
             typer.Option("--max-tasks", min=1, help="A seeded random subset of each home's tasks."),
         ] = None,
+        overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace the --out file if it exists.")] = False,
         quick: Annotated[
             bool,
             typer.Option(
@@ -268,6 +270,7 @@ def register(app: typer.Typer) -> None:
 
         if out is not None:
             check_writable(out)
+            check_output(out, overwrite)
         plan = (
             Plan.quick(workers)
             if quick
@@ -280,8 +283,5 @@ def register(app: typer.Typer) -> None:
         if out is None:
             typer.echo(text)
         else:
-            try:
-                out.write_text(text, encoding="utf-8")
-            except OSError as exc:
-                raise SpcotmhpError(f"cannot write {out}: {exc.strerror or exc}") from None
+            atomic_write_text(out, text)
             typer.echo(f"wrote {out}", err=True)
