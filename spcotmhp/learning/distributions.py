@@ -19,7 +19,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.special import gammaln, multigammaln
 
 D = 2  # positions are 2-D
 
@@ -99,6 +98,8 @@ class DirichletCategoricals:
         counts = self._check(counts)
         c = self.concentration
         n = counts.sum(axis=1)
+        from scipy.special import gammaln  # here, not at import: planning imports this module and never needs it
+
         return float(np.sum(gammaln(self.M * c) - gammaln(self.M * c + n)) + np.sum(gammaln(c + counts) - gammaln(c)))
 
 
@@ -194,7 +195,7 @@ class NIWGaussians:
         out = (
             -0.5 * n[has] * D * np.log(np.pi)
             + multigammaln_vec(nu_n[has] / 2.0)
-            - multigammaln(self.nu0 / 2.0, D)
+            - multigammaln_vec(np.asarray(self.nu0 / 2.0))
             + 0.5 * self.nu0 * logdet0
             - 0.5 * nu_n[has] * logdet_n
             + 0.5 * D * (np.log(self.kappa0) - np.log(kappa_n[has]))
@@ -203,7 +204,10 @@ class NIWGaussians:
 
 
 def multigammaln_vec(a: np.ndarray) -> np.ndarray:
-    """log Gamma_2(a) elementwise: log pi / 2 + log Gamma(a) + log Gamma(a - 1/2)."""
+    """log Gamma_2(a) elementwise: log pi / 2 + log Gamma(a) + log Gamma(a - 1/2) (the multivariate gamma
+    function of dimension D = 2, as scipy's ``multigammaln(a, 2)``)."""
+    from scipy.special import gammaln  # here, not at import: planning imports this module and never needs it
+
     return 0.5 * np.log(np.pi) + gammaln(a) + gammaln(a - 0.5)
 
 

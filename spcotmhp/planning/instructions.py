@@ -31,7 +31,6 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-from scipy.special import logsumexp
 
 from spcotmhp.errors import (
     EmptyInstruction,
@@ -41,6 +40,7 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
+from spcotmhp.learning.distributions import logsumexp
 from spcotmhp.planning.grammar import GRAMMARS
 from spcotmhp.planning.sentence import Phrase, read_sentence
 from spcotmhp.planning.sequence import visiting_order
