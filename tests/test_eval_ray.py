@@ -38,7 +38,7 @@ def test_ray_backend_matches_local(local_ray, monkeypatch):
     tasks = subset(make_tasks(ctx.dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, 5, seed=2)
     methods = ["spcotmhp", "astar", "hpp1", "spconavi-astar"]
     local = evaluate_home(ctx, tasks, methods, seed=7, workers=1)
-    monkeypatch.setattr("spcotmhp.evaluation.runner.CHUNK", 2)  # three remote chunks
+    monkeypatch.setattr("spcotmhp.evaluation.work.CHUNK", 2)  # three remote chunks
     remote = evaluate_home(ctx, tasks, methods, seed=7, backend="ray", ray_address="local")
     assert key(remote) == key(local)
     assert remote.metrics().keys() == local.metrics().keys()

@@ -89,7 +89,7 @@ def test_process_pool_matches_in_process(ctx, advanced):
     methods = ["spcotmhp", "astar", "hpp2"]
     one = run_local(ctx, advanced, methods, 0, workers=1, advance=lambda n: None)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr("spcotmhp.evaluation.runner.CHUNK", 2)  # three chunks on two processes
+        mp.setattr("spcotmhp.evaluation.work.CHUNK", 2)  # three chunks on two processes
         two = run_local(ctx, advanced, methods, 0, workers=2, advance=lambda n: None)
     assert outcomes(one) == outcomes(two)
 

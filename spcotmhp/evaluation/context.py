@@ -63,20 +63,6 @@ class HomeContext:
     cell_xy: np.ndarray
     timings: dict = field(default_factory=dict)
 
-    def warmup(self, task=None, methods=()) -> None:
-        """Compile (or load) the numba kernels and run each method once on ``task`` (results discarded), so
-        that no timed task pays for compilation or first-call caches."""
-        from spcotmhp.errors import SpcotmhpError
-        from spcotmhp.evaluation.methods import METHODS
-        from spcotmhp.metric.grid_search import warmup
-
-        warmup()
-        for name in methods if task is not None else ():
-            try:
-                METHODS[name](self, task, np.random.default_rng(0))
-            except SpcotmhpError:
-                pass
-
     def notes(self) -> dict:
         """What the output reports about this home."""
         return {

@@ -20,7 +20,7 @@ to sqrt 2 longer on diagonals.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -136,6 +136,20 @@ METHODS: dict[str, Method] = {
 RANDOM = frozenset({"astar", "spconavi-astar", "hpp1", "hpp2", "hpp1-smoothed", "hpp2-smoothed"})
 """The methods that draw at random (goals, target places): the only ones whose result depends on the seed when
 the parameters do not."""
+
+
+def warm_up(ctx: HomeContext, task: Task | None = None, methods: Sequence[str] = ()) -> None:
+    """Compile (or load) the numba kernels and run each method once on ``task`` (results discarded), so that no
+    timed task pays for compilation or first-call caches."""
+    from spcotmhp.errors import SpcotmhpError
+    from spcotmhp.metric.grid_search import warmup
+
+    warmup()
+    for name in methods if task is not None else ():
+        try:
+            METHODS[name](ctx, task, np.random.default_rng(0))
+        except SpcotmhpError:
+            pass
 
 
 def run_method(name: str, ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:

@@ -2,7 +2,7 @@
 homes and seeds can run on a cluster (``spcotmhp evaluate ... --ray ADDRESS``) or on a local Ray instance.
 
 The home context is put in the object store once per home; each chunk is one remote call of
-:func:`spcotmhp.evaluation.runner.evaluate_chunk`. Results are identical to the local backend's (seeds come
+:func:`spcotmhp.evaluation.work.evaluate_chunk`. Results are identical to the local backend's (seeds come
 from the task, not the worker).
 """
 
@@ -12,7 +12,9 @@ from collections.abc import Callable, Sequence
 
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext
+from spcotmhp.evaluation.methods import warm_up
 from spcotmhp.evaluation.tasks import Task
+from spcotmhp.evaluation.work import chunks, evaluate_chunk
 from spcotmhp.extras import missing_extra
 
 LOCAL = "local"
@@ -51,7 +53,6 @@ def run_ray(
     advance: Callable[[int], None],
 ) -> list:
     """Evaluate the chunks as Ray tasks; ``advance(n)`` as each chunk of n tasks completes."""
-    from spcotmhp.evaluation.runner import chunks
 
     ray = _ray()
     connect(address)
@@ -71,10 +72,9 @@ _WARM: set = set()  # (home, methods) already warmed up in this Ray worker proce
 
 
 def _remote_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list:
-    from spcotmhp.evaluation.runner import evaluate_chunk
 
     key = (ctx.name, tuple(methods))
     if key not in _WARM:
-        ctx.warmup(tasks[0], methods)
+        warm_up(ctx, tasks[0], methods)
         _WARM.add(key)
     return evaluate_chunk(ctx, tasks, methods, seed)

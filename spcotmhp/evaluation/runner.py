@@ -20,34 +20,19 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
-import zlib
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
-import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-from spcotmhp.errors import PlanningError
 from spcotmhp.evaluation.context import HomeContext
-from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM, run_method
-from spcotmhp.evaluation.metrics import Box, Outcome, failed, off_free_space, score_path, summarise
+from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM, warm_up
+from spcotmhp.evaluation.metrics import Outcome, summarise
 from spcotmhp.evaluation.spread import aggregate_methods
 from spcotmhp.evaluation.tasks import Task
-
-CHUNK = 16  # tasks per work item: large enough to amortise IPC, small enough to balance two cores
-
-
-@dataclass
-class TaskRecord:
-    """One method on one task: the outcome plus why it failed (planner error message), if it did."""
-
-    task_index: int
-    method: str
-    outcome: Outcome
-    error: str | None = None
-    apart: bool = False  # the task's start lies inside a waypoint-named place (summarised apart)
+from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk
 
 
 @dataclass
@@ -73,48 +58,6 @@ def summarise_records(records: Iterable[TaskRecord], apart: bool = False) -> dic
     return {m: summarise(o) for m, o in by_method.items()}
 
 
-def task_seed(seed: int, home: str, task_index: int, method: str) -> np.random.SeedSequence:
-    """The seed of one method's draws on one task (independent of scheduling)."""
-    return np.random.SeedSequence([seed, zlib.crc32(home.encode()), task_index, zlib.crc32(method.encode())])
-
-
-def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:
-    """Run each method on each task and score it (runs in a worker)."""
-    out = []
-    for task in tasks:
-        goal_boxes = [ctx.places[k].box for k in task.goal_places]
-        advanced = task.kind == "advanced"
-        wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if advanced else None
-        occ, free = ctx.dataset.map, ctx.dataset.map.free
-        start_box = Box.around(np.array([task.start_xy]), ctx.dataset.map.resolution / 2)
-        for method in methods:
-            rng = np.random.default_rng(task_seed(seed, ctx.name, task.index, method))
-            t0 = time.perf_counter()
-            try:
-                path, error = run_method(method, ctx, task, rng), None
-            except PlanningError as exc:
-                path, error = None, str(exc)
-            elapsed = time.perf_counter() - t0
-            if path is None or len(path) == 0:
-                outcome = failed(task.l, elapsed, advanced, advanced)
-                error = error or "no path"
-            else:
-                outcome = score_path(
-                    path,
-                    goal_boxes,
-                    task.closest_goal,
-                    task.l,
-                    elapsed,
-                    wp_boxes,
-                    step=ctx.dataset.map.resolution / 2,
-                    closest_goal_via=task.closest_goal_via if advanced else None,
-                    start_box=start_box,
-                )
-                outcome = replace(outcome, collides=off_free_space(path, free, occ.world_to_cell, occ.resolution / 4))
-            out.append(TaskRecord(task.index, method, outcome, error, task.start_in_waypoint))
-    return out
-
-
 # ---- local process pool ---------------------------------------------------------------------------------
 _WORKER_CTX: HomeContext | None = None
 
@@ -122,16 +65,12 @@ _WORKER_CTX: HomeContext | None = None
 def _init_worker(ctx: HomeContext, task: Task, methods: Sequence[str]) -> None:
     global _WORKER_CTX
     _WORKER_CTX = ctx
-    ctx.warmup(task, methods)
+    warm_up(ctx, task, methods)
 
 
 def _pool_chunk(tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:
     assert _WORKER_CTX is not None
     return evaluate_chunk(_WORKER_CTX, tasks, methods, seed)
-
-
-def chunks(tasks: Sequence[Task], size: int = CHUNK) -> list[list[Task]]:
-    return [list(tasks[i : i + size]) for i in range(0, len(tasks), size)]
 
 
 def run_local(
@@ -147,7 +86,7 @@ def run_local(
     if not parts:
         return []
     if workers <= 1 or len(parts) <= 1:
-        ctx.warmup(parts[0][0], methods)
+        warm_up(ctx, parts[0][0], methods)
         out = []
         for part in parts:
             out.extend(evaluate_chunk(ctx, part, methods, seed))

@@ -20,17 +20,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from spcotmhp.learning.logspace import logsumexp
+from spcotmhp.learning.model import log_gaussian
+
 D = 2  # positions are 2-D
-
-
-def logsumexp(a: np.ndarray, axis: int = -1, keepdims: bool = False) -> np.ndarray:
-    """log sum exp along ``axis`` (a lean version of scipy's for the small arrays of the sampler); an all -inf
-    slice gives -inf."""
-    m = np.max(a, axis=axis, keepdims=True)
-    m = np.where(np.isfinite(m), m, 0.0)
-    with np.errstate(divide="ignore"):
-        out = np.log(np.sum(np.exp(a - m), axis=axis, keepdims=True)) + m
-    return out if keepdims else np.squeeze(out, axis=axis)
 
 
 def log_gamma_variates(rng: np.random.Generator, shape: np.ndarray) -> np.ndarray:
@@ -181,7 +174,6 @@ class NIWGaussians:
 
     def log_likelihood(self, X: np.ndarray) -> np.ndarray:
         """log N(x_e | mu_k, Sigma_k): (E, K)."""
-        from spcotmhp.learning.model import log_gaussian
 
         return log_gaussian(X, self.mu, self.Sigma)
 

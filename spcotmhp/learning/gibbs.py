@@ -86,10 +86,11 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
-from spcotmhp.learning.distributions import logsumexp, sample_categorical_log
+from spcotmhp.learning.distributions import sample_categorical_log
 from spcotmhp.learning.hmm import ffbs, trajectory_places, transition_counts
 from spcotmhp.learning.init import INITS, initial_assignments
 from spcotmhp.learning.learner_state import from_batch
+from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.posterior import (

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from spcotmhp.learning.distributions import logsumexp
+from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.metric.maps import OccupancyMap
 
 LOG_2PI = float(np.log(2.0 * np.pi))

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians, logsumexp
+from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
+from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 

@@ -63,13 +63,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+import spcotmhp.planning.hierarchy as hierarchy
 from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component
-from spcotmhp.planning import hierarchy
 from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.places import candidate_points, connected_places, snap_into_territories

@@ -40,7 +40,7 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
-from spcotmhp.learning.distributions import logsumexp
+from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.planning.grammar import GRAMMARS
 from spcotmhp.planning.sentence import Phrase, read_sentence
 from spcotmhp.planning.sequence import visiting_order

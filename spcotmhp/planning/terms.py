@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from spcotmhp.learning.distributions import logsumexp as _lse
+from spcotmhp.learning.logspace import logsumexp as _lse
 from spcotmhp.learning.model import SpatialConceptModel, bag_counts, log_gaussian, log_multinomial
 
 

@@ -1,0 +1,84 @@
+"""One unit of evaluation work: each method on a chunk of tasks, scored (runs in a worker process, local or Ray).
+
+Every random draw of a method uses its own generator seeded from (seed, home, task, method), so results do not
+depend on the backend, the number of workers or the order in which chunks finish. Only online planning is
+timed.
+"""
+
+from __future__ import annotations
+
+import time
+import zlib
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from spcotmhp.errors import PlanningError
+from spcotmhp.evaluation.context import HomeContext
+from spcotmhp.evaluation.methods import run_method
+from spcotmhp.evaluation.metrics import Box, Outcome, failed, off_free_space, score_path
+from spcotmhp.evaluation.tasks import Task
+
+__all__ = ["CHUNK", "TaskRecord", "chunks", "evaluate_chunk", "task_seed"]
+
+CHUNK = 16  # tasks per work item: large enough to amortise IPC, small enough to balance two cores
+
+
+@dataclass
+class TaskRecord:
+    """One method on one task: the outcome plus why it failed (planner error message), if it did."""
+
+    task_index: int
+    method: str
+    outcome: Outcome
+    error: str | None = None
+    apart: bool = False  # the task's start lies inside a waypoint-named place (summarised apart)
+
+
+def task_seed(seed: int, home: str, task_index: int, method: str) -> np.random.SeedSequence:
+    """The seed of one method's draws on one task (independent of scheduling)."""
+    return np.random.SeedSequence([seed, zlib.crc32(home.encode()), task_index, zlib.crc32(method.encode())])
+
+
+def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:
+    """Run each method on each task and score it (runs in a worker)."""
+    out = []
+    for task in tasks:
+        goal_boxes = [ctx.places[k].box for k in task.goal_places]
+        advanced = task.kind == "advanced"
+        wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if advanced else None
+        occ, free = ctx.dataset.map, ctx.dataset.map.free
+        start_box = Box.around(np.array([task.start_xy]), ctx.dataset.map.resolution / 2)
+        for method in methods:
+            rng = np.random.default_rng(task_seed(seed, ctx.name, task.index, method))
+            t0 = time.perf_counter()
+            try:
+                path, error = run_method(method, ctx, task, rng), None
+            except PlanningError as exc:
+                path, error = None, str(exc)
+            elapsed = time.perf_counter() - t0
+            if path is None or len(path) == 0:
+                outcome = failed(task.l, elapsed, advanced, advanced)
+                error = error or "no path"
+            else:
+                outcome = score_path(
+                    path,
+                    goal_boxes,
+                    task.closest_goal,
+                    task.l,
+                    elapsed,
+                    wp_boxes,
+                    step=ctx.dataset.map.resolution / 2,
+                    closest_goal_via=task.closest_goal_via if advanced else None,
+                    start_box=start_box,
+                )
+                outcome = replace(outcome, collides=off_free_space(path, free, occ.world_to_cell, occ.resolution / 4))
+            out.append(TaskRecord(task.index, method, outcome, error, task.start_in_waypoint))
+    return out
+
+
+def chunks(tasks: Sequence[Task], size: int | None = None) -> list[list[Task]]:
+    """The tasks cut into work items of ``size`` (default :data:`CHUNK`, read at call time)."""
+    size = CHUNK if size is None else size
+    return [list(tasks[i : i + size]) for i in range(0, len(tasks), size)]
