@@ -300,20 +300,8 @@ def _check_costmap(path: Path, raw: dict) -> None:
 def _assemble(root: Path, meta: dict, arrays: dict[str, np.ndarray]) -> SpatialConceptModel:
     K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D")
     where = root / "arrays.npz"
-    shapes = {
-        "mu": (K, 2),
-        "Sigma": (K, 2, 2),
-        "psi": (K, K),
-        "pi": (L,),
-        "phi": (L, K),
-        "W": (L, V),
-        "active_places": (K,),
-        "active_concepts": (L,),
-    }
-    if D is not None:
-        shapes["theta"] = (L, D)
-    if "psi_learned" in arrays:
-        shapes["psi_learned"] = (K, K)
+    # the same table read_npz checked the members against (psi_learned is optional)
+    shapes = {name: shape for name, (shape, _) in _specs(meta).items() if name != "psi_learned" or name in arrays}
     out = {}
     for name, shape in shapes.items():
         a = arrays[name]
