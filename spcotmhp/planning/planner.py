@@ -64,6 +64,7 @@ from spcotmhp.errors import (
     StartInAvoidedPlace,
     UnknownPlaceWord,
 )
+from spcotmhp.learning.hmm import dwell_filtered_sequence
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
@@ -349,16 +350,9 @@ class HierarchicalPlanner:
         diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
         sequence marked where the path reaches them. The explanation thus describes the path the robot drives,
         also where a leg (or smoothing) crosses a place that is not a node of the sequence."""
-        labels = graph.territory[cells[:, 0], cells[:, 1]]
-        runs: list[list[int]] = []  # [place, cells]
-        for lab in labels.tolist():
-            if runs and runs[-1][0] == lab:
-                runs[-1][1] += 1
-            else:
-                runs.append([lab, 1])
         diameter = 2.0 * float(self.model.costmap.get("inscribed_radius", 0.22)) / self.model.map.resolution
-        seq = [k for k, n in runs if k >= 0 and n >= diameter]
-        seq = [k for i, k in enumerate(seq) if i == 0 or k != seq[i - 1]]
+        seq = dwell_filtered_sequence(graph.territory[cells[:, 0], cells[:, 1]], diameter)
+        seq = dwell_filtered_sequence(seq[seq >= 0], 1).tolist()  # cells of no territory are not a place
         marks: list[tuple[int, str, np.ndarray]] = []  # the nodes that complete a stage, in order
         points = self.model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
         for node, done, xy in zip(result.nodes, result.completed, points, strict=False):
