@@ -101,6 +101,7 @@ from spcotmhp.learning.posterior import (
     mutual_information,
     posterior_mean_model,
 )
+from spcotmhp.learning.split_merge import SplitMerge
 
 TRANSITIONS = ("hmm", "none")
 
@@ -132,6 +133,9 @@ class SpCoTMHP:
             count of one image (None: the authors' p * 10 + 1 counts; see ``Observations.from_dataset``).
         background_words: shared background word distribution for function words (concepts.py); False is the
             paper's plain bag of words.
+        split_merge: after each Gibbs pass over the concepts, sequentially-allocated split-merge moves (Dahl
+            2005) that can split a concept holding two differently named rooms (split_merge.py); False is the
+            single-site sampler alone.
         connectivity: psi of the exported model, "auto", "hmm", "walk" or "map" (module docstring).
         init: initial assignment, "kmeans" (over-segmented places, random concepts), "keyword" or "random"
             (init.py).
@@ -159,6 +163,7 @@ class SpCoTMHP:
         use_features: bool = True,
         feature_weight: float | None = 1.0,
         background_words: bool = True,
+        split_merge: bool = True,
         connectivity: str = "auto",
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
@@ -176,6 +181,7 @@ class SpCoTMHP:
         self.use_features = use_features
         self.feature_weight = feature_weight
         self.background_words = background_words
+        self.split_merge = split_merge
         self.connectivity = connectivity
         self.init = init
         self.trajectory_weight = trajectory_weight
@@ -206,6 +212,9 @@ class SpCoTMHP:
         priors = Priors.build(hyper, self.K, self.L, len(obs.vocabulary), D)
         sampler = CollapsedConceptSampler(obs.words, obs.features, self.background_words, rng)
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
+        moves = None
+        if self.split_merge:
+            moves = SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi)
         trace = []
         for sweep in range(self.iterations):
             stats = self._stats(obs, places, concepts, sampler)
@@ -222,6 +231,8 @@ class SpCoTMHP:
             concepts = sampler.sweep(
                 concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi, rng
             )  # step 5
+            if moves is not None:  # step 5, whole groups (split_merge.py)
+                concepts = moves.sweep(concepts, places, rng)
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
@@ -236,6 +247,7 @@ class SpCoTMHP:
             "reverse_replay": bool(self.replay),
             "transitions": self.transitions,
             "background_words": bool(self.background_words),
+            "split_merge": bool(self.split_merge),
             "trajectory": obs.trajectory is not None,
             "features": obs.features is not None,
             "feature_weight": self.feature_weight,
