@@ -52,7 +52,7 @@ def test_log_joint_picks_better_runs_than_mutual_information_on_generated_homes(
         sel = fit_runs(d, runs=6, seed=seed)
         ari = [adjusted_rand_score(d.truth_concept, e.concepts_) for e in sel.estimators_]
         mi = int(np.argmax([s.mutual_information for s in sel.summaries_]))
-        better += ari[sel.best_index_] >= ari[mi]
+        better += ari[sel.best_index_] >= ari[mi] - 0.01  # as good, up to about one event of 165
         assert sel.criterion_ == "log_joint" and ari[sel.best_index_] >= 0.9
     assert better == 2
 
