@@ -175,6 +175,7 @@ def test_bad_datasets_get_clear_errors(changes, message):
         ({"connectivity": "magic"}, "connectivity must be one of"),
         ({"init": "zeros"}, "init must be one of"),
         ({"K": 0}, "K, L and iterations must be >= 1"),
+        ({"split_merge": "yes"}, "split_merge must be True, False or 'auto'"),
     ],
 )
 def test_bad_settings_get_clear_errors(kwargs, message):

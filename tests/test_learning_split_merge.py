@@ -3,12 +3,15 @@ merged concept that single-site Gibbs cannot split but split-merge does."""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 
 import numpy as np
+from learning_fixtures import planted_dataset
 from scipy.special import gammaln
 
 from spcotmhp.learning.concepts import CollapsedConceptSampler
+from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.split_merge import SplitMerge
 
 ALPHA, GAMMA, BETA, CHI = 0.5, 0.3, 0.2, 0.7
@@ -142,3 +145,12 @@ def test_single_site_gibbs_stays_merged_and_split_merge_separates():
     C = runs[True]
     assert _mixed(C, n) == 0
     assert len(set(C[:n]) & set(C[n:])) == 0  # no concept holds both rooms
+
+
+def test_auto_uses_the_moves_only_without_image_features():
+    data = planted_dataset(E=40)
+    feats = np.random.default_rng(0).random((data.n_events, 4))
+    with_features = dataclasses.replace(data, features=feats)
+    assert SpCoTMHP(iterations=2).fit(data).model_.info["split_merge"] is True
+    assert SpCoTMHP(iterations=2).fit(with_features).model_.info["split_merge"] is False
+    assert SpCoTMHP(iterations=2, split_merge=True).fit(with_features).model_.info["split_merge"] is True

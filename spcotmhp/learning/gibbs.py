@@ -135,7 +135,9 @@ class SpCoTMHP:
             paper's plain bag of words.
         split_merge: after each Gibbs pass over the concepts, sequentially-allocated split-merge moves (Dahl
             2005) that can split a concept holding two differently named rooms (split_merge.py); False is the
-            single-site sampler alone.
+            single-site sampler alone; "auto" uses them when the run has no image features, the case where the
+            collapsed joint they follow is trusted (the same rule as the run selection's "auto", selection.py:
+            with features the joint prefers merged concepts).
         connectivity: psi of the exported model, "auto", "hmm", "walk" or "map" (module docstring).
         init: initial assignment, "kmeans" (over-segmented places, random concepts), "keyword" or "random"
             (init.py).
@@ -163,7 +165,7 @@ class SpCoTMHP:
         use_features: bool = True,
         feature_weight: float | None = 1.0,
         background_words: bool = True,
-        split_merge: bool = True,
+        split_merge: bool | str = "auto",
         connectivity: str = "auto",
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
@@ -213,7 +215,8 @@ class SpCoTMHP:
         sampler = CollapsedConceptSampler(obs.words, obs.features, self.background_words, rng)
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
         moves = None
-        if self.split_merge:
+        moves_on = obs.features is None if self.split_merge == "auto" else bool(self.split_merge)
+        if moves_on:
             moves = SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi)
         trace = []
         for sweep in range(self.iterations):
@@ -247,7 +250,7 @@ class SpCoTMHP:
             "reverse_replay": bool(self.replay),
             "transitions": self.transitions,
             "background_words": bool(self.background_words),
-            "split_merge": bool(self.split_merge),
+            "split_merge": moves_on,
             "trajectory": obs.trajectory is not None,
             "features": obs.features is not None,
             "feature_weight": self.feature_weight,
@@ -294,6 +297,8 @@ class SpCoTMHP:
         ):
             if value not in allowed:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
+        if self.split_merge not in (True, False, "auto"):
+            raise ModelError(f"split_merge must be True, False or 'auto', got {self.split_merge!r}")
         if self.K < 1 or self.L < 1 or self.iterations < 1:
             raise ModelError(
                 f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"
