@@ -151,6 +151,7 @@ def test_auto_uses_the_moves_only_without_image_features():
     data = planted_dataset(E=40)
     feats = np.random.default_rng(0).random((data.n_events, 4))
     with_features = dataclasses.replace(data, features=feats)
-    assert SpCoTMHP(iterations=2).fit(data).model_.info["split_merge"] is True
-    assert SpCoTMHP(iterations=2).fit(with_features).model_.info["split_merge"] is False
+    assert SpCoTMHP(iterations=2).fit(data).model_.info["split_merge"] is False  # off by default
+    assert SpCoTMHP(iterations=2, split_merge="auto").fit(data).model_.info["split_merge"] is True
+    assert SpCoTMHP(iterations=2, split_merge="auto").fit(with_features).model_.info["split_merge"] is False
     assert SpCoTMHP(iterations=2, split_merge=True).fit(with_features).model_.info["split_merge"] is True

@@ -134,10 +134,12 @@ class SpCoTMHP:
         background_words: shared background word distribution for function words (concepts.py); False is the
             paper's plain bag of words.
         split_merge: after each Gibbs pass over the concepts, sequentially-allocated split-merge moves (Dahl
-            2005) that can split a concept holding two differently named rooms (split_merge.py); False is the
-            single-site sampler alone; "auto" uses them when the run has no image features, the case where the
-            collapsed joint they follow is trusted (the same rule as the run selection's "auto", selection.py:
-            with features the joint prefers merged concepts).
+            2005) that can split a concept holding two differently named rooms (split_merge.py); "auto" uses
+            them when the run has no image features (with features the collapsed joint they follow prefers
+            merged concepts, the reason the run selection's "auto" keeps the mutual information there).  Off by
+            default: on words-only homes they fix merged concepts, but the joint they then reach prefers one
+            place for two adjacent rooms of the same name, which costs more plans than it saves (README, "Plans
+            you can trust").
         connectivity: psi of the exported model, "auto", "hmm", "walk" or "map" (module docstring).
         init: initial assignment, "kmeans" (over-segmented places, random concepts), "keyword" or "random"
             (init.py).
@@ -165,7 +167,7 @@ class SpCoTMHP:
         use_features: bool = True,
         feature_weight: float | None = 1.0,
         background_words: bool = True,
-        split_merge: bool | str = "auto",
+        split_merge: bool | str = False,
         connectivity: str = "auto",
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
