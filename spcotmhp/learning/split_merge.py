@@ -10,8 +10,8 @@ exact collapsed conditional of the concepts,
                                        DirMult(concept tokens of C=l | beta)            (Eqs. 14-17, collapsed)
 
 (the counts of concepts.py; the token switches z and every other variable are held fixed, so the background
-and switch terms cancel), so it is a valid move of the same chain: with ``SpCoTMHP(split_merge=True)`` each sweep of step 5 is the
-Gibbs pass followed by these moves.
+and switch terms cancel), so it is a valid move of the same chain: with ``SpCoTMHP(split_merge=True)`` each
+sweep of step 5 is the Gibbs pass followed by these moves.
 
 One move (pair and labels chosen with the sampler's generator):
 
