@@ -123,8 +123,8 @@ def demo_start(planner: Any, place: str | None = None) -> tuple[np.ndarray, str]
         )
     wanted = place if place is not None else "entrance"
     k = int(act[names.index(wanted)] if wanted in names else act[0])
-    cell = snap(largest_component(graph.traversable), graph.to_crop(model.map.world_to_cell(model.mu[k])))
-    return model.map.cell_to_world(graph.to_map(cell)), labels[k]
+    cell = snap(largest_component(graph.traversable), graph.to_crop(model.require_map().world_to_cell(model.mu[k])))
+    return model.require_map().cell_to_world(graph.to_map(cell)), labels[k]
 
 
 def demo(
@@ -252,7 +252,7 @@ def show(
         atomic_write(
             png,
             lambda tmp: render(
-                model.map,
+                model.require_map(),
                 tmp,
                 model=model,
                 names=place_display_labels(model, ids=ids),

@@ -11,6 +11,7 @@ import re
 import sys
 import warnings
 from pathlib import Path
+from types import FrameType
 
 import numpy as np
 
@@ -37,7 +38,8 @@ class DatasetWarning(UserWarning):
 
 def _warn(message: str) -> None:
     """Emit a DatasetWarning attributed to the first caller outside spcotmhp.datasets."""
-    frame, level = sys._getframe(1), 2
+    frame: FrameType | None = sys._getframe(1)
+    level = 2
     while frame is not None and frame.f_globals.get("__name__", "").startswith("spcotmhp.datasets"):
         frame, level = frame.f_back, level + 1
     warnings.warn(DatasetWarning(message), stacklevel=level)

@@ -140,11 +140,11 @@ def _write_files(dataset: Dataset, out: Path) -> None:
     save_map(dataset.map, out / "map.yaml")
     words = [" ".join(tokens) for tokens in dataset.tokens]
     header = ["event", "x", "y", "words_ja", "words_en"]
-    has_steps = dataset.trajectory is not None and dataset.event_steps is not None
+    steps = dataset.event_steps if dataset.trajectory is not None else None
     rows = [[e, _num(x), _num(y), w, w] for e, ((x, y), w) in enumerate(zip(dataset.positions, words, strict=False))]
-    if has_steps:
+    if steps is not None:
         header.append("step")
-        rows = [row + [int(s)] for row, s in zip(rows, dataset.event_steps, strict=False)]
+        rows = [row + [int(s)] for row, s in zip(rows, steps, strict=False)]
     _write_csv(out / "teaching.csv", header, rows)
     if dataset.trajectory is not None:
         _write_csv(

@@ -30,6 +30,7 @@ import json
 import os
 from dataclasses import asdict, fields
 from pathlib import Path
+from typing import TypeGuard
 
 import numpy as np
 
@@ -94,17 +95,17 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
     }
     text = json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default)
     writers = {
-        "arrays.npz": lambda path: np.savez(path, **arrays),
+        "arrays.npz": lambda path: np.savez(path, allow_pickle=False, **arrays),
         "model.json": lambda path: path.write_text(text, encoding="utf-8"),
     }
     if model.learner is not None:
         from spcotmhp.learning.learner_state import learner_writers
 
         writers.update(learner_writers(model.learner))
-    if model.map is not None:
-        values = np.unique(model.map.data)
-        mode = "trinary" if np.isin(values, (-1, 0, 100)).all() else "raw"
-        writers["map.yaml"] = lambda path: save_map(model.map, path, mode=mode)
+    occ = model.map
+    if occ is not None:
+        mode = "trinary" if np.isin(np.unique(occ.data), (-1, 0, 100)).all() else "raw"
+        writers["map.yaml"] = lambda path: save_map(occ, path, mode=mode)
     return write_folder(out, writers, MODEL_FILES)
 
 
@@ -270,10 +271,10 @@ def _read_meta(path: Path) -> dict:
 
 def _positive(value: object) -> bool:
     """A finite number > 0 (booleans are not numbers here)."""
-    return _number(value) and value > 0
+    return _number(value) and bool(value > 0)
 
 
-def _number(value: object) -> bool:
+def _number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
     return finite_number(value)
 
 

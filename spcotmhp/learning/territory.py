@@ -72,7 +72,7 @@ def place_territories(
             best[higher], top[higher] = n, score[higher]
     labels[mask] = best[mask]  # indices into act
     # the anchor of each place: the mask cell nearest its mean
-    cells = model.map.world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
+    cells = model.require_map().world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
     anchors = snap(mask, cells)
     out = _partition(labels, anchors.astype(np.int64), len(act))
     return np.where(out >= 0, act[np.maximum(out, 0)], -1)

@@ -202,7 +202,7 @@ def _search_loop(
             continue
         if mode == MODE_FIRST:
             if is_target[u]:
-                found = u
+                found = int(u)
                 break
         elif mode == MODE_ALL and is_target[u]:
             is_target[u] = False

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -132,10 +132,41 @@ def step_cost_map(
     return cost
 
 
+Cell = tuple[int, int] | Sequence[int] | np.ndarray  # one (row, col)
+Cells = np.ndarray | Sequence[Sequence[int]]  # (T, 2) cells
+
+
+# the return type follows all_targets (one path or None; a list with one entry per target)
+@overload
 def shortest_paths(
     cell_cost: np.ndarray,
-    start: tuple[int, int] | Sequence[int] | np.ndarray,
-    targets: np.ndarray | Sequence[Sequence[int]],
+    start: Cell,
+    targets: Cells | Cell,
+    connectivity: int = ...,
+    diagonal_factor: float = ...,
+    resolution: float = ...,
+    all_targets: Literal[False] = ...,
+    *,
+    corner_rule: str = ...,
+    strict: bool = ...,
+) -> GridPath | None: ...
+@overload
+def shortest_paths(
+    cell_cost: np.ndarray,
+    start: Cell,
+    targets: Cells | Cell,
+    connectivity: int = ...,
+    diagonal_factor: float = ...,
+    resolution: float = ...,
+    *,
+    all_targets: Literal[True],
+    corner_rule: str = ...,
+    strict: bool = ...,
+) -> list[GridPath | None]: ...
+def shortest_paths(
+    cell_cost: np.ndarray,
+    start: Cell,
+    targets: Cells | Cell,
     connectivity: int = 8,
     diagonal_factor: float = SQRT2,
     resolution: float = 1.0,
@@ -207,6 +238,26 @@ def cost_to_go(
     return dist.reshape(cost.shape), nxt.reshape(cost.shape)
 
 
+@overload
+def path_from_field(
+    field: np.ndarray,
+    next_step: np.ndarray,
+    start: Cell,
+    sources: Cells | None = ...,
+    resolution: float = ...,
+    *,
+    strict: Literal[True],
+) -> GridPath: ...
+@overload
+def path_from_field(
+    field: np.ndarray,
+    next_step: np.ndarray,
+    start: Cell,
+    sources: Cells | None = ...,
+    resolution: float = ...,
+    *,
+    strict: bool = ...,
+) -> GridPath | None: ...
 def path_from_field(
     field: np.ndarray,
     next_step: np.ndarray,

@@ -303,13 +303,15 @@ def parse_nbest(
         texts.append(h[0])
         scores.append(s)
     weights = _normalise_scores(np.array(scores))
-    parsed, first_error = [], None
+    parsed: list[tuple[Instruction, float]] = []
+    first_error: InstructionError | None = None
     for text, w in zip(texts, weights, strict=False):
         try:
             parsed.append((parse_text(text, place_words, lang, **limits), float(w)))
         except InstructionError as exc:
             first_error = first_error or exc
     if not parsed:
+        assert first_error is not None  # every hypothesis failed, and there is at least one
         raise type(first_error)(f"no N-best hypothesis names a known place (first: {first_error})")
     groups: dict[tuple[int, int, int], list[tuple[Instruction, float]]] = {}
     for ins, w in parsed:
