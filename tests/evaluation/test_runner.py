@@ -17,6 +17,8 @@ from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS
 from spcotmhp.evaluation.runner import check_methods, evaluate, evaluate_chunk, run_local
 from spcotmhp.evaluation.tables import PAPER, markdown_table
 from spcotmhp.evaluation.tasks import make_tasks, subset
+from spcotmhp.evaluation.work import run_method
+from spcotmhp.planning.protocol import Planner
 
 EXE = Path(sys.executable).with_name("spcotmhp")
 ALL = list(METHODS)
@@ -47,7 +49,8 @@ def outcomes(records):
 
 
 def test_context_reuses_one_planning_graph(ctx):
-    assert ctx.hpp["hpp1"].graph is ctx.planner.graph is ctx.hpp["hpp2"].graph
+    assert ctx.planners["hpp1"].hpp.graph is ctx.planner.graph is ctx.planners["hpp2-smoothed"].hpp.graph
+    assert ctx.planners["spcotmhp"] is ctx.planner
     assert ctx.adjacency_source == "adjacency.csv"
     assert ctx.notes()["places"][7:10] == ["bedroom"] * 3
 
@@ -55,11 +58,28 @@ def test_context_reuses_one_planning_graph(ctx):
 def test_every_method_plans_from_the_start(ctx, advanced):
     for task in advanced:
         for name in ALL:
-            path = METHODS[name](ctx, task, np.random.default_rng(0))
+            path = run_method(name, ctx, task, np.random.default_rng(0))
             assert path is not None and len(path) >= 1, name
             np.testing.assert_allclose(path[0], task.start_xy, atol=1e-9, err_msg=name)
             cells = ctx.dataset.map.world_to_cell(path)
             assert name not in GRID or ctx.dataset.map.free[cells[:, 0], cells[:, 1]].all(), name
+
+
+def test_every_method_is_a_planner_looked_up_by_name(ctx, advanced):
+    """Each method is a Planner: a sentence and a start pose give a Plan whose path starts there, whose cells are
+    the path's cells and whose explanation names the start and goal places; the same rng gives the same plan."""
+    start = advanced[0].start_xy
+    for name in ALL:
+        planner = ctx.planners[name]
+        assert isinstance(planner, Planner), name
+        plan = planner.plan("go to the bedroom via the kitchen", start, rng=np.random.default_rng(3))
+        again = planner.plan("go to the bedroom via the kitchen", start, rng=np.random.default_rng(3))
+        np.testing.assert_array_equal(plan.path, again.path, err_msg=name)
+        np.testing.assert_allclose(plan.path[0], start, atol=1e-9, err_msg=name)
+        if name not in ("spcotmhp-ma", "spcotmhp-nostage-ma"):  # the moving average leaves the grid
+            np.testing.assert_allclose(ctx.dataset.map.cell_to_world(plan.cells), plan.path, err_msg=name)
+        assert plan.explanation.endswith(" m") or "; " in plan.explanation, name
+        assert plan.places[-1].role == "goal" and plan.length_m >= 0, name
 
 
 def test_move_models(ctx, advanced):
@@ -68,7 +88,7 @@ def test_move_models(ctx, advanced):
     steps = {name: set() for name in GRID}
     for task in advanced:
         for name in GRID:
-            cells = ctx.dataset.map.world_to_cell(METHODS[name](ctx, task, np.random.default_rng(0)))
+            cells = ctx.dataset.map.world_to_cell(run_method(name, ctx, task, np.random.default_rng(0)))
             steps[name] |= set(np.abs(np.diff(cells, axis=0)).sum(axis=1).tolist())
     for name in ("spcotmhp", "astar", "hpp1", "hpp2", "hpp1-smoothed", "spcotmhp-unsmoothed"):
         assert steps[name] == {1, 2}, name
