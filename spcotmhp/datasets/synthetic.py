@@ -1,8 +1,13 @@
 """Synthetic environments for tests and scale: a seeded floor plan plus a teaching walk, and the dataset folder.
 
+    >>> import tempfile
     >>> from spcotmhp.datasets.synthetic import generate_environment, write_dataset
-    >>> data = generate_environment("house", seed=3)          # 11 places, 165 teaching events
-    >>> write_dataset(data, "/tmp/house-3")                   # a folder load_dataset reads back
+    >>> data = generate_environment("house", seed=3)
+    >>> data.n_events, len(data.place_names)
+    (165, 11)
+    >>> folder = write_dataset(data, tempfile.mkdtemp() + "/house-3")  # a folder load_dataset reads back
+    >>> sorted(p.name for p in folder.iterdir())
+    ['adjacency.csv', 'map.pgm', 'map.yaml', 'places.csv', 'teaching.csv', 'trajectory.csv', 'truth.csv']
 
 The plan (``synthetic_plan``, layouts in ``synthetic_layouts``) and the walk (``synthetic_walk``) are documented
 in their modules; this one joins them and writes the dataset folder layout of ``spcotmhp/data/README.md``.

@@ -182,6 +182,12 @@ def shortest_paths(
     target is settled; returns a list with one path per target (None where unreachable). With ``strict=True``
     an unreachable target raises :class:`~spcotmhp.errors.PlanningError` instead. A start or target off the grid
     or in a blocked cell raises :class:`GridSearchError` naming the cell.
+
+    >>> cost = np.ones((3, 4))
+    >>> cost[1, 1:3] = np.inf                                    # a wall of two cells
+    >>> path = shortest_paths(cost, (0, 0), [(2, 3)])
+    >>> path.cells.tolist(), round(path.cost, 4)
+    ([[0, 0], [0, 1], [0, 2], [1, 3], [2, 3]], 4.4142)
     """
     cost = _check_cost(cell_cost)
     connectivity, diagonal_factor, rule = _check_moves(connectivity, diagonal_factor, corner_rule)

@@ -138,6 +138,10 @@ def parse_text(
         MalformedInstruction: a marker with no place after it; the text is not a string.
         InstructionTooLarge: past ``max_chars``, ``max_waypoints`` or ``max_avoided``.
         UnsupportedLanguage: no grammar for ``lang``.
+
+    >>> ins = parse_text("go to the bedroom via the corridor avoiding the kitchen", ["bedroom", "corridor", "kitchen"])
+    >>> [q.label for q in ins.stages], [q.label for q in ins.avoid]
+    (['corridor', 'bedroom'], ['kitchen'])
     """
     if not isinstance(text, str):
         raise MalformedInstruction(f"an instruction text must be a string, got {excerpt(text)}")
