@@ -204,6 +204,24 @@ def _json_default(obj: object) -> object:
     raise TypeError(f"{type(obj).__name__} is not JSON serialisable")
 
 
+def _check_vocabulary(path: Path, vocabulary: list, V: int) -> None:
+    """V distinct words (strings) of at most MAX_WORD_CHARS characters; else a one-line ModelError."""
+    if not all(isinstance(w, str) for w in vocabulary) or len(vocabulary) != V:
+        raise ModelError(f'{path}: "vocabulary" must list V = {V} words (strings)')
+    seen: set[str] = set()
+    for j, word in enumerate(vocabulary):
+        if word in seen:
+            raise ModelError(
+                f'{path}: "vocabulary" lists {excerpt(word)} twice (again at index {j}); each word '
+                "must be listed once (it names one column of W)"
+            )
+        if len(word) > MAX_WORD_CHARS:
+            raise ModelError(
+                f'{path}: "vocabulary" word {j} has {len(word)} characters; at most {MAX_WORD_CHARS} are accepted'
+            )
+        seen.add(word)
+
+
 def _read_meta(path: Path) -> dict:
     if not path.is_file():
         raise ModelError(f"{path} is missing (a model folder holds model.json and arrays.npz)")
@@ -245,20 +263,7 @@ def _read_meta(path: Path) -> dict:
             f"{path}: sizes K={K}, L={L}, V={V}, D={D or None} need {elements} numbers in arrays.npz; "
             f"at most {MAX_ELEMENTS} are accepted"
         )
-    if not all(isinstance(w, str) for w in meta["vocabulary"]) or len(meta["vocabulary"]) != meta["V"]:
-        raise ModelError(f'{path}: "vocabulary" must list V = {meta["V"]} words (strings)')
-    seen: set[str] = set()
-    for j, word in enumerate(meta["vocabulary"]):
-        if word in seen:
-            raise ModelError(
-                f'{path}: "vocabulary" lists {excerpt(word)} twice (again at index {j}); each word '
-                "must be listed once (it names one column of W)"
-            )
-        if len(word) > MAX_WORD_CHARS:
-            raise ModelError(
-                f'{path}: "vocabulary" word {j} has {len(word)} characters; at most {MAX_WORD_CHARS} are accepted'
-            )
-        seen.add(word)
+    _check_vocabulary(path, meta["vocabulary"], meta["V"])
     _check_costmap(path, meta["costmap"])
     weight = meta["info"].get("feature_weight")
     if weight is not None and not _positive(weight):

@@ -176,6 +176,19 @@ def parse_text(
     return _within_limits(ins, max_waypoints, max_avoided)
 
 
+def _json_value(text: str) -> Any:
+    """The JSON value of a structured instruction's text (InstructionTooLarge / MalformedInstruction)."""
+    if len(text) > MAX_JSON_CHARS:
+        raise InstructionTooLarge(
+            f"the structured instruction has {len(text)} characters, more than the {MAX_JSON_CHARS} accepted"
+        )
+    try:
+        return json.loads(text)
+    except (json.JSONDecodeError, RecursionError) as exc:
+        why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
+        raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
+
+
 def parse_structured(
     obj: Mapping[str, Any] | str,
     place_words: Sequence[str],
@@ -195,15 +208,7 @@ def parse_structured(
         InstructionTooLarge: too long a JSON text, too many places or words.
     """
     if isinstance(obj, str):
-        if len(obj) > MAX_JSON_CHARS:
-            raise InstructionTooLarge(
-                f"the structured instruction has {len(obj)} characters, more than the {MAX_JSON_CHARS} accepted"
-            )
-        try:
-            obj = json.loads(obj)
-        except (json.JSONDecodeError, RecursionError) as exc:
-            why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
-            raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
+        obj = _json_value(obj)
     if not isinstance(obj, Mapping):
         raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
     unknown_keys = [k for k in obj if k not in ("goal", "waypoints", "avoid", "not_goal")]
