@@ -98,9 +98,9 @@ def viterbi(log_w: np.ndarray, start: tuple[int, int], T: int = 200, connectivit
     actions = {4: ACTIONS_4, 8: ACTIONS_8}.get(connectivity)
     if actions is None:
         raise PlanningError(f"connectivity must be 4 or 8, got {connectivity}")
-    H, W = log_w.shape
+    height, width = log_w.shape
     r0, c0 = int(start[0]), int(start[1])
-    if not (0 <= r0 < H and 0 <= c0 < W) or not np.isfinite(log_w[r0, c0]):
+    if not (0 <= r0 < height and 0 <= c0 < width) or not np.isfinite(log_w[r0, c0]):
         raise PlanningError(f"start cell (row, col) = ({r0}, {c0}) is off the grid or not traversable")
     # crop to the finite cells reachable within T steps of the start (a box of radius T)
     rows, cols = np.nonzero(np.isfinite(log_w))

@@ -215,9 +215,9 @@ def shortest_paths(
         if strict:
             raise PlanningError(f"no path from start {_fmt(src[0])} to any of {len(tgt)} target(s)")
         return None
-    W = cost.shape[1]
-    index = int(np.flatnonzero(tgt[:, 0] * W + tgt[:, 1] == found)[0])
-    return _forward_path(dist, parent, found, W, resolution, index)
+    width = cost.shape[1]
+    index = int(np.flatnonzero(tgt[:, 0] * width + tgt[:, 1] == found)[0])
+    return _forward_path(dist, parent, found, width, resolution, index)
 
 
 def cost_to_go(
@@ -287,11 +287,11 @@ def path_from_field(
         if strict:
             raise PlanningError(f"start cell {_fmt(s)} cannot reach any source (blocked or disconnected)")
         return None
-    W = field.shape[1]
+    width = field.shape[1]
     if next_step.dtype not in (np.int32, np.int64):
         raise GridSearchError(f"next_step must hold int32 or int64 flat cell indices, got dtype {next_step.dtype}")
     links = np.ascontiguousarray(next_step).reshape(-1)
-    cells, n_diagonal = _k.follow_links(links, int(s[0] * W + s[1]), W, False)
+    cells, n_diagonal = _k.follow_links(links, int(s[0] * width + s[1]), width, False)
     index = -1
     if sources is not None:
         src = _check_cells(sources, field, "source", check_blocked=False)
@@ -325,10 +325,10 @@ def warmup() -> None:
         path_from_field(*cost_to_go(cost, [(2, 2)]), (0, 0))
 
 
-def _forward_path(dist, parent, end, W, resolution, index) -> GridPath | None:
+def _forward_path(dist, parent, end, width, resolution, index) -> GridPath | None:
     if not np.isfinite(dist[end]):
         return None
-    cells, n_diagonal = _k.follow_links(parent, int(end), W, True)
+    cells, n_diagonal = _k.follow_links(parent, int(end), width, True)
     return GridPath(cells, float(dist[end]), _length_m(len(cells), n_diagonal, resolution), index)
 
 
