@@ -98,7 +98,7 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
     if len(goals) < 2:
         return []
     robot = robot_cells(data)
-    out = []
+    out: list[Task] = []
     for p in places:
         if p.index in goals:
             continue

@@ -174,7 +174,7 @@ class CollapsedState:
     def _log_features(self, e: int) -> np.ndarray:
         """log DirMult(f_e | chi + F_l) for each concept (Eq. 15 with theta integrated out): (L,)."""
         f = self.features[e]
-        if f is None or self.F_ld is None:
+        if f is None or self.F_ld is None or self.D is None:
             return np.zeros(self.L)
         chi, nz = self.hyper.chi, np.flatnonzero(f)
         a = chi + self.F_ld[:, nz]
@@ -194,8 +194,9 @@ class CollapsedState:
         np.add.at(self.W_lv[l], toks[z], sign)
         np.add.at(self.bg_v, toks[~z], sign)
         self.z_tot += sign * np.array([(~z).sum(), z.sum()])
-        if self.F_ld is not None and self.features[e] is not None:
-            self.F_ld[l] += sign * self.features[e]
+        f = self.features[e]
+        if self.F_ld is not None and f is not None:
+            self.F_ld[l] += sign * f
         if e > 0 and self.place[e - 1] >= 0:
             self.trans[self.place[e - 1], k] += sign
         if e + 1 < self.E and self.place[e + 1] >= 0:

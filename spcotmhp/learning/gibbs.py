@@ -379,7 +379,7 @@ def truncation_messages(model: SpatialConceptModel) -> list[str]:
 
 def _is_count(value: object) -> bool:
     """A non-negative integer (numpy integers included, booleans not)."""
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 0
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and bool(value >= 0)
 
 
 def _seed_repr(seed: int | np.random.SeedSequence) -> int | str:

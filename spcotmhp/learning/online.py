@@ -42,6 +42,7 @@ import time
 import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import TypeGuard
 
 import numpy as np
 
@@ -82,6 +83,11 @@ class TeachingEvent:
         return cls(float(x), float(y), words, features)
 
 
+def _is_number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
+    """A real number (numpy scalars included), not a bool."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
 def as_event(item: object) -> TeachingEvent:
     """A TeachingEvent, a mapping {"x", "y", "utterance" or "words"[, "features"]} or a tuple (x, y, utterance or
     words) as a TeachingEvent; TeachingError for anything else."""
@@ -100,10 +106,10 @@ def as_event(item: object) -> TeachingEvent:
         raise TeachingError(
             f"a teaching event is (x, y, utterance) or a mapping with x, y and utterance, got {type(item).__name__}"
         )
-    if not all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in (x, y)):
+    if not (_is_number(x) and _is_number(y)):
         raise TeachingError(f"a teaching position must be two numbers (metres), got {x!r}, {y!r}")
     if isinstance(said, str):
-        return TeachingEvent.from_utterance(said, x, y, feats)
+        return TeachingEvent.from_utterance(said, float(x), float(y), feats)
     if not isinstance(said, (list, tuple)) or not said or not all(isinstance(w, str) and w for w in said):
         raise TeachingError("a teaching event needs an utterance (text) or a non-empty list of words")
     if len(said) > MAX_WORDS or sum(len(w) for w in said) > MAX_UTTERANCE_CHARS:
@@ -178,7 +184,7 @@ class OnlineSpCoTMHP:
             t0 = time.perf_counter()
             self._update(event, make_rng(self.seed, self.state_.E))
             self.update_times_.append(time.perf_counter() - t0)
-        self._model = None
+        self._model: SpatialConceptModel | None = None
         self.last_places_ = self.state_.place[first:].copy()
         return self
 
@@ -196,9 +202,10 @@ class OnlineSpCoTMHP:
         update."""
         from spcotmhp.learning.learner_state import export_model
 
-        if getattr(self, "_model", None) is None:
-            self._model = export_model(self)
-        return self._model
+        model = getattr(self, "_model", None)
+        if model is None:
+            model = self._model = export_model(self)
+        return model
 
     # ---- state ---------------------------------------------------------------------------------------------
     def _start(self) -> None:
