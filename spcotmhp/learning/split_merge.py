@@ -121,7 +121,7 @@ class SplitMerge:
         mask[members] = True
         tok = mask[self.event_of_token] & self.s.z
         lp += self.W.log_marginal(np.bincount(self.s.t_word[tok], minlength=self.s.V)[None, :])
-        if self.theta is not None:
+        if self.theta is not None and self.full_features is not None:
             lp += self.theta.log_marginal(self.full_features[members].sum(axis=0)[None, :])
         return lp
 

@@ -7,12 +7,12 @@ import dataclasses
 import itertools
 
 import numpy as np
-from learning_fixtures import planted_dataset
 from scipy.special import gammaln
 
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.split_merge import SplitMerge
+from tests.helpers.learning import planted_dataset
 
 ALPHA, GAMMA, BETA, CHI = 0.5, 0.3, 0.2, 0.7
 
