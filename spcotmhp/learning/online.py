@@ -49,6 +49,7 @@ from spcotmhp.errors import TeachingError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.gibbs import TruncationWarning, make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.online_split_merge import KINDS, propose
 from spcotmhp.metric.maps import OccupancyMap
 
 MAX_UTTERANCE_CHARS = 1000
@@ -146,6 +147,8 @@ class OnlineSpCoTMHP:
         max_L: int = 200,
         lag: int = 10,
         rejuvenation: int = 10,
+        split_merge: int = 6,
+        split_merge_events: int | None = None,
         replay: bool = True,
         background_words: bool = True,
         use_features: bool = True,
@@ -159,6 +162,7 @@ class OnlineSpCoTMHP:
     ) -> None:
         self.K, self.L, self.max_K, self.max_L = K, L, max_K, max_L
         self.lag, self.rejuvenation = lag, rejuvenation
+        self.split_merge, self.split_merge_events = split_merge, split_merge_events
         self.replay, self.background_words = replay, background_words
         self.use_features, self.feature_weight = use_features, feature_weight
         self.connectivity, self.hyper = connectivity, hyper
@@ -279,7 +283,22 @@ class OnlineSpCoTMHP:
         if older and self.rejuvenation:
             for j in rng.integers(older, size=self.rejuvenation):
                 st.step(int(j), rng)
+        self._split_merge(e, rng)
         self._grow_if_saturated()
+
+    def _split_merge(self, e: int, rng: np.random.Generator) -> None:
+        """``split_merge`` split-merge proposals (``online_split_merge``), places and concepts in turn: the
+        first of each kind pairs the new event with an event drawn at random (a split of the place or concept it
+        just joined, or a merge into it), the others pair two events drawn at random (as random rejuvenation,
+        for merges made earlier). The pairs do not depend on the assignments, as the moves' acceptance needs."""
+        E = self.state_.E
+        if E < 2:
+            return
+        for j in range(self.split_merge):
+            a = e if j < len(KINDS) else int(rng.integers(E))
+            b = int(rng.integers(E - 1))
+            b += b >= a
+            propose(self.state_, KINDS[j % len(KINDS)], a, b, rng, self.split_merge_events)
 
     def _grow_if_saturated(self) -> None:
         """Double a truncation whose every component holds events; warn once when it cannot grow further."""
