@@ -103,7 +103,7 @@ class CollapsedState:
 
     def step(self, e: int, rng: np.random.Generator) -> None:
         """One collapsed Gibbs step for event e (module docstring)."""
-        self._move(e, -1.0)
+        self.move(e, -1.0)
         self.draw(e, rng)
 
     def draw(self, e: int, rng: np.random.Generator, transitions: bool = True) -> None:
@@ -111,7 +111,7 @@ class CollapsedState:
         logp = self.log_conditional(e, transitions)
         flat = int(np.argmax(logp.ravel() + rng.gumbel(size=logp.size)))
         self.place[e], self.concept[e] = flat // self.L, flat % self.L
-        self._move(e, 1.0)
+        self.move(e, 1.0)
         if self.background:
             self._switches(e, rng)
 
@@ -185,8 +185,9 @@ class CollapsedState:
         return (gammaln(a + f[nz]) - gammaln(a)).sum(axis=1) + gammaln(tot) - gammaln(tot + f.sum())
 
     # ---- counts --------------------------------------------------------------------------------------------
-    def _move(self, e: int, sign: float) -> None:
-        """Add (sign 1) or remove (-1) event e's contribution to every count."""
+    def move(self, e: int, sign: float) -> None:
+        """Add (sign 1) or remove (-1) event e's contribution to every count (its place and concept set; a removed
+        event gets place and concept -1)."""
         k, l, x = self.place[e], self.concept[e], self.X[e]
         self.n_k[k] += sign
         self.sx[k] += sign * x

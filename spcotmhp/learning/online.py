@@ -148,7 +148,7 @@ class OnlineSpCoTMHP:
         lag: int = 10,
         rejuvenation: int = 10,
         split_merge: int = 6,
-        split_merge_events: int | None = None,
+        split_merge_events: int | None = 60,
         replay: bool = True,
         background_words: bool = True,
         use_features: bool = True,
@@ -287,18 +287,20 @@ class OnlineSpCoTMHP:
         self._grow_if_saturated()
 
     def _split_merge(self, e: int, rng: np.random.Generator) -> None:
-        """``split_merge`` split-merge proposals (``online_split_merge``), places and concepts in turn: the
-        first of each kind pairs the new event with an event drawn at random (a split of the place or concept it
-        just joined, or a merge into it), the others pair two events drawn at random (as random rejuvenation,
-        for merges made earlier). The pairs do not depend on the assignments, as the moves' acceptance needs."""
+        """``split_merge`` split-merge proposals (``online_split_merge``) of the kinds in turn (places, concepts,
+        rooms). Each pairs an event a with an event b != a drawn at random; a is the new event with probability
+        1/2 (a split of the place or concept it just joined, or a merge into it) and otherwise an event drawn at
+        random (as random rejuvenation: merges made earlier in the stream). The pairs do not depend on the
+        assignments, as the moves' acceptance needs."""
         E = self.state_.E
         if E < 2:
             return
+        log_pi = None  # the state's log_target, once a move has computed it
         for j in range(self.split_merge):
-            a = e if j < len(KINDS) else int(rng.integers(E))
+            a = e if rng.random() < 0.5 else int(rng.integers(E))
             b = int(rng.integers(E - 1))
             b += b >= a
-            propose(self.state_, KINDS[j % len(KINDS)], a, b, rng, self.split_merge_events)
+            _, log_pi = propose(self.state_, KINDS[j % len(KINDS)], a, b, rng, self.split_merge_events, log_pi)
 
     def _grow_if_saturated(self) -> None:
         """Double a truncation whose every component holds events; warn once when it cannot grow further."""

@@ -77,23 +77,30 @@ def log_target(st: CollapsedState) -> float:
 
 
 def propose(
-    st: CollapsedState, kind: str, a: int, b: int, rng: np.random.Generator, max_events: int | None = None
-) -> bool | None:
-    """One split-merge move of ``kind`` for events a != b (module docstring). Returns whether it was accepted,
-    or None when no move applies (no empty label for a split; pseudo-counts; for "both", a place and concept that
-    are not each other's only ones; more than ``max_events`` events in the two labels)."""
+    st: CollapsedState,
+    kind: str,
+    a: int,
+    b: int,
+    rng: np.random.Generator,
+    max_events: int | None = None,
+    log_pi: float | None = None,
+) -> tuple[bool | None, float | None]:
+    """One split-merge move of ``kind`` for events a != b (module docstring); ``log_pi``: ``log_target(st)`` when
+    the caller knows it. Returns whether the move was accepted (None when no move applies: no empty label for a
+    split; pseudo-counts; for "both", a place and concept that are not each other's only ones; more than
+    ``max_events`` events in the two labels) and ``log_target`` of the state it leaves (None if not computed)."""
     if _pseudo(st):
-        return None
+        return None, log_pi
     c, d = _label(st, kind, a), _label(st, kind, b)
     if kind == "both" and not (_pure(st, c) and _pure(st, d) and (c == d or (c[0] != d[0] and c[1] != d[1]))):
-        return None
+        return None, log_pi
     group = np.flatnonzero(_member(st, kind, c) | _member(st, kind, d))
     if max_events is not None and len(group) > max_events:
-        return None
+        return None, log_pi
     empties = [np.flatnonzero(counts <= 0) for counts in _counts(st, kind)]
     if c == d:
         if not all(len(x) for x in empties):
-            return None
+            return None, log_pi
         picks = tuple(int(x[rng.integers(len(x))]) for x in empties)
         new = picks[0] if kind != "both" else picks
         log_ratio_q = sum(np.log(len(x)) for x in empties)
@@ -104,18 +111,18 @@ def propose(
     near = np.minimum(*(np.linalg.norm(st.X[rest] - st.X[x], axis=1) for x in (a, b)))
     order = rest[np.argsort(near, kind="stable")]
     saved = {name: np.copy(getattr(st, name)) for name in _SAVED if getattr(st, name) is not None}
-    before = log_target(st)
+    before = log_target(st) if log_pi is None else log_pi
     if c == d:
         log_ratio_q -= allocate(st, kind, a, b, new, order, rng)
     else:
         log_ratio_q += allocate(st, kind, a, b, new, order, None)
-        for e in np.flatnonzero(_member(st, kind, d)):
-            _relabel(st, kind, int(e), c)
-    if np.log(rng.random()) < log_target(st) - before + log_ratio_q:
-        return True
+        _relabel(st, kind, np.flatnonzero(_member(st, kind, d)), c)
+    after = log_target(st)
+    if np.log(rng.random()) < after - before + log_ratio_q:
+        return True, after
     for name, value in saved.items():
         setattr(st, name, value)
-    return False
+    return False, before
 
 
 def allocate(
@@ -134,15 +141,15 @@ def allocate(
     c = _label(st, kind, a)
     kept = {int(e): (int(st.place[e]), int(st.concept[e])) for e in (b, *order)}
     for e in kept:
-        st._move(e, -1.0)
+        st.move(e, -1.0)
     _put(st, kind, b, kept[b], new)
     log_q = 0.0
     for e in order:
         e = int(e)
         cells = [_assigned(kind, kept[e], label) for label in (c, new)]
-        cols = [cells[0][1], cells[1][1]]
+        cols = sorted({cells[0][1], cells[1][1]})  # one column when the concept is fixed
         cond = st.log_conditional(e, concepts=cols)
-        two = np.array([cond[cells[0][0], 0], cond[cells[1][0], 1]])
+        two = np.array([cond[k, cols.index(l)] for k, l in cells])
         two -= np.logaddexp(two[0], two[1])
         if rng is not None:
             pick = int(rng.random() >= np.exp(two[0]))
@@ -185,13 +192,15 @@ def _assigned(kind: str, kept: tuple[int, int], label) -> tuple[int, int]:
 def _put(st: CollapsedState, kind: str, e: int, kept: tuple[int, int], label) -> None:
     """Put event e (out of the counts) back with its fixed assignment and ``label`` for ``kind``."""
     st.place[e], st.concept[e] = _assigned(kind, kept, label)
-    st._move(e, 1.0)
+    st.move(e, 1.0)
 
 
-def _relabel(st: CollapsedState, kind: str, e: int, label) -> None:
-    kept = (int(st.place[e]), int(st.concept[e]))
-    st._move(e, -1.0)
-    _put(st, kind, e, kept, label)
+def _relabel(st: CollapsedState, kind: str, events: np.ndarray, label) -> None:
+    """Give ``events`` the ``kind`` label ``label`` (their other label kept)."""
+    for e in events:
+        kept = (int(st.place[e]), int(st.concept[e]))
+        st.move(int(e), -1.0)
+        _put(st, kind, int(e), kept, label)
 
 
 def _pseudo(st: CollapsedState) -> bool:
