@@ -4,6 +4,13 @@
 ratios).
 
     PYTHONPATH=$PWD python benchmarks/online_learning.py --home 3LDK_01 --events 1000 --seeds 1
+
+With ``--log-joint`` it instead compares, per seed, the final sample of batch learning (100 sweeps) and of the
+online learner streaming the home once: the collapsed log joint the batch learner selects runs by
+(``posterior.log_joint``) and the ARI of concepts and places, to tell a sampler that misses the posterior's modes
+from a posterior whose modes are not the truth.
+
+    PYTHONPATH=$PWD python benchmarks/online_learning.py --home albert-b --log-joint --seeds 5
 """
 
 from __future__ import annotations
@@ -31,6 +38,39 @@ def long_stream(home: str, events: int, seed: int) -> tuple[list[TeachingEvent],
     return out, data
 
 
+def log_joint_of(st) -> float:
+    """posterior.log_joint of a learner state's counts."""
+    from spcotmhp.learning.distributions import GaussianStats
+    from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint
+
+    stats = SufficientStats(
+        GaussianStats(st.n_k, st.sx, st.sxx), st.n_l, st.n_lk, st.F_ld, st.W_lv, st.bg_v if st.background else None
+    )
+    return log_joint(Priors.build(st.hyper, st.K, st.L, st.V, st.D), stats, st.trans)
+
+
+def compare_log_joint(home: str, seeds: int) -> list[dict]:
+    """Per seed: log joint and ARI of the batch learner's final sample and of the online learner's."""
+    from spcotmhp.learning.gibbs import SpCoTMHP
+    from spcotmhp.learning.learner_state import state_of_member
+    from spcotmhp.learning.table6 import score_run
+
+    _, data = long_stream(home, 0, 0)
+    stream = dataset_events(data)
+    rows = []
+    for seed in range(seeds):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            batch = SpCoTMHP(iterations=100, seed=seed).fit(data).model_
+            online = OnlineSpCoTMHP(map=data.map, check_map=False, seed=seed).partial_fit(stream)
+        row = {"seed": seed}
+        for name, st in (("batch", state_of_member(batch.learner, batch)), ("online", online.state_)):
+            score = score_run(data, st.place, st.concept)
+            row[name] = {"log_joint": log_joint_of(st), "ari_c": score["ari_c"], "ari_i": score["ari_i"]}
+        rows.append(row)
+    return rows
+
+
 def summary(ms: np.ndarray) -> dict:
     return {"median": float(np.median(ms)), "p95": float(np.percentile(ms, 95)), "max": float(ms.max())}
 
@@ -40,7 +80,11 @@ def main() -> None:
     parser.add_argument("--home", default="3LDK_01")
     parser.add_argument("--events", type=int, default=1000)
     parser.add_argument("--seeds", type=int, default=1)
+    parser.add_argument("--log-joint", action="store_true", help="compare batch and online final samples")
     args = parser.parse_args()
+    if args.log_joint:
+        print(json.dumps(compare_log_joint(args.home, args.seeds), indent=1))
+        return
     result = {}
     for name, moves in (("gibbs only", 0), ("with split-merge", None)):
         first, last, every = [], [], []

@@ -1,6 +1,6 @@
 """Online learning of spatial concepts: teaching events taken one at a time ("this is alice's room" at x, y).
 
-Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuvenation.
+Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuvenation, and split-merge moves.
 
 * Each new event e gets its place i_e and concept C_e drawn from their collapsed conditional given every earlier
   assignment (``collapsed.py``: the NIW predictive of the position, the transition from i_{e-1} with psi
@@ -16,8 +16,14 @@ Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuve
   allocation", AISTATS 2009, the incremental Gibbs sampler): ``rejuvenation`` events drawn uniformly from the
   older ones are resampled too, so old assignments keep moving toward the posterior of all the data.
 
-Each update costs O(lag + rejuvenation) Gibbs steps of O(K L + K^2) each, independent of the number of events
-seen (apart from appending it to the event arrays).
+* Split-merge moves (``online_split_merge``: Dahl's sequentially-allocated merge-split, Metropolis-Hastings on the
+  collapsed log joint): ``split_merge`` proposals per event split a place, a concept or a room (a place with its
+  one concept) in two, or merge two into one.  Single-site steps cannot undo a merge made early in a stream (two
+  rooms in one place while each had a few events) nor gather a name spread over several concepts.
+
+Each update costs O(lag + rejuvenation) Gibbs steps of O(K L + K^2) each and ``split_merge`` moves of at most
+``split_merge_events`` conditionals each, independent of the number of events seen (apart from appending it to
+the event arrays).
 
 Where this departs from SpCoSLAM 2.0: one chain instead of a Rao-Blackwellised particle filter.  SpCoSLAM 2.0's
 particles carry SLAM hypotheses (map and trajectory, weighted by the scan likelihood) with the concept
@@ -120,6 +126,10 @@ class OnlineSpCoTMHP:
             components hold events, up to ``max_K`` / ``max_L`` (then a TruncationWarning says so).
         lag: events resampled after each new one (fixed-lag rejuvenation); rejuvenation: older events drawn at
             random and resampled after each new one.
+        split_merge: split-merge proposals after each new event (0: none); split_merge_events: a move is proposed
+            only when its two places or concepts hold at most this many events (None: no bound), which bounds
+            its time (about 0.1 ms per event it moves on the development machine); the bound applies to a split
+            and to its reverse merge alike, so it does not bias the moves.
         replay, background_words: as the batch learner (``gibbs.SpCoTMHP``).
         use_features, feature_weight: image features of the events, each row rescaled to ``feature_weight``.
         connectivity: psi of the exported model: "auto" or "map" (places whose territories touch, when there is

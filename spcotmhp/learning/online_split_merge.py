@@ -1,45 +1,54 @@
-"""Split-merge moves for the online learner: Metropolis-Hastings proposals that split one place (or concept) in
-two, or merge two into one, in a single step.
+"""Split-merge moves for the online learner: Metropolis-Hastings proposals that split one place, concept or room
+in two, or merge two into one, in a single step.
 
 Why: the online learner's Gibbs steps (``collapsed.py``) move one event at a time.  When two rooms were put in
 one place early in a stream (few events, a broad Gaussian covering both), moving a single event out costs more
-than it gains, so the merge stays however long the stream runs; the same holds for a concept that took two names'
-events, and the reverse (one name split over two concepts) needs many unlikely single steps to mend.
+than it gains, so the merge stays however long the stream runs; a name spread over several concepts needs many
+unlikely single steps to gather.
 
 Algorithm: the sequentially-allocated merge-split sampler (Dahl, "Sequentially-allocated merge-split sampler for
-conjugate and nonconjugate Dirichlet process mixture models", Tech. report, Texas A&M, 2005), a variant of Jain
-and Neal's ("A split-merge Markov chain Monte Carlo procedure for the Dirichlet process mixture model", JCGS 13,
-2004) restricted-Gibbs split-merge that allocates in one pass instead of a launch state and intermediate scans.
-One move, for a ``kind`` (the places i or the concepts C; the other assignment and the word switches are held
-fixed) and two events a != b chosen independently of the state:
+conjugate and nonconjugate Dirichlet process mixture models", tech. report, Texas A&M, 2005), the one-pass variant
+of Jain and Neal's restricted-Gibbs split-merge ("A split-merge Markov chain Monte Carlo procedure for the
+Dirichlet process mixture model", JCGS 13, 2004).  One move has a ``kind`` and two events a != b chosen without
+looking at the assignments.  Kinds: "place" (the places i; concepts and word switches held fixed), "concept" (C;
+places held fixed) and "both" (a room: a place and a concept that hold exactly the same events, split or merged
+together: when two rooms share one place and one concept, a place split alone leaves one concept over two places,
+which can be less probable than either end, so the split is not accepted: two rooms of 3LDK_06 that the learner
+without these moves put in one place and concept (seed 4), split along the true rooms, lose 5.7 nats of log pi
+as a place split and gain 6.2 as a room split).
 
-* a and b share a label c: **split**.  Every other event of c is taken out of the counts, b goes to a label c'
-  drawn uniformly from the m labels that hold nothing, a stays in c, and the others are allocated in a random
-  order, each to c or c' with the probabilities of the learner's own collapsed conditional (Eqs. 5-17) restricted
-  to the two labels given the events allocated so far; q is the product of those probabilities.  Accepted with
-  probability min(1, pi(split) / pi(now) * m / q).
-* a has c and b has d != c: **merge** of d's events into c.  The reverse split's q (the probability that the
-  allocation above, from the merged state, gives exactly the current two groups) is computed by replaying it;
-  accepted with probability min(1, pi(merged) / pi(now) * q / m'), m' the number of empty labels after the merge.
-  No move is made on a state with pseudo-counts (a model loaded without its events: ``learner_state``), whose
-  labels hold counts that no event carries, so that every merge empties d and has its reverse split.
+* a and b share a label c: **split**.  Every other event of c and b are taken out of the counts, b goes to a
+  label c' drawn uniformly from the m labels that hold nothing (for "both", a place and a concept), a stays in c,
+  and the others are put back one at a time, each in c or c' with the learner's own collapsed conditional
+  (Eqs. 5-17, ``CollapsedState.log_conditional``) restricted to the two given the events put back so far; q is
+  the product of those probabilities.  Accepted with probability min(1, pi(split) / pi(now) * m / q).
+* a has c and b has d != c: **merge** of d's events into c.  q of the reverse split (the allocation above, from
+  the merged state, giving exactly the current two groups) is computed by replaying it; accepted with probability
+  min(1, pi(merged) / pi(now) * q / m'), m' the number of empty labels after the merge.
 
-pi is ``log_target``: the collapsed log joint of the batch learner (``posterior.log_joint``: the NIW marginal of
-each place's positions and the Dirichlet-multinomial marginals of C, i given C, the words, the image features,
-the background words and switches, and the forward transitions of the event sequence, as the batch learner's
-log joint: reverse replay changes how psi is drawn, not the data)
-times the two factors the online learner's Gibbs step has beyond it, so that both kinds of step aim at the same
-distribution: Eq. 9's unigram rescaling, 1 / sum_c phi_c(i_e) per event with phi at its posterior mean, and,
-when the learner has a map, a place's first position counted at 1 / (known area) instead of the NIW prior
-predictive (``CollapsedState.log_new_place``; the prior predictive is taken at the place's mean, since a
-partition has no first event; with kappa0 = 1e-3 the predictive is nearly flat over a home, so this is close).
+The events are put back nearest first (by the distance to the nearer of a and b), not in Dahl's random order:
+a place is a region, so the first events sort themselves around the two anchors and the groups then pull the rest
+their way.  Any order that depends only on the data and on (a, b) keeps the move exact.  That reason, not a
+measurement, chose it (a small comparison on albert-b, random order over 2 seeds against nearest first over 3,
+gave place ARI 0.52 and 0.54, within the spread of seeds).
+
+pi is ``log_target``: the collapsed log joint the batch learner selects runs by (``posterior.log_joint``: the NIW
+marginal of each place's positions and the Dirichlet-multinomial marginals of C, i given C, the words, the image
+features, the background words and switches, and the forward transitions of the event sequence; reverse replay
+changes how psi is drawn, not the data) times the two factors the online learner's Gibbs step has beyond it, so
+that both kinds of step aim at one distribution: Eq. 9's unigram rescaling, 1 / sum_c phi_c(i_e) per event with
+phi at its posterior mean, and, when the learner has a map, a place's first position counted at 1 / (known area)
+instead of the NIW prior predictive (``CollapsedState.log_new_place``; the predictive is taken at the place's
+mean, since a partition has no first event; with kappa0 = 1e-3 it is nearly flat over a home, so this is close).
 
 The labels of the weak-limit truncation are exchangeable, so moves act on labelled states: the 1/m choice of the
-new label and the label kept by a merge (a's) make every move's reverse exist with a known probability.  Any
-choice of (a, b) that does not look at the assignments keeps pi invariant; the learner's choice is in
-``OnlineSpCoTMHP._split_merge``.  A move touches only the events of the two labels (``max_events`` bounds them, in
-both directions alike, so the bound does not bias pi) and costs one conditional per event plus two evaluations
-of pi, O(K L + L V + K^2), whatever the number of events.
+new label and the label a merge keeps (a's) give every move a reverse of known probability.  No move is made on a
+state with pseudo-counts (a model loaded without its events: ``learner_state``), whose labels hold counts that no
+event carries, nor, for "both", on a place and concept that are not each other's only ones (the condition holds
+before and after any such move, so each move's reverse is available).  A move touches only the events of the two
+labels (``max_events`` bounds them, for a split and for its reverse merge alike, so the bound does not bias pi) and
+costs one conditional per event plus one or two evaluations of pi, O(K L + L V + L D + K^2), whatever the number
+of events.
 """
 
 from __future__ import annotations
@@ -110,18 +119,26 @@ def propose(
     rest = np.array([e for e in group if e != a and e != b], dtype=np.int64)
     near = np.minimum(*(np.linalg.norm(st.X[rest] - st.X[x], axis=1) for x in (a, b)))
     order = rest[np.argsort(near, kind="stable")]
-    saved = {name: np.copy(getattr(st, name)) for name in _SAVED if getattr(st, name) is not None}
+    saved = _save(st)
     before = log_target(st) if log_pi is None else log_pi
+    log_u = np.log(rng.random())
     if c == d:
         log_ratio_q -= allocate(st, kind, a, b, new, order, rng)
+        after = log_target(st)
     else:
-        log_ratio_q += allocate(st, kind, a, b, new, order, None)
         _relabel(st, kind, np.flatnonzero(_member(st, kind, d)), c)
-    after = log_target(st)
-    if np.log(rng.random()) < after - before + log_ratio_q:
+        after = log_target(st)
+        # q <= 1, so a merge whose ratio is below log_u without q is rejected whatever q is: skip computing it
+        if after - before + log_ratio_q >= log_u:
+            merged = _save(st)
+            _restore(st, saved)
+            log_ratio_q += allocate(st, kind, a, b, new, order, None)
+            _restore(st, merged)
+        else:
+            log_ratio_q = -np.inf
+    if log_u < after - before + log_ratio_q:
         return True, after
-    for name, value in saved.items():
-        setattr(st, name, value)
+    _restore(st, saved)
     return False, before
 
 
@@ -201,6 +218,16 @@ def _relabel(st: CollapsedState, kind: str, events: np.ndarray, label) -> None:
         kept = (int(st.place[e]), int(st.concept[e]))
         st.move(int(e), -1.0)
         _put(st, kind, int(e), kept, label)
+
+
+def _save(st: CollapsedState) -> dict:
+    """Copies of the counts and assignments a move changes."""
+    return {name: np.copy(getattr(st, name)) for name in _SAVED if getattr(st, name) is not None}
+
+
+def _restore(st: CollapsedState, saved: dict) -> None:
+    for name, value in saved.items():
+        setattr(st, name, np.copy(value))
 
 
 def _pseudo(st: CollapsedState) -> bool:
