@@ -3,14 +3,14 @@
 (median, p95, max), with and without split-merge moves in the same run (the machine is shared: compare the
 ratios).
 
-    PYTHONPATH=$PWD python benchmarks/online_learning.py --home 3LDK_01 --events 1000 --seeds 1
+    python benchmarks/online_learning.py --home 3LDK_01 --events 1000 --seeds 1
 
 With ``--log-joint`` it instead compares, per seed, the final sample of batch learning (100 sweeps) and of the
 online learner streaming the home once: the collapsed log joint the batch learner selects runs by
 (``posterior.log_joint``) and the ARI of concepts and places, to tell a sampler that misses the posterior's modes
 from a posterior whose modes are not the truth.
 
-    PYTHONPATH=$PWD python benchmarks/online_learning.py --home albert-b --log-joint --seeds 5
+    python benchmarks/online_learning.py --home albert-b --log-joint --seeds 5
 """
 
 from __future__ import annotations
