@@ -174,6 +174,8 @@ def export_model(learner) -> SpatialConceptModel:
             "events": st.E,
             "lag": learner.lag,
             "rejuvenation": learner.rejuvenation,
+            "split_merge": learner.split_merge,
+            "split_merge_events": learner.split_merge_events,
             "seed": learner.seed,
         },
         truncation_saturated=list(learner.truncation_saturated_),
