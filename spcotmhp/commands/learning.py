@@ -259,8 +259,9 @@ def _fit_gibbs(
     jobs: int,
 ):
     """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
-    from spcotmhp.learning.gibbs import SpCoTMHP, TruncationWarning, truncation_messages
+    from spcotmhp.learning.gibbs import SpCoTMHP
     from spcotmhp.learning.selection import MultiRunSelector
+    from spcotmhp.learning.truncation import TruncationWarning, truncation_messages
 
     est = SpCoTMHP(
         K=K,
@@ -316,7 +317,7 @@ def evaluate_learning(
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
     from spcotmhp.learning import table6
-    from spcotmhp.learning.gibbs import TruncationWarning
+    from spcotmhp.learning.truncation import TruncationWarning
 
     data = load_dataset_reporting(dataset, lang)
     if online:
@@ -369,8 +370,8 @@ def _evaluate_online(
     L: int,
 ) -> None:
     """evaluate-learning --online (``learning.online_eval``): JSON with an "online" key, or a short table."""
-    from spcotmhp.learning.gibbs import TruncationWarning
     from spcotmhp.learning.online_eval import evaluate_online, format_report
+    from spcotmhp.learning.truncation import TruncationWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)

@@ -72,7 +72,7 @@ def table6_section(plan: Plan, say: Callable[[str], None]) -> str:
 
     from spcotmhp.datasets import load_bundled
     from spcotmhp.learning import table6
-    from spcotmhp.learning.gibbs import TruncationWarning
+    from spcotmhp.learning.truncation import TruncationWarning
 
     out = []
     with warnings.catch_warnings():

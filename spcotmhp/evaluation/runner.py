@@ -27,11 +27,11 @@ from dataclasses import dataclass, field
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-from spcotmhp.evaluation.context import HomeContext
+from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM
 from spcotmhp.evaluation.metrics import Outcome, summarise
 from spcotmhp.evaluation.spread import aggregate_methods
-from spcotmhp.evaluation.tasks import Task, TaskKind
+from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, subset
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
 
 
@@ -198,9 +198,6 @@ def evaluate(
     start_in_waypoint: {method: metrics}, notes: {name: {...}}, moves: {method: move model}, time_s}``: every
     metric is the mean over the seeds with ``<metric>_sd`` beside it (``mean`` pools the tasks of all homes;
     ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is where learned psi comes from."""
-    from spcotmhp.evaluation.context import build_context
-    from spcotmhp.evaluation.tasks import make_tasks, subset
-
     methods = check_methods(methods)
     if seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {seeds}")
@@ -215,18 +212,7 @@ def evaluate(
                 ctx = build_context(ds, params, seed + k, connectivity)
                 home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
                 tasks = subset(home_tasks.tasks, max_tasks, seed)
-                note = notes.setdefault(
-                    ds.name,
-                    {
-                        **ctx.notes(),
-                        "psi": [],
-                        "n_tasks_all": len(home_tasks.tasks),
-                        "dropped": home_tasks.dropped,
-                        "zero_length": len(home_tasks.zero_length),
-                        "start_in_waypoint": sum(t.start_in_waypoint for t in tasks),
-                        "no_path": {},
-                    },
-                )
+                note = notes.setdefault(ds.name, _home_note(ctx, home_tasks, tasks))
                 note["psi"].append(ctx.notes()["psi"])
                 if not tasks:
                     continue
@@ -235,21 +221,9 @@ def evaluate(
                 if len(again) < len(methods):  # supervised: the methods that draw nothing gave this already
                     res.records += [r for r in first[ds.name].records if r.method not in again]
                 first.setdefault(ds.name, res)
-                for r in res.records:
-                    if r.error:
-                        note["no_path"][r.method] = note["no_path"].get(r.method, 0) + 1
+                _count_no_path(note, res.records)
                 results.append(res)
             per_seed.append(results)
-    order = {m: i for i, m in enumerate(methods)}
-
-    def ordered(d: dict) -> dict:
-        return dict(sorted(d.items(), key=lambda kv: order[kv[0]]))
-
-    homes = {
-        name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
-        for name in first
-    }
-    apart = [overall(rs, apart=True) for rs in per_seed if rs]
     for note in notes.values():
         note["psi"] = sorted(set(note["psi"]))
     return {
@@ -258,10 +232,48 @@ def evaluate(
         "seed": seed,
         "seeds": seeds,
         "connectivity": connectivity,
-        "homes": homes,
-        "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
-        "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
+        **_aggregate_seeds(per_seed, list(first), methods),
         "notes": notes,
         "moves": {m: MOVE_MODELS[m] for m in methods},
         "time_s": time.perf_counter() - t_start,
+    }
+
+
+def _home_note(ctx: HomeContext, home_tasks: HomeTasks, tasks: Sequence[Task]) -> dict:
+    """A home's notes in :func:`evaluate`'s result: the context's, the task counts and dropped tasks, and the
+    per-seed lists to be filled (``psi``: the psi source of each seed; ``no_path``: {method: failed plans})."""
+    return {
+        **ctx.notes(),
+        "psi": [],
+        "n_tasks_all": len(home_tasks.tasks),
+        "dropped": home_tasks.dropped,
+        "zero_length": len(home_tasks.zero_length),
+        "start_in_waypoint": sum(t.start_in_waypoint for t in tasks),
+        "no_path": {},
+    }
+
+
+def _count_no_path(note: dict, records: Iterable[TaskRecord]) -> None:
+    """Add the records that found no path to ``note["no_path"]`` ({method: count})."""
+    for r in records:
+        if r.error:
+            note["no_path"][r.method] = note["no_path"].get(r.method, 0) + 1
+
+
+def _aggregate_seeds(per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[str], methods: Sequence[str]) -> dict:
+    """``{homes, mean, start_in_waypoint}`` of :func:`evaluate`: every metric's mean and sd over the seeds, per
+    home, over all homes pooled, and over the tasks set apart; methods in the order given."""
+    order = {m: i for i, m in enumerate(methods)}
+
+    def ordered(d: dict) -> dict:
+        return dict(sorted(d.items(), key=lambda kv: order[kv[0]]))
+
+    apart = [overall(rs, apart=True) for rs in per_seed if rs]
+    return {
+        "homes": {
+            name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
+            for name in homes
+        },
+        "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
+        "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
     }

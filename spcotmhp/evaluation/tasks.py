@@ -30,6 +30,7 @@ tables of the original.
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -199,67 +200,89 @@ def make_tasks(
     adjacency = np.asarray(adjacency)
     if adjacency.shape != (n, n):
         raise DatasetError(f"{dataset.name}: adjacency is {adjacency.shape} but truth.csv has {n} places")
-    occ = dataset.map
-    # geodesic[a][b]: free-space distance between the positions of places a and b
-    cells = [p.cell for p in places]
-    robot = robot_cells(dataset)
-    geodesic = np.array([geodesic_distance(robot, [c], 8, occ.resolution)[tuple(np.array(cells).T)] for c in cells])
+    geodesic = place_geodesics(dataset, places)
     by_name: dict[str, list[int]] = {}
     for p in places:
         by_name.setdefault(p.name, []).append(p.index)
-
     out = HomeTasks(dataset.name, places, adjacency, adjacency_source, [])
+    for i, j, h in _task_places(kind, places, adjacency):
+        _add_task(out, dataset, kind, geodesic, by_name, i, j, h)
+    return out
+
+
+def place_geodesics(dataset: Dataset, places: list[Place]) -> np.ndarray:
+    """(P, P) free-space distance (m) between the positions of every two places, over the robot cells
+    (:func:`robot_cells`; 8-connected, no costs); inf where no path joins them."""
+    cells = [p.cell for p in places]
+    robot = robot_cells(dataset)
+    at = tuple(np.array(cells).T)
+    return np.array([geodesic_distance(robot, [c], 8, dataset.map.resolution)[at] for c in cells])
+
+
+def _task_places(kind: TaskKind, places: list[Place], adjacency: np.ndarray) -> Iterator[tuple[int, int, int | None]]:
+    """Every (start i, goal j, waypoint h) of a task kind, in task order: i != j not adjacent; h is None for basic
+    tasks, else every place outside {i, j} whose name differs from the goal's."""
+    n = len(places)
     for i in range(n):
         for j in range(n):
             if i == j or adjacency[i, j]:
                 continue
-            goals = tuple(by_name[places[j].name])
-            waypoints: list[int | None] = (
-                [None]
-                if kind == "basic"
-                else [h for h in range(n) if h not in (i, j) and places[h].name != places[j].name]
-            )
-            for h in waypoints:
-                wps = () if h is None else tuple(by_name[places[h].name])
-                if wps:  # (waypoint instance, goal instance) -> d(start, w) + d(w, g)
-                    via = geodesic[i, list(wps)][:, None] + geodesic[np.ix_(wps, goals)]
-                else:
-                    via = geodesic[i, list(goals)][None, :]
-                l = float(via.min())
-                if not np.isfinite(l):
-                    label = f"start {i} -> {places[j].name} ({j})" + (
-                        "" if h is None else f" via {places[h].name} ({h})"
-                    )
-                    out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
-                    continue
-                x, y = occ.cell_to_world(np.array(places[i].cell))
-                if l == 0:
-                    out.zero_length.append(f"start {i} -> {places[j].name} ({j}): the start is a goal instance")
-                    continue
-                via_goal = int(np.unravel_index(int(np.argmin(via)), via.shape)[1])
-                closest = int(np.argmin(geodesic[i, list(goals)]))
-                inside = any(places[k].box.contains(np.array([x, y])) for k in wps)
-                out.tasks.append(
-                    Task(
-                        dataset.name,
-                        kind,
-                        len(out.tasks),
-                        i,
-                        j,
-                        h,
-                        places[i].cell,
-                        (float(x), float(y)),
-                        places[j].name,
-                        None if h is None else places[h].name,
-                        goals,
-                        wps,
-                        closest,
-                        l,
-                        via_goal,
-                        bool(inside),
-                    )
-                )
-    return out
+            if kind == "basic":
+                yield i, j, None
+                continue
+            for h in range(n):
+                if h not in (i, j) and places[h].name != places[j].name:
+                    yield i, j, h
+
+
+def _add_task(
+    out: HomeTasks,
+    dataset: Dataset,
+    kind: TaskKind,
+    geodesic: np.ndarray,
+    by_name: dict[str, list[int]],
+    i: int,
+    j: int,
+    h: int | None,
+) -> None:
+    """Append the task (start i, goal j, waypoint h) to ``out.tasks``, or record why it is left out (no path:
+    ``out.dropped``; l = 0: ``out.zero_length``)."""
+    places = out.places
+    goals = tuple(by_name[places[j].name])
+    wps = () if h is None else tuple(by_name[places[h].name])
+    if wps:  # (waypoint instance, goal instance) -> d(start, w) + d(w, g)
+        via = geodesic[i, list(wps)][:, None] + geodesic[np.ix_(wps, goals)]
+    else:
+        via = geodesic[i, list(goals)][None, :]
+    l = float(via.min())
+    if not np.isfinite(l):
+        label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+        out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
+        return
+    x, y = dataset.map.cell_to_world(np.array(places[i].cell))
+    if l == 0:
+        out.zero_length.append(f"start {i} -> {places[j].name} ({j}): the start is a goal instance")
+        return
+    out.tasks.append(
+        Task(
+            dataset.name,
+            kind,
+            len(out.tasks),
+            i,
+            j,
+            h,
+            places[i].cell,
+            (float(x), float(y)),
+            places[j].name,
+            None if h is None else places[h].name,
+            goals,
+            wps,
+            int(np.argmin(geodesic[i, list(goals)])),
+            l,
+            int(np.unravel_index(int(np.argmin(via)), via.shape)[1]),
+            bool(any(places[k].box.contains(np.array([x, y])) for k in wps)),
+        )
+    )
 
 
 def subset(tasks: list[Task], max_tasks: int | None, seed: int) -> list[Task]:

@@ -75,7 +75,6 @@ from __future__ import annotations
 
 import inspect
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import replace
 
@@ -102,6 +101,7 @@ from spcotmhp.learning.posterior import (
     posterior_mean_model,
 )
 from spcotmhp.learning.split_merge import SplitMerge
+from spcotmhp.learning.truncation import record_truncation
 
 TRANSITIONS = ("hmm", "none")
 
@@ -225,38 +225,13 @@ class SpCoTMHP:
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
                 trace.append(log_joint(priors, stats, self._event_transitions(places)))
-            priors.gauss.resample(stats.gauss, rng)  # step 1
-            priors.phi.resample(stats.place_given_concept, rng)
-            if self.transitions == "hmm":  # steps 2 and 3
-                counts = self._transition_counts(
-                    obs, places, priors.gauss.mu, priors.gauss.Sigma, log_place_prior(priors, stats)
-                )
-                priors.psi.resample(counts, rng)
-            places = self._sample_places(priors, obs, concepts, rng)  # step 4
-            concepts = sampler.sweep(
-                concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi, rng
-            )  # step 5
-            if moves is not None:  # step 5, whole groups (split_merge.py)
-                concepts = moves.sweep(concepts, places, rng)
+            places, concepts = self._sweep(obs, priors, stats, hyper, sampler, moves, places, concepts, rng)
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
         self.log_joint_ = log_joint(priors, stats, self._event_transitions(places))
         trace.append(self.log_joint_)
-        info = {
-            "method": "SpCoTMHP" if self.transitions == "hmm" else "SpCoSLAM (GMM)",
-            "dataset": dataset.name,
-            "seed": _seed_repr(self.seed),
-            "run": self.run,
-            "iterations": self.iterations,
-            "reverse_replay": bool(self.replay),
-            "transitions": self.transitions,
-            "background_words": bool(self.background_words),
-            "split_merge": moves_on,
-            "trajectory": obs.trajectory is not None,
-            "features": obs.features is not None,
-            "feature_weight": self.feature_weight,
-        }
+        info = self._run_info(dataset, obs, moves_on)
         model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper, info)
         model.map = dataset.map
         model.learner = from_batch(
@@ -278,19 +253,71 @@ class SpCoTMHP:
         self.log_joint_trace_ = np.asarray(trace)
         self.mutual_information_ = mutual_information(model.pi, model.W)
         model.info.update(log_joint=self.log_joint_, mutual_information=self.mutual_information_)
-        self._record_truncation(model)
-        if self.transitions == "hmm":  # psi from counts labelled with the exported means (module docstring)
-            counts = self._transition_counts(obs, places, model.mu, model.Sigma, model.log_place_prior())
-            model.psi = priors.psi.posterior_mean(counts)
-            model.psi_learned = model.psi.copy()
-            seen = dataset if obs.trajectory is not None else replace(dataset, trajectory=None, event_steps=None)
-            apply_connectivity(model, seen, self.connectivity, places)
-        else:
-            model.info["psi_from"] = "uniform (no transitions)"
+        record_truncation(model, self.K, self.L)
+        self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
         return self
 
+    def _run_info(self, dataset: Dataset, obs: Observations, moves_on: bool) -> dict:
+        """The settings of this run and what the data held, for ``model.info``."""
+        return {
+            "method": "SpCoTMHP" if self.transitions == "hmm" else "SpCoSLAM (GMM)",
+            "dataset": dataset.name,
+            "seed": _seed_repr(self.seed),
+            "run": self.run,
+            "iterations": self.iterations,
+            "reverse_replay": bool(self.replay),
+            "transitions": self.transitions,
+            "background_words": bool(self.background_words),
+            "split_merge": moves_on,
+            "trajectory": obs.trajectory is not None,
+            "features": obs.features is not None,
+            "feature_weight": self.feature_weight,
+        }
+
+    def _export_psi(
+        self, model: SpatialConceptModel, priors: Priors, dataset: Dataset, obs: Observations, places: np.ndarray
+    ) -> None:
+        """psi of the exported model: with transitions, the posterior mean of the counts labelled with the
+        exported means (kept as ``psi_learned``), then ``connectivity``'s choice; without, uniform."""
+        if self.transitions != "hmm":
+            model.info["psi_from"] = "uniform (no transitions)"
+            return
+        counts = self._transition_counts(obs, places, model.mu, model.Sigma, model.log_place_prior())
+        model.psi = priors.psi.posterior_mean(counts)
+        model.psi_learned = model.psi.copy()
+        seen = dataset if obs.trajectory is not None else replace(dataset, trajectory=None, event_steps=None)
+        apply_connectivity(model, seen, self.connectivity, places)
+
     # ---- one sweep ---------------------------------------------------------------------------------------
+    def _sweep(
+        self,
+        obs: Observations,
+        priors: Priors,
+        stats: SufficientStats,
+        hyper: Hyperparameters,
+        sampler: CollapsedConceptSampler,
+        moves: SplitMerge | None,
+        places: np.ndarray,
+        concepts: np.ndarray,
+        rng: np.random.Generator,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """One Gibbs sweep, steps 1-5 of the module docstring, from the current assignments and their ``stats``:
+        the parameters in ``priors`` are redrawn in place; returns the new places and concepts."""
+        priors.gauss.resample(stats.gauss, rng)  # step 1
+        priors.phi.resample(stats.place_given_concept, rng)
+        if self.transitions == "hmm":  # steps 2 and 3
+            counts = self._transition_counts(
+                obs, places, priors.gauss.mu, priors.gauss.Sigma, log_place_prior(priors, stats)
+            )
+            priors.psi.resample(counts, rng)
+        places = self._sample_places(priors, obs, concepts, rng)  # step 4
+        # step 5
+        concepts = sampler.sweep(concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi, rng)
+        if moves is not None:  # step 5, whole groups (split_merge.py)
+            concepts = moves.sweep(concepts, places, rng)
+        return places, concepts
+
     def _check_settings(self) -> None:
         for name, value, allowed in (
             ("transitions", self.transitions, TRANSITIONS),
@@ -330,20 +357,6 @@ class SpCoTMHP:
             counts += self.trajectory_weight * transition_counts(seq, self.K, self.replay)
         return counts
 
-    def _record_truncation(self, model: SpatialConceptModel) -> None:
-        """List the saturated truncations in ``model.info`` and warn about each (TruncationWarning)."""
-        full = [
-            what
-            for what, used, cap in (
-                ("places", model.active_places.sum(), self.K),
-                ("concepts", model.active_concepts.sum(), self.L),
-            )
-            if used >= cap
-        ]
-        model.info["truncation_saturated"] = full
-        for message in truncation_messages(model):
-            warnings.warn(message, TruncationWarning, stacklevel=3)
-
     def _sample_places(
         self, priors: Priors, obs: Observations, concepts: np.ndarray, rng: np.random.Generator
     ) -> np.ndarray:
@@ -355,26 +368,6 @@ class SpCoTMHP:
         log_emit = log_emit - logsumexp(log_phi, axis=0)  # unigram rescaling, Eq. 9
         log_init = np.full(self.K, -np.log(self.K))
         return ffbs(log_emit, priors.psi.log_probs, log_init, rng)
-
-
-class TruncationWarning(UserWarning):
-    """Every place (or concept) component of the weak-limit truncation holds events: K (or L) may be too small."""
-
-
-def truncation_messages(model: SpatialConceptModel) -> list[str]:
-    """One sentence per saturated truncation listed in ``model.info["truncation_saturated"]``."""
-    hint = {
-        "places": ("place", "K", model.K, "--max-places", "SpCoTMHP(K=...)"),
-        "concepts": ("concept", "L", model.L, "--max-concepts", "SpCoTMHP(L=...)"),
-    }
-    out = []
-    for what in model.info.get("truncation_saturated", []):
-        noun, symbol, size, option, api = hint[what]
-        out.append(
-            f"all {symbol} = {size} {noun} components hold events (the weak-limit truncation is "
-            f"saturated, so {what} may have been merged): learn again with a larger {option} ({api})"
-        )
-    return out
 
 
 def _is_count(value: object) -> bool:

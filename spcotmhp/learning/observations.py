@@ -53,23 +53,8 @@ class Observations:
         ``features_to_counts`` (p * 10 + 1 cast to int, about 375 counts per Places365 image).
         """
         name = dataset.name
-        X = np.asarray(dataset.positions, dtype=float)
-        if X.ndim != 2 or X.shape[1] != 2:
-            raise DatasetError(f"{name}: positions must be an (E, 2) array of x, y, got shape {X.shape}")
+        X = _checked_positions(name, dataset.positions)
         E = X.shape[0]
-        if E == 0:
-            raise DatasetError(f"{name}: no teaching events; learning needs at least 2")
-        if E < 2:
-            raise DatasetError(
-                f"{name}: only 1 teaching event; learning needs at least 2 (places and "
-                "transitions cannot be estimated from a single observation)"
-            )
-        bad = np.flatnonzero(~np.isfinite(X).all(axis=1))
-        if bad.size:
-            raise DatasetError(
-                f"{name}: teaching event {int(bad[0])} has a non-finite position "
-                f"{X[bad[0]].tolist()} ({bad.size} such events); positions must be finite metres"
-            )
         if len(dataset.tokens) != E:
             raise DatasetError(f"{name}: {len(dataset.tokens)} token lists for {E} teaching events")
         vocab = sorted({t for toks in dataset.tokens for t in toks}) if vocabulary is None else list(vocabulary)
@@ -83,31 +68,60 @@ class Observations:
             words[e] = bag_counts(toks, index, len(vocab))
         features = None
         if use_features and dataset.features is not None:
-            features = np.asarray(dataset.features, dtype=float)
-            if features.ndim != 2 or features.shape[0] != E:
-                raise DatasetError(
-                    f"{name}: image features must be an (E, D) array with one row per teaching "
-                    f"event (E = {E}), got shape {features.shape}"
-                )
-            badf = np.flatnonzero(~(np.isfinite(features) & (features >= 0)).all(axis=1))
-            if badf.size:
-                raise DatasetError(
-                    f"{name}: image feature row {int(badf[0])} has a negative or non-finite "
-                    "value; features must be non-negative"
-                )
-            features = scale_features(features, feature_weight)
+            features = scale_features(_checked_features(name, dataset.features, E), feature_weight)
         trajectory = steps = None
         if use_trajectory and dataset.trajectory is not None:
-            trajectory = np.asarray(dataset.trajectory, dtype=float)
-            if trajectory.ndim != 2 or trajectory.shape[1] != 2 or len(trajectory) < 2:
-                raise DatasetError(
-                    f"{name}: trajectory must be a (T, 2) array with T >= 2, got shape {trajectory.shape}"
-                )
-            if not np.isfinite(trajectory).all():
-                raise DatasetError(f"{name}: trajectory has non-finite positions")
+            trajectory = _checked_trajectory(name, dataset.trajectory)
             if dataset.event_steps is not None:
                 steps = np.asarray(dataset.event_steps, dtype=np.int64)
         return cls(X=X, words=words, vocabulary=vocab, features=features, trajectory=trajectory, event_steps=steps)
+
+
+def _checked_positions(name: str, positions: np.ndarray) -> np.ndarray:
+    """The teaching positions as a float (E, 2) array of finite x, y with E >= 2, else DatasetError."""
+    X = np.asarray(positions, dtype=float)
+    if X.ndim != 2 or X.shape[1] != 2:
+        raise DatasetError(f"{name}: positions must be an (E, 2) array of x, y, got shape {X.shape}")
+    if X.shape[0] == 0:
+        raise DatasetError(f"{name}: no teaching events; learning needs at least 2")
+    if X.shape[0] < 2:
+        raise DatasetError(
+            f"{name}: only 1 teaching event; learning needs at least 2 (places and "
+            "transitions cannot be estimated from a single observation)"
+        )
+    bad = np.flatnonzero(~np.isfinite(X).all(axis=1))
+    if bad.size:
+        raise DatasetError(
+            f"{name}: teaching event {int(bad[0])} has a non-finite position "
+            f"{X[bad[0]].tolist()} ({bad.size} such events); positions must be finite metres"
+        )
+    return X
+
+
+def _checked_features(name: str, raw: np.ndarray, E: int) -> np.ndarray:
+    """The image features as a float (E, D) array of finite non-negative values, else DatasetError."""
+    features = np.asarray(raw, dtype=float)
+    if features.ndim != 2 or features.shape[0] != E:
+        raise DatasetError(
+            f"{name}: image features must be an (E, D) array with one row per teaching "
+            f"event (E = {E}), got shape {features.shape}"
+        )
+    bad = np.flatnonzero(~(np.isfinite(features) & (features >= 0)).all(axis=1))
+    if bad.size:
+        raise DatasetError(
+            f"{name}: image feature row {int(bad[0])} has a negative or non-finite value; features must be non-negative"
+        )
+    return features
+
+
+def _checked_trajectory(name: str, raw: np.ndarray) -> np.ndarray:
+    """The robot trajectory as a float (T, 2) array of finite positions with T >= 2, else DatasetError."""
+    trajectory = np.asarray(raw, dtype=float)
+    if trajectory.ndim != 2 or trajectory.shape[1] != 2 or len(trajectory) < 2:
+        raise DatasetError(f"{name}: trajectory must be a (T, 2) array with T >= 2, got shape {trajectory.shape}")
+    if not np.isfinite(trajectory).all():
+        raise DatasetError(f"{name}: trajectory has non-finite positions")
+    return trajectory
 
 
 def scale_features(features: np.ndarray, weight: float | None) -> np.ndarray:

@@ -54,9 +54,10 @@ import numpy as np
 
 from spcotmhp.errors import TeachingError
 from spcotmhp.learning.collapsed import CollapsedState
-from spcotmhp.learning.gibbs import TruncationWarning, make_rng
+from spcotmhp.learning.gibbs import make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online_split_merge import KINDS, propose
+from spcotmhp.learning.truncation import TruncationWarning
 from spcotmhp.metric.maps import OccupancyMap
 
 MAX_UTTERANCE_CHARS = 1000

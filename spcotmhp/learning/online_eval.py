@@ -11,9 +11,9 @@ from typing import Any
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.learning.gibbs import TruncationWarning
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent
 from spcotmhp.learning.table6 import concept_truth, evaluate_learning, score_run
+from spcotmhp.learning.truncation import TruncationWarning
 
 SCORES = ("nmi_c", "nmi_i", "ari_c", "ari_i")
 

@@ -54,16 +54,7 @@ def fit_supervised(
         raise DatasetError(f"{dataset.name}: the supervised fit needs truth places (truth.csv)")
     hyper = hyper or SUPERVISED_HYPER
     obs = Observations.from_dataset(dataset, use_features=use_features, feature_weight=feature_weight)
-    places = np.asarray(dataset.truth_place, dtype=np.int64)
-    concepts = places if dataset.truth_concept is None else np.asarray(dataset.truth_concept, dtype=np.int64)
-    if len(places) != obs.E or len(concepts) != obs.E:
-        raise DatasetError(f"{dataset.name}: {len(places)} truth rows for {obs.E} teaching events")
-    K = max(
-        int(places.max()) + 1,
-        len(dataset.place_names or []),
-        0 if dataset.adjacency is None else len(dataset.adjacency),
-    )
-    L = int(concepts.max()) + 1
+    places, concepts, K, L = _truth_assignments(dataset, obs.E)
     hyper = hyper.resized(L, K)
     D = None if obs.features is None else obs.features.shape[1]
     priors = Priors.build(hyper, K, L, len(obs.vocabulary), D)
@@ -84,20 +75,49 @@ def fit_supervised(
     )
     model.map = dataset.map
     if source in ("given", "array"):
-        A = np.asarray(dataset.adjacency if source == "given" else adjacency)
-        if A.shape != (K, K):
-            raise ModelError(f"adjacency must be {K}x{K} (one row per place), got {A.shape}")
-        model.psi = psi_from_adjacency(A, hyper.omega)
+        model.psi = psi_from_adjacency(_place_adjacency(dataset, source, adjacency, K), hyper.omega)
         model.info["psi_from"] = "adjacency.csv" if source == "given" else "adjacency"
     elif source == "transitions":
-        counts = transition_counts(places, K, replay)
-        if obs.trajectory is not None:
-            counts += transition_counts(trajectory_places(model, obs.trajectory, min_dwell), K, replay)
-        model.psi = priors.psi.posterior_mean(counts)
+        model.psi = priors.psi.posterior_mean(_place_transitions(model, places, K, obs, replay, min_dwell))
         model.info["psi_from"] = "transitions"
     else:
         apply_connectivity(model, dataset, source, places)
     return model
+
+
+def _truth_assignments(dataset: Dataset, E: int) -> tuple[np.ndarray, np.ndarray, int, int]:
+    """The true place and concept of each of the E events (concept = place without truth concepts), the number
+    of places K (also counting places.csv and adjacency.csv rows) and of concepts L."""
+    assert dataset.truth_place is not None
+    places = np.asarray(dataset.truth_place, dtype=np.int64)
+    concepts = places if dataset.truth_concept is None else np.asarray(dataset.truth_concept, dtype=np.int64)
+    if len(places) != E or len(concepts) != E:
+        raise DatasetError(f"{dataset.name}: {len(places)} truth rows for {E} teaching events")
+    K = max(
+        int(places.max()) + 1,
+        len(dataset.place_names or []),
+        0 if dataset.adjacency is None else len(dataset.adjacency),
+    )
+    return places, concepts, K, int(concepts.max()) + 1
+
+
+def _place_adjacency(dataset: Dataset, source: str, adjacency: str | np.ndarray, K: int) -> np.ndarray:
+    """The (K, K) place adjacency psi comes from: the dataset's ("given") or the array passed ("array")."""
+    A = np.asarray(dataset.adjacency if source == "given" else adjacency)
+    if A.shape != (K, K):
+        raise ModelError(f"adjacency must be {K}x{K} (one row per place), got {A.shape}")
+    return A
+
+
+def _place_transitions(
+    model: SpatialConceptModel, places: np.ndarray, K: int, obs: Observations, replay: bool, min_dwell: int
+) -> np.ndarray:
+    """(K, K) place transition counts of the truth event sequence (reverse replay when ``replay``), plus the
+    place changes along the trajectory (its positions assigned to ``model``'s places) when there is one."""
+    counts = transition_counts(places, K, replay)
+    if obs.trajectory is not None:
+        counts += transition_counts(trajectory_places(model, obs.trajectory, min_dwell), K, replay)
+    return counts
 
 
 def _adjacency_source(dataset: Dataset, adjacency: str | np.ndarray) -> str:

@@ -15,14 +15,14 @@ this is an HPA* abstraction (Botea, Mueller and Schaeffer 2004) whose clusters a
   (bounded by the territory's bounding box; every other cell is blocked), computed once, in parallel on every
   core (numba ``prange``). Intra-territory edges of the abstract graph read them: ``a -> b`` costs
   ``field_b[cell_a]``.
-* **Abstract distances.** One Dijkstra per candidate on the (reversed) abstract graph gives ``D[a, j]``, the
-  cost from every abstract node ``a`` into node ``j``, and its next hop: w-hat (Eq. 24, end-observed) is
-  ``-D[i, j] + log N(x_j | mu_b, Sigma_b)``.
+* **Abstract distances.** One Dijkstra per candidate on the (reversed) abstract graph gives
+  ``portal_cost[a, j]``, the cost from every abstract node ``a`` into node ``j``, and its next hop: w-hat (Eq. 24,
+  end-observed) is ``-portal_cost[i, j] + log N(x_j | mu_b, Sigma_b)``.
 * **The start leg from any start** x_0 in territory t stays a table look-up (Algorithm 1's online part):
-  ``min over abstract nodes a of t of field_a[x_0] + D[a, j]``.
+  ``min over abstract nodes a of t of field_a[x_0] + portal_cost[a, j]``.
 * **Refinement.** A chosen leg is read back cell by cell: the local field from the start into its best abstract
   node, then hop by hop, each hop inside one territory following that territory's exact field. Its cost is
-  exactly the D above, so w-hat, the explanation and the path agree.
+  exactly the portal_cost above, so w-hat, the explanation and the path agree.
 
 What is kept: every cell of every path lies in a traversable cell of a territory (never an inscribed or lethal
 one); territories are 4-connected and adjacent territories share at least one crossing per entrance, so whenever
@@ -70,25 +70,33 @@ class TerritoryFields:
     members: list  # territory -> abstract nodes in it (int64 array)
     links: tuple  # (src, dst, weight) of the abstract graph's edges
     removed: np.ndarray  # (A,) abstract nodes of avoided territories
-    D: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))
+    portal_cost: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))  # (A, n_nodes) see solve()
     hop: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=np.int64))
     info: dict = field(default_factory=dict)
 
     @property
     def nbytes(self) -> int:
         """Bytes held by the fields and the abstract distance tables."""
-        return int(self.fdist.nbytes + self.fnext.nbytes + self.D.nbytes + self.hop.nbytes)
+        return int(self.fdist.nbytes + self.fnext.nbytes + self.portal_cost.nbytes + self.hop.nbytes)
 
     def solve(self) -> None:
-        """``D`` and ``hop`` by Dijkstra on the reversed abstract graph from every node (removed nodes cut)."""
+        """``portal_cost[a, j]`` (the cost from abstract node a into node j over the abstract graph) and ``hop[a, j]``
+        (the next abstract node on that way) by Dijkstra on the reversed abstract graph from every node (removed
+        nodes cut)."""
         src, dst, w = self.links
         keep = ~self.removed[src] & ~self.removed[dst]
         A = len(self.cells)
         reverse = csr_matrix((w[keep], (dst[keep], src[keep])), shape=(A, A))
         dist, pred = dijkstra(reverse, directed=True, indices=np.arange(self.n_nodes), return_predecessors=True)
-        self.D = np.ascontiguousarray(dist.T)
-        self.D[self.removed] = np.inf
+        self.portal_cost = np.ascontiguousarray(dist.T)
+        self.portal_cost[self.removed] = np.inf
         self.hop = np.ascontiguousarray(pred.T).astype(np.int64)  # next abstract node on the way into j
+
+    @property
+    def D(self) -> np.ndarray:
+        """The old name of :attr:`portal_cost`, still read by planning/graph.py (to be renamed there, then this
+        alias removed)."""
+        return self.portal_cost
 
     def local(self, a: int, cell: np.ndarray) -> float:
         """Node a's field at crop cell ``cell`` (inf outside a's territory window)."""
@@ -114,14 +122,14 @@ class TerritoryFields:
         nodes, local = self.entries(cell)
         if not len(nodes):
             return np.full(self.n_nodes, np.inf)
-        return (local[:, None] + self.D[nodes]).min(axis=0)
+        return (local[:, None] + self.portal_cost[nodes]).min(axis=0)
 
     def path(self, cell: np.ndarray, j: int) -> np.ndarray | None:
         """The cells of the best path from crop cell ``cell`` into node j (module docstring), None if none."""
         nodes, local = self.entries(cell)
         if not len(nodes):
             return None
-        total = local + self.D[nodes, j]
+        total = local + self.portal_cost[nodes, j]
         best = int(np.argmin(total))
         if not np.isfinite(total[best]):
             return None
@@ -176,56 +184,90 @@ def build(
     ``spacing`` cells along an entrance. ``reuse``: an earlier abstraction whose fields are copied for every
     territory whose cells and costs are unchanged (module docstring)."""
     territory = np.ascontiguousarray(territory, dtype=np.int64)
+    win = _windows(territory, n_places)
+    cells, inter = _abstract_nodes(node_cell, _crossings(territory, max(1, int(spacing))), territory.shape[1])
+    terr = territory[cells[:, 0], cells[:, 1]]
+    sizes = (win[terr, 2] - win[terr, 0]) * (win[terr, 3] - win[terr, 1])
+    off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    fdist = np.empty(int(off[-1]))
+    fnext = np.empty(int(off[-1]), dtype=np.int32)
+    todo = _reuse_fields(reuse, cost, territory, cells, terr, win, off, fdist, fnext)
+    _local_fields(np.ascontiguousarray(cost), territory, cells, terr, win, off, todo, fdist, fnext, connectivity, SQRT2)
+    order = np.argsort(terr, kind="stable")
+    bounds = np.searchsorted(terr[order], np.arange(n_places + 1))
+    members = [order[bounds[t] : bounds[t + 1]].astype(np.int64) for t in range(n_places)]
+    out = TerritoryFields(
+        cost,
+        territory,
+        len(node_cell),
+        cells,
+        terr,
+        win,
+        off,
+        fdist,
+        fnext,
+        members,
+        _abstract_links(cost, cells, win, off, fdist, members, inter),
+        np.zeros(len(cells), dtype=bool),
+        info={
+            "abstract_nodes": len(cells),
+            "crossings": len(inter),
+            "fields_computed": len(todo),
+            "fields_reused": int(len(cells) - len(todo)),
+        },
+    )
+    out.solve()
+    return out
+
+
+def _windows(territory: np.ndarray, n_places: int) -> np.ndarray:
+    """(n_places, 4) the bounding box (r0, c0, r1, c1) of each territory (zeros for an empty one)."""
     win = np.zeros((n_places, 4), dtype=np.int64)
     for t, sl in enumerate(ndimage.find_objects(territory + 1, max_label=n_places)):
         if sl is not None:
             win[t] = (sl[0].start, sl[1].start, sl[0].stop, sl[1].stop)
-    pairs = _crossings(territory, max(1, int(spacing)))
-    flat_w = territory.shape[1]
+    return win
+
+
+def _abstract_nodes(
+    node_cell: np.ndarray, pairs: list[tuple[int, int, int, int]], width: int
+) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """``(cells, inter)``: the (A, 2) cells of the abstract nodes, the planning graph's nodes ``node_cell`` first
+    then each new cell of a crossing ``pairs`` (one node per cell), and each crossing as a pair of node indices."""
     index: dict[int, int] = {}
     cells = [tuple(c) for c in np.asarray(node_cell, dtype=np.int64)]
     for n, (r, c) in enumerate(cells):
-        index.setdefault(r * flat_w + c, n)
+        index.setdefault(r * width + c, n)
 
     def node(r: int, c: int) -> int:
-        key = r * flat_w + c
+        key = r * width + c
         if key not in index:
             index[key] = len(cells)
             cells.append((r, c))
         return index[key]
 
     inter = [(node(ur, uc), node(vr, vc)) for ur, uc, vr, vc in pairs]
-    cells_arr = np.array(cells, dtype=np.int64).reshape(-1, 2)
-    terr = territory[cells_arr[:, 0], cells_arr[:, 1]]
-    sizes = (win[terr, 2] - win[terr, 0]) * (win[terr, 3] - win[terr, 1])
-    off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-    fdist = np.empty(int(off[-1]))
-    fnext = np.empty(int(off[-1]), dtype=np.int32)
-    todo = _reuse_fields(reuse, cost, territory, cells_arr, terr, win, off, fdist, fnext)
-    _local_fields(
-        np.ascontiguousarray(cost),
-        territory,
-        cells_arr,
-        terr,
-        win,
-        off,
-        todo,
-        fdist,
-        fnext,
-        connectivity,
-        SQRT2,
-    )
-    members = [np.empty(0, dtype=np.int64)] * n_places
-    order = np.argsort(terr, kind="stable")
-    bounds = np.searchsorted(terr[order], np.arange(n_places + 1))
-    members = [order[bounds[t] : bounds[t + 1]].astype(np.int64) for t in range(n_places)]
+    return np.array(cells, dtype=np.int64).reshape(-1, 2), inter
+
+
+def _abstract_links(
+    cost: np.ndarray,
+    cells: np.ndarray,
+    win: np.ndarray,
+    off: np.ndarray,
+    fdist: np.ndarray,
+    members: list,
+    inter: list[tuple[int, int]],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(src, dst, weight)`` of the abstract graph's edges: within a territory, a -> b for every two of its
+    nodes that b's local field reaches (weight ``field_b[cell_a]``); across, both ways along every crossing
+    (weight ``c(v)`` of the cell entered)."""
     src, dst, w = [], [], []
-    for t in range(n_places):
-        m = members[t]
+    for t, m in enumerate(members):
         if len(m) < 2:
             continue
         r0, c0, _, c1 = win[t]
-        at = (cells_arr[m, 0] - r0) * (c1 - c0) + cells_arr[m, 1] - c0
+        at = (cells[m, 0] - r0) * (c1 - c0) + cells[m, 1] - c0
         vals = fdist[off[m][None, :] + at[:, None]]  # [a, b]: from a into b
         a_idx, b_idx = np.nonzero(np.isfinite(vals) & ~np.eye(len(m), dtype=bool))
         src.append(m[a_idx])
@@ -235,31 +277,9 @@ def build(
         u, v = np.array(inter, dtype=np.int64).T
         src += [u, v]
         dst += [v, u]
-        w += [cost[cells_arr[v, 0], cells_arr[v, 1]], cost[cells_arr[u, 0], cells_arr[u, 1]]]
+        w += [cost[cells[v, 0], cells[v, 1]], cost[cells[u, 0], cells[u, 1]]]
     links = tuple(np.concatenate(x) if x else np.empty(0) for x in (src, dst, w))
-    links = (links[0].astype(np.int64), links[1].astype(np.int64), links[2].astype(float))
-    out = TerritoryFields(
-        cost,
-        territory,
-        len(node_cell),
-        cells_arr,
-        terr,
-        win,
-        off,
-        fdist,
-        fnext,
-        members,
-        links,
-        np.zeros(len(cells_arr), dtype=bool),
-        info={
-            "abstract_nodes": len(cells_arr),
-            "crossings": len(inter),
-            "fields_computed": len(todo),
-            "fields_reused": int(len(cells_arr) - len(todo)),
-        },
-    )
-    out.solve()
-    return out
+    return links[0].astype(np.int64), links[1].astype(np.int64), links[2].astype(float)
 
 
 def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int, int]]:

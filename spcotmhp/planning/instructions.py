@@ -8,7 +8,8 @@ words from the model (:func:`spcotmhp.planning.vocabulary.place_vocabulary`).
 
 The sentence grammar (how a text is cut into place phrases and what role each phrase plays, including the errors
 for unknown words, alternatives and spatial relations) is :mod:`spcotmhp.planning.sentence`; the visiting order
-(order words such as "first", "after", 途中で) is :mod:`spcotmhp.planning.sequence`.
+(order words such as "first", "after", 途中で) is :mod:`spcotmhp.planning.sequence`; the checks, weights and
+grouping of an N-best list are :mod:`spcotmhp.planning.nbest`.
 
 Bounded work (every limit is a keyword argument of the parse functions and of :func:`to_instruction`, defaulting
 to the module constants below, which a program may also set): an instruction longer than ``max_chars``
@@ -23,14 +24,11 @@ planner's search grows with the number of stages). Every error is a subclass of
 from __future__ import annotations
 
 import json
-import math
 import re
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
-
-import numpy as np
 
 from spcotmhp.errors import (
     EmptyInstruction,
@@ -40,8 +38,8 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.planning.grammar import GRAMMARS
+from spcotmhp.planning.nbest import heaviest_group, nbest_weights
 from spcotmhp.planning.sentence import Phrase, read_sentence
 from spcotmhp.planning.sequence import visiting_order
 from spcotmhp.planning.wording import excerpt, unknown_tail
@@ -290,28 +288,7 @@ def parse_nbest(
         finite number. InstructionTooLarge: more than ``max_hypotheses`` entries. When no hypothesis parses,
         the first hypothesis' error class, with its message.
     """
-    if not isinstance(hypotheses, (list, tuple)):
-        raise MalformedInstruction(f"an N-best list must be a list of [text, score] pairs, got {excerpt(hypotheses)}")
-    if not hypotheses:
-        raise EmptyInstruction("the N-best list is empty")
-    most = _limit(max_hypotheses, MAX_HYPOTHESES)
-    if len(hypotheses) > most:
-        raise InstructionTooLarge(f"the N-best list has {len(hypotheses)} hypotheses, more than the {most} accepted")
-    texts, scores = [], []
-    for i, h in enumerate(hypotheses):
-        if not isinstance(h, (list, tuple)) or len(h) != 2 or not isinstance(h[0], str):
-            raise MalformedInstruction(f"N-best entry {i} must be [text, score], got {excerpt(h)}")
-        if isinstance(h[1], bool) or not isinstance(h[1], (int, float, np.integer, np.floating)):
-            raise MalformedInstruction(f"N-best entry {i} has a non-numeric score {excerpt(h[1])}")
-        try:
-            s = float(h[1])
-        except OverflowError:
-            s = math.inf
-        if not math.isfinite(s):
-            raise MalformedInstruction(f"N-best entry {i} has a non-finite score {excerpt(h[1])}")
-        texts.append(h[0])
-        scores.append(s)
-    weights = _normalise_scores(np.array(scores))
+    texts, weights = nbest_weights(hypotheses, _limit(max_hypotheses, MAX_HYPOTHESES))
     parsed: list[tuple[Instruction, float]] = []
     first_error: InstructionError | None = None
     for text, w in zip(texts, weights, strict=False):
@@ -322,32 +299,36 @@ def parse_nbest(
     if not parsed:
         assert first_error is not None  # every hypothesis failed, and there is at least one
         raise type(first_error)(f"no N-best hypothesis names a known place (first: {first_error})")
-    groups: dict[tuple[int, int, int], list[tuple[Instruction, float]]] = {}
-    for ins, w in parsed:
-        groups.setdefault((len(ins.waypoints), len(ins.avoid), len(ins.not_goal)), []).append((ins, w))
-    group = max(groups.values(), key=lambda g: (sum(w for _, w in g), -len(g)))
-    total = sum(w for _, w in group)
-    rel = [(ins, w / total if total > 0 else 1.0 / len(group)) for ins, w in group]
+    rel = heaviest_group(parsed, lambda ins: (len(ins.waypoints), len(ins.avoid), len(ins.not_goal)))
     top = max(rel, key=lambda p: p[1])[0]
 
-    def combine(pick) -> PlaceQuery:
-        bag: Counter = Counter()
-        for ins, w in rel:
-            for word, c in pick(ins).words.items():
-                bag[word] += w * c
-        alternatives = tuple(dict.fromkeys(tuple(sorted(pick(ins).words.items())) for ins, _ in rel))
-        return PlaceQuery(
-            dict(bag), pick(top).label, tuple(dict(a) for a in alternatives) if len(alternatives) > 1 else ()
-        )
+    def merged(role: str, j: int = 0) -> PlaceQuery:
+        return _merged_place([(_role_place(ins, role, j), w) for ins, w in rel], _role_place(top, role, j).label)
 
     return Instruction(
-        goal=combine(lambda i: i.goal),
-        waypoints=tuple(combine(lambda i, j=j: i.waypoints[j]) for j in range(len(top.waypoints))),
-        avoid=tuple(combine(lambda i, j=j: i.avoid[j]) for j in range(len(top.avoid))),
+        goal=merged("goal"),
+        waypoints=tuple(merged("waypoints", j) for j in range(len(top.waypoints))),
+        avoid=tuple(merged("avoid", j) for j in range(len(top.avoid))),
         text=top.text,
         lang=top.lang,
-        not_goal=tuple(combine(lambda i, j=j: i.not_goal[j]) for j in range(len(top.not_goal))),
+        not_goal=tuple(merged("not_goal", j) for j in range(len(top.not_goal))),
     )
+
+
+def _role_place(ins: Instruction, role: str, j: int) -> PlaceQuery:
+    """The goal of ``ins`` (role "goal"), or its j-th waypoint, avoided place or excluded goal."""
+    return ins.goal if role == "goal" else getattr(ins, role)[j]
+
+
+def _merged_place(weighted: Sequence[tuple[PlaceQuery, float]], label: str) -> PlaceQuery:
+    """One place named by weighted hypotheses as one query (Eq. 25): the bag sum_h w_h S_h, with each distinct
+    hypothesis bag as an alternative (none when they all agree)."""
+    bag: dict[str, float] = {}
+    for place, w in weighted:
+        for word, c in place.words.items():
+            bag[word] = bag.get(word, 0) + w * c
+    alternatives = tuple(dict.fromkeys(tuple(sorted(place.words.items())) for place, _ in weighted))
+    return PlaceQuery(bag, label, tuple(dict(a) for a in alternatives) if len(alternatives) > 1 else ())
 
 
 def to_instruction(
@@ -393,15 +374,3 @@ def _within_limits(ins: Instruction, max_waypoints: int | None, max_avoided: int
             f"not to end in, more than the {most_avoided} accepted"
         )
     return ins
-
-
-def _normalise_scores(scores: np.ndarray) -> np.ndarray:
-    if (scores >= 0).all():
-        total = scores.sum()
-        return scores / total if total > 0 else np.full(len(scores), 1.0 / len(scores))
-    if (scores <= 0).all():
-        return np.exp(scores - logsumexp(scores))
-    raise MalformedInstruction(
-        "N-best scores must be all >= 0 (confidences) or all <= 0 (log-probabilities), "
-        f"got {excerpt(str(scores.tolist()))}"
-    )

@@ -11,11 +11,12 @@ import pytest
 from spcotmhp.datasets import generate_environment
 from spcotmhp.learning.connectivity import trajectory_places as model_trajectory_places
 from spcotmhp.learning.distributions import DirichletCategoricals
-from spcotmhp.learning.gibbs import SpCoTMHP, TruncationWarning
+from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.hmm import runs, trajectory_places, transition_counts
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.posterior import Priors, SufficientStats, log_place_prior, posterior_mean_model
+from spcotmhp.learning.truncation import TruncationWarning
 from tests.helpers.learning import planted_dataset
 
 
