@@ -13,6 +13,7 @@ MODULES = [
     "spcotmhp.planning",
     "spcotmhp.planning.protocol",
     "spcotmhp.planning.instructions",
+    "spcotmhp.planning.nbest",
     "spcotmhp.metric.grid_search",
     "spcotmhp.metric.maps",
     "spcotmhp.learning.logspace",
