@@ -47,8 +47,8 @@ demo: $(STAMP_CORE)
 
 # lint, format and type checks first (the project's habits, enforced: ruff and mypy settings in pyproject.toml)
 test: install-all
-	$(VENV)/bin/ruff check spcotmhp tests benchmarks
-	$(VENV)/bin/ruff format --check spcotmhp tests benchmarks
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/mypy
 	$(PY) -m pytest -q
 
