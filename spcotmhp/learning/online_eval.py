@@ -84,28 +84,35 @@ def evaluate_online(
         },
     }
     if batch:
-        fitted: list[MultiRunSelector] = []
-        b = evaluate_learning(
-            dataset,
-            runs=seeds,
-            seed=seed,
-            iterations=iterations,
-            n_jobs=n_jobs,
-            methods=("tmhp_replay",),
-            use_features=use_features,
-            K=K,
-            L=L,
-            on_fit=lambda _name, sel: fitted.append(sel),
-        )["tmhp_replay"]
-        batch_samples = [batch_sample_summary(e.model_, dataset) for e in fitted[0].estimators_]
-        out["batch"] = {
-            **{k: getattr(b, k) for k in SCORES},
-            "std": b.std,
-            "time_s": b.time_s,
-            "sample": _mean_std_of(batch_samples),
-        }
+        out["batch"] = evaluate_batch(dataset, seeds, seed, iterations, n_jobs, use_features, K, L)
         out["difference"] = {k: out["online"][k] - out["batch"][k] for k in SCORES}
     return out
+
+
+def evaluate_batch(
+    dataset: Dataset, runs: int, seed: int, iterations: int, n_jobs: int, use_features: bool, K: int, L: int
+) -> dict:
+    """Batch learning's side of ``evaluate_online``: the means of ``runs`` runs of SpCoTMHP with reverse replay
+    (``table6.evaluate_learning``), their standard deviations, the time, and their final samples."""
+    fitted: list[MultiRunSelector] = []
+    b = evaluate_learning(
+        dataset,
+        runs=runs,
+        seed=seed,
+        iterations=iterations,
+        n_jobs=n_jobs,
+        methods=("tmhp_replay",),
+        use_features=use_features,
+        K=K,
+        L=L,
+        on_fit=lambda _name, sel: fitted.append(sel),
+    )["tmhp_replay"]
+    return {
+        **{k: getattr(b, k) for k in SCORES},
+        "std": b.std,
+        "time_s": b.time_s,
+        "sample": _mean_std_of([batch_sample_summary(e.model_, dataset) for e in fitted[0].estimators_]),
+    }
 
 
 def sample_summary(st: CollapsedState) -> dict[str, float]:
