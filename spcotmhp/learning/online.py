@@ -91,6 +91,18 @@ class TeachingEvent:
         return cls(float(x), float(y), words, features)
 
 
+def log_new_place_density(occ: OccupancyMap) -> float:
+    """log of 1 / (known area of ``occ``, m^2): the density of a position under a place with no events yet.
+
+    >>> from spcotmhp.metric.maps import OccupancyMap
+    >>> grid = np.zeros((4, 5), np.int8); grid[0, :] = -1  # 15 known cells of 0.5 m: 3.75 m^2
+    >>> round(log_new_place_density(OccupancyMap(grid, 0.5)), 6) == round(-math.log(3.75), 6)
+    True
+    """
+    known = ~occ.unknown
+    return -float(np.log(max(int(known.sum()), 1) * occ.resolution**2))
+
+
 def _is_number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
     """A real number (numpy scalars included), not a bool."""
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
@@ -245,8 +257,7 @@ class OnlineSpCoTMHP:
             self.state_ = CollapsedState(self.K, self.L, 0, None, hyper, self.replay, self.background_words)
             self.vocabulary_ = []
         if self.map_ is not None:
-            known = ~self.map_.unknown
-            self.state_.log_new_place = -float(np.log(max(known.sum(), 1) * self.map_.resolution**2))
+            self.state_.log_new_place = log_new_place_density(self.map_)
         self.word_index_ = {w: j for j, w in enumerate(self.vocabulary_)}
         self.update_times_: list[float] = []
         self.truncation_saturated_: list[str] = []

@@ -88,10 +88,12 @@ def evaluate_learning(
     n_jobs: int = 1,
     methods: tuple[str, ...] = tuple(METHODS),
     progress: Callable[[int], None] | None = None,
+    on_fit: Callable[[str, MultiRunSelector], None] | None = None,
     **params,
 ) -> dict[str, MethodScores]:
     """Table 6 on ``dataset``: ``runs`` runs of each method (run r = r-th child of ``seed``); ``params`` go to
-    SpCoTMHP (e.g. use_features=False, K=30).  ``progress(n)`` reports completed sweeps."""
+    SpCoTMHP (e.g. use_features=False, K=30).  ``progress(n)`` reports completed sweeps; ``on_fit(method,
+    selector)`` sees each method's fitted runs (``selector.estimators_``)."""
     concept_truth(dataset)
     out = {}
     for name in methods:
@@ -99,6 +101,8 @@ def evaluate_learning(
         t0 = time.perf_counter()
         sel = MultiRunSelector(est, runs=runs, n_jobs=n_jobs).fit(dataset, progress=progress)
         elapsed = time.perf_counter() - t0
+        if on_fit is not None:
+            on_fit(name, sel)
         scores = [score_run(dataset, e.places_, e.concepts_) for e in sel.estimators_]
         mean = {k: float(np.mean([s[k] for s in scores])) for k in scores[0]}
         std = {k: float(np.std([s[k] for s in scores])) for k in scores[0]}
