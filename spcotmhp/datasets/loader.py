@@ -326,7 +326,7 @@ def _places(folder: Path, lang: str) -> list[str] | None:
 
 
 def _adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
-    """adjacency.csv: a square, symmetric 0/1 matrix over the places (no header)."""
+    """adjacency.csv: a square, symmetric 0/1 matrix over the places with 1 on the diagonal (no header)."""
     path = folder / "adjacency.csv"
     if not path.is_file():
         return None
@@ -344,6 +344,12 @@ def _adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
         raise DatasetError(
             f"adjacency.csv is not symmetric: row {lines[r]} column {c + 1} is {values[r, c]:g} "
             f"but row {lines[c]} column {r + 1} is {values[c, r]:g}"
+        )
+    off = np.flatnonzero(np.diag(values) != 1)
+    if len(off):
+        r = int(off[0])
+        raise DatasetError(
+            f"adjacency.csv row {lines[r]} column {r + 1} is 0; the diagonal must be 1 (a place is connected to itself)"
         )
     if n_places is not None and rows != n_places:
         source = "places.csv" if (folder / "places.csv").is_file() else "truth.csv"

@@ -265,6 +265,10 @@ def test_places_and_adjacency(tmp_path):
         ),
         ({"adjacency_csv": "1,x\nx,1\n"}, "adjacency.csv row 1 column 2 is 'x', not a number"),
         (
+            {"adjacency_csv": "1,1\n1,0\n"},
+            "adjacency.csv row 2 column 2 is 0; the diagonal must be 1 (a place is connected to itself)",
+        ),
+        (
             {"adjacency_csv": "1,1,0\n1,1,1\n0,1,1\n", "places_csv": PLACES},
             "adjacency.csv is 3x3 but places.csv has 2 places",
         ),
