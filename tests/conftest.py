@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 from tests.helpers.server import supervised_model_dir
 
@@ -13,3 +15,10 @@ from tests.helpers.server import supervised_model_dir
 def model_3ldk06_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The supervised fit of the bundled 3LDK_06 home (English words), saved once per session; read it only."""
     return supervised_model_dir("3LDK_06", tmp_path_factory.mktemp("shared-model") / "3LDK_06")
+
+
+# Property tests are reproducible by default: the same examples on every run, in CI and here (a test that fails
+# at random is no test). HYPOTHESIS_PROFILE=explore searches fresh examples instead.
+settings.register_profile("deterministic", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
