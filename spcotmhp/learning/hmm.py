@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.model import log_gaussian
+from spcotmhp.learning.territory import most_probable_place
 
 
 @njit(cache=True)
@@ -29,23 +29,38 @@ def _logsumexp_vec(v: np.ndarray) -> float:
 @njit(cache=True)
 def _forward_scaled(log_emit, log_trans, log_init, alpha):
     """Forward pass in probability space, each step scaled by its row maximum; alpha[e] holds log filtered
-    probabilities up to a constant per e.  Returns False when a step underflows (then use the log pass)."""
+    probabilities up to a constant per e.  Returns False when a step underflows (then use the log pass).
+
+    Sparse but exact: a state whose scaled emission underflows to 0 gets 0 without its sum, and the sum runs
+    over the states of non-zero filtered probability only, in the same order (the terms left out are exact
+    zeros), so the result is the dense matrix-vector product's to the last bit, at a cost of
+    (places near x_e) x (places near x_{e-1}) per event instead of K^2."""
     E, K = log_emit.shape
     trans = np.exp(log_trans)
     prev = np.empty(K)
     cur = np.empty(K)
+    support = np.empty(K, dtype=np.int64)
     m = (log_init + log_emit[0]).max()
     for k in range(K):
         prev[k] = np.exp(log_init[k] + log_emit[0, k] - m)
         alpha[0, k] = np.log(prev[k]) if prev[k] > 0 else -np.inf
     for e in range(1, E):
         me = log_emit[e].max()
+        n = 0
+        for j in range(K):
+            if prev[j] != 0.0:
+                support[n] = j
+                n += 1
         total = 0.0
         for k in range(K):
+            scale = np.exp(log_emit[e, k] - me)
+            if scale == 0.0:
+                cur[k] = 0.0
+                continue
             acc = 0.0
-            for j in range(K):
-                acc += prev[j] * trans[j, k]
-            cur[k] = acc * np.exp(log_emit[e, k] - me)
+            for t in range(n):
+                acc += prev[support[t]] * trans[support[t], k]
+            cur[k] = acc * scale
             total += cur[k]
         if not total > 1e-280:
             return False
@@ -141,19 +156,18 @@ def dwell_filtered_sequence(labels: np.ndarray, min_dwell: int) -> np.ndarray:
     return kept[np.concatenate(([True], kept[1:] != kept[:-1]))]
 
 
-def visited_places(log_score: np.ndarray, min_dwell: int) -> np.ndarray:
-    """Places visited along a trajectory: the best place per pose from (T, K) log scores, then
-    ``dwell_filtered_sequence``."""
-    return dwell_filtered_sequence(np.argmax(log_score, axis=1), min_dwell)
-
-
 def trajectory_places(
     trajectory: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray, min_dwell: int = 3
 ) -> np.ndarray:
     """The places visited along ``trajectory`` (T, 2): each pose gets its most probable place,
-    argmax_k N(x_t | mu_k, Sigma_k) p(k) over the places with p(k) > 0 (``log_prior`` -inf elsewhere; cf. Eq. 3),
-    then ``dwell_filtered_sequence``.  The one labelling used by the sampler (current draws, place prior of
-    the current counts), the exported psi and the walk adjacency (a model's means and ``log_place_prior``)."""
+    argmax_k N(x_t | mu_k, Sigma_k) p(k) over the places with p(k) > 0 (``log_prior`` -inf elsewhere; cf. Eq. 3;
+    compiled, :func:`~spcotmhp.learning.territory.most_probable_place`, without a (T, K) table), then
+    ``dwell_filtered_sequence``.  The one labelling used by the sampler (current draws, place prior of the
+    current counts), the exported psi and the walk adjacency (a model's means and ``log_place_prior``)."""
     active = np.flatnonzero(np.isfinite(log_prior))
-    lp = log_gaussian(np.asarray(trajectory, dtype=float), mu[active], Sigma[active]) + log_prior[active]
-    return active[visited_places(lp, min_dwell)]
+    if not len(active):
+        return active
+    best = most_probable_place(
+        np.asarray(trajectory, dtype=float).reshape(-1, 2), mu[active], Sigma[active], log_prior[active]
+    )
+    return active[dwell_filtered_sequence(best, min_dwell)]

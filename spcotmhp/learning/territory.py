@@ -26,7 +26,7 @@ from numba import njit, prange
 from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import snap
 
-__all__ = ["place_territories", "territory_adjacency"]
+__all__ = ["most_probable_place", "place_territories", "territory_adjacency"]
 
 
 def place_territories(
@@ -52,17 +52,7 @@ def place_territories(
         return labels
     prior = model.log_place_prior()[act]
     if log_density is None:  # compiled, both cores; memory O(H W), not O(H W K)
-        log_gaussian(centres[:1, :1], model.mu[act], model.Sigma[act])  # checks the covariances
-        S = model.Sigma[act].astype(float)
-        det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
-        best = _most_probable(
-            np.ascontiguousarray(centres, dtype=float),
-            model.mu[act].astype(float),
-            S,
-            det,
-            np.log(det),
-            prior.astype(float),
-        )
+        best = most_probable_place(centres, model.mu[act], model.Sigma[act], prior)
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
@@ -89,6 +79,20 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     owned = np.unique(t[t >= 0])
     A[owned, owned] = 1
     return A
+
+
+def most_probable_place(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
+    """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
+    ties: the posterior of Eq. 3 up to its normaliser. Compiled, both cores, memory O(points) (not O(points K));
+    the same numbers as :func:`~spcotmhp.learning.model.log_gaussian` plus ``log_prior``. Raises ValueError
+    for a covariance that is not positive definite."""
+    points = np.asarray(points, dtype=float)
+    log_gaussian(points.reshape(-1, 2)[:1], mu, Sigma)  # checks the covariances
+    S = np.asarray(Sigma, dtype=float)
+    det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
+    grid = np.ascontiguousarray(points.reshape(-1, 1, 2) if points.ndim != 3 else points)
+    best = _most_probable(grid, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
+    return best.reshape(points.shape[:-1])
 
 
 @njit(cache=True, parallel=True)

@@ -73,6 +73,7 @@ from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.places import candidate_points, connected_places, snap_into_territories
+from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import grown_territories, tube_window
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
@@ -110,6 +111,7 @@ class PlanningGraph:
     main: np.ndarray | None = None  # (h, w) the largest free component (where the nodes are)
     _territories: dict = field(default_factory=dict, repr=False)  # place -> (row, col, grown mask)
     _map_cost: np.ndarray | None = field(default=None, repr=False)
+    _clearance: np.ndarray | None = field(default=None, repr=False)
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
@@ -369,6 +371,14 @@ class PlanningGraph:
             n_actions = self.settings.connectivity + 1
             self._map_cost = np.where(self.traversable, math.log(n_actions) - self.log_p, np.inf)
         return self._map_cost
+
+    @property
+    def clearance(self) -> np.ndarray:
+        """(h, w) chessboard distance of each traversable cell to the nearest cell that is not
+        (:func:`~spcotmhp.planning.sight.chessboard_clearance`; what line-of-sight tests skip by), once per graph."""
+        if self._clearance is None:
+            self._clearance = chessboard_clearance(self.traversable)
+        return self._clearance
 
     def tube(self, places: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(origin, mask)``: the smallest window of the crop (corner at crop cell ``origin``) that holds the
