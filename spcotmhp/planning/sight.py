@@ -26,9 +26,10 @@ from numba import njit
 
 
 def chessboard_clearance(allowed: np.ndarray) -> np.ndarray:
-    """(h, w) int32: for an allowed cell, the chessboard (8-neighbour) distance to the nearest cell that is not
-    allowed or lies outside the grid (1 next to one); 0 on cells that are not allowed."""
-    return _chessboard(np.ascontiguousarray(allowed, dtype=np.bool_))
+    """(h, w) uint8: for an allowed cell, the chessboard (8-neighbour) distance to the nearest cell that is not
+    allowed or lies outside the grid (1 next to one), capped at 255 (a smaller value is still true: every cell
+    that close is allowed); 0 on cells that are not allowed. One byte a cell keeps the tests in cache."""
+    return np.minimum(_chessboard(np.ascontiguousarray(allowed, dtype=np.bool_)), 255).astype(np.uint8)
 
 
 @njit(cache=True)
@@ -95,16 +96,30 @@ def _row_free(allowed, r0, c0, sr, sc, swap, a, lo, hi):  # pragma: no cover - n
 def clear(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
     """True if every cell of the supercover of the segment between the centres of (r0, c0) and (r1, c1) is
     allowed (module docstring); ``clearance`` is :func:`chessboard_clearance` of ``allowed``."""
-    for q in (2, 1, 3):  # quick rejection: the cells of the points at 1/2, 1/4, 3/4 are in the supercover
-        if not allowed[(q * r1 + (4 - q) * r0 + 2) // 4, (q * c1 + (4 - q) * c0 + 2) // 4]:
-            return False
+    return blocked_at(allowed, clearance, r0, c0, r1, c1)[0] < 0
+
+
+@njit(cache=True)
+def _point_cell_free(allowed, r0, c0, r1, c1, p, q):  # pragma: no cover - numba
+    """Whether the cell holding the point at p / q of the segment (a supercover cell: a point on a cell boundary
+    touches the cells on both sides, so any rounding is one) is allowed; exact integer arithmetic."""
+    return allowed[(2 * (p * r1 + (q - p) * r0) + q) // (2 * q), (2 * (p * c1 + (q - p) * c0) + q) // (2 * q)]
+
+
+@njit(cache=True)
+def blocked_at(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
+    """(p, q): a point at p / q of the segment lies in a cell that is not allowed, or (-1, 1) when the segment is
+    clear (:func:`clear`)."""
+    for p in (2, 1, 3):  # quick rejection: the points at 1/2, 1/4, 3/4
+        if not _point_cell_free(allowed, r0, c0, r1, c1, p, 4):
+            return p, 4
     nr, nc = abs(r1 - r0), abs(c1 - c0)
     sr = 1 if r1 >= r0 else -1
     sc = 1 if c1 >= c0 else -1
     swap = nc > nr  # the major axis is the column
     N, n = (nc, nr) if swap else (nr, nc)
     if N == 0:
-        return allowed[r0, c0]
+        return (-1, 1) if allowed[r0, c0] else (0, 1)
     lo, hi = 0, N  # the major rows lo..hi are still to be tested
     while lo <= hi:
         for forward in (True, False):
@@ -113,9 +128,9 @@ def clear(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
             a = lo if forward else hi
             b0, b1 = _b_lo(a, n, N), _b_hi(a, n, N)
             if not _row_free(allowed, r0, c0, sr, sc, swap, a, b0, b1):
-                return False
+                return a, N
             b = b0 if forward else b1  # the tested cell the certified rows lie around
-            d = clearance[r0 + sr * b, c0 + sc * a] if swap else clearance[r0 + sr * a, c0 + sc * b]
+            d = np.int64(clearance[r0 + sr * b, c0 + sc * a] if swap else clearance[r0 + sr * a, c0 + sc * b])
             if forward:
                 m = min(d - 1, hi - a)
                 while m > 0 and _b_hi(a + m, n, N) - b > d - 1:
@@ -126,7 +141,7 @@ def clear(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
                 while m > 0 and b - _b_lo(a - m, n, N) > d - 1:
                     m -= 1
                 hi = a - m - 1
-    return True
+    return -1, 1
 
 
 @njit(cache=True)
@@ -168,7 +183,8 @@ def _line4(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
 @njit(cache=True)
 def shortcut(cells, allowed, clearance, fixed, four):  # pragma: no cover - numba
     """Between consecutive indices of ``fixed`` (kept), from each kept cell jump to the farthest cell of the
-    piece it sees (:func:`clear`), drawn as the Bresenham line (``four``: the 4-connected line). Returns the
+    piece it sees (:func:`clear`; the next candidate is first probed where the last one was blocked, at the
+    same fraction of its segment: nearby segments meet the same wall), drawn as the Bresenham line (``four``: the 4-connected line). Returns the
     cells and the new index of each fixed one."""
     n = cells.shape[0]
     out = np.empty((n, 2), np.int64)
@@ -179,7 +195,13 @@ def shortcut(cells, allowed, clearance, fixed, four):  # pragma: no cover - numb
         i, end = fixed[s], fixed[s + 1]
         while i < end:
             j = end  # the farthest visible cell of this segment
-            while j > i + 1 and not clear(allowed, clearance, cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1]):
+            hp, hq = -1, 1  # where the last segment tested from i was blocked: probed first on the next one
+            while j > i + 1:
+                r0, c0, r1, c1 = cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1]
+                if hp < 0 or _point_cell_free(allowed, r0, c0, r1, c1, hp, hq):
+                    hp, hq = blocked_at(allowed, clearance, r0, c0, r1, c1)
+                    if hp < 0:
+                        break
                 j -= 1
             if j == i + 1:
                 out[k] = cells[j]
