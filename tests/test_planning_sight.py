@@ -99,8 +99,7 @@ def greedy(cells: np.ndarray, allowed: np.ndarray, fixed: list[int]) -> list[tup
             for t in range(1, n + 1):
                 out.append(
                     tuple(
-                        int(a + np.sign(b - a) * ((2 * abs(b - a) * t + n) // (2 * n)))
-                        for a, b in ((r0, r1), (c0, c1))
+                        int(a + np.sign(b - a) * ((2 * abs(b - a) * t + n) // (2 * n))) for a, b in ((r0, r1), (c0, c1))
                     )
                 )
             i = j
@@ -138,7 +137,7 @@ def test_shortcuts_keep_every_guarantee_and_match_the_brute_force_scan(case):
     assert allowed[out[:, 0], out[:, 1]].all()  # never into a blocked cell
     assert path_length(out, 1.0) <= path_length(cells, 1.0) + 1e-9  # never longer
     assert (out[0] == cells[0]).all() and (out[-1] == cells[-1]).all()
-    assert moved == sorted(moved) and all((out[m] == cells[a]).all() for m, a in zip(moved, anchors))
+    assert moved == sorted(moved) and all((out[m] == cells[a]).all() for m, a in zip(moved, anchors, strict=True))
     if len(out) > 1:
         assert (np.abs(np.diff(out, axis=0)).max(axis=1) <= 1).all()
     if len(cells) >= 3:

@@ -36,7 +36,7 @@ def _forward_scaled(log_emit, log_trans, log_init, alpha):
     zeros), so the result is the dense matrix-vector product's to the last bit, at a cost of
     (places near x_e) x (places near x_{e-1}) per event instead of K^2."""
     E, K = log_emit.shape
-    trans = np.exp(log_trans)
+    into = np.exp(log_trans).T.copy()  # into[k, j] = p(k | j): a contiguous row per target state
     prev = np.empty(K)
     cur = np.empty(K)
     support = np.empty(K, dtype=np.int64)
@@ -59,7 +59,7 @@ def _forward_scaled(log_emit, log_trans, log_init, alpha):
                 continue
             acc = 0.0
             for t in range(n):
-                acc += prev[support[t]] * trans[support[t], k]
+                acc += prev[support[t]] * into[k, support[t]]
             cur[k] = acc * scale
             total += cur[k]
         if not total > 1e-280:

@@ -184,8 +184,8 @@ def _line4(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
 def shortcut(cells, allowed, clearance, fixed, four):  # pragma: no cover - numba
     """Between consecutive indices of ``fixed`` (kept), from each kept cell jump to the farthest cell of the
     piece it sees (:func:`clear`; the next candidate is first probed where the last one was blocked, at the
-    same fraction of its segment: nearby segments meet the same wall), drawn as the Bresenham line (``four``: the 4-connected line). Returns the
-    cells and the new index of each fixed one."""
+    same fraction of its segment: nearby segments meet the same wall), drawn as the Bresenham line (``four``:
+    the 4-connected line). Returns the cells and the new index of each fixed one."""
     n = cells.shape[0]
     out = np.empty((n, 2), np.int64)
     out[0] = cells[0]
