@@ -14,6 +14,9 @@ from numba import njit
 
 from spcotmhp.learning.territory import most_probable_place
 
+EMIT_FLOOR = 60.0
+"""Nats below an event's best emission under which a state is dropped from the forward pass (``_forward_scaled``)."""
+
 
 @njit(cache=True)
 def _logsumexp_vec(v: np.ndarray) -> float:
@@ -31,10 +34,12 @@ def _forward_scaled(log_emit, log_trans, log_init, alpha):
     """Forward pass in probability space, each step scaled by its row maximum; alpha[e] holds log filtered
     probabilities up to a constant per e.  Returns False when a step underflows (then use the log pass).
 
-    Sparse but exact: a state whose scaled emission underflows to 0 gets 0 without its sum, and the sum runs
-    over the states of non-zero filtered probability only, in the same order (the terms left out are exact
-    zeros), so the result is the dense matrix-vector product's to the last bit, at a cost of
-    (places near x_e) x (places near x_{e-1}) per event instead of K^2."""
+    Sparse: a state whose emission is more than :data:`EMIT_FLOOR` nats below the event's best (a Gaussian many
+    standard deviations away, relative weight under 1e-26) gets filtered probability 0 without its sum, and
+    the sum runs over the states of non-zero filtered probability only, in the same order (the terms left out
+    are exact zeros), at a cost of (places near x_e) x (places near x_{e-1}) per event instead of K^2. Only
+    the floor departs from the dense product; the draws on the bundled datasets are the same.
+    The first event and the log-space fallback stay dense."""
     E, K = log_emit.shape
     into = np.exp(log_trans).T.copy()  # into[k, j] = p(k | j): a contiguous row per target state
     prev = np.empty(K)
@@ -53,10 +58,10 @@ def _forward_scaled(log_emit, log_trans, log_init, alpha):
                 n += 1
         total = 0.0
         for k in range(K):
-            scale = np.exp(log_emit[e, k] - me)
-            if scale == 0.0:
+            if log_emit[e, k] - me < -EMIT_FLOOR:
                 cur[k] = 0.0
                 continue
+            scale = np.exp(log_emit[e, k] - me)
             acc = 0.0
             for t in range(n):
                 acc += prev[support[t]] * into[k, support[t]]
