@@ -1,0 +1,27 @@
+"""Timing under load: each measurement repeated, the fastest kept (the work itself, without the time other
+processes on a shared machine took from it); the first try is kept too."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import TypeVar
+
+T = TypeVar("T")
+
+
+def best_of(
+    fn: Callable[[], T], repeat: int, seconds: Callable[[T, float], float] | None = None
+) -> tuple[T, float, float]:
+    """Run ``fn`` ``repeat`` times; returns its last result, the fastest time and the first one.
+    ``seconds(result, wall)`` picks the time of one call (default: the wall time around it)."""
+    best, first, out = float("inf"), None, None
+    for _ in range(max(1, repeat)):
+        t0 = time.perf_counter()
+        out = fn()
+        t = time.perf_counter() - t0
+        if seconds is not None:
+            t = seconds(out, t)
+        best = min(best, t)
+        first = t if first is None else first
+    return out, best, first
