@@ -52,7 +52,7 @@ def place_territories(
         return labels
     prior = model.log_place_prior()[act]
     if log_density is None:  # compiled, both cores; memory O(H W), not O(H W K)
-        best = most_probable_place(centres, model.mu[act], model.Sigma[act], prior)
+        best = most_probable_place(centres, model.mu[act], model.Sigma[act], prior, parallel=True)
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
@@ -81,9 +81,12 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     return A
 
 
-def most_probable_place(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
+def most_probable_place(
+    points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray, parallel: bool = False
+) -> np.ndarray:
     """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
-    ties: the posterior of Eq. 3 up to its normaliser. Compiled, both cores, memory O(points) (not O(points K));
+    ties: the posterior of Eq. 3 up to its normaliser. Compiled (``parallel``: on both cores, with OpenMP,
+    after which the process must not fork), memory O(points) (not O(points K));
     the same numbers as :func:`~spcotmhp.learning.model.log_gaussian` plus ``log_prior``, and the same answer as
     trying every place at every point (:func:`_most_probable`). Raises ValueError for a covariance that is not
     positive definite."""
@@ -92,7 +95,8 @@ def most_probable_place(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, l
     S = np.asarray(Sigma, dtype=float)
     det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
     flat = np.ascontiguousarray(points.reshape(-1, 2))
-    best = _most_probable(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
+    kernel = _most_probable_parallel if parallel else _most_probable
+    best = kernel(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
     return best.reshape(points.shape[:-1])
 
 
@@ -100,9 +104,20 @@ CHUNK = 64  # consecutive points bounded together (a row of cells, a stretch of 
 
 
 @njit(cache=True, parallel=True)
+def _most_probable_parallel(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
+    """:func:`_most_probable` on both cores (the chunks in parallel)."""
+    out = np.zeros(points.shape[0], dtype=np.int64)
+    coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
+    for ch in prange((points.shape[0] + CHUNK - 1) // CHUNK):
+        _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out)
+    return out
+
+
+@njit(cache=True)
 def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
     """arg max_n log N(x | mu_n, Sigma_n) + prior_n per point (first maximum on ties), with the arithmetic of
-    :func:`~spcotmhp.learning.model.log_gaussian`, over chunks of :data:`CHUNK` consecutive points.
+    :func:`~spcotmhp.learning.model.log_gaussian`, over chunks of :data:`CHUNK` consecutive points; one thread
+    (no OpenMP, so the Gibbs runs can still fork worker processes).
 
     Within a chunk, place n can only win if an upper bound of its score over the chunk's bounding box reaches
     the smallest exact score, over the chunk, of the place with the highest bound (every point's best score is
@@ -110,45 +125,59 @@ def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover 
     lambda_min the smaller eigenvalue of the quadratic form's matrix [[d, -(b+c)/2], [-(b+c)/2, a]] (whatever
     the Gaussian's orientation), with |x - mu| the distance from the mean to the box, widened by a margin far
     above the rounding error, so the answer is the exhaustive one."""
-    P, n = points.shape[0], mu.shape[0]
-    out = np.zeros(P, dtype=np.int64)
-    coef = np.empty(n)  # lower bound of maha per squared distance
-    const = np.empty(n)  # the score without its Mahalanobis term
+    out = np.zeros(points.shape[0], dtype=np.int64)
+    coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
+    for ch in range((points.shape[0] + CHUNK - 1) // CHUNK):
+        _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out)
+    return out
+
+
+@njit(cache=True)
+def _place_bounds(mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
+    """Per place: a lower bound of the Mahalanobis distance per squared distance, and the score without it."""
+    n = mu.shape[0]
+    coef = np.empty(n)
+    const = np.empty(n)
     for k in range(n):
         a, h, d = Sigma[k, 0, 0], 0.5 * (Sigma[k, 0, 1] + Sigma[k, 1, 0]), Sigma[k, 1, 1]
         lam = 0.5 * (a + d) - np.sqrt(0.25 * (a - d) ** 2 + h * h)
         coef[k] = max(lam, 0.0) / det[k] * (1.0 - 1e-9)
         const[k] = (-0.5 * log_det[k] - LOG_2PI) + prior[k]
-    for ch in prange((P + CHUNK - 1) // CHUNK):
-        lo, hi = ch * CHUNK, min(P, ch * CHUNK + CHUNK)
-        x0, x1 = points[lo:hi, 0].min(), points[lo:hi, 0].max()
-        y0, y1 = points[lo:hi, 1].min(), points[lo:hi, 1].max()
-        bound = np.empty(n)
-        g = 0
-        for k in range(n):
-            dx = max(x0 - mu[k, 0], mu[k, 0] - x1, 0.0)
-            dy = max(y0 - mu[k, 1], mu[k, 1] - y1, 0.0)
-            bound[k] = const[k] - 0.5 * coef[k] * (dx * dx + dy * dy)
-            if bound[k] > bound[g]:
-                g = k
-        floor = np.inf  # the lowest score of place g over the chunk
-        for p in range(lo, hi):
-            floor = min(floor, _score(points, p, mu, Sigma, det, log_det, prior, g))
-        floor -= 1e-6 * (1.0 + abs(floor))
-        cand = np.empty(n, dtype=np.int64)
-        m = 0
-        for k in range(n):
-            if not bound[k] + 1e-6 * (1.0 + abs(bound[k])) < floor:
-                cand[m] = k
-                m += 1
-        for p in range(lo, hi):
-            top = -np.inf
-            for t in range(m):
-                score = _score(points, p, mu, Sigma, det, log_det, prior, cand[t])
-                if score > top:
-                    top = score
-                    out[p] = cand[t]
-    return out
+    return coef, const
+
+
+@njit(cache=True)
+def _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out):  # pragma: no cover - numba
+    """The most probable place of the points of chunk ``ch`` into ``out`` (:func:`_most_probable`)."""
+    n = mu.shape[0]
+    lo, hi = ch * CHUNK, min(points.shape[0], ch * CHUNK + CHUNK)
+    x0, x1 = points[lo:hi, 0].min(), points[lo:hi, 0].max()
+    y0, y1 = points[lo:hi, 1].min(), points[lo:hi, 1].max()
+    bound = np.empty(n)
+    g = 0
+    for k in range(n):
+        dx = max(x0 - mu[k, 0], mu[k, 0] - x1, 0.0)
+        dy = max(y0 - mu[k, 1], mu[k, 1] - y1, 0.0)
+        bound[k] = const[k] - 0.5 * coef[k] * (dx * dx + dy * dy)
+        if bound[k] > bound[g]:
+            g = k
+    floor = np.inf  # the lowest score of place g over the chunk
+    for p in range(lo, hi):
+        floor = min(floor, _score(points, p, mu, Sigma, det, log_det, prior, g))
+    floor -= 1e-6 * (1.0 + abs(floor))
+    cand = np.empty(n, dtype=np.int64)
+    m = 0
+    for k in range(n):
+        if not bound[k] + 1e-6 * (1.0 + abs(bound[k])) < floor:
+            cand[m] = k
+            m += 1
+    for p in range(lo, hi):
+        top = -np.inf
+        for t in range(m):
+            score = _score(points, p, mu, Sigma, det, log_det, prior, cand[t])
+            if score > top:
+                top = score
+                out[p] = cand[t]
 
 
 @njit(cache=True)
