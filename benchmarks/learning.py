@@ -6,7 +6,8 @@ Prints a markdown table on stdout: for each dataset, the seconds for ``--runs`` 
 ``--jobs`` worker processes (ratio = one process / workers, the speed-up), the milliseconds per sweep, and the
 share of a sweep spent in the two numba kernels (FFBS of the places, collapsed concept sweep), measured on one
 extra run with the kernels timed.  The paper reports about 130 s for its ten runs (Python, i7-6850K); the target
-here is <= 10 s on 2 cores.  numba compilation happens before any timing.
+here is <= 10 s on 2 cores.  numba compilation happens before any timing.  The CPU columns give the CPU seconds
+of the runs (this process and its workers): on a machine shared with other jobs, the work itself.
 
 ``--scale``: learning at scale (issue 11) instead, on a generated office of 200 rooms with 25 teaching events
 each (5,000 events, ``datasets.synthetic.generate_environment("office", n_rooms=200, size=2000,
@@ -17,6 +18,7 @@ events_per_room=25)``, words only, a 150,000-pose trajectory) with truncations K
 from __future__ import annotations
 
 import argparse
+import resource
 import time
 import warnings
 
@@ -63,6 +65,12 @@ def kernel_share(data, use_features: bool, iterations: int, **size) -> tuple[flo
     return spent["ffbs"] / total, spent["sweep"] / total
 
 
+def _cpu_seconds() -> float:
+    """CPU time of this process and of its finished worker processes (on a shared machine, the work itself)."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=10)
@@ -78,14 +86,16 @@ def main() -> None:
     else:
         cases = [(f"{name} ({lang})", load_bundled(name, lang=lang), feats, {}) for name, lang, feats in CASES]
     print(
-        f"| dataset | features | {args.runs} runs, 1 process (s) | {args.runs} runs, {args.jobs} processes (s) "
-        "| ratio | ms per sweep | FFBS share | concept sweep share |"
+        f"| dataset | features | {args.runs} runs, 1 process (s) | CPU (s) "
+        f"| {args.runs} runs, {args.jobs} processes (s) | CPU (s) | ratio | ms per sweep "
+        "| FFBS share | concept sweep share |"
     )
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for label, data, feats, size in cases:
         fit_runs(data, runs=1, iterations=2, use_features=feats, **size)  # compile / load the numba caches
-        times = []
+        times, cpu = [], []
         for jobs in (1, args.jobs):
+            c0 = _cpu_seconds()
             t0 = time.perf_counter()
             fit_runs(
                 data,
@@ -97,10 +107,11 @@ def main() -> None:
                 **size,
             )
             times.append(time.perf_counter() - t0)
+            cpu.append(_cpu_seconds() - c0)
         share = kernel_share(data, feats, args.iterations, **size)
         per_sweep = 1000 * times[0] / (args.runs * args.iterations)
         print(
-            f"| {label} | {'yes' if feats else 'no'} | {times[0]:.2f} | {times[1]:.2f} "
+            f"| {label} | {'yes' if feats else 'no'} | {times[0]:.2f} | {cpu[0]:.1f} | {times[1]:.2f} | {cpu[1]:.1f} "
             f"| {times[0] / times[1]:.2f} | {per_sweep:.2f} | {share[0]:.0%} | {share[1]:.0%} |"
         )
 
