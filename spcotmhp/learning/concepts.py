@@ -104,15 +104,22 @@ def _concept_tokens(e, t_ptr, t_word, z, words, reps):
 
 
 @njit(cache=True)
-def _word_term(l, beta, V, W_lv, W_l, words, reps, m):
+def _word_term(l, beta, W_lv, words, reps, m, log_tot):
     """log DirMult of the concept tokens of S_e (``_concept_tokens``) under concept l (event e removed from the
-    counts)."""
+    counts); ``log_tot[l, j]`` = log(V beta + W_l + j) (``_total_logs``)."""
     lp = 0.0
-    j = 0.0
     for t in range(m):
-        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log(V * beta + W_l[l] + j)
-        j += 1.0
+        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log_tot[l, t]
     return lp
+
+
+@njit(cache=True)
+def _total_logs(l, beta, V, W_l, log_tot):
+    """log(V beta + W_l + j) for j = 0 .. (longest utterance - 1), after concept l's token count changed."""
+    j = 0.0
+    for t in range(log_tot.shape[1]):
+        log_tot[l, t] = log(V * beta + W_l[l] + j)
+        j += 1.0
 
 
 @njit(cache=True)
@@ -210,7 +217,7 @@ def _concept_sweep(
     use_features,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
-    Every count array is updated in place. The logs of the concept and concept-place counts are kept in tables
+    Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in tables
     and refreshed where the counts change (the same values as computing them for every event and concept)."""
     logp = np.empty(L)
     saved = np.empty(f_idx.shape[0])  # psi of the old concept before removal, restored if e stays there
@@ -219,8 +226,9 @@ def _concept_sweep(
         longest = max(longest, t_ptr[e + 1] - t_ptr[e])
     tok_words = np.empty(longest, np.int64)
     tok_reps = np.empty(longest)
-    log_a, log_c, log_lk = np.empty(L), np.empty(L), np.empty((L, K))
+    log_a, log_c, log_lk, log_tot = np.empty(L), np.empty(L), np.empty((L, K)), np.empty((L, longest))
     for l in range(L):
+        _total_logs(l, beta, V, W_l, log_tot)
         for k in range(K):
             _count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
     u = 0
@@ -232,6 +240,7 @@ def _concept_sweep(
         n_lk[old, k] -= 1.0
         _count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
         _move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
+        _total_logs(old, beta, V, W_l, log_tot)
         m = _concept_tokens(e, t_ptr, t_word, z, tok_words, tok_reps)
         if use_features:
             for p in range(f_ptr[e], f_ptr[e + 1]):
@@ -245,7 +254,7 @@ def _concept_sweep(
                 logp[l] = empty_value
                 continue
             lp = log_a[l] + log_lk[l, k] - log_c[l]
-            lp += _word_term(l, beta, V, W_lv, W_l, tok_words, tok_reps, m)
+            lp += _word_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
             if use_features:
                 lp += _feature_term(
                     l, e, n_l[l], chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
@@ -270,6 +279,7 @@ def _concept_sweep(
                 _refresh_psi(psi_ld, new, e, chi, F_ld, f_ptr, f_idx)
         if background:
             u = _resample_switches(new, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_tot, t_ptr, t_word, z)
+        _total_logs(new, beta, V, W_l, log_tot)
     return C
 
 
