@@ -11,14 +11,14 @@ T = TypeVar("T")
 
 
 def best_of(
-    fn: Callable[[], T], repeat: int, seconds: Callable[[T, float], float] | None = None
+    repeat: int, fn: Callable[..., T], *args, seconds: Callable[[T, float], float] | None = None, **kwargs
 ) -> tuple[T, float, float]:
-    """Run ``fn`` ``repeat`` times; returns its last result, the fastest time and the first one.
+    """Run ``fn(*args, **kwargs)`` ``repeat`` times; returns its last result, the fastest time and the first one.
     ``seconds(result, wall)`` picks the time of one call (default: the wall time around it)."""
     best, first, out = float("inf"), None, None
     for _ in range(max(1, repeat)):
         t0 = time.perf_counter()
-        out = fn()
+        out = fn(*args, **kwargs)
         t = time.perf_counter() - t0
         if seconds is not None:
             t = seconds(out, t)
