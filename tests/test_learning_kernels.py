@@ -30,11 +30,11 @@ def places_and_points(draw):
 
 
 @settings(max_examples=150, deadline=None, derandomize=True)
-@given(places_and_points(), st.booleans())
-def test_most_probable_place_is_the_exhaustive_arg_max(case, parallel):
+@given(places_and_points())
+def test_most_probable_place_is_the_exhaustive_arg_max(case):
     points, mu, Sigma, log_prior = case
     expected = np.argmax(log_gaussian(points, mu, Sigma) + log_prior, axis=1)
-    assert (most_probable_place(points, mu, Sigma, log_prior, parallel=parallel) == expected).all()
+    assert (most_probable_place(points, mu, Sigma, log_prior) == expected).all()
 
 
 def test_trajectory_places_uses_the_places_with_events_only():

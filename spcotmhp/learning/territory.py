@@ -21,7 +21,7 @@ can drive from one place to another, the place graph connects them, directly or 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import snap
@@ -51,8 +51,8 @@ def place_territories(
     if not mask.any() or len(act) == 0:
         return labels
     prior = model.log_place_prior()[act]
-    if log_density is None:  # compiled, both cores; memory O(H W), not O(H W K)
-        best = most_probable_place(centres, model.mu[act], model.Sigma[act], prior, parallel=True)
+    if log_density is None:  # compiled, chunk-bounded; memory O(H W), not O(H W K)
+        best = most_probable_place(centres, model.mu[act], model.Sigma[act], prior)
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
@@ -81,12 +81,10 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     return A
 
 
-def most_probable_place(
-    points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray, parallel: bool = False
-) -> np.ndarray:
+def most_probable_place(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
     """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
-    ties: the posterior of Eq. 3 up to its normaliser. Compiled (``parallel``: on both cores, with OpenMP,
-    after which the process must not fork), memory O(points) (not O(points K));
+    ties: the posterior of Eq. 3 up to its normaliser. Compiled, one thread (no OpenMP: the Gibbs runs fork
+    worker processes after using it), memory O(points) (not O(points K));
     the same numbers as :func:`~spcotmhp.learning.model.log_gaussian` plus ``log_prior``, and the same answer as
     trying every place at every point (:func:`_most_probable`). Raises ValueError for a covariance that is not
     positive definite."""
@@ -95,29 +93,17 @@ def most_probable_place(
     S = np.asarray(Sigma, dtype=float)
     det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
     flat = np.ascontiguousarray(points.reshape(-1, 2))
-    kernel = _most_probable_parallel if parallel else _most_probable
-    best = kernel(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
+    best = _most_probable(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
     return best.reshape(points.shape[:-1])
 
 
 CHUNK = 64  # consecutive points bounded together (a row of cells, a stretch of trajectory)
 
 
-@njit(cache=True, parallel=True)
-def _most_probable_parallel(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
-    """:func:`_most_probable` on both cores (the chunks in parallel)."""
-    out = np.zeros(points.shape[0], dtype=np.int64)
-    coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
-    for ch in prange((points.shape[0] + CHUNK - 1) // CHUNK):
-        _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out)
-    return out
-
-
 @njit(cache=True)
 def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
     """arg max_n log N(x | mu_n, Sigma_n) + prior_n per point (first maximum on ties), with the arithmetic of
-    :func:`~spcotmhp.learning.model.log_gaussian`, over chunks of :data:`CHUNK` consecutive points; one thread
-    (no OpenMP, so the Gibbs runs can still fork worker processes).
+    :func:`~spcotmhp.learning.model.log_gaussian`, over chunks of :data:`CHUNK` consecutive points.
 
     Within a chunk, place n can only win if an upper bound of its score over the chunk's bounding box reaches
     the smallest exact score, over the chunk, of the place with the highest bound (every point's best score is
