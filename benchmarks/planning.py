@@ -102,7 +102,7 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
         times, first, astar, flat, failures = [], [], [], [], 0
         for _, text, xy in (q for q in qs if q[0] == kind):
             try:
-                plan, t, t_first = best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)
+                plan, t, t_first, _ = best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)
             except PlanningError:
                 failures += 1
                 continue
