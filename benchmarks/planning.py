@@ -99,18 +99,21 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
     rows = []
     qs = queries(planner, n, seed, lang)
     for kind in KINDS:
-        times, first, astar, flat, failures = [], [], [], [], 0
+        times, first, cpu, astar, astar_cpu, flat, failures = [], [], [], [], [], [], 0
         for _, text, xy in (q for q in qs if q[0] == kind):
             try:
-                plan, t, t_first, _ = best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)
+                plan, t, t_first, c = best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)
             except PlanningError:
                 failures += 1
                 continue
             times.append(t)
             first.append(t_first)
+            cpu.append(c)
             a, b = graph.to_crop(plan.cells[0]), graph.to_crop(plan.cells[-1])
             ends = (int(a[0]), int(a[1])), (int(b[0]), int(b[1]))
-            astar.append(best_of(repeat, pyastar2d.astar_path, weights, *ends, allow_diagonal=True)[1])
+            _, t, _, c = best_of(repeat, pyastar2d.astar_path, weights, *ends, allow_diagonal=True)
+            astar.append(t)
+            astar_cpu.append(c)
             flat.append(best_of(repeat, shortest_paths, graph.map_cost, a, b[None])[1])
         med = statistics.median(times)
         rows.append(
@@ -122,7 +125,10 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
                 "median_ms": 1e3 * med,
                 "p95_ms": 1e3 * float(np.percentile(times, 95)),
                 "p95_first_ms": 1e3 * float(np.percentile(first, 95)),
+                "cpu_ms": 1e3 * statistics.median(cpu),
+                "cpu_p95_ms": 1e3 * float(np.percentile(cpu, 95)),
                 "astar_ms": 1e3 * statistics.median(astar),
+                "astar_cpu_ms": 1e3 * statistics.median(astar_cpu),
                 "flat_ms": 1e3 * statistics.median(flat),
                 "previous_ms": 1e3 * statistics.median(old[kind]) if old and old[kind] else None,
                 "precompute_s": t_pre,
@@ -172,26 +178,31 @@ def main(argv: list[str] | None = None) -> int:
         f"load average {os.getloadavg()[0]:.1f} at the end; fastest of {args.repeat} tries per query"
     )
     print(
-        "\n| home | instructions | plans (failed) | online median ms | p95 ms | p95 first try ms | (a) pyastar2d ms "
-        "| plan / (a) "
+        "\n| home | instructions | plans (failed) | online median ms | p95 ms | p95 first try ms "
+        "| CPU median / p95 ms | (a) pyastar2d ms (CPU) | plan / (a) (CPU) "
         "| (b) flat search ms | plan / (b) | (c) previous ms | (c) / plan | precompute s | fields MiB |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         prev = f"{r['previous_ms']:.2f} | {r['previous_ms'] / r['median_ms']:.1f}x" if r["previous_ms"] else "- | -"
         print(
             f"| {r['home']} | {r['kind']} | {r['queries']} ({r['failures']}) | {r['median_ms']:.3f} | "
-            f"{r['p95_ms']:.3f} | {r['p95_first_ms']:.3f} | {r['astar_ms']:.3f} | "
-            f"{r['median_ms'] / r['astar_ms']:.1f} | "
+            f"{r['p95_ms']:.3f} | {r['p95_first_ms']:.3f} | {r['cpu_ms']:.3f} / {r['cpu_p95_ms']:.3f} | "
+            f"{r['astar_ms']:.3f} ({r['astar_cpu_ms']:.3f}) | "
+            f"{r['median_ms'] / r['astar_ms']:.1f} ({r['cpu_ms'] / r['astar_cpu_ms']:.1f}) | "
             f"{r['flat_ms']:.3f} | {r['median_ms'] / r['flat_ms']:.1f} | {prev} | {r['precompute_s']:.3f} | "
             f"{r['field_bytes'] / 2**20:.1f} |"
         )
-    ok = all(r["median_ms"] <= 0.5 and r["p95_ms"] <= 1.0 for r in rows)
-    ratio = all(r["median_ms"] <= 3 * r["astar_ms"] for r in rows)
-    print(
-        f"\ntargets: median <= 0.5 ms and p95 <= 1 ms: {'met' if ok else 'NOT met'}; "
-        f"median <= 3x one pyastar2d query: {'met' if ratio else 'NOT met'}"
-    )
+    for what, med, p95, astar in (
+        ("wall", "median_ms", "p95_ms", "astar_ms"),
+        ("CPU", "cpu_ms", "cpu_p95_ms", "astar_cpu_ms"),
+    ):
+        ok = all(r[med] <= 0.5 and r[p95] <= 1.0 for r in rows)
+        ratio = all(r[med] <= 3 * r[astar] for r in rows)
+        print(
+            f"targets ({what} time): median <= 0.5 ms and p95 <= 1 ms: {'met' if ok else 'NOT met'}; "
+            f"median <= 3x one pyastar2d query: {'met' if ratio else 'NOT met'}"
+        )
     return 0
 
 
