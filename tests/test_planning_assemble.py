@@ -35,7 +35,7 @@ def test_path_length():
 
 
 def _clear(allowed, r0, c0, r1, c1):
-    return clear(allowed, chessboard_clearance(allowed), r0, c0, r1, c1)
+    return clear(chessboard_clearance(allowed), r0, c0, r1, c1)
 
 
 def test_supercover_counts_both_cells_at_an_exact_corner():

@@ -184,10 +184,9 @@ def smooth_anchored(
     if len(cells) < 3:
         return cells, [int(a) for a in anchors]
     fixed = np.unique(np.clip(np.asarray([0, *anchors, len(cells) - 1], dtype=np.int64), 0, len(cells) - 1))
-    allowed = np.ascontiguousarray(allowed, dtype=np.bool_)
     if clearance is None:
         clearance = chessboard_clearance(allowed)
-    out, ends = shortcut(cells, allowed, clearance, fixed, connectivity == 4)
+    out, ends = shortcut(cells, clearance, fixed, connectivity == 4)
     return out, [int(ends[np.searchsorted(fixed, min(max(int(a), 0), len(cells) - 1))]) for a in anchors]
 
 

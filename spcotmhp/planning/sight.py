@@ -81,37 +81,38 @@ def _b_hi(a, n, N):  # pragma: no cover - numba
 
 
 @njit(cache=True)
-def _row_free(allowed, r0, c0, sr, sc, swap, a, lo, hi):  # pragma: no cover - numba
-    """Whether the cells lo..hi of major row a are all allowed."""
+def _row_free(clearance, r0, c0, sr, sc, swap, a, lo, hi):  # pragma: no cover - numba
+    """Whether the cells lo..hi of major row a are all allowed (clearance > 0)."""
     for b in range(lo, hi + 1):
         if swap:
-            if not allowed[r0 + sr * b, c0 + sc * a]:
+            if clearance[r0 + sr * b, c0 + sc * a] == 0:
                 return False
-        elif not allowed[r0 + sr * a, c0 + sc * b]:
+        elif clearance[r0 + sr * a, c0 + sc * b] == 0:
             return False
     return True
 
 
 @njit(cache=True)
-def clear(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
+def clear(clearance, r0, c0, r1, c1):  # pragma: no cover - numba
     """True if every cell of the supercover of the segment between the centres of (r0, c0) and (r1, c1) is
-    allowed (module docstring); ``clearance`` is :func:`chessboard_clearance` of ``allowed``."""
-    return blocked_at(allowed, clearance, r0, c0, r1, c1)[0] < 0
+    allowed (module docstring); ``clearance`` is :func:`chessboard_clearance` of the allowed cells (0 on the
+    others: one byte a cell holds both, which keeps the tests in cache)."""
+    return blocked_at(clearance, r0, c0, r1, c1)[0] < 0
 
 
 @njit(cache=True)
-def _point_cell_free(allowed, r0, c0, r1, c1, p, q):  # pragma: no cover - numba
+def _point_cell_free(clearance, r0, c0, r1, c1, p, q):  # pragma: no cover - numba
     """Whether the cell holding the point at p / q of the segment (a supercover cell: a point on a cell boundary
     touches the cells on both sides, so any rounding is one) is allowed; exact integer arithmetic."""
-    return allowed[(2 * (p * r1 + (q - p) * r0) + q) // (2 * q), (2 * (p * c1 + (q - p) * c0) + q) // (2 * q)]
+    return clearance[(2 * (p * r1 + (q - p) * r0) + q) // (2 * q), (2 * (p * c1 + (q - p) * c0) + q) // (2 * q)] > 0
 
 
 @njit(cache=True)
-def blocked_at(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
+def blocked_at(clearance, r0, c0, r1, c1):  # pragma: no cover - numba
     """(p, q): a point at p / q of the segment lies in a cell that is not allowed, or (-1, 1) when the segment is
     clear (:func:`clear`)."""
     for p in (2, 1, 3):  # quick rejection: the points at 1/2, 1/4, 3/4
-        if not _point_cell_free(allowed, r0, c0, r1, c1, p, 4):
+        if not _point_cell_free(clearance, r0, c0, r1, c1, p, 4):
             return p, 4
     nr, nc = abs(r1 - r0), abs(c1 - c0)
     sr = 1 if r1 >= r0 else -1
@@ -119,7 +120,7 @@ def blocked_at(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
     swap = nc > nr  # the major axis is the column
     N, n = (nc, nr) if swap else (nr, nc)
     if N == 0:
-        return (-1, 1) if allowed[r0, c0] else (0, 1)
+        return (-1, 1) if clearance[r0, c0] > 0 else (0, 1)
     lo, hi = 0, N  # the major rows lo..hi are still to be tested
     while lo <= hi:
         for forward in (True, False):
@@ -127,7 +128,7 @@ def blocked_at(allowed, clearance, r0, c0, r1, c1):  # pragma: no cover - numba
                 break
             a = lo if forward else hi
             b0, b1 = _b_lo(a, n, N), _b_hi(a, n, N)
-            if not _row_free(allowed, r0, c0, sr, sc, swap, a, b0, b1):
+            if not _row_free(clearance, r0, c0, sr, sc, swap, a, b0, b1):
                 return a, N
             b = b0 if forward else b1  # the tested cell the certified rows lie around
             d = np.int64(clearance[r0 + sr * b, c0 + sc * a] if swap else clearance[r0 + sr * a, c0 + sc * b])
@@ -181,7 +182,7 @@ def _line4(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
 
 
 @njit(cache=True)
-def shortcut(cells, allowed, clearance, fixed, four):  # pragma: no cover - numba
+def shortcut(cells, clearance, fixed, four):  # pragma: no cover - numba
     """Between consecutive indices of ``fixed`` (kept), from each kept cell jump to the farthest cell of the
     piece it sees (:func:`clear`; the next candidate is first probed where the last one was blocked, at the
     same fraction of its segment: nearby segments meet the same wall), drawn as the Bresenham line (``four``:
@@ -198,8 +199,8 @@ def shortcut(cells, allowed, clearance, fixed, four):  # pragma: no cover - numb
             hp, hq = -1, 1  # where the last segment tested from i was blocked: probed first on the next one
             while j > i + 1:
                 r0, c0, r1, c1 = cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1]
-                if hp < 0 or _point_cell_free(allowed, r0, c0, r1, c1, hp, hq):
-                    hp, hq = blocked_at(allowed, clearance, r0, c0, r1, c1)
+                if hp < 0 or _point_cell_free(clearance, r0, c0, r1, c1, hp, hq):
+                    hp, hq = blocked_at(clearance, r0, c0, r1, c1)
                     if hp < 0:
                         break
                 j -= 1
