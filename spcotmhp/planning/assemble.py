@@ -183,11 +183,14 @@ def smooth_anchored(
     cells = np.ascontiguousarray(cells, dtype=np.int64)
     if len(cells) < 3:
         return cells, [int(a) for a in anchors]
-    fixed = np.unique(np.clip(np.asarray([0, *anchors, len(cells) - 1], dtype=np.int64), 0, len(cells) - 1))
+    last = len(cells) - 1
+    kept = [min(max(int(a), 0), last) for a in anchors]
+    fixed = sorted({0, last, *kept})
     if clearance is None:
         clearance = chessboard_clearance(allowed)
-    out, ends = shortcut(cells, clearance, fixed, connectivity == 4)
-    return out, [int(ends[np.searchsorted(fixed, min(max(int(a), 0), len(cells) - 1))]) for a in anchors]
+    out, ends = shortcut(cells, clearance, np.array(fixed, dtype=np.int64), connectivity == 4)
+    where = {f: int(e) for f, e in zip(fixed, ends, strict=True)}
+    return out, [where[a] for a in kept]
 
 
 def smooth_on_graph(
@@ -207,10 +210,14 @@ def smooth_on_graph(
     node_place = graph.node_place[nodes]
     connectivity = graph.settings.connectivity
 
+    found: dict[tuple[int, int], np.ndarray] = {}
+
     def places(a: int, b: int) -> np.ndarray:
-        piece = raw[a : b + 1]
-        own = node_place[(ends_arr >= a) & (ends_arr <= b)]
-        return np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+        if (a, b) not in found:
+            piece = raw[a : b + 1]
+            own = node_place[(ends_arr >= a) & (ends_arr <= b)]
+            found[(a, b)] = np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+        return found[(a, b)]
 
     def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
         return graph.tube(places(a, b))

@@ -301,6 +301,8 @@ class PlanningGraph:
         if self.hier is not None:
             return self.hier.cost_to_nodes(cell)
         r, c = int(cell[0]), int(cell[1])
+        if isinstance(self.dist, np.ndarray):
+            return self.dist[:, r, c].astype(float)
         return np.array([self.dist[j][r, c] for j in range(self.n_nodes)], dtype=float)
 
     @property
