@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from spcotmhp.learning.hmm import ffbs_kernel, trajectory_places
 from spcotmhp.learning.model import log_gaussian
-from spcotmhp.learning.territory import most_probable_place
+from spcotmhp.learning.territory import posterior_arg_max
 
 
 @st.composite
@@ -34,7 +34,7 @@ def places_and_points(draw):
 def test_most_probable_place_is_the_exhaustive_arg_max(case):
     points, mu, Sigma, log_prior = case
     expected = np.argmax(log_gaussian(points, mu, Sigma) + log_prior, axis=1)
-    assert (most_probable_place(points, mu, Sigma, log_prior) == expected).all()
+    assert (posterior_arg_max(points, mu, Sigma, log_prior) == expected).all()
 
 
 def test_trajectory_places_uses_the_places_with_events_only():

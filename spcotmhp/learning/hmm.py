@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.territory import most_probable_place
+from spcotmhp.learning.territory import posterior_arg_max
 
 EMIT_FLOOR = 60.0
 """Nats below an event's best emission under which a state is dropped from the forward pass (``_forward_scaled``)."""
@@ -166,13 +166,13 @@ def trajectory_places(
 ) -> np.ndarray:
     """The places visited along ``trajectory`` (T, 2): each pose gets its most probable place,
     argmax_k N(x_t | mu_k, Sigma_k) p(k) over the places with p(k) > 0 (``log_prior`` -inf elsewhere; cf. Eq. 3;
-    compiled, :func:`~spcotmhp.learning.territory.most_probable_place`, without a (T, K) table), then
+    compiled, :func:`~spcotmhp.learning.territory.posterior_arg_max`, without a (T, K) table), then
     ``dwell_filtered_sequence``.  The one labelling used by the sampler (current draws, place prior of the
     current counts), the exported psi and the walk adjacency (a model's means and ``log_place_prior``)."""
     active = np.flatnonzero(np.isfinite(log_prior))
     if not len(active):
         return active
-    best = most_probable_place(
+    best = posterior_arg_max(
         np.asarray(trajectory, dtype=float).reshape(-1, 2), mu[active], Sigma[active], log_prior[active]
     )
     return active[dwell_filtered_sequence(best, min_dwell)]

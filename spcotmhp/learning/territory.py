@@ -26,7 +26,7 @@ from numba import njit
 from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import snap
 
-__all__ = ["most_probable_place", "place_territories", "territory_adjacency"]
+__all__ = ["posterior_arg_max", "place_territories", "territory_adjacency"]
 
 
 def place_territories(
@@ -52,7 +52,7 @@ def place_territories(
         return labels
     prior = model.log_place_prior()[act]
     if log_density is None:  # compiled, chunk-bounded; memory O(H W), not O(H W K)
-        best = most_probable_place(centres, model.mu[act], model.Sigma[act], prior)
+        best = posterior_arg_max(centres, model.mu[act], model.Sigma[act], prior)
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
@@ -81,7 +81,7 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     return A
 
 
-def most_probable_place(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
+def posterior_arg_max(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
     """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
     ties: the posterior of Eq. 3 up to its normaliser. Compiled, one thread (no OpenMP: the Gibbs runs fork
     worker processes after using it), memory O(points) (not O(points K));
