@@ -23,13 +23,13 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import sys
 from functools import partial
 from pathlib import Path
 from statistics import median
 
 import numpy as np
 import pyastar2d
-from _timing import best_of as fastest
 from rich.console import Console
 from rich.progress import Progress
 from scipy import ndimage
@@ -43,6 +43,9 @@ from spcotmhp.metric.grid_search import (
     warmup,
 )
 from spcotmhp.metric.map_io import load_map
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the helper beside this script, however it is loaded
+from _timing import best_of as fastest  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1] / "spcotmhp" / "data" / "sigverse-3ldk"
 HOMES = ("3LDK_01", "3LDK_05", "3LDK_06")

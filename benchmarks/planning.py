@@ -33,15 +33,18 @@ import subprocess
 import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
-from _timing import best_of
 
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.errors import PlanningError
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning.places import main_component
 from spcotmhp.planning.planner import HierarchicalPlanner
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the helper beside this script, however it is loaded
+from _timing import best_of  # noqa: E402
 
 KINDS = ("basic", "waypoint", "avoid")
 TEMPLATES = {
