@@ -45,10 +45,11 @@ system-deps:
 demo: $(STAMP_CORE)
 	$(VENV)/bin/spcotmhp demo --out demo-output --overwrite
 
-# lint and format checks first (the project's habits, enforced: ruff rules and format in pyproject.toml)
+# lint, format and type checks first (the project's habits, enforced: ruff and mypy settings in pyproject.toml)
 test: install-all
 	$(VENV)/bin/ruff check spcotmhp tests benchmarks
 	$(VENV)/bin/ruff format --check spcotmhp tests benchmarks
+	$(VENV)/bin/mypy
 	$(PY) -m pytest -q
 
 bench: $(STAMP_ALL)

@@ -25,7 +25,7 @@ import os
 import re
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 import yaml
@@ -194,7 +194,7 @@ def load_json(path: Path, max_bytes: int, what: str, error: ErrorType) -> Any:
     return parse_json(read_text(path, max_bytes, what, error), f"{what} {path}", error)
 
 
-def finite_number(value: Any) -> bool:
+def finite_number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
     """A real number (not a boolean) that is finite as a float; huge integers are not (no OverflowError)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         return False

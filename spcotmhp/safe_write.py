@@ -60,7 +60,7 @@ def check_output(
     return path
 
 
-def atomic_write(path: Path, write: Callable[[Path], None], error: ErrorType = SpcotmhpError) -> Path:
+def atomic_write(path: Path, write: Callable[[Path], object], error: ErrorType = SpcotmhpError) -> Path:
     """Call ``write(tmp)`` on a fresh temporary file beside ``path``, flush it to disk and rename it to
     ``path``; the temporary is removed on any failure, which propagates (an ``OSError`` becomes ``error``)."""
     path = Path(path)
@@ -143,7 +143,7 @@ def _fsync_dir(folder: Path) -> None:
 
 
 def build_folder(
-    target: Path, fill: Callable[[Path], None], error: ErrorType = SpcotmhpError, action: str | None = None
+    target: Path, fill: Callable[[Path], object], error: ErrorType = SpcotmhpError, action: str | None = None
 ) -> Path:
     """Build the folder ``target`` whole or not at all: ``fill(staging)`` writes into a fresh sibling, which
     then replaces ``target`` (:func:`swap_folder`); on any failure the sibling is removed and ``target`` is

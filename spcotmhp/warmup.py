@@ -68,7 +68,7 @@ def warm_up() -> float:
                 graph = planner.graph
                 names = sorted({planner.names[k] for k in np.flatnonzero(model.active_places)})
                 free = np.argwhere(main_component(graph.traversable))
-                start = model.map.cell_to_world(graph.to_map(free[len(free) // 2]))
+                start = model.require_map().cell_to_world(graph.to_map(free[len(free) // 2]))
                 for text in (
                     f"go to the {names[-1]}",
                     f"go to the {names[-1]} via the {names[0]}",

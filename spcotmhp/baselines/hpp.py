@@ -22,8 +22,10 @@ from the path (0 -> 9: 21,634 instead of 1,235); here it is the partial path's o
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import time
+from collections.abc import Callable, Mapping, Sequence
 from itertools import pairwise
+from typing import Any
 
 import numpy as np
 from scipy.sparse import csr_matrix
@@ -33,6 +35,8 @@ from scipy.special import logsumexp
 from spcotmhp.errors import PlanningError
 from spcotmhp.planning.assemble import join_legs, path_length
 from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.plan import Plan
+from spcotmhp.planning.protocol import PlanVocabulary, StartPose, bag_words, path_plan
 
 EdgeCost = Callable[[PlanningGraph], np.ndarray]
 
@@ -45,7 +49,7 @@ def path_cost_edges(graph: PlanningGraph) -> np.ndarray:
 def path_length_edges(graph: PlanningGraph) -> np.ndarray:
     """HPP-II: (M, M) edge costs = the partial path's length in metres; inf where no edge."""
     out = np.full(graph.w_hat.shape, np.inf)
-    res = graph.model.map.resolution
+    res = graph.model.require_map().resolution
     for i, j in zip(*np.nonzero(np.isfinite(graph.w_hat)), strict=False):
         out[i, j] = path_length(graph.edge_path(int(i), int(j)), res)
     return out
@@ -54,9 +58,12 @@ def path_length_edges(graph: PlanningGraph) -> np.ndarray:
 EDGE_COSTS: dict[str, EdgeCost] = {"hpp1": path_cost_edges, "hpp2": path_length_edges}
 
 
-def draw_place(graph: PlanningGraph, words: Sequence[str], rng: np.random.Generator) -> int:
+Words = Sequence[str] | Mapping[str, float]  # a token list or a weighted bag of words S
+
+
+def draw_place(graph: PlanningGraph, words: Words, rng: np.random.Generator) -> int:
     """One place drawn from p(i | S) over the active places (:meth:`SpatialConceptModel.log_place_given_words`)."""
-    lp = graph.model.log_place_given_words(list(words))
+    lp = graph.model.log_place_given_words(words if isinstance(words, Mapping) else list(words))
     p = np.exp(lp - logsumexp(lp))
     return int(rng.choice(len(p), p=p / p.sum()))
 
@@ -102,7 +109,7 @@ class HPP:
     def plan(
         self,
         cell: np.ndarray,
-        stages: Sequence[Sequence[str]],
+        stages: Sequence[Words],
         rng: np.random.Generator,
         smooth: bool = False,
     ) -> np.ndarray:
@@ -124,3 +131,23 @@ class HPP:
         from spcotmhp.baselines.smoothing import spcotmhp_smoothing
 
         return spcotmhp_smoothing(g, cells, ends, nodes, [ends[e] for e in stage_ends])
+
+
+class HPPPlanner:
+    """HPP-I / HPP-II as a :class:`~spcotmhp.planning.protocol.Planner`: one place drawn per stage of the
+    instruction (its waypoints, then its goal) with ``rng`` (default: this planner's own generator, seeded by
+    ``seed``), the legs between them from the planning graph; with ``smooth``, SpCoTMHP's smoothing."""
+
+    def __init__(self, hpp: HPP, smooth: bool = False, seed: int | None = None) -> None:
+        self.hpp, self.smooth = hpp, smooth
+        self.vocabulary = PlanVocabulary(hpp.graph.model)
+        self.rng = np.random.default_rng(seed)
+
+    def plan(self, instruction: Any, start: StartPose, *, rng: np.random.Generator | None = None) -> Plan:
+        t0 = time.perf_counter()
+        ins = self.vocabulary.instruction(instruction)
+        graph, occ = self.hpp.graph, self.hpp.graph.model.require_map()
+        cell = graph.to_crop(occ.world_to_cell(np.asarray(start, dtype=float)))
+        stages = [bag_words(q) for q in ins.stages]
+        cells = self.hpp.plan(cell, stages, self.rng if rng is None else rng, smooth=self.smooth)
+        return path_plan(self.vocabulary, occ, graph.to_map(cells), ins, t0, graph.time_precompute_s)

@@ -16,11 +16,15 @@ Experiment I, so that a table can give every method the same post-processing:
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
 from spcotmhp.planning.assemble import smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.plan import Plan
+from spcotmhp.planning.protocol import Planner, StartPose
 
 PAPER_WINDOW = 5
 
@@ -31,6 +35,9 @@ def moving_average(path: np.ndarray, window: int = PAPER_WINDOW) -> np.ndarray:
 
     Raises:
         ValueError: ``window`` is not an odd integer >= 1.
+
+    >>> moving_average(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [2.0, 1.0]]), window=3).round(3).tolist()
+    [[0.0, 0.0], [0.667, 0.333], [1.333, 0.667], [2.0, 1.0]]
     """
     if not isinstance(window, int) or window < 1 or window % 2 == 0:
         raise ValueError(f"window must be an odd integer >= 1, got {window!r}")
@@ -45,9 +52,27 @@ def moving_average(path: np.ndarray, window: int = PAPER_WINDOW) -> np.ndarray:
 
 
 def spcotmhp_smoothing(
-    graph: PlanningGraph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray, anchors: Sequence[int]
+    graph: PlanningGraph,
+    cells: np.ndarray,
+    ends: Sequence[int],
+    nodes: Sequence[int] | np.ndarray,
+    anchors: Sequence[int],
 ) -> np.ndarray:
     """SpCoTMHP's line 13 on an assembled crop-cell path of ``graph`` (``ends[e]``: the index where node
     ``nodes[e]`` is reached; ``anchors``: the indices where a stage is completed, kept): the planner's own
     :func:`~spcotmhp.planning.assemble.smooth_on_graph`."""
     return smooth_on_graph(graph, cells, ends, nodes, anchors)[0]
+
+
+class MovingAveragePlanner:
+    """A :class:`~spcotmhp.planning.protocol.Planner` whose paths are another planner's with the paper's moving
+    average (:func:`moving_average`) applied; ``cells`` stay the grid path it was averaged from."""
+
+    def __init__(self, planner: Planner, window: int = PAPER_WINDOW) -> None:
+        self.planner, self.window = planner, window
+
+    def plan(self, instruction: Any, start: StartPose, *, rng: np.random.Generator | None = None) -> Plan:
+        plan = self.planner.plan(instruction, start, rng=rng)
+        path = moving_average(plan.path, self.window)
+        length = float(np.hypot(*np.diff(path, axis=0).T).sum())
+        return replace(plan, path=path, length_m=length, notes=[*plan.notes, "moving average"])

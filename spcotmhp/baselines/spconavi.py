@@ -28,8 +28,10 @@ is the method as published, kept so the comparison is with SpCoNavi itself; it i
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.special import logsumexp
@@ -37,6 +39,9 @@ from scipy.special import logsumexp
 from spcotmhp.errors import PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.grid_search import shortest_paths
+from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.planning.plan import Plan
+from spcotmhp.planning.protocol import PlanVocabulary, StartPose, merged_bag, path_plan
 
 # (d_row, d_col) of each action; index = back-pointer value. 4-connected: the paper's action set.
 ACTIONS_4 = np.array([(0, 0), (1, 0), (-1, 0), (0, -1), (0, 1)], dtype=np.int64)
@@ -47,7 +52,7 @@ def log_weight_map(
     model: SpatialConceptModel,
     log_p: np.ndarray,
     cell_xy: np.ndarray,
-    words: Sequence[str],
+    words: Sequence[str] | Mapping[str, float],
 ) -> np.ndarray:
     """log w(x) on every cell (module docstring): (H, W), -inf where log p(x|m) is -inf.
 
@@ -64,7 +69,7 @@ def log_weight_map(
     with np.errstate(divide="ignore"):
         log_phi, log_pi = np.log(model.phi), np.log(model.pi)  # (L, K), (L,)
     per_concept = logsumexp(lg[:, None, :] + log_phi[None, :, :], axis=2)  # (n, L)
-    concept_prior = model.log_word_likelihood(list(words)) + log_pi  # (L,)
+    concept_prior = model.log_word_likelihood(words if isinstance(words, Mapping) else list(words)) + log_pi  # (L,)
     out[ok] = log_p[ok] + logsumexp(per_concept + concept_prior, axis=1)
     return out
 
@@ -93,9 +98,9 @@ def viterbi(log_w: np.ndarray, start: tuple[int, int], T: int = 200, connectivit
     actions = {4: ACTIONS_4, 8: ACTIONS_8}.get(connectivity)
     if actions is None:
         raise PlanningError(f"connectivity must be 4 or 8, got {connectivity}")
-    H, W = log_w.shape
+    height, width = log_w.shape
     r0, c0 = int(start[0]), int(start[1])
-    if not (0 <= r0 < H and 0 <= c0 < W) or not np.isfinite(log_w[r0, c0]):
+    if not (0 <= r0 < height and 0 <= c0 < width) or not np.isfinite(log_w[r0, c0]):
         raise PlanningError(f"start cell (row, col) = ({r0}, {c0}) is off the grid or not traversable")
     # crop to the finite cells reachable within T steps of the start (a box of radius T)
     rows, cols = np.nonzero(np.isfinite(log_w))
@@ -176,7 +181,48 @@ def astar_approximation(
             "-log w + log|A| is negative there and A* cannot search it"
         )
     paths = shortest_paths(cost, start, goals, connectivity=connectivity, all_targets=True)
-    scored = [(horizon_objective(log_w, p.cells, T), i) for i, p in enumerate(paths) if p is not None]
+    found = {i: p.cells for i, p in enumerate(paths) if p is not None}
+    scored = [(horizon_objective(log_w, cells, T), i) for i, cells in found.items()]
     if not scored:
         return None
-    return paths[max(scored)[1]].cells
+    return found[max(scored)[1]]
+
+
+class SpCoNaviPlanner:
+    """Baselines (B) and (C) as a :class:`~spcotmhp.planning.protocol.Planner`: the waypoints' and the goal's
+    words as one bag, log w on every cell of ``log_p`` (the cost map of ``occ_map``), then the exact Viterbi
+    path (``approximation=False``) or the A* approximation with J goals drawn with ``rng`` (default: this
+    planner's own generator, seeded by ``seed``); horizon T, the paper's action set unless ``connectivity=8``."""
+
+    def __init__(
+        self,
+        model: SpatialConceptModel,
+        log_p: np.ndarray,
+        occ_map: OccupancyMap,
+        approximation: bool = False,
+        T: int = 200,
+        J: int = 10,
+        connectivity: int = 4,
+        seed: int | None = None,
+    ) -> None:
+        self.vocabulary = PlanVocabulary(model)
+        self.model, self.log_p, self.occ_map = model, log_p, occ_map
+        self.cell_xy = occ_map.cell_centres()
+        self.approximation, self.T, self.J, self.connectivity = approximation, T, J, connectivity
+        self.rng = np.random.default_rng(seed)
+
+    def plan(self, instruction: Any, start: StartPose, *, rng: np.random.Generator | None = None) -> Plan:
+        t0 = time.perf_counter()
+        ins = self.vocabulary.instruction(instruction)
+        r, c = self.occ_map.world_to_cell(np.asarray(start, dtype=float))
+        cell = (int(r), int(c))
+        log_w = log_weight_map(self.model, self.log_p, self.cell_xy, merged_bag(ins))
+        if self.approximation:
+            cells = astar_approximation(
+                log_w, cell, self.rng if rng is None else rng, self.J, self.T, self.connectivity
+            )
+        else:
+            cells = viterbi(log_w, cell, self.T, self.connectivity).cells
+        if cells is None:
+            raise PlanningError("SpCoNavi: no sampled goal is reachable from the start")
+        return path_plan(self.vocabulary, self.occ_map, cells, ins, t0)

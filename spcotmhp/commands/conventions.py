@@ -17,7 +17,7 @@ from typer.core import TyperGroup
 try:  # typer >= 0.2x vendors click
     from typer._click import exceptions as click_exceptions
 except ImportError:  # pragma: no cover - older typer uses click itself
-    from click import exceptions as click_exceptions
+    from click import exceptions as click_exceptions  # type: ignore[no-redef]  # the same module, unvendored
 
 # the type part of typer's help label ("<int range>", "<path>") -> a click-style metavar
 METAVARS = {
@@ -71,7 +71,7 @@ def one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
-def usage_message(exc: Exception, args: Sequence[str], group: Any = None) -> str:
+def usage_message(exc: click_exceptions.ClickException, args: Sequence[str], group: Any = None) -> str:
     """The one-line message of a click usage error, with a hint where the cause is a common slip (two numbers
     written with a comma) and a pointer to the command's ``--help``."""
     message = one_line(exc.format_message())
@@ -100,12 +100,20 @@ class ConventionalGroup(TyperGroup):
         prog_name: str | None = None,
         complete_var: str | None = None,
         standalone_mode: bool = True,
+        windows_expand_args: bool = True,
         **extra: Any,
     ) -> Any:
         argv = list(sys.argv[1:] if args is None else args)
         tidy_params(self)
         try:
-            code = super().main(argv, prog_name or "spcotmhp", complete_var, standalone_mode=False, **extra)
+            code = super().main(
+                argv,
+                prog_name or "spcotmhp",
+                complete_var,
+                standalone_mode=False,
+                windows_expand_args=windows_expand_args,
+                **extra,
+            )
         except click_exceptions.ClickException as exc:
             if not standalone_mode:
                 raise

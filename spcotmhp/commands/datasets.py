@@ -106,7 +106,7 @@ def check_dataset(
     ]
     if d.features is not None:
         lines.append(f"features    {d.features.shape[1]}-d per event")
-    if d.trajectory is not None:
+    if d.trajectory is not None and d.event_steps is not None:
         lines.append(f"trajectory  {len(d.trajectory)} poses; events at steps {d.event_steps[0]}..{d.event_steps[-1]}")
     if d.truth_place is not None:
         concepts = "" if d.truth_concept is None else f", {len(np.unique(d.truth_concept))} concepts"

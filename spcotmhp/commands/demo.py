@@ -123,10 +123,11 @@ def demo_start(planner: Any, place: str | None = None) -> tuple[np.ndarray, str]
         )
     wanted = place if place is not None else "entrance"
     k = int(act[names.index(wanted)] if wanted in names else act[0])
-    cell = snap(largest_component(graph.traversable), graph.to_crop(model.map.world_to_cell(model.mu[k])))
-    return model.map.cell_to_world(graph.to_map(cell)), labels[k]
+    cell = snap(largest_component(graph.traversable), graph.to_crop(model.require_map().world_to_cell(model.mu[k])))
+    return model.require_map().cell_to_world(graph.to_map(cell)), labels[k]
 
 
+# long: a CLI command: 29 lines of typer options and help, a 54-line body of steps
 def demo(
     out: Annotated[Path, typer.Option("--out", help="Folder for the picture, plan and model.")] = Path("demo-output"),
     home: Annotated[
@@ -225,6 +226,7 @@ def next_command(model_dir: Path) -> str:
     return serve
 
 
+# long: a CLI command: its options, then one listing of places and edges (text, JSON or a picture)
 def show(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
     png: Annotated[Path | None, typer.Option("--png", help="Draw the learned map to this PNG file.")] = None,
@@ -252,7 +254,7 @@ def show(
         atomic_write(
             png,
             lambda tmp: render(
-                model.map,
+                model.require_map(),
                 tmp,
                 model=model,
                 names=place_display_labels(model, ids=ids),

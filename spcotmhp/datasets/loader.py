@@ -11,6 +11,7 @@ import re
 import sys
 import warnings
 from pathlib import Path
+from types import FrameType
 
 import numpy as np
 
@@ -37,7 +38,8 @@ class DatasetWarning(UserWarning):
 
 def _warn(message: str) -> None:
     """Emit a DatasetWarning attributed to the first caller outside spcotmhp.datasets."""
-    frame, level = sys._getframe(1), 2
+    frame: FrameType | None = sys._getframe(1)
+    level = 2
     while frame is not None and frame.f_globals.get("__name__", "").startswith("spcotmhp.datasets"):
         frame, level = frame.f_back, level + 1
     warnings.warn(DatasetWarning(message), stacklevel=level)
@@ -69,6 +71,18 @@ def available_languages(path: str | Path) -> list[str]:
     return [lang for lang in LANGS if table.has(f"words_{lang}")]
 
 
+def _check_folder(folder: Path) -> Path:
+    """``folder``, if it is a folder holding the two required files; else a DatasetError saying what is wrong."""
+    if not folder.exists():
+        raise DatasetError(f"dataset folder {folder} does not exist")
+    if not folder.is_dir():
+        raise DatasetError(f"{folder} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
+    for required, what in (("map.yaml", "the ROS map_server YAML"), ("teaching.csv", "the teaching events")):
+        if not (folder / required).is_file():
+            raise DatasetError(f"dataset folder {folder} has no {required} ({what})")
+    return folder
+
+
 def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     """Read a dataset folder.
 
@@ -84,15 +98,8 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
     """
     if lang not in LANGS:
         raise DatasetError(f"lang must be 'en' or 'ja', got {lang!r}")
-    folder = Path(path)
-    if not folder.exists():
-        raise DatasetError(f"dataset folder {folder} does not exist")
-    if not folder.is_dir():
-        raise DatasetError(f"{folder} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
+    folder = _check_folder(Path(path))
     name = folder.resolve().name
-    for required, what in (("map.yaml", "the ROS map_server YAML"), ("teaching.csv", "the teaching events")):
-        if not (folder / required).is_file():
-            raise DatasetError(f"dataset folder {folder} has no {required} ({what})")
     occupancy, image = _read_map(folder / "map.yaml")
 
     teaching = read_table(

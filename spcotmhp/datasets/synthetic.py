@@ -1,8 +1,13 @@
 """Synthetic environments for tests and scale: a seeded floor plan plus a teaching walk, and the dataset folder.
 
+    >>> import tempfile
     >>> from spcotmhp.datasets.synthetic import generate_environment, write_dataset
-    >>> data = generate_environment("house", seed=3)          # 11 places, 165 teaching events
-    >>> write_dataset(data, "/tmp/house-3")                   # a folder load_dataset reads back
+    >>> data = generate_environment("house", seed=3)
+    >>> data.n_events, len(data.place_names)
+    (165, 11)
+    >>> folder = write_dataset(data, tempfile.mkdtemp() + "/house-3")  # a folder load_dataset reads back
+    >>> sorted(p.name for p in folder.iterdir())
+    ['adjacency.csv', 'map.pgm', 'map.yaml', 'places.csv', 'teaching.csv', 'trajectory.csv', 'truth.csv']
 
 The plan (``synthetic_plan``, layouts in ``synthetic_layouts``) and the walk (``synthetic_walk``) are documented
 in their modules; this one joins them and writes the dataset folder layout of ``spcotmhp/data/README.md``.
@@ -140,11 +145,11 @@ def _write_files(dataset: Dataset, out: Path) -> None:
     save_map(dataset.map, out / "map.yaml")
     words = [" ".join(tokens) for tokens in dataset.tokens]
     header = ["event", "x", "y", "words_ja", "words_en"]
-    has_steps = dataset.trajectory is not None and dataset.event_steps is not None
+    steps = dataset.event_steps if dataset.trajectory is not None else None
     rows = [[e, _num(x), _num(y), w, w] for e, ((x, y), w) in enumerate(zip(dataset.positions, words, strict=False))]
-    if has_steps:
+    if steps is not None:
         header.append("step")
-        rows = [row + [int(s)] for row, s in zip(rows, dataset.event_steps, strict=False)]
+        rows = [row + [int(s)] for row, s in zip(rows, steps, strict=False)]
     _write_csv(out / "teaching.csv", header, rows)
     if dataset.trajectory is not None:
         _write_csv(

@@ -259,9 +259,12 @@ def house_layout(inner: Box, n: int, geo: Geometry, rng: np.random.Generator) ->
     n_rooms = n - 1 - segments
     rooms = _band_rooms(bands, n_rooms, geo, rng, geo.min_side, 0.35, "house", avoid=(x, x + geo.wall))
     boxes: list[Box] = [(cr0, c0, cr0 + cw, x)]
-    names, doors = ["entrance"], []
+    names, doors = ["entrance"], list[Door]()
     corridor = _corridor(boxes, names, doors, (cr0, cr0 + cw), (x + geo.wall, c1), segments, rooms, geo, rng, "house")
-    doors.append(_door(rng, (0, corridor[0][0]), 1, (cr0, cr0 + cw), (x, x + geo.wall), geo))
+    entrance = _door(rng, (0, corridor[0][0]), 1, (cr0, cr0 + cw), (x, x + geo.wall), geo)
+    if entrance is None:
+        raise DatasetError(f"house: no place for the entrance door in a corridor {cw} cells wide; use a larger size")
+    doors.append(entrance)
     new = _add_rooms(boxes, doors, rooms, [[(0, c0, x)] + corridor])
     areas = [(boxes[i][2] - boxes[i][0]) * (boxes[i][3] - boxes[i][1]) for i in new]
     living = new[int(np.argmax(areas))]

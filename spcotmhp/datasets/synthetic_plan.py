@@ -85,6 +85,26 @@ def seeded_rng(seed: int | np.random.Generator) -> np.random.Generator:
     return np.random.default_rng(int(seed))
 
 
+def _check_plan_settings(
+    kind: str, n_rooms: int | None, resolution: float, door_m: float, wall_cells: int | None
+) -> int:
+    """The number of places of the plan, once the settings are checked (a one-line DatasetError otherwise)."""
+    if kind not in KINDS:
+        raise DatasetError(f"unknown floor plan kind {kind!r}; accepted: {', '.join(KINDS)}")
+    if not (0.01 <= resolution <= 0.2):
+        raise DatasetError(f"resolution {resolution} m per cell is outside 0.01 .. 0.2")
+    if not door_m >= MIN_DOOR_M:
+        raise DatasetError(
+            f"door width {door_m} m is below {MIN_DOOR_M} m: an inflated robot (inscribed radius 0.22 m) would not pass"
+        )
+    if wall_cells is not None and wall_cells not in (1, 2):
+        raise DatasetError(f"wall_cells must be 1 or 2, got {wall_cells}")
+    n = DEFAULT_ROOMS[kind] if n_rooms is None else n_rooms
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_ROOMS[kind]:
+        raise DatasetError(f"n_rooms must be an integer >= {MIN_ROOMS[kind]} for a {kind}, got {n_rooms!r}")
+    return int(n)
+
+
 def generate_floor_plan(
     kind: str = "flat",
     n_rooms: int | None = None,
@@ -108,19 +128,7 @@ def generate_floor_plan(
         wall_cells: wall thickness 1 or 2 cells (default: drawn at random).
         origin: (x, y) of the map's lower-left corner in metres.
     """
-    if kind not in KINDS:
-        raise DatasetError(f"unknown floor plan kind {kind!r}; accepted: {', '.join(KINDS)}")
-    if not (0.01 <= resolution <= 0.2):
-        raise DatasetError(f"resolution {resolution} m per cell is outside 0.01 .. 0.2")
-    if not door_m >= MIN_DOOR_M:
-        raise DatasetError(
-            f"door width {door_m} m is below {MIN_DOOR_M} m: an inflated robot (inscribed radius 0.22 m) would not pass"
-        )
-    if wall_cells is not None and wall_cells not in (1, 2):
-        raise DatasetError(f"wall_cells must be 1 or 2, got {wall_cells}")
-    n = DEFAULT_ROOMS[kind] if n_rooms is None else n_rooms
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_ROOMS[kind]:
-        raise DatasetError(f"n_rooms must be an integer >= {MIN_ROOMS[kind]} for a {kind}, got {n_rooms!r}")
+    n = _check_plan_settings(kind, n_rooms, resolution, door_m, wall_cells)
     rng = seeded_rng(seed)
     shape = _shape(kind, int(n), size, resolution)
     door = math.ceil(door_m / resolution - 1e-9)

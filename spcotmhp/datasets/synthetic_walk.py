@@ -158,7 +158,8 @@ class _Walker:
                 self._teach(nb)
             else:
                 stack.pop()
-                if stack:
+                if stack:  # only the start came by no door, and it is the last on the stack
+                    assert came_by is not None
                     self._cross(room, stack[-1][0], came_by)
 
     def _teach(self, room: int) -> None:

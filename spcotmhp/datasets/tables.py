@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -45,7 +46,7 @@ class Table:
     def has(self, name: str) -> bool:
         return name in self.header
 
-    def require(self, required: list[str | tuple[str, ...]], optional: list[str] = ()) -> None:
+    def require(self, required: Sequence[str | tuple[str, ...]], optional: Sequence[str] = ()) -> None:
         """DatasetError listing the missing columns, the columns found and the columns accepted.
 
         A tuple in ``required`` means "at least one of these columns"."""
@@ -55,10 +56,9 @@ class Table:
             def show(c: str | tuple[str, ...], join: str) -> str:
                 return c if isinstance(c, str) else join.join(c)
 
-            missing = [show(c, " or ") for c in missing]
             accepted = ", ".join([show(c, " and/or ") for c in required] + [f"[{c}]" for c in optional])
             raise DatasetError(
-                f"{self.name}: missing column(s) {', '.join(missing)}; found "
+                f"{self.name}: missing column(s) {', '.join(show(c, ' or ') for c in missing)}; found "
                 f"{_short(', '.join(self.header)) or 'none'};"
                 f" accepted: {accepted}"
             )

@@ -19,10 +19,12 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError
+from spcotmhp.evaluation.methods import Offline, make_planners
 from spcotmhp.evaluation.tasks import Place, build_places
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import CostMap, inflate
 from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.planning.protocol import Planner
 
 PARAMS = ("supervised", "learned")
 CONNECTIVITY = ("auto", "hmm", "walk", "map")
@@ -42,8 +44,9 @@ class HomeContext:
         name: the home's name.  dataset: the loaded dataset.  model: the parameters used by every method.
         params: "supervised" or "learned".  costmap: the cost map (log p(x|m)).
         planner: the SpCoTMHP :class:`~spcotmhp.planning.planner.HierarchicalPlanner` (its graph is reused by HPP).
-        planners: the planner variants of :data:`VARIANTS` by name ("ours" is ``planner``).
-        hpp: the HPP-I and HPP-II planners on that graph.  places: the ground-truth places (regions, names).
+        planners: every method's :class:`~spcotmhp.planning.protocol.Planner` by name
+            (:data:`~spcotmhp.evaluation.methods.METHODS`; "spcotmhp" is ``planner``).
+        places: the ground-truth places (regions, names).
         adjacency: the place adjacency the tasks use; adjacency_source: where it came from.
         cell_xy: (H, W, 2) world coordinates of the map's cell centres.
         timings: offline times in seconds (fit, costmap, graph precompute, HPP tables).
@@ -55,8 +58,7 @@ class HomeContext:
     params: str
     costmap: CostMap
     planner: HierarchicalPlanner
-    planners: dict
-    hpp: dict
+    planners: dict[str, Planner]
     places: list[Place]
     adjacency: np.ndarray
     adjacency_source: str
@@ -128,7 +130,7 @@ def build_context(
     t0 = time.perf_counter()
     planner = HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False)
     timings["graph_s"] = time.perf_counter() - t0
-    planners = {
+    variants = {
         name: planner
         if name == "ours"
         else HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False, smooth=smooth, stage_constraint=stage)
@@ -137,6 +139,7 @@ def build_context(
     t0 = time.perf_counter()
     hpp = {name: HPP(planner.graph, cost) for name, cost in EDGE_COSTS.items()}
     timings["hpp_s"] = time.perf_counter() - t0
+    planners = make_planners(Offline(model, costmap.log_p, dataset.map, variants, hpp))
     return HomeContext(
         dataset.name,
         dataset,
@@ -145,7 +148,6 @@ def build_context(
         costmap,
         planner,
         planners,
-        hpp,
         places,
         adjacency,
         source,

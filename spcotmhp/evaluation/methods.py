@@ -1,6 +1,8 @@
-"""The compared methods of Experiment I (paper Section 4.2, (A)-(E)) behind one signature:
-``method(ctx, task, rng) -> (n, 2) world path in metres, or None``. Everything a call does is online work
-(timed by the runner); the offline parts live in the :class:`~spcotmhp.evaluation.context.HomeContext`.
+"""The compared methods of Experiment I (paper Section 4.2, (A)-(E)) by name: each is a
+:class:`~spcotmhp.planning.protocol.Planner` (``plan(instruction, start, rng=...) -> Plan``) made once per home
+from its offline part (:class:`Offline`: the parameters, the cost map, the SpCoTMHP planner variants and the HPP
+tables); the evaluation looks planners up by name (:data:`METHODS`) and only calls ``plan``, which is the online
+work the runner times.
 
 Variants that separate the method from its post-processing (Algorithm 1, line 13) and from the stage constraint
 (:data:`~spcotmhp.evaluation.context.VARIANTS`): SpCoTMHP unsmoothed, with the paper's moving average
@@ -20,20 +22,62 @@ to sqrt 2 longer on diagonals.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 
 import numpy as np
 
-from spcotmhp.baselines.astar_goal import astar_to_sampled_goal
-from spcotmhp.baselines.smoothing import moving_average
-from spcotmhp.baselines.spconavi import astar_approximation, log_weight_map, viterbi
-from spcotmhp.evaluation.context import HomeContext
+from spcotmhp.baselines.astar_goal import AStarGoalPlanner
+from spcotmhp.baselines.hpp import HPP, HPPPlanner
+from spcotmhp.baselines.smoothing import MovingAveragePlanner
+from spcotmhp.baselines.spconavi import SpCoNaviPlanner
 from spcotmhp.evaluation.tasks import Task
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.planning.instructions import Instruction, PlaceQuery
+from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.planning.protocol import Planner
 
 SPCONAVI_T = 200  # the paper's SpCoNavi horizon
 SPCONAVI_J = 10  # goal candidates of the A* approximation
 
-Method = Callable[[HomeContext, Task, np.random.Generator], "np.ndarray | None"]
+
+@dataclass(frozen=True)
+class Offline:
+    """The offline part of one home that the planners are made from: the parameters, the cost map log p(x|m) of
+    ``occ_map``, the SpCoTMHP planner variants by name (:data:`~spcotmhp.evaluation.context.VARIANTS`; "ours" is
+    the planner as shipped) and the HPP-I/II tables on its planning graph."""
+
+    model: SpatialConceptModel
+    log_p: np.ndarray
+    occ_map: OccupancyMap
+    variants: Mapping[str, HierarchicalPlanner]
+    hpp: Mapping[str, HPP]
+
+
+def _astar(o: Offline) -> Planner:
+    """(A) A* to a goal drawn from p(x | S, Theta), with SpCoTMHP's move model."""
+    return AStarGoalPlanner(o.model, o.log_p, o.occ_map, connectivity=o.variants["ours"].graph.settings.connectivity)
+
+
+METHODS: dict[str, Callable[[Offline], Planner]] = {
+    "spcotmhp": lambda o: o.variants["ours"],
+    "astar": _astar,
+    "spconavi-viterbi": lambda o: SpCoNaviPlanner(o.model, o.log_p, o.occ_map, T=SPCONAVI_T),
+    "spconavi-astar": lambda o: SpCoNaviPlanner(
+        o.model, o.log_p, o.occ_map, approximation=True, T=SPCONAVI_T, J=SPCONAVI_J
+    ),
+    "hpp1": lambda o: HPPPlanner(o.hpp["hpp1"]),
+    "hpp2": lambda o: HPPPlanner(o.hpp["hpp2"]),
+    "hpp1-smoothed": lambda o: HPPPlanner(o.hpp["hpp1"], smooth=True),
+    "hpp2-smoothed": lambda o: HPPPlanner(o.hpp["hpp2"], smooth=True),
+    "spcotmhp-unsmoothed": lambda o: o.variants["unsmoothed"],
+    "spcotmhp-ma": lambda o: MovingAveragePlanner(o.variants["unsmoothed"]),
+    "spcotmhp-nostage": lambda o: o.variants["nostage"],
+    "spcotmhp-nostage-unsmoothed": lambda o: o.variants["nostage-unsmoothed"],
+    "spcotmhp-nostage-ma": lambda o: MovingAveragePlanner(o.variants["nostage-unsmoothed"]),
+}
+"""Each method's planner, made from the home's :class:`Offline` part."""
 
 MOVE_MODELS = {
     "spcotmhp": "8-connected",
@@ -53,105 +97,22 @@ MOVE_MODELS = {
 """How each method moves on the grid (the SPL reference length l is an 8-connected geodesic)."""
 
 
-def _world(ctx: HomeContext, cells: np.ndarray | None) -> np.ndarray | None:
-    if cells is None:
-        return None
-    cells = np.asarray(cells).reshape(-1, 2)
-    keep = np.ones(len(cells), dtype=bool)
-    keep[1:] = np.any(cells[1:] != cells[:-1], axis=1)  # drop "stay" repeats
-    return ctx.dataset.map.cell_to_world(cells[keep])
-
-
-def _spcotmhp(variant: str, average: bool = False) -> Method:
-    """(E) SpCoTMHP: the hierarchical planner (Eq. 28, exact joint search) from the task's start, as the planner
-    ``variant`` of the context; with ``average``, the path then gets the paper's moving average."""
-    from spcotmhp.planning.instructions import Instruction, PlaceQuery
-
-    def query(words: list[str]) -> PlaceQuery:
-        return PlaceQuery(dict(Counter(words)), " ".join(words))
-
-    def run(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
-        waypoints = (query(task.waypoint_words),) if task.waypoint_words else ()
-        ins = Instruction(goal=query(task.goal_words), waypoints=waypoints, lang=ctx.dataset.lang)
-        path = ctx.planners[variant].plan(ins, task.start_xy).path
-        return moving_average(path) if average else path
-
-    run.__doc__ = f"(E) SpCoTMHP, planner variant {variant!r}{', moving average' if average else ''}."
-    return run
-
-
-def astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
-    """(A) A* to a goal drawn from p(x | S, Theta), with SpCoTMHP's move model (8-connected)."""
-    cells = astar_to_sampled_goal(
-        ctx.model,
-        ctx.costmap.log_p,
-        ctx.dataset.map,
-        task.start_cell,
-        task.all_words,
-        rng,
-        connectivity=ctx.planner.graph.settings.connectivity,
-    )
-    return _world(ctx, cells)
-
-
-def spconavi_viterbi(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
-    """(B) SpCoNavi, exact Viterbi over every free cell, T = 200, actions {stay, up, down, left, right}."""
-    log_w = log_weight_map(ctx.model, ctx.costmap.log_p, ctx.cell_xy, task.all_words)
-    return _world(ctx, viterbi(log_w, task.start_cell, SPCONAVI_T).cells)
-
-
-def spconavi_astar(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
-    """(C) SpCoNavi, A* approximation with J = 10 sampled goals, actions {stay, up, down, left, right}."""
-    log_w = log_weight_map(ctx.model, ctx.costmap.log_p, ctx.cell_xy, task.all_words)
-    return _world(ctx, astar_approximation(log_w, task.start_cell, rng, SPCONAVI_J, SPCONAVI_T))
-
-
-def _hpp(name: str, smooth: bool = False) -> Method:
-    def run(ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
-        hpp = ctx.hpp[name]
-        cell = hpp.graph.to_crop(np.array(task.start_cell))
-        stages = [task.waypoint_words] if task.waypoint_words else []
-        return _world(ctx, hpp.graph.to_map(hpp.plan(cell, stages + [task.goal_words], rng, smooth=smooth)))
-
-    cost = "partial-path cost" if name == "hpp1" else "partial-path length"
-    run.__doc__ = f"(D) {'HPP-I' if name == 'hpp1' else 'HPP-II'} (edge cost: {cost}){', smoothed' * smooth}."
-    return run
-
-
-METHODS: dict[str, Method] = {
-    "spcotmhp": _spcotmhp("ours"),
-    "astar": astar,
-    "spconavi-viterbi": spconavi_viterbi,
-    "spconavi-astar": spconavi_astar,
-    "hpp1": _hpp("hpp1"),
-    "hpp2": _hpp("hpp2"),
-    "hpp1-smoothed": _hpp("hpp1", smooth=True),
-    "hpp2-smoothed": _hpp("hpp2", smooth=True),
-    "spcotmhp-unsmoothed": _spcotmhp("unsmoothed"),
-    "spcotmhp-ma": _spcotmhp("unsmoothed", average=True),
-    "spcotmhp-nostage": _spcotmhp("nostage"),
-    "spcotmhp-nostage-unsmoothed": _spcotmhp("nostage-unsmoothed"),
-    "spcotmhp-nostage-ma": _spcotmhp("nostage-unsmoothed", average=True),
-}
 RANDOM = frozenset({"astar", "spconavi-astar", "hpp1", "hpp2", "hpp1-smoothed", "hpp2-smoothed"})
 """The methods that draw at random (goals, target places): the only ones whose result depends on the seed when
 the parameters do not."""
 
 
-def warm_up(ctx: HomeContext, task: Task | None = None, methods: Sequence[str] = ()) -> None:
-    """Compile (or load) the numba kernels and run each method once on ``task`` (results discarded), so that no
-    timed task pays for compilation or first-call caches."""
-    from spcotmhp.errors import SpcotmhpError
-    from spcotmhp.metric.grid_search import warmup
-
-    warmup()
-    for name in methods if task is not None else ():
-        try:
-            METHODS[name](ctx, task, np.random.default_rng(0))
-        except SpcotmhpError:
-            pass
+def make_planners(offline: Offline) -> dict[str, Planner]:
+    """Every method's planner for one home (the offline part, built once)."""
+    return {name: make(offline) for name, make in METHODS.items()}
 
 
-def run_method(name: str, ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray | None:
-    """Run one method on one task."""
-    return METHODS[name](ctx, task, rng)
+def task_instruction(task: Task, lang: str) -> Instruction:
+    """The task as an instruction: the goal's words, and the waypoint's as one stage before it (each a bag of
+    words S, Eq. 25). The flat baselines (A*, SpCoNavi) read it as one bag, as in the paper."""
+
+    def query(words: list[str]) -> PlaceQuery:
+        return PlaceQuery(dict(Counter(words)), " ".join(words))
+
+    waypoints = (query(task.waypoint_words),) if task.waypoint_words else ()
+    return Instruction(goal=query(task.goal_words), waypoints=waypoints, lang=lang)

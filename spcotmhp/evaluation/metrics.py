@@ -96,7 +96,11 @@ class Outcome:
 
 
 def efficiency(p: float, l: float) -> float:
-    """The path-length weight ``l / max(p, l)`` of SPL (1 when both are 0)."""
+    """The path-length weight ``l / max(p, l)`` of SPL (1 when both are 0).
+
+    >>> efficiency(12.0, 9.0)  # a 12 m path where the shortest is 9 m
+    0.75
+    """
     if p < 0 or l < 0 or not (np.isfinite(l) and np.isfinite(p)):
         raise ValueError(f"path lengths must be finite and >= 0, got p = {p}, l = {l}")
     denom = max(p, l)

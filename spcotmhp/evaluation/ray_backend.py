@@ -12,9 +12,8 @@ from collections.abc import Callable, Sequence
 
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext
-from spcotmhp.evaluation.methods import warm_up
 from spcotmhp.evaluation.tasks import Task
-from spcotmhp.evaluation.work import chunks, evaluate_chunk
+from spcotmhp.evaluation.work import chunks, evaluate_chunk, warm_up
 from spcotmhp.extras import missing_extra
 
 LOCAL = "local"

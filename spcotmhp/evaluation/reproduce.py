@@ -144,7 +144,8 @@ def planning_section(plan: Plan, params: str, say: Callable[[str], None]) -> str
             "trajectory, so psi comes from the map (places whose territories touch), not from the HMM, whose "
             "psi on these homes has 0-2 edges. Each seed learns again."
         )
-    return experiment_markdown(*res, heading, about)
+    basic, advanced = res
+    return experiment_markdown(basic, advanced, heading, about)
 
 
 def psi_section(plan: Plan, say: Callable[[str], None]) -> str:

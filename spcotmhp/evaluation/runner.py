@@ -28,11 +28,11 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from spcotmhp.evaluation.context import HomeContext
-from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM, warm_up
+from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM
 from spcotmhp.evaluation.metrics import Outcome, summarise
 from spcotmhp.evaluation.spread import aggregate_methods
-from spcotmhp.evaluation.tasks import Task
-from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk
+from spcotmhp.evaluation.tasks import Task, TaskKind
+from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
 
 
 @dataclass
@@ -158,7 +158,7 @@ def evaluate_home(
     bar = progress.add_task(f"{ctx.name} {tasks[0].kind if tasks else ''}", total=len(tasks)) if progress else None
 
     def advance(n: int) -> None:
-        if progress is not None:
+        if progress is not None and bar is not None:
             progress.advance(bar, n)
 
     if backend == "ray":
@@ -181,7 +181,7 @@ def overall(results: Sequence[HomeResult], apart: bool = False) -> dict[str, dic
 
 def evaluate(
     datasets: Sequence,
-    kind: str,
+    kind: TaskKind,
     methods: Sequence[str],
     params: str = "supervised",
     seed: int = 0,

@@ -153,8 +153,11 @@ def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: 
     def count(result: Mapping, key: str) -> int:
         return sum(int(n.get(key, 0) or 0) for n in result["notes"].values())
 
-    n_basic = next(iter(basic["mean"].values()), {}).get("n_tasks", 0)
-    n_adv = next(iter(advanced["mean"].values()), {}).get("n_tasks", 0)
+    def n_tasks(result: Mapping) -> int:
+        first: Mapping = next(iter(result["mean"].values()), {})
+        return first.get("n_tasks", 0)
+
+    n_basic, n_adv = n_tasks(basic), n_tasks(advanced)
     seeds = basic.get("seeds", 1)
     lines = [
         f"### {heading}",

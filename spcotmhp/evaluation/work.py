@@ -14,13 +14,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from spcotmhp.errors import PlanningError
+from spcotmhp.errors import PlanningError, SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext
-from spcotmhp.evaluation.methods import run_method
+from spcotmhp.evaluation.methods import task_instruction
 from spcotmhp.evaluation.metrics import Box, Outcome, failed, off_free_space, score_path
 from spcotmhp.evaluation.tasks import Task
 
-__all__ = ["CHUNK", "TaskRecord", "chunks", "evaluate_chunk", "task_seed"]
+__all__ = ["CHUNK", "TaskRecord", "chunks", "evaluate_chunk", "run_method", "task_seed", "warm_up"]
 
 CHUNK = 16  # tasks per work item: large enough to amortise IPC, small enough to balance two cores
 
@@ -39,6 +39,27 @@ class TaskRecord:
 def task_seed(seed: int, home: str, task_index: int, method: str) -> np.random.SeedSequence:
     """The seed of one method's draws on one task (independent of scheduling)."""
     return np.random.SeedSequence([seed, zlib.crc32(home.encode()), task_index, zlib.crc32(method.encode())])
+
+
+def run_method(name: str, ctx: HomeContext, task: Task, rng: np.random.Generator) -> np.ndarray:
+    """Run one method on one task: the (n, 2) world path in metres of its plan (the online work the runner
+    times: understanding the task's words, planning, assembling)."""
+    return ctx.planners[name].plan(task_instruction(task, ctx.dataset.lang), task.start_xy, rng=rng).path
+
+
+def warm_up(ctx: HomeContext, task: Task | None = None, methods: Sequence[str] = ()) -> None:
+    """Compile (or load) the numba kernels and run each method once on ``task`` (results discarded), so that no
+    timed task pays for compilation or first-call caches."""
+    from spcotmhp.metric.grid_search import warmup
+
+    warmup()
+    if task is None:
+        return
+    for name in methods:
+        try:
+            run_method(name, ctx, task, np.random.default_rng(0))
+        except SpcotmhpError:
+            pass
 
 
 def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:

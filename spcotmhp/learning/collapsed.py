@@ -103,7 +103,7 @@ class CollapsedState:
 
     def step(self, e: int, rng: np.random.Generator) -> None:
         """One collapsed Gibbs step for event e (module docstring)."""
-        self._move(e, -1.0)
+        self.move(e, -1.0)
         self.draw(e, rng)
 
     def draw(self, e: int, rng: np.random.Generator, transitions: bool = True) -> None:
@@ -111,14 +111,16 @@ class CollapsedState:
         logp = self.log_conditional(e, transitions)
         flat = int(np.argmax(logp.ravel() + rng.gumbel(size=logp.size)))
         self.place[e], self.concept[e] = flat // self.L, flat % self.L
-        self._move(e, 1.0)
+        self.move(e, 1.0)
         if self.background:
             self._switches(e, rng)
 
     # ---- the conditional -----------------------------------------------------------------------------------
-    def log_conditional(self, e: int, transitions: bool = True) -> np.ndarray:
+    def log_conditional(self, e: int, transitions: bool = True, concepts: np.ndarray | None = None) -> np.ndarray:
         """(K, L) log p(i_e = k, C_e = l | everything else) up to a constant; event e must be out of the counts.
-        Without ``transitions`` the psi factors are left out (the first draw of a new event: ``append``)."""
+        Without ``transitions`` the psi factors are left out (the first draw of a new event: ``append``); with
+        ``concepts`` only those columns are computed ((K, len(concepts)); the split-merge moves need one or two).
+        """
         h = self.hyper
         place = self.log_predictive(self.X[e])
         R = self.trans + self.trans.T if self.replay else self.trans
@@ -130,8 +132,9 @@ class CollapsedState:
             place = place + np.log(R[:, nxt] + h.omega) - np.log(row)
         phi = (self.n_lk + h.gamma) / (self.n_l + self.K * h.gamma)[:, None]
         place = place - np.log(phi.sum(axis=0))  # Eq. 9 rescaling
-        concept = np.log(self.n_l + h.alpha) + self._log_words(e) + self._log_features(e)
-        joint = np.log(phi.T) + concept[None, :]  # (K, L)
+        cols = np.arange(self.L) if concepts is None else np.asarray(concepts)
+        concept = np.log(self.n_l[cols] + h.alpha) + self._log_words(e, cols) + self._log_features(e, cols)
+        joint = np.log(phi.T[:, cols]) + concept[None, :]  # (K, L)
         return joint + place[:, None]
 
     def log_predictive(self, x: np.ndarray) -> np.ndarray:
@@ -159,31 +162,32 @@ class CollapsedState:
             out[self.n_k <= 0] = self.log_new_place
         return out
 
-    def _log_words(self, e: int) -> np.ndarray:
-        """log DirMult of event e's concept tokens under each concept (the counts without e): (L,)."""
-        beta = self.hyper.beta
-        out = np.zeros(self.L)
+    def _log_words(self, e: int, cols: np.ndarray) -> np.ndarray:
+        """log DirMult of event e's concept tokens under each concept of ``cols`` (the counts without e)."""
+        beta, W = self.hyper.beta, self.W_lv[cols]
+        out = np.zeros(len(cols))
         seen: dict[int, int] = {}
-        total = self.W_lv.sum(axis=1) + self.V * beta
+        total = W.sum(axis=1) + self.V * beta
         for j, v in enumerate(self.tokens[e][self.z[e]]):
             rep = seen.get(int(v), 0)
-            out += np.log(self.W_lv[:, v] + beta + rep) - np.log(total + j)
+            out += np.log(W[:, v] + beta + rep) - np.log(total + j)
             seen[int(v)] = rep + 1
         return out
 
-    def _log_features(self, e: int) -> np.ndarray:
-        """log DirMult(f_e | chi + F_l) for each concept (Eq. 15 with theta integrated out): (L,)."""
+    def _log_features(self, e: int, cols: np.ndarray) -> np.ndarray:
+        """log DirMult(f_e | chi + F_l) for each concept l of ``cols`` (Eq. 15 with theta integrated out)."""
         f = self.features[e]
-        if f is None or self.F_ld is None:
-            return np.zeros(self.L)
-        chi, nz = self.hyper.chi, np.flatnonzero(f)
-        a = chi + self.F_ld[:, nz]
-        tot = self.D * chi + self.F_ld.sum(axis=1)
+        if f is None or self.F_ld is None or self.D is None:
+            return np.zeros(len(cols))
+        chi, nz, F = self.hyper.chi, np.flatnonzero(f), self.F_ld[cols]
+        a = chi + F[:, nz]
+        tot = self.D * chi + F.sum(axis=1)
         return (gammaln(a + f[nz]) - gammaln(a)).sum(axis=1) + gammaln(tot) - gammaln(tot + f.sum())
 
     # ---- counts --------------------------------------------------------------------------------------------
-    def _move(self, e: int, sign: float) -> None:
-        """Add (sign 1) or remove (-1) event e's contribution to every count."""
+    def move(self, e: int, sign: float) -> None:
+        """Add (sign 1) or remove (-1) event e's contribution to every count (its place and concept set; a removed
+        event gets place and concept -1)."""
         k, l, x = self.place[e], self.concept[e], self.X[e]
         self.n_k[k] += sign
         self.sx[k] += sign * x
@@ -194,8 +198,9 @@ class CollapsedState:
         np.add.at(self.W_lv[l], toks[z], sign)
         np.add.at(self.bg_v, toks[~z], sign)
         self.z_tot += sign * np.array([(~z).sum(), z.sum()])
-        if self.F_ld is not None and self.features[e] is not None:
-            self.F_ld[l] += sign * self.features[e]
+        f = self.features[e]
+        if self.F_ld is not None and f is not None:
+            self.F_ld[l] += sign * f
         if e > 0 and self.place[e - 1] >= 0:
             self.trans[self.place[e - 1], k] += sign
         if e + 1 < self.E and self.place[e + 1] >= 0:

@@ -23,7 +23,7 @@ import numpy as np
 from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import log_gaussian
 
-D = 2  # positions are 2-D
+POSITION_DIM = 2  # positions are 2-D (the feature dimension of theta is called D elsewhere)
 
 
 def log_gamma_variates(rng: np.random.Generator, shape: np.ndarray) -> np.ndarray:
@@ -110,9 +110,9 @@ class GaussianStats:
     def from_assignments(cls, X: np.ndarray, z: np.ndarray, K: int, weights: np.ndarray | None = None) -> GaussianStats:
         w = np.ones(len(X)) if weights is None else np.asarray(weights, dtype=float)
         n = np.bincount(z, weights=w, minlength=K).astype(float)
-        sx = np.zeros((K, D))
+        sx = np.zeros((K, POSITION_DIM))
         np.add.at(sx, z, X * w[:, None])
-        sxx = np.zeros((K, D, D))
+        sxx = np.zeros((K, POSITION_DIM, POSITION_DIM))
         np.add.at(sxx, z, (X[:, :, None] * X[:, None, :]) * w[:, None, None])
         return cls(n, sx, sxx)
 
@@ -133,14 +133,14 @@ class NIWGaussians:
     Sigma: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
-        self.m0 = np.asarray(self.m0, dtype=float).reshape(D)
-        self.V0 = np.asarray(self.V0, dtype=float).reshape(D, D)
-        if not (self.kappa0 > 0 and self.nu0 > D - 1):
-            raise ValueError(f"NIW needs kappa0 > 0 and nu0 > {D - 1}, got {self.kappa0}, {self.nu0}")
+        self.m0 = np.asarray(self.m0, dtype=float).reshape(POSITION_DIM)
+        self.V0 = np.asarray(self.V0, dtype=float).reshape(POSITION_DIM, POSITION_DIM)
+        if not (self.kappa0 > 0 and self.nu0 > POSITION_DIM - 1):
+            raise ValueError(f"NIW needs kappa0 > 0 and nu0 > {POSITION_DIM - 1}, got {self.kappa0}, {self.nu0}")
         if np.any(np.linalg.eigvalsh(self.V0) <= 0):
             raise ValueError("NIW scale matrix V0 must be positive definite")
         self.mu = np.tile(self.m0, (self.K, 1))
-        self.Sigma = np.tile(self.V0 / (self.nu0 + D + 1), (self.K, 1, 1))  # prior mode
+        self.Sigma = np.tile(self.V0 / (self.nu0 + POSITION_DIM + 1), (self.K, 1, 1))  # prior mode
 
     def posterior(self, stats: GaussianStats) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """NIW posterior (m_n, kappa_n, V_n, nu_n) per component (Murphy 2007, Eqs. 250-254)."""
@@ -163,13 +163,13 @@ class NIWGaussians:
         m_n, kappa_n, V_n, nu_n = self.posterior(stats)
         self.Sigma = sample_inverse_wishart_2d(rng, V_n, nu_n)
         chol = cholesky_2d(self.Sigma / kappa_n[:, None, None])
-        self.mu = m_n + np.einsum("kij,kj->ki", chol, rng.standard_normal((self.K, D)))
+        self.mu = m_n + np.einsum("kij,kj->ki", chol, rng.standard_normal((self.K, POSITION_DIM)))
 
     def posterior_mean(self, stats: GaussianStats) -> tuple[np.ndarray, np.ndarray]:
         """E[mu_k] = m_n and E[Sigma_k] = V_n / (nu_n - 3); components whose nu_n <= 3 (no data under the
         default nu0 = 3) get the posterior mode V_n / (nu_n + 3) instead, since their mean does not exist."""
         m_n, _, V_n, nu_n = self.posterior(stats)
-        denom = np.where(nu_n > D + 1, nu_n - D - 1, nu_n + D + 1)
+        denom = np.where(nu_n > POSITION_DIM + 1, nu_n - POSITION_DIM - 1, nu_n + POSITION_DIM + 1)
         return m_n, V_n / denom[:, None, None]
 
     def log_likelihood(self, X: np.ndarray) -> np.ndarray:
@@ -185,19 +185,19 @@ class NIWGaussians:
         _, logdet0 = np.linalg.slogdet(self.V0)
         _, logdet_n = np.linalg.slogdet(V_n[has])
         out = (
-            -0.5 * n[has] * D * np.log(np.pi)
+            -0.5 * n[has] * POSITION_DIM * np.log(np.pi)
             + multigammaln_vec(nu_n[has] / 2.0)
             - multigammaln_vec(np.asarray(self.nu0 / 2.0))
             + 0.5 * self.nu0 * logdet0
             - 0.5 * nu_n[has] * logdet_n
-            + 0.5 * D * (np.log(self.kappa0) - np.log(kappa_n[has]))
+            + 0.5 * POSITION_DIM * (np.log(self.kappa0) - np.log(kappa_n[has]))
         )
         return float(out.sum())
 
 
 def multigammaln_vec(a: np.ndarray) -> np.ndarray:
     """log Gamma_2(a) elementwise: log pi / 2 + log Gamma(a) + log Gamma(a - 1/2) (the multivariate gamma
-    function of dimension D = 2, as scipy's ``multigammaln(a, 2)``)."""
+    function of dimension 2, as scipy's ``multigammaln(a, 2)``)."""
     from scipy.special import gammaln  # here, not at import: planning imports this module and never needs it
 
     return 0.5 * np.log(np.pi) + gammaln(a) + gammaln(a - 0.5)
@@ -229,12 +229,12 @@ def inv_2d(S: np.ndarray) -> np.ndarray:
 def sample_inverse_wishart_2d(rng: np.random.Generator, V: np.ndarray, nu: np.ndarray) -> np.ndarray:
     """Sigma_k ~ IW(V_k, nu_k) for (K, 2, 2) scales, by the Bartlett decomposition of Sigma^-1 ~ W(V^-1, nu)."""
     K = V.shape[0]
-    L = cholesky_2d(inv_2d(V))
-    A = np.zeros((K, D, D))
+    chol = cholesky_2d(inv_2d(V))  # of the Wishart scale V^-1
+    A = np.zeros((K, POSITION_DIM, POSITION_DIM))
     A[:, 0, 0] = np.sqrt(rng.chisquare(nu))
     A[:, 1, 1] = np.sqrt(rng.chisquare(nu - 1.0))
     A[:, 1, 0] = rng.standard_normal(K)
-    LA = L @ A
+    LA = chol @ A
     prec = LA @ np.swapaxes(LA, 1, 2)
     S = inv_2d(prec)
     return 0.5 * (S + np.swapaxes(S, 1, 2))

@@ -101,6 +101,7 @@ from spcotmhp.learning.posterior import (
     mutual_information,
     posterior_mean_model,
 )
+from spcotmhp.learning.split_merge import SplitMerge
 
 TRANSITIONS = ("hmm", "none")
 
@@ -132,6 +133,13 @@ class SpCoTMHP:
             count of one image (None: the authors' p * 10 + 1 counts; see ``Observations.from_dataset``).
         background_words: shared background word distribution for function words (concepts.py); False is the
             paper's plain bag of words.
+        split_merge: after each Gibbs pass over the concepts, sequentially-allocated split-merge moves (Dahl
+            2005) that can split a concept holding two differently named rooms (split_merge.py); "auto" uses
+            them when the run has no image features (with features the collapsed joint they follow prefers
+            merged concepts, the reason the run selection's "auto" keeps the mutual information there).  Off by
+            default: on words-only homes they fix merged concepts, but the joint they then reach prefers one
+            place for two adjacent rooms of the same name, which costs more plans than it saves (README, "Plans
+            you can trust").
         connectivity: psi of the exported model, "auto", "hmm", "walk" or "map" (module docstring).
         init: initial assignment, "kmeans" (over-segmented places, random concepts), "keyword" or "random"
             (init.py).
@@ -159,6 +167,7 @@ class SpCoTMHP:
         use_features: bool = True,
         feature_weight: float | None = 1.0,
         background_words: bool = True,
+        split_merge: bool | str = False,
         connectivity: str = "auto",
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
@@ -176,6 +185,7 @@ class SpCoTMHP:
         self.use_features = use_features
         self.feature_weight = feature_weight
         self.background_words = background_words
+        self.split_merge = split_merge
         self.connectivity = connectivity
         self.init = init
         self.trajectory_weight = trajectory_weight
@@ -206,6 +216,10 @@ class SpCoTMHP:
         priors = Priors.build(hyper, self.K, self.L, len(obs.vocabulary), D)
         sampler = CollapsedConceptSampler(obs.words, obs.features, self.background_words, rng)
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
+        moves = None
+        moves_on = obs.features is None if self.split_merge == "auto" else bool(self.split_merge)
+        if moves_on:
+            moves = SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi)
         trace = []
         for sweep in range(self.iterations):
             stats = self._stats(obs, places, concepts, sampler)
@@ -222,6 +236,8 @@ class SpCoTMHP:
             concepts = sampler.sweep(
                 concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi, rng
             )  # step 5
+            if moves is not None:  # step 5, whole groups (split_merge.py)
+                concepts = moves.sweep(concepts, places, rng)
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
@@ -236,6 +252,7 @@ class SpCoTMHP:
             "reverse_replay": bool(self.replay),
             "transitions": self.transitions,
             "background_words": bool(self.background_words),
+            "split_merge": moves_on,
             "trajectory": obs.trajectory is not None,
             "features": obs.features is not None,
             "feature_weight": self.feature_weight,
@@ -282,6 +299,8 @@ class SpCoTMHP:
         ):
             if value not in allowed:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
+        if self.split_merge not in (True, False, "auto"):
+            raise ModelError(f"split_merge must be True, False or 'auto', got {self.split_merge!r}")
         if self.K < 1 or self.L < 1 or self.iterations < 1:
             raise ModelError(
                 f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"
@@ -360,7 +379,7 @@ def truncation_messages(model: SpatialConceptModel) -> list[str]:
 
 def _is_count(value: object) -> bool:
     """A non-negative integer (numpy integers included, booleans not)."""
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 0
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and bool(value >= 0)
 
 
 def _seed_repr(seed: int | np.random.SeedSequence) -> int | str:

@@ -129,7 +129,7 @@ def ffbs(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray, rng:
         np.ascontiguousarray(log_emit, dtype=np.float64),
         np.ascontiguousarray(log_trans, dtype=np.float64),
         np.ascontiguousarray(log_init, dtype=np.float64),
-        rng.random(log_emit.shape[0]),
+        rng.random(int(log_emit.shape[0])),
     )
 
 
@@ -151,7 +151,7 @@ def runs(labels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return labels[starts], np.diff(np.concatenate((starts, [len(labels)])))
 
 
-def dwell_filtered_sequence(labels: np.ndarray, min_dwell: int) -> np.ndarray:
+def dwell_filtered_sequence(labels: np.ndarray, min_dwell: float) -> np.ndarray:
     """The sequence of places visited along a per-pose label sequence: runs shorter than ``min_dwell`` poses are
     dropped (flicker at a boundary between two places is not a visit), then consecutive duplicates collapse."""
     run_labels, lengths = runs(labels)

@@ -30,6 +30,7 @@ import json
 import os
 from dataclasses import asdict, fields
 from pathlib import Path
+from typing import TypeGuard
 
 import numpy as np
 
@@ -94,17 +95,17 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
     }
     text = json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default)
     writers = {
-        "arrays.npz": lambda path: np.savez(path, **arrays),
+        "arrays.npz": lambda path: np.savez(path, allow_pickle=False, **arrays),
         "model.json": lambda path: path.write_text(text, encoding="utf-8"),
     }
     if model.learner is not None:
         from spcotmhp.learning.learner_state import learner_writers
 
         writers.update(learner_writers(model.learner))
-    if model.map is not None:
-        values = np.unique(model.map.data)
-        mode = "trinary" if np.isin(values, (-1, 0, 100)).all() else "raw"
-        writers["map.yaml"] = lambda path: save_map(model.map, path, mode=mode)
+    occ = model.map
+    if occ is not None:
+        mode = "trinary" if np.isin(np.unique(occ.data), (-1, 0, 100)).all() else "raw"
+        writers["map.yaml"] = lambda path: save_map(occ, path, mode=mode)
     return write_folder(out, writers, MODEL_FILES)
 
 
@@ -203,6 +204,24 @@ def _json_default(obj: object) -> object:
     raise TypeError(f"{type(obj).__name__} is not JSON serialisable")
 
 
+def _check_vocabulary(path: Path, vocabulary: list, V: int) -> None:
+    """V distinct words (strings) of at most MAX_WORD_CHARS characters; else a one-line ModelError."""
+    if not all(isinstance(w, str) for w in vocabulary) or len(vocabulary) != V:
+        raise ModelError(f'{path}: "vocabulary" must list V = {V} words (strings)')
+    seen: set[str] = set()
+    for j, word in enumerate(vocabulary):
+        if word in seen:
+            raise ModelError(
+                f'{path}: "vocabulary" lists {excerpt(word)} twice (again at index {j}); each word '
+                "must be listed once (it names one column of W)"
+            )
+        if len(word) > MAX_WORD_CHARS:
+            raise ModelError(
+                f'{path}: "vocabulary" word {j} has {len(word)} characters; at most {MAX_WORD_CHARS} are accepted'
+            )
+        seen.add(word)
+
+
 def _read_meta(path: Path) -> dict:
     if not path.is_file():
         raise ModelError(f"{path} is missing (a model folder holds model.json and arrays.npz)")
@@ -244,20 +263,7 @@ def _read_meta(path: Path) -> dict:
             f"{path}: sizes K={K}, L={L}, V={V}, D={D or None} need {elements} numbers in arrays.npz; "
             f"at most {MAX_ELEMENTS} are accepted"
         )
-    if not all(isinstance(w, str) for w in meta["vocabulary"]) or len(meta["vocabulary"]) != meta["V"]:
-        raise ModelError(f'{path}: "vocabulary" must list V = {meta["V"]} words (strings)')
-    seen: set[str] = set()
-    for j, word in enumerate(meta["vocabulary"]):
-        if word in seen:
-            raise ModelError(
-                f'{path}: "vocabulary" lists {excerpt(word)} twice (again at index {j}); each word '
-                "must be listed once (it names one column of W)"
-            )
-        if len(word) > MAX_WORD_CHARS:
-            raise ModelError(
-                f'{path}: "vocabulary" word {j} has {len(word)} characters; at most {MAX_WORD_CHARS} are accepted'
-            )
-        seen.add(word)
+    _check_vocabulary(path, meta["vocabulary"], meta["V"])
     _check_costmap(path, meta["costmap"])
     weight = meta["info"].get("feature_weight")
     if weight is not None and not _positive(weight):
@@ -270,10 +276,10 @@ def _read_meta(path: Path) -> dict:
 
 def _positive(value: object) -> bool:
     """A finite number > 0 (booleans are not numbers here)."""
-    return _number(value) and value > 0
+    return _number(value) and bool(value > 0)
 
 
-def _number(value: object) -> bool:
+def _number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
     return finite_number(value)
 
 

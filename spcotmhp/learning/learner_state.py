@@ -42,7 +42,7 @@ def member_of(st: CollapsedState) -> dict:
     arrays["tok_ptr"] = np.concatenate(([0], np.cumsum(lengths))).astype(np.int64)
     arrays["tok_word"] = np.concatenate(st.tokens).astype(np.int64) if st.tokens else np.zeros(0, np.int64)
     arrays["tok_z"] = np.concatenate(st.z).astype(bool) if st.z else np.zeros(0, bool)
-    if st.F_ld is not None:
+    if st.F_ld is not None and st.D is not None:
         arrays["F_ld"] = st.F_ld.copy()
         arrays["has_features"] = np.array([f is not None for f in st.features], dtype=bool)
         arrays["features"] = np.array([np.zeros(st.D) if f is None else f for f in st.features]).reshape(-1, st.D)
@@ -106,7 +106,7 @@ def from_batch(
     np.add.at(st.W_lv, (ev[zb], tok_word[zb]), 1.0)
     st.bg_v = np.bincount(tok_word[~zb], minlength=st.V).astype(float)
     st.z_tot = np.array([float((~zb).sum()), float(zb.sum())])
-    if D is not None:
+    if st.F_ld is not None and obs.features is not None:
         np.add.at(st.F_ld, st.concept, obs.features)
     st.trans = transition_counts(st.place, K, False)
     return member_of(st)
@@ -139,7 +139,7 @@ def pseudo_state(model: SpatialConceptModel, replay: bool, background: bool) -> 
     sxx = Vn - V0 - h.kappa0 * np.outer(m0, m0) + kn[:, None, None] * model.mu[:, :, None] * model.mu[:, None, :]
     st.sxx = sxx * act_k[:, None, None]
     st.z_tot = np.array([0.0, st.W_lv.sum()])
-    if D is not None:
+    if model.theta is not None:
         weight = model.info.get("feature_weight") or 1.0
         st.F_ld = _counts(model.theta, h.chi, st.n_l * weight) * act_l[:, None]
     psi = model.psi_learned if model.psi_learned is not None else model.psi
@@ -174,6 +174,8 @@ def export_model(learner) -> SpatialConceptModel:
             "events": st.E,
             "lag": learner.lag,
             "rejuvenation": learner.rejuvenation,
+            "split_merge": learner.split_merge,
+            "split_merge_events": learner.split_merge_events,
             "seed": learner.seed,
         },
         truncation_saturated=list(learner.truncation_saturated_),

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from spcotmhp.errors import ModelError
 from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.metric.maps import OccupancyMap
 
@@ -22,6 +23,12 @@ ALPHA_TOTAL = 10.0
 GAMMA_TOTAL = 1.0
 OMEGA_TOTAL = 10.0
 SCALED_PRIORS = ("alpha", "gamma", "omega")
+DERIVED = float("nan")  # the default of alpha, gamma and omega: derived from the truncation in __post_init__
+
+
+def _unset(value: float | None) -> bool:
+    """A scaled prior left to be derived: the default ``DERIVED`` (NaN) or None."""
+    return value is None or value != value
 
 
 @dataclass
@@ -32,40 +39,41 @@ class Hyperparameters:
     beta: W_l ~ Dir(beta); chi: theta_l ~ Dir(chi); omega: psi_k ~ DP(omega); NIW (m0, kappa0, V0, nu0).
     The values are per-component Dirichlet parameters as the authors used them.
 
-    alpha, gamma and omega left as None follow the truncation: alpha = 10 / L, gamma = 1 / K, omega = 10 / K
-    (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20 and keeps the total prior
-    mass of each Dirichlet process fixed when --max-places / --max-concepts change.  ``resized(L, K)`` re-derives
-    the ones that were derived (``dataclasses.replace`` would keep their old values); given values are kept.
+    alpha, gamma and omega left unset (``DERIVED``; None is accepted too) follow the truncation: alpha = 10 / L,
+    gamma = 1 / K, omega = 10 / K (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20
+    and keeps the total prior mass of each Dirichlet process fixed when --max-places / --max-concepts change.
+    ``resized(L, K)`` re-derives the ones that were derived (``dataclasses.replace`` would keep their old values);
+    given values are kept.
     """
 
     L: int = 20
     K: int = 20
-    alpha: float | None = None
-    gamma: float | None = None
+    alpha: float = DERIVED
+    gamma: float = DERIVED
     beta: float = 0.1
     chi: float = 1.0
-    omega: float | None = None
+    omega: float = DERIVED
     m0: tuple[float, float] = (0.0, 0.0)
     kappa0: float = 1e-3
     V0: tuple[tuple[float, float], tuple[float, float]] = ((2.0, 0.0), (0.0, 2.0))
     nu0: float = 3.0
 
     def __post_init__(self) -> None:
-        self._derived = tuple(name for name in SCALED_PRIORS if getattr(self, name) is None)
+        self._derived = tuple(name for name in SCALED_PRIORS if _unset(getattr(self, name)))
         if self._derived and not (self.L >= 1 and self.K >= 1):
             raise ValueError(f"L and K must be >= 1 to derive {', '.join(self._derived)}, got L={self.L}, K={self.K}")
-        if self.alpha is None:
+        if _unset(self.alpha):
             self.alpha = ALPHA_TOTAL / self.L
-        if self.gamma is None:
+        if _unset(self.gamma):
             self.gamma = GAMMA_TOTAL / self.K
-        if self.omega is None:
+        if _unset(self.omega):
             self.omega = OMEGA_TOTAL / self.K
 
     def resized(self, L: int, K: int) -> Hyperparameters:
         """These priors for truncation levels L and K: alpha, gamma, omega that were derived from the old L and
         K are derived again, values given explicitly are kept."""
         values = {f.name: getattr(self, f.name) for f in fields(self)}
-        values.update(L=L, K=K, **{name: None for name in getattr(self, "_derived", ())})
+        values.update(L=L, K=K, **{name: DERIVED for name in getattr(self, "_derived", ())})
         return Hyperparameters(**values)
 
 
@@ -99,8 +107,8 @@ class SpatialConceptModel:
     W: np.ndarray
     vocabulary: list[str]
     theta: np.ndarray | None = None
-    active_places: np.ndarray | None = None
-    active_concepts: np.ndarray | None = None
+    active_places: np.ndarray = field(default_factory=lambda: np.ones(0, dtype=bool))  # all K active when unset
+    active_concepts: np.ndarray = field(default_factory=lambda: np.ones(0, dtype=bool))  # all L active when unset
     hyper: Hyperparameters = field(default_factory=Hyperparameters)
     map: OccupancyMap | None = None
     costmap: dict = field(
@@ -115,10 +123,16 @@ class SpatialConceptModel:
     learner: dict | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if self.active_places is None:
+        if self.active_places is None or np.size(self.active_places) == 0:
             self.active_places = np.ones(self.K, dtype=bool)
-        if self.active_concepts is None:
+        if self.active_concepts is None or np.size(self.active_concepts) == 0:
             self.active_concepts = np.ones(self.L, dtype=bool)
+
+    def require_map(self) -> OccupancyMap:
+        """The occupancy map the model was learned on; a one-line ModelError when the model has none."""
+        if self.map is None:
+            raise ModelError("the model has no map; planning needs the occupancy map it was learned on")
+        return self.map
 
     # ---- sizes -------------------------------------------------------------------------------------------
     @property

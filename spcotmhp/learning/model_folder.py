@@ -121,7 +121,7 @@ def verify_manifest(root: Path) -> dict[str, int] | None:
 
 
 # ---- writing -----------------------------------------------------------------------------------------------
-def write_folder(target: Path, writers: Mapping[str, Callable[[Path], None]], known: tuple[str, ...]) -> Path:
+def write_folder(target: Path, writers: Mapping[str, Callable[[Path], object]], known: tuple[str, ...]) -> Path:
     """Build the folder ``target`` atomically: ``writers[name](path)`` writes each file into a fresh sibling
     folder, then the manifest, then the sibling replaces ``target``.
 

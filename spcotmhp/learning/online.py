@@ -1,6 +1,6 @@
 """Online learning of spatial concepts: teaching events taken one at a time ("this is alice's room" at x, y).
 
-Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuvenation.
+Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuvenation, and split-merge moves.
 
 * Each new event e gets its place i_e and concept C_e drawn from their collapsed conditional given every earlier
   assignment (``collapsed.py``: the NIW predictive of the position, the transition from i_{e-1} with psi
@@ -16,8 +16,14 @@ Algorithm: incremental collapsed Gibbs sampling with fixed-lag and random rejuve
   allocation", AISTATS 2009, the incremental Gibbs sampler): ``rejuvenation`` events drawn uniformly from the
   older ones are resampled too, so old assignments keep moving toward the posterior of all the data.
 
-Each update costs O(lag + rejuvenation) Gibbs steps of O(K L + K^2) each, independent of the number of events
-seen (apart from appending it to the event arrays).
+* Split-merge moves (``online_split_merge``: Dahl's sequentially-allocated merge-split, Metropolis-Hastings on the
+  collapsed log joint): ``split_merge`` proposals per event split a place, a concept or a room (a place with its
+  one concept) in two, or merge two into one.  Single-site steps cannot undo a merge made early in a stream (two
+  rooms in one place while each had a few events) nor gather a name spread over several concepts.
+
+Each update costs O(lag + rejuvenation) Gibbs steps of O(K L + K^2) each and ``split_merge`` moves of at most
+``split_merge_events`` conditionals each, independent of the number of events seen (apart from appending it to
+the event arrays).
 
 Where this departs from SpCoSLAM 2.0: one chain instead of a Rao-Blackwellised particle filter.  SpCoSLAM 2.0's
 particles carry SLAM hypotheses (map and trajectory, weighted by the scan likelihood) with the concept
@@ -42,6 +48,7 @@ import time
 import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import TypeGuard
 
 import numpy as np
 
@@ -49,6 +56,7 @@ from spcotmhp.errors import TeachingError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.gibbs import TruncationWarning, make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.online_split_merge import KINDS, propose
 from spcotmhp.metric.maps import OccupancyMap
 
 MAX_UTTERANCE_CHARS = 1000
@@ -82,6 +90,11 @@ class TeachingEvent:
         return cls(float(x), float(y), words, features)
 
 
+def _is_number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
+    """A real number (numpy scalars included), not a bool."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
 def as_event(item: object) -> TeachingEvent:
     """A TeachingEvent, a mapping {"x", "y", "utterance" or "words"[, "features"]} or a tuple (x, y, utterance or
     words) as a TeachingEvent; TeachingError for anything else."""
@@ -100,10 +113,10 @@ def as_event(item: object) -> TeachingEvent:
         raise TeachingError(
             f"a teaching event is (x, y, utterance) or a mapping with x, y and utterance, got {type(item).__name__}"
         )
-    if not all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in (x, y)):
+    if not (_is_number(x) and _is_number(y)):
         raise TeachingError(f"a teaching position must be two numbers (metres), got {x!r}, {y!r}")
     if isinstance(said, str):
-        return TeachingEvent.from_utterance(said, x, y, feats)
+        return TeachingEvent.from_utterance(said, float(x), float(y), feats)
     if not isinstance(said, (list, tuple)) or not said or not all(isinstance(w, str) and w for w in said):
         raise TeachingError("a teaching event needs an utterance (text) or a non-empty list of words")
     if len(said) > MAX_WORDS or sum(len(w) for w in said) > MAX_UTTERANCE_CHARS:
@@ -119,6 +132,10 @@ class OnlineSpCoTMHP:
             components hold events, up to ``max_K`` / ``max_L`` (then a TruncationWarning says so).
         lag: events resampled after each new one (fixed-lag rejuvenation); rejuvenation: older events drawn at
             random and resampled after each new one.
+        split_merge: split-merge proposals after each new event (0: none); split_merge_events: a move is proposed
+            only when its two places or concepts hold at most this many events (None: no bound), which bounds
+            its time (about 0.1 ms per event it moves on the development machine); the bound applies to a split
+            and to its reverse merge alike, so it does not bias the moves.
         replay, background_words: as the batch learner (``gibbs.SpCoTMHP``).
         use_features, feature_weight: image features of the events, each row rescaled to ``feature_weight``.
         connectivity: psi of the exported model: "auto" or "map" (places whose territories touch, when there is
@@ -146,6 +163,8 @@ class OnlineSpCoTMHP:
         max_L: int = 200,
         lag: int = 10,
         rejuvenation: int = 10,
+        split_merge: int = 6,
+        split_merge_events: int | None = 60,
         replay: bool = True,
         background_words: bool = True,
         use_features: bool = True,
@@ -159,6 +178,7 @@ class OnlineSpCoTMHP:
     ) -> None:
         self.K, self.L, self.max_K, self.max_L = K, L, max_K, max_L
         self.lag, self.rejuvenation = lag, rejuvenation
+        self.split_merge, self.split_merge_events = split_merge, split_merge_events
         self.replay, self.background_words = replay, background_words
         self.use_features, self.feature_weight = use_features, feature_weight
         self.connectivity, self.hyper = connectivity, hyper
@@ -178,7 +198,7 @@ class OnlineSpCoTMHP:
             t0 = time.perf_counter()
             self._update(event, make_rng(self.seed, self.state_.E))
             self.update_times_.append(time.perf_counter() - t0)
-        self._model = None
+        self._model: SpatialConceptModel | None = None
         self.last_places_ = self.state_.place[first:].copy()
         return self
 
@@ -196,9 +216,10 @@ class OnlineSpCoTMHP:
         update."""
         from spcotmhp.learning.learner_state import export_model
 
-        if getattr(self, "_model", None) is None:
-            self._model = export_model(self)
-        return self._model
+        model = getattr(self, "_model", None)
+        if model is None:
+            model = self._model = export_model(self)
+        return model
 
     # ---- state ---------------------------------------------------------------------------------------------
     def _start(self) -> None:
@@ -279,7 +300,24 @@ class OnlineSpCoTMHP:
         if older and self.rejuvenation:
             for j in rng.integers(older, size=self.rejuvenation):
                 st.step(int(j), rng)
+        self._split_merge(e, rng)
         self._grow_if_saturated()
+
+    def _split_merge(self, e: int, rng: np.random.Generator) -> None:
+        """``split_merge`` split-merge proposals (``online_split_merge``) of the kinds in turn (places, concepts,
+        rooms). Each pairs an event a with an event b != a drawn at random; a is the new event with probability
+        1/2 (a split of the place or concept it just joined, or a merge into it) and otherwise an event drawn at
+        random (as random rejuvenation: merges made earlier in the stream). The pairs do not depend on the
+        assignments, as the moves' acceptance needs."""
+        E = self.state_.E
+        if E < 2:
+            return
+        log_pi = None  # the state's log_target, once a move has computed it
+        for j in range(self.split_merge):
+            a = e if rng.random() < 0.5 else int(rng.integers(E))
+            b = int(rng.integers(E - 1))
+            b += b >= a
+            _, log_pi = propose(self.state_, KINDS[j % len(KINDS)], a, b, rng, self.split_merge_events, log_pi)
 
     def _grow_if_saturated(self) -> None:
         """Double a truncation whose every component holds events; warn once when it cannot grow further."""

@@ -6,6 +6,7 @@ and the update time per event (median, 95th percentile and maximum over every ev
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import numpy as np
 
@@ -54,7 +55,7 @@ def evaluate_online(
         scores.append(score_run(dataset, learner.places_, learner.concepts_))
         times.extend(learner.update_times_)
     ms = 1000.0 * np.asarray(times)
-    out = {
+    out: dict[str, Any] = {
         "dataset": dataset.name,
         "events": len(events),
         "seeds": seeds,

@@ -124,7 +124,7 @@ def posterior_mean_model(
         phi=priors.phi.posterior_mean(stats.place_given_concept),
         W=W,
         vocabulary=list(vocabulary),
-        theta=None if priors.theta is None else priors.theta.posterior_mean(stats.features),
+        theta=None if priors.theta is None or stats.features is None else priors.theta.posterior_mean(stats.features),
         active_places=stats.gauss.n > 0,
         active_concepts=stats.concepts > 0,
         hyper=hyper,
@@ -156,7 +156,7 @@ def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | 
         + priors.phi.log_marginal(stats.place_given_concept)
         + priors.W.log_marginal(stats.words)
     )
-    if priors.theta is not None:
+    if priors.theta is not None and stats.features is not None:
         lj += priors.theta.log_marginal(stats.features)
     if transitions is not None:
         lj += priors.psi.log_marginal(transitions)

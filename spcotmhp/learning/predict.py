@@ -28,15 +28,16 @@ def predict_assignments(
         vocabulary=model.vocabulary,
         feature_weight=model.info.get("feature_weight", 1.0),
     )
-    if obs.features is not None and obs.features.shape[1] != model.theta.shape[1]:
+    theta = model.theta if obs.features is not None else None
+    if obs.features is not None and theta is not None and obs.features.shape[1] != theta.shape[1]:
         raise ModelError(
             f"{dataset.name}: the image features have {obs.features.shape[1]} dimensions but the "
-            f"model was learned with {model.theta.shape[1]}"
+            f"model was learned with {theta.shape[1]}"
         )
     with np.errstate(divide="ignore"):
         score_c = np.log(model.pi) + log_multinomial(np.log(model.W), obs.words)  # (E, L)
-        if obs.features is not None:
-            score_c = score_c + log_multinomial(np.log(model.theta), obs.features)
+        if obs.features is not None and theta is not None:
+            score_c = score_c + log_multinomial(np.log(theta), obs.features)
         score_c = np.where(model.active_concepts, score_c, -np.inf)
         place = np.where(model.active_places, model.log_place_density(obs.X), -np.inf)  # (E, K)
         joint = score_c[:, :, None] + np.log(model.phi)[None] + place[:, None, :]  # (E, L, K)

@@ -62,7 +62,7 @@ def place_territories(
             best[higher], top[higher] = n, score[higher]
     labels[mask] = best[mask]  # indices into act
     # the anchor of each place: the mask cell nearest its mean
-    cells = model.map.world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
+    cells = model.require_map().world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
     anchors = snap(mask, cells)
     out = _partition(labels, anchors.astype(np.int64), len(act))
     return np.where(out >= 0, act[np.maximum(out, 0)], -1)
@@ -178,8 +178,8 @@ def _score(points, p, mu, Sigma, det, log_det, prior, k):  # pragma: no cover - 
 @njit(cache=True)
 def _partition(labels, anchors, n):  # pragma: no cover - numba
     """Seeds, then breadth-first growth (module docstring); ``labels`` holds 0..n-1 on mask cells, -1 off."""
-    H, W = labels.shape
-    N = H * W
+    height, width = labels.shape
+    N = height * width
     flat = labels.reshape(-1)
     comp = np.full(N, -1, dtype=np.int64)
     queue = np.empty(N, dtype=np.int64)
@@ -196,7 +196,7 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
             i = queue[head]
             head += 1
             for d in range(4):
-                j = _neighbour(i, d, H, W)
+                j = _neighbour(i, d, height, width)
                 if j >= 0 and comp[j] < 0 and flat[j] == flat[s]:
                     comp[j] = n_comp
                     queue[tail] = j
@@ -206,12 +206,12 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
         n_comp += 1
     seed_comp = np.full(n, -1, dtype=np.int64)
     for k in range(n):  # the anchor's piece, else the largest piece
-        a = anchors[k, 0] * W + anchors[k, 1]
+        a = anchors[k, 0] * width + anchors[k, 1]
         if flat[a] == k:
             seed_comp[k] = comp[a]
     for q in range(n_comp):
         k = comp_label[q]
-        if flat[anchors[k, 0] * W + anchors[k, 1]] != k and (seed_comp[k] < 0 or sizes[q] > sizes[seed_comp[k]]):
+        if flat[anchors[k, 0] * width + anchors[k, 1]] != k and (seed_comp[k] < 0 or sizes[q] > sizes[seed_comp[k]]):
             seed_comp[k] = q
     owner = np.full(n_comp, -1, dtype=np.int64)
     for k in range(n):
@@ -226,7 +226,7 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
             tail += 1
     for k in range(n):  # a place with no cell of its own keeps its anchor cell
         if seed_comp[k] < 0:
-            a = anchors[k, 0] * W + anchors[k, 1]
+            a = anchors[k, 0] * width + anchors[k, 1]
             if flat[a] >= 0 and out[a] != k:
                 if out[a] < 0:
                     queue[tail] = a
@@ -237,21 +237,21 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
         i = queue[head]
         head += 1
         for d in range(4):
-            j = _neighbour(i, d, H, W)
+            j = _neighbour(i, d, height, width)
             if j >= 0 and flat[j] >= 0 and out[j] < 0:
                 out[j] = out[i]
                 queue[tail] = j
                 tail += 1
-    return out.reshape(H, W)
+    return out.reshape(height, width)
 
 
 @njit(cache=True, inline="always")
-def _neighbour(i, d, H, W):  # pragma: no cover - numba
+def _neighbour(i, d, height, width):  # pragma: no cover - numba
     """The flat index of the 4-neighbour ``d`` (0..3: down, up, right, left in rows/cols) of flat cell ``i`` on
     an H x W grid, or -1 off the grid."""
-    r, c = i // W, i % W
+    r, c = i // width, i % width
     r += 1 if d == 0 else -1 if d == 1 else 0
     c += 1 if d == 2 else -1 if d == 3 else 0
-    if r < 0 or r >= H or c < 0 or c >= W:
+    if r < 0 or r >= height or c < 0 or c >= width:
         return -1
-    return r * W + c
+    return r * width + c

@@ -99,14 +99,14 @@ def grid_search(cost, sources, targets, connectivity, diagonal_factor, corner_ru
     in ``MODE_FIRST`` (-1 if none is reachable). ``h_scale`` > 0 enables the A* heuristic towards ``targets``
     in ``MODE_FIRST``. Heap rows are (key, node); node indices are exact in float64 below 2**53.
     """
-    H, W = cost.shape
-    N = H * W
+    height, width = cost.shape
+    N = height * width
     dist = np.full(N, np.inf)
     parent = np.full(N, -1, np.int32)  # int32 halves the memory to initialise; the caller checks H*W < 2**31
     is_target = np.zeros(N if mode != MODE_FIELD else 0, np.bool_)
     remaining = 0
     for t in range(targets.shape[0] if mode != MODE_FIELD else 0):
-        idx = targets[t, 0] * W + targets[t, 1]
+        idx = targets[t, 0] * width + targets[t, 1]
         if not is_target[idx]:
             is_target[idx] = True
             remaining += 1
@@ -117,7 +117,7 @@ def grid_search(cost, sources, targets, connectivity, diagonal_factor, corner_ru
     heap = np.empty((max(4096, 2 * sources.shape[0] + 16), 2), np.float64)
     size = 0
     for s in range(sources.shape[0]):
-        idx = sources[s, 0] * W + sources[s, 1]
+        idx = sources[s, 0] * width + sources[s, 1]
         if dist[idx] > 0.0:
             dist[idx] = 0.0
             key = 0.0
@@ -133,8 +133,8 @@ def grid_search(cost, sources, targets, connectivity, diagonal_factor, corner_ru
             heap,
             size,
             cost.ravel(),
-            H,
-            W,
+            height,
+            width,
             dist,
             parent,
             is_target,
@@ -162,8 +162,8 @@ def _search_loop(
     heap,
     size,
     flat,
-    H,
-    W,
+    height,
+    width,
     dist,
     parent,
     is_target,
@@ -190,8 +190,8 @@ def _search_loop(
         size -= 1
         if size > 0:
             _pop_fix(heap, size)
-        ur = u // W
-        uc = u - ur * W
+        ur = u // width
+        uc = u - ur * width
         gu = dist[u]
         # Stale entry (lazy deletion): a cheaper path to u was pushed after this one. The current entry's key
         # was computed as dist[u] + h(u) with the same operands, so the comparison is exact.
@@ -202,7 +202,7 @@ def _search_loop(
             continue
         if mode == MODE_FIRST:
             if is_target[u]:
-                found = u
+                found = int(u)
                 break
         elif mode == MODE_ALL and is_target[u]:
             is_target[u] = False
@@ -213,9 +213,9 @@ def _search_loop(
         for k in range(n_nb):
             vr = ur + _DR[k]
             vc = uc + _DC[k]
-            if vr < 0 or vr >= H or vc < 0 or vc >= W:
+            if vr < 0 or vr >= height or vc < 0 or vc >= width:
                 continue
-            v = vr * W + vc
+            v = vr * width + vc
             cv = flat[v]
             if not cv < np.inf:
                 continue
@@ -223,8 +223,8 @@ def _search_loop(
             if k >= 4:
                 step = diagonal_factor
                 if corner_rule != CORNER_FREE:
-                    b1 = not flat[ur * W + vc] < np.inf
-                    b2 = not flat[vr * W + uc] < np.inf
+                    b1 = not flat[ur * width + vc] < np.inf
+                    b2 = not flat[vr * width + uc] < np.inf
                     if corner_rule == CORNER_NO_SQUEEZE:
                         if b1 and b2:
                             continue
@@ -246,11 +246,11 @@ def _search_loop(
 def first_invalid(cells, grid, check_blocked):
     """(index, reason) of the first of ``cells`` off ``grid`` (reason 1) or, if asked, blocked there (reason 2:
     the value is not finite); (-1, 0) when all are valid."""
-    H, W = grid.shape
+    height, width = grid.shape
     for i in range(cells.shape[0]):
         r = cells[i, 0]
         c = cells[i, 1]
-        if r < 0 or r >= H or c < 0 or c >= W:
+        if r < 0 or r >= height or c < 0 or c >= width:
             return i, 1
         if check_blocked and not np.isfinite(grid[r, c]):
             return i, 2
@@ -258,7 +258,7 @@ def first_invalid(cells, grid, check_blocked):
 
 
 @njit(cache=True)
-def follow_links(links, first, W, backwards):
+def follow_links(links, first, width, backwards):
     """The chain ``first, links[first], ...`` up to (and including) the cell whose link is -1.
 
     Returns ``(cells, n_diagonal)``: (n, 2) int64 (row, col), in chain order or, if ``backwards``, reversed
@@ -276,8 +276,8 @@ def follow_links(links, first, W, backwards):
     prev_c = -1
     for i in range(n):
         j = n - 1 - i if backwards else i
-        out[j, 0] = v // W
-        out[j, 1] = v - out[j, 0] * W
+        out[j, 0] = v // width
+        out[j, 1] = v - out[j, 0] * width
         if i > 0 and out[j, 0] != prev_r and out[j, 1] != prev_c:
             n_diagonal += 1
         prev_r = out[j, 0]

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -132,10 +132,41 @@ def step_cost_map(
     return cost
 
 
+Cell = tuple[int, int] | Sequence[int] | np.ndarray  # one (row, col)
+Cells = np.ndarray | Sequence[Sequence[int]]  # (T, 2) cells
+
+
+# the return type follows all_targets (one path or None; a list with one entry per target)
+@overload
 def shortest_paths(
     cell_cost: np.ndarray,
-    start: tuple[int, int] | Sequence[int] | np.ndarray,
-    targets: np.ndarray | Sequence[Sequence[int]],
+    start: Cell,
+    targets: Cells | Cell,
+    connectivity: int = ...,
+    diagonal_factor: float = ...,
+    resolution: float = ...,
+    all_targets: Literal[False] = ...,
+    *,
+    corner_rule: str = ...,
+    strict: bool = ...,
+) -> GridPath | None: ...
+@overload
+def shortest_paths(
+    cell_cost: np.ndarray,
+    start: Cell,
+    targets: Cells | Cell,
+    connectivity: int = ...,
+    diagonal_factor: float = ...,
+    resolution: float = ...,
+    *,
+    all_targets: Literal[True],
+    corner_rule: str = ...,
+    strict: bool = ...,
+) -> list[GridPath | None]: ...
+def shortest_paths(
+    cell_cost: np.ndarray,
+    start: Cell,
+    targets: Cells | Cell,
     connectivity: int = 8,
     diagonal_factor: float = SQRT2,
     resolution: float = 1.0,
@@ -151,6 +182,12 @@ def shortest_paths(
     target is settled; returns a list with one path per target (None where unreachable). With ``strict=True``
     an unreachable target raises :class:`~spcotmhp.errors.PlanningError` instead. A start or target off the grid
     or in a blocked cell raises :class:`GridSearchError` naming the cell.
+
+    >>> cost = np.ones((3, 4))
+    >>> cost[1, 1:3] = np.inf                                    # a wall of two cells
+    >>> path = shortest_paths(cost, (0, 0), [(2, 3)])
+    >>> path.cells.tolist(), round(path.cost, 4)
+    ([[0, 0], [0, 1], [0, 2], [1, 3], [2, 3]], 4.4142)
     """
     cost = _check_cost(cell_cost)
     connectivity, diagonal_factor, rule = _check_moves(connectivity, diagonal_factor, corner_rule)
@@ -178,9 +215,9 @@ def shortest_paths(
         if strict:
             raise PlanningError(f"no path from start {_fmt(src[0])} to any of {len(tgt)} target(s)")
         return None
-    W = cost.shape[1]
-    index = int(np.flatnonzero(tgt[:, 0] * W + tgt[:, 1] == found)[0])
-    return _forward_path(dist, parent, found, W, resolution, index)
+    width = cost.shape[1]
+    index = int(np.flatnonzero(tgt[:, 0] * width + tgt[:, 1] == found)[0])
+    return _forward_path(dist, parent, found, width, resolution, index)
 
 
 def cost_to_go(
@@ -207,6 +244,26 @@ def cost_to_go(
     return dist.reshape(cost.shape), nxt.reshape(cost.shape)
 
 
+@overload
+def path_from_field(
+    field: np.ndarray,
+    next_step: np.ndarray,
+    start: Cell,
+    sources: Cells | None = ...,
+    resolution: float = ...,
+    *,
+    strict: Literal[True],
+) -> GridPath: ...
+@overload
+def path_from_field(
+    field: np.ndarray,
+    next_step: np.ndarray,
+    start: Cell,
+    sources: Cells | None = ...,
+    resolution: float = ...,
+    *,
+    strict: bool = ...,
+) -> GridPath | None: ...
 def path_from_field(
     field: np.ndarray,
     next_step: np.ndarray,
@@ -230,11 +287,11 @@ def path_from_field(
         if strict:
             raise PlanningError(f"start cell {_fmt(s)} cannot reach any source (blocked or disconnected)")
         return None
-    W = field.shape[1]
+    width = field.shape[1]
     if next_step.dtype not in (np.int32, np.int64):
         raise GridSearchError(f"next_step must hold int32 or int64 flat cell indices, got dtype {next_step.dtype}")
     links = np.ascontiguousarray(next_step).reshape(-1)
-    cells, n_diagonal = _k.follow_links(links, int(s[0] * W + s[1]), W, False)
+    cells, n_diagonal = _k.follow_links(links, int(s[0] * width + s[1]), width, False)
     index = -1
     if sources is not None:
         src = _check_cells(sources, field, "source", check_blocked=False)
@@ -268,10 +325,10 @@ def warmup() -> None:
         path_from_field(*cost_to_go(cost, [(2, 2)]), (0, 0))
 
 
-def _forward_path(dist, parent, end, W, resolution, index) -> GridPath | None:
+def _forward_path(dist, parent, end, width, resolution, index) -> GridPath | None:
     if not np.isfinite(dist[end]):
         return None
-    cells, n_diagonal = _k.follow_links(parent, int(end), W, True)
+    cells, n_diagonal = _k.follow_links(parent, int(end), width, True)
     return GridPath(cells, float(dist[end]), _length_m(len(cells), n_diagonal, resolution), index)
 
 

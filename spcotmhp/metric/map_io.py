@@ -307,7 +307,7 @@ def grid_to_pixels(data: np.ndarray, mode: str, occupied_thresh: float, free_thr
     if mode == "scale":
         grey = _magick_grey((100.0 - cells) / 100.0)
         rgba = np.empty(cells.shape + (4,), dtype=np.uint8)
-        rgba[..., :3] = np.where(unknown, _magick_grey(np.float64(0.5)), grey)[..., None]
+        rgba[..., :3] = np.where(unknown, _magick_grey(np.array(0.5)), grey)[..., None]
         rgba[..., 3] = np.where(unknown, 0, 255)
         return rgba
     raise MapError(f"unknown map mode {mode!r}; accepted: {', '.join(MODES)}")

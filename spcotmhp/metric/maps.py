@@ -81,7 +81,12 @@ class OccupancyMap:
         return self.data < 0
 
     def world_to_cell(self, xy: np.ndarray) -> np.ndarray:
-        """Map-frame metres (..., 2) as (x, y) -> integer cells (..., 2) as (row, col); may lie off the map."""
+        """Map-frame metres (..., 2) as (x, y) -> integer cells (..., 2) as (row, col); may lie off the map.
+
+        >>> occ = OccupancyMap(np.zeros((4, 5), np.int8), resolution=0.5, origin=(-1.0, -1.0, 0.0))
+        >>> occ.world_to_cell(np.array([0.3, 0.9])).tolist(), occ.cell_to_world(np.array([0, 0])).tolist()
+        ([3, 2], [-0.75, -0.75])
+        """
         xy = np.asarray(xy, dtype=float)
         col = np.floor((xy[..., 0] - self.origin[0]) / self.resolution).astype(np.int64)
         row = np.floor((xy[..., 1] - self.origin[1]) / self.resolution).astype(np.int64)

@@ -1,10 +1,13 @@
 """Hierarchical path planning from instructions (SpCoTMHP, Algorithm 1; Taniguchi, Ito and Taniguchi 2024).
 
+    >>> from spcotmhp.datasets import load_bundled
+    >>> from spcotmhp.learning.supervised import fit_supervised
     >>> from spcotmhp.planning import HierarchicalPlanner
+    >>> model = fit_supervised(load_bundled("3LDK_06"))         # the paper's "ideal" parameters of a home
     >>> planner = HierarchicalPlanner(model)                     # precomputation (Alg. 1, lines 1-7), cached
-    >>> plan = planner.plan("go to the bedroom via the corridor", start=(1.2, -0.5))
+    >>> plan = planner.plan("go to the bedroom via the corridor", start=(-3.95, -3.55))
     >>> plan.explanation
-    'kitchen -> corridor (waypoint) -> bedroom #2 (closest of 3 bedrooms), 9.4 m'
+    'entrance -> corridor (waypoint) -> dining -> bedroom #3 (closest of 3 bedrooms), 10.3 m'
 
 Modules: ``instructions`` + ``grammar`` (understanding), ``places`` (candidates, connectivity, instances,
 regions), ``graph`` (precomputation), ``search`` (Eq. 28), ``assemble`` (joining, smoothing), ``planner``,

@@ -56,7 +56,9 @@ _AROUND = np.array([(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=n
 def join_legs(legs: list[np.ndarray]) -> tuple[np.ndarray, list[int]]:
     """Concatenate cell paths that share their junction cells; returns the path and the index of each leg's
     last cell in it."""
-    parts, ends, n = [], [], 0
+    parts: list[np.ndarray] = []
+    ends: list[int] = []
+    n = 0
     for k, leg in enumerate(legs):
         leg = np.asarray(leg, dtype=np.int64).reshape(-1, 2)
         if k > 0 and len(leg) and n and (leg[0] == parts[-1][-1]).all():
@@ -194,7 +196,7 @@ def smooth_anchored(
 
 
 def smooth_on_graph(
-    graph, cells: np.ndarray, ends: Sequence[int], nodes: np.ndarray, anchors: Sequence[int]
+    graph, cells: np.ndarray, ends: Sequence[int], nodes: Sequence[int] | np.ndarray, anchors: Sequence[int]
 ) -> tuple[np.ndarray, list[int]]:
     """Algorithm 1, line 13, on a path assembled from a planning graph's legs (``graph``: a
     :class:`~spcotmhp.planning.graph.PlanningGraph`): ``ends[e]`` is the index where node ``nodes[e]`` is

@@ -106,17 +106,17 @@ class PlanningGraph:
     log_transition: np.ndarray  # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
     connected: np.ndarray  # (K, K) connected places
     time_precompute_s: float
-    territory: np.ndarray | None = None  # (h, w) place of each traversable cell (-1 elsewhere)
+    territory: np.ndarray  # (h, w) place of each traversable cell (-1 elsewhere)
+    main: np.ndarray  # (h, w) the largest free component (where the nodes are)
+    usable: np.ndarray  # (M,) nodes outside the avoided places (all True outside an avoidance view)
     log_transition_all: np.ndarray = field(default_factory=lambda: np.empty(0))  # log_transition, any two nodes
-    main: np.ndarray | None = None  # (h, w) the largest free component (where the nodes are)
     _territories: dict = field(default_factory=dict, repr=False)  # place -> (row, col, grown mask)
     _map_cost: np.ndarray | None = field(default=None, repr=False)
     _clearance: np.ndarray | None = field(default=None, repr=False)
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
-    blocked: np.ndarray | None = None
-    usable: np.ndarray | None = None
+    blocked: np.ndarray | None = None  # (h, w) cells of the avoided territories (None outside an avoidance view)
     _shared: set = field(default_factory=set, repr=False)  # fields still shared with the base graph
     _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
     hier: hierarchy.TerritoryFields | None = None  # territory-local fields (when dense ones exceed the budget)
@@ -154,7 +154,7 @@ class PlanningGraph:
     @classmethod
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
         t0 = time.perf_counter()
-        occ = model.map
+        occ = model.require_map()
         if log_p_full is None:
             log_p_full = inflate(occ, **model.costmap).log_p
         if log_p_full.shape != occ.shape:
@@ -212,9 +212,9 @@ class PlanningGraph:
             _centres=centres,
             territory=territory,
             main=main,
+            usable=np.ones(len(cells), dtype=bool),
             _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution),
         )
-        graph.usable = np.ones(len(cells), dtype=bool)
         if 12 * len(cells) * log_p.size <= settings.max_dense_bytes:
             fields = [graph._field(j) for j in range(len(cells))]
             graph.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
@@ -392,7 +392,7 @@ class PlanningGraph:
         """(h, w, 2) map-frame centres of the crop's cells."""
         if self._centres is None:
             rr, cc = np.indices(self.log_p.shape)
-            self._centres = self.model.map.cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
+            self._centres = self.model.require_map().cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
         return self._centres
 
     def with_avoided(self, places: tuple[int, ...]) -> PlanningGraph:
@@ -418,7 +418,7 @@ class PlanningGraph:
             into_j[j] = False
             links = self.next_step[j].reshape(-1)
             if any(crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
-                view.dist[j], view.next_step[j] = view._field(j)
+                view.dist[j], view.next_step[j] = view._field(int(j))
                 recomputed.append(int(j))
             else:
                 view._shared.add(int(j))
@@ -457,6 +457,7 @@ class PlanningGraph:
         """The avoidance view of a portal-graph graph: the avoided territories' abstract nodes removed; no
         local field enters another territory, so every kept field stays exact (:mod:`~spcotmhp.planning.
         hierarchy`)."""
+        assert self.hier is not None  # called for portal-graph graphs only
         view = self._view(key, blocked, usable, dist=[], next_step=[], hier=self.hier.without(key))
         view._edges()
         view.info["recomputed_fields"] = []

@@ -58,8 +58,8 @@ def require_int(value: object, name: str, low: int) -> None:
 
 def require_range(value: object, name: str, low: float, high: float, accepted: str, open_: bool = False) -> None:
     """``value`` must be a real number in [low, high] ((low, high) with ``open_``, but always finite)."""
-    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-    if ok:
+    ok = False
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
         v = float(value)
         ok = math.isfinite(v) and (low < v < high if open_ else low <= v <= high)
     if not ok:
@@ -83,7 +83,7 @@ def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.n
         arr = np.ascontiguousarray(a)
         h.update(str((arr.dtype.str, arr.shape)).encode())
         h.update(arr.tobytes())
-    occ = model.map
+    occ = model.require_map()
     h.update(np.ascontiguousarray(occ.data).tobytes())
     h.update(
         json.dumps(

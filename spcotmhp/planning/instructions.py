@@ -138,6 +138,10 @@ def parse_text(
         MalformedInstruction: a marker with no place after it; the text is not a string.
         InstructionTooLarge: past ``max_chars``, ``max_waypoints`` or ``max_avoided``.
         UnsupportedLanguage: no grammar for ``lang``.
+
+    >>> ins = parse_text("go to the bedroom via the corridor avoiding the kitchen", ["bedroom", "corridor", "kitchen"])
+    >>> [q.label for q in ins.stages], [q.label for q in ins.avoid]
+    (['corridor', 'bedroom'], ['kitchen'])
     """
     if not isinstance(text, str):
         raise MalformedInstruction(f"an instruction text must be a string, got {excerpt(text)}")
@@ -172,6 +176,19 @@ def parse_text(
     return _within_limits(ins, max_waypoints, max_avoided)
 
 
+def _json_value(text: str) -> Any:
+    """The JSON value of a structured instruction's text (InstructionTooLarge / MalformedInstruction)."""
+    if len(text) > MAX_JSON_CHARS:
+        raise InstructionTooLarge(
+            f"the structured instruction has {len(text)} characters, more than the {MAX_JSON_CHARS} accepted"
+        )
+    try:
+        return json.loads(text)
+    except (json.JSONDecodeError, RecursionError) as exc:
+        why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
+        raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
+
+
 def parse_structured(
     obj: Mapping[str, Any] | str,
     place_words: Sequence[str],
@@ -191,15 +208,7 @@ def parse_structured(
         InstructionTooLarge: too long a JSON text, too many places or words.
     """
     if isinstance(obj, str):
-        if len(obj) > MAX_JSON_CHARS:
-            raise InstructionTooLarge(
-                f"the structured instruction has {len(obj)} characters, more than the {MAX_JSON_CHARS} accepted"
-            )
-        try:
-            obj = json.loads(obj)
-        except (json.JSONDecodeError, RecursionError) as exc:
-            why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
-            raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
+        obj = _json_value(obj)
     if not isinstance(obj, Mapping):
         raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
     unknown_keys = [k for k in obj if k not in ("goal", "waypoints", "avoid", "not_goal")]
@@ -303,13 +312,15 @@ def parse_nbest(
         texts.append(h[0])
         scores.append(s)
     weights = _normalise_scores(np.array(scores))
-    parsed, first_error = [], None
+    parsed: list[tuple[Instruction, float]] = []
+    first_error: InstructionError | None = None
     for text, w in zip(texts, weights, strict=False):
         try:
             parsed.append((parse_text(text, place_words, lang, **limits), float(w)))
         except InstructionError as exc:
             first_error = first_error or exc
     if not parsed:
+        assert first_error is not None  # every hypothesis failed, and there is at least one
         raise type(first_error)(f"no N-best hypothesis names a known place (first: {first_error})")
     groups: dict[tuple[int, int, int], list[tuple[Instruction, float]]] = {}
     for ins, w in parsed:

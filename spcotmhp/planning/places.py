@@ -122,12 +122,14 @@ def named_places(labels: list[str], phrases: Sequence[Mapping[str, float]]) -> n
     return np.array([any(bag and bag <= set(label.split()) for bag in bags) for label in labels], dtype=bool)
 
 
-def inside_places(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray, quantile: float = 0.95) -> np.ndarray:
+def inside_places(
+    model: SpatialConceptModel, xy: np.ndarray, places: Sequence[int] | np.ndarray, quantile: float = 0.95
+) -> np.ndarray:
     """Bool mask over points ``xy`` (..., 2): inside the ``quantile`` ellipse of one of ``places``."""
     places = np.asarray(places, dtype=np.int64)
     if places.size == 0:
         return np.zeros(np.shape(xy)[:-1], dtype=bool)
-    return (mahalanobis2(xy, model.mu[places], model.Sigma[places]) <= chi2_2d(quantile)).any(axis=-1)
+    return np.any(mahalanobis2(xy, model.mu[places], model.Sigma[places]) <= chi2_2d(quantile), axis=-1)
 
 
 def most_probable_place(

@@ -156,9 +156,17 @@ class HierarchicalPlanner:
         }
 
     # ---- Algorithm 1, lines 9-13 -----------------------------------------------------------------------
-    def plan(self, instruction: Any, start: Sequence[float], lang: str | None = None) -> Plan:
+    def plan(
+        self,
+        instruction: Any,
+        start: Sequence[float] | np.ndarray,
+        lang: str | None = None,
+        *,
+        rng: np.random.Generator | None = None,
+    ) -> Plan:
         """Plan from the start pose ``start`` = (x, y) in metres for ``instruction`` (a sentence, a structured
-        mapping, an N-best list of (text, score) or an :class:`Instruction`).
+        mapping, an N-best list of (text, score) or an :class:`Instruction`). ``rng`` is not used (the Eq. 28
+        search draws nothing); it is accepted as in every :class:`~spcotmhp.planning.protocol.Planner`.
 
         Raises:
             InstructionError: the instruction names no known place.
@@ -190,8 +198,10 @@ class HierarchicalPlanner:
                     raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
             graph = graph.with_avoided(tuple(np.flatnonzero(avoided)))
             esc = graph.to_crop(escape)
-            esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(graph.blocked.shape)).all(axis=1)]
-            if graph.blocked[cell[0], cell[1]] or graph.blocked[esc[:, 0], esc[:, 1]].any():
+            blocked = graph.blocked
+            assert blocked is not None  # an avoidance view has its blocked cells
+            esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)]
+            if blocked[cell[0], cell[1]] or blocked[esc[:, 0], esc[:, 1]].any():
                 inside = [self.names[k] for k in np.flatnonzero(avoided)]
                 raise StartInAvoidedPlace(
                     f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
@@ -204,7 +214,7 @@ class HierarchicalPlanner:
         if len(escape):
             notes.append(
                 f"the start is within the robot's radius of an obstacle: the path first moves "
-                f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.map.resolution):.2f} "
+                f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.require_map().resolution):.2f} "
                 f"m clear"
             )
         if result is None:
@@ -217,25 +227,27 @@ class HierarchicalPlanner:
             metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
             result = search(metric)
             if result is None:
-                raise self._why_not(graph, metric, ins, x0, avoided.any())
+                raise self._why_not(graph, metric, ins, x0, bool(avoided.any()))
             notes.append("the place graph has no route for this instruction: metric route over the free space")
 
         cells, smoothed = self._metric_path(graph, cell, result)
         places = self._places(graph, posterior, x0, result, S, cells)
-        options = self._goal_options(graph, cell, result, inst[S - 1], path_length(cells, model.map.resolution))
+        options = self._goal_options(
+            graph, cell, result, inst[S - 1], path_length(cells, model.require_map().resolution)
+        )
         map_cells = np.vstack([escape, graph.to_map(cells)]) if len(escape) else graph.to_map(cells)
         plan = Plan(
-            path=model.map.cell_to_world(map_cells),
+            path=model.require_map().cell_to_world(map_cells),
             cells=map_cells,
             places=places,
-            length_m=path_length(map_cells, model.map.resolution),
+            length_m=path_length(map_cells, model.require_map().resolution),
             log_prob=result.log_prob,
             time_online_s=0.0,
             time_precompute_s=self.graph.time_precompute_s,
             instruction=ins,
             goal_options=options,
             n_goal_instances=int(inst[S - 1].sum()),
-            node_points=model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
+            node_points=model.require_map().cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
             smoothed=smoothed,
             notes=notes,
         )
@@ -350,11 +362,11 @@ class HierarchicalPlanner:
         diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
         sequence marked where the path reaches them. The explanation thus describes the path the robot drives,
         also where a leg (or smoothing) crosses a place that is not a node of the sequence."""
-        diameter = 2.0 * float(self.model.costmap.get("inscribed_radius", 0.22)) / self.model.map.resolution
+        diameter = 2.0 * float(self.model.costmap.get("inscribed_radius", 0.22)) / self.model.require_map().resolution
         seq = dwell_filtered_sequence(graph.territory[cells[:, 0], cells[:, 1]], diameter)
         seq = dwell_filtered_sequence(seq[seq >= 0], 1).tolist()  # cells of no territory are not a place
         marks: list[tuple[int, str, np.ndarray]] = []  # the nodes that complete a stage, in order
-        points = self.model.map.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
+        points = self.model.require_map().cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
         for node, done, xy in zip(result.nodes, result.completed, points, strict=False):
             if done:
                 marks.append((int(graph.node_place[node]), "goal" if S - 1 in done else "waypoint", xy))
@@ -394,7 +406,7 @@ class HierarchicalPlanner:
             return []
         options, pending = [], []
         end_place = int(graph.node_place[result.nodes[-1]])
-        res = self.model.map.resolution
+        res = self.model.require_map().resolution
         for k in np.flatnonzero(goal_places):
             ks = np.flatnonzero(graph.node_place == k)
             if not len(ks) or not np.isfinite(result.terminal[ks]).any():

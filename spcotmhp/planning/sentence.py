@@ -346,9 +346,9 @@ def _postfix_roles(items: list[Item], grammar: Grammar) -> list[tuple[str, int]]
                 pending = []
             elif it.value in ("waypoint", "avoid", "not_goal"):
                 last = max((j for j in range(idx) if items[j].kind in ("place", "marker", "order")), default=-1)
-                between = [x.surface for x in items[last + 1 : idx] if x.kind == "other"]
-                err = UnknownPlaceWord if between else MalformedInstruction
-                raise err(f"{excerpt(it.surface)} follows no known place word{not_understood(between)}")
+                unread = [x.surface for x in items[last + 1 : idx] if x.kind == "other"]
+                err = UnknownPlaceWord if unread else MalformedInstruction
+                raise err(f"{excerpt(it.surface)} follows no known place word{not_understood(unread)}")
             since_phrase = False
     for p in pending:
         roles[p] = ("goal", -1)

@@ -66,10 +66,10 @@ def visiting_order(phrases: list[Phrase], text: str, place_words: Sequence[str])
             f"to start from; {known_words(place_words)}"
         )
     if len(visit) == 1:
-        timed = [visit[0].orders[o] for o in ("before", "after") if o in visit[0].orders]
-        if timed:
+        order_words = [visit[0].orders[o] for o in ("before", "after") if o in visit[0].orders]
+        if order_words:
             raise UnsupportedPhrase(
-                f"{excerpt(timed[0].surface)} orders {excerpt(visit[0].item.surface)} against "
+                f"{excerpt(order_words[0].surface)} orders {excerpt(visit[0].item.surface)} against "
                 "no other place to visit; name both places (e.g. 'go to the bedroom after "
                 "the kitchen')"
             )

@@ -26,7 +26,7 @@ __all__ = ["start_cell"]
 
 
 def start_cell(
-    model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float]
+    model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float] | np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """x_0, its crop cell where planning starts, and the escape (map cells) before it: empty unless the start
     is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
@@ -38,7 +38,7 @@ def start_cell(
         raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {_excerpt(start)}") from None
     if x0.shape != (2,) or not np.isfinite(x0).all():
         raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
-    occ = model.map
+    occ = model.require_map()
     lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
     hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
     # bounds in floats first: a huge start would overflow the integer cell index
@@ -72,7 +72,7 @@ def start_cell(
 def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:
     """Map cells from ``cell`` to the nearest cell of the graph's main free component, through free cells of
     the map, within a window of the inscribed radius plus two cells; None if there is none."""
-    res = graph.model.map.resolution
+    res = graph.model.require_map().resolution
     r = math.ceil(max(radius_m, res) / res) + 2
     h, w = free.shape
     r0, c0 = max(cell[0] - r, 0), max(cell[1] - r, 0)

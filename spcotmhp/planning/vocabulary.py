@@ -101,13 +101,13 @@ def place_labels(
     if names is None:
         info = getattr(model, "info", None) or {}
         names = info.get("place_names") if isinstance(info.get("place_names"), list) else None
-    spoken = {}
+    spoken: dict[frozenset[str], list[str]] = {}
     for name in names or ():
         if isinstance(name, str):
             spoken.setdefault(frozenset(name.split()), name.split())
     labels = []
     for k in range(len(chosen)):
-        words = [place_words[j] for j in np.flatnonzero(chosen[k])]
+        words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
         order = spoken.get(frozenset(words))
         if order is None or len(order) != len(words):
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))

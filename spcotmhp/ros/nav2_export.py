@@ -46,9 +46,10 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
     for n, k in enumerate(graph.node_place.tolist()):
         node_of.setdefault(int(k), n)  # the first candidate of each place
     places = sorted(node_of)
-    features, fid = [], {}
+    features: list[dict] = []
+    fid: dict = {}
     for k in places:
-        x, y = model.map.cell_to_world(graph.to_map(graph.node_cell[node_of[k]]))
+        x, y = model.require_map().cell_to_world(graph.to_map(graph.node_cell[node_of[k]]))
         fid[k] = len(features)
         name = planner.names[k]
         features.append(
@@ -68,7 +69,7 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
             if a == b or not graph.connected[a, b] or not np.isfinite(graph.w_hat[i, j]):
                 continue
             cells = graph.to_map(graph.edge_path(i, j))
-            line = [[_m(x), _m(y)] for x, y in model.map.cell_to_world(cells)]
+            line = [[_m(x), _m(y)] for x, y in model.require_map().cell_to_world(cells)]
             features.append(
                 {
                     "type": "Feature",
@@ -77,7 +78,7 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
                         "id": len(features),
                         "startid": fid[a],
                         "endid": fid[b],
-                        "cost": _m(path_length(cells, model.map.resolution)),
+                        "cost": _m(path_length(cells, model.require_map().resolution)),
                         "overridable": False,
                         "metadata": {"from": planner.names[a], "to": planner.names[b]},
                     },
@@ -103,7 +104,7 @@ def keepout_mask(planner: HierarchicalPlanner, avoid: Sequence[str]) -> tuple[Oc
     avoided = np.zeros(planner.model.K, dtype=bool)
     for words in avoid:
         avoided |= planner.places_named(words)
-    graph, occ = planner.graph, planner.model.map
+    graph, occ = planner.graph, planner.model.require_map()
     data = np.zeros(occ.shape, dtype=np.int8)
     (r0, c0), (h, w) = graph.offset, graph.territory.shape
     data[r0 : r0 + h, c0 : c0 + w][np.isin(graph.territory, np.flatnonzero(avoided))] = 100

@@ -180,7 +180,7 @@ class SpcotmhpNode(Node):
             )
         x, y, yaw = self.pose
         plan = self.planner.plan(msg.data, (x, y))
-        points = path_poses(plan.path, plan.cells, (x, y), self.planner.model.map)
+        points = path_poses(plan.path, plan.cells, (x, y), self.planner.model.require_map())
         self.plan_pub.publish(self.path_message(points, yaw))
         self.status(plan_status(plan, msg.data, (x, y), points, self.frame))
 
@@ -217,7 +217,7 @@ class SpcotmhpNode(Node):
             info.height,
             info.resolution,
             (info.origin.position.x, info.origin.position.y, quaternion_yaw(q.x, q.y, q.z, q.w)),
-            self.planner.model.map,
+            self.planner.model.require_map(),
         )
         if differ:
             self.get_logger().warning("the map on /map differs from the model's: " + "; ".join(differ))
@@ -233,7 +233,7 @@ def warm_up(planner: HierarchicalPlanner) -> None:
     graph = planner.graph
     if not graph.n_nodes:
         return
-    start = planner.model.map.cell_to_world(graph.to_map(graph.node_cell[0]))
+    start = planner.model.require_map().cell_to_world(graph.to_map(graph.node_cell[0]))
     for name in sorted({planner.names[k] for k in graph.node_place[:2]}):
         try:
             planner.plan({"goal": name.split()}, tuple(start))
@@ -253,7 +253,7 @@ def run_node(
 
     t0 = time.perf_counter()
     model = load_model(model_dir)
-    log = TeachingLog(record, model.map) if record is not None else None
+    log = TeachingLog(record, model.require_map()) if record is not None else None
     planner = HierarchicalPlanner(model)
     warm_up(planner)
     rclpy.init()

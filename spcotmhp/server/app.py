@@ -159,7 +159,7 @@ def create_app(
             "extent": sm.image.extent,
             "width": sm.image.width,
             "height": sm.image.height,
-            "resolution": sm.model.map.resolution,
+            "resolution": sm.model.require_map().resolution,
         }
 
     @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
@@ -240,12 +240,12 @@ def _parse_start(text: str) -> tuple[float, float]:
 
     parts = text.strip().strip("[]()").replace(",", " ").split()
     try:
-        xy = tuple(float(p) for p in parts)
+        xy = [float(p) for p in parts]
     except ValueError:
-        xy = ()
+        xy = []
     if len(xy) != 2 or not all(math.isfinite(v) for v in xy):
         raise APIError(422, f'start must be two finite numbers "x,y" in metres, got {text!r}')
-    return xy  # type: ignore[return-value]
+    return xy[0], xy[1]
 
 
 def _add_error_handlers(app: FastAPI) -> None:

@@ -164,7 +164,7 @@ class ServedModel:
             if self._figure is None:
                 buf = io.BytesIO()
                 render(
-                    self.model.map,
+                    self.model.require_map(),
                     buf,
                     model=self.model,
                     names=self.labels,

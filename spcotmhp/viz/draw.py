@@ -17,7 +17,7 @@ import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, overload
 
 import matplotlib
 import matplotlib.patheffects as pe
@@ -216,6 +216,32 @@ def _centres(model: SpatialConceptModel | None) -> np.ndarray:
     return np.empty((0, 2)) if model is None else model.mu[np.asarray(model.active_places, dtype=bool)]
 
 
+@overload
+def render(
+    occ_map: OccupancyMap,
+    out: str | Path,
+    model: SpatialConceptModel | None = ...,
+    names: Sequence[str] | None = ...,
+    path_xy: np.ndarray | None = ...,
+    marks: Sequence[tuple[np.ndarray, str, str]] = ...,
+    title: str | None = ...,
+    dpi: int = ...,
+) -> Path: ...
+
+
+@overload
+def render(
+    occ_map: OccupancyMap,
+    out: BinaryIO,
+    model: SpatialConceptModel | None = ...,
+    names: Sequence[str] | None = ...,
+    path_xy: np.ndarray | None = ...,
+    marks: Sequence[tuple[np.ndarray, str, str]] = ...,
+    title: str | None = ...,
+    dpi: int = ...,
+) -> BinaryIO: ...
+
+
 def render(
     occ_map: OccupancyMap,
     out: str | Path | BinaryIO,
@@ -286,7 +312,7 @@ class MapImage:
 
 def map_image(model: SpatialConceptModel, px_per_m: float = 60.0, dpi: int = 100) -> MapImage:
     """The learned map (places, names, edges) without axes, georeferenced by its extent (see :class:`MapImage`)."""
-    occ = model.map
+    occ = model.require_map()
     x0, x1, y0, y1 = used_extent(occ, focus=focus_points(model))
     width, height = max(1, round((x1 - x0) * px_per_m)), max(1, round((y1 - y0) * px_per_m))
     with _DRAW_LOCK:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from functools import lru_cache
+from typing import Literal
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -97,9 +98,9 @@ def drawable(labels: Sequence[str]) -> list[str]:
     ]
 
 
-def _alignment(dx: float, dy: float) -> tuple[str, str]:
-    ha = "left" if dx > 0 else "right" if dx < 0 else "center"
-    va = "bottom" if dy > 0 else "top" if dy < 0 else "center"
+def _alignment(dx: float, dy: float) -> tuple[Literal["left", "right", "center"], Literal["bottom", "top", "center"]]:
+    ha: Literal["left", "right", "center"] = "left" if dx > 0 else "right" if dx < 0 else "center"
+    va: Literal["bottom", "top", "center"] = "bottom" if dy > 0 else "top" if dy < 0 else "center"
     return ha, va
 
 
@@ -119,7 +120,8 @@ def arrange_labels(
     distance term that prefers the nearest side. Call after the axes limits and layout are final.
     """
     fig = ax.figure
-    renderer = fig.canvas.get_renderer()
+    # the Agg canvas (the only backend this package draws with) has get_renderer; the stub of the base class not
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
     frame = ax.get_window_extent(renderer)
     dots = []
     if obstacles is not None and len(obstacles):
@@ -144,6 +146,7 @@ def arrange_labels(
             )
             if best is None or cost < best[0]:
                 best = (cost, dx, dy, box)
+        assert best is not None  # _CANDIDATES is not empty
         _, dx, dy, box = best
         ann.set_position((dx, dy))
         ann.set_horizontalalignment(_alignment(dx, dy)[0])

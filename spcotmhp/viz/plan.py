@@ -26,8 +26,8 @@ def plan_marks(plan: Plan) -> list[tuple[np.ndarray, str, str]]:
 def draw_plan(plan: Plan, model: SpatialConceptModel, out: str | Path, dpi: int = 150) -> Path:
     """Write a PNG of ``plan`` over ``model``'s map; returns the file written."""
     return render(
-        model.map,
-        out,
+        model.require_map(),
+        Path(out),
         model=model,
         path_xy=plan.path,
         marks=plan_marks(plan),

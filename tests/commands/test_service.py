@@ -1,0 +1,47 @@
+"""`spcotmhp serve` as a real process: it starts, answers over HTTP on localhost, and reports bad input."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import httpx
+import pytest
+
+from spcotmhp.learning.io import load_model
+from tests.helpers.server import INSTRUCTION, ServerProcess, start_near
+
+
+@pytest.fixture(scope="module")
+def model_dir(model_3ldk06_dir):
+    return model_3ldk06_dir
+
+
+def test_serve_answers_plan_requests_over_http(model_dir):
+    start = start_near(load_model(model_dir))
+    with ServerProcess([f"home={model_dir}"]) as server:
+        health = httpx.get(server.url + "/healthz", timeout=10)
+        assert health.json() == {"status": "ok", "models": ["home"]}
+        r = httpx.post(server.url + "/plan", json={"instruction": INSTRUCTION, "start": start}, timeout=30)
+        assert r.status_code == 200, r.text
+        body = r.json()
+        assert body["model"] == "home" and len(body["path"]) > 2
+        assert "corridor (waypoint)" in body["explanation"]
+        bad = httpx.post(server.url + "/plan", json={"instruction": "go to the garage", "start": start}, timeout=30)
+        assert bad.status_code == 422 and "garage" in bad.json()["detail"]
+        page = httpx.get(server.url + "/", timeout=10)
+        assert page.status_code == 200 and "SpCoTMHP" in page.text
+        png = httpx.get(server.url + "/map.png", timeout=10)
+        assert png.content[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_serve_reports_a_missing_model_folder(tmp_path):
+    run = subprocess.run(
+        [sys.executable, "-m", "spcotmhp.cli", "serve", str(tmp_path / "nope")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert run.returncode == 2
+    assert run.stderr.strip().splitlines()[-1] == f"error: model folder {tmp_path / 'nope'} does not exist"

@@ -1,0 +1,211 @@
+"""The web page end to end in headless Chromium (Debian `chromium` driven by Playwright): click a start on the
+map, submit "go to the bedroom via the corridor", see the path and the explanation.
+
+Skips only when Playwright or the chromium executable is missing (`make system-deps` installs chromium)."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from spcotmhp.learning.io import load_model
+from tests.helpers.server import INSTRUCTION, ServerProcess, start_near, supervised_model_dir
+
+sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (extra 'dev')")
+CHROMIUM = next(
+    (
+        p
+        for p in (shutil.which("chromium"), shutil.which("chromium-browser"), "/usr/bin/chromium")
+        if p and Path(p).is_file()
+    ),
+    None,
+)
+if CHROMIUM is None:
+    pytest.skip(
+        "chromium is not installed (apt-get install chromium; `make system-deps` does it)",
+        allow_module_level=True,
+    )
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    model_dir = supervised_model_dir("3LDK_06", tmp_path_factory.mktemp("web") / "3LDK_06")
+    with ServerProcess([f"home={model_dir}"]) as srv:
+        srv.model = load_model(model_dir)
+        yield srv
+
+
+@pytest.fixture()
+def page(tmp_path):
+    with sync_api.sync_playwright() as pw:
+        browser = pw.chromium.launch_persistent_context(
+            str(tmp_path / "profile"),
+            executable_path=CHROMIUM,
+            headless=True,
+            args=ARGS,
+            viewport={"width": 1280, "height": 1000},
+        )
+        try:
+            pg = browser.new_page()
+            errors: list[str] = []
+            pg.on("pageerror", lambda exc: errors.append(str(exc)))
+            pg.errors = errors
+            yield pg
+        finally:
+            browser.close()
+
+
+def click_world(page, xy):
+    """Click the map at map-frame point ``xy`` (the page's own georeferencing: GET /map.json)."""
+    info = page.evaluate("fetch('/map.json').then(r => r.json())")
+    x0, x1, y0, y1 = info["extent"]
+    box = page.locator("#overlay").bounding_box()
+    page.mouse.click(
+        box["x"] + (xy[0] - x0) / (x1 - x0) * box["width"],
+        box["y"] + (y1 - xy[1]) / (y1 - y0) * box["height"],
+    )
+
+
+def test_click_start_plan_and_see_the_path(server, page):
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    page.wait_for_function("document.getElementById('map').complete && document.getElementById('map').naturalWidth > 0")
+    assert "corridor" in page.text_content("#words")
+    start = start_near(server.model)
+    click_world(page, start)
+    assert _close(page.text_content("#start"), start)
+    page.fill("#instruction", INSTRUCTION)
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    points = page.get_attribute("#path", "points").split()
+    assert len(points) > 2
+    explanation = page.text_content("#explanation")
+    assert "corridor (waypoint)" in explanation and "bedroom" in explanation
+    assert page.locator("circle.mark.goal").count() == 1 and page.locator("circle.mark.waypoint").count() == 1
+    assert page.text_content("#error") == ""
+    assert page.errors == []
+
+
+def test_unknown_word_shows_the_message(server, page):
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    page.click("#plan-button")
+    assert page.text_content("#error") == "Click on the map to set the start first."
+    click_world(page, start_near(server.model))
+    page.fill("#instruction", "go to the garage")
+    page.click("#plan-button")
+    page.wait_for_function("document.getElementById('error').textContent.length > 0")
+    assert page.text_content("#error").startswith("no known place word in 'go to the garage'")
+    assert page.locator("#path").count() == 0
+
+
+def test_a_failed_plan_clears_the_previous_one(server, page):
+    """A plan, then an instruction that fails: the old path and explanation go, only the error stays (it used to
+    look as if "go to the garage" had planned the bedroom path)."""
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, start_near(server.model))
+    page.fill("#instruction", INSTRUCTION)
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    assert "bedroom" in page.text_content("#explanation")
+    page.fill("#instruction", "go to the garage")
+    page.click("#plan-button")
+    page.wait_for_function("document.getElementById('error').textContent.length > 0")
+    assert page.locator("#path").count() == 0 and page.locator("circle.mark").count() == 0
+    assert page.text_content("#explanation") == "" and page.text_content("#hypotheses") == ""
+    page.fill("#instruction", INSTRUCTION)  # planning again works, and the error goes
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    assert page.text_content("#error") == ""
+    click_world(page, start_near(server.model, "kitchen"))  # a new start: the plan from the old one goes
+    assert page.locator("#path").count() == 0 and page.text_content("#explanation") == ""
+    assert page.errors == []
+
+
+def test_the_start_mark_leaves_the_label_under_it_readable(server, page):
+    """The start is often set on a place's label (the demo starts at the entrance): the mark is a hollow ring
+    with a dot of at most 2 px, drawn above the plan, and it takes no clicks."""
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, start_near(server.model))
+    marks = page.eval_on_selector_all(
+        "#start-mark circle",
+        "cs => cs.map(c => [c.getAttribute('class'), c.getAttribute('fill'), parseFloat(c.getAttribute('r'))])",
+    )
+    assert marks and all(fill == "none" for kind, fill, _ in marks if kind == "ring")
+    assert all(r <= 2 for kind, _, r in marks if kind == "dot")
+    assert page.get_attribute("#start-mark", "pointer-events") == "none"
+    page.fill("#instruction", INSTRUCTION)
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    last = page.evaluate("document.getElementById('overlay').lastElementChild.id")
+    assert last == "start-mark"
+    goal = page.locator("circle.mark.goal")
+    assert float(goal.get_attribute("fill-opacity")) <= 0.3  # the goal's label shows through its mark
+
+
+def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
+    pytest.importorskip("pocketsphinx", reason="speech needs pocketsphinx (extra 'speech')")
+    espeak = shutil.which("espeak-ng")
+    if espeak is None:
+        pytest.skip("espeak-ng is not installed (apt-get install espeak-ng; `make system-deps` does it)")
+    wav = tmp_path / "say.wav"
+    wav.write_bytes(
+        subprocess.run([espeak, "-v", "en-us", "--stdout", INSTRUCTION], capture_output=True, check=True).stdout
+    )
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, start_near(server.model))
+    page.set_input_files("#wav", str(wav))
+    page.click("#audio-button")
+    page.wait_for_selector("#path")
+    assert len(page.get_attribute("#path", "points").split()) > 2
+    assert page.text_content("#hypotheses").startswith(f'Heard: "{INSTRUCTION}"')
+    assert "corridor (waypoint)" in page.text_content("#explanation")
+    assert page.errors == []
+
+
+def _close(shown: str, start: list[float]) -> bool:
+    """The click lands on a pixel: the shown start is within a pixel (< 0.05 m at 60 px/m) of the target."""
+    x, y = (float(v) for v in shown.removeprefix("Start: (").removesuffix(") m").split(", "))
+    return abs(x - start[0]) < 0.05 and abs(y - start[1]) < 0.05
+
+
+def test_click_a_spot_and_teach_its_name(server, page):
+    """Last in this file: it changes the served model (a new place "alice's room")."""
+    import numpy as np
+
+    from spcotmhp.metric.costmap import inflate
+
+    model = server.model
+    xy = model.map.cell_centres()[inflate(model.map, **model.costmap).free]
+    spot = xy[int(np.argmax(np.sqrt(((xy[:, None] - model.mu[model.active_places][None]) ** 2).sum(-1)).min(1)))]
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+    click_world(page, spot)
+    page.fill("#utterance", "this is alice's room")
+    for n in range(3):
+        page.click("#teach-button")
+        page.wait_for_function(f"document.getElementById('taught').dataset.count === '{n + 1}'")
+    assert "alice's room" in page.text_content("#taught"), page.text_content("#taught")
+    assert "alice's" in page.text_content("#words")
+    click_world(page, start_near(model))
+    page.fill("#instruction", "go to alice's room")
+    page.click("#plan-button")
+    page.wait_for_selector("#path")
+    assert page.text_content("#explanation").find("alice's room") >= 0
+    assert page.text_content("#error") == "" and page.errors == []

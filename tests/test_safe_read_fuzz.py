@@ -1,0 +1,227 @@
+"""Fuzzing the file boundaries: hostile map, dataset and model folders (tests/helpers/hardening_corpus.py) must load or
+give one typed one-line error, within 5 s each and without a memory blow-up; plus the cases named in issue 10."""
+
+from __future__ import annotations
+
+import random
+import shutil
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from spcotmhp.datasets.loader import load_dataset
+from spcotmhp.datasets.synthetic import generate_environment, write_dataset
+from spcotmhp.errors import DatasetError, MapError, ModelError
+from spcotmhp.learning.io import load_model, save_model
+from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.metric.map_io import load_map
+from tests.helpers.hardening_corpus import dataset_case, map_case, model_case, peak_rss_mib, run_case
+
+pytestmark = pytest.mark.filterwarnings("ignore")
+FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
+CASE_SECONDS = 5.0
+PEAK_MIB = 1024
+
+
+@pytest.fixture(scope="module")
+def templates(tmp_path_factory):
+    root = tmp_path_factory.mktemp("templates")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = write_dataset(generate_environment("flat", seed=1, n_rooms=4), root / "data")
+        model = save_model(fit_supervised(load_dataset(data)), root / "model")
+    return data, model
+
+
+def _check(outcome: tuple[str, float, str]) -> None:
+    kind, seconds, message = outcome
+    assert kind != "traceback", message
+    assert seconds < CASE_SECONDS, message
+    assert peak_rss_mib() < PEAK_MIB
+
+
+@given(seed=st.integers(0, 2**32 - 1))
+@FUZZ
+def test_fuzzed_map_folders(tmp_path_factory, seed):
+    folder = tmp_path_factory.mktemp("map")
+    label = map_case(random.Random(seed), folder)
+    _check(run_case(lambda: load_map(folder / "map.yaml"), label))
+    shutil.rmtree(folder)
+
+
+@given(seed=st.integers(0, 2**32 - 1))
+@FUZZ
+def test_fuzzed_dataset_folders(templates, tmp_path_factory, seed):
+    folder = tmp_path_factory.mktemp("data")
+    label = dataset_case(random.Random(seed), folder, templates[0])
+    _check(run_case(lambda: load_dataset(folder), label))
+    shutil.rmtree(folder)
+
+
+@given(seed=st.integers(0, 2**32 - 1))
+@FUZZ
+def test_fuzzed_model_folders(templates, tmp_path_factory, seed):
+    folder = tmp_path_factory.mktemp("model") / "m"
+    label = model_case(random.Random(seed), folder, templates[1])
+    _check(run_case(lambda: load_model(folder), label))
+    shutil.rmtree(folder.parent)
+
+
+# ---- the cases of issue 10, one by one --------------------------------------------------------------------
+BASE = "resolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+
+
+@pytest.mark.parametrize(
+    "yaml_text,image,message",
+    [
+        (
+            BASE.replace("0.05", "1" + "0" * 400) + "image: m.pgm\n",
+            None,
+            r"an integer of 401 digits is too large",
+        ),
+        (
+            "image: m.pgm\n" + BASE + "x: " + "[" * 5000 + "]" * 5000 + "\n",
+            None,
+            r"nested deeper than 32 levels",
+        ),
+        (
+            'a: &a ["lol","lol"]\nb: [*a,*a]\n' + BASE + "image: m.pgm\n",
+            None,
+            r"anchors and aliases .* not accepted",
+        ),
+        (BASE + "image: m.pgm\n", b"P5\n100000 100000\n255\n", r"m\.pgm has more than \d+ pixels \(the cap"),
+        (BASE + 'image: "a\\0b.pgm"\n', None, r"key 'image' must not contain control characters"),
+        (BASE + "image: " + "a" * 5000 + ".pgm\n", None, r"key 'image' is a file name of 5004 characters"),
+        (
+            BASE + "image: m.pgm\n",
+            b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 1 1\n",
+            r"cannot be read as PGM/PPM, PNG",
+        ),
+    ],
+)
+def test_issue_map_cases(tmp_path, yaml_text, image, message):
+    (tmp_path / "m.pgm").write_bytes(image or b"P5\n2 2\n255\n" + bytes(4))
+    (tmp_path / "map.yaml").write_text(yaml_text, encoding="utf-8")
+    with pytest.raises(MapError, match=message) as info:
+        load_map(tmp_path / "map.yaml")
+    assert "\n" not in str(info.value) and len(str(info.value)) < 400
+
+
+def test_big_png_over_the_cap_and_a_corrupt_chunk(tmp_path, monkeypatch):
+    from PIL import Image
+
+    Image.fromarray(np.zeros((300, 300), np.uint8)).save(tmp_path / "m.png")
+    (tmp_path / "map.yaml").write_text(BASE + "image: m.png\n", encoding="utf-8")
+    monkeypatch.setenv("SPCOTMHP_MAX_MAP_PIXELS", "50000")
+    with pytest.raises(MapError, match=r"300 x 300 = 90000 pixels, over the cap of 50000 \(set SPCOTMHP_MAX"):
+        load_map(tmp_path / "map.yaml")
+    monkeypatch.delenv("SPCOTMHP_MAX_MAP_PIXELS")
+    assert load_map(tmp_path / "map.yaml").shape == (300, 300)
+    data = bytearray((tmp_path / "m.png").read_bytes())
+    data[-20] ^= 0xFF  # inside the image data chunk: a CRC mismatch
+    (tmp_path / "m.png").write_bytes(bytes(data))
+    with pytest.raises(MapError, match=r"m\.png cannot be read as PGM/PPM, PNG, BMP"):
+        load_map(tmp_path / "map.yaml")
+
+
+@pytest.mark.parametrize(
+    "column,value,message",
+    [
+        ("event", "1e20", r"teaching.csv row 2: event is '1e20', out of range"),
+        ("x", "1e308", r"teaching.csv row 2: \(x, y\) = \(1e\+308, .*\) lies far outside the map"),
+        ("y", "-1e308", r"lies far outside the map"),
+        ("x", "1" + "0" * 400, r"teaching.csv row 2: x is '1000.*not a finite number"),
+    ],
+)
+def test_issue_dataset_cases(templates, tmp_path, column, value, message):
+    folder = tmp_path / "d"
+    shutil.copytree(templates[0], folder)
+    lines = (folder / "teaching.csv").read_text(encoding="utf-8").splitlines()
+    header = lines[0].split(",")
+    cells = lines[1].split(",")
+    cells[header.index(column)] = value
+    lines[1] = ",".join(cells)
+    (folder / "teaching.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(DatasetError, match=message) as info:
+        load_dataset(folder)
+    assert len(str(info.value)) < 400
+
+
+def test_issue_model_cases(templates, tmp_path):
+    folder = tmp_path / "m"
+    shutil.copytree(templates[1], folder)
+    # a flipped byte: the manifest catches it
+    data = bytearray((folder / "arrays.npz").read_bytes())
+    data[len(data) // 2] ^= 0x10
+    (folder / "arrays.npz").write_bytes(bytes(data))
+    with pytest.raises(ModelError, match=r"arrays.npz does not match its checksum in manifest.json"):
+        load_model(folder)
+    # a symlink out of the folder
+    shutil.rmtree(folder)
+    shutil.copytree(templates[1], folder)
+    (tmp_path / "elsewhere.json").write_bytes((folder / "model.json").read_bytes())
+    (folder / "model.json").unlink()
+    (folder / "model.json").symlink_to(tmp_path / "elsewhere.json")
+    with pytest.raises(ModelError, match=r"'model.json' must be a file inside the model folder .* leads outside it"):
+        load_model(folder)
+
+
+def _reseal(folder: Path) -> None:
+    import json
+
+    from spcotmhp.learning.model_folder import MANIFEST, manifest_of
+
+    names = sorted(p.name for p in folder.iterdir() if p.is_file() and p.name != MANIFEST)
+    (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    "damage,message",
+    [
+        ("bomb", r"mu.npy unpacks to \d+ bytes, more than its shape"),
+        ("bare", r"arrays.npz cannot be read as a numpy .npz archive"),
+        ("asymmetric", r"Sigma\[0\] is not symmetric"),
+        ("legacy-torn", r"has no manifest.json, which a model of format version 2 has"),
+    ],
+)
+def test_issue_npz_cases(templates, tmp_path, damage, message):
+    import zipfile
+
+    folder = tmp_path / "m"
+    shutil.copytree(templates[1], folder)
+    if damage == "bomb":
+        with zipfile.ZipFile(folder / "arrays.npz", "w", zipfile.ZIP_DEFLATED) as archive:
+            archive.writestr("mu.npy", b"0" * (20 * 1024 * 1024))
+    elif damage == "bare":
+        np.save(folder / "x.npy", np.zeros(4))
+        (folder / "x.npy").replace(folder / "arrays.npz")
+    elif damage == "asymmetric":
+        with np.load(folder / "arrays.npz") as npz:
+            arrays = {k: npz[k] for k in npz.files}
+        arrays["Sigma"][0, 0, 1] += 0.5
+        np.savez(folder / "arrays.npz", **arrays)
+    if damage == "legacy-torn":
+        (folder / "manifest.json").unlink()
+    else:
+        _reseal(folder)
+    with pytest.raises(ModelError, match=message):
+        load_model(folder)
+
+
+def test_version_1_folders_without_a_manifest_still_load(templates, tmp_path):
+    import json
+
+    folder = tmp_path / "old"
+    shutil.copytree(templates[1], folder)
+    (folder / "manifest.json").unlink()
+    meta = json.loads((folder / "model.json").read_text(encoding="utf-8"))
+    meta["format_version"] = 1
+    (folder / "model.json").write_text(json.dumps(meta), encoding="utf-8")
+    model = load_model(folder)
+    save_model(model, folder)  # upgraded in place: now with a manifest
+    assert (folder / "manifest.json").is_file()
+    assert json.loads((folder / "model.json").read_text(encoding="utf-8"))["format_version"] == 2
