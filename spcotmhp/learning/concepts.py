@@ -104,9 +104,23 @@ def _concept_tokens(e, t_ptr, t_word, z, words, reps):
 
 
 @njit(cache=True)
-def _word_term(l, beta, W_lv, words, reps, m, log_tot):
-    """log DirMult of the concept tokens of S_e (``_concept_tokens``) under concept l (event e removed from the
-    counts); ``log_tot[l, j]`` = log(V beta + W_l + j) (``_total_logs``)."""
+def _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z):
+    """log DirMult of the concept tokens (z = 1) of S_e under concept l (event e removed from the counts)."""
+    words = np.empty(t_ptr[e + 1] - t_ptr[e], np.int64)
+    reps = np.empty(t_ptr[e + 1] - t_ptr[e])
+    m = _concept_tokens(e, t_ptr, t_word, z, words, reps)
+    lp = 0.0
+    j = 0.0
+    for t in range(m):
+        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log(V * beta + W_l[l] + j)
+        j += 1.0
+    return lp
+
+
+@njit(cache=True)
+def _tokens_term(l, beta, W_lv, words, reps, m, log_tot):
+    """:func:`_word_term` from the event's concept tokens (``_concept_tokens``, found once per event) and the
+    table ``log_tot[l, j]`` = log(V beta + W_l + j) (``_total_logs``): the same value."""
     lp = 0.0
     for t in range(m):
         lp += log(beta + W_lv[l, words[t]] + reps[t]) - log_tot[l, t]
@@ -254,7 +268,7 @@ def _concept_sweep(
                 logp[l] = empty_value
                 continue
             lp = log_a[l] + log_lk[l, k] - log_c[l]
-            lp += _word_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
+            lp += _tokens_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
             if use_features:
                 lp += _feature_term(
                     l, e, n_l[l], chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
