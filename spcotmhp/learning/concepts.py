@@ -86,19 +86,62 @@ def _feature_term(l, e, n_l, chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_v
 
 
 @njit(cache=True)
-def _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z):
-    """log DirMult of the concept tokens (z = 1) of S_e under concept l (event e removed from the counts)."""
-    lp = 0.0
-    j = 0.0
+def _concept_tokens(e, t_ptr, t_word, z, words, reps):
+    """The concept tokens (z = 1) of S_e into ``words``, each with the number of earlier concept tokens of the
+    same word in the utterance into ``reps``; returns their number. The same for every concept, so found once
+    per event."""
+    m = 0
     for p in range(t_ptr[e], t_ptr[e + 1]):
         if z[p]:
-            rep = 0.0  # earlier concept tokens of the same word in this utterance
+            rep = 0.0
             for q in range(t_ptr[e], p):
                 if z[q] and t_word[q] == t_word[p]:
                     rep += 1.0
-            lp += log(beta + W_lv[l, t_word[p]] + rep) - log(V * beta + W_l[l] + j)
-            j += 1.0
+            words[m] = t_word[p]
+            reps[m] = rep
+            m += 1
+    return m
+
+
+@njit(cache=True)
+def _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z):
+    """log DirMult of the concept tokens (z = 1) of S_e under concept l (event e removed from the counts)."""
+    words = np.empty(t_ptr[e + 1] - t_ptr[e], np.int64)
+    reps = np.empty(t_ptr[e + 1] - t_ptr[e])
+    m = _concept_tokens(e, t_ptr, t_word, z, words, reps)
+    lp = 0.0
+    j = 0.0
+    for t in range(m):
+        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log(V * beta + W_l[l] + j)
+        j += 1.0
     return lp
+
+
+@njit(cache=True)
+def _tokens_term(l, beta, W_lv, words, reps, m, log_tot):
+    """:func:`_word_term` from the event's concept tokens (``_concept_tokens``, found once per event) and the
+    table ``log_tot[l, j]`` = log(V beta + W_l + j) (``_total_logs``): the same value."""
+    lp = 0.0
+    for t in range(m):
+        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log_tot[l, t]
+    return lp
+
+
+@njit(cache=True)
+def _total_logs(l, beta, V, W_l, log_tot):
+    """log(V beta + W_l + j) for j = 0 .. (longest utterance - 1), after concept l's token count changed."""
+    j = 0.0
+    for t in range(log_tot.shape[1]):
+        log_tot[l, t] = log(V * beta + W_l[l] + j)
+        j += 1.0
+
+
+@njit(cache=True)
+def _count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk):
+    """The cached logs of concept l's counts (``_concept_sweep``), after they changed."""
+    log_a[l] = log(n_l[l] + alpha)
+    log_c[l] = log(n_l[l] + K * gamma)
+    log_lk[l, k] = log(n_lk[l, k] + gamma)
 
 
 @njit(cache=True)
@@ -188,9 +231,20 @@ def _concept_sweep(
     use_features,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
-    Every count array is updated in place."""
+    Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in tables
+    and refreshed where the counts change (the same values as computing them for every event and concept)."""
     logp = np.empty(L)
     saved = np.empty(f_idx.shape[0])  # psi of the old concept before removal, restored if e stays there
+    longest = 0
+    for e in range(t_ptr.shape[0] - 1):
+        longest = max(longest, t_ptr[e + 1] - t_ptr[e])
+    tok_words = np.empty(longest, np.int64)
+    tok_reps = np.empty(longest)
+    log_a, log_c, log_lk, log_tot = np.empty(L), np.empty(L), np.empty((L, K)), np.empty((L, longest))
+    for l in range(L):
+        _total_logs(l, beta, V, W_l, log_tot)
+        for k in range(K):
+            _count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
     u = 0
     for t in range(order.shape[0]):
         e = order[t]
@@ -198,7 +252,10 @@ def _concept_sweep(
         old = C[e]
         n_l[old] -= 1.0
         n_lk[old, k] -= 1.0
+        _count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
         _move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
+        _total_logs(old, beta, V, W_l, log_tot)
+        m = _concept_tokens(e, t_ptr, t_word, z, tok_words, tok_reps)
         if use_features:
             for p in range(f_ptr[e], f_ptr[e + 1]):
                 saved[p] = psi_ld[old, f_idx[p]]
@@ -210,8 +267,8 @@ def _concept_sweep(
             if n_l[l] == 0.0 and empty_done:  # empty concepts are exchangeable: one evaluation
                 logp[l] = empty_value
                 continue
-            lp = log(n_l[l] + alpha) + log(n_lk[l, k] + gamma) - log(n_l[l] + K * gamma)
-            lp += _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z)
+            lp = log_a[l] + log_lk[l, k] - log_c[l]
+            lp += _tokens_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
             if use_features:
                 lp += _feature_term(
                     l, e, n_l[l], chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
@@ -225,6 +282,7 @@ def _concept_sweep(
         C[e] = new
         n_l[new] += 1.0
         n_lk[new, k] += 1.0
+        _count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
         _move_words(new, e, 1.0, W_lv, W_l, t_ptr, t_word, z)
         if use_features:
             _move_features(new, e, 1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
@@ -235,6 +293,7 @@ def _concept_sweep(
                 _refresh_psi(psi_ld, new, e, chi, F_ld, f_ptr, f_idx)
         if background:
             u = _resample_switches(new, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_tot, t_ptr, t_word, z)
+        _total_logs(new, beta, V, W_l, log_tot)
     return C
 
 

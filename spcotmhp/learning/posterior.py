@@ -52,12 +52,17 @@ class SufficientStats:
         n = onehot_i.sum(axis=0)
         sx = onehot_i.T @ obs.X
         sxx = (onehot_i.T @ (obs.X[:, :, None] * obs.X[:, None, :]).reshape(obs.E, 4)).reshape(K, 2, 2)
+        # counts by scatter-add rather than (E, L) x (E, K) products (the same numbers for integer counts)
+        place_given_concept = np.zeros((L, K))
+        np.add.at(place_given_concept, (concepts, places), 1.0)
+        words = np.zeros((L, obs.words.shape[1]))
+        np.add.at(words, concepts, obs.words if concept_words is None else concept_words)
         return cls(
             gauss=GaussianStats(n, sx, sxx),
             concepts=onehot_c.sum(axis=0),
-            place_given_concept=onehot_c.T @ onehot_i,
+            place_given_concept=place_given_concept,
             features=None if obs.features is None else onehot_c.T @ obs.features,
-            words=onehot_c.T @ (obs.words if concept_words is None else concept_words),
+            words=words,
             background=background,
         )
 

@@ -21,12 +21,12 @@ can drive from one place to another, the place graph connects them, directly or 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import snap
 
-__all__ = ["place_territories", "territory_adjacency"]
+__all__ = ["posterior_arg_max", "place_territories", "territory_adjacency"]
 
 
 def place_territories(
@@ -51,18 +51,8 @@ def place_territories(
     if not mask.any() or len(act) == 0:
         return labels
     prior = model.log_place_prior()[act]
-    if log_density is None:  # compiled, both cores; memory O(H W), not O(H W K)
-        log_gaussian(centres[:1, :1], model.mu[act], model.Sigma[act])  # checks the covariances
-        S = model.Sigma[act].astype(float)
-        det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
-        best = _most_probable(
-            np.ascontiguousarray(centres, dtype=float),
-            model.mu[act].astype(float),
-            S,
-            det,
-            np.log(det),
-            prior.astype(float),
-        )
+    if log_density is None:  # compiled, chunk-bounded; memory O(H W), not O(H W K)
+        best = posterior_arg_max(centres, model.mu[act], model.Sigma[act], prior)
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
@@ -91,26 +81,98 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     return A
 
 
-@njit(cache=True, parallel=True)
-def _most_probable(centres, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
-    """arg max_n log N(x | mu_n, Sigma_n) + prior_n per cell (first maximum on ties), with the arithmetic of
-    :func:`~spcotmhp.learning.model.log_gaussian`."""
-    height, width = centres.shape[0], centres.shape[1]
-    out = np.zeros((height, width), dtype=np.int64)
-    n = mu.shape[0]
-    for i in prange(height):
-        for j in range(width):
-            top = -np.inf
-            for k in range(n):
-                a, b, c, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
-                dx = centres[i, j, 0] - mu[k, 0]
-                dy = centres[i, j, 1] - mu[k, 1]
-                maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det[k]
-                score = (-0.5 * (maha + log_det[k]) - LOG_2PI) + prior[k]
-                if score > top:
-                    top = score
-                    out[i, j] = k
+def posterior_arg_max(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
+    """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
+    ties: the posterior of Eq. 3 up to its normaliser. Compiled, one thread (no OpenMP: the Gibbs runs fork
+    worker processes after using it), memory O(points) (not O(points K));
+    the same numbers as :func:`~spcotmhp.learning.model.log_gaussian` plus ``log_prior``, and the same answer as
+    trying every place at every point (:func:`_most_probable`). Raises ValueError for a covariance that is not
+    positive definite."""
+    points = np.asarray(points, dtype=float)
+    log_gaussian(points.reshape(-1, 2)[:1], mu, Sigma)  # checks the covariances
+    S = np.asarray(Sigma, dtype=float)
+    det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
+    flat = np.ascontiguousarray(points.reshape(-1, 2))
+    best = _most_probable(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
+    return best.reshape(points.shape[:-1])
+
+
+CHUNK = 64  # consecutive points bounded together (a row of cells, a stretch of trajectory)
+
+
+@njit(cache=True)
+def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
+    """arg max_n log N(x | mu_n, Sigma_n) + prior_n per point (first maximum on ties), with the arithmetic of
+    :func:`~spcotmhp.learning.model.log_gaussian`, over chunks of :data:`CHUNK` consecutive points.
+
+    Within a chunk, place n can only win if an upper bound of its score over the chunk's bounding box reaches
+    the smallest exact score, over the chunk, of the place with the highest bound (every point's best score is
+    at least that); the others are left out. The bound: Mahalanobis distance >= lambda_min |x - mu|^2 / det,
+    lambda_min the smaller eigenvalue of the quadratic form's matrix [[d, -(b+c)/2], [-(b+c)/2, a]] (whatever
+    the Gaussian's orientation), with |x - mu| the distance from the mean to the box, widened by a margin far
+    above the rounding error, so the answer is the exhaustive one."""
+    out = np.zeros(points.shape[0], dtype=np.int64)
+    coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
+    for ch in range((points.shape[0] + CHUNK - 1) // CHUNK):
+        _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out)
     return out
+
+
+@njit(cache=True)
+def _place_bounds(mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
+    """Per place: a lower bound of the Mahalanobis distance per squared distance, and the score without it."""
+    n = mu.shape[0]
+    coef = np.empty(n)
+    const = np.empty(n)
+    for k in range(n):
+        a, h, d = Sigma[k, 0, 0], 0.5 * (Sigma[k, 0, 1] + Sigma[k, 1, 0]), Sigma[k, 1, 1]
+        lam = 0.5 * (a + d) - np.sqrt(0.25 * (a - d) ** 2 + h * h)
+        coef[k] = max(lam, 0.0) / det[k] * (1.0 - 1e-9)
+        const[k] = (-0.5 * log_det[k] - LOG_2PI) + prior[k]
+    return coef, const
+
+
+@njit(cache=True)
+def _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out):  # pragma: no cover - numba
+    """The most probable place of the points of chunk ``ch`` into ``out`` (:func:`_most_probable`)."""
+    n = mu.shape[0]
+    lo, hi = ch * CHUNK, min(points.shape[0], ch * CHUNK + CHUNK)
+    x0, x1 = points[lo:hi, 0].min(), points[lo:hi, 0].max()
+    y0, y1 = points[lo:hi, 1].min(), points[lo:hi, 1].max()
+    bound = np.empty(n)
+    g = 0
+    for k in range(n):
+        dx = max(x0 - mu[k, 0], mu[k, 0] - x1, 0.0)
+        dy = max(y0 - mu[k, 1], mu[k, 1] - y1, 0.0)
+        bound[k] = const[k] - 0.5 * coef[k] * (dx * dx + dy * dy)
+        if bound[k] > bound[g]:
+            g = k
+    floor = np.inf  # the lowest score of place g over the chunk
+    for p in range(lo, hi):
+        floor = min(floor, _score(points, p, mu, Sigma, det, log_det, prior, g))
+    floor -= 1e-6 * (1.0 + abs(floor))
+    cand = np.empty(n, dtype=np.int64)
+    m = 0
+    for k in range(n):
+        if not bound[k] + 1e-6 * (1.0 + abs(bound[k])) < floor:
+            cand[m] = k
+            m += 1
+    for p in range(lo, hi):
+        top = -np.inf
+        for t in range(m):
+            score = _score(points, p, mu, Sigma, det, log_det, prior, cand[t])
+            if score > top:
+                top = score
+                out[p] = cand[t]
+
+
+@njit(cache=True)
+def _score(points, p, mu, Sigma, det, log_det, prior, k):  # pragma: no cover - numba
+    a, b, c, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
+    dx = points[p, 0] - mu[k, 0]
+    dy = points[p, 1] - mu[k, 1]
+    maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det[k]
+    return (-0.5 * (maha + log_det[k]) - LOG_2PI) + prior[k]
 
 
 @njit(cache=True)

@@ -45,10 +45,10 @@ import itertools
 from collections.abc import Callable, Sequence
 
 import numpy as np
-from numba import njit
 
 from spcotmhp.metric.grid_search import shortest_paths
 from spcotmhp.planning._paths import cells_cost, is_better, octile_length
+from spcotmhp.planning.sight import chessboard_clearance, shortcut
 
 _AROUND = np.array([(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=np.int64)
 
@@ -171,115 +171,28 @@ def smooth(cells: np.ndarray, allowed: np.ndarray, anchors: list[int], connectiv
 
 
 def smooth_anchored(
-    cells: np.ndarray, allowed: np.ndarray, anchors: Sequence[int], connectivity: int = 8
+    cells: np.ndarray,
+    allowed: np.ndarray,
+    anchors: Sequence[int],
+    connectivity: int = 8,
+    clearance: np.ndarray | None = None,
 ) -> tuple[np.ndarray, list[int]]:
-    """:func:`smooth`, also returning the new index of each anchor."""
+    """:func:`smooth`, also returning the new index of each anchor; ``clearance``:
+    :func:`~spcotmhp.planning.sight.chessboard_clearance` of ``allowed`` when already at hand (the shortcuts are
+    the same with or without it; it is computed when not given)."""
     if connectivity not in (4, 8):
         raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
     cells = np.ascontiguousarray(cells, dtype=np.int64)
     if len(cells) < 3:
         return cells, [int(a) for a in anchors]
-    fixed = np.unique(np.clip(np.asarray([0, *anchors, len(cells) - 1], dtype=np.int64), 0, len(cells) - 1))
-    out, ends = _shortcut(cells, np.ascontiguousarray(allowed), fixed, connectivity == 4)
-    return out, [int(ends[np.searchsorted(fixed, min(max(int(a), 0), len(cells) - 1))]) for a in anchors]
-
-
-@njit(cache=True)
-def _clear(allowed, r0, c0, r1, c1):  # pragma: no cover - numba
-    """True if every cell of the supercover of the segment between the two cell centres is allowed.
-
-    First a quick rejection: the cells holding the points at 1/4, 1/2 and 3/4 of the segment (exact integer
-    arithmetic; a point on a cell boundary touches the cells on both sides) belong to the supercover."""
-    for q in (2, 1, 3):
-        if not allowed[(q * r1 + (4 - q) * r0 + 2) // 4, (q * c1 + (4 - q) * c0 + 2) // 4]:
-            return False
-    nr, nc = abs(r1 - r0), abs(c1 - c0)
-    sr = 1 if r1 > r0 else -1
-    sc = 1 if c1 > c0 else -1
-    r, c = r0, c0
-    if not allowed[r, c]:
-        return False
-    ir = 0
-    ic = 0
-    while ir < nr or ic < nc:
-        decision = (1 + 2 * ic) * nr - (1 + 2 * ir) * nc
-        if decision == 0:  # through a corner: both side cells are touched
-            if not allowed[r + sr, c] or not allowed[r, c + sc]:
-                return False
-            r += sr
-            c += sc
-            ir += 1
-            ic += 1
-        elif decision < 0:
-            c += sc
-            ic += 1
-        else:
-            r += sr
-            ir += 1
-        if not allowed[r, c]:
-            return False
-    return True
-
-
-@njit(cache=True)
-def _line(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
-    """Write the Bresenham cells after (r0, c0) up to (r1, c1) into out[k:], return the new k."""
-    dr, dc = r1 - r0, c1 - c0
-    n = max(abs(dr), abs(dc))
-    for t in range(1, n + 1):
-        # round half away from zero, exactly, in integers: floor((2 d t + n) / (2 n)) for d >= 0
-        out[k, 0] = r0 + (np.sign(dr) * ((2 * abs(dr) * t + n) // (2 * n)))
-        out[k, 1] = c0 + (np.sign(dc) * ((2 * abs(dc) * t + n) // (2 * n)))
-        k += 1
-    return k
-
-
-@njit(cache=True)
-def _line4(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
-    """Write the 4-connected line after (r0, c0) up to (r1, c1) into out[k:] (the supercover walk of
-    :func:`_clear`, stepping along the row first at a corner), return the new k."""
-    nr, nc = abs(r1 - r0), abs(c1 - c0)
-    sr = 1 if r1 > r0 else -1
-    sc = 1 if c1 > c0 else -1
-    r, c = r0, c0
-    ir = 0
-    ic = 0
-    while ir < nr or ic < nc:
-        if (1 + 2 * ic) * nr - (1 + 2 * ir) * nc <= 0 and ic < nc:
-            c += sc
-            ic += 1
-        else:
-            r += sr
-            ir += 1
-        out[k, 0] = r
-        out[k, 1] = c
-        k += 1
-    return k
-
-
-@njit(cache=True)
-def _shortcut(cells, allowed, fixed, four):  # pragma: no cover - numba
-    n = cells.shape[0]
-    out = np.empty((n, 2), np.int64)
-    out[0] = cells[0]
-    ends = np.zeros(fixed.shape[0], np.int64)  # the new index of each fixed cell
-    k = 1
-    for s in range(fixed.shape[0] - 1):
-        i, end = fixed[s], fixed[s + 1]
-        while i < end:
-            j = end  # the farthest visible cell of this segment
-            while j > i + 1 and not _clear(allowed, cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1]):
-                j -= 1
-            if j == i + 1:
-                out[k] = cells[j]
-                k += 1
-            elif four:
-                k = _line4(cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1], out, k)
-            else:
-                k = _line(cells[i, 0], cells[i, 1], cells[j, 0], cells[j, 1], out, k)
-            i = j
-        ends[s + 1] = k - 1
-    return out[:k].copy(), ends
+    last = len(cells) - 1
+    kept = [min(max(int(a), 0), last) for a in anchors]
+    fixed = sorted({0, last, *kept})
+    if clearance is None:
+        clearance = chessboard_clearance(allowed)
+    out, ends = shortcut(cells, clearance, np.array(fixed, dtype=np.int64), connectivity == 4)
+    where = {f: int(e) for f, e in zip(fixed, ends, strict=True)}
+    return out, [where[a] for a in kept]
 
 
 def smooth_on_graph(
@@ -299,10 +212,14 @@ def smooth_on_graph(
     node_place = graph.node_place[nodes]
     connectivity = graph.settings.connectivity
 
+    found: dict[tuple[int, int], np.ndarray] = {}
+
     def places(a: int, b: int) -> np.ndarray:
-        piece = raw[a : b + 1]
-        own = node_place[(ends_arr >= a) & (ends_arr <= b)]
-        return np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+        if (a, b) not in found:
+            piece = raw[a : b + 1]
+            own = node_place[(ends_arr >= a) & (ends_arr <= b)]
+            found[(a, b)] = np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+        return found[(a, b)]
 
     def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:
         return graph.tube(places(a, b))
@@ -311,7 +228,7 @@ def smooth_on_graph(
         return graph.field_piece(raw, a, b, ends_arr, nodes, places(a, b))
 
     def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity)
+        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity, graph.clearance)
         return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
 
     marks = [int(a) for a in anchors]

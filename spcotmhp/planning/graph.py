@@ -73,6 +73,7 @@ from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.places import candidate_points, connected_places, snap_into_territories
+from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import grown_territories, tube_window
 
 _CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
@@ -111,6 +112,7 @@ class PlanningGraph:
     log_transition_all: np.ndarray = field(default_factory=lambda: np.empty(0))  # log_transition, any two nodes
     _territories: dict = field(default_factory=dict, repr=False)  # place -> (row, col, grown mask)
     _map_cost: np.ndarray | None = field(default=None, repr=False)
+    _clearance: np.ndarray | None = field(default=None, repr=False)
     info: dict = field(default_factory=dict)
     _paths: dict = field(default_factory=dict, repr=False)
     _centres: np.ndarray | None = field(default=None, repr=False)
@@ -246,7 +248,7 @@ class PlanningGraph:
         rows, cols = self.node_cell[:, 0], self.node_cell[:, 1]
         w_hat = np.full((M, M), -np.inf)
         for j in np.flatnonzero(self.usable):  # -field_j[cell_i] + log N(x_j)
-            to_j = self.hier.D[:M, j] if self.hier is not None else self.dist[j][rows, cols]
+            to_j = self.hier.portal_cost[:M, j] if self.hier is not None else self.dist[j][rows, cols]
             w_hat[:, j] = self.end_term[j] - to_j
         pairs = ~np.eye(M, dtype=bool) & self.usable[:, None] & self.usable[None, :]
         self.w_hat_metric = np.where(pairs, w_hat, -np.inf)
@@ -299,6 +301,8 @@ class PlanningGraph:
         if self.hier is not None:
             return self.hier.cost_to_nodes(cell)
         r, c = int(cell[0]), int(cell[1])
+        if isinstance(self.dist, np.ndarray):
+            return self.dist[:, r, c].astype(float)
         return np.array([self.dist[j][r, c] for j in range(self.n_nodes)], dtype=float)
 
     @property
@@ -369,6 +373,14 @@ class PlanningGraph:
             n_actions = self.settings.connectivity + 1
             self._map_cost = np.where(self.traversable, math.log(n_actions) - self.log_p, np.inf)
         return self._map_cost
+
+    @property
+    def clearance(self) -> np.ndarray:
+        """(h, w) chessboard distance of each traversable cell to the nearest cell that is not
+        (:func:`~spcotmhp.planning.sight.chessboard_clearance`; what line-of-sight tests skip by), once per graph."""
+        if self._clearance is None:
+            self._clearance = chessboard_clearance(self.traversable)
+        return self._clearance
 
     def tube(self, places: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(origin, mask)``: the smallest window of the crop (corner at crop cell ``origin``) that holds the

@@ -92,12 +92,6 @@ class TerritoryFields:
         self.portal_cost[self.removed] = np.inf
         self.hop = np.ascontiguousarray(pred.T).astype(np.int64)  # next abstract node on the way into j
 
-    @property
-    def D(self) -> np.ndarray:
-        """The old name of :attr:`portal_cost`, still read by planning/graph.py (to be renamed there, then this
-        alias removed)."""
-        return self.portal_cost
-
     def local(self, a: int, cell: np.ndarray) -> float:
         """Node a's field at crop cell ``cell`` (inf outside a's territory window)."""
         r0, c0, r1, c1 = self.win[self.terr[a]]

@@ -42,7 +42,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from scipy import ndimage
 
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric.snap import largest_component as main_component
 from spcotmhp.metric.snap import snap
 
@@ -138,8 +139,8 @@ def most_probable_place(
     (..., 2): (...,) int place indices (the module docstring's territories). ``log_density`` (..., K_active),
     if given, is log N(x | mu_i, Sigma_i) of the active places already computed for ``xy``."""
     act = np.flatnonzero(model.active_places)
-    if log_density is None:
-        log_density = log_gaussian(np.asarray(xy, dtype=float), model.mu[act], model.Sigma[act])
+    if log_density is None:  # compiled, without a (..., K) table
+        return act[posterior_arg_max(xy, model.mu[act], model.Sigma[act], model.log_place_prior()[act])]
     return act[np.argmax(log_density + model.log_place_prior()[act], axis=-1)]
 
 

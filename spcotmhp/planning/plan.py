@@ -34,7 +34,8 @@ class PlanPlace:
 class GoalOption:
     """The best plan ending in one instance of the goal name (for "closest of 3 bedrooms"); ``length_m`` is the
     length of that option's final path (assembled, smoothed, cut on arrival: the same as the chosen plan's), or,
-    with ``exact`` False, a lower bound of it that already exceeds the chosen plan's length."""
+    with ``exact`` False, a lower bound of it that already exceeds the length of a shorter option (the chosen
+    plan's or another's), so the shortest option is always exact."""
 
     id: int
     label: str

@@ -397,13 +397,14 @@ class HierarchicalPlanner:
     ) -> list[GoalOption]:
         """The best plan into each goal instance (Eq. 28 ending there) with the length of its final path (the
         same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
-        about the paths the robot would drive; only when the name is shared. An instance whose path cannot be
-        shorter than the chosen one — the octile distances from the start through its anchors (the cells that
-        smoothing keeps) already exceed the chosen length — gets that lower bound instead (``exact=False``),
-        so a building with 90 offices does not smooth 90 paths per plan."""
+        about the paths the robot would drive; only when the name is shared. The instances are taken in order of
+        a lower bound of that length, the octile distances from the start through the option's anchors (the
+        cells that smoothing keeps); one whose bound already exceeds the shortest path found so far (the chosen
+        one's or a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a
+        building with 90 offices does not smooth 90 paths per plan."""
         if goal_places.sum() < 2:
             return []
-        options = []
+        options, pending = [], []
         end_place = int(graph.node_place[result.nodes[-1]])
         res = self.model.require_map().resolution
         for k in np.flatnonzero(goal_places):
@@ -418,11 +419,15 @@ class HierarchicalPlanner:
             alt = result.ending_at(node)
             anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed, strict=False) if done]
             bound = res * sum(_octile(a, b) for a, b in itertools.pairwise(anchors))
-            if self.settings.arrival_quantile is None and bound > chosen_length + 1e-9:
-                options.append(GoalOption(int(k), label, bound, alt.log_prob, exact=False))
+            pending.append((bound, int(k), label, alt))
+        shortest = chosen_length
+        for bound, place, label, alt in sorted(pending, key=lambda p: p[0]):
+            if self.settings.arrival_quantile is None and bound > shortest + 1e-9:
+                options.append(GoalOption(place, label, bound, alt.log_prob, exact=False))
                 continue
             length = path_length(self._metric_path(graph, cell, alt)[0], res)
-            options.append(GoalOption(int(k), label, length, alt.log_prob))
+            shortest = min(shortest, length)
+            options.append(GoalOption(place, label, length, alt.log_prob))
         return sorted(options, key=lambda o: -o.log_prob)
 
     def _why_not(

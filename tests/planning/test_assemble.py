@@ -11,7 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spcotmhp.metric.grid_search import shortest_paths
-from spcotmhp.planning.assemble import _clear, join_legs, path_length, smooth
+from spcotmhp.planning.assemble import join_legs, path_length, smooth
+from spcotmhp.planning.sight import chessboard_clearance, clear
 from tests.helpers.planning import draw_blocked, draw_ends
 
 
@@ -31,6 +32,10 @@ def test_join_legs_drops_shared_junctions():
 def test_path_length():
     assert path_length(np.array([[0, 0], [0, 1], [1, 2]]), 0.1) == pytest.approx(0.1 + 0.1 * math.sqrt(2))
     assert path_length(np.array([[3, 3]]), 0.1) == 0.0
+
+
+def _clear(allowed, r0, c0, r1, c1):
+    return clear(chessboard_clearance(allowed), r0, c0, r1, c1)
 
 
 def test_supercover_counts_both_cells_at_an_exact_corner():

@@ -13,7 +13,7 @@ from spcotmhp.datasets.synthetic import generate_environment
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import log_gaussian
 from spcotmhp.learning.supervised import fit_supervised
-from spcotmhp.learning.territory import _most_probable
+from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.planning._paths import cells_cost
 from spcotmhp.planning.graph import PlanningGraph
@@ -125,5 +125,5 @@ def test_compiled_most_probable_place_matches_log_gaussian():
     centres = rng.normal(size=(30, 40, 2)) * 4
     ref = np.argmax(log_gaussian(centres, mu, Sigma) + prior, axis=-1)
     det = Sigma[:, 0, 0] * Sigma[:, 1, 1] - Sigma[:, 0, 1] * Sigma[:, 1, 0]
-    assert np.array_equal(_most_probable(centres, mu, Sigma, det, np.log(det), prior), ref)
+    assert np.array_equal(posterior_arg_max(centres, mu, Sigma, prior), ref)
     assert math.isfinite(float(det.min()))
