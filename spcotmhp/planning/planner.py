@@ -180,36 +180,9 @@ class HierarchicalPlanner:
         stages = ins.stages
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])  # (S, K), Eq. 28
-        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic, strict=False)])
-        for q in ins.not_goal:  # may be passed, never the goal ("instead of the kitchen")
-            inst[S - 1] &= ~self._instances(q)
-            if not inst[S - 1].any():
-                raise ConflictingInstruction(
-                    f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
-                )
-        graph = self.graph
-        avoided = np.zeros(model.K, dtype=bool)
-        for q in ins.avoid:
-            avoided |= self._instances(q)
-        if avoided.any():
-            inst &= ~avoided
-            for s, q in enumerate(stages):
-                if not inst[s].any():
-                    raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-            graph = graph.with_avoided(tuple(np.flatnonzero(avoided)))
-            esc = graph.to_crop(escape)
-            blocked = graph.blocked
-            assert blocked is not None  # an avoidance view has its blocked cells
-            esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)]
-            if blocked[cell[0], cell[1]] or blocked[esc[:, 0], esc[:, 1]].any():
-                inside = [self.names[k] for k in np.flatnonzero(avoided)]
-                raise StartInAvoidedPlace(
-                    f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
-                    f"({', '.join(sorted(set(inside)))})"
-                )
+        inst = self._stage_instances(ins, semantic)
+        graph, avoided = self._avoid(ins, inst, x0, cell, escape)
         posterior = self.terms.place_posterior(x0)
-        problem = self._problem(graph, posterior, cell, semantic, inst, S)
-        result = search(problem)
         notes = []
         if len(escape):
             notes.append(
@@ -217,19 +190,7 @@ class HierarchicalPlanner:
                 f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.require_map().resolution):.2f} "
                 f"m clear"
             )
-        if result is None:
-            longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
-            if problem.max_steps < longest.max_steps and search(longest) is not None:
-                raise HorizonTooShort(
-                    f"no sequence of at most {problem.max_steps} place-to-place steps from "
-                    f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps"
-                )
-            metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
-            result = search(metric)
-            if result is None:
-                raise self._why_not(graph, metric, ins, x0, bool(avoided.any()))
-            notes.append("the place graph has no route for this instruction: metric route over the free space")
-
+        result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self._metric_path(graph, cell, result)
         places = self._places(graph, posterior, x0, result, S, cells)
         options = self._goal_options(
@@ -286,6 +247,79 @@ class HierarchicalPlanner:
                 + "; name one place"
             )
         return inst
+
+    def _stage_instances(self, ins: Instruction, semantic: np.ndarray) -> np.ndarray:
+        """(S, K) the instances that may complete each stage (:meth:`_instances` of its words), without, for the
+        goal, the places the instruction says not to end in ("instead of the kitchen": they may be passed)."""
+        stages = ins.stages
+        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic, strict=False)])
+        for q in ins.not_goal:
+            inst[-1] &= ~self._instances(q)
+            if not inst[-1].any():
+                raise ConflictingInstruction(
+                    f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
+                )
+        return inst
+
+    def _avoid(
+        self, ins: Instruction, inst: np.ndarray, x0: np.ndarray, cell: np.ndarray, escape: np.ndarray
+    ) -> tuple[PlanningGraph, np.ndarray]:
+        """The graph to search and the (K,) avoided places: the avoided places leave ``inst`` (in place) and the
+        graph becomes its avoidance view (their nodes removed, their territories blocked). Raises when a stage
+        has only avoided instances or the start (or its escape run) lies inside an avoided place."""
+        avoided = np.zeros(self.model.K, dtype=bool)
+        for q in ins.avoid:
+            avoided |= self._instances(q)
+        if not avoided.any():
+            return self.graph, avoided
+        inst &= ~avoided
+        for s, q in enumerate(ins.stages):
+            if not inst[s].any():
+                raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
+        graph = self.graph.with_avoided(tuple(np.flatnonzero(avoided)))
+        esc = graph.to_crop(escape)
+        blocked = graph.blocked
+        assert blocked is not None  # an avoidance view has its blocked cells
+        esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)]
+        if blocked[cell[0], cell[1]] or blocked[esc[:, 0], esc[:, 1]].any():
+            inside = [self.names[k] for k in np.flatnonzero(avoided)]
+            raise StartInAvoidedPlace(
+                f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))})"
+            )
+        return graph, avoided
+
+    def _solve(
+        self,
+        graph: PlanningGraph,
+        posterior: np.ndarray,
+        cell: np.ndarray,
+        semantic: np.ndarray,
+        inst: np.ndarray,
+        ins: Instruction,
+        x0: np.ndarray,
+        avoided: np.ndarray,
+        notes: list[str],
+    ) -> SearchResult:
+        """Algorithm 1, line 11: the Eq. 28 search; when no place sequence satisfies the instruction, a longer
+        horizon would (:class:`~spcotmhp.errors.HorizonTooShort`), else the metric fallback (noted in ``notes``),
+        else the reason (:meth:`_why_not`)."""
+        S = len(ins.stages)
+        problem = self._problem(graph, posterior, cell, semantic, inst, S)
+        result = search(problem)
+        if result is not None:
+            return result
+        longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
+        if problem.max_steps < longest.max_steps and search(longest) is not None:
+            raise HorizonTooShort(
+                f"no sequence of at most {problem.max_steps} place-to-place steps from "
+                f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps"
+            )
+        metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
+        result = search(metric)
+        if result is None:
+            raise self._why_not(graph, metric, ins, x0, bool(avoided.any()))
+        notes.append("the place graph has no route for this instruction: metric route over the free space")
+        return result
 
     def _problem(
         self,
