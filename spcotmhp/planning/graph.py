@@ -65,14 +65,14 @@ import numpy as np
 
 import spcotmhp.planning.hierarchy as hierarchy
 from spcotmhp.errors import ModelError, PlanningError
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
-from spcotmhp.planning.places import candidate_points, connected_places, snap_into_territories
+from spcotmhp.planning.places import candidate_nodes, connected_places
 from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import grown_territories, tube_window
 
@@ -164,7 +164,15 @@ class PlanningGraph:
         act = np.flatnonzero(model.active_places)
         main = largest_component(traversable)
         territory = place_territories(model, traversable, centres, offset=(int(r0), int(c0)))
-        node_place, cells, end_term = _nodes(model, settings, (int(r0), int(c0)), main, territory)
+        node_place, cells, end_term = candidate_nodes(
+            model,
+            settings.n_candidates,
+            settings.seed,
+            settings.candidate_quantile,
+            (int(r0), int(c0)),
+            main,
+            territory,
+        )
         unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
 
         graph = cls(
@@ -496,31 +504,6 @@ def _crop(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int,
     rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
     r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
     return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)
-
-
-def _nodes(
-    model: SpatialConceptModel,
-    settings: GraphSettings,
-    offset: tuple[int, int],
-    main: np.ndarray,
-    territory: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The candidate nodes (Alg. 1, line 2), snapped into their own territory within the main free component
-    (duplicates dropped): each node's place, crop cell and end term log N(x_j | mu_b, Sigma_b)."""
-    occ = model.require_map()
-    rng = np.random.default_rng(settings.seed)
-    node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
-    cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array(offset), main, territory)
-    node_place, cells = node_place[ok], cells[ok]
-    _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
-    keep = np.sort(keep)
-    node_place, cells = node_place[keep], cells[keep]
-    xy = occ.cell_to_world(cells + np.array(offset))
-    end_term = np.array(
-        [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],
-        dtype=float,
-    ).reshape(-1)
-    return node_place, cells, end_term
 
 
 def clear_cache() -> None:
