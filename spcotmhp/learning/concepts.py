@@ -15,141 +15,28 @@ uses ("this is", "です") go to W_0, so concepts form around the words that tel
 unigram rescaling is meant to achieve; without it a bag-of-words mixture splits concepts by function phrases.
 The exported W_l is the token distribution lambda W_l + (1 - lambda) W_0.
 
-Feature terms: log Gamma(a + x) - log Gamma(a) is exact (a sum of logs for small integer x, log-gamma
-otherwise), except for tiny counts x <= SMALL_COUNT, where x psi(a) is used with psi(a) cached per concept and
-column (error below x^2 psi'(1) / 2, under 1e-3 nats per event for features scaled to weight 1).  Columns that
-hold the same value in every event (the "+1" of the authors' counts) are evaluated once per distinct value.
+The per-event terms and count moves are the kernels of :mod:`spcotmhp.learning.collapsed_terms`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from math import lgamma, log
 
 import numpy as np
 from numba import njit
 
-SMALL_COUNT = 1e-3
+from spcotmhp.learning.collapsed_terms import (
+    concept_tokens,
+    count_logs,
+    feature_term,
+    move_features,
+    move_words,
+    refresh_digamma,
+    tokens_term,
+    total_logs,
+)
+
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch
-
-
-@njit(cache=True)
-def _log_rising(a: float, x: float) -> float:
-    """log Gamma(a + x) - log Gamma(a) (the log rising factorial), by a sum of logs for small integer x."""
-    if x == 0.0:
-        return 0.0
-    if x <= 8.0 and x == np.floor(x):
-        s = 0.0
-        for j in range(int(x)):
-            s += log(a + j)
-        return s
-    return lgamma(a + x) - lgamma(a)
-
-
-@njit(cache=True)
-def _digamma(x: float) -> float:
-    """psi(x) for x > 0: recurrence up to x >= 10, then the asymptotic series (error < 1e-13)."""
-    r = 0.0
-    while x < 10.0:
-        r -= 1.0 / x
-        x += 1.0
-    f = 1.0 / (x * x)
-    return r + log(x) - 0.5 / x - f * (1.0 / 12 - f * (1.0 / 120 - f * (1.0 / 252 - f * (1.0 / 240 - f / 132))))
-
-
-@njit(cache=True)
-def _refresh_psi(psi_ld, l, e, chi, F_ld, f_ptr, f_idx):
-    for p in range(f_ptr[e], f_ptr[e + 1]):
-        psi_ld[l, f_idx[p]] = _digamma(chi + F_ld[l, f_idx[p]])
-
-
-@njit(cache=True)
-def _move_features(l, e, sign, F_ld, F_l, f_ptr, f_idx, f_cnt, n_e_feat):
-    for p in range(f_ptr[e], f_ptr[e + 1]):
-        F_ld[l, f_idx[p]] += sign * f_cnt[p]
-    F_l[l] += sign * n_e_feat
-
-
-@njit(cache=True)
-def _feature_term(l, e, n_l, chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_e_feat):
-    """log DirMult(f_e | chi + F_l) for concept l (event e removed from the counts)."""
-    lp = 0.0
-    for p in range(f_ptr[e], f_ptr[e + 1]):
-        x = f_cnt[p]
-        if x <= SMALL_COUNT:
-            lp += x * psi_ld[l, f_idx[p]]
-        else:
-            lp += _log_rising(chi + F_ld[l, f_idx[p]], x)
-    for g in range(c_val.shape[0]):  # constant columns: F_ld = n_l * value
-        lp += c_mult[g] * _log_rising(chi + n_l * c_val[g], c_val[g])
-    return lp - _log_rising(D * chi + F_l[l], n_e_feat)
-
-
-@njit(cache=True)
-def _concept_tokens(e, t_ptr, t_word, z, words, reps):
-    """The concept tokens (z = 1) of S_e into ``words``, each with the number of earlier concept tokens of the
-    same word in the utterance into ``reps``; returns their number. The same for every concept, so found once
-    per event."""
-    m = 0
-    for p in range(t_ptr[e], t_ptr[e + 1]):
-        if z[p]:
-            rep = 0.0
-            for q in range(t_ptr[e], p):
-                if z[q] and t_word[q] == t_word[p]:
-                    rep += 1.0
-            words[m] = t_word[p]
-            reps[m] = rep
-            m += 1
-    return m
-
-
-@njit(cache=True)
-def _word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z):
-    """log DirMult of the concept tokens (z = 1) of S_e under concept l (event e removed from the counts)."""
-    words = np.empty(t_ptr[e + 1] - t_ptr[e], np.int64)
-    reps = np.empty(t_ptr[e + 1] - t_ptr[e])
-    m = _concept_tokens(e, t_ptr, t_word, z, words, reps)
-    lp = 0.0
-    j = 0.0
-    for t in range(m):
-        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log(V * beta + W_l[l] + j)
-        j += 1.0
-    return lp
-
-
-@njit(cache=True)
-def _tokens_term(l, beta, W_lv, words, reps, m, log_tot):
-    """:func:`_word_term` from the event's concept tokens (``_concept_tokens``, found once per event) and the
-    table ``log_tot[l, j]`` = log(V beta + W_l + j) (``_total_logs``): the same value."""
-    lp = 0.0
-    for t in range(m):
-        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log_tot[l, t]
-    return lp
-
-
-@njit(cache=True)
-def _total_logs(l, beta, V, W_l, log_tot):
-    """log(V beta + W_l + j) for j = 0 .. (longest utterance - 1), after concept l's token count changed."""
-    j = 0.0
-    for t in range(log_tot.shape[1]):
-        log_tot[l, t] = log(V * beta + W_l[l] + j)
-        j += 1.0
-
-
-@njit(cache=True)
-def _count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk):
-    """The cached logs of concept l's counts (``_concept_sweep``), after they changed."""
-    log_a[l] = log(n_l[l] + alpha)
-    log_c[l] = log(n_l[l] + K * gamma)
-    log_lk[l, k] = log(n_lk[l, k] + gamma)
-
-
-@njit(cache=True)
-def _move_words(l, e, sign, W_lv, W_l, t_ptr, t_word, z):
-    for p in range(t_ptr[e], t_ptr[e + 1]):
-        if z[p]:
-            W_lv[l, t_word[p]] += sign
-            W_l[l] += sign
 
 
 @njit(cache=True)
@@ -227,7 +114,7 @@ def _concept_sweep(
     W_l,
     F_ld,
     F_l,
-    psi_ld,
+    digamma_ld,
     use_features,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
@@ -242,9 +129,9 @@ def _concept_sweep(
     tok_reps = np.empty(longest)
     log_a, log_c, log_lk, log_tot = np.empty(L), np.empty(L), np.empty((L, K)), np.empty((L, longest))
     for l in range(L):
-        _total_logs(l, beta, V, W_l, log_tot)
+        total_logs(l, beta, V, W_l, log_tot)
         for k in range(K):
-            _count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+            count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
     u = 0
     for t in range(order.shape[0]):
         e = order[t]
@@ -252,15 +139,15 @@ def _concept_sweep(
         old = C[e]
         n_l[old] -= 1.0
         n_lk[old, k] -= 1.0
-        _count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
-        _move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
-        _total_logs(old, beta, V, W_l, log_tot)
-        m = _concept_tokens(e, t_ptr, t_word, z, tok_words, tok_reps)
+        count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+        move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
+        total_logs(old, beta, V, W_l, log_tot)
+        m = concept_tokens(e, t_ptr, t_word, z, tok_words, tok_reps)
         if use_features:
             for p in range(f_ptr[e], f_ptr[e + 1]):
-                saved[p] = psi_ld[old, f_idx[p]]
-            _move_features(old, e, -1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
-            _refresh_psi(psi_ld, old, e, chi, F_ld, f_ptr, f_idx)
+                saved[p] = digamma_ld[old, f_idx[p]]
+            move_features(old, e, -1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
+            refresh_digamma(digamma_ld, old, e, chi, F_ld, f_ptr, f_idx)
         empty_value = 0.0
         empty_done = False
         for l in range(L):
@@ -268,10 +155,10 @@ def _concept_sweep(
                 logp[l] = empty_value
                 continue
             lp = log_a[l] + log_lk[l, k] - log_c[l]
-            lp += _tokens_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
+            lp += tokens_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
             if use_features:
-                lp += _feature_term(
-                    l, e, n_l[l], chi, D, F_ld, F_l, psi_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
+                lp += feature_term(
+                    l, e, n_l[l], chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
                 )
             logp[l] = lp
             if n_l[l] == 0.0:
@@ -282,18 +169,18 @@ def _concept_sweep(
         C[e] = new
         n_l[new] += 1.0
         n_lk[new, k] += 1.0
-        _count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
-        _move_words(new, e, 1.0, W_lv, W_l, t_ptr, t_word, z)
+        count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+        move_words(new, e, 1.0, W_lv, W_l, t_ptr, t_word, z)
         if use_features:
-            _move_features(new, e, 1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
+            move_features(new, e, 1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
             if new == old:
                 for p in range(f_ptr[e], f_ptr[e + 1]):
-                    psi_ld[new, f_idx[p]] = saved[p]
+                    digamma_ld[new, f_idx[p]] = saved[p]
             else:
-                _refresh_psi(psi_ld, new, e, chi, F_ld, f_ptr, f_idx)
+                refresh_digamma(digamma_ld, new, e, chi, F_ld, f_ptr, f_idx)
         if background:
             u = _resample_switches(new, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_tot, t_ptr, t_word, z)
-        _total_logs(new, beta, V, W_l, log_tot)
+        total_logs(new, beta, V, W_l, log_tot)
     return C
 
 
@@ -363,18 +250,8 @@ class CollapsedConceptSampler:
         """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,)."""
         E = len(concepts)
         C = concepts.astype(np.int64).copy()
-        n_l = np.bincount(C, minlength=L).astype(float)
-        n_lk = np.zeros((L, K))
-        np.add.at(n_lk, (C, places), 1.0)
-        onehot = np.zeros((E, L))
-        onehot[np.arange(E), C] = 1.0
-        W_lv = onehot.T @ self.concept_words()
-        bg_v = self.background_words()
-        z_tot = np.array([float((~self.z).sum()), float(self.z.sum())])
-        F_ld = onehot.T @ self.varying
-        F_l = onehot.T @ self.n_feat
+        n_l, n_lk, W_lv, bg_v, z_tot, F_ld, F_l, digamma_ld = self._counts(C, places, L, K, chi)
         use_features = self.features is not None
-        psi_ld = _digamma_table(chi + F_ld) if use_features else F_ld
         order = rng.permutation(E).astype(np.int64)
         uniforms = rng.random(E + len(self.t_word))
         return _concept_sweep(
@@ -409,9 +286,27 @@ class CollapsedConceptSampler:
             W_lv.sum(axis=1),
             F_ld,
             F_l,
-            psi_ld,
+            digamma_ld,
             use_features,
         )
+
+    def _counts(self, C: np.ndarray, places: np.ndarray, L: int, K: int, chi: float) -> tuple[np.ndarray, ...]:
+        """The counts the sweep starts from, for concepts ``C``: n_l, n_lk (concept, concept-place), W_lv (concept
+        tokens per concept and word), the background's word counts, the switch totals (z = 0, z = 1), F_ld and F_l
+        (features per concept), and the digamma table psi(chi + F_ld) (F_ld itself without features: unused)."""
+        E = len(C)
+        n_l = np.bincount(C, minlength=L).astype(float)
+        n_lk = np.zeros((L, K))
+        np.add.at(n_lk, (C, places), 1.0)
+        onehot = np.zeros((E, L))
+        onehot[np.arange(E), C] = 1.0
+        W_lv = onehot.T @ self.concept_words()
+        bg_v = self.background_words()
+        z_tot = np.array([float((~self.z).sum()), float(self.z.sum())])
+        F_ld = onehot.T @ self.varying
+        F_l = onehot.T @ self.n_feat
+        digamma_ld = _digamma_table(chi + F_ld) if self.features is not None else F_ld
+        return n_l, n_lk, W_lv, bg_v, z_tot, F_ld, F_l, digamma_ld
 
 
 def _digamma_table(a: np.ndarray) -> np.ndarray:

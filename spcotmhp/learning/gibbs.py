@@ -31,18 +31,17 @@ step 5.
 
 The exported model holds the posterior means of every parameter given the final sample's assignments.
 
-Departures from the authors' code, each measured on albert-b (ten runs, SpCoTMHP with replay, means of
-NMI C / NMI i / ARI C / ARI i): the defaults give 0.92 / 0.95 / 0.81 / 0.86.
+Departures from the authors' code, each measured on albert-b (NMI and ARI of C and i with and without it:
+docs/results.md, "Figures moved here from code docstrings"):
 * Background words (concepts.py): the unigram-rescaling denominator of Eq. 17 cancels in the conditional of
   C_e, so it cannot keep function phrases ("こちらが ... になります") from forming concepts; a shared background
-  word distribution does.  Without it: 0.73 / 0.84 / 0.42 / 0.57.
+  word distribution does.
 * Image features enter with a total weight of 1 per image (``feature_weight``).  The authors' p * 10 + 1 counts
   (about 375 per image, 365 of them the "+1") make the exact feature marginal prefer a single concept by about
-  3,000 nats: every run collapses to one concept (0.00 / 0.60 / 0.00 / 0.27).  Without features: 0.91 / 0.93 /
-  0.79 / 0.82.
+  3,000 nats, so every run collapses to one concept.
 * Initialisation (init.py): places start over-segmented by k-means++ (empty weak-limit components are drawn
   from the broad prior, m0 = 0 and kappa0 = 1e-3, and are practically never re-used, so places can merge but not
-  split); from uniformly random assignments: 0.85 / 0.87 / 0.65 / 0.66.
+  split), not from uniformly random assignments.
 
 Transition counts come from the event sequence, plus (reverse replay, Section 3.2) the reversed sequence,
 plus (when the dataset has a trajectory) the places visited along the trajectory: each pose is given its most

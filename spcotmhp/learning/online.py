@@ -147,8 +147,8 @@ class OnlineSpCoTMHP:
             random and resampled after each new one.
         split_merge: split-merge proposals after each new event (0: none); split_merge_events: a move is proposed
             only when its two places or concepts hold at most this many events (None: no bound), which bounds
-            its time (about 0.1 ms per event it moves on the development machine); the bound applies to a split
-            and to its reverse merge alike, so it does not bias the moves.
+            its time (docs/results.md gives the time per event moved); the bound applies to a split and to its
+            reverse merge alike, so it does not bias the moves.
         replay, background_words: as the batch learner (``gibbs.SpCoTMHP``).
         use_features, feature_weight: image features of the events, each row rescaled to ``feature_weight``.
         connectivity: psi of the exported model: "auto" or "map" (places whose territories touch, when there is

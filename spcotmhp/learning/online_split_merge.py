@@ -29,8 +29,8 @@ as a place split and gain 6.2 as a room split).
 The events are put back nearest first (by the distance to the nearer of a and b), not in Dahl's random order:
 a place is a region, so the first events sort themselves around the two anchors and the groups then pull the rest
 their way.  Any order that depends only on the data and on (a, b) keeps the move exact.  That reason, not a
-measurement, chose it (a small comparison on albert-b, random order over 2 seeds against nearest first over 3,
-gave place ARI 0.52 and 0.54, within the spread of seeds).
+measurement, chose it (a small comparison on albert-b found the two orders within the spread of seeds:
+docs/results.md).
 
 pi is ``log_target``: the collapsed log joint the batch learner selects runs by (``posterior.log_joint``: the NIW
 marginal of each place's positions and the Dirichlet-multinomial marginals of C, i given C, the words, the image

@@ -36,15 +36,15 @@ from math import log
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.concepts import (
-    CollapsedConceptSampler,
-    _digamma,
-    _feature_term,
-    _move_features,
-    _move_words,
-    _refresh_psi,
-    _word_term,
+from spcotmhp.learning.collapsed_terms import (
+    digamma_series,
+    feature_term,
+    move_features,
+    move_words,
+    refresh_digamma,
+    word_term,
 )
+from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.distributions import DirichletCategoricals
 
 
@@ -64,7 +64,7 @@ def _allocate(
     Dv = D if use_features else 1
     F = np.zeros((2, Dv))
     F_tot = np.zeros(2)
-    psi = np.full((2, Dv), _digamma(chi))
+    digamma_tab = np.full((2, Dv), digamma_series(chi))
     side = np.zeros(order.shape[0], dtype=np.int64)
     side[1] = 1
     logq = 0.0
@@ -74,10 +74,10 @@ def _allocate(
         if t >= 2:
             for s in range(2):
                 lp[s] = log(n[s] + alpha) + log(n_k[s, places[e]] + gamma) - log(n[s] + K * gamma)
-                lp[s] += _word_term(s, e, beta, V, W, W_tot, t_ptr, t_word, z)
+                lp[s] += word_term(s, e, beta, V, W, W_tot, t_ptr, t_word, z)
                 if use_features:
-                    lp[s] += _feature_term(
-                        s, e, n[s], chi, float(D), F, F_tot, psi, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
+                    lp[s] += feature_term(
+                        s, e, n[s], chi, float(D), F, F_tot, digamma_tab, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
                     )
             m = max(lp[0], lp[1])
             p1 = np.exp(lp[1] - m) / (np.exp(lp[0] - m) + np.exp(lp[1] - m))
@@ -89,10 +89,10 @@ def _allocate(
         s = side[t]
         n[s] += 1.0
         n_k[s, places[e]] += 1.0
-        _move_words(s, e, 1.0, W, W_tot, t_ptr, t_word, z)
+        move_words(s, e, 1.0, W, W_tot, t_ptr, t_word, z)
         if use_features:
-            _move_features(s, e, 1.0, F, F_tot, f_ptr, f_idx, f_cnt, n_feat[e])
-            _refresh_psi(psi, s, e, chi, F, f_ptr, f_idx)
+            move_features(s, e, 1.0, F, F_tot, f_ptr, f_idx, f_cnt, n_feat[e])
+            refresh_digamma(digamma_tab, s, e, chi, F, f_ptr, f_idx)
     return side, logq
 
 

@@ -32,7 +32,7 @@ _DC = np.array([0, 0, -1, 1, -1, 1, -1, 1], dtype=np.int64)
 
 # Children per heap node: a 4-ary heap is shallower than a binary one and as cache friendly. Entries are ordered
 # by key alone; equal keys come out in no particular order. (Breaking ties towards the deeper entry, the usual
-# A* refinement, saves expansions only on exact cost plateaus and made the bundled homes 1.6x slower.)
+# A* refinement, saves expansions only on exact cost plateaus and made the bundled homes slower: docs/results.md.)
 _ARITY = 4
 
 

@@ -65,14 +65,14 @@ import numpy as np
 
 import spcotmhp.planning.hierarchy as hierarchy
 from spcotmhp.errors import ModelError, PlanningError
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
-from spcotmhp.planning.places import candidate_points, connected_places, snap_into_territories
+from spcotmhp.planning.places import candidate_nodes, connected_places
 from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import grown_territories, tube_window
 
@@ -155,36 +155,24 @@ class PlanningGraph:
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
         t0 = time.perf_counter()
         occ = model.require_map()
-        if log_p_full is None:
-            log_p_full = inflate(occ, **model.costmap).log_p
-        if log_p_full.shape != occ.shape:
-            raise ModelError(f"log_p has shape {log_p_full.shape}, the model's map {occ.shape}")
-        finite = np.isfinite(log_p_full)
-        if not finite.any():
-            raise ModelError("the model's map has no free cell")
-        rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
-        r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
-        log_p = np.ascontiguousarray(log_p_full[r0:r1, c0:c1])
+        log_p, (r0, r1, c0, c1) = _crop(
+            occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
+        )
         traversable = np.isfinite(log_p)
         rr, cc = np.indices(log_p.shape)
         centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
         act = np.flatnonzero(model.active_places)
         main = largest_component(traversable)
         territory = place_territories(model, traversable, centres, offset=(int(r0), int(c0)))
-
-        # candidates (Alg. 1, line 2), snapped into their own territory within the main free component
-        rng = np.random.default_rng(settings.seed)
-        node_place, node_xy = candidate_points(model, settings.n_candidates, rng, settings.candidate_quantile)
-        cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array([r0, c0]), main, territory)
-        node_place, cells, node_xy = node_place[ok], cells[ok], node_xy[ok]
-        _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
-        keep = np.sort(keep)
-        node_place, cells = node_place[keep], cells[keep]
-        xy = occ.cell_to_world(cells + np.array([r0, c0]))
-        end_term = np.array(
-            [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],
-            dtype=float,
-        ).reshape(-1)
+        node_place, cells, end_term = candidate_nodes(
+            model,
+            settings.n_candidates,
+            settings.seed,
+            settings.candidate_quantile,
+            (int(r0), int(c0)),
+            main,
+            territory,
+        )
         unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
 
         graph = cls(
@@ -215,26 +203,33 @@ class PlanningGraph:
             usable=np.ones(len(cells), dtype=bool),
             _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution),
         )
-        if 12 * len(cells) * log_p.size <= settings.max_dense_bytes:
-            fields = [graph._field(j) for j in range(len(cells))]
-            graph.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
-            graph.next_step = np.stack([n for _, n in fields])
-        else:
-            old = reuse.hier if reuse is not None and reuse.offset == graph.offset else None
-            graph.hier = hierarchy.build(
-                graph.map_cost,
-                territory,
-                cells,
-                model.K,
-                round(settings.portal_spacing / occ.resolution),
-                settings.connectivity,
-                reuse=old,
-            )
-            graph.info.update(graph.hier.info)
+        graph._fields(reuse)
         graph.info["field_bytes"] = graph.field_bytes
         graph._edges()
         graph.time_precompute_s = time.perf_counter() - t0
         return graph
+
+    def _fields(self, reuse: PlanningGraph | None) -> None:
+        """The cost-to-go fields into every node (Alg. 1, lines 4-6): dense (M, h, w) ones when they fit in
+        ``max_dense_bytes``, else territory-local ones joined by a portal graph (module docstring), keeping those
+        of ``reuse`` whose territory did not change."""
+        cells, occ = self.node_cell, self.model.require_map()
+        if 12 * len(cells) * self.log_p.size <= self.settings.max_dense_bytes:
+            fields = [self._field(j) for j in range(len(cells))]
+            self.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
+            self.next_step = np.stack([n for _, n in fields])
+            return
+        old = reuse.hier if reuse is not None and reuse.offset == self.offset else None
+        self.hier = hierarchy.build(
+            self.map_cost,
+            self.territory,
+            cells,
+            self.model.K,
+            round(self.settings.portal_spacing / occ.resolution),
+            self.settings.connectivity,
+            reuse=old,
+        )
+        self.info.update(self.hier.info)
 
     def _field(self, j: int) -> tuple[np.ndarray, np.ndarray]:
         """The cost-to-go field into node j (Alg. 1, lines 4-6) under the step cost log|A| - log p(x|m), with
@@ -496,6 +491,19 @@ class PlanningGraph:
         """The graph of a changed model or cost map (same map size), recomputing only what depends on the
         change: :meth:`build` with ``reuse=self``."""
         return PlanningGraph.build(model, self.settings, log_p=log_p, use_cache=use_cache, reuse=self)
+
+
+def _crop(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int, int]]:
+    """The cost map log p(x|m) on the bounding box of its traversable (finite) cells, and the box (r0, r1, c0,
+    c1) in map cells."""
+    if log_p_full.shape != occ.shape:
+        raise ModelError(f"log_p has shape {log_p_full.shape}, the model's map {occ.shape}")
+    finite = np.isfinite(log_p_full)
+    if not finite.any():
+        raise ModelError("the model's map has no free cell")
+    rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
+    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+    return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)
 
 
 def clear_cache() -> None:

@@ -1,16 +1,18 @@
-"""Settings of the planning graph's precomputation (Algorithm 1, lines 1-7) and their range checks."""
+"""Settings of the planner and their range checks: the planning graph's precomputation (Algorithm 1, lines 1-7;
+:class:`GraphSettings`, part of the graph's cache key) and the online planning (:class:`PlannerSettings`)."""
 
 from __future__ import annotations
 
 import hashlib
 import json
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
 from spcotmhp.errors import InvalidSettings
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.planning.vocabulary import INSTANCE_RATIO
 
 
 @dataclass(frozen=True)
@@ -102,3 +104,50 @@ def fingerprint(model: SpatialConceptModel, settings: GraphSettings, log_p: np.n
     if log_p is not None:
         h.update(np.ascontiguousarray(log_p, dtype=np.float64).tobytes())
     return h.hexdigest()
+
+
+ARRIVAL_QUANTILE: float | None = None
+"""Default ``arrival_quantile`` of :class:`PlannerSettings`: None, the path ends at the goal's candidate point
+as in Algorithm 1. Stopping at the first cell inside the goal's region is an option: a place's Gaussian is not
+its room, so a large quantile can end the path outside the room (docs/results.md)."""
+
+
+@dataclass(frozen=True)
+class PlannerSettings(GraphSettings):
+    """Every knob of the planner: the precomputation's :class:`GraphSettings` (inherited, with their defaults),
+    then the online ones.
+
+    steps_per_stage / max_steps: the topological horizon E (max_steps overrides steps_per_stage x stages).
+    instance_ratio: instances of a name have p(i | S) >= best / ratio.  start_min_posterior: places with
+    p(i_0 | x_0) at least this are plausible start places (used with adjacent_only).  adjacent_only: steps go
+    only between connected places and the first from a plausible start place or its neighbours
+    (:mod:`~spcotmhp.planning.planner`; default: between any two candidates).  stage_constraint: every stage
+    ends at a place its words name (:mod:`~spcotmhp.planning.planner`; False: Eq. 28 as written, for measuring
+    the departure).  smooth: Algorithm 1, line 13 (tube re-planning, then line-of-sight shortcuts;
+    :mod:`~spcotmhp.planning.assemble`).  arrival_quantile: the path ends at its first
+    cell inside the goal place's region at this chi-square quantile (None: at the goal's candidate point).
+
+    Out-of-range values raise :class:`~spcotmhp.errors.InvalidSettings` on construction.
+    """
+
+    steps_per_stage: int = 10
+    max_steps: int | None = None
+    instance_ratio: float = INSTANCE_RATIO
+    start_min_posterior: float = 0.01
+    smooth: bool = True
+    arrival_quantile: float | None = ARRIVAL_QUANTILE
+    adjacent_only: bool = False
+    stage_constraint: bool = True
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        require_int(self.steps_per_stage, "steps_per_stage", 1)
+        if self.max_steps is not None:
+            require_int(self.max_steps, "max_steps", 1)
+        require_range(self.instance_ratio, "instance_ratio", 1.0, math.inf, ">= 1")
+        require_range(self.start_min_posterior, "start_min_posterior", 0.0, 1.0, "in [0, 1]")
+        if self.arrival_quantile is not None:
+            require_range(self.arrival_quantile, "arrival_quantile", 0.0, 1.0, "in (0, 1) (or None)", open_=True)
+
+    def graph_settings(self) -> GraphSettings:
+        return GraphSettings(**{f.name: getattr(self, f.name) for f in fields(GraphSettings)})

@@ -42,7 +42,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from scipy import ndimage
 
-from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric.snap import largest_component as main_component
 from spcotmhp.metric.snap import snap
@@ -176,3 +176,32 @@ def snap_into_territories(
         out[sel] = snap(window, cells[sel] - corner) + corner
         ok[sel] = True
     return out, ok
+
+
+def candidate_nodes(
+    model: SpatialConceptModel,
+    n_candidates: int,
+    seed: int,
+    quantile: float,
+    offset: tuple[int, int],
+    main: np.ndarray,
+    territory: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The planning graph's nodes (Algorithm 1, line 2): :func:`candidate_points` (``n_candidates`` per place,
+    drawn with ``seed``), snapped into their own territory within the main free component
+    (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and without duplicates:
+    each node's place, crop cell and end term log N(x_j | mu_b, Sigma_b) at its cell's centre."""
+    occ = model.require_map()
+    rng = np.random.default_rng(seed)
+    node_place, node_xy = candidate_points(model, n_candidates, rng, quantile)
+    cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array(offset), main, territory)
+    node_place, cells = node_place[ok], cells[ok]
+    _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
+    keep = np.sort(keep)
+    node_place, cells = node_place[keep], cells[keep]
+    xy = occ.cell_to_world(cells + np.array(offset))
+    end_term = np.array(
+        [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],
+        dtype=float,
+    ).reshape(-1)
+    return node_place, cells, end_term

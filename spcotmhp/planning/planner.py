@@ -47,11 +47,12 @@ waypoint, as the reference code's two legs of 10).
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import time
-from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from collections.abc import Callable, Sequence
+from dataclasses import fields, replace
 from typing import Any
 
 import numpy as np
@@ -59,8 +60,6 @@ import numpy as np
 from spcotmhp.errors import (
     ConflictingInstruction,
     HorizonTooShort,
-    NoReachablePlace,
-    StartBlocked,
     StartInAvoidedPlace,
     UnknownPlaceWord,
 )
@@ -68,60 +67,14 @@ from spcotmhp.learning.hmm import dwell_filtered_sequence
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
-from spcotmhp.planning.graph_settings import GraphSettings, require_int, require_range
+from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
 from spcotmhp.planning.places import inside_places, instance_places, named_places
 from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
-from spcotmhp.planning.search import SearchProblem, SearchResult, search
+from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
-from spcotmhp.planning.vocabulary import INSTANCE_RATIO, place_labels, place_vocabulary
-
-ARRIVAL_QUANTILE: float | None = None
-"""Default ``arrival_quantile`` of :class:`PlannerSettings`: None, the path ends at the goal's candidate point
-as in Algorithm 1. Stopping at the first cell inside the goal's region is an option: a place's Gaussian is not
-its room, so a large quantile can end the path outside the room (docs/results.md)."""
-
-
-@dataclass(frozen=True)
-class PlannerSettings(GraphSettings):
-    """Every knob of the planner: the precomputation's :class:`GraphSettings` (inherited, with their defaults),
-    then the online ones.
-
-    steps_per_stage / max_steps: the topological horizon E (max_steps overrides steps_per_stage x stages).
-    instance_ratio: instances of a name have p(i | S) >= best / ratio.  start_min_posterior: places with
-    p(i_0 | x_0) at least this are plausible start places (used with adjacent_only).  adjacent_only: steps go
-    only between connected places and the first from a plausible start place or its neighbours (module
-    docstring; default: between any two candidates).  stage_constraint: every stage ends at a place its words
-    name (module docstring; False: Eq. 28 as written, for measuring the departure).  smooth: Algorithm 1,
-    line 13 (tube re-planning, then
-    line-of-sight shortcuts; :mod:`~spcotmhp.planning.assemble`).  arrival_quantile: the path ends at its first
-    cell inside the goal place's region at this chi-square quantile (None: at the goal's candidate point).
-
-    Out-of-range values raise :class:`~spcotmhp.errors.InvalidSettings` on construction.
-    """
-
-    steps_per_stage: int = 10
-    max_steps: int | None = None
-    instance_ratio: float = INSTANCE_RATIO
-    start_min_posterior: float = 0.01
-    smooth: bool = True
-    arrival_quantile: float | None = ARRIVAL_QUANTILE
-    adjacent_only: bool = False
-    stage_constraint: bool = True
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        require_int(self.steps_per_stage, "steps_per_stage", 1)
-        if self.max_steps is not None:
-            require_int(self.max_steps, "max_steps", 1)
-        require_range(self.instance_ratio, "instance_ratio", 1.0, math.inf, ">= 1")
-        require_range(self.start_min_posterior, "start_min_posterior", 0.0, 1.0, "in [0, 1]")
-        if self.arrival_quantile is not None:
-            require_range(self.arrival_quantile, "arrival_quantile", 0.0, 1.0, "in (0, 1) (or None)", open_=True)
-
-    def graph_settings(self) -> GraphSettings:
-        return GraphSettings(**{f.name: getattr(self, f.name) for f in fields(GraphSettings)})
+from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
 
 class HierarchicalPlanner:
@@ -180,36 +133,9 @@ class HierarchicalPlanner:
         stages = ins.stages
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])  # (S, K), Eq. 28
-        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic, strict=False)])
-        for q in ins.not_goal:  # may be passed, never the goal ("instead of the kitchen")
-            inst[S - 1] &= ~self._instances(q)
-            if not inst[S - 1].any():
-                raise ConflictingInstruction(
-                    f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
-                )
-        graph = self.graph
-        avoided = np.zeros(model.K, dtype=bool)
-        for q in ins.avoid:
-            avoided |= self._instances(q)
-        if avoided.any():
-            inst &= ~avoided
-            for s, q in enumerate(stages):
-                if not inst[s].any():
-                    raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-            graph = graph.with_avoided(tuple(np.flatnonzero(avoided)))
-            esc = graph.to_crop(escape)
-            blocked = graph.blocked
-            assert blocked is not None  # an avoidance view has its blocked cells
-            esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)]
-            if blocked[cell[0], cell[1]] or blocked[esc[:, 0], esc[:, 1]].any():
-                inside = [self.names[k] for k in np.flatnonzero(avoided)]
-                raise StartInAvoidedPlace(
-                    f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid "
-                    f"({', '.join(sorted(set(inside)))})"
-                )
+        inst = self._stage_instances(ins, semantic)
+        graph, avoided = self._avoid(ins, inst, x0, cell, escape)
         posterior = self.terms.place_posterior(x0)
-        problem = self._problem(graph, posterior, cell, semantic, inst, S)
-        result = search(problem)
         notes = []
         if len(escape):
             notes.append(
@@ -217,19 +143,8 @@ class HierarchicalPlanner:
                 f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.require_map().resolution):.2f} "
                 f"m clear"
             )
-        if result is None:
-            longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
-            if problem.max_steps < longest.max_steps and search(longest) is not None:
-                raise HorizonTooShort(
-                    f"no sequence of at most {problem.max_steps} place-to-place steps from "
-                    f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps"
-                )
-            metric = self._problem(graph, posterior, cell, semantic, inst, S, metric=True)
-            result = search(metric)
-            if result is None:
-                raise self._why_not(graph, metric, ins, x0, bool(avoided.any()))
-            notes.append("the place graph has no route for this instruction: metric route over the free space")
-
+        problem_for = functools.partial(self._problem, graph, posterior, cell, semantic, inst, S)
+        result = self._solve(graph, problem_for, ins, x0, avoided, notes)
         cells, smoothed = self._metric_path(graph, cell, result)
         places = self._places(graph, posterior, x0, result, S, cells)
         options = self._goal_options(
@@ -286,6 +201,78 @@ class HierarchicalPlanner:
                 + "; name one place"
             )
         return inst
+
+    def _stage_instances(self, ins: Instruction, semantic: np.ndarray) -> np.ndarray:
+        """(S, K) the instances that may complete each stage (:meth:`_instances` of its words), without, for the
+        goal, the places the instruction says not to end in ("instead of the kitchen": they may be passed)."""
+        stages = ins.stages
+        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic, strict=False)])
+        for q in ins.not_goal:
+            inst[-1] &= ~self._instances(q)
+            if not inst[-1].any():
+                raise ConflictingInstruction(
+                    f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
+                )
+        return inst
+
+    def _avoid(
+        self, ins: Instruction, inst: np.ndarray, x0: np.ndarray, cell: np.ndarray, escape: np.ndarray
+    ) -> tuple[PlanningGraph, np.ndarray]:
+        """The graph to search and the (K,) avoided places: the avoided places leave ``inst`` (in place) and the
+        graph becomes its avoidance view (their nodes removed, their territories blocked). Raises when a stage
+        has only avoided instances or the start (or its escape run) lies inside an avoided place."""
+        avoided = np.zeros(self.model.K, dtype=bool)
+        for q in ins.avoid:
+            avoided |= self._instances(q)
+        if not avoided.any():
+            return self.graph, avoided
+        inst &= ~avoided
+        for s, q in enumerate(ins.stages):
+            if not inst[s].any():
+                raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
+        graph = self.graph.with_avoided(tuple(np.flatnonzero(avoided)))
+        esc = graph.to_crop(escape)
+        blocked = graph.blocked
+        assert blocked is not None  # an avoidance view has its blocked cells
+        esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)]
+        if blocked[cell[0], cell[1]] or blocked[esc[:, 0], esc[:, 1]].any():
+            inside = [self.names[k] for k in np.flatnonzero(avoided)]
+            raise StartInAvoidedPlace(
+                f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))})"
+            )
+        return graph, avoided
+
+    def _solve(
+        self,
+        graph: PlanningGraph,
+        problem_for: Callable[..., SearchProblem],
+        ins: Instruction,
+        x0: np.ndarray,
+        avoided: np.ndarray,
+        notes: list[str],
+    ) -> SearchResult:
+        """Algorithm 1, line 11: the Eq. 28 search (``problem_for(metric=...)``: :meth:`_problem` of this query);
+        when no place sequence satisfies the instruction, a longer horizon would
+        (:class:`~spcotmhp.errors.HorizonTooShort`), else the metric fallback (noted in ``notes``), else the
+        reason (:func:`~spcotmhp.planning.search.why_no_plan`)."""
+        S = len(ins.stages)
+        problem = problem_for(metric=False)
+        result = search(problem)
+        if result is not None:
+            return result
+        longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
+        if problem.max_steps < longest.max_steps and search(longest) is not None:
+            raise HorizonTooShort(
+                f"no sequence of at most {problem.max_steps} place-to-place steps from "
+                f"({x0[0]:.2f}, {x0[1]:.2f}) satisfies '{ins.describe()}'; raise max_steps"
+            )
+        metric = problem_for(metric=True)
+        result = search(metric)
+        if result is None:
+            cut = [self.names[k] for k in graph.info.get("unreachable_places", [])]
+            raise why_no_plan(metric, ins, x0, bool(avoided.any()), cut)
+        notes.append("the place graph has no route for this instruction: metric route over the free space")
+        return result
 
     def _problem(
         self,
@@ -429,32 +416,6 @@ class HierarchicalPlanner:
             shortest = min(shortest, length)
             options.append(GoalOption(place, label, length, alt.log_prob))
         return sorted(options, key=lambda o: -o.log_prob)
-
-    def _why_not(
-        self, graph: PlanningGraph, problem: SearchProblem, ins: Instruction, x0: np.ndarray, avoiding: bool
-    ) -> Exception:
-        """The typed error (one line) saying why no plan exists."""
-        where = f"from ({x0[0]:.2f}, {x0[1]:.2f})"
-        tail = " without entering the places to avoid" if avoiding else ""
-        reach = np.isfinite(problem.start)
-        if not reach.any():
-            return StartBlocked(f"no place can be reached {where}{tail} (the start is cut off from every place)")
-        frontier = reach.copy()
-        step = np.isfinite(problem.transition)
-        while frontier.any():
-            new = step[frontier].any(axis=0) & ~reach
-            reach |= new
-            frontier = new
-        for s, q in enumerate(ins.stages):
-            if not (reach & problem.completes[s]).any():
-                role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"
-                cut = [self.names[k] for k in graph.info.get("unreachable_places", [])]
-                hint = f" (no free cell the robot fits in: {', '.join(sorted(set(cut)))})" if cut else ""
-                return NoReachablePlace(f"no free path {where} reaches a place named '{q.label}' ({role}){tail}{hint}")
-        return HorizonTooShort(
-            f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
-            f"satisfies '{ins.describe()}'{tail}; raise max_steps"
-        )
 
 
 def _octile(a: np.ndarray, b: np.ndarray) -> float:

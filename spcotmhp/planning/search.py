@@ -21,9 +21,15 @@ word terms (a few nats) compare with w-hat (tens to hundreds of nats).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
+
+from spcotmhp.errors import HorizonTooShort, NoReachablePlace, StartBlocked
+
+if TYPE_CHECKING:
+    from spcotmhp.planning.instructions import Instruction
 
 NEG_INF = -np.inf
 
@@ -185,4 +191,33 @@ def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, s
         np.array(nodes[::-1], dtype=np.int64),
         np.array(stages[::-1], dtype=np.int64),
         tuple(completed[::-1]),
+    )
+
+
+def why_no_plan(
+    problem: SearchProblem, ins: Instruction, x0: np.ndarray, avoiding: bool, unreachable: list[str]
+) -> Exception:
+    """The typed error (one line) saying why ``problem`` (the metric fallback of instruction ``ins`` from the start
+    pose ``x0``) has no solution: the start reaches no node, or no node completing some stage, or (every stage
+    reachable) the horizon is too short. ``unreachable``: names of the places with no node (no free cell the
+    robot fits in), given as a hint."""
+    where = f"from ({x0[0]:.2f}, {x0[1]:.2f})"
+    tail = " without entering the places to avoid" if avoiding else ""
+    reach = np.isfinite(problem.start)
+    if not reach.any():
+        return StartBlocked(f"no place can be reached {where}{tail} (the start is cut off from every place)")
+    frontier = reach.copy()
+    step = np.isfinite(problem.transition)
+    while frontier.any():
+        new = step[frontier].any(axis=0) & ~reach
+        reach |= new
+        frontier = new
+    for s, q in enumerate(ins.stages):
+        if not (reach & problem.completes[s]).any():
+            role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"
+            hint = f" (no free cell the robot fits in: {', '.join(sorted(set(unreachable)))})" if unreachable else ""
+            return NoReachablePlace(f"no free path {where} reaches a place named '{q.label}' ({role}){tail}{hint}")
+    return HorizonTooShort(
+        f"no sequence of at most {problem.max_steps} place-to-place steps {where} "
+        f"satisfies '{ins.describe()}'{tail}; raise max_steps"
     )

@@ -113,13 +113,16 @@ _LEXICONS: dict = {}
 
 def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
     """(place lexicon, grammar lexicon, longest entry) keyed by unit tuples; memoised per language and
-    vocabulary."""
+    vocabulary in a bounded table that needs no lock (its values are never changed; a concurrent clear at worst
+    makes a query build its lexicon again)."""
     memo_key = (grammar.lang, tuple(place_words))
-    if memo_key not in _LEXICONS:
+    lexicon = _LEXICONS.get(memo_key)  # one lookup: a concurrent clear cannot make it fail (read-only values)
+    if lexicon is None:
+        lexicon = _build_lexicon(grammar, place_words)
         if len(_LEXICONS) > 32:
             _LEXICONS.clear()
-        _LEXICONS[memo_key] = _build_lexicon(grammar, place_words)
-    return _LEXICONS[memo_key]
+        _LEXICONS[memo_key] = lexicon
+    return lexicon
 
 
 def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:

@@ -9,8 +9,8 @@ worker, off the event loop. That is the *light lane*; costly instructions run on
 planner of their own, within admission limits and a time budget (:mod:`spcotmhp.server.scheduling`). A plan takes
 about a millisecond of mostly CPU-bound Python (the GIL would serialise
 it anyway); one worker per graph instead of the web framework's shared pool of 40 threads saves the threads'
-contention for the lock and the GIL (measured with benchmarks/load_test.py: 200 concurrent requests ran at 340
-req/s through the shared pool and at about 420 req/s this way). Requests for different models run in parallel,
+contention for the lock and the GIL (measured with benchmarks/load_test.py; docs/results.md gives the
+throughputs). Requests for different models run in parallel,
 and recognition (the slow part of ``/plan/audio``) runs outside the lock (the recogniser has its own).
 """
 

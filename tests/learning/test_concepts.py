@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy.special import digamma, gammaln, logsumexp, polygamma
 
-from spcotmhp.learning.concepts import SMALL_COUNT, CollapsedConceptSampler, _concept_sweep, _feature_term
+from spcotmhp.learning.collapsed_terms import SMALL_COUNT, feature_term
+from spcotmhp.learning.concepts import CollapsedConceptSampler, _concept_sweep
 
 
 def _conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001):
@@ -154,11 +155,11 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
     places = rng.integers(K, size=E)
     onehot = np.eye(L)[C]
     F_ld, F_l = onehot.T @ sampler.varying, onehot.T @ sampler.n_feat
-    psi_ld = digamma(chi + F_ld)
+    digamma_ld = digamma(chi + F_ld)
     n_l = onehot.sum(axis=0)
     for e in range(E):
         for l in range(L):
-            got = _feature_term(
+            got = feature_term(
                 l,
                 e,
                 n_l[l],
@@ -166,7 +167,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
                 float(D),
                 F_ld,
                 F_l,
-                psi_ld,
+                digamma_ld,
                 sampler.f_ptr,
                 sampler.f_idx,
                 sampler.f_cnt,
@@ -185,7 +186,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
             assert abs(got - exact) <= bound + 1e-12
             assert bound < 1e-3  # the docstring's claim
     # the tiny counts really read the cache: a wrong cache moves the value by far more than the bound
-    wrong = _feature_term(
+    wrong = feature_term(
         0,
         0,
         n_l[0],
@@ -193,7 +194,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
         float(D),
         F_ld,
         F_l,
-        psi_ld + 1.0,
+        digamma_ld + 1.0,
         sampler.f_ptr,
         sampler.f_idx,
         sampler.f_cnt,
@@ -201,7 +202,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
         sampler.c_mult,
         sampler.n_feat[0],
     )
-    right = _feature_term(
+    right = feature_term(
         0,
         0,
         n_l[0],
@@ -209,7 +210,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
         float(D),
         F_ld,
         F_l,
-        psi_ld,
+        digamma_ld,
         sampler.f_ptr,
         sampler.f_idx,
         sampler.f_cnt,
@@ -219,7 +220,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
     )
     x0 = feats[0]
     assert wrong - right == pytest.approx(x0[(x0 > 0) & (x0 <= SMALL_COUNT)].sum(), rel=1e-9)
-    # the cache: after a sweep over every event, psi_ld is digamma(chi + F_ld) of the final counts
+    # the cache: after a sweep over every event, digamma_ld is digamma(chi + F_ld) of the final counts
     W_lv = onehot.T @ sampler.concept_words()
     bg = sampler.background_words()
     order = rng.permutation(E).astype(np.int64)
@@ -255,12 +256,12 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
         W_lv.sum(axis=1),
         F_ld,
         F_l,
-        psi_ld,
+        digamma_ld,
         True,
     )
     assert not np.array_equal(C_new, C)
     np.testing.assert_allclose(F_ld, np.eye(L)[C_new].T @ sampler.varying, atol=1e-12)
-    np.testing.assert_allclose(psi_ld, digamma(chi + F_ld), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(digamma_ld, digamma(chi + F_ld), rtol=1e-12, atol=1e-12)
 
 
 def _n_lk(C, places, L, K):

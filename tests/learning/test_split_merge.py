@@ -106,7 +106,7 @@ def test_allocation_probability_by_hand():
         f = _dirmult(feats[e] + feats[2], CHI) - _dirmult(feats[e], CHI)
         lp.append(place + words + f)
     want = lp[0] - np.logaddexp(lp[0], lp[1])
-    assert abs(logq - want) < 2e-3  # features below SMALL_COUNT use x psi(a) in the proposal (concepts.py)
+    assert abs(logq - want) < 2e-3  # features below SMALL_COUNT use x psi(a) in the proposal (collapsed_terms.py)
     _, logq_empty = moves.allocate(np.array([0, 1]), places, forced=np.array([0, 1]))
     assert logq_empty == 0.0
 
