@@ -7,6 +7,7 @@ timed.
 
 from __future__ import annotations
 
+import contextlib
 import time
 import zlib
 from collections.abc import Sequence
@@ -56,10 +57,8 @@ def warm_up(ctx: HomeContext, task: Task | None = None, methods: Sequence[str] =
     if task is None:
         return
     for name in methods:
-        try:
+        with contextlib.suppress(SpcotmhpError):  # warming up: a refused task has compiled what it needs
             run_method(name, ctx, task, np.random.default_rng(0))
-        except SpcotmhpError:
-            pass
 
 
 def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:

@@ -27,6 +27,7 @@ one-line typed error; anything else as an internal error, also logged).
 from __future__ import annotations
 
 import colorsys
+import contextlib
 import functools
 import json
 import math
@@ -235,10 +236,8 @@ def warm_up(planner: HierarchicalPlanner) -> None:
         return
     start = planner.model.require_map().cell_to_world(graph.to_map(graph.node_cell[0]))
     for name in sorted({planner.names[k] for k in graph.node_place[:2]}):
-        try:
+        with contextlib.suppress(SpcotmhpError):  # warming up: a refused plan has compiled what it needs
             planner.plan({"goal": name.split()}, tuple(start))
-        except SpcotmhpError:
-            pass
 
 
 def run_node(
