@@ -83,16 +83,17 @@ def replan_segment(
     piece's own cells and their 8-neighbours added; returns the new piece if it is :func:`better` (the search
     never returns a costlier one, so: no longer), else ``cells`` unchanged.
 
-    The window is cut to the square of half-side L / 2 around the middle of the piece's ends a, b (L its
-    length in cells): a path through a cell x outside it has |x - a| + |x - b| > L, so it is longer than L
-    (a path is at least as long as the straight lines through its cells) and could never be accepted."""
+    The window is cut to the square of half-side length / 2 around the middle of the piece's ends a, b (length:
+    the piece's length in cells): a path through a cell x outside it has |x - a| + |x - b| > length, so it is
+    longer than the piece (a path is at least as long as the straight lines through its cells) and could never
+    be accepted."""
     cells = np.asarray(cells, dtype=np.int64)
     if len(cells) < 3:
         return cells
     origin = np.asarray(origin, dtype=np.int64)
-    a, b, L = cells[0], cells[-1], path_length(cells, 1.0)
-    reach_lo = np.floor((a + b) / 2 - L / 2).astype(np.int64)  # the ellipse lies in this square
-    reach_hi = np.ceil((a + b) / 2 + L / 2).astype(np.int64) + 1
+    a, b, length = cells[0], cells[-1], path_length(cells, 1.0)
+    reach_lo = np.floor((a + b) / 2 - length / 2).astype(np.int64)  # the ellipse lies in this square
+    reach_hi = np.ceil((a + b) / 2 + length / 2).astype(np.int64) + 1
     lo = np.maximum(np.minimum(np.maximum(origin, reach_lo), cells.min(axis=0) - 1), 0)
     hi = np.minimum(np.maximum(np.minimum(origin + tube.shape, reach_hi), cells.max(axis=0) + 2), cost.shape)
     window = cost[lo[0] : hi[0], lo[1] : hi[1]]
