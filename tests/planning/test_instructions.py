@@ -17,33 +17,10 @@ from spcotmhp.planning.instructions import (
     to_instruction,
 )
 from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
 
-EN = [
-    "entrance",
-    "living",
-    "dining",
-    "kitchen",
-    "bath",
-    "washroom",
-    "toilet",
-    "bedroom",
-    "storeroom",
-    "corridor",
-    "hall",
-]
-JA = [
-    "玄関",
-    "リビング",
-    "ダイニング",
-    "キッチン",
-    "風呂",
-    "洗面所",
-    "トイレ",
-    "寝室",
-    "物置き",
-    "廊下",
-    "広場",
-]
+EN = PLACE_WORDS_EN
+JA = PLACE_WORDS_JA
 
 
 def shape(ins: Instruction) -> tuple:

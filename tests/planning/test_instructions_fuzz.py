@@ -16,36 +16,10 @@ from spcotmhp.errors import InstructionError, InstructionTooLarge
 from spcotmhp.planning import instructions
 from spcotmhp.planning.grammar import ENGLISH, JAPANESE
 from spcotmhp.planning.instructions import parse_nbest, parse_structured, parse_text, to_instruction
+from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
 
-EN = [
-    "entrance",
-    "living",
-    "dining",
-    "kitchen",
-    "bath",
-    "washroom",
-    "toilet",
-    "bedroom",
-    "storeroom",
-    "corridor",
-    "hall",
-    "alice's",
-    "room",
-    "east",
-]
-JA = [
-    "玄関",
-    "リビング",
-    "ダイニング",
-    "キッチン",
-    "風呂",
-    "洗面所",
-    "トイレ",
-    "寝室",
-    "物置き",
-    "廊下",
-    "広場",
-]
+EN = [*PLACE_WORDS_EN, "alice's", "room", "east"]
+JA = PLACE_WORDS_JA
 GRAMMAR_WORDS = sorted(
     {
         *ENGLISH.markers,
