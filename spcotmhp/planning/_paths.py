@@ -96,3 +96,24 @@ def crosses(links, start, blocked):  # pragma: no cover - numba
             return True
         i = links[i]
     return False
+
+
+@njit(cache=True)
+def territory_sequence(territory, cells, min_dwell):  # pragma: no cover - numba
+    """The places a cell path drives through, in order: the runs of equal ``territory`` along ``cells``, runs
+    shorter than ``min_dwell`` cells dropped, cells of no territory (-1) left out, consecutive duplicates
+    collapsed (``dwell_filtered_sequence`` of the labels, then of its non-negative entries with a dwell of 1)."""
+    n = cells.shape[0]
+    out = np.empty(n, np.int64)
+    m = 0
+    i = 0
+    while i < n:
+        label = territory[cells[i, 0], cells[i, 1]]
+        j = i + 1
+        while j < n and territory[cells[j, 0], cells[j, 1]] == label:
+            j += 1
+        if j - i >= min_dwell and label >= 0 and (m == 0 or out[m - 1] != label):
+            out[m] = label
+            m += 1
+        i = j
+    return out[:m].copy()

@@ -116,10 +116,12 @@ def instance_places(log_place_given_words: np.ndarray, ratio: float = 4.0) -> np
     return np.isfinite(lp) & (lp >= lp.max() - np.log(ratio))
 
 
-def named_places(labels: list[str], phrases: Sequence[Mapping[str, float]]) -> np.ndarray:
-    """(K,) bool: places whose label (space-separated words) holds every word of at least one of ``phrases``."""
+def named_places(labels: Sequence[str | frozenset[str]], phrases: Sequence[Mapping[str, float]]) -> np.ndarray:
+    """(K,) bool: places whose label (space-separated words, or the set of them) holds every word of at least
+    one of ``phrases``."""
     bags = [{w for w, c in p.items() if c > 0} for p in phrases]
-    return np.array([any(bag and bag <= set(label.split()) for bag in bags) for label in labels], dtype=bool)
+    words = [label if isinstance(label, frozenset) else frozenset(label.split()) for label in labels]
+    return np.array([any(bag and bag <= label for bag in bags) for label in words], dtype=bool)
 
 
 def inside_places(

@@ -49,7 +49,6 @@ from __future__ import annotations
 
 import functools
 import itertools
-import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import fields, replace
@@ -63,14 +62,14 @@ from spcotmhp.errors import (
     StartInAvoidedPlace,
     UnknownPlaceWord,
 )
-from spcotmhp.learning.hmm import dwell_filtered_sequence
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.planning import explain
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
 from spcotmhp.planning.places import inside_places, instance_places, named_places
-from spcotmhp.planning.plan import GoalOption, Plan, PlanPlace
+from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
@@ -99,14 +98,19 @@ class HierarchicalPlanner:
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
         self.terms = ModelTerms(model)
+        self.label_words = [frozenset(name.split()) for name in self.names]
         act = np.flatnonzero(model.active_places)
-        self._numbering = {
+        self.numbering = {
             int(k): (
                 1 + sum(self.names[j] == self.names[k] for j in act if j < k),
                 sum(self.names[j] == self.names[k] for j in act),
             )
             for k in act
         }
+        occ = model.require_map()
+        self.resolution = float(occ.resolution)
+        # the explanation ignores territory stretches shorter than the robot's diameter, in cells
+        self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
 
     # ---- Algorithm 1, lines 9-13 -----------------------------------------------------------------------
     def plan(
@@ -127,9 +131,9 @@ class HierarchicalPlanner:
                 the instruction (the message says which stage cannot be reached).
         """
         t0 = time.perf_counter()
-        model = self.model
+        model, res = self.model, self.resolution
         ins = to_instruction(instruction, self.place_words, lang)
-        x0, cell, escape = start_cell(self.model, self.graph, start)
+        x0, cell, escape = start_cell(model, self.graph, start)
         stages = ins.stages
         S = len(stages)
         semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])  # (S, K), Eq. 28
@@ -140,29 +144,30 @@ class HierarchicalPlanner:
         if len(escape):
             notes.append(
                 f"the start is within the robot's radius of an obstacle: the path first moves "
-                f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), model.require_map().resolution):.2f} "
-                f"m clear"
+                f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), res):.2f} m clear"
             )
         problem_for = functools.partial(self._problem, graph, posterior, cell, semantic, inst, S)
         result = self._solve(graph, problem_for, ins, x0, avoided, notes)
-        cells, smoothed = self._metric_path(graph, cell, result)
-        places = self._places(graph, posterior, x0, result, S, cells)
-        options = self._goal_options(
-            graph, cell, result, inst[S - 1], path_length(cells, model.require_map().resolution)
-        )
+        cells, smoothed = self.metric_path(graph, cell, result)
+        occ = model.require_map()
+        node_points = occ.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
+        start_place = int(np.argmax(posterior))
+        places = explain.path_places(self, graph, start_place, x0, result, node_points, cells)
+        length = path_length(cells, res)
+        options = explain.goal_options(self, graph, cell, result, inst[S - 1], length)
         map_cells = np.vstack([escape, graph.to_map(cells)]) if len(escape) else graph.to_map(cells)
         plan = Plan(
-            path=model.require_map().cell_to_world(map_cells),
+            path=occ.cell_to_world(map_cells),
             cells=map_cells,
             places=places,
-            length_m=path_length(map_cells, model.require_map().resolution),
+            length_m=path_length(map_cells, res) if len(escape) else length,
             log_prob=result.log_prob,
             time_online_s=0.0,
             time_precompute_s=self.graph.time_precompute_s,
             instruction=ins,
             goal_options=options,
             n_goal_instances=int(inst[S - 1].sum()),
-            node_points=model.require_map().cell_to_world(graph.to_map(graph.node_cell[result.nodes])),
+            node_points=node_points,
             smoothed=smoothed,
             notes=notes,
         )
@@ -187,7 +192,7 @@ class HierarchicalPlanner:
         if log_p is None:
             log_p = self.terms.log_place_given_words(query.words)
         inst = instance_places(log_p, self.settings.instance_ratio)
-        named = named_places(self.names, query.phrases)
+        named = named_places(self.label_words, query.phrases)
         if named.any():
             return (named & inst) if (named & inst).any() else named
         whole = [w for w in query.words if w in self.names]  # words that are a place's whole name
@@ -314,7 +319,7 @@ class HierarchicalPlanner:
         anchors = [ends[e] for e, done in enumerate(result.completed) if done]
         return cells, ends, anchors
 
-    def _metric_path(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult) -> tuple[np.ndarray, bool]:
+    def metric_path(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult) -> tuple[np.ndarray, bool]:
         """Algorithm 1, lines 12-13, then the arrival cut: the final crop cells and whether line 13 changed them
         (module docstring; :mod:`spcotmhp.planning.assemble`). Every step keeps the path's start, its anchors
         (the cells where a waypoint is completed) and its traversable, unblocked cells, and none lengthens it."""
@@ -334,94 +339,6 @@ class HierarchicalPlanner:
             )
             cells = cells[: first + arrival(rest, inside) + 1]
         return cells, smoothed
-
-    def _places(
-        self,
-        graph: PlanningGraph,
-        posterior: np.ndarray,
-        x0: np.ndarray,
-        result: SearchResult,
-        S: int,
-        cells: np.ndarray,
-    ) -> list[PlanPlace]:
-        """Start, then the places the final path drives through, in order, with their roles: the territories
-        (:mod:`spcotmhp.learning.territory`) along the path, ignoring stretches shorter than the robot's
-        diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
-        sequence marked where the path reaches them. The explanation thus describes the path the robot drives,
-        also where a leg (or smoothing) crosses a place that is not a node of the sequence."""
-        diameter = 2.0 * float(self.model.costmap.get("inscribed_radius", 0.22)) / self.model.require_map().resolution
-        seq = dwell_filtered_sequence(graph.territory[cells[:, 0], cells[:, 1]], diameter)
-        seq = dwell_filtered_sequence(seq[seq >= 0], 1).tolist()  # cells of no territory are not a place
-        marks: list[tuple[int, str, np.ndarray]] = []  # the nodes that complete a stage, in order
-        points = self.model.require_map().cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
-        for node, done, xy in zip(result.nodes, result.completed, points, strict=False):
-            if done:
-                marks.append((int(graph.node_place[node]), "goal" if S - 1 in done else "waypoint", xy))
-        i0 = int(np.argmax(posterior))
-        out = [self._place(i0, "start", x0)]
-        pos = 1 if seq and seq[0] == i0 else 0
-        for k, role, xy in marks:
-            nxt = seq.index(k, pos) if k in seq[pos:] else None
-            for v in seq[pos:nxt] if nxt is not None else []:
-                if v != out[-1].id:
-                    out.append(self._place(v, "via"))
-            out.append(self._place(k, role, xy))
-            pos = nxt + 1 if nxt is not None else pos
-        return out
-
-    def _place(self, k: int, role: str, xy: np.ndarray | None = None) -> PlanPlace:
-        number, count = self._numbering[k]
-        point = None if xy is None else (float(xy[0]), float(xy[1]))
-        return PlanPlace(k, self.names[k], role, number, count, point)
-
-    def _goal_options(
-        self,
-        graph: PlanningGraph,
-        cell: np.ndarray,
-        result: SearchResult,
-        goal_places: np.ndarray,
-        chosen_length: float,
-    ) -> list[GoalOption]:
-        """The best plan into each goal instance (Eq. 28 ending there) with the length of its final path (the
-        same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
-        about the paths the robot would drive; only when the name is shared. The instances are taken in order of
-        a lower bound of that length, the octile distances from the start through the option's anchors (the
-        cells that smoothing keeps); one whose bound already exceeds the shortest path found so far (the chosen
-        one's or a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a
-        building with 90 offices does not smooth 90 paths per plan."""
-        if goal_places.sum() < 2:
-            return []
-        options, pending = [], []
-        end_place = int(graph.node_place[result.nodes[-1]])
-        res = self.model.require_map().resolution
-        for k in np.flatnonzero(goal_places):
-            ks = np.flatnonzero(graph.node_place == k)
-            if not len(ks) or not np.isfinite(result.terminal[ks]).any():
-                continue
-            node = int(ks[np.argmax(result.terminal[ks])])
-            label = self._place(int(k), "goal").label
-            if k == end_place:
-                options.append(GoalOption(int(k), label, chosen_length, result.log_prob))
-                continue
-            alt = result.ending_at(node)
-            anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed, strict=False) if done]
-            bound = res * sum(_octile(a, b) for a, b in itertools.pairwise(anchors))
-            pending.append((bound, int(k), label, alt))
-        shortest = chosen_length
-        for bound, place, label, alt in sorted(pending, key=lambda p: p[0]):
-            if self.settings.arrival_quantile is None and bound > shortest + 1e-9:
-                options.append(GoalOption(place, label, bound, alt.log_prob, exact=False))
-                continue
-            length = path_length(self._metric_path(graph, cell, alt)[0], res)
-            shortest = min(shortest, length)
-            options.append(GoalOption(place, label, length, alt.log_prob))
-        return sorted(options, key=lambda o: -o.log_prob)
-
-
-def _octile(a: np.ndarray, b: np.ndarray) -> float:
-    """The shortest 8-connected length between two cells, in cells (a lower bound of any path's length)."""
-    d = np.abs(np.asarray(a) - np.asarray(b))
-    return float(d.max() + (math.sqrt(2.0) - 1.0) * d.min())
 
 
 def plan(

@@ -111,8 +111,8 @@ def _units(text: str, grammar: Grammar) -> list[str]:
 _LEXICONS: dict = {}
 
 
-def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
-    """(place lexicon, grammar lexicon, longest entry) keyed by unit tuples; memoised per language and
+def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, dict]:
+    """(place lexicon, grammar lexicon, longest entry per first unit) keyed by unit tuples; memoised per language and
     vocabulary in a bounded table that needs no lock (its values are never changed; a concurrent clear at worst
     makes a query build its lexicon again)."""
     memo_key = (grammar.lang, tuple(place_words))
@@ -125,7 +125,7 @@ def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, 
     return lexicon
 
 
-def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
+def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, dict]:
     def key(phrase: str) -> tuple[str, ...]:
         return tuple(_units(phrase, grammar))
 
@@ -138,7 +138,10 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, 
     grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
     grammar_lex.pop((), None)
     place_lex = {key(w): ("place", w) for w in place_words if key(w)}
-    return place_lex, grammar_lex, max(map(len, [*place_lex, *grammar_lex]), default=1)
+    longest: dict[str, int] = {}  # the longest entry starting with each unit: a unit starting none is "other"
+    for entry in (*place_lex, *grammar_lex):
+        longest[entry[0]] = max(longest.get(entry[0], 0), len(entry))
+    return place_lex, grammar_lex, longest
 
 
 def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
@@ -149,7 +152,7 @@ def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]
     items: list[Item] = []
     i = 0
     while i < len(units):
-        for n in range(min(longest, len(units) - i), 0, -1):
+        for n in range(min(longest.get(units[i], 0), len(units) - i), 0, -1):
             k = tuple(units[i : i + n])
             hit = place_lex.get(k) or grammar_lex.get(k)
             if hit:
@@ -215,6 +218,8 @@ def _refuse(items: list[Item], grammar: Grammar, place_words: Sequence[str]) -> 
     """Rule 2: alternatives, spatial relations and modifiers are errors, not guesses."""
     step = 1 if grammar.attach == "prefix" else -1
     for idx, it in enumerate(items):
+        if it.kind not in ("alternative", "relation", "modifier"):
+            continue
         word = excerpt(it.surface)
         if it.kind == "alternative":
             around = [p.surface for p in (_neighbour_place(items, idx, -1), _neighbour_place(items, idx, 1)) if p]

@@ -39,19 +39,23 @@ def start_cell(
     if x0.shape != (2,) or not np.isfinite(x0).all():
         raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
     occ = model.require_map()
-    lo = occ.cell_to_world(np.array([0, 0])) - occ.resolution / 2
-    hi = occ.cell_to_world(np.array([occ.height - 1, occ.width - 1])) + occ.resolution / 2
+    x, y = float(x0[0]), float(x0[1])
+    res, ox, oy = occ.resolution, float(occ.origin[0]), float(occ.origin[1])
+    lo = ox + 0.5 * res - res / 2, oy + 0.5 * res - res / 2  # cell_to_world's arithmetic, in scalars
+    hi = ox + (occ.width - 0.5) * res + res / 2, oy + (occ.height - 0.5) * res + res / 2
     # bounds in floats first: a huge start would overflow the integer cell index
-    full = occ.world_to_cell(x0) if ((x0 >= lo) & (x0 < hi)).all() else None
-    if full is None or not occ.in_bounds(full):
+    inside = lo[0] <= x < hi[0] and lo[1] <= y < hi[1]
+    row, col = (math.floor((y - oy) / res), math.floor((x - ox) / res)) if inside else (-1, -1)
+    if not (inside and 0 <= row < occ.height and 0 <= col < occ.width):
         raise StartOutsideMap(
-            f"the start ({_metres(x0[0])}, {_metres(x0[1])}) is outside the map "
+            f"the start ({_metres(x)}, {_metres(y)}) is outside the map "
             f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})"
         )
-    cell = graph.to_crop(full)
-    where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
+    full = np.array([row, col], dtype=np.int64)
+    cell = np.array([row - graph.offset[0], col - graph.offset[1]], dtype=np.int64)
     if graph.in_crop(cell) and graph.main[cell[0], cell[1]]:
         return x0, cell, np.empty((0, 2), dtype=np.int64)
+    where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
     if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
         raise StartBlocked(
             f"{where} is cut off from the places: the free space around it does not connect "

@@ -1,9 +1,11 @@
 """The model terms that online planning evaluates per query, with their logarithms taken once.
 
 The same quantities as :class:`~spcotmhp.learning.model.SpatialConceptModel`'s methods (``place_posterior``,
-``log_semantic``, ``log_place_given_words``; tests check they agree), built from the same functions
-(:func:`~spcotmhp.learning.model.log_multinomial`, the package's one ``logsumexp``), with log pi, log phi,
-log W and the place prior precomputed so that a query costs microseconds.
+``log_semantic``, ``log_place_given_words``; tests check they agree), with log pi, log phi, log W, the place
+prior and the Gaussians' closed-form 2 x 2 inverses precomputed, and the per-query arithmetic in compiled
+kernels (the same formulas as :func:`~spcotmhp.learning.model.log_gaussian`,
+:func:`~spcotmhp.learning.model.log_multinomial` and the package's ``logsumexp``), so that a query costs a few
+microseconds.
 """
 
 from __future__ import annotations
@@ -11,9 +13,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from numba import njit
 
 from spcotmhp.learning.logspace import logsumexp as _lse
-from spcotmhp.learning.model import SpatialConceptModel, bag_counts, log_gaussian, log_multinomial
+from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel
 
 
 class ModelTerms:
@@ -30,27 +33,92 @@ class ModelTerms:
         self.log_prior = np.where(self.active, _lse(self.log_pi[:, None] + self.log_phi, axis=0), -np.inf)
         self.log_ur = _lse(self.log_phi, axis=0)
         self.word_index = model.word_index
+        self._finite_W = np.isfinite(self.log_W)
+        self._log_W0 = np.ascontiguousarray(np.where(self._finite_W, self.log_W, 0.0))
+        self._mu = np.ascontiguousarray(model.mu, dtype=np.float64)
+        self._Sigma = np.ascontiguousarray(model.Sigma, dtype=np.float64)
 
     def place_posterior(self, x: np.ndarray) -> np.ndarray:
         """p(i_0 = k | x_0) over places (K,) for one point (Eq. 3 with the place prior)."""
-        lp = log_gaussian(np.asarray(x, dtype=float), self.model.mu, self.model.Sigma) + self.log_prior
-        return np.exp(lp - _lse(lp, axis=-1))
+        x = np.asarray(x, dtype=float)
+        return _posterior(float(x[0]), float(x[1]), self._mu, self._Sigma, self.log_prior)
 
-    def bag_vector(self, bag: Mapping[str, float]) -> np.ndarray:
-        """The bag as a count vector over the vocabulary (the model's ``bag_vector``, with the word index
-        built once)."""
-        return bag_counts(bag, self.word_index, len(self.word_index))
+    def bag_indices(self, bag: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """The bag as (vocabulary indices, weights) of its known words (the model's ``bag_vector`` without the
+        zeros; words outside the vocabulary are dropped)."""
+        index = self.word_index
+        known = [(index[w], float(c)) for w, c in bag.items() if w in index]
+        return np.array([i for i, _ in known], dtype=np.int64), np.array([c for _, c in known], dtype=np.float64)
 
     def log_semantic(self, bag: Mapping[str, float]) -> np.ndarray:
         """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place (K,) (Eq. 28, last factor)."""
-        lw = log_multinomial(self.log_W, self.bag_vector(bag)) + self.log_pi
-        return _lse(lw[:, None] + self.log_phi, axis=0)
+        idx, weight = self.bag_indices(bag)
+        return _semantic(idx, weight, self._log_W0, self._finite_W, self.log_pi, self.log_phi)
 
     def normalise(self, log_semantic: np.ndarray) -> np.ndarray:
         """log p(i | S) over active places from :meth:`log_semantic`'s output (K,)."""
-        ls = np.where(self.active, log_semantic, -np.inf)
-        return ls - _lse(ls, axis=0)
+        return _normalise(log_semantic, self.active)
 
     def log_place_given_words(self, bag: Mapping[str, float]) -> np.ndarray:
         """log p(i | S) over active places, normalised (K,)."""
         return self.normalise(self.log_semantic(bag))
+
+
+@njit(cache=True)
+def _lse1(a):  # pragma: no cover - numba
+    """log sum exp of a vector (the package's ``logsumexp``: an all -inf vector gives -inf)."""
+    m = -np.inf
+    for v in a:
+        m = max(m, v)
+    if not np.isfinite(m):
+        m = 0.0
+    total = 0.0
+    for v in a:
+        total += np.exp(v - m)
+    return np.log(total) + m
+
+
+@njit(cache=True)
+def _posterior(x, y, mu, Sigma, log_prior):  # pragma: no cover - numba
+    """p(k | x) proportional to N(x | mu_k, Sigma_k) p(k) (log_gaussian's closed form, then normalised)."""
+    K = mu.shape[0]
+    lp = np.empty(K)
+    for k in range(K):
+        a, b, c, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
+        det = a * d - b * c
+        if det <= 0:
+            raise ValueError("a place covariance is not positive definite")
+        dx = x - mu[k, 0]
+        dy = y - mu[k, 1]
+        maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det
+        lp[k] = -0.5 * (maha + np.log(det)) - LOG_2PI + log_prior[k]
+    return np.exp(lp - _lse1(lp))
+
+
+@njit(cache=True)
+def _semantic(idx, weight, log_W0, finite_W, log_pi, log_phi):  # pragma: no cover - numba
+    """log sum_C phi_C(i) W_C(S) pi_C for every place i: log Mult(S | W_C) as sum_w n_w log W_C(w) (-inf when a
+    word of S has W_C(w) = 0), plus log pi_C, then log-sum-exp over C with log phi_C(i)."""
+    L, K = log_phi.shape
+    lw = np.empty(L)
+    for c in range(L):
+        total = 0.0
+        for j in range(idx.shape[0]):
+            if weight[j] > 0 and not finite_W[c, idx[j]]:
+                total = -np.inf
+                break
+            total += weight[j] * log_W0[c, idx[j]]
+        lw[c] = total + log_pi[c]
+    out = np.empty(K)
+    col = np.empty(L)
+    for i in range(K):
+        for c in range(L):
+            col[c] = lw[c] + log_phi[c, i]
+        out[i] = _lse1(col)
+    return out
+
+
+@njit(cache=True)
+def _normalise(log_semantic, active):  # pragma: no cover - numba
+    ls = np.where(active, log_semantic, -np.inf)
+    return ls - _lse1(ls)

@@ -393,7 +393,7 @@ def test_goal_option_bounds_are_lower_bounds_of_the_final_paths():
                 result = search(pl._problem(pl.graph, pl.terms.place_posterior(x0), cell, semantic, inst, S))
                 ks = np.flatnonzero(pl.graph.node_place == o.id)
                 alt = result.ending_at(int(ks[np.argmax(result.terminal[ks])]))
-                full = path_length(pl._metric_path(pl.graph, cell, alt)[0], model.map.resolution)
+                full = path_length(pl.metric_path(pl.graph, cell, alt)[0], model.map.resolution)
                 assert o.length_m <= full + 1e-9
             assert ("closest of" in p.explanation) == (p.goal.id == min(p.goal_options, key=lambda q: q.length_m).id)
     assert bounded >= 10

@@ -1,0 +1,113 @@
+"""What a plan says about its places (the explanation's facts): the places the final path drives through, with
+their roles, and the goal options behind "closest of 3 bedrooms".
+
+Both describe the path the robot drives, not only Eq. 28's node sequence: a leg (or smoothing) that crosses a
+place which is not a node of the sequence names it, and "closest" compares the final paths (assembled,
+smoothed, cut on arrival) into every instance of the goal's name.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from spcotmhp.planning._paths import territory_sequence
+from spcotmhp.planning.assemble import path_length
+from spcotmhp.planning.plan import GoalOption, PlanPlace
+from spcotmhp.planning.search import SearchResult
+
+if TYPE_CHECKING:
+    from spcotmhp.planning.graph import PlanningGraph
+    from spcotmhp.planning.planner import HierarchicalPlanner
+
+
+def path_places(
+    planner: HierarchicalPlanner,
+    graph: PlanningGraph,
+    start_place: int,
+    x0: np.ndarray,
+    result: SearchResult,
+    points: np.ndarray,
+    cells: np.ndarray,
+) -> list[PlanPlace]:
+    """Start, then the places the final path drives through, in order, with their roles: the territories
+    (:mod:`spcotmhp.learning.territory`) along the path, ignoring stretches shorter than the robot's
+    diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
+    sequence marked where the path reaches them (``points``: the map-frame points of ``result.nodes``).
+    ``start_place``: the most probable place of the start, arg max p(i_0 | x_0)."""
+    last = result.completes_last  # the goal stage
+    seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
+    marks: list[tuple[int, str, np.ndarray]] = []  # the nodes that complete a stage, in order
+    for node, done, xy in zip(result.nodes, result.completed, points, strict=False):
+        if done:
+            marks.append((int(graph.node_place[node]), "goal" if last in done else "waypoint", xy))
+    out = [place(planner, start_place, "start", x0)]
+    pos = 1 if seq and seq[0] == start_place else 0
+    for k, role, xy in marks:
+        nxt = seq.index(k, pos) if k in seq[pos:] else None
+        for v in seq[pos:nxt] if nxt is not None else []:
+            if v != out[-1].id:
+                out.append(place(planner, v, "via"))
+        out.append(place(planner, k, role, xy))
+        pos = nxt + 1 if nxt is not None else pos
+    return out
+
+
+def place(planner: HierarchicalPlanner, k: int, role: str, xy: np.ndarray | None = None) -> PlanPlace:
+    """Place ``k`` in the role ``role``, numbered among the places of its name ("bedroom #2" of 3)."""
+    number, count = planner.numbering[k]
+    point = None if xy is None else (float(xy[0]), float(xy[1]))
+    return PlanPlace(k, planner.names[k], role, number, count, point)
+
+
+def goal_options(
+    planner: HierarchicalPlanner,
+    graph: PlanningGraph,
+    cell: np.ndarray,
+    result: SearchResult,
+    goal_places: np.ndarray,
+    chosen_length: float,
+) -> list[GoalOption]:
+    """The best plan into each goal instance (Eq. 28 ending there) with the length of its final path (the
+    same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
+    about the paths the robot would drive; only when the name is shared. The instances are taken in order of
+    a lower bound of that length, the octile distances from the start through the option's anchors (the
+    cells that smoothing keeps); one whose bound already exceeds the shortest path found so far (the chosen
+    one's or a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a
+    building with 90 offices does not smooth 90 paths per plan."""
+    if goal_places.sum() < 2:
+        return []
+    options, pending = [], []
+    end_place = int(graph.node_place[result.nodes[-1]])
+    res = planner.model.require_map().resolution
+    for k in np.flatnonzero(goal_places):
+        ks = np.flatnonzero(graph.node_place == k)
+        if not len(ks) or not np.isfinite(result.terminal[ks]).any():
+            continue
+        node = int(ks[np.argmax(result.terminal[ks])])
+        label = place(planner, int(k), "goal").label
+        if k == end_place:
+            options.append(GoalOption(int(k), label, chosen_length, result.log_prob))
+            continue
+        alt = result.ending_at(node)
+        anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed, strict=False) if done]
+        bound = res * sum(octile(a, b) for a, b in itertools.pairwise(anchors))
+        pending.append((bound, int(k), label, alt))
+    shortest = chosen_length
+    for bound, kept, label, alt in sorted(pending, key=lambda p: p[0]):
+        if planner.settings.arrival_quantile is None and bound > shortest + 1e-9:
+            options.append(GoalOption(kept, label, bound, alt.log_prob, exact=False))
+            continue
+        length = path_length(planner.metric_path(graph, cell, alt)[0], res)
+        shortest = min(shortest, length)
+        options.append(GoalOption(kept, label, length, alt.log_prob))
+    return sorted(options, key=lambda o: -o.log_prob)
+
+
+def octile(a: np.ndarray, b: np.ndarray) -> float:
+    """The shortest 8-connected length between two cells, in cells (a lower bound of any path's length)."""
+    dr, dc = abs(int(a[0]) - int(b[0])), abs(int(a[1]) - int(b[1]))
+    return float(max(dr, dc) + (math.sqrt(2.0) - 1.0) * min(dr, dc))
