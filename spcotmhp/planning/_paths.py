@@ -117,3 +117,17 @@ def territory_sequence(territory, cells, min_dwell):  # pragma: no cover - numba
             m += 1
         i = j
     return out[:m].copy()
+
+
+@njit(cache=True)
+def piece_places(territory, cells, a, b, ends, node_place, n_places):  # pragma: no cover - numba
+    """The sorted distinct places of the tube of the piece ``cells[a:b + 1]``: the territories of its cells (-1:
+    none) and the places of the nodes reached in it (``ends[e]``, the index where node e, of place
+    ``node_place[e]``, is reached)."""
+    seen = np.zeros(n_places + 1, np.bool_)
+    for i in range(a, b + 1):
+        seen[territory[cells[i, 0], cells[i, 1]] + 1] = True
+    for e in range(ends.shape[0]):
+        if a <= ends[e] <= b:
+            seen[node_place[e] + 1] = True
+    return np.flatnonzero(seen) - 1

@@ -47,7 +47,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from spcotmhp.metric.grid_search import shortest_paths
-from spcotmhp.planning._paths import cells_cost, is_better, octile_length
+from spcotmhp.planning._paths import cells_cost, is_better, octile_length, piece_places
 from spcotmhp.planning.sight import chessboard_clearance, shortcut
 
 _AROUND = np.array([(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=np.int64)
@@ -207,19 +207,18 @@ def smooth_on_graph(
     (:func:`smooth_anchored`) of the re-planned path and of the assembled one, each kept only if :func:`better`.
     Returns the cells and the new anchor indices. The one implementation SpCoTMHP and the smoothed baselines
     use."""
-    raw = np.asarray(cells, dtype=np.int64)
-    ends_arr = np.asarray(ends)
+    raw = np.ascontiguousarray(cells, dtype=np.int64)
+    ends_arr = np.asarray(ends, dtype=np.int64)
     nodes = np.asarray(nodes, dtype=np.int64)
     node_place = graph.node_place[nodes]
+    n_places = int(graph.model.K)
     connectivity = graph.settings.connectivity
 
     found: dict[tuple[int, int], np.ndarray] = {}
 
     def places(a: int, b: int) -> np.ndarray:
         if (a, b) not in found:
-            piece = raw[a : b + 1]
-            own = node_place[(ends_arr >= a) & (ends_arr <= b)]
-            found[(a, b)] = np.union1d(graph.territory[piece[:, 0], piece[:, 1]], own)
+            found[(a, b)] = piece_places(graph.territory, raw, a, b, ends_arr, node_place, n_places)
         return found[(a, b)]
 
     def tube(a: int, b: int) -> tuple[np.ndarray, np.ndarray]:

@@ -160,7 +160,10 @@ def parse_text(
     parts = visiting_order(read_sentence(text, GRAMMARS[lang], place_words), text, place_words)
 
     def query(p: Phrase) -> PlaceQuery:
-        return PlaceQuery(dict(Counter(p.item.words)), p.item.surface)
+        bag: dict[str, float] = {}
+        for word in p.item.words:
+            bag[word] = bag.get(word, 0) + 1
+        return PlaceQuery(bag, p.item.surface)
 
     visit = [query(p) for p in parts["visit"]]
     ins = Instruction(

@@ -53,6 +53,7 @@ __all__ = [
     "connected_places",
     "inside_places",
     "instance_places",
+    "LabelIndex",
     "mahalanobis2",
     "main_component",
     "most_probable_place",
@@ -116,12 +117,32 @@ def instance_places(log_place_given_words: np.ndarray, ratio: float = 4.0) -> np
     return np.isfinite(lp) & (lp >= lp.max() - np.log(ratio))
 
 
-def named_places(labels: Sequence[str | frozenset[str]], phrases: Sequence[Mapping[str, float]]) -> np.ndarray:
-    """(K,) bool: places whose label (space-separated words, or the set of them) holds every word of at least
-    one of ``phrases``."""
-    bags = [{w for w, c in p.items() if c > 0} for p in phrases]
-    words = [label if isinstance(label, frozenset) else frozenset(label.split()) for label in labels]
-    return np.array([any(bag and bag <= label for bag in bags) for label in words], dtype=bool)
+class LabelIndex:
+    """The places whose label holds each word ((K,) bool per word), built once per set of labels so that
+    :func:`named_places` is a few mask operations per query."""
+
+    def __init__(self, labels: Sequence[str]) -> None:
+        self.size = len(labels)
+        self.masks: dict[str, np.ndarray] = {}
+        for k, label in enumerate(labels):
+            for word in label.split():
+                self.masks.setdefault(word, np.zeros(self.size, dtype=bool))[k] = True
+
+
+def named_places(labels: Sequence[str] | LabelIndex, phrases: Sequence[Mapping[str, float]]) -> np.ndarray:
+    """(K,) bool: places whose label (space-separated words; or a :class:`LabelIndex` of the labels) holds every
+    word of at least one of ``phrases``."""
+    index = labels if isinstance(labels, LabelIndex) else LabelIndex(labels)
+    out = np.zeros(index.size, dtype=bool)
+    for phrase in phrases:
+        bag = [w for w, c in phrase.items() if c > 0]
+        if not bag:
+            continue
+        named = np.ones(index.size, dtype=bool)
+        for word in bag:
+            named &= index.masks.get(word, False)
+        out |= named
+    return out
 
 
 def inside_places(

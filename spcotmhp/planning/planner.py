@@ -68,7 +68,7 @@ from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_o
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
-from spcotmhp.planning.places import inside_places, instance_places, named_places
+from spcotmhp.planning.places import LabelIndex, inside_places, instance_places, named_places
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
@@ -98,7 +98,7 @@ class HierarchicalPlanner:
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
         self.terms = ModelTerms(model)
-        self.label_words = [frozenset(name.split()) for name in self.names]
+        self.label_index = LabelIndex(self.names)
         act = np.flatnonzero(model.active_places)
         self.numbering = {
             int(k): (
@@ -136,8 +136,7 @@ class HierarchicalPlanner:
         x0, cell, escape = start_cell(model, self.graph, start)
         stages = ins.stages
         S = len(stages)
-        semantic = np.stack([self.terms.log_semantic(q.words) for q in stages])  # (S, K), Eq. 28
-        inst = self._stage_instances(ins, semantic)
+        semantic, inst = self._stage_instances(ins)  # (S, K) word terms of Eq. 28 and instances
         graph, avoided = self._avoid(ins, inst, x0, cell, escape)
         posterior = self.terms.place_posterior(x0)
         notes = []
@@ -180,21 +179,21 @@ class HierarchicalPlanner:
         return self._instances(to_instruction({"goal": words}, self.place_words).goal)
 
     # ---- pieces ----------------------------------------------------------------------------------------
-    def _instances(self, query: PlaceQuery, log_p: np.ndarray | None = None) -> np.ndarray:
+    def _instances(self, query: PlaceQuery, likely: np.ndarray | None = None) -> np.ndarray:
         """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
-        (:func:`~spcotmhp.planning.places.instance_places`) and, when some place's name carries all the words
-        of the query (or of one of its N-best alternatives), only such places
+        (:func:`~spcotmhp.planning.places.instance_places`; ``likely``, when already computed) and, when some
+        place's name carries all the words of the query (or of one of its N-best alternatives), only such places
         (:func:`~spcotmhp.planning.places.named_places`). Two or more words that are each the whole name of a
         place but name no place together ("the kitchen bedroom") are refused; otherwise, when no name carries
         the words (a learned model's labels may merge two names), p(i | S) alone decides."""
         if not self.settings.stage_constraint:  # Eq. 28 as written: any place may complete any stage
             return np.asarray(self.model.active_places, dtype=bool).copy()
-        if log_p is None:
-            log_p = self.terms.log_place_given_words(query.words)
-        inst = instance_places(log_p, self.settings.instance_ratio)
-        named = named_places(self.label_words, query.phrases)
+        if likely is None:
+            likely = instance_places(self.terms.log_place_given_words(query.words), self.settings.instance_ratio)
+        named = named_places(self.label_index, query.phrases)
         if named.any():
-            return (named & inst) if (named & inst).any() else named
+            both = named & likely
+            return both if both.any() else named
         whole = [w for w in query.words if w in self.names]  # words that are a place's whole name
         if len(query.phrases) == 1 and len(whole) > 1:
             carried = whole
@@ -205,20 +204,22 @@ class HierarchicalPlanner:
                 )
                 + "; name one place"
             )
-        return inst
+        return likely
 
-    def _stage_instances(self, ins: Instruction, semantic: np.ndarray) -> np.ndarray:
-        """(S, K) the instances that may complete each stage (:meth:`_instances` of its words), without, for the
-        goal, the places the instruction says not to end in ("instead of the kitchen": they may be passed)."""
+    def _stage_instances(self, ins: Instruction) -> tuple[np.ndarray, np.ndarray]:
+        """(S, K) the word term of Eq. 28 for each stage and (S, K) the instances that may complete it
+        (:meth:`_instances` of its words), without, for the goal, the places the instruction says not to end
+        in ("instead of the kitchen": they may be passed)."""
         stages = ins.stages
-        inst = np.stack([self._instances(q, self.terms.normalise(ls)) for q, ls in zip(stages, semantic, strict=False)])
+        semantic, likely = self.terms.stage_terms([q.words for q in stages], self.settings.instance_ratio)
+        inst = np.stack([self._instances(q, row) for q, row in zip(stages, likely, strict=True)])
         for q in ins.not_goal:
             inst[-1] &= ~self._instances(q)
             if not inst[-1].any():
                 raise ConflictingInstruction(
                     f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
                 )
-        return inst
+        return semantic, inst
 
     def _avoid(
         self, ins: Instruction, inst: np.ndarray, x0: np.ndarray, cell: np.ndarray, escape: np.ndarray
@@ -299,9 +300,7 @@ class HierarchicalPlanner:
             return SearchProblem(
                 graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], int(E)
             )
-        with np.errstate(divide="ignore"):
-            log_pred = np.log(posterior @ self.model.psi)  # log sum_k p(k|x0) psi[k, i_1]
-        start = log_pred[nodes] - self.terms.log_ur[nodes] + start_w_hat
+        start = self.terms.start_terms(posterior, nodes) + start_w_hat  # log sum_k p(k|x0) psi[k, i_1] - log UR
         if not self.settings.adjacent_only:
             return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], int(E))
         plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())

@@ -81,6 +81,9 @@ def visiting_order(phrases: list[Phrase], text: str, place_words: Sequence[str])
 
 
 def _order(visit: list[Phrase]) -> list[Phrase]:
+    if not any(p.orders or p.after_sequencer for p in visit):  # one step, no order words: rule c alone
+        goals = [n for n, p in enumerate(visit) if p.role == "goal"]
+        return visit if not goals else [*visit[: goals[-1]], *visit[goals[-1] + 1 :], visit[goals[-1]]]
     step, steps = 0, []
     for prev, p in zip([None, *visit], visit, strict=False):
         step += prev is not None and p.after_sequencer and p.source != prev.source

@@ -10,7 +10,7 @@ microseconds.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numba import njit
@@ -62,6 +62,25 @@ class ModelTerms:
     def log_place_given_words(self, bag: Mapping[str, float]) -> np.ndarray:
         """log p(i | S) over active places, normalised (K,)."""
         return self.normalise(self.log_semantic(bag))
+
+    def start_terms(self, posterior: np.ndarray, places: np.ndarray) -> np.ndarray:
+        """log sum_k p(i_0 = k | x_0) psi[k, i] - log sum_c phi_c(i) for the place i of each node (``places``):
+        the first step's transition term of Eq. 28 with i_0 marginalised."""
+        return _start_terms(posterior, self.model.psi, places, self.log_ur)
+
+    def stage_terms(self, bags: Sequence[Mapping[str, float]], ratio: float) -> tuple[np.ndarray, np.ndarray]:
+        """For the bags S_1..S_n of an instruction's stages, in one kernel: (n, K) :meth:`log_semantic` of each
+        and (n, K) bool, the places whose p(i | S) is within ``ratio`` of the best
+        (:func:`~spcotmhp.planning.places.instance_places` of :meth:`log_place_given_words`)."""
+        if ratio < 1.0:
+            raise ValueError(f"instance_ratio must be >= 1, got {ratio!r}")
+        parts = [self.bag_indices(bag) for bag in bags]
+        offsets = np.cumsum([0] + [len(idx) for idx, _ in parts])
+        idx = np.concatenate([i for i, _ in parts])
+        weight = np.concatenate([w for _, w in parts])
+        return _stage_terms(
+            idx, weight, offsets, self._log_W0, self._finite_W, self.log_pi, self.log_phi, self.active, np.log(ratio)
+        )
 
 
 @njit(cache=True)
@@ -122,3 +141,32 @@ def _semantic(idx, weight, log_W0, finite_W, log_pi, log_phi):  # pragma: no cov
 def _normalise(log_semantic, active):  # pragma: no cover - numba
     ls = np.where(active, log_semantic, -np.inf)
     return ls - _lse1(ls)
+
+
+@njit(cache=True)
+def _start_terms(posterior, psi, places, log_ur):  # pragma: no cover - numba
+    out = np.empty(places.shape[0])
+    for j in range(places.shape[0]):
+        i = places[j]
+        total = 0.0
+        for k in range(posterior.shape[0]):
+            total += posterior[k] * psi[k, i]
+        out[j] = np.log(total) - log_ur[i]
+    return out
+
+
+@njit(cache=True)
+def _stage_terms(idx, weight, offsets, log_W0, finite_W, log_pi, log_phi, active, log_ratio):  # pragma: no cover
+    """:meth:`ModelTerms.stage_terms` for the bags ``idx[offsets[s]:offsets[s + 1]]`` (with their weights)."""
+    n = offsets.shape[0] - 1
+    K = log_phi.shape[1]
+    semantic = np.empty((n, K))
+    inst = np.zeros((n, K), np.bool_)
+    for s in range(n):
+        a, b = offsets[s], offsets[s + 1]
+        semantic[s] = _semantic(idx[a:b], weight[a:b], log_W0, finite_W, log_pi, log_phi)
+        lp = _normalise(semantic[s], active)
+        best = lp.max()
+        for k in range(K):
+            inst[s, k] = np.isfinite(lp[k]) and lp[k] >= best - log_ratio
+    return semantic, inst
