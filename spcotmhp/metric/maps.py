@@ -94,10 +94,8 @@ class OccupancyMap:
 
     def cell_to_world(self, rc: np.ndarray) -> np.ndarray:
         """Cells (..., 2) as (row, col) -> the map-frame coordinates (x, y) of their centres."""
-        rc = np.asarray(rc, dtype=float)
-        x = self.origin[0] + (rc[..., 1] + 0.5) * self.resolution
-        y = self.origin[1] + (rc[..., 0] + 0.5) * self.resolution
-        return np.stack([x, y], axis=-1)
+        # (col, row) + 1/2 cell, scaled, plus the origin's (x, y): one expression for any shape
+        return (np.asarray(rc, dtype=float)[..., ::-1] + 0.5) * self.resolution + np.array(self.origin[:2], dtype=float)
 
     def in_bounds(self, rc: np.ndarray) -> np.ndarray:
         rc = np.asarray(rc)

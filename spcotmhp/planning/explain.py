@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -40,10 +41,12 @@ def path_places(
     ``start_place``: the most probable place of the start, arg max p(i_0 | x_0)."""
     last = result.completes_last  # the goal stage
     seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
-    marks: list[tuple[int, str, np.ndarray]] = []  # the nodes that complete a stage, in order
-    for node, done, xy in zip(result.nodes, result.completed, points, strict=False):
-        if done:
-            marks.append((int(graph.node_place[node]), "goal" if last in done else "waypoint", xy))
+    places = graph.node_place[result.nodes].tolist()
+    marks = [  # the nodes that complete a stage, in order
+        (k, "goal" if last in done else "waypoint", xy)
+        for k, done, xy in zip(places, result.completed, points.tolist(), strict=True)
+        if done
+    ]
     out = [place(planner, start_place, "start", x0)]
     pos = 1 if seq and seq[0] == start_place else 0
     for k, role, xy in marks:
@@ -56,7 +59,7 @@ def path_places(
     return out
 
 
-def place(planner: HierarchicalPlanner, k: int, role: str, xy: np.ndarray | None = None) -> PlanPlace:
+def place(planner: HierarchicalPlanner, k: int, role: str, xy: Sequence[float] | np.ndarray | None = None) -> PlanPlace:
     """Place ``k`` in the role ``role``, numbered among the places of its name ("bedroom #2" of 3)."""
     number, count = planner.numbering[k]
     point = None if xy is None else (float(xy[0]), float(xy[1]))

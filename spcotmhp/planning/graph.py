@@ -342,20 +342,19 @@ class PlanningGraph:
         if self.hier is not None:  # the portal graph's path, if it stays in the tube's territories
             path = self.hier.path(piece[0], node)
             return path if path is not None and flags[self.territory[path[:, 0], path[:, 1]]].all() else None
-        first, last, half = piece[0], piece[-1], octile_length(piece) / 2
-        lo = np.maximum(np.floor((first + last) / 2 - half), 0).astype(np.int64)
-        hi = np.ceil((first + last) / 2 + half).astype(np.int64) + 1
+        (r0, c0), (r1, c1), half = piece[0].tolist(), piece[-1].tolist(), octile_length(piece) / 2
+        mid_r, mid_c = (r0 + r1) / 2, (c0 + c1) / 2  # the window of replan_segment, in scalars
         width = self.log_p.shape[1]
         path, ok = field_path_within(
             self.next_step[node].reshape(-1),
-            int(first[0] * width + first[1]),
+            r0 * width + c0,
             width,
             self.territory,
             flags,
-            lo[0],
-            lo[1],
-            hi[0],
-            hi[1],
+            max(math.floor(mid_r - half), 0),
+            max(math.floor(mid_c - half), 0),
+            math.ceil(mid_r + half) + 1,
+            math.ceil(mid_c + half) + 1,
             self.map_cost,
         )
         return path if ok else None

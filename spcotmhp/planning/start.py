@@ -36,7 +36,7 @@ def start_cell(
         x0 = np.asarray(start, dtype=float).reshape(-1)
     except (TypeError, ValueError, OverflowError):
         raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {_excerpt(start)}") from None
-    if x0.shape != (2,) or not np.isfinite(x0).all():
+    if x0.shape != (2,) or not (math.isfinite(x0[0]) and math.isfinite(x0[1])):
         raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
     occ = model.require_map()
     x, y = float(x0[0]), float(x0[1])

@@ -74,12 +74,23 @@ class ModelTerms:
         (:func:`~spcotmhp.planning.places.instance_places` of :meth:`log_place_given_words`)."""
         if ratio < 1.0:
             raise ValueError(f"instance_ratio must be >= 1, got {ratio!r}")
-        parts = [self.bag_indices(bag) for bag in bags]
-        offsets = np.cumsum([0] + [len(idx) for idx, _ in parts])
-        idx = np.concatenate([i for i, _ in parts])
-        weight = np.concatenate([w for _, w in parts])
+        index, idx, weight, offsets = self.word_index, [], [], [0]
+        for bag in bags:
+            for w, c in bag.items():
+                if w in index:
+                    idx.append(index[w])
+                    weight.append(float(c))
+            offsets.append(len(idx))
         return _stage_terms(
-            idx, weight, offsets, self._log_W0, self._finite_W, self.log_pi, self.log_phi, self.active, np.log(ratio)
+            np.array(idx, dtype=np.int64),
+            np.array(weight, dtype=np.float64),
+            np.array(offsets, dtype=np.int64),
+            self._log_W0,
+            self._finite_W,
+            self.log_pi,
+            self.log_phi,
+            self.active,
+            np.log(ratio),
         )
 
 
