@@ -79,13 +79,14 @@ def setup(name: str) -> tuple[HierarchicalPlanner, str, float]:
     return planner, lang, time.perf_counter() - t0
 
 
-def plan_times(name: str, n: int, seed: int) -> dict[str, list[float]]:
-    """Online times per kind (seconds; failed plans left out): what ``--previous`` runs in the old checkout."""
+def plan_times(name: str, n: int, seed: int, repeat: int = 1) -> dict[str, list[float]]:
+    """Online times per kind (seconds; failed plans left out; the fastest of ``repeat`` tries each, as in
+    :func:`bench_home`): what ``--previous`` runs in the old checkout."""
     planner, lang, _ = setup(name)
     times: dict[str, list[float]] = {k: [] for k in KINDS}
     for kind, text, xy in queries(planner, n, seed, lang):
         with contextlib.suppress(PlanningError):  # a refused request is not timed
-            times[kind].append(planner.plan(text, xy).time_online_s)
+            times[kind].append(best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)[1])
     return times
 
 
@@ -97,7 +98,7 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
     planner, lang, t_pre = setup(name)
     graph = planner.graph
     weights = np.ascontiguousarray(graph.map_cost, dtype=np.float32)
-    old = _previous_times(previous, name, n, seed) if previous else None
+    old = _previous_times(previous, name, n, seed, repeat) if previous else None
     rows = []
     qs = queries(planner, n, seed, lang)
     for kind in KINDS:
@@ -142,12 +143,12 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
     return rows
 
 
-def _previous_times(folder: str, name: str, n: int, seed: int) -> dict[str, list[float]]:
+def _previous_times(folder: str, name: str, n: int, seed: int, repeat: int) -> dict[str, list[float]]:
     """This script's :func:`plan_times` run with the checkout ``folder`` first on the path."""
     env = {**os.environ, "PYTHONPATH": os.path.abspath(folder)}
     code = (
         f"import sys, json; sys.path.insert(0, {os.path.dirname(os.path.abspath(__file__))!r}); "
-        f"import planning as b; print(json.dumps(b.plan_times({name!r}, {n}, {seed})))"
+        f"import planning as b; print(json.dumps(b.plan_times({name!r}, {n}, {seed}, {repeat})))"
     )
     out = subprocess.run(
         [sys.executable, "-c", code],

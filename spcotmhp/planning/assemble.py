@@ -234,6 +234,9 @@ def smooth_on_graph(
     marks = [int(a) for a in anchors]
     # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path keeps off the
     # walls, so shortcuts of the assembled one are occasionally shorter still
-    replanned = shortcut(*shorten(raw, marks, tube, graph.map_cost, connectivity, exact))
+    path, moved = shorten(raw, marks, tube, graph.map_cost, connectivity, exact)
     direct = shortcut(raw, marks)
+    if path.shape == raw.shape and np.array_equal(path, raw):  # nothing re-planned: the same shortcuts
+        return direct
+    replanned = shortcut(path, moved)
     return replanned if better(replanned[0], direct[0], graph.map_cost) else direct

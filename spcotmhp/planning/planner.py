@@ -68,7 +68,7 @@ from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_o
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
-from spcotmhp.planning.places import LabelIndex, inside_places, instance_places, named_places
+from spcotmhp.planning.places import LabelIndex, inside_places, named_places
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
@@ -188,8 +188,8 @@ class HierarchicalPlanner:
         the words (a learned model's labels may merge two names), p(i | S) alone decides."""
         if not self.settings.stage_constraint:  # Eq. 28 as written: any place may complete any stage
             return np.asarray(self.model.active_places, dtype=bool).copy()
-        if likely is None:
-            likely = instance_places(self.terms.log_place_given_words(query.words), self.settings.instance_ratio)
+        if likely is None:  # instance_places of log p(i | S), in the kernel of the stages' terms
+            likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)[1][0]
         named = named_places(self.label_index, query.phrases)
         if named.any():
             both = named & likely
@@ -237,11 +237,11 @@ class HierarchicalPlanner:
             if not inst[s].any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
         graph = self.graph.with_avoided(tuple(np.flatnonzero(avoided)))
-        esc = graph.to_crop(escape)
         blocked = graph.blocked
         assert blocked is not None  # an avoidance view has its blocked cells
-        esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)]
-        if blocked[cell[0], cell[1]] or blocked[esc[:, 0], esc[:, 1]].any():
+        esc = graph.to_crop(escape) if len(escape) else escape
+        esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)] if len(esc) else esc
+        if blocked[cell[0], cell[1]] or (len(esc) and blocked[esc[:, 0], esc[:, 1]].any()):
             inside = [self.names[k] for k in np.flatnonzero(avoided)]
             raise StartInAvoidedPlace(
                 f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))})"

@@ -46,7 +46,7 @@ from spcotmhp.planning.wording import excerpt, known_words, named, not_understoo
 _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 
 
-@dataclass
+@dataclass(slots=True)
 class Item:
     """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
 
@@ -111,10 +111,11 @@ def _units(text: str, grammar: Grammar) -> list[str]:
 _LEXICONS: dict = {}
 
 
-def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, dict]:
-    """(place lexicon, grammar lexicon, longest entry per first unit) keyed by unit tuples; memoised per language and
-    vocabulary in a bounded table that needs no lock (its values are never changed; a concurrent clear at worst
-    makes a query build its lexicon again)."""
+def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict]:
+    """(lexicon, longest entry per first unit): the lexicon maps unit tuples to (kind, value, surface), place
+    words winning over grammar phrases of the same units; memoised per language and vocabulary in a bounded
+    table that needs no lock (its values are never changed; a concurrent clear at worst makes a query build its
+    lexicon again)."""
     memo_key = (grammar.lang, tuple(place_words))
     lexicon = _LEXICONS.get(memo_key)  # one lookup: a concurrent clear cannot make it fail (read-only values)
     if lexicon is None:
@@ -125,7 +126,7 @@ def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, 
     return lexicon
 
 
-def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, dict]:
+def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict]:
     def key(phrase: str) -> tuple[str, ...]:
         return tuple(_units(phrase, grammar))
 
@@ -137,33 +138,34 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, 
     grammar_lex.update({key(p): ("alternative", "") for p in grammar.alternatives})
     grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
     grammar_lex.pop((), None)
-    place_lex = {key(w): ("place", w) for w in place_words if key(w)}
+    lexicon = {**grammar_lex, **{key(w): ("place", w) for w in place_words if key(w)}}  # places win ties
+    joiner = "" if grammar.by_character else " "
     longest: dict[str, int] = {}  # the longest entry starting with each unit: a unit starting none is "other"
-    for entry in (*place_lex, *grammar_lex):
+    for entry in lexicon:
         longest[entry[0]] = max(longest.get(entry[0], 0), len(entry))
-    return place_lex, grammar_lex, longest
+    return {k: (kind, value, joiner.join(k)) for k, (kind, value) in lexicon.items()}, longest
 
 
 def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
     """Longest-match segmentation into places, grammar phrases and other units (places win ties)."""
     units = _units(text, grammar)
-    place_lex, grammar_lex, longest = _lexicon(grammar, place_words)
-    joiner = "" if grammar.by_character else " "
+    lexicon, longest = _lexicon(grammar, place_words)
     items: list[Item] = []
-    i = 0
-    while i < len(units):
-        for n in range(min(longest.get(units[i], 0), len(units) - i), 0, -1):
-            k = tuple(units[i : i + n])
-            hit = place_lex.get(k) or grammar_lex.get(k)
+    i, n_units = 0, len(units)
+    while i < n_units:
+        unit = units[i]
+        for n in range(min(longest.get(unit, 0), n_units - i), 0, -1):
+            hit = lexicon.get(tuple(units[i : i + n]))
             if hit:
-                items.append(Item(hit[0], hit[1], joiner.join(k), [hit[1]] if hit[0] == "place" else []))
+                kind, value, surface = hit
+                items.append(Item(kind, value, surface, [value] if kind == "place" else []))
                 i += n
                 break
         else:
             if grammar.by_character and items and items[-1].kind == "other":
-                items[-1].surface += units[i]
+                items[-1].surface += unit
             else:
-                items.append(Item("other", "", units[i]))
+                items.append(Item("other", "", unit))
             i += 1
     for a, b, c in zip(items, items[1:], items[2:], strict=False):  # "the first bedroom": an ordinal, not an order word
         if (
