@@ -44,9 +44,9 @@ INSTRUCTIONS = [
 ]
 
 
-def workload(model, n: int) -> list[dict]:
+def workload(planner: HierarchicalPlanner, n: int) -> list[dict]:
     """n plan bodies: instructions x starts (the free cell nearest each place's mean), those with a path."""
-    planner = HierarchicalPlanner(model)
+    model = planner.model
     labels = place_display_labels(model)
     starts = []
     for k in np.flatnonzero(model.active_places):
@@ -108,10 +108,10 @@ async def run_http(url: str, bodies: list[dict], concurrency: int) -> tuple[list
     return latencies, sum(not ok for _, ok in results), wall
 
 
-def heavy_bodies(model, start: list[float]) -> list[dict]:
+def heavy_bodies(planner: HierarchicalPlanner, start: list[float]) -> list[dict]:
     """Long instructions: a ~1 KB sentence of many waypoints (over the service's length limit) and the longest
     legal ones (10 waypoints)."""
-    words = [w for w in HierarchicalPlanner(model).place_words if w != "corridor"] or ["kitchen"]
+    words = [w for w in planner.place_words if w != "corridor"] or ["kitchen"]
     many = "go to the bedroom via the " + " and then the ".join(words[i % len(words)] for i in range(60))
     legal = "go to the bedroom via the " + ", then the ".join(words[i % len(words)] for i in range(10))
     return [{"instruction": many[:1100], "start": start}, {"instruction": legal[:495], "start": start}]
@@ -161,8 +161,8 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         model_dir = args.model or supervised_model_dir("3LDK_06", Path(tmp) / "3LDK_06")
         model = load_model(model_dir)
-        bodies = workload(model, args.requests)
         planner = HierarchicalPlanner(model)
+        bodies = workload(planner, args.requests)
         t0 = time.perf_counter()
         direct = []
         for body in bodies:
@@ -170,7 +170,7 @@ def main() -> int:
             planner.plan(body["instruction"], body["start"])
             direct.append(time.perf_counter() - t)
         direct_wall = time.perf_counter() - t0
-        heavy = heavy_bodies(model, bodies[0]["start"])
+        heavy = heavy_bodies(planner, bodies[0]["start"])
         with ServerProcess([str(model_dir)]) as server:
             seq = asyncio.run(run_http(server.url, bodies, 1))
             conc = asyncio.run(run_http(server.url, bodies, args.concurrency))

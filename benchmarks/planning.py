@@ -75,7 +75,7 @@ def setup(name: str) -> tuple[HierarchicalPlanner, str, float]:
         dataset = load_bundled(name, lang=lang)
     model = fit_supervised(dataset)
     t0 = time.perf_counter()
-    planner = HierarchicalPlanner(model, use_cache=False)
+    planner = HierarchicalPlanner(model)
     return planner, lang, time.perf_counter() - t0
 
 

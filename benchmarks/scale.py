@@ -74,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     with err.status("cost map"):
         costmap, t_cost = timed(lambda: inflate(ds.map, **model.costmap))
     with err.status("planning graph (precompute)"):
-        planner, t_pre = timed(lambda: HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False))
+        planner, t_pre = timed(lambda: HierarchicalPlanner(model, log_p=costmap.log_p))
     graph = planner.graph
 
     rng = np.random.default_rng(args.seed)

@@ -52,7 +52,6 @@ def warm_up() -> float:
     from spcotmhp.learning.selection import MultiRunSelector
     from spcotmhp.learning.supervised import fit_supervised
     from spcotmhp.metric import grid_search
-    from spcotmhp.planning.graph import clear_cache
     from spcotmhp.planning.places import main_component
     from spcotmhp.planning.planner import HierarchicalPlanner
 
@@ -65,7 +64,7 @@ def warm_up() -> float:
         for model in (fit_supervised(data), learned):
             # Eq. 28 on all pairs; the reference graph; the portal graph of building-scale maps
             for settings in ({}, {"adjacent_only": True}, {"max_dense_bytes": 0}):
-                planner = HierarchicalPlanner(model, use_cache=False, **settings)
+                planner = HierarchicalPlanner(model, **settings)  # a cache of its own, dropped after
                 graph = planner.graph
                 names = sorted({planner.names[k] for k in np.flatnonzero(model.active_places)})
                 free = np.argwhere(main_component(graph.traversable))
@@ -77,5 +76,4 @@ def warm_up() -> float:
                 ):
                     with contextlib.suppress(PlanningError):  # a refused plan has compiled what it needs
                         planner.plan(text, start)
-    clear_cache()
     return time.perf_counter() - t0

@@ -63,11 +63,19 @@ def _step(bar: Any, label: str) -> Iterator[None]:
 
 
 def learn_demo_model(
-    dataset: Any, instruction: str, seed: int, runs: int, iterations: int, bar: Any, supervised: bool = False
+    dataset: Any,
+    instruction: str,
+    seed: int,
+    runs: int,
+    iterations: int,
+    bar: Any,
+    supervised: bool = False,
+    cache: Any = None,
 ) -> DemoModel:
     """The unsupervised SpCoTMHP learner (``runs`` Gibbs runs, the one with the highest word-concept mutual
     information kept), accepted when its map names every place name of the home and the instruction can be
-    planned on it; otherwise (or with ``supervised``) the supervised fit from the truth labels."""
+    planned on it; otherwise (or with ``supervised``) the supervised fit from the truth labels. The check plan's
+    graph goes into ``cache`` (a :class:`~spcotmhp.planning.graph_cache.GraphCache`), for the demo's planner."""
     from spcotmhp.learning.gibbs import SpCoTMHP
     from spcotmhp.learning.selection import MultiRunSelector
     from spcotmhp.learning.supervised import fit_supervised
@@ -91,7 +99,7 @@ def learn_demo_model(
         try:
             from spcotmhp.planning.planner import HierarchicalPlanner
 
-            HierarchicalPlanner(model).plan(instruction, model.mu[np.flatnonzero(model.active_places)[0]])
+            HierarchicalPlanner(model, cache=cache).plan(instruction, model.mu[np.flatnonzero(model.active_places)[0]])
         except InstructionError as exc:
             why = f"the instruction cannot be understood on the unsupervised map ({exc})"
         except PlanningError:
@@ -159,6 +167,7 @@ def demo(
     """Learn a bundled home's map, plan "go to the bedroom via the corridor", print the explanation, draw it."""
     from spcotmhp.commands.learning import load_dataset_arg
     from spcotmhp.learning.io import check_target, save_model
+    from spcotmhp.planning.graph_cache import GraphCache
     from spcotmhp.planning.planner import HierarchicalPlanner
     from spcotmhp.viz.draw import render
     from spcotmhp.viz.plan import draw_plan
@@ -172,10 +181,11 @@ def demo(
         with _step(bar, f"loading {home}"), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             data = load_dataset_arg(home, lang)
-        chosen = learn_demo_model(data, instruction, seed, runs, iterations, bar, supervised)
+        cache = GraphCache()  # the check plan's graph, reused by the planner below
+        chosen = learn_demo_model(data, instruction, seed, runs, iterations, bar, supervised, cache)
         model = chosen.model
         with _step(bar, "precomputing the planner"):
-            planner = HierarchicalPlanner(model)
+            planner = HierarchicalPlanner(model, cache=cache)
         if start is None:
             x0, start_label = demo_start(planner, start_place)
         else:

@@ -14,7 +14,9 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.loader import DatasetWarning, load_dataset
 from spcotmhp.errors import DatasetError
 
-_ANNOUNCED: set[str] = set()  # bundled datasets whose known warnings this process has summarised
+# Per-process state, by design (as the warnings module's own registry): the bundled datasets whose known warnings
+# this process has already summarised, so that a session is told once. Only add() is used (safe under the GIL).
+_ANNOUNCED: set[str] = set()
 
 
 def data_root() -> Path:

@@ -37,11 +37,12 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_battery import battery_home
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
-from spcotmhp.evaluation.metrics import Outcome, failed, score_path, summarise
+from spcotmhp.evaluation.methods import task_instruction
+from spcotmhp.evaluation.metrics import Outcome, failed, summarise
 from spcotmhp.evaluation.tasks import Task, make_tasks, robot_cells, subset
+from spcotmhp.evaluation.work import score_task
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
 from spcotmhp.metric.grid_search import geodesic_distance
-from spcotmhp.planning.instructions import Instruction, PlaceQuery
 
 CLOSEST_TOLERANCE_M = 0.3
 SHARED_WORD = "corridor"
@@ -131,13 +132,8 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
 def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> tuple[Outcome, float]:
     """Plan one task, score it and update the counts."""
 
-    def query(words: list[str]) -> PlaceQuery:
-        return PlaceQuery({w: 1.0 for w in words}, " ".join(words))
-
-    waypoints = (query(task.waypoint_words),) if task.waypoint_words else ()
-    ins = Instruction(goal=query(task.goal_words), waypoints=waypoints, lang=ctx.dataset.lang)
-    goal_boxes = [ctx.places[k].box for k in task.goal_places]
-    wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if task.kind == "advanced" else None
+    ins = task_instruction(task, ctx.dataset.lang)
+    advanced = task.kind == "advanced"
     out.tasks += 1
     t0 = time.perf_counter()
     try:
@@ -147,7 +143,7 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
         out.refused += 1
         if len(out.errors) < 3:
             out.errors.append(f"{task.label()}: {exc}")
-        return failed(task.l, elapsed, wp_boxes is not None), elapsed
+        return failed(task.l, elapsed, advanced, advanced), elapsed
     elapsed = time.perf_counter() - t0
     cells = plan.cells
     start_cost = costs[cells[0, 0], cells[0, 1]]
@@ -157,16 +153,7 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
         body = cells[safe[0] :] if len(safe) else cells[:0]
     if (costs[body[:, 0], body[:, 1]] >= INSCRIBED_INFLATED_OBSTACLE).any():
         out.unsafe += 1
-    outcome = score_path(
-        plan.path,
-        goal_boxes,
-        task.closest_goal,
-        task.l,
-        elapsed,
-        wp_boxes,
-        step=ctx.dataset.map.resolution / 2,
-        closest_goal_via=task.closest_goal_via if wp_boxes is not None else None,
-    )
+    outcome = score_task(ctx, task, plan.path, elapsed)
     if len(task.goal_places) > 1 and task.kind == "basic" and outcome.success:
         out.repeated += 1
         out.closest += int(_is_closest(ctx, task, plan.path[-1]))

@@ -128,12 +128,12 @@ def build_context(
     costmap = inflate(dataset.map, **model.costmap)
     timings["costmap_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    planner = HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False)
+    planner = HierarchicalPlanner(model, log_p=costmap.log_p)
     timings["graph_s"] = time.perf_counter() - t0
     variants = {
         name: planner
         if name == "ours"
-        else HierarchicalPlanner(model, log_p=costmap.log_p, use_cache=False, smooth=smooth, stage_constraint=stage)
+        else HierarchicalPlanner(model, log_p=costmap.log_p, smooth=smooth, stage_constraint=stage)
         for name, (stage, smooth) in VARIANTS.items()
     }
     t0 = time.perf_counter()

@@ -67,7 +67,10 @@ def run_ray(
     return out
 
 
-_WARM: set = set()  # (home, methods) already warmed up in this Ray worker process
+# Per-process state, by design: the (home, methods) this Ray worker process has already warmed up. What a warm-up
+# fills (compiled kernels, their first-call set-up) lives in the process, so the record of it does too; Ray runs
+# one task at a time per worker process, so there is no concurrent writer.
+_WARM: set = set()
 
 
 def _remote_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list:

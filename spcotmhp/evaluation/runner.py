@@ -59,6 +59,10 @@ def summarise_records(records: Iterable[TaskRecord], apart: bool = False) -> dic
 
 
 # ---- local process pool ---------------------------------------------------------------------------------
+# Per-process worker context, by design: ProcessPoolExecutor's initializer (_init_worker) sets it once in each
+# worker process, so that the home's planners (heavy to pickle) reach the worker once, not with every chunk. It
+# is written only by the initializer, before the worker runs any chunk, and read by _pool_chunk; the parent
+# process never sets it.
 _WORKER_CTX: HomeContext | None = None
 
 

@@ -61,15 +61,31 @@ def warm_up(ctx: HomeContext, task: Task | None = None, methods: Sequence[str] =
             run_method(name, ctx, task, np.random.default_rng(0))
 
 
+def score_task(ctx: HomeContext, task: Task, path: np.ndarray, elapsed: float) -> Outcome:
+    """Score one planned ``path`` for ``task``: the SPL family (:func:`score_path`) with the task's goal and
+    waypoint boxes, the waypoint counted only once the path has left the start's cell, and collisions with
+    occupied or unknown space. The one scoring rule of the evaluation tables and the battery."""
+    advanced = task.kind == "advanced"
+    occ = ctx.dataset.map
+    outcome = score_path(
+        path,
+        [ctx.places[k].box for k in task.goal_places],
+        task.closest_goal,
+        task.l,
+        elapsed,
+        [ctx.places[k].box for k in task.waypoint_places] if advanced else None,
+        step=occ.resolution / 2,
+        closest_goal_via=task.closest_goal_via if advanced else None,
+        start_box=Box.around(np.array([task.start_xy]), occ.resolution / 2),
+    )
+    return replace(outcome, collides=off_free_space(path, occ.free, occ.world_to_cell, occ.resolution / 4))
+
+
 def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:
     """Run each method on each task and score it (runs in a worker)."""
     out = []
     for task in tasks:
-        goal_boxes = [ctx.places[k].box for k in task.goal_places]
         advanced = task.kind == "advanced"
-        wp_boxes = [ctx.places[k].box for k in task.waypoint_places] if advanced else None
-        occ, free = ctx.dataset.map, ctx.dataset.map.free
-        start_box = Box.around(np.array([task.start_xy]), ctx.dataset.map.resolution / 2)
         for method in methods:
             rng = np.random.default_rng(task_seed(seed, ctx.name, task.index, method))
             t0 = time.perf_counter()
@@ -82,18 +98,7 @@ def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[st
                 outcome = failed(task.l, elapsed, advanced, advanced)
                 error = error or "no path"
             else:
-                outcome = score_path(
-                    path,
-                    goal_boxes,
-                    task.closest_goal,
-                    task.l,
-                    elapsed,
-                    wp_boxes,
-                    step=ctx.dataset.map.resolution / 2,
-                    closest_goal_via=task.closest_goal_via if advanced else None,
-                    start_box=start_box,
-                )
-                outcome = replace(outcome, collides=off_free_space(path, free, occ.world_to_cell, occ.resolution / 4))
+                outcome = score_task(ctx, task, path, elapsed)
             out.append(TaskRecord(task.index, method, outcome, error, task.start_in_waypoint))
     return out
 

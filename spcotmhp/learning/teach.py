@@ -3,8 +3,8 @@
 
 ``teach(model, events)`` continues the online learner from ``model`` (its learner state, else pseudo-counts;
 :mod:`spcotmhp.learning.online`) and returns the updated model and what each event was assigned to;
-``planner_for(model)`` gives the planner of the updated model (today a rebuild of the planning graph, cached by
-the model's fingerprint; the one place to switch to an incremental update of the graph).
+``planner_for(model)`` gives the planner of the updated model (the previous planner's graph updated
+incrementally, kept in the graph cache the caller passes or the previous planner's own).
 """
 
 from __future__ import annotations
@@ -72,20 +72,24 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
     )
 
 
-def planner_for(model: SpatialConceptModel, settings=None, previous=None):
+def planner_for(model: SpatialConceptModel, settings=None, previous=None, cache=None):
     """(HierarchicalPlanner of ``model``, seconds it took), so that a plan right after a teach uses the new
     place. With ``previous`` (the planner before the teach) its planning graph is updated incrementally
     (``PlanningGraph.update``: territory-local fields whose territory did not change are kept); otherwise it is
-    built (``PlanningGraph.build``, cached by the model's fingerprint)."""
+    built (``PlanningGraph.build``). Both go through ``cache`` (a :class:`~spcotmhp.planning.graph_cache.
+    GraphCache`; default: ``previous``'s cache, else a new one), where the new planner finds the graph."""
+    from spcotmhp.planning.graph_cache import GraphCache
     from spcotmhp.planning.planner import HierarchicalPlanner
 
     t0 = time.perf_counter()
+    if cache is None:
+        cache = previous.cache if previous is not None else GraphCache()
     if (
         previous is not None
         and previous.graph.model.map is not None
         and model.map is not None
         and previous.graph.model.map.shape == model.map.shape
     ):
-        previous.graph.update(model)  # cached under the new model's fingerprint, found just below
-    planner = HierarchicalPlanner(model, settings)
+        previous.graph.update(model, cache=cache)  # cached under the new model's fingerprint, found just below
+    planner = HierarchicalPlanner(model, settings, cache=cache)
     return planner, time.perf_counter() - t0

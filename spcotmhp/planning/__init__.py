@@ -4,18 +4,20 @@
     >>> from spcotmhp.learning.supervised import fit_supervised
     >>> from spcotmhp.planning import HierarchicalPlanner
     >>> model = fit_supervised(load_bundled("3LDK_06"))         # the paper's "ideal" parameters of a home
-    >>> planner = HierarchicalPlanner(model)                     # precomputation (Alg. 1, lines 1-7), cached
+    >>> planner = HierarchicalPlanner(model)                     # precomputation (Alg. 1, lines 1-7)
     >>> plan = planner.plan("go to the bedroom via the corridor", start=(-3.95, -3.55))
     >>> plan.explanation
     'entrance -> corridor (waypoint) -> dining -> bedroom #3 (closest of 3 bedrooms), 10.3 m'
 
 Modules: ``instructions`` + ``grammar`` (understanding), ``places`` (candidates, connectivity, instances,
 regions), ``graph`` (precomputation), ``search`` (Eq. 28), ``assemble`` (joining, smoothing), ``planner``,
-``plan`` (the result), ``terms`` (model terms for fast queries), ``vocabulary`` (place words and labels).
+``graph_cache`` (graphs shared by the planners given one cache), ``avoid`` (avoidance views of a graph), ``plan``
+(the result), ``terms`` (model terms for fast queries), ``vocabulary`` (place words and labels).
 Pictures of plans are drawn by :mod:`spcotmhp.viz.plan`.
 """
 
 from spcotmhp.planning.graph import GraphSettings, PlanningGraph
+from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.instructions import (
     Instruction,
     PlaceQuery,
@@ -32,6 +34,7 @@ from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 # hide the ``spcotmhp.planning.plan`` module)
 
 __all__ = [
+    "GraphCache",
     "GraphSettings",
     "HierarchicalPlanner",
     "Instruction",

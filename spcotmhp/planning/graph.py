@@ -30,12 +30,8 @@ an obstacle. Candidate points are snapped into their own place's territory (:mod
 within the largest free component; a place with no such cell has no node and is reported in
 ``info["unreachable_places"]``.
 
-Avoided places (:meth:`PlanningGraph.with_avoided`) block their territories: "avoid the dining room" keeps the
-robot out of every cell that belongs to the dining room, the same cells the explanation calls the dining room.
-Blocking cells only removes paths, so
-a field value whose optimal path does not enter the blocked cells is still optimal; the view shares those fields
-and recomputes (exactly, with the region blocked) only the fields whose path from a node or from the query's
-start crosses the region, checked by walking the stored next-step links.
+Avoided places (:meth:`PlanningGraph.with_avoided`) block their territories, in views that share the fields a
+blocked region does not change (:mod:`spcotmhp.planning.avoid`).
 
 For path smoothing (Algorithm 1, line 13; :mod:`spcotmhp.planning.assemble`) the graph also keeps each cell's
 territory, every place's territory grown by ``tube_margin`` metres (a window and a mask each;
@@ -49,14 +45,24 @@ At building scale the per-node fields over the whole crop (M x h x w) do not fit
 ``next_step`` empty, and :meth:`PlanningGraph.update_place` / :meth:`PlanningGraph.update` recompute only the
 fields of territories whose cells or costs changed.
 
-Everything is computed on the bounding box of the traversable cells (``offset``) and cached in memory, keyed by
-a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale graph.
+Everything is computed on the bounding box of the traversable cells (``offset``). A graph is cached only in a
+:class:`~spcotmhp.planning.graph_cache.GraphCache` its caller owns and passes to :meth:`PlanningGraph.build`,
+keyed by a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale
+graph.
+
+Memos and threads: queries fill memos in a graph (``_paths``, the partial paths extracted so far; ``_views``, the
+avoidance views; a view's fields recomputed for a start; the lazily computed ``map_cost``, ``clearance`` and
+``centres``). The first three are guarded by the graph's own lock (``_lock``), held only around reading and
+storing a memo, so concurrent queries from threads on one graph are safe and give the same answers as sequential
+ones; the lazy values are computed from the graph's read-only arrays and assigned whole (a race at worst computes
+one twice).
 """
 
 from __future__ import annotations
 
 import copy
 import math
+import threading
 import time
 from collections import OrderedDict
 from dataclasses import dataclass, field
@@ -70,15 +76,13 @@ from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component
-from spcotmhp.planning._paths import cells_cost, crosses, field_path_within, octile_length
+from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
+from spcotmhp.planning.avoid import avoided_view, refresh_shared
+from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.places import candidate_nodes, connected_places
 from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import grown_territories, tube_window
-
-_CACHE: OrderedDict[str, PlanningGraph] = OrderedDict()
-CACHE_SIZE = 8
-AVOID_CACHE_SIZE = 32
 
 
 @dataclass
@@ -120,6 +124,17 @@ class PlanningGraph:
     _shared: set = field(default_factory=set, repr=False)  # fields still shared with the base graph
     _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
     hier: hierarchy.TerritoryFields | None = None  # territory-local fields (when dense ones exceed the budget)
+    _lock: threading.RLock = field(default_factory=threading.RLock, repr=False, compare=False)  # guards memos
+
+    def __getstate__(self) -> dict:
+        """Pickled (a process pool's or Ray's copy of a planner) without the lock; the copy gets its own."""
+        state = self.__dict__.copy()
+        del state["_lock"]
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._lock = threading.RLock()
 
     # ---- construction ----------------------------------------------------------------------------------
     @classmethod
@@ -128,11 +143,12 @@ class PlanningGraph:
         model: SpatialConceptModel,
         settings: GraphSettings | None = None,
         log_p: np.ndarray | None = None,
-        use_cache: bool = True,
+        cache: GraphCache | None = None,
         reuse: PlanningGraph | None = None,
     ) -> PlanningGraph:
-        """Precompute (or fetch from the cache) the graph of ``model`` on its map. ``log_p`` overrides the cost
-        map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap`` settings).
+        """Precompute (or fetch from ``cache``, when one is given) the graph of ``model`` on its map. ``log_p``
+        overrides the cost map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap``
+        settings).
         ``reuse``: an earlier graph (same map size) whose territory-local fields are kept wherever a territory's
         cells and costs did not change (:mod:`spcotmhp.planning.hierarchy`); the result is the same as without."""
         settings = settings or GraphSettings()
@@ -141,15 +157,9 @@ class PlanningGraph:
         if not np.any(model.active_places):
             raise ModelError("the model has no active place to plan with")
         key = fingerprint(model, settings, log_p)
-        if use_cache and key in _CACHE:
-            _CACHE.move_to_end(key)
-            return _CACHE[key]
-        graph = cls._compute(model, settings, key, log_p, reuse)
-        if use_cache:
-            _CACHE[key] = graph
-            while len(_CACHE) > CACHE_SIZE:
-                _CACHE.popitem(last=False)
-        return graph
+        if cache is None:
+            return cls._compute(model, settings, key, log_p, reuse)
+        return cache.get_or_build(key, lambda: cls._compute(model, settings, key, log_p, reuse))
 
     @classmethod
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
@@ -277,17 +287,10 @@ class PlanningGraph:
         """(M,) log-likelihood of the best start leg from crop cell ``cell`` into each node (-inf: none).
 
         In an avoidance view, a shared field whose path from ``cell`` enters the blocked region is recomputed
-        first (and kept), so the value is exact for the blocked map."""
-        r, c = int(cell[0]), int(cell[1])
-        if self.blocked is not None and self._shared:
-            start = r * self.log_p.shape[1] + c
-            for j in list(self._shared):
-                if np.isfinite(self.dist[j][r, c]) and crosses(
-                    self.next_step[j].reshape(-1), start, self.blocked.reshape(-1)
-                ):
-                    self.dist[j], self.next_step[j] = self._field(j)
-                    self._shared.discard(j)
-                    self.info["recomputed_fields"].append(int(j))
+        first (and kept), so the value is exact for the blocked map (:func:`~spcotmhp.planning.avoid.
+        refresh_shared`)."""
+        if self.blocked is not None:
+            refresh_shared(self, cell)
         return np.where(self.usable, self.end_term - self.cost_to_nodes(cell), -np.inf)
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
@@ -320,10 +323,15 @@ class PlanningGraph:
         return GridPath(cells, float(cells_cost(cells, self.map_cost)), len(cells) - 1 + diagonal * (SQRT2 - 1), -1)
 
     def edge_path(self, i: int, j: int) -> np.ndarray:
-        """The partial path (crop cells) from node i into node j (Eq. 27), extracted once and memoised."""
-        if (i, j) not in self._paths:
-            self._paths[(i, j)] = self.leg(self.node_cell[i], j).cells
-        return self._paths[(i, j)]
+        """The partial path (crop cells) from node i into node j (Eq. 27), extracted once and memoised (under the
+        graph's lock; module docstring)."""
+        with self._lock:
+            cells = self._paths.get((i, j))
+        if cells is None:
+            cells = self.leg(self.node_cell[i], j).cells
+            with self._lock:
+                cells = self._paths.setdefault((i, j), cells)
+        return cells
 
     def field_piece(
         self, cells: np.ndarray, a: int, b: int, ends: np.ndarray, nodes: np.ndarray, places: np.ndarray
@@ -391,81 +399,12 @@ class PlanningGraph:
 
     def with_avoided(self, places: tuple[int, ...]) -> PlanningGraph:
         """A view with no node in ``places`` whose paths never enter their territories, exact for the blocked
-        map (module docstring): fields are shared with this graph unless a path from a node into them crosses
-        the territories, in which case they are recomputed. Memoised for the most recent place sets."""
-        key = tuple(sorted(int(p) for p in places))
-        if key in self._views:
-            self._views.move_to_end(key)
-            return self._views[key]
-        t0 = time.perf_counter()
-        blocked = np.isin(self.territory, key)
-        usable = ~np.isin(self.node_place, key) & ~blocked[self.node_cell[:, 0], self.node_cell[:, 1]]
-        if self.hier is not None:
-            return self._remember(key, self._hier_view(key, blocked, usable, t0))
-        view = self._view(key, blocked, usable, dist=list(self.dist), next_step=list(self.next_step))
-        width = self.log_p.shape[1]
-        sources = self.node_cell[:, 0] * width + self.node_cell[:, 1]
-        flat_blocked = blocked.reshape(-1)
-        recomputed = []
-        for j in np.flatnonzero(usable):
-            into_j = usable.copy()  # every node: the metric fallback may join any two
-            into_j[j] = False
-            links = self.next_step[j].reshape(-1)
-            if any(crosses(links, int(sources[i]), flat_blocked) for i in np.flatnonzero(into_j)):
-                view.dist[j], view.next_step[j] = view._field(int(j))
-                recomputed.append(int(j))
-            else:
-                view._shared.add(int(j))
-        view._edges()
-        view.info["recomputed_fields"] = recomputed
-        view.time_precompute_s = time.perf_counter() - t0
-        return self._remember(key, view)
-
-    def _view(self, key: tuple, blocked: np.ndarray, usable: np.ndarray, **kw) -> PlanningGraph:
-        return PlanningGraph(
-            model=self.model,
-            settings=self.settings,
-            key=self.key,
-            offset=self.offset,
-            log_p=self.log_p,
-            traversable=self.traversable & ~blocked,
-            node_place=self.node_place,
-            node_cell=self.node_cell,
-            end_term=self.end_term,
-            w_hat=np.empty(0),
-            w_hat_metric=np.empty(0),
-            log_transition=np.empty(0),
-            connected=self.connected,
-            time_precompute_s=0.0,
-            info={**self.info, "avoided": key},
-            blocked=blocked,
-            usable=usable,
-            _centres=self.centres,
-            territory=self.territory,
-            main=self.main,
-            _territories=self._territories,
-            **kw,
-        )
-
-    def _hier_view(self, key: tuple, blocked: np.ndarray, usable: np.ndarray, t0: float) -> PlanningGraph:
-        """The avoidance view of a portal-graph graph: the avoided territories' abstract nodes removed; no
-        local field enters another territory, so every kept field stays exact (:mod:`~spcotmhp.planning.
-        hierarchy`)."""
-        assert self.hier is not None  # called for portal-graph graphs only
-        view = self._view(key, blocked, usable, dist=[], next_step=[], hier=self.hier.without(key))
-        view._edges()
-        view.info["recomputed_fields"] = []
-        view.time_precompute_s = time.perf_counter() - t0
-        return view
-
-    def _remember(self, key: tuple, view: PlanningGraph) -> PlanningGraph:
-        self._views[key] = view
-        while len(self._views) > AVOID_CACHE_SIZE:
-            self._views.popitem(last=False)
-        return view
+        map: fields are shared with this graph unless a path from a node into them crosses the territories, in
+        which case they are recomputed. Memoised for the most recent place sets (:mod:`spcotmhp.planning.avoid`)."""
+        return avoided_view(self, places)
 
     # ---- incremental update (online learning) -----------------------------------------------------------
-    def update_place(self, k: int, mu: np.ndarray, Sigma: np.ndarray, use_cache: bool = True) -> PlanningGraph:
+    def update_place(self, k: int, mu: np.ndarray, Sigma: np.ndarray, cache: GraphCache | None = None) -> PlanningGraph:
         """The graph of this model with place k's Gaussian replaced by N(mu, Sigma), reusing every territory-
         local field whose territory's cells and costs did not change (:meth:`build` with ``reuse``)."""
         K = self.model.K
@@ -482,14 +421,14 @@ class PlanningGraph:
         model = copy.copy(self.model)
         model.mu, model.Sigma = self.model.mu.copy(), self.model.Sigma.copy()
         model.mu[k], model.Sigma[k] = mu, Sigma
-        return self.update(model, use_cache=use_cache)
+        return self.update(model, cache=cache)
 
     def update(
-        self, model: SpatialConceptModel, log_p: np.ndarray | None = None, use_cache: bool = True
+        self, model: SpatialConceptModel, log_p: np.ndarray | None = None, cache: GraphCache | None = None
     ) -> PlanningGraph:
         """The graph of a changed model or cost map (same map size), recomputing only what depends on the
-        change: :meth:`build` with ``reuse=self``."""
-        return PlanningGraph.build(model, self.settings, log_p=log_p, use_cache=use_cache, reuse=self)
+        change: :meth:`build` with ``reuse=self`` (and ``cache``)."""
+        return PlanningGraph.build(model, self.settings, log_p=log_p, cache=cache, reuse=self)
 
 
 def _crop(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int, int]]:
@@ -503,8 +442,3 @@ def _crop(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int,
     rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
     r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
     return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)
-
-
-def clear_cache() -> None:
-    """Forget every cached graph."""
-    _CACHE.clear()

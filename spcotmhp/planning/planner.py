@@ -66,6 +66,7 @@ from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning import explain
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
 from spcotmhp.planning.places import LabelIndex, inside_places, named_places
@@ -78,7 +79,10 @@ from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
 class HierarchicalPlanner:
     """SpCoTMHP planning with one model: ``HierarchicalPlanner(model).plan("go to the bedroom via the corridor",
-    start=(x, y))``. Construction runs (or fetches from the cache) the precomputation."""
+    start=(x, y))``. Construction runs the precomputation, or fetches it from ``cache``
+    (:class:`~spcotmhp.planning.graph_cache.GraphCache`): pass one cache to every planner that should share graphs;
+    a planner given none makes a cache of its own (``self.cache``). Queries are safe from several threads (the
+    graph's memos have their own lock, :mod:`spcotmhp.planning.graph`)."""
 
     def __init__(
         self,
@@ -86,7 +90,7 @@ class HierarchicalPlanner:
         settings: PlannerSettings | None = None,
         *,
         log_p: np.ndarray | None = None,
-        use_cache: bool = True,
+        cache: GraphCache | None = None,
         **overrides: Any,
     ) -> None:
         unknown = set(overrides) - {f.name for f in fields(PlannerSettings)}
@@ -94,7 +98,8 @@ class HierarchicalPlanner:
             raise TypeError(f"unknown planner setting(s): {', '.join(sorted(unknown))}")
         self.model = model
         self.settings = replace(settings or PlannerSettings(), **overrides)
-        self.graph = PlanningGraph.build(model, self.settings.graph_settings(), log_p, use_cache)
+        self.cache = cache if cache is not None else GraphCache()
+        self.graph = PlanningGraph.build(model, self.settings.graph_settings(), log_p, self.cache)
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
         self.terms = ModelTerms(model)

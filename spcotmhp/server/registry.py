@@ -1,16 +1,16 @@
 """The models a service serves: each loaded once, its planner precomputed and its map picture drawn at start-up.
 
-Concurrency: a :class:`~spcotmhp.planning.planner.HierarchicalPlanner` keeps mutable memos in its
-:class:`~spcotmhp.planning.graph.PlanningGraph` (``_paths``, the partial paths extracted so far, and ``_views``,
-the avoidance views, an ``OrderedDict`` that is reordered and trimmed on use), and planners of identical models
-share one cached graph. So every planning graph has one lock and one worker thread (shared by every served
-model using it): :meth:`ServedModel.plan` holds the lock, and :meth:`ServedModel.plan_async` runs it on the
-worker, off the event loop. That is the *light lane*; costly instructions run on a *heavy lane* with a second
-planner of their own, within admission limits and a time budget (:mod:`spcotmhp.server.scheduling`). A plan takes
-about a millisecond of mostly CPU-bound Python (the GIL would serialise
-it anyway); one worker per graph instead of the web framework's shared pool of 40 threads saves the threads'
-contention for the lock and the GIL (measured with benchmarks/load_test.py; docs/results.md gives the
-throughputs). Requests for different models run in parallel,
+Concurrency: each :class:`ServedModel` owns its graph cache (:class:`~spcotmhp.planning.graph_cache.GraphCache`),
+its planner and its two lanes; nothing is shared between served models, not even between two served copies of
+one model (there is no module-level table). A planner's graph keeps memos that queries fill (partial paths,
+avoidance views), guarded by the graph's own lock (:mod:`spcotmhp.planning.graph`), so plans from several
+threads are safe and give the same answers as one after another. The lanes are a scheduling choice, not a
+safety one: :meth:`ServedModel.plan` holds the light lane's lock, and :meth:`ServedModel.plan_async` runs the plan
+on the light lane's worker thread, off the event loop; costly instructions run on the *heavy* lane, with the
+same planner, within admission limits and a time budget (:mod:`spcotmhp.server.scheduling`). A plan takes about
+a millisecond of mostly CPU-bound Python (the GIL would serialise it anyway); one worker per lane instead of the
+web framework's shared pool of 40 threads saves the threads' contention for the GIL (measured with
+benchmarks/load_test.py; docs/results.md gives the throughputs). Requests for different models run in parallel,
 and recognition (the slow part of ``/plan/audio``) runs outside the lock (the recogniser has its own).
 """
 
@@ -28,6 +28,7 @@ import numpy as np
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.server.scheduling import Budget, Lane, check_cost, estimate_cost, run_in_lane
@@ -35,14 +36,12 @@ from spcotmhp.viz.draw import MapImage, map_image, place_colours, render, topolo
 from spcotmhp.viz.labels import place_display_labels
 
 NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
-_LANES: dict[tuple[str, str], Lane] = {}  # (graph key, "light" or "heavy") -> its lane
-_HEAVY_PLANNERS: dict[str, HierarchicalPlanner] = {}  # graph key -> the heavy lane's own planner
-_LOCKS_GUARD = threading.Lock()
 
 
 @dataclass
 class ServedModel:
-    """One served model: the model, its precomputed planner, display labels and cached pictures."""
+    """One served model: the model, its graph cache and precomputed planner, its lanes, display labels and cached
+    pictures (module docstring)."""
 
     name: str
     source: str
@@ -55,12 +54,13 @@ class ServedModel:
         default_factory=lambda: Lane("heavy", Budget.max_heavy, Budget.max_heavy_per_client), repr=False
     )
     budget: Budget = field(default_factory=Budget, repr=False)
+    cache: GraphCache = field(default_factory=GraphCache, repr=False)
     _figure: bytes | None = field(default=None, repr=False)
     _teaching: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     @property
     def lock(self) -> threading.Lock:
-        """The light lane's lock (the shared planner's)."""
+        """The light lane's lock."""
         return self.light.lock
 
     @classmethod
@@ -71,13 +71,10 @@ class ServedModel:
         if model.map is None:
             raise ModelError(f"model {name!r} ({source}) has no map; the service plans on the model's map")
         budget = budget or Budget()
-        planner = HierarchicalPlanner(model)
-        key = planner.graph.key
-        with _LOCKS_GUARD:
-            if (key, "light") not in _LANES:
-                _LANES[key, "light"] = Lane(f"{name}-light", budget.max_light)
-                _LANES[key, "heavy"] = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
-            light, heavy = _LANES[key, "light"], _LANES[key, "heavy"]
+        cache = GraphCache()
+        planner = HierarchicalPlanner(model, cache=cache)
+        light = Lane(f"{name}-light", budget.max_light)
+        heavy = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
         return cls(
             name,
             source,
@@ -88,6 +85,7 @@ class ServedModel:
             light,
             heavy,
             budget,
+            cache,
         )
 
     @property
@@ -120,16 +118,9 @@ class ServedModel:
         )
 
     def _heavy_planner(self) -> HierarchicalPlanner:
-        """The heavy lane's planner: the same model and settings with a graph of its own (built on first use,
-        on the heavy worker, so that its precomputation never holds up the light lane)."""
-        key = self.planner.graph.key
-        with _LOCKS_GUARD:
-            planner = _HEAVY_PLANNERS.get(key)
-        if planner is None:
-            planner = HierarchicalPlanner(self.model, self.planner.settings, use_cache=False)
-            with _LOCKS_GUARD:
-                planner = _HEAVY_PLANNERS.setdefault(key, planner)
-        return planner
+        """The heavy lane's planner: the light lane's own (its graph's memos are thread-safe), so a heavy request
+        never waits for a second precomputation."""
+        return self.planner
 
     def teach(self, utterance: str, x: float, y: float) -> dict:
         """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), rebuild
@@ -140,7 +131,7 @@ class ServedModel:
 
         with self._teaching:
             taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
-            planner, seconds = planner_for(taught.model, self.planner.settings, self.planner)
+            planner, seconds = planner_for(taught.model, self.planner.settings, self.planner, self.cache)
             labels = place_display_labels(taught.model, planner.place_words)
             image = map_image(taught.model)
             with self.lock:

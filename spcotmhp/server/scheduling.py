@@ -1,13 +1,13 @@
-"""Fair, bounded planning for the service: two lanes per planning graph, admission limits and a time budget.
+"""Fair, bounded planning for the service: two lanes per served model, admission limits and a time budget.
 
 A plan of an ordinary instruction takes about a millisecond; one naming many waypoints can take seconds, and
 the planner cannot be interrupted. So that such requests cannot starve the others:
 
 * **Two lanes.** Each request gets a cost estimate (:func:`estimate_cost`: the characters of its instruction,
   of every N-best hypothesis, or of the structured form's JSON). Requests up to ``Budget.light_cost`` run on the
-  *light* lane (the model's shared planner and its worker thread); costlier ones run on the *heavy* lane, a
-  second planner of the same model with its own graph, lock and worker thread, built on first use. A heavy
-  plan therefore never sits in front of a light one (both lanes share the CPU and the GIL, so a light plan
+  *light* lane (the model's planner on the lane's worker thread); costlier ones run on the *heavy* lane, the
+  same planner on a lock and worker thread of its own (the planner is thread-safe). A heavy plan therefore
+  never sits in front of a light one (both lanes share the CPU and the GIL, so a light plan
   runs at most a few milliseconds slower while a heavy one is running).
 * **Admission.** A lane holds at most ``max_light`` / ``max_heavy`` requests (queued or running); the heavy
   lane also at most ``max_heavy_per_client`` per client address. Past that a request is refused at once with

@@ -15,7 +15,7 @@ L, M, K, R = (ORDER.index(n) for n in "LMKR")
 @pytest.fixture(scope="module")
 def graph():
     model = home_model()
-    return PlanningGraph.build(model, GraphSettings(), log_p=home_log_p(model.map), use_cache=False)
+    return PlanningGraph.build(model, GraphSettings(), log_p=home_log_p(model.map))
 
 
 def crop(graph, occ, row, col):

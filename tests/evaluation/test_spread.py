@@ -52,7 +52,7 @@ def test_hpp_with_our_smoothing_keeps_start_waypoint_and_is_not_longer():
     from spcotmhp.planning.assemble import path_length
     from spcotmhp.planning.planner import HierarchicalPlanner
 
-    planner = HierarchicalPlanner(fit_supervised(load_bundled("3LDK_01")), use_cache=False)
+    planner = HierarchicalPlanner(fit_supervised(load_bundled("3LDK_01")))
     g = planner.graph
     hpp = HPP(g, EDGE_COSTS["hpp2"])
     free = np.argwhere(np.isfinite(g.dist[0]) & g.traversable)  # cells connected to the places

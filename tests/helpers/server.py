@@ -18,6 +18,7 @@ import numpy as np
 from spcotmhp.datasets import load_bundled
 from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
+from tests.helpers.graphs import GRAPHS
 
 INSTRUCTION = "go to the bedroom via the corridor"
 
@@ -35,7 +36,7 @@ def start_near(model, place: str = "entrance") -> list[float]:
     from spcotmhp.commands.demo import demo_start
     from spcotmhp.planning.planner import HierarchicalPlanner
 
-    xy, _ = demo_start(HierarchicalPlanner(model), place)
+    xy, _ = demo_start(HierarchicalPlanner(model, cache=GRAPHS), place)
     return [float(v) for v in xy]
 
 

@@ -29,6 +29,7 @@ from spcotmhp.planning.assemble import (
 from spcotmhp.planning.graph import grown_territories
 from spcotmhp.planning.places import most_probable_place, place_regions
 from spcotmhp.planning.planner import HierarchicalPlanner
+from tests.helpers.graphs import GRAPHS
 from tests.helpers.planning import RES, draw_blocked, draw_ends, home_log_p, home_model, make_home, world
 
 SQ2 = math.sqrt(2.0)
@@ -59,8 +60,8 @@ def planners(spec: dict, **kw) -> tuple[HierarchicalPlanner, HierarchicalPlanner
     log_p = home_log_p(model.map)
     raw_kw = {k: v for k, v in kw.items() if k == "adjacent_only"}
     return (
-        HierarchicalPlanner(model, log_p=log_p, use_cache=False, **kw),
-        HierarchicalPlanner(model, log_p=log_p, use_cache=False, smooth=False, **raw_kw),
+        HierarchicalPlanner(model, log_p=log_p, **kw),
+        HierarchicalPlanner(model, log_p=log_p, smooth=False, **raw_kw),
     )
 
 
@@ -138,8 +139,8 @@ def test_arrival_stops_at_the_first_cell_inside_the_goal_region():
     model = home_model()
     log_p = home_log_p(model.map)
     q = 0.39
-    full = HierarchicalPlanner(model, log_p=log_p)
-    cut = HierarchicalPlanner(model, log_p=log_p, arrival_quantile=q)
+    full = HierarchicalPlanner(model, log_p=log_p, cache=GRAPHS)
+    cut = HierarchicalPlanner(model, log_p=log_p, arrival_quantile=q, cache=GRAPHS)
     start = (3, 12)  # in the corridor, next to bedroom #1's door
     a = full.plan("go to the bedroom", world(model.map, *start))
     b = cut.plan("go to the bedroom", world(model.map, *start))
@@ -160,7 +161,7 @@ def test_arrival_stops_at_the_first_cell_inside_the_goal_region():
 
 def test_most_probable_place_and_grown_territories():
     model = make_home(**TUBE)
-    g = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False).graph
+    g = HierarchicalPlanner(model, log_p=home_log_p(model.map)).graph
     # the territories are the most probable place on every traversable cell (these rooms leave no stray
     # fragment of a place's region to reassign), -1 on walls
     assert (g.territory[g.traversable] == most_probable_place(model, g.centres)[g.traversable]).all()
@@ -179,7 +180,7 @@ def test_most_probable_place_and_grown_territories():
 @pytest.mark.parametrize("margin, cells", [(0.2, 0), (0.5, 1), (1.0, 2)])
 def test_tube_window_covers_the_grown_territories(margin, cells):
     model = make_home(**TUBE)
-    g = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False, tube_margin=margin).graph
+    g = HierarchicalPlanner(model, log_p=home_log_p(model.map), tube_margin=margin).graph
     origin, mask = g.tube(np.array([0, 2]))
     full = np.zeros(g.log_p.shape, bool)
     full[origin[0] : origin[0] + mask.shape[0], origin[1] : origin[1] + mask.shape[1]] = mask
@@ -299,7 +300,7 @@ def test_map_cost_is_the_map_term_of_eq26_and_views_block_avoided_regions():
     model = make_home(**TUBE)
     log_p = home_log_p(model.map)
     log_p[3, 3] = math.log(0.01)  # one inscribed cell
-    pl = HierarchicalPlanner(model, log_p=log_p, use_cache=False)
+    pl = HierarchicalPlanner(model, log_p=log_p)
     g = pl.graph
     cell = g.to_crop(np.array([3, 3]))
     assert g.map_cost[cell[0], cell[1]] == pytest.approx(math.log(9) - math.log(0.01))
@@ -330,8 +331,8 @@ def test_bundled_home_entrance_to_storeroom():
     occ = dataset.map
     entrance, storeroom = (next(p for p in build_places(dataset) if p.name == n) for n in ("entrance", "storeroom"))
     x0 = occ.cell_to_world(np.array(entrance.cell))
-    new = HierarchicalPlanner(model, adjacent_only=True).plan("go to the storeroom", x0)
-    raw_planner = HierarchicalPlanner(model, smooth=False, adjacent_only=True)
+    new = HierarchicalPlanner(model, adjacent_only=True, cache=GRAPHS).plan("go to the storeroom", x0)
+    raw_planner = HierarchicalPlanner(model, smooth=False, adjacent_only=True, cache=GRAPHS)
     raw = raw_planner.plan("go to the storeroom", x0)
     via = [p.id for p in raw.places if p.role == "via"]
     assert len(raw.node_points) >= 2 and via
@@ -349,7 +350,7 @@ def test_bundled_home_entrance_to_storeroom():
     new_crop = g.to_crop(new.cells)
     assert g.traversable[new_crop[:, 0], new_crop[:, 1]].all() and (new.cells[-1] == raw.cells[-1]).all()
     assert not np.isin(g.territory[new_crop[:, 0], new_crop[:, 1]], via).any()
-    default = HierarchicalPlanner(model, smooth=False).plan("go to the storeroom", x0)
+    default = HierarchicalPlanner(model, smooth=False, cache=GRAPHS).plan("go to the storeroom", x0)
     assert default.explanation == f"entrance -> storeroom, {default.length_m:.1f} m"
     assert default.length_m < 1.15 * geodesic
 
@@ -369,6 +370,6 @@ def test_shortcuts_keep_the_planners_move_model(connectivity, length, steps):
 
 def test_a_4_connected_planner_never_steps_diagonally():
     model = make_home(**DETOUR)
-    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False, connectivity=4)
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), connectivity=4)
     plan = pl.plan("go to the bedroom", model.map.cell_to_world(np.array([2, 2])))
     assert plan.smoothed and (np.abs(np.diff(plan.cells, axis=0)).sum(axis=1) == 1).all()

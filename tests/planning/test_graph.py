@@ -12,14 +12,15 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import log_gaussian
 from spcotmhp.metric.grid_search import SQRT2, cost_to_go, shortest_paths, step_cost_map
 from spcotmhp.metric.maps import OccupancyMap
-from spcotmhp.planning.graph import GraphSettings, PlanningGraph, clear_cache, fingerprint
+from spcotmhp.planning.graph import GraphSettings, PlanningGraph, fingerprint
+from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.places import chi2_2d, connected_places, inside_places, mahalanobis2
 from tests.helpers.planning import ORDER, home_log_p, home_map, home_model
 
 
 def build(model=None, **kw) -> PlanningGraph:
     model = model or home_model()
-    return PlanningGraph.build(model, GraphSettings(**kw), log_p=home_log_p(model.map), use_cache=False)
+    return PlanningGraph.build(model, GraphSettings(**kw), log_p=home_log_p(model.map))
 
 
 def test_candidates_are_the_snapped_means_and_edges_follow_psi():
@@ -71,7 +72,7 @@ def test_w_hat_by_hand_on_a_one_row_corridor():
         Sigma=np.tile(np.diag([4.0, 1.0]), (4, 1, 1)),
         map=occ,
     )
-    g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
+    g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf))
     # place 0 at col 2, place 1 at col 5: three steps into cols 3, 4, 5 cost log 9 each (p(x|m) = 1); the leg
     # ends at the mean of place 1: log N(mu | mu, diag(4, 1)) = -log(2 pi) - log(4) / 2
     end = -math.log(2 * math.pi) - 0.5 * math.log(4.0)
@@ -93,7 +94,7 @@ def test_leg_likelihood_grows_with_length_not_with_distance_from_the_mean():
     model = dataclasses.replace(
         model, mu=np.array([[0.85, 0.15], [0.55, 0.15], [2.25, 0.15], [2.85, 0.15]]), Sigma=Sigma, map=occ
     )
-    g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf), use_cache=False)
+    g = PlanningGraph.build(model, GraphSettings(), log_p=np.where(data == 0, 0.0, -np.inf))
     start = g.start_w_hat(g.to_crop(occ.world_to_cell(np.array([0.95, 0.15]))))
     # place 1 is 4 cells away, place 2 (broad along the row) 13 cells away: the near one scores higher
     assert start[1] > start[2]
@@ -114,7 +115,7 @@ def test_inscribed_cells_are_not_traversable_and_nodes_avoid_them():
     # the toilet's mean lies within the robot's radius of a wall (costmap_2d 253): its node moved out
     toilet = model.map.world_to_cell(model.mu[dataset.place_names.index("toilet")])
     assert cm.costs[toilet[0], toilet[1]] >= 253
-    g = PlanningGraph.build(model, GraphSettings(), log_p=cm.log_p, use_cache=False)
+    g = PlanningGraph.build(model, GraphSettings(), log_p=cm.log_p)
     crop = (
         slice(g.offset[0], g.offset[0] + g.log_p.shape[0]),
         slice(g.offset[1], g.offset[1] + g.log_p.shape[1]),
@@ -145,14 +146,16 @@ def test_sampled_candidates_are_seeded_inside_their_ellipse():
 
 
 def test_cache_is_keyed_by_model_map_and_settings():
-    clear_cache()
+    cache = GraphCache()
     model = home_model()
     log_p = home_log_p(model.map)
-    a = PlanningGraph.build(model, GraphSettings(), log_p=log_p)
-    assert PlanningGraph.build(model, GraphSettings(), log_p=log_p) is a
+    a = PlanningGraph.build(model, GraphSettings(), log_p=log_p, cache=cache)
+    assert PlanningGraph.build(model, GraphSettings(), log_p=log_p, cache=cache) is a
+    assert PlanningGraph.build(model, GraphSettings(), log_p=log_p) is not a  # no cache: computed afresh
     moved = dataclasses.replace(model, mu=model.mu + np.array([0.5, 0.0]))
-    assert PlanningGraph.build(moved, GraphSettings(), log_p=log_p) is not a
-    assert PlanningGraph.build(model, GraphSettings(n_candidates=2), log_p=log_p) is not a
+    assert PlanningGraph.build(moved, GraphSettings(), log_p=log_p, cache=cache) is not a
+    assert PlanningGraph.build(model, GraphSettings(n_candidates=2), log_p=log_p, cache=cache) is not a
+    assert len(cache) == 3 and a.key in cache
     data = model.map.data.copy()
     data[5, 5] = 100
     other_map = dataclasses.replace(model, map=dataclasses.replace(model.map, data=data))
@@ -167,7 +170,7 @@ def test_model_without_map_or_places_is_refused():
     with pytest.raises(ModelError, match="no active place"):
         PlanningGraph.build(dataclasses.replace(model, active_places=np.zeros(4, bool)))
     with pytest.raises(ModelError, match="no free cell"):
-        PlanningGraph.build(model, log_p=np.full(home_map().shape, -np.inf), use_cache=False)
+        PlanningGraph.build(model, log_p=np.full(home_map().shape, -np.inf))
 
 
 def test_main_component_does_not_join_through_a_diagonal_squeeze():
@@ -205,7 +208,7 @@ def test_avoidance_views_are_exact():
         warnings.simplefilter("ignore")
         dataset = load_bundled("3LDK_06")
     model = fit_supervised(dataset)
-    g = PlanningGraph.build(model, use_cache=False)
+    g = PlanningGraph.build(model)
     rng = np.random.default_rng(0)
     free = np.argwhere(g.traversable)
     recomputed = 0

@@ -30,12 +30,11 @@ def office():
 
 def pair(office, connectivity=8, spacing=None):
     _, model, log_p = office
-    dense = PlanningGraph.build(model, GraphSettings(connectivity=connectivity), log_p=log_p, use_cache=False)
+    dense = PlanningGraph.build(model, GraphSettings(connectivity=connectivity), log_p=log_p)
     hier = PlanningGraph.build(
         model,
         GraphSettings(connectivity=connectivity, max_dense_bytes=0, portal_spacing=spacing or 1.0),
         log_p=log_p,
-        use_cache=False,
     )
     return dense, hier
 
@@ -86,12 +85,12 @@ def test_avoided_territories_are_never_entered_and_views_stay_exact(office):
 def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
     _, model, log_p = office
     s = GraphSettings(max_dense_bytes=0)
-    base = PlanningGraph.build(model, s, log_p=log_p, use_cache=False)
-    same = base.update(model, log_p=log_p, use_cache=False)
+    base = PlanningGraph.build(model, s, log_p=log_p)
+    same = base.update(model, log_p=log_p)
     assert same.info["fields_computed"] == 0 and same.info["fields_reused"] == base.info["abstract_nodes"]
     k = int(np.flatnonzero(model.active_places)[-1])
-    moved = base.update_place(k, model.mu[k] + np.array([0.3, -0.2]), model.Sigma[k] * 1.5, use_cache=False)
-    fresh = PlanningGraph.build(moved.model, s, log_p=log_p, use_cache=False)
+    moved = base.update_place(k, model.mu[k] + np.array([0.3, -0.2]), model.Sigma[k] * 1.5)
+    fresh = PlanningGraph.build(moved.model, s, log_p=log_p)
     assert 0 < moved.info["fields_computed"] < fresh.info["fields_computed"]
     assert np.array_equal(moved.territory, fresh.territory)
     assert np.array_equal(moved.w_hat_metric, fresh.w_hat_metric)
@@ -105,7 +104,7 @@ def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
 
 def test_planner_on_the_portal_graph(office):
     ds, model, log_p = office
-    planner = HierarchicalPlanner(model, PlannerSettings(max_dense_bytes=0), log_p=log_p, use_cache=False)
+    planner = HierarchicalPlanner(model, PlannerSettings(max_dense_bytes=0), log_p=log_p)
     free = np.argwhere(planner.graph.main)
     start = ds.map.cell_to_world(planner.graph.to_map(free[len(free) // 3]))
     goal = ds.place_names[int(np.flatnonzero(model.active_places)[-1])]

@@ -33,12 +33,14 @@ GRAMMAR_WORDS = sorted(
     }
 )
 JA_WORDS = sorted({*JAPANESE.markers, *JAPANESE.connectors, *JAPANESE.order, "か", "の", "の隣", "二番目"})
+HANG_S = 5.0  # far above any parse (hundreds of microseconds), far below a backtracking blow-up
 FUZZ = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def check(source, words=EN, **limits):
     """Parse; anything raised must be an InstructionError with a one-line message of at most 400 characters,
-    and the call must take well under a second."""
+    and the call must return (HANG_S guards against hangs and catastrophic backtracking; speed is measured in
+    benchmarks/, not here)."""
     t0 = time.perf_counter()
     try:
         ins = to_instruction(source, words, **limits)
@@ -46,7 +48,7 @@ def check(source, words=EN, **limits):
         message = str(exc)
         assert "\n" not in message and 0 < len(message) <= 400, message
         ins = None
-    assert time.perf_counter() - t0 < 0.5
+    assert time.perf_counter() - t0 < HANG_S
     return ins
 
 
@@ -93,17 +95,19 @@ def test_random_structured_and_nbest(value):
     check([("go to the kitchen", value)])
 
 
-def test_one_megabyte_strings_are_refused_at_once():
+def test_one_megabyte_strings_are_refused_at_once(monkeypatch):
+    def never(*args, **kwargs):
+        raise AssertionError("a text over the size limit reached the sentence reader")
+
+    monkeypatch.setattr(instructions, "read_sentence", never)
     rng = random.Random(0)
     for alphabet in ("abcdefghij klmnop,", "寝室へキッチンを通って", None):
         if alphabet is None:
             text = "".join(chr(rng.randrange(32, 0x3000)) for _ in range(1_000_000))
         else:
             text = "".join(rng.choice(alphabet) for _ in range(1_000_000))
-        t0 = time.perf_counter()
         with pytest.raises(InstructionTooLarge) as info:
             parse_text(text, EN)
-        assert time.perf_counter() - t0 < 0.2
         assert len(str(info.value)) < 200 and "…" in str(info.value)
         with pytest.raises(InstructionTooLarge):
             parse_structured(text, EN)

@@ -16,6 +16,7 @@ from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning._paths import cells_cost, is_better, octile_length
 from spcotmhp.planning.assemble import join_legs, path_cost, replan_segment
 from spcotmhp.planning.planner import HierarchicalPlanner
+from tests.helpers.graphs import GRAPHS
 
 
 def test_octile_length_and_cost_by_hand():
@@ -44,7 +45,7 @@ def test_field_read_is_an_optimum_of_the_tube_replanning(home):
         warnings.simplefilter("ignore")
         data = load_bundled(home, lang="en")
     model = fit_supervised(data)
-    graph = HierarchicalPlanner(model).graph
+    graph = HierarchicalPlanner(model, cache=GRAPHS).graph
     rng = np.random.default_rng(0)
     free = np.argwhere(graph.main)
     read = 0

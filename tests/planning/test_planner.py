@@ -12,6 +12,7 @@ from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.places import inside_places
 from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings, plan
 from spcotmhp.planning.terms import ModelTerms
+from tests.helpers.graphs import GRAPHS
 from tests.helpers.planning import home_log_p, home_model, world
 
 L, M, K, R = 0, 1, 2, 3
@@ -20,7 +21,7 @@ L, M, K, R = 0, 1, 2, 3
 @pytest.fixture(scope="module")
 def planner() -> HierarchicalPlanner:
     model = home_model()
-    return HierarchicalPlanner(model, log_p=home_log_p(model.map))
+    return HierarchicalPlanner(model, log_p=home_log_p(model.map), cache=GRAPHS)
 
 
 def check_path(planner: HierarchicalPlanner, plan, start_cell) -> None:
@@ -103,7 +104,7 @@ def test_avoiding_blocks_metric_legs_too():
     psi[L, R] = psi[R, L] = psi[L, M]
     psi /= psi.sum(axis=1, keepdims=True)
     model.psi = psi
-    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), use_cache=False)
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map))
     assert np.isfinite(pl.graph.w_hat[L, R])
     ok = pl.plan("go to the kitchen", world(model.map, 6, 3))
     assert territory_of(pl, ok.cells, [M]).any()
@@ -150,7 +151,7 @@ def test_unknown_word(planner):
 
 def test_horizon_too_short():
     model = home_model()
-    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), max_steps=1)
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), max_steps=1, cache=GRAPHS)
     with pytest.raises(PlanningError) as info:
         pl.plan("go to the bedroom via the kitchen", world(model.map, 3, 12))
     assert "no sequence of at most 1 place-to-place steps from (6.25, 1.75) satisfies 'bedroom via kitchen'" in str(
@@ -160,7 +161,7 @@ def test_horizon_too_short():
 
 def test_smoothing_never_lengthens_and_keeps_the_ends(planner):
     model = planner.model
-    raw = HierarchicalPlanner(model, log_p=home_log_p(model.map), smooth=False)
+    raw = HierarchicalPlanner(model, log_p=home_log_p(model.map), smooth=False, cache=GRAPHS)
     for text in ["go to the bedroom", "go to the bedroom via the kitchen", "go to the kitchen"]:
         for start in [(3, 12), (9, 3), (10, 28)]:
             a = planner.plan(text, world(model.map, *start))
@@ -281,7 +282,7 @@ def test_planner_settings_derive_from_graph_settings():
 
 def test_several_candidates_per_place():
     model = home_model()
-    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), n_candidates=4, seed=1)
+    pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), n_candidates=4, seed=1, cache=GRAPHS)
     for start in [(3, 12), (9, 3)]:
         p = pl.plan("go to the bedroom via the kitchen", world(model.map, *start))
         check_path(pl, p, start)
@@ -316,7 +317,7 @@ def test_plan_log_prob_is_eq_28_assembled_term_by_term():
     )
     occ = model.map
     log_p = home_log_p(occ)
-    pl = HierarchicalPlanner(model, log_p=log_p, use_cache=False)
+    pl = HierarchicalPlanner(model, log_p=log_p)
     start_cell = np.array([6, 5])  # in L (bedroom #1)
     x0 = world(occ, *start_cell)
     plan = pl.plan("go to the kitchen via the corridor", x0)
@@ -368,7 +369,7 @@ def test_goal_option_bounds_are_lower_bounds_of_the_final_paths():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         model = fit_supervised(load_bundled("3LDK_06", lang="en"))
-    pl = HierarchicalPlanner(model)
+    pl = HierarchicalPlanner(model, cache=GRAPHS)
     rng = np.random.default_rng(3)
     free = np.argwhere(pl.graph.main)
     bounded = 0

@@ -21,6 +21,7 @@ from spcotmhp.errors import PlanningError
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning.places import inside_places, instance_places, place_regions
 from spcotmhp.planning.planner import HierarchicalPlanner
+from tests.helpers.graphs import GRAPHS
 
 ENVS = [("flat", 0), ("flat", 1), ("house", 0), ("house", 1), ("house", 2)]
 ARRIVAL = 0.39
@@ -40,7 +41,7 @@ def home(kind: str, seed: int, connectivity: int = 8):
     model = fit_supervised(dataset)
     if model.map is None:
         model.map = dataset.map
-    planner = HierarchicalPlanner(model, connectivity=connectivity)
+    planner = HierarchicalPlanner(model, connectivity=connectivity, cache=GRAPHS)
     return dataset, model, planner
 
 
@@ -49,8 +50,8 @@ def variant(kind: str, seed: int, name: str, connectivity: int = 8) -> Hierarchi
     """The same model and precomputed graph, planned without line 13 ("raw") or with an arrival cut."""
     _, model, _ = home(kind, seed, connectivity)
     if name == "raw":
-        return HierarchicalPlanner(model, smooth=False, arrival_quantile=None, connectivity=connectivity)
-    return HierarchicalPlanner(model, arrival_quantile=ARRIVAL, connectivity=connectivity)
+        return HierarchicalPlanner(model, smooth=False, arrival_quantile=None, connectivity=connectivity, cache=GRAPHS)
+    return HierarchicalPlanner(model, arrival_quantile=ARRIVAL, connectivity=connectivity, cache=GRAPHS)
 
 
 def sentence(goal: str, waypoints: list[str], avoid: list[str]) -> str:

@@ -12,6 +12,7 @@ from spcotmhp.errors import PlanningError, StartBlocked, StartOutsideMap
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
 from spcotmhp.planning.planner import HierarchicalPlanner
+from tests.helpers.graphs import GRAPHS
 
 
 @pytest.fixture(scope="module")
@@ -20,7 +21,7 @@ def home():
         warnings.simplefilter("ignore")
         data = load_bundled("3LDK_01", lang="en")
     model = fit_supervised(data)
-    return model, HierarchicalPlanner(model), inflate(model.map, **model.costmap)
+    return model, HierarchicalPlanner(model, cache=GRAPHS), inflate(model.map, **model.costmap)
 
 
 def test_a_start_next_to_a_wall_leaves_it_first_and_says_so(home):
@@ -69,7 +70,7 @@ def test_metric_fallback_when_the_place_graph_has_no_edge(home):
     import dataclasses
 
     lone = dataclasses.replace(model, psi=np.eye(model.K) * 0.999 + 0.001 / model.K)
-    planner = HierarchicalPlanner(lone, use_cache=False, adjacent_only=True)
+    planner = HierarchicalPlanner(lone, adjacent_only=True)
     assert not np.isfinite(planner.graph.w_hat).any()  # no edge at all
     plan = planner.plan("go to the kitchen via the toilet", tuple(model.mu[0]))
     assert "metric route" in plan.explanation

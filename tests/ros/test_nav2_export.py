@@ -15,6 +15,7 @@ from scipy.sparse.csgraph import connected_components
 
 from spcotmhp.metric.map_io import load_map
 from spcotmhp.planning import HierarchicalPlanner
+from tests.helpers.graphs import GRAPHS
 
 EXE = str(Path(sys.executable).with_name("spcotmhp"))
 
@@ -58,7 +59,7 @@ def test_route_graph_follows_the_route_server_rules(export, model_dir):
     assert len(nodes) + len(edges) == len(doc["features"]) and nodes and edges
     ids = [f["properties"]["id"] for f in doc["features"]]
     assert all(is_uint(i) for i in ids) and len(set(ids)) == len(ids)
-    planner = HierarchicalPlanner(load_model_dir(model_dir))
+    planner = HierarchicalPlanner(load_model_dir(model_dir), cache=GRAPHS)
     occ = planner.model.map
     at = {}
     for f in nodes:
@@ -95,7 +96,7 @@ def test_route_graph_is_connected_wherever_the_place_graph_is(export, model_dir)
         for f in doc["features"]
         if f["geometry"]["type"] == "Point"
     }
-    planner = HierarchicalPlanner(load_model_dir(model_dir))
+    planner = HierarchicalPlanner(load_model_dir(model_dir), cache=GRAPHS)
     K = planner.model.K
     route = np.zeros((K, K), dtype=bool)
     for f in doc["features"]:
@@ -110,7 +111,7 @@ def test_route_graph_is_connected_wherever_the_place_graph_is(export, model_dir)
 
 
 def test_keepout_mask_is_a_map_of_the_avoided_territories(export, model_dir):
-    planner = HierarchicalPlanner(load_model_dir(model_dir))
+    planner = HierarchicalPlanner(load_model_dir(model_dir), cache=GRAPHS)
     occ = planner.model.map
     mask = load_map(export / "keepout.yaml")
     assert mask.shape == occ.shape and mask.resolution == occ.resolution and mask.origin == occ.origin

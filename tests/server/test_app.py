@@ -21,9 +21,12 @@ from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.server import create_app
 from spcotmhp.server.limits import AUDIO_LIMIT, JSON_LIMIT, BodySizeLimit
 from spcotmhp.server.registry import ServedModel, load_served
+from spcotmhp.server.scheduling import Budget
 from spcotmhp.viz.draw import topological_edges, used_extent
 from spcotmhp.viz.labels import place_display_labels
+from tests.helpers.graphs import GRAPHS
 from tests.helpers.server import INSTRUCTION, start_near, supervised_model_dir, wall_point
+from tests.helpers.threads import in_threads
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")
@@ -63,7 +66,7 @@ def test_plan_from_text_is_the_planners_plan(client, model6, start):
     r = plan(client, instruction=INSTRUCTION, start=start)
     assert r.status_code == 200, r.text
     got = r.json()
-    want = HierarchicalPlanner(model6).plan(INSTRUCTION, start).to_dict()
+    want = HierarchicalPlanner(model6, cache=GRAPHS).plan(INSTRUCTION, start).to_dict()
     assert got["model"] == "home6"
     assert got["explanation"] == want["explanation"]
     assert got["path"] == want["path"] and len(got["path"]) > 2
@@ -116,7 +119,7 @@ def test_unknown_place_word_is_422_with_the_known_words(client, model6, start):
     r = plan(client, instruction="go to the garage", start=start)
     assert r.status_code == 422
     body = r.json()
-    words = HierarchicalPlanner(model6).place_words
+    words = HierarchicalPlanner(model6, cache=GRAPHS).place_words
     assert body["place_words"] == words and "corridor" in words
     assert body["detail"].startswith("no known place word in 'go to the garage' (not understood: garage)")
     r = plan(client, structured={"goal": ["garage"]}, start=start)
@@ -154,7 +157,7 @@ def test_a_huge_start_is_a_short_422_without_overflow(client, model6):
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no overflow RuntimeWarning from the cell index
         with pytest.raises(PlanningError, match="the start \\(1e\\+308, 1e\\+308\\) is outside the map"):
-            HierarchicalPlanner(model6).plan(INSTRUCTION, (1e308, 1e308))
+            HierarchicalPlanner(model6, cache=GRAPHS).plan(INSTRUCTION, (1e308, 1e308))
 
 
 @pytest.mark.parametrize(
@@ -334,26 +337,44 @@ def test_concurrent_plans_equal_sequential_ones(model6, start):
         "go to the washroom avoiding the bath",
         "go to the toilet",
     ] * 4
-    want = [HierarchicalPlanner(model6).plan(q, start).explanation for q in queries]
-    got: list = [None] * len(queries)
-    barrier = threading.Barrier(8)
-
-    def worker(w):
-        barrier.wait()
-        for i in range(w, len(queries), 8):
-            got[i] = served.plan(queries[i], start).explanation
-
-    threads = [threading.Thread(target=worker, args=(w,)) for w in range(8)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    assert got == want
+    want = [HierarchicalPlanner(model6, cache=GRAPHS).plan(q, start).explanation for q in queries]
+    assert in_threads(8, queries, lambda q: served.plan(q, start).explanation) == want
 
 
-def test_identical_models_share_one_lock_and_worker(model6):
+def test_threads_and_both_lanes_plan_as_one_thread_does(model6, start):
+    """No lane lock: threads call the served planner directly, and light and heavy plans run at once."""
+    import asyncio
+
+    served = ServedModel.build("t", model6)
+    short = ["go to the kitchen avoiding the toilet", "go to the living avoiding the kitchen", INSTRUCTION]
+    long = "go to the bedroom via the corridor, then the dining, then the living, then the kitchen" + " " * 150
+    assert len(long) > served.budget.light_cost  # runs on the heavy lane
+    queries = (short + ["go to the washroom avoiding the bath", long]) * 3
+    alone = HierarchicalPlanner(model6)  # a cache of its own: a graph no other planner has touched
+
+    def key(p):
+        return p.explanation, p.cells.tolist(), p.log_prob
+
+    want = [key(alone.plan(q, start)) for q in queries]
+    assert in_threads(6, queries, lambda q: key(served.planner.plan(q, start))) == want
+
+    async def both_lanes(sm):
+        return await asyncio.gather(*(sm.plan_async(q, start) for q in queries))
+
+    roomy = Budget(time_budget=60.0, max_heavy=8, max_heavy_per_client=8)  # all at once, none refused
+    assert [key(p) for p in asyncio.run(both_lanes(ServedModel.build("u", model6, budget=roomy)))] == want
+
+
+def test_identical_models_have_their_own_cache_planner_and_lanes(model6):
+    from spcotmhp.server import registry
+
     a, b = ServedModel.build("a", model6), ServedModel.build("b", model6)
-    assert a.lock is b.lock and a.light is b.light and a.heavy is b.heavy
+    assert a.light is not b.light and a.heavy is not b.heavy and a.lock is not b.lock
+    assert a.cache is not b.cache and a.planner.graph is not b.planner.graph
+    key = a.planner.graph.key
+    assert key == b.planner.graph.key and a.cache.get_or_build(key, object) is a.planner.graph
+    tables = [n for n, v in vars(registry).items() if isinstance(v, (dict, list, set)) and not n.startswith("__")]
+    assert tables == [] and not hasattr(registry, "_LANES") and not hasattr(registry, "_HEAVY_PLANNERS")
 
 
 def test_async_plans_run_on_the_graphs_worker_thread(model6, start, monkeypatch):

@@ -25,13 +25,14 @@ from spcotmhp.viz.draw import (
 )
 from spcotmhp.viz.labels import arrange_labels, drawable, font_families, place_display_labels
 from spcotmhp.viz.plan import draw_plan, plan_marks
+from tests.helpers.graphs import GRAPHS
 from tests.helpers.planning import home_log_p, home_model, world
 
 
 @pytest.fixture(scope="module")
 def home():
     model = home_model()
-    return model, HierarchicalPlanner(model, log_p=home_log_p(model.map))
+    return model, HierarchicalPlanner(model, log_p=home_log_p(model.map), cache=GRAPHS)
 
 
 def test_labels_number_places_that_share_a_name(home):
