@@ -131,3 +131,26 @@ def piece_places(territory, cells, a, b, ends, node_place, n_places):  # pragma:
         if a <= ends[e] <= b:
             seen[node_place[e] + 1] = True
     return np.flatnonzero(seen) - 1
+
+
+@njit(cache=True)
+def crossing_fields(dist, links, fields, r, c, blocked):  # pragma: no cover - numba
+    """Of the nodes ``fields`` (indices into the (M, h, w) cost-to-go fields ``dist`` and their next-step links
+    ``links``, flat indices, -1 at the end), those whose field is finite at cell (r, c) and whose path from there
+    enters a cell where ``blocked`` (h, w) holds (:func:`crosses` for each, in one call)."""
+    width = dist.shape[2]
+    out = np.empty(fields.shape[0], np.int64)
+    m = 0
+    for f in fields:
+        if not np.isfinite(dist[f, r, c]):
+            continue
+        i = r * width + c
+        while i >= 0:
+            row = i // width
+            col = i - row * width
+            if blocked[row, col]:
+                out[m] = f
+                m += 1
+                break
+            i = links[f, row, col]
+    return out[:m].copy()

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from spcotmhp.planning._paths import crosses
+from spcotmhp.planning._paths import crosses, crossing_fields
 
 if TYPE_CHECKING:
     from spcotmhp.planning.graph import PlanningGraph
@@ -43,7 +43,8 @@ def avoided_view(graph: PlanningGraph, places: tuple[int, ...]) -> PlanningGraph
     usable = ~np.isin(graph.node_place, key) & ~blocked[graph.node_cell[:, 0], graph.node_cell[:, 1]]
     if graph.hier is not None:
         return _remember(graph, key, _hier_view(graph, key, blocked, usable, t0))
-    view = _view(graph, key, blocked, usable, dist=list(graph.dist), next_step=list(graph.next_step))
+    base = (graph.dist, graph.next_step) if isinstance(graph.next_step, np.ndarray) else None
+    view = _view(graph, key, blocked, usable, dist=list(graph.dist), next_step=list(graph.next_step), _base_fields=base)
     width = graph.log_p.shape[1]
     sources = graph.node_cell[:, 0] * width + graph.node_cell[:, 1]
     flat_blocked = blocked.reshape(-1)
@@ -72,13 +73,21 @@ def refresh_shared(view: PlanningGraph, cell: np.ndarray) -> None:
             return
         start = r * view.log_p.shape[1] + c
         assert view.blocked is not None  # only views share fields
-        for j in sorted(view._shared):
-            if np.isfinite(view.dist[j][r, c]) and crosses(
-                view.next_step[j].reshape(-1), start, view.blocked.reshape(-1)
-            ):
-                view.dist[j], view.next_step[j] = view._field(j)
-                view._shared.discard(j)
-                view.info["recomputed_fields"].append(int(j))
+        if view._base_fields is not None:  # every shared field in one kernel
+            dist, links = view._base_fields
+            shared = np.array(sorted(view._shared), dtype=np.int64)
+            crossing = crossing_fields(dist, links, shared, r, c, view.blocked).tolist()
+        else:
+            crossing = [
+                j
+                for j in sorted(view._shared)
+                if np.isfinite(view.dist[j][r, c])
+                and crosses(view.next_step[j].reshape(-1), start, view.blocked.reshape(-1))
+            ]
+        for j in crossing:
+            view.dist[j], view.next_step[j] = view._field(j)
+            view._shared.discard(j)
+            view.info["recomputed_fields"].append(int(j))
 
 
 def _view(graph: PlanningGraph, key: tuple, blocked: np.ndarray, usable: np.ndarray, **kw) -> PlanningGraph:

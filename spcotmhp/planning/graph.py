@@ -122,6 +122,7 @@ class PlanningGraph:
     _centres: np.ndarray | None = field(default=None, repr=False)
     blocked: np.ndarray | None = None  # (h, w) cells of the avoided territories (None outside an avoidance view)
     _shared: set = field(default_factory=set, repr=False)  # fields still shared with the base graph
+    _base_fields: tuple | None = field(default=None, repr=False)  # the base graph's (dist, next_step) arrays
     _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
     hier: hierarchy.TerritoryFields | None = None  # territory-local fields (when dense ones exceed the budget)
     _lock: threading.RLock = field(default_factory=threading.RLock, repr=False, compare=False)  # guards memos
