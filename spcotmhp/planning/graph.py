@@ -302,6 +302,11 @@ class PlanningGraph:
         r, c = int(cell[0]), int(cell[1])
         if isinstance(self.dist, np.ndarray):
             return self.dist[:, r, c].astype(float)
+        if self._base_fields is not None:  # a view: its graph's fields, except those it recomputed
+            out = self._base_fields[0][:, r, c].astype(float)
+            for j in self.info["recomputed_fields"]:
+                out[j] = self.dist[j][r, c]
+            return out
         return np.array([self.dist[j][r, c] for j in range(self.n_nodes)], dtype=float)
 
     @property
