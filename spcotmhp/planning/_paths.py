@@ -154,3 +154,59 @@ def crossing_fields(dist, links, fields, r, c, blocked):  # pragma: no cover - n
                 break
             i = links[f, row, col]
     return out[:m].copy()
+
+
+@njit(cache=True)
+def _chain_length(links, node, first, width):  # pragma: no cover - numba
+    """The number of cells of the chain ``first, links[node][first], ...`` (-1 ends it)."""
+    n = 0
+    i = first
+    while i >= 0:
+        n += 1
+        i = links[node, i // width, i % width]
+    return n
+
+
+@njit(cache=True)
+def _chain_write(links, node, first, width, out, k, skip_first):  # pragma: no cover - numba
+    """Write the cells of that chain (without its first one if ``skip_first``) into out[k:]; returns the new k."""
+    i = first
+    skip = skip_first
+    while i >= 0:
+        if not skip:
+            out[k, 0] = i // width
+            out[k, 1] = i % width
+            k += 1
+        skip = False
+        i = links[node, i // width, i % width]
+    return k
+
+
+@njit(cache=True)
+def join_field_legs(dist, links, first, nodes, node_cells):  # pragma: no cover - numba
+    """Algorithm 1, line 12 on dense fields (``dist``, ``links``: (M, h, w) cost-to-go fields and their next-step
+    links, flat indices): the start leg from flat cell ``first`` into ``nodes[0]``, then the partial path from each
+    node's cell (``node_cells``, flat) into the next, joined at their shared junction cells as ``join_legs`` joins
+    them. Returns the cells, the index where each node is reached, and the index of the first leg that cannot be
+    followed (an infinite field value where it starts), -1 when none."""
+    width = dist.shape[2]
+    n = nodes.shape[0]
+    starts = np.empty(n, np.int64)
+    starts[0] = first
+    for e in range(1, n):
+        starts[e] = node_cells[nodes[e - 1]]
+    total = 0
+    for e in range(n):
+        s = starts[e]
+        if not np.isfinite(dist[nodes[e], s // width, s % width]):
+            return np.empty((0, 2), np.int64), np.empty(0, np.int64), e
+        total += _chain_length(links, nodes[e], s, width)
+    out = np.empty((total, 2), np.int64)
+    ends = np.empty(n, np.int64)
+    k = 0
+    for e in range(n):
+        s = starts[e]
+        junction = e > 0 and k > 0 and out[k - 1, 0] == s // width and out[k - 1, 1] == s % width
+        k = _chain_write(links, nodes[e], s, width, out, k, junction)
+        ends[e] = k - 1
+    return out[:k].copy(), ends, -1

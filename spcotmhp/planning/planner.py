@@ -64,6 +64,7 @@ from spcotmhp.errors import (
 )
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning import explain
+from spcotmhp.planning._paths import join_field_legs
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_cache import GraphCache
@@ -113,6 +114,8 @@ class HierarchicalPlanner:
             for k in act
         }
         occ = model.require_map()
+        self._width = int(self.graph.log_p.shape[1])  # the crop's flat cell indices of the nodes
+        self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
         self.resolution = float(occ.resolution)
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
@@ -317,6 +320,12 @@ class HierarchicalPlanner:
         """Algorithm 1, line 12: the joined cells, the index where each node is reached, and the anchors (the
         indices where a stage is completed)."""
         nodes = result.nodes
+        if graph is self.graph and isinstance(graph.next_step, np.ndarray):  # dense fields: one kernel
+            first = int(cell[0]) * self._width + int(cell[1])
+            cells, found, bad = join_field_legs(graph.dist, graph.next_step, first, nodes, self._node_flat)
+            if bad < 0:
+                ends = found.tolist()
+                return cells, ends, [ends[e] for e, done in enumerate(result.completed) if done]
         legs = [graph.leg(cell, int(nodes[0])).cells]
         legs += [graph.edge_path(int(a), int(b)) for a, b in itertools.pairwise(nodes)]
         cells, ends = join_legs(legs)

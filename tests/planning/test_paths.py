@@ -67,3 +67,32 @@ def test_field_read_is_an_optimum_of_the_tube_replanning(home):
         assert path_cost(found, graph.map_cost) == pytest.approx(graph.dist[b][start[0], start[1]])
         assert (found[0] == start).all() and (found[-1] == graph.node_cell[b]).all()
     assert read >= 20
+
+
+@pytest.mark.parametrize("home", ["3LDK_01", "3LDK_06"])
+def test_joined_field_legs_equal_the_joined_legs(home):
+    """The compiled assembly (start leg and partial paths followed in one kernel) gives the cells and node
+    indices of join_legs over graph.leg and graph.edge_path, repeated nodes and a start on a node included; a
+    start that cannot reach the first node is reported, not followed."""
+    from spcotmhp.planning._paths import join_field_legs
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = load_bundled(home, lang="en")
+    graph = HierarchicalPlanner(fit_supervised(data), cache=GRAPHS).graph
+    width = graph.log_p.shape[1]
+    flat = graph.node_cell[:, 0] * width + graph.node_cell[:, 1]
+    rng = np.random.default_rng(1)
+    free = np.argwhere(graph.main)
+    for trial in range(80):
+        start = graph.node_cell[rng.integers(graph.n_nodes)] if trial % 10 == 0 else free[rng.integers(len(free))]
+        nodes = rng.integers(graph.n_nodes, size=int(rng.integers(1, 5)))
+        legs = [graph.leg(start, int(nodes[0])).cells]
+        legs += [graph.edge_path(int(a), int(b)) for a, b in zip(nodes[:-1], nodes[1:], strict=True)]
+        cells, ends = join_legs(legs)
+        got, got_ends, bad = join_field_legs(graph.dist, graph.next_step, int(start[0] * width + start[1]), nodes, flat)
+        assert bad == -1 and np.array_equal(got, cells) and got_ends.tolist() == ends
+    blocked = np.argwhere(~np.isfinite(graph.dist[0]) & ~graph.traversable)[0]
+    assert (
+        join_field_legs(graph.dist, graph.next_step, int(blocked[0] * width + blocked[1]), np.array([0]), flat)[2] == 0
+    )
