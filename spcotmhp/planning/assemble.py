@@ -203,7 +203,8 @@ def smooth_on_graph(
     :class:`~spcotmhp.planning.graph.PlanningGraph`): ``ends[e]`` is the index where node ``nodes[e]`` is
     reached, ``anchors`` the indices where a stage is completed (kept). Each piece between anchors is re-planned
     inside the territories it runs through (:func:`shorten`; the end node's field is read instead of searching
-    wherever it is an optimum there, ``PlanningGraph.field_piece``), then line-of-sight shortcuts
+    wherever it is an optimum there, ``PlanningGraph.field_piece``; a piece that is one leg is already that
+    field's path, so a path of such pieces skips this step), then line-of-sight shortcuts
     (:func:`smooth_anchored`) of the re-planned path and of the assembled one, each kept only if :func:`better`.
     Returns the cells and the new anchor indices. The one implementation SpCoTMHP and the smoothed baselines
     use."""
@@ -232,6 +233,8 @@ def smooth_on_graph(
         return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
 
     marks = [int(a) for a in anchors]
+    if {0, len(raw) - 1, *marks}.issuperset(ends_arr.tolist()):
+        return shortcut(raw, marks)  # every piece is one leg, already a field's path (shorten keeps it as is)
     # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path keeps off the
     # walls, so shortcuts of the assembled one are occasionally shorter still
     path, moved = shorten(raw, marks, tube, graph.map_cost, connectivity, exact)
