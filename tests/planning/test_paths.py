@@ -96,3 +96,48 @@ def test_joined_field_legs_equal_the_joined_legs(home):
     assert (
         join_field_legs(graph.dist, graph.next_step, int(blocked[0] * width + blocked[1]), np.array([0]), flat)[2] == 0
     )
+
+
+def test_kernels_match_their_numpy_definitions():
+    """territory_sequence is dwell_filtered_sequence of the territories along a path, then of its non-negative
+    entries with a dwell of 1; piece_places is the union of the piece's territories and its nodes' places;
+    crossing_fields is crosses() of each finite field: checked on random grids, paths and link chains."""
+    from spcotmhp.learning.hmm import dwell_filtered_sequence
+    from spcotmhp.planning._paths import crosses, crossing_fields, piece_places, territory_sequence
+
+    rng = np.random.default_rng(2)
+    for _ in range(200):
+        territory = rng.integers(-1, 4, size=(6, 7))
+        cells = np.column_stack([rng.integers(0, 6, 30), rng.integers(0, 7, 30)]).astype(np.int64)
+        dwell = float(rng.choice([1.0, 2.0, 2.5, 4.0]))
+        seq = dwell_filtered_sequence(territory[cells[:, 0], cells[:, 1]], dwell)
+        assert (
+            territory_sequence(territory, cells, dwell).tolist() == dwell_filtered_sequence(seq[seq >= 0], 1).tolist()
+        )
+        a, b = sorted(rng.integers(0, 30, 2))
+        ends = np.sort(rng.integers(0, 30, 3)).astype(np.int64)
+        node_place = rng.integers(0, 4, 3).astype(np.int64)
+        inside = node_place[(ends >= a) & (ends <= b)]
+        expected = np.union1d(territory[cells[a : b + 1, 0], cells[a : b + 1, 1]], inside)
+        assert piece_places(territory, cells, int(a), int(b), ends, node_place, 4).tolist() == expected.tolist()
+        # link chains: each cell points to a lower flat index or ends (-1), so every chain terminates
+        links = (
+            np.stack(
+                [
+                    np.where(rng.random(42) < 0.2, -1, rng.integers(-1, 42, 42) % (np.arange(42) + 1) - 1)
+                    for _ in range(3)
+                ]
+            )
+            .reshape(3, 6, 7)
+            .astype(np.int64)
+        )
+        dist = np.where(rng.random((3, 6, 7)) < 0.2, np.inf, 1.0)
+        blocked = rng.random((6, 7)) < 0.15
+        r, c = int(rng.integers(6)), int(rng.integers(7))
+        fields = np.array([2, 0, 1], dtype=np.int64)
+        want = [
+            int(f)
+            for f in fields
+            if np.isfinite(dist[f, r, c]) and crosses(links[f].reshape(-1), r * 7 + c, blocked.reshape(-1))
+        ]
+        assert crossing_fields(dist, links, fields, r, c, blocked).tolist() == want
