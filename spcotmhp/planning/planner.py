@@ -236,6 +236,8 @@ class HierarchicalPlanner:
         graph becomes its avoidance view (their nodes removed, their territories blocked). Raises when a stage
         has only avoided instances or the start (or its escape run) lies inside an avoided place."""
         avoided = np.zeros(self.model.K, dtype=bool)
+        if not ins.avoid:
+            return self.graph, avoided
         for q in ins.avoid:
             avoided |= self._instances(q)
         if not avoided.any():

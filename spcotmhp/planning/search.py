@@ -172,26 +172,39 @@ def _viterbi(transition, start, word, completes, E):  # pragma: no cover - numba
 
 
 def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, stage: int):
-    nodes, stages, completed = [], [], []
-    done = [stage]
+    """The sequence that reaches ``node`` at ``step`` having completed ``stage``: its nodes, the stage pursued
+    at each and the stages completed on arriving at each (read back through the tables of :func:`_viterbi`)."""
+    nodes, stages, done = _trace(pred, from_stage, step, node, stage)
+    completed = tuple(tuple(s for s, flag in enumerate(row) if flag) for row in done.tolist())
+    return nodes, stages, completed
+
+
+@njit(cache=True)
+def _trace(pred, from_stage, step, node, stage):  # pragma: no cover - numba
+    """:func:`_backtrack` in compiled code: (nodes, stages, done) with done[e, s] True when stage s is completed
+    on arriving at nodes[e]."""
+    S = from_stage.shape[1]
+    nodes = np.empty(step, np.int64)
+    stages = np.empty(step, np.int64)
+    done = np.zeros((step, S), np.bool_)
+    n = 0
+    pending = np.zeros(S, np.bool_)  # the stages completed at the node being read back
+    pending[stage] = True
     e, s, j = step, stage, node
     while e >= 1:
         prev_stage = from_stage[e, s, j]
         if prev_stage >= 0:  # stage prev_stage was completed at node j on this same step
-            done.append(int(prev_stage))
-            s = int(prev_stage)
+            pending[prev_stage] = True
+            s = prev_stage
             continue
-        nodes.append(j)
-        stages.append(s)
-        completed.append(tuple(sorted(done)))
-        done = []
-        j = int(pred[e, s, j])
+        nodes[n] = j
+        stages[n] = s
+        done[n] = pending
+        pending[:] = False
+        n += 1
+        j = pred[e, s, j]
         e -= 1
-    return (
-        np.array(nodes[::-1], dtype=np.int64),
-        np.array(stages[::-1], dtype=np.int64),
-        tuple(completed[::-1]),
-    )
+    return nodes[:n][::-1].copy(), stages[:n][::-1].copy(), done[:n][::-1].copy()
 
 
 def why_no_plan(
