@@ -322,7 +322,7 @@ class HierarchicalPlanner:
         """Algorithm 1, line 12: the joined cells, the index where each node is reached, and the anchors (the
         indices where a stage is completed)."""
         nodes = result.nodes
-        if graph is self.graph and isinstance(graph.next_step, np.ndarray):  # dense fields: one kernel
+        if graph is self.graph and graph.hier is None and isinstance(graph.next_step, np.ndarray):  # dense: one kernel
             first = int(cell[0]) * self._width + int(cell[1])
             cells, found, bad = join_field_legs(graph.dist, graph.next_step, first, nodes, self._node_flat)
             if bad < 0:

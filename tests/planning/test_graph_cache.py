@@ -34,7 +34,8 @@ def test_planners_with_separate_caches_share_no_memo():
     a, b = planner(), planner()  # each makes a cache of its own
     assert a.cache is not b.cache and a.graph is not b.graph and a.graph.key == b.graph.key
     start = a.model.mu[3]  # bedroom #2, next to the kitchen
-    a.plan("go to the kitchen via the corridor", a.model.mu[0])  # a partial path between two nodes
+    a.plan("go to the kitchen via the corridor", a.model.mu[0])
+    a.graph.edge_path(0, 1)  # a partial path between two nodes (plans on dense fields read them without the memo)
     a.plan("go to the kitchen avoiding the corridor", start)  # an avoidance view
     assert a.graph._paths and a.graph._views
     assert not b.graph._paths and not b.graph._views
