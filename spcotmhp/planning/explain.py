@@ -11,7 +11,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -21,12 +21,28 @@ from spcotmhp.planning.plan import GoalOption, PlanPlace
 from spcotmhp.planning.search import SearchResult
 
 if TYPE_CHECKING:
+    from spcotmhp.learning.model import SpatialConceptModel
     from spcotmhp.planning.graph import PlanningGraph
-    from spcotmhp.planning.planner import HierarchicalPlanner
+    from spcotmhp.planning.graph_settings import PlannerSettings
+
+
+class PlannerView(Protocol):
+    """What the explanation reads of a :class:`~spcotmhp.planning.planner.HierarchicalPlanner` (a protocol, so
+    that this module does not import the planner that imports it)."""
+
+    model: SpatialConceptModel
+    settings: PlannerSettings
+    names: list[str]
+    numbering: dict[int, tuple[int, int]]
+    diameter_cells: float
+
+    def metric_path(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult) -> tuple[np.ndarray, bool]:
+        """The final crop cells of ``result``'s plan and whether smoothing changed them."""
+        ...
 
 
 def path_places(
-    planner: HierarchicalPlanner,
+    planner: PlannerView,
     graph: PlanningGraph,
     start_place: int,
     x0: np.ndarray,
@@ -59,7 +75,7 @@ def path_places(
     return out
 
 
-def place(planner: HierarchicalPlanner, k: int, role: str, xy: Sequence[float] | np.ndarray | None = None) -> PlanPlace:
+def place(planner: PlannerView, k: int, role: str, xy: Sequence[float] | np.ndarray | None = None) -> PlanPlace:
     """Place ``k`` in the role ``role``, numbered among the places of its name ("bedroom #2" of 3)."""
     number, count = planner.numbering[k]
     point = None if xy is None else (float(xy[0]), float(xy[1]))
@@ -67,7 +83,7 @@ def place(planner: HierarchicalPlanner, k: int, role: str, xy: Sequence[float] |
 
 
 def goal_options(
-    planner: HierarchicalPlanner,
+    planner: PlannerView,
     graph: PlanningGraph,
     cell: np.ndarray,
     result: SearchResult,
