@@ -9,7 +9,8 @@ planning graph, +inf on blocked cells):
 * (a) pyastar2d (C++ A*, 8-connected; its cost model: entering a cell costs its weight, diagonals unscaled);
 * (b) the project's flat grid search (:func:`spcotmhp.metric.grid_search.shortest_paths`, exact, numba);
 * (c) the previous planner, when ``--previous DIR`` names a checkout of an earlier version: the same queries
-  planned there, in a subprocess with that checkout first on the path.
+  planned there, in a subprocess with that checkout first on the path; "same plans as (c)" counts the queries
+  whose plans (cells, length, places, goal options, notes, explanation; or the refusal's type) are identical.
 
 With ``--repeat R`` (default 3) every query, pyastar2d search and flat search is run R times in a row and the
 fastest kept (on a machine shared with other jobs, the slower tries measure the other jobs); the p95 of the
@@ -25,7 +26,7 @@ counted as failed.
 from __future__ import annotations
 
 import argparse
-import contextlib
+import hashlib
 import json
 import os
 import platform
@@ -79,15 +80,36 @@ def setup(name: str) -> tuple[HierarchicalPlanner, str, float]:
     return planner, lang, time.perf_counter() - t0
 
 
-def plan_times(name: str, n: int, seed: int, repeat: int = 1) -> dict[str, list[float]]:
+def plan_record(plan) -> str:
+    """A digest of everything a plan says (cells, length, places and roles, goal options, notes, explanation):
+    two checkouts that give the same digest for a query gave the same plan."""
+    said = [
+        plan.cells.tolist(),
+        round(plan.length_m, 9),
+        [(p.id, p.role, p.label) for p in plan.places],
+        [(o.id, o.label, round(o.length_m, 9), o.exact, round(o.log_prob, 9)) for o in plan.goal_options],
+        plan.notes,
+        plan.explanation,
+    ]
+    return hashlib.sha1(json.dumps(said).encode()).hexdigest()
+
+
+def plan_times(name: str, n: int, seed: int, repeat: int = 1) -> dict:
     """Online times per kind (seconds; failed plans left out; the fastest of ``repeat`` tries each, as in
-    :func:`bench_home`): what ``--previous`` runs in the old checkout."""
+    :func:`bench_home`) and each query's :func:`plan_record` (or its error's type): what ``--previous`` runs in
+    the old checkout."""
     planner, lang, _ = setup(name)
     times: dict[str, list[float]] = {k: [] for k in KINDS}
+    records = []
     for kind, text, xy in queries(planner, n, seed, lang):
-        with contextlib.suppress(PlanningError):  # a refused request is not timed
-            times[kind].append(best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)[1])
-    return times
+        try:
+            plan, t, _, _ = best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)
+        except PlanningError as exc:  # a refused request is not timed
+            records.append(type(exc).__name__)
+            continue
+        times[kind].append(t)
+        records.append(plan_record(plan))
+    return {"times": times, "records": records}
 
 
 def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int = 3) -> list[dict]:
@@ -102,13 +124,15 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
     rows = []
     qs = queries(planner, n, seed, lang)
     for kind in KINDS:
-        times, first, cpu, astar, astar_cpu, flat, failures = [], [], [], [], [], [], 0
-        for _, text, xy in (q for q in qs if q[0] == kind):
+        times, first, cpu, astar, astar_cpu, flat, failures, same = [], [], [], [], [], [], 0, 0
+        for q, (_, text, xy) in ((q, qs[q]) for q in range(len(qs)) if qs[q][0] == kind):
             try:
                 plan, t, t_first, c = best_of(repeat, planner.plan, text, xy, seconds=lambda p, _: p.time_online_s)
-            except PlanningError:
+            except PlanningError as exc:
                 failures += 1
+                same += bool(old) and old["records"][q] == type(exc).__name__
                 continue
+            same += bool(old) and old["records"][q] == plan_record(plan)
             times.append(t)
             first.append(t_first)
             cpu.append(c)
@@ -133,7 +157,8 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
                 "astar_ms": 1e3 * statistics.median(astar),
                 "astar_cpu_ms": 1e3 * statistics.median(astar_cpu),
                 "flat_ms": 1e3 * statistics.median(flat),
-                "previous_ms": 1e3 * statistics.median(old[kind]) if old and old[kind] else None,
+                "previous_ms": 1e3 * statistics.median(old["times"][kind]) if old and old["times"][kind] else None,
+                "same_plans": f"{same}/{len(times) + failures}" if old else "-",
                 "precompute_s": t_pre,
                 "nodes": graph.n_nodes,
                 "cells": int(graph.traversable.sum()),
@@ -143,7 +168,7 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
     return rows
 
 
-def _previous_times(folder: str, name: str, n: int, seed: int, repeat: int) -> dict[str, list[float]]:
+def _previous_times(folder: str, name: str, n: int, seed: int, repeat: int) -> dict:
     """This script's :func:`plan_times` run with the checkout ``folder`` first on the path."""
     env = {**os.environ, "PYTHONPATH": os.path.abspath(folder)}
     code = (
@@ -183,9 +208,10 @@ def main(argv: list[str] | None = None) -> int:
     print(
         "\n| home | instructions | plans (failed) | online median ms | p95 ms | p95 first try ms "
         "| CPU median / p95 ms | (a) pyastar2d ms (CPU) | plan / (a) (CPU) "
-        "| (b) flat search ms | plan / (b) | (c) previous ms | (c) / plan | precompute s | fields MiB |"
+        "| (b) flat search ms | plan / (b) | (c) previous ms | (c) / plan | same plans as (c) | precompute s "
+        "| fields MiB |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         prev = f"{r['previous_ms']:.2f} | {r['previous_ms'] / r['median_ms']:.1f}x" if r["previous_ms"] else "- | -"
         print(
@@ -193,7 +219,8 @@ def main(argv: list[str] | None = None) -> int:
             f"{r['p95_ms']:.3f} | {r['p95_first_ms']:.3f} | {r['cpu_ms']:.3f} / {r['cpu_p95_ms']:.3f} | "
             f"{r['astar_ms']:.3f} ({r['astar_cpu_ms']:.3f}) | "
             f"{r['median_ms'] / r['astar_ms']:.1f} ({r['cpu_ms'] / r['astar_cpu_ms']:.1f}) | "
-            f"{r['flat_ms']:.3f} | {r['median_ms'] / r['flat_ms']:.1f} | {prev} | {r['precompute_s']:.3f} | "
+            f"{r['flat_ms']:.3f} | {r['median_ms'] / r['flat_ms']:.1f} | {prev} | {r['same_plans']} | "
+            f"{r['precompute_s']:.3f} | "
             f"{r['field_bytes'] / 2**20:.1f} |"
         )
     for what, med, p95, astar in (
