@@ -57,14 +57,20 @@ import numpy as np
 
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats
-from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint
+from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint_terms
 
 KINDS = ("place", "concept", "both")
 _SAVED = ("n_k", "sx", "sxx", "n_l", "n_lk", "W_lv", "bg_v", "z_tot", "trans", "F_ld", "place", "concept")
 
 
 def log_target(st: CollapsedState) -> float:
-    """log pi of the state's assignments up to a constant (module docstring)."""
+    """log pi of the state's assignments up to a constant (module docstring): the sum of ``log_target_terms``."""
+    return float(sum(log_target_terms(st).values()))
+
+
+def log_target_terms(st: CollapsedState) -> dict[str, float]:
+    """The terms of ``log_target``: those of ``posterior.log_joint_terms`` ("positions" with a place's first
+    position counted at the map's density when the state has one), plus "rescaling" (Eq. 9's unigram rescaling)."""
     priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
     stats = SufficientStats(
         GaussianStats(st.n_k, st.sx, st.sxx),
@@ -74,15 +80,15 @@ def log_target(st: CollapsedState) -> float:
         st.W_lv,
         st.bg_v if st.background else None,
     )
-    out = log_joint(priors, stats, st.trans)
+    terms = log_joint_terms(priors, stats, st.trans)
     phi = priors.phi.posterior_mean(st.n_lk)
-    out -= float(st.n_k @ np.log(phi.sum(axis=0)))  # Eq. 9 rescaling
+    terms["rescaling"] = -float(st.n_k @ np.log(phi.sum(axis=0)))  # Eq. 9 rescaling
     used = st.n_k > 0
     if st.log_new_place is not None and used.any():
         mean = st.sx[used] / st.n_k[used, None]
         one = GaussianStats(np.ones(len(mean)), mean, mean[:, :, None] * mean[:, None, :])
-        out += used.sum() * st.log_new_place - priors.gauss.log_marginal(one)
-    return float(out)
+        terms["positions"] += used.sum() * st.log_new_place - priors.gauss.log_marginal(one)
+    return terms
 
 
 def propose(
