@@ -13,7 +13,8 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
 * ``concentrations``: the posterior of the three Dirichlet-process concentrations (totals over the weak-limit
   truncation K = L = 20) given the true assignment, on a grid, prior Gamma(1, rate 1 / the paper's value): what
   resampling them (Escobar and West 1995; Teh et al. 2006) would move toward near the truth.
-* ``battery``: learned advanced WN-SPL (via) per generated home (one JSON line each).
+* ``battery``: learned advanced WN-SPL (via) per home (one JSON line each): a number is the seed of a generated
+  home, a name a dataset (the bundled homes, seed 0 as ``spcotmhp battery 3LDK_01`` uses).
 * ``learning``: ``online_eval.evaluate_online`` (5 seeds, online and batch) per home (one JSON line each).
 """
 
@@ -161,9 +162,8 @@ def main() -> None:
         elif args.what == "concentrations":
             row = concentrations(home)
         elif args.what == "battery":
-            r = evaluate_home(
-                battery_home(int(home)), "learned", int(home), learner={"hyper": hyper, "split_merge": moves}
-            )
+            data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
+            r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, "split_merge": moves})
             row = {"home": r.home, "wn_spl_via": r.wn_spl_via, "wn_spl": r.wn_spl, "spl": r.spl, "n_spl": r.n_spl}
         else:
             row = evaluate_online(load(home), seeds=5, hyper=hyper, batch_params={"split_merge": moves})
