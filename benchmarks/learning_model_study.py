@@ -16,6 +16,8 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
 * ``battery``: learned advanced WN-SPL (via) per home (one JSON line each): a number is the seed of a generated
   home, a name a dataset (the bundled homes, seed 0 as ``spcotmhp battery 3LDK_01`` uses).
 * ``learning``: ``online_eval.evaluate_online`` (5 seeds, online and batch) per home (one JSON line each).
+* ``table6``: Table 6's SpCoTMHP row (reverse replay; ``table6.evaluate_seeds``: 5 seeds x 10 runs x 100 sweeps,
+  the means over each seed's runs, mean and sd over seeds) per home.
 """
 
 from __future__ import annotations
@@ -44,7 +46,7 @@ from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.online import log_new_place_density
 from spcotmhp.learning.online_eval import evaluate_online
 from spcotmhp.learning.online_split_merge import log_target_terms
-from spcotmhp.learning.table6 import concept_truth
+from spcotmhp.learning.table6 import concept_truth, evaluate_seeds
 
 # name: (priors, batch split-merge moves); the online learner has its moves in every variant
 VARIANTS: dict[str, tuple[dict, bool]] = {
@@ -148,7 +150,7 @@ def concentrations(name: str) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=("probes", "concentrations", "battery", "learning"))
+    ap.add_argument("what", choices=("probes", "concentrations", "battery", "learning", "table6"))
     ap.add_argument("homes", nargs="+", help="battery seeds (battery) or dataset names")
     ap.add_argument("--variant", default="paper", choices=tuple(VARIANTS))
     args = ap.parse_args()
@@ -165,6 +167,8 @@ def main() -> None:
             data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
             r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, "split_merge": moves})
             row = {"home": r.home, "wn_spl_via": r.wn_spl_via, "wn_spl": r.wn_spl, "spl": r.spl, "n_spl": r.n_spl}
+        elif args.what == "table6":
+            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
         else:
             row = evaluate_online(load(home), seeds=5, hyper=hyper, batch_params={"split_merge": moves})
         row.update(variant=args.variant, seconds=time.perf_counter() - t0)
