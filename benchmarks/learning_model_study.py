@@ -166,7 +166,7 @@ def main() -> None:
         elif args.what == "battery":
             data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
             r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, "split_merge": moves})
-            row = {"home": r.home, "wn_spl_via": r.wn_spl_via, "wn_spl": r.wn_spl, "spl": r.spl, "n_spl": r.n_spl}
+            row = r.to_dict()
         elif args.what == "table6":
             row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
         else:
