@@ -16,6 +16,8 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
 * ``battery``: learned advanced WN-SPL (via) per home (one JSON line each): a number is the seed of a generated
   home, a name a dataset (the bundled homes, seed 0 as ``spcotmhp battery 3LDK_01`` uses).
 * ``learning``: ``online_eval.evaluate_online`` (5 seeds, online and batch) per home (one JSON line each).
+* ``runs``: the learned fit of the battery (10 runs, ``selection.fit_runs``) per home: each run's ARI of
+  concepts and places and collapsed log joint, and the run kept, to tell a better sampler from a luckier choice.
 * ``table6``: Table 6's SpCoTMHP row (reverse replay; ``table6.evaluate_seeds``: 5 seeds x 10 runs x 100 sweeps,
   the means over each seed's runs, mean and sd over seeds) per home.
 """
@@ -46,7 +48,8 @@ from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.online import log_new_place_density
 from spcotmhp.learning.online_eval import evaluate_online
 from spcotmhp.learning.online_split_merge import log_target_terms
-from spcotmhp.learning.table6 import concept_truth, evaluate_seeds
+from spcotmhp.learning.selection import fit_runs
+from spcotmhp.learning.table6 import concept_truth, evaluate_seeds, score_run
 
 # name: (priors, batch split-merge moves); the online learner has its moves in every variant
 VARIANTS: dict[str, tuple[dict, bool]] = {
@@ -148,9 +151,23 @@ def concentrations(name: str) -> dict:
     return out
 
 
+def runs(home: str, hyper: Hyperparameters, moves: bool) -> dict:
+    """Every run of the learned fit of a home (module docstring)."""
+    data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
+    sel = fit_runs(data, seed=seed, hyper=hyper, split_merge=moves)
+    scores = [score_run(data, e.places_, e.concepts_) for e in sel.estimators_]
+    return {
+        "home": data.name,
+        "kept": sel.best_index_,
+        "ari_c": [s["ari_c"] for s in scores],
+        "ari_i": [s["ari_i"] for s in scores],
+        "log_joint": [float(e.log_joint_) for e in sel.estimators_],
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=("probes", "concentrations", "battery", "learning", "table6"))
+    ap.add_argument("what", choices=("probes", "concentrations", "battery", "runs", "learning", "table6"))
     ap.add_argument("homes", nargs="+", help="battery seeds (battery) or dataset names")
     ap.add_argument("--variant", default="paper", choices=tuple(VARIANTS))
     args = ap.parse_args()
@@ -167,6 +184,8 @@ def main() -> None:
             data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
             r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, "split_merge": moves})
             row = r.to_dict()
+        elif args.what == "runs":
+            row = runs(home, hyper, moves)
         elif args.what == "table6":
             row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
         else:
