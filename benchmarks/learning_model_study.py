@@ -51,14 +51,17 @@ from spcotmhp.learning.online_split_merge import log_target_terms
 from spcotmhp.learning.selection import fit_runs
 from spcotmhp.learning.table6 import concept_truth, evaluate_seeds, score_run
 
-# name: (priors, batch split-merge moves); the online learner has its moves in every variant
-VARIANTS: dict[str, tuple[dict, bool]] = {
-    "paper": ({}, False),
-    "paper+sm": ({}, True),
-    "size1": ({"place_size": 1.0}, False),
-    "size1+sm": ({"place_size": 1.0}, True),
-    "size0.75": ({"place_size": 0.75}, False),
-    "size1.5": ({"place_size": 1.5}, False),
+# name: (priors, settings of the batch learner's fit); the online learner has its moves in every variant
+SWITCH_MODE = {"criterion": "log_joint_switch_mode"}
+VARIANTS: dict[str, tuple[dict, dict]] = {
+    "paper": ({}, {}),
+    "paper+sm": ({}, {"split_merge": True}),
+    "paper+switch-mode": ({}, SWITCH_MODE),
+    "size1": ({"place_size": 1.0}, {}),
+    "size1+sm": ({"place_size": 1.0}, {"split_merge": True}),
+    "size1+switch-mode": ({"place_size": 1.0}, SWITCH_MODE),
+    "size0.75": ({"place_size": 0.75}, {}),
+    "size1.5": ({"place_size": 1.5}, {}),
 }
 PAPER_TOTALS = {"alpha": 10.0, "gamma": 1.0, "omega": 10.0}
 
@@ -151,10 +154,10 @@ def concentrations(name: str) -> dict:
     return out
 
 
-def runs(home: str, hyper: Hyperparameters, moves: bool) -> dict:
+def runs(home: str, hyper: Hyperparameters, fit: dict) -> dict:
     """Every run of the learned fit of a home (module docstring)."""
     data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
-    sel = fit_runs(data, seed=seed, hyper=hyper, split_merge=moves)
+    sel = fit_runs(data, seed=seed, hyper=hyper, **fit)
     scores = [score_run(data, e.places_, e.concepts_) for e in sel.estimators_]
     return {
         "home": data.name,
@@ -171,7 +174,8 @@ def main() -> None:
     ap.add_argument("homes", nargs="+", help="battery seeds (battery) or dataset names")
     ap.add_argument("--variant", default="paper", choices=tuple(VARIANTS))
     args = ap.parse_args()
-    priors, moves = VARIANTS[args.variant]
+    priors, fit = VARIANTS[args.variant]
+    moves = bool(fit.get("split_merge", False))
     hyper = Hyperparameters(**priors)
     warnings.simplefilter("ignore")
     for home in args.homes:
@@ -182,10 +186,10 @@ def main() -> None:
             row = concentrations(home)
         elif args.what == "battery":
             data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
-            r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, "split_merge": moves})
+            r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, **fit})
             row = r.to_dict()
         elif args.what == "runs":
-            row = runs(home, hyper, moves)
+            row = runs(home, hyper, fit)
         elif args.what == "table6":
             row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
         else:

@@ -68,19 +68,18 @@ def log_target(st: CollapsedState) -> float:
     return float(sum(log_target_terms(st).values()))
 
 
+def state_stats(st: CollapsedState) -> SufficientStats:
+    """The sufficient statistics a learner state holds (its count arrays, not copies)."""
+    return SufficientStats(
+        GaussianStats(st.n_k, st.sx, st.sxx), st.n_l, st.n_lk, st.F_ld, st.W_lv, st.bg_v if st.background else None
+    )
+
+
 def log_target_terms(st: CollapsedState) -> dict[str, float]:
     """The terms of ``log_target``: those of ``posterior.log_joint_terms`` ("positions" with a place's first
     position counted at the map's density when the state has one), plus "rescaling" (Eq. 9's unigram rescaling)."""
     priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
-    stats = SufficientStats(
-        GaussianStats(st.n_k, st.sx, st.sxx),
-        st.n_l,
-        st.n_lk,
-        st.F_ld,
-        st.W_lv,
-        st.bg_v if st.background else None,
-    )
-    terms = log_joint_terms(priors, stats, st.trans)
+    terms = log_joint_terms(priors, state_stats(st), st.trans)
     phi = priors.phi.posterior_mean(st.n_lk)
     terms["rescaling"] = -float(st.n_k @ np.log(phi.sum(axis=0)))  # Eq. 9 rescaling
     used = st.n_k > 0
