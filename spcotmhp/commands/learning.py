@@ -139,7 +139,8 @@ def learn(
         str | None,
         typer.Option(
             help="Run selection: auto (default: mutual_information with image features, else log_joint), "
-            "mutual_information or log_joint."
+            "mutual_information, log_joint or log_joint_switch_mode (the joint with the background-word switches "
+            "at a local mode; docs/learning-model-study.md)."
         ),
     ] = None,
     connectivity: Annotated[

@@ -27,9 +27,10 @@ from __future__ import annotations
 
 import multiprocessing
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -70,9 +71,16 @@ class HomeBattery:
         return asdict(self)
 
 
-def evaluate_home(dataset: Dataset, params: str, seed: int = 0, max_advanced: int | None = 60) -> HomeBattery:
-    """Build the home's context (fit or learn, precompute) and run the battery's tasks on it."""
-    ctx = build_context(dataset, params, seed)
+def evaluate_home(
+    dataset: Dataset,
+    params: str,
+    seed: int = 0,
+    max_advanced: int | None = 60,
+    learner: Mapping[str, Any] | None = None,
+) -> HomeBattery:
+    """Build the home's context (fit or learn, precompute; ``learner``: settings of the learner for learned
+    parameters, e.g. ``{"hyper": Hyperparameters(place_size=1.0)}``) and run the battery's tasks on it."""
+    ctx = build_context(dataset, params, seed, learner=learner)
     out = HomeBattery(dataset.name, params)
     basic = make_tasks(dataset, "basic", ctx.adjacency, places=ctx.places).tasks
     advanced = subset(make_tasks(dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, max_advanced, seed)

@@ -13,7 +13,9 @@ the context says so in its notes, and the evaluation output carries them.
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -90,11 +92,17 @@ def place_adjacency(dataset: Dataset) -> tuple[np.ndarray, str]:
 
 
 def fit_params(
-    dataset: Dataset, params: str, adjacency: np.ndarray, seed: int, connectivity: str = "auto"
+    dataset: Dataset,
+    params: str,
+    adjacency: np.ndarray,
+    seed: int,
+    connectivity: str = "auto",
+    learner: Mapping[str, Any] | None = None,
 ) -> SpatialConceptModel:
     """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
     unsupervised Gibbs sampling: the learner's default number of runs and selection criterion; ``connectivity``
-    is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`) parameters."""
+    is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`; ``learner``: other settings of
+    the learner, e.g. ``hyper`` or ``split_merge``) parameters."""
     if params == "supervised":
         from spcotmhp.learning.supervised import fit_supervised
 
@@ -104,14 +112,19 @@ def fit_params(
 
         if connectivity not in CONNECTIVITY:
             raise DatasetError(f"connectivity must be one of {', '.join(CONNECTIVITY)}, got {connectivity!r}")
-        return fit_runs(dataset, seed=seed, connectivity=connectivity).model_
+        return fit_runs(dataset, seed=seed, connectivity=connectivity, **dict(learner or {})).model_
     raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
 
 
 def build_context(
-    dataset: Dataset, params: str = "supervised", seed: int = 0, connectivity: str = "auto"
+    dataset: Dataset,
+    params: str = "supervised",
+    seed: int = 0,
+    connectivity: str = "auto",
+    learner: Mapping[str, Any] | None = None,
 ) -> HomeContext:
-    """Fit (or learn) the parameters and precompute everything offline for one home."""
+    """Fit (or learn) the parameters and precompute everything offline for one home (``learner``: settings of
+    the learner for learned parameters, ``fit_params``)."""
     from spcotmhp.baselines.hpp import EDGE_COSTS, HPP
 
     if params not in PARAMS:
@@ -120,7 +133,7 @@ def build_context(
     places = build_places(dataset)
     adjacency, source = place_adjacency(dataset)
     t0 = time.perf_counter()
-    model = fit_params(dataset, params, adjacency, seed, connectivity)
+    model = fit_params(dataset, params, adjacency, seed, connectivity, learner)
     if model.map is None:
         model.map = dataset.map
     timings["fit_s"] = time.perf_counter() - t0

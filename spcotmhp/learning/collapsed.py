@@ -208,19 +208,34 @@ class CollapsedState:
         if sign < 0:
             self.place[e] = self.concept[e] = -1
 
-    def _switches(self, e: int, rng: np.random.Generator) -> None:
-        """Resample each token's background switch z_eb given the rest (concepts.py's step, one event)."""
+    def _switches(self, e: int, rng: np.random.Generator | None) -> int:
+        """Resample each token's background switch z_eb given the rest (concepts.py's step, one event); without
+        ``rng`` set each to its more probable value instead (one step of iterated conditional modes). Returns
+        the number of switches changed."""
         l, beta, V = self.concept[e], self.hyper.beta, self.V
+        changed = 0
         for j, v in enumerate(self.tokens[e]):
-            on = self.z[e][j]
+            was = on = self.z[e][j]
             (self.W_lv[l] if on else self.bg_v)[v] -= 1.0
             self.z_tot[int(on)] -= 1.0
             p1 = (self.z_tot[1] + SWITCH_PRIOR) * (self.W_lv[l, v] + beta) / (self.W_lv[l].sum() + V * beta)
             p0 = (self.z_tot[0] + SWITCH_PRIOR) * (self.bg_v[v] + beta) / (self.bg_v.sum() + V * beta)
-            on = bool(rng.random() * (p0 + p1) < p1)
+            on = bool(p1 > p0) if rng is None else bool(rng.random() * (p0 + p1) < p1)
             self.z[e][j] = on
+            changed += on != was
             (self.W_lv[l] if on else self.bg_v)[v] += 1.0
             self.z_tot[int(on)] += 1.0
+        return changed
+
+    def switch_mode(self, sweeps: int = 50) -> None:
+        """Iterated conditional modes on the token switches, the places and concepts held: every switch set to its
+        more probable value given the others, in event order, until a sweep changes none (at most ``sweeps``).
+        A deterministic function of the state, which raises the collapsed joint at every change."""
+        if not self.background:
+            return
+        for _ in range(sweeps):
+            if not sum(self._switches(e, None) for e in range(self.E)):
+                return
 
 
 def _pad(a: np.ndarray, extra: int, axis: int = 0) -> np.ndarray:

@@ -417,6 +417,10 @@ def _hyper(path: Path, raw: dict) -> Hyperparameters:
                 f"finite numbers, got {V0!r}"
             )
         values["V0"] = tuple(tuple(float(v) for v in row) for row in V0)
+    if values.get("place_size") is not None and not _positive(values["place_size"]):
+        raise ModelError(
+            f"{path}: hyper-parameter place_size must be a finite number > 0 or null, got {values['place_size']!r}"
+        )
     try:
         return Hyperparameters(**values)
     except (TypeError, ValueError) as exc:

@@ -23,6 +23,12 @@ ALPHA_TOTAL = 10.0
 GAMMA_TOTAL = 1.0
 OMEGA_TOTAL = 10.0
 SCALED_PRIORS = ("alpha", "gamma", "omega")
+# The paper's place prior: Sigma_k ~ IW(V0 = 2 I, nu0 = 3), whose mean V0 / (nu0 - 3) does not exist in 2-D.
+PAPER_NU0 = 3.0
+PAPER_V0 = ((2.0, 0.0), (0.0, 2.0))
+# ``place_size``'s prior: nu0 - 3 = 2 pseudo-observations of the stated spread, so that V0 = 2 s^2 I (the paper's
+# V0 at s = 1 m) and E[Sigma] = V0 / (nu0 - 3) = s^2 I.
+PLACE_SIZE_NU0 = 5.0
 DERIVED = float("nan")  # the default of alpha, gamma and omega: derived from the truncation in __post_init__
 
 
@@ -38,6 +44,12 @@ class Hyperparameters:
     alpha: pi ~ DP(alpha) (weak limit: Dir(alpha/L... given per component)); gamma: phi_l ~ DP(gamma);
     beta: W_l ~ Dir(beta); chi: theta_l ~ Dir(chi); omega: psi_k ~ DP(omega); NIW (m0, kappa0, V0, nu0).
     The values are per-component Dirichlet parameters as the authors used them.
+
+    place_size (metres, default None: the paper's nu0 = 3, V0 = 2 I, under which E[Sigma] = V0 / (nu0 - 3) is
+    infinite in 2-D): the expected standard deviation s of one place's teaching positions along each axis.  Given,
+    it sets nu0 = 5 and V0 = 2 s^2 I, so that E[Sigma_k] = s^2 I (Eq. 6 with a finite prior mean; the prior
+    weighs like two observations of that spread).  nu0 and V0 must then be left at the paper's values (or equal
+    the derived ones, as a saved model gives them back).
 
     alpha, gamma and omega left unset (``DERIVED``; None is accepted too) follow the truncation: alpha = 10 / L,
     gamma = 1 / K, omega = 10 / K (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20
@@ -55,10 +67,13 @@ class Hyperparameters:
     omega: float = DERIVED
     m0: tuple[float, float] = (0.0, 0.0)
     kappa0: float = 1e-3
-    V0: tuple[tuple[float, float], tuple[float, float]] = ((2.0, 0.0), (0.0, 2.0))
-    nu0: float = 3.0
+    V0: tuple[tuple[float, float], tuple[float, float]] = PAPER_V0
+    nu0: float = PAPER_NU0
+    place_size: float | None = None
 
     def __post_init__(self) -> None:
+        if self.place_size is not None:
+            self.nu0, self.V0 = place_size_prior(self.place_size, self.nu0, self.V0)
         self._derived = tuple(name for name in SCALED_PRIORS if _unset(getattr(self, name)))
         if self._derived and not (self.L >= 1 and self.K >= 1):
             raise ValueError(f"L and K must be >= 1 to derive {', '.join(self._derived)}, got L={self.L}, K={self.K}")
@@ -75,6 +90,25 @@ class Hyperparameters:
         values = {f.name: getattr(self, f.name) for f in fields(self)}
         values.update(L=L, K=K, **{name: DERIVED for name in getattr(self, "_derived", ())})
         return Hyperparameters(**values)
+
+
+def place_size_prior(
+    size: float, nu0: float, V0: tuple[tuple[float, float], tuple[float, float]]
+) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
+    """(nu0, V0) of the inverse-Wishart place prior whose mean is size^2 I (``Hyperparameters.place_size``);
+    ValueError for a size that is not a finite number > 0, or when ``nu0`` / ``V0`` were given other values.
+
+    >>> place_size_prior(1.5, 3.0, ((2.0, 0.0), (0.0, 2.0)))
+    (5.0, ((4.5, 0.0), (0.0, 4.5)))
+    """
+    if isinstance(size, bool) or not isinstance(size, (int, float)) or not 0 < size < float("inf"):
+        raise ValueError(f"place_size must be a finite number of metres > 0, got {size!r}")
+    v = (PLACE_SIZE_NU0 - 3.0) * float(size) ** 2
+    derived = (PLACE_SIZE_NU0, ((v, 0.0), (0.0, v)))
+    given = (float(nu0), tuple(tuple(float(x) for x in row) for row in V0))
+    if given not in ((PAPER_NU0, PAPER_V0), derived):
+        raise ValueError(f"place_size sets nu0 and V0 (to {derived[0]:g} and {v:g} I): give one or the other")
+    return derived
 
 
 @dataclass

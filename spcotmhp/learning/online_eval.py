@@ -13,6 +13,7 @@ and batch learning stopped short of it)."""
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -21,7 +22,7 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.learner_state import state_of_member
-from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, log_new_place_density
 from spcotmhp.learning.online_split_merge import log_target
 from spcotmhp.learning.selection import MultiRunSelector
@@ -50,16 +51,19 @@ def evaluate_online(
     K: int = 20,
     L: int = 20,
     batch: bool = True,
+    hyper: Hyperparameters | None = None,
+    batch_params: Mapping[str, Any] | None = None,
     **params,
 ) -> dict:
     """{"dataset", "events", "seeds", "online": {scores, "std", "update_ms": {median, p95, max}}, "batch": {...},
-    "difference": online - batch}; seed s of ``seeds`` is ``seed + s``; ``params`` go to OnlineSpCoTMHP."""
+    "difference": online - batch}; seed s of ``seeds`` is ``seed + s``; ``hyper`` (the priors) goes to both
+    learners, ``params`` to OnlineSpCoTMHP only and ``batch_params`` (e.g. ``split_merge``) to SpCoTMHP only."""
     concept_truth(dataset)
     events = dataset_events(dataset, use_features)
     scores, times, samples = [], [], []
     for s in range(seeds):
         learner = OnlineSpCoTMHP(
-            K=K, L=L, use_features=use_features, map=dataset.map, check_map=False, seed=seed + s, **params
+            K=K, L=L, use_features=use_features, map=dataset.map, check_map=False, seed=seed + s, hyper=hyper, **params
         )
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TruncationWarning)
@@ -84,16 +88,26 @@ def evaluate_online(
         },
     }
     if batch:
-        out["batch"] = evaluate_batch(dataset, seeds, seed, iterations, n_jobs, use_features, K, L)
+        settings = dict(batch_params or {}, hyper=hyper)
+        out["batch"] = evaluate_batch(dataset, seeds, seed, iterations, n_jobs, use_features, K, L, settings)
         out["difference"] = {k: out["online"][k] - out["batch"][k] for k in SCORES}
     return out
 
 
 def evaluate_batch(
-    dataset: Dataset, runs: int, seed: int, iterations: int, n_jobs: int, use_features: bool, K: int, L: int
+    dataset: Dataset,
+    runs: int,
+    seed: int,
+    iterations: int,
+    n_jobs: int,
+    use_features: bool,
+    K: int,
+    L: int,
+    learner: Mapping[str, Any] | None = None,
 ) -> dict:
     """Batch learning's side of ``evaluate_online``: the means of ``runs`` runs of SpCoTMHP with reverse replay
-    (``table6.evaluate_learning``), their standard deviations, the time, and their final samples."""
+    (``table6.evaluate_learning``; ``learner``: other settings of SpCoTMHP), their standard deviations, the time,
+    and their final samples."""
     fitted: list[MultiRunSelector] = []
     b = evaluate_learning(
         dataset,
@@ -106,6 +120,7 @@ def evaluate_batch(
         K=K,
         L=L,
         on_fit=lambda _name, sel: fitted.append(sel),
+        **dict(learner or {}),
     )["tmhp_replay"]
     return {
         **{k: getattr(b, k) for k in SCORES},

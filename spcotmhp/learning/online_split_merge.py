@@ -57,32 +57,37 @@ import numpy as np
 
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats
-from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint
+from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint_terms
 
 KINDS = ("place", "concept", "both")
 _SAVED = ("n_k", "sx", "sxx", "n_l", "n_lk", "W_lv", "bg_v", "z_tot", "trans", "F_ld", "place", "concept")
 
 
 def log_target(st: CollapsedState) -> float:
-    """log pi of the state's assignments up to a constant (module docstring)."""
-    priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
-    stats = SufficientStats(
-        GaussianStats(st.n_k, st.sx, st.sxx),
-        st.n_l,
-        st.n_lk,
-        st.F_ld,
-        st.W_lv,
-        st.bg_v if st.background else None,
+    """log pi of the state's assignments up to a constant (module docstring): the sum of ``log_target_terms``."""
+    return float(sum(log_target_terms(st).values()))
+
+
+def state_stats(st: CollapsedState) -> SufficientStats:
+    """The sufficient statistics a learner state holds (its count arrays, not copies)."""
+    return SufficientStats(
+        GaussianStats(st.n_k, st.sx, st.sxx), st.n_l, st.n_lk, st.F_ld, st.W_lv, st.bg_v if st.background else None
     )
-    out = log_joint(priors, stats, st.trans)
+
+
+def log_target_terms(st: CollapsedState) -> dict[str, float]:
+    """The terms of ``log_target``: those of ``posterior.log_joint_terms`` ("positions" with a place's first
+    position counted at the map's density when the state has one), plus "rescaling" (Eq. 9's unigram rescaling)."""
+    priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
+    terms = log_joint_terms(priors, state_stats(st), st.trans)
     phi = priors.phi.posterior_mean(st.n_lk)
-    out -= float(st.n_k @ np.log(phi.sum(axis=0)))  # Eq. 9 rescaling
+    terms["rescaling"] = -float(st.n_k @ np.log(phi.sum(axis=0)))  # Eq. 9 rescaling
     used = st.n_k > 0
     if st.log_new_place is not None and used.any():
         mean = st.sx[used] / st.n_k[used, None]
         one = GaussianStats(np.ones(len(mean)), mean, mean[:, :, None] * mean[:, None, :])
-        out += used.sum() * st.log_new_place - priors.gauss.log_marginal(one)
-    return float(out)
+        terms["positions"] += used.sum() * st.log_new_place - priors.gauss.log_marginal(one)
+    return terms
 
 
 def propose(

@@ -142,28 +142,35 @@ def log_place_prior(priors: Priors, stats: SufficientStats) -> np.ndarray:
 
 
 def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> float:
-    """Collapsed log joint log p(x, S, f, i, C | h) with every parameter integrated out.
+    """Collapsed log joint log p(x, S, f, i, C | h) with every parameter integrated out: the sum of
+    ``log_joint_terms``.  Deterministic given an assignment, so it ranks runs without the noise of the last
+    parameter draw."""
+    return float(sum(log_joint_terms(priors, stats, transitions).values()))
 
-    Sum of the NIW marginal of the positions per place and the Dirichlet-multinomial marginals of C (pi),
-    i given C (phi), f (theta), S (W) and, unless ``transitions`` is None, of the place transitions (psi).
+
+def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> dict[str, float]:
+    """The terms of the collapsed log joint, by the parameter integrated out: "positions" (the NIW marginal of
+    the positions per place, Eqs. 5-6), "pi" (C), "phi" (i given C), "W" (the concept words), "theta" (f, when
+    there are features), "psi" (the place transitions, unless ``transitions`` is None), "background" (the
+    background words and the switches, when kept); Dirichlet-multinomial marginals but the first.
+
     Eq. 9 combines psi and phi as a product of experts; here both enter as their own multinomial terms (the
-    normaliser of the product is not part of the comparison).  Deterministic given an assignment, so it
-    ranks runs without the noise of the last parameter draw.
-    """
-    lj = (
-        priors.gauss.log_marginal(stats.gauss)
-        + priors.pi.log_marginal(stats.concepts[None, :])
-        + priors.phi.log_marginal(stats.place_given_concept)
-        + priors.W.log_marginal(stats.words)
-    )
+    normaliser of the product is not part of the comparison)."""
+    terms = {
+        "positions": priors.gauss.log_marginal(stats.gauss),
+        "pi": priors.pi.log_marginal(stats.concepts[None, :]),
+        "phi": priors.phi.log_marginal(stats.place_given_concept),
+        "W": priors.W.log_marginal(stats.words),
+    }
     if priors.theta is not None and stats.features is not None:
-        lj += priors.theta.log_marginal(stats.features)
+        terms["theta"] = priors.theta.log_marginal(stats.features)
     if transitions is not None:
-        lj += priors.psi.log_marginal(transitions)
+        terms["psi"] = priors.psi.log_marginal(transitions)
     if stats.background is not None:
-        lj += priors.background.log_marginal(stats.background[None, :])
-        lj += priors.switch.log_marginal(np.array([[stats.background.sum(), stats.words.sum()]]))
-    return float(lj)
+        terms["background"] = priors.background.log_marginal(stats.background[None, :]) + priors.switch.log_marginal(
+            np.array([[stats.background.sum(), stats.words.sum()]])
+        )
+    return terms
 
 
 def mutual_information(pi: np.ndarray, W: np.ndarray) -> float:

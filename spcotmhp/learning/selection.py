@@ -7,6 +7,11 @@ Criteria:
   highest, i.e. whose concepts are most clearly told apart by their words.
 * ``"log_joint"``: the run with the highest collapsed log joint probability log p(x, S, f, i, C | h), the
   model's own posterior.
+* ``"log_joint_switch_mode"``: the same joint with each run's background-word switches z set to a local mode
+  given its places and concepts (``CollapsedState.switch_mode``) instead of their last draw.  The runs are
+  compared by their places and concepts; the last draw of the switches moves the joint by tens of nats (on
+  generated homes, resampling the switches of the true assignment lowered it by about 90), which is noise in
+  that comparison.  Not the default (docs/learning-model-study.md has its measurements).
 
 Why ``"auto"``: the log joint is the principled choice (the most probable run under the model), and it picks the
 best runs on words-only data; but with image features the high-dimensional feature term dominates the joint and
@@ -34,8 +39,9 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.posterior import Priors, log_joint
 
-CRITERIA = ("auto", "mutual_information", "log_joint")
+CRITERIA = ("auto", "mutual_information", "log_joint", "log_joint_switch_mode")
 
 
 @dataclass
@@ -100,7 +106,12 @@ class MultiRunSelector:
         if criterion == "auto":
             criterion = "mutual_information" if self.estimators_[0].model_.info.get("features") else "log_joint"
         self.criterion_ = criterion
-        score = [s.mutual_information if criterion == "mutual_information" else s.log_joint for s in self.summaries_]
+        if criterion == "log_joint_switch_mode":
+            score = [switch_mode_log_joint(e) for e in self.estimators_]
+        else:
+            score = [
+                s.mutual_information if criterion == "mutual_information" else s.log_joint for s in self.summaries_
+            ]
         self.best_index_ = int(np.argmax(score))
         self.best_ = self.estimators_[self.best_index_]
         self.model_: SpatialConceptModel = self.best_.model_
@@ -110,6 +121,21 @@ class MultiRunSelector:
             apply_connectivity(self.model_, seen, connectivity, self.best_.places_)
         self.fit_time_ = time.perf_counter() - t0
         return self
+
+
+def switch_mode_log_joint(estimator: SpCoTMHP) -> float:
+    """The collapsed log joint (``posterior.log_joint``) of a fitted run's final places and concepts with its
+    background-word switches at a local mode (``CollapsedState.switch_mode``) instead of their last draw."""
+    from spcotmhp.learning.learner_state import state_of_member
+    from spcotmhp.learning.online_split_merge import state_stats
+
+    model = estimator.model_
+    if model.learner is None:
+        raise ModelError("the run keeps no final sample (learner member) to score")
+    st = state_of_member(model.learner, model)
+    st.switch_mode()
+    priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
+    return log_joint(priors, state_stats(st), st.trans if estimator.transitions == "hmm" else None)
 
 
 def fit_runs(

@@ -320,6 +320,7 @@ def test_non_finite_cost_map_setting(saved):
         ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
         ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
         ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix"),
+        ("place_size", -2, r"hyper-parameter place_size must be a finite number > 0 or null, got -2"),
     ],
 )
 def test_bad_hyper_parameters_are_refused(saved, name, value, message):

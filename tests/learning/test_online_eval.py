@@ -86,3 +86,22 @@ def test_a_model_without_its_sample_is_refused(planted):
     model.learner = None
     with pytest.raises(ModelError, match="final sample"):
         batch_sample_summary(model, planted)
+
+
+def test_priors_go_to_both_learners(planted, result):
+    """``hyper`` reaches the online and the batch learner: both sides' samples are scored under the sized place
+    prior, and each side's log target is that of its own learner under it."""
+    from spcotmhp.learning.model import Hyperparameters
+
+    hyper = Hyperparameters(place_size=0.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sized = evaluate_online(planted, seeds=1, seed=5, iterations=8, hyper=hyper)
+        learner = OnlineSpCoTMHP(map=planted.map, check_map=False, seed=5, hyper=hyper)
+        for event in dataset_events(planted):
+            learner.partial_fit([event])
+        batch = SpCoTMHP(iterations=8, seed=5, run=0, connectivity="hmm", hyper=hyper).fit(planted)
+    assert sized["online"]["sample"]["log_target"] == pytest.approx(log_target(learner.state_), rel=1e-12)
+    want = batch_sample_summary(batch.model_, planted)["log_target"]
+    assert batch.model_.hyper.place_size == 0.5
+    assert sized["batch"]["sample"]["log_target"] == pytest.approx(want, rel=1e-12)

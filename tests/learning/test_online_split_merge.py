@@ -209,3 +209,13 @@ def test_a_name_split_over_concepts_by_the_stream_is_merged_by_the_moves():
         assert len(set(single.concepts_)) > 1 and len(set(moves.places_)) == 2
         one += len(set(moves.concepts_)) == 1
     assert one >= 4
+
+
+def test_target_terms_add_up_to_the_target():
+    """``log_target_terms`` is the target by term: they sum to ``log_target`` and name every model term."""
+    from spcotmhp.learning.online_split_merge import log_target_terms
+
+    st = state((0, 0, 1, 1), (0, 0, 1, 1), new_place=-2.0)
+    terms = log_target_terms(st)
+    assert set(terms) == {"positions", "pi", "phi", "W", "theta", "psi", "rescaling"}
+    assert sum(terms.values()) == pytest.approx(log_target(st), rel=1e-12)

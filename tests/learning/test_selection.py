@@ -95,3 +95,47 @@ def test_bad_settings(data):
         MultiRunSelector(runs=2, criterion="coin").fit(data)
     with pytest.raises(ModelError, match="runs must be >= 1"):
         MultiRunSelector(runs=0).fit(data)
+
+
+def _state_joint(st, transitions=True) -> float:
+    from spcotmhp.learning.online_split_merge import state_stats
+    from spcotmhp.learning.posterior import Priors, log_joint
+
+    priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
+    return log_joint(priors, state_stats(st), st.trans if transitions else None)
+
+
+def test_switch_mode_is_a_local_maximum_of_the_joint(data):
+    """The run's stored joint is its final state's; iterated conditional modes never lower it and end where no
+    single switch flipped raises it (brute force over every token)."""
+    from spcotmhp.learning.learner_state import state_of_member
+
+    run = SpCoTMHP(iterations=10, seed=1, connectivity="hmm").fit(data)
+    st = state_of_member(run.model_.learner, run.model_)
+    assert _state_joint(st) == pytest.approx(run.log_joint_, rel=1e-12)
+    before = _state_joint(st)
+    st.switch_mode()
+    mode = _state_joint(st)
+    assert mode >= before
+    for e in range(st.E):
+        l = st.concept[e]
+        for j, v in enumerate(st.tokens[e]):
+            on = bool(st.z[e][j])
+            (st.W_lv[l] if on else st.bg_v)[v] -= 1.0
+            (st.bg_v if on else st.W_lv[l])[v] += 1.0
+            st.z_tot += np.array([1.0, -1.0]) if on else np.array([-1.0, 1.0])
+            assert _state_joint(st) <= mode + 1e-9
+            (st.bg_v if on else st.W_lv[l])[v] -= 1.0
+            (st.W_lv[l] if on else st.bg_v)[v] += 1.0
+            st.z_tot -= np.array([1.0, -1.0]) if on else np.array([-1.0, 1.0])
+    st.switch_mode()
+    assert _state_joint(st) == pytest.approx(mode, rel=1e-12)
+
+
+def test_the_switch_mode_criterion_keeps_the_run_of_highest_switch_mode_joint(data):
+    from spcotmhp.learning.selection import switch_mode_log_joint
+
+    sel = fit_runs(data, runs=3, iterations=10, criterion="log_joint_switch_mode", connectivity="hmm")
+    scores = [switch_mode_log_joint(e) for e in sel.estimators_]
+    assert sel.criterion_ == "log_joint_switch_mode" and sel.best_index_ == int(np.argmax(scores))
+    assert all(s >= e.log_joint_ for s, e in zip(scores, sel.estimators_, strict=True))

@@ -39,6 +39,8 @@ ARGS = [
     "--disable-sync",
 ]
 
+WAIT_MS = 120_000
+
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
@@ -60,6 +62,9 @@ def page(tmp_path):
         )
         try:
             pg = browser.new_page()
+            # waits are for readiness, not speed (benchmarks/ measures speed): a loaded 2-core machine can take
+            # more than Playwright's default 30 s to start the page's first plan; a hang still fails
+            pg.set_default_timeout(WAIT_MS)
             errors: list[str] = []
             pg.on("pageerror", lambda exc: errors.append(str(exc)))
             pg.errors = errors
