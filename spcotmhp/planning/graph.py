@@ -30,7 +30,7 @@ an obstacle. Candidate points are snapped into their own place's territory (:mod
 within the largest free component; a place with no such cell has no node and is reported in
 ``info["unreachable_places"]``.
 
-Avoided places (:meth:`PlanningGraph.with_avoided`) block their territories, in views that share the fields a
+Avoided places (:func:`spcotmhp.planning.avoid.avoided_view`) block their territories, in views that share the fields a
 blocked region does not change (:mod:`spcotmhp.planning.avoid`).
 
 For path smoothing (Algorithm 1, line 13; :mod:`spcotmhp.planning.assemble`) the graph also keeps each cell's
@@ -41,7 +41,7 @@ territory, every place's territory grown by ``tube_margin`` metres (a window and
 At building scale the per-node fields over the whole crop (M x h x w) do not fit: beyond
 ``GraphSettings.max_dense_bytes`` the fields are territory-local and the nodes are joined through a portal graph
 (HPA* with the territories as clusters, :mod:`spcotmhp.planning.hierarchy`): the same step cost, the same queries
-(``start_w_hat``, ``leg``, ``edge_path``, ``field_piece``, ``with_avoided``, ``cost_to_nodes``), ``dist`` and
+(``start_w_hat``, ``leg``, ``edge_path``, ``field_piece``, avoidance views, ``cost_to_nodes``), ``dist`` and
 ``next_step`` empty, and :meth:`PlanningGraph.update_place` / :meth:`PlanningGraph.update` recompute only the
 fields of territories whose cells or costs changed.
 
@@ -77,7 +77,6 @@ from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
-from spcotmhp.planning.avoid import avoided_view, refresh_shared
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.places import candidate_nodes, connected_places
@@ -90,8 +89,9 @@ class PlanningGraph:
     """Candidate nodes, cost-to-go fields and partial-path likelihoods for one model + map + settings.
 
     Grids (``log_p``, ``traversable``, ``dist[j]``, ``next_step[j]``) cover the crop ``offset`` .. ``offset +
-    shape`` of the map; node cells are in crop coordinates (add ``offset`` for map cells). A graph made by
-    :meth:`with_avoided` has ``blocked`` (crop mask) and ``usable`` (nodes outside the avoided places).
+    shape`` of the map; node cells are in crop coordinates (add ``offset`` for map cells). A view made by
+    :func:`~spcotmhp.planning.avoid.avoided_view` has ``blocked`` (crop mask) and ``usable`` (nodes outside the
+    avoided places).
     """
 
     model: SpatialConceptModel
@@ -287,10 +287,8 @@ class PlanningGraph:
         """(M,) log-likelihood of the best start leg from crop cell ``cell`` into each node (-inf: none).
 
         In an avoidance view, a shared field whose path from ``cell`` enters the blocked region is recomputed
-        first (and kept), so the value is exact for the blocked map (:func:`~spcotmhp.planning.avoid.
-        refresh_shared`)."""
-        if self.blocked is not None:
-            refresh_shared(self, cell)
+        first (and kept), so the value is exact for the blocked map (:class:`~spcotmhp.planning.avoid.
+        AvoidanceView`)."""
         return np.where(self.usable, self.end_term - self.cost_to_nodes(cell), -np.inf)
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
@@ -397,12 +395,6 @@ class PlanningGraph:
             rr, cc = np.indices(self.log_p.shape)
             self._centres = self.model.require_map().cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
         return self._centres
-
-    def with_avoided(self, places: tuple[int, ...]) -> PlanningGraph:
-        """A view with no node in ``places`` whose paths never enter their territories, exact for the blocked
-        map: fields are shared with this graph unless a path from a node into them crosses the territories, in
-        which case they are recomputed. Memoised for the most recent place sets (:mod:`spcotmhp.planning.avoid`)."""
-        return avoided_view(self, places)
 
     # ---- incremental update (online learning) -----------------------------------------------------------
     def update_place(self, k: int, mu: np.ndarray, Sigma: np.ndarray, cache: GraphCache | None = None) -> PlanningGraph:
