@@ -45,7 +45,8 @@ At building scale the per-node fields over the whole crop (M x h x w) do not fit
 ``next_step`` empty, and :meth:`PlanningGraph.update_place` / :meth:`PlanningGraph.update` recompute only the
 fields of territories whose cells or costs changed.
 
-Everything is computed on the bounding box of the traversable cells (``offset``). A graph is cached only in a
+Everything is computed on the bounding box of the traversable cells (``offset``; the crop, territories and
+candidates: :mod:`spcotmhp.planning.precompute`). A graph is cached only in a
 :class:`~spcotmhp.planning.graph_cache.GraphCache` its caller owns and passes to :meth:`PlanningGraph.build`,
 keyed by a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale
 graph.
@@ -72,16 +73,13 @@ import numpy as np
 import spcotmhp.planning.hierarchy as hierarchy
 from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.territory import place_territories
-from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
-from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
-from spcotmhp.planning.places import candidate_nodes, connected_places
+from spcotmhp.planning.precompute import graph_inputs
 from spcotmhp.planning.sight import chessboard_clearance
-from spcotmhp.planning.territory import grown_territories, tube_window
+from spcotmhp.planning.territory import tube_window
 
 
 @dataclass
@@ -164,55 +162,7 @@ class PlanningGraph:
     @classmethod
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
         t0 = time.perf_counter()
-        occ = model.require_map()
-        log_p, (r0, r1, c0, c1) = _crop(
-            occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
-        )
-        traversable = np.isfinite(log_p)
-        rr, cc = np.indices(log_p.shape)
-        centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
-        act = np.flatnonzero(model.active_places)
-        main = largest_component(traversable)
-        territory = place_territories(model, traversable, centres, offset=(int(r0), int(c0)))
-        node_place, cells, end_term = candidate_nodes(
-            model,
-            settings.n_candidates,
-            settings.seed,
-            settings.candidate_quantile,
-            (int(r0), int(c0)),
-            main,
-            territory,
-        )
-        unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
-
-        graph = cls(
-            model=model,
-            settings=settings,
-            key=key,
-            offset=(int(r0), int(c0)),
-            log_p=log_p,
-            traversable=traversable,
-            node_place=node_place,
-            node_cell=cells,
-            end_term=end_term,
-            dist=[],
-            next_step=[],
-            w_hat=np.empty(0),
-            w_hat_metric=np.empty(0),
-            log_transition=np.empty(0),
-            connected=connected_places(model, settings.edge_threshold),
-            time_precompute_s=0.0,
-            info={
-                "n_nodes": len(cells),
-                "unreachable_places": unreachable,
-                "crop": [int(r0), int(r1), int(c0), int(c1)],
-            },
-            _centres=centres,
-            territory=territory,
-            main=main,
-            usable=np.ones(len(cells), dtype=bool),
-            _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution),
-        )
+        graph = cls(key=key, **graph_inputs(model, settings, log_p_full))  # Alg. 1, lines 1-3
         graph._fields(reuse)
         graph.info["field_bytes"] = graph.field_bytes
         graph._edges()
@@ -422,16 +372,3 @@ class PlanningGraph:
         """The graph of a changed model or cost map (same map size), recomputing only what depends on the
         change: :meth:`build` with ``reuse=self`` (and ``cache``)."""
         return PlanningGraph.build(model, self.settings, log_p=log_p, cache=cache, reuse=self)
-
-
-def _crop(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int, int]]:
-    """The cost map log p(x|m) on the bounding box of its traversable (finite) cells, and the box (r0, r1, c0,
-    c1) in map cells."""
-    if log_p_full.shape != occ.shape:
-        raise ModelError(f"log_p has shape {log_p_full.shape}, the model's map {occ.shape}")
-    finite = np.isfinite(log_p_full)
-    if not finite.any():
-        raise ModelError("the model's map has no free cell")
-    rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
-    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
-    return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)
