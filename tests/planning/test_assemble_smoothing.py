@@ -27,9 +27,9 @@ from spcotmhp.planning.assemble import (
     smooth_anchored,
 )
 from spcotmhp.planning.avoid import avoided_view
-from spcotmhp.planning.graph import grown_territories
 from spcotmhp.planning.places import most_probable_place, place_regions
 from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.planning.territory import grown_territories
 from tests.helpers.graphs import GRAPHS
 from tests.helpers.planning import RES, draw_blocked, draw_ends, home_log_p, home_model, make_home, world
 
