@@ -13,7 +13,9 @@ kept field stays exact.
 Memos and threads: a graph keeps its most recent views (``AVOID_CACHE_SIZE``) in ``_views``, and a view
 recomputes shared fields on demand in :func:`refresh_shared`; both are guarded by the lock of the graph that owns
 the memo (``graph._lock``), so concurrent queries on one graph are safe. A view is computed outside the lock (two
-threads that miss on the same places both compute it; the first stored is the one both get).
+threads that miss on the same places both compute it; the first stored is the one both get). Readers of a view's
+fields take no lock: a shared field is only ever replaced whole by its exact version for the blocked map, which
+has the same value wherever the shared one was valid for a reader's start.
 """
 
 from __future__ import annotations

@@ -64,7 +64,8 @@ class GraphCache:
             return len(self._graphs)
 
     def __getstate__(self) -> dict:
-        """Pickled (with a planner, for a process pool or Ray) without the lock; the copy gets its own."""
+        """Pickled (with a planner, for a process pool or Ray: every graph it holds) without the lock; the copy
+        gets its own."""
         with self._lock:
             return {"size": self.size, "graphs": list(self._graphs.items())}
 
