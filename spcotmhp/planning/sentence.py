@@ -3,7 +3,8 @@ not_goal, from) and its order words, or an :class:`~spcotmhp.errors.InstructionE
 understood.
 
 The grammar words of each language are tables in :mod:`spcotmhp.planning.grammar`; the place words are the
-model's. :mod:`spcotmhp.planning.sequence` puts the phrases in visiting order (rules 4-5).
+model's. Rule 1 (cutting the text into items) is :mod:`spcotmhp.planning.scan`; :mod:`spcotmhp.planning.sequence`
+puts the phrases in visiting order (rules 4-5).
 
 Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_corpus.csv exercises them):
 1. The text is cut into place phrases (maximal runs of adjacent place words, so multi-word names such as
@@ -34,26 +35,14 @@ Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import pairwise
 
 from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
+from spcotmhp.planning.scan import Item, merge_phrases, scan
 from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
-
-_EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
-
-
-@dataclass
-class Item:
-    """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
-
-    kind: str  # place, marker, connector, order, alternative, relation, modifier, filler, other
-    value: str  # the place word / role / order kind / "seq" for a sequencer / ""
-    surface: str
-    words: list[str] = field(default_factory=list)  # place words of a merged phrase
 
 
 @dataclass
@@ -87,7 +76,7 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
         UnsupportedPhrase: an alternative, a spatial relation or a modifier.
         MalformedInstruction: a marker with nothing after it; Japanese places not joined.
     """
-    items = _merge_phrases(_scan(text, grammar, place_words), grammar)
+    items = merge_phrases(scan(text, grammar, place_words), grammar)
     places = [i for i, it in enumerate(items) if it.kind == "place"]
     if not places:
         others = [it.surface for it in items if it.kind == "other"]
@@ -100,104 +89,6 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
     _check_modifiers(items, grammar, place_words)
     return _phrases(items, places, roles, grammar)
-
-
-def _units(text: str, grammar: Grammar) -> list[str]:
-    if grammar.by_character:
-        return [ch for ch in text if not ch.isspace()]
-    return _EN_UNIT.findall(text.lower().replace("\u2019", "'"))
-
-
-_LEXICONS: dict = {}
-
-
-def _lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
-    """(place lexicon, grammar lexicon, longest entry) keyed by unit tuples; memoised per language and
-    vocabulary in a bounded table that needs no lock (its values are never changed; a concurrent clear at worst
-    makes a query build its lexicon again)."""
-    memo_key = (grammar.lang, tuple(place_words))
-    lexicon = _LEXICONS.get(memo_key)  # one lookup: a concurrent clear cannot make it fail (read-only values)
-    if lexicon is None:
-        lexicon = _build_lexicon(grammar, place_words)
-        if len(_LEXICONS) > 32:
-            _LEXICONS.clear()
-        _LEXICONS[memo_key] = lexicon
-    return lexicon
-
-
-def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> tuple[dict, dict, int]:
-    def key(phrase: str) -> tuple[str, ...]:
-        return tuple(_units(phrase, grammar))
-
-    grammar_lex = {key(p): ("filler", "") for p in grammar.fillers}
-    grammar_lex.update({key(p): ("modifier", "") for p in grammar.modifiers})
-    grammar_lex.update({key(p): ("marker", role) for p, role in grammar.markers.items()})
-    grammar_lex.update({key(p): ("order", kind) for p, kind in grammar.order.items()})
-    grammar_lex.update({key(p): ("connector", "seq" if p in grammar.sequencers else "") for p in grammar.connectors})
-    grammar_lex.update({key(p): ("alternative", "") for p in grammar.alternatives})
-    grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
-    grammar_lex.pop((), None)
-    place_lex = {key(w): ("place", w) for w in place_words if key(w)}
-    return place_lex, grammar_lex, max(map(len, [*place_lex, *grammar_lex]), default=1)
-
-
-def _scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
-    """Longest-match segmentation into places, grammar phrases and other units (places win ties)."""
-    units = _units(text, grammar)
-    place_lex, grammar_lex, longest = _lexicon(grammar, place_words)
-    joiner = "" if grammar.by_character else " "
-    items: list[Item] = []
-    i = 0
-    while i < len(units):
-        for n in range(min(longest, len(units) - i), 0, -1):
-            k = tuple(units[i : i + n])
-            hit = place_lex.get(k) or grammar_lex.get(k)
-            if hit:
-                items.append(Item(hit[0], hit[1], joiner.join(k), [hit[1]] if hit[0] == "place" else []))
-                i += n
-                break
-        else:
-            if grammar.by_character and items and items[-1].kind == "other":
-                items[-1].surface += units[i]
-            else:
-                items.append(Item("other", "", units[i]))
-            i += 1
-    for a, b, c in zip(items, items[1:], items[2:], strict=False):  # "the first bedroom": an ordinal, not an order word
-        if (
-            b.kind == "order"
-            and b.value in ("first", "last")
-            and a.surface in grammar.determiners
-            and c.kind in ("place", "other")
-        ):
-            b.kind = "modifier"
-    return items
-
-
-def _merge_phrases(items: list[Item], grammar: Grammar) -> list[Item]:
-    """Adjacent place words form one phrase (a multi-word name); a word of ``grammar.between_places`` standing
-    alone between two phrases joins them or marks an alternative."""
-    out: list[Item] = []
-    joiner = "" if grammar.by_character else " "
-    for it in items:
-        if it.kind == "place" and out and out[-1].kind == "place":
-            out[-1].words.extend(it.words)
-            out[-1].surface += joiner + it.surface
-            continue
-        if (
-            it.kind == "place"
-            and len(out) >= 2
-            and out[-2].kind == "place"
-            and out[-1].kind == "other"
-            and out[-1].surface in grammar.between_places
-        ):
-            if grammar.between_places[out[-1].surface] == "join":
-                between = out.pop()
-                out[-1].words.extend(it.words)
-                out[-1].surface += between.surface + it.surface
-                continue
-            out[-1].kind = "alternative"
-        out.append(it)
-    return out
 
 
 _ANCHORS = ("place", "marker", "connector", "order", "alternative", "relation", "modifier")
