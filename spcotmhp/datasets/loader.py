@@ -1,5 +1,8 @@
 """Load a dataset folder (map.yaml + image, teaching.csv and optional extras) into a :class:`Dataset`.
 
+The optional files (truth.csv, places.csv, adjacency.csv, image features, costmap_ros.csv) are read by
+:mod:`spcotmhp.datasets.extras`.
+
 The layout is described in ``spcotmhp/data/README.md``. Fatal problems raise :class:`DatasetError`;
 recoverable ones (teaching points in walls, empty utterances, ...) emit a :class:`DatasetWarning`. Every
 message names the file and the 1-based line number in it.
@@ -17,17 +20,15 @@ import numpy as np
 
 from spcotmhp.datasets.alignment import align_events
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.datasets.tables import Table, read_matrix, read_table
+from spcotmhp.datasets.extras import read_adjacency, read_costmap, read_features, read_places, read_truth
+from spcotmhp.datasets.tables import Table, read_table
 from spcotmhp.errors import DatasetError
 from spcotmhp.metric.map_io import load_map, read_map_yaml
 from spcotmhp.metric.maps import OCCUPIED, OccupancyMap
 
 LANGS = ("en", "ja")
-FEATURES_FILE = "image_features_places365.csv"
 TRAJECTORY_TOLERANCE_M = 1.0  # an event further than this from its trajectory pose gets a warning
 MAX_ROW_WARNINGS = 20  # per kind of problem; the rest are summarised in one warning
-MAX_FEATURE = 1e9  # image features are probabilities or counts; larger values are refused (they overflow counts)
-MAX_LABEL = 9999  # place and concept ids in truth.csv (a dataset has at most 10,000 places or concepts)
 
 _EN_WORD = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*")
 
@@ -110,16 +111,16 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
         raise DatasetError("teaching.csv has a header but no teaching events")
     teaching.require(["x", "y", ("words_ja", "words_en")], ["event", "step"])
     if teaching.has("event"):  # optional: the events are the rows in file order; if given, it must agree
-        _check_sequence(teaching, "event", "event ids")
+        teaching.sequence("event", "event ids")
     positions = np.stack([teaching.floats("x"), teaching.floats("y")], axis=1)
     _check_extent(teaching, occupancy, positions, image)
     tokens = _tokens(teaching, lang, name)
     _report_cells(teaching, occupancy, positions, image)
 
     trajectory, event_steps = _trajectory(folder, teaching, positions, occupancy, image)
-    place_names = _places(folder, lang)
+    place_names = read_places(folder, lang)
     n_places = len(place_names) if place_names is not None else None
-    truth_place, truth_concept = _truth(folder, teaching, n_places)
+    truth_place, truth_concept = read_truth(folder, teaching, n_places)
     if n_places is None and truth_place is not None:
         n_places = int(truth_place.max()) + 1
     return Dataset(
@@ -128,14 +129,14 @@ def load_dataset(path: str | Path, lang: str = "en") -> Dataset:
         positions=positions,
         tokens=tokens,
         lang=lang,
-        features=_features(folder, teaching),
+        features=read_features(folder, teaching),
         trajectory=trajectory,
         event_steps=event_steps,
         truth_place=truth_place,
         truth_concept=truth_concept,
-        adjacency=_adjacency(folder, n_places),
+        adjacency=read_adjacency(folder, n_places),
         place_names=place_names,
-        costmap_ros=_costmap(folder, occupancy, image),
+        costmap_ros=read_costmap(folder, occupancy, image),
         path=folder,
     )
 
@@ -144,23 +145,6 @@ def _read_map(yaml_path: Path) -> tuple[OccupancyMap, str]:
     """The map and its image's file name (for messages: "lies in an occupied cell of map.pgm")."""
     occupancy = load_map(yaml_path)
     return occupancy, read_map_yaml(yaml_path).image.name
-
-
-def _check_sequence(table: Table, column: str, what: str) -> np.ndarray:
-    """The column must read 0, 1, 2, ... in file order; say where it does not."""
-    ids = table.ints(column)
-    bad = np.flatnonzero(ids != np.arange(len(ids)))
-    if len(bad):
-        i = int(bad[0])
-        earlier = np.flatnonzero(ids[:i] == ids[i])
-        if len(earlier):
-            raise DatasetError(
-                f"{table.where(i)}: {column} {ids[i]} appears twice (also on row "
-                f"{table.lines[earlier[0]]}); {what} must be 0, 1, 2, ... in file order"
-            )
-        after = f"follows {ids[i - 1]}" if i else "is the first"
-        raise DatasetError(f"{table.where(i)}: {column} {ids[i]} {after}; {what} must be 0, 1, 2, ... in file order")
-    return ids
 
 
 def _tokens(teaching: Table, lang: str, name: str) -> list[list[str]]:
@@ -236,7 +220,7 @@ def _trajectory(
     if not table.rows:
         raise DatasetError("trajectory.csv has a header but no poses")
     table.require(["step", "x", "y"])
-    _check_sequence(table, "step", "steps")
+    table.sequence("step", "steps")
     trajectory = np.stack([table.floats("x"), table.floats("y")], axis=1)
     _check_extent(table, occupancy, trajectory, image)
     _report_cells(table, occupancy, trajectory, image, summary=True)
@@ -269,137 +253,3 @@ def _trajectory(
             f"{TRAJECTORY_TOLERANCE_M} m from their trajectory pose"
         )
     return trajectory, steps
-
-
-def _truth(folder: Path, teaching: Table, n_places: int | None) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """truth.csv (event,place[,concept]), one row per teaching event in any order, returned in event order;
-    places must be below ``n_places`` (places.csv's count) when given."""
-    path = folder / "truth.csv"
-    if not path.is_file():
-        return None, None
-    table = read_table(path, "a header event,place[,concept] and one row per teaching event")
-    table.require(["event", "place"], ["concept"])
-    n_events = len(teaching.rows)
-    events = table.ints("event")
-    seen: dict[int, int] = {}
-    for i, event in enumerate(events):
-        if not 0 <= event < n_events:
-            raise DatasetError(f"{table.where(i)}: event {event} is not in teaching.csv (events 0..{n_events - 1})")
-        if event in seen:
-            raise DatasetError(f"{table.where(i)}: event {event} appears twice (also on row {seen[event]})")
-        seen[int(event)] = table.lines[i]
-    missing = sorted(set(range(n_events)) - set(seen))
-    if missing:
-        listed = ", ".join(map(str, missing[:10])) + (" ..." if len(missing) > 10 else "")
-        raise DatasetError(f"truth.csv has no row for {len(missing)} of teaching.csv's {n_events} events ({listed})")
-    place = table.ints("place", minimum=0)
-    concept = table.ints("concept", minimum=0) if table.has("concept") else None
-    for column, ids in (("place", place), ("concept", concept)):
-        if ids is not None and ids.max() > MAX_LABEL:
-            i = int(np.argmax(ids > MAX_LABEL))
-            raise DatasetError(f"{table.where(i)}: {column} {ids[i]} is too large (ids 0..{MAX_LABEL} are accepted)")
-    if n_places is not None and place.max() >= n_places:
-        i = int(np.argmax(place >= n_places))
-        raise DatasetError(f"{table.where(i)}: place {place[i]} is not in places.csv (places 0..{n_places - 1})")
-    order = np.argsort(events)
-    place = place[order]
-    concept = concept[order] if concept is not None else None
-    return place, concept
-
-
-def _places(folder: Path, lang: str) -> list[str] | None:
-    """places.csv (place,name_ja,name_en): the place names in ``lang``, index = place id."""
-    path = folder / "places.csv"
-    if not path.is_file():
-        return None
-    column = f"name_{lang}"
-    table = read_table(path, "a header place,name_ja,name_en and one row per place")
-    if not table.rows:
-        raise DatasetError("places.csv has a header but no places")
-    table.require(["place", column], [c for c in ("name_ja", "name_en") if c != column])
-    _check_sequence(table, "place", "place ids")
-    names = table.column(column)
-    for i, text in enumerate(names):
-        if not text:
-            raise DatasetError(f"{table.where(i)}: {column} is blank")
-    return names
-
-
-def _adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
-    """adjacency.csv: a square, symmetric 0/1 matrix over the places with 1 on the diagonal (no header)."""
-    path = folder / "adjacency.csv"
-    if not path.is_file():
-        return None
-    values, lines = read_matrix(path)
-    rows, cols = values.shape
-    if rows != cols:
-        raise DatasetError(f"adjacency.csv is {rows}x{cols}; it must be square (one row and column per place)")
-    bad = np.argwhere((values != 0) & (values != 1))
-    if len(bad):
-        r, c = bad[0]
-        raise DatasetError(f"adjacency.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; entries must be 0 or 1")
-    bad = np.argwhere(values != values.T)
-    if len(bad):
-        r, c = bad[0]
-        raise DatasetError(
-            f"adjacency.csv is not symmetric: row {lines[r]} column {c + 1} is {values[r, c]:g} "
-            f"but row {lines[c]} column {r + 1} is {values[c, r]:g}"
-        )
-    off = np.flatnonzero(np.diag(values) != 1)
-    if len(off):
-        r = int(off[0])
-        raise DatasetError(
-            f"adjacency.csv row {lines[r]} column {r + 1} is 0; the diagonal must be 1 (a place is connected to itself)"
-        )
-    if n_places is not None and rows != n_places:
-        source = "places.csv" if (folder / "places.csv").is_file() else "truth.csv"
-        raise DatasetError(f"adjacency.csv is {rows}x{cols} but {source} has {n_places} places")
-    return values.astype(np.int64)
-
-
-def _features(folder: Path, teaching: Table) -> np.ndarray | None:
-    """image_features_places365.csv: one row of non-negative numbers per event (raw values kept)."""
-    path = folder / FEATURES_FILE
-    if not path.is_file():
-        return None
-    values, lines = read_matrix(path, allow_header=True)
-    if len(values) != len(teaching.rows):
-        raise DatasetError(
-            f"{FEATURES_FILE} has {len(values)} rows but teaching.csv has {len(teaching.rows)} "
-            "events (one row per event, in event order)"
-        )
-    bad = np.argwhere(values < 0)
-    if len(bad):
-        r, c = bad[0]
-        raise DatasetError(
-            f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:g}; features must be non-negative"
-        )
-    bad = np.argwhere(values > MAX_FEATURE)
-    if len(bad):
-        r, c = bad[0]
-        raise DatasetError(
-            f"{FEATURES_FILE} row {lines[r]} column {c + 1} is {values[r, c]:.4g}; "
-            f"features must be at most {MAX_FEATURE:g}"
-        )
-    return values
-
-
-def _costmap(folder: Path, occupancy: OccupancyMap, image: str) -> np.ndarray | None:
-    """costmap_ros.csv: integers -1..100 in OccupancyGrid row order, the map's size."""
-    path = folder / "costmap_ros.csv"
-    if not path.is_file():
-        return None
-    values, lines = read_matrix(path)
-    if values.shape != occupancy.shape:
-        raise DatasetError(
-            f"costmap_ros.csv is {values.shape[0]}x{values.shape[1]} (rows x columns) but "
-            f"{image} is {occupancy.height}x{occupancy.width}"
-        )
-    bad = np.argwhere((values != np.round(values)) | (values < -1) | (values > 100))
-    if len(bad):
-        r, c = bad[0]
-        raise DatasetError(
-            f"costmap_ros.csv row {lines[r]} column {c + 1} is {values[r, c]:g}; "
-            "costs must be integers 0..100 (or -1 for unknown)"
-        )
-    return values.astype(np.int16)

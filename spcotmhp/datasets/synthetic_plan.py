@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from spcotmhp.datasets.synthetic_layouts import LAYOUTS, Box, Door, Geometry
+from spcotmhp.datasets.synthetic_corridors import house_layout, office_layout
+from spcotmhp.datasets.synthetic_layouts import Box, Door, Geometry, flat_layout
 from spcotmhp.datasets.synthetic_vocab import CORRIDOR
 from spcotmhp.errors import DatasetError
 from spcotmhp.metric.maps import FREE, OCCUPIED, UNKNOWN, OccupancyMap
@@ -32,6 +33,8 @@ AREA_PER_ROOM_M2 = {"flat": 12.0, "house": 12.0, "office": 150.0}
 MIN_ROOMS = {"flat": 1, "house": 4, "office": 3}
 MIN_DOOR_M = 0.6
 JAMB_M = 0.2  # the least wall left between a door and the corner of a room
+
+LAYOUTS = {"flat": flat_layout, "house": house_layout, "office": office_layout}
 
 
 @dataclass

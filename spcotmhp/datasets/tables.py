@@ -78,6 +78,22 @@ class Table:
             [parse_float(t, f"{self.where(i)}: {name}") for i, t in enumerate(self.column(name))], dtype=float
         )
 
+    def sequence(self, column: str, what: str) -> np.ndarray:
+        """The column must read 0, 1, 2, ... in file order; say where it does not."""
+        ids = self.ints(column)
+        bad = np.flatnonzero(ids != np.arange(len(ids)))
+        if len(bad):
+            i = int(bad[0])
+            earlier = np.flatnonzero(ids[:i] == ids[i])
+            if len(earlier):
+                raise DatasetError(
+                    f"{self.where(i)}: {column} {ids[i]} appears twice (also on row "
+                    f"{self.lines[earlier[0]]}); {what} must be 0, 1, 2, ... in file order"
+                )
+            after = f"follows {ids[i - 1]}" if i else "is the first"
+            raise DatasetError(f"{self.where(i)}: {column} {ids[i]} {after}; {what} must be 0, 1, 2, ... in file order")
+        return ids
+
 
 def _short(text: str, limit: int = 120) -> str:
     """``text`` cut to ``limit`` characters (a header of thousands of columns is not repeated in full)."""

@@ -1,33 +1,42 @@
 """Avoidance views of a planning graph: "avoid the dining room" (Algorithm 1 with the avoided places' p(x|m) = 0).
 
-Avoided places (:meth:`~spcotmhp.planning.graph.PlanningGraph.with_avoided`) block their territories: "avoid the
-dining room" keeps the robot out of every cell that belongs to the dining room, the same cells the explanation
-calls the dining room. Blocking cells only removes paths, so a field value whose optimal path does not enter the
-blocked cells is still optimal; the view shares those fields with its graph and recomputes (exactly, with the
-region blocked) only the fields whose path from a node (:func:`avoided_view`) or from the query's start
-(:func:`refresh_shared`) crosses the region, checked by walking the stored next-step links. A portal-graph graph
-(:mod:`spcotmhp.planning.hierarchy`) drops the avoided territories' abstract nodes instead: no territory-local
-field enters another territory, so every kept field stays exact.
+Avoided places (:func:`avoided_view`, a view of a :class:`~spcotmhp.planning.graph.PlanningGraph`) block their
+territories: "avoid the dining room" keeps the robot out of every cell that belongs to the dining room, the same
+cells the explanation calls the dining room. Blocking cells only removes paths, so a field value whose optimal
+path does not enter the blocked cells is still optimal; the view shares those fields with its graph and
+recomputes (exactly, with the region blocked) only the fields whose path from a node (:func:`avoided_view`) or
+from the query's start (:func:`refresh_shared`, run by :meth:`AvoidanceView.start_w_hat`) crosses the region,
+checked by walking the stored next-step links. A portal-graph graph (:mod:`spcotmhp.planning.hierarchy`) drops
+the avoided territories' abstract nodes instead: no territory-local field enters another territory, so every
+kept field stays exact.
 
 Memos and threads: a graph keeps its most recent views (``AVOID_CACHE_SIZE``) in ``_views``, and a view
 recomputes shared fields on demand in :func:`refresh_shared`; both are guarded by the lock of the graph that owns
 the memo (``graph._lock``), so concurrent queries on one graph are safe. A view is computed outside the lock (two
-threads that miss on the same places both compute it; the first stored is the one both get).
+threads that miss on the same places both compute it; the first stored is the one both get). Readers of a view's
+fields take no lock: a shared field is only ever replaced whole by its exact version for the blocked map, which
+has the same value wherever the shared one was valid for a reader's start.
 """
 
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from spcotmhp.planning._paths import crosses, crossing_fields
-
-if TYPE_CHECKING:
-    from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.graph import PlanningGraph
 
 AVOID_CACHE_SIZE = 32
+
+
+class AvoidanceView(PlanningGraph):
+    """A planning graph with places avoided (``blocked``, ``usable``), made by :func:`avoided_view`: the graph's
+    queries, with the start leg made exact for the blocked map first (:func:`refresh_shared`)."""
+
+    def start_w_hat(self, cell: np.ndarray) -> np.ndarray:
+        refresh_shared(self, cell)
+        return super().start_w_hat(cell)
 
 
 def avoided_view(graph: PlanningGraph, places: tuple[int, ...]) -> PlanningGraph:
@@ -90,8 +99,8 @@ def refresh_shared(view: PlanningGraph, cell: np.ndarray) -> None:
             view.info["recomputed_fields"].append(int(j))
 
 
-def _view(graph: PlanningGraph, key: tuple, blocked: np.ndarray, usable: np.ndarray, **kw) -> PlanningGraph:
-    return type(graph)(
+def _view(graph: PlanningGraph, key: tuple, blocked: np.ndarray, usable: np.ndarray, **kw) -> AvoidanceView:
+    return AvoidanceView(
         model=graph.model,
         settings=graph.settings,
         key=graph.key,

@@ -30,7 +30,7 @@ an obstacle. Candidate points are snapped into their own place's territory (:mod
 within the largest free component; a place with no such cell has no node and is reported in
 ``info["unreachable_places"]``.
 
-Avoided places (:meth:`PlanningGraph.with_avoided`) block their territories, in views that share the fields a
+Avoided places (:func:`spcotmhp.planning.avoid.avoided_view`) block their territories, in views that share the fields a
 blocked region does not change (:mod:`spcotmhp.planning.avoid`).
 
 For path smoothing (Algorithm 1, line 13; :mod:`spcotmhp.planning.assemble`) the graph also keeps each cell's
@@ -41,11 +41,12 @@ territory, every place's territory grown by ``tube_margin`` metres (a window and
 At building scale the per-node fields over the whole crop (M x h x w) do not fit: beyond
 ``GraphSettings.max_dense_bytes`` the fields are territory-local and the nodes are joined through a portal graph
 (HPA* with the territories as clusters, :mod:`spcotmhp.planning.hierarchy`): the same step cost, the same queries
-(``start_w_hat``, ``leg``, ``edge_path``, ``field_piece``, ``with_avoided``, ``cost_to_nodes``), ``dist`` and
+(``start_w_hat``, ``leg``, ``edge_path``, ``field_piece``, avoidance views, ``cost_to_nodes``), ``dist`` and
 ``next_step`` empty, and :meth:`PlanningGraph.update_place` / :meth:`PlanningGraph.update` recompute only the
 fields of territories whose cells or costs changed.
 
-Everything is computed on the bounding box of the traversable cells (``offset``). A graph is cached only in a
+Everything is computed on the bounding box of the traversable cells (``offset``; the crop, territories and
+candidates: :mod:`spcotmhp.planning.precompute`). A graph is cached only in a
 :class:`~spcotmhp.planning.graph_cache.GraphCache` its caller owns and passes to :meth:`PlanningGraph.build`,
 keyed by a hash of the model parameters, the map and the settings, so a changed model or map never reuses a stale
 graph.
@@ -72,17 +73,13 @@ import numpy as np
 import spcotmhp.planning.hierarchy as hierarchy
 from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.territory import place_territories
-from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
-from spcotmhp.metric.snap import largest_component
 from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
-from spcotmhp.planning.avoid import avoided_view, refresh_shared
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
-from spcotmhp.planning.places import candidate_nodes, connected_places
+from spcotmhp.planning.precompute import graph_inputs
 from spcotmhp.planning.sight import chessboard_clearance
-from spcotmhp.planning.territory import grown_territories, tube_window
+from spcotmhp.planning.territory import tube_window
 
 
 @dataclass
@@ -90,8 +87,9 @@ class PlanningGraph:
     """Candidate nodes, cost-to-go fields and partial-path likelihoods for one model + map + settings.
 
     Grids (``log_p``, ``traversable``, ``dist[j]``, ``next_step[j]``) cover the crop ``offset`` .. ``offset +
-    shape`` of the map; node cells are in crop coordinates (add ``offset`` for map cells). A graph made by
-    :meth:`with_avoided` has ``blocked`` (crop mask) and ``usable`` (nodes outside the avoided places).
+    shape`` of the map; node cells are in crop coordinates (add ``offset`` for map cells). A view made by
+    :func:`~spcotmhp.planning.avoid.avoided_view` has ``blocked`` (crop mask) and ``usable`` (nodes outside the
+    avoided places).
     """
 
     model: SpatialConceptModel
@@ -165,55 +163,7 @@ class PlanningGraph:
     @classmethod
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
         t0 = time.perf_counter()
-        occ = model.require_map()
-        log_p, (r0, r1, c0, c1) = _crop(
-            occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
-        )
-        traversable = np.isfinite(log_p)
-        rr, cc = np.indices(log_p.shape)
-        centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
-        act = np.flatnonzero(model.active_places)
-        main = largest_component(traversable)
-        territory = place_territories(model, traversable, centres, offset=(int(r0), int(c0)))
-        node_place, cells, end_term = candidate_nodes(
-            model,
-            settings.n_candidates,
-            settings.seed,
-            settings.candidate_quantile,
-            (int(r0), int(c0)),
-            main,
-            territory,
-        )
-        unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
-
-        graph = cls(
-            model=model,
-            settings=settings,
-            key=key,
-            offset=(int(r0), int(c0)),
-            log_p=log_p,
-            traversable=traversable,
-            node_place=node_place,
-            node_cell=cells,
-            end_term=end_term,
-            dist=[],
-            next_step=[],
-            w_hat=np.empty(0),
-            w_hat_metric=np.empty(0),
-            log_transition=np.empty(0),
-            connected=connected_places(model, settings.edge_threshold),
-            time_precompute_s=0.0,
-            info={
-                "n_nodes": len(cells),
-                "unreachable_places": unreachable,
-                "crop": [int(r0), int(r1), int(c0), int(c1)],
-            },
-            _centres=centres,
-            territory=territory,
-            main=main,
-            usable=np.ones(len(cells), dtype=bool),
-            _territories=grown_territories(territory, act, settings.tube_margin / occ.resolution),
-        )
+        graph = cls(key=key, **graph_inputs(model, settings, log_p_full))  # Alg. 1, lines 1-3
         graph._fields(reuse)
         graph.info["field_bytes"] = graph.field_bytes
         graph._edges()
@@ -288,10 +238,8 @@ class PlanningGraph:
         """(M,) log-likelihood of the best start leg from crop cell ``cell`` into each node (-inf: none).
 
         In an avoidance view, a shared field whose path from ``cell`` enters the blocked region is recomputed
-        first (and kept), so the value is exact for the blocked map (:func:`~spcotmhp.planning.avoid.
-        refresh_shared`)."""
-        if self.blocked is not None:
-            refresh_shared(self, cell)
+        first (and kept), so the value is exact for the blocked map (:class:`~spcotmhp.planning.avoid.
+        AvoidanceView`)."""
         return np.where(self.usable, self.end_term - self.cost_to_nodes(cell), -np.inf)
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
@@ -403,12 +351,6 @@ class PlanningGraph:
             self._centres = self.model.require_map().cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
         return self._centres
 
-    def with_avoided(self, places: tuple[int, ...]) -> PlanningGraph:
-        """A view with no node in ``places`` whose paths never enter their territories, exact for the blocked
-        map: fields are shared with this graph unless a path from a node into them crosses the territories, in
-        which case they are recomputed. Memoised for the most recent place sets (:mod:`spcotmhp.planning.avoid`)."""
-        return avoided_view(self, places)
-
     # ---- incremental update (online learning) -----------------------------------------------------------
     def update_place(self, k: int, mu: np.ndarray, Sigma: np.ndarray, cache: GraphCache | None = None) -> PlanningGraph:
         """The graph of this model with place k's Gaussian replaced by N(mu, Sigma), reusing every territory-
@@ -435,16 +377,3 @@ class PlanningGraph:
         """The graph of a changed model or cost map (same map size), recomputing only what depends on the
         change: :meth:`build` with ``reuse=self`` (and ``cache``)."""
         return PlanningGraph.build(model, self.settings, log_p=log_p, cache=cache, reuse=self)
-
-
-def _crop(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int, int]]:
-    """The cost map log p(x|m) on the bounding box of its traversable (finite) cells, and the box (r0, r1, c0,
-    c1) in map cells."""
-    if log_p_full.shape != occ.shape:
-        raise ModelError(f"log_p has shape {log_p_full.shape}, the model's map {occ.shape}")
-    finite = np.isfinite(log_p_full)
-    if not finite.any():
-        raise ModelError("the model's map has no free cell")
-    rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
-    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
-    return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)

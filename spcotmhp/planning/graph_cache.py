@@ -17,14 +17,12 @@ from __future__ import annotations
 import threading
 from collections import OrderedDict
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import Any, TypeVar
 
 from spcotmhp.errors import ModelError
 
-if TYPE_CHECKING:
-    from spcotmhp.planning.graph import PlanningGraph
-
 CACHE_SIZE = 8
+G = TypeVar("G")  # a planning graph (this module does not import the graph's, so that the graph may import it)
 
 
 class GraphCache:
@@ -39,17 +37,16 @@ class GraphCache:
         if isinstance(size, bool) or not isinstance(size, int) or size < 1:
             raise ModelError(f"a graph cache holds at least one graph; got size={size!r}")
         self.size = size
-        self._graphs: OrderedDict[str, PlanningGraph] = OrderedDict()
+        self._graphs: OrderedDict[str, Any] = OrderedDict()
         self._lock = threading.Lock()
 
-    def get_or_build(self, key: str, build: Callable[[], PlanningGraph]) -> PlanningGraph:
+    def get_or_build(self, key: str, build: Callable[[], G]) -> G:
         """The graph cached under ``key``, else ``build()`` stored under it (evicting the least recently used
         graph beyond ``size``). ``build`` runs outside the lock (module docstring)."""
         with self._lock:
-            graph = self._graphs.get(key)
-            if graph is not None:
+            if key in self._graphs:
                 self._graphs.move_to_end(key)
-                return graph
+                return self._graphs[key]
         graph = build()
         with self._lock:
             graph = self._graphs.setdefault(key, graph)
@@ -67,7 +64,8 @@ class GraphCache:
             return len(self._graphs)
 
     def __getstate__(self) -> dict:
-        """Pickled (with a planner, for a process pool or Ray) without the lock; the copy gets its own."""
+        """Pickled (with a planner, for a process pool or Ray: every graph it holds) without the lock; the copy
+        gets its own."""
         with self._lock:
             return {"size": self.size, "graphs": list(self._graphs.items())}
 

@@ -66,6 +66,7 @@ from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning import explain
 from spcotmhp.planning._paths import join_field_legs
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
+from spcotmhp.planning.avoid import avoided_view
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import PlannerSettings
@@ -246,7 +247,7 @@ class HierarchicalPlanner:
         for s, q in enumerate(ins.stages):
             if not inst[s].any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-        graph = self.graph.with_avoided(tuple(np.flatnonzero(avoided)))
+        graph = avoided_view(self.graph, tuple(np.flatnonzero(avoided)))
         blocked = graph.blocked
         assert blocked is not None  # an avoidance view has its blocked cells
         esc = graph.to_crop(escape) if len(escape) else escape

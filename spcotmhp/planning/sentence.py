@@ -3,7 +3,8 @@ not_goal, from) and its order words, or an :class:`~spcotmhp.errors.InstructionE
 understood.
 
 The grammar words of each language are tables in :mod:`spcotmhp.planning.grammar`; the place words are the
-model's. :mod:`spcotmhp.planning.sequence` puts the phrases in visiting order (rules 4-5).
+model's. Rule 1 (cutting the text into items) is :mod:`spcotmhp.planning.scan`; :mod:`spcotmhp.planning.sequence`
+puts the phrases in visiting order (rules 4-5).
 
 Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_corpus.csv exercises them):
 1. The text is cut into place phrases (maximal runs of adjacent place words, so multi-word names such as
@@ -40,7 +41,7 @@ from itertools import pairwise
 
 from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
-from spcotmhp.planning.lexicon import Item, scan
+from spcotmhp.planning.scan import Item, merge_phrases, scan
 from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
 
 
@@ -75,7 +76,7 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
         UnsupportedPhrase: an alternative, a spatial relation or a modifier.
         MalformedInstruction: a marker with nothing after it; Japanese places not joined.
     """
-    items = _merge_phrases(scan(text, grammar, place_words), grammar)
+    items = merge_phrases(scan(text, grammar, place_words), grammar)
     places = [i for i, it in enumerate(items) if it.kind == "place"]
     if not places:
         others = [it.surface for it in items if it.kind == "other"]
@@ -88,33 +89,6 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
     _check_modifiers(items, grammar, place_words)
     return _phrases(items, places, roles, grammar)
-
-
-def _merge_phrases(items: list[Item], grammar: Grammar) -> list[Item]:
-    """Adjacent place words form one phrase (a multi-word name); a word of ``grammar.between_places`` standing
-    alone between two phrases joins them or marks an alternative."""
-    out: list[Item] = []
-    joiner = "" if grammar.by_character else " "
-    for it in items:
-        if it.kind == "place" and out and out[-1].kind == "place":
-            out[-1].words.extend(it.words)
-            out[-1].surface += joiner + it.surface
-            continue
-        if (
-            it.kind == "place"
-            and len(out) >= 2
-            and out[-2].kind == "place"
-            and out[-1].kind == "other"
-            and out[-1].surface in grammar.between_places
-        ):
-            if grammar.between_places[out[-1].surface] == "join":
-                between = out.pop()
-                out[-1].words.extend(it.words)
-                out[-1].surface += between.surface + it.surface
-                continue
-            out[-1].kind = "alternative"
-        out.append(it)
-    return out
 
 
 _ANCHORS = ("place", "marker", "connector", "order", "alternative", "relation", "modifier")

@@ -14,8 +14,8 @@ server (the README's "On your robot").
 
 ``keepout.yaml`` + ``keepout.pgm`` (with places to avoid): a map_server mask of the model's map's size,
 resolution and origin, occupied (100) on the territories of the avoided places (the cells the planner blocks
-for "avoid the kitchen": :meth:`PlanningGraph.with_avoided`) and free elsewhere; served by a second map_server
-with costmap_filter_info_server type 0 (keepout), base 0, multiplier 1 (README.md beside it).
+for "avoid the kitchen": :func:`~spcotmhp.planning.avoid.avoided_view`) and free elsewhere; served by a second
+map_server with costmap_filter_info_server type 0 (keepout), base 0, multiplier 1 (README.md beside it).
 """
 
 from __future__ import annotations

@@ -26,9 +26,10 @@ from spcotmhp.planning.assemble import (
     smooth,
     smooth_anchored,
 )
-from spcotmhp.planning.graph import grown_territories
+from spcotmhp.planning.avoid import avoided_view
 from spcotmhp.planning.places import most_probable_place, place_regions
 from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.planning.territory import grown_territories
 from tests.helpers.graphs import GRAPHS
 from tests.helpers.planning import RES, draw_blocked, draw_ends, home_log_p, home_model, make_home, world
 
@@ -306,7 +307,7 @@ def test_map_cost_is_the_map_term_of_eq26_and_views_block_avoided_regions():
     assert g.map_cost[cell[0], cell[1]] == pytest.approx(math.log(9) - math.log(0.01))
     assert g.map_cost[g.traversable & (g.log_p == 0)] == pytest.approx(math.log(9))
     assert np.isinf(g.map_cost[~g.traversable]).all()
-    view = g.with_avoided((3,))
+    view = avoided_view(g, (3,))
     assert np.isinf(view.map_cost[view.blocked]).all() and view.blocked.any()
     assert (view.map_cost[~view.blocked] == g.map_cost[~view.blocked]).all()
 

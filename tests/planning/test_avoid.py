@@ -8,7 +8,7 @@ import numpy as np
 
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.learning.supervised import fit_supervised
-from spcotmhp.planning.avoid import AVOID_CACHE_SIZE
+from spcotmhp.planning.avoid import AVOID_CACHE_SIZE, avoided_view
 from spcotmhp.planning.graph import PlanningGraph
 from tests.helpers.threads import in_threads
 
@@ -29,7 +29,7 @@ def test_threads_sharing_a_graph_see_what_one_thread_sees():
     jobs = [(places, cell) for places in PLACE_SETS for cell in cells]
 
     def query(graph, places, cell):
-        view = graph.with_avoided(places)
+        view = avoided_view(graph, places)
         if view.blocked[cell[0], cell[1]]:
             return None
         return view.start_w_hat(cell), view.leg(cell, int(np.argmax(view.start_w_hat(cell)))).cost
@@ -41,5 +41,5 @@ def test_threads_sharing_a_graph_see_what_one_thread_sees():
         if w is not None:
             assert np.array_equal(g[0], w[0]) and g[1] == w[1]
     for places in PLACE_SETS:  # one view per place set, whichever thread made it
-        assert shared.with_avoided(places) is shared._views[tuple(sorted(places))]
+        assert avoided_view(shared, places) is shared._views[tuple(sorted(places))]
     assert len(shared._views) == len(PLACE_SETS) <= AVOID_CACHE_SIZE

@@ -16,6 +16,7 @@ from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.planning._paths import cells_cost
+from spcotmhp.planning.avoid import avoided_view
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import GraphSettings
 from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings
@@ -74,12 +75,12 @@ def test_legs_are_real_paths_whose_cost_is_w_hat(office):
 def test_avoided_territories_are_never_entered_and_views_stay_exact(office):
     dense, hier = pair(office, 4, office[0].map.resolution)
     corridor = [int(k) for k in np.unique(hier.node_place) if office[0].place_names[k].startswith("corridor")][:1]
-    dv, hv = dense.with_avoided(tuple(corridor)), hier.with_avoided(tuple(corridor))
+    dv, hv = avoided_view(dense, tuple(corridor)), avoided_view(hier, tuple(corridor))
     assert np.allclose(hv.w_hat_metric, dv.w_hat_metric, rtol=0, atol=1e-9)
     for i, j in zip(*np.nonzero(np.isfinite(hv.w_hat_metric)), strict=True):
         path = hv.edge_path(int(i), int(j))
         assert not hv.blocked[path[:, 0], path[:, 1]].any()
-    assert hier.with_avoided(tuple(corridor)) is hv  # memoised
+    assert avoided_view(hier, tuple(corridor)) is hv  # memoised
 
 
 def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):

@@ -1,0 +1,84 @@
+"""What a planning graph is computed from (Algorithm 1, lines 1-3), for :meth:`~spcotmhp.planning.graph.
+PlanningGraph.build`.
+
+:func:`graph_inputs` gives, in order: the cost map log p(x|m) cropped to the bounding box of its traversable
+cells (:func:`crop_cost_map`); the largest free component and every place's territory
+(:mod:`spcotmhp.learning.territory`); the candidate nodes, snapped into their own territory (Alg. 1, line 2;
+:func:`~spcotmhp.planning.places.candidate_nodes`); Figure 3's connected places (line 3); and every place's
+territory grown by ``tube_margin`` for smoothing (:mod:`spcotmhp.planning.territory`). The graph then computes
+its cost-to-go fields (lines 4-6) and w-hat (Eq. 27; :mod:`spcotmhp.planning.graph`, which gives the equations).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.territory import place_territories
+from spcotmhp.metric.costmap import inflate
+from spcotmhp.metric.snap import largest_component
+from spcotmhp.planning.graph_settings import GraphSettings
+from spcotmhp.planning.places import candidate_nodes, connected_places
+from spcotmhp.planning.territory import grown_territories
+
+
+def graph_inputs(model: SpatialConceptModel, settings: GraphSettings, log_p_full: np.ndarray | None) -> dict[str, Any]:
+    """The fields of a new :class:`~spcotmhp.planning.graph.PlanningGraph` of ``model`` under ``settings``, all but
+    its ``key`` and what the cost-to-go fields give (module docstring); ``log_p_full`` overrides the cost map."""
+    occ = model.require_map()
+    log_p, (r0, r1, c0, c1) = crop_cost_map(
+        occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
+    )
+    traversable = np.isfinite(log_p)
+    rr, cc = np.indices(log_p.shape)
+    centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
+    act = np.flatnonzero(model.active_places)
+    main, offset = largest_component(traversable), (int(r0), int(c0))
+    territory = place_territories(model, traversable, centres, offset=offset)
+    node_place, cells, end_term = candidate_nodes(
+        model, settings.n_candidates, settings.seed, settings.candidate_quantile, offset, main, territory
+    )
+    unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
+    return {
+        "model": model,
+        "settings": settings,
+        "offset": offset,
+        "log_p": log_p,
+        "traversable": traversable,
+        "node_place": node_place,
+        "node_cell": cells,
+        "end_term": end_term,
+        "dist": [],
+        "next_step": [],
+        "w_hat": np.empty(0),
+        "w_hat_metric": np.empty(0),
+        "log_transition": np.empty(0),
+        "connected": connected_places(model, settings.edge_threshold),
+        "time_precompute_s": 0.0,
+        "info": {
+            "n_nodes": len(cells),
+            "unreachable_places": unreachable,
+            "crop": [int(r0), int(r1), int(c0), int(c1)],
+        },
+        "_centres": centres,
+        "territory": territory,
+        "main": main,
+        "usable": np.ones(len(cells), dtype=bool),
+        "_territories": grown_territories(territory, act, settings.tube_margin / occ.resolution),
+    }
+
+
+def crop_cost_map(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, int, int, int]]:
+    """The cost map log p(x|m) on the bounding box of its traversable (finite) cells, and the box (r0, r1, c0,
+    c1) in map cells."""
+    if log_p_full.shape != occ.shape:
+        raise ModelError(f"log_p has shape {log_p_full.shape}, the model's map {occ.shape}")
+    finite = np.isfinite(log_p_full)
+    if not finite.any():
+        raise ModelError("the model's map has no free cell")
+    rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
+    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+    return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)
