@@ -85,12 +85,12 @@ from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.distributions import sample_categorical_log
-from spcotmhp.learning.hmm import ffbs, trajectory_places, transition_counts
+from spcotmhp.learning.hmm import trajectory_places, transition_counts
 from spcotmhp.learning.init import INITS, initial_assignments
 from spcotmhp.learning.learner_state import from_batch
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
+from spcotmhp.learning.place_ffbs import sample_places
 from spcotmhp.learning.posterior import (
     Priors,
     SufficientStats,
@@ -361,12 +361,12 @@ class SpCoTMHP:
     ) -> np.ndarray:
         """i_{1:E} given C, x and the parameters (Eq. 9; FFBS, or independent draws in GMM mode)."""
         log_phi = priors.phi.log_probs
-        log_emit = priors.gauss.log_likelihood(obs.X) + log_phi[concepts]
         if self.transitions == "none":
-            return sample_categorical_log(rng, log_emit)
-        log_emit = log_emit - logsumexp(log_phi, axis=0)  # unigram rescaling, Eq. 9
-        log_init = np.full(self.K, -np.log(self.K))
-        return ffbs(log_emit, priors.psi.log_probs, log_init, rng)
+            return sample_categorical_log(rng, priors.gauss.log_likelihood(obs.X) + log_phi[concepts])
+        log_init = np.full(self.K, -np.log(self.K))  # FFBS with the unigram-rescaled emissions of Eq. 9
+        return sample_places(
+            obs.X, concepts, priors.gauss.mu, priors.gauss.Sigma, log_phi, priors.psi.log_probs, log_init, rng
+        )
 
 
 def _is_count(value: object) -> bool:
