@@ -183,7 +183,7 @@ def sample_places(
     X = np.ascontiguousarray(X, dtype=np.float64)
     concepts = np.asarray(concepts, dtype=np.int64)
     E, K = X.shape[0], mu.shape[0]
-    uniforms = rng.random(E)
+    uniforms = rng.random(int(E))
     if E == 0:
         return np.zeros(0, dtype=np.int64)
     ptr = np.empty(E + 1, dtype=np.int64)
