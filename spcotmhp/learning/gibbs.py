@@ -152,7 +152,7 @@ class SpCoTMHP:
     Learned attributes: ``model_`` (SpatialConceptModel of posterior means given the final assignment),
     ``places_`` (E,) and ``concepts_`` (E,) the final i and C, ``log_joint_`` (collapsed log joint of the final
     assignment), ``mutual_information_`` (word-concept MI), ``log_joint_trace_`` (one value per sweep),
-    ``fit_time_`` (seconds).
+    ``fit_time_`` (seconds), ``fit_cpu_time_`` (CPU seconds of this process during ``fit``).
     """
 
     def __init__(
@@ -202,7 +202,7 @@ class SpCoTMHP:
     def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> SpCoTMHP:
         """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep."""
         self._check_settings()
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
         obs = Observations.from_dataset(
             dataset,
@@ -255,6 +255,7 @@ class SpCoTMHP:
         record_truncation(model, self.K, self.L)
         self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
+        self.fit_cpu_time_ = time.process_time() - c0
         return self
 
     def _run_info(self, dataset: Dataset, obs: Observations, moves_on: bool) -> dict:
