@@ -148,12 +148,12 @@ def total_logs(l, beta, V, W_l, log_tot):
 
 
 @njit(cache=True)
-def count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk):
+def count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl):
     """The cached logs of concept l's counts (:func:`~spcotmhp.learning.concepts._concept_sweep`), after they
-    changed."""
+    changed; ``log_kl[k, l]`` = log(n_lk[l, k] + gamma) (a contiguous row per place)."""
     log_a[l] = log(n_l[l] + alpha)
     log_c[l] = log(n_l[l] + K * gamma)
-    log_lk[l, k] = log(n_lk[l, k] + gamma)
+    log_kl[k, l] = log(n_lk[l, k] + gamma)
 
 
 @njit(cache=True)

@@ -88,6 +88,27 @@ def _resample_switches(l, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_to
 
 
 @njit(cache=True)
+def _feature_scores(
+    e, k, L, n_l, log_a, log_kl, log_c, words_lp, chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult,
+    n_feat, logp,
+):  # fmt: skip
+    """log p(C_e = l | ...) for every concept l with the feature term: the count and word terms plus
+    DirMult(f_e | chi + F_l), evaluated once for all empty concepts (exchangeable: the same value, bit for bit)."""
+    empty_value = 0.0
+    empty_done = False
+    for l in range(L):
+        if n_l[l] == 0.0 and empty_done:
+            logp[l] = empty_value
+            continue
+        lp = log_a[l] + log_kl[k, l] - log_c[l] + words_lp[l]
+        lp += feature_term(l, e, n_l[l], chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e])
+        logp[l] = lp
+        if n_l[l] == 0.0:
+            empty_value = lp
+            empty_done = True
+
+
+@njit(cache=True)
 def _concept_sweep(
     C,
     places,
@@ -136,14 +157,14 @@ def _concept_sweep(
         longest = max(longest, t_ptr[e + 1] - t_ptr[e])
     tok_words = np.empty(longest, np.int64)
     tok_reps = np.empty(longest)
-    log_a, log_c, log_lk, log_tot = np.empty(L), np.empty(L), np.empty((L, K)), np.empty((longest, L))
+    log_a, log_c, log_kl, log_tot = np.empty(L), np.empty(L), np.empty((K, L)), np.empty((longest, L))
     log_wt = np.empty((W_lv.shape[1], L))  # log(beta + W_lv[l, v]) at [v, l]
     for l in range(L):
         total_logs(l, beta, V, W_l, log_tot)
         for v in range(W_lv.shape[1]):
             log_wt[v, l] = log(beta + W_lv[l, v])
         for k in range(K):
-            count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+            count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl)
     u = 0
     for t in range(order.shape[0]):
         e = order[t]
@@ -151,7 +172,7 @@ def _concept_sweep(
         old = C[e]
         n_l[old] -= 1.0
         n_lk[old, k] -= 1.0
-        count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+        count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl)
         move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
         word_logs(old, e, beta, W_lv, log_wt, t_ptr, t_word)
         total_logs(old, beta, V, W_l, log_tot)
@@ -162,28 +183,17 @@ def _concept_sweep(
                 saved[p] = digamma_ld[old, f_idx[p]]
             move_features(old, e, -1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
             refresh_digamma(digamma_ld, old, e, chi, F_ld, f_ptr, f_idx)
-        empty_value = 0.0
-        empty_done = False
-        for l in range(L):
-            if n_l[l] == 0.0 and empty_done:  # empty concepts are exchangeable: one evaluation
-                logp[l] = empty_value
-                continue
-            lp = log_a[l] + log_lk[l, k] - log_c[l]
-            lp += words_lp[l]
-            if use_features:
-                lp += feature_term(
-                    l, e, n_l[l], chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
-                )
-            logp[l] = lp
-            if n_l[l] == 0.0:
-                empty_value = lp
-                empty_done = True
+            _feature_scores(e, k, L, n_l, log_a, log_kl, log_c, words_lp, chi, D, F_ld, F_l, digamma_ld, f_ptr,
+                            f_idx, f_cnt, c_val, c_mult, n_feat, logp)  # fmt: skip
+        else:  # the same value for every empty concept, so no special case
+            for l in range(L):
+                logp[l] = log_a[l] + log_kl[k, l] - log_c[l] + words_lp[l]
         new = _draw(logp, uniforms[u], scratch)
         u += 1
         C[e] = new
         n_l[new] += 1.0
         n_lk[new, k] += 1.0
-        count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+        count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl)
         move_words(new, e, 1.0, W_lv, W_l, t_ptr, t_word, z)
         if use_features:
             move_features(new, e, 1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
