@@ -200,7 +200,17 @@ class SpCoTMHP:
 
     # ---- public API --------------------------------------------------------------------------------------
     def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> SpCoTMHP:
-        """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep."""
+        """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep.
+
+        BLAS runs on one thread meanwhile (``threadpoolctl``): the sampler's matrix products are small, and a
+        second BLAS thread tripled their CPU time (spinning) without making them faster, the more so with runs in
+        parallel worker processes (selection.py). One thread also gives the same sums whatever the number of cores."""
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=1, user_api="blas"):
+            return self._fit(dataset, progress)
+
+    def _fit(self, dataset: Dataset, progress: Callable[[int], None] | None) -> SpCoTMHP:
         self._check_settings()
         t0, c0 = time.perf_counter(), time.process_time()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
