@@ -9,10 +9,9 @@ and the draw is forward filtering, backward sampling over the HMM with transitio
 :func:`~spcotmhp.learning.hmm.ffbs_kernel`, with the same arithmetic in the same order, so the same uniforms
 give the same places bit for bit (tested). What changes is the bookkeeping: no (E, K) table of emissions or
 filtered probabilities is written. Each event's emissions are computed into one row (the Gaussian term with the
-arithmetic of :func:`~spcotmhp.learning.model.log_gaussian`), only at the places whose emission at Mahalanobis
-distance 0 (an upper bound) can reach the floor below the best (``_near_emissions``); the forward pass keeps,
-per event, only the states of non-zero filtered probability (the states within
-:data:`~spcotmhp.learning.hmm.EMIT_FLOOR` nats of the event's best emission that some state of the previous event
+arithmetic of :func:`~spcotmhp.learning.model.log_gaussian`, from contiguous columns of the means and
+covariances); the forward pass keeps, per event, only the states of non-zero filtered probability (the states
+within :data:`~spcotmhp.learning.hmm.EMIT_FLOOR` nats of the event's best emission that some state of the previous event
 can reach), in a compressed row list; and the backward pass draws from those states only (the others have weight
 exactly 0 in the dense draw, and adding 0 changes no partial sum). When a step underflows, the dense emissions
 are built and the dense kernel (with its log-space fallback) draws instead, as before.
@@ -31,55 +30,36 @@ __all__ = ["place_emissions", "sample_places"]
 
 
 @njit(cache=True)
-def _emission(X, e, c, k, mu, Sigma, det, log_det, log_phi, log_norm):  # pragma: no cover - numba
-    """The emission of place k at event e (concept c): Eq. 9, with the Gaussian term evaluated exactly as
-    :func:`~spcotmhp.learning.model.log_gaussian` does."""
-    a, b, cc, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
-    dx = X[e, 0] - mu[k, 0]
-    dy = X[e, 1] - mu[k, 1]
-    maha = (d * dx * dx - (b + cc) * dx * dy + a * dy * dy) / det[k]
-    return (-0.5 * (maha + log_det[k]) - LOG_2PI + log_phi[c, k]) - log_norm[k]
+def _columns(mu, Sigma):  # pragma: no cover - numba
+    """mu_k and the entries of Sigma_k as contiguous columns (K,) each: x, y of the mean, a, b + c, d of the
+    covariance [[a, b], [c, d]], so that a row of emissions is one contiguous loop."""
+    K = mu.shape[0]
+    m0, m1, sa, sbc, sd = np.empty(K), np.empty(K), np.empty(K), np.empty(K), np.empty(K)
+    for k in range(K):
+        m0[k], m1[k] = mu[k, 0], mu[k, 1]
+        sa[k], sbc[k], sd[k] = Sigma[k, 0, 0], Sigma[k, 0, 1] + Sigma[k, 1, 0], Sigma[k, 1, 1]
+    return m0, m1, sa, sbc, sd
 
 
 @njit(cache=True)
-def _emission_row(X, e, c, mu, Sigma, det, log_det, log_phi, log_norm, row):  # pragma: no cover - numba
-    """The emissions of event e (concept c) at every place into ``row`` (K,)."""
+def _emission_row(X, e, c, cols, det, log_det, log_phi, log_norm, row):  # pragma: no cover - numba
+    """The emissions of event e (concept c) at every place into ``row`` (K,): Eq. 9, with the Gaussian term
+    evaluated exactly as :func:`~spcotmhp.learning.model.log_gaussian` does (``cols`` from ``_columns``)."""
+    m0, m1, sa, sbc, sd = cols
+    x0, x1 = X[e, 0], X[e, 1]
     for k in range(row.shape[0]):
-        row[k] = _emission(X, e, c, k, mu, Sigma, det, log_det, log_phi, log_norm)
-
-
-@njit(cache=True)
-def _near_emissions(
-    X, e, c, start, mu, Sigma, det, log_det, log_phi, log_norm, bound, row, near
-):  # pragma: no cover - numba
-    """The exact emissions of event e at the places that may come within :data:`EMIT_FLOOR` nats of its best
-    one, into ``row[k]``, their indices (increasing) into ``near``; returns their number and the best emission.
-
-    ``bound[c, k]`` is the emission at Mahalanobis distance 0, an upper bound of every emission of place k under
-    concept c. Place ``start`` (the previous event's best) is scored first; a place whose bound lies more than
-    EMIT_FLOOR + 1 nats below the best exact emission so far can neither be the best nor within the floor of it,
-    so it is left out (the 1 nat covers rounding), and the best and the places within the floor are those of
-    the full row."""
-    best = _emission(X, e, c, start, mu, Sigma, det, log_det, log_phi, log_norm)
-    n = 0
-    for k in range(row.shape[0]):
-        if k != start:
-            if bound[c, k] + 1.0 < best - EMIT_FLOOR:
-                continue
-            row[k] = _emission(X, e, c, k, mu, Sigma, det, log_det, log_phi, log_norm)
-            best = max(best, row[k])
-        else:
-            row[k] = _emission(X, e, c, k, mu, Sigma, det, log_det, log_phi, log_norm)
-        near[n] = k
-        n += 1
-    return n, best
+        dx = x0 - m0[k]
+        dy = x1 - m1[k]
+        maha = (sd[k] * dx * dx - sbc[k] * dx * dy + sa[k] * dy * dy) / det[k]
+        row[k] = (-0.5 * (maha + log_det[k]) - LOG_2PI + log_phi[c, k]) - log_norm[k]
 
 
 @njit(cache=True)
 def _dense_emissions(X, concepts, mu, Sigma, det, log_det, log_phi, log_norm):  # pragma: no cover - numba
     out = np.empty((X.shape[0], mu.shape[0]))
+    cols = _columns(mu, Sigma)
     for e in range(X.shape[0]):
-        _emission_row(X, e, concepts[e], mu, Sigma, det, log_det, log_phi, log_norm, out[e])
+        _emission_row(X, e, concepts[e], cols, det, log_det, log_phi, log_norm, out[e])
     return out
 
 
@@ -106,40 +86,32 @@ def _sparse_forward(
     filtered probabilities (up to a constant per e) in ``val``. Returns False when a step underflows."""
     E, K = X.shape[0], mu.shape[0]
     into = np.exp(log_trans).T.copy()  # into[k, j] = p(k | j): a contiguous row per target state
-    bound = np.empty((log_phi.shape[0], K))  # the emission at Mahalanobis distance 0
-    for c in range(log_phi.shape[0]):
-        for k in range(K):
-            bound[c, k] = (-0.5 * log_det[k] - LOG_2PI + log_phi[c, k]) - log_norm[k]
+    cols = _columns(mu, Sigma)
     row = np.empty(K)
     prev = np.zeros(K)
     cur = np.empty(K)
-    near = np.empty(K, dtype=np.int64)
     cand = np.empty(K, dtype=np.int64)
-    _emission_row(X, 0, concepts[0], mu, Sigma, det, log_det, log_phi, log_norm, row)
+    _emission_row(X, 0, concepts[0], cols, det, log_det, log_phi, log_norm, row)
     ptr[0] = 0
     _first_event(row, log_init, prev, ptr, idx, val)
-    start = np.argmax(row)
     for e in range(1, E):
-        n_near, me = _near_emissions(
-            X, e, concepts[e], start, mu, Sigma, det, log_det, log_phi, log_norm, bound, row, near
-        )
+        _emission_row(X, e, concepts[e], cols, det, log_det, log_phi, log_norm, row)
+        me = row.max()
+        n = 0
+        for k in range(K):
+            if not row[k] - me < -EMIT_FLOOR:
+                cand[n] = k
+                n += 1
         lo, hi = ptr[e - 1], ptr[e]
         total = 0.0
-        n = 0
-        for t in range(n_near):
-            k = near[t]
-            if row[k] == me:
-                start = k
-            if row[k] - me < -EMIT_FLOOR:
-                continue
+        for t in range(n):
+            k = cand[t]
             scale = np.exp(row[k] - me)
             acc = 0.0
             for q in range(lo, hi):
                 acc += prev[idx[q]] * into[k, idx[q]]
             cur[k] = acc * scale
             total += cur[k]
-            cand[n] = k
-            n += 1
         if not total > 1e-280:
             return False
         for t in range(lo, hi):

@@ -8,10 +8,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from spcotmhp.learning.hmm import EMIT_FLOOR, ffbs
+from spcotmhp.learning.hmm import ffbs
 from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import log_gaussian
-from spcotmhp.learning.place_ffbs import _near_emissions, _sparse_forward, place_emissions, sample_places
+from spcotmhp.learning.place_ffbs import _sparse_forward, place_emissions, sample_places
 
 
 def _case(seed: int, K: int, L: int, E: int, spread: float):
@@ -66,20 +66,3 @@ def test_a_covariance_that_is_not_positive_definite_is_refused():
     Sigma[1] = [[1.0, 2.0], [2.0, 1.0]]
     with pytest.raises(ValueError, match="positive definite"):
         sample_places(X, concepts, mu, Sigma, log_phi, log_trans, np.zeros(3), np.random.default_rng(0))
-
-
-def test_far_places_are_left_out_and_the_near_ones_are_exact():
-    _rng, X, concepts, mu, Sigma, log_phi, _ = _case(3, 40, 3, 30, 0.3)
-    log_phi[:2, 20:] -= 300.0  # half the places unlikely under the events' concepts: their bound is low
-    concepts %= 2
-    norm = logsumexp(log_phi, axis=0)
-    dense = place_emissions(X, concepts, mu, Sigma, log_phi, norm)
-    det = Sigma[:, 0, 0] * Sigma[:, 1, 1] - Sigma[:, 0, 1] * Sigma[:, 1, 0]
-    bound = -0.5 * np.log(det) - np.log(2 * np.pi) + log_phi - norm
-    assert (bound[concepts] >= dense).all()
-    row, near = np.empty(40), np.empty(40, dtype=np.int64)
-    for e in range(30):
-        n, best = _near_emissions(X, e, concepts[e], 0, mu, Sigma, det, np.log(det), log_phi, norm, bound, row, near)
-        assert best == dense[e].max() and n < 40
-        assert np.array_equal(row[near[:n]], dense[e, near[:n]])
-        assert set(np.flatnonzero(dense[e] - best >= -EMIT_FLOOR)) <= set(near[:n])
