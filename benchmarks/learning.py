@@ -18,7 +18,8 @@ events_per_room=25)``, words only, a 150,000-pose trajectory) with truncations K
 
 ``--against DIR``: also time another version of the package (a checkout whose ``spcotmhp`` is in DIR, e.g. made
 with ``git archive``) in the same run: ``--pairs`` single runs of each, alternating, each in a fresh process,
-and print a second table of their CPU seconds per run and the ratio, so that both see the same machine load.
+and print a second table of their CPU seconds per run and the ratio, so that both see the same machine load
+(``--runs 0``: that table only).
 """
 
 from __future__ import annotations
@@ -128,15 +129,15 @@ def main_table(args: argparse.Namespace) -> None:
 ONE_RUN = """
 import json, sys, time, warnings
 warnings.simplefilter("ignore")
-sys.path.insert(0, {bench!r})
 from learning import _cases
+import spcotmhp
 from spcotmhp.learning import gibbs
 label, data, feats, size = _cases({scale})[{case}]
 gibbs.SpCoTMHP(iterations=2, use_features=feats, connectivity="hmm", **size).fit(data)
 m = gibbs.SpCoTMHP(iterations={iterations}, use_features=feats, connectivity="hmm", run={run}, **size)
 c = time.process_time()
 m.fit(data)
-print(json.dumps([time.process_time() - c, m.places_.tolist()]))
+print(json.dumps([time.process_time() - c, m.places_.tolist(), spcotmhp.__file__]))
 """
 
 
@@ -152,10 +153,14 @@ def against_table(args: argparse.Namespace) -> None:
         for run in range(args.pairs):
             places = []
             for root in (args.against, here):
-                code = ONE_RUN.format(bench=bench, scale=args.scale, case=case, iterations=args.iterations, run=run)
-                env = dict(os.environ, PYTHONPATH=root)
-                out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-                seconds, seq = json.loads(out.stdout.strip().splitlines()[-1])
+                code = ONE_RUN.format(scale=args.scale, case=case, iterations=args.iterations, run=run)
+                env = dict(os.environ, PYTHONPATH=root)  # run from bench: the working directory goes first on the path
+                out = subprocess.run(
+                    [sys.executable, "-c", code], env=env, cwd=bench, capture_output=True, text=True, check=True
+                )
+                seconds, seq, package = json.loads(out.stdout.strip().splitlines()[-1])
+                if not os.path.abspath(package).startswith(os.path.abspath(root)):
+                    raise SystemExit(f"{root}: imported spcotmhp from {package} instead")
                 spent[root].append(seconds)
                 places.append(seq)
             same = same and places[0] == places[1]
@@ -173,7 +178,8 @@ def main() -> None:
     parser.add_argument("--pairs", type=int, default=2, help="single runs of each version with --against")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    main_table(args)
+    if args.runs > 0:
+        main_table(args)
     if args.against:
         against_table(args)
 
