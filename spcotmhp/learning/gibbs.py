@@ -202,9 +202,10 @@ class SpCoTMHP:
     def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> SpCoTMHP:
         """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep.
 
-        BLAS runs on one thread meanwhile (``threadpoolctl``): the sampler's matrix products are small, and a
-        second BLAS thread tripled their CPU time (spinning) without making them faster, the more so with runs in
-        parallel worker processes (selection.py). One thread also gives the same sums whatever the number of cores."""
+        BLAS runs on one thread meanwhile (``threadpoolctl``): the sampler's matrix products are small, and more
+        BLAS threads spend CPU time spinning without making them faster, the more so with runs in parallel worker
+        processes (selection.py; docs/results.md, "Learning speed"). One thread also gives the same sums whatever
+        the number of cores."""
         from threadpoolctl import threadpool_limits
 
         with threadpool_limits(limits=1, user_api="blas"):
