@@ -28,6 +28,8 @@ from spcotmhp.learning.model import LOG_2PI, log_gaussian
 
 __all__ = ["place_emissions", "sample_places"]
 
+DONE, UNDERFLOW, FULL = 0, 1, 2  # outcomes of the sparse forward pass
+
 
 @njit(cache=True)
 def _columns(mu, Sigma):  # pragma: no cover - numba
@@ -83,7 +85,8 @@ def _sparse_forward(
 ):  # pragma: no cover - numba
     """Forward pass of :func:`~spcotmhp.learning.hmm.ffbs_kernel` (scaled, floored) that stores, per event e,
     the states of non-zero filtered probability in ``idx[ptr[e]:ptr[e + 1]]`` (increasing) and their log
-    filtered probabilities (up to a constant per e) in ``val``. Returns False when a step underflows."""
+    filtered probabilities (up to a constant per e) in ``val``. Returns :data:`DONE`, :data:`UNDERFLOW` when a
+    step underflows, or :data:`FULL` when ``idx`` has no room left."""
     E, K = X.shape[0], mu.shape[0]
     into = np.exp(log_trans).T.copy()  # into[k, j] = p(k | j): a contiguous row per target state
     cols = _columns(mu, Sigma)
@@ -113,7 +116,9 @@ def _sparse_forward(
             cur[k] = acc * scale
             total += cur[k]
         if not total > 1e-280:
-            return False
+            return UNDERFLOW
+        if hi + n > idx.shape[0]:
+            return FULL
         for t in range(lo, hi):
             prev[idx[t]] = 0.0
         out = hi
@@ -125,7 +130,7 @@ def _sparse_forward(
                 val[out] = np.log(prev[k])
                 out += 1
         ptr[e + 1] = out
-    return True
+    return DONE
 
 
 @njit(cache=True)
@@ -203,9 +208,15 @@ def sample_places(
     if E == 0:
         return np.zeros(0, dtype=np.int64)
     ptr = np.empty(E + 1, dtype=np.int64)
-    idx = np.empty(E * K, dtype=np.int64)
-    val = np.empty(E * K)
-    if _sparse_forward(X, concepts, mu, Sigma, det, log_det, log_phi, log_norm, log_trans, log_init, ptr, idx, val):
+    room = min(E * K, 8 * E + K)  # the states kept per event are a few; all K at worst (then a second pass)
+    while True:
+        idx, val = np.empty(room, dtype=np.int64), np.empty(room)
+        args = (X, concepts, mu, Sigma, det, log_det, log_phi, log_norm, log_trans, log_init, ptr, idx, val)
+        status = _sparse_forward(*args)
+        if status != FULL or room == E * K:
+            break
+        room = E * K
+    if status == DONE:
         return _sparse_backward(log_trans, uniforms, K, ptr, idx, val)
     log_emit = _dense_emissions(X, concepts, mu, Sigma, det, log_det, log_phi, log_norm)
     return ffbs_kernel(log_emit, log_trans, log_init, uniforms)

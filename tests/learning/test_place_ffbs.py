@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from spcotmhp.learning.hmm import ffbs
 from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import log_gaussian
-from spcotmhp.learning.place_ffbs import _sparse_forward, place_emissions, sample_places
+from spcotmhp.learning.place_ffbs import FULL, UNDERFLOW, _sparse_forward, place_emissions, sample_places
 
 
 def _case(seed: int, K: int, L: int, E: int, spread: float):
@@ -54,7 +54,7 @@ def test_underflow_falls_back_to_the_dense_kernel():
     ptr, idx, val = np.empty(7, dtype=np.int64), np.empty(18, dtype=np.int64), np.empty(18)
     args = (np.ascontiguousarray(log_phi), norm, log_trans, log_init, ptr, idx, val)
     det = Sigma[:, 0, 0] * Sigma[:, 1, 1] - Sigma[:, 0, 1] * Sigma[:, 1, 0]
-    assert not _sparse_forward(X, concepts, mu, Sigma, det, np.log(det), *args)
+    assert _sparse_forward(X, concepts, mu, Sigma, det, np.log(det), *args) == UNDERFLOW
     for seed in range(20):
         got = sample_places(X, concepts, mu, Sigma, log_phi, log_trans, log_init, np.random.default_rng(seed))
         assert np.array_equal(got, ffbs(emit, log_trans, log_init, np.random.default_rng(seed)))
@@ -66,3 +66,21 @@ def test_a_covariance_that_is_not_positive_definite_is_refused():
     Sigma[1] = [[1.0, 2.0], [2.0, 1.0]]
     with pytest.raises(ValueError, match="positive definite"):
         sample_places(X, concepts, mu, Sigma, log_phi, log_trans, np.zeros(3), np.random.default_rng(0))
+
+
+def test_events_with_many_likely_places_get_a_second_pass_with_room_for_all():
+    # broad Gaussians and flat phi: every state of every event is kept, more than the first pass has room for
+    rng, X, concepts, mu, Sigma, log_phi, log_trans = _case(7, 30, 2, 12, 0.3)
+    Sigma[:] = 400.0 * np.eye(2)
+    log_phi[:] = -np.log(30)
+    log_init = np.full(30, -np.log(30))
+    norm = logsumexp(log_phi, axis=0)
+    emit = place_emissions(X, concepts, mu, Sigma, log_phi, norm)
+    det = Sigma[:, 0, 0] * Sigma[:, 1, 1] - Sigma[:, 0, 1] * Sigma[:, 1, 0]
+    room = 8 * 12 + 30  # the first pass's room
+    buffers = (np.empty(13, dtype=np.int64), np.empty(room, dtype=np.int64), np.empty(room))
+    args = (X, concepts, mu, Sigma, det, np.log(det), log_phi, norm, log_trans, log_init)
+    assert _sparse_forward(*args, *buffers) == FULL
+    for seed in range(5):
+        got = sample_places(X, concepts, mu, Sigma, log_phi, log_trans, log_init, np.random.default_rng(seed))
+        assert np.array_equal(got, ffbs(emit, log_trans, log_init, np.random.default_rng(seed)))
