@@ -3,9 +3,9 @@ sweep (:mod:`spcotmhp.learning.concepts`) and the split-merge proposals (:mod:`s
 
 With the Dirichlet priors integrated out, an event's features and words enter p(C_e = l | ...) as Dirichlet-
 multinomial predictive terms of concept l's counts without event e: DirMult(f_e | chi + F_l) (:func:`feature_term`)
-and DirMult(S_e | beta + W_l) over the concept tokens (:func:`word_term`, or :func:`tokens_term` from tables
-kept up to date by :func:`total_logs` and :func:`count_logs`). The ``move_*`` kernels add or remove an event's
-counts.
+and DirMult(S_e | beta + W_l) over the concept tokens (:func:`word_term`, or :func:`tokens_terms` for every
+concept at once from tables kept up to date by :func:`word_logs`, :func:`total_logs` and :func:`count_logs`).
+The ``move_*`` kernels add or remove an event's counts.
 
 Feature terms: log Gamma(a + x) - log Gamma(a) is exact (a sum of logs for small integer x, log-gamma
 otherwise), except for tiny counts x <= SMALL_COUNT, where x psi(a) is used (psi the digamma function) with psi(a)
@@ -109,31 +109,51 @@ def word_term(l, e, beta, V, W_lv, W_l, t_ptr, t_word, z):
 
 
 @njit(cache=True)
-def tokens_term(l, beta, W_lv, words, reps, m, log_tot):
-    """:func:`word_term` from the event's concept tokens (``concept_tokens``, found once per event) and the
-    table ``log_tot[l, j]`` = log(V beta + W_l + j) (``total_logs``): the same value."""
-    lp = 0.0
+def tokens_terms(beta, W_lv, log_wt, words, reps, m, log_tot, out):
+    """:func:`word_term` of every concept at once into ``out`` (L,), from the event's concept tokens
+    (``concept_tokens``, found once per event) and the tables ``log_wt[v, l]`` = log(beta + W_lv[l, v])
+    (:func:`word_logs`) and ``log_tot[j, l]`` = log(V beta + W_l + j) (:func:`total_logs`).
+
+    The same value as :func:`word_term`, bit for bit: per concept the same terms added in the same order, and a
+    token without an earlier repeat (``reps`` 0, nearly all of them) reads its log from the table, since
+    (beta + W) + 0 is beta + W. The loops over concepts are contiguous rows of the tables."""
+    out[:] = 0.0
     for t in range(m):
-        lp += log(beta + W_lv[l, words[t]] + reps[t]) - log_tot[l, t]
-    return lp
+        v = words[t]
+        if reps[t] == 0.0:
+            for l in range(out.shape[0]):
+                out[l] += log_wt[v, l] - log_tot[t, l]
+        else:
+            for l in range(out.shape[0]):
+                out[l] += log(beta + W_lv[l, v] + reps[t]) - log_tot[t, l]
+
+
+@njit(cache=True)
+def word_logs(l, e, beta, W_lv, log_wt, t_ptr, t_word):
+    """Refresh ``log_wt[v, l]`` = log(beta + W_lv[l, v]) for the words of event e, after concept l's counts of
+    them changed."""
+    for p in range(t_ptr[e], t_ptr[e + 1]):
+        v = t_word[p]
+        log_wt[v, l] = log(beta + W_lv[l, v])
 
 
 @njit(cache=True)
 def total_logs(l, beta, V, W_l, log_tot):
-    """log(V beta + W_l + j) for j = 0 .. (longest utterance - 1), after concept l's token count changed."""
+    """log(V beta + W_l + j) into ``log_tot[j, l]`` for j = 0 .. (longest utterance - 1), after concept l's token
+    count changed."""
     j = 0.0
-    for t in range(log_tot.shape[1]):
-        log_tot[l, t] = log(V * beta + W_l[l] + j)
+    for t in range(log_tot.shape[0]):
+        log_tot[t, l] = log(V * beta + W_l[l] + j)
         j += 1.0
 
 
 @njit(cache=True)
-def count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk):
+def count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl):
     """The cached logs of concept l's counts (:func:`~spcotmhp.learning.concepts._concept_sweep`), after they
-    changed."""
+    changed; ``log_kl[k, l]`` = log(n_lk[l, k] + gamma) (a contiguous row per place)."""
     log_a[l] = log(n_l[l] + alpha)
     log_c[l] = log(n_l[l] + K * gamma)
-    log_lk[l, k] = log(n_lk[l, k] + gamma)
+    log_kl[k, l] = log(n_lk[l, k] + gamma)
 
 
 @njit(cache=True)

@@ -21,6 +21,7 @@ The per-event terms and count moves are the kernels of :mod:`spcotmhp.learning.c
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import log
 
 import numpy as np
 from numba import njit
@@ -32,19 +33,24 @@ from spcotmhp.learning.collapsed_terms import (
     move_features,
     move_words,
     refresh_digamma,
-    tokens_term,
+    tokens_terms,
     total_logs,
+    word_logs,
 )
 
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch
 
 
 @njit(cache=True)
-def _draw(logp: np.ndarray, uniform: float) -> int:
-    """Index drawn from unnormalised log probabilities with one uniform variate."""
+def _draw(logp: np.ndarray, uniform: float, w: np.ndarray) -> int:
+    """Index drawn from unnormalised log probabilities with one uniform variate (inverse CDF); ``w`` is scratch
+    space of the same length."""
     m = logp.max()
-    w = np.exp(logp - m)
-    target = uniform * w.sum()
+    total = 0.0
+    for l in range(logp.shape[0]):
+        w[l] = np.exp(logp[l] - m)
+        total += w[l]
+    target = uniform * total
     acc = 0.0
     for l in range(logp.shape[0]):
         acc += w[l]
@@ -79,6 +85,27 @@ def _resample_switches(l, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_to
             z_tot[0] += 1.0
         u += 1
     return u
+
+
+@njit(cache=True)
+def _feature_scores(
+    e, k, L, n_l, log_a, log_kl, log_c, words_lp, chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult,
+    n_feat, logp,
+):  # fmt: skip
+    """log p(C_e = l | ...) for every concept l with the feature term: the count and word terms plus
+    DirMult(f_e | chi + F_l), evaluated once for all empty concepts (exchangeable: the same value, bit for bit)."""
+    empty_value = 0.0
+    empty_done = False
+    for l in range(L):
+        if n_l[l] == 0.0 and empty_done:
+            logp[l] = empty_value
+            continue
+        lp = log_a[l] + log_kl[k, l] - log_c[l] + words_lp[l]
+        lp += feature_term(l, e, n_l[l], chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e])
+        logp[l] = lp
+        if n_l[l] == 0.0:
+            empty_value = lp
+            empty_done = True
 
 
 @njit(cache=True)
@@ -118,20 +145,26 @@ def _concept_sweep(
     use_features,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
-    Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in tables
-    and refreshed where the counts change (the same values as computing them for every event and concept)."""
+    Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in
+    tables refreshed where the counts change (the same values as computing them for every event and concept), and
+    the word terms of all concepts are summed at once (``tokens_terms``)."""
     logp = np.empty(L)
+    scratch = np.empty(L)
+    words_lp = np.empty(L)
     saved = np.empty(f_idx.shape[0])  # psi of the old concept before removal, restored if e stays there
     longest = 0
     for e in range(t_ptr.shape[0] - 1):
         longest = max(longest, t_ptr[e + 1] - t_ptr[e])
     tok_words = np.empty(longest, np.int64)
     tok_reps = np.empty(longest)
-    log_a, log_c, log_lk, log_tot = np.empty(L), np.empty(L), np.empty((L, K)), np.empty((L, longest))
+    log_a, log_c, log_kl, log_tot = np.empty(L), np.empty(L), np.empty((K, L)), np.empty((longest, L))
+    log_wt = np.empty((W_lv.shape[1], L))  # log(beta + W_lv[l, v]) at [v, l]
     for l in range(L):
         total_logs(l, beta, V, W_l, log_tot)
+        for v in range(W_lv.shape[1]):
+            log_wt[v, l] = log(beta + W_lv[l, v])
         for k in range(K):
-            count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+            count_logs(l, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl)
     u = 0
     for t in range(order.shape[0]):
         e = order[t]
@@ -139,37 +172,28 @@ def _concept_sweep(
         old = C[e]
         n_l[old] -= 1.0
         n_lk[old, k] -= 1.0
-        count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+        count_logs(old, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl)
         move_words(old, e, -1.0, W_lv, W_l, t_ptr, t_word, z)
+        word_logs(old, e, beta, W_lv, log_wt, t_ptr, t_word)
         total_logs(old, beta, V, W_l, log_tot)
         m = concept_tokens(e, t_ptr, t_word, z, tok_words, tok_reps)
+        tokens_terms(beta, W_lv, log_wt, tok_words, tok_reps, m, log_tot, words_lp)
         if use_features:
             for p in range(f_ptr[e], f_ptr[e + 1]):
                 saved[p] = digamma_ld[old, f_idx[p]]
             move_features(old, e, -1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
             refresh_digamma(digamma_ld, old, e, chi, F_ld, f_ptr, f_idx)
-        empty_value = 0.0
-        empty_done = False
-        for l in range(L):
-            if n_l[l] == 0.0 and empty_done:  # empty concepts are exchangeable: one evaluation
-                logp[l] = empty_value
-                continue
-            lp = log_a[l] + log_lk[l, k] - log_c[l]
-            lp += tokens_term(l, beta, W_lv, tok_words, tok_reps, m, log_tot)
-            if use_features:
-                lp += feature_term(
-                    l, e, n_l[l], chi, D, F_ld, F_l, digamma_ld, f_ptr, f_idx, f_cnt, c_val, c_mult, n_feat[e]
-                )
-            logp[l] = lp
-            if n_l[l] == 0.0:
-                empty_value = lp
-                empty_done = True
-        new = _draw(logp, uniforms[u])
+            _feature_scores(e, k, L, n_l, log_a, log_kl, log_c, words_lp, chi, D, F_ld, F_l, digamma_ld, f_ptr,
+                            f_idx, f_cnt, c_val, c_mult, n_feat, logp)  # fmt: skip
+        else:  # the same value for every empty concept, so no special case
+            for l in range(L):
+                logp[l] = log_a[l] + log_kl[k, l] - log_c[l] + words_lp[l]
+        new = _draw(logp, uniforms[u], scratch)
         u += 1
         C[e] = new
         n_l[new] += 1.0
         n_lk[new, k] += 1.0
-        count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_lk)
+        count_logs(new, k, n_l, n_lk, alpha, gamma, K, log_a, log_c, log_kl)
         move_words(new, e, 1.0, W_lv, W_l, t_ptr, t_word, z)
         if use_features:
             move_features(new, e, 1.0, F_ld, F_l, f_ptr, f_idx, f_cnt, n_feat[e])
@@ -180,6 +204,7 @@ def _concept_sweep(
                 refresh_digamma(digamma_ld, new, e, chi, F_ld, f_ptr, f_idx)
         if background:
             u = _resample_switches(new, e, uniforms, u, beta, V, W_lv, W_l, bg_v, bg_tot, z_tot, t_ptr, t_word, z)
+        word_logs(new, e, beta, W_lv, log_wt, t_ptr, t_word)
         total_logs(new, beta, V, W_l, log_tot)
     return C
 
@@ -296,17 +321,19 @@ class CollapsedConceptSampler:
         (features per concept), and the digamma table psi(chi + F_ld) (F_ld itself without features: unused)."""
         E = len(C)
         n_l = np.bincount(C, minlength=L).astype(float)
-        n_lk = np.zeros((L, K))
-        np.add.at(n_lk, (C, places), 1.0)
-        onehot = np.zeros((E, L))
-        onehot[np.arange(E), C] = 1.0
-        W_lv = onehot.T @ self.concept_words()
+        n_lk = np.bincount(C * K + places, minlength=L * K).astype(float).reshape(L, K)
+        # integer counts, so scatter-adds give the numbers of the one-hot products exactly
+        cell = C[self.t_event[self.z]] * self.V + self.t_word[self.z]
+        W_lv = np.bincount(cell, minlength=L * self.V).astype(float).reshape(L, self.V)
         bg_v = self.background_words()
         z_tot = np.array([float((~self.z).sum()), float(self.z.sum())])
+        if self.features is None:  # one all-zero column (what the product with ``varying`` gives)
+            return n_l, n_lk, W_lv, bg_v, z_tot, np.zeros((L, 1)), np.zeros(L), np.zeros((L, 1))
+        onehot = np.zeros((E, L))
+        onehot[np.arange(E), C] = 1.0
         F_ld = onehot.T @ self.varying
         F_l = onehot.T @ self.n_feat
-        digamma_ld = _digamma_table(chi + F_ld) if self.features is not None else F_ld
-        return n_l, n_lk, W_lv, bg_v, z_tot, F_ld, F_l, digamma_ld
+        return n_l, n_lk, W_lv, bg_v, z_tot, F_ld, F_l, _digamma_table(chi + F_ld)
 
 
 def _digamma_table(a: np.ndarray) -> np.ndarray:

@@ -85,12 +85,12 @@ from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.distributions import sample_categorical_log
-from spcotmhp.learning.hmm import ffbs, trajectory_places, transition_counts
+from spcotmhp.learning.hmm import trajectory_places, transition_counts
 from spcotmhp.learning.init import INITS, initial_assignments
 from spcotmhp.learning.learner_state import from_batch
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
+from spcotmhp.learning.place_ffbs import sample_places
 from spcotmhp.learning.posterior import (
     Priors,
     SufficientStats,
@@ -152,7 +152,7 @@ class SpCoTMHP:
     Learned attributes: ``model_`` (SpatialConceptModel of posterior means given the final assignment),
     ``places_`` (E,) and ``concepts_`` (E,) the final i and C, ``log_joint_`` (collapsed log joint of the final
     assignment), ``mutual_information_`` (word-concept MI), ``log_joint_trace_`` (one value per sweep),
-    ``fit_time_`` (seconds).
+    ``fit_time_`` (seconds), ``fit_cpu_time_`` (CPU seconds of this process during ``fit``).
     """
 
     def __init__(
@@ -200,9 +200,20 @@ class SpCoTMHP:
 
     # ---- public API --------------------------------------------------------------------------------------
     def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> SpCoTMHP:
-        """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep."""
+        """Run the Gibbs sampler on ``dataset``; ``progress(sweep)`` is called after every sweep.
+
+        BLAS runs on one thread meanwhile (``threadpoolctl``): the sampler's matrix products are small, and more
+        BLAS threads spend CPU time spinning without making them faster, the more so with runs in parallel worker
+        processes (selection.py; docs/results.md, "Learning speed"). One thread also gives the same sums whatever
+        the number of cores."""
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=1, user_api="blas"):
+            return self._fit(dataset, progress)
+
+    def _fit(self, dataset: Dataset, progress: Callable[[int], None] | None) -> SpCoTMHP:
         self._check_settings()
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
         obs = Observations.from_dataset(
             dataset,
@@ -255,6 +266,7 @@ class SpCoTMHP:
         record_truncation(model, self.K, self.L)
         self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
+        self.fit_cpu_time_ = time.process_time() - c0
         return self
 
     def _run_info(self, dataset: Dataset, obs: Observations, moves_on: bool) -> dict:
@@ -361,12 +373,12 @@ class SpCoTMHP:
     ) -> np.ndarray:
         """i_{1:E} given C, x and the parameters (Eq. 9; FFBS, or independent draws in GMM mode)."""
         log_phi = priors.phi.log_probs
-        log_emit = priors.gauss.log_likelihood(obs.X) + log_phi[concepts]
         if self.transitions == "none":
-            return sample_categorical_log(rng, log_emit)
-        log_emit = log_emit - logsumexp(log_phi, axis=0)  # unigram rescaling, Eq. 9
-        log_init = np.full(self.K, -np.log(self.K))
-        return ffbs(log_emit, priors.psi.log_probs, log_init, rng)
+            return sample_categorical_log(rng, priors.gauss.log_likelihood(obs.X) + log_phi[concepts])
+        log_init = np.full(self.K, -np.log(self.K))  # FFBS with the unigram-rescaled emissions of Eq. 9
+        return sample_places(
+            obs.X, concepts, priors.gauss.mu, priors.gauss.Sigma, log_phi, priors.psi.log_probs, log_init, rng
+        )
 
 
 def _is_count(value: object) -> bool:

@@ -124,7 +124,9 @@ def ffbs_kernel(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarra
 
 
 def ffbs(log_emit: np.ndarray, log_trans: np.ndarray, log_init: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Draw i_{1:E} from the HMM posterior (see ``ffbs_kernel``); seeded through ``rng``."""
+    """Draw i_{1:E} from the HMM posterior (see ``ffbs_kernel``); seeded through ``rng``. The Gibbs sweep uses
+    :func:`~spcotmhp.learning.place_ffbs.sample_places`, the same draws with the emissions of Eq. 9 computed in
+    the kernel."""
     return ffbs_kernel(
         np.ascontiguousarray(log_emit, dtype=np.float64),
         np.ascontiguousarray(log_trans, dtype=np.float64),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from spcotmhp.learning.observations import Observations
 
@@ -20,13 +21,43 @@ def kmeans_places(X: np.ndarray, K: int, rng: np.random.Generator, iterations: i
         p = d2 / d2.sum() if d2.sum() > 0 else np.full(E, 1.0 / E)
         centres.append(X[rng.choice(E, p=p)])
         d2 = np.minimum(d2, np.sum((X - centres[-1]) ** 2, axis=1))
-    C = np.array(centres)
+    C = np.array(centres, dtype=float)
+    X = np.ascontiguousarray(X, dtype=float)
     for _ in range(iterations):
-        z = np.argmin(((X[:, None, :] - C[None]) ** 2).sum(-1), axis=1)
-        for j in range(k):
-            if np.any(z == j):
-                C[j] = X[z == j].mean(axis=0)
-    return np.argmin(((X[:, None, :] - C[None]) ** 2).sum(-1), axis=1)
+        _lloyd_means(X, _nearest(X, C), C)
+    return _nearest(X, C)
+
+
+@njit(cache=True)
+def _nearest(X, C):  # pragma: no cover - numba
+    """The nearest centre of every point (squared distance dx^2 + dy^2, first on ties): the numbers of
+    ``np.argmin(((X[:, None, :] - C[None]) ** 2).sum(-1), axis=1)`` without the (E, k, 2) table."""
+    z = np.empty(X.shape[0], dtype=np.int64)
+    for e in range(X.shape[0]):
+        best, arg = np.inf, 0
+        for j in range(C.shape[0]):
+            dx, dy = X[e, 0] - C[j, 0], X[e, 1] - C[j, 1]
+            d = dx * dx + dy * dy
+            if d < best:
+                best, arg = d, j
+        z[e] = arg
+    return z
+
+
+@njit(cache=True)
+def _lloyd_means(X, z, C):  # pragma: no cover - numba
+    """Every centre with points moves to their mean (summed in order, then divided: what ``X[z == j].mean(0)``
+    gives); centres without points stay."""
+    total = np.zeros(C.shape)
+    n = np.zeros(C.shape[0])
+    for e in range(X.shape[0]):
+        total[z[e], 0] += X[e, 0]
+        total[z[e], 1] += X[e, 1]
+        n[z[e]] += 1.0
+    for j in range(C.shape[0]):
+        if n[j] > 0:
+            C[j, 0] = total[j, 0] / n[j]
+            C[j, 1] = total[j, 1] / n[j]
 
 
 def keyword_concepts(words: np.ndarray, L: int, rng: np.random.Generator) -> np.ndarray:

@@ -46,7 +46,7 @@ CRITERIA = ("auto", "mutual_information", "log_joint", "log_joint_switch_mode")
 
 @dataclass
 class RunSummary:
-    """One run: its index, criteria and size."""
+    """One run: its index, criteria, size and times (wall and CPU seconds)."""
 
     run: int
     log_joint: float
@@ -54,6 +54,7 @@ class RunSummary:
     n_places: int
     n_concepts: int
     fit_time: float
+    cpu_time: float  # CPU seconds of the run in its process (on a shared machine, the work itself)
 
 
 class MultiRunSelector:
@@ -99,6 +100,7 @@ class MultiRunSelector:
                 int(e.model_.active_places.sum()),
                 int(e.model_.active_concepts.sum()),
                 e.fit_time_,
+                e.fit_cpu_time_,
             )
             for r, e in enumerate(self.estimators_)
         ]
