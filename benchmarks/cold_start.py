@@ -2,11 +2,12 @@
 instruction, timed stage by stage (import / load / precompute / first plan / total), median and max over runs.
 
     spcotmhp demo --out /tmp/demo_out
-    python benchmarks/cold_start.py --model /tmp/demo_out/model --runs 10 [--against /path/to/older/checkout]
+    python benchmarks/cold_start.py --model /tmp/demo_out/model --runs 10 [--against /path/to/older/checkout ...]
 
-With ``--against`` the other checkout's processes run in the same loop, alternating with this one, so both see
-the same machine load. One untimed process per checkout comes first (it lets numba fill its cache for the
-checkout, if it was empty).
+With ``--against`` the other checkouts' processes run in the same loop, alternating with this one, so both see
+the same machine load. One untimed process per checkout comes first: it writes Python's bytecode (the runs
+ignore ``PYTHONDONTWRITEBYTECODE``: an installed package has its bytecode) and fills numba's cache for the
+checkout if it was empty (``spcotmhp warmup`` does that after installing).
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ print(json.dumps({"import": t1 - t0, "load": t2 - t1, "precompute": t3 - t2, "fi
 def one_run(checkout: Path, model: str, instruction: str) -> dict[str, float]:
     """The stage times (seconds) of one fresh process with ``checkout`` first on the path."""
     env = dict(os.environ, PYTHONPATH=str(checkout))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)  # an installed package has its bytecode; a checkout gets it on first run
     out = subprocess.run(
         [sys.executable, "-c", CHILD, model, instruction],
         env=env,
@@ -69,14 +71,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--model", required=True, help="a model folder (spcotmhp demo --out DIR writes DIR/model)")
     parser.add_argument("--runs", type=int, default=10, help="fresh processes per checkout")
     parser.add_argument("--instruction", default="go to the bedroom via the corridor")
-    parser.add_argument("--against", help="another checkout to time in the same run, alternating")
+    parser.add_argument("--against", nargs="+", default=[], help="other checkouts to time in the same run, alternating")
     args = parser.parse_args(argv)
     here = Path(__file__).resolve().parent.parent
-    checkouts = {"this": here}
-    if args.against:
-        checkouts["against"] = Path(args.against).resolve()
+    checkouts = {"this": here} | {str(Path(d).resolve()): Path(d).resolve() for d in args.against}
     for path in checkouts.values():
-        one_run(path, args.model, args.instruction)  # untimed: fills numba's cache if it was empty
+        one_run(path, args.model, args.instruction)  # untimed: writes the bytecode, fills numba's cache if empty
     results: dict[str, list[dict[str, float]]] = {name: [] for name in checkouts}
     for _ in range(args.runs):
         for name, path in checkouts.items():
