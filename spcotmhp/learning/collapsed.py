@@ -21,7 +21,6 @@ mu, Sigma and psi integrated out instead of drawn: a single-site collapsed Gibbs
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import gammaln
 
 from spcotmhp.learning.model import Hyperparameters
 
@@ -151,6 +150,8 @@ class CollapsedState:
         det = np.maximum(a * d - b * b, 1e-300)
         dx, dy = x[0] - mn[:, 0], x[1] - mn[:, 1]
         maha = (d * dx * dx - 2.0 * b * dx * dy + a * dy * dy) / det
+        from scipy.special import gammaln  # here, not at import: loading a model for planning reads this module
+
         out = (
             gammaln((dof + 2.0) / 2.0)
             - gammaln(dof / 2.0)
@@ -182,6 +183,8 @@ class CollapsedState:
         chi, nz, F = self.hyper.chi, np.flatnonzero(f), self.F_ld[cols]
         a = chi + F[:, nz]
         tot = self.D * chi + F.sum(axis=1)
+        from scipy.special import gammaln  # here, not at import: loading a model for planning reads this module
+
         return (gammaln(a + f[nz]) - gammaln(a)).sum(axis=1) + gammaln(tot) - gammaln(tot + f.sum())
 
     # ---- counts --------------------------------------------------------------------------------------------

@@ -32,10 +32,10 @@ other are not connected.
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.hmm import runs
 from spcotmhp.learning.hmm import trajectory_places as hmm_trajectory_places
@@ -45,6 +45,9 @@ from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.metric.snap import snap
+
+if TYPE_CHECKING:  # not at run time: loading a model for planning reads this module and needs no dataset
+    from spcotmhp.datasets.dataset import Dataset
 
 ADJACENCY_CONCENTRATION = 0.1  # psi[k] = mean of Dir(0.1 + A[k]), the authors' conversion (Experiment I)
 RULES = ("territory", "partition", "density")

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.datasets.loader import features_to_counts
 from spcotmhp.errors import DatasetError
 from spcotmhp.learning.model import bag_counts
+
+if TYPE_CHECKING:  # not at run time: loading a model for planning reads this module and needs no dataset
+    from spcotmhp.datasets.dataset import Dataset
 
 
 @dataclass
@@ -128,6 +130,8 @@ def scale_features(features: np.ndarray, weight: float | None) -> np.ndarray:
     """Feature rows as the counts f_e of Eq. 15: rows rescaled to sum to ``weight``, or (None) the authors'
     integer counts ``features_to_counts``."""
     if weight is None:
+        from spcotmhp.datasets.loader import features_to_counts  # here, not at import (see above)
+
         return features_to_counts(features).astype(float)
     if not weight > 0:
         raise DatasetError(f"feature_weight must be > 0 or None, got {weight}")

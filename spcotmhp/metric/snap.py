@@ -13,11 +13,9 @@ steps, so the cells reachable from one another with 8-connected moves are exactl
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from spcotmhp.errors import MapError
-
-FOUR = ndimage.generate_binary_structure(2, 1)
+from spcotmhp.metric.grid_ops import label4, nearest_feature
 
 
 def nearest_index(mask: np.ndarray) -> np.ndarray:
@@ -26,8 +24,7 @@ def nearest_index(mask: np.ndarray) -> np.ndarray:
     mask = np.asarray(mask, dtype=bool)
     if not mask.any():
         raise MapError("no cell to snap to: the mask has no usable cell")
-    _, idx = ndimage.distance_transform_edt(~mask, return_indices=True)
-    return idx
+    return nearest_feature(mask)
 
 
 def snap(mask: np.ndarray, cells: np.ndarray) -> np.ndarray:
@@ -41,14 +38,14 @@ def snap(mask: np.ndarray, cells: np.ndarray) -> np.ndarray:
 
 def component_at(mask: np.ndarray, cell: tuple[int, int] | np.ndarray) -> np.ndarray:
     """The (4-connected) component of ``mask`` holding ``cell`` (empty if the cell is not in the mask)."""
-    labels, _ = ndimage.label(np.asarray(mask, dtype=bool), structure=FOUR)
+    labels, _ = label4(mask)
     label = labels[int(cell[0]), int(cell[1])]
     return labels == label if label else np.zeros(labels.shape, dtype=bool)
 
 
 def largest_component(mask: np.ndarray) -> np.ndarray:
     """The largest (4-connected) component of ``mask`` (empty if the mask is)."""
-    labels, n = ndimage.label(np.asarray(mask, dtype=bool), structure=FOUR)
+    labels, n = label4(mask)
     if n == 0:
         return np.zeros(labels.shape, dtype=bool)
     sizes = np.bincount(labels.ravel())

@@ -43,11 +43,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit, prange
-from scipy import ndimage
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
 
 from spcotmhp.metric import _grid_kernels as _k
+from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
 
 
@@ -83,6 +81,9 @@ class TerritoryFields:
         """``portal_cost[a, j]`` (the cost from abstract node a into node j over the abstract graph) and ``hop[a, j]``
         (the next abstract node on that way) by Dijkstra on the reversed abstract graph from every node (removed
         nodes cut)."""
+        from scipy.sparse import csr_matrix  # here, not at import: only building-scale maps have a portal graph
+        from scipy.sparse.csgraph import dijkstra
+
         src, dst, w = self.links
         keep = ~self.removed[src] & ~self.removed[dst]
         A = len(self.cells)
@@ -217,7 +218,7 @@ def build(
 def _windows(territory: np.ndarray, n_places: int) -> np.ndarray:
     """(n_places, 4) the bounding box (r0, c0, r1, c1) of each territory (zeros for an empty one)."""
     win = np.zeros((n_places, 4), dtype=np.int64)
-    for t, sl in enumerate(ndimage.find_objects(territory + 1, max_label=n_places)):
+    for t, sl in enumerate(find_boxes(territory + 1, max_label=n_places)):
         if sl is not None:
             win[t] = (sl[0].start, sl[1].start, sl[0].stop, sl[1].stop)
     return win

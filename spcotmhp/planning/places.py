@@ -40,10 +40,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-from scipy import ndimage
 
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import posterior_arg_max
+from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.snap import largest_component as main_component
 from spcotmhp.metric.snap import snap
 
@@ -184,7 +184,7 @@ def snap_into_territories(
     bounding box of those cells only); ``ok`` is False for places that own no such cell."""
     out = np.zeros_like(cells)
     ok = np.zeros(len(cells), dtype=bool)
-    boxes = ndimage.find_objects(territory + 1)
+    boxes = find_boxes(territory + 1)
     for k in np.unique(node_place):
         if k >= len(boxes) or boxes[k] is None:
             continue

@@ -8,9 +8,8 @@ a margin, and the tube (window + mask) that a run of places spans.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
-_SQUARE = np.ones((3, 3), dtype=bool)
+from spcotmhp.metric.grid_ops import dilate_square
 
 
 def grown_territories(territory: np.ndarray, places: np.ndarray, margin_cells: float) -> dict:
@@ -28,7 +27,7 @@ def grown_territories(territory: np.ndarray, places: np.ndarray, margin_cells: f
         c0, c1 = max(cols[0] - m, 0), min(cols[-1] + m + 1, w)
         window = own[r0:r1, c0:c1]
         if m:
-            window = ndimage.binary_dilation(window, _SQUARE, iterations=m)
+            window = dilate_square(window, m)
         out[int(k)] = (int(r0), int(c0), window)
     return out
 

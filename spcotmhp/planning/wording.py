@@ -12,8 +12,6 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from itertools import pairwise
 
-from rapidfuzz import fuzz, process
-
 EXCERPT_CHARS = 60
 """Longest excerpt of an instruction quoted in an error message (longer inputs end in "…")."""
 WORD_CHARS = 30
@@ -75,6 +73,8 @@ def suggestions(unknown: Sequence[str], place_words: Sequence[str]) -> list[str]
     ("bathroom" -> "bath"). Compared case-insensitively and without apostrophes ("alices" -> "alice's")."""
     if not place_words or not unknown:
         return []
+    from rapidfuzz import fuzz, process  # here, not at import: only an instruction with unknown words needs it
+
     keys = {_key(w): w for w in place_words}
     choices = list(keys)
     candidates = [_key(w) for w in unknown[: 2 * MAX_NAMED]]

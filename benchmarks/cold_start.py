@@ -1,0 +1,90 @@
+"""Cold start: fresh processes that import the package, load a model folder, build the planner and plan one
+instruction, timed stage by stage (import / load / precompute / first plan / total), median and max over runs.
+
+    spcotmhp demo --out /tmp/demo_out
+    python benchmarks/cold_start.py --model /tmp/demo_out/model --runs 10 [--against /path/to/older/checkout ...]
+
+With ``--against`` the other checkouts' processes run in the same loop, alternating with this one, so both see
+the same machine load. One untimed process per checkout comes first: it writes Python's bytecode (the runs
+ignore ``PYTHONDONTWRITEBYTECODE``: an installed package has its bytecode) and fills numba's cache for the
+checkout if it was empty (``spcotmhp warmup`` does that after installing).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+STAGES = ("import", "load", "precompute", "first plan", "total")
+
+CHILD = """
+import json, sys, time
+t0 = time.perf_counter()
+from spcotmhp.learning.io import load_model
+from spcotmhp.planning.planner import HierarchicalPlanner
+t1 = time.perf_counter()
+model = load_model(sys.argv[1])
+t2 = time.perf_counter()
+planner = HierarchicalPlanner(model)
+t3 = time.perf_counter()
+plan = planner.plan(sys.argv[2], start=tuple(model.mu[0]))
+t4 = time.perf_counter()
+print(json.dumps({"import": t1 - t0, "load": t2 - t1, "precompute": t3 - t2, "first plan": t4 - t3, "total": t4 - t0}))
+"""
+
+
+def one_run(checkout: Path, model: str, instruction: str) -> dict[str, float]:
+    """The stage times (seconds) of one fresh process with ``checkout`` first on the path."""
+    env = dict(os.environ, PYTHONPATH=str(checkout))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)  # an installed package has its bytecode; a checkout gets it on first run
+    out = subprocess.run(
+        [sys.executable, "-c", CHILD, model, instruction],
+        env=env,
+        cwd=str(checkout),
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def table(results: dict[str, list[dict[str, float]]]) -> str:
+    """Markdown table: one row per checkout, each stage's median and max (ms)."""
+    head = "| code | runs | " + " | ".join(f"{s} median / max (ms)" for s in STAGES) + " |"
+    rows = [head, "|" + "---|" * (len(STAGES) + 2)]
+    for name, runs in results.items():
+        cells = []
+        for s in STAGES:
+            values = [r[s] * 1000 for r in runs]
+            cells.append(f"{statistics.median(values):.0f} / {max(values):.0f}")
+        rows.append(f"| {name} | {len(runs)} | " + " | ".join(cells) + " |")
+    return "\n".join(rows)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--model", required=True, help="a model folder (spcotmhp demo --out DIR writes DIR/model)")
+    parser.add_argument("--runs", type=int, default=10, help="fresh processes per checkout")
+    parser.add_argument("--instruction", default="go to the bedroom via the corridor")
+    parser.add_argument("--against", nargs="+", default=[], help="other checkouts to time in the same run, alternating")
+    args = parser.parse_args(argv)
+    here = Path(__file__).resolve().parent.parent
+    checkouts = {"this": here} | {str(Path(d).resolve()): Path(d).resolve() for d in args.against}
+    for path in checkouts.values():
+        one_run(path, args.model, args.instruction)  # untimed: writes the bytecode, fills numba's cache if empty
+    results: dict[str, list[dict[str, float]]] = {name: [] for name in checkouts}
+    for _ in range(args.runs):
+        for name, path in checkouts.items():
+            results[name].append(one_run(path, args.model, args.instruction))
+    print(f"load average (1 min) at the end: {os.getloadavg()[0]:.2f}")
+    print(table(results))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
