@@ -26,6 +26,7 @@ from spcotmhp.datasets import (
 from spcotmhp.datasets.alignment import align_events
 from spcotmhp.datasets.loader import tokenize_en, tokenize_ja
 from spcotmhp.errors import DatasetError, SpcotmhpError
+from tests.helpers.vocabulary import PLACE_WORDS_EN
 
 # --- a 20 x 30 map at 0.1 m, origin (-1, -1): border walls, an unknown block at x 1.0..1.5, y 0.0..0.5 ---
 HEIGHT, WIDTH = 20, 30
@@ -510,21 +511,7 @@ def test_the_consistency_check_rejects_a_broken_dataset(tmp_path):
 
 # --- bundled data ----------------------------------------------------------------------------------
 SIGVERSE = ["3LDK_01", "3LDK_05", "3LDK_06"]
-EN_WORDS = {
-    "entrance",
-    "living",
-    "dining",
-    "kitchen",
-    "bath",
-    "washroom",
-    "toilet",
-    "bedroom",
-    "storeroom",
-    "corridor",
-    "east",
-    "south",
-    "hall",
-}
+EN_WORDS = {*PLACE_WORDS_EN, "east", "south"}  # the place words, and the direction words of two names
 # teaching events whose recorded position is not on a free cell of its map (0-based event ids); each is
 # within 0.1-0.32 m of free space (see spcotmhp/data/README.md)
 OFF_FREE = {
