@@ -10,10 +10,11 @@ checked by walking the stored next-step links. A portal-graph graph (:mod:`spcot
 the avoided territories' abstract nodes instead: no territory-local field enters another territory, so every
 kept field stays exact.
 
-Memos and threads: a graph keeps its most recent views (``AVOID_CACHE_SIZE``) in ``_views``, and a view
-recomputes shared fields on demand in :func:`refresh_shared`; both are guarded by the lock of the graph that owns
-the memo (``graph._lock``), so concurrent queries on one graph are safe. A view is computed outside the lock (two
-threads that miss on the same places both compute it; the first stored is the one both get). Readers of a view's
+Memos and threads: a graph keeps its most recent views (``AVOID_CACHE_SIZE``) in ``_views``, a
+:class:`~spcotmhp.planning.graph_cache.GraphCache` (a view is computed outside its lock: two threads that miss on
+the same places both compute it; the first stored is the one both get), and a view recomputes shared fields on
+demand in :func:`refresh_shared`, under the view's own lock (``graph._lock``), so concurrent queries on one graph
+are safe. Readers of a view's
 fields take no lock: a shared field is only ever replaced whole by its exact version for the blocked map, which
 has the same value wherever the shared one was valid for a reader's start.
 """
@@ -26,8 +27,6 @@ import numpy as np
 
 from spcotmhp.planning._paths import crosses, crossing_fields
 from spcotmhp.planning.graph import PlanningGraph
-
-AVOID_CACHE_SIZE = 32
 
 
 class AvoidanceView(PlanningGraph):
@@ -43,15 +42,16 @@ def avoided_view(graph: PlanningGraph, places: tuple[int, ...]) -> PlanningGraph
     """The view of ``graph`` with no node in ``places`` whose paths never enter their territories, exact for the
     blocked map (module docstring), memoised in ``graph`` for the most recent place sets."""
     key = tuple(sorted(int(p) for p in places))
-    with graph._lock:
-        if key in graph._views:
-            graph._views.move_to_end(key)
-            return graph._views[key]
+    return graph._views.get_or_build(key, lambda: _build_view(graph, key))
+
+
+def _build_view(graph: PlanningGraph, key: tuple[int, ...]) -> PlanningGraph:
+    """The avoidance view of ``graph`` for the places ``key`` (not memoised: :func:`avoided_view` does that)."""
     t0 = time.perf_counter()
     blocked = np.isin(graph.territory, key)
     usable = ~np.isin(graph.node_place, key) & ~blocked[graph.node_cell[:, 0], graph.node_cell[:, 1]]
     if graph.hier is not None:
-        return _remember(graph, key, _hier_view(graph, key, blocked, usable, t0))
+        return _hier_view(graph, key, blocked, usable, t0)
     base = (graph.dist, graph.next_step) if isinstance(graph.next_step, np.ndarray) else None
     view = _view(graph, key, blocked, usable, dist=list(graph.dist), next_step=list(graph.next_step), _base_fields=base)
     width = graph.log_p.shape[1]
@@ -70,7 +70,7 @@ def avoided_view(graph: PlanningGraph, places: tuple[int, ...]) -> PlanningGraph
     view._edges()
     view.info["recomputed_fields"] = recomputed
     view.time_precompute_s = time.perf_counter() - t0
-    return _remember(graph, key, view)
+    return view
 
 
 def refresh_shared(view: PlanningGraph, cell: np.ndarray) -> None:
@@ -134,14 +134,4 @@ def _hier_view(graph: PlanningGraph, key: tuple, blocked: np.ndarray, usable: np
     view._edges()
     view.info["recomputed_fields"] = []
     view.time_precompute_s = time.perf_counter() - t0
-    return view
-
-
-def _remember(graph: PlanningGraph, key: tuple, view: PlanningGraph) -> PlanningGraph:
-    """Store ``view`` in ``graph``'s memo unless another thread stored one first; the stored view."""
-    with graph._lock:
-        view = graph._views.setdefault(key, view)
-        graph._views.move_to_end(key)
-        while len(graph._views) > AVOID_CACHE_SIZE:
-            graph._views.popitem(last=False)
     return view

@@ -52,11 +52,11 @@ keyed by a hash of the model parameters, the map and the settings, so a changed 
 graph.
 
 Memos and threads: queries fill memos in a graph (``_paths``, the partial paths extracted so far; ``_views``, the
-avoidance views; a view's fields recomputed for a start; the lazily computed ``map_cost``, ``clearance`` and
-``centres``). The first three are guarded by the graph's own lock (``_lock``), held only around reading and
-storing a memo, so concurrent queries from threads on one graph are safe and give the same answers as sequential
-ones; the lazy values are computed from the graph's read-only arrays and assigned whole (a race at worst computes
-one twice).
+avoidance views, in a :class:`GraphCache` of their own with its own lock; a view's fields recomputed for a start;
+the lazily computed ``map_cost``, ``clearance`` and ``centres``). The partial paths and a view's fields are
+guarded by the graph's own lock (``_lock``), held only around reading and storing a memo, so concurrent queries
+from threads on one graph are safe and give the same answers as sequential ones; the lazy values are computed from
+the graph's read-only arrays and assigned whole (a race at worst computes one twice).
 """
 
 from __future__ import annotations
@@ -65,7 +65,6 @@ import copy
 import math
 import threading
 import time
-from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,6 +79,8 @@ from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.precompute import graph_inputs
 from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import tube_window
+
+AVOID_CACHE_SIZE = 32  # avoidance views a graph keeps (planning/avoid.py)
 
 
 @dataclass
@@ -121,7 +122,7 @@ class PlanningGraph:
     blocked: np.ndarray | None = None  # (h, w) cells of the avoided territories (None outside an avoidance view)
     _shared: set = field(default_factory=set, repr=False)  # fields still shared with the base graph
     _base_fields: tuple | None = field(default=None, repr=False)  # the base graph's (dist, next_step) arrays
-    _views: OrderedDict = field(default_factory=OrderedDict, repr=False)
+    _views: GraphCache = field(default_factory=lambda: GraphCache(AVOID_CACHE_SIZE), repr=False, compare=False)
     hier: hierarchy.TerritoryFields | None = None  # territory-local fields (when dense ones exceed the budget)
     _lock: threading.RLock = field(default_factory=threading.RLock, repr=False, compare=False)  # guards memos
 

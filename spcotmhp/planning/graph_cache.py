@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from typing import Any, TypeVar
 
 from spcotmhp.errors import ModelError
@@ -26,7 +26,8 @@ G = TypeVar("G")  # a planning graph (this module does not import the graph's, s
 
 
 class GraphCache:
-    """A bounded least-recently-used table of planning graphs, fingerprint -> graph (module docstring).
+    """A bounded least-recently-used table of planning graphs, key -> graph (module docstring; a graph keeps its
+    avoidance views in one too, keyed by the avoided places).
 
     >>> cache = GraphCache(size=2)
     >>> len(cache), "some key" in cache
@@ -37,10 +38,10 @@ class GraphCache:
         if isinstance(size, bool) or not isinstance(size, int) or size < 1:
             raise ModelError(f"a graph cache holds at least one graph; got size={size!r}")
         self.size = size
-        self._graphs: OrderedDict[str, Any] = OrderedDict()
+        self._graphs: OrderedDict[Hashable, Any] = OrderedDict()
         self._lock = threading.Lock()
 
-    def get_or_build(self, key: str, build: Callable[[], G]) -> G:
+    def get_or_build(self, key: Hashable, build: Callable[[], G]) -> G:
         """The graph cached under ``key``, else ``build()`` stored under it (evicting the least recently used
         graph beyond ``size``). ``build`` runs outside the lock (module docstring)."""
         with self._lock:
@@ -54,6 +55,10 @@ class GraphCache:
             while len(self._graphs) > self.size:
                 self._graphs.popitem(last=False)
         return graph
+
+    def __getitem__(self, key: Hashable) -> Any:
+        with self._lock:
+            return self._graphs[key]
 
     def __contains__(self, key: object) -> bool:
         with self._lock:

@@ -8,8 +8,8 @@ import numpy as np
 
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.learning.supervised import fit_supervised
-from spcotmhp.planning.avoid import AVOID_CACHE_SIZE, avoided_view
-from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.avoid import avoided_view
+from spcotmhp.planning.graph import AVOID_CACHE_SIZE, PlanningGraph
 from tests.helpers.threads import in_threads
 
 PLACE_SETS = [(10,), (6,), (4, 9), (2,)]  # corridor, dining, living + washroom, kitchen of 3LDK_06
