@@ -2,7 +2,11 @@
 instruction, timed stage by stage (import / load / precompute / first plan / total), median and max over runs.
 
     spcotmhp demo --out /tmp/demo_out
-    python benchmarks/cold_start.py --model /tmp/demo_out/model --runs 10 [--against /path/to/older/checkout ...]
+    python benchmarks/cold_start.py --model /tmp/demo_out/model --runs 10 [--cli] [--against /path/to/checkout ...]
+
+``--cli`` also times the command line as a user runs it, ``spcotmhp plan MODEL "..." --start X Y`` (``python -m
+spcotmhp``; ``python -m spcotmhp.cli`` for a checkout without ``spcotmhp/__main__.py``): the whole process, wall
+clock, from its start to its exit.
 
 With ``--against`` the other checkouts' processes run in the same loop, alternating with this one, so both see
 the same machine load. One untimed process per checkout comes first: it writes Python's bytecode (the runs
@@ -18,9 +22,11 @@ import os
 import statistics
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 STAGES = ("import", "load", "precompute", "first plan", "total")
+CLI_STAGE = "cli process"
 
 CHILD = """
 import json, sys, time
@@ -34,12 +40,13 @@ planner = HierarchicalPlanner(model)
 t3 = time.perf_counter()
 plan = planner.plan(sys.argv[2], start=tuple(model.mu[0]))
 t4 = time.perf_counter()
-print(json.dumps({"import": t1 - t0, "load": t2 - t1, "precompute": t3 - t2, "first plan": t4 - t3, "total": t4 - t0}))
+print(json.dumps({"import": t1 - t0, "load": t2 - t1, "precompute": t3 - t2, "first plan": t4 - t3, "total": t4 - t0,
+                  "start": [float(v) for v in model.mu[0]]}))
 """
 
 
-def one_run(checkout: Path, model: str, instruction: str) -> dict[str, float]:
-    """The stage times (seconds) of one fresh process with ``checkout`` first on the path."""
+def one_run(checkout: Path, model: str, instruction: str) -> dict:
+    """The stage times (seconds) of one fresh process with ``checkout`` first on the path, and the start used."""
     env = dict(os.environ, PYTHONPATH=str(checkout))
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # an installed package has its bytecode; a checkout gets it on first run
     out = subprocess.run(
@@ -53,13 +60,25 @@ def one_run(checkout: Path, model: str, instruction: str) -> dict[str, float]:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def table(results: dict[str, list[dict[str, float]]]) -> str:
+def cli_run(checkout: Path, model: str, instruction: str, start: list[float]) -> float:
+    """Wall seconds of one ``spcotmhp plan`` process with ``checkout`` first on the path, start to exit."""
+    env = dict(os.environ, PYTHONPATH=str(checkout))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    entry = "spcotmhp" if (checkout / "spcotmhp" / "__main__.py").exists() else "spcotmhp.cli"
+    cmd = [sys.executable, "-m", entry, "plan", model, instruction, "--start", *(f"{v:.3f}" for v in start)]
+    t0 = time.perf_counter()
+    subprocess.run(cmd, env=env, cwd=str(checkout), capture_output=True, text=True, check=True)
+    return time.perf_counter() - t0
+
+
+def table(results: dict[str, list[dict]]) -> str:
     """Markdown table: one row per checkout, each stage's median and max (ms)."""
-    head = "| code | runs | " + " | ".join(f"{s} median / max (ms)" for s in STAGES) + " |"
-    rows = [head, "|" + "---|" * (len(STAGES) + 2)]
+    stages = [s for s in (*STAGES, CLI_STAGE) if all(s in r for runs in results.values() for r in runs)]
+    head = "| code | runs | " + " | ".join(f"{s} median / max (ms)" for s in stages) + " |"
+    rows = [head, "|" + "---|" * (len(stages) + 2)]
     for name, runs in results.items():
         cells = []
-        for s in STAGES:
+        for s in stages:
             values = [r[s] * 1000 for r in runs]
             cells.append(f"{statistics.median(values):.0f} / {max(values):.0f}")
         rows.append(f"| {name} | {len(runs)} | " + " | ".join(cells) + " |")
@@ -71,16 +90,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--model", required=True, help="a model folder (spcotmhp demo --out DIR writes DIR/model)")
     parser.add_argument("--runs", type=int, default=10, help="fresh processes per checkout")
     parser.add_argument("--instruction", default="go to the bedroom via the corridor")
+    parser.add_argument("--cli", action="store_true", help="also time `spcotmhp plan` as a whole process")
     parser.add_argument("--against", nargs="+", default=[], help="other checkouts to time in the same run, alternating")
     args = parser.parse_args(argv)
     here = Path(__file__).resolve().parent.parent
     checkouts = {"this": here} | {str(Path(d).resolve()): Path(d).resolve() for d in args.against}
     for path in checkouts.values():
         one_run(path, args.model, args.instruction)  # untimed: writes the bytecode, fills numba's cache if empty
-    results: dict[str, list[dict[str, float]]] = {name: [] for name in checkouts}
+    results: dict[str, list[dict]] = {name: [] for name in checkouts}
     for _ in range(args.runs):
         for name, path in checkouts.items():
-            results[name].append(one_run(path, args.model, args.instruction))
+            run = one_run(path, args.model, args.instruction)
+            if args.cli:
+                run[CLI_STAGE] = cli_run(path, args.model, args.instruction, run.pop("start"))
+            results[name].append(run)
     print(f"load average (1 min) at the end: {os.getloadavg()[0]:.2f}")
     print(table(results))
     return 0

@@ -9,8 +9,12 @@ from typing import Annotated
 
 import typer
 
+from spcotmhp.collector import end_startup
 from spcotmhp.commands.conventions import ConventionalGroup
 from spcotmhp.errors import SpcotmhpError
+
+# Commands that end the start-up themselves (spcotmhp.collector): the first plan is what their user waits for.
+STARTUP_COMMANDS = frozenset({"plan", "serve", "ros2"})
 
 app = typer.Typer(
     name="spcotmhp",
@@ -34,6 +38,7 @@ def _print_version(value: bool) -> None:
 
 @app.callback()
 def _root(
+    ctx: typer.Context,
     version: Annotated[
         bool,
         typer.Option("--version", is_eager=True, callback=_print_version, help="Print the version and exit."),
@@ -42,6 +47,8 @@ def _root(
     """Learn topometric semantic maps from teaching utterances and plan paths from instructions (SpCoTMHP).
 
     Run `spcotmhp COMMAND --help` for a command's options."""
+    if ctx.invoked_subcommand not in STARTUP_COMMANDS:
+        end_startup()
 
 
 @app.command()

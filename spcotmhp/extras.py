@@ -65,7 +65,7 @@ def missing_extra(what: str, extra: str) -> str:
 def command_prefix() -> str:
     """How to call the ``spcotmhp`` command from here: ``spcotmhp`` when that name on the PATH is this
     installation's script, else the script's path (``.venv/bin/spcotmhp``: no activation needed), else
-    ``python -m spcotmhp.cli`` with this interpreter."""
+    ``python -m spcotmhp`` with this interpreter."""
     import shutil
 
     script = Path(sys.executable).parent / "spcotmhp"
@@ -74,4 +74,4 @@ def command_prefix() -> str:
         return "spcotmhp"
     if script.exists():
         return _shown(script) if "/" in _shown(script) else f"./{_shown(script)}"
-    return f"{_shown(Path(sys.executable))} -m spcotmhp.cli"
+    return f"{_shown(Path(sys.executable))} -m spcotmhp"

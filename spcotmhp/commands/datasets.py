@@ -4,14 +4,13 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import numpy as np
 import typer
 
-from spcotmhp.datasets.bundled import bundled_path, data_root, list_bundled
-from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.datasets.loader import DatasetWarning, available_languages, load_dataset
+if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
+    from spcotmhp.datasets.dataset import Dataset
 
 
 def _n_places(d: Dataset) -> int | None:
@@ -26,6 +25,8 @@ def _map_size(d: Dataset) -> str:
 
 def _load_quietly(path: Path, lang: str) -> tuple[Dataset, list[str]]:
     """Load, returning the DatasetWarning messages instead of printing them."""
+    from spcotmhp.datasets.loader import DatasetWarning, load_dataset
+
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", DatasetWarning)
         d = load_dataset(path, lang=lang)
@@ -35,6 +36,8 @@ def _load_quietly(path: Path, lang: str) -> tuple[Dataset, list[str]]:
 def datasets() -> None:
     """List the datasets bundled with the package (name, folder, events, places, map size, languages)."""
     from spcotmhp.commands.conventions import plain_table
+    from spcotmhp.datasets.bundled import bundled_path, data_root, list_bundled
+    from spcotmhp.datasets.loader import available_languages
 
     root = data_root()
     rows = []
@@ -83,6 +86,9 @@ def check_dataset(
     strict: Annotated[bool, typer.Option(help="Exit with status 1 when there are warnings.")] = False,
 ) -> None:
     """Load a dataset folder, print a summary and every warning; errors are one line (exit status 2)."""
+    from spcotmhp.datasets.bundled import bundled_path, list_bundled
+    from spcotmhp.datasets.loader import available_languages
+
     if not folder.exists() and str(folder) in list_bundled():
         folder = bundled_path(str(folder))
     if lang == "auto":

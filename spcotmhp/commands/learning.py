@@ -8,12 +8,14 @@ import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError, ModelError
+
+if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
+    from spcotmhp.datasets.dataset import Dataset
 
 SHOWN_WARNINGS = 3
 # learn --connectivity -> the adjacency source of the supervised fit ("hmm": the truth's transition counts)

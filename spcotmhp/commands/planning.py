@@ -7,6 +7,7 @@ from typing import Annotated, Any
 
 import typer
 
+from spcotmhp.collector import end_startup
 from spcotmhp.errors import InstructionError, SpcotmhpError
 from spcotmhp.safe_read import excerpt, parse_json
 from spcotmhp.safe_write import atomic_write, check_output
@@ -86,6 +87,7 @@ def plan_command(
         source = recognise_audio(audio, model)
     planner = HierarchicalPlanner(model, n_candidates=candidates, seed=seed, smooth=smooth, max_steps=max_steps)
     plan = planner.plan(source, start, lang=lang)
+    end_startup()
     if png is not None:
         from spcotmhp.viz.plan import draw_plan
 

@@ -9,9 +9,9 @@ from typing import Annotated
 
 import typer
 
+from spcotmhp.collector import end_startup
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.extras import missing_extra
-from spcotmhp.server.limits import LOCAL_HOSTS  # stdlib only: importable without the server extra
 
 
 class LogLevel(StrEnum):
@@ -76,6 +76,7 @@ def serve(
     from rich.console import Console
 
     from spcotmhp.server import create_app
+    from spcotmhp.server.limits import LOCAL_HOSTS
     from spcotmhp.server.scheduling import Budget
 
     try:
@@ -105,6 +106,7 @@ def serve(
         console.print(f"allowed hosts (Host header): {', '.join(hosts)}; add names with --allowed-host NAME")
     shown = f"[{host}]" if ":" in host else host
     console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: /openapi.json)")
+    end_startup()
     uvicorn.run(app, host=host, port=port, log_level=LogLevel(log_level).value)
 
 

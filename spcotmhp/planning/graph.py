@@ -70,6 +70,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import spcotmhp.planning.hierarchy as hierarchy
+from spcotmhp.collector import paused
 from spcotmhp.errors import ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
@@ -163,11 +164,14 @@ class PlanningGraph:
 
     @classmethod
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
+        """The precomputation, with automatic garbage collection paused (:func:`spcotmhp.collector.paused`: it
+        makes long-lived arrays and, in a fresh process, numba's registries; collecting meanwhile frees nothing)."""
         t0 = time.perf_counter()
-        graph = cls(key=key, **graph_inputs(model, settings, log_p_full))  # Alg. 1, lines 1-3
-        graph._fields(reuse)
-        graph.info["field_bytes"] = graph.field_bytes
-        graph._edges()
+        with paused():
+            graph = cls(key=key, **graph_inputs(model, settings, log_p_full))  # Alg. 1, lines 1-3
+            graph._fields(reuse)
+            graph.info["field_bytes"] = graph.field_bytes
+            graph._edges()
         graph.time_precompute_s = time.perf_counter() - t0
         return graph
 

@@ -45,6 +45,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
+from spcotmhp.collector import end_startup
 from spcotmhp.errors import SpcotmhpError, StartBlocked
 from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
@@ -263,6 +264,7 @@ def run_node(
             f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
             + (f", teaching recorded in {record}" if record is not None else "")
         )
+        end_startup()
         try:
             rclpy.spin(node)
         except (KeyboardInterrupt, ExternalShutdownException):

@@ -226,3 +226,21 @@ def test_avoidance_views_are_exact():
         assert not view.usable[np.isin(g.node_place, places)].any()
         recomputed += len(view.info["recomputed_fields"])
     assert 0 < recomputed < 4 * g.n_nodes  # some fields shared, some recomputed
+
+
+def test_precomputation_runs_with_the_collector_paused_and_resumes_it(monkeypatch):
+    import gc
+
+    import spcotmhp.planning.graph as graph_module
+
+    seen = []
+    original = graph_module.graph_inputs
+
+    def spy(*args, **kwargs):
+        seen.append(gc.isenabled())
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(graph_module, "graph_inputs", spy)
+    assert gc.isenabled()
+    build()
+    assert seen == [False] and gc.isenabled()
