@@ -31,6 +31,9 @@ CLI_STAGE = "cli process"
 CHILD = """
 import json, sys, time
 t0 = time.perf_counter()
+if sys.argv[3] == "paused":
+    from spcotmhp.collector import pause_for_startup
+    pause_for_startup()
 from spcotmhp.learning.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 t1 = time.perf_counter()
@@ -45,12 +48,13 @@ print(json.dumps({"import": t1 - t0, "load": t2 - t1, "precompute": t3 - t2, "fi
 """
 
 
-def one_run(checkout: Path, model: str, instruction: str) -> dict:
-    """The stage times (seconds) of one fresh process with ``checkout`` first on the path, and the start used."""
+def one_run(checkout: Path, model: str, instruction: str, paused: bool = False) -> dict:
+    """The stage times (seconds) of one fresh process with ``checkout`` first on the path, and the start used;
+    ``paused``: the script begins with ``spcotmhp.collector.pause_for_startup()`` (as the command line does)."""
     env = dict(os.environ, PYTHONPATH=str(checkout))
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # an installed package has its bytecode; a checkout gets it on first run
     out = subprocess.run(
-        [sys.executable, "-c", CHILD, model, instruction],
+        [sys.executable, "-c", CHILD, model, instruction, "paused" if paused else "-"],
         env=env,
         cwd=str(checkout),
         capture_output=True,
@@ -72,15 +76,16 @@ def cli_run(checkout: Path, model: str, instruction: str, start: list[float]) ->
 
 
 def table(results: dict[str, list[dict]]) -> str:
-    """Markdown table: one row per checkout, each stage's median and max (ms)."""
-    stages = [s for s in (*STAGES, CLI_STAGE) if all(s in r for runs in results.values() for r in runs)]
+    """Markdown table: one row per checkout (or variant), each stage's median and max (ms); "-" where the row
+    has no such stage."""
+    stages = [s for s in (*STAGES, CLI_STAGE) if any(s in r for runs in results.values() for r in runs)]
     head = "| code | runs | " + " | ".join(f"{s} median / max (ms)" for s in stages) + " |"
     rows = [head, "|" + "---|" * (len(stages) + 2)]
     for name, runs in results.items():
         cells = []
         for s in stages:
-            values = [r[s] * 1000 for r in runs]
-            cells.append(f"{statistics.median(values):.0f} / {max(values):.0f}")
+            values = [r[s] * 1000 for r in runs if s in r]
+            cells.append(f"{statistics.median(values):.0f} / {max(values):.0f}" if values else "-")
         rows.append(f"| {name} | {len(runs)} | " + " | ".join(cells) + " |")
     return "\n".join(rows)
 
@@ -91,6 +96,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--runs", type=int, default=10, help="fresh processes per checkout")
     parser.add_argument("--instruction", default="go to the bedroom via the corridor")
     parser.add_argument("--cli", action="store_true", help="also time `spcotmhp plan` as a whole process")
+    parser.add_argument(
+        "--paused", action="store_true", help="also time this checkout's script starting with pause_for_startup()"
+    )
     parser.add_argument("--against", nargs="+", default=[], help="other checkouts to time in the same run, alternating")
     args = parser.parse_args(argv)
     here = Path(__file__).resolve().parent.parent
@@ -98,12 +106,17 @@ def main(argv: list[str] | None = None) -> int:
     for path in checkouts.values():
         one_run(path, args.model, args.instruction)  # untimed: writes the bytecode, fills numba's cache if empty
     results: dict[str, list[dict]] = {name: [] for name in checkouts}
+    paused_row = "this, script starting with pause_for_startup()"
+    if args.paused:
+        results[paused_row] = []
     for _ in range(args.runs):
         for name, path in checkouts.items():
             run = one_run(path, args.model, args.instruction)
             if args.cli:
                 run[CLI_STAGE] = cli_run(path, args.model, args.instruction, run.pop("start"))
             results[name].append(run)
+        if args.paused:
+            results[paused_row].append(one_run(here, args.model, args.instruction, paused=True))
     print(f"load average (1 min) at the end: {os.getloadavg()[0]:.2f}")
     print(table(results))
     return 0
