@@ -104,6 +104,18 @@ def diagnosed(page, server) -> Iterator[None]:
         raise AssertionError(f"{exc}\n--- diagnosis ---\n{diagnosis(page, server)}") from exc
 
 
+def open_page(page, server) -> None:
+    """Load the web page and wait until it takes clicks."""
+    page.goto(server.url + "/")
+    page.wait_for_selector("#overlay[data-ready='1']")
+
+
+def ask(page, instruction: str) -> None:
+    """Type ``instruction`` and press Plan."""
+    page.fill("#instruction", instruction)
+    page.click("#plan-button")
+
+
 class HeldBack:
     """The page's requests to URLs that ``matches`` accepts are held back (Playwright's route API) until
     :meth:`release`; later ones pass."""
@@ -141,17 +153,12 @@ def click_world(page, xy):
 
 def test_click_start_plan_and_see_the_path(server, page):
     with diagnosed(page, server):
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
-        page.wait_for_function(
-            "document.getElementById('map').complete && document.getElementById('map').naturalWidth > 0"
-        )
+        open_page(page, server)  # the map is shown: test_the_page_is_ready_only_once_the_map_is_shown
         assert "corridor" in page.text_content("#words")
         start = start_near(server.model)
         click_world(page, start)
         assert _close(page.text_content("#start"), start), (page.text_content("#start"), start)
-        page.fill("#instruction", INSTRUCTION)
-        page.click("#plan-button")
+        ask(page, INSTRUCTION)
         page.wait_for_selector("#path")
         points = page.get_attribute("#path", "points").split()
         assert len(points) > 2
@@ -182,13 +189,11 @@ def test_the_page_is_ready_only_once_the_map_is_shown(server, page):
 
 def test_unknown_word_shows_the_message(server, page):
     with diagnosed(page, server):
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
+        open_page(page, server)
         page.click("#plan-button")
         assert page.text_content("#error") == "Click on the map to set the start first."
         click_world(page, start_near(server.model))
-        page.fill("#instruction", "go to the garage")
-        page.click("#plan-button")
+        ask(page, "go to the garage")
         page.wait_for_function("document.getElementById('error').textContent.length > 0")
         assert page.text_content("#error").startswith("no known place word in 'go to the garage'")
         assert page.locator("#path").count() == 0
@@ -198,20 +203,16 @@ def test_a_failed_plan_clears_the_previous_one(server, page):
     """A plan, then an instruction that fails: the old path and explanation go, only the error stays (it used to
     look as if "go to the garage" had planned the bedroom path)."""
     with diagnosed(page, server):
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
+        open_page(page, server)
         click_world(page, start_near(server.model))
-        page.fill("#instruction", INSTRUCTION)
-        page.click("#plan-button")
+        ask(page, INSTRUCTION)
         page.wait_for_selector("#path")
         assert "bedroom" in page.text_content("#explanation")
-        page.fill("#instruction", "go to the garage")
-        page.click("#plan-button")
+        ask(page, "go to the garage")
         page.wait_for_function("document.getElementById('error').textContent.length > 0")
         assert page.locator("#path").count() == 0 and page.locator("circle.mark").count() == 0
         assert page.text_content("#explanation") == "" and page.text_content("#hypotheses") == ""
-        page.fill("#instruction", INSTRUCTION)  # planning again works, and the error goes
-        page.click("#plan-button")
+        ask(page, INSTRUCTION)  # planning again works, and the error goes
         page.wait_for_selector("#path")
         assert page.text_content("#error") == ""
         click_world(page, start_near(server.model, "kitchen"))  # a new start: the plan from the old one goes
@@ -224,11 +225,9 @@ def test_a_plan_answered_after_the_start_moved_is_not_drawn(server, page):
     belongs to the old start, so the page drops it (it used to draw a path from a start no longer shown)."""
     answer = HeldBack(page, lambda url: url.endswith("/plan"))
     with diagnosed(page, server):
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
+        open_page(page, server)
         click_world(page, start_near(server.model))
-        page.fill("#instruction", INSTRUCTION)
-        page.click("#plan-button")
+        ask(page, INSTRUCTION)
         answer.wait()
         click_world(page, start_near(server.model, "kitchen"))
         with page.expect_response(lambda r: r.url.endswith("/plan")) as late:
@@ -245,8 +244,7 @@ def test_the_start_mark_leaves_the_label_under_it_readable(server, page):
     """The start is often set on a place's label (the demo starts at the entrance): the mark is a hollow ring
     with a dot of at most 2 px, drawn above the plan, and it takes no clicks."""
     with diagnosed(page, server):
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
+        open_page(page, server)
         click_world(page, start_near(server.model))
         marks = page.eval_on_selector_all(
             "#start-mark circle",
@@ -255,8 +253,7 @@ def test_the_start_mark_leaves_the_label_under_it_readable(server, page):
         assert marks and all(fill == "none" for kind, fill, _ in marks if kind == "ring")
         assert all(r <= 2 for kind, _, r in marks if kind == "dot")
         assert page.get_attribute("#start-mark", "pointer-events") == "none"
-        page.fill("#instruction", INSTRUCTION)
-        page.click("#plan-button")
+        ask(page, INSTRUCTION)
         page.wait_for_selector("#path")
         last = page.evaluate("document.getElementById('overlay').lastElementChild.id")
         assert last == "start-mark"
@@ -274,8 +271,7 @@ def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
         wav.write_bytes(
             subprocess.run([espeak, "-v", "en-us", "--stdout", INSTRUCTION], capture_output=True, check=True).stdout
         )
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
+        open_page(page, server)
         click_world(page, start_near(server.model))
         page.set_input_files("#wav", str(wav))
         page.click("#audio-button")
@@ -302,8 +298,7 @@ def test_click_a_spot_and_teach_its_name(server, page):
         model = server.model
         xy = model.map.cell_centres()[inflate(model.map, **model.costmap).free]
         spot = xy[int(np.argmax(np.sqrt(((xy[:, None] - model.mu[model.active_places][None]) ** 2).sum(-1)).min(1)))]
-        page.goto(server.url + "/")
-        page.wait_for_selector("#overlay[data-ready='1']")
+        open_page(page, server)
         click_world(page, spot)
         page.fill("#utterance", "this is alice's room")
         for n in range(3):
@@ -312,8 +307,7 @@ def test_click_a_spot_and_teach_its_name(server, page):
         assert "alice's room" in page.text_content("#taught"), page.text_content("#taught")
         assert "alice's" in page.text_content("#words")
         click_world(page, start_near(model))
-        page.fill("#instruction", "go to alice's room")
-        page.click("#plan-button")
+        ask(page, "go to alice's room")
         page.wait_for_selector("#path")
         assert page.text_content("#explanation").find("alice's room") >= 0
         assert page.text_content("#error") == "" and page.errors == []
