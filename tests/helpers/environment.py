@@ -1,16 +1,25 @@
-"""The process environment a test leaves behind: the tests share one process, and every subprocess a test
-starts (``spcotmhp serve``, the ROS 2 node, the command line) inherits ``os.environ``, so a variable a test
-sets and does not restore changes what later tests run. tests/conftest.py fails the test (or the module's
-fixtures) that leaves it changed."""
+"""The process state a test leaves behind: the tests share one process, and every subprocess a test starts
+(``spcotmhp serve``, the ROS 2 node, the command line) inherits ``os.environ``, so a variable a test sets and
+does not restore changes what later tests run; so does Python's garbage collector left off (the command line
+pauses it during start-up, :mod:`spcotmhp.collector`). tests/conftest.py fails the test (or the module's
+fixtures) that leaves either changed."""
 
 from __future__ import annotations
 
+import gc
+import os
 from collections.abc import Mapping
 
 PYTEST_OWNED = {"PYTEST_CURRENT_TEST"}  # pytest sets it to the running test and its phase
+GC = "(garbage collector)"  # the collector's state in a snapshot, under a name no variable has
 
 
-def environment_changes(before: Mapping[str, str], after: Mapping[str, str]) -> list[str]:
+def process_state() -> dict[str, str]:
+    """A snapshot: ``os.environ`` and whether automatic garbage collection is on."""
+    return {**os.environ, GC: "enabled" if gc.isenabled() else "disabled"}
+
+
+def state_changes(before: Mapping[str, str], after: Mapping[str, str]) -> list[str]:
     """What changed from ``before`` to ``after``, one line per variable, sorted by name."""
     out = []
     for name in sorted((before.keys() | after.keys()) - PYTEST_OWNED):
@@ -27,11 +36,11 @@ def environment_changes(before: Mapping[str, str], after: Mapping[str, str]) -> 
 
 
 def check_unchanged(before: Mapping[str, str], after: Mapping[str, str], owner: str) -> str | None:
-    """The failure message when ``owner`` (a test, a module's fixtures) left the environment changed, else None."""
-    changes = environment_changes(before, after)
+    """The failure message when ``owner`` (a test, a module's fixtures) left the state changed, else None."""
+    changes = state_changes(before, after)
     if not changes:
         return None
     return (
-        f"{owner} left os.environ changed (later tests and the subprocesses they start inherit it; restore it, "
-        f"e.g. with monkeypatch.setenv/delenv): {'; '.join(changes)}"
+        f"{owner} left the process changed (later tests, and the subprocesses they start, inherit os.environ; "
+        f"restore it, e.g. with monkeypatch.setenv/delenv): {'; '.join(changes)}"
     )
