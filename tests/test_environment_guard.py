@@ -14,8 +14,8 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_changes_are_named_one_per_variable_sorted():
-    before = {"A": "1", "B": "2", "D": "4", "PYTEST_CURRENT_TEST": "x (setup)"}
-    after = {"A": "1", "B": "3", "C": "x", "PYTEST_CURRENT_TEST": "x (teardown)"}
+    before = {"A": "1", "B": "2", "D": "4", "PYTEST_CURRENT_TEST": "x (setup)"}  # pytest's and sklearn's: not state
+    after = {"A": "1", "B": "3", "C": "x", "PYTEST_CURRENT_TEST": "x (teardown)", "KMP_DUPLICATE_LIB_OK": "True"}
     assert state_changes(before, after) == ["B: '2' -> '3'", "C: set to 'x'", "D: unset (was '4')"]
     assert check_unchanged(before, dict(before), "t") is None
     message = check_unchanged({}, {"NUMBA_CACHE_DIR": "/tmp/x"}, "tests/t.py::test_x")

@@ -10,7 +10,12 @@ import gc
 import os
 from collections.abc import Mapping
 
-PYTEST_OWNED = {"PYTEST_CURRENT_TEST"}  # pytest sets it to the running test and its phase
+NOT_STATE = {
+    "PYTEST_CURRENT_TEST",  # pytest sets it to the running test and its phase
+    # scikit-learn, joblib and threadpoolctl set these defaults when first imported, in whichever test that is
+    "KMP_DUPLICATE_LIB_OK",
+    "KMP_INIT_AT_FORK",
+}
 GC = "(garbage collector)"  # the collector's state in a snapshot, under a name no variable has
 
 
@@ -22,7 +27,7 @@ def process_state() -> dict[str, str]:
 def state_changes(before: Mapping[str, str], after: Mapping[str, str]) -> list[str]:
     """What changed from ``before`` to ``after``, one line per variable, sorted by name."""
     out = []
-    for name in sorted((before.keys() | after.keys()) - PYTEST_OWNED):
+    for name in sorted((before.keys() | after.keys()) - NOT_STATE):
         old, new = before.get(name), after.get(name)
         if old == new:
             continue
