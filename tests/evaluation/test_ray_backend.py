@@ -1,5 +1,7 @@
 """The Ray backend against a local Ray instance (one CPU): same records as the in-process run."""
 
+import os
+
 import pytest
 
 from spcotmhp.datasets import load_bundled
@@ -12,9 +14,14 @@ ray = pytest.importorskip("ray")
 
 @pytest.fixture(scope="module")
 def local_ray():
+    saved = dict(os.environ)
     ray.init(num_cpus=1, include_dashboard=False, log_to_driver=False, configure_logging=False)
     yield
     ray.shutdown()
+    # ray.init sets variables for its workers (RAY_*, PYTHONBREAKPOINT) that shutdown leaves behind; the later
+    # tests and the processes they start run without them (tests/helpers/environment.py)
+    os.environ.clear()
+    os.environ.update(saved)
 
 
 def key(res):

@@ -7,6 +7,7 @@ import os
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -60,6 +61,18 @@ class ServerProcess:
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         self.proc: subprocess.Popen | None = None
+        # the server's output goes to a file, not a pipe: an unread pipe blocks a server that writes 64 KiB
+        fd, name = tempfile.mkstemp(prefix="spcotmhp-serve-", suffix=".log")
+        os.close(fd)
+        self.log = Path(name)
+
+    def output_tail(self, lines: int = 40) -> str:
+        """The last ``lines`` lines the server wrote (stdout and stderr), for failure messages."""
+        try:
+            text = self.log.read_text(encoding="utf-8", errors="replace")
+        except OSError as exc:
+            return f"(no server output: {exc})"
+        return "\n".join(text.splitlines()[-lines:]) or "(the server wrote nothing)"
 
     def __enter__(self) -> Self:
         cmd = [
@@ -73,25 +86,25 @@ class ServerProcess:
             "--log-level",
             "warning",
         ]
-        self.proc = subprocess.Popen(
-            cmd,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            text=True,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
-        )
+        with self.log.open("ab") as out:  # appended to, however the file is read meanwhile
+            self.proc = subprocess.Popen(
+                cmd, stdout=out, stderr=subprocess.STDOUT, env={**os.environ, "PYTHONUNBUFFERED": "1"}
+            )
         deadline = time.monotonic() + self.timeout
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
-                raise RuntimeError(f"spcotmhp serve exited with {self.proc.returncode}:\n{self.proc.stdout.read()}")
+                message = f"spcotmhp serve exited with {self.proc.returncode}:\n{self.output_tail()}"
+                self.log.unlink(missing_ok=True)
+                raise RuntimeError(message)
             try:
                 if httpx.get(self.url + "/healthz", timeout=1.0).status_code == 200:
                     return self
             except httpx.HTTPError:
                 pass
             time.sleep(0.2)
+        message = f"spcotmhp serve did not answer on {self.url} within {self.timeout} s:\n{self.output_tail()}"
         self.__exit__()
-        raise RuntimeError(f"spcotmhp serve did not answer on {self.url} within {self.timeout} s")
+        raise RuntimeError(message)
 
     def __exit__(self, *exc: object) -> None:
         if self.proc is not None and self.proc.poll() is None:
@@ -101,3 +114,4 @@ class ServerProcess:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
+        self.log.unlink(missing_ok=True)

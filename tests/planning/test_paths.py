@@ -28,7 +28,11 @@ def test_octile_length_and_cost_by_hand():
 
 
 def test_cache_dir_falls_back_to_user_cache(monkeypatch, tmp_path):
-    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    # cache_dir_default sets os.environ itself: setenv first, so that monkeypatch restores the variable even when
+    # it was unset (delenv of an unset variable records nothing, and the folder set below outlived this test:
+    # every `spcotmhp serve` the later tests started compiled its kernels into an empty cache)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", "")
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     monkeypatch.setattr(os, "access", lambda *a, **k: False)
     assert warmup.cache_dir_default() == str(tmp_path / "spcotmhp" / "numba")

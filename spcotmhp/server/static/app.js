@@ -6,6 +6,8 @@
 const SVG = "http://www.w3.org/2000/svg";
 const $ = (id) => document.getElementById(id);
 const state = { model: null, info: null, start: null };
+let loads = 0;   // loadModel calls so far: an earlier call still loading when a later one starts is dropped
+let asked = 0;   // plans asked for, clicks and model loads so far: a plan's answer is stale once any came after it
 
 function toPixel([x, y]) {
   const [x0, x1, y0, y1] = state.info.extent;
@@ -90,19 +92,27 @@ function drawPlan(plan) {
   $("explanation").textContent = plan.explanation;
 }
 
+// The overlay takes the map image's size (an empty box until the image has loaded, which no click reaches), so
+// the page takes clicks, and says so with #overlay[data-ready="1"], only once the new map is shown.
 async function loadModel(name) {
-  state.model = name;
-  state.info = await getJSON(`/map.json?model=${encodeURIComponent(name)}`);
+  const load = ++loads;
+  asked++;
   const overlay = $("overlay");
-  overlay.setAttribute("viewBox", `0 0 ${state.info.width} ${state.info.height}`);
+  overlay.dataset.ready = "0";
+  Object.assign(state, { model: name, info: null, start: null });
   overlay.replaceChildren();
-  $("map").src = state.info.image;
-  $("explanation").textContent = "";
-  $("hypotheses").textContent = "";
-  const places = await getJSON(`/places?model=${encodeURIComponent(name)}`);
-  $("words").textContent = `Known place words: ${places.place_words.join(", ")}`;
-  state.start = null;
+  clearPlan();
   $("start").textContent = "Start: not set (click on the map)";
+  const query = `model=${encodeURIComponent(name)}`;
+  const [info, places] = await Promise.all([getJSON(`/map.json?${query}`), getJSON(`/places?${query}`)]);
+  if (load !== loads) return;
+  const map = $("map");
+  map.src = info.image;
+  await map.decode();
+  if (load !== loads) return;
+  state.info = info;
+  overlay.setAttribute("viewBox", `0 0 ${info.width} ${info.height}`);
+  $("words").textContent = `Known place words: ${places.place_words.join(", ")}`;
   overlay.dataset.ready = "1";
 }
 
@@ -112,6 +122,7 @@ function onMapClick(event) {
   const px = (event.clientX - box.left) / box.width * state.info.width;
   const py = (event.clientY - box.top) / box.height * state.info.height;
   state.start = toWorld(px, py);
+  asked++;
   showError("");
   clearPlan();
   drawStart();
@@ -123,17 +134,26 @@ function needStart() {
   return true;
 }
 
+// POST a plan request and show its answer (and ``heard(plan)`` as the hypotheses) or its error, unless the start
+// moved, the model changed or another plan was asked for while it was planned: a late answer to an old question
+// must not draw a path from a start that is no longer the one shown
+async function requestPlan(url, options, heard) {
+  const ask = ++asked;
+  try {
+    const plan = await getJSON(url, Object.assign({ method: "POST" }, options));
+    if (ask !== asked) return;
+    $("hypotheses").textContent = heard(plan);
+    drawPlan(plan);
+  } catch (err) { if (ask === asked) showFailure(err.message); }
+}
+
 async function planText(event) {
   event.preventDefault();
   if (needStart()) return;
   showError("");
   const body = { instruction: $("instruction").value, start: state.start, model: state.model };
-  try {
-    const plan = await getJSON("/plan", { method: "POST", headers: { "Content-Type": "application/json" },
-                                          body: JSON.stringify(body) });
-    $("hypotheses").textContent = "";
-    drawPlan(plan);
-  } catch (err) { showFailure(err.message); }
+  await requestPlan("/plan", { headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) },
+                    () => "");
 }
 
 async function planAudio(event) {
@@ -146,11 +166,8 @@ async function planAudio(event) {
   form.append("audio", file);
   form.append("start", state.start.join(","));
   form.append("model", state.model);
-  try {
-    const plan = await getJSON("/plan/audio", { method: "POST", body: form });
-    $("hypotheses").textContent = "Heard: " + plan.hypotheses.map((h) => `"${h.text}" (${h.score.toFixed(2)})`).join(", ");
-    drawPlan(plan);
-  } catch (err) { showFailure(err.message); }
+  await requestPlan("/plan/audio", { body: form },
+                    (plan) => "Heard: " + plan.hypotheses.map((h) => `"${h.text}" (${h.score.toFixed(2)})`).join(", "));
 }
 
 async function teach(event) {
