@@ -47,6 +47,7 @@ waypoint, as the reference code's two legs of 10).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import itertools
 import time
@@ -59,6 +60,7 @@ import numpy as np
 from spcotmhp.errors import (
     ConflictingInstruction,
     HorizonTooShort,
+    SpcotmhpError,
     StartInAvoidedPlace,
     UnknownPlaceWord,
 )
@@ -181,6 +183,18 @@ class HierarchicalPlanner:
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
+
+    def warm_up(self) -> None:
+        """Plan to the first places once, from the first node, and forget the plans: this loads (or, with an empty
+        cache, compiles) the numba kernels of the online path, so that a service's or robot node's first real
+        instruction is answered as fast as the later ones. Refusals are ignored (they have loaded what they need)."""
+        graph = self.graph
+        if not graph.n_nodes:
+            return
+        start = self.model.require_map().cell_to_world(graph.to_map(graph.node_cell[0]))
+        for name in sorted({self.names[k] for k in graph.node_place[:2]}):
+            with contextlib.suppress(SpcotmhpError):
+                self.plan({"goal": name.split()}, tuple(start))
 
     def places_named(self, words: str | Sequence[str]) -> np.ndarray:
         """(K,) the places a place phrase names ("kitchen", ["east", "corridor"]): as a stage or an avoided place of

@@ -27,7 +27,6 @@ one-line typed error; anything else as an internal error, also logged).
 from __future__ import annotations
 
 import colorsys
-import contextlib
 import functools
 import json
 import math
@@ -230,17 +229,6 @@ def _orient(orientation, yaw: float) -> None:
     orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(yaw)
 
 
-def warm_up(planner: HierarchicalPlanner) -> None:
-    """Plan to the first places once (this compiles the numba kernels), so the first instruction is answered fast."""
-    graph = planner.graph
-    if not graph.n_nodes:
-        return
-    start = planner.model.require_map().cell_to_world(graph.to_map(graph.node_cell[0]))
-    for name in sorted({planner.names[k] for k in graph.node_place[:2]}):
-        with contextlib.suppress(SpcotmhpError):  # warming up: a refused plan has compiled what it needs
-            planner.plan({"goal": name.split()}, tuple(start))
-
-
 def run_node(
     model_dir: FilePath,
     frame: str = "map",
@@ -255,7 +243,7 @@ def run_node(
     model = load_model(model_dir)
     log = TeachingLog(record, model.require_map()) if record is not None else None
     planner = HierarchicalPlanner(model)
-    warm_up(planner)
+    planner.warm_up()
     rclpy.init()
     try:
         node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log)

@@ -67,12 +67,14 @@ class ServedModel:
     def build(
         cls, name: str, model: SpatialConceptModel, source: str = "", budget: Budget | None = None
     ) -> ServedModel:
-        """Precompute the planner (Algorithm 1, lines 1-7) and draw the map picture."""
+        """Precompute the planner (Algorithm 1, lines 1-7), warm it up (:meth:`HierarchicalPlanner.warm_up`: the
+        first request does not wait for numba's kernels) and draw the map picture."""
         if model.map is None:
             raise ModelError(f"model {name!r} ({source}) has no map; the service plans on the model's map")
         budget = budget or Budget()
         cache = GraphCache()
         planner = HierarchicalPlanner(model, cache=cache)
+        planner.warm_up()
         light = Lane(f"{name}-light", budget.max_light)
         heavy = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
         return cls(

@@ -395,3 +395,22 @@ def test_goal_option_bounds_are_lower_bounds_of_the_final_paths():
                 assert o.length_m <= full + 1e-9
             assert ("closest of" in p.explanation) == (p.goal.id == min(p.goal_options, key=lambda q: q.length_m).id)
     assert bounded >= 10
+
+
+def test_warm_up_plans_to_the_first_places_and_changes_no_later_plan(planner, monkeypatch):
+    start = world(planner.model.map, 3, 12)
+    before = planner.plan("go to the bedroom via the corridor", start)
+    asked = []
+    original = HierarchicalPlanner.plan
+
+    def spy(self, instruction, *args, **kwargs):
+        asked.append(instruction)
+        return original(self, instruction, *args, **kwargs)
+
+    monkeypatch.setattr(HierarchicalPlanner, "plan", spy)
+    planner.warm_up()
+    first = sorted({planner.names[k] for k in planner.graph.node_place[:2]})
+    assert asked == [{"goal": name.split()} for name in first] and asked
+    monkeypatch.undo()
+    after = planner.plan("go to the bedroom via the corridor", start)
+    assert (after.cells == before.cells).all() and after.explanation == before.explanation
