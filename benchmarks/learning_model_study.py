@@ -5,6 +5,7 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
     python benchmarks/learning_model_study.py concentrations battery-7 albert-b
     python benchmarks/learning_model_study.py battery --variant size1 7 21 42 0 1 2 > size1.jsonl
     python benchmarks/learning_model_study.py learning --variant size1 albert-b 3LDK_01 > size1_learning.jsonl
+    python benchmarks/learning_model_study.py criteria --cache fits 3 9 21 42 > criteria.jsonl
 
 * ``probes``: for the true assignment and every pair of adjacent true places, the change of each term of the
   collapsed log target (``online_split_merge.log_target_terms``) when the two are merged (a room merge: the place
@@ -61,6 +62,9 @@ VARIANTS: dict[str, tuple[dict, dict]] = {
     "paper": ({}, {}),
     "paper+sm": ({}, {"split_merge": True}),
     "paper+switch-mode": ({}, SWITCH_MODE),
+    "paper+switch-marginal": ({}, {"criterion": "log_joint_switch_marginal"}),
+    "paper+tail-mean": ({}, {"criterion": "log_joint_tail_mean"}),
+    "paper+held-out": ({}, {"criterion": "held_out_words"}),
     "size1": ({"place_size": 1.0}, {}),
     "size1+sm": ({"place_size": 1.0}, {"split_merge": True}),
     "size1+switch-mode": ({"place_size": 1.0}, SWITCH_MODE),

@@ -15,6 +15,11 @@ switch counts).  The scores here:
   collapsed non-word terms.  A plug-in likelihood at parameters estimated from the same words is biased high
   against the marginal it stands in for, by an Occam factor that grows with the number of word distributions
   (about (V - 1) / 2 log n per concept): it favours runs with more concepts.
+* ``held_out_words``: cross-validation (Stone 1977): the sum over events of log p(S_e | x_e, everything but
+  event e), each event's words predicted from its position alone by the run's other events, summed over the
+  place and concept it would take: how well a run's places and concepts tell which words are said where, the
+  link the planner uses.  A held-out predictive carries its own Occam factor: a run that merges two names
+  into one concept or place predicts their mixture, one that splits a room predicts from fewer events.
 * ``tail_mean_log_joint``: the mean of the run's log joint over its last quarter of sweeps
   (``SpCoTMHP.log_joint_trace_``), an estimate of the expected log joint under the run's local posterior.  As
   an average over z of log p(..., z) it equals log p(x, S, f, i, C) - H(z | ...) on average (Jensen: a lower
@@ -28,10 +33,12 @@ import numpy as np
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.learner_state import state_of_member
+from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.online_split_merge import state_stats
 from spcotmhp.learning.posterior import Priors, log_joint, log_joint_terms
 from spcotmhp.learning.switch_marginal import log_words_given_concepts
 
+SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch (as concepts.py)
 TAIL_FRACTION = 0.25
 WORD_TERMS = ("W", "background")
 
@@ -68,6 +75,36 @@ def switch_plugin_log_joint(estimator) -> float:
     return _non_word_terms(st, priors, trans) + float(np.log(W[concepts, words]).sum())
 
 
+def held_out_words(estimator) -> float:
+    """Sum over events e of log p(S_e | x_e, the other events' assignments and data) under a fitted run's final
+    sample (``held_out_event``, each event taken out of the counts in turn)."""
+    st, _, _ = _final_state(estimator)
+    total = 0.0
+    for e in range(st.E):
+        k, l = st.place[e], st.concept[e]
+        st.move(e, -1.0)
+        total += held_out_event(st, e)
+        st.place[e], st.concept[e] = k, l
+        st.move(e, 1.0)
+    return total
+
+
+def held_out_event(st: CollapsedState, e: int) -> float:
+    """log p(S_e | x_e, rest) for event e, out of the counts of ``st``:
+    sum_{k, l} p(l) phi_l(k) t(x_e | k) p(S_e | l) / sum_{k, l} p(l) phi_l(k) t(x_e | k), every parameter
+    integrated out given the other events (the generative order of Eqs. 5-17 without transitions; image
+    features left out), each token's switch summed out at the predictive values:
+    p(w | l) = lambda W_l(w) + (1 - lambda) W_0(w)."""
+    h = st.hyper
+    log_pl = np.log(st.n_l + h.alpha) + np.log((st.n_lk + h.gamma) / (st.n_l + st.K * h.gamma)[:, None]).T
+    prior = st.log_predictive(st.X[e])[:, None] + log_pl  # (K, L)
+    lam = (st.z_tot[1] + SWITCH_PRIOR) / (st.z_tot.sum() + 2.0 * SWITCH_PRIOR)
+    concept = (st.W_lv + h.beta) / (st.W_lv.sum(axis=1) + st.V * h.beta)[:, None]
+    background = (st.bg_v + h.beta) / (st.bg_v.sum() + st.V * h.beta)
+    words = np.log(lam * concept[:, st.tokens[e]] + (1.0 - lam) * background[st.tokens[e]]).sum(axis=1)
+    return float(logsumexp((prior + words[None, :]).ravel()) - logsumexp(prior.ravel()))
+
+
 def tail_mean_log_joint(estimator, fraction: float = TAIL_FRACTION) -> float:
     """The mean of the last ``fraction`` of a run's per-sweep log joints (at least one)."""
     trace = np.asarray(estimator.log_joint_trace_, dtype=float)
@@ -100,6 +137,8 @@ def _tokens(st: CollapsedState) -> tuple[np.ndarray, np.ndarray]:
 
 
 __all__ = [
+    "held_out_event",
+    "held_out_words",
     "switch_marginal_log_joint",
     "switch_mode_log_joint",
     "switch_plugin_log_joint",

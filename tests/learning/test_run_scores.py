@@ -48,3 +48,29 @@ def test_tail_mean_is_the_mean_of_the_last_quarter_of_the_trace(run):
     assert run_scores.tail_mean_log_joint(run, 0.01) == trace[-1]
     with pytest.raises(ModelError):
         run_scores.tail_mean_log_joint(run, 0.0)
+
+
+def test_held_out_predictive_of_one_word_sums_to_one_over_the_vocabulary(run):
+    st = state_of_member(run.model_.learner, run.model_)
+    e = 7
+    st.move(e, -1.0)
+    total = 0.0
+    for v in range(st.V):  # every one-word event at x_e: a distribution over the vocabulary
+        st.tokens[e] = np.array([v])
+        total += np.exp(run_scores.held_out_event(st, e))
+    assert total == pytest.approx(1.0, abs=1e-9)
+
+
+def test_held_out_words_takes_each_event_out_and_puts_it_back(run):
+    st = state_of_member(run.model_.learner, run.model_)
+    score = run_scores.held_out_words(run)
+    assert np.isfinite(score) and score < 0.0
+    e = 3
+    k, l = st.place[e], st.concept[e]
+    st.move(e, -1.0)
+    one = run_scores.held_out_event(st, e)
+    st.place[e], st.concept[e] = k, l
+    st.move(e, 1.0)
+    after = state_of_member(run.model_.learner, run.model_)
+    np.testing.assert_array_equal(after.W_lv, st.W_lv)  # the run's own sample is untouched
+    assert one < 0.0 and score == run_scores.held_out_words(run)
