@@ -5,6 +5,7 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
     python benchmarks/learning_model_study.py concentrations battery-7 albert-b
     python benchmarks/learning_model_study.py battery --variant size1 7 21 42 0 1 2 > size1.jsonl
     python benchmarks/learning_model_study.py learning --variant size1 albert-b 3LDK_01 > size1_learning.jsonl
+    python benchmarks/learning_model_study.py criteria --cache fits 3 9 21 42 > criteria.jsonl
 
 * ``probes``: for the true assignment and every pair of adjacent true places, the change of each term of the
   collapsed log target (``online_split_merge.log_target_terms``) when the two are merged (a room merge: the place
@@ -18,6 +19,10 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
 * ``learning``: ``online_eval.evaluate_online`` (5 seeds, online and batch) per home (one JSON line each).
 * ``runs``: the learned fit of the battery (10 runs, ``selection.fit_runs``) per home: each run's ARI of
   concepts and places and collapsed log joint, and the run kept, to tell a better sampler from a luckier choice.
+* ``criteria``: the learned fit of the battery per home, once, and every run-selection criterion of
+  ``selection.CRITERIA`` applied to its runs (docs/learning-model-study.md, section 6): each run's ARI and
+  scores, the run each criterion keeps, and the battery's counts of every kept run (one JSON line per home;
+  ``--cache DIR`` keeps the fitted runs, so that a second pass only scores and plans).
 * ``table6``: Table 6's SpCoTMHP row (reverse replay; ``table6.evaluate_seeds``: 5 seeds x 10 runs x 100 sweeps,
   the means over each seed's runs, mean and sd over seeds) per home.
 """
@@ -48,7 +53,7 @@ from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.online import log_new_place_density
 from spcotmhp.learning.online_eval import evaluate_online
 from spcotmhp.learning.online_split_merge import log_target_terms
-from spcotmhp.learning.selection import fit_runs
+from spcotmhp.learning.selection import CRITERIA, MultiRunSelector, fit_runs
 from spcotmhp.learning.table6 import concept_truth, evaluate_seeds, score_run
 
 # name: (priors, settings of the batch learner's fit); the online learner has its moves in every variant
@@ -57,6 +62,9 @@ VARIANTS: dict[str, tuple[dict, dict]] = {
     "paper": ({}, {}),
     "paper+sm": ({}, {"split_merge": True}),
     "paper+switch-mode": ({}, SWITCH_MODE),
+    "paper+switch-marginal": ({}, {"criterion": "log_joint_switch_marginal"}),
+    "paper+tail-mean": ({}, {"criterion": "log_joint_tail_mean"}),
+    "paper+held-out": ({}, {"criterion": "held_out_words"}),
     "size1": ({"place_size": 1.0}, {}),
     "size1+sm": ({"place_size": 1.0}, {"split_merge": True}),
     "size1+switch-mode": ({"place_size": 1.0}, SWITCH_MODE),
@@ -168,11 +176,38 @@ def runs(home: str, hyper: Hyperparameters, fit: dict) -> dict:
     }
 
 
+def criteria(home: str, hyper: Hyperparameters, fit: dict, cache: str | None) -> dict:
+    """Every criterion on one learned fit of a home (module docstring)."""
+    import pickle
+    from pathlib import Path
+
+    data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
+    path = None if cache is None else Path(cache) / f"{data.name}.pkl"
+    if path is not None and path.exists():
+        sel: MultiRunSelector = pickle.loads(path.read_bytes())
+    else:
+        sel = fit_runs(data, seed=seed, hyper=hyper, **fit)
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_bytes(pickle.dumps(sel))
+    scores = [score_run(data, e.places_, e.concepts_) for e in sel.estimators_]
+    out: dict = {"home": data.name, "ari_c": [s["ari_c"] for s in scores], "ari_i": [s["ari_i"] for s in scores]}
+    out["scores"] = {c: [float(v) for v in sel.scores(c)] for c in CRITERIA[1:]}
+    out["kept"] = {c: int(np.argmax(v)) for c, v in out["scores"].items()}
+    out["battery"] = {}
+    for c, r in out["kept"].items():
+        if str(r) not in out["battery"]:
+            sel.choose(c)
+            out["battery"][str(r)] = evaluate_home(data, "learned", seed, model=sel.model_).to_dict()
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=("probes", "concentrations", "battery", "runs", "learning", "table6"))
+    ap.add_argument("what", choices=("probes", "concentrations", "battery", "runs", "criteria", "learning", "table6"))
     ap.add_argument("homes", nargs="+", help="battery seeds (battery) or dataset names")
     ap.add_argument("--variant", default="paper", choices=tuple(VARIANTS))
+    ap.add_argument("--cache", default=None, help="criteria: folder of the fitted runs (pickles)")
     args = ap.parse_args()
     priors, fit = VARIANTS[args.variant]
     moves = bool(fit.get("split_merge", False))
@@ -190,6 +225,8 @@ def main() -> None:
             row = r.to_dict()
         elif args.what == "runs":
             row = runs(home, hyper, fit)
+        elif args.what == "criteria":
+            row = criteria(home, hyper, fit, args.cache)
         elif args.what == "table6":
             row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
         else:

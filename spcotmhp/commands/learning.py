@@ -141,8 +141,9 @@ def learn(
         str | None,
         typer.Option(
             help="Run selection: auto (default: mutual_information with image features, else log_joint), "
-            "mutual_information, log_joint or log_joint_switch_mode (the joint with the background-word switches "
-            "at a local mode; docs/learning-model-study.md)."
+            "mutual_information, log_joint, or one of the criteria that handle the background-word switches: "
+            "log_joint_switch_mode, log_joint_switch_marginal, log_joint_switch_plugin, log_joint_tail_mean, "
+            "held_out_words (spcotmhp/learning/run_scores.py; docs/learning-model-study.md, section 6)."
         ),
     ] = None,
     connectivity: Annotated[

@@ -42,6 +42,7 @@ from spcotmhp.evaluation.methods import task_instruction
 from spcotmhp.evaluation.metrics import Outcome, failed, summarise
 from spcotmhp.evaluation.tasks import Task, make_tasks, robot_cells, subset
 from spcotmhp.evaluation.work import score_task
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
 from spcotmhp.metric.grid_search import geodesic_distance
 
@@ -77,10 +78,12 @@ def evaluate_home(
     seed: int = 0,
     max_advanced: int | None = 60,
     learner: Mapping[str, Any] | None = None,
+    model: SpatialConceptModel | None = None,
 ) -> HomeBattery:
     """Build the home's context (fit or learn, precompute; ``learner``: settings of the learner for learned
-    parameters, e.g. ``{"hyper": Hyperparameters(place_size=1.0)}``) and run the battery's tasks on it."""
-    ctx = build_context(dataset, params, seed, learner=learner)
+    parameters, e.g. ``{"hyper": Hyperparameters(place_size=1.0)}``; ``model``: parameters already fitted) and run
+    the battery's tasks on it."""
+    ctx = build_context(dataset, params, seed, learner=learner, model=model)
     out = HomeBattery(dataset.name, params)
     basic = make_tasks(dataset, "basic", ctx.adjacency, places=ctx.places).tasks
     advanced = subset(make_tasks(dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, max_advanced, seed)

@@ -122,9 +122,11 @@ def build_context(
     seed: int = 0,
     connectivity: str = "auto",
     learner: Mapping[str, Any] | None = None,
+    model: SpatialConceptModel | None = None,
 ) -> HomeContext:
     """Fit (or learn) the parameters and precompute everything offline for one home (``learner``: settings of
-    the learner for learned parameters, ``fit_params``)."""
+    the learner for learned parameters, ``fit_params``; ``model``: parameters of kind ``params`` already fitted,
+    used as they are)."""
     from spcotmhp.baselines.hpp import EDGE_COSTS, HPP
 
     if params not in PARAMS:
@@ -133,7 +135,8 @@ def build_context(
     places = build_places(dataset)
     adjacency, source = place_adjacency(dataset)
     t0 = time.perf_counter()
-    model = fit_params(dataset, params, adjacency, seed, connectivity, learner)
+    if model is None:
+        model = fit_params(dataset, params, adjacency, seed, connectivity, learner)
     if model.map is None:
         model.map = dataset.map
     timings["fit_s"] = time.perf_counter() - t0

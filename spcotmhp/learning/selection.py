@@ -7,11 +7,15 @@ Criteria:
   highest, i.e. whose concepts are most clearly told apart by their words.
 * ``"log_joint"``: the run with the highest collapsed log joint probability log p(x, S, f, i, C | h), the
   model's own posterior.
-* ``"log_joint_switch_mode"``: the same joint with each run's background-word switches z set to a local mode
-  given its places and concepts (``CollapsedState.switch_mode``) instead of their last draw.  The runs are
-  compared by their places and concepts; the last draw of the switches moves the joint by tens of nats (on
-  generated homes, resampling the switches of the true assignment lowered it by about 90), which is noise in
-  that comparison.  Not the default (docs/learning-model-study.md has its measurements).
+* ``"log_joint_switch_mode"``, ``"log_joint_switch_marginal"``, ``"log_joint_switch_plugin"``,
+  ``"log_joint_tail_mean"``, ``"held_out_words"``: the joint with the background-word switches z at a local
+  mode, summed out (Chib's estimate), summed per token at the posterior means, averaged over the last quarter of
+  the sweeps, and the leave-one-out predictive of each event's words from its position (run_scores.py gives
+  each one's reason and bias).  The last draw of the switches moves a run's joint by tens of nats (on generated
+  homes, resampling the switches of the true assignment lowered it by about 90), which is noise when runs are
+  compared by their places and concepts.  None is the default: each keeps runs the log joint does not, and on
+  the generated battery none both passes every home and keeps the held-out homes' figures
+  (docs/learning-model-study.md, sections 4 and 6).
 
 Why ``"auto"``: the log joint is the principled choice (the most probable run under the model), and it picks the
 best runs on words-only data; but with image features the high-dimensional feature term dominates the joint and
@@ -39,9 +43,22 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.posterior import Priors, log_joint
+from spcotmhp.learning.run_scores import (
+    held_out_words,
+    switch_marginal_log_joint,
+    switch_mode_log_joint,
+    switch_plugin_log_joint,
+    tail_mean_log_joint,
+)
 
-CRITERIA = ("auto", "mutual_information", "log_joint", "log_joint_switch_mode")
+SCORES: dict[str, Callable[[SpCoTMHP], float]] = {
+    "log_joint_switch_mode": switch_mode_log_joint,
+    "log_joint_switch_marginal": switch_marginal_log_joint,
+    "log_joint_switch_plugin": switch_plugin_log_joint,
+    "log_joint_tail_mean": tail_mean_log_joint,
+    "held_out_words": held_out_words,
+}
+CRITERIA = ("auto", "mutual_information", "log_joint", *SCORES)
 
 
 @dataclass
@@ -104,40 +121,38 @@ class MultiRunSelector:
             )
             for r, e in enumerate(self.estimators_)
         ]
-        criterion = self.criterion
+        self._dataset, self._connectivity, self._use_trajectory = dataset, connectivity, base.use_trajectory
+        self.choose(self.criterion)
+        self.fit_time_ = time.perf_counter() - t0
+        return self
+
+    def scores(self, criterion: str) -> list[float]:
+        """Every fitted run's score under ``criterion`` (not "auto"; higher is better)."""
+        if criterion == "mutual_information":
+            return [s.mutual_information for s in self.summaries_]
+        if criterion == "log_joint":
+            return [s.log_joint for s in self.summaries_]
+        if criterion not in SCORES:
+            raise ModelError(f"criterion must be one of {CRITERIA[1:]}, got {criterion!r}")
+        return [SCORES[criterion](e) for e in self.estimators_]
+
+    def choose(self, criterion: str) -> MultiRunSelector:
+        """Keep the fitted run of highest score under ``criterion`` ("auto": module docstring): sets
+        ``criterion_``, ``best_index_``, ``best_`` and ``model_`` (with the connectivity applied)."""
+        if criterion not in CRITERIA:
+            raise ModelError(f"criterion must be one of {CRITERIA}, got {criterion!r}")
         if criterion == "auto":
             criterion = "mutual_information" if self.estimators_[0].model_.info.get("features") else "log_joint"
         self.criterion_ = criterion
-        if criterion == "log_joint_switch_mode":
-            score = [switch_mode_log_joint(e) for e in self.estimators_]
-        else:
-            score = [
-                s.mutual_information if criterion == "mutual_information" else s.log_joint for s in self.summaries_
-            ]
-        self.best_index_ = int(np.argmax(score))
+        self.best_index_ = int(np.argmax(self.scores(criterion)))
         self.best_ = self.estimators_[self.best_index_]
         self.model_: SpatialConceptModel = self.best_.model_
         self.model_.info.update(selected_run=self.best_index_, runs=self.runs, criterion=criterion)
         if self.best_.transitions == "hmm":
-            seen = dataset if base.use_trajectory else replace(dataset, trajectory=None, event_steps=None)
-            apply_connectivity(self.model_, seen, connectivity, self.best_.places_)
-        self.fit_time_ = time.perf_counter() - t0
+            data = self._dataset
+            seen = data if self._use_trajectory else replace(data, trajectory=None, event_steps=None)
+            apply_connectivity(self.model_, seen, self._connectivity, self.best_.places_)
         return self
-
-
-def switch_mode_log_joint(estimator: SpCoTMHP) -> float:
-    """The collapsed log joint (``posterior.log_joint``) of a fitted run's final places and concepts with its
-    background-word switches at a local mode (``CollapsedState.switch_mode``) instead of their last draw."""
-    from spcotmhp.learning.learner_state import state_of_member
-    from spcotmhp.learning.online_split_merge import state_stats
-
-    model = estimator.model_
-    if model.learner is None:
-        raise ModelError("the run keeps no final sample (learner member) to score")
-    st = state_of_member(model.learner, model)
-    st.switch_mode()
-    priors = Priors.build(st.hyper, st.K, st.L, st.V, st.D)
-    return log_joint(priors, state_stats(st), st.trans if estimator.transitions == "hmm" else None)
 
 
 def fit_runs(

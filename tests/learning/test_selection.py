@@ -139,3 +139,25 @@ def test_the_switch_mode_criterion_keeps_the_run_of_highest_switch_mode_joint(da
     scores = [switch_mode_log_joint(e) for e in sel.estimators_]
     assert sel.criterion_ == "log_joint_switch_mode" and sel.best_index_ == int(np.argmax(scores))
     assert all(s >= e.log_joint_ for s, e in zip(scores, sel.estimators_, strict=True))
+
+
+@pytest.mark.parametrize("criterion", ["log_joint_switch_marginal", "log_joint_switch_plugin", "log_joint_tail_mean"])
+def test_each_switch_criterion_keeps_the_run_of_highest_score(data, criterion):
+    from spcotmhp.learning.selection import SCORES
+
+    sel = fit_runs(data, runs=3, iterations=10, criterion=criterion, connectivity="hmm")
+    scores = [SCORES[criterion](e) for e in sel.estimators_]
+    assert sel.scores(criterion) == scores
+    assert sel.criterion_ == criterion and sel.best_index_ == int(np.argmax(scores))
+    assert sel.model_.info["criterion"] == criterion
+
+
+def test_choose_keeps_another_run_among_the_fitted_ones(data):
+    sel = fit_runs(data, runs=3, iterations=10, connectivity="map")
+    mi = [s.mutual_information for s in sel.summaries_]
+    assert sel.choose("mutual_information").best_index_ == int(np.argmax(mi))
+    assert sel.model_ is sel.estimators_[int(np.argmax(mi))].model_ and sel.model_.info["psi_from"] == "map"
+    with pytest.raises(ModelError):
+        sel.choose("best")
+    with pytest.raises(ModelError):
+        sel.scores("auto")
