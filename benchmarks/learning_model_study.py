@@ -70,6 +70,12 @@ VARIANTS: dict[str, tuple[dict, dict]] = {
     "size1+switch-mode": ({"place_size": 1.0}, SWITCH_MODE),
     "size0.75": ({"place_size": 0.75}, {}),
     "size1.5": ({"place_size": 1.5}, {}),
+    # section 8: the opt-in "one place, one name" term, eta = 1 (stated before measuring), 0.1 and 10 (sensitivity)
+    "onename1": ({"place_concepts": 1.0}, {}),
+    "onename0.1": ({"place_concepts": 0.1}, {}),
+    "onename10": ({"place_concepts": 10.0}, {}),
+    "onename1-from0": ({"place_concepts": 1.0}, {"place_concepts_from": 0.0}),  # the term from the first sweep
+    "onename1-select": ({"place_concepts": 1.0}, {"place_concepts_from": 1.0}),  # the log joint only
 }
 PAPER_TOTALS = {"alpha": 10.0, "gamma": 1.0, "omega": 10.0}
 
@@ -165,7 +171,20 @@ def concentrations(name: str) -> dict:
 def runs(home: str, hyper: Hyperparameters, fit: dict) -> dict:
     """Every run of the learned fit of a home (module docstring)."""
     data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
+    return run_rows(data, fit_runs(data, seed=seed, hyper=hyper, **fit))
+
+
+def battery(home: str, hyper: Hyperparameters, fit: dict) -> dict:
+    """The battery of a home's learned fit (``evaluate_home``'s own fit, the same runs), with every run's ARI."""
+    data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
     sel = fit_runs(data, seed=seed, hyper=hyper, **fit)
+    row = evaluate_home(data, "learned", seed, model=sel.model_).to_dict()
+    row["runs"] = run_rows(data, sel)
+    return row
+
+
+def run_rows(data: Dataset, sel: MultiRunSelector) -> dict:
+    """Each run's concept and place ARI and log joint, and the index of the kept run."""
     scores = [score_run(data, e.places_, e.concepts_) for e in sel.estimators_]
     return {
         "home": data.name,
@@ -220,9 +239,7 @@ def main() -> None:
         elif args.what == "concentrations":
             row = concentrations(home)
         elif args.what == "battery":
-            data, seed = (battery_home(int(home)), int(home)) if home.isdigit() else (load(home), 0)
-            r = evaluate_home(data, "learned", seed, learner={"hyper": hyper, **fit})
-            row = r.to_dict()
+            row = battery(home, hyper, fit)
         elif args.what == "runs":
             row = runs(home, hyper, fit)
         elif args.what == "criteria":

@@ -6,7 +6,9 @@ theta and W integrated out under their Dirichlet priors (Johnson and Willsky's d
     (n_l + alpha) * (n_{l,i_e} + gamma) / (n_l + K gamma) * DirMult(f_e | chi + F_l) * DirMult(S_e | beta + W_l)
 
 with every count taken without event e.  (The unigram-rescaling denominator of Eq. 17, sum_c' W_c'(S_e,b), does
-not depend on C_e and cancels here.)  Drawing theta from its posterior instead adds so much noise to a
+not depend on C_e and cancels here.)  With the opt-in ``Hyperparameters.place_concepts`` = eta (not the paper's)
+the product gains (eta / L + n_{l,i_e}) / (eta + n_{i_e}): place i_e's concept distribution integrated out
+(gibbs.py).  Drawing theta from its posterior instead adds so much noise to a
 365-dimensional feature likelihood that small concepts lose to large ones and everything merges.
 
 Background words: each token b of S_e carries a switch z_eb ~ Bernoulli(lambda), lambda ~ Beta(1, 1); a concept
@@ -143,8 +145,11 @@ def _concept_sweep(
     F_l,
     digamma_ld,
     use_features,
+    eta_each,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
+    ``eta_each`` > 0 (eta / L of ``Hyperparameters.place_concepts``) adds log(eta / L + n_{l, i_e}) to concept
+    l's score, eta_i integrated out; 0 leaves the paper's conditional.
     Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in
     tables refreshed where the counts change (the same values as computing them for every event and concept), and
     the word terms of all concepts are summed at once (``tokens_terms``)."""
@@ -188,6 +193,9 @@ def _concept_sweep(
         else:  # the same value for every empty concept, so no special case
             for l in range(L):
                 logp[l] = log_a[l] + log_kl[k, l] - log_c[l] + words_lp[l]
+        if eta_each > 0.0:
+            for l in range(L):
+                logp[l] += log(eta_each + n_lk[l, k])
         new = _draw(logp, uniforms[u], scratch)
         u += 1
         C[e] = new
@@ -271,9 +279,16 @@ class CollapsedConceptSampler:
         beta: float,
         chi: float,
         rng: np.random.Generator,
+        place_concepts: float | None = None,
     ) -> np.ndarray:
-        """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,)."""
+        """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,).
+
+        ``place_concepts`` = eta (``Hyperparameters.place_concepts``, a departure from the paper): Eq. 17's
+        conditional of C_e = l gains (eta / L + n_{l, i_e}) / (eta + n_{i_e}), the counts without event e, i.e.
+        the predictive of place i_e's concept distribution eta_i ~ Dir(eta / L) integrated out (the denominator
+        does not depend on l and cancels); None leaves the paper's conditional."""
         E = len(concepts)
+        eta_each = 0.0 if place_concepts is None else float(place_concepts) / L
         C = concepts.astype(np.int64).copy()
         n_l, n_lk, W_lv, bg_v, z_tot, F_ld, F_l, digamma_ld = self._counts(C, places, L, K, chi)
         use_features = self.features is not None
@@ -313,6 +328,7 @@ class CollapsedConceptSampler:
             F_l,
             digamma_ld,
             use_features,
+            eta_each,
         )
 
     def _counts(self, C: np.ndarray, places: np.ndarray, L: int, K: int, chi: float) -> tuple[np.ndarray, ...]:

@@ -15,6 +15,19 @@ current value of everything else:
    integrated out (direct assignment, Eqs. 10-13; see concepts.py, which also resamples the background-word
    switches).
 
+With the opt-in ``Hyperparameters.place_concepts`` = eta (a departure from the paper: each place's own concept
+distribution eta_i ~ Dir(eta / L), a factor eta_{i_e, C_e} per event beside Eqs. 9 and 17), step 1 also draws
+eta_i ~ Dir(eta / L + n_{i,.}) from the events per (place, concept); step 4's emission at place k gains
+log eta_{k, C_e} (eta_i drawn, so the FFBS stays exact); step 5 integrates eta_i out again (partially collapsed,
+as for pi and phi: C_e = l gains log(eta / L + n_{l, i_e}), counts without e), because a drawn eta_i with
+eta / L per concept puts almost no mass off its place's current concept; the next sweep redraws eta_i from the
+new counts before using it.  The log joint gains sum_i log DirMult(n_{i,.} | eta / L) (posterior.py).  The term
+enters the sampler only after the first ``place_concepts_from`` (default one half) of the sweeps: from the
+initial over-segmented places with random concepts, each fragment of a room settles on its own concept, and the
+term then keeps the fragments apart (an event moves to a place of another concept only against a factor near 0),
+so the places would never merge (docs/learning-model-study.md, section 8).  Off, no random number is drawn for
+it and every step is the paper's, bit for bit.  Split-merge moves do not price the term: not combined with it.
+
 Steps 1-3 come before step 4 so that psi is drawn with the trajectory labelled by the very Gaussians that step 4
 uses (in the first sweep, by Gaussians drawn from the initial assignment rather than all at the prior mode).
 
@@ -144,6 +157,8 @@ class SpCoTMHP:
             (init.py).
         trajectory_weight, min_dwell: weight of one place change along the trajectory, and the shortest stay
             (in poses) that counts as a visit.
+        place_concepts_from: with ``hyper.place_concepts`` (module docstring), the fraction of the sweeps run on
+            the paper's conditionals before the term enters steps 1, 4 and 5 (the log joint carries it throughout).
         hyper: prior hyper-parameters (default: paper Section 5.1); its L and K are replaced by these L and K,
             and its alpha, gamma, omega follow them unless given (``Hyperparameters.resized``: 10 / L, 1 / K,
             10 / K, the paper's 0.5, 0.05, 0.5 at L = K = 20).
@@ -171,6 +186,7 @@ class SpCoTMHP:
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
         min_dwell: int = 3,
+        place_concepts_from: float = 0.5,
         hyper: Hyperparameters | None = None,
         seed: int | np.random.SeedSequence = 0,
         run: int | None = None,
@@ -189,6 +205,7 @@ class SpCoTMHP:
         self.init = init
         self.trajectory_weight = trajectory_weight
         self.min_dwell = min_dwell
+        self.place_concepts_from = place_concepts_from
         self.hyper = hyper
         self.seed = seed
         self.run = run
@@ -228,6 +245,8 @@ class SpCoTMHP:
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
         moves = None
         moves_on = obs.features is None if self.split_merge == "auto" else bool(self.split_merge)
+        if moves_on and hyper.place_concepts is not None:
+            raise ModelError("split_merge moves do not price place_concepts: use one or the other")
         if moves_on:
             moves = SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi)
         trace = []
@@ -235,7 +254,9 @@ class SpCoTMHP:
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
                 trace.append(log_joint(priors, stats, self._event_transitions(places)))
-            places, concepts = self._sweep(obs, priors, stats, hyper, sampler, moves, places, concepts, rng)
+            term = sweep >= self.place_concepts_from * self.iterations
+            args = (obs, priors, stats, hyper, sampler, moves, places, concepts, rng, term)
+            places, concepts = self._sweep(*args)
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
@@ -312,19 +333,27 @@ class SpCoTMHP:
         places: np.ndarray,
         concepts: np.ndarray,
         rng: np.random.Generator,
+        term: bool = True,
     ) -> tuple[np.ndarray, np.ndarray]:
         """One Gibbs sweep, steps 1-5 of the module docstring, from the current assignments and their ``stats``:
-        the parameters in ``priors`` are redrawn in place; returns the new places and concepts."""
+        the parameters in ``priors`` are redrawn in place; returns the new places and concepts.  ``term``: whether
+        the place_concepts term (if set) enters this sweep."""
+        eta = hyper.place_concepts if term else None
         priors.gauss.resample(stats.gauss, rng)  # step 1
         priors.phi.resample(stats.place_given_concept, rng)
+        if (
+            eta is not None and priors.place_concepts is not None
+        ):  # eta_i ~ Dir(eta / L + n_{i,.}) (opt-in, module docstring)
+            priors.place_concepts.resample(stats.place_given_concept.T, rng)
         if self.transitions == "hmm":  # steps 2 and 3
             counts = self._transition_counts(
                 obs, places, priors.gauss.mu, priors.gauss.Sigma, log_place_prior(priors, stats)
             )
             priors.psi.resample(counts, rng)
-        places = self._sample_places(priors, obs, concepts, rng)  # step 4
-        # step 5
-        concepts = sampler.sweep(concepts, places, self.L, self.K, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi, rng)
+        log_eta = None if eta is None or priors.place_concepts is None else priors.place_concepts.log_probs
+        places = self._sample_places(priors, obs, concepts, rng, log_eta)  # step 4
+        h = hyper  # step 5
+        concepts = sampler.sweep(concepts, places, self.L, self.K, h.alpha, h.gamma, h.beta, h.chi, rng, eta)
         if moves is not None:  # step 5, whole groups (split_merge.py)
             concepts = moves.sweep(concepts, places, rng)
         return places, concepts
@@ -339,6 +368,8 @@ class SpCoTMHP:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
         if self.split_merge not in (True, False, "auto"):
             raise ModelError(f"split_merge must be True, False or 'auto', got {self.split_merge!r}")
+        if not 0.0 <= self.place_concepts_from <= 1.0:
+            raise ModelError(f"place_concepts_from must be a fraction in [0, 1], got {self.place_concepts_from!r}")
         if self.K < 1 or self.L < 1 or self.iterations < 1:
             raise ModelError(
                 f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"
@@ -369,15 +400,22 @@ class SpCoTMHP:
         return counts
 
     def _sample_places(
-        self, priors: Priors, obs: Observations, concepts: np.ndarray, rng: np.random.Generator
+        self,
+        priors: Priors,
+        obs: Observations,
+        concepts: np.ndarray,
+        rng: np.random.Generator,
+        log_eta: np.ndarray | None = None,
     ) -> np.ndarray:
-        """i_{1:E} given C, x and the parameters (Eq. 9; FFBS, or independent draws in GMM mode)."""
+        """i_{1:E} given C, x and the parameters (Eq. 9; FFBS, or independent draws in GMM mode); ``log_eta``
+        (K, L) adds log eta[i_e, C_e] (``Hyperparameters.place_concepts``)."""
         log_phi = priors.phi.log_probs
         if self.transitions == "none":
-            return sample_categorical_log(rng, priors.gauss.log_likelihood(obs.X) + log_phi[concepts])
+            extra = 0.0 if log_eta is None else log_eta.T[concepts]
+            return sample_categorical_log(rng, priors.gauss.log_likelihood(obs.X) + log_phi[concepts] + extra)
         log_init = np.full(self.K, -np.log(self.K))  # FFBS with the unigram-rescaled emissions of Eq. 9
         return sample_places(
-            obs.X, concepts, priors.gauss.mu, priors.gauss.Sigma, log_phi, priors.psi.log_probs, log_init, rng
+            obs.X, concepts, priors.gauss.mu, priors.gauss.Sigma, log_phi, priors.psi.log_probs, log_init, rng, log_eta
         )
 
 

@@ -51,6 +51,13 @@ class Hyperparameters:
     weighs like two observations of that spread).  nu0 and V0 must then be left at the paper's values (or equal
     the derived ones, as a saved model gives them back).
 
+    place_concepts (default None: off, the paper's model): eta, the total concentration of an opt-in prior that a
+    place holds one name, a DEPARTURE from the paper.  Each place i draws its own concept distribution
+    eta_i ~ Dir(eta / L, ..., eta / L), and the concept of an event is scored by eta_{i_e, C_e} besides Eq. 17's
+    pi phi theta W: the joint of Eqs. 5-17 gains the factor prod_e eta_{i_e, C_e}, i.e. prod_i DirMult(n_{i,.} |
+    eta / L) with the eta_i integrated out (n_{i,l}: the events at place i with concept l), a product of experts
+    on the pair (i, C) beside phi (gibbs.py, posterior.py).  Batch learner only; the online learner refuses it.
+
     alpha, gamma and omega left unset (``DERIVED``; None is accepted too) follow the truncation: alpha = 10 / L,
     gamma = 1 / K, omega = 10 / K (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20
     and keeps the total prior mass of each Dirichlet process fixed when --max-places / --max-concepts change.
@@ -70,8 +77,12 @@ class Hyperparameters:
     V0: tuple[tuple[float, float], tuple[float, float]] = PAPER_V0
     nu0: float = PAPER_NU0
     place_size: float | None = None
+    place_concepts: float | None = None
 
     def __post_init__(self) -> None:
+        eta = self.place_concepts
+        if eta is not None and (isinstance(eta, bool) or not isinstance(eta, (int, float)) or not 0 < eta < np.inf):
+            raise ValueError(f"place_concepts must be a finite number > 0 or None, got {eta!r}")
         if self.place_size is not None:
             self.nu0, self.V0 = place_size_prior(self.place_size, self.nu0, self.V0)
         self._derived = tuple(name for name in SCALED_PRIORS if _unset(getattr(self, name)))

@@ -268,6 +268,11 @@ def read_hyper(path: Path, raw: dict) -> Hyperparameters:
         raise ModelError(
             f"{path}: hyper-parameter place_size must be a finite number > 0 or null, got {values['place_size']!r}"
         )
+    if values.get("place_concepts") is not None and not _positive(values["place_concepts"]):
+        raise ModelError(
+            f"{path}: hyper-parameter place_concepts must be a finite number > 0 or null, "
+            f"got {values['place_concepts']!r}"
+        )
     try:
         return Hyperparameters(**values)
     except (TypeError, ValueError) as exc:

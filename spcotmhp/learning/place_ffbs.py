@@ -192,12 +192,19 @@ def sample_places(
     log_trans: np.ndarray,
     log_init: np.ndarray,
     rng: np.random.Generator,
+    log_eta: np.ndarray | None = None,
 ) -> np.ndarray:
     """i_{1:E} drawn from the HMM posterior of Eq. 9 (module docstring): the draw of
     ``hmm.ffbs(place_emissions(X, concepts, mu, Sigma, log_phi, logsumexp(log_phi, axis=0)), log_trans,
-    log_init, rng)``, the same random numbers used the same way."""
+    log_init, rng)``, the same random numbers used the same way.
+
+    ``log_eta`` (K, L), the opt-in ``Hyperparameters.place_concepts`` term (not the paper's): event e's emission
+    at place k gains log eta[k, C_e], carried in the phi term as log phi[c, k] + log eta[k, c] while the unigram
+    rescaling of Eq. 9 stays sum_c phi[c, k].  None (or zeros) draws the paper's places, bit for bit."""
     log_phi = np.ascontiguousarray(log_phi, dtype=np.float64)
     log_norm = np.ascontiguousarray(logsumexp(log_phi, axis=0), dtype=np.float64)  # unigram rescaling, Eq. 9
+    if log_eta is not None:
+        log_phi = np.ascontiguousarray(log_phi + np.asarray(log_eta, dtype=np.float64).T)
     log_trans = np.ascontiguousarray(log_trans, dtype=np.float64)
     log_init = np.ascontiguousarray(log_init, dtype=np.float64)
     mu, Sigma, det, log_det = _gaussian_terms(mu, Sigma)

@@ -92,9 +92,11 @@ class Priors:
     psi: DirichletCategoricals
     background: DirichletCategoricals
     switch: DirichletCategoricals
+    place_concepts: DirichletCategoricals | None = None  # eta_i, K rows over L concepts (opt-in, not the paper's)
 
     @classmethod
     def build(cls, hyper: Hyperparameters, K: int, L: int, V: int, D: int | None) -> Priors:
+        eta = hyper.place_concepts
         return cls(
             gauss=NIWGaussians(K, np.asarray(hyper.m0), hyper.kappa0, np.asarray(hyper.V0), hyper.nu0),
             pi=DirichletCategoricals(1, L, hyper.alpha),
@@ -104,6 +106,7 @@ class Priors:
             psi=DirichletCategoricals(K, K, hyper.omega),
             background=DirichletCategoricals(1, V, hyper.beta),
             switch=DirichletCategoricals(1, 2, 1.0),
+            place_concepts=None if eta is None else DirichletCategoricals(K, L, eta / L),
         )
 
 
@@ -165,7 +168,9 @@ def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndar
     """The terms of the collapsed log joint, by the parameter integrated out: "positions" (the NIW marginal of
     the positions per place, Eqs. 5-6), "pi" (C), "phi" (i given C), "W" (the concept words), "theta" (f, when
     there are features), "psi" (the place transitions, unless ``transitions`` is None), "background" (the
-    background words and the switches, when kept); Dirichlet-multinomial marginals but the first.
+    background words and the switches, when kept), "place_concepts" (with ``Hyperparameters.place_concepts``
+    = eta: sum_i log DirMult(n_{i,.} | eta / L) over the concepts of each place's events, a term the paper's
+    model does not have); Dirichlet-multinomial marginals but the first.
 
     Eq. 9 combines psi and phi as a product of experts; here both enter as their own multinomial terms (the
     normaliser of the product is not part of the comparison)."""
@@ -183,6 +188,8 @@ def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndar
         terms["background"] = priors.background.log_marginal(stats.background[None, :]) + priors.switch.log_marginal(
             np.array([[stats.background.sum(), stats.words.sum()]])
         )
+    if priors.place_concepts is not None:
+        terms["place_concepts"] = priors.place_concepts.log_marginal(stats.place_given_concept.T)
     return terms
 
 
