@@ -11,8 +11,9 @@ from spcotmhp.learning.collapsed_terms import SMALL_COUNT, feature_term
 from spcotmhp.learning.concepts import CollapsedConceptSampler, _concept_sweep
 
 
-def _conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001):
-    """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform."""
+def _conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0):
+    """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
+    eta / L of the place_concepts term, 0 off)."""
     counts = np.zeros(L)
     alpha, gamma, beta, chi = hyper
     for u in np.linspace(0.0, 1.0, grid, endpoint=False) + 0.5 / grid:
@@ -58,6 +59,7 @@ def _conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001):
             F_l,
             np.zeros_like(F_ld),
             True,
+            eta_each,
         )
         counts[out[e]] += 1
     return counts / grid
@@ -258,6 +260,7 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
         F_l,
         digamma_ld,
         True,
+        0.0,
     )
     assert not np.array_equal(C_new, C)
     np.testing.assert_allclose(F_ld, np.eye(L)[C_new].T @ sampler.varying, atol=1e-12)
