@@ -112,24 +112,11 @@ from spcotmhp.learning.posterior import (
     mutual_information,
     posterior_mean_model,
 )
+from spcotmhp.learning.seeding import make_rng, seed_repr
 from spcotmhp.learning.split_merge import SplitMerge
 from spcotmhp.learning.truncation import record_truncation
 
 TRANSITIONS = ("hmm", "none")
-
-
-def make_rng(seed: int | np.random.SeedSequence, run: int | None = None) -> np.random.Generator:
-    """The generator of one run: run r of seed s uses the r-th child of SeedSequence(s) (what
-    ``SeedSequence(s).spawn`` would give), independent of the others; ``run=None`` uses the seed itself.
-    Raises ModelError for a seed or run that is not a non-negative integer."""
-    if not isinstance(seed, np.random.SeedSequence) and not _is_count(seed):
-        raise ModelError(f"seed must be a non-negative integer (or a numpy SeedSequence), got {seed!r}")
-    if run is not None and not _is_count(run):
-        raise ModelError(f"run must be a non-negative integer or None, got {run!r}")
-    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(int(seed))
-    if run is not None:
-        ss = np.random.SeedSequence(ss.entropy, spawn_key=tuple(ss.spawn_key) + (int(run),))
-    return np.random.default_rng(ss)
 
 
 class SpCoTMHP:
@@ -295,7 +282,7 @@ class SpCoTMHP:
         return {
             "method": "SpCoTMHP" if self.transitions == "hmm" else "SpCoSLAM (GMM)",
             "dataset": dataset.name,
-            "seed": _seed_repr(self.seed),
+            "seed": seed_repr(self.seed),
             "run": self.run,
             "iterations": self.iterations,
             "reverse_replay": bool(self.replay),
@@ -417,12 +404,3 @@ class SpCoTMHP:
         return sample_places(
             obs.X, concepts, priors.gauss.mu, priors.gauss.Sigma, log_phi, priors.psi.log_probs, log_init, rng, log_eta
         )
-
-
-def _is_count(value: object) -> bool:
-    """A non-negative integer (numpy integers included, booleans not)."""
-    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and bool(value >= 0)
-
-
-def _seed_repr(seed: int | np.random.SeedSequence) -> int | str:
-    return int(seed) if not isinstance(seed, np.random.SeedSequence) else str(seed.entropy)
