@@ -282,11 +282,8 @@ class CollapsedConceptSampler:
         place_concepts: float | None = None,
     ) -> np.ndarray:
         """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,).
-
-        ``place_concepts`` = eta (``Hyperparameters.place_concepts``, a departure from the paper): Eq. 17's
-        conditional of C_e = l gains (eta / L + n_{l, i_e}) / (eta + n_{i_e}), the counts without event e, i.e.
-        the predictive of place i_e's concept distribution eta_i ~ Dir(eta / L) integrated out (the denominator
-        does not depend on l and cancels); None leaves the paper's conditional."""
+        ``place_concepts`` = eta (not the paper's; module docstring): Eq. 17's conditional of C_e = l gains
+        eta / L + n_{l, i_e} (counts without e: place i_e's concepts eta_i ~ Dir(eta / L) integrated out)."""
         E = len(concepts)
         eta_each = 0.0 if place_concepts is None else float(place_concepts) / L
         C = concepts.astype(np.int64).copy()

@@ -241,9 +241,8 @@ class SpCoTMHP:
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
                 trace.append(log_joint(priors, stats, self._event_transitions(places)))
-            term = sweep >= self.place_concepts_from * self.iterations
-            args = (obs, priors, stats, hyper, sampler, moves, places, concepts, rng, term)
-            places, concepts = self._sweep(*args)
+            on = sweep >= self.place_concepts_from * self.iterations
+            places, concepts = self._sweep(obs, priors, stats, hyper, sampler, moves, places, concepts, rng, on)
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
