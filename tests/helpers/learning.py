@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.learning.concepts import _concept_sweep
+from spcotmhp.learning.model_folder import MANIFEST, manifest_of
 from spcotmhp.metric.maps import OccupancyMap
 
 PLANTED_MU = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 6.0], [0.0, 6.0]])
@@ -39,3 +44,64 @@ def planted_dataset(E: int = 300, seed: int = 7) -> Dataset:
             toks[0] = NAMES[c]
     grid = OccupancyMap(data=np.zeros((100, 100), np.int8), resolution=0.1, origin=(-2.0, -2.0, 0.0))
     return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places, truth_concept=concepts)
+
+
+def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0):
+    """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
+    eta / L of the place_concepts term, 0 off)."""
+    counts = np.zeros(L)
+    alpha, gamma, beta, chi = hyper
+    for u in np.linspace(0.0, 1.0, grid, endpoint=False) + 0.5 / grid:
+        n_l = np.bincount(C, minlength=L).astype(float)
+        n_lk = np.zeros((L, K))
+        np.add.at(n_lk, (C, places), 1.0)
+        onehot = np.eye(L)[C]
+        W_lv = onehot.T @ sampler.concept_words()
+        F_ld = onehot.T @ sampler.varying
+        F_l = onehot.T @ sampler.n_feat
+        bg = sampler.background_words()
+        out = _concept_sweep(
+            C.copy(),
+            places,
+            np.array([e]),
+            np.array([u]),
+            L,
+            K,
+            alpha,
+            gamma,
+            beta,
+            chi,
+            sampler.t_ptr,
+            sampler.t_word,
+            sampler.z.copy(),
+            float(sampler.V),
+            False,
+            bg,
+            np.array([bg.sum()]),
+            np.array([0.0, float(sampler.z.sum())]),
+            sampler.f_ptr,
+            sampler.f_idx,
+            sampler.f_cnt,
+            float(sampler.D),
+            sampler.c_val,
+            sampler.c_mult,
+            sampler.n_feat,
+            n_l,
+            n_lk,
+            W_lv,
+            W_lv.sum(axis=1),
+            F_ld,
+            F_l,
+            np.zeros_like(F_ld),
+            True,
+            eta_each,
+        )
+        counts[out[e]] += 1
+    return counts / grid
+
+
+def reseal(folder: Path) -> None:
+    """Rewrite a model folder's manifest after a test changed a file on purpose (so the check under test is
+    reached)."""
+    names = sorted(p.name for p in folder.iterdir() if p.is_file() and p.name != MANIFEST)
+    (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")

@@ -9,60 +9,7 @@ from scipy.special import digamma, gammaln, logsumexp, polygamma
 
 from spcotmhp.learning.collapsed_terms import SMALL_COUNT, feature_term
 from spcotmhp.learning.concepts import CollapsedConceptSampler, _concept_sweep
-
-
-def _conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0):
-    """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
-    eta / L of the place_concepts term, 0 off)."""
-    counts = np.zeros(L)
-    alpha, gamma, beta, chi = hyper
-    for u in np.linspace(0.0, 1.0, grid, endpoint=False) + 0.5 / grid:
-        n_l = np.bincount(C, minlength=L).astype(float)
-        n_lk = np.zeros((L, K))
-        np.add.at(n_lk, (C, places), 1.0)
-        onehot = np.eye(L)[C]
-        W_lv = onehot.T @ sampler.concept_words()
-        F_ld = onehot.T @ sampler.varying
-        F_l = onehot.T @ sampler.n_feat
-        bg = sampler.background_words()
-        out = _concept_sweep(
-            C.copy(),
-            places,
-            np.array([e]),
-            np.array([u]),
-            L,
-            K,
-            alpha,
-            gamma,
-            beta,
-            chi,
-            sampler.t_ptr,
-            sampler.t_word,
-            sampler.z.copy(),
-            float(sampler.V),
-            False,
-            bg,
-            np.array([bg.sum()]),
-            np.array([0.0, float(sampler.z.sum())]),
-            sampler.f_ptr,
-            sampler.f_idx,
-            sampler.f_cnt,
-            float(sampler.D),
-            sampler.c_val,
-            sampler.c_mult,
-            sampler.n_feat,
-            n_l,
-            n_lk,
-            W_lv,
-            W_lv.sum(axis=1),
-            F_ld,
-            F_l,
-            np.zeros_like(F_ld),
-            True,
-            eta_each,
-        )
-        counts[out[e]] += 1
-    return counts / grid
+from tests.helpers.learning import concept_conditional_by_inverse_cdf
 
 
 def test_collapsed_concept_conditional_matches_hand_computation():
@@ -73,7 +20,7 @@ def test_collapsed_concept_conditional_matches_hand_computation():
     C = np.array([2, 0, 1, 1])
     alpha, gamma, beta, chi, L, K, V, D = 0.5, 0.05, 0.1, 1.0, 3, 2, 3, 2
     sampler = CollapsedConceptSampler(words, feats, background=False, rng=np.random.default_rng(0))
-    got = _conditional_by_inverse_cdf(sampler, C, places, 0, L, K, (alpha, gamma, beta, chi))
+    got = concept_conditional_by_inverse_cdf(sampler, C, places, 0, L, K, (alpha, gamma, beta, chi))
     # by hand: counts without event 0; concept 2 is then empty
     others = [1, 2, 3]
     lp = np.zeros(L)
@@ -107,7 +54,7 @@ def test_constant_feature_columns_are_handled_exactly():
     assert sampler.const.tolist() == [True, False, False]
     places = np.array([0, 0, 1])
     C = np.array([0, 1, 1])
-    got = _conditional_by_inverse_cdf(sampler, C, places, 2, 2, 2, (1.0, 0.5, 0.5, 1.0))
+    got = concept_conditional_by_inverse_cdf(sampler, C, places, 2, 2, 2, (1.0, 0.5, 0.5, 1.0))
     lp = np.zeros(2)
     for l in range(2):
         mine = [e for e in (0, 1) if C[e] == l]

@@ -11,8 +11,8 @@ import pytest
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.io import load_model, save_model
-from spcotmhp.learning.model_folder import MANIFEST, manifest_of
 from spcotmhp.learning.supervised import fit_supervised
+from tests.helpers.learning import reseal
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
 FIELDS = ("mu", "Sigma", "psi", "pi", "phi", "W", "theta", "active_places", "active_concepts")
@@ -60,10 +60,7 @@ def test_model_without_features_or_map(model, tmp_path):
     np.testing.assert_array_equal(back.psi, bare.psi)
 
 
-def _reseal(folder):
-    """Rewrite the manifest after a test changed a file on purpose (so the check under test is reached)."""
-    names = sorted(p.name for p in folder.iterdir() if p.is_file() and p.name != MANIFEST)
-    (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")
+_reseal = reseal
 
 
 def _rewrite_json(folder, **changes):

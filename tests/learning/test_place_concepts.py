@@ -21,9 +21,7 @@ from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP
 from spcotmhp.learning.place_ffbs import place_emissions, sample_places
 from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint, log_joint_terms
-from tests.helpers.learning import planted_dataset
-from tests.learning.test_concepts import _conditional_by_inverse_cdf
-from tests.learning.test_io import _reseal
+from tests.helpers.learning import concept_conditional_by_inverse_cdf, planted_dataset, reseal
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +64,7 @@ def test_concept_conditional_is_the_ratio_of_collapsed_joints(eta):
     L, K, e = 3, 2, 1
     hyper = Hyperparameters(L=L, K=K, alpha=0.5, gamma=1.0, beta=0.1, place_concepts=eta)
     sampler = CollapsedConceptSampler(words, None, background=False, rng=np.random.default_rng(0))
-    got = _conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0), eta_each=eta / L)
+    got = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0), eta_each=eta / L)
     priors = Priors.build(hyper, K, L, 3, None)
     lp = []
     for l in range(L):
@@ -76,7 +74,7 @@ def test_concept_conditional_is_the_ratio_of_collapsed_joints(eta):
     want = np.exp(np.array(lp) - logsumexp(lp))
     np.testing.assert_allclose(got, want, atol=2e-4)
     # the term changes the answer here (place 0 holds concepts 2 and 2 besides event 1)
-    paper = _conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0))
+    paper = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0))
     assert np.abs(paper - got).max() > 0.01
 
 
@@ -166,5 +164,5 @@ def test_model_folders_keep_the_term_and_old_folders_load(tiny_dataset, tmp_path
     meta = json.loads(meta_path.read_text())
     del meta["hyper"]["place_concepts"]  # a folder written before the term existed
     meta_path.write_text(json.dumps(meta))
-    _reseal(tmp_path / "old")
+    reseal(tmp_path / "old")
     assert load_model(tmp_path / "old").hyper.place_concepts is None
