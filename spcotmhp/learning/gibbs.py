@@ -324,21 +324,19 @@ class SpCoTMHP:
         """One Gibbs sweep, steps 1-5 of the module docstring, from the current assignments and their ``stats``:
         the parameters in ``priors`` are redrawn in place; returns the new places and concepts.  ``term``: whether
         the place_concepts term (if set) enters this sweep."""
-        eta = hyper.place_concepts if term else None
+        h, place_concepts = hyper, priors.place_concepts if term else None
         priors.gauss.resample(stats.gauss, rng)  # step 1
         priors.phi.resample(stats.place_given_concept, rng)
-        if (
-            eta is not None and priors.place_concepts is not None
-        ):  # eta_i ~ Dir(eta / L + n_{i,.}) (opt-in, module docstring)
-            priors.place_concepts.resample(stats.place_given_concept.T, rng)
+        if place_concepts is not None:  # eta_i ~ Dir(eta / L + n_{i,.}), opt-in (module docstring)
+            place_concepts.resample(stats.place_given_concept.T, rng)
         if self.transitions == "hmm":  # steps 2 and 3
             counts = self._transition_counts(
                 obs, places, priors.gauss.mu, priors.gauss.Sigma, log_place_prior(priors, stats)
             )
             priors.psi.resample(counts, rng)
-        log_eta = None if eta is None or priors.place_concepts is None else priors.place_concepts.log_probs
+        log_eta = None if place_concepts is None else place_concepts.log_probs
         places = self._sample_places(priors, obs, concepts, rng, log_eta)  # step 4
-        h = hyper  # step 5
+        eta = None if place_concepts is None else h.place_concepts  # step 5
         concepts = sampler.sweep(concepts, places, self.L, self.K, h.alpha, h.gamma, h.beta, h.chi, rng, eta)
         if moves is not None:  # step 5, whole groups (split_merge.py)
             concepts = moves.sweep(concepts, places, rng)
@@ -354,7 +352,8 @@ class SpCoTMHP:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
         if self.split_merge not in (True, False, "auto"):
             raise ModelError(f"split_merge must be True, False or 'auto', got {self.split_merge!r}")
-        if not 0.0 <= self.place_concepts_from <= 1.0:
+        start = self.place_concepts_from
+        if isinstance(start, bool) or not isinstance(start, (int, float)) or not 0.0 <= start <= 1.0:
             raise ModelError(f"place_concepts_from must be a fraction in [0, 1], got {self.place_concepts_from!r}")
         if self.K < 1 or self.L < 1 or self.iterations < 1:
             raise ModelError(

@@ -139,8 +139,9 @@ def test_bad_values_are_refused(kwargs, match):
 def test_settings_that_cannot_combine_are_refused(tiny_dataset):
     with pytest.raises(ModelError, match="split_merge"):
         _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), split_merge=True)
-    with pytest.raises(ModelError, match="place_concepts_from"):
-        _fit(tiny_dataset, place_concepts_from=1.5)
+    for start in (1.5, "half", None):
+        with pytest.raises(ModelError, match="place_concepts_from"):
+            _fit(tiny_dataset, place_concepts_from=start)
     with pytest.raises(TeachingError, match="batch learner only"):
         OnlineSpCoTMHP(hyper=Hyperparameters(place_concepts=1.0)).partial_fit([])
 
