@@ -46,11 +46,52 @@ def planted_dataset(E: int = 300, seed: int = 7) -> Dataset:
     return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places, truth_concept=concepts)
 
 
+def sweep_kernel(sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0) -> np.ndarray:
+    """One call of the concept-sweep kernel on hand-built ``counts`` = (n_l, n_lk, W_lv, F_ld, F_l) (updated in
+    place) and ``hyper`` = (alpha, gamma, beta, chi), over the events ``order`` with ``uniforms``: the sampler's
+    tokens, a copy of its switches, its background words with the background model off, and its features. The
+    concepts it returns are a new array (``C`` is not changed)."""
+    n_l, n_lk, W_lv, F_ld, F_l = counts
+    bg = sampler.background_words()
+    return _concept_sweep(
+        C.copy(),
+        places,
+        order,
+        uniforms,
+        L,
+        K,
+        *hyper,
+        sampler.t_ptr,
+        sampler.t_word,
+        sampler.z.copy(),
+        float(sampler.V),
+        False,
+        bg,
+        np.array([bg.sum()]),
+        np.array([0.0, float(sampler.z.sum())]),
+        sampler.f_ptr,
+        sampler.f_idx,
+        sampler.f_cnt,
+        float(sampler.D),
+        sampler.c_val,
+        sampler.c_mult,
+        sampler.n_feat,
+        n_l,
+        n_lk,
+        W_lv,
+        W_lv.sum(axis=1),
+        F_ld,
+        F_l,
+        digamma_ld,
+        True,
+        eta_each,
+    )
+
+
 def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0):
     """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
     eta / L of the place_concepts term, 0 off)."""
     counts = np.zeros(L)
-    alpha, gamma, beta, chi = hyper
     for u in np.linspace(0.0, 1.0, grid, endpoint=False) + 0.5 / grid:
         n_l = np.bincount(C, minlength=L).astype(float)
         n_lk = np.zeros((L, K))
@@ -59,41 +100,17 @@ def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=
         W_lv = onehot.T @ sampler.concept_words()
         F_ld = onehot.T @ sampler.varying
         F_l = onehot.T @ sampler.n_feat
-        bg = sampler.background_words()
-        out = _concept_sweep(
-            C.copy(),
+        out = sweep_kernel(
+            sampler,
+            C,
             places,
             np.array([e]),
             np.array([u]),
             L,
             K,
-            alpha,
-            gamma,
-            beta,
-            chi,
-            sampler.t_ptr,
-            sampler.t_word,
-            sampler.z.copy(),
-            float(sampler.V),
-            False,
-            bg,
-            np.array([bg.sum()]),
-            np.array([0.0, float(sampler.z.sum())]),
-            sampler.f_ptr,
-            sampler.f_idx,
-            sampler.f_cnt,
-            float(sampler.D),
-            sampler.c_val,
-            sampler.c_mult,
-            sampler.n_feat,
-            n_l,
-            n_lk,
-            W_lv,
-            W_lv.sum(axis=1),
-            F_ld,
-            F_l,
+            hyper,
+            (n_l, n_lk, W_lv, F_ld, F_l),
             np.zeros_like(F_ld),
-            True,
             eta_each,
         )
         counts[out[e]] += 1

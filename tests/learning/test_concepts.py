@@ -8,8 +8,8 @@ import pytest
 from scipy.special import digamma, gammaln, logsumexp, polygamma
 
 from spcotmhp.learning.collapsed_terms import SMALL_COUNT, feature_term
-from spcotmhp.learning.concepts import CollapsedConceptSampler, _concept_sweep
-from tests.helpers.learning import concept_conditional_by_inverse_cdf
+from spcotmhp.learning.concepts import CollapsedConceptSampler
+from tests.helpers.learning import concept_conditional_by_inverse_cdf, sweep_kernel
 
 
 def test_collapsed_concept_conditional_matches_hand_computation():
@@ -171,43 +171,11 @@ def test_tiny_feature_shortcut_and_its_cached_digammas_against_the_exact_formula
     assert wrong - right == pytest.approx(x0[(x0 > 0) & (x0 <= SMALL_COUNT)].sum(), rel=1e-9)
     # the cache: after a sweep over every event, digamma_ld is digamma(chi + F_ld) of the final counts
     W_lv = onehot.T @ sampler.concept_words()
-    bg = sampler.background_words()
     order = rng.permutation(E).astype(np.int64)
-    C_new = _concept_sweep(
-        C.copy(),
-        places,
-        order,
-        rng.random(E + len(sampler.t_word)),
-        L,
-        K,
-        0.5,
-        0.05,
-        0.1,
-        chi,
-        sampler.t_ptr,
-        sampler.t_word,
-        sampler.z.copy(),
-        float(V),
-        False,
-        bg,
-        np.array([bg.sum()]),
-        np.array([0.0, float(sampler.z.sum())]),
-        sampler.f_ptr,
-        sampler.f_idx,
-        sampler.f_cnt,
-        float(D),
-        sampler.c_val,
-        sampler.c_mult,
-        sampler.n_feat,
-        n_l.copy(),
-        _n_lk(C, places, L, K),
-        W_lv,
-        W_lv.sum(axis=1),
-        F_ld,
-        F_l,
-        digamma_ld,
-        True,
-        0.0,
+    assert (sampler.V, sampler.D) == (V, D)
+    counts = (n_l.copy(), _n_lk(C, places, L, K), W_lv, F_ld, F_l)
+    C_new = sweep_kernel(
+        sampler, C, places, order, rng.random(E + len(sampler.t_word)), L, K, (0.5, 0.05, 0.1, chi), counts, digamma_ld
     )
     assert not np.array_equal(C_new, C)
     np.testing.assert_allclose(F_ld, np.eye(L)[C_new].T @ sampler.varying, atol=1e-12)
