@@ -4,6 +4,10 @@ instruction, timed stage by stage (import / load / precompute / first plan / tot
     spcotmhp demo --out /tmp/demo_out
     python benchmarks/cold_start.py --model /tmp/demo_out/model --runs 10 [--cli] [--against /path/to/checkout ...]
 
+``--floor`` adds a row for what spcotmhp cannot remove: a process that imports numpy and numba and calls one
+kernel from numba's on-disk cache (the first cached kernel of any program loads numba's type registries, which
+import scipy.linalg for numba's BLAS check), timed inside the process and as a whole process.
+
 ``--cli`` also times the command line as a user runs it, ``spcotmhp plan MODEL "..." --start X Y`` (``python -m
 spcotmhp``; ``python -m spcotmhp.cli`` for a checkout without ``spcotmhp/__main__.py``): the whole process, wall
 clock, from its start to its exit.
@@ -19,14 +23,37 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
-STAGES = ("import", "load", "precompute", "first plan", "total")
+STAGES = ("import", "load", "precompute", "first plan", "first cached kernel", "total")
 CLI_STAGE = "cli process"
+FLOOR_ROW = "floor: numpy + numba + one cached kernel (no spcotmhp)"
+
+FLOOR_MODULE = """
+from numba import njit
+
+
+@njit(cache=True)
+def add_one(x):
+    return x + 1
+"""
+
+FLOOR_CHILD = """
+import json, sys, time
+t0 = time.perf_counter()
+import numpy, numba
+from floor_kernel import add_one
+t1 = time.perf_counter()
+add_one(1.0)
+t2 = time.perf_counter()
+print(json.dumps({"import": t1 - t0, "first cached kernel": t2 - t1, "total": t2 - t0}))
+"""
 
 CHILD = """
 import json, sys, time
@@ -75,6 +102,22 @@ def cli_run(checkout: Path, model: str, instruction: str, start: list[float]) ->
     return time.perf_counter() - t0
 
 
+def floor_run(folder: Path) -> dict:
+    """The stage times of one fresh process that imports numpy and numba and calls one numba kernel from its
+    on-disk cache (the first call loads numba's type registries, as the first of any cached kernel does), plus
+    the process's wall time start to exit under ``CLI_STAGE``: what any program built on cached numba kernels
+    pays before its own work."""
+    env = dict(os.environ, PYTHONPATH=str(folder), NUMBA_CACHE_DIR=str(folder / "cache"))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    t0 = time.perf_counter()
+    out = subprocess.run(
+        [sys.executable, "-c", FLOOR_CHILD], env=env, cwd=str(folder), capture_output=True, text=True, check=True
+    )
+    run = json.loads(out.stdout.strip().splitlines()[-1])
+    run[CLI_STAGE] = time.perf_counter() - t0
+    return run
+
+
 def table(results: dict[str, list[dict]]) -> str:
     """Markdown table: one row per checkout (or variant), each stage's median and max (ms); "-" where the row
     has no such stage."""
@@ -99,6 +142,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--paused", action="store_true", help="also time this checkout's script starting with pause_for_startup()"
     )
+    parser.add_argument(
+        "--floor", action="store_true", help="also time numpy + numba + one cached kernel alone (no spcotmhp)"
+    )
     parser.add_argument("--against", nargs="+", default=[], help="other checkouts to time in the same run, alternating")
     args = parser.parse_args(argv)
     here = Path(__file__).resolve().parent.parent
@@ -109,6 +155,11 @@ def main(argv: list[str] | None = None) -> int:
     paused_row = "this, script starting with pause_for_startup()"
     if args.paused:
         results[paused_row] = []
+    floor = Path(tempfile.mkdtemp(prefix="spcotmhp-floor-")) if args.floor else None
+    if floor is not None:
+        (floor / "floor_kernel.py").write_text(FLOOR_MODULE)
+        floor_run(floor)  # untimed: compiles the kernel into its cache
+        results[FLOOR_ROW] = []
     for _ in range(args.runs):
         for name, path in checkouts.items():
             run = one_run(path, args.model, args.instruction)
@@ -117,6 +168,10 @@ def main(argv: list[str] | None = None) -> int:
             results[name].append(run)
         if args.paused:
             results[paused_row].append(one_run(here, args.model, args.instruction, paused=True))
+        if floor is not None:
+            results[FLOOR_ROW].append(floor_run(floor))
+    if floor is not None:
+        shutil.rmtree(floor, ignore_errors=True)
     print(f"load average (1 min) at the end: {os.getloadavg()[0]:.2f}")
     print(table(results))
     return 0
