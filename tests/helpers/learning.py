@@ -46,7 +46,9 @@ def planted_dataset(E: int = 300, seed: int = 7) -> Dataset:
     return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places, truth_concept=concepts)
 
 
-def sweep_kernel(sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0) -> np.ndarray:
+def sweep_kernel(
+    sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0, off_name=0.0
+) -> np.ndarray:
     """One call of the concept-sweep kernel on hand-built ``counts`` = (n_l, n_lk, W_lv, F_ld, F_l) (updated in
     place) and ``hyper`` = (alpha, gamma, beta, chi), over the events ``order`` with ``uniforms``: the sampler's
     tokens, a copy of its switches, its background words with the background model off, and its features. The
@@ -85,10 +87,11 @@ def sweep_kernel(sampler, C, places, order, uniforms, L, K, hyper, counts, digam
         digamma_ld,
         True,
         eta_each,
+        off_name,
     )
 
 
-def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0):
+def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0, off_name=0.0):
     """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
     eta / L of the place_concepts term, 0 off)."""
     counts = np.zeros(L)
@@ -112,6 +115,7 @@ def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=
             (n_l, n_lk, W_lv, F_ld, F_l),
             np.zeros_like(F_ld),
             eta_each,
+            off_name,
         )
         counts[out[e]] += 1
     return counts / grid

@@ -106,7 +106,7 @@ def _fit(data, **kwargs):
 
 def test_off_path_is_the_papers_fit_bit_for_bit(tiny_dataset):
     paper = _fit(tiny_dataset)
-    off = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=None), place_concepts_from=0.0)
+    off = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=None), term_from=0.0)
     np.testing.assert_array_equal(off.places_, paper.places_)
     np.testing.assert_array_equal(off.concepts_, paper.concepts_)
     assert off.log_joint_ == paper.log_joint_
@@ -114,10 +114,10 @@ def test_off_path_is_the_papers_fit_bit_for_bit(tiny_dataset):
 
 
 def test_the_term_enters_the_log_joint_and_the_sampler(tiny_dataset):
-    on = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), place_concepts_from=0.0)
-    late = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), place_concepts_from=1.0)
+    on = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), term_from=0.0)
+    late = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), term_from=1.0)
     paper = _fit(tiny_dataset)
-    # from the last sweep on (place_concepts_from = 1): the paper's draws, the joint with the term
+    # from the last sweep on (term_from = 1): the paper's draws, the joint with the term
     np.testing.assert_array_equal(late.places_, paper.places_)
     priors = Priors.build(Hyperparameters(place_concepts=1.0).resized(20, 20), 20, 20, 1, None)
     extra = priors.place_concepts.log_marginal(paper.model_.learner["arrays"]["n_lk"].T)
@@ -139,9 +139,9 @@ def test_bad_values_are_refused(kwargs, match):
 def test_settings_that_cannot_combine_are_refused(tiny_dataset):
     with pytest.raises(ModelError, match="split_merge"):
         _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), split_merge=True)
-    for start in (1.5, "half", None):
-        with pytest.raises(ModelError, match="place_concepts_from"):
-            _fit(tiny_dataset, place_concepts_from=start)
+    for start in (1.5, "half", True):
+        with pytest.raises(ModelError, match="term_from"):
+            _fit(tiny_dataset, term_from=start)
     with pytest.raises(TeachingError, match="batch learner only"):
         OnlineSpCoTMHP(hyper=Hyperparameters(place_concepts=1.0)).partial_fit([])
 
