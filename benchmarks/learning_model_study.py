@@ -252,7 +252,9 @@ def main() -> None:
         elif args.what == "criteria":
             row = criteria(home, hyper, fit, args.cache)
         elif args.what == "table6":
-            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
+            start = {"term_from": fit["term_from"]} if "term_from" in fit else {}
+            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves, **start)
+            row = row["tmhp_replay"]
         else:
             row = evaluate_online(load(home), seeds=5, hyper=hyper, batch_params={"split_merge": moves})
         row.update(variant=args.variant, seconds=time.perf_counter() - t0)
