@@ -7,36 +7,33 @@ from __future__ import annotations
 
 import itertools
 import json
-from dataclasses import replace
 
 import numpy as np
 import pytest
-from scipy.special import logsumexp
 
 from spcotmhp.errors import ModelError, TeachingError
 from spcotmhp.learning.concepts import CollapsedConceptSampler
-from spcotmhp.learning.distributions import GaussianStats
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.off_name import OffNamePlaces, log_off_name, off_name_events
 from spcotmhp.learning.online import OnlineSpCoTMHP
-from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint, log_joint_terms
-from tests.helpers.learning import concept_conditional_by_inverse_cdf, planted_dataset, reseal
+from spcotmhp.learning.posterior import Priors, log_joint_terms
+from tests.helpers.learning import (
+    assert_same_fit,
+    concept_conditional_by_inverse_cdf,
+    conditional_by_joints,
+    folder_without_hyper_key,
+    planted_dataset,
+    reseal,
+    short_fit,
+    stats_of,
+)
 
 
 @pytest.fixture(scope="module")
 def tiny_dataset():
     return planted_dataset(E=80)
-
-
-def _stats(places, concepts, words, K, L):
-    pgc = np.zeros((L, K))
-    np.add.at(pgc, (concepts, places), 1.0)
-    W = np.zeros((L, words.shape[1]))
-    np.add.at(W, concepts, words)
-    gauss = GaussianStats.from_assignments(np.zeros((len(places), 2)), places, K)
-    return SufficientStats(gauss, np.bincount(concepts, minlength=L).astype(float), pgc, None, W)
 
 
 def _by_hand(places, concepts):
@@ -56,10 +53,10 @@ def test_log_g_by_hand():
     assert off_name_events(places, concepts, 4, 3) == 2 == _by_hand(places, concepts)
     words = np.ones((8, 2))
     priors = Priors.build(Hyperparameters(L=3, K=4, off_name=1.5), 4, 3, 2, None)
-    terms = log_joint_terms(priors, _stats(places, concepts, words, 4, 3), None)
+    terms = log_joint_terms(priors, stats_of(places, concepts, words, 4, 3), None)
     assert terms["off_name"] == -3.0
     off = log_joint_terms(
-        Priors.build(Hyperparameters(L=3, K=4), 4, 3, 2, None), _stats(places, concepts, words, 4, 3), None
+        Priors.build(Hyperparameters(L=3, K=4), 4, 3, 2, None), stats_of(places, concepts, words, 4, 3), None
     )
     assert "off_name" not in off
     assert {k: v for k, v in terms.items() if k != "off_name"} == off
@@ -81,12 +78,7 @@ def test_concept_conditional_is_the_ratio_of_collapsed_joints(lam, e):
     sampler = CollapsedConceptSampler(words, None, background=False, rng=np.random.default_rng(0))
     got = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0), off_name=lam)
     priors = Priors.build(hyper, K, L, 3, None)
-    lp = []
-    for l in range(L):
-        C_l = C.copy()
-        C_l[e] = l
-        lp.append(log_joint(priors, _stats(places, C_l, words, K, L), None))
-    want = np.exp(np.array(lp) - logsumexp(lp))
+    want = conditional_by_joints(priors, places, C, words, e, K, L)
     np.testing.assert_allclose(got, want, atol=2e-4)
     paper = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0))
     changed = np.abs(paper - got).max() > 0.01
@@ -127,17 +119,13 @@ def test_the_step_leaves_the_conditional_times_g_invariant():
     np.testing.assert_allclose(target @ T, target, atol=1e-12)
 
 
-def _fit(data, **kwargs):
-    return SpCoTMHP(iterations=8, seed=4, **kwargs).fit(data)
+_fit = short_fit
 
 
 def test_off_path_is_the_papers_fit_bit_for_bit(tiny_dataset):
     paper = _fit(tiny_dataset)
     off = _fit(tiny_dataset, hyper=Hyperparameters(off_name=None), term_from=0.0)
-    np.testing.assert_array_equal(off.places_, paper.places_)
-    np.testing.assert_array_equal(off.concepts_, paper.concepts_)
-    assert off.log_joint_ == paper.log_joint_
-    np.testing.assert_array_equal(off.model_.W, paper.model_.W)
+    assert_same_fit(off, paper)
     assert off.off_name_acceptance_ is None and "off_name_acceptance" not in off.model_.info
 
 
@@ -192,12 +180,8 @@ def test_model_folders_keep_the_term_and_old_folders_load(tiny_dataset, tmp_path
     assert load_model(tmp_path / "on").hyper.off_name == 0.5
     with pytest.raises(TeachingError, match="off_name"):
         OnlineSpCoTMHP(init_model=load_model(tmp_path / "on")).partial_fit([])
-    save_model(replace(model, hyper=Hyperparameters()), tmp_path / "old")
-    meta_path = tmp_path / "old" / "model.json"
+    meta_path = folder_without_hyper_key(model, tmp_path / "old", "off_name")  # written before the term existed
     meta = json.loads(meta_path.read_text())
-    del meta["hyper"]["off_name"]  # a folder written before the term existed
-    meta_path.write_text(json.dumps(meta))
-    reseal(tmp_path / "old")
     assert load_model(tmp_path / "old").hyper.off_name is None
     for bad, message in ((-2.0, "off_name must be a finite number > 0 or null"), (1.0, "set one or the other")):
         meta["hyper"].update(off_name=bad, place_concepts=1.0 if bad > 0 else None)
