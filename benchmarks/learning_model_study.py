@@ -74,8 +74,14 @@ VARIANTS: dict[str, tuple[dict, dict]] = {
     "onename1": ({"place_concepts": 1.0}, {}),
     "onename0.1": ({"place_concepts": 0.1}, {}),
     "onename10": ({"place_concepts": 10.0}, {}),
-    "onename1-from0": ({"place_concepts": 1.0}, {"place_concepts_from": 0.0}),  # the term from the first sweep
-    "onename1-select": ({"place_concepts": 1.0}, {"place_concepts_from": 1.0}),  # the log joint only
+    "onename1-from0": ({"place_concepts": 1.0}, {"term_from": 0.0}),  # the term from the first sweep
+    "onename1-select": ({"place_concepts": 1.0}, {"term_from": 1.0}),  # the log joint only
+    # section 9: the opt-in off-name term, lambda = 1 (stated before measuring), 0.5 and 2 (sensitivity)
+    "offname1": ({"off_name": 1.0}, {}),
+    "offname0.5": ({"off_name": 0.5}, {}),
+    "offname2": ({"off_name": 2.0}, {}),
+    "offname1-from0.5": ({"off_name": 1.0}, {"term_from": 0.5}),  # the term after half the sweeps
+    "offname1-select": ({"off_name": 1.0}, {"term_from": 1.0}),  # the log joint only
 }
 PAPER_TOTALS = {"alpha": 10.0, "gamma": 1.0, "omega": 10.0}
 
@@ -192,6 +198,7 @@ def run_rows(data: Dataset, sel: MultiRunSelector) -> dict:
         "ari_c": [s["ari_c"] for s in scores],
         "ari_i": [s["ari_i"] for s in scores],
         "log_joint": [float(e.log_joint_) for e in sel.estimators_],
+        "acceptance": [getattr(e, "off_name_acceptance_", None) for e in sel.estimators_],
     }
 
 
@@ -245,7 +252,9 @@ def main() -> None:
         elif args.what == "criteria":
             row = criteria(home, hyper, fit, args.cache)
         elif args.what == "table6":
-            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves)["tmhp_replay"]
+            start = {"term_from": fit["term_from"]} if "term_from" in fit else {}
+            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves, **start)
+            row = row["tmhp_replay"]
         else:
             row = evaluate_online(load(home), seeds=5, hyper=hyper, batch_params={"split_merge": moves})
         row.update(variant=args.variant, seconds=time.perf_counter() - t0)

@@ -8,7 +8,8 @@ theta and W integrated out under their Dirichlet priors (Johnson and Willsky's d
 with every count taken without event e.  (The unigram-rescaling denominator of Eq. 17, sum_c' W_c'(S_e,b), does
 not depend on C_e and cancels here.)  With the opt-in ``Hyperparameters.place_concepts`` = eta (not the paper's)
 the product gains (eta / L + n_{l,i_e}) / (eta + n_{i_e}): place i_e's concept distribution integrated out
-(gibbs.py).  Drawing theta from its posterior instead adds so much noise to a
+(gibbs.py); with the opt-in ``Hyperparameters.off_name`` = lambda it gains exp(lambda) for the concepts tied for
+place i_e's majority (off_name.py).  Drawing theta from its posterior instead adds so much noise to a
 365-dimensional feature likelihood that small concepts lose to large ones and everything merges.
 
 Background words: each token b of S_e carries a switch z_eb ~ Bernoulli(lambda), lambda ~ Beta(1, 1); a concept
@@ -39,6 +40,7 @@ from spcotmhp.learning.collapsed_terms import (
     total_logs,
     word_logs,
 )
+from spcotmhp.learning.off_name import add_off_name_gain
 
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch
 
@@ -146,10 +148,12 @@ def _concept_sweep(
     digamma_ld,
     use_features,
     eta_each,
+    off_name,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
     ``eta_each`` > 0 (eta / L of ``Hyperparameters.place_concepts``) adds log(eta / L + n_{l, i_e}) to concept
-    l's score, eta_i integrated out; 0 leaves the paper's conditional.
+    l's score, eta_i integrated out; ``off_name`` = lambda > 0 (``Hyperparameters.off_name``) adds the change of
+    log g (off_name.py); 0 leaves the paper's conditional.
     Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in
     tables refreshed where the counts change (the same values as computing them for every event and concept), and
     the word terms of all concepts are summed at once (``tokens_terms``)."""
@@ -196,6 +200,8 @@ def _concept_sweep(
         if eta_each > 0.0:
             for l in range(L):
                 logp[l] += log(eta_each + n_lk[l, k])
+        if off_name > 0.0:
+            add_off_name_gain(off_name, n_lk, k, logp)
         new = _draw(logp, uniforms[u], scratch)
         u += 1
         C[e] = new
@@ -280,10 +286,10 @@ class CollapsedConceptSampler:
         chi: float,
         rng: np.random.Generator,
         place_concepts: float | None = None,
+        off_name: float | None = None,
     ) -> np.ndarray:
         """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,).
-        ``place_concepts`` = eta (not the paper's; module docstring): Eq. 17's conditional of C_e = l gains
-        eta / L + n_{l, i_e} (counts without e: place i_e's concepts eta_i ~ Dir(eta / L) integrated out)."""
+        The opt-in terms, not the paper's (module docstring): ``place_concepts`` = eta, ``off_name`` = lambda."""
         E = len(concepts)
         eta_each = 0.0 if place_concepts is None else float(place_concepts) / L
         C = concepts.astype(np.int64).copy()
@@ -326,6 +332,7 @@ class CollapsedConceptSampler:
             digamma_ld,
             use_features,
             eta_each,
+            0.0 if off_name is None else float(off_name),
         )
 
     def _counts(self, C: np.ndarray, places: np.ndarray, L: int, K: int, chi: float) -> tuple[np.ndarray, ...]:

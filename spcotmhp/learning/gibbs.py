@@ -15,18 +15,14 @@ current value of everything else:
    integrated out (direct assignment, Eqs. 10-13; see concepts.py, which also resamples the background-word
    switches).
 
-With the opt-in ``Hyperparameters.place_concepts`` = eta (a departure from the paper: each place's own concept
-distribution eta_i ~ Dir(eta / L), a factor eta_{i_e, C_e} per event beside Eqs. 9 and 17), step 1 also draws
-eta_i ~ Dir(eta / L + n_{i,.}) from the events per (place, concept); step 4's emission at place k gains
-log eta_{k, C_e} (eta_i drawn, so the FFBS stays exact); step 5 integrates eta_i out again (partially collapsed,
-as for pi and phi: C_e = l gains log(eta / L + n_{l, i_e}), counts without e), because a drawn eta_i with
-eta / L per concept puts almost no mass off its place's current concept; the next sweep redraws eta_i from the
-new counts before using it.  The log joint gains sum_i log DirMult(n_{i,.} | eta / L) (posterior.py).  The term
-enters the sampler only after the first ``place_concepts_from`` (default one half) of the sweeps: from the
-initial over-segmented places with random concepts, each fragment of a room settles on its own concept, and the
-term then keeps the fragments apart (an event moves to a place of another concept only against a factor near 0),
-so the places would never merge (docs/learning-model-study.md, section 8).  Off, no random number is drawn for
-it and every step is the paper's, bit for bit.  Split-merge moves do not price the term: not combined with it.
+Two opt-in terms depart from the paper (docs/learning-model-study.md, sections 8-9). ``Hyperparameters.place_concepts``
+= eta: step 1 also draws eta_i ~ Dir(eta / L + n_{i,.}), step 4's emission at k gains log eta_{k, C_e} (the FFBS stays
+exact), step 5 integrates eta_i out (C_e = l gains log(eta / L + n_{l, i_e}), counts without e).
+``Hyperparameters.off_name`` = lambda: step 4's FFBS draw is the proposal of an independence Metropolis-Hastings
+step and step 5 gains the change of log g (off_name.py).  The log joint carries either term (posterior.py); the
+sampler after the first ``term_from`` of the sweeps (None: half for eta, ``off_name.OFF_NAME_FROM`` for lambda).
+Off, no random number is drawn for either and every step is the paper's, bit for bit.  Split-merge moves price
+neither.
 
 Steps 1-3 come before step 4 so that psi is drawn with the trajectory labelled by the very Gaussians that step 4
 uses (in the first sweep, by Gaussians drawn from the initial assignment rather than all at the prior mode).
@@ -103,6 +99,7 @@ from spcotmhp.learning.init import INITS, initial_assignments
 from spcotmhp.learning.learner_state import from_batch
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
+from spcotmhp.learning.off_name import OFF_NAME_FROM, OffNamePlaces
 from spcotmhp.learning.place_ffbs import sample_places
 from spcotmhp.learning.posterior import (
     Priors,
@@ -117,6 +114,7 @@ from spcotmhp.learning.split_merge import SplitMerge
 from spcotmhp.learning.truncation import record_truncation
 
 TRANSITIONS = ("hmm", "none")
+PLACE_CONCEPTS_FROM = 0.5  # place_concepts enters after half the sweeps (docs/learning-model-study.md, section 8)
 
 
 class SpCoTMHP:
@@ -144,8 +142,9 @@ class SpCoTMHP:
             (init.py).
         trajectory_weight, min_dwell: weight of one place change along the trajectory, and the shortest stay
             (in poses) that counts as a visit.
-        place_concepts_from: with ``hyper.place_concepts`` (module docstring), the fraction of the sweeps run on
-            the paper's conditionals before the term enters steps 1, 4 and 5 (the log joint carries it throughout).
+        term_from: with ``hyper.place_concepts`` or ``hyper.off_name`` (module docstring), the fraction of the
+            sweeps run on the paper's conditionals before the term enters steps 1, 4 and 5 (the log joint carries
+            it throughout); None: the term's own (0.5 for place_concepts, ``OFF_NAME_FROM`` for off_name).
         hyper: prior hyper-parameters (default: paper Section 5.1); its L and K are replaced by these L and K,
             and its alpha, gamma, omega follow them unless given (``Hyperparameters.resized``: 10 / L, 1 / K,
             10 / K, the paper's 0.5, 0.05, 0.5 at L = K = 20).
@@ -173,7 +172,7 @@ class SpCoTMHP:
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
         min_dwell: int = 3,
-        place_concepts_from: float = 0.5,
+        term_from: float | None = None,
         hyper: Hyperparameters | None = None,
         seed: int | np.random.SeedSequence = 0,
         run: int | None = None,
@@ -192,7 +191,7 @@ class SpCoTMHP:
         self.init = init
         self.trajectory_weight = trajectory_weight
         self.min_dwell = min_dwell
-        self.place_concepts_from = place_concepts_from
+        self.term_from = term_from
         self.hyper = hyper
         self.seed = seed
         self.run = run
@@ -230,19 +229,16 @@ class SpCoTMHP:
         priors = Priors.build(hyper, self.K, self.L, len(obs.vocabulary), D)
         sampler = CollapsedConceptSampler(obs.words, obs.features, self.background_words, rng)
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
-        moves = None
-        moves_on = obs.features is None if self.split_merge == "auto" else bool(self.split_merge)
-        if moves_on and hyper.place_concepts is not None:
-            raise ModelError("split_merge moves do not price place_concepts: use one or the other")
-        if moves_on:
-            moves = SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi)
+        moves_on, moves, off_name, start = self._moves_and_terms(obs, hyper, sampler)
         trace = []
         for sweep in range(self.iterations):
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
                 trace.append(log_joint(priors, stats, self._event_transitions(places)))
-            on = sweep >= self.place_concepts_from * self.iterations
-            places, concepts = self._sweep(obs, priors, stats, hyper, sampler, moves, places, concepts, rng, on)
+            on = sweep >= start * self.iterations
+            places, concepts = self._sweep(
+                obs, priors, stats, hyper, sampler, moves, places, concepts, rng, on, off_name
+            )
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
@@ -269,12 +265,31 @@ class SpCoTMHP:
         self.concepts_ = concepts
         self.log_joint_trace_ = np.asarray(trace)
         self.mutual_information_ = mutual_information(model.pi, model.W)
+        self.off_name_acceptance_ = None if off_name is None else off_name.acceptance
         model.info.update(log_joint=self.log_joint_, mutual_information=self.mutual_information_)
+        if off_name is not None:
+            model.info["off_name_acceptance"] = self.off_name_acceptance_
         record_truncation(model, self.K, self.L)
         self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
         self.fit_cpu_time_ = time.process_time() - c0
         return self
+
+    def _moves_and_terms(
+        self, obs: Observations, hyper: Hyperparameters, sampler: CollapsedConceptSampler
+    ) -> tuple[bool, SplitMerge | None, OffNamePlaces | None, float]:
+        """Whether split-merge moves run and their sampler, the off-name step (``hyper.off_name``) and the fraction
+        of the sweeps before an opt-in term enters; neither term is combined with the moves (they do not price it)."""
+        moves_on = obs.features is None if self.split_merge == "auto" else bool(self.split_merge)
+        for name in ("place_concepts", "off_name"):
+            if moves_on and getattr(hyper, name) is not None:
+                raise ModelError(f"split_merge moves do not price {name}: use one or the other")
+        moves = (
+            SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi) if moves_on else None
+        )
+        off_name = None if hyper.off_name is None else OffNamePlaces(hyper.off_name, self.K, self.L)
+        start = self.term_from if self.term_from is not None else OFF_NAME_FROM if off_name else PLACE_CONCEPTS_FROM
+        return moves_on, moves, off_name, start
 
     def _run_info(self, dataset: Dataset, obs: Observations, moves_on: bool) -> dict:
         """The settings of this run and what the data held, for ``model.info``."""
@@ -320,10 +335,11 @@ class SpCoTMHP:
         concepts: np.ndarray,
         rng: np.random.Generator,
         term: bool = True,
+        off_name: OffNamePlaces | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """One Gibbs sweep, steps 1-5 of the module docstring, from the current assignments and their ``stats``:
         the parameters in ``priors`` are redrawn in place; returns the new places and concepts.  ``term``: whether
-        the place_concepts term (if set) enters this sweep."""
+        the opt-in term (place_concepts, or off_name with its Metropolis-Hastings step) enters this sweep."""
         h, place_concepts = hyper, priors.place_concepts if term else None
         priors.gauss.resample(stats.gauss, rng)  # step 1
         priors.phi.resample(stats.place_given_concept, rng)
@@ -335,9 +351,12 @@ class SpCoTMHP:
             )
             priors.psi.resample(counts, rng)
         log_eta = None if place_concepts is None else place_concepts.log_probs
-        places = self._sample_places(priors, obs, concepts, rng, log_eta)  # step 4
+        proposal = self._sample_places(priors, obs, concepts, rng, log_eta)  # step 4
+        off_name = off_name if term else None
+        places = proposal if off_name is None else off_name.step(places, proposal, concepts, rng)
         eta = None if place_concepts is None else h.place_concepts  # step 5
-        concepts = sampler.sweep(concepts, places, self.L, self.K, h.alpha, h.gamma, h.beta, h.chi, rng, eta)
+        lam = None if off_name is None else off_name.lam
+        concepts = sampler.sweep(concepts, places, self.L, self.K, h.alpha, h.gamma, h.beta, h.chi, rng, eta, lam)
         if moves is not None:  # step 5, whole groups (split_merge.py)
             concepts = moves.sweep(concepts, places, rng)
         return places, concepts
@@ -352,9 +371,11 @@ class SpCoTMHP:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
         if self.split_merge not in (True, False, "auto"):
             raise ModelError(f"split_merge must be True, False or 'auto', got {self.split_merge!r}")
-        start = self.place_concepts_from
-        if isinstance(start, bool) or not isinstance(start, (int, float)) or not 0.0 <= start <= 1.0:
-            raise ModelError(f"place_concepts_from must be a fraction in [0, 1], got {self.place_concepts_from!r}")
+        start = self.term_from
+        if start is not None and (
+            isinstance(start, bool) or not isinstance(start, (int, float)) or not 0 <= start <= 1
+        ):
+            raise ModelError(f"term_from must be a fraction in [0, 1] or None, got {self.term_from!r}")
         if self.K < 1 or self.L < 1 or self.iterations < 1:
             raise ModelError(
                 f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"

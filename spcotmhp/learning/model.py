@@ -58,6 +58,11 @@ class Hyperparameters:
     eta / L) with the eta_i integrated out (n_{i,l}: the events at place i with concept l), a product of experts
     on the pair (i, C) beside phi (gibbs.py, posterior.py).  Batch learner only; the online learner refuses it.
 
+    off_name (default None: off, the paper's model): lambda, the cost in nats of every event whose concept is not
+    its place's majority concept, another opt-in DEPARTURE from the paper: the joint gains the energy factor
+    log g(i, C) = -lambda sum_i (n_i - max_l n_{i,l}), which charges a second name in a place without charging
+    a place for its first (off_name.py).  Batch learner only; not combined with place_concepts.
+
     alpha, gamma and omega left unset (``DERIVED``; None is accepted too) follow the truncation: alpha = 10 / L,
     gamma = 1 / K, omega = 10 / K (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20
     and keeps the total prior mass of each Dirichlet process fixed when --max-places / --max-concepts change.
@@ -78,11 +83,15 @@ class Hyperparameters:
     nu0: float = PAPER_NU0
     place_size: float | None = None
     place_concepts: float | None = None
+    off_name: float | None = None
 
     def __post_init__(self) -> None:
-        eta = self.place_concepts
-        if eta is not None and (isinstance(eta, bool) or not isinstance(eta, (int, float)) or not 0 < eta < np.inf):
-            raise ValueError(f"place_concepts must be a finite number > 0 or None, got {eta!r}")
+        for name in ("place_concepts", "off_name"):
+            v = getattr(self, name)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < np.inf):
+                raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
+        if self.place_concepts is not None and self.off_name is not None:
+            raise ValueError("place_concepts and off_name are two answers to one question: set one or the other")
         if self.place_size is not None:
             self.nu0, self.V0 = place_size_prior(self.place_size, self.nu0, self.V0)
         self._derived = tuple(name for name in SCALED_PRIORS if _unset(getattr(self, name)))

@@ -264,15 +264,11 @@ def read_hyper(path: Path, raw: dict) -> Hyperparameters:
                 f"finite numbers, got {V0!r}"
             )
         values["V0"] = tuple(tuple(float(v) for v in row) for row in V0)
-    if values.get("place_size") is not None and not _positive(values["place_size"]):
-        raise ModelError(
-            f"{path}: hyper-parameter place_size must be a finite number > 0 or null, got {values['place_size']!r}"
-        )
-    if values.get("place_concepts") is not None and not _positive(values["place_concepts"]):
-        raise ModelError(
-            f"{path}: hyper-parameter place_concepts must be a finite number > 0 or null, "
-            f"got {values['place_concepts']!r}"
-        )
+    for name in ("place_size", "place_concepts", "off_name"):
+        if values.get(name) is not None and not _positive(values[name]):
+            raise ModelError(
+                f"{path}: hyper-parameter {name} must be a finite number > 0 or null, got {values[name]!r}"
+            )
     try:
         return Hyperparameters(**values)
     except (TypeError, ValueError) as exc:

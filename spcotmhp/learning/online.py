@@ -248,8 +248,9 @@ class OnlineSpCoTMHP:
             )
         model = self.init_model
         given = self.hyper if model is None else model.hyper
-        if given is not None and given.place_concepts is not None:
-            raise TeachingError("place_concepts is a term of the batch learner only; the online learner has none")
+        for term in ("place_concepts", "off_name"):
+            if given is not None and getattr(given, term) is not None:
+                raise TeachingError(f"{term} is a term of the batch learner only; the online learner has none")
         self.map_ = self.map if self.map is not None else (None if model is None else model.map)
         if model is not None:
             self.state_, self.vocabulary_ = state_of_model(model, self.replay, self.background_words)

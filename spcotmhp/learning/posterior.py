@@ -15,6 +15,7 @@ from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats
 from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
+from spcotmhp.learning.off_name import log_off_name
 
 
 @dataclass
@@ -93,6 +94,7 @@ class Priors:
     background: DirichletCategoricals
     switch: DirichletCategoricals
     place_concepts: DirichletCategoricals | None = None  # eta_i, K rows over L concepts (opt-in, not the paper's)
+    off_name: float | None = None  # lambda of the off-name factor g (opt-in, not the paper's; off_name.py)
 
     @classmethod
     def build(cls, hyper: Hyperparameters, K: int, L: int, V: int, D: int | None) -> Priors:
@@ -107,6 +109,7 @@ class Priors:
             background=DirichletCategoricals(1, V, hyper.beta),
             switch=DirichletCategoricals(1, 2, 1.0),
             place_concepts=None if eta is None else DirichletCategoricals(K, L, eta / L),
+            off_name=hyper.off_name,
         )
 
 
@@ -170,7 +173,9 @@ def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndar
     there are features), "psi" (the place transitions, unless ``transitions`` is None), "background" (the
     background words and the switches, when kept), "place_concepts" (with ``Hyperparameters.place_concepts``
     = eta: sum_i log DirMult(n_{i,.} | eta / L) over the concepts of each place's events, a term the paper's
-    model does not have); Dirichlet-multinomial marginals but the first.
+    model does not have), "off_name" (with ``Hyperparameters.off_name`` = lambda: log g = -lambda times the
+    events off their place's majority concept, off_name.py, not the paper's either); Dirichlet-multinomial
+    marginals but the first and the last.
 
     Eq. 9 combines psi and phi as a product of experts; here both enter as their own multinomial terms (the
     normaliser of the product is not part of the comparison)."""
@@ -190,6 +195,8 @@ def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndar
         )
     if priors.place_concepts is not None:
         terms["place_concepts"] = priors.place_concepts.log_marginal(stats.place_given_concept.T)
+    if priors.off_name is not None:
+        terms["off_name"] = log_off_name(priors.off_name, stats.place_given_concept)
     return terms
 
 

@@ -46,7 +46,9 @@ def planted_dataset(E: int = 300, seed: int = 7) -> Dataset:
     return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places, truth_concept=concepts)
 
 
-def sweep_kernel(sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0) -> np.ndarray:
+def sweep_kernel(
+    sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0, off_name=0.0
+) -> np.ndarray:
     """One call of the concept-sweep kernel on hand-built ``counts`` = (n_l, n_lk, W_lv, F_ld, F_l) (updated in
     place) and ``hyper`` = (alpha, gamma, beta, chi), over the events ``order`` with ``uniforms``: the sampler's
     tokens, a copy of its switches, its background words with the background model off, and its features. The
@@ -85,10 +87,11 @@ def sweep_kernel(sampler, C, places, order, uniforms, L, K, hyper, counts, digam
         digamma_ld,
         True,
         eta_each,
+        off_name,
     )
 
 
-def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0):
+def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0, off_name=0.0):
     """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
     eta / L of the place_concepts term, 0 off)."""
     counts = np.zeros(L)
@@ -112,6 +115,7 @@ def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=
             (n_l, n_lk, W_lv, F_ld, F_l),
             np.zeros_like(F_ld),
             eta_each,
+            off_name,
         )
         counts[out[e]] += 1
     return counts / grid
@@ -122,3 +126,64 @@ def reseal(folder: Path) -> None:
     reached)."""
     names = sorted(p.name for p in folder.iterdir() if p.is_file() and p.name != MANIFEST)
     (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")
+
+
+def short_fit(data: Dataset, **kwargs):
+    """An 8-sweep batch fit of ``data`` (seed 4) with the learner settings ``kwargs``: the tests of opt-in terms."""
+    from spcotmhp.learning.gibbs import SpCoTMHP
+
+    return SpCoTMHP(iterations=8, seed=4, **kwargs).fit(data)
+
+
+def assert_same_fit(got, want) -> None:
+    """Two fits drew the same places and concepts and reached the same log joint and word distributions."""
+    np.testing.assert_array_equal(got.places_, want.places_)
+    np.testing.assert_array_equal(got.concepts_, want.concepts_)
+    assert got.log_joint_ == want.log_joint_
+    np.testing.assert_array_equal(got.model_.W, want.model_.W)
+
+
+def stats_of(places, concepts, words, K: int, L: int):
+    """The sufficient statistics of an assignment without features, positions all at the origin (the tests of
+    terms that do not look at positions)."""
+    from spcotmhp.learning.distributions import GaussianStats
+    from spcotmhp.learning.posterior import SufficientStats
+
+    pgc = np.zeros((L, K))
+    np.add.at(pgc, (concepts, places), 1.0)
+    W = np.zeros((L, words.shape[1]))
+    np.add.at(W, concepts, words)
+    gauss = GaussianStats.from_assignments(np.zeros((len(places), 2)), places, K)
+    return SufficientStats(gauss, np.bincount(concepts, minlength=L).astype(float), pgc, None, W)
+
+
+def conditional_by_joints(priors, places, C, words, e: int, K: int, L: int) -> np.ndarray:
+    """p(C_e = l | rest) for every l as the normalised collapsed joints of the L assignments that differ in C_e only
+    (brute force, no transitions)."""
+    from scipy.special import logsumexp
+
+    from spcotmhp.learning.posterior import log_joint
+
+    lp = []
+    for l in range(L):
+        C_l = C.copy()
+        C_l[e] = l
+        lp.append(log_joint(priors, stats_of(places, C_l, words, K, L), None))
+    return np.exp(np.array(lp) - logsumexp(lp))
+
+
+def folder_without_hyper_key(model, folder: Path, key: str) -> Path:
+    """``model`` with the paper's priors saved to ``folder``, then its model.json rewritten without
+    ``hyper[key]``, as a folder written before that hyper-parameter existed; returns the model.json path."""
+    from dataclasses import replace
+
+    from spcotmhp.learning.io import save_model
+    from spcotmhp.learning.model import Hyperparameters
+
+    save_model(replace(model, hyper=Hyperparameters()), folder)
+    path = folder / "model.json"
+    meta = json.loads(path.read_text())
+    del meta["hyper"][key]
+    path.write_text(json.dumps(meta))
+    reseal(folder)
+    return path

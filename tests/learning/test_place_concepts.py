@@ -4,24 +4,28 @@ step's emissions, the off path unchanged, the hyper-parameter in model folders a
 
 from __future__ import annotations
 
-import json
-from dataclasses import replace
-
 import numpy as np
 import pytest
 from scipy.special import logsumexp
 
 from spcotmhp.errors import ModelError, TeachingError
 from spcotmhp.learning.concepts import CollapsedConceptSampler
-from spcotmhp.learning.distributions import GaussianStats
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.hmm import ffbs
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP
 from spcotmhp.learning.place_ffbs import place_emissions, sample_places
-from spcotmhp.learning.posterior import Priors, SufficientStats, log_joint, log_joint_terms
-from tests.helpers.learning import concept_conditional_by_inverse_cdf, planted_dataset, reseal
+from spcotmhp.learning.posterior import Priors, log_joint_terms
+from tests.helpers.learning import (
+    assert_same_fit,
+    concept_conditional_by_inverse_cdf,
+    conditional_by_joints,
+    folder_without_hyper_key,
+    planted_dataset,
+    short_fit,
+    stats_of,
+)
 
 
 @pytest.fixture(scope="module")
@@ -29,27 +33,16 @@ def tiny_dataset():
     return planted_dataset(E=80)
 
 
-def _stats(places, concepts, words, K, L, X=None):
-    X = np.zeros((len(places), 2)) if X is None else X
-    pgc = np.zeros((L, K))
-    np.add.at(pgc, (concepts, places), 1.0)
-    W = np.zeros((L, words.shape[1]))
-    np.add.at(W, concepts, words)
-    return SufficientStats(
-        GaussianStats.from_assignments(X, places, K), np.bincount(concepts, minlength=L).astype(float), pgc, None, W
-    )
-
-
 def test_dirichlet_multinomial_of_each_place_by_hand():
     # K = 2 places, L = 3 concepts, eta = 1.5 (0.5 per concept); place 0 holds concepts 0, 0, 2, place 1 concept 1
     places, concepts = np.array([0, 0, 0, 1]), np.array([0, 0, 2, 1])
     priors = Priors.build(Hyperparameters(L=3, K=2, place_concepts=1.5), 2, 3, 2, None)
-    terms = log_joint_terms(priors, _stats(places, concepts, np.ones((4, 2)), 2, 3), None)
+    terms = log_joint_terms(priors, stats_of(places, concepts, np.ones((4, 2)), 2, 3), None)
     # the sequence's predictive, event by event: (0.5 / 1.5) (1.5 / 2.5) (0.5 / 3.5) and (0.5 / 1.5)
     want = np.log((0.5 / 1.5) * (1.5 / 2.5) * (0.5 / 3.5) * (0.5 / 1.5))
     assert terms["place_concepts"] == pytest.approx(want, rel=1e-12)
     off = log_joint_terms(
-        Priors.build(Hyperparameters(L=3, K=2), 2, 3, 2, None), _stats(places, concepts, np.ones((4, 2)), 2, 3), None
+        Priors.build(Hyperparameters(L=3, K=2), 2, 3, 2, None), stats_of(places, concepts, np.ones((4, 2)), 2, 3), None
     )
     assert "place_concepts" not in off
     assert {k: v for k, v in terms.items() if k != "place_concepts"} == off
@@ -66,12 +59,7 @@ def test_concept_conditional_is_the_ratio_of_collapsed_joints(eta):
     sampler = CollapsedConceptSampler(words, None, background=False, rng=np.random.default_rng(0))
     got = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0), eta_each=eta / L)
     priors = Priors.build(hyper, K, L, 3, None)
-    lp = []
-    for l in range(L):
-        C_l = C.copy()
-        C_l[e] = l
-        lp.append(log_joint(priors, _stats(places, C_l, words, K, L), None))
-    want = np.exp(np.array(lp) - logsumexp(lp))
+    want = conditional_by_joints(priors, places, C, words, e, K, L)
     np.testing.assert_allclose(got, want, atol=2e-4)
     # the term changes the answer here (place 0 holds concepts 2 and 2 besides event 1)
     paper = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0))
@@ -100,24 +88,20 @@ def test_place_emissions_gain_log_eta_of_the_event_concept():
     np.testing.assert_array_equal(zeros, none)
 
 
-def _fit(data, **kwargs):
-    return SpCoTMHP(iterations=8, seed=4, **kwargs).fit(data)
+_fit = short_fit
 
 
 def test_off_path_is_the_papers_fit_bit_for_bit(tiny_dataset):
     paper = _fit(tiny_dataset)
-    off = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=None), place_concepts_from=0.0)
-    np.testing.assert_array_equal(off.places_, paper.places_)
-    np.testing.assert_array_equal(off.concepts_, paper.concepts_)
-    assert off.log_joint_ == paper.log_joint_
-    np.testing.assert_array_equal(off.model_.W, paper.model_.W)
+    off = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=None), term_from=0.0)
+    assert_same_fit(off, paper)
 
 
 def test_the_term_enters_the_log_joint_and_the_sampler(tiny_dataset):
-    on = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), place_concepts_from=0.0)
-    late = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), place_concepts_from=1.0)
+    on = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), term_from=0.0)
+    late = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), term_from=1.0)
     paper = _fit(tiny_dataset)
-    # from the last sweep on (place_concepts_from = 1): the paper's draws, the joint with the term
+    # from the last sweep on (term_from = 1): the paper's draws, the joint with the term
     np.testing.assert_array_equal(late.places_, paper.places_)
     priors = Priors.build(Hyperparameters(place_concepts=1.0).resized(20, 20), 20, 20, 1, None)
     extra = priors.place_concepts.log_marginal(paper.model_.learner["arrays"]["n_lk"].T)
@@ -139,9 +123,9 @@ def test_bad_values_are_refused(kwargs, match):
 def test_settings_that_cannot_combine_are_refused(tiny_dataset):
     with pytest.raises(ModelError, match="split_merge"):
         _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), split_merge=True)
-    for start in (1.5, "half", None):
-        with pytest.raises(ModelError, match="place_concepts_from"):
-            _fit(tiny_dataset, place_concepts_from=start)
+    for start in (1.5, "half", True):
+        with pytest.raises(ModelError, match="term_from"):
+            _fit(tiny_dataset, term_from=start)
     with pytest.raises(TeachingError, match="batch learner only"):
         OnlineSpCoTMHP(hyper=Hyperparameters(place_concepts=1.0)).partial_fit([])
 
@@ -159,11 +143,5 @@ def test_model_folders_keep_the_term_and_old_folders_load(tiny_dataset, tmp_path
     model = _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=2.5)).model_
     save_model(model, tmp_path / "on")
     assert load_model(tmp_path / "on").hyper.place_concepts == 2.5
-    old = replace(model, hyper=Hyperparameters())
-    save_model(old, tmp_path / "old")
-    meta_path = tmp_path / "old" / "model.json"
-    meta = json.loads(meta_path.read_text())
-    del meta["hyper"]["place_concepts"]  # a folder written before the term existed
-    meta_path.write_text(json.dumps(meta))
-    reseal(tmp_path / "old")
+    folder_without_hyper_key(model, tmp_path / "old", "place_concepts")  # written before the term existed
     assert load_model(tmp_path / "old").hyper.place_concepts is None
