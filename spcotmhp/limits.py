@@ -27,8 +27,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from spcotmhp.errors import SpcotmhpError
-
 MAX_PLACES = 1_000
 MAX_CONCEPTS = 1_000
 MAX_EVENT_PLACES = 50_000_000
@@ -54,13 +52,23 @@ def check_count(value: object, name: str, low: int, high: int, error: type[Excep
     """``value`` as an int when it is an integer in [low, high], else ``error`` naming ``name``, the value and
     the range.
 
-    >>> check_count(3, "runs", 1, MAX_RUNS, SpcotmhpError)
+    >>> check_count(3, "runs", 1, MAX_RUNS, ValueError)
     3
-    >>> check_count(10**9, "runs", 1, MAX_RUNS, SpcotmhpError)
+    >>> check_count(10**9, "runs", 1, MAX_RUNS, ValueError)
     Traceback (most recent call last):
     ...
-    spcotmhp.errors.SpcotmhpError: runs must be an integer in [1, 1000], got 1000000000
+    ValueError: runs must be an integer in [1, 1000], got 1000000000
     """
     if not is_count(value) or not low <= value <= high:  # type: ignore[operator]
         raise error(f"{name} must be an integer in [{low}, {high}], got {value!r}")
     return int(value)  # type: ignore[call-overload]
+
+
+def check_event_places(n_events: int, K: int, error: type[Exception]) -> None:
+    """``error`` when a fit of ``n_events`` events with ``K`` places needs (E, K) tables of more than
+    ``MAX_EVENT_PLACES`` numbers."""
+    if n_events * K > MAX_EVENT_PLACES:
+        raise error(
+            f"{n_events} events x K={K} places is {n_events * K} numbers per (E, K) table, more than the "
+            f"{MAX_EVENT_PLACES} accepted; use a smaller K (max places)"
+        )

@@ -115,6 +115,7 @@ from spcotmhp.learning.posterior import (
 from spcotmhp.learning.seeding import make_rng, seed_repr
 from spcotmhp.learning.split_merge import SplitMerge
 from spcotmhp.learning.truncation import record_truncation
+from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count, check_event_places
 
 TRANSITIONS = ("hmm", "none")
 
@@ -217,6 +218,7 @@ class SpCoTMHP:
 
     def _fit(self, dataset: Dataset, progress: Callable[[int], None] | None) -> SpCoTMHP:
         self._check_settings()
+        check_event_places(dataset.n_events, self.K, ModelError)
         t0, c0 = time.perf_counter(), time.process_time()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
         obs = Observations.from_dataset(
@@ -355,10 +357,9 @@ class SpCoTMHP:
         start = self.place_concepts_from
         if isinstance(start, bool) or not isinstance(start, (int, float)) or not 0.0 <= start <= 1.0:
             raise ModelError(f"place_concepts_from must be a fraction in [0, 1], got {self.place_concepts_from!r}")
-        if self.K < 1 or self.L < 1 or self.iterations < 1:
-            raise ModelError(
-                f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"
-            )
+        check_count(self.K, "K (the place truncation)", 1, MAX_PLACES, ModelError)
+        check_count(self.L, "L (the concept truncation)", 1, MAX_CONCEPTS, ModelError)
+        check_count(self.iterations, "iterations", 1, MAX_ITERATIONS, ModelError)
 
     def _stats(
         self, obs: Observations, places: np.ndarray, concepts: np.ndarray, sampler: CollapsedConceptSampler
