@@ -221,7 +221,8 @@ def check_gaussians(where: Path, mu: np.ndarray, sigma: np.ndarray) -> np.ndarra
         k = int(np.flatnonzero(bad)[0])
         raise ModelError(
             f"{where}: Sigma[{k}] is not positive definite (eigenvalues {eig[k, 0]:.3g}, "
-            f"{eig[k, 1]:.3g}); a covariance must be"
+            f"{eig[k, 1]:.3g}); a covariance must be positive definite, its smaller eigenvalue above 1e-12 times "
+            "the larger"
         )
     return sym
 

@@ -164,7 +164,12 @@ def test_missing_array(saved):
         ),
         ("pi", lambda m: m.pi * 2, "pi must be non-negative with rows summing to 1"),
         ("mu", lambda m: np.full_like(m.mu, np.nan), "mu must hold finite floating-point numbers"),
-        ("Sigma", lambda m: -m.Sigma, r"Sigma\[0\] is not positive definite"),
+        (
+            "Sigma",
+            lambda m: -m.Sigma,
+            r"Sigma\[0\] is not positive definite \(eigenvalues -[\d.e-]+, -[\d.e-]+\); a covariance must be "
+            r"positive definite, its smaller eigenvalue above 1e-12 times the larger$",
+        ),
         (
             "active_places",
             lambda m: m.active_places.astype(float),
