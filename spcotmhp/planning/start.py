@@ -32,6 +32,12 @@ def start_cell(
     is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
     escape is the shortest run of free cells from the start to the nearest cell of the main free component
     (the planning starts at its end)."""
+    if (
+        isinstance(start, (bool, np.bool_))
+        or (isinstance(start, (list, tuple)) and any(isinstance(v, (bool, np.bool_)) for v in start))
+        or (isinstance(start, np.ndarray) and start.dtype == np.bool_)
+    ):
+        raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, not booleans; got {_excerpt(start)}")
     try:
         x0 = np.asarray(start, dtype=float).reshape(-1)
     except (TypeError, ValueError, OverflowError):

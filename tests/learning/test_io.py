@@ -436,3 +436,11 @@ def test_predict_assignments_with_a_zero_in_w_and_the_one_word_likelihood():
         lw = log_multinomial(np.log(W), np.array([[2.0, 0.0], [0.0, 0.0], [1.0, 1.0]]))
     assert lw.tolist() == [[0.0, -np.inf], [0.0, 0.0], [-np.inf, -np.inf]]
     assert model.log_word_likelihood(["a", "a"]).tolist() == [0.0, -np.inf]
+
+
+@pytest.mark.parametrize("given, shown", [(None, "NoneType"), (3, "int"), (["m06"], "list")])
+def test_load_model_takes_a_folder(given, shown):
+    """Audit item 13: load_model(None) raised a bare TypeError from Path(None)."""
+    with pytest.raises(ModelError) as info:
+        load_model(given)
+    assert str(info.value) == f"load_model takes a model folder (a str or a path), got {shown}"

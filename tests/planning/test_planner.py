@@ -417,3 +417,16 @@ def test_warm_up_plans_to_the_first_places_and_changes_no_later_plan(planner, mo
     monkeypatch.undo()
     after = planner.plan("go to the bedroom via the corridor", start)
     assert (after.cells == before.cells).all() and after.explanation == before.explanation
+
+
+@pytest.mark.parametrize("given, shown", [("m06", "str 'm06'"), (None, "NoneType"), (3, "int")])
+def test_the_planner_takes_a_model(given, shown):
+    """Audit item 13: HierarchicalPlanner('m06') raised AttributeError: 'str' object has no attribute 'map'."""
+    from spcotmhp.errors import ModelError
+
+    with pytest.raises(ModelError) as info:
+        HierarchicalPlanner(given)
+    assert str(info.value) == (
+        f"HierarchicalPlanner takes a SpatialConceptModel, got a {shown}; load a model folder with "
+        "spcotmhp.learning.io.load_model(folder)"
+    )

@@ -95,11 +95,14 @@ def test_no_escape_beyond_the_window():
         ((float("nan"), 1.0), StartOutsideMap),
         ("x", StartOutsideMap),
         ((10**400, 0), StartOutsideMap),
+        ((True, False), StartOutsideMap),  # audit item 13: booleans were taken as (1, 0)
+        ([0.5, np.True_], StartOutsideMap),
+        (np.array([True, False]), StartOutsideMap),
     ],
 )
 def test_bad_starts_are_typed(home, start, error):
     model, planner, _ = home
-    if start in ("wall", "unknown"):
+    if isinstance(start, str) and start in ("wall", "unknown"):
         start = model.map.cell_to_world(np.argwhere(model.map.data == (100 if start == "wall" else -1))[0])
     with pytest.raises(error) as info:
         planner.plan("go to the kitchen", start)
