@@ -217,8 +217,7 @@ class SpCoTMHP:
             return self._fit(dataset, progress)
 
     def _fit(self, dataset: Dataset, progress: Callable[[int], None] | None) -> SpCoTMHP:
-        self._check_settings()
-        check_event_places(dataset.n_events, self.K, ModelError)
+        self._check_settings(dataset.n_events)
         t0, c0 = time.perf_counter(), time.process_time()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
         obs = Observations.from_dataset(
@@ -344,7 +343,8 @@ class SpCoTMHP:
             concepts = moves.sweep(concepts, places, rng)
         return places, concepts
 
-    def _check_settings(self) -> None:
+    def _check_settings(self, n_events: int) -> None:
+        """ModelError for a setting out of range, or sizes past spcotmhp/limits.py (before any allocation)."""
         for name, value, allowed in (
             ("transitions", self.transitions, TRANSITIONS),
             ("connectivity", self.connectivity, CONNECTIVITY),
@@ -360,6 +360,7 @@ class SpCoTMHP:
         check_count(self.K, "K (the place truncation)", 1, MAX_PLACES, ModelError)
         check_count(self.L, "L (the concept truncation)", 1, MAX_CONCEPTS, ModelError)
         check_count(self.iterations, "iterations", 1, MAX_ITERATIONS, ModelError)
+        check_event_places(n_events, self.K, ModelError)
 
     def _stats(
         self, obs: Observations, places: np.ndarray, concepts: np.ndarray, sampler: CollapsedConceptSampler

@@ -162,21 +162,13 @@ def create_app(
             "resolution": sm.model.require_map().resolution,
         }
 
-    @app.post(
-        "/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"], dependencies=[Depends(require_json)]
-    )
+    @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"], dependencies=JSON_BODY)
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
-    @app.post(
-        "/teach",
-        response_model=TeachResponse,
-        responses=ERRORS,
-        tags=["learning"],
-        dependencies=[Depends(require_json)],
-    )
+    @app.post("/teach", response_model=TeachResponse, responses=ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
         """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
         later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
@@ -232,6 +224,9 @@ def require_json(request: Request) -> None:
     raise APIError(
         415, f"{sent} is not accepted: {request.url.path} takes a JSON body, sent with Content-Type: application/json"
     )
+
+
+JSON_BODY = [Depends(require_json)]  # the dependencies of the endpoints that take a JSON body
 
 
 def _one_model(query: str | None, body: str | None) -> str | None:
