@@ -12,7 +12,8 @@ make, and low enough that what it sizes fits in memory:
   loader's own caps (``MODEL_MAX_SIZES``) are larger, so every model the learners write loads.
 - ``MAX_EVENT_PLACES``: events x K of one fit (the (E, K) float64 tables: 400 MB).
 - ``MAX_RUNS`` (independent Gibbs runs; the paper keeps 1 of 10) and ``MAX_ITERATIONS`` (sweeps per run; the
-  paper: 100): a fit keeps every run's model and one log joint per sweep.
+  paper: 100; also the online learner's resamples and moves per event): a fit keeps every run's model and one
+  log joint per sweep.
 - ``MAX_JOBS``: worker processes (and evaluation workers).
 - ``MAX_SEEDS``: seeds of an evaluation (each one a full learning or planning pass).
 - ``MAX_SYNTH_ROOMS``, ``MAX_SYNTH_EVENTS`` (rooms x events per room of a synthetic teaching walk: its
