@@ -33,7 +33,7 @@ from spcotmhp.evaluation.metrics import Outcome, summarise
 from spcotmhp.evaluation.spread import aggregate_methods
 from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, subset
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
-from spcotmhp.limits import MAX_SEEDS, check_count
+from spcotmhp.limits import MAX_JOBS, MAX_SEEDS, check_count
 
 
 @dataclass
@@ -159,7 +159,7 @@ def evaluate_home(
 ) -> HomeResult:
     """All methods on the given tasks of one home."""
     methods = check_methods(methods)
-    workers = default_workers() if workers is None else workers
+    workers = default_workers() if workers is None else check_count(workers, "workers", 1, MAX_JOBS, ValueError)
     bar = progress.add_task(f"{ctx.name} {tasks[0].kind if tasks else ''}", total=len(tasks)) if progress else None
 
     def advance(n: int) -> None:

@@ -187,6 +187,10 @@ def test_seeds_are_bounded():
 
     with pytest.raises(ValueError, match=f"seeds must be an integer in \\[1, {MAX_SEEDS}\\], got {MAX_SEEDS + 1}"):
         evaluate([], "basic", ["spcotmhp"], seeds=MAX_SEEDS + 1, quiet=True)
+    from spcotmhp.evaluation.runner import evaluate_home
+
+    with pytest.raises(ValueError, match="workers must be an integer in \\[1, 256\\], got 1000000"):
+        evaluate_home(None, [], ["spcotmhp"], workers=10**6)
 
 
 @pytest.mark.parametrize(
