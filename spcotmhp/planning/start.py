@@ -82,9 +82,9 @@ def start_cell(
 def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:
     """The shortest run of free map cells (8-connected, diagonal steps sqrt 2) from ``cell`` to a cell of the
     graph's main free component, when one is reachable by a run that stays within ``ceil(radius / resolution)
-    + 2`` cells of ``cell`` along each axis; None if none is. A run found in that window that is longer than the window is wide may
-    be beaten by one to a cell just outside it, so the search is then repeated in a window as wide as the
-    run is long (which holds every shorter run)."""
+    + 2`` cells of ``cell`` along each axis; None if none is. A run found in that window that is longer than
+    the window is wide may be beaten by one to a cell just outside it, so the search is then repeated in a
+    window as wide as the run is long (which holds every shorter run)."""
     res = graph.model.require_map().resolution
     r = math.ceil(max(radius_m, res) / res) + 2
     path = _escape_within(free, graph, cell, r)
