@@ -21,6 +21,7 @@ MODULES = [
     "spcotmhp.evaluation.metrics",
     "spcotmhp.datasets.synthetic",
     "spcotmhp.speech.lexicon",
+    "spcotmhp.limits",
 ]
 
 

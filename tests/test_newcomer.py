@@ -132,7 +132,7 @@ def test_version_and_help(tmp_path):
     text = run("plan", "--help", cwd=tmp_path).stdout
     assert "<" not in text.replace("<=", "")  # no <bool>, <str>, <path> type labels
     assert re.search(r"--start X Y .*\[required\]", " ".join(text.split()))
-    assert "[default: 1; x>=1]" in " ".join(text.split())  # defaults shown
+    assert "[default: 1; 1<=x<=100]" in " ".join(text.split())  # defaults (and bounds) shown
     assert "│" not in text  # plain text: the same piped and in a terminal
     synth = " ".join(run("synth", "--help", cwd=tmp_path).stdout.split())
     assert "--rooms INTEGER" in synth and "--overwrite Replace" in synth

@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Annotated
 import numpy as np
 import typer
 
+from spcotmhp.limits import MAX_SYNTH_EVENTS, MAX_SYNTH_ROOMS
+
 if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
     from spcotmhp.datasets.dataset import Dataset
 
@@ -134,11 +136,20 @@ def check_dataset(
 def synth(
     kind: Annotated[str, typer.Argument(help="flat, house or office")],
     out: Annotated[Path, typer.Option("--out", help="dataset folder to write")],
-    rooms: Annotated[int | None, typer.Option("--rooms", help="number of places, corridors included")] = None,
-    size: Annotated[int | None, typer.Option("--size", help="map side in cells")] = None,
+    rooms: Annotated[
+        int | None, typer.Option("--rooms", min=1, max=MAX_SYNTH_ROOMS, help="number of places, corridors included")
+    ] = None,
+    size: Annotated[
+        int | None, typer.Option("--size", min=1, help="map side in cells (at most 4000: the map loader's 16e6 pixels)")
+    ] = None,
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     word_noise: Annotated[float, typer.Option("--word-noise", help="share of place words replaced")] = 0.0,
-    events_per_room: Annotated[int, typer.Option("--events-per-room")] = 15,
+    events_per_room: Annotated[
+        int,
+        typer.Option(
+            "--events-per-room", min=1, max=MAX_SYNTH_EVENTS, help=f"(rooms x this: at most {MAX_SYNTH_EVENTS})"
+        ),
+    ] = 15,
     overwrite: Annotated[
         bool,
         typer.Option(

@@ -17,6 +17,7 @@ import numpy as np
 import typer
 
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
+from spcotmhp.limits import MAX_ITERATIONS, MAX_RUNS
 from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output
 
 DEMO_INSTRUCTION = "go to the bedroom via the corridor"
@@ -157,8 +158,8 @@ def demo(
         ),
     ] = None,
     seed: Annotated[int, typer.Option(min=0, help="Random seed of the learner.")] = 0,
-    runs: Annotated[int, typer.Option(help="Independent Gibbs runs (one is kept).")] = 10,
-    iterations: Annotated[int, typer.Option(help="Gibbs sweeps per run.")] = 100,
+    runs: Annotated[int, typer.Option(min=1, max=MAX_RUNS, help="Independent Gibbs runs (one is kept).")] = 10,
+    iterations: Annotated[int, typer.Option(min=1, max=MAX_ITERATIONS, help="Gibbs sweeps per run.")] = 100,
     supervised: Annotated[bool, typer.Option(help="Skip the unsupervised learner: fit from the truth labels.")] = False,
     overwrite: Annotated[
         bool, typer.Option("--overwrite", help="Replace the outputs of an earlier demo in --out.")

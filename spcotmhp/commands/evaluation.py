@@ -11,6 +11,7 @@ import typer
 from typer.core import TyperCommand
 
 from spcotmhp.errors import SpcotmhpError
+from spcotmhp.limits import MAX_HOMES, MAX_JOBS, MAX_SEEDS
 from spcotmhp.safe_write import atomic_write_text, check_output
 
 if TYPE_CHECKING:
@@ -110,7 +111,7 @@ def register(app: typer.Typer) -> None:
                 "generated ones (e.g. 3LDK_01 3LDK_05 3LDK_06).",
             ),
         ] = None,
-        homes: Annotated[int, typer.Option("--homes", min=1, max=10_000, help="Number of seeded homes.")] = 50,
+        homes: Annotated[int, typer.Option("--homes", min=1, max=MAX_HOMES, help="Number of seeded homes.")] = 50,
         first_seed: Annotated[int, typer.Option("--first-seed", min=0, help="Seed of the first home.")] = 0,
         params: Annotated[
             str, typer.Option("--params", help="Comma-separated: supervised, learned.")
@@ -118,7 +119,9 @@ def register(app: typer.Typer) -> None:
         max_tasks: Annotated[
             int, typer.Option("--max-tasks", min=1, help="Advanced tasks per home (a seeded subset).")
         ] = 60,
-        workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
+        workers: Annotated[
+            int | None, typer.Option("--workers", min=1, max=MAX_JOBS, help="Processes (default: all cores).")
+        ] = None,
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON (every home).")] = False,
     ) -> None:
         """The planner's acceptance battery on seeded synthetic homes (three bedrooms, west/east corridor,
@@ -171,7 +174,9 @@ def register(app: typer.Typer) -> None:
             typer.Option("--params", help="supervised (truth labels, the paper's 'ideal' parameters) | learned."),
         ] = "supervised",
         lang: Annotated[str, typer.Option("--lang", help="Language of the words: en | ja.")] = "en",
-        workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
+        workers: Annotated[
+            int | None, typer.Option("--workers", min=1, max=MAX_JOBS, help="Processes (default: all cores).")
+        ] = None,
         max_tasks: Annotated[
             int | None,
             typer.Option("--max-tasks", min=1, help="A seeded random subset of each home's tasks."),
@@ -182,6 +187,7 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--seeds",
                 min=1,
+                max=MAX_SEEDS,
                 help=(
                     "Seeds (seed, seed + 1, ...): metrics are mean ± sd over them; learned parameters are learned "
                     "again "
@@ -240,17 +246,22 @@ def register(app: typer.Typer) -> None:
         out: Annotated[Path | None, typer.Option("--out", help="Write the markdown here (default: stdout).")] = None,
         seeds: Annotated[
             int,
-            typer.Option("--seeds", min=1, help=("Seeds of Table 6 and of Tables 4-5 with supervised parameters.")),
+            typer.Option(
+                "--seeds", min=1, max=MAX_SEEDS, help=("Seeds of Table 6 and of Tables 4-5 with supervised parameters.")
+            ),
         ] = 5,
         learned_seeds: Annotated[
             int,
             typer.Option(
                 "--learned-seeds",
                 min=1,
+                max=MAX_SEEDS,
                 help=("Seeds of the tables with learned parameters (each learns again)."),
             ),
         ] = 3,
-        workers: Annotated[int | None, typer.Option("--workers", min=1, help="Processes (default: all cores).")] = None,
+        workers: Annotated[
+            int | None, typer.Option("--workers", min=1, max=MAX_JOBS, help="Processes (default: all cores).")
+        ] = None,
         max_tasks: Annotated[
             int | None,
             typer.Option("--max-tasks", min=1, help="A seeded random subset of each home's tasks."),

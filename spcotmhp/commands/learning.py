@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from spcotmhp.errors import DatasetError, ModelError
+from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, MAX_RUNS, MAX_SEEDS
 
 if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
     from spcotmhp.datasets.dataset import Dataset
@@ -130,8 +131,12 @@ def learn(
     out: Annotated[Path, typer.Option("--out", help="Model folder to write (model.json, arrays.npz, map).")],
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     supervised: Annotated[bool, typer.Option(help="Fit from the truth labels (paper Experiment I).")] = False,
-    runs: Annotated[int | None, typer.Option(min=1, help="Independent Gibbs runs; one is kept (default 10).")] = None,
-    iterations: Annotated[int | None, typer.Option(min=1, help="Gibbs sweeps per run (default 100).")] = None,
+    runs: Annotated[
+        int | None, typer.Option(min=1, max=MAX_RUNS, help="Independent Gibbs runs; one is kept (default 10).")
+    ] = None,
+    iterations: Annotated[
+        int | None, typer.Option(min=1, max=MAX_ITERATIONS, help="Gibbs sweeps per run (default 100).")
+    ] = None,
     seed: Annotated[
         int | None, typer.Option(min=0, help="Random seed (run r uses its r-th child stream; default 0).")
     ] = None,
@@ -162,12 +167,14 @@ def learn(
     ] = "1",
     max_places: Annotated[
         int | None,
-        typer.Option(min=1, help="Truncation K of the place DP (more than the places; default 20)."),
+        typer.Option(min=1, max=MAX_PLACES, help="Truncation K of the place DP (more than the places; default 20)."),
     ] = None,
     max_concepts: Annotated[
-        int | None, typer.Option(min=1, help="Truncation L of the concept DP (default 20).")
+        int | None, typer.Option(min=1, max=MAX_CONCEPTS, help="Truncation L of the concept DP (default 20).")
     ] = None,
-    jobs: Annotated[int | None, typer.Option(min=1, help="Worker processes for the runs (default 1).")] = None,
+    jobs: Annotated[
+        int | None, typer.Option(min=1, max=MAX_JOBS, help="Worker processes for the runs (default 1).")
+    ] = None,
     overwrite: Annotated[
         bool,
         typer.Option(
@@ -295,18 +302,18 @@ def _fit_gibbs(
 # long: a CLI command: 27 lines of typer options and help, a 40-line body
 def evaluate_learning(
     dataset: Annotated[str, typer.Argument(help="Dataset folder with truth.csv, or a bundled dataset name.")],
-    runs: Annotated[int, typer.Option(min=1, help="Runs per method and seed.")] = 10,
+    runs: Annotated[int, typer.Option(min=1, max=MAX_RUNS, help="Runs per method and seed.")] = 10,
     seed: Annotated[int, typer.Option(min=0, help="First random seed.")] = 0,
     seeds: Annotated[
-        int, typer.Option(min=1, help="Seeds (seed, seed + 1, ...): results are mean ± sd over them.")
+        int, typer.Option(min=1, max=MAX_SEEDS, help="Seeds (seed, seed + 1, ...): results are mean ± sd over them.")
     ] = 5,
-    iterations: Annotated[int, typer.Option(min=1, help="Gibbs sweeps per run.")] = 100,
+    iterations: Annotated[int, typer.Option(min=1, max=MAX_ITERATIONS, help="Gibbs sweeps per run.")] = 100,
     lang: Annotated[str | None, typer.Option(help="en or ja (default: en when available).")] = None,
     features: Annotated[bool, typer.Option(help="Use image features when the dataset has them.")] = True,
-    jobs: Annotated[int, typer.Option(min=1, help="Worker processes for the runs.")] = 1,
+    jobs: Annotated[int, typer.Option(min=1, max=MAX_JOBS, help="Worker processes for the runs.")] = 1,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of the table.")] = False,
-    max_places: Annotated[int, typer.Option(min=1, help="Truncation K of the place DP.")] = 20,
-    max_concepts: Annotated[int, typer.Option(min=1, help="Truncation L of the concept DP.")] = 20,
+    max_places: Annotated[int, typer.Option(min=1, max=MAX_PLACES, help="Truncation K of the place DP.")] = 20,
+    max_concepts: Annotated[int, typer.Option(min=1, max=MAX_CONCEPTS, help="Truncation L of the concept DP.")] = 20,
     online: Annotated[
         bool,
         typer.Option(

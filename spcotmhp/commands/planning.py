@@ -9,6 +9,7 @@ import typer
 
 from spcotmhp.collector import end_startup
 from spcotmhp.errors import InstructionError, SpcotmhpError
+from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS
 from spcotmhp.safe_read import excerpt, parse_json
 from spcotmhp.safe_write import atomic_write, check_output
 
@@ -49,7 +50,9 @@ def plan_command(
         ),
     ] = None,
     lang: Annotated[str | None, typer.Option(help="Instruction language (en, ja); default: detected.")] = None,
-    candidates: Annotated[int, typer.Option(min=1, help="Candidate points per place (N of Section 3.4).")] = 1,
+    candidates: Annotated[
+        int, typer.Option(min=1, max=MAX_CANDIDATES, help="Candidate points per place (N of Section 3.4).")
+    ] = 1,
     seed: Annotated[int, typer.Option(min=0, help="Seed of the candidate sampling.")] = 0,
     smooth: Annotated[
         bool,
@@ -61,7 +64,7 @@ def plan_command(
         ),
     ] = True,
     max_steps: Annotated[
-        int | None, typer.Option(min=1, help="Topological horizon E (default 10 per waypoint/goal).")
+        int | None, typer.Option(min=1, max=MAX_STEPS, help="Topological horizon E (default 10 per waypoint/goal).")
     ] = None,
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --png file.")] = False,
 ) -> None:

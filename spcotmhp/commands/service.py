@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import math
 import re
+import socket
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -40,6 +44,35 @@ def model_mapping(items: list[str]) -> dict[str, Path]:
     return out
 
 
+def listening_socket(host: str, port: int) -> socket.socket:
+    """A TCP socket bound to ``host``:``port`` (as uvicorn binds it: IPv6 when the host has a colon,
+    SO_REUSEADDR), for the server to listen on; an address in use or not available is a one-line
+    :class:`SpcotmhpError` before anything says the service is up."""
+    sock = socket.socket(family=socket.AF_INET6 if ":" in host else socket.AF_INET)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+    except OSError as exc:  # socket.gaierror (an unknown host name) included
+        sock.close()
+        where = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+        if exc.errno == errno.EADDRINUSE:
+            raise SpcotmhpError(
+                f"cannot listen on {where}: the port is already in use; stop what holds it or choose another "
+                "--port (--port 0: any free port)"
+            ) from None
+        reason = exc.strerror or str(exc)
+        raise SpcotmhpError(f"cannot listen on {where}: {reason}; check --host and --port") from None
+    sock.set_inheritable(True)
+    return sock
+
+
+def _seconds(value: float) -> float:
+    """A --time-budget or --body-timeout: a finite number of seconds in [0.1, 600] (a usage error names it)."""
+    if not (math.isfinite(value) and 0.1 <= value <= 600):
+        raise typer.BadParameter(f"must be a finite number of seconds in [0.1, 600], got {value:g}")
+    return value
+
+
 # long: a CLI command: 32 lines of typer options and help, a 33-line body
 def serve(
     models: Annotated[
@@ -62,10 +95,11 @@ def serve(
         ),
     ] = None,
     time_budget: Annotated[
-        float, typer.Option(min=0.1, max=600, help="Seconds a request may wait for its plan before a 503.")
+        float,
+        typer.Option(callback=_seconds, help="Seconds (0.1 to 600) a request may wait for its plan before a 503."),
     ] = 5.0,
     body_timeout: Annotated[
-        float, typer.Option(min=0.1, max=600, help="Seconds to receive a JSON request body before a 408.")
+        float, typer.Option(callback=_seconds, help="Seconds (0.1 to 600) to receive a JSON request body before a 408.")
     ] = 10.0,
 ) -> None:
     """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /.
@@ -85,6 +119,7 @@ def serve(
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
     console = Console(stderr=True)
     mapping = model_mapping(models)
+    sock = listening_socket(host, port)  # before the models load: a port in use fails at once
     hosts = list(allowed_host or LOCAL_HOSTS)
     if not allowed_host and host not in LOCAL_HOSTS + ("0.0.0.0", "::"):
         hosts.append(host)
@@ -105,9 +140,14 @@ def serve(
         )
         console.print(f"allowed hosts (Host header): {', '.join(hosts)}; add names with --allowed-host NAME")
     shown = f"[{host}]" if ":" in host else host
+    port = sock.getsockname()[1]  # the port chosen when --port 0
     console.print(f"serving {len(mapping)} model(s) on http://{shown}:{port}/ (API docs: /docs, schema: /openapi.json)")
     end_startup()
-    uvicorn.run(app, host=host, port=port, log_level=LogLevel(log_level).value)
+    server = uvicorn.Server(uvicorn.Config(app, host=host, port=port, log_level=LogLevel(log_level).value))
+    with contextlib.suppress(KeyboardInterrupt):  # Ctrl-C stops the service quietly, as uvicorn.run does
+        server.run(sockets=[sock])
+    if not server.started:
+        raise SpcotmhpError("the service did not start (uvicorn's message above says why)")
 
 
 def register(app: typer.Typer) -> None:

@@ -15,10 +15,11 @@ def teach(
 ) -> None:
     """Teach the model in MODEL_DIR that UTTERANCE was said at X Y, save it, and print the place it was assigned
     to. The folder is replaced whole or not at all; it must hold a model (nothing else is ever overwritten)."""
-    from spcotmhp.learning.io import load_model, save_model
+    from spcotmhp.learning.io import check_target, load_model, save_model
     from spcotmhp.learning.teach import teach as teach_model
 
     model = load_model(model_dir)
+    check_target(model_dir, True, "teach replaces the model folder whole: move those files out of it first")
     taught = teach_model(model, [{"x": at[0], "y": at[1], "utterance": utterance}])
     save_model(taught.model, model_dir, overwrite=True)
     s = taught.summary()

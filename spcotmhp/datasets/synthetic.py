@@ -23,7 +23,7 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, Room, generate_floor_plan, seeded_rng
-from spcotmhp.datasets.synthetic_walk import teaching_walk
+from spcotmhp.datasets.synthetic_walk import check_events_per_room, teaching_walk
 from spcotmhp.errors import DatasetError, MapError
 from spcotmhp.metric.map_io import save_map
 from spcotmhp.safe_write import fresh_sibling, swap_folder
@@ -71,6 +71,7 @@ def generate_environment(
     See ``generate_floor_plan`` (kind, n_rooms, size, resolution, door_m) and ``teaching_walk``
     (events_per_room, step_m, word_noise, insert_noise). The dataset is named ``synthetic-<kind>-<seed>``.
     """
+    check_events_per_room(events_per_room)  # before the floor plan is drawn
     rng = seeded_rng(seed)
     plan = generate_floor_plan(kind, n_rooms=n_rooms, size=size, resolution=resolution, seed=rng, door_m=door_m)
     data = teaching_walk(

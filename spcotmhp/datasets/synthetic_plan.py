@@ -23,7 +23,9 @@ from spcotmhp.datasets.synthetic_corridors import house_layout, office_layout
 from spcotmhp.datasets.synthetic_layouts import Box, Door, Geometry, flat_layout
 from spcotmhp.datasets.synthetic_vocab import CORRIDOR
 from spcotmhp.errors import DatasetError
+from spcotmhp.limits import MAX_SYNTH_ROOMS, check_count
 from spcotmhp.metric.maps import FREE, OCCUPIED, UNKNOWN, OccupancyMap
+from spcotmhp.safe_read import max_map_pixels
 
 __all__ = ["Door", "FloorPlan", "Room", "generate_floor_plan"]
 
@@ -105,7 +107,7 @@ def _check_plan_settings(
     n = DEFAULT_ROOMS[kind] if n_rooms is None else n_rooms
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_ROOMS[kind]:
         raise DatasetError(f"n_rooms must be an integer >= {MIN_ROOMS[kind]} for a {kind}, got {n_rooms!r}")
-    return int(n)
+    return check_count(n, f"n_rooms ({kind})", MIN_ROOMS[kind], MAX_SYNTH_ROOMS, DatasetError)
 
 
 def generate_floor_plan(
@@ -161,6 +163,19 @@ def generate_floor_plan(
 
 
 def _shape(kind: str, n: int, size: int | tuple[int, int] | None, res: float) -> tuple[int, int]:
+    """The grid's (height, width): ``size``, else what ``n`` places need; at most the map loader's pixel cap."""
+    shape = _requested_shape(kind, n, size, res)
+    cap = max_map_pixels()
+    if shape[0] * shape[1] > cap:
+        asked = f"size {size!r}" if size is not None else f"{n} places of a {kind} at {res:g} m per cell"
+        raise DatasetError(
+            f"a {shape[0]} x {shape[1]} map ({asked}) has {shape[0] * shape[1]} pixels, over the cap of {cap} of "
+            "the map loader (SPCOTMHP_MAX_MAP_PIXELS); use a smaller size or fewer rooms"
+        )
+    return shape
+
+
+def _requested_shape(kind: str, n: int, size: int | tuple[int, int] | None, res: float) -> tuple[int, int]:
     if size is None:  # houses: a corridor between two rows of rooms, 9.5 m deep, as long as their area needs
         area = n * AREA_PER_ROOM_M2[kind]
         height = 9.5 if kind == "house" else math.sqrt(area)

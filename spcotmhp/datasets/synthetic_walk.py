@@ -25,8 +25,17 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_plan import Door, FloorPlan, seeded_rng
 from spcotmhp.datasets.synthetic_vocab import ALL_WORDS, LIVING, PLACE_VOCABULARY, TEMPLATES
 from spcotmhp.errors import DatasetError
+from spcotmhp.limits import MAX_SYNTH_EVENTS, check_count
 
 COORD_DECIMALS = 3  # poses are rounded to the millimetre (so they write to CSV exactly)
+
+
+def check_events_per_room(events_per_room: object, n_rooms: int = 1) -> int:
+    """``events_per_room`` as an int: an integer >= 1 whose walk through ``n_rooms`` rooms teaches at most
+    ``MAX_SYNTH_EVENTS`` events in all, else DatasetError."""
+    most = max(1, MAX_SYNTH_EVENTS // max(n_rooms, 1))
+    where = f" ({n_rooms} rooms x events_per_room is at most {MAX_SYNTH_EVENTS} events)" if n_rooms > 1 else ""
+    return check_count(events_per_room, "events_per_room" + where, 1, most, DatasetError)
 
 
 def teaching_walk(
@@ -58,8 +67,7 @@ def teaching_walk(
     """
     if lang != "en":
         raise DatasetError(f"synthetic teaching utterances exist in English only; got lang={lang!r}, use 'en'")
-    if isinstance(events_per_room, bool) or not isinstance(events_per_room, (int, np.integer)) or events_per_room < 1:
-        raise DatasetError(f"events_per_room must be an integer >= 1, got {events_per_room!r}")
+    check_events_per_room(events_per_room, len(plan.rooms))
     if not 0 < step_m <= 0.5:
         raise DatasetError(f"step_m must be in (0, 0.5] metres, got {step_m}")
     for label, p in (("word_noise", word_noise), ("insert_noise", insert_noise)):

@@ -33,6 +33,7 @@ from spcotmhp.evaluation.metrics import Outcome, summarise
 from spcotmhp.evaluation.spread import aggregate_methods
 from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, subset
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
+from spcotmhp.limits import MAX_JOBS, MAX_SEEDS, check_count
 
 
 @dataclass
@@ -158,7 +159,7 @@ def evaluate_home(
 ) -> HomeResult:
     """All methods on the given tasks of one home."""
     methods = check_methods(methods)
-    workers = default_workers() if workers is None else workers
+    workers = default_workers() if workers is None else check_count(workers, "workers", 1, MAX_JOBS, ValueError)
     bar = progress.add_task(f"{ctx.name} {tasks[0].kind if tasks else ''}", total=len(tasks)) if progress else None
 
     def advance(n: int) -> None:
@@ -203,8 +204,7 @@ def evaluate(
     metric is the mean over the seeds with ``<metric>_sd`` beside it (``mean`` pools the tasks of all homes;
     ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is where learned psi comes from."""
     methods = check_methods(methods)
-    if seeds < 1:
-        raise ValueError(f"seeds must be >= 1, got {seeds}")
+    check_count(seeds, "seeds", 1, MAX_SEEDS, ValueError)
     t_start = time.perf_counter()
     notes: dict = {}
     per_seed: list[list[HomeResult]] = []
@@ -221,7 +221,10 @@ def evaluate(
                 if not tasks:
                     continue
                 again = [m for m in methods if k == 0 or params != "supervised" or m in RANDOM]
-                res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
+                if again:
+                    res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
+                else:  # supervised and only methods that draw nothing: seed 0's outcomes hold for every seed
+                    res = HomeResult(ds.name, [], dict(first[ds.name].notes))
                 if len(again) < len(methods):  # supervised: the methods that draw nothing gave this already
                     res.records += [r for r in first[ds.name].records if r.method not in again]
                 first.setdefault(ds.name, res)

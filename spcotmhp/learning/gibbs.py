@@ -112,6 +112,7 @@ from spcotmhp.learning.posterior import (
 from spcotmhp.learning.seeding import make_rng, seed_repr
 from spcotmhp.learning.split_merge import SplitMerge
 from spcotmhp.learning.truncation import record_truncation
+from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count, check_event_places
 
 TRANSITIONS = ("hmm", "none")
 PLACE_CONCEPTS_FROM = 0.5  # place_concepts enters after half the sweeps (docs/learning-model-study.md, section 8)
@@ -215,7 +216,7 @@ class SpCoTMHP:
             return self._fit(dataset, progress)
 
     def _fit(self, dataset: Dataset, progress: Callable[[int], None] | None) -> SpCoTMHP:
-        self._check_settings()
+        self._check_settings(dataset.n_events)
         t0, c0 = time.perf_counter(), time.process_time()
         hyper = (self.hyper or Hyperparameters()).resized(self.L, self.K)
         obs = Observations.from_dataset(
@@ -361,7 +362,8 @@ class SpCoTMHP:
             concepts = moves.sweep(concepts, places, rng)
         return places, concepts
 
-    def _check_settings(self) -> None:
+    def _check_settings(self, n_events: int) -> None:
+        """ModelError for a setting out of range, or sizes past spcotmhp/limits.py (before any allocation)."""
         for name, value, allowed in (
             ("transitions", self.transitions, TRANSITIONS),
             ("connectivity", self.connectivity, CONNECTIVITY),
@@ -376,10 +378,10 @@ class SpCoTMHP:
             isinstance(start, bool) or not isinstance(start, (int, float)) or not 0 <= start <= 1
         ):
             raise ModelError(f"term_from must be a fraction in [0, 1] or None, got {self.term_from!r}")
-        if self.K < 1 or self.L < 1 or self.iterations < 1:
-            raise ModelError(
-                f"K, L and iterations must be >= 1, got K={self.K}, L={self.L}, iterations={self.iterations}"
-            )
+        check_count(self.K, "K (the place truncation)", 1, MAX_PLACES, ModelError)
+        check_count(self.L, "L (the concept truncation)", 1, MAX_CONCEPTS, ModelError)
+        check_count(self.iterations, "iterations", 1, MAX_ITERATIONS, ModelError)
+        check_event_places(n_events, self.K, ModelError)
 
     def _stats(
         self, obs: Observations, places: np.ndarray, concepts: np.ndarray, sampler: CollapsedConceptSampler

@@ -96,9 +96,10 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
     return write_folder(out, writers, MODEL_FILES)
 
 
-def check_target(folder: Path, overwrite: bool) -> None:
-    """ModelError unless ``folder`` can receive a model: absent, empty, or (with ``overwrite``) a model folder."""
-    check_replaceable(folder, MODEL_FILES)
+def check_target(folder: Path, overwrite: bool, advice: str = "choose an empty or new folder") -> None:
+    """ModelError unless ``folder`` can receive a model: absent, empty, or (with ``overwrite``) a model folder;
+    ``advice`` ends the message about a folder holding other files."""
+    check_replaceable(folder, MODEL_FILES, advice)
     if not overwrite and (folder / "model.json").exists():
         raise ModelError(f"{folder} already holds a model; give --overwrite to replace it, or choose another folder")
 
@@ -117,6 +118,8 @@ def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
 
 def load_model(folder: str | Path) -> SpatialConceptModel:
     """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
+    if not isinstance(folder, (str, os.PathLike)):
+        raise ModelError(f"load_model takes a model folder (a str or a path), got {type(folder).__name__}")
     root = Path(folder)
     if not root.is_dir():
         raise ModelError(

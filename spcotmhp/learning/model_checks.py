@@ -15,6 +15,7 @@ import numpy as np
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.limits import MODEL_MAX_SIZES
 from spcotmhp.metric.costmap import CostMapSettings
 from spcotmhp.safe_read import excerpt, finite_number, load_json
 
@@ -24,7 +25,7 @@ POSITIVE_HYPER = ("alpha", "gamma", "beta", "chi", "omega", "kappa0")
 PROB_TOL = 1e-6
 SYMMETRY_TOL = 1e-9  # relative asymmetry of a Sigma accepted (and removed) on loading
 MAX_JSON_BYTES = 16 * 1024 * 1024
-MAX_SIZES = {"K": 10_000, "L": 10_000, "V": 1_000_000, "D": 100_000}
+MAX_SIZES = MODEL_MAX_SIZES
 MAX_ELEMENTS = 32 * 1024 * 1024  # numbers in all arrays together (256 MiB of float64)
 MAX_WORD_CHARS = 256
 MAX_MEAN_M = 1e6  # |mu| in metres
@@ -220,7 +221,8 @@ def check_gaussians(where: Path, mu: np.ndarray, sigma: np.ndarray) -> np.ndarra
         k = int(np.flatnonzero(bad)[0])
         raise ModelError(
             f"{where}: Sigma[{k}] is not positive definite (eigenvalues {eig[k, 0]:.3g}, "
-            f"{eig[k, 1]:.3g}); a covariance must be"
+            f"{eig[k, 1]:.3g}); a covariance must be positive definite, its smaller eigenvalue above 1e-12 times "
+            "the larger"
         )
     return sym
 

@@ -140,8 +140,9 @@ def write_folder(target: Path, writers: Mapping[str, Callable[[Path], object]], 
     return target
 
 
-def check_replaceable(target: Path, known: tuple[str, ...]) -> None:
-    """ModelError unless ``target`` is absent, an empty folder, or a model folder of only ``known`` files."""
+def check_replaceable(target: Path, known: tuple[str, ...], advice: str = "choose an empty or new folder") -> None:
+    """ModelError unless ``target`` is absent, an empty folder, or a model folder of only ``known`` files;
+    ``advice`` ends the message about a folder holding other files."""
     if target.is_symlink() or (target.exists() and not target.is_dir()):
         raise ModelError(f"cannot save the model to {target}: it exists and is not a folder")
     if not target.exists():
@@ -157,7 +158,7 @@ def check_replaceable(target: Path, known: tuple[str, ...]) -> None:
         listed = ", ".join(others[:5]) + (" ..." if len(others) > 5 else "")
         raise ModelError(
             f"cannot save the model to {target}: the folder holds files that are not a model's "
-            f"({listed or ', '.join(present[:5])}); choose an empty or new folder"
+            f"({listed or ', '.join(present[:5])}); {advice}"
         )
 
 

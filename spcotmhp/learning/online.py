@@ -58,6 +58,7 @@ from spcotmhp.learning.gibbs import make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online_split_merge import KINDS, propose
 from spcotmhp.learning.truncation import TruncationWarning
+from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count
 from spcotmhp.metric.maps import OccupancyMap
 
 MAX_UTTERANCE_CHARS = 1000
@@ -240,6 +241,10 @@ class OnlineSpCoTMHP:
 
         if self.connectivity not in ("auto", "map", "hmm"):
             raise TeachingError(f"connectivity must be auto, map or hmm, got {self.connectivity!r}")
+        check_count(self.max_K, "max_K", 1, MAX_PLACES, TeachingError)
+        check_count(self.max_L, "max_L", 1, MAX_CONCEPTS, TeachingError)
+        for name in ("lag", "rejuvenation", "split_merge"):  # resamples per event: its time
+            check_count(getattr(self, name), name, 0, MAX_ITERATIONS, TeachingError)
         if not (1 <= self.K <= self.max_K and 1 <= self.L <= self.max_L and self.lag >= 0 and self.rejuvenation >= 0):
             raise TeachingError(
                 f"need 1 <= K <= max_K, 1 <= L <= max_L, lag >= 0 and rejuvenation >= 0, got "

@@ -50,6 +50,7 @@ from spcotmhp.learning.run_scores import (
     switch_plugin_log_joint,
     tail_mean_log_joint,
 )
+from spcotmhp.limits import MAX_JOBS, MAX_RUNS, check_count
 
 SCORES: dict[str, Callable[[SpCoTMHP], float]] = {
     "log_joint_switch_mode": switch_mode_log_joint,
@@ -94,8 +95,8 @@ class MultiRunSelector:
         """Run everything; ``progress(n)`` is called with the number of sweeps just completed."""
         if self.criterion not in CRITERIA:
             raise ModelError(f"criterion must be one of {CRITERIA}, got {self.criterion!r}")
-        if self.runs < 1:
-            raise ModelError(f"runs must be >= 1, got {self.runs}")
+        check_count(self.runs, "runs", 1, MAX_RUNS, ModelError)
+        check_count(self.n_jobs, "n_jobs", 1, MAX_JOBS, ModelError)
         t0 = time.perf_counter()
         base = self.estimator or SpCoTMHP()
         params = base.get_params()

@@ -27,6 +27,7 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.selection import MultiRunSelector
+from spcotmhp.limits import MAX_SEEDS, check_count
 
 METHODS: dict[str, dict] = {
     "tmhp_replay": {"transitions": "hmm", "replay": True},
@@ -136,8 +137,7 @@ def evaluate_seeds(
     over seeds."""
     from spcotmhp.evaluation.spread import aggregate_methods
 
-    if seeds < 1:
-        raise ValueError(f"seeds must be >= 1, got {seeds}")
+    check_count(seeds, "seeds", 1, MAX_SEEDS, ValueError)
     warm_up(dataset, **params)
     per_seed = [
         as_json(evaluate_learning(dataset, runs, seed + k, iterations, n_jobs, methods, progress, **params))

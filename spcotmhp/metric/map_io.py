@@ -21,6 +21,7 @@ Nav2 keeps 3 digits), ``negate: 0`` and the thresholds.
 
 from __future__ import annotations
 
+import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -322,10 +323,17 @@ def _magick_grey(level: np.ndarray) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------- helpers
 
 
+_DECIMAL = re.compile(r"[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?[ \t]*")
+"""A decimal number as yaml-cpp's ``as<double>()`` (C++ stream extraction) reads it: PyYAML's YAML 1.1 resolver
+leaves exponent forms without a dot (``5e-2``, ``1e308``) as strings, which Nav2's map_io reads as numbers."""
+
+
 def _number(path: Path, key: str, value: object) -> float:
-    if not finite_number(value):
+    """The finite number of ``key``: a YAML number, or a string yaml-cpp reads as one (``_DECIMAL``)."""
+    number = float(value) if isinstance(value, str) and _DECIMAL.fullmatch(value) else value
+    if not finite_number(number):  # '1e400' reads as inf: refused, as yaml-cpp refuses it
         raise MapError(f"map YAML {path}: key '{key}' must be a finite number, got {excerpt(value)}")
-    return float(value)
+    return float(number)
 
 
 def _check_thresholds(where: str, occupied: float, free: float) -> None:

@@ -53,20 +53,26 @@ def path_places(
     """Start, then the places the final path drives through, in order, with their roles: the territories
     (:mod:`spcotmhp.learning.territory`) along the path, ignoring stretches shorter than the robot's
     diameter (grazing a corner is not passing through), with the waypoints and the goal of Eq. 28's chosen
-    sequence marked where the path reaches them (``points``: the map-frame points of ``result.nodes``).
+    sequence marked where the path reaches them (``points``: the map-frame points of ``result.nodes``). The
+    dwell rule never hides the goal the path ends in (a small territory, or a path cut on arrival), and a goal
+    the path reaches outside its territory still follows every place passed before it.
     ``start_place``: the most probable place of the start, arg max p(i_0 | x_0)."""
     last = result.completes_last  # the goal stage
-    seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
     places = graph.node_place[result.nodes].tolist()
     marks = [  # the nodes that complete a stage, in order
         (k, "goal" if last in done else "waypoint", xy)
         for k, done, xy in zip(places, result.completed, points.tolist(), strict=True)
         if done
     ]
+    seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
+    ends_in = graph.territory[cells[:, 0], cells[:, 1]]
+    ends_in = ends_in[ends_in >= 0]
+    if len(ends_in) and marks and ends_in[-1] == marks[-1][0] and (not seq or seq[-1] != ends_in[-1]):
+        seq.append(int(ends_in[-1]))  # the path ends in the goal: arriving counts, however short the stay
     out = [place(planner, start_place, "start", x0)]
     pos = 1 if seq and seq[0] == start_place else 0
     for k, role, xy in marks:
-        nxt = seq.index(k, pos) if k in seq[pos:] else None
+        nxt = seq.index(k, pos) if k in seq[pos:] else (len(seq) if role == "goal" else None)
         for v in seq[pos:nxt] if nxt is not None else []:
             if v != out[-1].id:
                 out.append(place(planner, v, "via"))

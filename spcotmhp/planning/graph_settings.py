@@ -12,6 +12,7 @@ import numpy as np
 
 from spcotmhp.errors import InvalidSettings
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS, check_count
 from spcotmhp.planning.vocabulary import INSTANCE_RATIO
 
 
@@ -41,7 +42,7 @@ class GraphSettings:
 
     def __post_init__(self) -> None:
         """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
-        require_int(self.n_candidates, "n_candidates", 1)
+        require_int(self.n_candidates, "n_candidates", 1, MAX_CANDIDATES)
         require_int(self.seed, "seed", 0)
         if self.connectivity not in (4, 8) or isinstance(self.connectivity, bool):
             raise InvalidSettings(f"connectivity must be 4 or 8, got {self.connectivity!r}")
@@ -53,8 +54,11 @@ class GraphSettings:
         require_range(self.portal_spacing, "portal_spacing", 0.0, math.inf, "> 0 (metres)", open_=True)
 
 
-def require_int(value: object, name: str, low: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+def require_int(value: object, name: str, low: int, high: int | None = None) -> None:
+    """``value`` must be an integer >= ``low`` (and <= ``high`` when given: spcotmhp/limits.py)."""
+    if high is not None:
+        check_count(value, name, low, high, InvalidSettings)
+    elif isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
         raise InvalidSettings(f"{name} must be an integer >= {low}, got {value!r}")
 
 
@@ -141,9 +145,9 @@ class PlannerSettings(GraphSettings):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        require_int(self.steps_per_stage, "steps_per_stage", 1)
+        require_int(self.steps_per_stage, "steps_per_stage", 1, MAX_STEPS)
         if self.max_steps is not None:
-            require_int(self.max_steps, "max_steps", 1)
+            require_int(self.max_steps, "max_steps", 1, MAX_STEPS)
         require_range(self.instance_ratio, "instance_ratio", 1.0, math.inf, ">= 1")
         require_range(self.start_min_posterior, "start_min_posterior", 0.0, 1.0, "in [0, 1]")
         if self.arrival_quantile is not None:

@@ -38,6 +38,7 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
+from spcotmhp.planning.arguments import check_keywords, check_parse_arguments
 from spcotmhp.planning.grammar import GRAMMARS
 from spcotmhp.planning.nbest import heaviest_group, nbest_weights
 from spcotmhp.planning.sentence import Phrase, read_sentence
@@ -141,6 +142,9 @@ def parse_text(
     >>> [q.label for q in ins.stages], [q.label for q in ins.avoid]
     (['corridor', 'bedroom'], ['kitchen'])
     """
+    check_parse_arguments(
+        "parse_text", place_words, max_chars=max_chars, max_waypoints=max_waypoints, max_avoided=max_avoided
+    )
     if not isinstance(text, str):
         raise MalformedInstruction(f"an instruction text must be a string, got {excerpt(text)}")
     limit = MAX_CHARS if max_chars is None else max_chars
@@ -208,6 +212,7 @@ def parse_structured(
         MalformedInstruction: not a JSON object of that shape. UnknownPlaceWord: a token is no place word.
         InstructionTooLarge: too long a JSON text, too many places or words.
     """
+    check_parse_arguments("parse_structured", place_words, max_waypoints=max_waypoints, max_avoided=max_avoided)
     if isinstance(obj, str):
         obj = _json_value(obj)
     if not isinstance(obj, Mapping):
@@ -233,7 +238,10 @@ def parse_structured(
                 raise InstructionTooLarge(f"{where} has {len(tokens)} characters: {excerpt(tokens)}")
             tokens = tokens.split()
         if not isinstance(tokens, (list, tuple)) or not tokens or not all(isinstance(t, str) for t in tokens):
-            raise MalformedInstruction(f"{where} must be a non-empty list of words, got {excerpt(tokens)}")
+            listed = tokens if isinstance(tokens, (list, tuple)) else ()
+            wrong = [f"{where}[{i}] is {excerpt(t)}" for i, t in enumerate(listed) if not isinstance(t, str)]
+            got = f"{wrong[0]}, not a word" if wrong else f"got {excerpt(tokens)}"
+            raise MalformedInstruction(f"{where} must be a non-empty list of words; {got}")
         if len(tokens) > MAX_PLACE_WORDS:
             raise InstructionTooLarge(f"{where} has {len(tokens)} words, more than the {MAX_PLACE_WORDS} accepted")
         bad = list(dict.fromkeys(t for t in tokens if t not in known))
@@ -291,6 +299,8 @@ def parse_nbest(
         finite number. InstructionTooLarge: more than ``max_hypotheses`` entries. When no hypothesis parses,
         the first hypothesis' error class, with its message.
     """
+    check_keywords("parse_nbest", limits, ("max_hypotheses", "max_chars", "max_waypoints", "max_avoided"))
+    check_parse_arguments("parse_nbest", place_words, max_hypotheses=max_hypotheses, **limits)
     texts, weights = nbest_weights(hypotheses, _limit(max_hypotheses, MAX_HYPOTHESES))
     parsed: list[tuple[Instruction, float]] = []
     first_error: InstructionError | None = None

@@ -50,6 +50,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import itertools
+import os
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import fields, replace
@@ -60,6 +61,7 @@ import numpy as np
 from spcotmhp.errors import (
     ConflictingInstruction,
     HorizonTooShort,
+    ModelError,
     SpcotmhpError,
     StartInAvoidedPlace,
     UnknownPlaceWord,
@@ -97,6 +99,12 @@ class HierarchicalPlanner:
         cache: GraphCache | None = None,
         **overrides: Any,
     ) -> None:
+        if not isinstance(model, SpatialConceptModel):
+            given = type(model).__name__ + (f" {str(model)[:60]!r}" if isinstance(model, (str, os.PathLike)) else "")
+            raise ModelError(
+                f"HierarchicalPlanner takes a SpatialConceptModel, got a {given}; load a model folder with "
+                "spcotmhp.learning.io.load_model(folder)"
+            )
         unknown = set(overrides) - {f.name for f in fields(PlannerSettings)}
         if unknown:
             raise TypeError(f"unknown planner setting(s): {', '.join(sorted(unknown))}")

@@ -32,6 +32,12 @@ def start_cell(
     is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
     escape is the shortest run of free cells from the start to the nearest cell of the main free component
     (the planning starts at its end)."""
+    if (
+        isinstance(start, (bool, np.bool_))
+        or (isinstance(start, (list, tuple)) and any(isinstance(v, (bool, np.bool_)) for v in start))
+        or (isinstance(start, np.ndarray) and start.dtype == np.bool_)
+    ):
+        raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, not booleans; got {_excerpt(start)}")
     try:
         x0 = np.asarray(start, dtype=float).reshape(-1)
     except (TypeError, ValueError, OverflowError):
@@ -74,10 +80,28 @@ def start_cell(
 
 
 def _escape(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, radius_m: float) -> np.ndarray | None:
-    """Map cells from ``cell`` to the nearest cell of the graph's main free component, through free cells of
-    the map, within a window of the inscribed radius plus two cells; None if there is none."""
+    """The shortest run of free map cells (8-connected, diagonal steps sqrt 2) from ``cell`` to a cell of the
+    graph's main free component, when one is reachable by a run that stays within ``ceil(radius / resolution)
+    + 2`` cells of ``cell`` along each axis; None if none is. A run found in that window that is longer than
+    the window is wide may be beaten by one to a cell just outside it, so the search is then repeated in a
+    window as wide as the run is long (which holds every shorter run)."""
     res = graph.model.require_map().resolution
     r = math.ceil(max(radius_m, res) / res) + 2
+    path = _escape_within(free, graph, cell, r)
+    if path is not None and (length := _run_length(path)) > r + 1:
+        path = _escape_within(free, graph, cell, math.ceil(length))
+    return path
+
+
+def _run_length(cells: np.ndarray) -> float:
+    """Length of a run of 8-connected cells, in cells."""
+    steps = np.abs(np.diff(cells, axis=0)).sum(axis=1)
+    return float(np.where(steps == 2, SQRT2, steps).sum())
+
+
+def _escape_within(free: np.ndarray, graph: PlanningGraph, cell: np.ndarray, r: int) -> np.ndarray | None:
+    """The shortest run of free cells from ``cell`` to the main component inside the window of half-side
+    ``r`` cells around it (map cells), or None."""
     h, w = free.shape
     r0, c0 = max(cell[0] - r, 0), max(cell[1] - r, 0)
     r1, c1 = min(cell[0] + r + 1, h), min(cell[1] + r + 1, w)

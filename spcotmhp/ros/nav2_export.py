@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spcotmhp.errors import ModelError, SpcotmhpError
+from spcotmhp.errors import InstructionError, ModelError, SpcotmhpError
 from spcotmhp.metric.map_io import save_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.assemble import path_length
@@ -100,10 +100,14 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
 
 
 def keepout_mask(planner: HierarchicalPlanner, avoid: Sequence[str]) -> tuple[OccupancyMap, list[int]]:
-    """The keepout mask of the places named in ``avoid`` (each a place's name, e.g. "kitchen") and the places."""
+    """The keepout mask of the places named in ``avoid`` (each a place's name, e.g. "kitchen") and the places;
+    a name that names no place is the planner's InstructionError, saying it was a place to avoid."""
     avoided = np.zeros(planner.model.K, dtype=bool)
     for words in avoid:
-        avoided |= planner.places_named(words)
+        try:
+            avoided |= planner.places_named(words)
+        except InstructionError as exc:  # places_named reads the words as a goal; here they name a place to avoid
+            raise type(exc)(f"place to avoid (--avoid) {words!r}: {str(exc).removeprefix('goal: ')}") from None
     graph, occ = planner.graph, planner.model.require_map()
     data = np.zeros(occ.shape, dtype=np.int8)
     (r0, c0), (h, w) = graph.offset, graph.territory.shape

@@ -4,12 +4,12 @@
 start-up (:mod:`spcotmhp.server.registry`); requests pick a model by name (``?model=`` or the body's
 ``model``), the first one by default. Bad input is a 4xx with a one-line ``detail`` (see :class:`ErrorResponse`):
 413 for oversized bodies (:mod:`spcotmhp.server.limits`), 408 for a body that arrives too slowly, 400 for a
-Host header naming a host that is not allowed (localhost only by default), 404 for an unknown model, 422 for
-invalid fields, an instruction naming no known place (with the known ``place_words``), a start in a wall or off
-the map, no path, or audio that is not a usable WAV file; 503 when the planner is busy or a plan exceeds the
-time budget (:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns a place name at run time. ``/docs`` is a
-self-contained page describing the API from
-``/openapi.json`` (no CDN, works offline).
+Host header naming a host that is not allowed (localhost only by default), 404 for an unknown model, 415 for a
+JSON endpoint's body sent with another Content-Type, 422 for invalid fields, an instruction naming no known
+place (with the known ``place_words``), a start in a wall or off the map, no path, or audio that is not a
+usable WAV file; 503 when the planner is busy or a plan exceeds the time budget
+(:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns a place name at run time. ``/docs`` is a
+self-contained page describing the API from ``/openapi.json`` (no CDN, works offline).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
-from fastapi import FastAPI, File, Form, Query, Request, UploadFile
+from fastapi import Depends, FastAPI, File, Form, Query, Request, UploadFile
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
@@ -54,7 +54,7 @@ from spcotmhp.server.schemas import (
 
 STATIC = Path(__file__).parent / "static"
 ModelQuery = Annotated[str | None, Query(max_length=200, description="Served model name (default: the first).")]
-ERRORS: dict[int | str, dict[str, Any]] = {code: {"model": ErrorResponse} for code in (404, 413, 422, 503)}
+ERRORS: dict[int | str, dict[str, Any]] = {code: {"model": ErrorResponse} for code in (404, 413, 415, 422, 503)}
 
 
 class APIError(Exception):
@@ -162,13 +162,13 @@ def create_app(
             "resolution": sm.model.require_map().resolution,
         }
 
-    @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"])
+    @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"], dependencies=JSON_BODY)
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
-    @app.post("/teach", response_model=TeachResponse, responses=ERRORS, tags=["learning"])
+    @app.post("/teach", response_model=TeachResponse, responses=ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
         """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
         later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
@@ -211,6 +211,22 @@ def create_app(
         return out
 
     return app
+
+
+def require_json(request: Request) -> None:
+    """415 for a body sent without a JSON Content-Type (``application/json`` or ``application/*+json``, the
+    ones FastAPI reads as JSON): a form or text body would otherwise be a 422 about the body's fields."""
+    given = request.headers.get("content-type")
+    kind = (given or "").split(";", 1)[0].strip().lower()
+    if kind == "application/json" or (kind.startswith("application/") and kind.endswith("+json")):
+        return
+    sent = "a body without a Content-Type" if given is None else f"Content-Type {given[:80]!r}"
+    raise APIError(
+        415, f"{sent} is not accepted: {request.url.path} takes a JSON body, sent with Content-Type: application/json"
+    )
+
+
+JSON_BODY = [Depends(require_json)]  # the dependencies of the endpoints that take a JSON body
 
 
 def _one_model(query: str | None, body: str | None) -> str | None:

@@ -3,6 +3,8 @@ seeding helpers of the library raise clear errors for them."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from typer.testing import CliRunner
@@ -50,3 +52,35 @@ def test_synthetic_seed_errors(seed):
         generate_environment("flat", seed=seed)
     with pytest.raises(DatasetError, match="seed must be a non-negative integer"):
         seeded_rng(seed)
+
+
+@pytest.mark.parametrize(
+    "args, option",
+    [
+        (["learn", "3LDK_06", "--out", "unused", "--runs", "1000000000"], "--runs"),
+        (["learn", "3LDK_06", "--out", "unused", "--max-places", "100000000"], "--max-places"),
+        (["learn", "3LDK_06", "--out", "unused", "--max-concepts", "100000000"], "--max-concepts"),
+        (["learn", "3LDK_06", "--out", "unused", "--iterations", "1000000000"], "--iterations"),
+        (["learn", "3LDK_06", "--out", "unused", "--jobs", "100000"], "--jobs"),
+        (["evaluate-learning", "albert-b", "--seeds", "100000"], "--seeds"),
+        (["evaluate", "3LDK_01", "--seeds", "100000"], "--seeds"),
+        (["evaluate", "3LDK_01", "--workers", "100000"], "--workers"),
+        (["demo", "--runs", "1000000000"], "--runs"),
+        (["synth", "office", "--out", "unused", "--rooms", "100000"], "--rooms"),
+        (
+            ["plan", "unused-model", "go", "--start", "0", "0", "--candidates", "10000000"],
+            "--candidates",
+        ),
+        (
+            ["plan", "unused-model", "go", "--start", "0", "0", "--max-steps", "1000000000"],
+            "--max-steps",
+        ),
+    ],
+)
+def test_counts_have_upper_bounds(args, option):
+    """Audit items 4 and 5: every count option has an upper bound (spcotmhp/limits.py), refused as a usage
+    error before anything is loaded or allocated."""
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 2, res.output
+    assert f"Invalid value for '{option}'" in res.output and "less than or equal to" in res.output
+    assert not Path("unused").exists()

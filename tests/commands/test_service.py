@@ -45,3 +45,41 @@ def test_serve_reports_a_missing_model_folder(tmp_path):
     )
     assert run.returncode == 2
     assert run.stderr.strip().splitlines()[-1] == f"error: model folder {tmp_path / 'nope'} does not exist"
+
+
+def _serve(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "spcotmhp.cli", "serve", *args], capture_output=True, text=True, timeout=120, check=False
+    )
+
+
+def test_serve_reports_a_port_in_use_in_one_line(model_dir):
+    """Audit item 10: with the port taken, one error line and status 2, and no "serving" line before it."""
+    import socket
+
+    with socket.socket() as holder:
+        holder.bind(("127.0.0.1", 0))
+        holder.listen()
+        port = holder.getsockname()[1]
+        run = _serve(str(model_dir), "--port", str(port))
+    assert run.returncode == 2, run.stderr
+    assert run.stderr.strip().splitlines() == [
+        f"error: cannot listen on 127.0.0.1:{port}: the port is already in use; stop what holds it or choose "
+        "another --port (--port 0: any free port)"
+    ]
+    assert "serving" not in run.stdout + run.stderr
+
+
+def test_serve_reports_an_unusable_host_in_one_line(model_dir):
+    run = _serve(str(model_dir), "--host", "192.0.2.1", "--port", "0")  # TEST-NET-1: not this machine's
+    assert run.returncode == 2
+    assert run.stderr.strip().splitlines()[-1].startswith("error: cannot listen on 192.0.2.1:0: ")
+
+
+@pytest.mark.parametrize("option", ["--time-budget", "--body-timeout"])
+@pytest.mark.parametrize("value", ["nan", "inf", "0", "601"])
+def test_serve_time_options_must_be_finite_seconds(model_dir, option, value):
+    """Audit item 12: --time-budget nan said "should be less than or equal to 600"."""
+    run = _serve(str(model_dir), option, value)
+    assert run.returncode == 2
+    assert f"Invalid value for '{option}': must be a finite number of seconds in [0.1, 600], got " in run.stderr

@@ -345,6 +345,42 @@ def test_write_dataset_replaces_a_dataset_whole_and_only_when_asked(tmp_path):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no staging folder left
 
 
+def test_oversized_settings_are_refused_before_the_map_is_drawn(monkeypatch):
+    """Audit item 4: a map side, room count or event count over its bound (spcotmhp/limits.py) is refused
+    before anything of its size is allocated (the rasteriser is never reached)."""
+    from spcotmhp.datasets import synthetic_plan
+
+    def never(*args, **kwargs):
+        raise AssertionError("the map was allocated")
+
+    monkeypatch.setattr(synthetic_plan, "_rasterise", never)
+    for kwargs in ({"size": 100_000}, {"size": 4500}, {"events_per_room": 10**8}, {"n_rooms": 10**6}):
+        with pytest.raises(DatasetError):
+            generate_environment("office", **kwargs)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--size", "100000"], "error: a 100000 x 100000 map (size 100000) has 10000000000 pixels, over the cap"),
+        (["--size", "4500"], "error: a 4500 x 4500 map (size 4500) has 20250000 pixels, over the cap of 16000000"),
+        (["--events-per-room", "100000000"], "error: Invalid value for '--events-per-room'"),
+        (["--events-per-room", "100000"], "error: events_per_room (60 rooms x events_per_room is at most 200000"),
+        (["--rooms", "100000"], "error: Invalid value for '--rooms'"),
+    ],
+)
+def test_synth_command_bounds(tmp_path, args, message):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    exe = Path(sys.executable).parent / "spcotmhp"
+    cmd = [str(exe), "synth", "office", "--rooms", "60", "--out", str(tmp_path / "o"), *args]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120, check=False)
+    assert res.returncode == 2 and res.stderr.startswith(message), res.stderr
+    assert len(res.stderr.strip().splitlines()) == 1 and not (tmp_path / "o").exists()
+
+
 def test_synth_command_reports_an_unwritable_folder_in_one_line():
     import subprocess
     import sys
@@ -380,6 +416,16 @@ def test_synth_command_reports_an_unwritable_folder_in_one_line():
         ({"door_m": 0.5}, r"door width 0.5 m is below 0.6 m"),
         ({"resolution": 0.5}, r"resolution 0.5 m per cell is outside 0.01 .. 0.2"),
         ({"wall_cells": 3}, r"wall_cells must be 1 or 2, got 3"),
+        ({"kind": "office", "n_rooms": 1001}, r"n_rooms \(office\) must be an integer in \[\d+, 1000\], got 1001"),
+        (
+            {"kind": "flat", "size": 100_000},
+            r"a 100000 x 100000 map \(size 100000\) has 10000000000 pixels, over the cap of 16000000 of the map loader",
+        ),
+        ({"kind": "flat", "size": (4000, 4001)}, r"a 4000 x 4001 map \(size \(4000, 4001\)\) has 16004000 pixels"),
+        (
+            {"kind": "office", "n_rooms": 1000},
+            r"map \(1000 places of a office at 0.1 m per cell\) has \d+ pixels, over",
+        ),
     ],
 )
 def test_bad_plan_arguments(kwargs, message):
@@ -391,7 +437,8 @@ def test_bad_plan_arguments(kwargs, message):
     "kwargs, message",
     [
         ({"lang": "ja"}, r"English only; got lang='ja'"),
-        ({"events_per_room": 0}, r"events_per_room must be an integer >= 1, got 0"),
+        ({"events_per_room": 0}, r"events_per_room .*must be an integer in \[1, \d+\], got 0"),
+        ({"events_per_room": 10**8}, r"events_per_room \(\d+ rooms x events_per_room is at most 200000 events\)"),
         ({"step_m": 0.0}, r"step_m must be in \(0, 0.5\] metres, got 0.0"),
         ({"word_noise": 1.5}, r"word_noise is a probability in \[0, 1\], got 1.5"),
         ({"insert_noise": -0.1}, r"insert_noise is a probability in \[0, 1\], got -0.1"),

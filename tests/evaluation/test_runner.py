@@ -169,6 +169,30 @@ def test_cli_evaluate_json():
     assert {"spl", "spl_sd", "n_spl", "n_spl_sd", "success_sd"} <= set(res["mean"]["hpp2"])
 
 
+@pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
+def test_deterministic_methods_alone_over_several_seeds():
+    """Audit item 6: with supervised parameters and only methods that draw nothing, seeds after the first
+    reuse the first seed's outcomes (they used to leave no method to run and fail with "unknown method(s)")."""
+    from spcotmhp.datasets.bundled import load_bundled
+    from spcotmhp.evaluation.runner import evaluate
+
+    res = evaluate([load_bundled("3LDK_05")], "basic", ["spcotmhp"], max_tasks=3, workers=1, seeds=2, quiet=True)
+    assert res["seeds"] == 2 and list(res["mean"]) == ["spcotmhp"]
+    assert res["mean"]["spcotmhp"]["n_tasks"] == 3 and res["mean"]["spcotmhp"]["spl_sd"] == 0.0
+
+
+def test_seeds_are_bounded():
+    from spcotmhp.evaluation.runner import evaluate
+    from spcotmhp.limits import MAX_SEEDS
+
+    with pytest.raises(ValueError, match=f"seeds must be an integer in \\[1, {MAX_SEEDS}\\], got {MAX_SEEDS + 1}"):
+        evaluate([], "basic", ["spcotmhp"], seeds=MAX_SEEDS + 1, quiet=True)
+    from spcotmhp.evaluation.runner import evaluate_home
+
+    with pytest.raises(ValueError, match="workers must be an integer in \\[1, 256\\], got 1000000"):
+        evaluate_home(None, [], ["spcotmhp"], workers=10**6)
+
+
 @pytest.mark.parametrize(
     "args,message",
     [

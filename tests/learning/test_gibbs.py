@@ -174,13 +174,31 @@ def test_bad_datasets_get_clear_errors(changes, message):
         ({"transitions": "hsmm"}, "transitions must be one of"),
         ({"connectivity": "magic"}, "connectivity must be one of"),
         ({"init": "zeros"}, "init must be one of"),
-        ({"K": 0}, "K, L and iterations must be >= 1"),
+        ({"K": 0}, r"K \(the place truncation\) must be an integer in \[1, 1000\], got 0"),
+        ({"K": 10**8}, r"K \(the place truncation\) must be an integer in \[1, 1000\], got 100000000"),
+        ({"L": 10**8}, r"L \(the concept truncation\) must be an integer in \[1, 1000\], got 100000000"),
+        ({"iterations": 10**9}, r"iterations must be an integer in \[1, 100000\], got 1000000000"),
         ({"split_merge": "yes"}, "split_merge must be True, False or 'auto'"),
     ],
 )
 def test_bad_settings_get_clear_errors(kwargs, message):
     with pytest.raises(ModelError, match=message):
         SpCoTMHP(**kwargs).fit(planted_dataset(E=20))
+
+
+def test_counts_are_refused_before_the_observations_are_built(monkeypatch):
+    """Audit item 5: --max-places 100000000 used to allocate (K, 4) arrays first; the events x K bound too."""
+    from spcotmhp import limits
+    from spcotmhp.learning import gibbs
+
+    monkeypatch.setattr(gibbs.Observations, "from_dataset", lambda *a, **k: pytest.fail("observations were built"))
+    data = planted_dataset(E=20)
+    for kwargs in ({"K": 10**8}, {"L": 10**8}, {"iterations": 10**9}):
+        with pytest.raises(ModelError, match="must be an integer in"):
+            SpCoTMHP(**kwargs).fit(data)
+    monkeypatch.setattr(limits, "MAX_EVENT_PLACES", 19_999)  # 20 events x K = 1000 is one number too many
+    with pytest.raises(ModelError, match="20 events x K=1000 places is 20000 numbers per .* more than the 19999"):
+        SpCoTMHP(K=1000).fit(data)
 
 
 def test_trajectory_transitions_recover_the_synthetic_house_doors():

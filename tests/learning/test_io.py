@@ -164,7 +164,12 @@ def test_missing_array(saved):
         ),
         ("pi", lambda m: m.pi * 2, "pi must be non-negative with rows summing to 1"),
         ("mu", lambda m: np.full_like(m.mu, np.nan), "mu must hold finite floating-point numbers"),
-        ("Sigma", lambda m: -m.Sigma, r"Sigma\[0\] is not positive definite"),
+        (
+            "Sigma",
+            lambda m: -m.Sigma,
+            r"Sigma\[0\] is not positive definite \(eigenvalues -[\d.e-]+, -[\d.e-]+\); a covariance must be "
+            r"positive definite, its smaller eigenvalue above 1e-12 times the larger$",
+        ),
         (
             "active_places",
             lambda m: m.active_places.astype(float),
@@ -431,3 +436,11 @@ def test_predict_assignments_with_a_zero_in_w_and_the_one_word_likelihood():
         lw = log_multinomial(np.log(W), np.array([[2.0, 0.0], [0.0, 0.0], [1.0, 1.0]]))
     assert lw.tolist() == [[0.0, -np.inf], [0.0, 0.0], [-np.inf, -np.inf]]
     assert model.log_word_likelihood(["a", "a"]).tolist() == [0.0, -np.inf]
+
+
+@pytest.mark.parametrize("given, shown", [(None, "NoneType"), (3, "int"), (["m06"], "list")])
+def test_load_model_takes_a_folder(given, shown):
+    """Audit item 13: load_model(None) raised a bare TypeError from Path(None)."""
+    with pytest.raises(ModelError) as info:
+        load_model(given)
+    assert str(info.value) == f"load_model takes a model folder (a str or a path), got {shown}"

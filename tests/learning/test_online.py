@@ -190,3 +190,21 @@ def test_http_teach_then_plan(batch_dir):
     r = client.post("/teach", json={"utterance": "x" * 10_000, "x": spot[0], "y": spot[1]})
     assert r.status_code in (413, 422)
     assert json.loads(client.get("/models").text)["models"][0]["places"] == int(model.active_places.sum()) + 1
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"max_K": 10**8}, r"max_K must be an integer in \[1, 1000\], got 100000000"),
+        ({"max_L": 10**8}, r"max_L must be an integer in \[1, 1000\], got 100000000"),
+        ({"lag": 10**9}, r"lag must be an integer in \[0, 100000\], got 1000000000"),
+        ({"rejuvenation": -1}, r"rejuvenation must be an integer in \[0, 100000\], got -1"),
+        ({"split_merge": 2.5}, r"split_merge must be an integer in \[0, 100000\], got 2.5"),
+    ],
+)
+def test_online_sizes_are_bounded(kwargs, message):
+    """Audit items 4 and 5: the online learner's truncation caps and per-event work are bounded
+    (spcotmhp/limits.py), refused before any state is built."""
+    learner = OnlineSpCoTMHP(**kwargs)
+    with pytest.raises(TeachingError, match=message):
+        learner.partial_fit([TeachingEvent(0.0, 0.0, ("kitchen",))])

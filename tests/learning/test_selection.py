@@ -93,8 +93,19 @@ def test_progress_counts_every_sweep(data):
 def test_bad_settings(data):
     with pytest.raises(ModelError, match="criterion must be one of"):
         MultiRunSelector(runs=2, criterion="coin").fit(data)
-    with pytest.raises(ModelError, match="runs must be >= 1"):
+    with pytest.raises(ModelError, match=r"runs must be an integer in \[1, 1000\], got 0"):
         MultiRunSelector(runs=0).fit(data)
+
+
+@pytest.mark.parametrize("kwargs", [{"runs": 10**9}, {"n_jobs": 10**6}, {"runs": 2.5}])
+def test_counts_are_bounded_before_any_run_is_set_up(data, monkeypatch, kwargs):
+    """Audit item 5: a billion runs used to build a billion job dicts (MemoryError); now a one-line ModelError
+    comes first."""
+    from spcotmhp.learning import selection
+
+    monkeypatch.setattr(selection.SpCoTMHP, "get_params", lambda self: pytest.fail("runs were set up"))
+    with pytest.raises(ModelError, match=r"(runs|n_jobs) must be an integer in \[1, \d+\], got "):
+        MultiRunSelector(**kwargs).fit(data)
 
 
 def _state_joint(st, transitions=True) -> float:

@@ -291,6 +291,58 @@ def test_invalid_key(tmp_path: Path, key: str, value: object, message: str) -> N
     assert str(path) in str(info.value)
 
 
+NAV2_YAML = """image: m.pgm
+mode: trinary
+resolution: {resolution}
+origin: [{ox}, {oy}, 0]
+negate: 0
+occupied_thresh: {occupied}
+free_thresh: {free}
+"""
+
+
+@pytest.mark.parametrize(
+    "keys, resolution, origin",
+    [
+        ({"resolution": "5e-2"}, 0.05, (0.0, 0.0)),
+        ({"resolution": "1E-1", "ox": "-1e1", "oy": "+2.5e0"}, 0.1, (-10.0, 2.5)),
+        ({"resolution": "1e-4", "ox": "1e5"}, 1e-4, (1e5, 0.0)),
+        ({"occupied": "65e-2", "free": "1.96e-1"}, 0.05, (0.0, 0.0)),
+        ({"resolution": "'5e-2'"}, 0.05, (0.0, 0.0)),  # yaml-cpp converts a quoted scalar too
+        ({"resolution": "5.", "ox": ".5"}, 5.0, (0.5, 0.0)),
+    ],
+)
+def test_exponent_numbers_as_nav2_reads_them(tmp_path: Path, keys: dict, resolution: float, origin) -> None:
+    """Audit item 7: PyYAML's YAML 1.1 resolver reads 5e-2 (no dot) as a string; Nav2's map_io (yaml-cpp
+    as<double>) reads it as 0.05. The numeric keys accept it."""
+    Image.fromarray(np.zeros((2, 2), dtype=np.uint8)).save(tmp_path / "m.pgm")
+    fields = {"resolution": "0.05", "ox": "0", "oy": "0", "occupied": "0.65", "free": "0.196", **keys}
+    (tmp_path / "map.yaml").write_text(NAV2_YAML.format(**fields))
+    m = load_map(tmp_path / "map.yaml")
+    assert m.resolution == resolution and m.origin[:2] == origin
+
+
+@pytest.mark.parametrize(
+    "keys, message",
+    [
+        ({"resolution": "1e-9"}, r"resolution' must be a number of metres per cell in 0.0001..1000, got 1e-09"),
+        ({"ox": "1e308"}, r"origin x and y must lie within \+-1e\+06 m"),
+        ({"ox": "1e400"}, r"key 'origin' must be a finite number, got '1e400'"),
+        ({"resolution": ".nan"}, r"key 'resolution' must be a finite number, got nan"),
+        ({"resolution": ".inf"}, r"key 'resolution' must be a finite number, got inf"),
+        ({"resolution": "nan"}, r"key 'resolution' must be a finite number, got 'nan'"),
+        ({"resolution": "5e"}, r"key 'resolution' must be a finite number, got '5e'"),
+        ({"free": "1e-1e"}, r"key 'free_thresh' must be a finite number, got '1e-1e'"),
+    ],
+)
+def test_exponent_numbers_still_checked(tmp_path: Path, keys: dict, message: str) -> None:
+    Image.fromarray(np.zeros((2, 2), dtype=np.uint8)).save(tmp_path / "m.pgm")
+    fields = {"resolution": "0.05", "ox": "0", "oy": "0", "occupied": "0.65", "free": "0.196", **keys}
+    (tmp_path / "map.yaml").write_text(NAV2_YAML.format(**fields))
+    with pytest.raises(MapError, match=message):
+        load_map(tmp_path / "map.yaml")
+
+
 def test_missing_image(tmp_path: Path) -> None:
     path = write_yaml(tmp_path, {"image": "gone.pgm", **BASE})
     with pytest.raises(MapError, match=r"map image .*gone\.pgm does not exist"):

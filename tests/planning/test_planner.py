@@ -245,17 +245,20 @@ def test_plan_function_and_settings():
 @pytest.mark.parametrize(
     "setting, message",
     [
-        ({"n_candidates": 0}, "n_candidates must be an integer >= 1, got 0"),
-        ({"n_candidates": -1}, "n_candidates must be an integer >= 1, got -1"),
-        ({"n_candidates": 2.5}, "n_candidates must be an integer >= 1, got 2.5"),
+        ({"n_candidates": 0}, "n_candidates must be an integer in [1, 100], got 0"),
+        ({"n_candidates": -1}, "n_candidates must be an integer in [1, 100], got -1"),
+        ({"n_candidates": 2.5}, "n_candidates must be an integer in [1, 100], got 2.5"),
+        ({"n_candidates": 10**9}, "n_candidates must be an integer in [1, 100], got 1000000000"),
         ({"seed": -1}, "seed must be an integer >= 0, got -1"),
         ({"connectivity": 6}, "connectivity must be 4 or 8, got 6"),
         ({"edge_threshold": 1.5}, "edge_threshold must be in [0, 1] (or None: 1/K), got 1.5"),
         ({"candidate_quantile": 1.0}, "candidate_quantile must be in (0, 1), got 1.0"),
         ({"tube_margin": float("nan")}, "tube_margin must be >= 0, got nan"),
-        ({"steps_per_stage": 0}, "steps_per_stage must be an integer >= 1, got 0"),
-        ({"max_steps": 0}, "max_steps must be an integer >= 1, got 0"),
-        ({"max_steps": -3}, "max_steps must be an integer >= 1, got -3"),
+        ({"steps_per_stage": 0}, "steps_per_stage must be an integer in [1, 1000], got 0"),
+        ({"steps_per_stage": 1001}, "steps_per_stage must be an integer in [1, 1000], got 1001"),
+        ({"max_steps": 0}, "max_steps must be an integer in [1, 1000], got 0"),
+        ({"max_steps": -3}, "max_steps must be an integer in [1, 1000], got -3"),
+        ({"max_steps": 10**9}, "max_steps must be an integer in [1, 1000], got 1000000000"),
         ({"instance_ratio": 0.5}, "instance_ratio must be >= 1, got 0.5"),
         ({"start_min_posterior": 2}, "start_min_posterior must be in [0, 1], got 2"),
         ({"arrival_quantile": 1.2}, "arrival_quantile must be in (0, 1) (or None), got 1.2"),
@@ -414,3 +417,16 @@ def test_warm_up_plans_to_the_first_places_and_changes_no_later_plan(planner, mo
     monkeypatch.undo()
     after = planner.plan("go to the bedroom via the corridor", start)
     assert (after.cells == before.cells).all() and after.explanation == before.explanation
+
+
+@pytest.mark.parametrize("given, shown", [("m06", "str 'm06'"), (None, "NoneType"), (3, "int")])
+def test_the_planner_takes_a_model(given, shown):
+    """Audit item 13: HierarchicalPlanner('m06') raised AttributeError: 'str' object has no attribute 'map'."""
+    from spcotmhp.errors import ModelError
+
+    with pytest.raises(ModelError) as info:
+        HierarchicalPlanner(given)
+    assert str(info.value) == (
+        f"HierarchicalPlanner takes a SpatialConceptModel, got a {shown}; load a model folder with "
+        "spcotmhp.learning.io.load_model(folder)"
+    )

@@ -44,6 +44,48 @@ def test_a_start_next_to_a_wall_leaves_it_first_and_says_so(home):
     assert planned >= 20
 
 
+def _escape_on(free: np.ndarray, main: np.ndarray, cell: tuple[int, int], radius_m: float) -> np.ndarray | None:
+    """planning/start.py _escape on hand-made grids at 0.1 m per cell (crop = map)."""
+    from types import SimpleNamespace
+
+    from spcotmhp.planning.start import _escape
+
+    occ = SimpleNamespace(resolution=0.1)
+    graph = SimpleNamespace(
+        model=SimpleNamespace(require_map=lambda: occ),
+        offset=(0, 0),
+        main=main,
+        settings=SimpleNamespace(connectivity=8),
+    )
+    return _escape(free, graph, np.array(cell), radius_m)
+
+
+def test_the_escape_is_the_shortest_run_even_past_its_search_window():
+    """Audit item 8: the escape is the shortest run of free cells to a cell the robot fits in. Here the window
+    (ceil(0.1 / 0.1) + 2 = 3 cells each way) holds a main cell only behind a wall (a 6.8-cell detour); one just
+    outside it is 4 cells away in a straight line, and the escape takes it."""
+    free = np.ones((21, 21), bool)
+    free[8:14, 11] = False  # a wall east of the start, open at row 7
+    main = np.zeros_like(free)
+    main[10, 12] = main[10, 6] = True
+    run = _escape_on(free, main, (10, 10), 0.1)
+    assert run is not None and run[-1].tolist() == [10, 6] and len(run) == 5
+    main[10, 6] = False  # only the detour is left: it is taken, the same length as before the fix
+    run = _escape_on(free, main, (10, 10), 0.1)
+    assert run is not None and run[-1].tolist() == [10, 12]
+    steps = np.abs(np.diff(run, axis=0)).sum(axis=1)
+    assert np.isclose(np.where(steps == 2, np.sqrt(2), steps).sum(), 4 + 2 * np.sqrt(2))
+
+
+def test_no_escape_beyond_the_window():
+    free = np.ones((21, 21), bool)
+    main = np.zeros_like(free)
+    main[10, 14] = True  # 4 cells east: outside the window of 3
+    assert _escape_on(free, main, (10, 10), 0.1) is None
+    main[10, 13] = True
+    assert _escape_on(free, main, (10, 10), 0.1)[-1].tolist() == [10, 13]
+
+
 @pytest.mark.parametrize(
     "start, error",
     [
@@ -53,11 +95,14 @@ def test_a_start_next_to_a_wall_leaves_it_first_and_says_so(home):
         ((float("nan"), 1.0), StartOutsideMap),
         ("x", StartOutsideMap),
         ((10**400, 0), StartOutsideMap),
+        ((True, False), StartOutsideMap),  # audit item 13: booleans were taken as (1, 0)
+        ([0.5, np.True_], StartOutsideMap),
+        (np.array([True, False]), StartOutsideMap),
     ],
 )
 def test_bad_starts_are_typed(home, start, error):
     model, planner, _ = home
-    if start in ("wall", "unknown"):
+    if isinstance(start, str) and start in ("wall", "unknown"):
         start = model.map.cell_to_world(np.argwhere(model.map.data == (100 if start == "wall" else -1))[0])
     with pytest.raises(error) as info:
         planner.plan("go to the kitchen", start)

@@ -140,7 +140,7 @@ def test_refuses_to_overwrite_and_reports_bad_places(export, model_dir, tmp_path
     done = run("export-nav2", str(model_dir), "--out", str(model_dir.parent))
     assert done.returncode == 2 and "model folder" in done.stderr
     done = run("export-nav2", str(model_dir), "--out", str(tmp_path / "x"), "--avoid", "garage")
-    assert done.returncode == 2 and done.stderr.startswith("error: ") and "garage" in done.stderr
+    assert done.returncode == 2 and done.stderr.startswith("error: place to avoid (--avoid) 'garage': unknown place")
     assert done.stderr.count("\n") == 1 and not (tmp_path / "x").exists()
     assert (export / "route_graph.geojson").read_bytes() == before
     done = run("export-nav2", str(model_dir), "--out", str(export), "--overwrite")

@@ -197,6 +197,38 @@ def test_non_finite_start_and_bad_json_are_422(client):
     assert r.status_code == 422 and r.json()["detail"].startswith("body: not valid JSON")
 
 
+@pytest.mark.parametrize(
+    "content_type",
+    ["application/x-www-form-urlencoded", "text/plain", "text/plain; charset=utf-8", "multipart/form-data"],
+)
+@pytest.mark.parametrize("path", ["/plan", "/teach"])
+def test_a_body_not_sent_as_json_is_415_naming_its_content_type(client, start, content_type, path):
+    """Audit item 11: curl -d sends a form content type; the answer said "body: Input should be a valid
+    dictionary". It now names the Content-Type and the one expected."""
+    body = json.dumps({"instruction": INSTRUCTION, "start": start}).encode()
+    r = client.post(path, content=body, headers={"content-type": content_type})
+    assert r.status_code == 415
+    assert r.json()["detail"] == (
+        f"Content-Type {content_type!r} is not accepted: {path} takes a JSON body, sent with Content-Type: "
+        "application/json"
+    )
+
+
+@pytest.mark.parametrize(
+    "content_type", ["application/json", "application/json; charset=utf-8", "application/merge+json"]
+)
+def test_json_content_types_are_accepted(client, start, content_type):
+    body = json.dumps({"instruction": INSTRUCTION, "start": start}).encode()
+    r = client.post("/plan", content=body, headers={"content-type": content_type})
+    assert r.status_code == 200, r.text
+
+
+def test_a_body_without_content_type_is_415(client, start):
+    body = json.dumps({"instruction": INSTRUCTION, "start": start}).encode()
+    r = client.post("/plan", content=body)
+    assert r.status_code == 415 and r.json()["detail"].startswith("a body without a Content-Type is not accepted")
+
+
 def test_oversized_bodies_are_413(client):
     r = client.post("/plan", content=b" " * (JSON_LIMIT + 1), headers={"content-type": "application/json"})
     assert r.status_code == 413
