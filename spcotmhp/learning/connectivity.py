@@ -88,7 +88,10 @@ def apply_connectivity(
     "hmm": keep the posterior mean of the learned HMM transitions (the paper); "walk": psi from
     ``walk_adjacency``; "map": psi from ``map_adjacency``; "auto": the union of both when the dataset has a
     trajectory (the walk's evidence kept, the map's guarantee that free space connects the places added), else
-    "map".  Adjacencies become psi[k] = mean of Dir(0.1 + A[k]), the form of the paper's Experiment I.
+    "map".  Adjacencies become psi[k] = mean of Dir(0.1 + A[k]), the form of the paper's Experiment I.  (The
+    HMM's self-transitions, many utterances per room, outweigh the few doorway crossings, so under the planner's
+    edge rule (psi_ab + psi_ba) / 2 >= 1 / K its psi would show almost no edges; the order of the utterances
+    alone, e.g. fifteen per room taught room after room, says little about which rooms touch.)
     """
     if how not in SOURCES:
         raise ModelError(f"connectivity must be one of {SOURCES}, got {how!r}")

@@ -52,25 +52,12 @@ docs/results.md, "Figures moved here from code docstrings"):
   from the broad prior, m0 = 0 and kappa0 = 1e-3, and are practically never re-used, so places can merge but not
   split), not from uniformly random assignments.
 
-Transition counts come from the event sequence, plus (reverse replay, Section 3.2) the reversed sequence,
-plus (when the dataset has a trajectory) the places visited along the trajectory: each pose is given its most
-probable place, argmax_k N(x_t | mu_k, Sigma_k) p(k) with p(k) = sum_l pi_l phi_l(k) over the places holding
-events (``hmm.trajectory_places``, the same labelling as ``connectivity.walk_adjacency``), runs shorter than
-``min_dwell`` poses are dropped as boundary flicker, consecutive repeats collapse, and every remaining place
-change a -> b counts ``trajectory_weight`` (and b -> a as well under reverse replay).  Each traversal of a
-doorway thus counts like one observed event transition.  During sampling the labelling uses the current draw
-of the Gaussians and the posterior-mean p(k) of the current counts; for the exported psi it uses the exported
-means, so the exported psi is the posterior mean of Dir(omega + counts) for counts consistent with the
-exported places.
+Transition counts (reverse replay, the trajectory's place changes, ``trajectory_weight``): :mod:`spcotmhp.learning.
+hmm`.
 
-psi of the exported model (``connectivity``, see connectivity.py): "hmm" keeps the posterior mean of the
-transition counts above (the paper's psi); "walk" and "map" use psi[k] = mean of Dir(0.1 + A[k]) (the form of
-the paper's Experiment I) for the adjacency A of the places visited one after the other along the trajectory,
-or implied by the map's free space; "auto" is "walk" with a trajectory and "map" without (the order of the
-utterances alone, e.g. fifteen per room taught room after room, says little about which rooms touch).  The
-HMM psi's self-transitions (many utterances per room) outweigh the few doorway crossings, so under the planner's
-edge rule (psi_ab + psi_ba) / 2 >= 1 / K it would show almost no edges; the adjacency form does not.  The
-HMM's psi is kept as ``model.psi_learned`` in every case.
+psi of the exported model (``connectivity``: "hmm", "walk", "map", "auto"; :func:`~spcotmhp.learning.connectivity.
+apply_connectivity` says what each keeps): "hmm" is the posterior mean of the transition counts above (the paper's
+psi); the HMM's psi is kept as ``model.psi_learned`` in every case.
 
 When every place (or concept) component holds events, the truncation K (or L) may be too small for the home:
 ``fit`` then warns (``TruncationWarning``) and lists "places" / "concepts" in ``model.info["truncation_saturated"]``.

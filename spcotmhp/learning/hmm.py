@@ -5,6 +5,17 @@ Section 3.2: with utterances observed only at event times, inference of i_{1:E} 
 transitions psi and, per event, the emission N(x_e | mu_k, Sigma_k) phi[C_e, k] / sum_c phi[c, k] (Eq. 9).
 Forward filtering, backward sampling (FFBS) draws the whole sequence i_{1:E} jointly from that conditional,
 which mixes far better than resampling one i_e at a time.
+
+Transition counts come from the event sequence, plus (reverse replay, Section 3.2) the reversed sequence,
+plus (when the dataset has a trajectory) the places visited along the trajectory: each pose is given its most
+probable place, argmax_k N(x_t | mu_k, Sigma_k) p(k) with p(k) = sum_l pi_l phi_l(k) over the places holding
+events (``hmm.trajectory_places``, the same labelling as ``connectivity.walk_adjacency``), runs shorter than
+``min_dwell`` poses are dropped as boundary flicker, consecutive repeats collapse, and every remaining place
+change a -> b counts ``trajectory_weight`` (and b -> a as well under reverse replay).  Each traversal of a
+doorway thus counts like one observed event transition.  During sampling the labelling uses the current draw
+of the Gaussians and the posterior-mean p(k) of the current counts; for the exported psi it uses the exported
+means, so the exported psi is the posterior mean of Dir(omega + counts) for counts consistent with the
+exported places.  (The Gibbs sampler, :mod:`spcotmhp.learning.gibbs`, uses these counts in its step 3.)
 """
 
 from __future__ import annotations
