@@ -41,6 +41,7 @@ from itertools import pairwise
 
 from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
+from spcotmhp.planning.refusals import refuse_double_negation, refuse_start_place, refuse_unknown, refuse_unsupported
 from spcotmhp.planning.scan import Item, merge_phrases, scan
 from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
 
@@ -84,10 +85,15 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
         raise UnknownPlaceWord(
             f"no known place word in {excerpt(text)}{not_understood(others)}{unknown_tail(words, place_words)}"
         )
+    refuse_unsupported(items, grammar)
     _refuse(items, grammar, place_words)
     _check_place_positions(items, grammar, place_words)
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
     _check_modifiers(items, grammar, place_words)
+    refuse_unknown(items, place_words)
+    for idx, (role, source) in zip(places, roles, strict=True):
+        if role == "from":
+            raise refuse_start_place(items[source], items[idx])
     return _phrases(items, places, roles, grammar)
 
 
@@ -199,6 +205,8 @@ def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[tuple[s
                 only_fillers = all(
                     x.kind == "filler" or (x.kind == "marker" and x.value != "from") for x in items[dangling + 1 : idx]
                 )
+                if d.value == "avoid" and it.value == "avoid" and only_fillers:
+                    raise refuse_double_negation(d, it)
                 if d.value in ("avoid", "not_goal") and it.value != "from" and only_fillers:
                     continue  # a negation governs the marker after it ("don't want to go to the kitchen")
                 if d.value != "goal":
