@@ -58,6 +58,8 @@ class Phrase:
         index: its position among the scanned items.
         orders: the order words that apply to it, by kind ("first", "after", ...).
         after_sequencer: a sequencer ("then") stands between it and the previous phrase.
+        chain: its place in a chain of order words of one kind ("the bath after the kitchen after the toilet":
+            kitchen 0, toilet 1); 0 outside chains.
     """
 
     item: Item
@@ -67,6 +69,7 @@ class Phrase:
     index: int
     orders: dict[str, Item] = field(default_factory=dict)
     after_sequencer: bool = False
+    chain: int = 0
 
 
 def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Phrase]:
@@ -283,6 +286,9 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
     out = [Phrase(items[i], role, src, clauses[i], i) for i, (role, src) in zip(places, roles, strict=False)]
     for prev, p in pairwise(out):
         p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1 : p.index])
+    for p in out:
+        if p.source >= 0 and items[p.source].surface in grammar.final_markers:  # "end at the toilet"
+            p.orders["last"] = items[p.source]
     for idx, it in enumerate(items):
         if it.kind == "order":
             targets = _ordered_by(idx, it, out, items, clauses, grammar)
@@ -291,9 +297,34 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
                     f"{excerpt(it.surface)} is followed by no known place word; say which "
                     "place, e.g. 'go to the bedroom after the kitchen'"
                 )
+            chain = _chained(idx, it, out, items, grammar) if targets else 0
             for n in targets:
                 out[n].orders.setdefault(it.value, it)
+                out[n].chain = chain
     return out
+
+
+def _chained(idx: int, it: Item, phrases: list[Phrase], items: list[Item], grammar: Grammar) -> int:
+    """Rule 4f: an English before / after right after a phrase that an earlier before / after orders, with
+    only fillers between ("the bath after the kitchen after the toilet"), continues that chain: its place
+    is one link further (toilet before kitchen before bath). A chain mixing before and after leaves the order
+    of some places open and is refused."""
+    if grammar.attach != "prefix" or it.value not in ("before", "after"):
+        return 0
+    j = idx - 1
+    while j >= 0 and items[j].kind == "filler":
+        j -= 1
+    prev = next((p for p in phrases if p.index == j), None)
+    timed = [o for o in ("before", "after") if prev is not None and o in prev.orders]
+    if prev is None or not timed:
+        return 0
+    if timed[0] != it.value:
+        raise UnsupportedPhrase(
+            f"{excerpt(it.surface)} orders a place against {excerpt(prev.item.surface)}, itself ordered by "
+            f"{excerpt(prev.orders[timed[0]].surface)}: a chain mixing before and after leaves the order open; "
+            "say the order with 'first' and 'then'"
+        )
+    return prev.chain + 1
 
 
 def _ordered_by(

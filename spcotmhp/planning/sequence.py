@@ -19,6 +19,10 @@ Rules (continuing the numbering of :mod:`spcotmhp.planning.sentence`):
       group ordered by b-c within itself ("go to the toilet, but first the kitchen").
    e. "before that" (その前に) puts its place right before the place spoken just before it ("go to the
       bedroom, but before that the kitchen").
+   f. Chains (English): "the bath after the kitchen after the toilet" is toilet, kitchen, bath, and "the bath
+      before the kitchen before the toilet" is bath, kitchen, toilet (each before / after orders the place
+      spoken right before it); a chain mixing the two is refused. Goal markers that end the plan ("end at",
+      "finish in") order their place as "finally" does; "start with" as "first".
 
    The last place is the goal, the others are the waypoints in that order. Nothing else reorders places.
    "before" / "after" with no other place to order against, or applied to a place to avoid, is refused
@@ -97,7 +101,9 @@ def _order(visit: list[Phrase]) -> list[Phrase]:
         ]
         if free:
             group[free[-1]] = 2  # the step's destination comes after its other places
-    order = sorted(range(len(visit)), key=lambda n: (rank[n], steps[n], group[n], n))
+    # a chain of "after"s runs backwards, of "before"s forwards (rule f)
+    link = [-p.chain if "after" in p.orders else p.chain for p in visit]
+    order = sorted(range(len(visit)), key=lambda n: (rank[n], steps[n], group[n], link[n], n))
     for n in range(len(visit)):  # "before that": right before the place spoken before it
         if "before_that" in visit[n].orders and n > 0:
             order.remove(n)
