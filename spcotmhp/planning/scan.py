@@ -25,6 +25,11 @@ from spcotmhp.planning.grammar import Grammar
 _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 
 
+_NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
+"""Characters no Japanese word starts with (small kana, the long-vowel mark, ん): an unknown run starting with one
+is glued to the one-character grammar word before it, so that errors name the word as written."""
+
+
 @dataclass(slots=True)
 class Item:
     """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
@@ -111,6 +116,8 @@ def scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
         else:
             if grammar.by_character and items and items[-1].kind == "other":
                 items[-1].surface += unit
+            elif grammar.by_character and unit in _NO_WORD_START and items and _one_grammar_unit(items[-1]):
+                items[-1] = Item("other", "", items[-1].surface + unit)  # や+っぱり: one unknown word, やっぱり
             else:
                 items.append(Item("other", "", unit))
             i += 1
@@ -123,6 +130,10 @@ def scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
         ):
             b.kind = "modifier"
     return items
+
+
+def _one_grammar_unit(it: Item) -> bool:
+    return it.kind not in ("place", "other") and len(it.surface) == 1
 
 
 def merge_phrases(items: list[Item], grammar: Grammar) -> list[Item]:
