@@ -12,7 +12,8 @@ places to avoid. An instruction that asks for anything else is refused with
   named it corrects nothing of this instruction ("actually, go to the kitchen") and is a filler. "instead" is
   refused only after two places with no negation before it ("go to the kitchen, go to the bath instead"; "go to
   the bath instead" and "not the kitchen, go to the bath instead" are fine),
-  "wait" only between two places ("go to the corridor and wait" is fine).
+  "wait" only between two places (a correction or a stop on the way: the planner does not wait; "go to the
+  corridor and wait" is fine).
 * **A condition** ("if", "unless", "when", "in case"; なら, たら, もし): the planner cannot check it, and dropped it
   would turn its place into a waypoint. Polite phrases ("if you can", よかったら) are fillers, and a たら after a
   verb of motion (キッチンに行ったら) is a marker: "once you are in the kitchen", a sequence.
@@ -47,10 +48,12 @@ REASONS = {
     "conditional": "makes the instruction depend on a condition the planner cannot check; say where to go",
     "round_trip": "asks to come back to the start, a pose that a plan cannot end at (it ends at a named place); "
     "name the place to come back to (e.g. 'then back to the entrance')",
+    "mid_correction": "between two places is a correction or a stop on the way, and the planner honours neither "
+    "(it does not wait); name the places only",
     "waiver": "says what need not be done, which is no constraint the planner can honour; say only where to go, "
     "what to pass and what to avoid",
 }
-_REASON_OF = {"late_correction": "correction", "mid_correction": "correction"}
+_REASON_OF = {"late_correction": "correction"}
 
 
 def _places_around(items: Sequence[Item], idx: int) -> tuple[Item | None, Item | None]:
@@ -73,7 +76,7 @@ def _harmless(items: Sequence[Item], idx: int, grammar: Grammar, places_before: 
         negated = any(x.kind == "marker" and x.value in ("avoid", "not_goal") for x in items[:idx])
         return places_before < 2 or negated
     if kind == "mid_correction":
-        return not all(_places_around(items, idx))
+        return places_before == 0 or not any(x.kind == "place" for x in items[idx + 1 :])
     if kind == "round_trip" and grammar.attach == "prefix":
         j = idx + 1
         while j < len(items) and items[j].kind == "filler":
