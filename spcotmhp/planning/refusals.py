@@ -27,6 +27,8 @@ places to avoid. An instruction that asks for anything else is refused with
   one place inside another, between two place phrases; the map holds no containment between places, and read as
   two places the first would become a waypoint.
 * **A start place** ("from the bath", リビングから): the start is the pose given with the instruction.
+* **Two places with only fillers between** ("the kitchen with the bath"): nothing says how they relate; read as
+  two goals the first would become a waypoint (Japanese places must be joined already, rule 6).
 
 Every other word must be a place word or a word of the grammar tables (rule 9): an unknown word anywhere is an
 :class:`~spcotmhp.errors.UnknownPlaceWord` naming it ("did you mean" near misses included), never skipped.
@@ -106,6 +108,27 @@ def refuse_unsupported(items: list[Item], grammar: Grammar) -> None:
                 )
             if it.kind == "containment":
                 it.kind = "filler"
+
+
+def refuse_unjoined(items: Sequence[Item], grammar: Grammar) -> None:
+    """English place phrases with only fillers between them ("the kitchen with the bath") do not say how the two
+    places relate (Japanese has the same rule in :mod:`spcotmhp.planning.sentence`): refused naming the words."""
+    if grammar.attach != "prefix":
+        return
+    last = None
+    for idx, it in enumerate(items):
+        if it.kind == "place":
+            between = items[last + 1 : idx] if last is not None else []
+            if between and all(x.kind == "filler" for x in between):
+                words = [x.surface for x in between if x.surface not in grammar.determiners]
+                raise UnsupportedPhrase(
+                    f"{named(words or [x.surface for x in between])} between {excerpt(items[last].surface)} and "
+                    f"{excerpt(it.surface)} does not say how the two places relate; join places with 'and' or "
+                    "'then', or give each its own word ('via the corridor', 'to the bedroom')"
+                )
+            last = idx
+        elif it.kind != "filler":
+            last = None
 
 
 def refuse_double_negation(first: Item, second: Item) -> UnsupportedPhrase:

@@ -41,7 +41,13 @@ from itertools import pairwise
 
 from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
-from spcotmhp.planning.refusals import refuse_double_negation, refuse_start_place, refuse_unknown, refuse_unsupported
+from spcotmhp.planning.refusals import (
+    refuse_double_negation,
+    refuse_start_place,
+    refuse_unjoined,
+    refuse_unknown,
+    refuse_unsupported,
+)
 from spcotmhp.planning.scan import Item, merge_phrases, scan
 from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
 
@@ -90,6 +96,7 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
         )
     refuse_unsupported(items, grammar)
     _refuse(items, grammar, place_words)
+    refuse_unjoined(items, grammar)
     _check_place_positions(items, grammar, place_words)
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
     _check_modifiers(items, grammar, place_words)
