@@ -115,11 +115,11 @@ def refuse_unjoined(items: Sequence[Item], grammar: Grammar) -> None:
     places relate (Japanese has the same rule in :mod:`spcotmhp.planning.sentence`): refused naming the words."""
     if grammar.attach != "prefix":
         return
-    last = None
+    last: int | None = None
     for idx, it in enumerate(items):
         if it.kind == "place":
-            between = items[last + 1 : idx] if last is not None else []
-            if between and all(x.kind == "filler" for x in between):
+            between = list(items[last + 1 : idx]) if last is not None else []
+            if last is not None and between and all(x.kind == "filler" for x in between):
                 words = [x.surface for x in between if x.surface not in grammar.determiners]
                 raise UnsupportedPhrase(
                     f"{named(words or [x.surface for x in between])} between {excerpt(items[last].surface)} and "
