@@ -25,7 +25,11 @@ Three kinds of phrases are recognised only to be refused (the parser raises
 :class:`~spcotmhp.errors.UnsupportedPhrase` naming them rather than guessing): ``alternatives`` ("or", "either";
 または) leave the choice of a place open, ``relations`` ("next to", "near"; の隣) describe a place by a spatial
 relation to another, and ``modifiers`` ("second", "on the left", "big"; 二番目, 左の) pick one of several places
-by a property the map does not hold. "the first" / "the last" before a place are modifiers too.
+by a property the map does not hold. "the first" / "the last" before a place are modifiers too. ``refused`` lists
+further phrases refused where they ask for something (leaving a place, self-corrections, conditions, a way back,
+waivers: :mod:`spcotmhp.planning.refusals`), and ``containment`` the words that put a place inside another. Every
+word of an instruction must be a place word or a word of these tables: the filler list is explicit, and a word in
+none of them is refused, never skipped.
 
 ``attach`` says on which side of its place phrase a marker stands: English markers are prepositions (``prefix``:
 "via the corridor"), Japanese ones are postpositions (``postfix``: 廊下を通って). ``connectors`` ("and", "then", と)

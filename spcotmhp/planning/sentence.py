@@ -15,6 +15,10 @@ Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_
    または, a lone か between two places: the choice is the user's to make), a spatial relation ("next to",
    の隣) and a modifier that picks one of several places ("second", "on the left", 二番目): the map holds
    none of these, and dropping them would send the robot somewhere else than asked.
+2b. Refused too, naming the words (:mod:`spcotmhp.planning.refusals` says when and why): leaving a place, a
+   self-correction, a condition, a way back to the start, a waiver or negated avoidance ("do not avoid"), a place
+   inside another ("the toilet in the corridor"), English places with only fillers between them, and a start
+   place ("from the bath").
 3. A phrase takes the role of its marker (English: the last marker before it; Japanese: the first marker after
    it). A phrase with only a connector takes its neighbour's role (English: the previous phrase's; Japanese:
    the next phrase's). A phrase with no marker at all is a goal. A negation ("don't", "never", "instead of")
@@ -31,6 +35,11 @@ Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_
 7. A waypoint, avoid or not_goal marker with no place word, or a goal marker ending the sentence, is an error
    (:class:`~spcotmhp.errors.UnknownPlaceWord` naming the words not understood, or
    :class:`~spcotmhp.errors.MalformedInstruction` when there are none).
+8. Chains (English): a before / after right after a phrase that an earlier before / after orders continues the
+   chain (:func:`_chained`; :mod:`spcotmhp.planning.sequence` rule 4f). Goal markers of ``final_markers`` ("end at")
+   order their place last.
+9. Any word left that is neither a place word nor a grammar word is an
+   :class:`~spcotmhp.errors.UnknownPlaceWord` naming it, wherever it stands: nothing is dropped silently.
 """
 
 from __future__ import annotations
