@@ -55,7 +55,7 @@ from spcotmhp.errors import InstructionError
 
 ROLES = ("goal", "waypoint", "avoid", "not_goal", "from")
 ORDERS = ("first", "last", "before", "after", "before_that", "on_the_way")
-REFUSALS = ("leave", "correction", "late_correction", "mid_correction", "conditional", "round_trip", "waiver")
+REFUSALS = ("leave", "correction", "late_correction", "mid_correction", "conditional", "back", "round_trip", "waiver")
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,8 +90,8 @@ class Grammar:
             :mod:`spcotmhp.planning.refusals` says when and why): leaving a place ("leave", "get out of"),
             a self-correction ("no wait", "I mean", やっぱり; harmless before any place is named, "instead"
             only after two places, "wait" only between two places), a condition ("if", "unless", なら, たら),
-            a way back to the start ("and come back"; harmless right before a goal: "go back into the
-            kitchen") and a waiver ("no need to", 避けなくていい).
+            a way back to the start (``back``: "and come back", harmless right before a goal, "go back into
+            the kitchen"; ``round_trip``: always, "round trip", 往復) and a waiver ("no need to", 避けなくていい).
         containment: words that put one place inside another ("the toilet in the corridor", 廊下にあるトイレ),
             refused when they stand between two place phrases; elsewhere fillers (or the marker they also are).
         final_markers: goal markers that also put their place last ("end at", "finish in"), as "finally" does.

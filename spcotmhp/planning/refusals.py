@@ -55,7 +55,7 @@ REASONS = {
     "waiver": "says what need not be done, which is no constraint the planner can honour; say only where to go, "
     "what to pass and what to avoid",
 }
-_REASON_OF = {"late_correction": "correction"}
+_REASON_OF = {"late_correction": "correction", "back": "round_trip"}
 
 
 def _places_around(items: Sequence[Item], idx: int) -> tuple[Item | None, Item | None]:
@@ -79,7 +79,7 @@ def _harmless(items: Sequence[Item], idx: int, grammar: Grammar, places_before: 
         return places_before < 2 or negated
     if kind == "mid_correction":
         return places_before == 0 or not any(x.kind == "place" for x in items[idx + 1 :])
-    if kind == "round_trip" and grammar.attach == "prefix":
+    if kind == "back" and grammar.attach == "prefix":
         j = idx + 1
         while j < len(items) and items[j].kind == "filler":
             j += 1

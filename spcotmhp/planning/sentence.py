@@ -73,8 +73,8 @@ class Phrase:
         index: its position among the scanned items.
         orders: the order words that apply to it, by kind ("first", "after", ...).
         after_sequencer: a sequencer ("then") stands between it and the previous phrase.
-        chain: its place in a chain of order words of one kind ("the bath after the kitchen after the toilet":
-            kitchen 0, toilet 1); 0 outside chains.
+        chain: its sort key in a chain of order words of one kind ("the bath after the kitchen after the
+            toilet": kitchen 0, toilet -1, so toilet comes first); 0 outside chains.
     """
 
     item: Item
@@ -313,24 +313,32 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
                     f"{excerpt(it.surface)} is followed by no known place word; say which "
                     "place, e.g. 'go to the bedroom after the kitchen'"
                 )
-            chain = _chained(idx, it, out, items, grammar) if targets else 0
+            chain = _chained(idx, it, targets, out, items, grammar) if targets else 0
             for n in targets:
                 out[n].orders.setdefault(it.value, it)
                 out[n].chain = chain
     return out
 
 
-def _chained(idx: int, it: Item, phrases: list[Phrase], items: list[Item], grammar: Grammar) -> int:
-    """Rule 4f: an English before / after right after a phrase that an earlier before / after orders, with
-    only fillers between ("the bath after the kitchen after the toilet"), continues that chain: its place
-    is one link further (toilet before kitchen before bath). A chain mixing before and after leaves the order
-    of some places open and is refused."""
-    if grammar.attach != "prefix" or it.value not in ("before", "after"):
+def _chained(idx: int, it: Item, targets: list[int], phrases: list[Phrase], items: list[Item], grammar: Grammar) -> int:
+    """Rule 8: a before / after that continues a chain gets its place one link further, as a sort key of
+    :mod:`spcotmhp.planning.sequence` (0 outside chains). English: the word stands right after a phrase that an
+    earlier before / after orders, through fillers ("the bath after the kitchen after the toilet": toilet, kitchen,
+    bath; "before ... before": forwards). Japanese: its place comes right after another before / after word,
+    through fillers and markers (トイレの後でキッチンの後で寝室: toilet, kitchen, bedroom;
+    寝室に行く前にトイレに行く前にキッチン: kitchen, toilet, bedroom). A chain mixing before and after leaves the order open and is refused."""
+    if it.value not in ("before", "after"):
         return 0
-    j = idx - 1
-    while j >= 0 and items[j].kind == "filler":
+    prefix = grammar.attach == "prefix"
+    j = (idx if prefix else min(phrases[n].index for n in targets)) - 1
+    while j >= 0 and (items[j].kind == "filler" or (not prefix and items[j].kind == "marker")):
         j -= 1
-    prev = next((p for p in phrases if p.index == j), None)
+    if prefix:
+        prev = next((p for p in phrases if p.index == j), None)
+    elif j >= 0 and items[j].kind == "order":
+        prev = next((p for p in phrases if items[j] in p.orders.values()), None)
+    else:
+        prev = None
     timed = [o for o in ("before", "after") if prev is not None and o in prev.orders]
     if prev is None or not timed:
         return 0
@@ -340,7 +348,7 @@ def _chained(idx: int, it: Item, phrases: list[Phrase], items: list[Item], gramm
             f"{excerpt(prev.orders[timed[0]].surface)}: a chain mixing before and after leaves the order open; "
             "say the order with 'first' and 'then'"
         )
-    return prev.chain + 1
+    return prev.chain + (1 if (it.value == "before") == prefix else -1)
 
 
 def _ordered_by(
