@@ -326,7 +326,8 @@ def _chained(idx: int, it: Item, targets: list[int], phrases: list[Phrase], item
     earlier before / after orders, through fillers ("the bath after the kitchen after the toilet": toilet, kitchen,
     bath; "before ... before": forwards). Japanese: its place comes right after another before / after word,
     through fillers and markers (トイレの後でキッチンの後で寝室: toilet, kitchen, bedroom;
-    寝室に行く前にトイレに行く前にキッチン: kitchen, toilet, bedroom). A chain mixing before and after leaves the order open and is refused."""
+    寝室に行く前にトイレに行く前にキッチン: kitchen, toilet, bedroom). A chain mixing before and after
+    leaves the order open and is refused."""
     if it.value not in ("before", "after"):
         return 0
     prefix = grammar.attach == "prefix"

@@ -22,8 +22,9 @@ Rules (continuing the numbering of :mod:`spcotmhp.planning.sentence`):
    f. Chains: "the bath after the kitchen after the toilet" is toilet, kitchen, bath, and "the bath before the
       kitchen before the toilet" is bath, kitchen, toilet (each before / after orders the place spoken right
       before it); トイレの後でキッチンの後で寝室 is toilet, kitchen, bedroom, and
-      寝室に行く前にトイレに行く前にキッチンに寄って kitchen, toilet, bedroom; a chain mixing the two is refused. Goal markers that end the plan ("end at",
-      "finish in") order their place as "finally" does; "start with" as "first".
+      寝室に行く前にトイレに行く前にキッチンに寄って kitchen, toilet, bedroom; a chain mixing the two is
+      refused. Goal markers that end the plan ("end at", "finish in") order their place as "finally" does;
+      "start with" as "first".
 
    The last place is the goal, the others are the waypoints in that order. Nothing else reorders places.
    "before" / "after" with no other place to order against, or applied to a place to avoid, is refused
