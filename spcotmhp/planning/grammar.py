@@ -55,7 +55,17 @@ from spcotmhp.errors import InstructionError
 
 ROLES = ("goal", "waypoint", "avoid", "not_goal", "from")
 ORDERS = ("first", "last", "before", "after", "before_that", "on_the_way")
-REFUSALS = ("leave", "correction", "late_correction", "mid_correction", "conditional", "back", "round_trip", "waiver")
+REFUSALS = (
+    "leave",
+    "correction",
+    "late_correction",
+    "mid_correction",
+    "cancel",
+    "conditional",
+    "back",
+    "round_trip",
+    "waiver",
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,8 +98,9 @@ class Grammar:
             but, unlike the other fillers, allowed as words of a place's name ("alice's room").
         refused: phrase -> one of :data:`REFUSALS`, what the planner cannot honour (refused naming the phrase,
             :mod:`spcotmhp.planning.refusals` says when and why): leaving a place ("leave", "get out of"),
-            a self-correction ("no wait", "I mean", やっぱり; harmless before any place is named, "instead"
-            only after two places, "wait" only between two places), a condition ("if", "unless", なら, たら),
+            a self-correction ("no wait", "I mean", やっぱり; harmless before any place is named unless a place
+            follows at once, "no kitchen"; "instead" only after two places, "wait" only between two places),
+            a cancellation ("never mind", "forget", やめて), a condition ("if", "unless", なら, たら),
             a way back to the start (``back``: "and come back", harmless right before a goal, "go back into
             the kitchen"; ``round_trip``: always, "round trip", 往復) and a waiver ("no need to", 避けなくていい).
         containment: words that put one place inside another ("the toilet in the corridor", 廊下にあるトイレ),

@@ -9,20 +9,22 @@ places to avoid. An instruction that asks for anything else is refused with
   here", not a place; read as a place phrase it would send the robot into the kitchen.
 * **A self-correction** ("go to the kitchen, no wait, the bath", "I mean", "sorry", "actually", やっぱり, いや):
   which part it replaces is a guess; read literally, the wrong place becomes a waypoint. Before any place is
-  named it corrects nothing of this instruction ("actually, go to the kitchen") and is a filler. "instead" is
+  named it corrects nothing of this instruction ("actually, go to the kitchen") and is a filler, unless a place
+  follows it at once in English ("no kitchen, ...": a negation of that place; やっぱり風呂 is fine). "instead" is
   refused only after two places with no negation before it ("go to the kitchen, go to the bath instead"; "go to
   the bath instead" and "not the kitchen, go to the bath instead" are fine),
   "wait" only between two places (a correction or a stop on the way: the planner does not wait; "go to the
   corridor and wait" is fine).
+* **A cancellation** ("never mind the kitchen", "forget", やめて): what it cancels is a guess.
 * **A condition** ("if", "unless", "when", "in case"; なら, たら, もし): the planner cannot check it, and dropped it
   would turn its place into a waypoint. Polite phrases ("if you can", よかったら) are fillers, and a たら after a
   verb of motion (キッチンに行ったら) is a marker: "once you are in the kitchen", a sequence.
 * **A way back** ("and come back", "and back", "then return", 戻ってきて): the start is a pose, not a place, and
   the planner can only end at a place. English "back" right before a goal marker or a place ("go back into the
   kitchen") names its own goal and is a filler there.
-* **A waiver** ("no need to avoid", 避けなくていい): it neither requires nor forbids anything; read as "avoid" it
-  would forbid what it allows. Likewise a negated avoidance, two avoid markers with only fillers between ("do not
-  avoid the living", "don't skip", "without avoiding").
+* **A waiver** ("no need to avoid", "I don't mind passing", 避けなくていい): it neither requires nor forbids
+  anything; read as "avoid" it would forbid what it allows. Likewise a negated avoidance, two avoid markers with
+  only fillers between ("do not avoid the living", "don't skip", "without avoiding").
 * **Containment** ("the toilet in the corridor", "the kitchen of the living", 廊下にあるトイレ): a word that puts
   one place inside another, between two place phrases; the map holds no containment between places, and read as
   two places the first would become a waypoint.
@@ -47,6 +49,7 @@ REASONS = {
     "leave": "asks to leave a place, which is no destination: the planner plans to a named place; say where to go",
     "correction": "corrects what was said before it, and the planner does not guess which place it replaces; "
     "say the instruction again as meant",
+    "cancel": "cancels something, and the planner does not guess what; say only what to do",
     "conditional": "makes the instruction depend on a condition the planner cannot check; say where to go",
     "round_trip": "asks to come back to the start, a pose that a plan cannot end at (it ends at a named place); "
     "name the place to come back to (e.g. 'then back to the entrance')",
@@ -72,8 +75,12 @@ def _places_around(items: Sequence[Item], idx: int) -> tuple[Item | None, Item |
 def _harmless(items: Sequence[Item], idx: int, grammar: Grammar, places_before: int) -> bool:
     """Whether the refused-kind phrase ``items[idx]`` asks for nothing here (module docstring)."""
     kind = items[idx].value
-    if kind == "correction":
-        return places_before == 0
+    if kind == "correction":  # nothing to correct yet, and it does not negate a place right after it ("no kitchen")
+        j = idx + 1
+        while j < len(items) and items[j].kind == "filler":
+            j += 1
+        negates = grammar.attach == "prefix" and j < len(items) and items[j].kind == "place"
+        return places_before == 0 and not negates
     if kind == "late_correction":  # fine when what it replaces is already excluded: "not the kitchen, ... instead"
         negated = any(x.kind == "marker" and x.value in ("avoid", "not_goal") for x in items[:idx])
         return places_before < 2 or negated
