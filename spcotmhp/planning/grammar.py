@@ -12,8 +12,8 @@ visited:
 * ``not_goal``: a place that must not be the goal but may be passed ("instead of", "rather than"; ではなく,
   の代わりに). "Go to the bedroom instead of the kitchen" corrects the destination; nothing in it forbids
   driving through the kitchen, so the kitchen is not avoided, only never chosen as the goal.
-* ``from``: the place the robot starts in ("from"; から). The start is the pose given to the planner, so such a
-  phrase is parsed and then ignored.
+* ``from``: the place the robot starts in ("from"; から). The start is the pose given to the planner, not a place,
+  so such a phrase is refused naming the word (a から after a marker, キッチンに行ってから, only sequences).
 
 ``order`` words say when a place is visited (:mod:`spcotmhp.planning.sequence` applies them):
 ``first`` ("first", まず), ``last`` ("finally", 最後に), ``before`` ("before the bedroom, visit the toilet";
@@ -25,7 +25,11 @@ Three kinds of phrases are recognised only to be refused (the parser raises
 :class:`~spcotmhp.errors.UnsupportedPhrase` naming them rather than guessing): ``alternatives`` ("or", "either";
 または) leave the choice of a place open, ``relations`` ("next to", "near"; の隣) describe a place by a spatial
 relation to another, and ``modifiers`` ("second", "on the left", "big"; 二番目, 左の) pick one of several places
-by a property the map does not hold. "the first" / "the last" before a place are modifiers too.
+by a property the map does not hold. "the first" / "the last" before a place are modifiers too. ``refused`` lists
+further phrases refused where they ask for something (leaving a place, self-corrections, conditions, a way back,
+waivers: :mod:`spcotmhp.planning.refusals`), and ``containment`` the words that put a place inside another. Every
+word of an instruction must be a place word or a word of these tables: the filler list is explicit, and a word in
+none of them is refused, never skipped.
 
 ``attach`` says on which side of its place phrase a marker stands: English markers are prepositions (``prefix``:
 "via the corridor"), Japanese ones are postpositions (``postfix``: 廊下を通って). ``connectors`` ("and", "then", と)
@@ -51,6 +55,17 @@ from spcotmhp.errors import InstructionError
 
 ROLES = ("goal", "waypoint", "avoid", "not_goal", "from")
 ORDERS = ("first", "last", "before", "after", "before_that", "on_the_way")
+REFUSALS = (
+    "leave",
+    "correction",
+    "late_correction",
+    "mid_correction",
+    "cancel",
+    "conditional",
+    "back",
+    "round_trip",
+    "waiver",
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,6 +96,17 @@ class Grammar:
             Never reported as "not understood"; never place words unless a place is named so.
         nouns: generic nouns among the fillers ("room", "area"): skipped after a place word ("the living room")
             but, unlike the other fillers, allowed as words of a place's name ("alice's room").
+        refused: phrase -> one of :data:`REFUSALS`, what the planner cannot honour (refused naming the phrase,
+            :mod:`spcotmhp.planning.refusals` says when and why): leaving a place ("leave", "get out of"),
+            a self-correction ("no wait", "I mean", やっぱり; harmless before any place is named unless a place
+            follows at once, "no kitchen"; "instead" only after two places, "wait" only between two places),
+            a cancellation ("never mind", "forget", やめて), a condition ("if", "unless", なら, たら),
+            a way back to the start (``back``: "and come back", harmless right before a goal, "go back into
+            the kitchen"; ``round_trip``: always, "round trip", 往復) and a waiver ("no need to", 避けなくていい).
+        containment: words that put one place inside another ("the toilet in the corridor", 廊下にあるトイレ),
+            refused when they stand between two place phrases; elsewhere fillers (or the marker they also are).
+        final_markers: goal markers that also put their place last ("end at", "finish in"), as "finally" does.
+        honorifics: prefixes glued to a place word that do not change it (Japanese お, ご: お風呂 is 風呂).
         by_character: match on characters (Japanese) instead of whitespace/punctuation-separated words.
     """
 
@@ -100,10 +126,15 @@ class Grammar:
     backward_order: frozenset[str] = frozenset()
     modifiers: frozenset[str] = frozenset()
     nouns: frozenset[str] = frozenset()
+    refused: dict[str, str] = field(default_factory=dict)
+    containment: frozenset[str] = frozenset()
+    final_markers: frozenset[str] = frozenset()
+    honorifics: frozenset[str] = frozenset()
 
     @property
     def function_words(self) -> frozenset[str]:
-        """Every grammar and filler word (never a place word), generic nouns excepted."""
+        """Every grammar and filler word (never a place word), generic nouns excepted, and the refused phrases
+        except those of leaving a place (a site may have a place called "exit")."""
         return (
             (self.fillers - self.nouns)
             | self.connectors
@@ -111,6 +142,7 @@ class Grammar:
             | set(self.order)
             | self.determiners
             | self.alternatives
+            | {p for p, kind in self.refused.items() if kind != "leave"}
         )
 
 
@@ -130,8 +162,9 @@ def grammar_from_json(text: str, source: str = "grammar") -> Grammar:
         raise InstructionError(f"{source}: unknown field(s) {unknown}, missing field(s) {missing}")
     values: dict[str, Any] = {}
     for name, value in table.items():
-        if name in ("markers", "order"):
-            values[name] = _grouped(value, ROLES if name == "markers" else ORDERS, f"{source}: {name}")
+        if name in ("markers", "order", "refused"):
+            kinds = {"markers": ROLES, "order": ORDERS, "refused": REFUSALS}[name]
+            values[name] = _grouped(value, kinds, f"{source}: {name}")
         elif name == "between_places":
             values[name] = _phrases(value, f"{source}: {name}", mapping=True)
         elif name in ("lang", "attach"):

@@ -115,7 +115,8 @@ class HierarchicalPlanner:
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
         self.terms = ModelTerms(model)
-        self.label_index = LabelIndex(self.names)
+        # inactive places hold no data, and their labels carry every word: they name nothing
+        self.label_index = LabelIndex([n if a else "" for n, a in zip(self.names, model.active_places, strict=True)])
         act = np.flatnonzero(model.active_places)
         self.numbering = {
             int(k): (
@@ -214,9 +215,10 @@ class HierarchicalPlanner:
         """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
         (:func:`~spcotmhp.planning.places.instance_places`; ``likely``, when already computed) and, when some
         place's name carries all the words of the query (or of one of its N-best alternatives), only such places
-        (:func:`~spcotmhp.planning.places.named_places`). Two or more words that are each the whole name of a
-        place but name no place together ("the kitchen bedroom") are refused; otherwise, when no name carries
-        the words (a learned model's labels may merge two names), p(i | S) alone decides."""
+        (:func:`~spcotmhp.planning.places.named_places`; names of active places only). Two or more words that
+        each belong to some place's name but name no place together ("the kitchen bedroom") are refused;
+        otherwise, when some word is in no name (a learned model's labels may leave a word out), p(i | S) alone
+        decides."""
         if not self.settings.stage_constraint:  # Eq. 28 as written: any place may complete any stage
             return np.asarray(self.model.active_places, dtype=bool).copy()
         if likely is None:  # instance_places of log p(i | S), in the kernel of the stages' terms
@@ -225,13 +227,13 @@ class HierarchicalPlanner:
         if named.any():
             both = named & likely
             return both if both.any() else named
-        whole = [w for w in query.words if w in self.names]  # words that are a place's whole name
-        if len(query.phrases) == 1 and len(whole) > 1:
-            carried = whole
+        masks = self.label_index.masks
+        if len(query.phrases) == 1 and len(query.words) > 1 and all(w in masks for w in query.words):
             raise UnknownPlaceWord(
                 f"no place is called {query.label!r}: "
                 + "; ".join(
-                    f"'{w}' names {', '.join(sorted({n for n in self.names if w in n.split()}))}" for w in carried
+                    f"'{w}' names {', '.join(sorted({self.names[k] for k in np.flatnonzero(masks[w])}))}"
+                    for w in query.words
                 )
                 + "; name one place"
             )

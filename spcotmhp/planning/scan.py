@@ -25,11 +25,16 @@ from spcotmhp.planning.grammar import Grammar
 _EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
 
 
+_NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
+"""Characters no Japanese word starts with (small kana, the long-vowel mark, ん): an unknown run starting with one
+is glued to the one-character grammar word before it, so that errors name the word as written."""
+
+
 @dataclass(slots=True)
 class Item:
     """A unit of a scanned sentence: a place phrase (its place words), a grammar phrase or another word."""
 
-    kind: str  # place, marker, connector, order, alternative, relation, modifier, filler, other
+    kind: str  # place, marker, connector, order, alternative, relation, modifier, filler, containment, refused, other
     value: str  # the place word / role / order kind / "seq" for a sequencer / ""
     surface: str
     words: list[str] = field(default_factory=list)  # place words of a merged phrase
@@ -63,14 +68,20 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> Lexicon:
         return tuple(units(phrase, grammar))
 
     grammar_lex = {key(p): ("filler", "") for p in grammar.fillers}
+    grammar_lex.update({key(p): ("containment", "") for p in grammar.containment})
     grammar_lex.update({key(p): ("modifier", "") for p in grammar.modifiers})
     grammar_lex.update({key(p): ("marker", role) for p, role in grammar.markers.items()})
     grammar_lex.update({key(p): ("order", kind) for p, kind in grammar.order.items()})
     grammar_lex.update({key(p): ("connector", "seq" if p in grammar.sequencers else "") for p in grammar.connectors})
     grammar_lex.update({key(p): ("alternative", "") for p in grammar.alternatives})
     grammar_lex.update({key(p): ("relation", "") for p in grammar.relations})
+    grammar_lex.update({key(p): ("refused", kind) for p, kind in grammar.refused.items()})
     grammar_lex.pop((), None)
     place_lex = {key(w): ("place", w) for w in place_words if key(w)}
+    for prefix in grammar.honorifics:  # お風呂 is 風呂 (unless a place is called お風呂)
+        for w in place_words:
+            if key(w) and key(prefix + w) not in place_lex:
+                place_lex[key(prefix + w)] = ("place", w)
     longest = max(map(len, [*place_lex, *grammar_lex]), default=1)
     joiner = "" if grammar.by_character else " "
     entries = {k: (kind, value, joiner.join(k)) for k, (kind, value) in {**grammar_lex, **place_lex}.items()}
@@ -105,6 +116,8 @@ def scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
         else:
             if grammar.by_character and items and items[-1].kind == "other":
                 items[-1].surface += unit
+            elif grammar.by_character and unit in _NO_WORD_START and items and _one_grammar_unit(items[-1]):
+                items[-1] = Item("other", "", items[-1].surface + unit)  # や+っぱり: one unknown word, やっぱり
             else:
                 items.append(Item("other", "", unit))
             i += 1
@@ -117,6 +130,10 @@ def scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
         ):
             b.kind = "modifier"
     return items
+
+
+def _one_grammar_unit(it: Item) -> bool:
+    return it.kind not in ("place", "other") and len(it.surface) == 1
 
 
 def merge_phrases(items: list[Item], grammar: Grammar) -> list[Item]:

@@ -15,6 +15,10 @@ Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_
    または, a lone か between two places: the choice is the user's to make), a spatial relation ("next to",
    の隣) and a modifier that picks one of several places ("second", "on the left", 二番目): the map holds
    none of these, and dropping them would send the robot somewhere else than asked.
+2b. Refused too, naming the words (:mod:`spcotmhp.planning.refusals` says when and why): leaving a place, a
+   self-correction, a condition, a way back to the start, a waiver or negated avoidance ("do not avoid"), a place
+   inside another ("the toilet in the corridor"), English places with only fillers between them, and a start
+   place ("from the bath").
 3. A phrase takes the role of its marker (English: the last marker before it; Japanese: the first marker after
    it). A phrase with only a connector takes its neighbour's role (English: the previous phrase's; Japanese:
    the next phrase's). A phrase with no marker at all is a goal. A negation ("don't", "never", "instead of")
@@ -31,6 +35,11 @@ Parse rules (documented behaviour, tested; the corpus in tests/data/instruction_
 7. A waypoint, avoid or not_goal marker with no place word, or a goal marker ending the sentence, is an error
    (:class:`~spcotmhp.errors.UnknownPlaceWord` naming the words not understood, or
    :class:`~spcotmhp.errors.MalformedInstruction` when there are none).
+8. Chains (English): a before / after right after a phrase that an earlier before / after orders continues the
+   chain (:func:`_chained`; :mod:`spcotmhp.planning.sequence` rule 4f). Goal markers of ``final_markers`` ("end at")
+   order their place last.
+9. Any word left that is neither a place word nor a grammar word is an
+   :class:`~spcotmhp.errors.UnknownPlaceWord` naming it, wherever it stands: nothing is dropped silently.
 """
 
 from __future__ import annotations
@@ -41,6 +50,13 @@ from itertools import pairwise
 
 from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
+from spcotmhp.planning.refusals import (
+    refuse_double_negation,
+    refuse_start_place,
+    refuse_unjoined,
+    refuse_unknown,
+    refuse_unsupported,
+)
 from spcotmhp.planning.scan import Item, merge_phrases, scan
 from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
 
@@ -57,6 +73,8 @@ class Phrase:
         index: its position among the scanned items.
         orders: the order words that apply to it, by kind ("first", "after", ...).
         after_sequencer: a sequencer ("then") stands between it and the previous phrase.
+        chain: its sort key in a chain of order words of one kind ("the bath after the kitchen after the
+            toilet": kitchen 0, toilet -1, so toilet comes first); 0 outside chains.
     """
 
     item: Item
@@ -66,6 +84,7 @@ class Phrase:
     index: int
     orders: dict[str, Item] = field(default_factory=dict)
     after_sequencer: bool = False
+    chain: int = 0
 
 
 def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Phrase]:
@@ -84,10 +103,16 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
         raise UnknownPlaceWord(
             f"no known place word in {excerpt(text)}{not_understood(others)}{unknown_tail(words, place_words)}"
         )
+    refuse_unsupported(items, grammar)
     _refuse(items, grammar, place_words)
+    refuse_unjoined(items, grammar)
     _check_place_positions(items, grammar, place_words)
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
     _check_modifiers(items, grammar, place_words)
+    refuse_unknown(items, place_words)
+    for idx, (role, source) in zip(places, roles, strict=True):
+        if role == "from":
+            raise refuse_start_place(items[source], items[idx])
     return _phrases(items, places, roles, grammar)
 
 
@@ -199,6 +224,8 @@ def _prefix_roles(items: list[Item], place_words: Sequence[str]) -> list[tuple[s
                 only_fillers = all(
                     x.kind == "filler" or (x.kind == "marker" and x.value != "from") for x in items[dangling + 1 : idx]
                 )
+                if d.value == "avoid" and it.value == "avoid" and only_fillers:
+                    raise refuse_double_negation(d, it)
                 if d.value in ("avoid", "not_goal") and it.value != "from" and only_fillers:
                     continue  # a negation governs the marker after it ("don't want to go to the kitchen")
                 if d.value != "goal":
@@ -275,6 +302,9 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
     out = [Phrase(items[i], role, src, clauses[i], i) for i, (role, src) in zip(places, roles, strict=False)]
     for prev, p in pairwise(out):
         p.after_sequencer = any(x.kind == "connector" and x.value == "seq" for x in items[prev.index + 1 : p.index])
+    for p in out:
+        if p.source >= 0 and items[p.source].surface in grammar.final_markers:  # "end at the toilet"
+            p.orders["last"] = items[p.source]
     for idx, it in enumerate(items):
         if it.kind == "order":
             targets = _ordered_by(idx, it, out, items, clauses, grammar)
@@ -283,9 +313,43 @@ def _phrases(items: list[Item], places: list[int], roles: list[tuple[str, int]],
                     f"{excerpt(it.surface)} is followed by no known place word; say which "
                     "place, e.g. 'go to the bedroom after the kitchen'"
                 )
+            chain = _chained(idx, it, targets, out, items, grammar) if targets else 0
             for n in targets:
                 out[n].orders.setdefault(it.value, it)
+                out[n].chain = chain
     return out
+
+
+def _chained(idx: int, it: Item, targets: list[int], phrases: list[Phrase], items: list[Item], grammar: Grammar) -> int:
+    """Rule 8: a before / after that continues a chain gets its place one link further, as a sort key of
+    :mod:`spcotmhp.planning.sequence` (0 outside chains). English: the word stands right after a phrase that an
+    earlier before / after orders, through fillers ("the bath after the kitchen after the toilet": toilet, kitchen,
+    bath; "before ... before": forwards). Japanese: its place comes right after another before / after word,
+    through fillers and markers (トイレの後でキッチンの後で寝室: toilet, kitchen, bedroom;
+    寝室に行く前にトイレに行く前にキッチン: kitchen, toilet, bedroom). A chain mixing before and after
+    leaves the order open and is refused."""
+    if it.value not in ("before", "after"):
+        return 0
+    prefix = grammar.attach == "prefix"
+    j = (idx if prefix else min(phrases[n].index for n in targets)) - 1
+    while j >= 0 and (items[j].kind == "filler" or (not prefix and items[j].kind == "marker")):
+        j -= 1
+    if prefix:
+        prev = next((p for p in phrases if p.index == j), None)
+    elif j >= 0 and items[j].kind == "order":
+        prev = next((p for p in phrases if items[j] in p.orders.values()), None)
+    else:
+        prev = None
+    timed = [o for o in ("before", "after") if prev is not None and o in prev.orders]
+    if prev is None or not timed:
+        return 0
+    if timed[0] != it.value:
+        raise UnsupportedPhrase(
+            f"{excerpt(it.surface)} orders a place against {excerpt(prev.item.surface)}, itself ordered by "
+            f"{excerpt(prev.orders[timed[0]].surface)}: a chain mixing before and after leaves the order open; "
+            "say the order with 'first' and 'then'"
+        )
+    return prev.chain + (1 if (it.value == "before") == prefix else -1)
 
 
 def _ordered_by(

@@ -19,6 +19,12 @@ Rules (continuing the numbering of :mod:`spcotmhp.planning.sentence`):
       group ordered by b-c within itself ("go to the toilet, but first the kitchen").
    e. "before that" (その前に) puts its place right before the place spoken just before it ("go to the
       bedroom, but before that the kitchen").
+   f. Chains: "the bath after the kitchen after the toilet" is toilet, kitchen, bath, and "the bath before the
+      kitchen before the toilet" is bath, kitchen, toilet (each before / after orders the place spoken right
+      before it); トイレの後でキッチンの後で寝室 is toilet, kitchen, bedroom, and
+      寝室に行く前にトイレに行く前にキッチンに寄って kitchen, toilet, bedroom; a chain mixing the two is
+      refused. Goal markers that end the plan ("end at", "finish in") order their place as "finally" does;
+      "start with" as "first".
 
    The last place is the goal, the others are the waypoints in that order. Nothing else reorders places.
    "before" / "after" with no other place to order against, or applied to a place to avoid, is refused
@@ -97,7 +103,7 @@ def _order(visit: list[Phrase]) -> list[Phrase]:
         ]
         if free:
             group[free[-1]] = 2  # the step's destination comes after its other places
-    order = sorted(range(len(visit)), key=lambda n: (rank[n], steps[n], group[n], n))
+    order = sorted(range(len(visit)), key=lambda n: (rank[n], steps[n], group[n], visit[n].chain, n))  # rule f
     for n in range(len(visit)):  # "before that": right before the place spoken before it
         if "before_that" in visit[n].orders and n > 0:
             order.remove(n)

@@ -48,7 +48,7 @@ def shape(ins: Instruction) -> tuple:
             {"kitchen": 1},
             [],
         ),
-        ("from the kitchen to the bedroom", [], {"bedroom": 1}, []),
+        ("from here to the bedroom", [], {"bedroom": 1}, []),
         (
             "go to the bedroom avoiding the living and the kitchen",
             [],
@@ -80,7 +80,7 @@ def test_english(text, waypoints, goal, avoid):
         ("トイレとダイニングを経由してキッチンへ", [{"トイレ": 1}, {"ダイニング": 1}], {"キッチン": 1}, []),
         ("リビングを避けて寝室へ", [], {"寝室": 1}, [{"リビング": 1}]),
         ("廊下を通らずに風呂に行って", [], {"風呂": 1}, [{"廊下": 1}]),
-        ("リビングから寝室へ", [], {"寝室": 1}, []),
+        ("ここから寝室へ", [], {"寝室": 1}, []),
         ("玄関廊下に行って", [], {"玄関": 1, "廊下": 1}, []),
         ("廊下 を 通って 寝室 へ 行って", [{"廊下": 1}], {"寝室": 1}, []),  # recogniser output with spaces
         ("洗面所に寄ってから風呂へ", [{"洗面所": 1}], {"風呂": 1}, []),

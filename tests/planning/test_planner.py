@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
 import pytest
 
-from spcotmhp.errors import InstructionError, PlanningError
+from spcotmhp.errors import InstructionError, PlanningError, UnknownPlaceWord
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.places import inside_places
 from spcotmhp.planning.planner import HierarchicalPlanner, PlannerSettings, plan
@@ -430,3 +431,27 @@ def test_the_planner_takes_a_model(given, shown):
         f"HierarchicalPlanner takes a SpatialConceptModel, got a {shown}; load a model folder with "
         "spcotmhp.learning.io.load_model(folder)"
     )
+
+
+def test_two_names_that_no_place_carries_together_are_refused_with_inactive_places():
+    """A learned model keeps inactive places (weak-limit truncation) whose labels carry every word; they name
+    nothing, so "the kitchen bedroom" is an unknown place name, as on supervised parameters (audit item 2)."""
+    base = home_model()
+    K = base.K
+    said = base.W.argmax(axis=1)  # each concept's word; the ghost place's concepts say every word equally
+    column = 1.0 / np.bincount(said)[said] / len(set(said))
+    ghost = dataclasses.replace(
+        base,
+        mu=np.vstack([base.mu, base.mu[:1]]),
+        Sigma=np.concatenate([base.Sigma, base.Sigma[:1]]),
+        psi=np.full((K + 1, K + 1), 1.0 / (K + 1)),
+        phi=np.hstack([base.phi, column[:, None]]),
+        active_places=np.array([True] * K + [False]),
+    )
+    ghost_planner = HierarchicalPlanner(ghost, cache=GRAPHS)
+    assert set(ghost_planner.names[K].split()) == {"bedroom", "corridor", "kitchen"}  # the inactive label
+    start = world(ghost.map, 3, 3)
+    for p in (ghost_planner, HierarchicalPlanner(base, cache=GRAPHS)):
+        with pytest.raises(UnknownPlaceWord, match="no place is called 'kitchen bedroom'.*name one place"):
+            p.plan("go to the kitchen bedroom", start)
+        assert p.plan("go to the kitchen", start).explanation.split(",")[0].endswith("-> kitchen")
