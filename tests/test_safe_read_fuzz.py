@@ -19,12 +19,12 @@ from spcotmhp.errors import DatasetError, MapError, ModelError
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.map_io import load_map
-from tests.helpers.hardening_corpus import dataset_case, map_case, model_case, peak_rss_mib, run_case
+from tests.helpers.hardening_corpus import dataset_case, map_case, model_case, run_case
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
 CASE_SECONDS = 5.0
-PEAK_MIB = 1024
+CASE_PEAK_MIB = 512  # one hostile folder: the caps allow a few copies of a 16 M-pixel map (128 MiB as float64)
 
 
 @pytest.fixture(scope="module")
@@ -37,11 +37,11 @@ def templates(tmp_path_factory):
     return data, model
 
 
-def _check(outcome: tuple[str, float, str]) -> None:
-    kind, seconds, message = outcome
+def _check(outcome: tuple[str, float, str, float]) -> None:
+    kind, seconds, message, peak_mib = outcome
     assert kind != "traceback", message
     assert seconds < CASE_SECONDS, message
-    assert peak_rss_mib() < PEAK_MIB
+    assert peak_mib < CASE_PEAK_MIB, f"{message}: held {peak_mib:.0f} MiB"
 
 
 @given(seed=st.integers(0, 2**32 - 1))
@@ -225,3 +225,19 @@ def test_version_1_folders_without_a_manifest_still_load(templates, tmp_path):
     save_model(model, folder)  # upgraded in place: now with a manifest
     assert (folder / "manifest.json").is_file()
     assert json.loads((folder / "model.json").read_text(encoding="utf-8"))["format_version"] == 2
+
+
+def test_a_case_peak_is_the_case_s_own():
+    """The memory bound reads what one case held, not the process's lifetime peak: an earlier 300 MiB array
+    does not count against a small case, and a 200 MiB array in the case does."""
+    from tests.helpers.hardening_corpus import case_peak
+
+    big = np.ones(300 * 2**20 // 8)
+    del big
+    with case_peak() as small:
+        np.zeros(1000).sum()
+    with case_peak() as large:
+        held = np.ones(200 * 2**20 // 8)
+        del held
+    assert small[0] < 50
+    assert 150 < large[0] < 400
