@@ -107,6 +107,9 @@ class Grammar:
             refused when they stand between two place phrases; elsewhere fillers (or the marker they also are).
         final_markers: goal markers that also put their place last ("end at", "finish in"), as "finally" does.
         honorifics: prefixes glued to a place word that do not change it (Japanese お, ご: お風呂 is 風呂).
+        hiragana_places: a place word written in katakana of three or more characters is also matched as
+            written in hiragana (キッチン, きっちん; トイレ, といれ): the two scripts spell the same sounds, and a
+            recogniser or a person may write either (unless a place is called by the hiragana spelling).
         by_character: match on characters (Japanese) instead of whitespace/punctuation-separated words.
     """
 
@@ -130,6 +133,7 @@ class Grammar:
     containment: frozenset[str] = frozenset()
     final_markers: frozenset[str] = frozenset()
     honorifics: frozenset[str] = frozenset()
+    hiragana_places: bool = False
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -169,9 +173,9 @@ def grammar_from_json(text: str, source: str = "grammar") -> Grammar:
             values[name] = _phrases(value, f"{source}: {name}", mapping=True)
         elif name in ("lang", "attach"):
             values[name] = _text(value, f"{source}: {name}")
-        elif name == "by_character":
+        elif name in ("by_character", "hiragana_places"):
             if not isinstance(value, bool):
-                raise InstructionError(f"{source}: by_character must be true or false")
+                raise InstructionError(f"{source}: {name} must be true or false")
             values[name] = value
         else:
             values[name] = frozenset(_phrases(value, f"{source}: {name}"))

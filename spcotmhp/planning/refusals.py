@@ -29,6 +29,10 @@ places to avoid. An instruction that asks for anything else is refused with
   one place inside another, between two place phrases; the map holds no containment between places, and read as
   two places the first would become a waypoint.
 * **A start place** ("from the bath", リビングから): the start is the pose given with the instruction.
+* **A Japanese list with no goal** (風呂、キッチン経由): a 、 lets the phrase before it share the marker after the
+  next one, so both are waypoints and the last would silently become the goal, while a person may mean the first
+  (bath, via the kitchen). When no place has the goal role, such a list is refused naming the 、 (with a goal, the
+  list is one: キッチン、トイレを経由して寝室へ).
 * **Two places with only fillers between** ("the kitchen with the bath"): nothing says how they relate; read as
   two goals the first would become a waypoint (Japanese places must be joined already, rule 6).
 
@@ -39,6 +43,7 @@ Every other word must be a place word or a word of the grammar tables (rule 9): 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 
 from spcotmhp.errors import UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
@@ -160,3 +165,25 @@ def refuse_unknown(items: Sequence[Item], place_words: Sequence[str]) -> None:
     if others:
         verb = "is neither a known place word nor" if len(others) == 1 else "are neither known place words nor"
         raise UnknownPlaceWord(f"{named(others)} {verb} a word instructions use{unknown_tail(others, place_words)}")
+
+
+def refuse_list_without_goal(
+    items: Sequence[Item], places: Sequence[int], roles: Sequence[tuple[str, int]], grammar: Grammar
+) -> None:
+    """Japanese places listed with 、 under one waypoint marker when no place is the goal (module docstring)."""
+    if grammar.attach != "postfix" or any(role == "goal" for role, _ in roles):
+        return
+    for (a, (role_a, src_a)), (b, (_, src_b)) in pairwise(zip(places, roles, strict=True)):
+        between = items[a + 1 : b]
+        soft = [x for x in between if x.kind == "connector" and x.surface in grammar.soft_connectors]
+        if (
+            role_a == "waypoint"
+            and soft
+            and src_a == src_b >= 0
+            and all(x.kind == "filler" or x in soft for x in between)
+        ):
+            raise UnsupportedPhrase(
+                f"{excerpt(soft[0].surface)} lists {excerpt(items[a].surface)} with {excerpt(items[b].surface)} "
+                f"under {excerpt(items[src_a].surface)}, and no place is the goal: say where to end with its own "
+                f"word (e.g. {items[a].surface}へ、{items[b].surface}{items[src_a].surface})"
+            )

@@ -22,7 +22,10 @@ from typing import NamedTuple
 
 from spcotmhp.planning.grammar import Grammar
 
-_EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&]")
+_EN_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*|[,;&.!?:]")
+"""English units: words (with inner apostrophes) and the punctuation that separates clauses (a full stop, "!",
+"?" and ":" end a clause as a comma does: "go to the bedroom. First, stop at the toilet"); other symbols are
+space."""
 
 
 _NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
@@ -82,6 +85,11 @@ def _build_lexicon(grammar: Grammar, place_words: Sequence[str]) -> Lexicon:
         for w in place_words:
             if key(w) and key(prefix + w) not in place_lex:
                 place_lex[key(prefix + w)] = ("place", w)
+    if grammar.hiragana_places:  # キッチン is also きっちん (unless a place is called so)
+        for w in place_words:
+            kana = _hiragana(w)
+            if kana != w and len(w) >= 3 and key(kana) not in place_lex:
+                place_lex[key(kana)] = ("place", w)
     longest = max(map(len, [*place_lex, *grammar_lex]), default=1)
     joiner = "" if grammar.by_character else " "
     entries = {k: (kind, value, joiner.join(k)) for k, (kind, value) in {**grammar_lex, **place_lex}.items()}
@@ -130,6 +138,18 @@ def scan(text: str, grammar: Grammar, place_words: Sequence[str]) -> list[Item]:
         ):
             b.kind = "modifier"
     return items
+
+
+def _hiragana(word: str) -> str:
+    """``word`` with katakana letters (ァ..ヶ) as hiragana, or ``word`` itself when it holds anything else but the
+    long-vowel mark ー (a mixed word such as 物置き keeps its one spelling).
+
+    >>> _hiragana("キッチン"), _hiragana("トイレ"), _hiragana("風呂")
+    ('きっちん', 'といれ', '風呂')
+    """
+    if not all("\u30a1" <= ch <= "\u30f6" or ch == "ー" for ch in word):
+        return word
+    return "".join(chr(ord(ch) - 0x60) if ch != "ー" else ch for ch in word)
 
 
 def _one_grammar_unit(it: Item) -> bool:

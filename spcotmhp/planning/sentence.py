@@ -52,6 +52,7 @@ from spcotmhp.errors import MalformedInstruction, UnknownPlaceWord, UnsupportedP
 from spcotmhp.planning.grammar import Grammar
 from spcotmhp.planning.refusals import (
     refuse_double_negation,
+    refuse_list_without_goal,
     refuse_start_place,
     refuse_unjoined,
     refuse_unknown,
@@ -110,6 +111,7 @@ def read_sentence(text: str, grammar: Grammar, place_words: Sequence[str]) -> li
     roles = _prefix_roles(items, place_words) if grammar.attach == "prefix" else _postfix_roles(items, grammar)
     _check_modifiers(items, grammar, place_words)
     refuse_unknown(items, place_words)
+    refuse_list_without_goal(items, places, roles, grammar)
     for idx, (role, source) in zip(places, roles, strict=True):
         if role == "from":
             raise refuse_start_place(items[source], items[idx])

@@ -60,6 +60,7 @@ def test_grammar_files_are_package_data():
         (lambda t: json.dumps({**t, "fillers": ["please", ""]}), "fillers must be a non-empty string"),
         (lambda t: json.dumps({**t, "attach": "infix"}), "attach must be 'prefix' or 'postfix'"),
         (lambda t: json.dumps({**t, "by_character": "yes"}), "by_character must be true or false"),
+        (lambda t: json.dumps({**t, "hiragana_places": 1}), "hiragana_places must be true or false"),
         (lambda t: json.dumps({**t, "between_places": ["の"]}), "between_places must be an object"),
     ],
 )

@@ -30,3 +30,22 @@ def test_the_first_before_a_place_is_a_modifier():
     items = scan("go to the first kitchen", ENGLISH, WORDS)
     assert [it.kind for it in items if it.surface == "first"] == ["modifier"]
     assert [it.kind for it in scan("first go to the kitchen", ENGLISH, WORDS) if it.surface == "first"] == ["order"]
+
+
+def test_a_full_stop_ends_a_clause_and_other_symbols_are_space():
+    kinds = [(it.kind, it.surface) for it in scan("Go to the kitchen. First, the living-room!", ENGLISH, WORDS)]
+    assert ("connector", ".") in kinds and ("connector", "!") in kinds and ("order", "first") in kinds
+    assert ("place", "living") in kinds and ("filler", "room") in kinds  # the hyphen is space
+
+
+def test_katakana_place_words_are_also_matched_in_hiragana_unless_a_place_is_called_so():
+    words = ("キッチン", "トイレ", "風呂", "ドア")
+    items = scan("きっちんとといれとどあ", JAPANESE, words)
+    assert [(it.kind, it.words) for it in items[:3]] == [
+        ("place", ["キッチン"]),
+        ("connector", []),
+        ("place", ["トイレ"]),
+    ]
+    assert items[-1].kind == "other"  # two characters (ドア): too short to spell a place by sound alone
+    own = scan("きっちん", JAPANESE, ("キッチン", "きっちん"))  # a place called by the hiragana spelling keeps it
+    assert [it.words for it in own] == [["きっちん"]]
