@@ -18,7 +18,7 @@ import typer
 
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
 from spcotmhp.limits import MAX_ITERATIONS, MAX_RUNS
-from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output
+from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output, outside_model
 
 DEMO_INSTRUCTION = "go to the bedroom via the corridor"
 
@@ -253,6 +253,7 @@ def show(
         from spcotmhp.commands.planning import input_files
 
         check_output(png, overwrite, input_files(model_dir), SpcotmhpError, "--png")
+        outside_model(png, model_dir, "--png")
     model = load_model(model_dir)
     labels = place_display_labels(model)
     edges = _edges(model)

@@ -100,6 +100,23 @@ def test_plan_png_never_onto_the_model(model, tmp_path):
     assert png.read_bytes() == b"old"
 
 
+def test_no_output_inside_the_model_folder(model, tmp_path):
+    """A PNG or a Nav2 export written into the model folder made the next `teach` refuse the folder (audit 2)."""
+    from spcotmhp.learning.io import load_model
+
+    m = load_model(model)
+    x, y = (float(v) for v in m.mu[int(m.active_places.argmax())])
+    before = _digest(model)
+    runs = [
+        ("plan", model, "go to the kitchen", "--start", x, y, "--png", model / "plan.png"),
+        ("show", model, "--png", model / "map.png"),
+        ("export-nav2", model, "--out", model / "nav2"),
+    ]
+    for args in runs:
+        assert "is inside the model folder" in _error_line(_cli(*args)), args
+    assert _digest(model) == before and sorted(p.name for p in model.iterdir()) == sorted(before)
+
+
 def test_synth_over_a_dataset_needs_overwrite_and_leaves_nothing_stale(dataset, tmp_path):
     target = tmp_path / "d"
     shutil.copytree(dataset, target)
