@@ -318,6 +318,35 @@ def test_health_models_page_and_openapi(client):
     assert "413" in schema["paths"]["/plan"]["post"]["responses"]
 
 
+def test_openapi_lists_every_error_status_an_endpoint_answers(client, model6, start):
+    """A client generated from /openapi.json knows each status it can get: 409 (no path) was answered by /plan
+    but not declared, nor 400 (Host) anywhere, nor 408 (slow body) or 501 (no speech extra); GET endpoints
+    declared 413 and 415, which only bodies get (second audit)."""
+    paths = client.get("/openapi.json").json()["paths"]
+    declared = {
+        (path, method): {int(code) for code in op["responses"]}
+        for path, ops in paths.items()
+        for method, op in ops.items()
+    }
+    assert declared == {
+        ("/healthz", "get"): {200, 400},
+        ("/models", "get"): {200, 400},
+        ("/places", "get"): {200, 400, 404, 422},
+        ("/map.png", "get"): {200, 400, 404, 422},
+        ("/map.json", "get"): {200, 400, 404, 422},
+        ("/plan", "post"): {200, 400, 404, 408, 409, 413, 415, 422, 503},
+        ("/teach", "post"): {200, 400, 404, 408, 413, 415, 422},
+        ("/plan/audio", "post"): {200, 400, 404, 408, 409, 413, 422, 501, 503},
+    }
+    error = {"$ref": "#/components/schemas/ErrorResponse"}
+    answer = paths["/plan"]["post"]["responses"]["409"]
+    assert answer["content"]["application/json"]["schema"] == error and "NoReachablePlace" in answer["description"]
+    r = plan(client, instruction="go to the bedroom, don't go through the dining", start=start)
+    assert r.status_code == 409 and set(r.json()) >= {"detail"}
+    r = client.get("/healthz", headers={"Host": "example.com"})
+    assert r.status_code == 400 and isinstance(r.json()["detail"], str)
+
+
 # ---- speech ------------------------------------------------------------------------------------------------
 def test_audio_that_is_not_a_wav_file_or_a_bad_start_is_422(client):
     r = client.post("/plan/audio", files={"audio": ("note.txt", b"hello", "text/plain")}, data={"start": "0,0"})
