@@ -155,19 +155,28 @@ def create_app(
 
     @app.get(
         "/map.png",
-        responses={200: {"content": {"image/png": {}}}, **MAP_ERRORS},
+        responses={
+            200: {"content": {"image/png": {}}},
+            304: {"description": "Unchanged (If-None-Match)."},
+            **MAP_ERRORS,
+        },
         tags=["map"],
         response_class=Response,
     )
     def map_png(
+        request: Request,
         model: ModelQuery = None,
         frame: bool = Query(False, description="Axes in metres and a title (not georeferenced)."),
     ):
         """The learned map picture: places as ellipses with names, edges. Without ``frame`` its pixels map
-        linearly onto the extent given by ``GET /map.json``."""
+        linearly onto the extent given by ``GET /map.json``. Revalidated on every use (``ETag``; 304 when
+        unchanged): a ``POST /teach`` changes it."""
         sm = pick(model)
+        headers = {"Cache-Control": "no-cache", "ETag": f'"{sm.name}-{sm.version}-{int(frame)}"'}
+        if request.headers.get("if-none-match") == headers["ETag"]:
+            return Response(status_code=304, headers=headers)
         png = sm.figure_png() if frame else sm.image.png
-        return Response(png, media_type="image/png", headers={"Cache-Control": "max-age=300"})
+        return Response(png, media_type="image/png", headers=headers)
 
     @app.get("/map.json", response_model=MapInfo, responses=MAP_ERRORS, tags=["map"])
     def map_json(model: ModelQuery = None) -> dict:

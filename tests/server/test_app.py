@@ -332,7 +332,7 @@ def test_openapi_lists_every_error_status_an_endpoint_answers(client, model6, st
         ("/healthz", "get"): {200, 400},
         ("/models", "get"): {200, 400},
         ("/places", "get"): {200, 400, 404, 422},
-        ("/map.png", "get"): {200, 400, 404, 422},
+        ("/map.png", "get"): {200, 304, 400, 404, 422},
         ("/map.json", "get"): {200, 400, 404, 422},
         ("/plan", "post"): {200, 400, 404, 408, 409, 413, 415, 422, 503},
         ("/teach", "post"): {200, 400, 404, 408, 413, 415, 422},
@@ -345,6 +345,27 @@ def test_openapi_lists_every_error_status_an_endpoint_answers(client, model6, st
     assert r.status_code == 409 and set(r.json()) >= {"detail"}
     r = client.get("/healthz", headers={"Host": "example.com"})
     assert r.status_code == 400 and isinstance(r.json()["detail"], str)
+
+
+def test_the_map_picture_is_revalidated_and_changes_with_a_teach(dirs, model6, tmp_path):
+    """The picture was sent with max-age=300 under one URL: after a teach, a reload or another tab showed the old
+    map (without the taught place) for five minutes (second audit). Now an ETag that a teach changes."""
+    model_dir = tmp_path / "m"
+    shutil.copytree(dirs["home6"], model_dir)
+    client = TestClient(create_app({"home": model_dir}), base_url="http://localhost")
+    first = client.get("/map.png")
+    tag = first.headers["etag"]
+    assert first.status_code == 200 and first.headers["cache-control"] == "no-cache"
+    again = client.get("/map.png", headers={"If-None-Match": tag})
+    assert again.status_code == 304 and again.content == b"" and again.headers["etag"] == tag
+    framed = client.get("/map.png?frame=true")
+    assert framed.headers["etag"] != tag
+    x, y = start_near(model6)
+    for _ in range(3):
+        assert client.post("/teach", json={"utterance": "this is the study", "x": x, "y": y}).status_code == 200
+    after = client.get("/map.png", headers={"If-None-Match": tag})
+    assert after.status_code == 200 and after.headers["etag"] != tag and after.content != first.content
+    assert client.get("/map.png?frame=true", headers={"If-None-Match": framed.headers["etag"]}).status_code == 200
 
 
 # ---- speech ------------------------------------------------------------------------------------------------
