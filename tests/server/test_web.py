@@ -311,3 +311,24 @@ def test_click_a_spot_and_teach_its_name(server, page):
         page.wait_for_selector("#path")
         assert page.text_content("#explanation").find("alice's room") >= 0
         assert page.text_content("#error") == "" and page.errors == []
+        # a failed teach leaves no "Learned: ..." line from the one before beside its error (second audit)
+        page.fill("#utterance", "")
+        page.click("#teach-button")
+        page.wait_for_function("document.getElementById('error').textContent !== ''")
+        assert page.text_content("#taught") == "", page.text_content("#taught")
+        # a reload shows the taught map, not a cached picture from before the teach (second audit)
+        page.reload()
+        page.wait_for_selector("#overlay[data-ready='1']")
+        shown = page.evaluate(PIXELS)
+        page.evaluate(
+            "async () => { const m = $('map'); m.src = `${state.info.image}&fresh=${Date.now()}`; await m.decode(); }"
+        )
+        assert page.evaluate(PIXELS) == shown
+
+
+PIXELS = """() => {
+  const img = document.getElementById('map'), canvas = document.createElement('canvas');
+  [canvas.width, canvas.height] = [img.naturalWidth, img.naturalHeight];
+  canvas.getContext('2d').drawImage(img, 0, 0);
+  return canvas.toDataURL();
+}"""  # the map image's pixels as the page shows them

@@ -102,6 +102,7 @@ async function loadModel(name) {
   Object.assign(state, { model: name, info: null, start: null });
   overlay.replaceChildren();
   clearPlan();
+  $("taught").textContent = "";   // what was taught to the model shown before
   $("start").textContent = "Start: not set (click on the map)";
   const query = `model=${encodeURIComponent(name)}`;
   const [info, places] = await Promise.all([getJSON(`/map.json?${query}`), getJSON(`/places?${query}`)]);
@@ -183,7 +184,10 @@ async function teach(event) {
     $("taught").dataset.count = String(Number($("taught").dataset.count || 0) + 1);
     $("words").textContent = `Known place words: ${taught.place_words.join(", ")}`;
     $("map").src = `${state.info.image}&v=${Date.now()}`;
-  } catch (err) { showError(err.message); }
+  } catch (err) {
+    $("taught").textContent = "";
+    showError(err.message);
+  }
 }
 
 async function main() {
