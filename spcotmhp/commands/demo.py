@@ -173,6 +173,11 @@ def demo(
     from spcotmhp.viz.draw import render
     from spcotmhp.viz.plan import draw_plan
 
+    held = next((p for p in (out.resolve(), *out.resolve().parents) if (p / "model.json").is_file()), None)
+    if held is not None:  # teach refuses a model folder holding other files (it replaces the folder whole)
+        raise SpcotmhpError(
+            f"--out {out} is in the model folder {held}, which must hold only the model; write elsewhere"
+        )
     if out.is_dir():  # the outputs of an earlier demo are replaced only with --overwrite
         for name in ("plan.png", "map.png", "plan.json"):
             check_output(out / name, overwrite, (), SpcotmhpError, "--out")

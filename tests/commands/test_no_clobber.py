@@ -101,7 +101,7 @@ def test_plan_png_never_onto_the_model(model, tmp_path):
 
 
 def test_no_output_inside_the_model_folder(model, tmp_path):
-    """A PNG or a Nav2 export written into the model folder made the next `teach` refuse the folder (audit 2)."""
+    """A PNG, a Nav2 export or a demo written into a model folder made the next `teach` refuse it (audit 2)."""
     from spcotmhp.learning.io import load_model
 
     m = load_model(model)
@@ -111,9 +111,11 @@ def test_no_output_inside_the_model_folder(model, tmp_path):
         ("plan", model, "go to the kitchen", "--start", x, y, "--png", model / "plan.png"),
         ("show", model, "--png", model / "map.png"),
         ("export-nav2", model, "--out", model / "nav2"),
+        ("demo", "--out", model, "--supervised"),
+        ("demo", "--out", model / "demo", "--supervised"),
     ]
     for args in runs:
-        assert "is inside the model folder" in _error_line(_cli(*args)), args
+        assert "the model folder" in _error_line(_cli(*args)), args
     assert _digest(model) == before and sorted(p.name for p in model.iterdir()) == sorted(before)
 
 
