@@ -117,7 +117,7 @@ def serve(
         import uvicorn
     except ImportError:
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
-    console = Console(stderr=True)
+    console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
     mapping = model_mapping(models)
     sock = listening_socket(host, port)  # before the models load: a port in use fails at once
     hosts = list(allowed_host or LOCAL_HOSTS)

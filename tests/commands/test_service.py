@@ -33,6 +33,9 @@ def test_serve_answers_plan_requests_over_http(model_dir):
         assert page.status_code == 200 and "SpCoTMHP" in page.text
         png = httpx.get(server.url + "/map.png", timeout=10)
         assert png.content[:8] == b"\x89PNG\r\n\x1a\n"
+        # one line a script can read the address from (it wrapped at 80 columns: second audit)
+        served = f"serving 1 model(s) on {server.url}/ (API docs: /docs, schema: /openapi.json)"
+        assert served in server.output_tail().splitlines(), server.output_tail()
 
 
 def test_serve_reports_a_missing_model_folder(tmp_path):
