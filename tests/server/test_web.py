@@ -167,6 +167,8 @@ def test_click_start_plan_and_see_the_path(server, page):
         assert page.locator("circle.mark.goal").count() == 1 and page.locator("circle.mark.waypoint").count() == 1
         assert page.text_content("#error") == ""
         assert page.errors == []
+        # not even the browser's own /favicon.ico request fails (a 404 in the console: second audit)
+        assert [line for line in page.log if line.startswith(("HTTP", "console error"))] == []
 
 
 def test_the_page_is_ready_only_once_the_map_is_shown(server, page):
