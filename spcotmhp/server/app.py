@@ -235,7 +235,7 @@ def create_app(
         query_model: Annotated[str | None, Query(alias="model", max_length=200)] = None,
     ) -> dict:
         """Recognise a spoken instruction (pocketsphinx, grammar of the model's place words) and plan from its
-        N-best hypotheses (Eq. 25)."""
+        N-best hypotheses (Eq. 25). An error once recognised also lists the ``hypotheses``."""
         sm = pick(_one_model(query_model, model))
         xy = _parse_start(start)
         try:
@@ -252,9 +252,13 @@ def create_app(
             raise APIError(422, str(exc), place_words=sm.place_words) from None
         except SpcotmhpError as exc:
             raise APIError(501, str(exc)) from None
-        out = await _plan(sm, hypotheses, xy, "en", _client(request))
-        out["hypotheses"] = [{"text": t, "score": s} for t, s in hypotheses]
-        return out
+        heard = [{"text": t, "score": s} for t, s in hypotheses]
+        try:
+            out = await _plan(sm, hypotheses, xy, "en", _client(request))
+        except APIError as exc:  # what was heard helps with a plan that failed (an unknown word, a bad start)
+            exc.extra["hypotheses"] = heard
+            raise
+        return {**out, "hypotheses": heard}
 
     return app
 

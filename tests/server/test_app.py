@@ -406,6 +406,12 @@ def test_spoken_instruction_plans_via_the_corridor(client, start):
     assert sum(h["score"] for h in body["hypotheses"]) == pytest.approx(1.0)
     roles = {p["role"]: p["name"] for p in body["places"]}
     assert roles["waypoint"] == "corridor" and roles["goal"] == "bedroom"
+    # a plan that fails once the words are recognised still says what was heard (second audit)
+    r = client.post(
+        "/plan/audio", files={"audio": ("say.wav", wav, "audio/wav")}, data={"start": "100,100", "model": "home6"}
+    )
+    assert r.status_code == 422 and r.json()["cause"] == "StartOutsideMap"
+    assert r.json()["hypotheses"] == body["hypotheses"]
 
 
 # ---- concurrency and the registry --------------------------------------------------------------------------

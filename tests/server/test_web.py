@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from spcotmhp.learning.io import load_model
-from tests.helpers.server import INSTRUCTION, ServerProcess, start_near, supervised_model_dir
+from tests.helpers.server import INSTRUCTION, ServerProcess, start_near, supervised_model_dir, wall_point
 
 sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (extra 'dev')")
 CHROMIUM = next(
@@ -282,6 +282,11 @@ def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
         assert page.text_content("#hypotheses").startswith(f'Heard: "{INSTRUCTION}"')
         assert "corridor (waypoint)" in page.text_content("#explanation")
         assert page.errors == []
+        click_world(page, wall_point(server.model))  # the plan fails: what was heard is still shown (second audit)
+        page.click("#audio-button")
+        page.wait_for_function("document.getElementById('error').textContent !== ''")
+        assert page.text_content("#hypotheses").startswith(f'Heard: "{INSTRUCTION}"')
+        assert page.locator("#path").count() == 0 and page.text_content("#explanation") == ""
 
 
 def _close(shown: str, start: list[float]) -> bool:

@@ -44,8 +44,9 @@ async function getJSON(url, options) {
   let body = null;
   try { body = await response.json(); } catch (e) { body = null; }
   if (!response.ok) {
-    let message = (body && body.detail) || `${response.status} ${response.statusText}`;
-    throw new Error(message);
+    const error = new Error((body && body.detail) || `${response.status} ${response.statusText}`);
+    error.body = body;   // e.g. the hypotheses heard in a spoken instruction that could not be planned
+    throw error;
   }
   return body;
 }
@@ -145,7 +146,11 @@ async function requestPlan(url, options, heard) {
     if (ask !== asked) return;
     $("hypotheses").textContent = heard(plan);
     drawPlan(plan);
-  } catch (err) { if (ask === asked) showFailure(err.message); }
+  } catch (err) {
+    if (ask !== asked) return;
+    showFailure(err.message);
+    if (err.body && err.body.hypotheses) $("hypotheses").textContent = heard(err.body);
+  }
 }
 
 async function planText(event) {
