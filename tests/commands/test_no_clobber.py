@@ -135,3 +135,17 @@ def test_costmap_refuses_absurd_settings_in_one_line(dataset, tmp_path):
     result = _cli("costmap", dataset / "map.yaml", "--inflation-radius", "1e308", "--out", tmp_path / "x.csv")
     assert _error_line(result) == "error: cost map setting inflation_radius must be at most 1e+12, got 1e+308"
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_every_overwrite_option_is_one_flag():
+    """`import-bag` alone offered `--overwrite / --no-overwrite` (second audit): one spelling everywhere."""
+    import typer.main
+
+    group = typer.main.get_command(app)
+    spelled = {
+        name: sorted(p.opts + p.secondary_opts)
+        for name, command in group.commands.items()
+        for p in command.params
+        if p.name == "overwrite"
+    }
+    assert "import-bag" in spelled and {name: ["--overwrite"] for name in spelled} == spelled
