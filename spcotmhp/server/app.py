@@ -75,6 +75,9 @@ def errors(*codes: int) -> dict[int | str, dict[str, Any]]:
 
 
 MAP_ERRORS = errors(404, 422)
+PLAN_ERRORS = errors(404, 408, 409, 413, 415, 422, 503)
+TEACH_ERRORS = errors(404, 408, 413, 415, 422)
+AUDIO_ERRORS = errors(404, 408, 409, 413, 422, 501, 503)
 
 
 class APIError(Exception):
@@ -191,25 +194,13 @@ def create_app(
             "resolution": sm.model.require_map().resolution,
         }
 
-    @app.post(
-        "/plan",
-        response_model=PlanResponse,
-        responses=errors(404, 408, 409, 413, 415, 422, 503),
-        tags=["planning"],
-        dependencies=JSON_BODY,
-    )
+    @app.post("/plan", response_model=PlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
-    @app.post(
-        "/teach",
-        response_model=TeachResponse,
-        responses=errors(404, 408, 413, 415, 422),
-        tags=["learning"],
-        dependencies=JSON_BODY,
-    )
+    @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
         """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
         later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
@@ -220,12 +211,7 @@ def create_app(
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 
-    @app.post(
-        "/plan/audio",
-        response_model=AudioPlanResponse,
-        responses=errors(404, 408, 409, 413, 422, 501, 503),
-        tags=["planning"],
-    )
+    @app.post("/plan/audio", response_model=AudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
     async def plan_audio(
         request: Request,
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
