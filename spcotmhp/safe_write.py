@@ -60,6 +60,16 @@ def check_output(
     return path
 
 
+def outside_model(path: Path, model_dir: Path, option: str) -> None:
+    """Refuse an output inside the model folder ``model_dir``: the folder holds only the model, and ``teach``
+    (which replaces it whole) refuses one with other files in it."""
+    if Path(model_dir).is_dir() and Path(path).resolve().is_relative_to(Path(model_dir).resolve()):
+        raise SpcotmhpError(
+            f"{option} {path} is inside the model folder {model_dir}, which must hold only the model "
+            "(teach refuses a folder with other files); write elsewhere"
+        )
+
+
 def atomic_write(path: Path, write: Callable[[Path], object], error: ErrorType = SpcotmhpError) -> Path:
     """Call ``write(tmp)`` on a fresh temporary file beside ``path``, flush it to disk and rename it to
     ``path``; the temporary is removed on any failure, which propagates (an ``OSError`` becomes ``error``)."""

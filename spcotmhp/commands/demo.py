@@ -18,7 +18,7 @@ import typer
 
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
 from spcotmhp.limits import MAX_ITERATIONS, MAX_RUNS
-from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output
+from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output, outside_model
 
 DEMO_INSTRUCTION = "go to the bedroom via the corridor"
 
@@ -173,6 +173,11 @@ def demo(
     from spcotmhp.viz.draw import render
     from spcotmhp.viz.plan import draw_plan
 
+    held = next((p for p in (out.resolve(), *out.resolve().parents) if (p / "model.json").is_file()), None)
+    if held is not None:  # teach refuses a model folder holding other files (it replaces the folder whole)
+        raise SpcotmhpError(
+            f"--out {out} is in the model folder {held}, which must hold only the model; write elsewhere"
+        )
     if out.is_dir():  # the outputs of an earlier demo are replaced only with --overwrite
         for name in ("plan.png", "map.png", "plan.json"):
             check_output(out / name, overwrite, (), SpcotmhpError, "--out")
@@ -253,6 +258,7 @@ def show(
         from spcotmhp.commands.planning import input_files
 
         check_output(png, overwrite, input_files(model_dir), SpcotmhpError, "--png")
+        outside_model(png, model_dir, "--png")
     model = load_model(model_dir)
     labels = place_display_labels(model)
     edges = _edges(model)

@@ -11,7 +11,7 @@ from spcotmhp.collector import end_startup
 from spcotmhp.errors import InstructionError, SpcotmhpError
 from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS
 from spcotmhp.safe_read import excerpt, parse_json
-from spcotmhp.safe_write import atomic_write, check_output
+from spcotmhp.safe_write import atomic_write, check_output, outside_model
 
 MAX_NBEST_BYTES = 256 * 1024
 
@@ -84,6 +84,7 @@ def plan_command(
         )
     if png is not None:
         check_output(png, overwrite, input_files(model_dir, nbest, audio), SpcotmhpError, "--png")
+        outside_model(png, model_dir, "--png")
     source: Any = instruction if nbest is None else read_nbest(nbest)
     model = load_model(model_dir)
     if audio is not None:

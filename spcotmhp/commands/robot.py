@@ -28,7 +28,7 @@ def import_bag(
         float, typer.Option(help="Trajectory spacing in metres along the path; 0 keeps every pose message.")
     ] = 0.1,
     lang: Annotated[str, typer.Option(help="Language of the utterances: en (words_en) or ja (words_ja).")] = "en",
-    overwrite: Annotated[bool, typer.Option(help="Replace a dataset already in --out.")] = False,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace a dataset already in --out.")] = False,
 ) -> None:
     """Import a robot's log as a dataset folder: trajectory.csv, teaching.csv (each utterance at the pose
     interpolated at its time) and the map."""

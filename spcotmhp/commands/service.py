@@ -102,7 +102,8 @@ def serve(
         float, typer.Option(callback=_seconds, help="Seconds (0.1 to 600) to receive a JSON request body before a 408.")
     ] = 10.0,
 ) -> None:
-    """Serve planning over HTTP (FastAPI): POST /plan, POST /plan/audio, GET /places, /map.png, the web page at /.
+    """Serve planning over HTTP (FastAPI): POST /plan, /plan/audio and /teach; GET /places, /map.png, /map.json,
+    /models and /healthz; the web page at /.
 
     Requests must address an allowed host (DNS-rebinding protection); long instructions run on a second
     planner per model with admission limits, so they cannot starve short ones; the API description at /docs
@@ -117,7 +118,7 @@ def serve(
         import uvicorn
     except ImportError:
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
-    console = Console(stderr=True)
+    console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
     mapping = model_mapping(models)
     sock = listening_socket(host, port)  # before the models load: a port in use fails at once
     hosts = list(allowed_host or LOCAL_HOSTS)

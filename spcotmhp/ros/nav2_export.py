@@ -31,7 +31,7 @@ from spcotmhp.metric.map_io import save_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.planner import HierarchicalPlanner
-from spcotmhp.safe_write import build_folder, same_file
+from spcotmhp.safe_write import build_folder, outside_model, same_file
 
 ROUTE_GRAPH = "route_graph.geojson"
 KEEPOUT = "keepout"
@@ -156,6 +156,7 @@ def _check_target(out: Path, model_dir: Path, overwrite: bool) -> None:
         raise SpcotmhpError(f"--out {out} exists and is not a folder; give a folder")
     if model_dir.exists() and (same_file(out, model_dir) or model_dir.resolve().is_relative_to(out.resolve())):
         raise SpcotmhpError(f"--out {out} would replace the model folder {model_dir}; write elsewhere")
+    outside_model(out, model_dir, "--out")
     present = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
     if not present:
         return

@@ -138,7 +138,8 @@ def plan_status(plan: Any, instruction: str, start: Sequence[float], points: np.
 
 
 def error_status(exc: BaseException, instruction: str | None = None, kind: str = "error") -> dict:
-    """The status line of a message that could not be served: the one-line error and its type."""
+    """The status line of a message that could not be served: the one-line error and its type, and the text it
+    answers (``utterance`` for a teach, as its success line names it; ``instruction`` otherwise)."""
     out = {
         "kind": kind,
         "ok": False,
@@ -146,5 +147,5 @@ def error_status(exc: BaseException, instruction: str | None = None, kind: str =
         "type": type(exc).__name__,
     }
     if instruction is not None:
-        out["instruction"] = instruction
+        out["utterance" if kind == "taught" else "instruction"] = instruction
     return out

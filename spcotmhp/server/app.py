@@ -6,10 +6,11 @@ start-up (:mod:`spcotmhp.server.registry`); requests pick a model by name (``?mo
 413 for oversized bodies (:mod:`spcotmhp.server.limits`), 408 for a body that arrives too slowly, 400 for a
 Host header naming a host that is not allowed (localhost only by default), 404 for an unknown model, 415 for a
 JSON endpoint's body sent with another Content-Type, 422 for invalid fields, an instruction naming no known
-place (with the known ``place_words``), a start in a wall or off the map, no path, or audio that is not a
-usable WAV file; 503 when the planner is busy or a plan exceeds the time budget
-(:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns a place name at run time. ``/docs`` is a
-self-contained page describing the API from ``/openapi.json`` (no CDN, works offline).
+place (with the known ``place_words``), a start in a wall or off the map, or audio that is not a usable WAV
+file; 409 when no free path reaches the place named; 501 for audio without the speech extra; 503 when the
+planner is busy or a plan exceeds the time budget (:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns
+a place name at run time. ``/docs`` is a self-contained page describing the API from ``/openapi.json`` (no
+CDN, works offline).
 """
 
 from __future__ import annotations
@@ -54,7 +55,29 @@ from spcotmhp.server.schemas import (
 
 STATIC = Path(__file__).parent / "static"
 ModelQuery = Annotated[str | None, Query(max_length=200, description="Served model name (default: the first).")]
-ERRORS: dict[int | str, dict[str, Any]] = {code: {"model": ErrorResponse} for code in (404, 413, 415, 422, 503)}
+ERROR_CAUSES = {
+    400: "The Host header names a host that is not allowed, or the Content-Length header is not a number.",
+    404: "No served model has that name.",
+    408: "The body did not arrive in time (--body-timeout).",
+    409: "No free path reaches a place the instruction names (NoReachablePlace).",
+    413: "The body, or the instruction, is too large.",
+    415: "A JSON body sent with another Content-Type.",
+    422: "An invalid field, an instruction not understood, a start in a wall or off the map.",
+    501: "Speech input is not installed (extra 'speech').",
+    503: "The planner is busy, or the plan exceeded the time budget.",
+}
+
+
+def errors(*codes: int) -> dict[int | str, dict[str, Any]]:
+    """The error answers an endpoint gives, for /openapi.json (each an :class:`ErrorResponse`); 400 for a Host
+    header that is not allowed can answer any request."""
+    return {code: {"model": ErrorResponse, "description": ERROR_CAUSES[code]} for code in (400, *codes)}
+
+
+MAP_ERRORS = errors(404, 422)
+PLAN_ERRORS = errors(404, 408, 409, 413, 415, 422, 503)
+TEACH_ERRORS = errors(404, 408, 413, 415, 422)
+AUDIO_ERRORS = errors(404, 408, 409, 413, 422, 501, 503)
 
 
 class APIError(Exception):
@@ -118,38 +141,47 @@ def create_app(
 
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
 
-    @app.get("/healthz", response_model=Health, tags=["service"])
+    @app.get("/healthz", response_model=Health, responses=errors(), tags=["service"])
     def healthz() -> dict:
         """Liveness: the service is up and its models are loaded."""
         return {"status": "ok", "models": list(served)}
 
-    @app.get("/models", response_model=ModelsResponse, tags=["service"])
+    @app.get("/models", response_model=ModelsResponse, responses=errors(), tags=["service"])
     def list_models() -> dict:
         """The served models (the default first) with their place words."""
         return {"default": default, "models": [m.summary() for m in served.values()]}
 
-    @app.get("/places", response_model=PlacesResponse, responses=ERRORS, tags=["map"])
+    @app.get("/places", response_model=PlacesResponse, responses=MAP_ERRORS, tags=["map"])
     def places(model: ModelQuery = None) -> dict:
         """The learned places (ids, names, labels, means, covariances, picture colours) and topological edges."""
         return pick(model).places()
 
     @app.get(
         "/map.png",
-        responses={200: {"content": {"image/png": {}}}, **ERRORS},
+        responses={
+            200: {"content": {"image/png": {}}},
+            304: {"description": "Unchanged (If-None-Match)."},
+            **MAP_ERRORS,
+        },
         tags=["map"],
         response_class=Response,
     )
     def map_png(
+        request: Request,
         model: ModelQuery = None,
         frame: bool = Query(False, description="Axes in metres and a title (not georeferenced)."),
     ):
         """The learned map picture: places as ellipses with names, edges. Without ``frame`` its pixels map
-        linearly onto the extent given by ``GET /map.json``."""
+        linearly onto the extent given by ``GET /map.json``. Revalidated on every use (``ETag``; 304 when
+        unchanged): a ``POST /teach`` changes it."""
         sm = pick(model)
+        headers = {"Cache-Control": "no-cache", "ETag": f'"{sm.name}-{sm.version}-{int(frame)}"'}
+        if request.headers.get("if-none-match") == headers["ETag"]:
+            return Response(status_code=304, headers=headers)
         png = sm.figure_png() if frame else sm.image.png
-        return Response(png, media_type="image/png", headers={"Cache-Control": "max-age=300"})
+        return Response(png, media_type="image/png", headers=headers)
 
-    @app.get("/map.json", response_model=MapInfo, responses=ERRORS, tags=["map"])
+    @app.get("/map.json", response_model=MapInfo, responses=MAP_ERRORS, tags=["map"])
     def map_json(model: ModelQuery = None) -> dict:
         """Georeferencing of ``GET /map.png``: pixel (0, 0) is (x0, y1), pixel (width, height) is (x1, y0)."""
         sm = pick(model)
@@ -162,13 +194,13 @@ def create_app(
             "resolution": sm.model.require_map().resolution,
         }
 
-    @app.post("/plan", response_model=PlanResponse, responses=ERRORS, tags=["planning"], dependencies=JSON_BODY)
+    @app.post("/plan", response_model=PlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
-    @app.post("/teach", response_model=TeachResponse, responses=ERRORS, tags=["learning"], dependencies=JSON_BODY)
+    @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
         """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
         later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
@@ -179,7 +211,7 @@ def create_app(
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 
-    @app.post("/plan/audio", response_model=AudioPlanResponse, responses=ERRORS, tags=["planning"])
+    @app.post("/plan/audio", response_model=AudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
     async def plan_audio(
         request: Request,
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
@@ -189,7 +221,7 @@ def create_app(
         query_model: Annotated[str | None, Query(alias="model", max_length=200)] = None,
     ) -> dict:
         """Recognise a spoken instruction (pocketsphinx, grammar of the model's place words) and plan from its
-        N-best hypotheses (Eq. 25)."""
+        N-best hypotheses (Eq. 25). An error once recognised also lists the ``hypotheses``."""
         sm = pick(_one_model(query_model, model))
         xy = _parse_start(start)
         try:
@@ -206,9 +238,13 @@ def create_app(
             raise APIError(422, str(exc), place_words=sm.place_words) from None
         except SpcotmhpError as exc:
             raise APIError(501, str(exc)) from None
-        out = await _plan(sm, hypotheses, xy, "en", _client(request))
-        out["hypotheses"] = [{"text": t, "score": s} for t, s in hypotheses]
-        return out
+        heard = [{"text": t, "score": s} for t, s in hypotheses]
+        try:
+            out = await _plan(sm, hypotheses, xy, "en", _client(request))
+        except APIError as exc:  # what was heard helps with a plan that failed (an unknown word, a bad start)
+            exc.extra["hypotheses"] = heard
+            raise
+        return {**out, "hypotheses": heard}
 
     return app
 

@@ -56,6 +56,7 @@ class ServedModel:
     budget: Budget = field(default_factory=Budget, repr=False)
     cache: GraphCache = field(default_factory=GraphCache, repr=False)
     _figure: bytes | None = field(default=None, repr=False)
+    version: int = 0  # teaches so far: the map pictures' ETag (a taught place changes them)
     _teaching: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     @property
@@ -144,6 +145,7 @@ class ServedModel:
                     image,
                     None,
                 )
+                self.version += 1
         return {
             "model": self.name,
             **taught.summary(),

@@ -9,6 +9,8 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from spcotmhp.planning.instructions import MAX_CHARS, MAX_HYPOTHESES
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
+# a number a client sends: a JSON number, never true/false (read as 1/0) nor a string of digits
+Number = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 Word = Annotated[str, Field(min_length=1, max_length=100)]
 Point = tuple[Finite, Finite]
 
@@ -23,7 +25,7 @@ class Hypothesis(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
     text: str = Field(min_length=1, max_length=MAX_TEXT)
-    score: Finite
+    score: Number
 
 
 class StructuredInstruction(BaseModel):
@@ -59,7 +61,7 @@ class PlanRequest(BaseModel):
         description="Recogniser hypotheses, weighed as bags of words (Eq. 25).",
     )
     structured: StructuredInstruction | None = None
-    start: Point = Field(description="Start pose [x, y] in metres, map frame.")
+    start: tuple[Number, Number] = Field(description="Start pose [x, y] in metres, map frame.")
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
     lang: Literal["en", "ja"] | None = Field(None, description="Instruction language (default: detected).")
 
@@ -90,8 +92,8 @@ class TeachRequest(BaseModel):
         json_schema_extra={"examples": [{"utterance": "this is alice's room", "x": -3.45, "y": 5.65}]},
     )
     utterance: str = Field(min_length=1, max_length=MAX_TEXT, description='e.g. "this is alice\'s room".')
-    x: Finite
-    y: Finite
+    x: Number
+    y: Number
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
 
 

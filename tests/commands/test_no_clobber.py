@@ -100,6 +100,25 @@ def test_plan_png_never_onto_the_model(model, tmp_path):
     assert png.read_bytes() == b"old"
 
 
+def test_no_output_inside_the_model_folder(model, tmp_path):
+    """A PNG, a Nav2 export or a demo written into a model folder made the next `teach` refuse it (audit 2)."""
+    from spcotmhp.learning.io import load_model
+
+    m = load_model(model)
+    x, y = (float(v) for v in m.mu[int(m.active_places.argmax())])
+    before = _digest(model)
+    runs = [
+        ("plan", model, "go to the kitchen", "--start", x, y, "--png", model / "plan.png"),
+        ("show", model, "--png", model / "map.png"),
+        ("export-nav2", model, "--out", model / "nav2"),
+        ("demo", "--out", model, "--supervised"),
+        ("demo", "--out", model / "demo", "--supervised"),
+    ]
+    for args in runs:
+        assert "the model folder" in _error_line(_cli(*args)), args
+    assert _digest(model) == before and sorted(p.name for p in model.iterdir()) == sorted(before)
+
+
 def test_synth_over_a_dataset_needs_overwrite_and_leaves_nothing_stale(dataset, tmp_path):
     target = tmp_path / "d"
     shutil.copytree(dataset, target)
@@ -116,3 +135,17 @@ def test_costmap_refuses_absurd_settings_in_one_line(dataset, tmp_path):
     result = _cli("costmap", dataset / "map.yaml", "--inflation-radius", "1e308", "--out", tmp_path / "x.csv")
     assert _error_line(result) == "error: cost map setting inflation_radius must be at most 1e+12, got 1e+308"
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_every_overwrite_option_is_one_flag():
+    """`import-bag` alone offered `--overwrite / --no-overwrite` (second audit): one spelling everywhere."""
+    import typer.main
+
+    group = typer.main.get_command(app)
+    spelled = {
+        name: sorted(p.opts + p.secondary_opts)
+        for name, command in group.commands.items()
+        for p in command.params
+        if p.name == "overwrite"
+    }
+    assert "import-bag" in spelled and {name: ["--overwrite"] for name in spelled} == spelled

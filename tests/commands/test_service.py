@@ -33,6 +33,21 @@ def test_serve_answers_plan_requests_over_http(model_dir):
         assert page.status_code == 200 and "SpCoTMHP" in page.text
         png = httpx.get(server.url + "/map.png", timeout=10)
         assert png.content[:8] == b"\x89PNG\r\n\x1a\n"
+        # one line a script can read the address from (it wrapped at 80 columns: second audit)
+        served = f"serving 1 model(s) on {server.url}/ (API docs: /docs, schema: /openapi.json)"
+        assert served in server.output_tail().splitlines(), server.output_tail()
+
+
+def test_serve_help_names_every_endpoint(model_dir):
+    """`serve --help` left out POST /teach, GET /map.json, /models and /healthz (second audit)."""
+    from typer.testing import CliRunner
+
+    from spcotmhp.cli import app
+    from spcotmhp.server import create_app
+
+    text = " ".join(CliRunner().invoke(app, ["serve", "--help"], terminal_width=200).output.split())
+    paths = create_app({"home": model_dir}).openapi()["paths"]
+    assert [p for p in paths if f"{p}," not in text and f"{p};" not in text and f"{p} " not in text] == []
 
 
 def test_serve_reports_a_missing_model_folder(tmp_path):

@@ -270,7 +270,9 @@ def test_teaching_is_recorded_as_a_dataset(setup):
     first = client.ask(client.teach_pub, "this is the study")
     client.set_pose(*b)
     second = client.ask(client.teach_pub, "ここは 書斎 です")
-    assert client.ask(client.teach_pub, "  ")["ok"] is False
+    refused = client.ask(client.teach_pub, "  ")
+    assert refused["ok"] is False and refused["kind"] == "taught" and refused["type"] == "TeachingError"
+    assert refused["utterance"] == "  " and first["utterance"] == "this is the study" and "instruction" not in refused
     assert (first["event"], second["event"]) == (0, 1) and first["ok"] and first["kind"] == "taught"
     assert isinstance(first["place"], int) and isinstance(first["label"], str) and first["places"] >= 1
     with warnings.catch_warnings():

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from spcotmhp.learning.io import load_model
-from tests.helpers.server import INSTRUCTION, ServerProcess, start_near, supervised_model_dir
+from tests.helpers.server import INSTRUCTION, ServerProcess, start_near, supervised_model_dir, wall_point
 
 sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (extra 'dev')")
 CHROMIUM = next(
@@ -167,6 +167,8 @@ def test_click_start_plan_and_see_the_path(server, page):
         assert page.locator("circle.mark.goal").count() == 1 and page.locator("circle.mark.waypoint").count() == 1
         assert page.text_content("#error") == ""
         assert page.errors == []
+        # not even the browser's own /favicon.ico request fails (a 404 in the console: second audit)
+        assert [line for line in page.log if line.startswith(("HTTP", "console error"))] == []
 
 
 def test_the_page_is_ready_only_once_the_map_is_shown(server, page):
@@ -280,6 +282,11 @@ def test_upload_a_wav_and_see_the_path(server, page, tmp_path):
         assert page.text_content("#hypotheses").startswith(f'Heard: "{INSTRUCTION}"')
         assert "corridor (waypoint)" in page.text_content("#explanation")
         assert page.errors == []
+        click_world(page, wall_point(server.model))  # the plan fails: what was heard is still shown (second audit)
+        page.click("#audio-button")
+        page.wait_for_function("document.getElementById('error').textContent !== ''")
+        assert page.text_content("#hypotheses").startswith(f'Heard: "{INSTRUCTION}"')
+        assert page.locator("#path").count() == 0 and page.text_content("#explanation") == ""
 
 
 def _close(shown: str, start: list[float]) -> bool:
@@ -311,3 +318,24 @@ def test_click_a_spot_and_teach_its_name(server, page):
         page.wait_for_selector("#path")
         assert page.text_content("#explanation").find("alice's room") >= 0
         assert page.text_content("#error") == "" and page.errors == []
+        # a failed teach leaves no "Learned: ..." line from the one before beside its error (second audit)
+        page.fill("#utterance", "")
+        page.click("#teach-button")
+        page.wait_for_function("document.getElementById('error').textContent !== ''")
+        assert page.text_content("#taught") == "", page.text_content("#taught")
+        # a reload shows the taught map, not a cached picture from before the teach (second audit)
+        page.reload()
+        page.wait_for_selector("#overlay[data-ready='1']")
+        shown = page.evaluate(PIXELS)
+        page.evaluate(
+            "async () => { const m = $('map'); m.src = `${state.info.image}&fresh=${Date.now()}`; await m.decode(); }"
+        )
+        assert page.evaluate(PIXELS) == shown
+
+
+PIXELS = """() => {
+  const img = document.getElementById('map'), canvas = document.createElement('canvas');
+  [canvas.width, canvas.height] = [img.naturalWidth, img.naturalHeight];
+  canvas.getContext('2d').drawImage(img, 0, 0);
+  return canvas.toDataURL();
+}"""  # the map image's pixels as the page shows them

@@ -44,8 +44,9 @@ async function getJSON(url, options) {
   let body = null;
   try { body = await response.json(); } catch (e) { body = null; }
   if (!response.ok) {
-    let message = (body && body.detail) || `${response.status} ${response.statusText}`;
-    throw new Error(message);
+    const error = new Error((body && body.detail) || `${response.status} ${response.statusText}`);
+    error.body = body;   // e.g. the hypotheses heard in a spoken instruction that could not be planned
+    throw error;
   }
   return body;
 }
@@ -102,6 +103,7 @@ async function loadModel(name) {
   Object.assign(state, { model: name, info: null, start: null });
   overlay.replaceChildren();
   clearPlan();
+  $("taught").textContent = "";   // what was taught to the model shown before
   $("start").textContent = "Start: not set (click on the map)";
   const query = `model=${encodeURIComponent(name)}`;
   const [info, places] = await Promise.all([getJSON(`/map.json?${query}`), getJSON(`/places?${query}`)]);
@@ -144,7 +146,11 @@ async function requestPlan(url, options, heard) {
     if (ask !== asked) return;
     $("hypotheses").textContent = heard(plan);
     drawPlan(plan);
-  } catch (err) { if (ask === asked) showFailure(err.message); }
+  } catch (err) {
+    if (ask !== asked) return;
+    showFailure(err.message);
+    if (err.body && err.body.hypotheses) $("hypotheses").textContent = heard(err.body);
+  }
 }
 
 async function planText(event) {
@@ -183,7 +189,10 @@ async function teach(event) {
     $("taught").dataset.count = String(Number($("taught").dataset.count || 0) + 1);
     $("words").textContent = `Known place words: ${taught.place_words.join(", ")}`;
     $("map").src = `${state.info.image}&v=${Date.now()}`;
-  } catch (err) { showError(err.message); }
+  } catch (err) {
+    $("taught").textContent = "";
+    showError(err.message);
+  }
 }
 
 async function main() {
