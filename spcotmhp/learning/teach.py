@@ -14,7 +14,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.online import OnlineSpCoTMHP
+from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, as_event
 
 
 @dataclass
@@ -54,9 +54,11 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
     learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0)
     before = {int(k) for k in model.active_places.nonzero()[0]}
     t0 = time.perf_counter()
-    learner.partial_fit(list(events))
+    batch = [as_event(item) for item in events]
+    learner.partial_fit(batch)
     t1 = time.perf_counter()
     updated = learner.model_
+    updated.info["taught"] = count_taught(model, batch)
     t2 = time.perf_counter()
     words = place_vocabulary(updated)
     labels = place_labels(updated, words)
@@ -70,6 +72,27 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
         t1 - t0,
         t2 - t1,
     )
+
+
+def count_taught(model: SpatialConceptModel, batch: list[TeachingEvent]) -> dict[str, int]:
+    """{word: teaches that said it}: ``model``'s count (``vocabulary.taught_counts``) plus the words of ``batch``
+    (grammar and filler words left out). A word taught at run time is a place word only once some place's label
+    carries it (rule 4 of ``vocabulary.place_vocabulary``); until then the planner refuses it saying how often
+    it was taught.
+
+    >>> from spcotmhp.learning.online import TeachingEvent
+    >>> m = SpatialConceptModel.__new__(SpatialConceptModel); m.info = {"taught": {"study": 1}}
+    >>> count_taught(m, [TeachingEvent.from_utterance("this is the study", 0, 0)])
+    {'study': 2}
+    """
+    from spcotmhp.planning.vocabulary import _FUNCTION_WORDS, taught_counts
+
+    counts = taught_counts(model)
+    for event in batch:
+        for w in dict.fromkeys(event.words):
+            if w not in _FUNCTION_WORDS:
+                counts[w] = counts.get(w, 0) + 1
+    return counts
 
 
 def planner_for(model: SpatialConceptModel, settings=None, previous=None, cache=None):

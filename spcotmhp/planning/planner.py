@@ -80,7 +80,7 @@ from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
-from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+from spcotmhp.planning.vocabulary import parse_instruction, place_labels, place_vocabulary
 
 
 class HierarchicalPlanner:
@@ -152,7 +152,7 @@ class HierarchicalPlanner:
         """
         t0 = time.perf_counter()
         model, res = self.model, self.resolution
-        ins = to_instruction(instruction, self.place_words, lang)
+        ins = parse_instruction(instruction, model, self.place_words, lang)
         x0, cell, escape = start_cell(model, self.graph, start)
         stages = ins.stages
         S = len(stages)

@@ -59,6 +59,12 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     3. and it is not a grammar or filler word of a supported language ("here", "called", "the", です): said with
        every name ("this is the kitchen"), such words would pass rule 1, and rule 2 removes them only where
        they are said at every place. A site whose name is such a word cannot be named in instructions.
+    4. and, for a word taught at run time (:func:`taught_counts`), the label (:func:`place_labels`) of some active
+       place carries it: one teach at a spot whose events a large place's concept explains makes the word
+       likely only within that concept (so it passes rule 1) without making it that place's name, and the
+       planner would otherwise send "go to the study" wherever p(i | S) happens to peak. Such a word is
+       refused (:meth:`~spcotmhp.planning.planner.HierarchicalPlanner.plan` says how often it was taught) until
+       more teaches there make it a place's name.
     """
     if not len(model.vocabulary):
         return []
@@ -70,7 +76,23 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
         keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
-    return sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in _FUNCTION_WORDS)
+    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in _FUNCTION_WORDS)
+    taught = taught_counts(model)
+    if any(w in taught for w in words):  # rule 4: a word taught at run time names a place once a label carries it
+        labels = place_labels(model, words)
+        carried = {w for k in np.flatnonzero(act) for w in labels[k].split()}
+        words = [w for w in words if w not in taught or w in carried]
+    return words
+
+
+def taught_counts(model: Any) -> dict[str, int]:
+    """{word: how many teaches said it} (``model.info["taught"]``, kept by :func:`spcotmhp.learning.teach.
+    teach`); empty for a model never taught at run time."""
+    info = getattr(model, "info", None)
+    taught = info.get("taught") if isinstance(info, dict) else None
+    if not isinstance(taught, dict):
+        return {}
+    return {w: int(n) for w, n in taught.items() if isinstance(w, str) and isinstance(n, int)}
 
 
 def place_labels(
@@ -113,3 +135,26 @@ def place_labels(
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
         labels.append(" ".join(order))
     return labels
+
+
+def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None) -> Any:
+    """``to_instruction(instruction, place_words, lang)``; an UnknownPlaceWord for a word taught at run time that
+    names no place yet (rule 4 of :func:`place_vocabulary`) says so and how often it was taught, rather than
+    that the word is unknown."""
+    from spcotmhp.errors import UnknownPlaceWord
+    from spcotmhp.planning.instructions import to_instruction
+
+    try:
+        return to_instruction(instruction, place_words, lang)
+    except UnknownPlaceWord:
+        taught = taught_counts(model)
+        said = {w.lower() for w in str(instruction).replace("'", " ").split()} if taught else set()
+        pending = [w for w in taught if w not in place_words and (w in said or w in str(instruction))]
+        if not pending:
+            raise
+        word = max(pending, key=len)
+        times = {1: "once", 2: "twice"}.get(taught[word], f"{taught[word]} times")
+        raise UnknownPlaceWord(
+            f"'{word}' was taught {times} but names no place yet: the teaches there do not yet outweigh the "
+            "place's other names; teach it again where that place is"
+        ) from None

@@ -1,0 +1,45 @@
+"""Teaching at run time (issue 15, ``spcotmhp.learning.teach``): what one teach means, bad teaching refused with
+the model unchanged, new places' labels, the language of an utterance."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from spcotmhp.errors import UnknownPlaceWord
+from spcotmhp.learning.io import load_model
+from spcotmhp.learning.teach import planner_for, teach
+from spcotmhp.planning.planner import HierarchicalPlanner
+from tests.helpers.server import start_near, supervised_model_dir
+
+STUDY = (5.5, -4.0)  # a free spot of 3LDK_06 in a bedroom's territory (the audit's)
+
+
+@pytest.fixture(scope="module")
+def model6(tmp_path_factory):
+    """The supervised fit of 3LDK_06 (no learner state: teaching starts from pseudo-counts)."""
+    return load_model(supervised_model_dir("3LDK_06", tmp_path_factory.mktemp("teach") / "m06s"))
+
+
+def _teach(model, utterance: str, times: int = 1, at=STUDY):
+    for _ in range(times):
+        model = teach(model, [{"x": at[0], "y": at[1], "utterance": utterance}]).model
+    return model
+
+
+def test_one_teach_never_plans_somewhere_else(model6):
+    """One teach of "study" made it a place word that no place's label carried, and "go to the study" planned
+    to the start's place (entrance -> entrance, 0.1 m; audit). Now it is refused saying it was taught once; after
+    three teaches it plans to the taught spot, and the old names keep planning where they did."""
+    start = start_near(model6)
+    kitchen = HierarchicalPlanner(model6).plan("go to the kitchen", start).path[-1]
+    once = _teach(model6, "this is the study")
+    planner, _ = planner_for(once)
+    assert "study" not in planner.place_words
+    with pytest.raises(UnknownPlaceWord, match="'study' was taught once"):
+        planner.plan("go to the study", start)
+    thrice = _teach(once, "this is the study", 2)
+    planner, _ = planner_for(thrice)
+    assert np.linalg.norm(planner.plan("go to the study", start).path[-1] - np.array(STUDY)) < 1.5
+    assert np.linalg.norm(planner.plan("go to the kitchen", start).path[-1] - kitchen) < 0.5
+    assert thrice.info["taught"]["study"] == 3
