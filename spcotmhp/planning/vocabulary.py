@@ -46,8 +46,10 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     about 1/(number of concepts using it), a name of its own near 1. A word is kept when
 
     1. it is a *core* name word of some active place (rescaled score at least ``ratio`` times that place's best
-       one: every word of a multi-word name that only this place has, and 1/3 for each of three bedrooms with a
-       concept each, which is then also the best score of those places), or it is said at some active place
+       one among the words that are not grammar words of rule 3, which would otherwise set the bar: "this is
+       the" said with a name taught at a small place outscored its old name and its new one alike; every word of
+       a multi-word name that only this place has, and 1/3 for each of three bedrooms with a concept each,
+       which is then also the best score of those places), or it is said at some active place
        at least ``ratio`` times as often as that place's core name words: a word shared by differently named
        places ("corridor" in "east corridor" and "south corridor", "room" in "alice's room") is part of both
        names although its rescaled score is only 1/2;
@@ -71,7 +73,9 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     act = np.asarray(model.active_places, dtype=bool)
     said, rescaled, _ = _word_scores(model)
     said, rescaled = said[act], rescaled[act]
-    core = rescaled >= ratio * rescaled.max(axis=1, keepdims=True)
+    grammar = np.array([w in _FUNCTION_WORDS for w in model.vocabulary], dtype=bool)
+    best = np.where(grammar, 0.0, rescaled).max(axis=1, keepdims=True)  # rule 3's words set no bar
+    core = (rescaled >= ratio * best) & ~grammar
     core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
     keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
