@@ -101,4 +101,5 @@ class PlanningTimeout(PlanningError):
 
 class TeachingError(SpcotmhpError):
     """A teaching event cannot be learned from: an empty or over-long utterance, a position that is not finite,
-    off the map or in a wall, or image features that do not fit the model (the model is left unchanged)."""
+    off the map, in unknown space or in a wall, or image features that do not fit the model (the model is left
+    unchanged)."""

@@ -273,8 +273,8 @@ class OnlineSpCoTMHP:
         self._grow_if_saturated()  # a supervised fit uses every component: room for a new place first
 
     def _check(self, event: TeachingEvent) -> None:
-        """TeachingError for a position that is not finite, off the map or in a wall, or features that do not
-        fit the model."""
+        """TeachingError for a position that is not finite, off the map, in unknown space or in a wall, or features
+        that do not fit the model."""
         x, y = event.x, event.y
         if not (math.isfinite(x) and math.isfinite(y)):
             raise TeachingError(f"the teaching position ({x}, {y}) is not finite")
@@ -283,6 +283,11 @@ class OnlineSpCoTMHP:
             cell = occ.world_to_cell(np.array([x, y]))
             if not occ.in_bounds(cell):
                 raise TeachingError(f"the teaching position ({x:g}, {y:g}) is off the map")
+            if occ.unknown[cell[0], cell[1]]:
+                raise TeachingError(
+                    f"the teaching position ({x:g}, {y:g}) is in unknown space (a cell the map has not seen); "
+                    "teach where the robot stands"
+                )
             if occ.occupied[cell[0], cell[1]]:
                 raise TeachingError(
                     f"the teaching position ({x:g}, {y:g}) is in a wall (an occupied cell of the "

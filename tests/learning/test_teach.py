@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from spcotmhp.errors import UnknownPlaceWord
+from spcotmhp.errors import TeachingError, UnknownPlaceWord
 from spcotmhp.learning.io import load_model
 from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
@@ -43,3 +43,16 @@ def test_one_teach_never_plans_somewhere_else(model6):
     assert np.linalg.norm(planner.plan("go to the study", start).path[-1] - np.array(STUDY)) < 1.5
     assert np.linalg.norm(planner.plan("go to the kitchen", start).path[-1] - kitchen) < 0.5
     assert thrice.info["taught"]["study"] == 3
+
+
+def test_a_position_in_unknown_space_is_refused_and_changes_nothing(model6):
+    """(-6.11, -7.40) is an unknown cell of 3LDK_06 (a plan start there is refused); teaching "this is the attic"
+    there was accepted and made a new place (audit L2)."""
+    occ = model6.map
+    x, y = -6.11, -7.40
+    assert occ.unknown[tuple(occ.world_to_cell(np.array([x, y])))]
+    before = {k: np.copy(v) for k, v in vars(model6).items() if isinstance(v, np.ndarray)}
+    with pytest.raises(TeachingError, match="unknown space"):
+        teach(model6, [{"x": x, "y": y, "utterance": "this is the attic"}])
+    assert all(np.array_equal(before[k], v) for k, v in vars(model6).items() if isinstance(v, np.ndarray))
+    assert "taught" not in model6.info
