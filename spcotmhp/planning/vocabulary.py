@@ -108,7 +108,11 @@ def place_labels(
     """A name per place, whole ("alice's room", "entrance corridor"): the place words said there at least
     ``ratio`` times as often as its most said place word (p(w | k) over ``place_words``; function words are
     already out, so no rescaling is needed, and a name shared by many places is not beaten by a rare noise
-    word), joined by spaces; ``model.place_names()`` where no place word is known.
+    word), joined by spaces; ``model.place_names()`` where no place word is known. A word joins a label only if
+    the place says it more often than chance, p(w | k) > 1 / (vocabulary size), the p(w | k) of a place whose
+    concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
+    p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
+    place is "place k".
 
     Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
     spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
@@ -122,7 +126,8 @@ def place_labels(
     idx = [model.word_index[w] for w in place_words]
     said = _word_scores(model)[0][:, idx]  # (K, |place_words|)
     act = np.asarray(model.active_places, dtype=bool)
-    chosen = said >= ratio * said.max(axis=1, keepdims=True)
+    chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
+    chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
     shared = chosen[act].sum(axis=0)
     if names is None:
         info = getattr(model, "info", None) or {}
@@ -134,6 +139,9 @@ def place_labels(
     labels = []
     for k in range(len(chosen)):
         words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
+        if not words:
+            labels.append(f"place {k}")
+            continue
         order = spoken.get(frozenset(words))
         if order is None or len(order) != len(words):
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
