@@ -293,6 +293,7 @@ class OnlineSpCoTMHP:
                     f"the teaching position ({x:g}, {y:g}) is in a wall (an occupied cell of the "
                     "map); teach where the robot stands"
                 )
+        self._check_language(event)
         f = event.features
         if f is not None and self.use_features:
             f = np.asarray(f, dtype=float)
@@ -302,6 +303,29 @@ class OnlineSpCoTMHP:
                     "the image features must be non-negative finite numbers of the model's "
                     f"dimension ({self.state_.D or 'none: the model has no image features'})"
                 )
+
+    def _check_language(self, event: TeachingEvent) -> None:
+        """TeachingError for an utterance in another language than the model's words (most of its vocabulary;
+        ``instructions.detect_language``: Japanese when a word holds kana or kanji): "ここは書斎です" on an English
+        model would become one new word, never a place's name, and English on a Japanese model the same."""
+        from spcotmhp.planning.instructions import detect_language
+
+        known = [detect_language(w) for w in self.vocabulary_]
+        if not known:
+            return
+        model = "ja" if 2 * known.count("ja") > len(known) else "en"
+        said = detect_language(" ".join(event.words))
+        if said != model:
+            name = {"en": "English", "ja": "Japanese"}
+            raise TeachingError(
+                f"the utterance {' '.join(event.words)[:40]!r} is {name[said]} but the model's words are "
+                f"{name[model]}; teach in {name[model]}"
+                + (
+                    ", e.g. 'this is the study'"
+                    if model == "en"
+                    else ", words separated by spaces: 'ここ は 書斎 です'"
+                )
+            )
 
     def _update(self, event: TeachingEvent, rng: np.random.Generator) -> None:
         st = self.state_

@@ -24,11 +24,11 @@ from tests.helpers.graphs import GRAPHS
 INSTRUCTION = "go to the bedroom via the corridor"
 
 
-def supervised_model_dir(home: str, folder: Path) -> Path:
-    """The supervised fit of a bundled home, saved to ``folder``."""
+def supervised_model_dir(home: str, folder: Path, lang: str = "en") -> Path:
+    """The supervised fit of a bundled home (its ``lang`` words), saved to ``folder``."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        data = load_bundled(home, lang="en")
+        data = load_bundled(home, lang=lang)
     return save_model(fit_supervised(data), folder)
 
 

@@ -56,3 +56,23 @@ def test_a_position_in_unknown_space_is_refused_and_changes_nothing(model6):
         teach(model6, [{"x": x, "y": y, "utterance": "this is the attic"}])
     assert all(np.array_equal(before[k], v) for k, v in vars(model6).items() if isinstance(v, np.ndarray))
     assert "taught" not in model6.info
+
+
+@pytest.mark.parametrize(
+    ("lang", "utterance", "message"),
+    [
+        ("en", "ここは書斎です", "is Japanese but the model's words are English"),
+        ("ja", "this is the study", "is English"),
+    ],
+)
+def test_an_utterance_in_another_language_is_refused(lang, utterance, message, tmp_path):
+    """On an English model, "ここは書斎です" became one place word, "ここは書斎です" (audit L3); and English on a
+    Japanese model likewise. Now a TeachingError naming both languages, the model unchanged."""
+    model = load_model(supervised_model_dir("3LDK_06", tmp_path / "m", lang=lang))
+    with pytest.raises(TeachingError, match=message):
+        teach(model, [{"x": STUDY[0], "y": STUDY[1], "utterance": utterance}])
+    assert "taught" not in model.info
+    same = {"en": "this is the study", "ja": "ここ は 書斎 です"}[lang]
+    assert ("study" if lang == "en" else "書斎") in teach(
+        model, [{"x": STUDY[0], "y": STUDY[1], "utterance": same}]
+    ).model.vocabulary
