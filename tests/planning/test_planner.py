@@ -449,7 +449,7 @@ def test_two_names_that_no_place_carries_together_are_refused_with_inactive_plac
         active_places=np.array([True] * K + [False]),
     )
     ghost_planner = HierarchicalPlanner(ghost, cache=GRAPHS)
-    assert set(ghost_planner.names[K].split()) == {"bedroom", "corridor", "kitchen"}  # the inactive label
+    assert {"bedroom", "kitchen"} <= set(ghost_planner.names[K].split())  # the inactive label carries both
     start = world(ghost.map, 3, 3)
     for p in (ghost_planner, HierarchicalPlanner(base, cache=GRAPHS)):
         with pytest.raises(UnknownPlaceWord, match="no place is called 'kitchen bedroom'.*name one place"):
