@@ -36,6 +36,7 @@ from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.grid_search import geodesic_distance
 from spcotmhp.planning import HierarchicalPlanner
+from spcotmhp.ros.teaching_log import TeachingLog
 
 EXE = str(Path(sys.executable).with_name("spcotmhp"))
 DOMAIN = str(30 + os.getpid() % 60)  # a domain of this test run (0..101 are safe on Linux)
@@ -263,24 +264,30 @@ def test_bad_poses_are_refused(setup):
     assert client.ask(client.instruction_pub, "go to the kitchen")["ok"]
 
 
-def test_teaching_is_recorded_as_a_dataset(setup):
+def test_teaching_is_recorded_as_a_dataset(setup, tmp_path):
     client, model, record = setup["client"], setup["model"], setup["record"]
     a, b = model.mu[3], model.mu[8]
     client.set_pose(*a)
     first = client.ask(client.teach_pub, "this is the study")
     client.set_pose(*b)
-    second = client.ask(client.teach_pub, "ここは 書斎 です")
+    second = client.ask(client.teach_pub, "this is the library")
     refused = client.ask(client.teach_pub, "  ")
     assert refused["ok"] is False and refused["kind"] == "taught" and refused["type"] == "TeachingError"
     assert refused["utterance"] == "  " and first["utterance"] == "this is the study" and "instruction" not in refused
+    # the model's words are English: a Japanese utterance is refused (not learned as one word), and not recorded
+    other = client.ask(client.teach_pub, "ここは 書斎 です")
+    assert other["ok"] is False and other["type"] == "TeachingError" and "Japanese" in other["error"]
     assert (first["event"], second["event"]) == (0, 1) and first["ok"] and first["kind"] == "taught"
     assert isinstance(first["place"], int) and isinstance(first["label"], str) and first["places"] >= 1
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the Japanese row has no English words
-        en, ja = load_dataset(record, lang="en"), load_dataset(record, lang="ja")
+    en = load_dataset(record, lang="en")
     assert np.allclose(en.positions, [a, b], atol=1e-4)
-    assert en.tokens[0] == ["this", "is", "the", "study"] and ja.tokens[1] == ["ここは", "書斎", "です"]
+    assert en.tokens[0] == ["this", "is", "the", "study"] and en.tokens[1] == ["this", "is", "the", "library"]
     assert en.map == model.map
+    log = TeachingLog(tmp_path / "ja", model.map)  # a Japanese utterance goes to the words_ja column
+    assert (log.append(*a, "this is the study"), log.append(*b, "ここは 書斎 です")) == (0, 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the Japanese row has no English words and the English one no Japanese
+        assert load_dataset(tmp_path / "ja", lang="ja").tokens[1] == ["ここは", "書斎", "です"]
 
 
 def grid(model, resolution=None, origin=None) -> OccupancyGrid:
