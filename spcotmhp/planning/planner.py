@@ -201,9 +201,15 @@ class HierarchicalPlanner:
         if not graph.n_nodes:
             return
         start = self.model.require_map().cell_to_world(graph.to_map(graph.node_cell[0]))
-        for name in sorted({self.names[k] for k in graph.node_place[:2]}):
+        for name in sorted(list(dict.fromkeys(self.spoken_names(graph.node_place)))[:2]):
             with contextlib.suppress(SpcotmhpError):
                 self.plan({"goal": name.split()}, tuple(start))
+
+    def spoken_names(self, places: Sequence[int] | np.ndarray) -> list[str]:
+        """The labels of ``places`` that an instruction can say (every word a place word), in the order given: a
+        place whose events carry no name above chance is labelled "place k", which no instruction names."""
+        known = set(self.place_words)
+        return [self.names[k] for k in places if set(self.names[k].split()) <= known]
 
     def places_named(self, words: str | Sequence[str]) -> np.ndarray:
         """(K,) the places a place phrase names ("kitchen", ["east", "corridor"]): as a stage or an avoided place of

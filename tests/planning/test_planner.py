@@ -455,3 +455,15 @@ def test_two_names_that_no_place_carries_together_are_refused_with_inactive_plac
         with pytest.raises(UnknownPlaceWord, match="no place is called 'kitchen bedroom'.*name one place"):
             p.plan("go to the kitchen bedroom", start)
         assert p.plan("go to the kitchen", start).explanation.split(",")[0].endswith("-> kitchen")
+
+
+def test_warm_up_and_spoken_names_skip_a_place_that_names_nothing():
+    """A place whose events carry no name above chance is labelled "place k" (planning/vocabulary.py); no
+    instruction names it, so warming up (and ``spcotmhp warmup``) plans only to labels made of place words."""
+    planner = HierarchicalPlanner(home_model(), cache=GRAPHS)
+    first = int(planner.graph.node_place[0])
+    planner.names = list(planner.names)
+    planner.names[first] = f"place {first}"
+    spoken = planner.spoken_names(range(len(planner.names)))
+    assert f"place {first}" not in spoken and len(spoken) == len(planner.names) - 1
+    planner.warm_up()  # no error: the unnamed place is skipped
