@@ -43,10 +43,14 @@ def check_output(
     inputs: Iterable[Path] = (),
     error: ErrorType = SpcotmhpError,
     option: str = "--out",
+    suffix: str | None = None,
 ) -> Path:
-    """Refuse an output file that is one of ``inputs``, a folder, or (without ``overwrite``) an existing file;
+    """Refuse an output file that is one of ``inputs``, a folder, or (without ``overwrite``) an existing file,
+    or whose name does not end in ``suffix`` (what will be written: a CSV in "cm.png" misleads every viewer);
     the message names the option, the file and the way out."""
     path = Path(path)
+    if suffix is not None and path.suffix.lower() != suffix:
+        raise error(f"{option} {path}: this writes a {suffix[1:].upper()} file; give a name ending in {suffix}")
     for given in inputs:
         if given is not None and Path(given).exists() and same_file(path, Path(given)):
             raise error(f"{option} {path} is one of this command's inputs ({given}); write elsewhere")

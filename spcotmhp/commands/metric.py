@@ -56,9 +56,9 @@ def costmap(
         if value is not None and math.isfinite(value) and abs(value) > MAX_SETTING:
             raise MapError(f"cost map setting {name} must be at most {MAX_SETTING:g}, got {value:g}")
     inputs = [map_yaml] + ([read_map_yaml(map_yaml).image] if Path(map_yaml).is_file() else [])
-    check_output(out, overwrite, inputs, MapError, "--out")
+    check_output(out, overwrite, inputs, MapError, "--out", suffix=".csv")
     if png is not None:
-        check_output(png, overwrite, inputs + [out], MapError, "--png")
+        check_output(png, overwrite, inputs + [out], MapError, "--png", suffix=".png")
     cost_map = inflate(
         load_map(map_yaml),
         inscribed_radius=inscribed_radius,

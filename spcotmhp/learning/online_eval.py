@@ -164,7 +164,7 @@ def format_report(result: dict) -> str:
     lines = [
         (
             f"Online learning on {result['dataset']}: {result['events']} events streamed in recorded order, "
-            f"{result['seeds']} seeds"
+            f"{result['seeds']} seed{'s' if result['seeds'] != 1 else ''}"
         ),
         f"{'':<8}" + "".join(f"{k.upper().replace('_', ' '):>15}" for k in SCORES),
     ]

@@ -105,3 +105,9 @@ def test_priors_go_to_both_learners(planted, result):
     want = batch_sample_summary(batch.model_, planted)["log_target"]
     assert batch.model_.hyper.place_size == 0.5
     assert sized["batch"]["sample"]["log_target"] == pytest.approx(want, rel=1e-12)
+
+
+def test_the_report_counts_its_seeds_in_words(result):
+    """The report says "1 seed" and "2 seeds" (the second audit found "1 seeds")."""
+    for seeds, words in ((1, "1 seed\n"), (2, "2 seeds\n")):
+        assert words in format_report({**result, "seeds": seeds})

@@ -331,6 +331,20 @@ def test_cli_errors(tmp_path: Path, args: list[str], message: str) -> None:
     assert not (tmp_path / "x.csv").exists()
 
 
+@pytest.mark.parametrize("option, name", [("--out", "cm.png"), ("--png", "cm.csv"), ("--out", "cm")])
+def test_cli_output_names_say_what_is_written(tmp_path: Path, option: str, name: str) -> None:
+    """--out writes a CSV and --png a PNG: a name promising the other (or nothing) is refused, nothing written."""
+    yaml_path = str(DATA / "sigverse-3ldk" / "3LDK_01" / "map.yaml")
+    paths = {"--out": tmp_path / "ok.csv", "--png": tmp_path / "ok.png", option: tmp_path / name}
+    result = run_cli("costmap", yaml_path, "--out", str(paths["--out"]), "--png", str(paths["--png"]))
+    assert result.returncode == 2
+    wanted = ".csv" if option == "--out" else ".png"
+    assert result.stderr.strip() == (
+        f"error: {option} {tmp_path / name}: this writes a {wanted[1:].upper()} file; give a name ending in {wanted}"
+    )
+    assert not any(tmp_path.iterdir())
+
+
 def test_cli_unwritable_output(tmp_path: Path) -> None:
     yaml_path = str(DATA / "sigverse-3ldk" / "3LDK_01" / "map.yaml")
     result = run_cli("costmap", yaml_path, "--out", str(tmp_path / "missing" / "x.csv"))
