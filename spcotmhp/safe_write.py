@@ -49,13 +49,13 @@ def check_output(
     or whose name does not end in ``suffix`` (what will be written: a CSV in "cm.png" misleads every viewer);
     the message names the option, the file and the way out."""
     path = Path(path)
-    if suffix is not None and path.suffix.lower() != suffix:
-        raise error(f"{option} {path}: this writes a {suffix[1:].upper()} file; give a name ending in {suffix}")
     for given in inputs:
         if given is not None and Path(given).exists() and same_file(path, Path(given)):
             raise error(f"{option} {path} is one of this command's inputs ({given}); write elsewhere")
     if path.is_dir():
         raise error(f"{option} {path} is a folder; give a file name")
+    if suffix is not None and path.suffix.lower() != suffix:
+        raise error(f"{option} {path}: this writes a {suffix[1:].upper()} file; give a name ending in {suffix}")
     if (path.exists() or path.is_symlink()) and not overwrite:
         raise error(f"{option} {path} exists; give --overwrite to replace it, or choose another name")
     folder = path.parent if str(path.parent) else Path(".")
