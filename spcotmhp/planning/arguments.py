@@ -6,12 +6,9 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 from spcotmhp.errors import InvalidSettings, MalformedInstruction
+from spcotmhp.limits import is_count
 from spcotmhp.safe_read import excerpt
-
-LIMIT_NAMES = ("max_chars", "max_waypoints", "max_avoided", "max_hypotheses")
 
 
 def check_parse_arguments(function: str, place_words: Any, **limits: Any) -> None:
@@ -25,7 +22,7 @@ def check_parse_arguments(function: str, place_words: Any, **limits: Any) -> Non
     for name, value in limits.items():
         if value is None:
             continue
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        if not is_count(value) or value < 0:
             raise InvalidSettings(f"{function}: {name} must be an integer >= 0 or None (the default), got {value!r}")
 
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from spcotmhp.errors import InvalidSettings
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS, check_count
+from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS, check_count, is_count
 from spcotmhp.planning.vocabulary import INSTANCE_RATIO
 
 
@@ -58,7 +58,7 @@ def require_int(value: object, name: str, low: int, high: int | None = None) -> 
     """``value`` must be an integer >= ``low`` (and <= ``high`` when given: spcotmhp/limits.py)."""
     if high is not None:
         check_count(value, name, low, high, InvalidSettings)
-    elif isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+    elif not is_count(value) or value < low:  # type: ignore[operator]
         raise InvalidSettings(f"{name} must be an integer >= {low}, got {value!r}")
 
 
