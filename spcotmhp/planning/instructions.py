@@ -43,7 +43,7 @@ from spcotmhp.planning.grammar import GRAMMARS
 from spcotmhp.planning.nbest import heaviest_group, nbest_weights
 from spcotmhp.planning.sentence import Phrase, read_sentence
 from spcotmhp.planning.sequence import visiting_order
-from spcotmhp.planning.wording import excerpt, unknown_tail
+from spcotmhp.language.wording import excerpt, unknown_tail
 
 MAX_CHARS = 500
 """Longest instruction text (characters) :func:`parse_text` accepts."""

@@ -16,7 +16,7 @@ import numpy as np
 
 from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, MalformedInstruction
 from spcotmhp.learning.logspace import logsumexp
-from spcotmhp.planning.wording import excerpt
+from spcotmhp.language.wording import excerpt
 
 T = TypeVar("T")
 

@@ -48,7 +48,7 @@ from itertools import pairwise
 from spcotmhp.errors import UnknownPlaceWord, UnsupportedPhrase
 from spcotmhp.planning.grammar import Grammar
 from spcotmhp.planning.scan import Item
-from spcotmhp.planning.wording import excerpt, named, unknown_tail
+from spcotmhp.language.wording import excerpt, named, unknown_tail
 
 REASONS = {
     "leave": "asks to leave a place, which is no destination: the planner plans to a named place; say where to go",

@@ -59,7 +59,7 @@ from spcotmhp.planning.refusals import (
     refuse_unsupported,
 )
 from spcotmhp.planning.scan import Item, merge_phrases, scan
-from spcotmhp.planning.wording import excerpt, known_words, named, not_understood, unknown_tail
+from spcotmhp.language.wording import excerpt, known_words, named, not_understood, unknown_tail
 
 
 @dataclass

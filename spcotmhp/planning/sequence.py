@@ -39,7 +39,7 @@ from collections.abc import Sequence
 
 from spcotmhp.errors import EmptyInstruction, UnsupportedPhrase
 from spcotmhp.planning.sentence import Phrase
-from spcotmhp.planning.wording import excerpt, known_words
+from spcotmhp.language.wording import excerpt, known_words
 
 _VISIT = ("goal", "waypoint")
 _RANK = {"first": 0, "last": 2}

@@ -1,0 +1,206 @@
+"""Relations that pick one of several places with the same name ("the bedroom closest to the bath"), answered by
+the map: which instance of a name a relation means, by a rule stated here, or a refusal naming the candidates.
+
+A relation is part of a place phrase of an instruction (:class:`Relation`, read by the grammar); the planner asks
+:func:`resolve` for the instances it means among those the phrase's name gives (``candidates``, a (K,) mask of
+places). Each rule uses one term of the learned model:
+
+* ``closest`` / ``farthest`` ("closest to", "nearest", "near", "by"; "farthest from"): the instance whose planning
+  point (its node of the planning graph, Algorithm 1 line 2) has the shortest / longest geodesic to a planning
+  point of the other place, measured along the partial path of Eq. 27 (the path the robot would drive, in metres).
+* ``next_to`` ("next to", "beside", "adjacent to"): the instance whose territory (the cells where it is the most
+  probable place, Eq. 3) touches a territory of the other place, or which psi (Eq. 7) connects to it (the place
+  graph's edges, Figure 3). Exactly one instance may be next to it: two or more, or none, are refused.
+* ``between`` ("between the kitchen and the bath"): the instance with the smallest detour
+  d(Y, X) + d(X, Z) - d(Y, Z) on the geodesics above (an instance on the way from one to the other has a detour
+  near 0).
+* ``largest`` / ``smallest``: the instance whose Gaussian N(mu_k, Sigma_k) (Eqs. 5-6) covers the largest / smallest
+  area, pi sqrt(det Sigma_k) (its 1-sigma ellipse).
+
+Ties refuse: when the runner-up's measure is within :data:`TIE_FRACTION` of the best's (relative) or within the
+robot's diameter (geodesics), the relation does not single out one place for a person either, so the planner says
+which instances are about equal and asks for another word rather than guessing. A relation whose other place is
+unknown, or which no instance satisfies, is refused the same way (:class:`~spcotmhp.errors.UnresolvedRelation`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from spcotmhp.errors import UnresolvedRelation
+
+KINDS = ("closest", "farthest", "next_to", "between", "largest", "smallest")
+"""The relations a place phrase may carry."""
+ARITY = {"closest": 1, "farthest": 1, "next_to": 1, "between": 2, "largest": 0, "smallest": 0}
+"""How many other places each relation names."""
+TIE_FRACTION = 0.10
+"""Two instances whose measures differ by less than this fraction of the best are a tie (refused): place points
+are estimates (Gaussian means snapped to free cells), and a person judging "closest" by walking distance or
+"largest" by eye does not tell apart differences of a tenth."""
+
+WORDING = {
+    "closest": "closest to",
+    "farthest": "farthest from",
+    "next_to": "next to",
+    "between": "between",
+    "largest": "largest",
+    "smallest": "smallest",
+}
+
+
+@dataclass(frozen=True)
+class Relation:
+    """A relation of a place phrase: its kind (one of :data:`KINDS`) and the labels of the other places it names
+    (``args``, as many as :data:`ARITY` says; the planner resolves them like any place phrase)."""
+
+    kind: str
+    args: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS or len(self.args) != ARITY[self.kind]:
+            raise ValueError(f"a relation is one of {', '.join(KINDS)} with its places, got {self.kind} {self.args}")
+
+    def describe(self) -> str:
+        """E.g. "closest to the bath", "between the kitchen and the bath", "largest"."""
+        if not self.args:
+            return WORDING[self.kind]
+        return f"{WORDING[self.kind]} the " + " and the ".join(self.args)
+
+
+class PlaceGeometry:
+    """What relations measure on one planning graph and model: geodesic lengths between places' planning points
+    (memoised), territory contacts and connected places, and the places' Gaussian areas.
+
+    ``node_place``: (M,) the place of each planning node; ``path_length(i, j)``: metres of the partial path from
+    node i into node j (inf when there is none); ``touching``: (K, K) places whose territories touch or which the
+    place graph connects; ``areas``: (K,) pi sqrt(det Sigma_k); ``diameter_m``: the robot's diameter."""
+
+    def __init__(
+        self,
+        node_place: np.ndarray,
+        path_length: Callable[[int, int], float],
+        touching: np.ndarray,
+        areas: np.ndarray,
+        diameter_m: float,
+    ) -> None:
+        self.node_place = np.asarray(node_place)
+        self._length = path_length
+        self.touching = np.asarray(touching, dtype=bool)
+        self.areas = np.asarray(areas, dtype=float)
+        self.diameter_m = float(diameter_m)
+        self._memo: dict[tuple[int, int], float] = {}
+
+    def distance(self, a: int, b: int) -> float:
+        """Geodesic metres between places a and b: the shortest partial path from a node of one into a node of
+        the other, either way (inf when no node of one reaches the other; 0 for a place and itself)."""
+        if a == b:
+            return 0.0
+        key = (min(a, b), max(a, b))
+        if key not in self._memo:
+            na, nb = np.flatnonzero(self.node_place == a), np.flatnonzero(self.node_place == b)
+            best = min((self._length(int(i), int(j)) for i in na for j in nb), default=math.inf)
+            self._memo[key] = min(best, min((self._length(int(j), int(i)) for i in na for j in nb), default=math.inf))
+        return self._memo[key]
+
+    def nearest(self, k: int, others: np.ndarray) -> float:
+        """Geodesic metres from place k to the nearest of the places ``others`` (a (K,) mask)."""
+        return min((self.distance(k, int(o)) for o in np.flatnonzero(others)), default=math.inf)
+
+
+def resolve(
+    relation: Relation,
+    candidates: np.ndarray,
+    others: Sequence[np.ndarray],
+    geometry: PlaceGeometry,
+    name: Callable[[int], str],
+) -> tuple[np.ndarray, str]:
+    """The (K,) mask of the one instance among ``candidates`` that ``relation`` means, and how the explanation
+    says it ("the one closest to the bath"); ``others``: the (K,) masks of the relation's other places (one per
+    argument); ``name(k)``: how place k is called in messages ("bedroom #2").
+
+    Raises:
+        UnresolvedRelation: no instance satisfies the relation, or two or more are about equal (module
+            docstring); the message names the instances and their measures.
+
+    >>> geo = PlaceGeometry(np.arange(3), lambda i, j: [[0, 4, 9], [4, 0, 5], [9, 5, 0]][i][j], np.eye(3, dtype=bool),
+    ...                     np.array([1.0, 2.0, 3.0]), 0.44)
+    >>> mask, said = resolve(Relation("closest", ("bath",)), np.array([0, 1, 0], bool) | np.array([1, 0, 0], bool),
+    ...                      [np.array([0, 0, 1], bool)], geo, lambda k: f"bedroom #{k + 1}")
+    >>> np.flatnonzero(mask).tolist(), said
+    ([1], 'the one closest to the bath')
+    """
+    cand = [int(k) for k in np.flatnonzero(candidates)]
+    others = [np.asarray(o, dtype=bool) for o in others]
+    said = f"the one {relation.describe()}"
+    if relation.kind == "next_to":
+        return _next_to(relation, cand, others[0], geometry, name), said
+    if relation.kind in ("largest", "smallest"):
+        measure = {k: float(geometry.areas[k]) for k in cand}
+        unit, floor = "m²", 0.0
+    elif relation.kind == "between":
+        y, z = others
+        pairs = [(int(a), int(b)) for a in np.flatnonzero(y) for b in np.flatnonzero(z)]
+        measure = {
+            k: min(geometry.distance(a, k) + geometry.distance(k, b) - geometry.distance(a, b) for a, b in pairs)
+            if pairs
+            else math.inf
+            for k in cand
+        }
+        unit, floor = "m of detour", geometry.diameter_m
+    else:
+        measure = {k: geometry.nearest(k, others[0] & ~_only(k, len(candidates))) for k in cand}
+        unit, floor = "m", geometry.diameter_m
+    reachable = {k: v for k, v in measure.items() if math.isfinite(v)}
+    if not reachable:
+        raise UnresolvedRelation(
+            f"no place called {_label(name, cand)} is connected to the "
+            f"{' and the '.join(relation.args)} on the map, so none is {relation.describe()}"
+        )
+    largest_first = relation.kind in ("farthest", "largest")
+    ranked = sorted(reachable, key=lambda k: -reachable[k] if largest_first else reachable[k])
+    best = ranked[0]
+    if len(ranked) > 1:
+        runner = ranked[1]
+        gap = abs(reachable[best] - reachable[runner])
+        scale = max(abs(reachable[best]), abs(reachable[runner]))
+        if gap < max(TIE_FRACTION * scale, floor):
+            raise UnresolvedRelation(
+                f"{name(best)} ({reachable[best]:.1f} {unit}) and {name(runner)} ({reachable[runner]:.1f} {unit}) "
+                f"are about equally {relation.describe()} (within {TIE_FRACTION:.0%} or the robot's size): "
+                "say which, with another word"
+            )
+    out = np.zeros(len(candidates), dtype=bool)
+    out[best] = True
+    return out, said
+
+
+def _only(k: int, n: int) -> np.ndarray:
+    out = np.zeros(n, dtype=bool)
+    out[k] = True
+    return out
+
+
+def _label(name: Callable[[int], str], places: Sequence[int]) -> str:
+    names = sorted({name(k).split(" #")[0] for k in places})
+    return " or ".join(f"'{n}'" for n in names)
+
+
+def _next_to(
+    relation: Relation, cand: list[int], other: np.ndarray, geometry: PlaceGeometry, name: Callable[[int], str]
+) -> np.ndarray:
+    """The one candidate whose territory touches one of ``other`` or which the place graph connects to one."""
+    near = [k for k in cand if (geometry.touching[k] & other & (np.arange(len(other)) != k)).any()]
+    if len(near) != 1:
+        found = "none of" if not near else "more than one of"
+        listed = ", ".join(name(k) for k in (near or cand))
+        raise UnresolvedRelation(
+            f"{found} {listed} is {relation.describe()} (their territories touch or the robot walked between them): "
+            "say which, with another word"
+        )
+    out = np.zeros(len(other), dtype=bool)
+    out[near[0]] = True
+    return out
