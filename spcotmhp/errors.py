@@ -44,6 +44,16 @@ class UnsupportedPhrase(InstructionError):
     "next to", "on the left", "wait"); the message names the words."""
 
 
+class AmbiguousPlace(InstructionError):
+    """A place phrase names places of different names and none exactly ("the corridor" beside "east corridor" and
+    "south corridor"): the message lists the names to choose from."""
+
+
+class UnresolvedRelation(InstructionError):
+    """A relation ("the bedroom closest to the bath") picks no place, or several about equally; the message names
+    the candidates and their measures."""
+
+
 class MalformedInstruction(InstructionError):
     """A structured instruction or an N-best list does not have the accepted shape or values."""
 

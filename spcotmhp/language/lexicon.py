@@ -79,6 +79,16 @@ class WordTable:
     nouns: frozenset[str]
     honorifics: tuple[str, ...] = ()
     surfaces: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # class -> its phrases (for messages)
+    extra_function_words: frozenset[str] = frozenset()  # words that never name a place, beyond the classes
+
+    @property
+    def function_words(self) -> frozenset[str]:
+        """Words that never name a place: the fillers and every phrase of the word classes (as written, so that a
+        learned vocabulary word such as "ここは" or "the" is recognised), save generic nouns and the words that
+        only refuse something a place could be called (leave, modifiers, relations: "exit", "front")."""
+        keep = ("LEAVE", "MODIFIER", "UNSUPPORTED_RELATION", "CONTAINMENT")
+        words = {p for kind, items in self.surfaces.items() if kind not in keep for p in items}
+        return frozenset((words | self.fillers | self.extra_function_words) - self.nouns)
 
     def units(self, phrase: str) -> tuple[str, ...]:
         """The units of a table phrase or a place word, fillers left out (English) or its characters (Japanese)."""
@@ -100,6 +110,7 @@ def read_table(text: str, source: str) -> WordTable:
     surfaces: dict[str, tuple[str, ...]] = {}
 
     def add(kind: str, items: Sequence[str]) -> None:
+        items = [p for item in items for p in expand(item)]
         surfaces[kind] = tuple(items)
         for phrase in items:
             key = draft.units(phrase)
@@ -113,10 +124,12 @@ def read_table(text: str, source: str) -> WordTable:
         add(kind, spec["phrases"])
         reasons[kind] = spec["reason"]
     filler_phrases = [*table.get("filler_phrases", ()), *(table.get("fillers", ()) if by_char else ())]
-    for phrase in filler_phrases:
+    fillers_written = [p for item in filler_phrases for p in expand(item)]
+    for phrase in fillers_written:
         key = draft.units(phrase)
         if key:
             phrases.setdefault(key, "")
+    surfaces["FILLER"] = tuple(fillers_written)
     return WordTable(
         lang=table["lang"],
         by_character=by_char,
@@ -127,7 +140,25 @@ def read_table(text: str, source: str) -> WordTable:
         nouns=frozenset(table.get("nouns", ())),
         honorifics=tuple(table.get("honorifics", ())),
         surfaces=MappingProxyType(surfaces),
+        extra_function_words=frozenset(table.get("not_names", ())),
     )
+
+
+def expand(phrase: str) -> list[str]:
+    """A table phrase with its alternatives written out: "(に|へ)行って" -> ["に行って", "へ行って"]; an empty
+    alternative leaves the group out ("(を|)通って" -> ["を通って", "通って"]).
+
+    >>> expand("(に|へ|)行(って|く)")
+    ['に行って', 'に行く', 'へ行って', 'へ行く', '行って', '行く']
+    """
+    match = _GROUP.search(phrase)
+    if match is None:
+        return [phrase]
+    head, tail = phrase[: match.start()], phrase[match.end() :]
+    return [head + alt + rest for alt in match.group(1).split("|") for rest in expand(tail)]
+
+
+_GROUP = re.compile(r"\(([^()]*)\)")
 
 
 @functools.cache
@@ -158,30 +189,30 @@ class PlaceLexicon:
         self.keys: Mapping[tuple[str, ...], str] = MappingProxyType({**variants, **keys})
         self.glued = frozenset(glued - set(keys))
         self.longest = max(map(len, self.keys), default=1)
-        self._plural: dict[str, str | None] = {}
 
     def singular(self, unit: str) -> str | None:
         """The place word ``unit`` is the plural of ("bedrooms" -> "bedroom"), or None (English)."""
-        if unit not in self._plural:
-            self._plural[unit] = None
-            if unit.endswith(("s", "i", "a")) and len(unit) > 2:
-                for lemma in _noun_lemmas(unit):
-                    if lemma in self.words and lemma != unit:
-                        self._plural[unit] = lemma
-                        break
-        return self._plural[unit]
+        if not unit.endswith(("s", "i", "a")) or len(unit) <= 2:
+            return None
+        return next((lemma for lemma in _noun_lemmas(unit) if lemma in self.words and lemma != unit), None)
 
 
 def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
     """Other spellings of a place word (module docstring, rule 4)."""
     if table.by_character:
-        out = [tuple(prefix + word) for prefix in table.honorifics]
+        spellings = [word]
         kana = _hiragana(word)
         if kana != word and len(word) >= 3:
-            out.append(tuple(kana))
-        return out
+            spellings.append(kana)  # キッチン, きっちん
+        if any("\u4e00" <= ch <= "\u9fff" for ch in word):
+            reading = _reading(word)
+            if reading and len(reading) >= 2:
+                spellings.append(reading)  # 風呂, ふろ
+            if len(word) >= 3 and "\u3041" <= word[-1] <= "\u3096" and "\u4e00" <= word[-2] <= "\u9fff":
+                spellings.append(word[:-1])  # 物置き, 物置: okurigana written or left out
+        return [tuple(p + w) for w in spellings for p in ("", *table.honorifics) if (p + w) != word]
     bare = word.replace("'", "")
-    out = [(bare,)] if bare != word and " " not in word else []
+    out: list[tuple[str, ...]] = [(bare,)] if bare != word and " " not in word else []
     if " " not in word and "'" not in word:
         out += [(word + noun,) for noun in table.nouns]
         out += [(word[:i], word[i:]) for i in range(3, len(word) - 2)]
@@ -197,6 +228,13 @@ def _hiragana(word: str) -> str:
     if not all("\u30a1" <= ch <= "\u30f6" or ch == "ー" for ch in word):
         return word
     return "".join(chr(ord(ch) - 0x60) if ch != "ー" else ch for ch in word)
+
+
+def _reading(word: str) -> str:
+    """The hiragana reading of a Japanese word by janome's dictionary ("" when a part is unknown)."""
+    from spcotmhp.language.text import reading
+
+    return _hiragana(reading(word))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -226,13 +264,18 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     """The tokens of ``text`` (module docstring)."""
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
-        return _merge(_tokens_ja(normalise(text), table, places))
+        return _glue_ja(_join_no(_merge(_tokens_ja(normalise(text), table, places))))
     return _merge(_tokens_en(normalise(text), table, places))
 
 
+def english_units(text: str) -> list[str]:
+    """Rule 1: the units of a normalised English sentence."""
+    units = _EN_UNIT.findall(_INNER_HYPHEN.sub(" ", normalise(text).translate(_DASHES)))
+    return ["." if u == "..." else u for u in units]
+
+
 def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
-    units = _EN_UNIT.findall(_INNER_HYPHEN.sub(" ", text.translate(_DASHES)))
-    units = ["." if u == "..." else u for u in units]
+    units = english_units(text)
     kept = [
         (u, pos)
         for u, pos in _durations_en(units)
@@ -339,11 +382,49 @@ def _tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
             i += n
             continue
         last = out[-1] if out else None
+        noun = next((w for w in table.nouns if "".join(chars[i : i + len(w)]) == w), None)
+        if noun is not None and last is not None and last.kind == "PLACE" and last.end == i:
+            out[-1] = Token("PLACE", last.surface + noun, last.words, start=last.start, end=i + len(noun))
+            i += len(noun)
+            continue
         if last is not None and last.kind == "WORD" and last.end == i:
             out[-1] = Token("WORD", last.surface + chars[i], start=last.start, end=i + 1)
         else:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
+    return out
+
+
+_NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
+"""Characters no Japanese word starts with (small kana, the long-vowel mark, ん): an unknown run starting with one
+is glued to the one-character word before it, so that a message names the word as written (や+っばり: やっばり)."""
+
+
+def _glue_ja(items: list[Token]) -> list[Token]:
+    """Japanese: one-character words that belong to an unknown word around them (module docstring) become part of
+    it; か is a choice only between two places (キッチンかトイレ), elsewhere a character of a word (静か)."""
+    out: list[Token] = []
+    for k, it in enumerate(items):
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        prev = out[-1] if out else None
+        loose = (
+            it.kind == "ALTERNATIVE"
+            and it.surface == "か"
+            and not (prev is not None and prev.kind == "PLACE" and nxt is not None and nxt.kind == "PLACE")
+        )
+        starts_word = (
+            it.kind == "WORD" and it.surface[0] in _NO_WORD_START and prev is not None
+            and prev.kind not in ("PLACE", "WORD") and len(prev.surface) == 1 and prev.end == it.start
+        )  # fmt: skip
+        if starts_word and prev is not None:
+            out[-1] = Token("WORD", prev.surface + it.surface, start=prev.start, end=it.end)
+        elif loose or (it.kind == "WORD" and prev is not None and prev.kind == "WORD" and prev.end == it.start):
+            if prev is not None and prev.kind == "WORD" and prev.end == it.start:
+                out[-1] = Token("WORD", prev.surface + it.surface, start=prev.start, end=it.end)
+            else:
+                out.append(Token("WORD", it.surface, start=it.start, end=it.end))
+        else:
+            out.append(it)
     return out
 
 
@@ -358,6 +439,23 @@ def _ja_seconds(match: re.Match) -> float:
     else:
         value = _KANJI_DIGITS.get(tens, 1 if not tens else 0) * 10 + _KANJI_DIGITS.get(ones, 0)
     return float(value) * _JA_UNITS[unit]
+
+
+def _join_no(items: list[Token]) -> list[Token]:
+    """Japanese: two place names joined by a lone の are one name (玄関の廊下: the entrance corridor)."""
+    out: list[Token] = []
+    for it in items:
+        if (
+            it.kind == "PLACE" and len(out) >= 2 and out[-1].kind == "WORD" and out[-1].surface == "の"
+            and out[-2].kind == "PLACE" and out[-1].start == out[-2].end and it.start == out[-1].end
+        ):  # fmt: skip
+            no = out.pop()
+            last = out[-1]
+            out[-1] = Token("PLACE", last.surface + no.surface + it.surface, last.words + it.words, start=last.start,
+                            end=it.end)  # fmt: skip
+        else:
+            out.append(it)
+    return out
 
 
 def _merge(items: list[Token]) -> list[Token]:

@@ -90,6 +90,19 @@ def japanese_function_word(word: str) -> bool:
     return pos[0] in closed or (pos[0] == "名詞" and pos[1] in ("代名詞", "非自立"))
 
 
+def reading(word: str) -> str:
+    """The katakana reading of a Japanese word that janome's dictionary holds as one entry ("" otherwise: a
+    reading pieced together from parts may be wrong, 物置+き).
+
+    >>> reading("風呂"), reading("物置き")
+    ('フロ', '')
+    """
+    morphemes = list(_tokenizer().tokenize(unicodedata.normalize("NFKC", word)))
+    if len(morphemes) != 1 or morphemes[0].reading in ("", "*"):
+        return ""
+    return str(morphemes[0].reading)
+
+
 def _tokenizer() -> Any:
     """janome's tokenizer, built once per process (its dictionary loads on first use)."""
     global _TOKENIZER

@@ -3,13 +3,11 @@
 Algorithm 1, line 9 of Taniguchi et al. (2024): the robot extracts the words naming the waypoints and the goal
 (Section 3.3: "the waypoint word is input in the first half and the target word in the second half"). Each named
 place becomes a weighted bag of words S_e; an N-best list of recogniser hypotheses becomes bags weighted by the
-normalised hypothesis scores (Eq. 25). The grammar words come from :mod:`spcotmhp.planning.grammar`; the place
-words from the model (:func:`spcotmhp.planning.vocabulary.place_vocabulary`).
-
-The sentence grammar (how a text is cut into place phrases and what role each phrase plays, including the errors
-for unknown words, alternatives and spatial relations) is :mod:`spcotmhp.planning.sentence`; the visiting order
-(order words such as "first", "after", 途中で) is :mod:`spcotmhp.planning.sequence`; the checks, weights and
-grouping of an N-best list are :mod:`spcotmhp.planning.nbest`.
+normalised hypothesis scores (Eq. 25). A sentence is read by the declarative grammar of its language
+(:mod:`spcotmhp.language.reading`: the places to visit in order, to avoid and not to end in, the relations that
+pick one instance of a name, a speed and waits); the place words come from the model
+(:func:`spcotmhp.planning.vocabulary.place_vocabulary`); the checks, weights and grouping of an N-best list are
+:mod:`spcotmhp.planning.nbest`.
 
 Bounded work (every limit is a keyword argument of the parse functions and of :func:`to_instruction`, defaulting
 to the module constants below, which a program may also set): an instruction longer than ``max_chars``
@@ -24,7 +22,6 @@ planner's search grows with the number of stages). Every error is a subclass of
 from __future__ import annotations
 
 import json
-import re
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
@@ -38,12 +35,12 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
-from spcotmhp.planning.arguments import check_keywords, check_parse_arguments
-from spcotmhp.planning.grammar import GRAMMARS
-from spcotmhp.planning.nbest import heaviest_group, nbest_weights
-from spcotmhp.planning.sentence import Phrase, read_sentence
-from spcotmhp.planning.sequence import visiting_order
+from spcotmhp.language.meaning import PlaceRef, Relation
+from spcotmhp.language.reading import LANGUAGES, read
+from spcotmhp.language.text import is_japanese
 from spcotmhp.language.wording import excerpt, unknown_tail
+from spcotmhp.planning.arguments import check_keywords, check_parse_arguments
+from spcotmhp.planning.nbest import heaviest_group, nbest_weights
 
 MAX_CHARS = 500
 """Longest instruction text (characters) :func:`parse_text` accepts."""
@@ -58,19 +55,21 @@ MAX_JSON_CHARS = 20_000
 MAX_PLACE_WORDS = 8
 """Most words in the name of one place of a structured instruction."""
 
-_CJK = re.compile(r"[\u3040-\u30ff\u3400-\u9fff\uff66-\uff9f]")
-
 
 @dataclass(frozen=True)
 class PlaceQuery:
     """One named place of an instruction: a weighted bag of words S (Eq. 25) and a readable label.
 
     ``alternatives``: for a bag merged from N-best hypotheses, each hypothesis's own bag (one of them names the
-    place; empty for a single phrase, whose words all name it)."""
+    place; empty for a single phrase, whose words all name it). ``relation``: what picks one of the places so named
+    ("closest to the bath": :mod:`spcotmhp.planning.relations`); ``every``: every place so named ("both
+    corridors", only to avoid)."""
 
     words: Mapping[str, float]
     label: str
     alternatives: tuple[Mapping[str, float], ...] = ()
+    relation: Relation | None = None
+    every: bool = False
 
     @property
     def phrases(self) -> tuple[Mapping[str, float], ...]:
@@ -81,12 +80,23 @@ class PlaceQuery:
         if not self.words:
             raise MalformedInstruction(f"the place {excerpt(self.label)} has no words")
 
+    def describe(self) -> str:
+        """E.g. "bedroom (closest to the bath)"."""
+        return self.label if self.relation is None else f"{self.label} ({self.relation.describe()})"
+
+    @classmethod
+    def of(cls, ref: PlaceRef) -> PlaceQuery:
+        """The query of a place as the grammar read it (:class:`~spcotmhp.language.meaning.PlaceRef`)."""
+        return cls(dict(Counter(ref.words)), ref.label, relation=ref.relation, every=ref.every)
+
 
 @dataclass(frozen=True)
 class Instruction:
     """An understood instruction: stages are the waypoints in order, then the goal (Eq. 28 uses the bag of the
     stage being pursued at each step); ``avoid`` places get zero probability; ``not_goal`` places may be passed
-    but never end the plan ("instead of the kitchen")."""
+    but never end the plan ("instead of the kitchen"). ``speed`` ("slow", "fast" or None) and ``waits`` ((stage,
+    seconds or None: until the next instruction), ...) are for whoever drives the path: the planner carries them
+    in the plan (its JSON, the ROS 2 status) and says them in the explanation; the path is the same."""
 
     goal: PlaceQuery
     waypoints: tuple[PlaceQuery, ...] = ()
@@ -94,26 +104,33 @@ class Instruction:
     text: str = ""
     lang: str = "en"
     not_goal: tuple[PlaceQuery, ...] = ()
+    speed: str | None = None
+    waits: tuple[tuple[int, float | None], ...] = ()
 
     @property
     def stages(self) -> tuple[PlaceQuery, ...]:
         return (*self.waypoints, self.goal)
 
     def describe(self) -> str:
-        """E.g. "bedroom via corridor, avoiding living"."""
-        out = self.goal.label
+        """E.g. "bedroom (closest to the bath) via corridor, avoiding living, slowly"."""
+        out = self.goal.describe()
         if self.waypoints:
-            out += " via " + ", then ".join(w.label for w in self.waypoints)
+            out += " via " + ", then ".join(w.describe() for w in self.waypoints)
         if self.avoid:
-            out += ", avoiding " + " and ".join(a.label for a in self.avoid)
+            out += ", avoiding " + " and ".join(a.describe() for a in self.avoid)
         if self.not_goal:
-            out += ", instead of " + " and ".join(a.label for a in self.not_goal)
+            out += ", instead of " + " and ".join(a.describe() for a in self.not_goal)
+        for stage, seconds in self.waits:
+            length = "until told" if seconds is None else f"{seconds:g} s"
+            out += f", waiting at {self.stages[stage].describe()} ({length})"
+        if self.speed:
+            out += ", " + {"slow": "slowly", "fast": "quickly"}[self.speed]
         return out
 
 
 def detect_language(text: str) -> str:
-    """ "ja" when the text holds kana or kanji, else "en"."""
-    return "ja" if _CJK.search(text) else "en"
+    """ "ja" when the text holds kana or kanji (half-width katakana too), else "en"."""
+    return "ja" if is_japanese(text) else "en"
 
 
 def parse_text(
@@ -155,28 +172,23 @@ def parse_text(
     if not text.strip():
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     lang = lang or detect_language(text)
-    if lang not in GRAMMARS:
+    if lang not in LANGUAGES:
         raise UnsupportedLanguage(
-            f"no grammar for language {excerpt(lang, 20)}; supported: {', '.join(sorted(GRAMMARS))}"
+            f"no grammar for language {excerpt(lang, 20)}; supported: {', '.join(sorted(LANGUAGES))}"
         )
     if not place_words:
         raise UnknownPlaceWord(f"no known place word in {excerpt(text)}; the model knows no place words")
-    parts = visiting_order(read_sentence(text, GRAMMARS[lang], place_words), text, place_words)
-
-    def query(p: Phrase) -> PlaceQuery:
-        bag: dict[str, float] = {}
-        for word in p.item.words:
-            bag[word] = bag.get(word, 0) + 1
-        return PlaceQuery(bag, p.item.surface)
-
-    visit = [query(p) for p in parts["visit"]]
+    reading = read(text, place_words, lang)
+    visit = [PlaceQuery.of(r) for r in reading.visit]
     ins = Instruction(
         goal=visit[-1],
         waypoints=tuple(visit[:-1]),
-        avoid=tuple(map(query, parts["avoid"])),
+        avoid=tuple(PlaceQuery.of(r) for r in reading.avoid),
         text=text,
         lang=lang,
-        not_goal=tuple(map(query, parts["not_goal"])),
+        not_goal=tuple(PlaceQuery.of(r) for r in reading.not_goal),
+        speed=reading.speed,
+        waits=reading.waits,
     )
     return _within_limits(ins, max_waypoints, max_avoided)
 
@@ -312,11 +324,13 @@ def parse_nbest(
     if not parsed:
         assert first_error is not None  # every hypothesis failed, and there is at least one
         raise type(first_error)(f"no N-best hypothesis names a known place (first: {first_error})")
-    rel = heaviest_group(parsed, lambda ins: (len(ins.waypoints), len(ins.avoid), len(ins.not_goal)))
+    rel = heaviest_group(parsed, _shape)
     top = max(rel, key=lambda p: p[1])[0]
 
     def merged(role: str, j: int = 0) -> PlaceQuery:
-        return _merged_place([(_role_place(ins, role, j), w) for ins, w in rel], _role_place(top, role, j).label)
+        place = _role_place(top, role, j)
+        bag = _merged_place([(_role_place(ins, role, j), w) for ins, w in rel], place.label)
+        return replace(bag, relation=place.relation, every=place.every)
 
     return Instruction(
         goal=merged("goal"),
@@ -325,7 +339,16 @@ def parse_nbest(
         text=top.text,
         lang=top.lang,
         not_goal=tuple(merged("not_goal", j) for j in range(len(top.not_goal))),
+        speed=top.speed,
+        waits=top.waits,
     )
+
+
+def _shape(ins: Instruction) -> tuple:
+    """What hypotheses must share to be merged place by place: how many places of each role, and the relation
+    kinds of the places (a relation's places are the top hypothesis's)."""
+    kinds = tuple(q.relation.kind if q.relation else "" for q in (*ins.stages, *ins.avoid, *ins.not_goal))
+    return len(ins.waypoints), len(ins.avoid), len(ins.not_goal), kinds
 
 
 def _role_place(ins: Instruction, role: str, j: int) -> PlaceQuery:

@@ -38,9 +38,11 @@ Definitions (each a documented choice; the property tests check the planner agai
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
+from spcotmhp.errors import AmbiguousPlace, UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric.grid_ops import find_boxes
@@ -122,6 +124,7 @@ class LabelIndex:
     :func:`named_places` is a few mask operations per query."""
 
     def __init__(self, labels: Sequence[str]) -> None:
+        self.labels = list(labels)
         self.size = len(labels)
         self.masks: dict[str, np.ndarray] = {}
         for k, label in enumerate(labels):
@@ -143,6 +146,49 @@ def named_places(labels: Sequence[str] | LabelIndex, phrases: Sequence[Mapping[s
             named &= index.masks.get(word, False)
         out |= named
     return out
+
+
+def by_label(index: LabelIndex, query: Any, stage: bool = False) -> np.ndarray:
+    """(K,) the places whose label carries all the words of a place query (:class:`~spcotmhp.planning.
+    instructions.PlaceQuery`, or one of its N-best alternatives; :func:`named_places`), checked as instructions
+    need: two or more words that each belong to some label but name no place together ("the kitchen bedroom") are
+    refused, and so is, for a place to visit, a word that is part of several names but none whole
+    (:func:`one_name`).
+
+    Raises:
+        UnknownPlaceWord: no place is called so. AmbiguousPlace: which of several names is meant is a guess.
+    """
+    named = named_places(index, query.phrases)
+    if named.any():
+        if stage and len(query.phrases) == 1:
+            one_name(index, named, query.words, query.label)
+        return named
+    masks = index.masks
+    if len(query.phrases) == 1 and len(query.words) > 1 and all(w in masks for w in query.words):
+        raise UnknownPlaceWord(
+            f"no place is called {query.label!r}: "
+            + "; ".join(
+                f"'{w}' names {', '.join(sorted({index.labels[k] for k in np.flatnonzero(masks[w])}))}"
+                for w in query.words
+            )
+            + "; name one place"
+        )
+    return named
+
+
+def one_name(index: LabelIndex, named: np.ndarray, words: Mapping[str, float], label: str) -> None:
+    """Refuse a place phrase that names places of two or more different names, none of which it says whole ("the
+    corridor" with an east and a south corridor): which one is meant is a guess. Several places of one name are
+    instances, and the closest is meant ("the bedroom"); a phrase that is some place's whole name names it and the
+    places whose names hold it ("the bedroom" and "study bedroom").
+
+    Raises:
+        AmbiguousPlace: naming the names to choose from.
+    """
+    names = sorted({index.labels[k] for k in np.flatnonzero(named)})
+    said = sorted(w for w, c in words.items() if c > 0)
+    if len(names) > 1 and not any(sorted(n.split()) == said for n in names):
+        raise AmbiguousPlace(f"{label!r} is part of {len(names)} names: {', '.join(names)}; say which one")
 
 
 def inside_places(

@@ -64,7 +64,6 @@ from spcotmhp.errors import (
     ModelError,
     SpcotmhpError,
     StartInAvoidedPlace,
-    UnknownPlaceWord,
 )
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning import explain
@@ -75,8 +74,9 @@ from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
-from spcotmhp.planning.places import LabelIndex, inside_places, named_places
+from spcotmhp.planning.places import LabelIndex, by_label, inside_places
 from spcotmhp.planning.plan import Plan
+from spcotmhp.planning.relations import PlaceGeometry, place_geometry, resolve
 from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
@@ -131,6 +131,20 @@ class HierarchicalPlanner:
         self.resolution = float(occ.resolution)
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
+        self._geometry: PlaceGeometry | None = None
+
+    @property
+    def geometry(self) -> PlaceGeometry:
+        """What relations measure (:mod:`spcotmhp.planning.relations`), built on first use (a plan naming no
+        relation never pays for it)."""
+        if self._geometry is None:
+            self._geometry = place_geometry(self.graph, self.resolution, self.diameter_cells * self.resolution)
+        return self._geometry
+
+    def instance_label(self, k: int) -> str:
+        """How place k is called in plans and messages: "bedroom #2" among three bedrooms, else its name."""
+        number, count = self.numbering.get(int(k), (1, 1))
+        return f"{self.names[k]} #{number}" if count > 1 else self.names[k]
 
     # ---- Algorithm 1, lines 9-13 -----------------------------------------------------------------------
     def plan(
@@ -156,8 +170,9 @@ class HierarchicalPlanner:
         x0, cell, escape = start_cell(model, self.graph, start)
         stages = ins.stages
         S = len(stages)
-        semantic, inst = self._stage_instances(ins)  # (S, K) word terms of Eq. 28 and instances
-        graph, avoided = self._avoid(ins, inst, x0, cell, escape)
+        chosen: dict[int, str] = {}  # places picked by a relation -> what the explanation says of them
+        semantic, inst = self._stage_instances(ins, chosen)  # (S, K) word terms of Eq. 28 and instances
+        graph, avoided = self._avoid(ins, inst, x0, cell, escape, chosen)
         posterior = self.terms.place_posterior(x0)
         notes = []
         if len(escape):
@@ -189,6 +204,7 @@ class HierarchicalPlanner:
             node_points=node_points,
             smoothed=smoothed,
             notes=notes,
+            chosen={int(k): said for k, said in chosen.items()},
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
@@ -217,7 +233,7 @@ class HierarchicalPlanner:
         return self._instances(to_instruction({"goal": words}, self.place_words).goal)
 
     # ---- pieces ----------------------------------------------------------------------------------------
-    def _instances(self, query: PlaceQuery, likely: np.ndarray | None = None) -> np.ndarray:
+    def _instances(self, query: PlaceQuery, likely: np.ndarray | None = None, stage: bool = False) -> np.ndarray:
         """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
         (:func:`~spcotmhp.planning.places.instance_places`; ``likely``, when already computed) and, when some
         place's name carries all the words of the query (or of one of its N-best alternatives), only such places
@@ -229,39 +245,50 @@ class HierarchicalPlanner:
             return np.asarray(self.model.active_places, dtype=bool).copy()
         if likely is None:  # instance_places of log p(i | S), in the kernel of the stages' terms
             likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)[1][0]
-        named = named_places(self.label_index, query.phrases)
+        named = by_label(self.label_index, query, stage)
         if named.any():
+            if query.every:
+                return named
             both = named & likely
             return both if both.any() else named
-        masks = self.label_index.masks
-        if len(query.phrases) == 1 and len(query.words) > 1 and all(w in masks for w in query.words):
-            raise UnknownPlaceWord(
-                f"no place is called {query.label!r}: "
-                + "; ".join(
-                    f"'{w}' names {', '.join(sorted({self.names[k] for k in np.flatnonzero(masks[w])}))}"
-                    for w in query.words
-                )
-                + "; name one place"
-            )
         return likely
 
-    def _stage_instances(self, ins: Instruction) -> tuple[np.ndarray, np.ndarray]:
+    def _stage_instances(self, ins: Instruction, chosen: dict[int, str]) -> tuple[np.ndarray, np.ndarray]:
         """(S, K) the word term of Eq. 28 for each stage and (S, K) the instances that may complete it
         (:meth:`_instances` of its words), without, for the goal, the places the instruction says not to end
-        in ("instead of the kitchen": they may be passed)."""
+        in ("instead of the kitchen": they may be passed); a relation narrows a stage to the instance it picks
+        (:meth:`_related`)."""
         stages = ins.stages
         semantic, likely = self.terms.stage_terms([q.words for q in stages], self.settings.instance_ratio)
-        inst = np.stack([self._instances(q, row) for q, row in zip(stages, likely, strict=True)])
+        inst = np.stack([self._instances(q, row, stage=True) for q, row in zip(stages, likely, strict=True)])
+        for s, q in enumerate(stages):
+            inst[s] = self._related(q, inst[s], chosen)
         for q in ins.not_goal:
-            inst[-1] &= ~self._instances(q)
+            inst[-1] &= ~self._related(q, self._instances(q), chosen)
             if not inst[-1].any():
                 raise ConflictingInstruction(
                     f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
                 )
         return semantic, inst
 
+    def _related(self, query: PlaceQuery, candidates: np.ndarray, chosen: dict[int, str]) -> np.ndarray:
+        """The instances among ``candidates`` that the query's relation picks (all of them without one); what the
+        explanation says of the one picked goes into ``chosen`` (place -> "the one closest to the bath")."""
+        if query.relation is None or not candidates.any():
+            return candidates
+        others = [self._instances(PlaceQuery.of(arg)) for arg in query.relation.args]
+        mask, said = resolve(query.relation, candidates, others, self.geometry, self.instance_label)
+        chosen[int(np.flatnonzero(mask)[0])] = said
+        return mask
+
     def _avoid(
-        self, ins: Instruction, inst: np.ndarray, x0: np.ndarray, cell: np.ndarray, escape: np.ndarray
+        self,
+        ins: Instruction,
+        inst: np.ndarray,
+        x0: np.ndarray,
+        cell: np.ndarray,
+        escape: np.ndarray,
+        chosen: dict[int, str],
     ) -> tuple[PlanningGraph, np.ndarray]:
         """The graph to search and the (K,) avoided places: the avoided places leave ``inst`` (in place) and the
         graph becomes its avoidance view (their nodes removed, their territories blocked). Raises when a stage
@@ -270,7 +297,7 @@ class HierarchicalPlanner:
         if not ins.avoid:
             return self.graph, avoided
         for q in ins.avoid:
-            avoided |= self._instances(q)
+            avoided |= self._related(q, self._instances(q), chosen)
         if not avoided.any():
             return self.graph, avoided
         inst &= ~avoided

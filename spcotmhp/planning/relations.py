@@ -27,48 +27,21 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from spcotmhp.errors import UnresolvedRelation
+from spcotmhp.errors import PlanningError, UnresolvedRelation
+from spcotmhp.language.meaning import Relation
+from spcotmhp.planning.assemble import path_length
 
-KINDS = ("closest", "farthest", "next_to", "between", "largest", "smallest")
-"""The relations a place phrase may carry."""
-ARITY = {"closest": 1, "farthest": 1, "next_to": 1, "between": 2, "largest": 0, "smallest": 0}
-"""How many other places each relation names."""
+if TYPE_CHECKING:
+    from spcotmhp.planning.graph import PlanningGraph
+
 TIE_FRACTION = 0.10
-"""Two instances whose measures differ by less than this fraction of the best are a tie (refused): place points
+"""Two instances whose measures differ by less than this fraction of the larger are a tie (refused): place points
 are estimates (Gaussian means snapped to free cells), and a person judging "closest" by walking distance or
 "largest" by eye does not tell apart differences of a tenth."""
-
-WORDING = {
-    "closest": "closest to",
-    "farthest": "farthest from",
-    "next_to": "next to",
-    "between": "between",
-    "largest": "largest",
-    "smallest": "smallest",
-}
-
-
-@dataclass(frozen=True)
-class Relation:
-    """A relation of a place phrase: its kind (one of :data:`KINDS`) and the labels of the other places it names
-    (``args``, as many as :data:`ARITY` says; the planner resolves them like any place phrase)."""
-
-    kind: str
-    args: tuple[str, ...] = ()
-
-    def __post_init__(self) -> None:
-        if self.kind not in KINDS or len(self.args) != ARITY[self.kind]:
-            raise ValueError(f"a relation is one of {', '.join(KINDS)} with its places, got {self.kind} {self.args}")
-
-    def describe(self) -> str:
-        """E.g. "closest to the bath", "between the kitchen and the bath", "largest"."""
-        if not self.args:
-            return WORDING[self.kind]
-        return f"{WORDING[self.kind]} the " + " and the ".join(self.args)
 
 
 class PlaceGeometry:
@@ -128,14 +101,16 @@ def resolve(
 
     >>> geo = PlaceGeometry(np.arange(3), lambda i, j: [[0, 4, 9], [4, 0, 5], [9, 5, 0]][i][j], np.eye(3, dtype=bool),
     ...                     np.array([1.0, 2.0, 3.0]), 0.44)
-    >>> mask, said = resolve(Relation("closest", ("bath",)), np.array([0, 1, 0], bool) | np.array([1, 0, 0], bool),
-    ...                      [np.array([0, 0, 1], bool)], geo, lambda k: f"bedroom #{k + 1}")
+    >>> from spcotmhp.language.meaning import PlaceRef
+    >>> bath = PlaceRef(("bath",), "bath")
+    >>> mask, said = resolve(Relation("closest", (bath,)), np.array([1, 1, 0], bool), [np.array([0, 0, 1], bool)],
+    ...                      geo, lambda k: f"bedroom #{k + 1}")
     >>> np.flatnonzero(mask).tolist(), said
     ([1], 'the one closest to the bath')
     """
     cand = [int(k) for k in np.flatnonzero(candidates)]
     others = [np.asarray(o, dtype=bool) for o in others]
-    said = f"the one {relation.describe()}"
+    said = _said(relation)
     if relation.kind == "next_to":
         return _next_to(relation, cand, others[0], geometry, name), said
     if relation.kind in ("largest", "smallest"):
@@ -158,7 +133,7 @@ def resolve(
     if not reachable:
         raise UnresolvedRelation(
             f"no place called {_label(name, cand)} is connected to the "
-            f"{' and the '.join(relation.args)} on the map, so none is {relation.describe()}"
+            f"{' and the '.join(a.label for a in relation.args)} on the map, so none is {relation.describe()}"
         )
     largest_first = relation.kind in ("farthest", "largest")
     ranked = sorted(reachable, key=lambda k: -reachable[k] if largest_first else reachable[k])
@@ -170,12 +145,50 @@ def resolve(
         if gap < max(TIE_FRACTION * scale, floor):
             raise UnresolvedRelation(
                 f"{name(best)} ({reachable[best]:.1f} {unit}) and {name(runner)} ({reachable[runner]:.1f} {unit}) "
-                f"are about equally {relation.describe()} (within {TIE_FRACTION:.0%} or the robot's size): "
-                "say which, with another word"
+                f"are within {TIE_FRACTION:.0%} (or the robot's size) of each other, so '{relation.describe()}' "
+                "does not single one out: say which, with another word"
             )
     out = np.zeros(len(candidates), dtype=bool)
     out[best] = True
     return out, said
+
+
+def place_geometry(graph: PlanningGraph, resolution: float, diameter_m: float) -> PlaceGeometry:
+    """The :class:`PlaceGeometry` of a planning graph (its nodes, partial paths and territories; the model's
+    Gaussians)."""
+    model = graph.model
+    K = model.K
+
+    def length(i: int, j: int) -> float:
+        try:
+            return path_length(graph.edge_path(i, j), resolution)
+        except PlanningError:
+            return math.inf
+
+    touching = territory_contacts(graph.territory, K) | np.asarray(graph.connected, dtype=bool)
+    areas = math.pi * np.sqrt(np.clip(np.linalg.det(model.Sigma), 0.0, None))
+    return PlaceGeometry(graph.node_place, length, touching, areas, diameter_m)
+
+
+def territory_contacts(territory: np.ndarray, K: int) -> np.ndarray:
+    """(K, K) places whose territories (place of each cell, -1 for none) share an edge of two cells.
+
+    >>> territory_contacts(np.array([[0, 0, 1], [2, -1, 1]]), 3).astype(int).tolist()
+    [[0, 1, 1], [1, 0, 0], [1, 0, 0]]
+    """
+    out = np.zeros((K, K), dtype=bool)
+    for a, b in ((territory[:, :-1], territory[:, 1:]), (territory[:-1, :], territory[1:, :])):
+        pair = (a >= 0) & (b >= 0) & (a != b)
+        out[a[pair], b[pair]] = True
+    return out | out.T
+
+
+def _said(relation: Relation) -> str:
+    """How the explanation says which instance a relation picked: "the one closest to the bath", "the largest
+    one"."""
+    if relation.kind in ("largest", "smallest"):
+        return f"the {relation.kind} one"
+    return f"the one {relation.describe()}"
 
 
 def _only(k: int, n: int) -> np.ndarray:
@@ -194,12 +207,14 @@ def _next_to(
 ) -> np.ndarray:
     """The one candidate whose territory touches one of ``other`` or which the place graph connects to one."""
     near = [k for k in cand if (geometry.touching[k] & other & (np.arange(len(other)) != k)).any()]
-    if len(near) != 1:
-        found = "none of" if not near else "more than one of"
-        listed = ", ".join(name(k) for k in (near or cand))
+    if not near:
         raise UnresolvedRelation(
-            f"{found} {listed} is {relation.describe()} (their territories touch or the robot walked between them): "
-            "say which, with another word"
+            f"none of {', '.join(name(k) for k in cand)} is {relation.describe()} (no territory touches it and the "
+            "robot never walked straight between them): name the place another way"
+        )
+    if len(near) > 1:
+        raise UnresolvedRelation(
+            f"{' and '.join(name(k) for k in near)} are all {relation.describe()}: say which, with another word"
         )
     out = np.zeros(len(other), dtype=bool)
     out[near[0]] = True
