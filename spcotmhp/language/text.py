@@ -45,11 +45,13 @@ def is_japanese(text: str) -> bool:
     return bool(_CJK.search(unicodedata.normalize("NFKC", text)))
 
 
-def words(text: str, lang: str) -> list[str]:
-    """The words of ``text`` (normalised): English word units, or Japanese words (module docstring)."""
+def words(text: str, lang: str, segment: bool = True) -> list[str]:
+    """The words of ``text`` (normalised): English word units, or Japanese words (module docstring). With
+    ``segment`` False, Japanese is split at spaces only, as dataset rows are given (a row is one phrase per space,
+    so a row without spaces is one word: 物置き)."""
     text = normalise(text)
     if lang == "ja":
-        if any(ch.isspace() for ch in text.strip()):
+        if not segment or any(ch.isspace() for ch in text.strip()):
             return text.split()
         return segment_ja(text)
     return _EN_WORD.findall(text)
