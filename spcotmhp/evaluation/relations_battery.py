@@ -103,7 +103,11 @@ class Oracle:
             floor = 0.0
         elif kind == "between":
             measure = {
-                k: min(self.distance(y, k) + self.distance(k, z) - self.distance(y, z) for y in others[0] for z in others[1])
+                k: min(
+                    self.distance(y, k) + self.distance(k, z) - self.distance(y, z)
+                    for y in others[0]
+                    for z in others[1]
+                )
                 for k in candidates
             }
             floor = self.diameter
@@ -142,9 +146,17 @@ def evaluate_relations(dataset: Dataset, seed: int = 0, per_kind: int = 6) -> Re
         others = [n for n in by_name if n != x and all(w not in x.split() for w in n.split())]
         for kind in KINDS:
             for _ in range(per_kind if kind not in ("largest", "smallest") else 1):
-                y, z = (list(rng.choice(others, size=2, replace=False)) + [None])[:2] if len(others) >= 2 else (others[0], None)
+                y, z = (
+                    (list(rng.choice(others, size=2, replace=False)) + [None])[:2]
+                    if len(others) >= 2
+                    else (others[0], None)
+                )
                 text = PHRASES[kind].format(x=x, y=y, z=z)
-                args = [by_name[y]] + ([by_name[z]] if kind == "between" else []) if kind not in ("largest", "smallest") else []
+                args = (
+                    [by_name[y]] + ([by_name[z]] if kind == "between" else [])
+                    if kind not in ("largest", "smallest")
+                    else []
+                )
                 want = oracle.expected(kind, cands, args)
                 start = planner.model.require_map().cell_to_world(planner.graph.to_map(free[rng.integers(len(free))]))
                 verdict = _verdict(planner, text, tuple(start), want, kind)
@@ -183,7 +195,9 @@ def _grid_graph(cost: np.ndarray) -> coo_matrix:
         rows.append(a[both])
         cols.append(b[both])
         vals.append(cost[r0 + dr : r1 + dr, c0 + dc : c1 + dc][both] * step)
-    return coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(h * w, h * w)).tocsr()
+    return coo_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(h * w, h * w)
+    ).tocsr()
 
 
 def _path_metres(pred: np.ndarray, source: int, target: int, w: int) -> float:

@@ -121,6 +121,8 @@ def _first_refused(toks: Sequence[Token], table: WordTable) -> int | None:
             continue
         if tok.kind == "MODIFIER" and k + 1 < len(toks) and toks[k + 1].kind == "WORD":
             continue
+        if tok.kind == "FROM" and table.by_character and (k == 0 or toks[k - 1].kind != "PLACE"):
+            continue  # から after no place: "because" (赤ちゃん寝てるから), whose words are what is not understood
         return k
     return None
 

@@ -47,7 +47,7 @@ _NUMBERS = {
 }  # fmt: skip
 _UNITS = {"second": 1, "seconds": 1, "sec": 1, "secs": 1, "minute": 60, "minutes": 60, "min": 60, "mins": 60,
     "hour": 3600, "hours": 3600}  # fmt: skip
-_JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(?:間)?(?:ほど|くらい|ぐらい)?")
+_JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
 
@@ -80,6 +80,7 @@ class WordTable:
     honorifics: tuple[str, ...] = ()
     surfaces: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # class -> its phrases (for messages)
     extra_function_words: frozenset[str] = frozenset()  # words that never name a place, beyond the classes
+    filler_keys: frozenset[tuple[str, ...]] = frozenset()  # filler phrases as units (English)
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -91,10 +92,11 @@ class WordTable:
         return frozenset((words | self.fillers | self.extra_function_words) - self.nouns)
 
     def units(self, phrase: str) -> tuple[str, ...]:
-        """The units of a table phrase or a place word, fillers left out (English) or its characters (Japanese)."""
+        """The units of a table phrase or a place word, fillers left out as they are from sentences (English:
+        rule 3, so that a phrase matches whatever fillers are said inside it), or its characters (Japanese)."""
         if self.by_character:
             return tuple(ch for ch in phrase if not ch.isspace())
-        return tuple(u for u in _EN_UNIT.findall(phrase) if u not in self.fillers)
+        return _strip_fillers(tuple(_EN_UNIT.findall(phrase)), self.fillers, self.filler_keys)
 
 
 def read_table(text: str, source: str) -> WordTable:
@@ -105,7 +107,14 @@ def read_table(text: str, source: str) -> WordTable:
         raise ValueError(f"{source}: a word table is a JSON object with 'lang' and 'classes'")
     by_char = bool(table.get("by_character", False))
     fillers = frozenset(table.get("fillers", ()) if not by_char else ())
-    draft = WordTable(table["lang"], by_char, fillers, {}, {}, {}, frozenset())
+    filler_phrases = [*table.get("filler_phrases", ()), *(table.get("fillers", ()) if by_char else ())]
+    fillers_written = [p for item in filler_phrases for p in expand(item)]
+    filler_keys = frozenset(
+        key
+        for p in fillers_written
+        if not by_char and (key := tuple(u for u in _EN_UNIT.findall(p) if u not in fillers))
+    )
+    draft = WordTable(table["lang"], by_char, fillers, {}, {}, {}, frozenset(), filler_keys=filler_keys)
     phrases: dict[tuple[str, ...], str] = {}
     surfaces: dict[str, tuple[str, ...]] = {}
 
@@ -123,10 +132,12 @@ def read_table(text: str, source: str) -> WordTable:
     for kind, spec in table.get("refusals", {}).items():
         add(kind, spec["phrases"])
         reasons[kind] = spec["reason"]
-    filler_phrases = [*table.get("filler_phrases", ()), *(table.get("fillers", ()) if by_char else ())]
-    fillers_written = [p for item in filler_phrases for p in expand(item)]
     for phrase in fillers_written:
-        key = draft.units(phrase)
+        key = (
+            tuple(ch for ch in phrase if not ch.isspace())
+            if by_char
+            else tuple(u for u in _EN_UNIT.findall(phrase) if u not in fillers)
+        )
         if key:
             phrases.setdefault(key, "")
     surfaces["FILLER"] = tuple(fillers_written)
@@ -141,6 +152,7 @@ def read_table(text: str, source: str) -> WordTable:
         honorifics=tuple(table.get("honorifics", ())),
         surfaces=MappingProxyType(surfaces),
         extra_function_words=frozenset(table.get("not_names", ())),
+        filler_keys=filler_keys,
     )
 
 
@@ -271,16 +283,12 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
 def english_units(text: str) -> list[str]:
     """Rule 1: the units of a normalised English sentence."""
     units = _EN_UNIT.findall(_INNER_HYPHEN.sub(" ", normalise(text).translate(_DASHES)))
-    return ["." if u == "..." else u for u in units]
+    return [u for u in units if u != "..."]  # an ellipsis is a hesitation ("go to the... the bedroom")
 
 
 def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     units = english_units(text)
-    kept = [
-        (u, pos)
-        for u, pos in _durations_en(units)
-        if not isinstance(u, str) or u not in table.fillers or u in places.words
-    ]
+    kept = _without_fillers(_durations_en(units), table, places)
     seq = [u for u, _ in kept]
     out: list[Token] = []
     i = 0
@@ -293,7 +301,8 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
         hit = _longest(seq, i, table, places)
         if hit is not None:
             kind, value, n = hit
-            surface, end = " ".join(str(u) for u in seq[i : i + n]), kept[i + n - 1][1] + 1
+            end = kept[i + n - 1][1] + 1
+            surface = " ".join(units[start:end]) if kind != "PLACE" else " ".join(str(u) for u in seq[i : i + n])
             if kind:
                 words = (value,) if kind == "PLACE" else ()
                 out.append(Token(kind, surface, words, start=start, end=end))
@@ -303,13 +312,58 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
         last = out[-1] if out else None
         if lemma is not None:
             out.append(Token("PLACE", unit, (lemma,), plural=True, start=start, end=start + 1))
-        elif unit in table.nouns and last is not None and last.kind == "PLACE" and last.end == start:
+        elif unit in table.nouns and last is not None and last.kind == "PLACE":
             out[-1] = Token("PLACE", f"{last.surface} {unit}", last.words, plural=last.plural, start=last.start,
                             end=start + 1)  # fmt: skip
         else:
             out.append(Token("WORD", unit, start=start, end=start + 1))
         i += 1
     return out
+
+
+def _without_fillers(
+    items: list[tuple[Token | str, int]], table: WordTable, places: PlaceLexicon
+) -> list[tuple[Token | str, int]]:
+    """Rule 3: the fillers left out, single words and phrases, again until none is left (a filler said inside
+    another, "when could you you're ready", leaves the outer one whole once it is out). Place words stay."""
+    while True:
+        kept = [(u, p) for u, p in items if not isinstance(u, str) or u not in table.fillers or u in places.words]
+        out: list[tuple[Token | str, int]] = []
+        i = 0
+        while i < len(kept):
+            n = _filler_at([u for u, _ in kept], i, table.filler_keys, places.words)
+            out += [] if n else [kept[i]]
+            i += n or 1
+        if len(out) == len(items):
+            return out
+        items = out
+
+
+def _strip_fillers(
+    units: tuple[str, ...], fillers: frozenset[str], keys: frozenset[tuple[str, ...]]
+) -> tuple[str, ...]:
+    """Rule 3 on a phrase of the table: its fillers left out as they would be from a sentence."""
+    items: list[Any] = list(units)
+    while True:
+        kept = [u for u in items if u not in fillers]
+        out, i = [], 0
+        while i < len(kept):
+            n = _filler_at(kept, i, keys, frozenset())
+            out += [] if n else [kept[i]]
+            i += n or 1
+        if len(out) == len(items):
+            return tuple(out)
+        items = out
+
+
+def _filler_at(units: Sequence[Any], i: int, keys: frozenset[tuple[str, ...]], keep: frozenset[str]) -> int:
+    """Units in the longest filler phrase starting at ``units[i]`` (0: none); never a place word or a token."""
+    longest = max(map(len, keys), default=0)
+    for n in range(min(longest, len(units) - i), 1, -1):
+        key = tuple(units[i : i + n])
+        if key in keys and all(isinstance(u, str) and u not in keep for u in key):
+            return n
+    return 0
 
 
 def _longest(units: Sequence[Any], i: int, table: WordTable, places: PlaceLexicon) -> tuple[str, str, int] | None:
@@ -431,14 +485,15 @@ def _glue_ja(items: list[Token]) -> list[Token]:
 def _ja_seconds(match: re.Match) -> float:
     """Seconds of a Japanese duration: digits or kanji numerals up to 九十九 (二十, 三十五), then 秒 / 分 / 時間."""
     number, unit = match.group(1), match.group(2)
+    half = 0.5 * _JA_UNITS[unit] if match.group(3) else 0.0  # 1分半: a minute and a half
     if number[0].isdigit():
-        return float(number) * _JA_UNITS[unit]
+        return float(number) * _JA_UNITS[unit] + half
     tens, ten, ones = number.partition("十")
     if not ten:
         value = _KANJI_DIGITS.get(number, 0)
     else:
         value = _KANJI_DIGITS.get(tens, 1 if not tens else 0) * 10 + _KANJI_DIGITS.get(ones, 0)
-    return float(value) * _JA_UNITS[unit]
+    return float(value) * _JA_UNITS[unit] + half
 
 
 def _join_no(items: list[Token]) -> list[Token]:
@@ -459,11 +514,11 @@ def _join_no(items: list[Token]) -> list[Token]:
 
 
 def _merge(items: list[Token]) -> list[Token]:
-    """Place words side by side in the sentence (nothing between them, not even a filler) form one name
-    (rule 5)."""
+    """Place words side by side (fillers between them left out) form one name (rule 5); a name no place has
+    ("the hall please the entrance": "hall entrance") is refused where the planner checks names."""
     out: list[Token] = []
     for it in items:
-        if it.kind == "PLACE" and out and out[-1].kind == "PLACE" and out[-1].end == it.start:
+        if it.kind == "PLACE" and out and out[-1].kind == "PLACE":
             last = out[-1]
             joiner = "" if _is_cjk(last.surface) else " "
             out[-1] = Token(

@@ -72,11 +72,11 @@ class Walk:
 
     # ---- mentions ----------------------------------------------------------------------------------------
     def mention(self, ref: PlaceRef, role: str) -> Mention:
-        """A new mention, or the last one again when "there" / "it" points back to a place to visit ("the bedroom
-        near the hall, go there": one visit)."""
+        """A new mention, or the last one again when the same place to visit is said again right after it ("the
+        bedroom near the hall, go there", "the washroom? go to the washroom": one visit)."""
         last = self.mentions[-1] if self.mentions else None
-        if last is not None and last.ref is ref and last.role in VISIT_ROLES and role in VISIT_ROLES:
-            if role == "goal":
+        if last is not None and last.ref == ref and last.role in VISIT_ROLES and role in VISIT_ROLES:
+            if role == "goal":  # a place said twice in a row is one visit ("the washroom? go to the washroom")
                 last.role = "goal"
             return last
         m = Mention(ref, role, self.sentence, self.step)

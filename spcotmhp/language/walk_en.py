@@ -44,12 +44,16 @@ class EnglishWalk(Walk):
     later: list[tuple[str, int, int, str]] = field(default_factory=list)  # (kind, mention, sentence, word): no X
     joint: set[str] = field(default_factory=set)  # the connectors before the clause being read
     related_end: str | None = None  # the clause before ended with a relation of another place
-    waited: bool = False  # the clause before holds a wait
+    waited: str = ""  # the clause before holds a wait: its word
     halted: str = ""  # "stop" was said: no place may follow it
 
     def read(self, root: Tree):
         for sentence in subtrees(root):
-            self.joint, self.related_end, self.waited = set(), None, False
+            self.joint, self.related_end, self.waited = set(), None, ""
+            if sentence.data == "duration":  # "Kitchen. Wait there. Two minutes.": how long the wait lasts
+                self._length(sentence)
+                self.sentence += 1
+                continue
             for child in subtrees(sentence):
                 if child.data == "lead":
                     self.refuse_lead(tok(child.children[0]).value)
@@ -62,9 +66,20 @@ class EnglishWalk(Walk):
         self._resolve_later()
         return self.result()
 
+    def _length(self, sentence: Tree) -> None:
+        waiting = [m for m in self.mentions if m.wait is not False]
+        if not waiting or waiting[-1].wait is not None:
+            raise UnsupportedPhrase(
+                f"{excerpt(tok(sentence.children[0]).value)} says how long, but no wait before it is waiting for "
+                "a length: say 'wait there for 2 minutes'"
+            )
+        waiting[-1].wait = self.seconds(sentence.children)
+
     def _clause(self, clause: Tree) -> None:
         items = subtrees(clause)
         first = items[0]
+        if "OR" in self.joint:
+            self._or(first)
         if "THEN" in self.joint and first.data != "bare":
             self.step += 1
         if self.related_end and "AND" in self.joint and "THEN" not in self.joint and first.data == "bare":
@@ -77,13 +92,28 @@ class EnglishWalk(Walk):
         for k, item in enumerate(items):
             self._item(item, orders, first_item=k == 0)
         self.related_end = _ends_with_relation(items[-1])
-        self.waited = any(i.data == "wait" for i in items)
+        self.waited = next((tokens_of(i)[0].value for i in items if i.data == "wait"), "")
         mine = [m for m in self.mentions[start:] if m.role in VISIT_ROLES]
         if mine:
             self._apply(self.pending + orders, mine, start)
             self.pending = []
         else:
             self.pending += orders
+
+    def _or(self, first: Tree) -> None:
+        """ "or" joins places to avoid ("without going through the dining room or the kitchen": neither); anywhere
+        else it leaves a choice open, which is refused."""
+        before = [m for m in self.mentions if m.sentence == self.sentence]
+        if before and before[-1].role == "avoid" and first.data == "bare":
+            return
+        around = [before[-1].ref.label] if before else []
+        if first.data == "bare":
+            around.append(self._ref(subtrees(first)[0]).label)
+        choice = f" ({' or '.join(around)})" if around else ""
+        raise UnsupportedPhrase(
+            f"'or' leaves the choice of a place open{choice}; the planner needs one place for each waypoint and one "
+            "goal: say which one"
+        )
 
     def _apply(self, orders: list[str], mine: list[Mention], start: int) -> None:
         for order in orders:
@@ -103,6 +133,8 @@ class EnglishWalk(Walk):
     def _item(self, item: Tree, orders: list[str], first_item: bool) -> None:
         kind, kids, toks = item.data, subtrees(item), tokens_of(item)
         if kind == "bare":
+            if self._apposition(kids[0], first_item):
+                return
             m = self.mention(self._ref(kids[0]), self._inherited_role(first_item))
             m.inherited = first_item and bool(self.joint)
         elif kind in _ROLES:
@@ -141,13 +173,24 @@ class EnglishWalk(Walk):
             raise UnsupportedPhrase(f"{excerpt(self.halted)} {self.table.misplaced['HALT'].split(' ', 1)[1]}")
         return super().mention(ref, role)
 
+    def _apposition(self, np: Tree, first_item: bool) -> bool:
+        """ "the bedroom, the one next to the washroom": "the one" with a relation right after a place of that name
+        with none says which it is (the same place, not another one)."""
+        if np.data != "one" or not first_item or self.joint != {"COMMA"} or not self.mentions:
+            return False
+        last = self.mentions[-1]
+        if last.ref.relation is not None or last.sentence != self.sentence:
+            return False
+        last.ref = self._ref(np)
+        return True
+
     def _inherited_role(self, first_item: bool) -> str:
         if not (first_item and self.joint):
             return "goal"
         if self.waited and "THEN" not in self.joint:
             raise UnsupportedPhrase(
-                "'wait' between two places could correct the place before or be a stop on the way: say 'then' before "
-                "the next place, or leave 'wait' out"
+                f"{excerpt(self.waited)} between two places could correct the place before or be a stop on the way: "
+                "say 'then' before the next place, or leave it out"
             )
         before = [m for m in self.mentions if m.sentence == self.sentence]
         if not before:
@@ -179,6 +222,9 @@ class EnglishWalk(Walk):
         return ref
 
     def _name(self, name: Tree) -> PlaceRef:
+        if name.data in ("largest_elided", "smallest_elided"):  # "the smallest bedroom, not the biggest"
+            last = self.last_ref(tok(name.children[0]).value)
+            return PlaceRef(last.words, last.label, Relation(name.data.split("_")[0]))
         place = next(t for t in tokens_of(name) if t.type == "PLACE")
         if name.data == "every":
             ref = self.place(place, every=True)

@@ -4,7 +4,8 @@ vocabularies, how a row's expected reading is written, and how an instruction is
 A reading is written as (goal, waypoints in order joined by ">", avoid joined by ";", not_goal joined by ";", speed,
 waits joined by ";"): a place as its words, with a relation in braces (``bedroom{closest:bath}``,
 ``bedroom{between:kitchen+bath}``, ``bedroom{largest}``); a wait as the place, with "@seconds" when it has a
-length. A phrase naming every place of a name ("both corridors") is written as those places' names. Place phrases
+length. A phrase naming every place of a name ("both corridors") is written as those places' names, and a phrase whose
+words name places of one name as that name ("alice's" as "alice's room"). Place phrases
 are checked against the places' names as the planner checks them (:func:`spcotmhp.planning.places.by_label`), with
 the union of the bundled homes' names standing for one home's.
 """
@@ -95,9 +96,12 @@ def written(ins: Instruction, name: str) -> tuple[str, ...]:
     index = LabelIndex(vocabulary(name)[1])
 
     def place(q: PlaceQuery) -> list[str]:
+        named = sorted({index.labels[k] for k in np.flatnonzero(by_label(index, q))})
         if q.every:
-            return sorted(index.labels[k] for k in np.flatnonzero(by_label(index, q)))
-        text = " ".join(w for w, c in q.words.items() for _ in range(int(c)))
+            return named
+        # the name the words stand for when they name places of one name ("alice's" is "alice's room")
+        said = [w for w, c in q.words.items() for _ in range(int(c))]
+        text = named[0] if len(named) == 1 and sorted(named[0].split()) != sorted(said) else " ".join(said)
         if q.relation is not None:
             args = "+".join(" ".join(a.words) for a in q.relation.args)
             text += "{" + q.relation.kind + (f":{args}" if args else "") + "}"
