@@ -24,7 +24,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.sparse import coo_matrix
+from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from spcotmhp.datasets.dataset import Dataset
@@ -179,7 +179,7 @@ def _verdict(planner: HierarchicalPlanner, text: str, start: tuple, want: int | 
     return "right"
 
 
-def _grid_graph(cost: np.ndarray) -> coo_matrix:
+def _grid_graph(cost: np.ndarray) -> csr_matrix:
     """The 8-connected grid as a sparse graph: entering a cell costs its step cost, diagonals times sqrt 2."""
     h, w = cost.shape
     rows, cols, vals = [], [], []

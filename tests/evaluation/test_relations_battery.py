@@ -32,7 +32,8 @@ def test_oracle_paths_by_hand():
     assert _path_metres(pred, 0, 6, 3) == pytest.approx(2 + 2 * np.sqrt(2))
 
 
-def test_contacts_agree_with_the_planners(rng=np.random.default_rng(3)):
+def test_contacts_agree_with_the_planners():
+    rng = np.random.default_rng(3)
     for _ in range(20):
         territory = rng.integers(-1, 4, size=(7, 9))
         assert (territory_contacts(territory, 4) == _contacts_by_loop(territory, 4)).all()
