@@ -144,6 +144,8 @@ def evaluate_relations(dataset: Dataset, seed: int = 0, per_kind: int = 6) -> Re
         if len(cands) < 2 or len(x.split()) > 1:
             continue
         others = [n for n in by_name if n != x and all(w not in x.split() for w in n.split())]
+        if len(others) < 2:
+            continue
         for kind in KINDS:
             for _ in range(per_kind if kind not in ("largest", "smallest") else 1):
                 y, z = (
