@@ -148,17 +148,9 @@ def evaluate_relations(dataset: Dataset, seed: int = 0, per_kind: int = 6) -> Re
             continue
         for kind in KINDS:
             for _ in range(per_kind if kind not in ("largest", "smallest") else 1):
-                y, z = (
-                    (list(rng.choice(others, size=2, replace=False)) + [None])[:2]
-                    if len(others) >= 2
-                    else (others[0], None)
-                )
+                y, z = (str(n) for n in rng.choice(others, size=2, replace=False))
                 text = PHRASES[kind].format(x=x, y=y, z=z)
-                args = (
-                    [by_name[y]] + ([by_name[z]] if kind == "between" else [])
-                    if kind not in ("largest", "smallest")
-                    else []
-                )
+                args = {"largest": [], "smallest": [], "between": [by_name[y], by_name[z]]}.get(kind, [by_name[y]])
                 want = oracle.expected(kind, cands, args)
                 start = planner.model.require_map().cell_to_world(planner.graph.to_map(free[rng.integers(len(free))]))
                 verdict = _verdict(planner, text, tuple(start), want, kind)
