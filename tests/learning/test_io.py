@@ -167,9 +167,16 @@ def test_missing_array(saved):
         (
             "Sigma",
             lambda m: -m.Sigma,
-            r"Sigma\[0\] is not positive definite \(eigenvalues -[\d.e-]+, -[\d.e-]+\); a covariance must be "
-            r"positive definite, its smaller eigenvalue above 1e-12 times the larger$",
+            r"arrays.npz: Sigma\[0\] is not positive definite within the usable range \(eigenvalues -[\d.e-]+, "
+            r"-[\d.e-]+\); a covariance must be positive definite, its smaller eigenvalue at least 1e-10 square "
+            r"metres and above 1e-12 times the larger$",
         ),
+        (  # issue 26: a covariance scaled by 1e-300 loaded, then planning crashed on its zero determinant
+            "Sigma",
+            lambda m: m.Sigma * 1e-300,
+            r"arrays.npz: Sigma\[0\] is not positive definite within the usable range \(eigenvalues [\d.]+e-30\d",
+        ),
+        ("psi", lambda m: np.full_like(m.psi, 0.0), r"arrays.npz: psi must be non-negative with rows summing to 1"),
         (
             "active_places",
             lambda m: m.active_places.astype(float),
@@ -313,16 +320,19 @@ def test_non_finite_cost_map_setting(saved):
 @pytest.mark.parametrize(
     "name,value,message",
     [
-        ("alpha", "big", r"hyper-parameter alpha must be a finite number > 0, got 'big'"),
-        ("gamma", -0.1, r"hyper-parameter gamma must be a finite number > 0, got -0.1"),
-        ("beta", 0, r"hyper-parameter beta must be a finite number > 0, got 0"),
-        ("omega", None, r"hyper-parameter omega must be a finite number > 0, got None"),
+        ("alpha", "big", r"model.json: hyper-parameter alpha must be a finite number in \[1e-06, 1e\+06\], got 'big'"),
+        ("gamma", -0.1, r"hyper-parameter gamma must be a finite number in \[1e-06, 1e\+06\], got -0.1"),
+        ("beta", 0, r"hyper-parameter beta must be a finite number in \[1e-06, 1e\+06\], got 0"),
+        ("omega", None, r"hyper-parameter omega must be a finite number in \[1e-06, 1e\+06\], got None"),
         ("kappa0", 1e400, r"model.json is not accepted: Infinity is not a number JSON accepts"),
-        ("nu0", 1, r"hyper-parameter nu0 must be a finite number > 1"),
-        ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
-        ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
-        ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix"),
-        ("place_size", -2, r"hyper-parameter place_size must be a finite number > 0 or null, got -2"),
+        ("kappa0", 1e300, r"hyper-parameter kappa0 must be a finite number in \[1e-06, 1e\+06\], got 1e\+300"),
+        ("nu0", 1, r"hyper-parameter nu0 must be a finite number in \(1, 1e\+06\], got 1"),
+        ("L", 2.5, r"hyper-parameter L must be an integer in \[1, 10000\], got 2.5"),
+        ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers within \+-1e\+06 m, got \(0, 'x'\)"),
+        ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 is not positive definite within the usable range"),
+        ("V0", [[1, 0], [0, 1e-300]], r"hyper-parameter V0 is not positive definite within the usable range"),
+        ("place_size", -2, r"hyper-parameter place_size must be a finite number of metres in \[0.001, 100000\]"),
+        ("place_size", 1e308, r"hyper-parameter place_size must be a finite number of metres in .*, got 1e\+308"),
     ],
 )
 def test_bad_hyper_parameters_are_refused(saved, name, value, message):
