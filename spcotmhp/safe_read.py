@@ -38,6 +38,8 @@ MAX_NAME_CHARS = 255  # characters of a file name given inside a file (map.yaml'
 DEFAULT_MAX_MAP_PIXELS = 16_000_000  # width x height of a map image (a 4000 x 4000 map at 0.05 m is 200 m wide)
 IMAGE_FORMATS = {"PPM": "PGM/PPM", "PNG": "PNG", "BMP": "BMP"}  # Pillow plugin -> name in messages
 EXCERPT_CHARS = 60
+IMAGE_BYTES_PER_PIXEL = 8
+IMAGE_EXTRA_BYTES = 1 << 20
 
 ErrorType = type[SpcotmhpError]
 
@@ -62,6 +64,13 @@ def max_map_pixels() -> int:
     if raw.isdigit() and 0 < int(raw) < 2**62:
         return int(raw)
     return DEFAULT_MAX_MAP_PIXELS
+
+
+def max_image_bytes() -> int:
+    """The most bytes a map image of ``max_map_pixels()`` pixels takes: ``IMAGE_BYTES_PER_PIXEL`` (8: RGBA at 16
+    bits a channel, the widest pixel read_image decodes; a PNG's deflate adds far less than its filter byte
+    saves) plus ``IMAGE_EXTRA_BYTES`` (1 MiB) of headers, comments and ancillary chunks."""
+    return max_map_pixels() * IMAGE_BYTES_PER_PIXEL + IMAGE_EXTRA_BYTES
 
 
 def check_file_name(name: Any, where: str, error: ErrorType) -> str:

@@ -36,8 +36,16 @@ import numpy as np
 
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.model_checks import FORMAT, array_specs, assemble, read_meta
-from spcotmhp.learning.model_folder import check_replaceable, inside, read_npz, verify_manifest, write_folder
+from spcotmhp.learning.model_checks import FORMAT, array_specs, assemble, file_bound, read_meta
+from spcotmhp.learning.model_folder import (
+    check_replaceable,
+    check_sizes,
+    inside,
+    read_manifest,
+    read_npz,
+    verify_digests,
+    write_folder,
+)
 from spcotmhp.metric.map_io import load_map, read_map_yaml, save_map
 from spcotmhp.safe_write import fresh_sibling
 
@@ -129,13 +137,7 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
         )
     if (root / "teaching.csv").is_file() and not (root / "model.json").exists():
         raise ModelError(f"{root} is a dataset folder, not a model{_learn_hint(root)}")
-    listed = verify_manifest(root)
-    meta = read_meta(inside(root, "model.json", "model.json"))
-    if listed is None and meta["format_version"] >= 2:
-        raise ModelError(
-            f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
-            "has: the folder is torn or was altered; save the model again"
-        )
+    meta = _verified_meta(root)
     arrays = read_npz(inside(root, "arrays.npz", "arrays.npz"), array_specs(meta), ("psi_learned",))
     model = assemble(root, meta, arrays)
     from spcotmhp.learning.learner_state import read_learner
@@ -149,6 +151,33 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
         except SpcotmhpError as exc:
             raise ModelError(f"{root}: the model's map cannot be loaded: {exc}") from None
     return model
+
+
+def _verified_meta(root: Path) -> dict:
+    """model.json of ``root`` after the manifest's checks, sizes first (:mod:`~spcotmhp.learning.model_folder`):
+    every listed file's size against the manifest (a stat), the small files' sizes against their bounds, their
+    checksums, model.json read; then the other files' sizes against what model.json's sizes allow, and their
+    checksums. Nothing large is read before its size is known to fit."""
+    from spcotmhp.learning.learner_state import read_learner_meta
+
+    entries = read_manifest(root)
+    names = sorted(entries) if entries is not None else [n for n in MODEL_FILES if (root / n).is_file()]
+    small = [n for n in names if n.endswith((".json", ".yaml", ".yml"))]
+    check_sizes(root, small, file_bound)
+    if entries is not None:
+        verify_digests(root, entries, small)
+    meta = read_meta(inside(root, "model.json", "model.json"))
+    if entries is None and meta["format_version"] >= 2:
+        raise ModelError(
+            f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
+            "has: the folder is torn or was altered; save the model again"
+        )
+    learner = read_learner_meta(root)
+    large = [n for n in names if n not in small]
+    check_sizes(root, large, lambda name: file_bound(name, meta, learner))
+    if entries is not None:
+        verify_digests(root, entries, large)
+    return meta
 
 
 def _learn_hint(path: Path) -> str:

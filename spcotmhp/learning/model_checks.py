@@ -47,6 +47,39 @@ def array_specs(meta: dict) -> dict[str, tuple[tuple[int, ...], str]]:
     return {name: (shape, "b" if name.startswith("active") else "f") for name, shape in specs.items()}
 
 
+IMAGE_SUFFIXES = (".pgm", ".ppm", ".pnm", ".png", ".bmp")
+
+
+def file_bound(name: str, meta: dict | None = None, learner: dict | None = None) -> tuple[int, str]:
+    """(bytes, why) the file ``name`` of a model folder may take, checked before it is hashed or read: JSON
+    files ``MAX_JSON_BYTES`` (learner.json 4 KiB), YAML files the map YAML's 64 KiB, map images
+    ``safe_read.max_image_bytes()`` (8 bytes a pixel of the pixel cap + 1 MiB), arrays.npz and learner.npz what
+    their arrays need at model.json's K, L, V, D (and learner.json's E, T) (``model_folder.npz_bound``); any
+    other file ``MAX_JSON_BYTES``. ``meta`` / ``learner`` (model.json, learner.json) are needed for the .npz
+    files only."""
+    from spcotmhp.learning.learner_state import LEARNER_JSON_BYTES, learner_specs
+    from spcotmhp.learning.model_folder import npz_bound
+    from spcotmhp.metric.map_io import MAX_YAML_BYTES
+    from spcotmhp.safe_read import max_image_bytes, max_map_pixels
+
+    if name == "learner.json":
+        return LEARNER_JSON_BYTES, ""
+    if name.endswith((".yaml", ".yml")):
+        return MAX_YAML_BYTES, ""
+    if name.lower().endswith(IMAGE_SUFFIXES):
+        return max_image_bytes(), f"a map image of at most {max_map_pixels()} pixels has at most"
+    if name in ("arrays.npz", "learner.npz") and meta is not None:
+        K, L, V, D = meta["K"], meta["L"], meta["V"], meta.get("D")
+        sizes = f"K={K}, L={L}, V={V}, D={D}"
+        if name == "arrays.npz":
+            return npz_bound(array_specs(meta)), f"a model of {sizes} has at most"
+        if learner is not None:
+            specs, _ = learner_specs(learner, K, L, V, D)
+            what = f"the learner state of {learner['E']} events and {learner['T']} words ({sizes})"
+            return npz_bound(specs), f"{what} has at most"
+    return MAX_JSON_BYTES, ""
+
+
 def read_meta(path: Path) -> dict:
     if not path.is_file():
         raise ModelError(f"{path} is missing (a model folder holds model.json and arrays.npz)")

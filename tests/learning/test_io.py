@@ -454,3 +454,44 @@ def test_load_model_takes_a_folder(given, shown):
     with pytest.raises(ModelError) as info:
         load_model(given)
     assert str(info.value) == f"load_model takes a model folder (a str or a path), got {shown}"
+
+
+def _grow_sparse(path, size: int) -> None:
+    with open(path, "r+b") as handle:
+        handle.truncate(size)
+
+
+@pytest.mark.parametrize("resealed", [False, True])
+def test_a_huge_sparse_arrays_npz_is_refused_before_it_is_hashed(saved, resealed):
+    """Issue 26: arrays.npz grown to 8 GiB (sparse) was hashed in full (12 s) before it was refused. The size is
+    now checked against the manifest, and against what K, L, V and D allow, before any byte is hashed: with
+    the manifest resealed to the new size (its SHA-256 left stale), the refusal must name the bound, which it
+    could not if the file had been hashed first (that would be a checksum mismatch)."""
+    _grow_sparse(saved / "arrays.npz", 8 * 2**30)
+    if resealed:
+        manifest = json.loads((saved / "manifest.json").read_text(encoding="utf-8"))
+        manifest["files"]["arrays.npz"]["bytes"] = 8 * 2**30
+        (saved / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+        message = r"arrays.npz is 8589934592 bytes; a model of K=\d+, L=\d+, V=\d+, D=365 has at most \d+"
+    else:
+        message = r"arrays.npz is 8589934592 bytes, but manifest.json lists \d+: the model folder is torn or altered"
+    with pytest.raises(ModelError, match=message) as info:
+        load_model(saved)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "name, size, message",
+    [
+        ("model.json", 2**34, r"model.json is 17179869184 bytes; at most 16777216 are accepted"),
+        ("map.yaml", 2**30, r"map.yaml is 1073741824 bytes; at most 65536 are accepted"),
+        ("map.pgm", 2**36, r"map.pgm is 68719476736 bytes; a map image of at most 16000000 pixels has at most \d+"),
+    ],
+)
+def test_every_file_has_a_bound_checked_before_it_is_read(saved, name, size, message):
+    _grow_sparse(saved / name, size)
+    manifest = json.loads((saved / "manifest.json").read_text(encoding="utf-8"))
+    manifest["files"][name]["bytes"] = size
+    (saved / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+    with pytest.raises(ModelError, match=message):
+        load_model(saved)
