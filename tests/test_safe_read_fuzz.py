@@ -101,6 +101,17 @@ BASE = "resolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nf
             b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 1 1\n",
             r"cannot be read as PGM/PPM, PNG",
         ),
+        (  # issue 26: a 50 MB comment took costmap 22 s to skip
+            BASE + "image: m.pgm\n",
+            b"P5\n#" + b"x" * 50_000_000 + b"\n2 2\n255\n" + bytes(4),
+            r"m\.pgm: its PGM/PPM header \(with comments\) is longer than 65536 bytes; at most 65536 are accepted",
+        ),
+        (  # issue 26: 1 x 16,000,000 (inside the pixel cap) took costmap 22.7 s and 813 MiB
+            BASE + "image: m.pgm\n",
+            b"P5\n1 16000000\n255\n",
+            r"m\.pgm is 1 x 16000000 pixels, longer than 1000 times its width or height",
+        ),
+        (BASE + "image: m.pgm\n", b"P2 # c\n# c\n2001 2 255\n", r"2001 x 2 pixels, longer than 1000 times"),
     ],
 )
 def test_issue_map_cases(tmp_path, yaml_text, image, message):
