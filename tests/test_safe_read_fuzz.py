@@ -233,7 +233,7 @@ def test_version_1_folders_without_a_manifest_still_load(templates, tmp_path):
     meta["format_version"] = 1
     (folder / "model.json").write_text(json.dumps(meta), encoding="utf-8")
     model = load_model(folder)
-    save_model(model, folder)  # upgraded in place: now with a manifest
+    save_model(model, folder, overwrite=True)  # upgraded in place: now with a manifest
     assert (folder / "manifest.json").is_file()
     assert json.loads((folder / "model.json").read_text(encoding="utf-8"))["format_version"] == 2
 

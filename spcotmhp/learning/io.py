@@ -64,11 +64,12 @@ MODEL_FILES = (
 )
 
 
-def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = True) -> Path:
+def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = False) -> Path:
     """Write ``model`` to ``folder`` atomically (module docstring) and return the folder.
 
-    An existing model folder is replaced (with ``overwrite=False`` it is a ModelError); a folder that holds
-    files other than a model's is never replaced. Raises ModelError naming the folder and the reason."""
+    An existing model folder is replaced only with ``overwrite=True`` (else a ModelError, as the CLI refuses
+    without --overwrite); a folder that holds files other than a model's is never replaced. Raises ModelError
+    naming the folder and the reason."""
     out = Path(folder)
     check_target(out, overwrite)
     arrays = {name: np.asarray(getattr(model, name)) for name in ARRAYS}
@@ -109,10 +110,12 @@ def check_target(folder: Path, overwrite: bool, advice: str = "choose an empty o
     ``advice`` ends the message about a folder holding other files."""
     check_replaceable(folder, MODEL_FILES, advice)
     if not overwrite and (folder / "model.json").exists():
-        raise ModelError(f"{folder} already holds a model; give --overwrite to replace it, or choose another folder")
+        raise ModelError(
+            f"{folder} already holds a model; give --overwrite (overwrite=True) to replace it, or choose another folder"
+        )
 
 
-def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
+def prepare_model_folder(folder: str | Path, overwrite: bool = False) -> Path:
     """Check that a model can be saved to ``folder`` (see :func:`save_model`) and that its parent folder is
     writable, so that a command can refuse a bad ``--out`` before a long fit; creates nothing but the parent."""
     out = Path(folder)
