@@ -22,29 +22,41 @@ from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.grid_search import SQRT2, cost_to_go, path_from_field
 from spcotmhp.planning.graph import PlanningGraph
 
-__all__ = ["start_cell"]
+__all__ = ["locate_start", "start_cell", "start_point"]
+NUMBER = (int, float, np.integer, np.floating)  # a coordinate's accepted types (a bool is not a number here)
 
 
-def start_cell(
-    model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float] | np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """x_0, its crop cell where planning starts, and the escape (map cells) before it: empty unless the start
-    is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
-    escape is the shortest run of free cells from the start to the nearest cell of the main free component
-    (the planning starts at its end)."""
-    if (
-        isinstance(start, (bool, np.bool_))
-        or (isinstance(start, (list, tuple)) and any(isinstance(v, (bool, np.bool_)) for v in start))
-        or (isinstance(start, np.ndarray) and start.dtype == np.bool_)
-    ):
-        raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, not booleans; got {_excerpt(start)}")
+def start_point(start: Any) -> np.ndarray:
+    """x_0 as two floats: a list, tuple or numpy array of two finite real numbers (Python or numpy ints and
+    floats), as the HTTP API takes them (a JSON number, never a string or true/false); else StartOutsideMap.
+    ``["1", "2"]`` and ``(True, False)`` are refused, not converted.
+
+    >>> start_point((1, 2.5)).tolist()
+    [1.0, 2.5]
+    """
+    if isinstance(start, np.ndarray):
+        values = start.reshape(-1).tolist() if start.dtype.kind in "iuf" else None
+    elif isinstance(start, (list, tuple)):
+        values = list(start)
+    else:
+        values = None
+    if values is None or not all(isinstance(v, NUMBER) and not isinstance(v, (bool, np.bool_)) for v in values):
+        kinds = sorted({type(v).__name__ for v in values or ()} - {"int", "float", "float64", "int64"})
+        got = f"{_excerpt(start)}" + (f" ({', '.join(kinds)} is not a number)" if len(kinds) == 1 else "")
+        raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {got}")
     try:
-        x0 = np.asarray(start, dtype=float).reshape(-1)
-    except (TypeError, ValueError, OverflowError):
-        raise StartOutsideMap(f"the start must be two numbers (x, y) in metres, got {_excerpt(start)}") from None
-    if x0.shape != (2,) or not (math.isfinite(x0[0]) and math.isfinite(x0[1])):
+        x0 = np.array([float(v) for v in values])
+    except OverflowError:
+        x0 = np.full(len(values), np.inf)
+    if x0.shape != (2,) or not np.isfinite(x0).all():
         raise StartOutsideMap(f"the start must be two finite numbers (x, y) in metres, got {_excerpt(start)}")
-    occ = model.require_map()
+    return x0
+
+
+def locate_start(occ: Any, start: Any) -> tuple[np.ndarray, int, int]:
+    """(x_0, row, column) of a start on the occupancy map ``occ``: :func:`start_point`, then StartOutsideMap
+    for a point outside the map's bounds."""
+    x0 = start_point(start)
     x, y = float(x0[0]), float(x0[1])
     res, ox, oy = occ.resolution, float(occ.origin[0]), float(occ.origin[1])
     lo = ox + 0.5 * res - res / 2, oy + 0.5 * res - res / 2  # cell_to_world's arithmetic, in scalars
@@ -57,6 +69,18 @@ def start_cell(
             f"the start ({_metres(x)}, {_metres(y)}) is outside the map "
             f"(x {lo[0]:.2f}..{hi[0]:.2f}, y {lo[1]:.2f}..{hi[1]:.2f})"
         )
+    return x0, row, col
+
+
+def start_cell(
+    model: SpatialConceptModel, graph: PlanningGraph, start: Sequence[float] | np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """x_0, its crop cell where planning starts, and the escape (map cells) before it: empty unless the start
+    is free on the map but within the robot's radius of an obstacle (an inscribed cell), in which case the
+    escape is the shortest run of free cells from the start to the nearest cell of the main free component
+    (the planning starts at its end)."""
+    occ = model.require_map()
+    x0, row, col = locate_start(occ, start)
     full = np.array([row, col], dtype=np.int64)
     cell = np.array([row - graph.offset[0], col - graph.offset[1]], dtype=np.int64)
     if graph.in_crop(cell) and graph.main[cell[0], cell[1]]:

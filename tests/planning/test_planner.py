@@ -445,7 +445,7 @@ def test_two_names_that_no_place_carries_together_are_refused_with_inactive_plac
         mu=np.vstack([base.mu, base.mu[:1]]),
         Sigma=np.concatenate([base.Sigma, base.Sigma[:1]]),
         psi=np.full((K + 1, K + 1), 1.0 / (K + 1)),
-        phi=np.hstack([base.phi, column[:, None]]),
+        phi=np.hstack([base.phi * (1.0 - column[:, None]), column[:, None]]),  # rows still sum to 1
         active_places=np.array([True] * K + [False]),
     )
     ghost_planner = HierarchicalPlanner(ghost, cache=GRAPHS)
