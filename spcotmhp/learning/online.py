@@ -307,9 +307,11 @@ class OnlineSpCoTMHP:
 
     def _check_language(self, event: TeachingEvent) -> None:
         """TeachingError for an utterance in another language than the model's words (most of its vocabulary;
-        ``instructions.detect_language``: Japanese when a word holds kana or kanji): "ここは書斎です" on an English
-        model would become one new word, never a place's name, and English on a Japanese model the same."""
-        from spcotmhp.planning.instructions import detect_language
+        ``language.text.is_japanese``: Japanese when a word holds kana or kanji): "ここは書斎です" on an English
+        model would become new words, never a place's name, and English on a Japanese model the same."""
+
+        def detect_language(text: str) -> str:
+            return "ja" if is_japanese(text) else "en"
 
         known = [detect_language(w) for w in self.vocabulary_]
         if not known:

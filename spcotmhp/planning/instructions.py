@@ -21,10 +21,8 @@ planner's search grows with the number of stages). Every error is a subclass of
 
 from __future__ import annotations
 
-import json
-from collections import Counter
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any
 
 from spcotmhp.errors import (
@@ -35,97 +33,40 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
-from spcotmhp.language.meaning import PlaceRef, Relation
 from spcotmhp.language.reading import LANGUAGES, read
 from spcotmhp.language.text import is_japanese
-from spcotmhp.language.wording import excerpt, unknown_tail
+from spcotmhp.language.wording import excerpt
 from spcotmhp.planning.arguments import check_keywords, check_parse_arguments
 from spcotmhp.planning.nbest import heaviest_group, nbest_weights
+from spcotmhp.planning.query import (
+    MAX_AVOIDED,
+    MAX_CHARS,
+    MAX_HYPOTHESES,
+    MAX_JSON_CHARS,
+    MAX_PLACE_WORDS,
+    MAX_WAYPOINTS,
+    Instruction,
+    PlaceQuery,
+    limit,
+    within_limits,
+)
+from spcotmhp.planning.structured import parse_structured
 
-MAX_CHARS = 500
-"""Longest instruction text (characters) :func:`parse_text` accepts."""
-MAX_WAYPOINTS = 10
-"""Most waypoints an instruction may name."""
-MAX_AVOIDED = 10
-"""Most places an instruction may name to avoid plus not to end in."""
-MAX_HYPOTHESES = 50
-"""Most hypotheses of an N-best list."""
-MAX_JSON_CHARS = 20_000
-"""Longest JSON text of a structured instruction (its places are then bounded by the limits above)."""
-MAX_PLACE_WORDS = 8
-"""Most words in the name of one place of a structured instruction."""
-
-
-@dataclass(frozen=True)
-class PlaceQuery:
-    """One named place of an instruction: a weighted bag of words S (Eq. 25) and a readable label.
-
-    ``alternatives``: for a bag merged from N-best hypotheses, each hypothesis's own bag (one of them names the
-    place; empty for a single phrase, whose words all name it). ``relation``: what picks one of the places so named
-    ("closest to the bath": :mod:`spcotmhp.planning.relations`); ``every``: every place so named ("both
-    corridors", only to avoid)."""
-
-    words: Mapping[str, float]
-    label: str
-    alternatives: tuple[Mapping[str, float], ...] = ()
-    relation: Relation | None = None
-    every: bool = False
-
-    @property
-    def phrases(self) -> tuple[Mapping[str, float], ...]:
-        """The bags each of which names the place on its own: the alternatives, or the words."""
-        return self.alternatives or (self.words,)
-
-    def __post_init__(self) -> None:
-        if not self.words:
-            raise MalformedInstruction(f"the place {excerpt(self.label)} has no words")
-
-    def describe(self) -> str:
-        """E.g. "bedroom (closest to the bath)"."""
-        return self.label if self.relation is None else f"{self.label} ({self.relation.describe()})"
-
-    @classmethod
-    def of(cls, ref: PlaceRef) -> PlaceQuery:
-        """The query of a place as the grammar read it (:class:`~spcotmhp.language.meaning.PlaceRef`)."""
-        return cls(dict(Counter(ref.words)), ref.label, relation=ref.relation, every=ref.every)
-
-
-@dataclass(frozen=True)
-class Instruction:
-    """An understood instruction: stages are the waypoints in order, then the goal (Eq. 28 uses the bag of the
-    stage being pursued at each step); ``avoid`` places get zero probability; ``not_goal`` places may be passed
-    but never end the plan ("instead of the kitchen"). ``speed`` ("slow", "fast" or None) and ``waits`` ((stage,
-    seconds or None: until the next instruction), ...) are for whoever drives the path: the planner carries them
-    in the plan (its JSON, the ROS 2 status) and says them in the explanation; the path is the same."""
-
-    goal: PlaceQuery
-    waypoints: tuple[PlaceQuery, ...] = ()
-    avoid: tuple[PlaceQuery, ...] = ()
-    text: str = ""
-    lang: str = "en"
-    not_goal: tuple[PlaceQuery, ...] = ()
-    speed: str | None = None
-    waits: tuple[tuple[int, float | None], ...] = ()
-
-    @property
-    def stages(self) -> tuple[PlaceQuery, ...]:
-        return (*self.waypoints, self.goal)
-
-    def describe(self) -> str:
-        """E.g. "bedroom (closest to the bath) via corridor, avoiding living, slowly"."""
-        out = self.goal.describe()
-        if self.waypoints:
-            out += " via " + ", then ".join(w.describe() for w in self.waypoints)
-        if self.avoid:
-            out += ", avoiding " + " and ".join(a.describe() for a in self.avoid)
-        if self.not_goal:
-            out += ", instead of " + " and ".join(a.describe() for a in self.not_goal)
-        for stage, seconds in self.waits:
-            length = "until told" if seconds is None else f"{seconds:g} s"
-            out += f", waiting at {self.stages[stage].describe()} ({length})"
-        if self.speed:
-            out += ", " + {"slow": "slowly", "fast": "quickly"}[self.speed]
-        return out
+__all__ = [
+    "MAX_AVOIDED",
+    "MAX_CHARS",
+    "MAX_HYPOTHESES",
+    "MAX_JSON_CHARS",
+    "MAX_PLACE_WORDS",
+    "MAX_WAYPOINTS",
+    "Instruction",
+    "PlaceQuery",
+    "detect_language",
+    "parse_nbest",
+    "parse_structured",
+    "parse_text",
+    "to_instruction",
+]
 
 
 def detect_language(text: str) -> str:
@@ -190,104 +131,7 @@ def parse_text(
         speed=reading.speed,
         waits=reading.waits,
     )
-    return _within_limits(ins, max_waypoints, max_avoided)
-
-
-def _json_value(text: str) -> Any:
-    """The JSON value of a structured instruction's text (InstructionTooLarge / MalformedInstruction)."""
-    if len(text) > MAX_JSON_CHARS:
-        raise InstructionTooLarge(
-            f"the structured instruction has {len(text)} characters, more than the {MAX_JSON_CHARS} accepted"
-        )
-    try:
-        return json.loads(text)
-    except (json.JSONDecodeError, RecursionError) as exc:
-        why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
-        raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
-
-
-def parse_structured(
-    obj: Mapping[str, Any] | str,
-    place_words: Sequence[str],
-    lang: str = "en",
-    *,
-    max_waypoints: int | None = None,
-    max_avoided: int | None = None,
-) -> Instruction:
-    """The structured form ``{"goal": [...], "waypoints": [[...], ...], "avoid": [[...], ...]}`` (optionally
-    ``"not_goal": [[...], ...]``, places that must not be the goal).
-
-    Each place is a token list, or one string of space-separated tokens (so ``"waypoints": ["corridor",
-    "entrance corridor"]`` is two waypoints); every token must be a place word. A JSON string is accepted too.
-
-    Raises:
-        MalformedInstruction: not a JSON object of that shape. UnknownPlaceWord: a token is no place word.
-        InstructionTooLarge: too long a JSON text, too many places or words.
-    """
-    check_parse_arguments("parse_structured", place_words, max_waypoints=max_waypoints, max_avoided=max_avoided)
-    if isinstance(obj, str):
-        obj = _json_value(obj)
-    if not isinstance(obj, Mapping):
-        raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
-    unknown_keys = [k for k in obj if k not in ("goal", "waypoints", "avoid", "not_goal")]
-    if unknown_keys:
-        raise MalformedInstruction(
-            f"unknown key(s) [{', '.join(excerpt(str(k), 30) for k in unknown_keys[:5])}] in "
-            "the structured instruction; accepted: goal, waypoints, avoid, not_goal"
-        )
-    if "goal" not in obj:
-        raise MalformedInstruction("the structured instruction has no 'goal'")
-    known = set(place_words)
-    limits = {
-        "waypoints": _limit(max_waypoints, MAX_WAYPOINTS),
-        "avoid": _limit(max_avoided, MAX_AVOIDED),
-        "not_goal": _limit(max_avoided, MAX_AVOIDED),
-    }
-
-    def query(tokens: Any, where: str) -> PlaceQuery:
-        if isinstance(tokens, str):
-            if len(tokens) > MAX_CHARS:
-                raise InstructionTooLarge(f"{where} has {len(tokens)} characters: {excerpt(tokens)}")
-            tokens = tokens.split()
-        if not isinstance(tokens, (list, tuple)) or not tokens or not all(isinstance(t, str) for t in tokens):
-            listed = tokens if isinstance(tokens, (list, tuple)) else ()
-            wrong = [f"{where}[{i}] is {excerpt(t)}" for i, t in enumerate(listed) if not isinstance(t, str)]
-            got = f"{wrong[0]}, not a word" if wrong else f"got {excerpt(tokens)}"
-            raise MalformedInstruction(f"{where} must be a non-empty list of words; {got}")
-        if len(tokens) > MAX_PLACE_WORDS:
-            raise InstructionTooLarge(f"{where} has {len(tokens)} words, more than the {MAX_PLACE_WORDS} accepted")
-        bad = list(dict.fromkeys(t for t in tokens if t not in known))
-        if bad:
-            raise UnknownPlaceWord(
-                f"{where}: unknown place word(s) {', '.join(excerpt(t, 30) for t in bad[:5])}"
-                f"{unknown_tail(bad, place_words)}"
-            )
-        return PlaceQuery(dict(Counter(tokens)), " ".join(tokens))
-
-    def queries(key: str) -> tuple[PlaceQuery, ...]:
-        value = obj.get(key, [])
-        if not isinstance(value, (list, tuple)):
-            raise MalformedInstruction(f"'{key}' must be a list of places (each a list of words), got {excerpt(value)}")
-        if len(value) > limits[key]:
-            raise InstructionTooLarge(f"'{key}' lists {len(value)} places, more than the {limits[key]} accepted")
-        return tuple(query(v, f"{key}[{i}]") for i, v in enumerate(value))
-
-    ins = Instruction(
-        goal=query(obj["goal"], "goal"),
-        waypoints=queries("waypoints"),
-        avoid=queries("avoid"),
-        text="",
-        lang=lang,
-        not_goal=queries("not_goal"),
-    )
-    text = json.dumps(
-        {
-            "goal": ins.goal.label,
-            **{k: [q.label for q in getattr(ins, k)] for k in ("waypoints", "avoid", "not_goal") if obj.get(k)},
-        },
-        ensure_ascii=False,
-    )
-    return _within_limits(replace(ins, text=text), max_waypoints, max_avoided)
+    return within_limits(ins, max_waypoints, max_avoided)
 
 
 def parse_nbest(
@@ -313,7 +157,7 @@ def parse_nbest(
     """
     check_keywords("parse_nbest", limits, ("max_hypotheses", "max_chars", "max_waypoints", "max_avoided"))
     check_parse_arguments("parse_nbest", place_words, max_hypotheses=max_hypotheses, **limits)
-    texts, weights = nbest_weights(hypotheses, _limit(max_hypotheses, MAX_HYPOTHESES))
+    texts, weights = nbest_weights(hypotheses, limit(max_hypotheses, MAX_HYPOTHESES))
     parsed: list[tuple[Instruction, float]] = []
     first_error: InstructionError | None = None
     for text, w in zip(texts, weights, strict=False):
@@ -381,7 +225,7 @@ def to_instruction(
     list of (text, score) pairs; the limits are those of the parse functions (module docstring)."""
     bounds = {"max_waypoints": max_waypoints, "max_avoided": max_avoided}
     if isinstance(source, Instruction):
-        return _within_limits(source, max_waypoints, max_avoided)
+        return within_limits(source, max_waypoints, max_avoided)
     if isinstance(source, Mapping):
         return parse_structured(source, place_words, lang or "en", **bounds)
     if isinstance(source, str):
@@ -391,22 +235,3 @@ def to_instruction(
     if isinstance(source, (list, tuple)):
         return parse_nbest(source, place_words, lang, max_hypotheses=max_hypotheses, max_chars=max_chars, **bounds)
     raise MalformedInstruction(f"cannot understand an instruction of type {type(source).__name__}")
-
-
-# ---- internals ---------------------------------------------------------------------------------------------
-def _limit(value: int | None, default: int) -> int:
-    return default if value is None else int(value)
-
-
-def _within_limits(ins: Instruction, max_waypoints: int | None, max_avoided: int | None) -> Instruction:
-    most_ways, most_avoided = _limit(max_waypoints, MAX_WAYPOINTS), _limit(max_avoided, MAX_AVOIDED)
-    if len(ins.waypoints) > most_ways:
-        raise InstructionTooLarge(
-            f"the instruction names {len(ins.waypoints)} waypoints, more than the {most_ways} accepted"
-        )
-    if len(ins.avoid) + len(ins.not_goal) > most_avoided:
-        raise InstructionTooLarge(
-            f"the instruction names {len(ins.avoid) + len(ins.not_goal)} places to avoid or "
-            f"not to end in, more than the {most_avoided} accepted"
-        )
-    return ins

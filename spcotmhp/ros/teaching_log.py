@@ -18,10 +18,9 @@ from pathlib import Path
 
 from spcotmhp.datasets.tables import read_table
 from spcotmhp.errors import DatasetError
-from spcotmhp.language.text import words
+from spcotmhp.language.text import is_japanese, words
 from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
-from spcotmhp.planning.instructions import detect_language
 from spcotmhp.ros.shapes import map_mismatches
 from spcotmhp.safe_write import atomic_write_text, build_folder
 
@@ -86,7 +85,7 @@ class TeachingLog:
             )
         if not (math.isfinite(x) and math.isfinite(y)):
             raise DatasetError(f"the pose ({x}, {y}) is not finite")
-        column = f"words_{detect_language(text)}"
+        column = "words_ja" if is_japanese(text) else "words_en"
         if column == "words_ja":  # recorded as the words the node taught, spaced as dataset rows are read
             text = " ".join(words(text, "ja"))
         if column not in self.header:
