@@ -72,11 +72,13 @@ class Walk:
 
     # ---- mentions ----------------------------------------------------------------------------------------
     def mention(self, ref: PlaceRef, role: str) -> Mention:
-        """A new mention, or the last one again when the same place to visit is said again right after it ("the
-        bedroom near the hall, go there", "the washroom? go to the washroom": one visit)."""
+        """A new mention, or the last one again when "there" / "it" points back to it, or the same place is said
+        again right after it in the same role ("the bedroom near the hall, go there", "the washroom? go to the
+        washroom": one visit; "go to the bedroom via the bedroom" is two)."""
         last = self.mentions[-1] if self.mentions else None
-        if last is not None and last.ref == ref and last.role in VISIT_ROLES and role in VISIT_ROLES:
-            if role == "goal":  # a place said twice in a row is one visit ("the washroom? go to the washroom")
+        again = last is not None and (last.ref is ref or (last.ref == ref and last.role == role))
+        if again and last is not None and last.role in VISIT_ROLES and role in VISIT_ROLES:
+            if role == "goal":  # "there" / "it", or a place to go to said twice in a row: one visit
                 last.role = "goal"
             return last
         m = Mention(ref, role, self.sentence, self.step)
@@ -172,7 +174,5 @@ class Walk:
                     f"{excerpt(m.ref.label)} asks for every place of that name, but a plan goes to one place for "
                     "each waypoint and one goal: name them one by one"
                 )
-            if m.ref in avoid:
-                raise UnsupportedPhrase(f"{excerpt(m.ref.label)} is both a place to visit and a place to avoid")
-        if ordered[-1].ref in not_goal:
-            raise UnsupportedPhrase(f"{excerpt(ordered[-1].ref.label)} is both the goal and a place not to end in")
+        # a place both to visit and to avoid (or not to end in) is refused by the planner, which knows its
+        # instances (ConflictingInstruction): "the bedroom, avoiding the bedroom next to the bath" is no conflict

@@ -154,7 +154,7 @@ class Plan:
                     "role": p.role,
                     "label": p.label,
                     "point": None if p.point is None else [round(float(v), 4) for v in p.point],
-                    **({"chosen_by": self.chosen[p.id]} if p.id in self.chosen else {}),
+                    "chosen_by": self.chosen.get(p.id),
                 }
                 for p in self.places
             ],

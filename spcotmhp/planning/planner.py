@@ -168,9 +168,8 @@ class HierarchicalPlanner:
         model, res = self.model, self.resolution
         ins = parse_instruction(instruction, model, self.place_words, lang)
         x0, cell, escape = start_cell(model, self.graph, start)
-        stages = ins.stages
-        S = len(stages)
-        chosen: dict[int, str] = {}  # places picked by a relation -> what the explanation says of them
+        S = len(ins.stages)
+        chosen: dict[int, str] = {}  # places a relation picked -> what the explanation says of them
         semantic, inst = self._stage_instances(ins, chosen)  # (S, K) word terms of Eq. 28 and instances
         graph, avoided = self._avoid(ins, inst, x0, cell, escape, chosen)
         posterior = self.terms.place_posterior(x0)
@@ -204,7 +203,7 @@ class HierarchicalPlanner:
             node_points=node_points,
             smoothed=smoothed,
             notes=notes,
-            chosen={int(k): said for k, said in chosen.items()},
+            chosen=chosen,
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
@@ -253,12 +252,13 @@ class HierarchicalPlanner:
             return both if both.any() else named
         return likely
 
-    def _stage_instances(self, ins: Instruction, chosen: dict[int, str]) -> tuple[np.ndarray, np.ndarray]:
+    def _stage_instances(self, ins: Instruction, chosen: dict[int, str] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(S, K) the word term of Eq. 28 for each stage and (S, K) the instances that may complete it
         (:meth:`_instances` of its words), without, for the goal, the places the instruction says not to end
         in ("instead of the kitchen": they may be passed); a relation narrows a stage to the instance it picks
         (:meth:`_related`)."""
         stages = ins.stages
+        chosen = {} if chosen is None else chosen
         semantic, likely = self.terms.stage_terms([q.words for q in stages], self.settings.instance_ratio)
         inst = np.stack([self._instances(q, row, stage=True) for q, row in zip(stages, likely, strict=True)])
         for s, q in enumerate(stages):

@@ -110,25 +110,9 @@ def resolve(
     """
     cand = [int(k) for k in np.flatnonzero(candidates)]
     others = [np.asarray(o, dtype=bool) for o in others]
-    said = _said(relation)
     if relation.kind == "next_to":
-        return _next_to(relation, cand, others[0], geometry, name), said
-    if relation.kind in ("largest", "smallest"):
-        measure = {k: float(geometry.areas[k]) for k in cand}
-        unit, floor = "m²", 0.0
-    elif relation.kind == "between":
-        y, z = others
-        pairs = [(int(a), int(b)) for a in np.flatnonzero(y) for b in np.flatnonzero(z)]
-        measure = {
-            k: min(geometry.distance(a, k) + geometry.distance(k, b) - geometry.distance(a, b) for a, b in pairs)
-            if pairs
-            else math.inf
-            for k in cand
-        }
-        unit, floor = "m of detour", geometry.diameter_m
-    else:
-        measure = {k: geometry.nearest(k, others[0] & ~_only(k, len(candidates))) for k in cand}
-        unit, floor = "m", geometry.diameter_m
+        return _next_to(relation, cand, others[0], geometry, name), _said(relation)
+    measure, unit, floor = _measure(relation, cand, others, geometry, len(candidates))
     reachable = {k: v for k, v in measure.items() if math.isfinite(v)}
     if not reachable:
         raise UnresolvedRelation(
@@ -150,7 +134,25 @@ def resolve(
             )
     out = np.zeros(len(candidates), dtype=bool)
     out[best] = True
-    return out, said
+    return out, _said(relation)
+
+
+def _measure(
+    relation: Relation, cand: list[int], others: list[np.ndarray], geometry: PlaceGeometry, n: int
+) -> tuple[dict[int, float], str, float]:
+    """Each candidate's measure under the relation's rule (module docstring), its unit, and the absolute margin
+    under which two measures tie (the robot's diameter for lengths)."""
+    if relation.kind in ("largest", "smallest"):
+        return {k: float(geometry.areas[k]) for k in cand}, "m²", 0.0
+    if relation.kind == "between":
+        pairs = [(int(a), int(b)) for a in np.flatnonzero(others[0]) for b in np.flatnonzero(others[1])]
+        detour = {
+            k: min((geometry.distance(a, k) + geometry.distance(k, b) - geometry.distance(a, b) for a, b in pairs),
+                   default=math.inf)
+            for k in cand
+        }  # fmt: skip
+        return detour, "m of detour", geometry.diameter_m
+    return {k: geometry.nearest(k, others[0] & ~_only(k, n)) for k in cand}, "m", geometry.diameter_m
 
 
 def place_geometry(graph: PlanningGraph, resolution: float, diameter_m: float) -> PlaceGeometry:

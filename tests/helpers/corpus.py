@@ -23,6 +23,7 @@ import numpy as np
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.errors import ConflictingInstruction
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, parse_text
 from spcotmhp.planning.places import LabelIndex, by_label
 from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
@@ -84,10 +85,19 @@ def read(text: str, name: str) -> Instruction:
     words, names = vocabulary(name)
     ins = parse_text(text, words)
     index = LabelIndex(names)
-    for stage in ins.stages:
-        by_label(index, stage, stage=True)
-    for q in (*ins.avoid, *ins.not_goal):
-        by_label(index, q)
+    stages = [(q, by_label(index, q, stage=True)) for q in ins.stages]
+    avoided = [(q, by_label(index, q)) for q in ins.avoid]
+    excluded = [(q, by_label(index, q)) for q in ins.not_goal]
+    # as the planner refuses a stage all of whose places are avoided, or a goal all of whose places are excluded
+    # (ConflictingInstruction), for the same place said the same way (a relation may pick another instance)
+    for q, named in stages:
+        for a, gone in avoided:
+            if a.relation == q.relation and named.any() and not (named & ~gone).any():
+                raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
+    goal, named = stages[-1]
+    for a, gone in excluded:
+        if a.relation == goal.relation and named.any() and not (named & ~gone).any():
+            raise ConflictingInstruction(f"every place named '{goal.label}' is one not to end in")
     return ins
 
 

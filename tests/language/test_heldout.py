@@ -10,7 +10,7 @@ from collections import Counter
 
 import pytest
 
-from spcotmhp.errors import InstructionError
+from spcotmhp.errors import ConflictingInstruction, InstructionError
 from spcotmhp.language.text import words
 from tests.helpers.corpus import DATA, expected, normalised, read, rows, written
 
@@ -22,7 +22,7 @@ def verdict(row: dict) -> tuple[str, str]:
     """("right" | "refused" | "wrong", what came out)."""
     try:
         got = written(read(row["text"], row["vocabulary"]), row["vocabulary"])
-    except InstructionError as exc:
+    except (InstructionError, ConflictingInstruction) as exc:
         if not row["refused"]:
             return "refused", f"{type(exc).__name__}: {exc}"
         named = not row["names"] or normalised(row["names"]) in normalised(str(exc))

@@ -224,6 +224,7 @@ def test_plan_json_and_timings(planner):
         "role": "start",
         "label": "corridor",
         "point": [6.25, 1.75],
+        "chosen_by": None,  # no relation picked it
     }
     assert d["places"][2]["point"] == pytest.approx(
         list(planner.model.map.cell_to_world(planner.model.map.world_to_cell(planner.model.mu[K])))
