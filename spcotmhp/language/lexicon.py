@@ -30,7 +30,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from types import MappingProxyType
-from typing import Any
+from typing import Any, NamedTuple
 
 from spcotmhp.language.text import normalise
 
@@ -52,10 +52,10 @@ _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "�
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
 
 
-@dataclass(frozen=True)
-class Token:
+class Token(NamedTuple):
     """One token of a sentence: its terminal (``kind``), its surface, the place words of a PLACE, the seconds of a
-    DURATION, and whether a place word was said in the plural."""
+    DURATION, and whether a place word was said in the plural (a tuple: made for every word of every
+    instruction)."""
 
     kind: str
     surface: str
@@ -81,6 +81,8 @@ class WordTable:
     surfaces: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # class -> its phrases (for messages)
     extra_function_words: frozenset[str] = frozenset()  # words that never name a place, beyond the classes
     filler_keys: frozenset[tuple[str, ...]] = frozenset()  # filler phrases as units (English)
+    phrase_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest phrase
+    filler_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest filler phrase
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -153,7 +155,17 @@ def read_table(text: str, source: str) -> WordTable:
         surfaces=MappingProxyType(surfaces),
         extra_function_words=frozenset(table.get("not_names", ())),
         filler_keys=filler_keys,
+        phrase_from=MappingProxyType(_longest_from(phrases)),
+        filler_from=MappingProxyType(_longest_from(filler_keys)),
     )
+
+
+def _longest_from(keys: Any) -> dict[str, int]:
+    """First unit -> the number of units of the longest key starting with it (what a longest match tries)."""
+    out: dict[str, int] = {}
+    for key in keys:
+        out[key[0]] = max(out.get(key[0], 0), len(key))
+    return out
 
 
 def expand(phrase: str) -> list[str]:
@@ -201,6 +213,7 @@ class PlaceLexicon:
         self.keys: Mapping[tuple[str, ...], str] = MappingProxyType({**variants, **keys})
         self.glued = frozenset(glued - set(keys))
         self.longest = max(map(len, self.keys), default=1)
+        self.longest_from: Mapping[str, int] = MappingProxyType(_longest_from(self.keys))
 
     def singular(self, unit: str) -> str | None:
         """The place word ``unit`` is the plural of ("bedrooms" -> "bedroom"), or None (English)."""
@@ -328,11 +341,13 @@ def _without_fillers(
     another, "when could you you're ready", leaves the outer one whole once it is out). Place words stay."""
     while True:
         kept = [(u, p) for u, p in items if not isinstance(u, str) or u not in table.fillers or u in places.words]
+        units = [u for u, _ in kept]
         out: list[tuple[Token | str, int]] = []
         i = 0
         while i < len(kept):
-            n = _filler_at([u for u, _ in kept], i, table.filler_keys, places.words)
-            out += [] if n else [kept[i]]
+            n = _filler_at(units, i, table, places.words)
+            if not n:
+                out.append(kept[i])
             i += n or 1
         if len(out) == len(items):
             return out
@@ -343,46 +358,48 @@ def _strip_fillers(
     units: tuple[str, ...], fillers: frozenset[str], keys: frozenset[tuple[str, ...]]
 ) -> tuple[str, ...]:
     """Rule 3 on a phrase of the table: its fillers left out as they would be from a sentence."""
+    draft = WordTable("", False, fillers, {}, {}, {}, frozenset(), filler_keys=keys, filler_from=_longest_from(keys))
     items: list[Any] = list(units)
     while True:
         kept = [u for u in items if u not in fillers]
         out, i = [], 0
         while i < len(kept):
-            n = _filler_at(kept, i, keys, frozenset())
-            out += [] if n else [kept[i]]
+            n = _filler_at(kept, i, draft, frozenset())
+            if not n:
+                out.append(kept[i])
             i += n or 1
         if len(out) == len(items):
             return tuple(out)
         items = out
 
 
-def _filler_at(units: Sequence[Any], i: int, keys: frozenset[tuple[str, ...]], keep: frozenset[str]) -> int:
+def _filler_at(units: Sequence[Any], i: int, table: WordTable, keep: frozenset[str]) -> int:
     """Units in the longest filler phrase starting at ``units[i]`` (0: none); never a place word or a token."""
-    longest = max(map(len, keys), default=0)
-    for n in range(min(longest, len(units) - i), 1, -1):
+    first = units[i]
+    if not isinstance(first, str):
+        return 0
+    for n in range(min(table.filler_from.get(first, 0), len(units) - i), 1, -1):
         key = tuple(units[i : i + n])
-        if key in keys and all(isinstance(u, str) and u not in keep for u in key):
+        if key in table.filler_keys and all(isinstance(u, str) and u not in keep for u in key):
             return n
     return 0
 
 
 def _longest(units: Sequence[Any], i: int, table: WordTable, places: PlaceLexicon) -> tuple[str, str, int] | None:
     """(class, place word, length) of the longest entry starting at ``units[i]`` (places win ties), or None."""
-    limit = min(len(units) - i, max(places.longest, _longest_phrase(table)))
-    for n in range(limit, 0, -1):
+    first = units[i]
+    if not isinstance(first, str):
+        return None
+    most = max(places.longest_from.get(first, 0), table.phrase_from.get(first, 0))
+    for n in range(min(len(units) - i, most), 0, -1):
         key = tuple(units[i : i + n])
-        if any(isinstance(u, Token) for u in key):
+        if n > 1 and any(isinstance(u, Token) for u in key):
             continue
         if key in places.keys and not (key in places.glued and _dictionary_word(key[0])):
             return "PLACE", places.keys[key], n
         if key in table.phrases:
             return table.phrases[key], "", n
     return None
-
-
-@functools.cache
-def _longest_phrase(table: WordTable) -> int:
-    return max(map(len, table.phrases), default=1)
 
 
 def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
@@ -409,11 +426,12 @@ def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
 def _number(unit: str) -> float | None:
     if unit in _NUMBERS:
         return float(_NUMBERS[unit])
+    if not unit[:1].isdigit():
+        return None
     try:
-        value = float(unit)
+        return float(unit)
     except ValueError:
         return None
-    return value if value >= 0 else None
 
 
 def _tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:

@@ -16,10 +16,10 @@ from __future__ import annotations
 import functools
 from collections.abc import Sequence
 from importlib import resources
+from typing import Any, cast
 
-from lark import Lark
+from lark import Lark, Tree
 from lark import Token as LarkToken
-from lark.exceptions import UnexpectedInput
 
 from spcotmhp.errors import EmptyInstruction
 from spcotmhp.language.errors import refusal
@@ -48,11 +48,87 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     table = word_table(lang)
     toks = tokens(text, table, place_words)
-    interactive = grammar(lang).parse_interactive("")
     try:
-        for i, t in enumerate(toks):
-            interactive.feed_token(LarkToken(t.kind, t.surface, start_pos=i))
-        root = interactive.feed_eof()
-    except UnexpectedInput as exc:
-        raise refusal(toks, getattr(exc, "token", None), table, place_words, text) from None
+        root = derive(lang, [t.kind for t in toks], [t.surface for t in toks])
+    except _NoDerivation as exc:
+        bad = LarkToken(toks[exc.at].kind, toks[exc.at].surface, start_pos=exc.at) if exc.at < len(toks) else None
+        raise refusal(toks, bad, table, place_words, text) from None
     return _WALKS[lang](toks, text, table).read(root)
+
+
+class _NoDerivation(Exception):
+    """The grammar accepts no sentence with the tokens read so far and ``kinds[at]`` next (``at == len``: the end)."""
+
+    def __init__(self, at: int) -> None:
+        self.at = at
+
+
+def derive(lang: str, kinds: Sequence[str], values: Sequence[str]) -> Tree:
+    """The derivation of a token sequence by the LALR(1) table of ``grammar(lang)``: the tree Lark itself builds
+    (rules named with ``_`` inlined into their parent, terminals named with ``_`` left out, aliases as names), by a
+    driver that only shifts and reduces (Lark's own per-token parser state costs several times more, which a plan
+    would pay on every instruction). Tokens carry their index as ``start_pos``.
+
+    Raises:
+        _NoDerivation: at the first token (or the end) the table has no action for.
+    """
+    states, start, end, rules = _table(lang)
+    state_stack: list[int] = [start]
+    value_stack: list[Any] = []
+    for i in range(len(kinds) + 1):
+        kind = kinds[i] if i < len(kinds) else "$END"
+        while True:
+            action = states[state_stack[-1]].get(kind)
+            if action is None:
+                raise _NoDerivation(i)
+            shift, arg = action
+            if shift:
+                if kind == "$END":  # pragma: no cover - the end is accepted by a reduction into the end state
+                    break
+                state_stack.append(arg)
+                value_stack.append(None if kind.startswith("_") else LarkToken(kind, values[i], start_pos=i))
+                break
+            name, size, inline, origin = rules[arg]
+            popped = value_stack[len(value_stack) - size :] if size else []
+            if size:
+                del state_stack[-size:]
+                del value_stack[-size:]
+            children: list = []
+            for v in popped:
+                if type(v) is list:
+                    children.extend(v)
+                elif v is not None:
+                    children.append(v)
+            value = children if inline else Tree(name, children)
+            goto = states[state_stack[-1]][origin]
+            state_stack.append(goto[1])
+            value_stack.append(value)
+            if kind == "$END" and state_stack[-1] == end:
+                return cast(Tree, value_stack[-1])
+    raise _NoDerivation(len(kinds))  # pragma: no cover - the table accepts or refuses before
+
+
+@functools.cache
+def _table(lang: str) -> tuple[dict, int, int, dict]:
+    """The LALR(1) table of ``grammar(lang)`` as plain dictionaries: state -> {terminal or rule name: (shift?,
+    next state or rule id)}, the start and end states, rule id -> (tree name, size, inlined?, origin)."""
+    from lark.parsers.lalr_analysis import Shift
+
+    lalr = cast(Any, grammar(lang)).parser.parser.parser  # lark's LALR _Parser: its parse table
+    table = lalr.parse_table
+    rule_ids: dict = {}
+    rules: dict[int, tuple[str, int, bool, str]] = {}
+    states: dict[int, dict[str, tuple[bool, int]]] = {}
+    for state, actions in table.states.items():
+        row: dict[str, tuple[bool, int]] = {}
+        for sym, (action, arg) in actions.items():
+            if action is Shift:
+                row[sym] = (True, arg)
+            else:
+                rid = rule_ids.setdefault(arg, len(rule_ids))
+                origin = str(arg.origin.name)
+                name = str(arg.alias or origin)
+                rules[rid] = (name, len(arg.expansion), origin.startswith("_") and not arg.alias, origin)
+                row[sym] = (False, rid)
+        states[state] = row
+    return states, table.start_states["start"], table.end_states["start"], rules

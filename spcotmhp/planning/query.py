@@ -4,7 +4,6 @@ relation, and the speed and waits; and the limits every parser enforces."""
 
 from __future__ import annotations
 
-from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -57,7 +56,10 @@ class PlaceQuery:
     @classmethod
     def of(cls, ref: PlaceRef) -> PlaceQuery:
         """The query of a place as the grammar read it (:class:`~spcotmhp.language.meaning.PlaceRef`)."""
-        return cls(dict(Counter(ref.words)), ref.label, relation=ref.relation, every=ref.every)
+        bag: dict[str, float] = {}
+        for word in ref.words:
+            bag[word] = bag.get(word, 0) + 1
+        return cls(bag, ref.label, relation=ref.relation, every=ref.every)
 
 
 @dataclass(frozen=True)
