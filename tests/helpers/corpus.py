@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from spcotmhp.datasets.bundled import load_bundled
+from spcotmhp.errors import ConflictingInstruction
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.supervised import fit_supervised
-from spcotmhp.errors import ConflictingInstruction
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, parse_text
 from spcotmhp.planning.places import LabelIndex, by_label
 from spcotmhp.planning.vocabulary import place_labels, place_vocabulary

@@ -85,8 +85,9 @@ def model6ja(tmp_path_factory):
 
 
 def test_japanese_teaching_works_as_typed(model6ja):
-    """Issue 23: "ここは書斎です" typed without spaces is the words ここ, は, 書斎, です (janome), as "ここ は 書斎 です" is;
-    three teaches make 書斎 a place word and plan to it; before, the sentence was one word no instruction could say."""
+    """Issue 23: "ここは書斎です" typed without spaces is the words ここ, は, 書斎, です (janome), as
+    "ここ は 書斎 です" is; three teaches make 書斎 a place word and plan to it; before, the sentence was one word
+    no instruction could say."""
     spaced = teach(model6ja, [{"x": STUDY[0], "y": STUDY[1], "utterance": "ここ は 書斎 です"}]).model
     unspaced = teach(model6ja, [{"x": STUDY[0], "y": STUDY[1], "utterance": "ここは書斎です"}]).model
     assert "書斎" in unspaced.vocabulary and "ここは書斎です" not in unspaced.vocabulary
