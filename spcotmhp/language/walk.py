@@ -96,6 +96,24 @@ class Walk:
         goals = [k for k, m in enumerate(self.mentions) if m.role == "goal" and m.step == self.step]
         return goals[-1] if goals else self.last_visit()
 
+    def apply_orders(self, orders: list[str], mine: list[Mention], start: int) -> None:
+        """Order words on the mentions they apply to: "first" / まず rank them first, "finally" / 最後に last, "on
+        the way" / 途中で make a place to go to one to pass, "before that" / その前に puts them right before the
+        place said before index ``start``."""
+        for order in orders:
+            for m in mine:
+                if order == "first":
+                    m.rank = 0
+                elif order == "last":
+                    m.rank = 2
+                elif order == "on_the_way" and m.role == "goal":
+                    m.role = "via"
+                elif order == "before_that":
+                    target = self.last_visit(start)
+                    if target is not None:
+                        m.tied = True
+                        self.pairs.append((self.mentions.index(m), target))
+
     def last_ref(self, word: str) -> PlaceRef:
         """The place said last ("there", "it"); refused when none was."""
         if not self.mentions:

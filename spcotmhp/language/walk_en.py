@@ -95,7 +95,7 @@ class EnglishWalk(Walk):
         self.waited = next((tokens_of(i)[0].value for i in items if i.data == "wait"), "")
         mine = [m for m in self.mentions[start:] if m.role in VISIT_ROLES]
         if mine:
-            self._apply(self.pending + orders, mine, start)
+            self.apply_orders(self.pending + orders, mine, start)
             self.pending = []
         else:
             self.pending += orders
@@ -114,21 +114,6 @@ class EnglishWalk(Walk):
             f"'or' leaves the choice of a place open{choice}; the planner needs one place for each waypoint and one "
             "goal: say which one"
         )
-
-    def _apply(self, orders: list[str], mine: list[Mention], start: int) -> None:
-        for order in orders:
-            for m in mine:
-                if order == "first":
-                    m.rank = 0
-                elif order == "last":
-                    m.rank = 2
-                elif order == "on_the_way" and m.role == "goal":
-                    m.role = "via"
-                elif order == "before_that":
-                    target = self.last_visit(start)
-                    if target is not None:
-                        m.tied = True
-                        self.pairs.append((self.mentions.index(m), target))
 
     def _item(self, item: Tree, orders: list[str], first_item: bool) -> None:
         kind, kids, toks = item.data, subtrees(item), tokens_of(item)

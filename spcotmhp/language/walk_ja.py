@@ -89,19 +89,7 @@ class JapaneseWalk(Walk):
         """The mentions of a group's places, with the forward order words said before it."""
         out = [self.mention(ref, role) for ref in self._refs(group)]
         start = self.mentions.index(out[0]) if out else len(self.mentions)
-        for order in self.pending:
-            for m in out:
-                if order == "first":
-                    m.rank = 0
-                elif order == "last":
-                    m.rank = 2
-                elif order == "on_the_way" and m.role == "goal":
-                    m.role = "via"
-                elif order == "before_that":
-                    target = self.last_visit(start)
-                    if target is not None:
-                        m.tied = True
-                        self.pairs.append((self.mentions.index(m), target))
+        self.apply_orders(self.pending, out, start)
         self.pending = []
         return out
 
