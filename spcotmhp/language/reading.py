@@ -14,8 +14,11 @@ be placed (:mod:`spcotmhp.language.errors`).
 from __future__ import annotations
 
 import functools
+import hashlib
+import json
 from collections.abc import Sequence
 from importlib import resources
+from pathlib import Path
 from typing import Any, cast
 
 from lark import Lark, Tree
@@ -37,8 +40,7 @@ _WALKS = {"en": EnglishWalk, "ja": JapaneseWalk}
 def grammar(lang: str) -> Lark:
     """The LALR(1) parser of ``grammars/<lang>.lark``, built once per process (Lark refuses reduce/reduce
     conflicts; ``tests/language/test_reading.py`` checks there is no shift/reduce conflict either)."""
-    text = (resources.files("spcotmhp.language") / "grammars" / f"{lang}.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", lexer="basic")  # type: ignore[arg-type]  # lark's stub lacks "basic"
+    return Lark(_source(lang), parser="lalr", lexer="basic")  # type: ignore[arg-type]  # lark's stub lacks "basic"
 
 
 def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
@@ -110,8 +112,25 @@ def derive(lang: str, kinds: Sequence[str], values: Sequence[str]) -> Tree:
 
 @functools.cache
 def _table(lang: str) -> tuple[dict, int, int, dict]:
-    """The LALR(1) table of ``grammar(lang)`` as plain dictionaries: state -> {terminal or rule name: (shift?,
-    next state or rule id)}, the start and end states, rule id -> (tree name, size, inlined?, origin)."""
+    """The LALR(1) table of ``grammar(lang)`` as plain dictionaries (:func:`build_table`): read from
+    ``grammars/<lang>.table.json`` when that file was written from the grammar as it is (its SHA-256 says so; about
+    30 times faster than building the table, which every process's first instruction would pay), else built."""
+    source = _source(lang)
+    path = resources.files("spcotmhp.language") / "grammars" / f"{lang}.table.json"
+    try:
+        stored = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        stored = None
+    if not isinstance(stored, dict) or stored.get("source_sha256") != hashlib.sha256(source.encode()).hexdigest():
+        return build_table(lang)
+    states = {int(k): {sym: (bool(a[0]), int(a[1])) for sym, a in row.items()} for k, row in stored["states"].items()}
+    rules = {i: (str(r[0]), int(r[1]), bool(r[2]), str(r[3])) for i, r in enumerate(stored["rules"])}
+    return states, int(stored["start"]), int(stored["end"]), rules
+
+
+def build_table(lang: str) -> tuple[dict, int, int, dict]:
+    """The LALR(1) table Lark builds from ``grammars/<lang>.lark``: state -> {terminal or rule name: (shift?, next
+    state or rule id)}, the start and end states, rule id -> (tree name, size, inlined?, origin)."""
     from lark.parsers.lalr_analysis import Shift
 
     lalr = cast(Any, grammar(lang)).parser.parser.parser  # lark's LALR _Parser: its parse table
@@ -132,3 +151,28 @@ def _table(lang: str) -> tuple[dict, int, int, dict]:
                 row[sym] = (False, rid)
         states[state] = row
     return states, table.start_states["start"], table.end_states["start"], rules
+
+
+def table_json(lang: str) -> str:
+    """The text of ``grammars/<lang>.table.json``: :func:`build_table` with the SHA-256 of the grammar it is of
+    (``python -m spcotmhp.language.reading`` writes both; a test checks they are current)."""
+    states, start, end, rules = build_table(lang)
+    body = {
+        "source_sha256": hashlib.sha256(_source(lang).encode()).hexdigest(),
+        "start": start,
+        "end": end,
+        "rules": [list(rules[i]) for i in range(len(rules))],
+        "states": {str(k): {sym: [int(a[0]), a[1]] for sym, a in row.items()} for k, row in states.items()},
+    }
+    return json.dumps(body, separators=(",", ":"), sort_keys=True) + "\n"
+
+
+def _source(lang: str) -> str:
+    return (resources.files("spcotmhp.language") / "grammars" / f"{lang}.lark").read_text(encoding="utf-8")
+
+
+if __name__ == "__main__":  # python -m spcotmhp.language.reading: write the tables of the grammars
+    for _lang in LANGUAGES:
+        target = Path(__file__).with_name("grammars") / f"{_lang}.table.json"
+        target.write_text(table_json(_lang), encoding="utf-8")
+        print(f"wrote {target}")
