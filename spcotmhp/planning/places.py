@@ -209,11 +209,14 @@ def candidate_nodes(
     offset: tuple[int, int],
     main: np.ndarray,
     territory: np.ndarray,
+    fallback: Sequence[tuple[int, tuple[int, int]]] = (),
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The planning graph's nodes (Algorithm 1, line 2): :func:`candidate_points` (``n_candidates`` per place,
-    drawn with ``seed``), snapped into their own territory within the main free component
-    (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and without duplicates:
-    each node's place, crop cell and end term log N(x_j | mu_b, Sigma_b) at its cell's centre."""
+    drawn with ``seed``), snapped into their own territory within the free region ``main``
+    (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and without duplicates,
+    then ``fallback``: ``(place, crop cell)`` for places that reach the region but own none of its cells
+    (:mod:`spcotmhp.planning.regions`). Each node's place, crop cell and end term log N(x_j | mu_b, Sigma_b) at its
+    cell's centre."""
     occ = model.require_map()
     rng = np.random.default_rng(seed)
     node_place, node_xy = candidate_points(model, n_candidates, rng, quantile)
@@ -222,6 +225,10 @@ def candidate_nodes(
     _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
     keep = np.sort(keep)
     node_place, cells = node_place[keep], cells[keep]
+    extra = [(k, cell) for k, cell in fallback if k not in set(node_place.tolist())]
+    if extra:
+        node_place = np.concatenate([node_place, np.array([k for k, _ in extra], dtype=np.int64)])
+        cells = np.concatenate([cells, np.array([c for _, c in extra], dtype=cells.dtype).reshape(-1, 2)])
     xy = occ.cell_to_world(cells + np.array(offset))
     end_term = np.array(
         [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],

@@ -62,6 +62,7 @@ from spcotmhp.errors import (
     ConflictingInstruction,
     HorizonTooShort,
     ModelError,
+    PlaceCutOff,
     SpcotmhpError,
     StartInAvoidedPlace,
     UnknownPlaceWord,
@@ -125,6 +126,7 @@ class HierarchicalPlanner:
             )
             for k in act
         }
+        self.planned = self.graph.places_planned()  # (K,) places with a candidate point in some free region
         occ = model.require_map()
         self._width = int(self.graph.log_p.shape[1])  # the crop's flat cell indices of the nodes
         self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
@@ -154,10 +156,12 @@ class HierarchicalPlanner:
         model, res = self.model, self.resolution
         ins = parse_instruction(instruction, model, self.place_words, lang)
         x0, cell, escape = start_cell(model, self.graph, start)
+        region, cell = self.graph.for_start(cell)  # plan within the start's free region
         stages = ins.stages
         S = len(stages)
         semantic, inst = self._stage_instances(ins)  # (S, K) word terms of Eq. 28 and instances
-        graph, avoided = self._avoid(ins, inst, x0, cell, escape)
+        self._check_region(region, ins, inst, x0)
+        graph, avoided = self._avoid(region, ins, inst, x0, cell, escape)
         posterior = self.terms.place_posterior(x0)
         notes = []
         if len(escape):
@@ -260,24 +264,47 @@ class HierarchicalPlanner:
                 )
         return semantic, inst
 
+    def _check_region(self, region: PlanningGraph, ins: Instruction, inst: np.ndarray, x0: np.ndarray) -> None:
+        """:class:`~spcotmhp.errors.PlaceCutOff` when a stage's instances all lie in free regions other than the
+        start's ``region`` (each has candidate points, none in this region: :mod:`spcotmhp.planning.regions`).
+        A stage whose instances have no candidate point anywhere is left to the search's reason
+        (:func:`~spcotmhp.planning.search.why_no_plan`)."""
+        if region is self.graph and not self.graph.regions:
+            return  # one free region with places: every planned place is in it
+        here = np.zeros(self.model.K, dtype=bool)
+        here[region.node_place] = True
+        for s, q in enumerate(ins.stages):
+            if not (inst[s] & here).any() and (inst[s] & self.planned).any():
+                raise PlaceCutOff(
+                    f"the {q.label} is not reachable from here ({x0[0]:.2f}, {x0[1]:.2f}): the free space is cut "
+                    "(a closed door or a gap in the map) between the start and every place of that name"
+                )
+
     def _avoid(
-        self, ins: Instruction, inst: np.ndarray, x0: np.ndarray, cell: np.ndarray, escape: np.ndarray
+        self,
+        region: PlanningGraph,
+        ins: Instruction,
+        inst: np.ndarray,
+        x0: np.ndarray,
+        cell: np.ndarray,
+        escape: np.ndarray,
     ) -> tuple[PlanningGraph, np.ndarray]:
-        """The graph to search and the (K,) avoided places: the avoided places leave ``inst`` (in place) and the
-        graph becomes its avoidance view (their nodes removed, their territories blocked). Raises when a stage
-        has only avoided instances or the start (or its escape run) lies inside an avoided place."""
+        """The graph to search (the start's free ``region``'s) and the (K,) avoided places: the avoided places leave
+        ``inst`` (in place) and the graph becomes its avoidance view (their nodes removed, their territories
+        blocked). Raises when a stage has only avoided instances or the start (or its escape run) lies inside an
+        avoided place."""
         avoided = np.zeros(self.model.K, dtype=bool)
         if not ins.avoid:
-            return self.graph, avoided
+            return region, avoided
         for q in ins.avoid:
             avoided |= self._instances(q)
         if not avoided.any():
-            return self.graph, avoided
+            return region, avoided
         inst &= ~avoided
         for s, q in enumerate(ins.stages):
             if not inst[s].any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-        graph = avoided_view(self.graph, tuple(np.flatnonzero(avoided)))
+        graph = avoided_view(region, tuple(np.flatnonzero(avoided)))
         blocked = graph.blocked
         assert blocked is not None  # an avoidance view has its blocked cells
         esc = graph.to_crop(escape) if len(escape) else escape
