@@ -160,7 +160,6 @@ class HierarchicalPlanner:
         stages = ins.stages
         S = len(stages)
         semantic, inst = self._stage_instances(ins)  # (S, K) word terms of Eq. 28 and instances
-        self._check_region(region, ins, inst, x0)
         graph, avoided = self._avoid(region, ins, inst, x0, cell, escape)
         posterior = self.terms.place_posterior(x0)
         notes = []
@@ -292,7 +291,8 @@ class HierarchicalPlanner:
         """The graph to search (the start's free ``region``'s) and the (K,) avoided places: the avoided places leave
         ``inst`` (in place) and the graph becomes its avoidance view (their nodes removed, their territories
         blocked). Raises when a stage has only avoided instances or the start (or its escape run) lies inside an
-        avoided place."""
+        avoided place, or a stage's places all lie in other free regions (:meth:`_check_region`)."""
+        self._check_region(region, ins, inst, x0)
         avoided = np.zeros(self.model.K, dtype=bool)
         if not ins.avoid:
             return region, avoided

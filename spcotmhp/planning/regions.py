@@ -73,15 +73,19 @@ def free_regions(
 
     >>> from spcotmhp.learning.model import SpatialConceptModel
     >>> from spcotmhp.metric.maps import OccupancyMap
-    >>> free = np.ones((3, 9), dtype=bool); free[:, 4] = False  # a closed door between two rooms
+
+    Two rooms behind a closed door; place 0 (sd 2 m) reaches one cell of the right room, (1, 5), at Mahalanobis
+    distance 2, where place 1 is more probable: that cell alone is its seed there.
+
+    >>> free = np.ones((3, 9), dtype=bool); free[:, 4] = False  # the closed door
     >>> occ = OccupancyMap(data=np.where(free, 0, 100).astype(np.int8), resolution=1.0)
-    >>> m = SpatialConceptModel(mu=np.array([[1.5, 1.5], [7.5, 1.5]]), Sigma=np.array([np.eye(2)] * 2),
+    >>> m = SpatialConceptModel(mu=np.array([[1.5, 1.5], [7.5, 1.5]]), Sigma=np.array([4 * np.eye(2), np.eye(2)]),
     ...     psi=np.full((2, 2), 0.5), pi=np.ones(1), phi=np.full((1, 2), 0.5), W=np.ones((1, 1)), vocabulary=["x"],
     ...     map=occ)
     >>> r = free_regions(m, free, occ.cell_centres())
     >>> r.territory
     array([[ 0,  0,  0,  0, -1,  1,  1,  1,  1],
-           [ 0,  0,  0,  0, -1,  1,  1,  1,  1],
+           [ 0,  0,  0,  0, -1,  0,  1,  1,  1],
            [ 0,  0,  0,  0, -1,  1,  1,  1,  1]])
     >>> r.home.tolist(), r.with_places()
     ([1, 2], [2])
