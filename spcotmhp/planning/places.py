@@ -210,16 +210,18 @@ def candidate_nodes(
     main: np.ndarray,
     territory: np.ndarray,
     fallback: Sequence[tuple[int, tuple[int, int]]] = (),
+    points: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The planning graph's nodes (Algorithm 1, line 2): :func:`candidate_points` (``n_candidates`` per place,
-    drawn with ``seed``), snapped into their own territory within the free region ``main``
-    (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and without duplicates,
-    then ``fallback``: ``(place, crop cell)`` for places that reach the region but own none of its cells
-    (:mod:`spcotmhp.planning.regions`). Each node's place, crop cell and end term log N(x_j | mu_b, Sigma_b) at its
-    cell's centre."""
+    drawn with ``seed``; or ``points``, the same already drawn), snapped into their own territory within the free
+    region ``main`` (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and
+    without duplicates, then ``fallback``: ``(place, crop cell)`` for places that reach the region but own none of
+    its cells (:mod:`spcotmhp.planning.regions`). Each node's place, crop cell and end term log N(x_j | mu_b,
+    Sigma_b) at its cell's centre."""
     occ = model.require_map()
-    rng = np.random.default_rng(seed)
-    node_place, node_xy = candidate_points(model, n_candidates, rng, quantile)
+    if points is None:
+        points = candidate_points(model, n_candidates, np.random.default_rng(seed), quantile)
+    node_place, node_xy = points
     cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array(offset), main, territory)
     node_place, cells = node_place[ok], cells[ok]
     _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)

@@ -21,7 +21,7 @@ from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.planning.graph_settings import GraphSettings
-from spcotmhp.planning.places import candidate_nodes, connected_places
+from spcotmhp.planning.places import candidate_nodes, candidate_points, connected_places
 from spcotmhp.planning.regions import FreeRegions, free_regions
 from spcotmhp.planning.territory import grown_territories
 
@@ -43,8 +43,13 @@ def graph_inputs(
     offset = (int(r0), int(c0))
     regions = free_regions(model, traversable, centres, offset)
     main = regions.labels == regions.main
-    connected = connected_places(model, settings.edge_threshold)
-    inputs = _region_inputs(model, settings, regions, regions.main, offset, (0, 0), log_p, main, centres, connected)
+    shared = {  # the same for every region: Figure 3's edges, the candidate points (Alg. 1, line 2)
+        "connected": connected_places(model, settings.edge_threshold),
+        "points": candidate_points(
+            model, settings.n_candidates, np.random.default_rng(settings.seed), settings.candidate_quantile
+        ),
+    }
+    inputs = _region_inputs(model, settings, regions, regions.main, offset, (0, 0), log_p, main, centres, shared)
     inputs["traversable"] = traversable  # the main graph keeps every traversable cell (and the map's crop)
     inputs["info"]["crop"] = [int(r0), int(r1), int(c0), int(c1)]
     boxes = find_boxes(regions.labels)
@@ -63,7 +68,7 @@ def graph_inputs(
             np.ascontiguousarray(log_p[rows, cols]),
             regions.labels[rows, cols] == g,
             centres[rows, cols],
-            connected,
+            shared,
         )
         if len(sub["node_place"]):
             subs[g] = sub
@@ -87,18 +92,26 @@ def _region_inputs(
     log_p: np.ndarray,
     mask: np.ndarray,
     centres: np.ndarray,
-    connected: np.ndarray,
+    shared: dict[str, Any],
 ) -> dict[str, Any]:
     """The graph inputs of free region ``label`` on its window of the crop (corner at crop cell ``corner``; the
     crop's at map cell ``crop_offset``): ``log_p``, ``mask`` (the region's cells) and ``centres`` over the window,
-    its places' territories, candidate nodes and grown territories."""
+    its places' territories, candidate nodes (from ``shared["points"]``) and grown territories."""
     occ = model.require_map()
     (r0, c0), (h, w) = corner, mask.shape
     offset = (crop_offset[0] + r0, crop_offset[1] + c0)
     territory = np.where(mask, regions.territory[r0 : r0 + h, c0 : c0 + w], -1)
     fallback = [(k, (r - r0, c - c0)) for k, (r, c) in regions.fallback.get(label, [])]
     node_place, cells, end_term = candidate_nodes(
-        model, settings.n_candidates, settings.seed, settings.candidate_quantile, offset, mask, territory, fallback
+        model,
+        settings.n_candidates,
+        settings.seed,
+        settings.candidate_quantile,
+        offset,
+        mask,
+        territory,
+        fallback,
+        shared["points"],
     )
     act = np.flatnonzero(model.active_places)
     return {
@@ -115,7 +128,7 @@ def _region_inputs(
         "w_hat": np.empty(0),
         "w_hat_metric": np.empty(0),
         "log_transition": np.empty(0),
-        "connected": connected,
+        "connected": shared["connected"],
         "time_precompute_s": 0.0,
         "info": {
             "n_nodes": len(cells),

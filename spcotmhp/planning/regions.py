@@ -107,11 +107,12 @@ def free_regions(
     place, cell, region = reach_seeds(model, labels, centres, home)
     out = partition(best, anchors, np.searchsorted(act, place), cell) if len(place) else base
     territory = np.where(out >= 0, act[np.maximum(out, 0)], -1)
-    owned = set(zip(territory[out >= 0].tolist(), labels[out >= 0].tolist(), strict=True))
     fallback: dict[int, list[tuple[int, tuple[int, int]]]] = {}
-    for k, (r, c), g in zip(place.tolist(), cell.tolist(), region.tolist(), strict=True):
-        if (k, g) not in owned:
-            fallback.setdefault(int(g), []).append((int(k), (int(r), int(c))))
+    if len(place):  # (place, region) pairs that own a cell, as one integer each
+        owned = np.unique(territory[out >= 0] * (n + 1) + labels[out >= 0])
+        for k, (r, c), g in zip(place.tolist(), cell.tolist(), region.tolist(), strict=True):
+            if not np.isin(k * (n + 1) + g, owned):
+                fallback.setdefault(int(g), []).append((int(k), (int(r), int(c))))
     return FreeRegions(labels, main, territory, home, fallback)
 
 
