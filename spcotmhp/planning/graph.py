@@ -27,8 +27,10 @@ well defined.
 The grid is the robot's: p(x|m) = 0 on occupied, unknown, lethal and inscribed cells (:mod:`spcotmhp.metric.
 costmap`), so no partial path, start leg or smoothed path puts the robot's centre where its footprint overlaps
 an obstacle. Candidate points are snapped into their own place's territory (:mod:`spcotmhp.learning.territory`)
-within the largest free component; a place with no such cell has no node and is reported in
-``info["unreachable_places"]``.
+within the largest free region; every other free region that holds places (a place reaches a region where its
+2-sigma ellipse holds a cell of it: :mod:`spcotmhp.planning.regions`) has a graph of its own, on its own window
+(``regions``), and a plan starts in the graph of the start's region (:meth:`PlanningGraph.for_start`). A place
+with a node in no region is reported in ``info["unreachable_places"]``.
 
 Avoided places (:func:`spcotmhp.planning.avoid.avoided_view`) block their territories, in views that share the fields a
 blocked region does not change (:mod:`spcotmhp.planning.avoid`).

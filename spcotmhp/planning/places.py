@@ -6,8 +6,9 @@ Definitions (each a documented choice; the property tests check the planner agai
 * **Candidate points** (Alg. 1, line 2; Section 3.4): N_i points per active place i. The first is the mean mu_i
   (the paper's N = 1 setting); the others are seeded samples from N(mu_i, Sigma_i) kept inside the place's
   ``quantile`` ellipse (rejection), so that "the candidate waypoints follow the rough shape of the place".
-  Each is snapped to the nearest traversable cell (p(x|m) > 0) of the largest connected free component, and
-  duplicates after snapping are dropped.
+  Each is snapped to the nearest traversable cell (p(x|m) > 0) of its place's territory in a free region (the
+  largest one, and every other region the place reaches: :mod:`spcotmhp.planning.regions`), and duplicates after
+  snapping are dropped.
 * **Connected places** (Alg. 1, line 3): a and b are connected when (psi_ab + psi_ba) / 2 >= 1 / K, the rule of
   the paper's Figure 3 (which writes >; with >= a fully connected home, whose psi is uniform = 1 / K, keeps its
   edges); partial paths are precomputed only between candidates of connected places.

@@ -127,6 +127,9 @@ class HierarchicalPlanner:
             for k in act
         }
         self.planned = self.graph.places_planned()  # (K,) places with a candidate point in some free region
+        in_main = np.zeros(model.K, dtype=bool)
+        in_main[self.graph.node_place] = True
+        self._main_has_all = not (self.planned & ~in_main).any()  # every planned place has a node in the main region
         occ = model.require_map()
         self._width = int(self.graph.log_p.shape[1])  # the crop's flat cell indices of the nodes
         self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
@@ -268,8 +271,8 @@ class HierarchicalPlanner:
         start's ``region`` (each has candidate points, none in this region: :mod:`spcotmhp.planning.regions`).
         A stage whose instances have no candidate point anywhere is left to the search's reason
         (:func:`~spcotmhp.planning.search.why_no_plan`)."""
-        if region is self.graph and not self.graph.regions:
-            return  # one free region with places: every planned place is in it
+        if region is self.graph and self._main_has_all:
+            return  # every place with a candidate point has one in the start's (main) region
         here = np.zeros(self.model.K, dtype=bool)
         here[region.node_place] = True
         for s, q in enumerate(ins.stages):
