@@ -21,11 +21,11 @@ and counts what a robot owner would notice:
 * the SPL family (:mod:`~spcotmhp.evaluation.metrics`) of the basic and advanced tasks: advanced WN-SPL with
   the paper's N (the goal instance closest from the start) and with N via the waypoint (the instance where the
   shortest path through the waypoint ends, which is what the planner is asked to reach);
-* ``cut_off`` of ``reach_checks``: "go to <name>" for every name of the model's places from every task start, where
-  some place of that name has a cell inside its 2-sigma ellipse that the robot can reach from the start (the
-  oracle: the start's 4-connected component of the robot's cells, :mod:`spcotmhp.planning.regions`), refused.
-  Places, not tasks: a task whose goal position lies in a pocket cut off by furniture is left out, while the place
-  itself must stay plannable from the rest of the home.
+* ``cut_off`` of ``reach_checks``: "go to <name>" for every name of the model's places, from every place's
+  position and from one cell of every free region (:func:`reach_refusals`), where some place of that name has a
+  cell inside its 2-sigma ellipse that the robot can reach from the start (the oracle: the start's 4-connected
+  component of the robot's cells; :mod:`spcotmhp.planning.regions`), refused. Places, not tasks: every learned
+  place must be plannable from wherever its mass can be reached, pockets cut off by furniture included.
 
 With ``furniture`` the homes are furnished (:func:`~spcotmhp.datasets.synthetic_battery.battery_home`).
 """
@@ -112,16 +112,20 @@ def evaluate_home(
     b, a = summarise(outcomes["basic"]), summarise(outcomes["advanced"])
     out.spl, out.n_spl, out.wn_spl, out.wn_spl_via = b["spl"], b["n_spl"], a["wn_spl"], a["wn_spl_via"]
     out.time_median_ms = 1000.0 * float(np.median(times))
-    reach_refusals(ctx, [p.cell for p in ctx.places], costmap.free, out)
+    reach_refusals(ctx, costmap.free, out)
     return out
 
 
-def reach_refusals(ctx: HomeContext, starts: Sequence[tuple[int, int]], robot: np.ndarray, out: HomeBattery) -> None:
-    """``cut_off`` / ``reach_checks`` of the module docstring: from each start (map cells), every spoken name whose
-    places' 2-sigma ellipses hold a robot cell (``robot``: the model's cost map's free cells) of the start's free
-    region must be planned to."""
+def reach_refusals(ctx: HomeContext, robot: np.ndarray, out: HomeBattery) -> None:
+    """``cut_off`` / ``reach_checks`` of the module docstring: from each start, every spoken name whose places'
+    2-sigma ellipses hold a robot cell (``robot``: the model's cost map's free cells) of the start's free region must
+    be planned to. The starts: the true places' positions, and the first cell (row-major) of every other free
+    region, so that pockets cut off by furniture are started from too."""
     planner, data = ctx.planner, ctx.dataset
     regions, _ = label4(robot)
+    flat = regions.ravel()
+    firsts = np.unique(flat, return_index=True)[1][1:]  # the first cell of each region 1..n
+    starts = [p.cell for p in ctx.places] + [divmod(int(i), robot.shape[1]) for i in firsts]
     act = np.flatnonzero(ctx.model.active_places)
     within = {int(k): _regions_within(ctx, int(k), robot, regions) for k in act}
     for start in starts:

@@ -24,14 +24,17 @@ from tests.helpers.planning import DOORS, EDGES, NAMES, ROOMS, SHAPE, home_log_p
 FOUR = ndimage.generate_binary_structure(2, 1)
 
 
-def closed_door_home():
+def closed_door_home(**settings):
     """The four-room home with the corridor-bedroom #2 door closed: {bedroom #1, corridor} | {kitchen, bedroom #2}."""
     model = make_home(ROOMS, DOORS[:1] + DOORS[2:], NAMES, EDGES, SHAPE)
-    return model, HierarchicalPlanner(model, log_p=home_log_p(model.require_map()))
+    return model, HierarchicalPlanner(model, log_p=home_log_p(model.require_map()), **settings)
 
 
-def test_a_start_behind_a_closed_door_plans_within_its_region():
-    model, planner = closed_door_home()
+@pytest.mark.parametrize("dense", [True, False])
+def test_a_start_behind_a_closed_door_plans_within_its_region(dense):
+    """Dense fields, and the portal graph of building-scale maps (every region's graph)."""
+    model, planner = closed_door_home(**({} if dense else {"max_dense_bytes": 0}))
+    assert (planner.graph.hier is None) == dense and (planner.graph.regions[2].hier is None) == dense
     occ = model.require_map()
     assert len(planner.graph.regions) == 1  # the second region has its own graph
     plan = planner.plan("go to the kitchen", world(occ, 6, 25))  # in bedroom #2, beside the kitchen
