@@ -30,8 +30,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.special import logsumexp
 
+from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import most_probable_labels, partition, place_anchors
 from spcotmhp.metric.grid_ops import label4

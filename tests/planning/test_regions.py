@@ -163,24 +163,34 @@ def test_a_start_where_no_place_reaches_is_refused():
 
 
 @cache
-def furnished(seed: int, doors: int):
+def furnished(seed: int, doors: int, learned: bool = False):
     rng = np.random.default_rng(seed)
     plan = generate_floor_plan("house", n_rooms=8, seed=rng)
     data = teaching_walk(plan, events_per_room=12, seed=rng)
     furnish(plan, rng, share=1.0)
     close_doors(plan, rng, doors)
     data.map = plan.map
-    model = fit_supervised(data)
+    if learned:  # unsupervised Gibbs learning (a short run: Gaussians that merge or split rooms are welcome here)
+        from spcotmhp.learning.gibbs import SpCoTMHP
+
+        model = SpCoTMHP(iterations=30, seed=seed).fit(data).model_
+        model.map = model.map if model.map is not None else data.map
+    else:
+        model = fit_supervised(data)
     return model, HierarchicalPlanner(model)
 
 
-@pytest.mark.parametrize(("seed", "doors"), [(0, 1), (1, 1), (2, 2), (3, 0), (4, 2), (5, 1)])
-def test_every_place_within_reach_is_planned_and_every_plan_stays_in_its_region(seed, doors):
+@pytest.mark.parametrize(
+    ("seed", "doors", "learned"),
+    [(0, 1, False), (1, 1, False), (2, 2, False), (3, 0, False), (4, 2, False), (5, 1, False), (6, 1, True),
+     (7, 2, True)],
+)  # fmt: skip
+def test_every_place_within_reach_is_planned_and_every_plan_stays_in_its_region(seed, doors, learned):
     """From starts in every free region (the oracle: 4-connected components of the model's robot cells, from
     scipy, not the planner's labels), "go to <name>" is planned whenever some place of that name has a robot cell
     inside its 2-sigma ellipse in the start's component, and every plan stays in that component; a refusal is a
-    NoReachablePlace (PlaceCutOff when the name's places lie elsewhere)."""
-    model, planner = furnished(seed, doors)
+    NoReachablePlace (PlaceCutOff when the name's places lie elsewhere). Supervised and learned parameters."""
+    model, planner = furnished(seed, doors, learned)
     occ = model.require_map()
     robot = inflate(occ, **model.costmap).free
     comp, n = ndimage.label(robot, structure=FOUR)
