@@ -116,6 +116,11 @@ class NoReachablePlace(PlanningError):
     http_status = 409
 
 
+class PlaceCutOff(NoReachablePlace):
+    """A place the instruction names lies only in free space the start cannot reach: the robot's free space is
+    cut (a closed door, a gap in the map, furniture) between them."""
+
+
 class HorizonTooShort(PlanningError):
     """A plan exists only with more place-to-place steps than the topological horizon E allows."""
 

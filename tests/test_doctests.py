@@ -15,6 +15,7 @@ MODULES = [
     "spcotmhp.planning.instructions",
     "spcotmhp.planning.nbest",
     "spcotmhp.planning.start",
+    "spcotmhp.planning.regions",
     "spcotmhp.metric.grid_search",
     "spcotmhp.metric.maps",
     "spcotmhp.learning.logspace",
@@ -22,6 +23,7 @@ MODULES = [
     "spcotmhp.baselines.smoothing",
     "spcotmhp.evaluation.metrics",
     "spcotmhp.datasets.synthetic",
+    "spcotmhp.datasets.synthetic_furniture",
     "spcotmhp.speech.lexicon",
     "spcotmhp.limits",
 ]

@@ -55,6 +55,8 @@ def _escape_on(free: np.ndarray, main: np.ndarray, cell: tuple[int, int], radius
         model=SimpleNamespace(require_map=lambda: occ),
         offset=(0, 0),
         main=main,
+        plannable=None,
+        regions={},
         settings=SimpleNamespace(connectivity=8),
     )
     return _escape(free, graph, np.array(cell), radius_m)
