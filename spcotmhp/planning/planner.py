@@ -170,8 +170,7 @@ class HierarchicalPlanner:
             PlanningError: the start is off the map or not free, inside an avoided place, or no path satisfies
                 the instruction (the message says which stage cannot be reached).
         """
-        t0 = time.perf_counter()
-        model, res = self.model, self.resolution
+        t0, model, res = time.perf_counter(), self.model, self.resolution
         ins = parse_instruction(instruction, model, self.place_words, lang)
         x0, cell, escape = start_cell(model, self.graph, start)
         region, cell = self.graph.for_start(cell)  # plan within the start's free region
