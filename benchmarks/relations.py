@@ -40,7 +40,8 @@ def main(argv: list[str] | None = None) -> None:
             bar.advance(job)
     print(f"machine: {platform.machine()}, Python {platform.python_version()}; {args.homes} homes from seed "
           f"{args.first_seed}, {time.perf_counter() - t0:.0f} s")  # fmt: skip
-    print("\n| relation | requests | right | none named (refused, as the rule names none) | refused | wrong | right share |")
+    print("\n| relation | requests | right | none named (refused, as the rule names none) | refused | wrong "
+          "| right share |")  # fmt: skip
     print("|---|---|---|---|---|---|---|")
     for kind in (*KINDS, "all"):
         pick = KINDS if kind == "all" else (kind,)

@@ -20,7 +20,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from spcotmhp.errors import InstructionError, MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
-from spcotmhp.language.lexicon import Token, WordTable
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.table import WordTable
 from spcotmhp.language.wording import excerpt, named, not_understood, unknown_tail
 
 _MODIFIER_BEFORE_PLACE = ("FIRST", "LAST")

@@ -26,8 +26,9 @@ from lark import Token as LarkToken
 
 from spcotmhp.errors import EmptyInstruction
 from spcotmhp.language.errors import refusal
-from spcotmhp.language.lexicon import tokens, word_table
+from spcotmhp.language.lexicon import tokens
 from spcotmhp.language.meaning import Reading
+from spcotmhp.language.table import word_table
 from spcotmhp.language.walk_en import EnglishWalk
 from spcotmhp.language.walk_ja import JapaneseWalk
 

@@ -11,9 +11,11 @@ from lark import Token as LarkToken
 from lark import Tree
 
 from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, UnsupportedPhrase
-from spcotmhp.language.lexicon import MAX_WAIT_S, Token, WordTable
+from spcotmhp.language.lexicon import MAX_WAIT_S
 from spcotmhp.language.meaning import PlaceRef, Reading, Relation
 from spcotmhp.language.order import Visit, visiting_order
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.table import WordTable
 from spcotmhp.language.wording import excerpt
 
 VISIT_ROLES = ("goal", "via", "stop", "visit")

@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from spcotmhp.language.lexicon import word_table
 from spcotmhp.language.reading import LANGUAGES
+from spcotmhp.language.table import word_table
 
 INSTANCE_RATIO = 4.0
 """The planner's default ``instance_ratio`` (:class:`~spcotmhp.planning.planner.PlannerSettings`)."""

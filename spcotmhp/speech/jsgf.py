@@ -22,7 +22,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from spcotmhp.language.lexicon import tokens, word_table
+from spcotmhp.language.lexicon import tokens
+from spcotmhp.language.table import word_table
 from spcotmhp.speech.lexicon import SPEAKABLE
 
 # a compact subset of the parser's English markers and connectors: every alternative widens the search, and

@@ -20,8 +20,9 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedPhrase,
 )
-from spcotmhp.language.lexicon import english_units, word_table
+from spcotmhp.language.lexicon import english_units
 from spcotmhp.language.reading import LANGUAGES, grammar, read
+from spcotmhp.language.table import word_table
 from tests.helpers.corpus import DATA, rows
 from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
 

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from spcotmhp import errors
 from spcotmhp.errors import InstructionError, InstructionTooLarge
-from spcotmhp.language.lexicon import word_table
+from spcotmhp.language.table import word_table
 from spcotmhp.planning import instructions
 from spcotmhp.planning.instructions import parse_nbest, parse_structured, parse_text, to_instruction
 from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA

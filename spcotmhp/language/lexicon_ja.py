@@ -1,0 +1,113 @@
+"""Japanese sentences -> tokens (rules of :mod:`spcotmhp.language.lexicon`, on characters): the longest match
+over the place words (with their spelling variants) and the table's phrases, fillers left out after matching, a
+run of unmatched characters one WORD; digits or kanji numerals before 秒, 分 or 時間 a DURATION (1分半: 90 s); a lone
+の between two places joins them into one name (玄関の廊下); か is a choice only between two places.
+"""
+
+from __future__ import annotations
+
+import re
+
+from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
+from spcotmhp.language.table import WordTable
+
+_JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
+_KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
+_JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
+
+
+def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
+    chars = [ch for ch in text if not ch.isspace()]
+    out: list[Token] = []
+    i = 0
+    while i < len(chars):
+        duration = _JA_DURATION.match("".join(chars[i : i + 12]))
+        if duration:
+            n = len(duration.group(0))
+            out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
+            i += n
+            continue
+        hit = longest_match(chars, i, table, places)
+        if hit is not None:
+            kind, value, n = hit
+            if kind:
+                words = (value,) if kind == "PLACE" else ()
+                out.append(Token(kind, "".join(chars[i : i + n]), words, start=i, end=i + n))
+            i += n
+            continue
+        last = out[-1] if out else None
+        noun = next((w for w in table.nouns if "".join(chars[i : i + len(w)]) == w), None)
+        if noun is not None and last is not None and last.kind == "PLACE" and last.end == i:
+            out[-1] = Token("PLACE", last.surface + noun, last.words, start=last.start, end=i + len(noun))
+            i += len(noun)
+            continue
+        if last is not None and last.kind == "WORD" and last.end == i:
+            out[-1] = Token("WORD", last.surface + chars[i], start=last.start, end=i + 1)
+        else:
+            out.append(Token("WORD", chars[i], start=i, end=i + 1))
+        i += 1
+    return out
+
+
+_NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
+"""Characters no Japanese word starts with (small kana, the long-vowel mark, ん): an unknown run starting with one
+is glued to the one-character word before it, so that a message names the word as written (や+っばり: やっばり)."""
+
+
+def glue_ja(items: list[Token]) -> list[Token]:
+    """Japanese: one-character words that belong to an unknown word around them (module docstring) become part of
+    it; か is a choice only between two places (キッチンかトイレ), elsewhere a character of a word (静か)."""
+    out: list[Token] = []
+    for k, it in enumerate(items):
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        prev = out[-1] if out else None
+        loose = (
+            it.kind == "ALTERNATIVE"
+            and it.surface == "か"
+            and not (prev is not None and prev.kind == "PLACE" and nxt is not None and nxt.kind == "PLACE")
+        )
+        starts_word = (
+            it.kind == "WORD" and it.surface[0] in _NO_WORD_START and prev is not None
+            and prev.kind not in ("PLACE", "WORD") and len(prev.surface) == 1 and prev.end == it.start
+        )  # fmt: skip
+        if starts_word and prev is not None:
+            out[-1] = Token("WORD", prev.surface + it.surface, start=prev.start, end=it.end)
+        elif loose or (it.kind == "WORD" and prev is not None and prev.kind == "WORD" and prev.end == it.start):
+            if prev is not None and prev.kind == "WORD" and prev.end == it.start:
+                out[-1] = Token("WORD", prev.surface + it.surface, start=prev.start, end=it.end)
+            else:
+                out.append(Token("WORD", it.surface, start=it.start, end=it.end))
+        else:
+            out.append(it)
+    return out
+
+
+def _ja_seconds(match: re.Match) -> float:
+    """Seconds of a Japanese duration: digits or kanji numerals up to 九十九 (二十, 三十五), then 秒 / 分 / 時間."""
+    number, unit = match.group(1), match.group(2)
+    half = 0.5 * _JA_UNITS[unit] if match.group(3) else 0.0  # 1分半: a minute and a half
+    if number[0].isdigit():
+        return float(number) * _JA_UNITS[unit] + half
+    tens, ten, ones = number.partition("十")
+    if not ten:
+        value = _KANJI_DIGITS.get(number, 0)
+    else:
+        value = _KANJI_DIGITS.get(tens, 1 if not tens else 0) * 10 + _KANJI_DIGITS.get(ones, 0)
+    return float(value) * _JA_UNITS[unit] + half
+
+
+def join_no(items: list[Token]) -> list[Token]:
+    """Japanese: two place names joined by a lone の are one name (玄関の廊下: the entrance corridor)."""
+    out: list[Token] = []
+    for it in items:
+        if (
+            it.kind == "PLACE" and len(out) >= 2 and out[-1].kind == "WORD" and out[-1].surface == "の"
+            and out[-2].kind == "PLACE" and out[-1].start == out[-2].end and it.start == out[-1].end
+        ):  # fmt: skip
+            no = out.pop()
+            last = out[-1]
+            out[-1] = Token("PLACE", last.surface + no.surface + it.surface, last.words + it.words, start=last.start,
+                            end=it.end)  # fmt: skip
+        else:
+            out.append(it)
+    return out

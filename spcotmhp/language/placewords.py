@@ -1,0 +1,135 @@
+"""Place words as the units they match, with their spelling variants (rule 4 of :mod:`spcotmhp.language.lexicon`),
+and the token a sentence is cut into."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Mapping, Sequence
+from types import MappingProxyType
+from typing import Any, NamedTuple
+
+from spcotmhp.language.table import EN_UNIT, WordTable, longest_from
+
+
+class Token(NamedTuple):
+    """One token of a sentence: its terminal (``kind``), its surface, the place words of a PLACE, the seconds of a
+    DURATION, and whether a place word was said in the plural (a tuple: made for every word of every
+    instruction)."""
+
+    kind: str
+    surface: str
+    words: tuple[str, ...] = ()
+    seconds: float = 0.0
+    plural: bool = False
+    start: int = 0  # index of its first unit in the sentence (fillers included)
+    end: int = 0  # index after its last unit
+
+
+class PlaceLexicon:
+    """The place words of one vocabulary as the units they match, with their spelling variants (module docstring,
+    rule 4), built once per table and vocabulary (:func:`place_lexicon`)."""
+
+    def __init__(self, table: WordTable, place_words: Sequence[str]) -> None:
+        self.words = frozenset(place_words)
+        keys: dict[tuple[str, ...], str] = {}
+        for w in place_words:
+            key = table.units(w) if table.by_character else tuple(EN_UNIT.findall(w))
+            if key:
+                keys[key] = w
+        variants: dict[tuple[str, ...], str] = {}
+        glued: set[tuple[str, ...]] = set()
+        for w in place_words:
+            for key in _variants(w, table):
+                if key and key not in keys:
+                    variants.setdefault(key, w)
+            glued.update((w + noun,) for noun in table.nouns if not table.by_character)
+        self.keys: Mapping[tuple[str, ...], str] = MappingProxyType({**variants, **keys})
+        self.glued = frozenset(glued - set(keys))
+        self.longest = max(map(len, self.keys), default=1)
+        self.longest_from: Mapping[str, int] = MappingProxyType(longest_from(self.keys))
+
+    def singular(self, unit: str) -> str | None:
+        """The place word ``unit`` is the plural of ("bedrooms" -> "bedroom"), or None (English)."""
+        if not unit.endswith(("s", "i", "a")) or len(unit) <= 2:
+            return None
+        return next((lemma for lemma in _noun_lemmas(unit) if lemma in self.words and lemma != unit), None)
+
+
+def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
+    """Other spellings of a place word (module docstring, rule 4)."""
+    if table.by_character:
+        spellings = [word]
+        kana = _hiragana(word)
+        if kana != word and len(word) >= 3:
+            spellings.append(kana)  # キッチン, きっちん
+        if any("\u4e00" <= ch <= "\u9fff" for ch in word):
+            reading = _reading(word)
+            if reading and len(reading) >= 2:
+                spellings.append(reading)  # 風呂, ふろ
+            if len(word) >= 3 and "\u3041" <= word[-1] <= "\u3096" and "\u4e00" <= word[-2] <= "\u9fff":
+                spellings.append(word[:-1])  # 物置き, 物置: okurigana written or left out
+        return [tuple(p + w) for w in spellings for p in ("", *table.honorifics) if (p + w) != word]
+    bare = word.replace("'", "")
+    out: list[tuple[str, ...]] = [(bare,)] if bare != word and " " not in word else []
+    if " " not in word and "'" not in word:
+        out += [(word + noun,) for noun in table.nouns]
+        out += [(word[:i], word[i:]) for i in range(3, len(word) - 2)]
+    return out
+
+
+def _hiragana(word: str) -> str:
+    """``word`` with katakana letters as hiragana, or ``word`` itself when it holds anything but katakana and ー.
+
+    >>> _hiragana("キッチン"), _hiragana("トイレ"), _hiragana("風呂")
+    ('きっちん', 'といれ', '風呂')
+    """
+    if not all("\u30a1" <= ch <= "\u30f6" or ch == "ー" for ch in word):
+        return word
+    return "".join(chr(ord(ch) - 0x60) if ch != "ー" else ch for ch in word)
+
+
+def _reading(word: str) -> str:
+    """The hiragana reading of a Japanese word by janome's dictionary ("" when a part is unknown)."""
+    from spcotmhp.language.text import reading
+
+    return _hiragana(reading(word))
+
+
+@functools.lru_cache(maxsize=4096)
+def _noun_lemmas(unit: str) -> tuple[str, ...]:
+    import lemminflect  # loaded on the first word no table or place word matches (about 0.2 s)
+
+    return tuple(lemminflect.getLemma(unit, upos="NOUN"))
+
+
+@functools.lru_cache(maxsize=4096)
+def _dictionary_word(unit: str) -> bool:
+    """Whether ``unit`` is an English word of its own ("bathroom": a room of its own, not "bath" glued to "room";
+    "livingroom" is not), by lemminflect's dictionary."""
+    import lemminflect
+
+    return bool(lemminflect.getAllLemmas(unit))
+
+
+@functools.lru_cache(maxsize=32)
+def place_lexicon(table: WordTable, place_words: tuple[str, ...]) -> PlaceLexicon:
+    """The :class:`PlaceLexicon` of a vocabulary, built once per table and vocabulary (a bounded cache of a pure
+    function whose values are never changed, so it is safe across threads)."""
+    return PlaceLexicon(table, place_words)
+
+
+def longest_match(units: Sequence[Any], i: int, table: WordTable, places: PlaceLexicon) -> tuple[str, str, int] | None:
+    """(class, place word, length) of the longest entry starting at ``units[i]`` (places win ties), or None."""
+    first = units[i]
+    if not isinstance(first, str):
+        return None
+    most = max(places.longest_from.get(first, 0), table.phrase_from.get(first, 0))
+    for n in range(min(len(units) - i, most), 0, -1):
+        key = tuple(units[i : i + n])
+        if n > 1 and any(isinstance(u, Token) for u in key):
+            continue
+        if key in places.keys and not (key in places.glued and _dictionary_word(key[0])):
+            return "PLACE", places.keys[key], n
+        if key in table.phrases:
+            return table.phrases[key], "", n
+    return None

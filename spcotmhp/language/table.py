@@ -1,0 +1,178 @@
+"""The word classes of one language's instruction grammar (``grammars/<lang>.json``), read once: which phrase is
+which terminal, the refusal classes with their reasons, the fillers (a small closed class left out before the
+grammar reads a sentence) and the generic nouns.
+
+A phrase may write alternatives as ``(a|b)`` (:func:`expand`); English phrases are matched as their word units with
+the fillers left out, the same way sentences are (:func:`strip_fillers`), so that a filler said inside a phrase
+never breaks it.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from importlib import resources
+from types import MappingProxyType
+from typing import Any
+
+EN_UNIT = re.compile(r"\d+(?:\.\d+)?|[^\W_]+(?:'[^\W_]+)*|'s\b|\.\.\.|[,;:.!?&\-]")
+"""English units: numbers, words (inner apostrophes kept), an ellipsis and the punctuation that separates
+clauses."""
+
+
+@dataclass(frozen=True, eq=False)
+class WordTable:
+    """The word classes of one language (``grammars/<lang>.json``), read once; equal and hashed by identity."""
+
+    lang: str
+    by_character: bool
+    fillers: frozenset[str]
+    phrases: Mapping[tuple[str, ...], str]  # units (fillers left out) -> class; "" for a filler phrase
+    reasons: Mapping[str, str]  # refusal class -> why such a word is refused
+    misplaced: Mapping[str, str]  # class -> why it is refused where the grammar does not accept it
+    nouns: frozenset[str]
+    honorifics: tuple[str, ...] = ()
+    surfaces: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # class -> its phrases (for messages)
+    extra_function_words: frozenset[str] = frozenset()  # words that never name a place, beyond the classes
+    filler_keys: frozenset[tuple[str, ...]] = frozenset()  # filler phrases as units (English)
+    phrase_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest phrase
+    filler_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest filler phrase
+
+    @property
+    def function_words(self) -> frozenset[str]:
+        """Words that never name a place: the fillers and every phrase of the word classes (as written, so that a
+        learned vocabulary word such as "ここは" or "the" is recognised), save generic nouns and the words that
+        only refuse something a place could be called (leave, modifiers, relations: "exit", "front")."""
+        keep = ("LEAVE", "MODIFIER", "UNSUPPORTED_RELATION", "CONTAINMENT")
+        words = {p for kind, items in self.surfaces.items() if kind not in keep for p in items}
+        return frozenset((words | self.fillers | self.extra_function_words) - self.nouns)
+
+    def units(self, phrase: str) -> tuple[str, ...]:
+        """The units of a table phrase or a place word, fillers left out as they are from sentences (English:
+        rule 3, so that a phrase matches whatever fillers are said inside it), or its characters (Japanese)."""
+        if self.by_character:
+            return tuple(ch for ch in phrase if not ch.isspace())
+        return strip_fillers(tuple(EN_UNIT.findall(phrase)), self.fillers, self.filler_keys)
+
+
+def read_table(text: str, source: str) -> WordTable:
+    """A :class:`WordTable` from the JSON of ``grammars/<lang>.json`` (a malformed table raises ValueError naming
+    ``source``)."""
+    table = json.loads(text)
+    if not isinstance(table, dict) or not isinstance(table.get("classes"), dict):
+        raise ValueError(f"{source}: a word table is a JSON object with 'lang' and 'classes'")
+    by_char = bool(table.get("by_character", False))
+    fillers = frozenset(table.get("fillers", ()) if not by_char else ())
+    filler_phrases = [*table.get("filler_phrases", ()), *(table.get("fillers", ()) if by_char else ())]
+    fillers_written = [p for item in filler_phrases for p in expand(item)]
+    filler_keys = frozenset(
+        key
+        for p in fillers_written
+        if not by_char and (key := tuple(u for u in EN_UNIT.findall(p) if u not in fillers))
+    )
+    draft = WordTable(table["lang"], by_char, fillers, {}, {}, {}, frozenset(), filler_keys=filler_keys)
+    phrases: dict[tuple[str, ...], str] = {}
+    surfaces: dict[str, tuple[str, ...]] = {}
+
+    def add(kind: str, items: Sequence[str]) -> None:
+        items = [p for item in items for p in expand(item)]
+        surfaces[kind] = tuple(items)
+        for phrase in items:
+            key = draft.units(phrase)
+            if key and phrases.setdefault(key, kind) != kind:
+                raise ValueError(f"{source}: {phrase!r} is in two classes, {phrases[key]} and {kind}")
+
+    for kind, items in table["classes"].items():
+        add(kind, items)
+    reasons = {}
+    for kind, spec in table.get("refusals", {}).items():
+        add(kind, spec["phrases"])
+        reasons[kind] = spec["reason"]
+    for phrase in fillers_written:
+        key = (
+            tuple(ch for ch in phrase if not ch.isspace())
+            if by_char
+            else tuple(u for u in EN_UNIT.findall(phrase) if u not in fillers)
+        )
+        if key:
+            phrases.setdefault(key, "")
+    surfaces["FILLER"] = tuple(fillers_written)
+    return WordTable(
+        lang=table["lang"],
+        by_character=by_char,
+        fillers=fillers,
+        phrases=MappingProxyType(phrases),
+        reasons=MappingProxyType(reasons),
+        misplaced=MappingProxyType(dict(table.get("misplaced", {}))),
+        nouns=frozenset(table.get("nouns", ())),
+        honorifics=tuple(table.get("honorifics", ())),
+        surfaces=MappingProxyType(surfaces),
+        extra_function_words=frozenset(table.get("not_names", ())),
+        filler_keys=filler_keys,
+        phrase_from=MappingProxyType(longest_from(phrases)),
+        filler_from=MappingProxyType(longest_from(filler_keys)),
+    )
+
+
+def longest_from(keys: Any) -> dict[str, int]:
+    """First unit -> the number of units of the longest key starting with it (what a longest match tries)."""
+    out: dict[str, int] = {}
+    for key in keys:
+        out[key[0]] = max(out.get(key[0], 0), len(key))
+    return out
+
+
+def expand(phrase: str) -> list[str]:
+    """A table phrase with its alternatives written out: "(に|へ)行って" -> ["に行って", "へ行って"]; an empty
+    alternative leaves the group out ("(を|)通って" -> ["を通って", "通って"]).
+
+    >>> expand("(に|へ|)行(って|く)")
+    ['に行って', 'に行く', 'へ行って', 'へ行く', '行って', '行く']
+    """
+    match = _GROUP.search(phrase)
+    if match is None:
+        return [phrase]
+    head, tail = phrase[: match.start()], phrase[match.end() :]
+    return [head + alt + rest for alt in match.group(1).split("|") for rest in expand(tail)]
+
+
+_GROUP = re.compile(r"\(([^()]*)\)")
+
+
+@functools.cache
+def word_table(lang: str) -> WordTable:
+    """The word table of ``lang`` (package data, read once per process)."""
+    path = resources.files("spcotmhp.language") / "grammars" / f"{lang}.json"
+    return read_table(path.read_text(encoding="utf-8"), f"grammars/{lang}.json")
+
+
+def strip_fillers(units: tuple[str, ...], fillers: frozenset[str], keys: frozenset[tuple[str, ...]]) -> tuple[str, ...]:
+    """Rule 3 on a phrase of the table: its fillers left out as they would be from a sentence."""
+    draft = WordTable("", False, fillers, {}, {}, {}, frozenset(), filler_keys=keys, filler_from=longest_from(keys))
+    items: list[Any] = list(units)
+    while True:
+        kept = [u for u in items if u not in fillers]
+        out, i = [], 0
+        while i < len(kept):
+            n = filler_at(kept, i, draft, frozenset())
+            if not n:
+                out.append(kept[i])
+            i += n or 1
+        if len(out) == len(items):
+            return tuple(out)
+        items = out
+
+
+def filler_at(units: Sequence[Any], i: int, table: WordTable, keep: frozenset[str]) -> int:
+    """Units in the longest filler phrase starting at ``units[i]`` (0: none); never a place word or a token."""
+    first = units[i]
+    if not isinstance(first, str):
+        return 0
+    for n in range(min(table.filler_from.get(first, 0), len(units) - i), 1, -1):
+        key = tuple(units[i : i + n])
+        if key in table.filler_keys and all(isinstance(u, str) and u not in keep for u in key):
+            return n
+    return 0
