@@ -39,12 +39,12 @@ from spcotmhp.datasets.synthetic_battery import battery_home
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import task_instruction
-from spcotmhp.evaluation.metrics import Outcome, failed, summarise
-from spcotmhp.evaluation.tasks import Task, make_tasks, robot_cells, subset
-from spcotmhp.evaluation.work import score_task
+from spcotmhp.evaluation.metrics import Outcome, summarise
+from spcotmhp.evaluation.reference import HomeGeometry
+from spcotmhp.evaluation.tasks import Task, home_geometry, make_tasks, subset
+from spcotmhp.evaluation.work import failed_task, score_task
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
-from spcotmhp.metric.grid_search import geodesic_distance
 
 CLOSEST_TOLERANCE_M = 0.3
 SHARED_WORD = "corridor"
@@ -87,12 +87,13 @@ def evaluate_home(
     out = HomeBattery(dataset.name, params)
     basic = make_tasks(dataset, "basic", ctx.adjacency, places=ctx.places).tasks
     advanced = subset(make_tasks(dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, max_advanced, seed)
-    shared = shared_word_tasks(ctx, len(basic) + len(advanced))
+    geometry = home_geometry(dataset, ctx.places)
+    shared = shared_word_tasks(ctx, len(basic) + len(advanced), geometry)
     costs = inflate(dataset.map, **ctx.model.costmap).costs
     outcomes: dict[str, list[Outcome]] = {"basic": [], "advanced": []}
     times = []
     for task in [*basic, *shared, *advanced]:
-        outcome, elapsed = _run(ctx, task, costs, out)
+        outcome, elapsed = _run(ctx, task, costs, out, geometry)
         times.append(elapsed)
         if task.goal_name != SHARED_WORD:
             outcomes[task.kind].append(outcome)
@@ -102,21 +103,22 @@ def evaluate_home(
     return out
 
 
-def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
+def shared_word_tasks(ctx: HomeContext, first_index: int, geometry: HomeGeometry | None = None) -> list[Task]:
     """ "go to the corridor" from every place that is not a corridor: every place whose name holds the word is an
-    instance, the closest by the robot's geodesic is the one N-SPL asks for."""
+    instance, the closest by the robot's geodesic is the one N-SPL asks for (under each success rule,
+    :mod:`~spcotmhp.evaluation.reference`); places from which no corridor region can be reached safely are
+    left out."""
     data, places = ctx.dataset, ctx.places
     goals = tuple(p.index for p in places if SHARED_WORD in p.name.split())
     if len(goals) < 2:
         return []
-    robot = robot_cells(data)
+    geometry = home_geometry(data, places) if geometry is None else geometry
     out: list[Task] = []
     for p in places:
         if p.index in goals:
             continue
-        d = geodesic_distance(robot, [p.cell], 8, data.map.resolution)
-        lengths = np.array([d[places[g].cell] for g in goals])
-        if not np.isfinite(lengths).any():
+        safe, strict = geometry.footprint(p.cell, goals, ()), geometry.strict(p.index, goals, ())
+        if not (np.isfinite(safe.l) and np.isfinite(strict.l) and safe.l > 0 and strict.l > 0):
             continue
         x, y = data.map.cell_to_world(np.array(p.cell))
         out.append(
@@ -125,7 +127,7 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
                 "basic",
                 first_index + len(out),
                 p.index,
-                goals[int(np.argmin(lengths))],
+                goals[safe.closest],
                 None,
                 p.cell,
                 (float(x), float(y)),
@@ -133,18 +135,23 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
                 None,
                 goals,
                 (),
-                int(np.argmin(lengths)),
-                float(lengths.min()),
+                safe.closest,
+                safe.l,
+                safe.closest,
+                strict_l=strict.l,
+                strict_closest_goal=strict.closest,
+                strict_closest_goal_via=strict.closest,
             )
         )
     return out
 
 
-def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> tuple[Outcome, float]:
-    """Plan one task, score it and update the counts."""
+def _run(
+    ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery, geometry: HomeGeometry | None = None
+) -> tuple[Outcome, float]:
+    """Plan one task, score it and update the counts (``geometry``: the home's, made when not given)."""
 
     ins = task_instruction(task, ctx.dataset.lang)
-    advanced = task.kind == "advanced"
     out.tasks += 1
     t0 = time.perf_counter()
     try:
@@ -154,7 +161,7 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
         out.refused += 1
         if len(out.errors) < 3:
             out.errors.append(f"{task.label()}: {exc}")
-        return failed(task.l, elapsed, advanced, advanced), elapsed
+        return failed_task(task, elapsed), elapsed
     elapsed = time.perf_counter() - t0
     cells = plan.cells
     start_cost = costs[cells[0, 0], cells[0, 1]]
@@ -167,17 +174,16 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
     outcome = score_task(ctx, task, plan.path, elapsed)
     if len(task.goal_places) > 1 and task.kind == "basic" and outcome.success:
         out.repeated += 1
-        out.closest += int(_is_closest(ctx, task, plan.path[-1]))
+        geometry = home_geometry(ctx.dataset, ctx.places) if geometry is None else geometry
+        out.closest += int(_is_closest(ctx, task, plan.path[-1], geometry))
     return outcome, elapsed
 
 
-def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray) -> bool:
-    """Whether the goal instance the path ends in has the shortest robot path from the start (within the
-    tolerance)."""
-    data = ctx.dataset
-    d = geodesic_distance(robot_cells(data), [task.start_cell], 8, data.map.resolution)
-    lengths = np.array([d[ctx.places[g].cell] for g in task.goal_places])
-    reached = [i for i, g in enumerate(task.goal_places) if ctx.places[g].box.contains(end)]
+def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray, geometry: HomeGeometry) -> bool:
+    """Whether the goal instance whose region the path ends in has the shortest robot path from the start into
+    its region (within the tolerance)."""
+    lengths = geometry.to_places(task.start_cell, task.goal_places)
+    reached = [i for i, g in enumerate(task.goal_places) if ctx.places[g].region.contains(end)]
     return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)
 
 
