@@ -10,9 +10,11 @@ task (numba compilation and first-call caches are never timed).
 With several seeds (:func:`evaluate`, ``seeds``) every seed is a complete repetition: learned parameters are
 learned again from that seed, and every random draw follows it. With supervised parameters nothing but the
 draws depends on the seed, so the methods that draw nothing (:data:`~spcotmhp.evaluation.methods.RANDOM`) run
-once and their outcomes count for every seed. Results are means over the seeds with their standard deviations
-(:mod:`spcotmhp.evaluation.spread`). Tasks whose start lies inside a waypoint-named place are summarised apart
-(``start_in_waypoint``), not in ``homes`` and ``mean``.
+once and their outcomes count for every seed (the result lists them in ``deterministic``). Results are means over
+the seeds with their standard deviations and, for every metric, a 95% bootstrap interval over tasks (``<key>_ci``:
+tasks resampled within each home, the per-task terms averaged over the seeds first; the generator seeded with
+``seed``; :mod:`spcotmhp.evaluation.spread`). Tasks whose start lies inside a waypoint-named place are summarised
+apart (``start_in_waypoint``), not in ``homes`` and ``mean``.
 """
 
 from __future__ import annotations
@@ -24,13 +26,14 @@ from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
+import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM
-from spcotmhp.evaluation.metrics import Outcome, summarise
-from spcotmhp.evaluation.spread import aggregate_methods
+from spcotmhp.evaluation.metrics import Outcome, summarise, task_terms
+from spcotmhp.evaluation.spread import aggregate_methods, bootstrap_ci
 from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, subset
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
 from spcotmhp.limits import MAX_JOBS, MAX_SEEDS, check_count
@@ -239,7 +242,8 @@ def evaluate(
         "seed": seed,
         "seeds": seeds,
         "connectivity": connectivity,
-        **_aggregate_seeds(per_seed, list(first), methods),
+        **_aggregate_seeds(per_seed, list(first), methods, seed),
+        "deterministic": [m for m in methods if params == "supervised" and m not in RANDOM],
         "notes": notes,
         "moves": {m: MOVE_MODELS[m] for m in methods},
         "time_s": time.perf_counter() - t_start,
@@ -254,6 +258,7 @@ def _home_note(ctx: HomeContext, home_tasks: HomeTasks, tasks: Sequence[Task]) -
         "psi": [],
         "n_tasks_all": len(home_tasks.tasks),
         "dropped": home_tasks.dropped,
+        "no_safe_path": home_tasks.no_safe_path,
         "zero_length": len(home_tasks.zero_length),
         "start_in_waypoint": sum(t.start_in_waypoint for t in tasks),
         "no_path": {},
@@ -267,16 +272,19 @@ def _count_no_path(note: dict, records: Iterable[TaskRecord]) -> None:
             note["no_path"][r.method] = note["no_path"].get(r.method, 0) + 1
 
 
-def _aggregate_seeds(per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[str], methods: Sequence[str]) -> dict:
-    """``{homes, mean, start_in_waypoint}`` of :func:`evaluate`: every metric's mean and sd over the seeds, per
-    home, over all homes pooled, and over the tasks set apart; methods in the order given."""
+def _aggregate_seeds(
+    per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[str], methods: Sequence[str], seed: int = 0
+) -> dict:
+    """``{homes, mean, start_in_waypoint}`` of :func:`evaluate`: every metric's mean and sd over the seeds and its
+    bootstrap interval over tasks (:func:`_add_intervals`), per home, over all homes pooled, and over the tasks set
+    apart; methods in the order given."""
     order = {m: i for i, m in enumerate(methods)}
 
     def ordered(d: dict) -> dict:
         return dict(sorted(d.items(), key=lambda kv: order[kv[0]]))
 
     apart = [overall(rs, apart=True) for rs in per_seed if rs]
-    return {
+    out = {
         "homes": {
             name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
             for name in homes
@@ -284,3 +292,43 @@ def _aggregate_seeds(per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[s
         "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
         "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
     }
+    _add_intervals(out, per_seed, seed)
+    return out
+
+
+def _add_intervals(out: dict, per_seed: Sequence[Sequence[HomeResult]], seed: int) -> None:
+    """Add ``<key>_ci`` (:func:`~spcotmhp.evaluation.spread.bootstrap_ci`, seeded with ``seed``) beside every
+    per-task metric of ``out["homes"]``, ``out["mean"]`` (stratified by home) and ``out["start_in_waypoint"]``."""
+    homes = list(dict.fromkeys(r.home for rs in per_seed for r in rs))
+    for apart, pooled in ((False, out["mean"]), (True, out["start_in_waypoint"])):
+        for method, metrics in pooled.items():
+            found = {h: m for h in homes if (m := _task_matrix(per_seed, h, method, apart)) is not None}
+            if not found:
+                continue
+            keys = next(iter(found.values()))[0]
+            _put(metrics, keys, bootstrap_ci([terms for _, terms in found.values()], seed))
+            for home, (keys, terms) in found.items() if not apart else ():
+                _put(out["homes"][home][method], keys, bootstrap_ci([terms], seed))
+
+
+def _task_matrix(
+    per_seed: Sequence[Sequence[HomeResult]], home: str, method: str, apart: bool
+) -> tuple[list[str], np.ndarray] | None:
+    """The metric keys and the (tasks, keys) matrix of one method's per-task terms on one home
+    (:func:`~spcotmhp.evaluation.metrics.task_terms`), averaged over the seeds (None: no task)."""
+    outcomes = [
+        [r.outcome for r in res.records if r.method == method and r.apart == apart]
+        for results in per_seed
+        for res in results
+        if res.home == home
+    ]
+    terms = [task_terms(o) for o in outcomes if o]
+    if not terms:
+        return None
+    keys = list(terms[0])
+    return keys, np.mean([np.stack([t[k] for k in keys], axis=1) for t in terms], axis=0)
+
+
+def _put(metrics: dict, keys: Sequence[str], ci: np.ndarray) -> None:
+    for key, (low, high) in zip(keys, ci.tolist(), strict=True):
+        metrics[f"{key}_ci"] = [low, high]

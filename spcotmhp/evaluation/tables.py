@@ -1,5 +1,7 @@
-"""Tables 4 and 5 of the paper (Experiment I) as markdown, the paper's row beside ours for every method, our rows
-as mean ± standard deviation over seeds.
+"""Tables 4 and 5 of the paper (Experiment I) as markdown, the paper's row beside ours for every method. Our rows
+give mean ± standard deviation over seeds where seeds change the result, and mean [95% bootstrap interval over
+tasks] for the methods they do not change (:mod:`spcotmhp.evaluation.spread`); beside, the same rows under the
+paper's strict success rule. Every table states its success rule (:data:`~spcotmhp.evaluation.metrics.SUCCESS_RULE`).
 
 The paper's numbers (Taniguchi, Ito and Taniguchi 2024, Tables 4-5; five SIGVerse homes, Python on an Intel
 i7-6850K, ideal "supervised" parameters) are transcribed in :data:`PAPER`. Our rows come from
@@ -10,9 +12,11 @@ HPP's smoothed rows share it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
-from spcotmhp.evaluation.spread import pm
+from spcotmhp.evaluation.metrics import SUCCESS_RULE
+from spcotmhp.evaluation.spread import CI_LEVEL, pm
+from spcotmhp.evaluation.tasks import ROBOT_RADIUS_M
 
 METHOD_LABELS = {
     "astar": "A*",
@@ -25,6 +29,8 @@ METHOD_LABELS = {
     "spcotmhp-nostage-unsmoothed": "SpCoTMHP, Eq. 28 alone (no stage constraint), unsmoothed",
     "spcotmhp-nostage-ma": "SpCoTMHP, Eq. 28 alone (no stage constraint), moving average",
     "spcotmhp-nostage": "SpCoTMHP, Eq. 28 alone (no stage constraint), our smoothing",
+    "spcotmhp-paper": "SpCoTMHP as in the paper (Eq. 24 at every step, connected places only), unsmoothed",
+    "spcotmhp-paper-ma": "SpCoTMHP as in the paper (Eq. 24 at every step, connected places only), moving average",
     "spcotmhp-unsmoothed": "SpCoTMHP, unsmoothed (the paper's line 13 off)",
     "spcotmhp-ma": "SpCoTMHP, the paper's moving average (window 5)",
     "spcotmhp": "SpCoTMHP (ours: our smoothing)",
@@ -56,6 +62,26 @@ COLUMNS = {
 }
 VIA_COLUMNS = [("n_spl_via", "N-SPL (via)"), ("wn_spl_via", "WN-SPL (via)")]
 """Our variant of N (closest instance via the waypoint), advanced tasks only, never in the paper's rows."""
+STRICT_COLUMNS = {
+    "basic": ["spl", "n_spl", "success"],
+    "advanced": ["spl", "w_spl", "n_spl", "wn_spl", "wn_spl_via", "success"],
+}
+"""The figures of the strict column (the paper's success rule), in its order."""
+
+
+def success_rule(spread: bool = True) -> str:
+    """The success rule every table states (:data:`~spcotmhp.evaluation.metrics.SUCCESS_RULE`) and, with
+    ``spread``, how its spread reads."""
+    text = SUCCESS_RULE.format(radius=ROBOT_RADIUS_M)
+    if spread:
+        text += (
+            f" Spread: mean [{CI_LEVEL:.0%} bootstrap interval over tasks, 2000 resamples within each home] for "
+            "the rows that seeds do not change (deterministic methods with supervised parameters); mean ± sd over "
+            "seeds for the others."
+        )
+    return text
+
+
 TITLES = {"basic": "Table 4: basic task", "advanced": "Table 5: advanced task"}
 
 
@@ -66,17 +92,31 @@ def fmt_time(seconds: float) -> str:
     return f"{seconds:.3g} s" if seconds < 1000 else f"{seconds:,.0f} s"
 
 
-def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: str | None = None) -> str:
+def markdown_table(
+    kind: str, ours: Mapping[str, Mapping[str, float]], title: str | None = None, deterministic: Sequence[str] = ()
+) -> str:
     """One table: for each method the paper's row (where the paper has one, before the first of our rows it is
-    compared with) and ours as mean ± sd over seeds, with our success rate, median / 95th-percentile online
-    time (means over seeds) and the number of tasks; advanced tables add our N-SPL (via) and WN-SPL (via)."""
+    compared with) and ours (mean [bootstrap interval] for the ``deterministic`` methods, mean ± sd over seeds
+    for the others), with our success rate, the strict rule's figures when present, median / 95th-percentile
+    online time (means over seeds) and the number of tasks; advanced tables add our N-SPL (via) and WN-SPL (via).
+    The success rule stands under the title."""
     if kind not in COLUMNS:
         raise ValueError(f"kind must be 'basic' or 'advanced', got {kind!r}")
     cols = COLUMNS[kind]
     via = VIA_COLUMNS if kind == "advanced" and any("n_spl_via" in m for m in ours.values()) else []
-    head = ["Method", "Source"] + [c for _, c in cols + via] + ["Success", "Collides", "Time (median / p95)", "Tasks"]
+    strict = [k for k in STRICT_COLUMNS[kind] if any(f"strict_{k}" in m for m in ours.values())]
+    strict_head = ["Strict: " + " / ".join(_short(k) for k in strict)] if strict else []
+    head = (
+        ["Method", "Source"]
+        + [c for _, c in cols + via]
+        + ["Success"]
+        + strict_head
+        + ["Collides", "Time (median / p95)", "Tasks"]
+    )
     lines = [
         f"### {title or TITLES[kind]}",
+        "",
+        success_rule(),
         "",
         "| " + " | ".join(head) + " |",
         "|" + "|".join(["---"] * 2 + ["---:"] * (len(head) - 2)) + "|",
@@ -95,17 +135,19 @@ def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: st
             cells = (
                 [name, "paper"]
                 + [f"{paper[k]:.3f}" for k, _ in cols]
-                + [""] * len(via)
-                + ["", "", fmt_time(paper["time_s"]), ""]
+                + [""] * (len(via) + 1 + len(strict_head))
+                + ["", fmt_time(paper["time_s"]), ""]
             )
             lines.append("| " + " | ".join(cells) + " |")
         mine = ours.get(method)
         if mine is not None:
+            fixed = method in deterministic
             cells = (
                 [label, "ours"]
-                + [pm(mine, k) if k in mine else "" for k, _ in cols + via]
+                + [pm(mine, k, interval=fixed) if k in mine else "" for k, _ in cols + via]
+                + [pm(mine, "success", interval=fixed)]
+                + ([" / ".join(f"{mine[f'strict_{k}']:.3f}" for k in strict)] if strict_head else [])
                 + [
-                    pm(mine, "success"),
                     f"{mine.get('collides', 0.0):.3f}",
                     f"{fmt_time(mine['time_median_s'])} / {fmt_time(mine['time_p95_s'])}",
                     str(mine["n_tasks"]),
@@ -113,6 +155,12 @@ def markdown_table(kind: str, ours: Mapping[str, Mapping[str, float]], title: st
             )
             lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _short(key: str) -> str:
+    """A figure's name in the strict column's heading."""
+    names = dict(COLUMNS["advanced"] + VIA_COLUMNS)
+    return {"success": "Success", "wn_spl_via": "WN-SPL (via)"}.get(key, names.get(key, key))
 
 
 DEPARTURES = (
@@ -144,14 +192,14 @@ def psi_sources(result: Mapping) -> str:
 
 
 def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: str) -> str:
-    """Tables 4 and 5 (paper rows beside ours, mean ± sd over seeds) with their caption: ``about`` (where the
-    parameters came from and which of their choices were made on the same data), then the tasks, seeds, psi,
-    departures, machine and run time from the results, and the tasks set apart. ``basic`` / ``advanced`` are
-    :func:`spcotmhp.evaluation.runner.evaluate` results."""
+    """Tables 4 and 5 (paper rows beside ours) with their caption: ``about`` (where the parameters came from and
+    which of their choices were made on the same data), then the tasks, the tasks set apart, seeds, psi,
+    departures, machine and run time from the results, and the tasks whose start lies in a waypoint. ``basic`` /
+    ``advanced`` are :func:`spcotmhp.evaluation.runner.evaluate` results."""
     homes = ", ".join(basic["homes"]) or "none"
 
     def count(result: Mapping, key: str) -> int:
-        return sum(int(n.get(key, 0) or 0) for n in result["notes"].values())
+        return sum(len(v) if isinstance(v := n.get(key, 0), list) else int(v or 0) for n in result["notes"].values())
 
     def n_tasks(result: Mapping) -> int:
         first: Mapping = next(iter(result["mean"].values()), {})
@@ -166,31 +214,37 @@ def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: 
             f"{about} Homes: {homes}: {n_basic} basic and {n_adv} advanced tasks (the paper: five homes, 418 and "
             f"3526). Left out: {count(basic, 'zero_length')} basic and {count(advanced, 'zero_length')} advanced "
             f"tasks whose reference length l is 0 (the start is already a goal instance); "
-            f"{count(advanced, 'start_in_waypoint')} advanced tasks whose start lies inside a waypoint-named place "
-            f"are reported apart below. psi: {psi_sources(basic)}. Seeds {basic['seed']}..{basic['seed'] + seeds - 1}"
-            f" ({seeds}): our rows are mean ± sd over the seeds. {DEPARTURES} Times: online planning only "
+            f"{count(basic, 'no_safe_path')} basic and {count(advanced, 'no_safe_path')} advanced tasks with no "
+            f"footprint-safe path (no cell where the robot's centre fits within its radius of the goal's or "
+            f"waypoint's box is reachable), {count(basic, 'dropped')} and {count(advanced, 'dropped')} with no "
+            f"path at all; {count(advanced, 'start_in_waypoint')} advanced tasks whose start lies inside a "
+            f"waypoint-named place are reported apart below. psi: {psi_sources(basic)}. Seeds {basic['seed']}.."
+            f"{basic['seed'] + seeds - 1} ({seeds}). {DEPARTURES} Times: online planning only "
             f"(precomputation and numba compilation excluded), median / p95 per task, means over seeds, on "
             f"{machine()}; both tables took {basic.get('time_s', 0) + advanced.get('time_s', 0):.0f} s. The "
             f"paper's times are Python on an Intel i7-6850K."
         ),
         "",
-        markdown_table("basic", basic["mean"], "Table 4: basic task"),
-        markdown_table("advanced", advanced["mean"], "Table 5: advanced task"),
+        markdown_table("basic", basic["mean"], "Table 4: basic task", basic.get("deterministic", ())),
+        markdown_table("advanced", advanced["mean"], "Table 5: advanced task", advanced.get("deterministic", ())),
     ]
     apart = advanced.get("start_in_waypoint") or {}
     if apart:
         lines += [
             markdown_table(
-                "advanced", apart, "Table 5, tasks whose start lies inside a waypoint-named place (set apart)"
+                "advanced",
+                apart,
+                "Table 5, tasks whose start lies inside a waypoint-named place (set apart)",
+                advanced.get("deterministic", ()),
             ),
             "",
         ]
-    lines += ["Per home (SPL / N-SPL basic; WN-SPL advanced; means over seeds):", ""]
+    lines += ["Per home (SPL / N-SPL basic; WN-SPL advanced; strict rule in brackets; means over seeds):", ""]
     for home in basic["homes"]:
         b, a = basic["homes"][home], advanced["homes"].get(home, {})
         row = ", ".join(
-            f"{METHOD_LABELS.get(m, m)} {v['spl']:.3f} / {v['n_spl']:.3f}"
-            + (f" / {a[m]['wn_spl']:.3f}" if m in a else "")
+            f"{METHOD_LABELS.get(m, m)} {_pair(v, 'spl')} / {_pair(v, 'n_spl')}"
+            + (f" / {_pair(a[m], 'wn_spl')}" if m in a else "")
             for m, v in b.items()
         )
         lines.append(f"- {home} (adjacency: {basic['notes'].get(home, {}).get('adjacency', '?')}): {row}")
@@ -203,3 +257,9 @@ def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: 
             + ". SPL's reference length l is an 8-connected geodesic.",
         ]
     return "\n".join(lines) + "\n"
+
+
+def _pair(metrics: Mapping, key: str) -> str:
+    """``0.976 (0.975)``: a figure and, when scored, its strict reading."""
+    strict = metrics.get(f"strict_{key}")
+    return f"{metrics[key]:.3f}" + ("" if strict is None else f" ({strict:.3f})")
