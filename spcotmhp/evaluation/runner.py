@@ -30,12 +30,14 @@ import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM
 from spcotmhp.evaluation.metrics import Outcome, summarise, task_terms
 from spcotmhp.evaluation.spread import aggregate_methods, bootstrap_ci
 from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, subset
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.limits import MAX_JOBS, MAX_SEEDS, check_count
 
 
@@ -128,8 +130,6 @@ def default_workers() -> int:
 
 def check_methods(methods: Iterable[str]) -> list[str]:
     """The method names, validated against :data:`~spcotmhp.evaluation.methods.METHODS`."""
-    from spcotmhp.errors import SpcotmhpError
-
     names = [m.strip() for m in methods if m.strip()]
     bad = [m for m in names if m not in METHODS]
     if bad or not names:
@@ -200,14 +200,24 @@ def evaluate(
     quiet: bool = False,
     seeds: int = 1,
     connectivity: str = "auto",
+    model: SpatialConceptModel | None = None,
 ) -> dict:
     """Evaluate methods on the tasks of several homes over ``seeds`` seeds (seed, seed + 1, ...); the JSON-ready
     result ``{task, params, seed, seeds, connectivity, homes: {name: {method: metrics}}, mean: {method: metrics},
-    start_in_waypoint: {method: metrics}, notes: {name: {...}}, moves: {method: move model}, time_s}``: every
-    metric is the mean over the seeds with ``<metric>_sd`` beside it (``mean`` pools the tasks of all homes;
-    ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is where learned psi comes from."""
+    start_in_waypoint: {method: metrics}, deterministic: [method], notes: {name: {...}}, moves: {method: move
+    model}, time_s}``: every metric is the mean over the seeds with ``<metric>_sd`` and ``<metric>_ci`` beside it
+    (``mean`` pools the tasks of all homes; ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is
+    where learned psi comes from. ``model``: parameters already made (a model folder, taught or questioned) to
+    evaluate as they are on the one dataset given, instead of fitting (``params`` is then "model")."""
     methods = check_methods(methods)
     check_count(seeds, "seeds", 1, MAX_SEEDS, ValueError)
+    if model is not None:
+        if len(datasets) != 1:
+            raise SpcotmhpError(
+                f"a given model is evaluated on one dataset, the one it was made on; got {len(datasets)}"
+            )
+        params = "model"
+    fixed = params in ("supervised", "model")  # only the methods that draw change with the seed
     t_start = time.perf_counter()
     notes: dict = {}
     per_seed: list[list[HomeResult]] = []
@@ -216,19 +226,20 @@ def evaluate(
         for k in range(seeds):
             results = []
             for ds in datasets:
-                ctx = build_context(ds, params, seed + k, connectivity)
+                ctx = build_context(ds, params, seed + k, connectivity, model=model)
                 home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
                 tasks = subset(home_tasks.tasks, max_tasks, seed)
                 note = notes.setdefault(ds.name, _home_note(ctx, home_tasks, tasks))
                 note["psi"].append(ctx.notes()["psi"])
+                note["vs_truth"].append(ctx.notes()["vs_truth"])
                 if not tasks:
                     continue
-                again = [m for m in methods if k == 0 or params != "supervised" or m in RANDOM]
+                again = [m for m in methods if k == 0 or not fixed or m in RANDOM]
                 if again:
                     res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
-                else:  # supervised and only methods that draw nothing: seed 0's outcomes hold for every seed
+                else:  # nothing re-fitted and only methods that draw nothing: seed 0's outcomes hold for every seed
                     res = HomeResult(ds.name, [], dict(first[ds.name].notes))
-                if len(again) < len(methods):  # supervised: the methods that draw nothing gave this already
+                if len(again) < len(methods):  # the methods that draw nothing gave this already
                     res.records += [r for r in first[ds.name].records if r.method not in again]
                 first.setdefault(ds.name, res)
                 _count_no_path(note, res.records)
@@ -236,6 +247,7 @@ def evaluate(
             per_seed.append(results)
     for note in notes.values():
         note["psi"] = sorted(set(note["psi"]))
+        note["vs_truth"] = [v for v in note["vs_truth"] if v]
     return {
         "task": kind,
         "params": params,
@@ -243,7 +255,7 @@ def evaluate(
         "seeds": seeds,
         "connectivity": connectivity,
         **_aggregate_seeds(per_seed, list(first), methods, seed),
-        "deterministic": [m for m in methods if params == "supervised" and m not in RANDOM],
+        "deterministic": [m for m in methods if fixed and m not in RANDOM],
         "notes": notes,
         "moves": {m: MOVE_MODELS[m] for m in methods},
         "time_s": time.perf_counter() - t_start,
@@ -252,10 +264,12 @@ def evaluate(
 
 def _home_note(ctx: HomeContext, home_tasks: HomeTasks, tasks: Sequence[Task]) -> dict:
     """A home's notes in :func:`evaluate`'s result: the context's, the task counts and dropped tasks, and the
-    per-seed lists to be filled (``psi``: the psi source of each seed; ``no_path``: {method: failed plans})."""
+    per-seed lists to be filled (``psi``: the psi source of each seed; ``vs_truth``: learned parameters' NMI / ARI
+    against the truth, per seed; ``no_path``: {method: failed plans})."""
     return {
         **ctx.notes(),
         "psi": [],
+        "vs_truth": [],
         "n_tasks_all": len(home_tasks.tasks),
         "dropped": home_tasks.dropped,
         "no_safe_path": home_tasks.no_safe_path,

@@ -408,3 +408,30 @@ def test_scale_benchmark_runs_on_a_small_office(capsys):
     out = capsys.readouterr().out
     assert "| precompute (planning graph) |" in out and "| plan, median / p95 |" in out
     assert "| failed plans | 0 of 4 |" in out
+
+
+@pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
+def test_evaluate_a_given_model_folder(tmp_path):
+    """Issue 24 item 5: `evaluate DATASET --model MODEL_DIR` scores a model folder as it is: the supervised fit
+    saved and evaluated gives the same figures as --params supervised; a model of another map is refused."""
+    from spcotmhp.learning.io import save_model
+    from spcotmhp.learning.supervised import fit_supervised
+
+    ds = load_bundled("3LDK_05")
+    save_model(fit_supervised(ds), tmp_path / "m05")
+    args = ["evaluate", "3LDK_05", "--method", "spcotmhp,spcotmhp-paper", "--max-tasks", "6", "--workers", "1"]
+    given = CliRunner().invoke(app, [*args, "--model", str(tmp_path / "m05"), "--seeds", "1", "--json"])
+    fitted = CliRunner().invoke(app, [*args, "--seeds", "1", "--json"])
+    assert given.exit_code == 0 and fitted.exit_code == 0, given.output + fitted.output
+    a, b = json.loads(given.stdout), json.loads(fitted.stdout)
+    assert a["params"] == "model" and a["model"] == str(tmp_path / "m05")
+    assert a["deterministic"] == ["spcotmhp", "spcotmhp-paper"]
+    for method in ("spcotmhp", "spcotmhp-paper"):
+        for key in ("spl", "n_spl", "success", "strict_spl", "spl_ci", "n_tasks"):
+            assert a["mean"][method][key] == b["mean"][method][key], (method, key)
+    two = CliRunner().invoke(app, ["evaluate", "3LDK_05", "3LDK_06", "--model", str(tmp_path / "m05")])
+    assert isinstance(two.exception, SpcotmhpError)
+    assert str(two.exception) == "--model evaluates one model on the one dataset it was made on; got 2 datasets"
+    wrong = CliRunner().invoke(app, ["evaluate", "3LDK_06", "--model", str(tmp_path / "m05"), "--max-tasks", "1"])
+    assert isinstance(wrong.exception, SpcotmhpError)
+    assert str(wrong.exception).startswith("3LDK_06: the model's map is not the dataset's (cells that differ: ")
