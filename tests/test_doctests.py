@@ -19,6 +19,8 @@ MODULES = [
     "spcotmhp.learning.logspace",
     "spcotmhp.baselines.smoothing",
     "spcotmhp.evaluation.metrics",
+    "spcotmhp.evaluation.spread",
+    "spcotmhp.datasets.against_wall",
     "spcotmhp.datasets.synthetic",
     "spcotmhp.speech.lexicon",
     "spcotmhp.limits",
