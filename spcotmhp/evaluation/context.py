@@ -9,7 +9,7 @@ Eq. 24 as written, optimality observed at every step of a leg with the destinati
 (``optimality="every_step"``, :mod:`spcotmhp.planning.graph`), steps of Eq. 28 only between Figure 3's connected
 places (``adjacent_only=True``, the reference code's graph), no smoothing (Algorithm 1's line 13 is optional). It
 keeps the stage constraint: Eq. 28 gives no rule for where a stage ends, and its maximum over 1..E steps ends at
-the nearest place whatever its name (the "Eq. 28 alone" rows); the reference code fixed each stage's place by
+the nearest place whatever its name (method spcotmhp-nostage); the reference code fixed each stage's place by
 drawing it from p(i | S), our stage constraint lets Eq. 28 choose among the places the words name. So "ours
 against the paper" differs in w-hat, the graph and smoothing, nothing else.
 

@@ -164,14 +164,17 @@ def _short(key: str) -> str:
 
 
 DEPARTURES = (
-    "Departures from the paper on in every SpCoTMHP row unless the row says otherwise: the stage constraint "
-    "(every stage ends at a place whose p(i|S) is at least 1/4 of the best and whose name carries the words; "
-    'the ratio 4 was chosen by measuring these same homes; "Eq. 28 alone" rows drop it), our smoothing '
-    "(tube re-planning and line-of-sight shortcuts, developed on these same homes; rows with the paper's "
-    "moving average or unsmoothed replace it), steps of Eq. 28 between any two candidate points (not only "
-    'between connected places) and w-hat observing optimality at each leg\'s end. "+ our smoothing" HPP rows '
-    "get exactly SpCoTMHP's smoothing. The paper's moving average has no collision check: the Collides column "
-    "counts paths with a pose on an occupied or unknown cell."
+    'Departures from the paper in every SpCoTMHP row but those "as in the paper": w-hat observes optimality at '
+    "each leg's end (the paper's Eq. 24: at every step), steps of Eq. 28 go between any two candidate points (the "
+    "paper: between connected places only), and our smoothing (tube re-planning and line-of-sight shortcuts, "
+    "developed on these same homes; rows unsmoothed or with the paper's moving average replace it). In every "
+    "SpCoTMHP row, those as in the paper included: the stage constraint (every stage ends at a place whose p(i|S) "
+    "is at least 1/4 of the best and whose name carries the words; the ratio 4 was chosen by measuring these same "
+    "homes; the paper gives no rule for where a stage ends, and Eq. 28 alone ends at the nearest place whatever its "
+    "name: method spcotmhp-nostage, docs/results.md), p(x|m) = 0 on inscribed cells, the start place marginalised "
+    'over p(i_0 | x_0), and a metric route when no place sequence satisfies the instruction. "+ our smoothing" '
+    "HPP rows get exactly SpCoTMHP's smoothing. The paper's moving average has no collision check: the Collides "
+    "column counts paths with a pose on an occupied or unknown cell."
 )
 
 
