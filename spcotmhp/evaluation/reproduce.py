@@ -39,7 +39,9 @@ TABLE_METHODS = (
     "spcotmhp",
 )
 PSI_METHODS = ("hpp2", "spcotmhp-paper", "spcotmhp-unsmoothed", "spcotmhp")
-GENERATED_METHODS = ("spcotmhp", "spcotmhp-paper")
+GENERATED_METHODS = {"spcotmhp": "SpCoTMHP (ours)", "spcotmhp-paper": "as in the paper"}
+LEARNING_HARD = (21, 42)
+"""Battery homes where the learner merges places (docs/results.md, split-merge moves), added to the first ones."""
 LEARNER = (
     "10 runs x 100 Gibbs sweeps per seed, one run kept by `--criterion auto`: the highest word-concept mutual "
     "information where there are image features (the authors' criterion), the highest collapsed log joint "
@@ -178,14 +180,15 @@ def vs_truth(result: dict) -> str:
 
 
 def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
-    """Learned against supervised parameters on the first ``plan.generated_homes`` battery homes, per home with the
-    ARI of its learned places and concepts."""
+    """Learned against supervised parameters on the first ``plan.generated_homes`` battery homes and those of
+    :data:`LEARNING_HARD`, per home with the ARI of its learned places and concepts."""
     from spcotmhp.datasets.synthetic_battery import battery_home
     from spcotmhp.evaluation.runner import evaluate
     from spcotmhp.evaluation.spread import pm
-    from spcotmhp.evaluation.tables import METHOD_LABELS, success_rule
+    from spcotmhp.evaluation.tables import success_rule
 
-    homes = [battery_home(seed) for seed in range(plan.generated_homes)]
+    seeds = [*range(plan.generated_homes), *(s for s in LEARNING_HARD if s >= plan.generated_homes)]
+    homes = [battery_home(seed) for seed in seeds]
     say(f"learned against supervised parameters on {len(homes)} generated homes")
     res = {
         (params, kind): evaluate(
@@ -203,10 +206,11 @@ def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
     }
     learned = res["learned", "basic"]["notes"]
     lines = [
-        f"### Learned against supervised parameters on generated homes (battery homes 0-{len(homes) - 1})",
+        "### Learned against supervised parameters on generated homes",
         "",
         (
-            f"The first {len(homes)} homes of `spcotmhp battery` (a fixed set, not chosen by their scores), a "
+            f"The first {plan.generated_homes} homes of `spcotmhp battery` and homes "
+            f"{', '.join(map(str, LEARNING_HARD))} (where docs/results.md found the learner merging places), a "
             f"seeded subset of {plan.generated_tasks} tasks per kind and home; supervised parameters "
             f"(truth labels, the doors' adjacency) against learned ones ({LEARNER}; psi from the teaching walk and "
             f"the map), seeds 0..{plan.learned_seeds - 1}, each learning again. {success_rule(spread=False)} "
@@ -215,8 +219,8 @@ def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
         "",
         "| home | ARI i | ARI C | "
         + " | ".join(
-            f"{METHOD_LABELS[m].split(' (')[0] + (' (paper)' if m.endswith('paper') else '')} {col}"
-            for m in GENERATED_METHODS
+            f"{label}: {col}"
+            for label in GENERATED_METHODS.values()
             for col in ("basic SPL sup. / learned", "adv. WN-SPL (via) sup. / learned")
         )
         + " |",
@@ -248,7 +252,7 @@ def psi_effect_section(plan: Plan, say: Callable[[str], None]) -> str:
     from spcotmhp.evaluation.psi_effect import markdown, psi_effect
 
     homes = [load_bundled(n, lang="en") for n in ("3LDK_01", "3LDK_05", "3LDK_06")]
-    homes += [battery_home(seed) for seed in range(plan.generated_homes)]
+    homes += [battery_home(seed) for seed in [*range(plan.generated_homes), *LEARNING_HARD]]
     say(f"how often psi changes a plan, {len(homes)} homes")
     rows = [
         row
@@ -259,7 +263,7 @@ def psi_effect_section(plan: Plan, say: Callable[[str], None]) -> str:
     return (
         "### How often psi changes a plan\n\n"
         f"Every basic task and a seeded subset of {plan.generated_tasks} advanced tasks per home (3LDK_01/05/06 and "
-        f"battery homes 0-{plan.generated_homes - 1}), each planned with the model's psi and with a uniform psi "
+        f"the generated homes above), each planned with the model's psi and with a uniform psi "
         "(every active place equally likely after every place), seed 0; a plan differs when its cells do, ends "
         "elsewhere when its last cell does. psi from: adjacency (supervised: the homes' adjacency.csv or the "
         "doors), map or walk+map (learned).\n\n" + markdown(rows)
