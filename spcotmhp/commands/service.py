@@ -110,6 +110,7 @@ def serve(
     works offline."""
     from rich.console import Console
 
+    from spcotmhp.learning.io import check_model_folder
     from spcotmhp.server import create_app
     from spcotmhp.server.limits import LOCAL_HOSTS
     from spcotmhp.server.scheduling import Budget
@@ -120,6 +121,8 @@ def serve(
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
     console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
     mapping = model_mapping(models)
+    for folder in mapping.values():  # a missing folder is reported as such, whatever holds the port
+        check_model_folder(folder)
     sock = listening_socket(host, port)  # before the models load: a port in use fails at once
     hosts = list(allowed_host or LOCAL_HOSTS)
     if not allowed_host and host not in LOCAL_HOSTS + ("0.0.0.0", "::"):

@@ -116,8 +116,9 @@ def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
     return out
 
 
-def load_model(folder: str | Path) -> SpatialConceptModel:
-    """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
+def check_model_folder(folder: str | Path) -> Path:
+    """``folder`` as a path, if it is a folder and not a dataset's (what can be said before reading it: a command
+    checks this before it binds a port or starts a long run); raises ModelError saying what it is instead."""
     if not isinstance(folder, (str, os.PathLike)):
         raise ModelError(f"load_model takes a model folder (a str or a path), got {type(folder).__name__}")
     root = Path(folder)
@@ -129,6 +130,12 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
         )
     if (root / "teaching.csv").is_file() and not (root / "model.json").exists():
         raise ModelError(f"{root} is a dataset folder, not a model{_learn_hint(root)}")
+    return root
+
+
+def load_model(folder: str | Path) -> SpatialConceptModel:
+    """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
+    root = check_model_folder(folder)
     listed = verify_manifest(root)
     meta = read_meta(inside(root, "model.json", "model.json"))
     if listed is None and meta["format_version"] >= 2:

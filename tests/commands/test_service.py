@@ -85,6 +85,19 @@ def test_serve_reports_a_port_in_use_in_one_line(model_dir):
     assert "serving" not in run.stdout + run.stderr
 
 
+def test_a_missing_model_folder_is_reported_before_the_port(tmp_path):
+    """Issue 25: `make test` failed while the demo's `next:` server held port 8000 (the default): the missing
+    folder must be what serve reports, whatever holds the port."""
+    import socket
+
+    with socket.socket() as holder:
+        holder.bind(("127.0.0.1", 0))
+        holder.listen()
+        run = _serve(str(tmp_path / "nope"), "--port", str(holder.getsockname()[1]))
+    assert run.returncode == 2
+    assert run.stderr.strip().splitlines()[-1] == f"error: model folder {tmp_path / 'nope'} does not exist"
+
+
 def test_serve_reports_an_unusable_host_in_one_line(model_dir):
     run = _serve(str(model_dir), "--host", "192.0.2.1", "--port", "0")  # TEST-NET-1: not this machine's
     assert run.returncode == 2
