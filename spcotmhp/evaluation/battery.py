@@ -123,7 +123,7 @@ def shared_word_tasks(ctx: HomeContext, first_index: int, geometry: HomeGeometry
     for p in places:
         if p.index in goals:
             continue
-        safe, strict = geometry.footprint(p.cell, goals, ()), geometry.strict(p.index, goals, ())
+        safe, strict = geometry.footprint(p.cell, goals, ()), geometry.strict(p.cell, goals, ())
         if not (np.isfinite(safe.l) and np.isfinite(strict.l) and safe.l > 0 and strict.l > 0):
             continue
         x, y = data.map.cell_to_world(np.array(p.cell))
@@ -186,8 +186,8 @@ def _run(
 
 
 def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray, geometry: HomeGeometry) -> bool:
-    """Whether the goal instance whose region the path ends in has the shortest robot path from the start into
-    its region (within the tolerance)."""
+    """Whether the goal instance whose region the path ends in has the shortest robot path from the start to its
+    footprint target (within the tolerance; :mod:`~spcotmhp.evaluation.reference`)."""
     lengths = geometry.to_places(task.start_cell, task.goal_places)
     reached = [i for i, g in enumerate(task.goal_places) if ctx.places[g].region.contains(end)]
     return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)

@@ -23,11 +23,12 @@ Two success rules (:data:`SUCCESS_RULE`), both reported for every method:
   SPL (Anderson et al. 2018) leaves the success distance to the task ("within a distance d of the goal"); the box
   alone asks the robot's centre to stand where, against furniture or a wall, no centre fits (every cell of a
   kitchen taught against its counter can be inscribed), so a planner that keeps the footprint clear of obstacles
-  would be scored as failing exactly because it is safe. The reference length l is then the shortest path over
-  the cells the robot's centre may occupy (cost below inscribed) into that grown region
-  (:mod:`~spcotmhp.evaluation.reference`);
+  would be scored as failing exactly because it is safe. The reference length l is the shortest path over the
+  cells the robot's centre may occupy (cost below inscribed) to the place's target inside that grown box: the
+  robot cell nearest the mean of its teaching positions there (:mod:`~spcotmhp.evaluation.reference` says why
+  not to the grown box's edge);
 * **strict** (the paper's rule, keys ``strict_spl``, ``strict_n_spl``, ...): the centre inside the box itself,
-  and l to the place's position (the robot cell nearest the mean of its teaching positions).
+  and l to the place's position (the robot cell nearest the mean, wherever it lies).
 
 A box is the axis-aligned box of a place's teaching positions grown by a margin (0.1 m). Tasks with
 ``l = 0`` (the start already satisfies the task) are not made (:mod:`~spcotmhp.evaluation.tasks`), since their
@@ -47,8 +48,9 @@ REGION_MARGIN_M = 0.1
 SUCCESS_RULE = (
     "Success: the path's last pose within the robot's inscribed radius ({radius:.2f} m) of the goal place's box "
     "(its teaching positions' bounding box + 0.1 m), i.e. the robot's body reaches the place; l is the shortest "
-    "path of the robot's centre (cells below the inscribed cost) into that grown box. Strict (the paper's rule): "
-    "the last pose inside the box itself, l to the robot cell nearest the place's mean."
+    "path of the robot's centre (cells below the inscribed cost) to the cell nearest the place's mean inside that "
+    "grown box. Strict (the paper's rule): the last pose inside the box itself, l to the robot cell nearest the "
+    "place's mean."
 )
 """The success rule every table states (format with ``radius``, the inscribed radius in metres)."""
 

@@ -1,21 +1,26 @@
 """The reference length l of SPL and the closest goal instance of N-SPL, under both success rules of
 :mod:`~spcotmhp.evaluation.metrics`.
 
-Every length is a geodesic over the *robot cells* (:func:`robot_cells`: the map's free cells below the inscribed
-cost, where the robot's centre may be without its body touching an obstacle), 8-connected, steps 1 and sqrt 2
-cells, no costs (:func:`~spcotmhp.metric.grid_search.geodesic_distance`, which is symmetric).
+SPL's l is the length of the shortest path *to the goal* (Anderson et al. 2018: the goal a point, success within a
+distance of it that the task chooses), not to the edge of the success region: measured to the region's edge, SPL
+would reward stopping at a room's threshold and charge a plan that drives into the room. Here the goal of a place is
+one cell, its *target*, and every length is a geodesic over the *robot cells* (:func:`robot_cells`: the map's free
+cells below the inscribed cost, where the robot's centre may be without its body touching an obstacle), 8-connected,
+steps 1 and sqrt 2 cells, no costs (:func:`~spcotmhp.metric.grid_search.geodesic_distance`, which is symmetric):
 
-* **footprint** (primary): the targets of a place are the robot cells whose centre lies in the place's box grown
-  by the inscribed radius (``Place.region``). For a basic task ``l = min_g d(start, R_g)`` over the goal-named
-  places g; through a waypoint, ``l = min_{w, g} min_{x in R_w} d(start, x) + d(x, R_g)``, computed as the minimum
-  over the waypoints' target cells x of the field from the start plus the field from R_g (one field per place,
-  kept). A place whose grown box holds no robot cell reachable from the start cannot be reached by a safe robot:
-  the task has no footprint-safe path (l = inf) and is set apart by :mod:`~spcotmhp.evaluation.tasks`.
-* **strict** (the paper's rule): the target of a place is its position (``Place.cell``, the robot cell nearest the
-  mean of its teaching positions), ``l = min_{w, g} d(start, w) + d(w, g)``.
+* **footprint** (primary): the target is the robot cell nearest the mean of the place's teaching positions among
+  those whose centre lies in the place's region (its box grown by the inscribed radius, ``Place.region``), preferring
+  the robot's largest free component (:func:`footprint_targets`). A place whose region holds no robot cell has no
+  target, and a task whose target cannot be reached from the start has no footprint-safe path (l = inf): such tasks
+  are set apart by :mod:`~spcotmhp.evaluation.tasks`, since no safe robot can succeed in them;
+* **strict** (the paper's rule): the target is the place's position (``Place.cell``, the robot cell nearest the
+  mean, wherever it lies).
 
-The closest instance (N-SPL, as the paper defines it) is the goal-named place nearest the start; the closest via
-the waypoint (our N_via) is the one where the shortest path through a waypoint ends.
+Where the position lies in the region (in every place of the bundled homes), both targets are the same cell and so
+are both l. For a basic task ``l = min_g d(start, t_g)`` over the goal-named places g; through a waypoint
+``l = min_{w, g} d(start, t_w) + d(t_w, t_g)``. The closest instance (N-SPL, as the paper defines it) is the
+goal-named place nearest the start; the closest via the waypoint (our N_via) is the one where the shortest path
+through a waypoint ends.
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ import numpy as np
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import geodesic_distance
+from spcotmhp.metric.snap import largest_component, snap
 
 
 @dataclass(frozen=True)
@@ -46,73 +52,71 @@ def robot_cells(dataset: Dataset) -> np.ndarray:
     return inflate(dataset.map).free
 
 
-class HomeGeometry:
-    """The geodesic fields of one home, computed on demand and kept: from a cell (a start or a place's position)
-    and from a place's footprint targets (module docstring).
+def footprint_targets(robot: np.ndarray, centres: np.ndarray, means: np.ndarray, regions: Sequence) -> np.ndarray:
+    """(P, 2) each place's footprint target (module docstring), (-1, -1) where its region holds no robot cell.
 
     Args:
-        robot: (H, W) robot cells.  resolution: metres per cell.  positions: (P, 2) each place's position (cell).
-        targets: per place, the (n, 2) robot cells inside its grown box (n may be 0).
+        robot: (H, W) robot cells.  centres: (H, W, 2) the cells' centres (m).  means: (P, 2) the places' means
+            as map cells.  regions: each place's region (anything with ``contains((..., 2) points)``).
+    """
+    main = largest_component(robot)
+    out = np.full((len(means), 2), -1, dtype=np.int64)
+    for k, region in enumerate(regions):
+        inside = robot & region.contains(centres)
+        preferred = inside & main if (inside & main).any() else inside
+        if preferred.any():
+            out[k] = snap(preferred, np.asarray(means[k]))
+    return out
+
+
+class HomeGeometry:
+    """The geodesic fields of one home, from each target cell, computed on demand and kept.
+
+    Args:
+        robot: (H, W) robot cells.  resolution: metres per cell.  positions: (P, 2) each place's position (the
+            strict rule's target).  targets: (P, 2) each place's footprint target, (-1, -1) for none.
     """
 
-    def __init__(
-        self, robot: np.ndarray, resolution: float, positions: np.ndarray, targets: Sequence[np.ndarray]
-    ) -> None:
+    def __init__(self, robot: np.ndarray, resolution: float, positions: np.ndarray, targets: np.ndarray) -> None:
         self.robot, self.resolution = robot, float(resolution)
         self.positions = np.asarray(positions, dtype=np.int64).reshape(-1, 2)
-        self.targets = [np.asarray(t, dtype=np.int64).reshape(-1, 2) for t in targets]
-        self._from_cell: dict[tuple[int, int], np.ndarray] = {}
-        self._from_place: dict[int, np.ndarray] = {}
+        self.targets = np.asarray(targets, dtype=np.int64).reshape(-1, 2)
+        self._fields: dict[tuple[int, int], np.ndarray] = {}
 
-    def from_cell(self, cell: tuple[int, int]) -> np.ndarray:
+    def from_cell(self, cell: Sequence[int] | np.ndarray) -> np.ndarray:
         """(H, W) geodesic distance (m) from ``cell`` (inf where unreachable)."""
         key = (int(cell[0]), int(cell[1]))
-        if key not in self._from_cell:
-            self._from_cell[key] = geodesic_distance(self.robot, [key], 8, self.resolution)
-        return self._from_cell[key]
+        if key not in self._fields:
+            self._fields[key] = geodesic_distance(self.robot, [key], 8, self.resolution)
+        return self._fields[key]
 
-    def from_place(self, k: int) -> np.ndarray:
-        """(H, W) geodesic distance (m) from the nearest footprint target of place k (all inf without one)."""
-        if k not in self._from_place:
-            cells = self.targets[k]
-            self._from_place[k] = (
-                geodesic_distance(self.robot, cells, 8, self.resolution)
-                if len(cells)
-                else np.full(self.robot.shape, np.inf)
-            )
-        return self._from_place[k]
+    def _d(self, a: np.ndarray, b: np.ndarray) -> float:
+        """The geodesic from target ``a`` to target ``b`` (inf when either is missing)."""
+        if a[0] < 0 or b[0] < 0:
+            return float("inf")
+        return float(self.from_cell(a)[b[0], b[1]])
 
-    def _at(self, field: np.ndarray, k: int) -> np.ndarray:
-        cells = self.targets[k]
-        return field[cells[:, 0], cells[:, 1]] if len(cells) else np.full(1, np.inf)
+    def to_places(self, start: Sequence[int], places: Sequence[int]) -> np.ndarray:
+        """(len(places),) the distance (m) from ``start`` to each place's footprint target (inf: none)."""
+        return np.array([self._d(np.asarray(start), self.targets[k]) for k in places], dtype=float)
 
-    def to_places(self, start: tuple[int, int], places: Sequence[int]) -> np.ndarray:
-        """(len(places),) the footprint distance (m) from ``start`` into each place's region (inf: none)."""
-        d_start = self.from_cell(start)
-        return np.array([self._at(d_start, k).min() for k in places], dtype=float)
-
-    def footprint(self, start: tuple[int, int], goals: Sequence[int], waypoints: Sequence[int]) -> Reference:
-        """The footprint rule's reference of a task from ``start`` to one of ``goals`` (place indices) through
+    def footprint(self, start: Sequence[int], goals: Sequence[int], waypoints: Sequence[int]) -> Reference:
+        """The footprint rule's reference of a task from cell ``start`` to one of ``goals`` (place indices) through
         one of ``waypoints`` (none: a basic task)."""
-        d_start = self.from_cell(start)
-        direct = self.to_places(start, goals)
-        if not waypoints:
-            k = int(np.argmin(direct))
-            return Reference(float(direct[k]), k, k)
-        through = np.full(len(goals), np.inf)
-        for w in waypoints:
-            before = self._at(d_start, w)
-            for n, g in enumerate(goals):
-                through[n] = min(through[n], float((before + self._at(self.from_place(g), w)).min()))
-        return Reference(float(through.min()), int(np.argmin(direct)), int(np.argmin(through)))
+        return self._reference(np.asarray(start), goals, waypoints, self.targets)
 
-    def strict(self, start_place: int, goals: Sequence[int], waypoints: Sequence[int]) -> Reference:
-        """The strict rule's reference of a task from place ``start_place``'s position (module docstring)."""
-        d = {k: self.from_cell(tuple(self.positions[k])) for k in {start_place, *waypoints}}
-        pos = self.positions
-        direct = np.array([d[start_place][tuple(pos[g])] for g in goals])
+    def strict(self, start: Sequence[int], goals: Sequence[int], waypoints: Sequence[int]) -> Reference:
+        """The strict rule's reference of the same task (module docstring)."""
+        return self._reference(np.asarray(start), goals, waypoints, self.positions)
+
+    def _reference(
+        self, start: np.ndarray, goals: Sequence[int], waypoints: Sequence[int], targets: np.ndarray
+    ) -> Reference:
+        direct = np.array([self._d(start, targets[g]) for g in goals])
+        closest = int(np.argmin(direct))
         if not waypoints:
-            k = int(np.argmin(direct))
-            return Reference(float(direct[k]), k, k)
-        via = np.array([[d[start_place][tuple(pos[w])] + d[w][tuple(pos[g])] for g in goals] for w in waypoints])
-        return Reference(float(via.min()), int(np.argmin(direct)), int(np.unravel_index(np.argmin(via), via.shape)[1]))
+            return Reference(float(direct[closest]), closest, closest)
+        via = np.array(
+            [[self._d(start, targets[w]) + self._d(targets[w], targets[g]) for g in goals] for w in waypoints]
+        )
+        return Reference(float(via.min()), closest, int(np.unravel_index(np.argmin(via), via.shape)[1]))

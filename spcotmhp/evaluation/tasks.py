@@ -41,7 +41,7 @@ import numpy as np
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError
 from spcotmhp.evaluation.metrics import REGION_MARGIN_M, Box
-from spcotmhp.evaluation.reference import HomeGeometry, robot_cells
+from spcotmhp.evaluation.reference import HomeGeometry, footprint_targets, robot_cells
 from spcotmhp.metric.costmap import CostMapSettings
 from spcotmhp.metric.snap import snap
 
@@ -207,16 +207,13 @@ def make_tasks(
 
 
 def home_geometry(dataset: Dataset, places: list[Place]) -> HomeGeometry:
-    """The home's geodesic fields over the robot cells (:class:`~spcotmhp.evaluation.reference.HomeGeometry`):
-    each place's position and its footprint targets, the robot cells whose centre lies in its region."""
+    """The home's geodesic fields over the robot cells (:class:`~spcotmhp.evaluation.reference.HomeGeometry`),
+    with each place's position and footprint target (:func:`~spcotmhp.evaluation.reference.footprint_targets`)."""
     robot = robot_cells(dataset)
-    rows, cols = np.nonzero(robot)
-    centres = dataset.map.cell_to_world(np.stack([rows, cols], axis=1))
-    targets = []
-    for p in places:
-        inside = p.region.contains(centres)
-        targets.append(np.stack([rows[inside], cols[inside]], axis=1))
-    return HomeGeometry(robot, dataset.map.resolution, np.array([p.cell for p in places]), targets)
+    occ = dataset.map
+    means = occ.world_to_cell(np.array([p.mean for p in places]))
+    targets = footprint_targets(robot, occ.cell_centres(), means, [p.region for p in places])
+    return HomeGeometry(robot, occ.resolution, np.array([p.cell for p in places]), targets)
 
 
 def _task_places(kind: TaskKind, places: list[Place], adjacency: np.ndarray) -> Iterator[tuple[int, int, int | None]]:
@@ -251,7 +248,7 @@ def _add_task(
     goals = tuple(by_name[places[j].name])
     wps = () if h is None else tuple(by_name[places[h].name])
     label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
-    strict = geometry.strict(i, goals, wps)
+    strict = geometry.strict(places[i].cell, goals, wps)
     if not np.isfinite(strict.l):
         out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
         return
@@ -259,7 +256,7 @@ def _add_task(
     if not np.isfinite(safe.l):
         out.no_safe_path.append(
             f"{label}: no cell where the robot's centre fits within {ROBOT_RADIUS_M:.2f} m of a "
-            + ("goal" if h is None else "waypoint and goal")
+            + ("goal" if h is None else "waypoint and a goal")
             + "-named place's box is reachable"
         )
         return

@@ -7,7 +7,7 @@ import pytest
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.evaluation.metrics import score_path
-from spcotmhp.evaluation.reference import HomeGeometry, robot_cells
+from spcotmhp.evaluation.reference import HomeGeometry, footprint_targets, robot_cells
 from spcotmhp.evaluation.tasks import build_places, home_geometry, make_tasks
 from spcotmhp.metric.grid_search import geodesic_distance
 from spcotmhp.metric.maps import OccupancyMap
@@ -73,42 +73,59 @@ def test_tasks_to_the_closet_have_no_footprint_safe_path_and_are_set_apart():
     assert not ht.dropped and not ht.zero_length
 
 
-def test_footprint_l_is_the_geodesic_into_the_region_and_strict_l_into_the_position():
+def test_the_counters_target_is_its_position_and_a_safe_end_there_succeeds_only_under_the_footprint_rule():
     ds = room_with_closet()
     places = build_places(ds)
     ht = make_tasks(ds, "basic", ds.adjacency, places=places)
     task = next(t for t in ht.tasks if (t.start_place, t.goal_place) == (0, 1))
-    robot = robot_cells(ds)
-    d = geodesic_distance(robot, [places[0].cell], 8, 0.1)  # an independent field from the start
-    rows, cols = np.nonzero(robot)
-    inside = places[1].region.contains(ds.map.cell_to_world(np.stack([rows, cols], axis=1)))
-    assert task.l == pytest.approx(d[rows[inside], cols[inside]].min())
-    assert task.strict_l == pytest.approx(d[places[1].cell])
-    # a path of the robot's centre to the counter's position: success only under the footprint rule
+    geometry = home_geometry(ds, places)
+    # the mean (3.965, 0.5) is in cell (5, 39), inscribed; the nearest robot cell, (5, 37), lies 0.1 m from the
+    # box, inside the region: it is both the position and the footprint target
+    assert places[1].cell == (5, 37) and geometry.targets[1].tolist() == [5, 37]
+    assert geometry.targets[2].tolist() == [-1, -1]  # the closet's region holds no robot cell
+    d = geodesic_distance(robot_cells(ds), [places[0].cell], 8, 0.1)  # an independent field from the start
+    assert task.l == task.strict_l == pytest.approx(d[5, 37])
     end = ds.map.cell_to_world(np.array(places[1].cell))
     path = np.array([task.start_xy, end])
     safe = score_path(path, [places[1].region], 0, task.l, 0.0)
     strict = score_path(path, [places[1].box], 0, task.strict_l, 0.0)
-    assert safe.success and not strict.success
+    assert safe.success and safe.ratio == pytest.approx(min(1.0, task.l / safe.p)) and not strict.success
+
+
+class _Right:
+    """A region: the points with x >= 5 (cells of cols 5.. at 1 m per cell)."""
+
+    def contains(self, xy):
+        return np.asarray(xy)[..., 0] >= 5.0
+
+
+def test_footprint_targets_by_hand():
+    robot = np.ones((4, 10), bool)
+    centres = np.stack(np.meshgrid(np.arange(10) + 0.5, np.arange(4) + 0.5), axis=-1)  # (row, col) -> (x, y)
+    means = np.array([[1, 0], [1, 9]])
+    # the mean at (1, 0): the region's nearest robot cell is (1, 5); at (1, 9) it is its own cell
+    assert footprint_targets(robot, centres, means, [_Right(), _Right()]).tolist() == [[1, 5], [1, 9]]
+    # a wall at col 7 cuts cols 8-9 off: the region's cells of the larger component (cols 0-6) come first
+    robot[:, 7] = False
+    assert footprint_targets(robot, centres, means, [_Right(), _Right()]).tolist() == [[1, 5], [1, 6]]
+    robot[:, 5:] = False  # no robot cell in the region at all
+    assert footprint_targets(robot, centres, means[:1], [_Right()]).tolist() == [[-1, -1]]
 
 
 def test_through_a_waypoint_by_brute_force():
-    """l via a waypoint is min over target cells x of the waypoint of d(start, x) + d(x, goal region): checked
-    against the same minimum taken over every pair of target cells."""
-    ds = room_with_closet()
-    places = build_places(ds)
-    geometry = home_geometry(ds, places)
-    ref = geometry.footprint(places[2].cell, (1,), (0,))
-    d_start = geometry.from_cell(places[2].cell)
-    best = np.inf
-    for w in geometry.targets[0]:
-        d_w = geodesic_distance(geometry.robot, [tuple(w)], 8, 0.1)
-        best = min(best, d_start[tuple(w)] + min(d_w[tuple(g)] for g in geometry.targets[1]))
-    assert ref.l == pytest.approx(best) and ref.closest == ref.closest_via == 0
-
-
-def test_a_place_without_targets_is_unreachable():
-    geometry = HomeGeometry(np.ones((3, 3), bool), 1.0, np.array([[0, 0], [2, 2]]), [np.array([[0, 0]]), []])
-    assert geometry.footprint((0, 0), (1,), ()).l == np.inf
-    assert geometry.footprint((0, 0), (1,), (0,)).l == np.inf
-    assert geometry.strict(0, (1,), ()).l == pytest.approx(2 * np.sqrt(2))
+    """l via a waypoint is the minimum over every (waypoint, goal) instance pair of d(start, w) + d(w, g), checked
+    with fields computed here; and a place without a target leaves the task without a footprint-safe path."""
+    positions = np.array([[0, 0], [4, 7], [0, 7], [4, 0]])
+    targets = np.array([[0, 0], [4, 7], [0, 7], [2, 3]])  # place 3's target is not its position
+    geometry = HomeGeometry(np.ones((5, 8), bool), 0.5, positions, targets)
+    free = np.ones((5, 8), bool)
+    d = {k: geodesic_distance(free, [tuple(geometry.targets[k])], 8, 0.5) for k in range(4)}
+    for start, goals, wps in [((0, 0), (1, 2), (3,)), ((2, 2), (1,), (2, 3)), ((4, 4), (0, 2), (1, 3))]:
+        ref = geometry.footprint(start, goals, wps)
+        pairs = {(w, g): d[w][start] + d[w][tuple(geometry.targets[g])] for w in wps for g in goals}
+        best = min(pairs, key=pairs.get)
+        assert ref.l == pytest.approx(pairs[best]) and goals[ref.closest_via] == best[1]
+        assert goals[ref.closest] == min(goals, key=lambda g: d[g][start])
+    geometry.targets[3] = [-1, -1]
+    assert geometry.footprint((0, 0), (1,), (3,)).l == np.inf and geometry.footprint((0, 0), (3,), ()).l == np.inf
+    assert geometry.strict((0, 0), (3,), ()).l == pytest.approx(4 * 0.5)  # the position (4, 0) is reachable

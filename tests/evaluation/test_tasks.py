@@ -75,19 +75,18 @@ def test_basic_tasks_by_hand():
         "start 1 -> bed (2): the start is a goal instance",
         "start 2 -> bed (1): the start is a goal instance",
     ]
-    # (i, j): (strict l, footprint l, the goal place where the shortest reference path ends). Strict: to the
-    # positions at cols 1, 6, 11, 9. Footprint: to the nearest cell of the goal's region (its box + 0.22 m holds
-    # the cells of its teaching points: cols 0-1, 5-6, 10-11 of row 1, and col 9 of rows 0-2 for the hall)
+    # (i, j): (l, the goal place where the shortest reference path ends), to the places' positions at cols 1, 6,
+    # 11, 9; each position lies in its place's region (the box + 0.22 m), so the footprint rule's targets are the
+    # positions too and both rules give the same l
     expect = {
-        (0, 2): (5.0, 4.0, 1),  # "bed" = places 1 (5 m away; its region 4 m) and 2 (10 m; 9 m)
-        (0, 3): (8.0, 8.0, 3),
-        (2, 0): (10.0, 10.0, 0),  # into "a" at col 1 (its region: cols 0-1)
-        (3, 0): (8.0, 8.0, 0),
+        (0, 2): (5.0, 1),  # "bed" = places 1 (5 m away) and 2 (10 m)
+        (0, 3): (8.0, 3),
+        (2, 0): (10.0, 0),
+        (3, 0): (8.0, 0),
     }
-    for (i, j), (strict_l, l, goal) in expect.items():
+    for (i, j), (l, goal) in expect.items():
         t = tasks[(i, None, j)]
-        assert t.strict_l == pytest.approx(strict_l), (i, j)
-        assert t.l == pytest.approx(l), (i, j)
+        assert t.strict_l == pytest.approx(l) and t.l == pytest.approx(l), (i, j)
         assert t.goal_places[t.strict_closest_goal] == t.goal_places[t.closest_goal] == goal, (i, j)
         assert t.closest_goal_via == t.closest_goal and t.strict_closest_goal_via == t.strict_closest_goal
         assert not t.start_in_waypoint
@@ -101,9 +100,9 @@ def test_basic_tasks_by_hand():
 def test_advanced_tasks_by_hand():
     ht = make_tasks(corridor_home(), "advanced", corridor_home().adjacency)
     tasks = by_places(ht)
-    # (i, h, j): (l, goal place where the shortest path via the waypoint ends, closest goal from the start), first
-    # strict, with l = min over instances w, g of d(start, w) + d(w, g) between positions ...
-    strict = {
+    # (i, h, j): (l, goal place where the shortest path via the waypoint ends, closest goal from the start) with
+    # l = min over instances w, g of d(start, w) + d(w, g) between positions (the footprint targets here too)
+    expect = {
         (0, 3, 2): (10.0, 2, 1),  # to the hall 8, then the bed beyond it 2 (from the start the near bed is closest)
         (0, 1, 3): (8.0, 3, 3),
         (0, 2, 3): (8.0, 3, 3),  # "bed" = either bedroom: via place 1, 5 + 3
@@ -116,26 +115,12 @@ def test_advanced_tasks_by_hand():
         (3, 1, 0): (8.0, 0, 0),
         (3, 2, 0): (8.0, 0, 0),
     }
-    # ... then footprint: min over a cell x of the waypoints' regions of d(start, x) + d(x, goal region)
-    footprint = {
-        (0, 3, 2): (9.0, 2, 1),  # hall (1, 9) at 8, then (1, 10) of the far bed's region 1
-        (0, 1, 3): (8.0, 3, 3),  # (1, 5) at 4, then the hall 4
-        (0, 2, 3): (8.0, 3, 3),
-        (1, 0, 2): (9.0, 1, 1),  # "a" at (1, 1), 5, back to (1, 5), 4; the start is in the first bed's region
-        (1, 3, 2): (4.0, 2, 1),  # hall 3, then (1, 10) 1
-        (2, 1, 0): (10.0, 0, 0),  # the start is in a bed's region: straight to (1, 1)
-        (2, 3, 0): (10.0, 0, 0),
-        (2, 0, 1): (14.0, 1, 2),  # "a" at (1, 1), 10, back to (1, 5), 4
-        (2, 3, 1): (3.0, 2, 2),  # hall 2, back to (1, 10) 1
-        (3, 1, 0): (8.0, 0, 0),
-        (3, 2, 0): (8.0, 0, 0),
-    }
-    assert set(tasks) == set(strict)  # h never in {i, j}; the waypoint's name never the goal's
-    for key, t in tasks.items():
-        (sl, svia, sgoal), (l, via, goal) = strict[key], footprint[key]
-        assert (t.strict_l, t.l) == (pytest.approx(sl), pytest.approx(l)), key
-        assert (t.goal_places[t.strict_closest_goal_via], t.goal_places[t.closest_goal_via]) == (svia, via), key
-        assert (t.goal_places[t.strict_closest_goal], t.goal_places[t.closest_goal]) == (sgoal, goal), key
+    assert set(tasks) == set(expect)  # h never in {i, j}; the waypoint's name never the goal's
+    for key, (l, via, goal) in expect.items():
+        t = tasks[key]
+        assert (t.strict_l, t.l) == (pytest.approx(l), pytest.approx(l)), key
+        assert t.goal_places[t.strict_closest_goal_via] == t.goal_places[t.closest_goal_via] == via, key
+        assert t.goal_places[t.strict_closest_goal] == t.goal_places[t.closest_goal] == goal, key
         assert t.all_words == t.waypoint_words + t.goal_words
     assert tasks[(0, 1, 3)].waypoint_places == (1, 2)
     # the start of place 2 lies in a "bed" region: via "bed" it is set apart; via the hall it is not
