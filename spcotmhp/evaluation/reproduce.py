@@ -184,7 +184,6 @@ def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
     :data:`LEARNING_HARD`, per home with the ARI of its learned places and concepts."""
     from spcotmhp.datasets.synthetic_battery import battery_home
     from spcotmhp.evaluation.runner import evaluate
-    from spcotmhp.evaluation.spread import pm
     from spcotmhp.evaluation.tables import success_rule
 
     seeds = [*range(plan.generated_homes), *(s for s in LEARNING_HARD if s >= plan.generated_homes)]
@@ -194,7 +193,7 @@ def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
         (params, kind): evaluate(
             homes,
             kind,
-            GENERATED_METHODS,
+            list(GENERATED_METHODS),
             params,
             0,
             plan.workers,
@@ -204,7 +203,6 @@ def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
         for params in ("supervised", "learned")
         for kind in ("basic", "advanced")
     }
-    learned = res["learned", "basic"]["notes"]
     lines = [
         "### Learned against supervised parameters on generated homes",
         "",
@@ -226,22 +224,32 @@ def generated_section(plan: Plan, say: Callable[[str], None]) -> str:
         + " |",
         "|---|---:|---:|" + "---:|" * 2 * len(GENERATED_METHODS),
     ]
-    for home in [h.name for h in homes]:
+    return "\n".join(lines + _generated_rows([h.name for h in homes], res)) + "\n"
+
+
+def _generated_rows(homes: list[str], res: dict) -> list[str]:
+    """The rows of :func:`generated_section`: per home the learned ARI and, per method, supervised / learned
+    figures; then the pooled tasks (an interval where the seeds changed nothing, else ± sd over seeds)."""
+    from spcotmhp.evaluation.spread import pm
+
+    learned = res["learned", "basic"]["notes"]
+    figures = [
+        (m, kind, key) for m in GENERATED_METHODS for kind, key in (("basic", "spl"), ("advanced", "wn_spl_via"))
+    ]
+    rows = []
+    for home in homes:
         scores = learned.get(home, {}).get("vs_truth") or []
         cells = [f"{np.mean([s['ari_i'] for s in scores]):.3f}", f"{np.mean([s['ari_c'] for s in scores]):.3f}"]
-        for m in GENERATED_METHODS:
-            for kind, key in (("basic", "spl"), ("advanced", "wn_spl_via")):
-                sup = res["supervised", kind]["homes"].get(home, {}).get(m)
-                got = res["learned", kind]["homes"].get(home, {}).get(m)
-                cells.append(f"{sup[key]:.3f} / {got[key]:.3f}" if sup and got else "")
-        lines.append(f"| {home} | " + " | ".join(cells) + " |")
+        for m, kind, key in figures:
+            sup = res["supervised", kind]["homes"].get(home, {}).get(m)
+            got = res["learned", kind]["homes"].get(home, {}).get(m)
+            cells.append(f"{sup[key]:.3f} / {got[key]:.3f}" if sup and got else "")
+        rows.append(f"| {home} | " + " | ".join(cells) + " |")
     pooled = []
-    for m in GENERATED_METHODS:
-        for kind, key in (("basic", "spl"), ("advanced", "wn_spl_via")):
-            sup, got = res["supervised", kind]["mean"][m], res["learned", kind]["mean"][m]
-            pooled.append(f"{pm(sup, key, interval=True)} / {pm(got, key)}")
-    lines.append("| all (pooled tasks) | | | " + " | ".join(pooled) + " |")
-    return "\n".join(lines) + "\n"
+    for m, kind, key in figures:
+        sup, got = res["supervised", kind]["mean"][m], res["learned", kind]["mean"][m]
+        pooled.append(f"{pm(sup, key, interval=True)} / {pm(got, key, interval=got.get(f'{key}_sd', 0.0) == 0.0)}")
+    return rows + ["| all (pooled tasks) | | | " + " | ".join(pooled) + " |"]
 
 
 def psi_effect_section(plan: Plan, say: Callable[[str], None]) -> str:

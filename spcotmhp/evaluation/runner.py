@@ -187,6 +187,7 @@ def overall(results: Sequence[HomeResult], apart: bool = False) -> dict[str, dic
     return summarise_records((r for res in results for r in res.records), apart)
 
 
+# long: the runner's public entry: 13 options, a docstring that gives the result's layout, the loop over seeds
 def evaluate(
     datasets: Sequence,
     kind: TaskKind,
@@ -211,11 +212,9 @@ def evaluate(
     evaluate as they are on the one dataset given, instead of fitting (``params`` is then "model")."""
     methods = check_methods(methods)
     check_count(seeds, "seeds", 1, MAX_SEEDS, ValueError)
-    if model is not None:
+    if model is not None:  # a given model: on the one dataset it was made on
         if len(datasets) != 1:
-            raise SpcotmhpError(
-                f"a given model is evaluated on one dataset, the one it was made on; got {len(datasets)}"
-            )
+            raise SpcotmhpError(f"a given model is evaluated on one dataset; got {len(datasets)}")
         params = "model"
     fixed = params in ("supervised", "model")  # only the methods that draw change with the seed
     t_start = time.perf_counter()
@@ -227,21 +226,16 @@ def evaluate(
             results = []
             for ds in datasets:
                 ctx = build_context(ds, params, seed + k, connectivity, model=model)
-                home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
-                tasks = subset(home_tasks.tasks, max_tasks, seed)
-                note = notes.setdefault(ds.name, _home_note(ctx, home_tasks, tasks))
-                note["psi"].append(ctx.notes()["psi"])
-                note["vs_truth"].append(ctx.notes()["vs_truth"])
+                tasks, note = _tasks_and_note(ctx, kind, max_tasks, seed, notes)
                 if not tasks:
                     continue
                 again = [m for m in methods if k == 0 or not fixed or m in RANDOM]
-                if again:
-                    res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
-                else:  # nothing re-fitted and only methods that draw nothing: seed 0's outcomes hold for every seed
-                    res = HomeResult(ds.name, [], dict(first[ds.name].notes))
-                if len(again) < len(methods):  # the methods that draw nothing gave this already
-                    res.records += [r for r in first[ds.name].records if r.method not in again]
-                first.setdefault(ds.name, res)
+                res = (
+                    evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
+                    if again
+                    else None
+                )
+                res = _with_first(res, ds.name, first, again, methods)
                 _count_no_path(note, res.records)
                 results.append(res)
             per_seed.append(results)
@@ -260,6 +254,30 @@ def evaluate(
         "moves": {m: MOVE_MODELS[m] for m in methods},
         "time_s": time.perf_counter() - t_start,
     }
+
+
+def _tasks_and_note(ctx: HomeContext, kind: TaskKind, max_tasks: int | None, seed: int, notes: dict):
+    """One home's tasks of one seed (the same seeded subset in every seed) and its note in ``notes`` (made on the
+    first seed, :func:`_home_note`), with this seed's psi source and learned-vs-truth scores added."""
+    home_tasks = make_tasks(ctx.dataset, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
+    tasks = subset(home_tasks.tasks, max_tasks, seed)
+    note = notes.setdefault(ctx.name, _home_note(ctx, home_tasks, tasks))
+    for key in ("psi", "vs_truth"):
+        note[key].append(ctx.notes()[key])
+    return tasks, note
+
+
+def _with_first(
+    res: HomeResult | None, home: str, first: dict[str, HomeResult], again: Sequence[str], methods: Sequence[str]
+) -> HomeResult:
+    """A seed's result of ``home`` completed with the first seed's outcomes of the methods it did not run again
+    (nothing re-fitted and they draw nothing: those outcomes hold for every seed); the first one is kept."""
+    if res is None:
+        res = HomeResult(home, [], dict(first[home].notes))
+    if len(again) < len(methods):
+        res.records += [r for r in first[home].records if r.method not in again]
+    first.setdefault(home, res)
+    return res
 
 
 def _home_note(ctx: HomeContext, home_tasks: HomeTasks, tasks: Sequence[Task]) -> dict:

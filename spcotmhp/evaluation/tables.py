@@ -127,7 +127,6 @@ def markdown_table(
     order += [m for m in ours if m not in order]
     shown: set[str] = set()
     for method in order:
-        label = METHOD_LABELS.get(method, method)
         paper = PAPER[kind].get(PAPER_ROW.get(method, method))
         if paper is not None and PAPER_ROW.get(method, method) not in shown:
             shown.add(PAPER_ROW.get(method, method))
@@ -139,22 +138,29 @@ def markdown_table(
                 + ["", fmt_time(paper["time_s"]), ""]
             )
             lines.append("| " + " | ".join(cells) + " |")
-        mine = ours.get(method)
-        if mine is not None:  # an interval where the seeds changed nothing (deterministic, or learned alike)
-            fixed = method in deterministic or all(mine.get(f"{k}_sd", 0.0) == 0.0 for k, _ in cols)
-            cells = (
-                [label, "ours"]
-                + [pm(mine, k, interval=fixed) if k in mine else "" for k, _ in cols + via]
-                + [pm(mine, "success", interval=fixed)]
-                + ([" / ".join(f"{mine[f'strict_{k}']:.3f}" for k in strict)] if strict_head else [])
-                + [
-                    f"{mine.get('collides', 0.0):.3f}",
-                    f"{fmt_time(mine['time_median_s'])} / {fmt_time(mine['time_p95_s'])}",
-                    str(mine["n_tasks"]),
-                ]
-            )
-            lines.append("| " + " | ".join(cells) + " |")
+        if method in ours:
+            lines.append(_our_row(method, ours[method], [k for k, _ in cols + via], strict, deterministic))
     return "\n".join(lines) + "\n"
+
+
+def _our_row(
+    method: str, mine: Mapping[str, float], keys: Sequence[str], strict: Sequence[str], deterministic: Sequence[str]
+) -> str:
+    """One of our rows of :func:`markdown_table`: an interval where the seeds changed nothing (a deterministic
+    method, or learned parameters every seed learned alike), mean ± sd otherwise; the strict figures when given."""
+    fixed = method in deterministic or all(mine.get(f"{k}_sd", 0.0) == 0.0 for k in keys)
+    cells = (
+        [METHOD_LABELS.get(method, method), "ours"]
+        + [pm(mine, k, interval=fixed) if k in mine else "" for k in keys]
+        + [pm(mine, "success", interval=fixed)]
+        + ([" / ".join(f"{mine[f'strict_{k}']:.3f}" for k in strict)] if strict else [])
+        + [
+            f"{mine.get('collides', 0.0):.3f}",
+            f"{fmt_time(mine['time_median_s'])} / {fmt_time(mine['time_p95_s'])}",
+            str(mine["n_tasks"]),
+        ]
+    )
+    return "| " + " | ".join(cells) + " |"
 
 
 def _short(key: str) -> str:
@@ -199,34 +205,10 @@ def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: 
     which of their choices were made on the same data), then the tasks, the tasks set apart, seeds, psi,
     departures, machine and run time from the results, and the tasks whose start lies in a waypoint. ``basic`` /
     ``advanced`` are :func:`spcotmhp.evaluation.runner.evaluate` results."""
-    homes = ", ".join(basic["homes"]) or "none"
-
-    def count(result: Mapping, key: str) -> int:
-        return sum(len(v) if isinstance(v := n.get(key, 0), list) else int(v or 0) for n in result["notes"].values())
-
-    def n_tasks(result: Mapping) -> int:
-        first: Mapping = next(iter(result["mean"].values()), {})
-        return first.get("n_tasks", 0)
-
-    n_basic, n_adv = n_tasks(basic), n_tasks(advanced)
-    seeds = basic.get("seeds", 1)
     lines = [
         f"### {heading}",
         "",
-        (
-            f"{about} Homes: {homes}: {n_basic} basic and {n_adv} advanced tasks (the paper: five homes, 418 and "
-            f"3526). Left out: {count(basic, 'zero_length')} basic and {count(advanced, 'zero_length')} advanced "
-            f"tasks whose reference length l is 0 (the start is already a goal instance); "
-            f"{count(basic, 'no_safe_path')} basic and {count(advanced, 'no_safe_path')} advanced tasks with no "
-            f"footprint-safe path (no cell where the robot's centre fits within its radius of the goal's or "
-            f"waypoint's box is reachable), {count(basic, 'dropped')} and {count(advanced, 'dropped')} with no "
-            f"path at all; {count(advanced, 'start_in_waypoint')} advanced tasks whose start lies inside a "
-            f"waypoint-named place are reported apart below. psi: {psi_sources(basic)}. Seeds {basic['seed']}.."
-            f"{basic['seed'] + seeds - 1} ({seeds}). {DEPARTURES} Times: online planning only "
-            f"(precomputation and numba compilation excluded), median / p95 per task, means over seeds, on "
-            f"{machine()}; both tables took {basic.get('time_s', 0) + advanced.get('time_s', 0):.0f} s. The "
-            f"paper's times are Python on an Intel i7-6850K."
-        ),
+        _caption(basic, advanced, about),
         "",
         markdown_table("basic", basic["mean"], "Table 4: basic task", basic.get("deterministic", ())),
         markdown_table("advanced", advanced["mean"], "Table 5: advanced task", advanced.get("deterministic", ())),
@@ -260,6 +242,34 @@ def experiment_markdown(basic: Mapping, advanced: Mapping, heading: str, about: 
             + ". SPL's reference length l is an 8-connected geodesic.",
         ]
     return "\n".join(lines) + "\n"
+
+
+def _caption(basic: Mapping, advanced: Mapping, about: str) -> str:
+    """The caption of :func:`experiment_markdown`: ``about``, the homes and tasks, those left out and set apart,
+    psi, seeds, the departures, the machine and the run time."""
+
+    def count(result: Mapping, key: str) -> int:
+        return sum(len(v) if isinstance(v := n.get(key, 0), list) else int(v or 0) for n in result["notes"].values())
+
+    def n_tasks(result: Mapping) -> int:
+        first: Mapping = next(iter(result["mean"].values()), {})
+        return first.get("n_tasks", 0)
+
+    seeds = basic.get("seeds", 1)
+    return (
+        f"{about} Homes: {', '.join(basic['homes']) or 'none'}: {n_tasks(basic)} basic and {n_tasks(advanced)} "
+        f"advanced tasks (the paper: five homes, 418 and 3526). Left out: {count(basic, 'zero_length')} basic and "
+        f"{count(advanced, 'zero_length')} advanced tasks whose reference length l is 0 (the start is already a "
+        f"goal instance); {count(basic, 'no_safe_path')} basic and {count(advanced, 'no_safe_path')} advanced "
+        "tasks with no footprint-safe path (no cell where the robot's centre fits within its radius of the goal's "
+        f"or waypoint's box is reachable), {count(basic, 'dropped')} and {count(advanced, 'dropped')} with no "
+        f"path at all; {count(advanced, 'start_in_waypoint')} advanced tasks whose start lies inside a "
+        f"waypoint-named place are reported apart below. psi: {psi_sources(basic)}. Seeds {basic['seed']}.."
+        f"{basic['seed'] + seeds - 1} ({seeds}). {DEPARTURES} Times: online planning only (precomputation and "
+        f"numba compilation excluded), median / p95 per task, means over seeds, on {machine()}; both tables took "
+        f"{basic.get('time_s', 0) + advanced.get('time_s', 0):.0f} s. The paper's times are Python on an Intel "
+        "i7-6850K."
+    )
 
 
 def _pair(metrics: Mapping, key: str) -> str:
