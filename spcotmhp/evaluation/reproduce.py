@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spcotmhp.evaluation.tables import experiment_markdown, machine
+from spcotmhp.evaluation.tables import SAME, experiment_markdown, machine
 
 TABLE_METHODS = (
     "astar",
@@ -248,7 +248,7 @@ def _generated_rows(homes: list[str], res: dict) -> list[str]:
     pooled = []
     for m, kind, key in figures:
         sup, got = res["supervised", kind]["mean"][m], res["learned", kind]["mean"][m]
-        pooled.append(f"{pm(sup, key, interval=True)} / {pm(got, key, interval=got.get(f'{key}_sd', 0.0) == 0.0)}")
+        pooled.append(f"{pm(sup, key, interval=True)} / {pm(got, key, interval=got.get(f'{key}_sd', 0.0) <= SAME)}")
     return rows + ["| all (pooled tasks) | | | " + " | ".join(pooled) + " |"]
 
 

@@ -83,6 +83,8 @@ def success_rule(spread: bool = True) -> str:
 
 
 TITLES = {"basic": "Table 4: basic task", "advanced": "Table 5: advanced task"}
+SAME = 1e-9
+"""An sd over seeds at most this is rounding of equal figures (the mean of equal floats need not be exact)."""
 
 
 def fmt_time(seconds: float) -> str:
@@ -148,7 +150,7 @@ def _our_row(
 ) -> str:
     """One of our rows of :func:`markdown_table`: an interval where the seeds changed nothing (a deterministic
     method, or learned parameters every seed learned alike), mean ± sd otherwise; the strict figures when given."""
-    fixed = method in deterministic or all(mine.get(f"{k}_sd", 0.0) == 0.0 for k in keys)
+    fixed = method in deterministic or all(mine.get(f"{k}_sd", 0.0) <= SAME for k in keys)
     cells = (
         [METHOD_LABELS.get(method, method), "ours"]
         + [pm(mine, k, interval=fixed) if k in mine else "" for k in keys]

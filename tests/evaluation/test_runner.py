@@ -353,6 +353,9 @@ def test_markdown_tables_give_intervals_for_deterministic_rows_and_the_strict_ru
         "1.000] | 0.950 / 0.750 / 0.900 | 0.000 | 1 ms / 2 ms | 4 |"
     ) in lines
     assert "| HPP-I (path cost) | ours | 0.900 ± 0.050 | 0.800 | 1.000 | 0.950 / 0.750 / 0.900 |" in "\n".join(lines)
+    # learned parameters that every seed learned alike: the sd is rounding of equal figures, the interval shows
+    alike = {**row, "spl_sd": 1e-17, "n_spl_sd": 0.0}
+    assert "| HPP-I (path cost) | ours | 0.900 [0.850, 0.950] |" in markdown_table("basic", {"hpp1": alike})
 
 
 def test_reproduce_markdown_says_how_each_method_moves():
