@@ -26,6 +26,13 @@ class ModelError(SpcotmhpError):
     """A model folder is missing, corrupt, or from an incompatible format version."""
 
 
+class ModelValueError(ModelError, ValueError):
+    """A model value (an array entry, a hyper-parameter) lies outside the range the model can use: not finite,
+    not a distribution, a covariance that is not positive definite or too ill-conditioned to invert, a
+    hyper-parameter outside its documented range (:mod:`spcotmhp.learning.model_values`). Raised on loading a
+    model folder and on constructing a model or its hyper-parameters; also a ``ValueError``."""
+
+
 # ---- instructions -----------------------------------------------------------------------------------------
 class InstructionError(SpcotmhpError):
     """An instruction cannot be understood (base class of the causes below)."""
@@ -42,6 +49,16 @@ class UnknownPlaceWord(InstructionError):
 class UnsupportedPhrase(InstructionError):
     """The instruction asks for something the planner cannot honour yet ("the second bedroom", "or",
     "next to", "on the left", "wait"); the message names the words."""
+
+
+class AmbiguousPlace(InstructionError):
+    """A place phrase names places of different names and none exactly ("the corridor" beside "east corridor" and
+    "south corridor"): the message lists the names to choose from."""
+
+
+class UnresolvedRelation(InstructionError):
+    """A relation ("the bedroom closest to the bath") picks no place, or several about equally; the message names
+    the candidates and their measures."""
 
 
 class MalformedInstruction(InstructionError):
@@ -68,11 +85,21 @@ class InvalidSettings(PlanningError):
 
 
 class StartOutsideMap(PlanningError):
-    """The start pose lies outside the map's bounds."""
+    """The start pose lies outside the map's bounds, or is not two finite numbers (x, y)."""
 
 
 class StartBlocked(PlanningError):
     """The start pose is in an occupied or unknown cell, or cut off from every place."""
+
+
+class PoseRejected(PlanningError):
+    """A robot pose message cannot be planned from: in another frame, not finite, or off the map (the ROS 2
+    node; the pose is dropped and instructions wait for a valid one)."""
+
+
+class NoValidPose(PlanningError):
+    """No robot pose to plan from: none has arrived yet, or the latest was rejected (:class:`PoseRejected`);
+    an earlier pose is never used in its place."""
 
 
 class StartInAvoidedPlace(PlanningError):
@@ -87,6 +114,11 @@ class NoReachablePlace(PlanningError):
     """No free path for the robot reaches a place carrying the requested words."""
 
     http_status = 409
+
+
+class PlaceCutOff(NoReachablePlace):
+    """A place the instruction names lies only in free space the start cannot reach: the robot's free space is
+    cut (a closed door, a gap in the map, furniture) between them."""
 
 
 class HorizonTooShort(PlanningError):

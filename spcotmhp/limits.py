@@ -18,8 +18,8 @@ make, and low enough that what it sizes fits in memory:
 - ``MAX_SEEDS``: seeds of an evaluation (each one a full learning or planning pass).
 - ``MAX_SYNTH_ROOMS``, ``MAX_SYNTH_EVENTS`` (rooms x events per room of a synthetic teaching walk: its
   teaching.csv stays well under the loader's 64 MiB CSV cap) and the synthetic map's pixels, at most the map
-  loader's cap (``spcotmhp.safe_read.max_map_pixels``, 16,000,000 by default), so that ``check-dataset`` loads
-  every dataset ``synth`` writes.
+  loader's cap (``spcotmhp.safe_read.max_map_pixels``, 16,000,000 by default) and its aspect ratio
+  (``spcotmhp.safe_read.MAX_MAP_ASPECT``, 1000:1), so that ``check-dataset`` loads every dataset ``synth`` writes.
 - ``MAX_CANDIDATES`` (candidate points per place, N of Section 3.4; the paper: 1) and ``MAX_STEPS`` (the
   topological horizon E of Eq. 28, per stage or in all): the search's tables hold steps x nodes x stages.
 """

@@ -9,8 +9,12 @@ Every reader of a data, map or model file goes through these helpers, so the sam
 * ``load_json`` / ``parse_json``: the same bounds for JSON (``NaN``, ``Infinity`` and numbers beyond a float's
   range such as ``1e400`` refused too).
 * ``open_image``: only PGM/PPM, PNG and BMP are decoded (never EPS/PS, which would start Ghostscript), after
-  checking the pixel count from the header against ``max_map_pixels()`` (no decompression bomb); any decoder
-  failure (a corrupt chunk, a truncated file) is one error naming the file.
+  checking from the header, before decoding: a PGM/PPM header (comments included) of at most
+  ``MAX_PNM_HEADER_BYTES`` (64 KiB; map_saver writes about 50 bytes), the pixel count against
+  ``max_map_pixels()`` (no decompression bomb) and the aspect ratio against ``MAX_MAP_ASPECT`` (1000: a
+  corridor 1 km long and 1 m wide at 5 cm cells; a longer strip is not a floor plan, and every per-row step of
+  the tools grows with its length); any decoder failure (a corrupt chunk, a truncated file) is one error naming
+  the file.
 * ``excerpt``: a short quotation of an offending value for messages (never the whole input).
 
 Limits are module constants; the map pixel cap can be changed per process with the environment variable
@@ -38,6 +42,11 @@ MAX_NAME_CHARS = 255  # characters of a file name given inside a file (map.yaml'
 DEFAULT_MAX_MAP_PIXELS = 16_000_000  # width x height of a map image (a 4000 x 4000 map at 0.05 m is 200 m wide)
 IMAGE_FORMATS = {"PPM": "PGM/PPM", "PNG": "PNG", "BMP": "BMP"}  # Pillow plugin -> name in messages
 EXCERPT_CHARS = 60
+IMAGE_BYTES_PER_PIXEL = 8
+MAX_PNM_HEADER_BYTES = 64 * 1024
+MAX_MAP_ASPECT = 1000
+PNM_WHITESPACE = b" \t\n\x0b\x0c\r"
+IMAGE_EXTRA_BYTES = 1 << 20
 
 ErrorType = type[SpcotmhpError]
 
@@ -62,6 +71,13 @@ def max_map_pixels() -> int:
     if raw.isdigit() and 0 < int(raw) < 2**62:
         return int(raw)
     return DEFAULT_MAX_MAP_PIXELS
+
+
+def max_image_bytes() -> int:
+    """The most bytes a map image of ``max_map_pixels()`` pixels takes: ``IMAGE_BYTES_PER_PIXEL`` (8: RGBA at 16
+    bits a channel, the widest pixel read_image decodes; a PNG's deflate adds far less than its filter byte
+    saves) plus ``IMAGE_EXTRA_BYTES`` (1 MiB) of headers, comments and ancillary chunks."""
+    return max_map_pixels() * IMAGE_BYTES_PER_PIXEL + IMAGE_EXTRA_BYTES
 
 
 def check_file_name(name: Any, where: str, error: ErrorType) -> str:
@@ -215,6 +231,7 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
     try:
         if not path.is_file():
             raise error(f"map image {path} does not exist")
+        check_pnm_header(path, error)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             img = Image.open(path, formats=tuple(IMAGE_FORMATS))
@@ -235,6 +252,11 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
             )
         if width < 1 or height < 1:
             raise error(f"map image {path} is {width} x {height} pixels; a map needs at least one pixel")
+        if max(width, height) > MAX_MAP_ASPECT * min(width, height):
+            raise error(
+                f"map image {path} is {width} x {height} pixels, longer than {MAX_MAP_ASPECT} times its width or "
+                f"height; a map's aspect ratio must be at most {MAX_MAP_ASPECT}:1"
+            )
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             img.load()
@@ -245,6 +267,36 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
         img.close()
         raise error(f"map image {path} cannot be read as {accepted}: {_reason(exc)}") from None
     return img
+
+
+def check_pnm_header(path: Path, error: ErrorType) -> None:
+    """A PGM/PPM/PBM file's header (magic, width, height and maxval, with any comments) must end within
+    ``MAX_PNM_HEADER_BYTES``; read with one bounded read, before Pillow's byte-by-byte parser sees the file.
+    Files of other formats, and headers that end early or do not parse, are left to the decoder."""
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(MAX_PNM_HEADER_BYTES + 1)
+    except OSError as exc:
+        raise error(f"cannot read map image {path}: {exc.strerror or exc}") from None
+    if len(head) <= MAX_PNM_HEADER_BYTES or head[:1] != b"P" or head[1:2] not in b"0123456fy":
+        return
+    fields = 2 if head[:2] in (b"P1", b"P4") else 3  # width, height (and maxval, or a scale)
+    at = next((i for i in range(min(len(head), 7)) if head[i] in PNM_WHITESPACE), 6)
+    while fields and at < MAX_PNM_HEADER_BYTES:
+        if head[at] in PNM_WHITESPACE:
+            at += 1
+        elif head[at] == ord("#"):
+            ends = [i for i in (head.find(b"\n", at), head.find(b"\r", at)) if i >= 0]
+            at = min(ends) if ends else len(head)
+        else:
+            while at < len(head) and head[at] not in PNM_WHITESPACE and head[at] != ord("#"):
+                at += 1
+            fields -= 1
+    if fields:
+        raise error(
+            f"map image {path}: its PGM/PPM header (with comments) is longer than {MAX_PNM_HEADER_BYTES} bytes; "
+            f"at most {MAX_PNM_HEADER_BYTES} are accepted"
+        )
 
 
 def _reason(exc: BaseException) -> str:

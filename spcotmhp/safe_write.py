@@ -10,6 +10,13 @@
   are exchanged in one ``renameat2(RENAME_EXCHANGE)`` on Linux, so ``target`` names the old folder or the new
   one at every instant; elsewhere (or on file systems without it) two renames leave a moment without it.
   The old folder is removed afterwards.
+
+Files and folders are created with the modes the process's umask gives (0o666 / 0o777 masked, as ``open`` and
+``mkdir`` do), never a fixed 0o700 or 0o644, so a model folder saved under umask 022 is readable by a robot node
+running as another user, and one saved under 077 by its owner only. A save killed mid-way (SIGKILL, power loss)
+leaves its hidden staging folder ``.NAME.new-XXXXXXXX`` (or ``.NAME.old-XXXXXXXX``) beside ``NAME``; the next
+save of ``NAME`` removes those whose newest entry is older than the running process (``PROCESS_START``): no
+process alive since then can still be writing them.
 """
 
 from __future__ import annotations
@@ -18,8 +25,11 @@ import contextlib
 import ctypes
 import ctypes.util
 import os
+import re
+import secrets
 import shutil
 import tempfile
+import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
@@ -75,20 +85,18 @@ def outside_model(path: Path, model_dir: Path, option: str) -> None:
 
 
 def atomic_write(path: Path, write: Callable[[Path], object], error: ErrorType = SpcotmhpError) -> Path:
-    """Call ``write(tmp)`` on a fresh temporary file beside ``path``, flush it to disk and rename it to
-    ``path``; the temporary is removed on any failure, which propagates (an ``OSError`` becomes ``error``)."""
+    """Call ``write(tmp)`` on a fresh empty temporary file beside ``path`` (its mode from the umask), flush it to
+    disk and rename it to ``path``; the temporary is removed on any failure, which propagates (an ``OSError``
+    becomes ``error``)."""
     path = Path(path)
     try:
-        fd, name = tempfile.mkstemp(prefix=f".{path.name[:80]}.", suffix=".tmp", dir=path.parent)
+        tmp = _fresh(path.parent, f".{path.name[:80]}.", ".tmp", _new_file)
     except OSError as exc:
         raise error(f"cannot write {path}: {exc.strerror or exc}") from None
-    os.close(fd)
-    tmp = Path(name)
     try:
         write(tmp)
         with open(tmp, "rb+") as handle:
             os.fsync(handle.fileno())
-        os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     except OSError as exc:
         tmp.unlink(missing_ok=True)
@@ -105,9 +113,68 @@ def atomic_write_text(path: Path, text: str, error: ErrorType = SpcotmhpError) -
 
 
 def fresh_sibling(target: Path, tag: str) -> Path:
-    """A new empty folder beside ``target`` (hidden, named after it) to build a replacement in."""
+    """A new empty folder beside ``target`` (hidden: ``.NAME.TAG-XXXXXXXX``) to build a replacement in, with
+    the mode the umask gives; stale staging folders of ``target`` are removed first (:func:`remove_stale`)."""
     target.parent.mkdir(parents=True, exist_ok=True)
-    return Path(tempfile.mkdtemp(prefix=f".{target.name[:80]}.{tag}-", dir=target.parent))
+    remove_stale(target)
+    return _fresh(target.parent, f".{target.name[:80]}.{tag}-", "", os.mkdir)
+
+
+def _fresh(folder: Path, prefix: str, suffix: str, make: Callable[[Path], object]) -> Path:
+    """``make(path)`` on a new random name ``prefix + 8 hex digits + suffix`` in ``folder`` (FileExistsError
+    retried with another name)."""
+    for _ in range(100):
+        path = folder / f"{prefix}{secrets.token_hex(4)}{suffix}"
+        try:
+            make(path)
+        except FileExistsError:
+            continue
+        return path
+    raise FileExistsError(f"no free name {prefix}*{suffix} in {folder}")
+
+
+def _new_file(path: Path) -> None:
+    os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))  # the umask applies, as for open()
+
+
+def _process_start() -> float:
+    """The wall-clock time this process started: on Linux its start after boot (/proc/self/stat, clock ticks)
+    plus the boot time (/proc/stat btime, rounded down to whole seconds, so at most 1 s early: on the safe side);
+    elsewhere the time this module was imported."""
+    try:
+        ticks = int(Path("/proc/self/stat").read_text().rsplit(")", 1)[1].split()[19])
+        with open("/proc/stat") as stat:
+            boot = next(int(line.split()[1]) for line in stat if line.startswith("btime "))
+        return boot + ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, StopIteration):
+        return time.time()
+
+
+PROCESS_START = _process_start()
+STAGING_TAGS = ("new", "old", "check")
+
+
+def remove_stale(target: Path) -> list[Path]:
+    """Remove the staging folders ``.NAME.{new,old,check}-XXXXXXXX`` of ``target`` (left by a killed save) whose
+    folder and entries were all last changed before this process started; returns them. A folder that cannot
+    be removed is left (the save goes on)."""
+    pattern = re.compile(rf"\.{re.escape(target.name[:80])}\.({'|'.join(STAGING_TAGS)})-[A-Za-z0-9_]{{8}}")
+    removed: list[Path] = []
+    try:
+        siblings = [p for p in target.parent.iterdir() if pattern.fullmatch(p.name)]
+    except OSError:
+        return removed
+    for folder in siblings:
+        try:
+            if folder.is_symlink() or not folder.is_dir():
+                continue
+            newest = max([folder.lstat().st_mtime] + [e.lstat().st_mtime for e in folder.iterdir()])
+        except OSError:
+            continue
+        if newest < PROCESS_START:
+            shutil.rmtree(folder, ignore_errors=True)
+            removed.append(folder)
+    return removed
 
 
 def swap_folder(new: Path, target: Path) -> None:

@@ -2,7 +2,7 @@
 container of the package (dict, list, set, array) reads the same after planning (with avoidance, from several
 threads), parsing in both languages, serving and teaching. Graph caches are objects their callers own
 (:mod:`spcotmhp.planning.graph_cache`); the instruction lexicon is a compile-once ``lru_cache`` of read-only
-mappings (:mod:`spcotmhp.planning.scan`). The only per-process state is listed in ``PER_PROCESS``, each
+mappings (:mod:`spcotmhp.language.lexicon`). The only per-process state is listed in ``PER_PROCESS``, each
 documented where it is defined."""
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from spcotmhp.datasets.loader import load_dataset
@@ -20,6 +20,7 @@ from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.map_io import load_map
 from tests.helpers.hardening_corpus import dataset_case, map_case, model_case, run_case
+from tests.helpers.strategies import apply_edits, model_edits, pnm_files
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
@@ -101,6 +102,17 @@ BASE = "resolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nf
             b"%!PS-Adobe-3.0 EPSF-3.0\n%%BoundingBox: 0 0 1 1\n",
             r"cannot be read as PGM/PPM, PNG",
         ),
+        (  # issue 26: a 50 MB comment took costmap 22 s to skip
+            BASE + "image: m.pgm\n",
+            b"P5\n#" + b"x" * 50_000_000 + b"\n2 2\n255\n" + bytes(4),
+            r"m\.pgm: its PGM/PPM header \(with comments\) is longer than 65536 bytes; at most 65536 are accepted",
+        ),
+        (  # issue 26: 1 x 16,000,000 (inside the pixel cap) took costmap 22.7 s and 813 MiB
+            BASE + "image: m.pgm\n",
+            b"P5\n1 16000000\n255\n",
+            r"m\.pgm is 1 x 16000000 pixels, longer than 1000 times its width or height",
+        ),
+        (BASE + "image: m.pgm\n", b"P2 # c\n# c\n2001 2 255\n", r"2001 x 2 pixels, longer than 1000 times"),
     ],
 )
 def test_issue_map_cases(tmp_path, yaml_text, image, message):
@@ -222,7 +234,7 @@ def test_version_1_folders_without_a_manifest_still_load(templates, tmp_path):
     meta["format_version"] = 1
     (folder / "model.json").write_text(json.dumps(meta), encoding="utf-8")
     model = load_model(folder)
-    save_model(model, folder)  # upgraded in place: now with a manifest
+    save_model(model, folder, overwrite=True)  # upgraded in place: now with a manifest
     assert (folder / "manifest.json").is_file()
     assert json.loads((folder / "model.json").read_text(encoding="utf-8"))["format_version"] == 2
 
@@ -241,3 +253,58 @@ def test_a_case_peak_is_the_case_s_own():
         del held
     assert small[0] < 50
     assert 150 < large[0] < 400
+
+
+# ---- issue 26: hostile values behind valid checksums, hostile map headers ----------------------------------
+@given(edits=model_edits())
+@example(edits=[("hyper", "place_size", 1e308)])  # the cases of issue 26
+@example(edits=[("hyper", "place_size", 1e308), ("hyper", "nu0", 5.0)])
+@example(edits=[("array", "Sigma", "scale", 1e-300)])
+@example(edits=[("array", "Sigma", "scale", 1e-150)])
+@FUZZ
+def test_fuzzed_model_values_load_and_plan_or_are_refused(templates, tmp_path_factory, edits):
+    """A model folder whose values were changed and resealed loads and plans (finite paths) or is refused with
+    one line: never a traceback in loading or planning (issue 26: place_size 1e308, covariances x 1e-300)."""
+    from spcotmhp.errors import SpcotmhpError
+    from spcotmhp.planning import HierarchicalPlanner
+
+    folder = tmp_path_factory.mktemp("values") / "m"
+    shutil.copytree(templates[1], folder)
+    label = apply_edits(folder, edits)
+
+    def load_and_plan() -> None:
+        model = load_model(folder)
+        planner = HierarchicalPlanner(model)
+        starts = [model.mu[k] for k in range(model.K)] + [model.require_map().cell_to_world(np.array([40, 40]))]
+        for start in starts:
+            try:
+                plan = planner.plan("go to the kitchen", start)
+            except SpcotmhpError:
+                continue
+            assert np.isfinite(plan.path).all() and np.isfinite(plan.length_m), label
+
+    _check(run_case(load_and_plan, label))
+    shutil.rmtree(folder.parent)
+
+
+@given(image=pnm_files())
+@example(image=b"P5\n#" + b"x" * 50_000_000 + b"\n2 2\n255\n" + bytes(4))  # the cases of issue 26
+@example(image=b"P5\n1 16000000\n255\n" + bytes([254]) * 16_000_000)
+@example(image=b"P5 16000000 1 255 " + bytes([254]) * 16_000_000)
+@FUZZ
+def test_fuzzed_pgm_headers(tmp_path_factory, image):
+    """PGM/PPM headers with comments up to past the 64 KiB bound, sizes from 0 to 10^12 and strips longer than
+    1000:1 load or give one MapError, in bounded time and memory (issue 26: a 50 MB comment, 1 x 16,000,000);
+    a map that loads keeps the stated bounds (pixel cap, aspect ratio)."""
+    from spcotmhp.safe_read import MAX_MAP_ASPECT, max_map_pixels
+
+    folder = tmp_path_factory.mktemp("pnm")
+    (folder / "m.pgm").write_bytes(image)
+    (folder / "map.yaml").write_text(BASE + "image: m.pgm\n", encoding="utf-8")
+
+    def load() -> None:
+        height, width = load_map(folder / "map.yaml").shape
+        assert height * width <= max_map_pixels() and max(height, width) <= MAX_MAP_ASPECT * min(height, width)
+
+    _check(run_case(load, f"{image[:40]!r} ({len(image)} bytes)"))
+    shutil.rmtree(folder)

@@ -27,6 +27,7 @@ from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.metric.snap import component_at, snap
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.protocol import PlanVocabulary, StartPose, merged_bag, path_plan
+from spcotmhp.planning.start import start_point
 
 
 def sample_goal(
@@ -87,7 +88,7 @@ class AStarGoalPlanner:
     def plan(self, instruction: Any, start: StartPose, *, rng: np.random.Generator | None = None) -> Plan:
         t0 = time.perf_counter()
         ins = self.vocabulary.instruction(instruction)
-        cell = self.occ_map.world_to_cell(np.asarray(start, dtype=float))
+        cell = self.occ_map.world_to_cell(start_point(start))
         cells = astar_to_sampled_goal(
             self.model,
             self.log_p,

@@ -37,6 +37,7 @@ from spcotmhp.planning.assemble import join_legs, path_length
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.protocol import PlanVocabulary, StartPose, bag_words, path_plan
+from spcotmhp.planning.start import start_point
 
 EdgeCost = Callable[[PlanningGraph], np.ndarray]
 
@@ -147,7 +148,7 @@ class HPPPlanner:
         t0 = time.perf_counter()
         ins = self.vocabulary.instruction(instruction)
         graph, occ = self.hpp.graph, self.hpp.graph.model.require_map()
-        cell = graph.to_crop(occ.world_to_cell(np.asarray(start, dtype=float)))
+        cell = graph.to_crop(occ.world_to_cell(start_point(start)))
         stages = [bag_words(q) for q in ins.stages]
         cells = self.hpp.plan(cell, stages, self.rng if rng is None else rng, smooth=self.smooth)
         return path_plan(self.vocabulary, occ, graph.to_map(cells), ins, t0, graph.time_precompute_s)

@@ -42,6 +42,7 @@ from spcotmhp.metric.grid_search import shortest_paths
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.protocol import PlanVocabulary, StartPose, merged_bag, path_plan
+from spcotmhp.planning.start import start_point
 
 # (d_row, d_col) of each action; index = back-pointer value. 4-connected: the paper's action set.
 ACTIONS_4 = np.array([(0, 0), (1, 0), (-1, 0), (0, -1), (0, 1)], dtype=np.int64)
@@ -214,7 +215,7 @@ class SpCoNaviPlanner:
     def plan(self, instruction: Any, start: StartPose, *, rng: np.random.Generator | None = None) -> Plan:
         t0 = time.perf_counter()
         ins = self.vocabulary.instruction(instruction)
-        r, c = self.occ_map.world_to_cell(np.asarray(start, dtype=float))
+        r, c = self.occ_map.world_to_cell(start_point(start))
         cell = (int(r), int(c))
         log_w = log_weight_map(self.model, self.log_p, self.cell_xy, merged_bag(ins))
         if self.approximation:

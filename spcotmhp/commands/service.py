@@ -110,7 +110,6 @@ def serve(
     works offline."""
     from rich.console import Console
 
-    from spcotmhp.learning.io import check_model_folder
     from spcotmhp.server import create_app
     from spcotmhp.server.limits import LOCAL_HOSTS
     from spcotmhp.server.scheduling import Budget
@@ -119,18 +118,20 @@ def serve(
         import uvicorn
     except ImportError:
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
+    from spcotmhp.learning.io import load_model
+
     console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
     mapping = model_mapping(models)
-    for folder in mapping.values():  # a missing folder is reported as such, whatever holds the port
-        check_model_folder(folder)
-    sock = listening_socket(host, port)  # before the models load: a port in use fails at once
+    with console.status("loading models"):
+        loaded = {name: load_model(folder) for name, folder in mapping.items()}  # a bad model is named first
+    sock = listening_socket(host, port)  # before the planners are precomputed: a port in use fails at once
     hosts = list(allowed_host or LOCAL_HOSTS)
     if not allowed_host and host not in LOCAL_HOSTS + ("0.0.0.0", "::"):
         hosts.append(host)
-    with console.status("loading models") as status:
+    with console.status("precomputing planners") as status:
         app = create_app(
-            mapping,
-            progress=lambda name: status.update(f"loading model {name!r} and precomputing its planner"),
+            loaded,
+            progress=lambda name: status.update(f"precomputing the planner of model {name!r}"),
             allowed_hosts=hosts,
             body_timeout=body_timeout,
             budget=Budget(time_budget=time_budget),

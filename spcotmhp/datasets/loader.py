@@ -10,7 +10,6 @@ message names the file and the 1-based line number in it.
 
 from __future__ import annotations
 
-import re
 import sys
 import warnings
 from pathlib import Path
@@ -23,14 +22,13 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.extras import read_adjacency, read_costmap, read_features, read_places, read_truth
 from spcotmhp.datasets.tables import Table, read_table
 from spcotmhp.errors import DatasetError
+from spcotmhp.language.text import words
 from spcotmhp.metric.map_io import load_map, read_map_yaml
 from spcotmhp.metric.maps import OCCUPIED, OccupancyMap
 
 LANGS = ("en", "ja")
 TRAJECTORY_TOLERANCE_M = 1.0  # an event further than this from its trajectory pose gets a warning
 MAX_ROW_WARNINGS = 20  # per kind of problem; the rest are summarised in one warning
-
-_EN_WORD = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*")
 
 
 class DatasetWarning(UserWarning):
@@ -48,13 +46,15 @@ def _warn(message: str) -> None:
 
 def tokenize_en(text: str) -> list[str]:
     """Lower-cased words split on whitespace and punctuation ("This is the Kitchen!" -> this is the kitchen);
-    an apostrophe inside a word is kept ("kitchen's")."""
-    return _EN_WORD.findall(text.lower())
+    an apostrophe inside a word is kept ("kitchen's"); full-width letters are letters
+    (:func:`spcotmhp.language.text.words`)."""
+    return words(text, "en")
 
 
 def tokenize_ja(text: str) -> list[str]:
-    """Japanese tokens as given: the utterances are already phrase-segmented with spaces (ASCII or U+3000)."""
-    return text.split()
+    """Japanese tokens as given: the utterances are already phrase-segmented with spaces (ASCII or U+3000); widths
+    are normalised (ｷｯﾁﾝ is キッチン)."""
+    return words(text, "ja", segment=False)
 
 
 def features_to_counts(probabilities: np.ndarray, scale: float = 10) -> np.ndarray:

@@ -11,7 +11,10 @@ sides) with, by construction,
 * **a place taught partly in unknown space**: after the teaching walk, a strip of one room (about 40% of it,
   on its far side from the door) becomes unknown in the map, as when mapping missed part of a room that people
   still walked in and named; its teaching points there lie in unknown cells;
-* **dead-end rooms** (every room with a single door).
+* **dead-end rooms** (every room with a single door);
+* with ``furniture``, **seating groups** in 60% of the rooms (:mod:`spcotmhp.datasets.synthetic_furniture`): a ring
+  of pieces whose gaps are narrower than the robot, so the free square inside is an island of the robot's free
+  space, which may hold the room's centre.
 
 Everything is drawn from one ``np.random.default_rng(seed)``. The dataset has a trajectory, truth, place names
 and the doors' adjacency, like every synthetic environment.
@@ -22,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
+from spcotmhp.datasets.synthetic_furniture import furnish
 from spcotmhp.datasets.synthetic_plan import FloorPlan, Room, generate_floor_plan, seeded_rng
 from spcotmhp.datasets.synthetic_vocab import CORRIDOR, LIVING
 from spcotmhp.datasets.synthetic_walk import teaching_walk
@@ -35,8 +39,9 @@ UNKNOWN_SHARE = 0.4
 __all__ = ["battery_home"]
 
 
-def battery_home(seed: int, events_per_room: int = 15) -> Dataset:
-    """One home of the battery (module docstring), named ``battery-<seed>``."""
+def battery_home(seed: int, events_per_room: int = 15, furniture: bool = False) -> Dataset:
+    """One home of the battery (module docstring), named ``battery-<seed>`` (``battery-<seed>-furniture`` with
+    furniture, drawn after everything else: the same home, furnished)."""
     rng = seeded_rng(seed)
     for _ in range(50):
         door_m = float(rng.choice(DOOR_WIDTHS_M))
@@ -50,7 +55,9 @@ def battery_home(seed: int, events_per_room: int = 15) -> Dataset:
     _rename(plan, corridors, spare, rng)
     data = teaching_walk(plan, events_per_room=events_per_room, seed=rng, clearance_m=min(0.4, door_m / 2))
     room = _unknown_strip(plan, rng)
-    data.name = f"battery-{seed}"
+    if furniture:
+        furnish(plan, rng, skip=(room.index,))
+    data.name = f"battery-{seed}" + ("-furniture" if furniture else "")
     data.map = plan.map
     assert plan.map.data[room.box[0] : room.box[2], room.box[1] : room.box[3]].min() == UNKNOWN
     return data

@@ -25,7 +25,7 @@ from spcotmhp.datasets.synthetic_vocab import CORRIDOR
 from spcotmhp.errors import DatasetError
 from spcotmhp.limits import MAX_SYNTH_ROOMS, check_count
 from spcotmhp.metric.maps import FREE, OCCUPIED, UNKNOWN, OccupancyMap
-from spcotmhp.safe_read import max_map_pixels
+from spcotmhp.safe_read import MAX_MAP_ASPECT, max_map_pixels
 
 __all__ = ["Door", "FloorPlan", "Room", "generate_floor_plan"]
 
@@ -163,7 +163,8 @@ def generate_floor_plan(
 
 
 def _shape(kind: str, n: int, size: int | tuple[int, int] | None, res: float) -> tuple[int, int]:
-    """The grid's (height, width): ``size``, else what ``n`` places need; at most the map loader's pixel cap."""
+    """The grid's (height, width): ``size``, else what ``n`` places need; at most the map loader's pixel cap and
+    aspect ratio (so that every map written here loads back)."""
     shape = _requested_shape(kind, n, size, res)
     cap = max_map_pixels()
     if shape[0] * shape[1] > cap:
@@ -171,6 +172,11 @@ def _shape(kind: str, n: int, size: int | tuple[int, int] | None, res: float) ->
         raise DatasetError(
             f"a {shape[0]} x {shape[1]} map ({asked}) has {shape[0] * shape[1]} pixels, over the cap of {cap} of "
             "the map loader (SPCOTMHP_MAX_MAP_PIXELS); use a smaller size or fewer rooms"
+        )
+    if max(shape) > MAX_MAP_ASPECT * min(shape):
+        raise DatasetError(
+            f"a {shape[0]} x {shape[1]} map is longer than {MAX_MAP_ASPECT} times its width, the map loader's "
+            "largest aspect ratio; use a squarer size"
         )
     return shape
 

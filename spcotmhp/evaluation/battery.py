@@ -6,7 +6,9 @@ corridor", narrow doors, a room taught partly in unknown space, dead ends) and e
 and the map), SpCoTMHP plans
 
 * every **basic** task (each ordered pair of non-adjacent true places; instruction = the goal's name),
-* **shared-word** tasks: "go to the corridor" from every other place (both corridor places are instances),
+* **shared-word** tasks: "go to the corridor" from every other place: the word is part of two names ("west
+  corridor", "east corridor") and neither whole, so the planner must ask which (``asked``:
+  :class:`~spcotmhp.errors.AmbiguousPlace` naming both), not guess,
 * a seeded subset of the **advanced** tasks (a waypoint, then the goal; :mod:`~spcotmhp.evaluation.tasks`),
 
 and counts what a robot owner would notice:
@@ -20,7 +22,14 @@ and counts what a robot owner would notice:
   prefers a centred route, make equal-length instances differ by a few cells);
 * the SPL family (:mod:`~spcotmhp.evaluation.metrics`) of the basic and advanced tasks: advanced WN-SPL with
   the paper's N (the goal instance closest from the start) and with N via the waypoint (the instance where the
-  shortest path through the waypoint ends, which is what the planner is asked to reach).
+  shortest path through the waypoint ends, which is what the planner is asked to reach);
+* ``cut_off`` of ``reach_checks``: "go to <name>" for every name of the model's places, from every place's
+  position and from one cell of every free region (:func:`reach_refusals`), where some place of that name has a
+  cell inside its 2-sigma ellipse that the robot can reach from the start (the oracle: the start's 4-connected
+  component of the robot's cells; :mod:`spcotmhp.planning.regions`), refused. Places, not tasks: every learned
+  place must be plannable from wherever its mass can be reached, pockets cut off by furniture included.
+
+With ``furniture`` the homes are furnished (:func:`~spcotmhp.datasets.synthetic_battery.battery_home`).
 """
 
 from __future__ import annotations
@@ -36,7 +45,7 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_battery import battery_home
-from spcotmhp.errors import SpcotmhpError
+from spcotmhp.errors import AmbiguousPlace, SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import task_instruction
 from spcotmhp.evaluation.metrics import Outcome, summarise
@@ -45,6 +54,9 @@ from spcotmhp.evaluation.tasks import Task, home_geometry, make_tasks, subset
 from spcotmhp.evaluation.work import failed_task, score_task
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
+from spcotmhp.metric.grid_ops import label4
+from spcotmhp.planning.places import mahalanobis2
+from spcotmhp.planning.regions import REACH_SIGMAS
 
 CLOSEST_TOLERANCE_M = 0.3
 SHARED_WORD = "corridor"
@@ -58,6 +70,7 @@ class HomeBattery:
     params: str
     tasks: int = 0
     refused: int = 0
+    asked: int = 0  # shared-word tasks answered with the question "which one?" (AmbiguousPlace), as they should be
     unsafe: int = 0
     closest: int = 0
     repeated: int = 0
@@ -68,6 +81,8 @@ class HomeBattery:
     strict_spl: float = 0.0
     strict_wn_spl_via: float = 0.0
     set_apart: int = 0  # tasks with no footprint-safe path (evaluation/tasks.py), not planned
+    reach_checks: int = 0
+    cut_off: int = 0
     time_median_ms: float = 0.0
     errors: list[str] = field(default_factory=list)
 
@@ -93,7 +108,8 @@ def evaluate_home(
     basic, advanced = basic_all.tasks, subset(advanced_all.tasks, max_advanced, seed)
     geometry = home_geometry(dataset, ctx.places)
     shared = shared_word_tasks(ctx, len(basic) + len(advanced), geometry)
-    costs = inflate(dataset.map, **ctx.model.costmap).costs
+    costmap = inflate(dataset.map, **ctx.model.costmap)
+    costs = costmap.costs
     outcomes: dict[str, list[Outcome]] = {"basic": [], "advanced": []}
     times = []
     for task in [*basic, *shared, *advanced]:
@@ -106,7 +122,41 @@ def evaluate_home(
     out.strict_spl, out.strict_wn_spl_via = b["strict_spl"], a["strict_wn_spl_via"]
     out.set_apart = len(basic_all.no_safe_path) + len(advanced_all.no_safe_path)
     out.time_median_ms = 1000.0 * float(np.median(times))
+    reach_refusals(ctx, costmap.free, out)
     return out
+
+
+def reach_refusals(ctx: HomeContext, robot: np.ndarray, out: HomeBattery) -> None:
+    """``cut_off`` / ``reach_checks`` of the module docstring: from each start, every spoken name whose places'
+    2-sigma ellipses hold a robot cell (``robot``: the model's cost map's free cells) of the start's free region must
+    be planned to. The starts: the true places' positions, and the first cell (row-major) of every other free
+    region, so that pockets cut off by furniture are started from too."""
+    planner, data = ctx.planner, ctx.dataset
+    regions, _ = label4(robot)
+    flat = regions.ravel()
+    firsts = np.unique(flat, return_index=True)[1][1:]  # the first cell of each region 1..n
+    starts = [p.cell for p in ctx.places] + [divmod(int(i), robot.shape[1]) for i in firsts]
+    act = np.flatnonzero(ctx.model.active_places)
+    within = {int(k): _regions_within(ctx, int(k), robot, regions) for k in act}
+    for start in starts:
+        region = int(regions[start])
+        for name in dict.fromkeys(planner.spoken_names(act)):
+            named = np.flatnonzero(planner.places_named(name.split()))
+            if not any(region in within[int(k)] for k in named):
+                continue
+            out.reach_checks += 1
+            try:
+                planner.plan({"goal": name.split()}, tuple(data.map.cell_to_world(np.array(start))))
+            except SpcotmhpError as exc:
+                out.cut_off += 1
+                if len(out.errors) < 6:
+                    out.errors.append(f"{data.name}: {name} from {start}, its 2-sigma ellipse reachable: {exc}")
+
+
+def _regions_within(ctx: HomeContext, k: int, robot: np.ndarray, regions: np.ndarray) -> set[int]:
+    """The free regions (labels of ``regions``) holding a robot cell inside place k's 2-sigma ellipse."""
+    m2 = mahalanobis2(ctx.cell_xy, ctx.model.mu[k : k + 1], ctx.model.Sigma[k : k + 1])[..., 0]
+    return set(np.unique(regions[robot & (m2 <= REACH_SIGMAS**2)]).tolist())
 
 
 def shared_word_tasks(ctx: HomeContext, first_index: int, geometry: HomeGeometry | None = None) -> list[Task]:
@@ -164,6 +214,9 @@ def _run(
         plan = ctx.planner.plan(ins, task.start_xy)
     except SpcotmhpError as exc:
         elapsed = time.perf_counter() - t0
+        if task.goal_name == SHARED_WORD and isinstance(exc, AmbiguousPlace):
+            out.asked += 1
+            return failed_task(task, elapsed), elapsed
         out.refused += 1
         if len(out.errors) < 3:
             out.errors.append(f"{task.label()}: {exc}")
@@ -193,11 +246,11 @@ def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray, geometry: HomeGeo
     return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)
 
 
-def _one(job: tuple[int | Dataset, str, int | None]) -> HomeBattery:
-    home, params, max_advanced = job
+def _one(job: tuple[int | Dataset, str, int | None, bool]) -> HomeBattery:
+    home, params, max_advanced, furniture = job
     if isinstance(home, Dataset):
         return evaluate_home(home, params, 0, max_advanced)
-    return evaluate_home(battery_home(home), params, home, max_advanced)
+    return evaluate_home(battery_home(home, furniture=furniture), params, home, max_advanced)
 
 
 def run_battery(
@@ -206,10 +259,12 @@ def run_battery(
     max_advanced: int | None = 60,
     workers: int = 1,
     advance: Callable[[str], None] | None = None,
+    furniture: bool = False,
 ) -> list[HomeBattery]:
-    """The battery over ``homes`` (seeds of :func:`battery_home`, or datasets such as the bundled homes) and each
-    kind of parameters, on ``workers`` processes; results in (home, params) order whatever the scheduling."""
-    jobs = [(h if isinstance(h, Dataset) else int(h), p, max_advanced) for h in homes for p in params]
+    """The battery over ``homes`` (seeds of :func:`battery_home`, furnished with ``furniture``, or datasets such as
+    the bundled homes) and each kind of parameters, on ``workers`` processes; results in (home, params) order
+    whatever the scheduling."""
+    jobs = [(h if isinstance(h, Dataset) else int(h), p, max_advanced, furniture) for h in homes for p in params]
     if workers <= 1:
         out = []
         for job in jobs:
@@ -238,6 +293,7 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
             "homes": len(rows),
             "tasks": sum(r.tasks for r in rows),
             "refused": sum(r.refused for r in rows),
+            "asked": sum(r.asked for r in rows),
             "unsafe": sum(r.unsafe for r in rows),
             "closest_rate": sum(r.closest for r in rows) / repeated if repeated else float("nan"),
             "repeated": repeated,
@@ -250,6 +306,8 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
             "strict_spl_mean": float(np.mean([r.strict_spl for r in rows])),
             "strict_wn_spl_via_mean": float(np.mean([r.strict_wn_spl_via for r in rows])),
             "set_apart": sum(r.set_apart for r in rows),
+            "reach_checks": sum(r.reach_checks for r in rows),
+            "cut_off": sum(r.cut_off for r in rows),
             "time_median_ms": float(np.median([r.time_median_ms for r in rows])),
         }
     return out
@@ -266,15 +324,16 @@ def markdown(results: Sequence[HomeBattery]) -> str:
         (
             "| parameters | homes | tasks | set apart | refused with a free path | plans touching walls | closest "
             "instance | basic SPL | basic N-SPL | advanced WN-SPL mean (min) | advanced WN-SPL via mean (min) "
-            "| strict: basic SPL / advanced WN-SPL via | online median |"
+            "| strict: basic SPL / advanced WN-SPL via | places refused within reach (2 sigma) | online median |"
         ),
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for p, s in summary(results).items():
         rows.append(
             f"| {p} | {s['homes']} | {s['tasks']} | {s['set_apart']} | {s['refused']} | {s['unsafe']} | "
             f"{s['closest_rate']:.1%} of {s['repeated']} | {s['spl_mean']:.3f} | {s['n_spl_mean']:.3f} | "
             f"{s['wn_spl_mean']:.3f} ({s['wn_spl_min']:.3f}) | {s['wn_spl_via_mean']:.3f} ({s['wn_spl_via_min']:.3f}) "
-            f"| {s['strict_spl_mean']:.3f} / {s['strict_wn_spl_via_mean']:.3f} | {s['time_median_ms']:.2f} ms |"
+            f"| {s['strict_spl_mean']:.3f} / {s['strict_wn_spl_via_mean']:.3f} | {s['cut_off']} of {s['reach_checks']} "
+            f"| {s['time_median_ms']:.2f} ms |"
         )
     return "\n".join(rows)

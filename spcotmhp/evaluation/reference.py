@@ -9,10 +9,11 @@ cells below the inscribed cost, where the robot's centre may be without its body
 steps 1 and sqrt 2 cells, no costs (:func:`~spcotmhp.metric.grid_search.geodesic_distance`, which is symmetric):
 
 * **footprint** (primary): the target is the robot cell nearest the mean of the place's teaching positions among
-  those whose centre lies in the place's region (its box grown by the inscribed radius, ``Place.region``), preferring
-  the robot's largest free component (:func:`footprint_targets`). A place whose region holds no robot cell has no
-  target, and a task whose target cannot be reached from the start has no footprint-safe path (l = inf): such tasks
-  are set apart by :mod:`~spcotmhp.evaluation.tasks`, since no safe robot can succeed in them;
+  those whose centre lies in the place's region (its box grown by the inscribed radius, ``Place.region``),
+  preferring the free region (4-connected robot cells) of the place's position (:func:`footprint_targets`). A place
+  whose region holds no robot cell has no target, and a task whose target cannot be reached from the start has no
+  footprint-safe path (l = inf): such tasks are set apart by :mod:`~spcotmhp.evaluation.tasks`, since no safe robot
+  can succeed in them;
 * **strict** (the paper's rule): the target is the place's position (``Place.cell``, the robot cell nearest the
   mean, wherever it lies).
 
@@ -32,8 +33,9 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.metric.costmap import inflate
+from spcotmhp.metric.grid_ops import label4
 from spcotmhp.metric.grid_search import geodesic_distance
-from spcotmhp.metric.snap import largest_component, snap
+from spcotmhp.metric.snap import snap
 
 
 @dataclass(frozen=True)
@@ -52,18 +54,22 @@ def robot_cells(dataset: Dataset) -> np.ndarray:
     return inflate(dataset.map).free
 
 
-def footprint_targets(robot: np.ndarray, centres: np.ndarray, means: np.ndarray, regions: Sequence) -> np.ndarray:
+def footprint_targets(
+    robot: np.ndarray, centres: np.ndarray, means: np.ndarray, regions: Sequence, positions: np.ndarray
+) -> np.ndarray:
     """(P, 2) each place's footprint target (module docstring), (-1, -1) where its region holds no robot cell.
 
     Args:
         robot: (H, W) robot cells.  centres: (H, W, 2) the cells' centres (m).  means: (P, 2) the places' means
             as map cells.  regions: each place's region (anything with ``contains((..., 2) points)``).
+        positions: (P, 2) the places' positions (robot cells): the free region of each is preferred.
     """
-    main = largest_component(robot)
+    components = label4(robot)[0]
     out = np.full((len(means), 2), -1, dtype=np.int64)
     for k, region in enumerate(regions):
         inside = robot & region.contains(centres)
-        preferred = inside & main if (inside & main).any() else inside
+        same = inside & (components == components[positions[k][0], positions[k][1]])
+        preferred = same if same.any() else inside
         if preferred.any():
             out[k] = snap(preferred, np.asarray(means[k]))
     return out

@@ -8,7 +8,9 @@ Per home, over the ground-truth places (truth.csv):
 
 Each place's *position* is the robot cell nearest the mean of its teaching positions, where robot cells are the
 free cells outside the inscribed radius of costmap_2d's default settings (:func:`robot_cells`: a 0.22 m robot
-centred there touches no obstacle); the start of a task is the position of place i. A place's *box* is the box of
+centred there touches no obstacle), within the free region (4-connected robot cells) where most of its teaching
+positions' nearest robot cells lie (:func:`place_position`: a pocket cut off by furniture in the middle of a room
+is not where the room is reached from); the start of a task is the position of place i. A place's *box* is the box of
 its teaching positions plus 0.1 m (:class:`~spcotmhp.evaluation.metrics.Box`), its *region* that box grown by the
 inscribed radius (where the robot's centre stands when its body reaches the box: the footprint success rule of
 :mod:`~spcotmhp.evaluation.metrics`); every place sharing a name is an *instance* of that name.
@@ -43,7 +45,8 @@ from spcotmhp.errors import DatasetError
 from spcotmhp.evaluation.metrics import REGION_MARGIN_M, Box
 from spcotmhp.evaluation.reference import HomeGeometry, footprint_targets, robot_cells
 from spcotmhp.metric.costmap import CostMapSettings
-from spcotmhp.metric.snap import snap
+from spcotmhp.metric.grid_ops import label4
+from spcotmhp.metric.snap import nearest_index, snap
 
 TaskKind = Literal["basic", "advanced"]
 TASK_KINDS = ("basic", "advanced")
@@ -139,14 +142,35 @@ def build_places(dataset: Dataset) -> list[Place]:
         raise DatasetError(f"{dataset.name}: places.csv names {len(names)} places but truth.csv uses {n}")
     places = []
     robot = robot_cells(dataset)
+    if not robot.any():
+        raise DatasetError(f"{dataset.name}: the map has no free cell a robot fits in")
+    regions, nearest = label4(robot)[0], nearest_index(robot)
     for k in range(n):
         pts = dataset.positions[truth == k]
-        mean = pts.mean(axis=0)
         box = Box.around(pts, REGION_MARGIN_M)
-        places.append(
-            Place(k, str(names[k]), mean, nearest_free_cell(dataset, mean, robot), box, box.grown(ROBOT_RADIUS_M))
-        )
+        position = place_position(dataset, pts, robot, regions, nearest)
+        places.append(Place(k, str(names[k]), pts.mean(axis=0), position, box, box.grown(ROBOT_RADIUS_M)))
     return places
+
+
+def place_position(
+    dataset: Dataset, pts: np.ndarray, robot: np.ndarray, regions: np.ndarray, nearest: np.ndarray
+) -> tuple[int, int]:
+    """A place's position (module docstring) from its teaching positions ``pts``: the robot cell nearest their mean
+    within the free region (``regions``: labels of the 4-connected components of ``robot``) that holds the nearest
+    robot cells (``nearest``: :func:`~spcotmhp.metric.snap.nearest_index` of ``robot``) of most of them (ties: the
+    lower label). Where the mean's nearest robot cell already lies in that region, it is that cell."""
+    occ = dataset.map
+    size = np.array(robot.shape) - 1
+    at = np.clip(occ.world_to_cell(np.asarray(pts, float)).reshape(-1, 2), 0, size)
+    near = nearest[:, at[:, 0], at[:, 1]]
+    region = int(np.argmax(np.bincount(regions[near[0], near[1]])))
+    r, c = np.clip(occ.world_to_cell(np.asarray(pts, float).mean(axis=0)), 0, size)
+    best = (int(nearest[0][r, c]), int(nearest[1][r, c]))
+    if regions[best] == region:
+        return best
+    r, c = snap(regions == region, np.array([r, c]))
+    return int(r), int(c)
 
 
 def names_from_words(tokens: list[list[str]], truth: np.ndarray) -> list[str]:
@@ -212,8 +236,9 @@ def home_geometry(dataset: Dataset, places: list[Place]) -> HomeGeometry:
     robot = robot_cells(dataset)
     occ = dataset.map
     means = occ.world_to_cell(np.array([p.mean for p in places]))
-    targets = footprint_targets(robot, occ.cell_centres(), means, [p.region for p in places])
-    return HomeGeometry(robot, occ.resolution, np.array([p.cell for p in places]), targets)
+    positions = np.array([p.cell for p in places])
+    targets = footprint_targets(robot, occ.cell_centres(), means, [p.region for p in places], positions)
+    return HomeGeometry(robot, occ.resolution, positions, targets)
 
 
 def _task_places(kind: TaskKind, places: list[Place], adjacency: np.ndarray) -> Iterator[tuple[int, int, int | None]]:

@@ -36,8 +36,16 @@ import numpy as np
 
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.model_checks import FORMAT, array_specs, assemble, read_meta
-from spcotmhp.learning.model_folder import check_replaceable, inside, read_npz, verify_manifest, write_folder
+from spcotmhp.learning.model_checks import FORMAT, array_specs, assemble, file_bound, read_meta
+from spcotmhp.learning.model_folder import (
+    check_replaceable,
+    check_sizes,
+    inside,
+    read_manifest,
+    read_npz,
+    verify_digests,
+    write_folder,
+)
 from spcotmhp.metric.map_io import load_map, read_map_yaml, save_map
 from spcotmhp.safe_write import fresh_sibling
 
@@ -56,11 +64,12 @@ MODEL_FILES = (
 )
 
 
-def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = True) -> Path:
+def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = False) -> Path:
     """Write ``model`` to ``folder`` atomically (module docstring) and return the folder.
 
-    An existing model folder is replaced (with ``overwrite=False`` it is a ModelError); a folder that holds
-    files other than a model's is never replaced. Raises ModelError naming the folder and the reason."""
+    An existing model folder is replaced only with ``overwrite=True`` (else a ModelError, as the CLI refuses
+    without --overwrite); a folder that holds files other than a model's is never replaced. Raises ModelError
+    naming the folder and the reason."""
     out = Path(folder)
     check_target(out, overwrite)
     arrays = {name: np.asarray(getattr(model, name)) for name in ARRAYS}
@@ -101,10 +110,12 @@ def check_target(folder: Path, overwrite: bool, advice: str = "choose an empty o
     ``advice`` ends the message about a folder holding other files."""
     check_replaceable(folder, MODEL_FILES, advice)
     if not overwrite and (folder / "model.json").exists():
-        raise ModelError(f"{folder} already holds a model; give --overwrite to replace it, or choose another folder")
+        raise ModelError(
+            f"{folder} already holds a model; give --overwrite (overwrite=True) to replace it, or choose another folder"
+        )
 
 
-def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
+def prepare_model_folder(folder: str | Path, overwrite: bool = False) -> Path:
     """Check that a model can be saved to ``folder`` (see :func:`save_model`) and that its parent folder is
     writable, so that a command can refuse a bad ``--out`` before a long fit; creates nothing but the parent."""
     out = Path(folder)
@@ -116,9 +127,8 @@ def prepare_model_folder(folder: str | Path, overwrite: bool = True) -> Path:
     return out
 
 
-def check_model_folder(folder: str | Path) -> Path:
-    """``folder`` as a path, if it is a folder and not a dataset's (what can be said before reading it: a command
-    checks this before it binds a port or starts a long run); raises ModelError saying what it is instead."""
+def load_model(folder: str | Path) -> SpatialConceptModel:
+    """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
     if not isinstance(folder, (str, os.PathLike)):
         raise ModelError(f"load_model takes a model folder (a str or a path), got {type(folder).__name__}")
     root = Path(folder)
@@ -130,19 +140,7 @@ def check_model_folder(folder: str | Path) -> Path:
         )
     if (root / "teaching.csv").is_file() and not (root / "model.json").exists():
         raise ModelError(f"{root} is a dataset folder, not a model{_learn_hint(root)}")
-    return root
-
-
-def load_model(folder: str | Path) -> SpatialConceptModel:
-    """Read a model folder written by ``save_model``; raises ModelError with specifics on any problem."""
-    root = check_model_folder(folder)
-    listed = verify_manifest(root)
-    meta = read_meta(inside(root, "model.json", "model.json"))
-    if listed is None and meta["format_version"] >= 2:
-        raise ModelError(
-            f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
-            "has: the folder is torn or was altered; save the model again"
-        )
+    meta = _verified_meta(root)
     arrays = read_npz(inside(root, "arrays.npz", "arrays.npz"), array_specs(meta), ("psi_learned",))
     model = assemble(root, meta, arrays)
     from spcotmhp.learning.learner_state import read_learner
@@ -156,6 +154,33 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
         except SpcotmhpError as exc:
             raise ModelError(f"{root}: the model's map cannot be loaded: {exc}") from None
     return model
+
+
+def _verified_meta(root: Path) -> dict:
+    """model.json of ``root`` after the manifest's checks, sizes first (:mod:`~spcotmhp.learning.model_folder`):
+    every listed file's size against the manifest (a stat), the small files' sizes against their bounds, their
+    checksums, model.json read; then the other files' sizes against what model.json's sizes allow, and their
+    checksums. Nothing large is read before its size is known to fit."""
+    from spcotmhp.learning.learner_state import read_learner_meta
+
+    entries = read_manifest(root)
+    names = sorted(entries) if entries is not None else [n for n in MODEL_FILES if (root / n).is_file()]
+    small = [n for n in names if n.endswith((".json", ".yaml", ".yml"))]
+    check_sizes(root, small, file_bound)
+    if entries is not None:
+        verify_digests(root, entries, small)
+    meta = read_meta(inside(root, "model.json", "model.json"))
+    if entries is None and meta["format_version"] >= 2:
+        raise ModelError(
+            f"{root} has no manifest.json, which a model of format version {meta['format_version']} "
+            "has: the folder is torn or was altered; save the model again"
+        )
+    learner = read_learner_meta(root)
+    large = [n for n in names if n not in small]
+    check_sizes(root, large, lambda name: file_bound(name, meta, learner))
+    if entries is not None:
+        verify_digests(root, entries, large)
+    return meta
 
 
 def _learn_hint(path: Path) -> str:

@@ -231,6 +231,7 @@ LEARNER_FORMAT = "spcotmhp-learner"
 LEARNER_VERSION = 1
 MAX_EVENTS = 1_000_000
 MAX_TOKENS = 50_000_000
+LEARNER_JSON_BYTES = 4096
 
 
 def learner_writers(member: dict) -> dict:
@@ -252,15 +253,16 @@ def learner_writers(member: dict) -> dict:
     }
 
 
-def read_learner(root, model: SpatialConceptModel) -> dict | None:
-    """The learner member of the model folder ``root`` (None when it has none); ModelError on any problem."""
-    from spcotmhp.learning.model_folder import inside, read_npz
+def read_learner_meta(root) -> dict | None:
+    """learner.json of the model folder ``root`` (None when it has none): format, version, E events and T tokens
+    within MAX_EVENTS / MAX_TOKENS, replay and background flags; ModelError otherwise."""
+    from spcotmhp.learning.model_folder import inside
     from spcotmhp.safe_read import load_json
 
     if not (root / "learner.json").exists():
         return None
     path = inside(root, "learner.json", "learner.json")
-    meta = load_json(path, 4096, "learner state", ModelError)
+    meta = load_json(path, LEARNER_JSON_BYTES, "learner state", ModelError)
     ok = (
         isinstance(meta, dict)
         and meta.get("format") == LEARNER_FORMAT
@@ -273,8 +275,13 @@ def read_learner(root, model: SpatialConceptModel) -> dict | None:
             f"{path} is not a spcotmhp learner state of format version {LEARNER_VERSION} (format, "
             "format_version, E, T, replay, background)"
         )
-    K, L, V, E, T = model.K, model.L, len(model.vocabulary), meta["E"], meta["T"]
-    D = None if model.theta is None else int(model.theta.shape[1])
+    return meta
+
+
+def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[dict, tuple[str, ...]]:
+    """The arrays of learner.npz (name -> (shape, dtype kinds)) for a learner state ``meta`` of a model of sizes
+    K, L, V, D, and the names that may be absent."""
+    E, T = meta["E"], meta["T"]
     specs = {
         "n_k": (K,),
         "sx": (K, 2),
@@ -298,14 +305,23 @@ def read_learner(root, model: SpatialConceptModel) -> dict | None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"
         optional = ("F_ld", "features", "has_features")
-    arrays = read_npz(
-        inside(root, "learner.npz", "learner.npz"),
-        {n: (s, kinds.get(n, "f")) for n, s in specs.items()},
-        optional,
-    )
+    return {n: (shape, kinds.get(n, "f")) for n, shape in specs.items()}, optional
+
+
+def read_learner(root, model: SpatialConceptModel) -> dict | None:
+    """The learner member of the model folder ``root`` (None when it has none); ModelError on any problem."""
+    from spcotmhp.learning.model_folder import inside, read_npz
+
+    meta = read_learner_meta(root)
+    if meta is None:
+        return None
+    D = None if model.theta is None else int(model.theta.shape[1])
+    specs, optional = learner_specs(meta, model.K, model.L, len(model.vocabulary), D)
+    arrays = read_npz(inside(root, "learner.npz", "learner.npz"), specs, optional)
     if D is not None and not all(n in arrays for n in optional):
         for n in optional:
             arrays.pop(n, None)
     member = {"replay": meta["replay"], "background": meta["background"], "arrays": arrays}
-    check_member(member, K, L, V, D if "F_ld" in arrays else None, str(root / "learner.npz"))
+    V, found_D = len(model.vocabulary), D if "F_ld" in arrays else None
+    check_member(member, model.K, model.L, V, found_D, str(root / "learner.npz"))
     return member

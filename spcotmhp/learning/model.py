@@ -12,6 +12,7 @@ import numpy as np
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.logspace import logsumexp
+from spcotmhp.learning.model_values import HYPER_RANGES, check_hyper, check_model, check_truncation, in_range, refuse
 from spcotmhp.metric.maps import OccupancyMap
 
 LOG_2PI = float(np.log(2.0 * np.pi))
@@ -68,6 +69,10 @@ class Hyperparameters:
     and keeps the total prior mass of each Dirichlet process fixed when --max-places / --max-concepts change.
     ``resized(L, K)`` re-derives the ones that were derived (``dataclasses.replace`` would keep their old values);
     given values are kept.
+
+    Every value must lie in its documented range (``model_values.HYPER_RANGES``, the module docstring of
+    :mod:`spcotmhp.learning.model_values`: L, K in 1..10,000, concentrations and kappa0 in [1e-6, 1e6], nu0 in
+    (1, 1e6], place_size in [1e-3, 1e5] m, off_name in (0, 1e6]); else a one-line ModelValueError (a ValueError).
     """
 
     L: int = 20
@@ -86,23 +91,21 @@ class Hyperparameters:
     off_name: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("place_concepts", "off_name"):
-            v = getattr(self, name)
-            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < np.inf):
-                raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
+        check_truncation(self)
         if self.place_concepts is not None and self.off_name is not None:
-            raise ValueError("place_concepts and off_name are two answers to one question: set one or the other")
+            raise refuse(
+                "hyper.off_name", "place_concepts and off_name are two answers to one question: set one or the other"
+            )
         if self.place_size is not None:
             self.nu0, self.V0 = place_size_prior(self.place_size, self.nu0, self.V0)
         self._derived = tuple(name for name in SCALED_PRIORS if _unset(getattr(self, name)))
-        if self._derived and not (self.L >= 1 and self.K >= 1):
-            raise ValueError(f"L and K must be >= 1 to derive {', '.join(self._derived)}, got L={self.L}, K={self.K}")
         if _unset(self.alpha):
             self.alpha = ALPHA_TOTAL / self.L
         if _unset(self.gamma):
             self.gamma = GAMMA_TOTAL / self.K
         if _unset(self.omega):
             self.omega = OMEGA_TOTAL / self.K
+        check_hyper(self)  # every value in its documented range (model_values.py)
 
     def resized(self, L: int, K: int) -> Hyperparameters:
         """These priors for truncation levels L and K: alpha, gamma, omega that were derived from the old L and
@@ -116,18 +119,22 @@ def place_size_prior(
     size: float, nu0: float, V0: tuple[tuple[float, float], tuple[float, float]]
 ) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
     """(nu0, V0) of the inverse-Wishart place prior whose mean is size^2 I (``Hyperparameters.place_size``);
-    ValueError for a size that is not a finite number > 0, or when ``nu0`` / ``V0`` were given other values.
+    ModelValueError (a ValueError) for a size outside its range (``model_values.HYPER_RANGES``: 1e-3 to 1e5 m),
+    or when ``nu0`` / ``V0`` were given other values.
 
     >>> place_size_prior(1.5, 3.0, ((2.0, 0.0), (0.0, 2.0)))
     (5.0, ((4.5, 0.0), (0.0, 4.5)))
     """
-    if isinstance(size, bool) or not isinstance(size, (int, float)) or not 0 < size < float("inf"):
-        raise ValueError(f"place_size must be a finite number of metres > 0, got {size!r}")
-    v = (PLACE_SIZE_NU0 - 3.0) * float(size) ** 2
+    v = (PLACE_SIZE_NU0 - 3.0) * in_range("place_size", size, HYPER_RANGES["place_size"], "hyper.place_size") ** 2
     derived = (PLACE_SIZE_NU0, ((v, 0.0), (0.0, v)))
-    given = (float(nu0), tuple(tuple(float(x) for x in row) for row in V0))
+    try:
+        given: object = (float(nu0), tuple(tuple(float(x) for x in row) for row in V0))
+    except (TypeError, ValueError, OverflowError):
+        given = None  # not numbers: neither the paper's values nor the derived ones
     if given not in ((PAPER_NU0, PAPER_V0), derived):
-        raise ValueError(f"place_size sets nu0 and V0 (to {derived[0]:g} and {v:g} I): give one or the other")
+        raise refuse(
+            "hyper.place_size", f"place_size sets nu0 and V0 (to {derived[0]:g} and {v:g} I): give one or the other"
+        )
     return derived
 
 
@@ -178,9 +185,10 @@ class SpatialConceptModel:
 
     def __post_init__(self) -> None:
         if self.active_places is None or np.size(self.active_places) == 0:
-            self.active_places = np.ones(self.K, dtype=bool)
+            self.active_places = np.ones(np.shape(self.mu)[0] if np.ndim(self.mu) else 0, dtype=bool)
         if self.active_concepts is None or np.size(self.active_concepts) == 0:
-            self.active_concepts = np.ones(self.L, dtype=bool)
+            self.active_concepts = np.ones(np.shape(self.pi)[0] if np.ndim(self.pi) else 0, dtype=bool)
+        check_model(self)  # every value in the range planning can use (model_values.py): ModelValueError
 
     def require_map(self) -> OccupancyMap:
         """The occupancy map the model was learned on; a one-line ModelError when the model has none."""

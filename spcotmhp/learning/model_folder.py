@@ -10,9 +10,11 @@ map.yaml + map.pgm, and ``manifest.json``::
   and the folder is then swapped into place (:func:`spcotmhp.safe_write.swap_folder`). Until that swap the
   previous model stays whole and loadable; after it the new one is. An interrupted save leaves at most a
   hidden ``.NAME.new-*`` folder beside it, never a mixture.
-* Reading (:func:`verify_manifest`): each listed file must be a regular file inside the folder (a symlink
-  out of the folder is refused) with the listed size and SHA-256, so a torn or altered folder is a
-  ModelError naming the file.
+* Reading: each listed file must be a regular file inside the folder (a symlink out of the folder is refused)
+  with the listed size (:func:`read_manifest`, a stat), at most as large as a model of its sizes can need
+  (:func:`check_sizes`; the bounds: ``spcotmhp.learning.model_checks.file_bound``), and only then is it hashed
+  against the listed SHA-256 (:func:`verify_digests`), so a torn, altered or inflated folder is a ModelError
+  naming the file, and an 8 GiB sparse file is refused without reading it.
 * Arrays (:func:`read_npz`): arrays.npz is opened as a zip archive without numpy's loader: each member must be
   a known ``NAME.npy`` stored or deflated, its uncompressed size no larger than its expected shape needs
   (checked before decompressing: no zip bomb), its ``.npy`` header (read with ``allow_pickle``-free parsing)
@@ -25,7 +27,7 @@ import hashlib
 import json
 import zipfile
 import zlib
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -39,6 +41,8 @@ MANIFEST_FORMAT = "spcotmhp-model-manifest"
 MANIFEST_VERSION = 2
 MAX_MANIFEST_BYTES = 64 * 1024
 MAX_HEADER_BYTES = 4096  # a .npy header (dict of descr, fortran_order, shape) is under 200 bytes
+MEMBER_RECORD_BYTES = 1024  # a member's local header and central directory entry (each 30-46 bytes + name + extras)
+ARCHIVE_RECORD_BYTES = 1024  # the end of central directory records (22 bytes, 98 with zip64)
 CHUNK = 1 << 20
 
 
@@ -81,8 +85,10 @@ def manifest_of(folder: Path, names: list[str]) -> dict:
     return {"format": MANIFEST_FORMAT, "format_version": MANIFEST_VERSION, "files": files}
 
 
-def verify_manifest(root: Path) -> dict[str, int] | None:
-    """Check ``root``'s manifest.json against its files; returns name -> size (None without a manifest)."""
+def read_manifest(root: Path) -> dict[str, tuple[int, str]] | None:
+    """name -> (bytes, SHA-256) of ``root``'s manifest.json (None without one), after checking that every
+    listed file is a regular file inside the folder whose size is the listed one: a stat, nothing is read, so a
+    file grown by gigabytes is refused at once."""
     path = root / MANIFEST
     if not path.exists() and not path.is_symlink():
         return None
@@ -96,7 +102,7 @@ def verify_manifest(root: Path) -> dict[str, int] | None:
             f"{path} has format version {excerpt(doc.get('format_version'))}; this spcotmhp reads "
             f"version {MANIFEST_VERSION}"
         )
-    sizes = {}
+    entries = {}
     for name, entry in files.items():
         target = inside(root, name, f"the manifest's file {excerpt(name)}")
         ok = isinstance(entry, dict) and isinstance(entry.get("bytes"), int) and isinstance(entry.get("sha256"), str)
@@ -107,17 +113,61 @@ def verify_manifest(root: Path) -> dict[str, int] | None:
                 f"{root}: {name} is listed in {MANIFEST} but missing (a torn or altered model "
                 "folder: save the model again)"
             )
+        size = _size(target)
+        if size != entry["bytes"]:
+            raise ModelError(
+                f"{target} is {size} bytes, but {MANIFEST} lists {entry['bytes']}: the model folder is torn or "
+                "altered; save the model again"
+            )
+        entries[name] = (size, entry["sha256"])
+    return entries
+
+
+def check_sizes(root: Path, names: Iterable[str], bound: Callable[[str], tuple[int, str]]) -> None:
+    """Each file ``names`` of ``root`` that exists at most ``bound(name)`` = (bytes, why) long (``why`` says
+    what the bound comes from); checked with a stat before the file is hashed or read."""
+    for name in names:
+        target = root / name
+        if not target.is_file():
+            continue
+        size, (limit, why) = _size(target), bound(name)
+        if size > limit:
+            raise ModelError(
+                f"{target} is {size} bytes; " + (f"{why} {limit} bytes" if why else f"at most {limit} are accepted")
+            )
+
+
+def verify_digests(root: Path, entries: Mapping[str, tuple[int, str]], names: Iterable[str]) -> None:
+    """The SHA-256 of each file ``names`` (listed in ``entries``, sizes already checked) against the manifest."""
+    for name in names:
+        target = root / name
         try:
             size, sha = file_digest(target)
         except OSError as exc:
             raise ModelError(f"cannot read {target}: {exc.strerror or exc}") from None
-        if size != entry["bytes"] or sha != entry["sha256"]:
+        if size != entries[name][0] or sha != entries[name][1]:
             raise ModelError(
                 f"{target} does not match its checksum in {MANIFEST} ({size} bytes, listed "
-                f"{entry['bytes']}): the model folder is torn or was altered; save the model again"
+                f"{entries[name][0]}): the model folder is torn or was altered; save the model again"
             )
-        sizes[name] = size
-    return sizes
+
+
+def npz_bound(specs: Mapping[str, tuple[tuple[int, ...], str]]) -> int:
+    """The most bytes an .npz of the arrays ``specs`` (name -> shape) takes: 8 bytes a number (float64 or
+    int64, the widest dtype read_npz accepts) plus 1 % (a deflated member of random bytes grows by far less),
+    and per member its .npy header (at most MAX_HEADER_BYTES) and its zip records (at most MEMBER_RECORD_BYTES,
+    zip64 extras and the name included)."""
+    total = ARCHIVE_RECORD_BYTES
+    for shape, _ in specs.values():
+        total += int(np.prod(shape, dtype=np.int64)) * 8 * 101 // 100 + MAX_HEADER_BYTES + MEMBER_RECORD_BYTES
+    return total
+
+
+def _size(path: Path) -> int:
+    try:
+        return path.stat().st_size
+    except OSError as exc:
+        raise ModelError(f"cannot read {path}: {exc.strerror or exc}") from None
 
 
 # ---- writing -----------------------------------------------------------------------------------------------

@@ -43,7 +43,6 @@ revise.
 from __future__ import annotations
 
 import math
-import re
 import time
 import warnings
 from collections.abc import Iterable, Mapping
@@ -53,6 +52,8 @@ from typing import TypeGuard
 import numpy as np
 
 from spcotmhp.errors import TeachingError
+from spcotmhp.language.text import is_japanese
+from spcotmhp.language.text import words as text_words
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.gibbs import make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
@@ -63,7 +64,6 @@ from spcotmhp.metric.maps import OccupancyMap
 
 MAX_UTTERANCE_CHARS = 1000
 MAX_WORDS = 50
-_UNIT = re.compile(r"[^\W_]+(?:['\u2019][^\W_]+)*")
 
 
 @dataclass(frozen=True)
@@ -77,8 +77,9 @@ class TeachingEvent:
 
     @classmethod
     def from_utterance(cls, utterance: str, x: float, y: float, features: np.ndarray | None = None) -> TeachingEvent:
-        """An event from a sentence: lower-cased words, punctuation dropped ("This is Alice's room!" ->
-        this, is, alice's, room). Raises TeachingError for an empty or over-long utterance."""
+        """An event from a sentence: its words (:func:`spcotmhp.language.text.words`: lower-cased, widths folded,
+        punctuation dropped, "This is Alice's room!" -> this, is, alice's, room; Japanese without spaces cut into
+        words, "ここは書斎です" -> ここ, は, 書斎, です). Raises TeachingError for an empty or over-long utterance."""
         if not isinstance(utterance, str):
             raise TeachingError(f"the utterance must be text, got {type(utterance).__name__}")
         if len(utterance) > MAX_UTTERANCE_CHARS:
@@ -86,7 +87,7 @@ class TeachingEvent:
                 f"the utterance has {len(utterance)} characters, more than the "
                 f"{MAX_UTTERANCE_CHARS} accepted; say the place's name, e.g. 'this is the kitchen'"
             )
-        words = tuple(w.replace("\u2019", "'") for w in _UNIT.findall(utterance.lower()))
+        words = tuple(text_words(utterance, "ja" if is_japanese(utterance) else "en"))
         if not words:
             raise TeachingError("the utterance is empty (no words); say the place's name, e.g. 'this is the kitchen'")
         return cls(float(x), float(y), words, features)
@@ -306,9 +307,11 @@ class OnlineSpCoTMHP:
 
     def _check_language(self, event: TeachingEvent) -> None:
         """TeachingError for an utterance in another language than the model's words (most of its vocabulary;
-        ``instructions.detect_language``: Japanese when a word holds kana or kanji): "ここは書斎です" on an English
-        model would become one new word, never a place's name, and English on a Japanese model the same."""
-        from spcotmhp.planning.instructions import detect_language
+        ``language.text.is_japanese``: Japanese when a word holds kana or kanji): "ここは書斎です" on an English
+        model would become new words, never a place's name, and English on a Japanese model the same."""
+
+        def detect_language(text: str) -> str:
+            return "ja" if is_japanese(text) else "en"
 
         known = [detect_language(w) for w in self.vocabulary_]
         if not known:

@@ -26,7 +26,14 @@ from numba import njit
 from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
 from spcotmhp.metric.snap import snap
 
-__all__ = ["posterior_arg_max", "place_territories", "territory_adjacency"]
+__all__ = [
+    "most_probable_labels",
+    "partition",
+    "place_anchors",
+    "place_territories",
+    "posterior_arg_max",
+    "territory_adjacency",
+]
 
 
 def place_territories(
@@ -45,6 +52,19 @@ def place_territories(
         log_density: optional (K_active, H, W) log N(x | mu_i, Sigma_i) already computed for ``centres``.
         offset: the map cell of the grids' corner (a crop of ``model.map``).
     """
+    act = np.flatnonzero(model.active_places)
+    labels = most_probable_labels(model, mask, centres, log_density)
+    if len(act) == 0 or not (labels >= 0).any():
+        return labels
+    out = partition(labels, place_anchors(model, mask, offset))
+    return np.where(out >= 0, act[np.maximum(out, 0)], -1)
+
+
+def most_probable_labels(
+    model: SpatialConceptModel, mask: np.ndarray, centres: np.ndarray, log_density: np.ndarray | None = None
+) -> np.ndarray:
+    """(H, W) int64: on ``mask`` the index (into the active places) of arg max_i N(x | mu_i, Sigma_i) p(i) (step 1
+    of the module docstring), -1 elsewhere; ``log_density`` as in :func:`place_territories`."""
     mask = np.asarray(mask, dtype=bool)
     act = np.flatnonzero(model.active_places)
     labels = np.full(mask.shape, -1, dtype=np.int64)
@@ -61,11 +81,41 @@ def place_territories(
             higher = score > top
             best[higher], top[higher] = n, score[higher]
     labels[mask] = best[mask]  # indices into act
-    # the anchor of each place: the mask cell nearest its mean
+    return labels
+
+
+def place_anchors(model: SpatialConceptModel, mask: np.ndarray, offset: tuple[int, int] = (0, 0)) -> np.ndarray:
+    """(K_active, 2) the anchor of each active place: the cell of ``mask`` nearest its mean (grid cells; the
+    grid's corner at map cell ``offset``)."""
+    act = np.flatnonzero(model.active_places)
     cells = model.require_map().world_to_cell(model.mu[act]) - np.asarray(offset, dtype=np.int64)
-    anchors = snap(mask, cells)
-    out = _partition(labels, anchors.astype(np.int64), len(act))
-    return np.where(out >= 0, act[np.maximum(out, 0)], -1)
+    return snap(np.asarray(mask, dtype=bool), cells).astype(np.int64)
+
+
+def partition(
+    labels: np.ndarray,
+    anchors: np.ndarray,
+    extra_place: np.ndarray | None = None,
+    extra_cell: np.ndarray | None = None,
+) -> np.ndarray:
+    """Seeds, then geodesic growth (the module docstring's two steps) over ``labels`` (:func:`most_probable_labels`)
+    with the ``anchors`` of :func:`place_anchors`: (H, W) index into the active places, -1 where no seed's
+    component is.
+
+    ``extra_place`` / ``extra_cell`` (E,) / (E, 2): more seeds, one more piece of territory for a place in another
+    free component (:mod:`spcotmhp.planning.regions`): the piece of that place's most probable cells holding the
+    cell, else the cell alone unless another seed's single cell took it first. Without them the result is the
+    module docstring's partition."""
+    n = len(anchors)
+    if extra_place is None or extra_cell is None or len(extra_place) == 0:
+        extra_place, extra_cell = np.empty(0, dtype=np.int64), np.empty((0, 2), dtype=np.int64)
+    return _partition(
+        np.ascontiguousarray(labels, dtype=np.int64),
+        np.ascontiguousarray(anchors, dtype=np.int64).reshape(-1, 2),
+        n,
+        np.ascontiguousarray(extra_place, dtype=np.int64),
+        np.ascontiguousarray(extra_cell, dtype=np.int64).reshape(-1, 2),
+    )
 
 
 def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
@@ -176,17 +226,71 @@ def _score(points, p, mu, Sigma, det, log_det, prior, k):  # pragma: no cover - 
 
 
 @njit(cache=True)
-def _partition(labels, anchors, n):  # pragma: no cover - numba
-    """Seeds, then breadth-first growth (module docstring); ``labels`` holds 0..n-1 on mask cells, -1 off."""
+def _partition(labels, anchors, n, extra_place, extra_cell):  # pragma: no cover - numba
+    """Seeds, then breadth-first growth (module docstring, :func:`partition`); ``labels`` holds 0..n-1 on mask
+    cells, -1 off."""
     height, width = labels.shape
     N = height * width
     flat = labels.reshape(-1)
+    comp, sizes, comp_label, n_comp = _pieces(flat, height, width)
+    seed_comp = np.full(n, -1, dtype=np.int64)
+    for k in range(n):  # the anchor's piece, else the largest piece
+        a = anchors[k, 0] * width + anchors[k, 1]
+        if flat[a] == k:
+            seed_comp[k] = comp[a]
+    for q in range(n_comp):
+        k = comp_label[q]
+        if flat[anchors[k, 0] * width + anchors[k, 1]] != k and (seed_comp[k] < 0 or sizes[q] > sizes[seed_comp[k]]):
+            seed_comp[k] = q
+    owner = np.full(n_comp, -1, dtype=np.int64)
+    for k in range(n):
+        if seed_comp[k] >= 0:
+            owner[seed_comp[k]] = k
+    for e in range(extra_place.shape[0]):  # an extra seed's piece, where its cell is its place's
+        a = extra_cell[e, 0] * width + extra_cell[e, 1]
+        if flat[a] == extra_place[e] and owner[comp[a]] < 0:
+            owner[comp[a]] = extra_place[e]
+    out = np.full(N, -1, dtype=np.int64)
+    queue = np.empty(N, dtype=np.int64)
+    pinned = np.zeros(N, dtype=np.bool_)  # cells held by a single-cell seed
+    tail = 0
+    for i in range(N):
+        if flat[i] >= 0 and owner[comp[i]] >= 0:
+            out[i] = owner[comp[i]]
+            queue[tail] = i
+            tail += 1
+    for k in range(n):  # a place with no cell of its own keeps its anchor cell
+        if seed_comp[k] < 0:
+            a = anchors[k, 0] * width + anchors[k, 1]
+            tail = _pin(flat, out, queue, pinned, tail, a, k)
+    for e in range(extra_place.shape[0]):  # an extra seed outside its place's cells: the cell alone
+        a = extra_cell[e, 0] * width + extra_cell[e, 1]
+        if flat[a] != extra_place[e] and not pinned[a]:
+            tail = _pin(flat, out, queue, pinned, tail, a, extra_place[e])
+    head = 0
+    while head < tail:  # breadth-first growth from every seed at once
+        i = queue[head]
+        head += 1
+        for d in range(4):
+            j = _neighbour(i, d, height, width)
+            if j >= 0 and flat[j] >= 0 and out[j] < 0:
+                out[j] = out[i]
+                queue[tail] = j
+                tail += 1
+    return out.reshape(height, width)
+
+
+@njit(cache=True)
+def _pieces(flat, height, width):  # pragma: no cover - numba
+    """The 4-connected pieces of equal label of the flat ``labels`` (>= 0): each cell's piece (-1 off), each
+    piece's size and label, and the number of pieces."""
+    N = height * width
     comp = np.full(N, -1, dtype=np.int64)
     queue = np.empty(N, dtype=np.int64)
     sizes = np.zeros(N, dtype=np.int64)
     comp_label = np.zeros(N, dtype=np.int64)
     n_comp = 0
-    for s in range(N):  # 4-connected pieces of equal label
+    for s in range(N):
         if flat[s] < 0 or comp[s] >= 0:
             continue
         head, tail = 0, 1
@@ -204,45 +308,20 @@ def _partition(labels, anchors, n):  # pragma: no cover - numba
         sizes[n_comp] = tail
         comp_label[n_comp] = flat[s]
         n_comp += 1
-    seed_comp = np.full(n, -1, dtype=np.int64)
-    for k in range(n):  # the anchor's piece, else the largest piece
-        a = anchors[k, 0] * width + anchors[k, 1]
-        if flat[a] == k:
-            seed_comp[k] = comp[a]
-    for q in range(n_comp):
-        k = comp_label[q]
-        if flat[anchors[k, 0] * width + anchors[k, 1]] != k and (seed_comp[k] < 0 or sizes[q] > sizes[seed_comp[k]]):
-            seed_comp[k] = q
-    owner = np.full(n_comp, -1, dtype=np.int64)
-    for k in range(n):
-        if seed_comp[k] >= 0:
-            owner[seed_comp[k]] = k
-    out = np.full(N, -1, dtype=np.int64)
-    tail = 0
-    for i in range(N):
-        if flat[i] >= 0 and owner[comp[i]] >= 0:
-            out[i] = owner[comp[i]]
-            queue[tail] = i
+    return comp, sizes, comp_label, n_comp
+
+
+@njit(cache=True)
+def _pin(flat, out, queue, pinned, tail, a, k):  # pragma: no cover - numba
+    """Seed place ``k`` at the single mask cell ``a``, over any piece that holds it (queued for growth unless
+    already seeded), and mark it pinned; returns the queue's new tail."""
+    if flat[a] >= 0 and out[a] != k:
+        if out[a] < 0:
+            queue[tail] = a
             tail += 1
-    for k in range(n):  # a place with no cell of its own keeps its anchor cell
-        if seed_comp[k] < 0:
-            a = anchors[k, 0] * width + anchors[k, 1]
-            if flat[a] >= 0 and out[a] != k:
-                if out[a] < 0:
-                    queue[tail] = a
-                    tail += 1
-                out[a] = k
-    head = 0
-    while head < tail:  # breadth-first growth from every seed at once
-        i = queue[head]
-        head += 1
-        for d in range(4):
-            j = _neighbour(i, d, height, width)
-            if j >= 0 and flat[j] >= 0 and out[j] < 0:
-                out[j] = out[i]
-                queue[tail] = j
-                tail += 1
-    return out.reshape(height, width)
+        out[a] = k
+    pinned[a] = True
+    return tail
 
 
 @njit(cache=True, inline="always")

@@ -161,8 +161,9 @@ def read_image(path: Path) -> tuple[np.ndarray, np.ndarray | None, int]:
     R, G, B (a grey image repeats its grey value: a read-only view, not a copy), ``alpha`` int (H, W) or None
     without alpha, both in 0..maxval (255, or 65535 for 16-bit images).
 
-    Only PGM/PPM, PNG and BMP files are decoded, with at most ``safe_read.max_map_pixels()`` pixels
-    (:func:`spcotmhp.safe_read.open_image`); anything else is a MapError naming the file."""
+    Only PGM/PPM, PNG and BMP files are decoded, with at most ``safe_read.max_map_pixels()`` pixels, an aspect
+    ratio of at most ``safe_read.MAX_MAP_ASPECT`` and a PGM/PPM header of at most 64 KiB, all checked before
+    decoding (:func:`spcotmhp.safe_read.open_image`); anything else is a MapError naming the file."""
     with open_image(path, MapError) as img:
         return _image_channels(path, img)
 

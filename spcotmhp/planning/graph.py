@@ -35,8 +35,10 @@ dense fields (the portal graph shares one step cost between destinations).
 The grid is the robot's: p(x|m) = 0 on occupied, unknown, lethal and inscribed cells (:mod:`spcotmhp.metric.
 costmap`), so no partial path, start leg or smoothed path puts the robot's centre where its footprint overlaps
 an obstacle. Candidate points are snapped into their own place's territory (:mod:`spcotmhp.learning.territory`)
-within the largest free component; a place with no such cell has no node and is reported in
-``info["unreachable_places"]``.
+within the largest free region; every other free region that holds places (a place reaches a region where its
+2-sigma ellipse holds a cell of it: :mod:`spcotmhp.planning.regions`) has a graph of its own, on its own window
+(``regions``), and a plan starts in the graph of the start's region (:meth:`PlanningGraph.for_start`). A place
+with a node in no region is reported in ``info["unreachable_places"]``.
 
 Avoided places (:func:`spcotmhp.planning.avoid.avoided_view`) block their territories, in views that share the fields a
 blocked region does not change (:mod:`spcotmhp.planning.avoid`).
@@ -118,8 +120,8 @@ class PlanningGraph:
     log_transition: np.ndarray  # (M, M) log psi - log UR + w_hat (the per-step factor of Eq. 28 w/o words)
     connected: np.ndarray  # (K, K) connected places
     time_precompute_s: float
-    territory: np.ndarray  # (h, w) place of each traversable cell (-1 elsewhere)
-    main: np.ndarray  # (h, w) the largest free component (where the nodes are)
+    territory: np.ndarray  # (h, w) place of each cell of the graph's free region (-1 elsewhere)
+    main: np.ndarray  # (h, w) the graph's free region (where its nodes are): the largest one, or a region's own
     usable: np.ndarray  # (M,) nodes outside the avoided places (all True outside an avoidance view)
     log_transition_all: np.ndarray = field(default_factory=lambda: np.empty(0))  # log_transition, any two nodes
     _territories: dict = field(default_factory=dict, repr=False)  # place -> (row, col, grown mask)
@@ -133,6 +135,9 @@ class PlanningGraph:
     _base_fields: tuple | None = field(default=None, repr=False)  # the base graph's (dist, next_step) arrays
     _views: GraphCache = field(default_factory=lambda: GraphCache(AVOID_CACHE_SIZE), repr=False, compare=False)
     hier: hierarchy.TerritoryFields | None = None  # territory-local fields (when dense ones exceed the budget)
+    region: np.ndarray | None = None  # (h, w) free region label of each traversable cell (0 elsewhere; main graph)
+    plannable: np.ndarray | None = None  # (h, w) cells of the regions that hold places (main graph)
+    regions: dict = field(default_factory=dict, repr=False)  # region label -> the graph of that free region
     _lock: threading.RLock = field(default_factory=threading.RLock, repr=False, compare=False)  # guards memos
 
     def __getstate__(self) -> dict:
@@ -176,10 +181,19 @@ class PlanningGraph:
         makes long-lived arrays and, in a fresh process, numba's registries; collecting meanwhile frees nothing)."""
         t0 = time.perf_counter()
         with paused():
-            graph = cls(key=key, **graph_inputs(model, settings, log_p_full))  # Alg. 1, lines 1-3
+            inputs, subs = graph_inputs(model, settings, log_p_full)  # Alg. 1, lines 1-3
+            graph = cls(key=key, **inputs)
             graph._fields(reuse)
-            graph.info["field_bytes"] = graph.field_bytes
             graph._edges()
+            for label, sub_inputs in subs.items():  # every other free region with places: a graph of its own
+                t1 = time.perf_counter()
+                sub = cls(key=f"{key}/region-{label}", **sub_inputs)
+                sub._fields(None)
+                sub._edges()
+                sub.time_precompute_s = time.perf_counter() - t1
+                graph.regions[label] = sub
+            graph.info["regions"] = len(graph.regions)
+            graph.info["field_bytes"] = graph.field_bytes
         graph.time_precompute_s = time.perf_counter() - t0
         return graph
 
@@ -282,10 +296,32 @@ class PlanningGraph:
 
     @property
     def field_bytes(self) -> int:
-        """Bytes held by the cost-to-go fields and next-step links (and the portal graph's tables)."""
-        if self.hier is not None:
-            return self.hier.nbytes
-        return int(sum(np.asarray(d).nbytes for d in self.dist) + sum(np.asarray(n).nbytes for n in self.next_step))
+        """Bytes held by the cost-to-go fields and next-step links (and the portal graph's tables), the other free
+        regions' graphs included."""
+        own = (
+            self.hier.nbytes
+            if self.hier is not None
+            else sum(np.asarray(d).nbytes for d in self.dist) + sum(np.asarray(n).nbytes for n in self.next_step)
+        )
+        return int(own + sum(sub.field_bytes for sub in self.regions.values()))
+
+    def for_start(self, cell: np.ndarray) -> tuple[PlanningGraph, np.ndarray]:
+        """The graph of the free region holding crop cell ``cell`` (this one in its own region; the region's graph
+        in another, :mod:`spcotmhp.planning.regions`) and the cell in that graph's crop."""
+        r, c = int(cell[0]), int(cell[1])
+        if not self.regions or self.region is None or self.main[r, c]:
+            return self, cell
+        sub = self.regions.get(int(self.region[r, c]))
+        if sub is None:
+            return self, cell
+        return sub, np.asarray(cell) - (np.array(sub.offset) - np.array(self.offset))
+
+    def places_planned(self) -> np.ndarray:
+        """(K,) bool: the places with a node in this graph or in one of its other free regions' graphs."""
+        out = np.zeros(self.model.K, dtype=bool)
+        for g in (self, *self.regions.values()):
+            out[g.node_place] = True
+        return out
 
     def leg(self, cell: np.ndarray, node: int) -> GridPath:
         """The best path from crop cell ``cell`` into ``node`` (crop cells)."""

@@ -3,13 +3,11 @@
 Algorithm 1, line 9 of Taniguchi et al. (2024): the robot extracts the words naming the waypoints and the goal
 (Section 3.3: "the waypoint word is input in the first half and the target word in the second half"). Each named
 place becomes a weighted bag of words S_e; an N-best list of recogniser hypotheses becomes bags weighted by the
-normalised hypothesis scores (Eq. 25). The grammar words come from :mod:`spcotmhp.planning.grammar`; the place
-words from the model (:func:`spcotmhp.planning.vocabulary.place_vocabulary`).
-
-The sentence grammar (how a text is cut into place phrases and what role each phrase plays, including the errors
-for unknown words, alternatives and spatial relations) is :mod:`spcotmhp.planning.sentence`; the visiting order
-(order words such as "first", "after", 途中で) is :mod:`spcotmhp.planning.sequence`; the checks, weights and
-grouping of an N-best list are :mod:`spcotmhp.planning.nbest`.
+normalised hypothesis scores (Eq. 25). A sentence is read by the declarative grammar of its language
+(:mod:`spcotmhp.language.reading`: the places to visit in order, to avoid and not to end in, the relations that
+pick one instance of a name, a speed and waits); the place words come from the model
+(:func:`spcotmhp.planning.vocabulary.place_vocabulary`); the checks, weights and grouping of an N-best list are
+:mod:`spcotmhp.planning.nbest`.
 
 Bounded work (every limit is a keyword argument of the parse functions and of :func:`to_instruction`, defaulting
 to the module constants below, which a program may also set): an instruction longer than ``max_chars``
@@ -23,11 +21,8 @@ planner's search grows with the number of stages). Every error is a subclass of
 
 from __future__ import annotations
 
-import json
-import re
-from collections import Counter
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any
 
 from spcotmhp.errors import (
@@ -38,82 +33,45 @@ from spcotmhp.errors import (
     UnknownPlaceWord,
     UnsupportedLanguage,
 )
+from spcotmhp.language.reading import LANGUAGES, read
+from spcotmhp.language.text import is_japanese
+from spcotmhp.language.wording import excerpt
 from spcotmhp.planning.arguments import check_keywords, check_parse_arguments
-from spcotmhp.planning.grammar import GRAMMARS
 from spcotmhp.planning.nbest import heaviest_group, nbest_weights
-from spcotmhp.planning.sentence import Phrase, read_sentence
-from spcotmhp.planning.sequence import visiting_order
-from spcotmhp.planning.wording import excerpt, unknown_tail
+from spcotmhp.planning.query import (
+    MAX_AVOIDED,
+    MAX_CHARS,
+    MAX_HYPOTHESES,
+    MAX_JSON_CHARS,
+    MAX_PLACE_WORDS,
+    MAX_WAYPOINTS,
+    Instruction,
+    PlaceQuery,
+    limit,
+    within_limits,
+)
+from spcotmhp.planning.structured import parse_structured
 
-MAX_CHARS = 500
-"""Longest instruction text (characters) :func:`parse_text` accepts."""
-MAX_WAYPOINTS = 10
-"""Most waypoints an instruction may name."""
-MAX_AVOIDED = 10
-"""Most places an instruction may name to avoid plus not to end in."""
-MAX_HYPOTHESES = 50
-"""Most hypotheses of an N-best list."""
-MAX_JSON_CHARS = 20_000
-"""Longest JSON text of a structured instruction (its places are then bounded by the limits above)."""
-MAX_PLACE_WORDS = 8
-"""Most words in the name of one place of a structured instruction."""
-
-_CJK = re.compile(r"[\u3040-\u30ff\u3400-\u9fff\uff66-\uff9f]")
-
-
-@dataclass(frozen=True)
-class PlaceQuery:
-    """One named place of an instruction: a weighted bag of words S (Eq. 25) and a readable label.
-
-    ``alternatives``: for a bag merged from N-best hypotheses, each hypothesis's own bag (one of them names the
-    place; empty for a single phrase, whose words all name it)."""
-
-    words: Mapping[str, float]
-    label: str
-    alternatives: tuple[Mapping[str, float], ...] = ()
-
-    @property
-    def phrases(self) -> tuple[Mapping[str, float], ...]:
-        """The bags each of which names the place on its own: the alternatives, or the words."""
-        return self.alternatives or (self.words,)
-
-    def __post_init__(self) -> None:
-        if not self.words:
-            raise MalformedInstruction(f"the place {excerpt(self.label)} has no words")
-
-
-@dataclass(frozen=True)
-class Instruction:
-    """An understood instruction: stages are the waypoints in order, then the goal (Eq. 28 uses the bag of the
-    stage being pursued at each step); ``avoid`` places get zero probability; ``not_goal`` places may be passed
-    but never end the plan ("instead of the kitchen")."""
-
-    goal: PlaceQuery
-    waypoints: tuple[PlaceQuery, ...] = ()
-    avoid: tuple[PlaceQuery, ...] = ()
-    text: str = ""
-    lang: str = "en"
-    not_goal: tuple[PlaceQuery, ...] = ()
-
-    @property
-    def stages(self) -> tuple[PlaceQuery, ...]:
-        return (*self.waypoints, self.goal)
-
-    def describe(self) -> str:
-        """E.g. "bedroom via corridor, avoiding living"."""
-        out = self.goal.label
-        if self.waypoints:
-            out += " via " + ", then ".join(w.label for w in self.waypoints)
-        if self.avoid:
-            out += ", avoiding " + " and ".join(a.label for a in self.avoid)
-        if self.not_goal:
-            out += ", instead of " + " and ".join(a.label for a in self.not_goal)
-        return out
+__all__ = [
+    "MAX_AVOIDED",
+    "MAX_CHARS",
+    "MAX_HYPOTHESES",
+    "MAX_JSON_CHARS",
+    "MAX_PLACE_WORDS",
+    "MAX_WAYPOINTS",
+    "Instruction",
+    "PlaceQuery",
+    "detect_language",
+    "parse_nbest",
+    "parse_structured",
+    "parse_text",
+    "to_instruction",
+]
 
 
 def detect_language(text: str) -> str:
-    """ "ja" when the text holds kana or kanji, else "en"."""
-    return "ja" if _CJK.search(text) else "en"
+    """ "ja" when the text holds kana or kanji (half-width katakana too), else "en"."""
+    return "ja" if is_japanese(text) else "en"
 
 
 def parse_text(
@@ -155,127 +113,25 @@ def parse_text(
     if not text.strip():
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     lang = lang or detect_language(text)
-    if lang not in GRAMMARS:
+    if lang not in LANGUAGES:
         raise UnsupportedLanguage(
-            f"no grammar for language {excerpt(lang, 20)}; supported: {', '.join(sorted(GRAMMARS))}"
+            f"no grammar for language {excerpt(lang, 20)}; supported: {', '.join(sorted(LANGUAGES))}"
         )
     if not place_words:
         raise UnknownPlaceWord(f"no known place word in {excerpt(text)}; the model knows no place words")
-    parts = visiting_order(read_sentence(text, GRAMMARS[lang], place_words), text, place_words)
-
-    def query(p: Phrase) -> PlaceQuery:
-        bag: dict[str, float] = {}
-        for word in p.item.words:
-            bag[word] = bag.get(word, 0) + 1
-        return PlaceQuery(bag, p.item.surface)
-
-    visit = [query(p) for p in parts["visit"]]
+    reading = read(text, place_words, lang)
+    visit = [PlaceQuery.of(r) for r in reading.visit]
     ins = Instruction(
         goal=visit[-1],
         waypoints=tuple(visit[:-1]),
-        avoid=tuple(map(query, parts["avoid"])),
+        avoid=tuple(PlaceQuery.of(r) for r in reading.avoid),
         text=text,
         lang=lang,
-        not_goal=tuple(map(query, parts["not_goal"])),
+        not_goal=tuple(PlaceQuery.of(r) for r in reading.not_goal),
+        speed=reading.speed,
+        waits=reading.waits,
     )
-    return _within_limits(ins, max_waypoints, max_avoided)
-
-
-def _json_value(text: str) -> Any:
-    """The JSON value of a structured instruction's text (InstructionTooLarge / MalformedInstruction)."""
-    if len(text) > MAX_JSON_CHARS:
-        raise InstructionTooLarge(
-            f"the structured instruction has {len(text)} characters, more than the {MAX_JSON_CHARS} accepted"
-        )
-    try:
-        return json.loads(text)
-    except (json.JSONDecodeError, RecursionError) as exc:
-        why = exc.msg if isinstance(exc, json.JSONDecodeError) else "nested too deeply"
-        raise MalformedInstruction(f"structured instruction is not valid JSON: {why}") from None
-
-
-def parse_structured(
-    obj: Mapping[str, Any] | str,
-    place_words: Sequence[str],
-    lang: str = "en",
-    *,
-    max_waypoints: int | None = None,
-    max_avoided: int | None = None,
-) -> Instruction:
-    """The structured form ``{"goal": [...], "waypoints": [[...], ...], "avoid": [[...], ...]}`` (optionally
-    ``"not_goal": [[...], ...]``, places that must not be the goal).
-
-    Each place is a token list, or one string of space-separated tokens (so ``"waypoints": ["corridor",
-    "entrance corridor"]`` is two waypoints); every token must be a place word. A JSON string is accepted too.
-
-    Raises:
-        MalformedInstruction: not a JSON object of that shape. UnknownPlaceWord: a token is no place word.
-        InstructionTooLarge: too long a JSON text, too many places or words.
-    """
-    check_parse_arguments("parse_structured", place_words, max_waypoints=max_waypoints, max_avoided=max_avoided)
-    if isinstance(obj, str):
-        obj = _json_value(obj)
-    if not isinstance(obj, Mapping):
-        raise MalformedInstruction("a structured instruction must be a JSON object with keys goal, waypoints, avoid")
-    unknown_keys = [k for k in obj if k not in ("goal", "waypoints", "avoid", "not_goal")]
-    if unknown_keys:
-        raise MalformedInstruction(
-            f"unknown key(s) [{', '.join(excerpt(str(k), 30) for k in unknown_keys[:5])}] in "
-            "the structured instruction; accepted: goal, waypoints, avoid, not_goal"
-        )
-    if "goal" not in obj:
-        raise MalformedInstruction("the structured instruction has no 'goal'")
-    known = set(place_words)
-    limits = {
-        "waypoints": _limit(max_waypoints, MAX_WAYPOINTS),
-        "avoid": _limit(max_avoided, MAX_AVOIDED),
-        "not_goal": _limit(max_avoided, MAX_AVOIDED),
-    }
-
-    def query(tokens: Any, where: str) -> PlaceQuery:
-        if isinstance(tokens, str):
-            if len(tokens) > MAX_CHARS:
-                raise InstructionTooLarge(f"{where} has {len(tokens)} characters: {excerpt(tokens)}")
-            tokens = tokens.split()
-        if not isinstance(tokens, (list, tuple)) or not tokens or not all(isinstance(t, str) for t in tokens):
-            listed = tokens if isinstance(tokens, (list, tuple)) else ()
-            wrong = [f"{where}[{i}] is {excerpt(t)}" for i, t in enumerate(listed) if not isinstance(t, str)]
-            got = f"{wrong[0]}, not a word" if wrong else f"got {excerpt(tokens)}"
-            raise MalformedInstruction(f"{where} must be a non-empty list of words; {got}")
-        if len(tokens) > MAX_PLACE_WORDS:
-            raise InstructionTooLarge(f"{where} has {len(tokens)} words, more than the {MAX_PLACE_WORDS} accepted")
-        bad = list(dict.fromkeys(t for t in tokens if t not in known))
-        if bad:
-            raise UnknownPlaceWord(
-                f"{where}: unknown place word(s) {', '.join(excerpt(t, 30) for t in bad[:5])}"
-                f"{unknown_tail(bad, place_words)}"
-            )
-        return PlaceQuery(dict(Counter(tokens)), " ".join(tokens))
-
-    def queries(key: str) -> tuple[PlaceQuery, ...]:
-        value = obj.get(key, [])
-        if not isinstance(value, (list, tuple)):
-            raise MalformedInstruction(f"'{key}' must be a list of places (each a list of words), got {excerpt(value)}")
-        if len(value) > limits[key]:
-            raise InstructionTooLarge(f"'{key}' lists {len(value)} places, more than the {limits[key]} accepted")
-        return tuple(query(v, f"{key}[{i}]") for i, v in enumerate(value))
-
-    ins = Instruction(
-        goal=query(obj["goal"], "goal"),
-        waypoints=queries("waypoints"),
-        avoid=queries("avoid"),
-        text="",
-        lang=lang,
-        not_goal=queries("not_goal"),
-    )
-    text = json.dumps(
-        {
-            "goal": ins.goal.label,
-            **{k: [q.label for q in getattr(ins, k)] for k in ("waypoints", "avoid", "not_goal") if obj.get(k)},
-        },
-        ensure_ascii=False,
-    )
-    return _within_limits(replace(ins, text=text), max_waypoints, max_avoided)
+    return within_limits(ins, max_waypoints, max_avoided)
 
 
 def parse_nbest(
@@ -301,7 +157,7 @@ def parse_nbest(
     """
     check_keywords("parse_nbest", limits, ("max_hypotheses", "max_chars", "max_waypoints", "max_avoided"))
     check_parse_arguments("parse_nbest", place_words, max_hypotheses=max_hypotheses, **limits)
-    texts, weights = nbest_weights(hypotheses, _limit(max_hypotheses, MAX_HYPOTHESES))
+    texts, weights = nbest_weights(hypotheses, limit(max_hypotheses, MAX_HYPOTHESES))
     parsed: list[tuple[Instruction, float]] = []
     first_error: InstructionError | None = None
     for text, w in zip(texts, weights, strict=False):
@@ -312,11 +168,13 @@ def parse_nbest(
     if not parsed:
         assert first_error is not None  # every hypothesis failed, and there is at least one
         raise type(first_error)(f"no N-best hypothesis names a known place (first: {first_error})")
-    rel = heaviest_group(parsed, lambda ins: (len(ins.waypoints), len(ins.avoid), len(ins.not_goal)))
+    rel = heaviest_group(parsed, _shape)
     top = max(rel, key=lambda p: p[1])[0]
 
     def merged(role: str, j: int = 0) -> PlaceQuery:
-        return _merged_place([(_role_place(ins, role, j), w) for ins, w in rel], _role_place(top, role, j).label)
+        place = _role_place(top, role, j)
+        bag = _merged_place([(_role_place(ins, role, j), w) for ins, w in rel], place.label)
+        return replace(bag, relation=place.relation, every=place.every)
 
     return Instruction(
         goal=merged("goal"),
@@ -325,7 +183,16 @@ def parse_nbest(
         text=top.text,
         lang=top.lang,
         not_goal=tuple(merged("not_goal", j) for j in range(len(top.not_goal))),
+        speed=top.speed,
+        waits=top.waits,
     )
+
+
+def _shape(ins: Instruction) -> tuple:
+    """What hypotheses must share to be merged place by place: how many places of each role, and the relation
+    kinds of the places (a relation's places are the top hypothesis's)."""
+    kinds = tuple(q.relation.kind if q.relation else "" for q in (*ins.stages, *ins.avoid, *ins.not_goal))
+    return len(ins.waypoints), len(ins.avoid), len(ins.not_goal), kinds
 
 
 def _role_place(ins: Instruction, role: str, j: int) -> PlaceQuery:
@@ -358,7 +225,7 @@ def to_instruction(
     list of (text, score) pairs; the limits are those of the parse functions (module docstring)."""
     bounds = {"max_waypoints": max_waypoints, "max_avoided": max_avoided}
     if isinstance(source, Instruction):
-        return _within_limits(source, max_waypoints, max_avoided)
+        return within_limits(source, max_waypoints, max_avoided)
     if isinstance(source, Mapping):
         return parse_structured(source, place_words, lang or "en", **bounds)
     if isinstance(source, str):
@@ -368,22 +235,3 @@ def to_instruction(
     if isinstance(source, (list, tuple)):
         return parse_nbest(source, place_words, lang, max_hypotheses=max_hypotheses, max_chars=max_chars, **bounds)
     raise MalformedInstruction(f"cannot understand an instruction of type {type(source).__name__}")
-
-
-# ---- internals ---------------------------------------------------------------------------------------------
-def _limit(value: int | None, default: int) -> int:
-    return default if value is None else int(value)
-
-
-def _within_limits(ins: Instruction, max_waypoints: int | None, max_avoided: int | None) -> Instruction:
-    most_ways, most_avoided = _limit(max_waypoints, MAX_WAYPOINTS), _limit(max_avoided, MAX_AVOIDED)
-    if len(ins.waypoints) > most_ways:
-        raise InstructionTooLarge(
-            f"the instruction names {len(ins.waypoints)} waypoints, more than the {most_ways} accepted"
-        )
-    if len(ins.avoid) + len(ins.not_goal) > most_avoided:
-        raise InstructionTooLarge(
-            f"the instruction names {len(ins.avoid) + len(ins.not_goal)} places to avoid or "
-            f"not to end in, more than the {most_avoided} accepted"
-        )
-    return ins

@@ -15,8 +15,8 @@ from typing import Any, TypeVar
 import numpy as np
 
 from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, MalformedInstruction
+from spcotmhp.language.wording import excerpt
 from spcotmhp.learning.logspace import logsumexp
-from spcotmhp.planning.wording import excerpt
 
 T = TypeVar("T")
 

@@ -6,8 +6,9 @@ Definitions (each a documented choice; the property tests check the planner agai
 * **Candidate points** (Alg. 1, line 2; Section 3.4): N_i points per active place i. The first is the mean mu_i
   (the paper's N = 1 setting); the others are seeded samples from N(mu_i, Sigma_i) kept inside the place's
   ``quantile`` ellipse (rejection), so that "the candidate waypoints follow the rough shape of the place".
-  Each is snapped to the nearest traversable cell (p(x|m) > 0) of the largest connected free component, and
-  duplicates after snapping are dropped.
+  Each is snapped to the nearest traversable cell (p(x|m) > 0) of its place's territory in a free region (the
+  largest one, and every other region the place reaches: :mod:`spcotmhp.planning.regions`), and duplicates after
+  snapping are dropped.
 * **Connected places** (Alg. 1, line 3): a and b are connected when (psi_ab + psi_ba) / 2 >= 1 / K, the rule of
   the paper's Figure 3 (which writes >; with >= a fully connected home, whose psi is uniform = 1 / K, keeps its
   edges); partial paths are precomputed only between candidates of connected places.
@@ -38,9 +39,11 @@ Definitions (each a documented choice; the property tests check the planner agai
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
+from spcotmhp.errors import AmbiguousPlace, UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric.grid_ops import find_boxes
@@ -122,6 +125,7 @@ class LabelIndex:
     :func:`named_places` is a few mask operations per query."""
 
     def __init__(self, labels: Sequence[str]) -> None:
+        self.labels = list(labels)
         self.size = len(labels)
         self.masks: dict[str, np.ndarray] = {}
         for k, label in enumerate(labels):
@@ -143,6 +147,49 @@ def named_places(labels: Sequence[str] | LabelIndex, phrases: Sequence[Mapping[s
             named &= index.masks.get(word, False)
         out |= named
     return out
+
+
+def by_label(index: LabelIndex, query: Any, stage: bool = False) -> np.ndarray:
+    """(K,) the places whose label carries all the words of a place query (:class:`~spcotmhp.planning.
+    instructions.PlaceQuery`, or one of its N-best alternatives; :func:`named_places`), checked as instructions
+    need: two or more words that each belong to some label but name no place together ("the kitchen bedroom") are
+    refused, and so is, for a place to visit, a word that is part of several names but none whole
+    (:func:`one_name`).
+
+    Raises:
+        UnknownPlaceWord: no place is called so. AmbiguousPlace: which of several names is meant is a guess.
+    """
+    named = named_places(index, query.phrases)
+    if named.any():
+        if stage and len(query.phrases) == 1:
+            one_name(index, named, query.words, query.label)
+        return named
+    masks = index.masks
+    if len(query.phrases) == 1 and len(query.words) > 1 and all(w in masks for w in query.words):
+        raise UnknownPlaceWord(
+            f"no place is called {query.label!r}: "
+            + "; ".join(
+                f"'{w}' names {', '.join(sorted({index.labels[k] for k in np.flatnonzero(masks[w])}))}"
+                for w in query.words
+            )
+            + "; name one place"
+        )
+    return named
+
+
+def one_name(index: LabelIndex, named: np.ndarray, words: Mapping[str, float], label: str) -> None:
+    """Refuse a place phrase that names places of two or more different names, none of which it says whole ("the
+    corridor" with an east and a south corridor): which one is meant is a guess. Several places of one name are
+    instances, and the closest is meant ("the bedroom"); a phrase that is some place's whole name names it and the
+    places whose names hold it ("the bedroom" and "study bedroom").
+
+    Raises:
+        AmbiguousPlace: naming the names to choose from.
+    """
+    names = sorted({index.labels[k] for k in np.flatnonzero(named)})
+    said = sorted(w for w, c in words.items() if c > 0)
+    if len(names) > 1 and not any(sorted(n.split()) == said for n in names):
+        raise AmbiguousPlace(f"{label!r} is part of {len(names)} names: {', '.join(names)}; say which one")
 
 
 def inside_places(
@@ -209,19 +256,28 @@ def candidate_nodes(
     offset: tuple[int, int],
     main: np.ndarray,
     territory: np.ndarray,
+    fallback: Sequence[tuple[int, tuple[int, int]]] = (),
+    points: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The planning graph's nodes (Algorithm 1, line 2): :func:`candidate_points` (``n_candidates`` per place,
-    drawn with ``seed``), snapped into their own territory within the main free component
-    (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and without duplicates:
-    each node's place, crop cell and end term log N(x_j | mu_b, Sigma_b) at its cell's centre."""
+    drawn with ``seed``; or ``points``, the same already drawn), snapped into their own territory within the free
+    region ``main`` (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and
+    without duplicates, then ``fallback``: ``(place, crop cell)`` for places that reach the region but own none of
+    its cells (:mod:`spcotmhp.planning.regions`). Each node's place, crop cell and end term log N(x_j | mu_b,
+    Sigma_b) at its cell's centre."""
     occ = model.require_map()
-    rng = np.random.default_rng(seed)
-    node_place, node_xy = candidate_points(model, n_candidates, rng, quantile)
+    if points is None:
+        points = candidate_points(model, n_candidates, np.random.default_rng(seed), quantile)
+    node_place, node_xy = points
     cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array(offset), main, territory)
     node_place, cells = node_place[ok], cells[ok]
     _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
     keep = np.sort(keep)
     node_place, cells = node_place[keep], cells[keep]
+    extra = [(k, cell) for k, cell in fallback if k not in set(node_place.tolist())]
+    if extra:
+        node_place = np.concatenate([node_place, np.array([k for k, _ in extra], dtype=np.int64)])
+        cells = np.concatenate([cells, np.array([c for _, c in extra], dtype=cells.dtype).reshape(-1, 2)])
     xy = occ.cell_to_world(cells + np.array(offset))
     end_term = np.array(
         [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],

@@ -66,6 +66,8 @@ class Plan:
         smoothed: whether the path was smoothed.
         notes: what the plan did that the instruction did not ask for (leaving a start within the robot's
             radius of an obstacle; a metric route where the place graph had none), said in the explanation.
+        chosen: the places a relation of the instruction picked, with what the explanation says of them
+            (place id -> "the one closest to the bath").
     """
 
     path: np.ndarray
@@ -81,27 +83,44 @@ class Plan:
     node_points: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
     smoothed: bool = False
     notes: list[str] = field(default_factory=list)
+    chosen: dict[int, str] = field(default_factory=dict)
 
     @property
     def goal(self) -> PlanPlace:
         return self.places[-1]
 
     @property
+    def stops(self) -> list[PlanPlace]:
+        """The places that complete the instruction's stages, in order: the waypoints, then the goal."""
+        return [p for p in self.places if p.role in ("waypoint", "goal")]
+
+    @property
+    def waits(self) -> list[tuple[PlanPlace, float | None]]:
+        """Where the robot is to wait and for how many seconds (None: until the next instruction)."""
+        stops = self.stops
+        return [(stops[s], seconds) for s, seconds in self.instruction.waits if s < len(stops)]
+
+    @property
     def explanation(self) -> str:
         """E.g. "kitchen -> corridor (waypoint) -> bedroom #2 (closest of 3 bedrooms), 9.4 m"."""
         parts = []
         for p in self.places:
+            said = f", {self.chosen[p.id]}" if p.id in self.chosen and p.role in ("waypoint", "goal") else ""
             if p.role == "waypoint":
-                parts.append(f"{p.label} (waypoint)")
+                parts.append(f"{p.label} (waypoint{said})")
             elif p.role == "goal":
-                parts.append(p.label + self._goal_note(p))
+                parts.append(p.label + (f" ({said[2:]})" if said else self._goal_note(p)))
             else:
                 parts.append(p.label)
         text = " -> ".join(parts) + f", {self.length_m:.1f} m"
         if self.instruction.avoid:
-            text += ", avoiding " + " and ".join(a.label for a in self.instruction.avoid)
+            text += ", avoiding " + " and ".join(a.describe() for a in self.instruction.avoid)
         if self.instruction.not_goal:
-            text += ", instead of " + " and ".join(a.label for a in self.instruction.not_goal)
+            text += ", instead of " + " and ".join(a.describe() for a in self.instruction.not_goal)
+        for place, seconds in self.waits:
+            text += f"; waits at {place.label} " + ("until told" if seconds is None else f"for {seconds:g} s")
+        if self.instruction.speed:
+            text += "; " + {"slow": "slowly", "fast": "quickly"}[self.instruction.speed]
         for note in self.notes:
             text += f"; {note}"
         return text
@@ -135,9 +154,12 @@ class Plan:
                     "role": p.role,
                     "label": p.label,
                     "point": None if p.point is None else [round(float(v), 4) for v in p.point],
+                    "chosen_by": self.chosen.get(p.id),
                 }
                 for p in self.places
             ],
+            "speed": ins.speed,
+            "waits": [{"id": p.id, "label": p.label, "seconds": seconds} for p, seconds in self.waits],
             "length_m": round(self.length_m, 4),
             "log_prob": self.log_prob,
             "time_online_s": self.time_online_s,
@@ -149,6 +171,10 @@ class Plan:
                 "waypoints": [dict(w.words) for w in ins.waypoints],
                 "avoid": [dict(a.words) for a in ins.avoid],
                 "not_goal": [dict(a.words) for a in ins.not_goal],
+                "relations": {
+                    q.label: q.relation.describe() for q in (*ins.stages, *ins.avoid, *ins.not_goal) if q.relation
+                },
+                "understood": ins.describe(),
             },
             "goal_options": [
                 {

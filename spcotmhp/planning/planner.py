@@ -62,9 +62,9 @@ from spcotmhp.errors import (
     ConflictingInstruction,
     HorizonTooShort,
     ModelError,
+    PlaceCutOff,
     SpcotmhpError,
     StartInAvoidedPlace,
-    UnknownPlaceWord,
 )
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning import explain
@@ -75,8 +75,9 @@ from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
-from spcotmhp.planning.places import LabelIndex, inside_places, named_places
+from spcotmhp.planning.places import LabelIndex, by_label, inside_places
 from spcotmhp.planning.plan import Plan
+from spcotmhp.planning.relations import PlaceGeometry, place_geometry, resolve
 from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
@@ -125,12 +126,31 @@ class HierarchicalPlanner:
             )
             for k in act
         }
+        self.planned = self.graph.places_planned()  # (K,) places with a candidate point in some free region
+        in_main = np.zeros(model.K, dtype=bool)
+        in_main[self.graph.node_place] = True
+        self._main_has_all = not (self.planned & ~in_main).any()  # every planned place has a node in the main region
         occ = model.require_map()
         self._width = int(self.graph.log_p.shape[1])  # the crop's flat cell indices of the nodes
         self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
         self.resolution = float(occ.resolution)
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
+        self._geometries: dict[int, PlaceGeometry] = {}
+
+    def geometry_of(self, region: PlanningGraph) -> PlaceGeometry:
+        """What relations measure in a free region's graph (:mod:`spcotmhp.planning.relations`), built on first use
+        (a plan naming no relation never pays for it) and kept per region (a dict assignment: a race between
+        threads at worst builds one twice)."""
+        key = id(region)
+        if key not in self._geometries:
+            self._geometries[key] = place_geometry(region, self.resolution, self.diameter_cells * self.resolution)
+        return self._geometries[key]
+
+    def instance_label(self, k: int) -> str:
+        """How place k is called in plans and messages: "bedroom #2" among three bedrooms, else its name."""
+        number, count = self.numbering.get(int(k), (1, 1))
+        return f"{self.names[k]} #{number}" if count > 1 else self.names[k]
 
     # ---- Algorithm 1, lines 9-13 -----------------------------------------------------------------------
     def plan(
@@ -150,14 +170,14 @@ class HierarchicalPlanner:
             PlanningError: the start is off the map or not free, inside an avoided place, or no path satisfies
                 the instruction (the message says which stage cannot be reached).
         """
-        t0 = time.perf_counter()
-        model, res = self.model, self.resolution
+        t0, model, res = time.perf_counter(), self.model, self.resolution
         ins = parse_instruction(instruction, model, self.place_words, lang)
         x0, cell, escape = start_cell(model, self.graph, start)
-        stages = ins.stages
-        S = len(stages)
-        semantic, inst = self._stage_instances(ins)  # (S, K) word terms of Eq. 28 and instances
-        graph, avoided = self._avoid(ins, inst, x0, cell, escape)
+        region, cell = self.graph.for_start(cell)  # plan within the start's free region
+        S = len(ins.stages)
+        chosen: dict[int, str] = {}  # places a relation picked -> what the explanation says of them
+        semantic, inst = self._stage_instances(ins, chosen, region)  # (S, K) word terms of Eq. 28 and instances
+        graph, avoided = self._avoid(region, ins, inst, x0, cell, escape, chosen)
         posterior = self.terms.place_posterior(x0)
         notes = []
         if len(escape):
@@ -189,6 +209,7 @@ class HierarchicalPlanner:
             node_points=node_points,
             smoothed=smoothed,
             notes=notes,
+            chosen=chosen,
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
@@ -217,7 +238,7 @@ class HierarchicalPlanner:
         return self._instances(to_instruction({"goal": words}, self.place_words).goal)
 
     # ---- pieces ----------------------------------------------------------------------------------------
-    def _instances(self, query: PlaceQuery, likely: np.ndarray | None = None) -> np.ndarray:
+    def _instances(self, query: PlaceQuery, likely: np.ndarray | None = None, stage: bool = False) -> np.ndarray:
         """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
         (:func:`~spcotmhp.planning.places.instance_places`; ``likely``, when already computed) and, when some
         place's name carries all the words of the query (or of one of its N-best alternatives), only such places
@@ -229,55 +250,92 @@ class HierarchicalPlanner:
             return np.asarray(self.model.active_places, dtype=bool).copy()
         if likely is None:  # instance_places of log p(i | S), in the kernel of the stages' terms
             likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)[1][0]
-        named = named_places(self.label_index, query.phrases)
+        named = by_label(self.label_index, query, stage)
         if named.any():
+            if query.every:
+                return named
             both = named & likely
             return both if both.any() else named
-        masks = self.label_index.masks
-        if len(query.phrases) == 1 and len(query.words) > 1 and all(w in masks for w in query.words):
-            raise UnknownPlaceWord(
-                f"no place is called {query.label!r}: "
-                + "; ".join(
-                    f"'{w}' names {', '.join(sorted({self.names[k] for k in np.flatnonzero(masks[w])}))}"
-                    for w in query.words
-                )
-                + "; name one place"
-            )
         return likely
 
-    def _stage_instances(self, ins: Instruction) -> tuple[np.ndarray, np.ndarray]:
+    def _stage_instances(
+        self, ins: Instruction, chosen: dict[int, str] | None = None, region: PlanningGraph | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(S, K) the word term of Eq. 28 for each stage and (S, K) the instances that may complete it
         (:meth:`_instances` of its words), without, for the goal, the places the instruction says not to end
-        in ("instead of the kitchen": they may be passed)."""
+        in ("instead of the kitchen": they may be passed); a relation narrows a stage to the instance it picks
+        (:meth:`_related`)."""
         stages = ins.stages
+        chosen = {} if chosen is None else chosen
         semantic, likely = self.terms.stage_terms([q.words for q in stages], self.settings.instance_ratio)
-        inst = np.stack([self._instances(q, row) for q, row in zip(stages, likely, strict=True)])
+        inst = np.stack([self._instances(q, row, stage=True) for q, row in zip(stages, likely, strict=True)])
+        for s, q in enumerate(stages):
+            inst[s] = self._related(q, inst[s], chosen, region)
         for q in ins.not_goal:
-            inst[-1] &= ~self._instances(q)
+            inst[-1] &= ~self._related(q, self._instances(q), chosen, region)
             if not inst[-1].any():
                 raise ConflictingInstruction(
                     f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
                 )
         return semantic, inst
 
+    def _related(
+        self, query: PlaceQuery, candidates: np.ndarray, chosen: dict[int, str], region: PlanningGraph | None = None
+    ) -> np.ndarray:
+        """The instances among ``candidates`` that the query's relation picks (all of them without one), measured
+        in the start's free ``region``; what the explanation says of the one picked goes into ``chosen`` (place ->
+        "the one closest to the bath")."""
+        if query.relation is None or not candidates.any():
+            return candidates
+        others = [self._instances(PlaceQuery.of(arg)) for arg in query.relation.args]
+        geometry = self.geometry_of(region if region is not None else self.graph)
+        mask, said = resolve(query.relation, candidates, others, geometry, self.instance_label)
+        chosen[int(np.flatnonzero(mask)[0])] = said
+        return mask
+
+    def _check_region(self, region: PlanningGraph, ins: Instruction, inst: np.ndarray, x0: np.ndarray) -> None:
+        """:class:`~spcotmhp.errors.PlaceCutOff` when a stage's instances all lie in free regions other than the
+        start's ``region`` (each has candidate points, none in this region: :mod:`spcotmhp.planning.regions`).
+        A stage whose instances have no candidate point anywhere is left to the search's reason
+        (:func:`~spcotmhp.planning.search.why_no_plan`)."""
+        if region is self.graph and self._main_has_all:
+            return  # every place with a candidate point has one in the start's (main) region
+        here = np.zeros(self.model.K, dtype=bool)
+        here[region.node_place] = True
+        for s, q in enumerate(ins.stages):
+            if not (inst[s] & here).any() and (inst[s] & self.planned).any():
+                raise PlaceCutOff(
+                    f"the {q.label} is not reachable from here ({x0[0]:.2f}, {x0[1]:.2f}): the free space is cut "
+                    "(a closed door or a gap in the map) between the start and every place of that name"
+                )
+
     def _avoid(
-        self, ins: Instruction, inst: np.ndarray, x0: np.ndarray, cell: np.ndarray, escape: np.ndarray
+        self,
+        region: PlanningGraph,
+        ins: Instruction,
+        inst: np.ndarray,
+        x0: np.ndarray,
+        cell: np.ndarray,
+        escape: np.ndarray,
+        chosen: dict[int, str],
     ) -> tuple[PlanningGraph, np.ndarray]:
-        """The graph to search and the (K,) avoided places: the avoided places leave ``inst`` (in place) and the
-        graph becomes its avoidance view (their nodes removed, their territories blocked). Raises when a stage
-        has only avoided instances or the start (or its escape run) lies inside an avoided place."""
+        """The graph to search (the start's free ``region``'s) and the (K,) avoided places: the avoided places leave
+        ``inst`` (in place) and the graph becomes its avoidance view (their nodes removed, their territories
+        blocked). Raises when a stage has only avoided instances or the start (or its escape run) lies inside an
+        avoided place, or a stage's places all lie in other free regions (:meth:`_check_region`)."""
+        self._check_region(region, ins, inst, x0)
         avoided = np.zeros(self.model.K, dtype=bool)
         if not ins.avoid:
-            return self.graph, avoided
+            return region, avoided
         for q in ins.avoid:
-            avoided |= self._instances(q)
+            avoided |= self._related(q, self._instances(q), chosen, region)
         if not avoided.any():
-            return self.graph, avoided
+            return region, avoided
         inst &= ~avoided
         for s, q in enumerate(ins.stages):
             if not inst[s].any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-        graph = avoided_view(self.graph, tuple(np.flatnonzero(avoided)))
+        graph = avoided_view(region, tuple(np.flatnonzero(avoided)))
         blocked = graph.blocked
         assert blocked is not None  # an avoidance view has its blocked cells
         esc = graph.to_crop(escape) if len(escape) else escape

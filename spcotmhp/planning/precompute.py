@@ -2,12 +2,13 @@
 PlanningGraph.build`.
 
 :func:`graph_inputs` gives, in order: the cost map log p(x|m) cropped to the bounding box of its traversable
-cells (:func:`crop_cost_map`); the largest free component and every place's territory
-(:mod:`spcotmhp.learning.territory`); the candidate nodes, snapped into their own territory (Alg. 1, line 2;
-:func:`~spcotmhp.planning.places.candidate_nodes`); Figure 3's connected places (line 3); and every place's
-territory grown by ``tube_margin`` for smoothing (:mod:`spcotmhp.planning.territory`). The graph then computes
-its cost-to-go fields (lines 4-6) and w-hat (Eq. 27; :mod:`spcotmhp.planning.graph`, which gives the equations).
-"""
+cells (:func:`crop_cost_map`); the free regions and every place's territories in them
+(:mod:`spcotmhp.planning.regions`, from :mod:`spcotmhp.learning.territory`); then, for the largest free region
+and for every other region that holds places, on that region's own window: the candidate nodes, snapped into
+their own territory (Alg. 1, line 2; :func:`~spcotmhp.planning.places.candidate_nodes`); Figure 3's connected
+places (line 3); and every place's territory grown by ``tube_margin`` for smoothing
+(:mod:`spcotmhp.planning.territory`). The graph then computes each region's cost-to-go fields (lines 4-6) and
+w-hat (Eq. 27; :mod:`spcotmhp.planning.graph`, which gives the equations)."""
 
 from __future__ import annotations
 
@@ -17,17 +18,21 @@ import numpy as np
 
 from spcotmhp.errors import InvalidSettings, ModelError
 from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
-from spcotmhp.learning.territory import place_territories
 from spcotmhp.metric.costmap import inflate
-from spcotmhp.metric.snap import largest_component
+from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.planning.graph_settings import GraphSettings
-from spcotmhp.planning.places import candidate_nodes, connected_places
+from spcotmhp.planning.places import candidate_nodes, candidate_points, connected_places
+from spcotmhp.planning.regions import FreeRegions, free_regions
 from spcotmhp.planning.territory import grown_territories
 
 
-def graph_inputs(model: SpatialConceptModel, settings: GraphSettings, log_p_full: np.ndarray | None) -> dict[str, Any]:
-    """The fields of a new :class:`~spcotmhp.planning.graph.PlanningGraph` of ``model`` under ``settings``, all but
-    its ``key`` and what the cost-to-go fields give (module docstring); ``log_p_full`` overrides the cost map."""
+def graph_inputs(
+    model: SpatialConceptModel, settings: GraphSettings, log_p_full: np.ndarray | None
+) -> tuple[dict[str, Any], dict[int, dict[str, Any]]]:
+    """The fields of a new :class:`~spcotmhp.planning.graph.PlanningGraph` of ``model`` under ``settings`` on the
+    main (largest) free region, all but its ``key`` and what the cost-to-go fields give (module docstring), and the
+    same for every other free region that holds places (:mod:`spcotmhp.planning.regions`), by region label;
+    ``log_p_full`` overrides the cost map."""
     occ = model.require_map()
     log_p, (r0, r1, c0, c1) = crop_cost_map(
         occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
@@ -35,21 +40,88 @@ def graph_inputs(model: SpatialConceptModel, settings: GraphSettings, log_p_full
     traversable = np.isfinite(log_p)
     rr, cc = np.indices(log_p.shape)
     centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
+    offset = (int(r0), int(c0))
+    regions = free_regions(model, traversable, centres, offset)
+    main = regions.labels == regions.main
+    shared = {  # the same for every region: Figure 3's edges, the candidate points (Alg. 1, line 2)
+        "connected": connected_places(model, settings.edge_threshold),
+        "points": candidate_points(
+            model, settings.n_candidates, np.random.default_rng(settings.seed), settings.candidate_quantile
+        ),
+    }
+    inputs = _region_inputs(model, settings, regions, regions.main, offset, (0, 0), log_p, main, centres, shared)
+    inputs["traversable"] = traversable  # the main graph keeps every traversable cell (and the map's crop)
+    inputs["info"]["crop"] = [int(r0), int(r1), int(c0), int(c1)]
+    boxes = find_boxes(regions.labels)
+    subs = {}
+    for g in regions.with_places():
+        box = boxes[g - 1]
+        assert box is not None  # a region with places has cells
+        rows, cols = box
+        sub = _region_inputs(
+            model,
+            settings,
+            regions,
+            g,
+            offset,
+            (rows.start, cols.start),
+            np.ascontiguousarray(log_p[rows, cols]),
+            regions.labels[rows, cols] == g,
+            centres[rows, cols],
+            shared,
+        )
+        if len(sub["node_place"]):
+            subs[g] = sub
     act = np.flatnonzero(model.active_places)
-    main, offset = largest_component(traversable), (int(r0), int(c0))
-    territory = place_territories(model, traversable, centres, offset=offset)
+    planned = set(inputs["node_place"].tolist()).union(*(s["node_place"].tolist() for s in subs.values()))
+    unreachable = sorted(set(act.tolist()) - planned)
+    plannable = main | np.isin(regions.labels, list(subs))
+    inputs.update(region=regions.labels, plannable=plannable)
+    for part in (inputs, *subs.values()):
+        part["info"]["unreachable_places"] = unreachable
+    return inputs, subs
+
+
+def _region_inputs(
+    model: SpatialConceptModel,
+    settings: GraphSettings,
+    regions: FreeRegions,
+    label: int,
+    crop_offset: tuple[int, int],
+    corner: tuple[int, int],
+    log_p: np.ndarray,
+    mask: np.ndarray,
+    centres: np.ndarray,
+    shared: dict[str, Any],
+) -> dict[str, Any]:
+    """The graph inputs of free region ``label`` on its window of the crop (corner at crop cell ``corner``; the
+    crop's at map cell ``crop_offset``): ``log_p``, ``mask`` (the region's cells) and ``centres`` over the window,
+    its places' territories, candidate nodes (from ``shared["points"]``) and grown territories."""
+    occ = model.require_map()
+    (r0, c0), (h, w) = corner, mask.shape
+    offset = (crop_offset[0] + r0, crop_offset[1] + c0)
+    territory = np.where(mask, regions.territory[r0 : r0 + h, c0 : c0 + w], -1)
+    fallback = [(k, (r - r0, c - c0)) for k, (r, c) in regions.fallback.get(label, [])]
     node_place, cells, end_term = candidate_nodes(
-        model, settings.n_candidates, settings.seed, settings.candidate_quantile, offset, main, territory
+        model,
+        settings.n_candidates,
+        settings.seed,
+        settings.candidate_quantile,
+        offset,
+        mask,
+        territory,
+        fallback,
+        shared["points"],
     )
-    unreachable = sorted(set(act.tolist()) - set(node_place.tolist()))
     if settings.optimality == "every_step":  # the destination's Gaussian is in every step of the field instead
         end_term = np.zeros_like(end_term)
+    act = np.flatnonzero(model.active_places)
     return {
         "model": model,
         "settings": settings,
         "offset": offset,
-        "log_p": log_p,
-        "traversable": traversable,
+        "log_p": log_p if label == regions.main else np.where(mask, log_p, -np.inf),
+        "traversable": mask,
         "node_place": node_place,
         "node_cell": cells,
         "end_term": end_term,
@@ -58,16 +130,16 @@ def graph_inputs(model: SpatialConceptModel, settings: GraphSettings, log_p_full
         "w_hat": np.empty(0),
         "w_hat_metric": np.empty(0),
         "log_transition": np.empty(0),
-        "connected": connected_places(model, settings.edge_threshold),
+        "connected": shared["connected"],
         "time_precompute_s": 0.0,
         "info": {
             "n_nodes": len(cells),
-            "unreachable_places": unreachable,
-            "crop": [int(r0), int(r1), int(c0), int(c1)],
+            "region": int(label),
+            "crop": [offset[0], offset[0] + h, offset[1], offset[1] + w],
         },
         "_centres": centres,
         "territory": territory,
-        "main": main,
+        "main": mask,
         "usable": np.ones(len(cells), dtype=bool),
         "_territories": grown_territories(territory, act, settings.tube_margin / occ.resolution),
     }

@@ -12,7 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from spcotmhp.planning.grammar import GRAMMARS
+from spcotmhp.language.lexicon import word_table
+from spcotmhp.language.reading import LANGUAGES
 
 INSTANCE_RATIO = 4.0
 """The planner's default ``instance_ratio`` (:class:`~spcotmhp.planning.planner.PlannerSettings`)."""
@@ -22,7 +23,7 @@ PLACE_WORD_RATIO = 0.75
 word's score (see :func:`place_vocabulary`); the words of a place's label are chosen the same way."""
 
 
-_FUNCTION_WORDS = frozenset().union(*(g.function_words for g in GRAMMARS.values()))
+_FUNCTION_WORDS = frozenset().union(*(word_table(lang).function_words for lang in LANGUAGES))
 """Grammar and filler words of every supported language (never place words); generic nouns such as "room" are
 not among them, so that "alice's room" keeps its "room"."""
 

@@ -108,10 +108,11 @@ def keepout_mask(planner: HierarchicalPlanner, avoid: Sequence[str]) -> tuple[Oc
             avoided |= planner.places_named(words)
         except InstructionError as exc:  # places_named reads the words as a goal; here they name a place to avoid
             raise type(exc)(f"place to avoid (--avoid) {words!r}: {str(exc).removeprefix('goal: ')}") from None
-    graph, occ = planner.graph, planner.model.require_map()
+    occ = planner.model.require_map()
     data = np.zeros(occ.shape, dtype=np.int8)
-    (r0, c0), (h, w) = graph.offset, graph.territory.shape
-    data[r0 : r0 + h, c0 : c0 + w][np.isin(graph.territory, np.flatnonzero(avoided))] = 100
+    for graph in (planner.graph, *planner.graph.regions.values()):  # the territories in every free region
+        (r0, c0), (h, w) = graph.offset, graph.territory.shape
+        data[r0 : r0 + h, c0 : c0 + w][np.isin(graph.territory, np.flatnonzero(avoided))] = 100
     mask = OccupancyMap(data=data, resolution=occ.resolution, origin=(occ.origin[0], occ.origin[1], 0.0))
     return mask, [int(k) for k in np.flatnonzero(avoided)]
 

@@ -7,7 +7,9 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   Algorithm 1 from the latest pose on the start topic.
 * ``amcl_pose`` (geometry_msgs/PoseWithCovarianceStamped, in; ``start_topic``): the robot's pose, as AMCL
   publishes it (QoS "best available": transient local when the publisher is, so a node started after AMCL still
-  gets its last pose).
+  gets its last pose). A pose in another frame, not finite or off the model's map is rejected (an error status
+  of type ``PoseRejected``) and drops the pose held: instructions and teaching are then refused
+  (``NoValidPose``, naming why) until a valid pose arrives; an earlier pose is never used in its place.
 * ``spcotmhp/plan`` (nav_msgs/Path, out, reliable, transient local depth 1): the plan in ``frame``, every pose
   stamped and facing the next, the last keeping the last segment's heading (:mod:`spcotmhp.ros.shapes`).
 * ``spcotmhp/status`` (std_msgs/String, out): one JSON object per event: ``kind`` plan (explanation, places with
@@ -45,9 +47,10 @@ from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from spcotmhp.collector import end_startup
-from spcotmhp.errors import SpcotmhpError, StartBlocked
+from spcotmhp.errors import NoValidPose, PoseRejected, SpcotmhpError, StartOutsideMap
 from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.planning.start import locate_start
 from spcotmhp.ros.shapes import (
     error_status,
     map_mismatches,
@@ -99,7 +102,8 @@ class SpcotmhpNode(Node):
     ) -> None:
         super().__init__("spcotmhp")
         self.planner, self.frame, self.log = planner, frame, log
-        self.pose: tuple[float, float, float] | None = None
+        self.pose: tuple[float, float, float] | None = None  # the latest pose, None once one is rejected
+        self.rejected: str | None = None  # why the latest pose was rejected
         self.plan_pub = self.create_publisher(Path, "spcotmhp/plan", LATCHED)
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
@@ -160,26 +164,49 @@ class SpcotmhpNode(Node):
     # ---- input -----------------------------------------------------------------------------------------
     @answered("error")
     def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        """Keep the pose, or drop the one held and say why (PoseRejected): no later message plans from it."""
+        self.pose, self.rejected = None, None
+        try:
+            self.pose = self.checked_pose(msg)
+        except PoseRejected as exc:
+            self.rejected = str(exc)
+            raise
+
+    def checked_pose(self, msg: PoseWithCovarianceStamped) -> tuple[float, float, float]:
+        """(x, y, yaw) of a pose message in ``frame``, finite and on the model's map; else PoseRejected."""
         frame = msg.header.frame_id.lstrip("/")
         if frame and frame != self.frame:
-            raise StartBlocked(
+            raise PoseRejected(
                 f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: "
                 f"publish the pose in '{self.frame}' or start the node with --frame {frame})"
             )
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         yaw = quaternion_yaw(q.x, q.y, q.z, q.w)
         if not all(math.isfinite(v) for v in (p.x, p.y, yaw)):
-            raise StartBlocked(f"the pose ({p.x}, {p.y}, yaw {yaw}) is not finite")
-        self.pose = (float(p.x), float(p.y), float(yaw))
+            raise PoseRejected(f"the pose ({p.x}, {p.y}, yaw {yaw}) is not finite")
+        try:
+            locate_start(self.planner.model.require_map(), (p.x, p.y))
+        except StartOutsideMap as exc:
+            raise PoseRejected(f"the pose is off the model's map: {exc}") from None
+        return float(p.x), float(p.y), float(yaw)
+
+    def current_pose(self, use: str) -> tuple[float, float, float]:
+        """The pose to plan or teach from; NoValidPose when none has arrived or the latest was rejected."""
+        if self.pose is not None:
+            return self.pose
+        if self.rejected is not None:
+            raise NoValidPose(
+                f"the latest robot pose was rejected ({self.rejected}); {use} waits for a valid pose on the "
+                "start topic (an earlier pose is not used)"
+            )
+        raise NoValidPose(
+            "no robot pose yet: publish one on the start topic (AMCL's /amcl_pose, PoseWithCovarianceStamped) "
+            f"before {use}"
+        )
 
     @answered("error")
     def on_instruction(self, msg: String) -> None:
-        if self.pose is None:
-            raise StartBlocked(
-                "no robot pose yet: publish one on the start topic (AMCL's /amcl_pose, "
-                "PoseWithCovarianceStamped) before an instruction"
-            )
-        x, y, yaw = self.pose
+        x, y, yaw = self.current_pose("an instruction")
         plan = self.planner.plan(msg.data, (x, y))
         points = path_poses(plan.path, plan.cells, (x, y), self.planner.model.require_map())
         self.plan_pub.publish(self.path_message(points, yaw))
@@ -187,9 +214,7 @@ class SpcotmhpNode(Node):
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
-        if self.pose is None:
-            raise StartBlocked("no robot pose yet: an utterance is learned at the latest pose")
-        x, y, _ = self.pose
+        x, y, _ = self.current_pose("teaching (an utterance is learned at the robot's pose)")
         taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": msg.data}])
         planner, seconds = planner_for(taught.model, self.planner.settings, self.planner)
         event = self.log.append(x, y, msg.data) if self.log is not None else None

@@ -111,7 +111,9 @@ def map_mismatches(width: int, height: int, resolution: float, origin: Sequence[
 
 
 def plan_status(plan: Any, instruction: str, start: Sequence[float], points: np.ndarray, frame: str) -> dict:
-    """The status line of a plan: what was understood, the places with their roles, length and time."""
+    """The status line of a plan: what was understood, the places with their roles (and the relation that picked
+    one), the speed and waits asked for (for whoever drives the path: the Path itself has no speed), length and
+    time."""
     steps = np.diff(points, axis=0)
     return {
         "kind": "plan",
@@ -125,9 +127,13 @@ def plan_status(plan: Any, instruction: str, start: Sequence[float], points: np.
                 "label": p.label,
                 "role": p.role,
                 "point": None if p.point is None else [round(v, 4) for v in p.point],
+                **({"chosen_by": plan.chosen[p.id]} if p.id in plan.chosen else {}),
             }
             for p in plan.places
         ],
+        "understood": plan.instruction.describe(),
+        "speed": plan.instruction.speed,
+        "waits": [{"id": p.id, "label": p.label, "seconds": s} for p, s in plan.waits],
         "length_m": round(float(np.hypot(steps[:, 0], steps[:, 1]).sum()), 4),
         "time_s": round(plan.time_online_s, 4),
         "start": [round(float(v), 4) for v in start[:2]],

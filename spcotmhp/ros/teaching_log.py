@@ -3,7 +3,8 @@ layout (``spcotmhp/data/README.md``) that ``spcotmhp learn`` and :func:`spcotmhp
 
 The folder gets the model's map (``map.yaml`` + ``map.pgm``, as Nav2's map_saver writes it) when it is created,
 and ``teaching.csv`` (``event,x,y,words_ja,words_en``) from the first utterance on; each utterance goes into the
-column of its language (kana or kanji: ``words_ja``, else ``words_en``). Every change rewrites the file
+column of its language (kana or kanji: ``words_ja``, cut into words and spaced as dataset rows are read, else
+``words_en``). Every change rewrites the file
 atomically (:mod:`spcotmhp.safe_write`): a reader, or a crash, sees the file before or after an utterance,
 never half of one. An existing dataset folder is appended to when its map agrees with the model's.
 """
@@ -17,9 +18,9 @@ from pathlib import Path
 
 from spcotmhp.datasets.tables import read_table
 from spcotmhp.errors import DatasetError
+from spcotmhp.language.text import is_japanese, words
 from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
-from spcotmhp.planning.instructions import detect_language
 from spcotmhp.ros.shapes import map_mismatches
 from spcotmhp.safe_write import atomic_write_text, build_folder
 
@@ -84,7 +85,9 @@ class TeachingLog:
             )
         if not (math.isfinite(x) and math.isfinite(y)):
             raise DatasetError(f"the pose ({x}, {y}) is not finite")
-        column = f"words_{detect_language(text)}"
+        column = "words_ja" if is_japanese(text) else "words_en"
+        if column == "words_ja":  # recorded as the words the node taught, spaced as dataset rows are read
+            text = " ".join(words(text, "ja"))
         if column not in self.header:
             raise DatasetError(f"{self.teaching} has no {column} column for {text[:40]!r}")
         values = {"event": str(self.n_events), "x": f"{x:.4f}", "y": f"{y:.4f}", column: text}

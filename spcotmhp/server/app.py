@@ -8,9 +8,9 @@ Host header naming a host that is not allowed (localhost only by default), 404 f
 JSON endpoint's body sent with another Content-Type, 422 for invalid fields, an instruction naming no known
 place (with the known ``place_words``), a start in a wall or off the map, or audio that is not a usable WAV
 file; 409 when no free path reaches the place named; 501 for audio without the speech extra; 503 when the
-planner is busy or a plan exceeds the time budget (:mod:`spcotmhp.server.scheduling`). ``POST /teach`` learns
-a place name at run time. ``/docs`` is a self-contained page describing the API from ``/openapi.json`` (no
-CDN, works offline).
+planner is busy or a plan exceeds the time budget (:mod:`spcotmhp.server.scheduling`), with ``Retry-After``.
+``POST /teach`` learns a place name at run time. ``/docs`` is a self-contained page describing the API from
+``/openapi.json`` (no CDN, works offline).
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ from spcotmhp.server.limits import (
     TrustedHosts,
 )
 from spcotmhp.server.registry import ServedModel, load_served
-from spcotmhp.server.scheduling import Budget
+from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
     AudioPlanResponse,
     ErrorResponse,
@@ -303,7 +303,8 @@ def _parse_start(text: str) -> tuple[float, float]:
 def _add_error_handlers(app: FastAPI) -> None:
     @app.exception_handler(APIError)
     async def api_error(_: Request, exc: APIError) -> JSONResponse:
-        return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status)
+        headers = {"Retry-After": str(RETRY_AFTER_S)} if exc.status == 503 else None
+        return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status, headers=headers)
 
     @app.exception_handler(RequestValidationError)
     async def invalid(_: Request, exc: RequestValidationError) -> JSONResponse:

@@ -15,6 +15,7 @@ the planner cannot be interrupted. So that such requests cannot starve the other
 * **Time budget.** A request waits at most ``time_budget`` seconds for its plan, then gets ``PlanningTimeout``
   (503). A request still queued then is dropped from the queue; one already running finishes in the
   background and keeps its lane slot until it does, so a client cannot pile up work by timing out.
+  Every 503 carries ``Retry-After: 1`` (``RETRY_AFTER_S``).
 """
 
 from __future__ import annotations
@@ -31,6 +32,9 @@ from typing import Any, TypeVar
 from spcotmhp.errors import InstructionTooLarge, PlanningError, PlanningTimeout
 
 T = TypeVar("T")
+# the Retry-After (seconds) of every 503: a lane frees its slot when a plan ends (about a millisecond for a light
+# one), and a timed-out plan runs on for at most its own length; one second is the shortest whole value
+RETRY_AFTER_S = 1
 
 
 class ServiceBusy(PlanningError):

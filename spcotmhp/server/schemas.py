@@ -28,16 +28,35 @@ class Hypothesis(BaseModel):
     score: Number
 
 
-class StructuredInstruction(BaseModel):
-    """An instruction already understood: the goal's words, each waypoint's words in order, places to avoid,
-    places not to end in."""
+Words = Annotated[list[Word], Field(min_length=1, max_length=20)]
+
+
+class RelatedPlace(BaseModel):
+    """A place that a relation picks among the places of its name ("the bedroom closest to the bath")."""
 
     model_config = ConfigDict(extra="forbid")
-    goal: list[Word] = Field(min_length=1, max_length=20)
-    waypoints: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
-    avoid: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(default=[], max_length=20)
-    not_goal: list[Annotated[list[Word], Field(min_length=1, max_length=20)]] = Field(
+    words: Words
+    relation: Literal["closest", "farthest", "next_to", "between", "largest", "smallest"] | None = None
+    of: list[Words] = Field(default=[], max_length=2, description="The relation's other places (two for 'between').")
+
+
+Place = Words | RelatedPlace
+
+
+class StructuredInstruction(BaseModel):
+    """An instruction already understood: the goal's words, each waypoint's words in order, places to avoid,
+    places not to end in; a place may pick one instance of its name by a relation; a speed and waits."""
+
+    model_config = ConfigDict(extra="forbid")
+    goal: Place
+    waypoints: list[Place] = Field(default=[], max_length=20)
+    avoid: list[Place] = Field(default=[], max_length=20)
+    not_goal: list[Place] = Field(
         default=[], max_length=20, description="Places that must not be the goal (they may be passed)."
+    )
+    speed: Literal["slow", "fast"] | None = None
+    waits: list[tuple[int, Finite | None]] = Field(
+        default=[], max_length=21, description="[stage, seconds or null]: stages are the waypoints, then the goal."
     )
 
 
@@ -80,7 +99,7 @@ class PlanRequest(BaseModel):
         if self.nbest is not None:
             return [(h.text, h.score) for h in self.nbest]
         if self.structured is not None:
-            return self.structured.model_dump()
+            return self.structured.model_dump(exclude_defaults=True)
         return str(self.instruction)
 
 
@@ -118,6 +137,7 @@ class PlanPlaceOut(BaseModel):
     role: Literal["start", "via", "waypoint", "goal"]
     label: str
     point: Point | None
+    chosen_by: str | None = Field(None, description='The relation that picked it, e.g. "the one closest to the bath".')
 
 
 class InstructionOut(BaseModel):
@@ -126,6 +146,14 @@ class InstructionOut(BaseModel):
     waypoints: list[dict[str, float]]
     avoid: list[dict[str, float]]
     not_goal: list[dict[str, float]] = []
+    relations: dict[str, str] = {}
+    understood: str = Field("", description="What was understood, in words.")
+
+
+class WaitOut(BaseModel):
+    id: int
+    label: str
+    seconds: float | None = Field(description="How long to wait there; null: until the next instruction.")
 
 
 class GoalOptionOut(BaseModel):
@@ -148,6 +176,9 @@ class PlanResponse(BaseModel):
     explanation: str
     instruction: InstructionOut
     goal_options: list[GoalOptionOut]
+    speed: Literal["slow", "fast"] | None = Field(None, description="The speed asked for, for the controller.")
+    waits: list[WaitOut] = Field(default=[], description="Where to wait and how long, for the controller.")
+    notes: list[str] = []
 
 
 class AudioPlanResponse(PlanResponse):

@@ -10,10 +10,11 @@ connectors ("and then"), with an optional polite opening ("please", "could you")
 
 A goal marker ("to") opens a clause only after a verb or a connector: a bare "to" mid-sentence is rarely said and,
 allowed everywhere, it is what the decoder inserts into a badly heard place name. The markers and connectors are
-a compact subset of the instruction parser's English table (:data:`spcotmhp.planning.grammar.ENGLISH`), so
-whatever the recogniser can hear the parser understands; the verbs, determiners and place kinds are words the
-parser ignores (its fillers). ``<word>`` is any place word of the learned vocabulary. Grammar phrases with a word
-that the pronunciation dictionary lacks are left out (and listed in ``InstructionGrammar.dropped``).
+a compact subset of the word classes of the instruction grammar (``spcotmhp/language/grammars/en.json``; each is
+checked against them), so whatever the recogniser can hear the parser reads; the verbs, the article and the
+place kind are words the parser reads as motion, a filler and a generic noun. ``<word>`` is any place word of the
+learned vocabulary. Grammar phrases with a word that the pronunciation dictionary lacks are left out (and listed in
+``InstructionGrammar.dropped``).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from spcotmhp.planning.grammar import ENGLISH
+from spcotmhp.language.lexicon import tokens, word_table
 from spcotmhp.speech.lexicon import SPEAKABLE
 
 # a compact subset of the parser's English markers and connectors: every alternative widens the search, and
@@ -43,7 +44,7 @@ MARKERS = (
 )
 CONNECTORS = ("and", "then", "and then", "after that")
 VERBS = ("go", "take me", "bring me", "head", "move", "navigate", "guide me")
-DETERMINERS = ("the", "my")
+DETERMINERS = ("the",)
 PLACE_KINDS = ("room",)
 POLITE = ("please", "could you", "can you")
 
@@ -88,9 +89,9 @@ def instruction_grammar(place_words: Iterable[str], pronounceable: Callable[[str
                 dropped.append(phrase)
         return sorted(set(keep))
 
-    goals = usable(m for m in GOAL_MARKERS if ENGLISH.markers.get(m) == "goal")
-    markers = usable(m for m in MARKERS if m in ENGLISH.markers and ENGLISH.markers[m] != "goal")
-    connectors = usable(c for c in CONNECTORS if c in ENGLISH.connectors)
+    goals = usable(m for m in GOAL_MARKERS if _classes(m) == ["TO"])
+    markers = usable(m for m in MARKERS if _classes(m) and "WORD" not in _classes(m) and "TO" not in _classes(m))
+    connectors = usable(c for c in CONNECTORS if _classes(c) and set(_classes(c)) <= {"AND", "THEN"})
     verbs, dets, kinds, polite = (usable(x) for x in (VERBS, DETERMINERS, PLACE_KINDS, POLITE))
     rules = {
         "goal": goals,
@@ -118,3 +119,8 @@ def instruction_grammar(place_words: Iterable[str], pronounceable: Callable[[str
         grammar_words=tuple(sorted(words - set(places))),
         dropped=tuple(sorted(dropped)),
     )
+
+
+def _classes(phrase: str) -> list[str]:
+    """The word classes of the instruction grammar a phrase is read as ("via" -> ["VIA"]; an unknown word: "WORD")."""
+    return [t.kind for t in tokens(phrase, word_table("en"), ())]

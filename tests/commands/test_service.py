@@ -85,17 +85,31 @@ def test_serve_reports_a_port_in_use_in_one_line(model_dir):
     assert "serving" not in run.stdout + run.stderr
 
 
-def test_a_missing_model_folder_is_reported_before_the_port(tmp_path):
-    """Issue 25: `make test` failed while the demo's `next:` server held port 8000 (the default): the missing
-    folder must be what serve reports, whatever holds the port."""
+@pytest.mark.parametrize("damage", ["missing", "hostile"])
+def test_serve_checks_its_models_before_its_port(model_dir, tmp_path, damage):
+    """Issue 26: on a busy port, serve reported the port before a missing (or bad) model; the model is what
+    to fix first, and a port is only held once the models are known to load."""
+    import json
+    import shutil
     import socket
 
+    from tests.helpers.learning import reseal
+
+    bad = tmp_path / "bad"
+    if damage == "hostile":
+        shutil.copytree(model_dir, bad)
+        meta = json.loads((bad / "model.json").read_text(encoding="utf-8"))
+        meta["hyper"]["place_size"] = 1e308
+        (bad / "model.json").write_text(json.dumps(meta), encoding="utf-8")
+        reseal(bad)
     with socket.socket() as holder:
         holder.bind(("127.0.0.1", 0))
         holder.listen()
-        run = _serve(str(tmp_path / "nope"), "--port", str(holder.getsockname()[1]))
-    assert run.returncode == 2
-    assert run.stderr.strip().splitlines()[-1] == f"error: model folder {tmp_path / 'nope'} does not exist"
+        run = _serve(str(model_dir), f"other={bad}", "--port", str(holder.getsockname()[1]))
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.strip().splitlines()
+    expected = "does not exist" if damage == "missing" else "hyper-parameter place_size must be a finite number"
+    assert len(lines) == 1 and lines[0].startswith("error: ") and str(bad) in lines[0] and expected in lines[0], lines
 
 
 def test_serve_reports_an_unusable_host_in_one_line(model_dir):

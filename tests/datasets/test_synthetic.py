@@ -422,6 +422,7 @@ def test_synth_command_reports_an_unwritable_folder_in_one_line():
             r"a 100000 x 100000 map \(size 100000\) has 10000000000 pixels, over the cap of 16000000 of the map loader",
         ),
         ({"kind": "flat", "size": (4000, 4001)}, r"a 4000 x 4001 map \(size \(4000, 4001\)\) has 16004000 pixels"),
+        ({"kind": "flat", "size": (10, 10_001)}, r"a 10 x 10001 map is longer than 1000 times its width"),
         (
             {"kind": "office", "n_rooms": 1000},
             r"map \(1000 places of a office at 0.1 m per cell\) has \d+ pixels, over",

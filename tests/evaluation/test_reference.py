@@ -103,13 +103,16 @@ def test_footprint_targets_by_hand():
     robot = np.ones((4, 10), bool)
     centres = np.stack(np.meshgrid(np.arange(10) + 0.5, np.arange(4) + 0.5), axis=-1)  # (row, col) -> (x, y)
     means = np.array([[1, 0], [1, 9]])
+    positions = np.array([[1, 0], [1, 4]])
     # the mean at (1, 0): the region's nearest robot cell is (1, 5); at (1, 9) it is its own cell
-    assert footprint_targets(robot, centres, means, [_Right(), _Right()]).tolist() == [[1, 5], [1, 9]]
-    # a wall at col 7 cuts cols 8-9 off: the region's cells of the larger component (cols 0-6) come first
+    assert footprint_targets(robot, centres, means, [_Right(), _Right()], positions).tolist() == [[1, 5], [1, 9]]
+    # a wall at col 7 cuts cols 8-9 off: the region's cells in the free region of the position (cols 0-6) first
     robot[:, 7] = False
-    assert footprint_targets(robot, centres, means, [_Right(), _Right()]).tolist() == [[1, 5], [1, 6]]
-    robot[:, 5:] = False  # no robot cell in the region at all
-    assert footprint_targets(robot, centres, means[:1], [_Right()]).tolist() == [[-1, -1]]
+    assert footprint_targets(robot, centres, means, [_Right(), _Right()], positions).tolist() == [[1, 5], [1, 6]]
+    positions[1] = [1, 8]  # a position beyond the wall: its own free region's cells
+    assert footprint_targets(robot, centres, means, [_Right(), _Right()], positions).tolist() == [[1, 5], [1, 9]]
+    robot[:, 5:] = False  # no robot cell in the region at all: none
+    assert footprint_targets(robot, centres, means[:1], [_Right()], positions[:1]).tolist() == [[-1, -1]]
 
 
 def test_through_a_waypoint_by_brute_force():

@@ -201,3 +201,25 @@ def test_bundled_homes_follow_the_protocol(home, n_basic):
         if i != j and not ds.adjacency[i, j]
     }
     assert len(adv.tasks) == sum(per_pair.values())
+
+
+def test_a_mean_inside_a_pocket_puts_the_position_in_the_region_most_of_the_teaching_lies_in():
+    """A ring of furniture around cell (3, 6) holds the mean of place 0's teaching: the robot cell nearest the mean
+    is that pocket, cut off from the room; four of the five teaching points' nearest robot cells are in the room
+    around it, so the position is the room's cell nearest the mean (one of four at distance 2), not the pocket."""
+    data = np.zeros((7, 13), np.int8)
+    data[2, 5:8] = data[4, 5:8] = 100
+    data[3, 5] = data[3, 7] = 100
+    positions = np.array([[6.5, 1.5], [6.5, 5.5], [4.5, 3.5], [8.5, 3.5], [6.5, 3.5], [11.5, 3.5], [12.5, 3.5]])
+    ds = corridor_home(
+        map=OccupancyMap(data, 1.0),
+        positions=positions,
+        tokens=[["living"]] * 5 + [["hall"]] * 2,
+        truth_place=np.array([0, 0, 0, 0, 0, 1, 1]),
+        adjacency=np.eye(2, dtype=int),
+        place_names=["living", "hall"],
+    )
+    places = build_places(ds)
+    assert nearest_free_cell(ds, places[0].mean) == (3, 6)  # the pocket
+    assert places[0].cell in {(1, 6), (5, 6), (3, 4), (3, 8)}
+    assert places[1].cell == nearest_free_cell(ds, places[1].mean) == (3, 12)

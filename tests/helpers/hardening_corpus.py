@@ -66,7 +66,7 @@ MAP_BASE = {
 
 
 def _pgm(rng: random.Random) -> bytes:
-    kind = rng.randrange(8)
+    kind = rng.randrange(10)
     if kind == 0:
         return f"P5\n{rng.choice([100000, 40000, 70000])} {rng.choice([100000, 40000])}\n255\n".encode()
     if kind == 1:
@@ -79,6 +79,11 @@ def _pgm(rng: random.Random) -> bytes:
         return b"P5\n0 0\n255\n"
     if kind == 5:
         return f"P5\n3 3\n{rng.choice([1, 255, 65535, 70000, 0])}\n".encode() + bytes(18)
+    if kind == 6:  # issue 26: a header comment past the 64 KiB bound (50 MB took costmap 22 s)
+        return b"P5\n#" + b"c" * rng.choice([70_000, 5_000_000]) + b"\n4 4\n255\n" + bytes(16)
+    if kind == 7:  # issue 26: a strip inside the pixel cap (1 x 16,000,000 took costmap 22.7 s)
+        n = rng.choice([1001, 100_000, 16_000_000])
+        return f"P5\n1 {n}\n255\n".encode() + bytes([254]) * min(n, 200_000)
     w, h = rng.randrange(1, 40), rng.randrange(1, 40)
     return f"P5\n{w} {h}\n255\n".encode() + bytes(rng.choice([0, 205, 254]) for _ in range(w * h))
 
@@ -186,12 +191,26 @@ def dataset_case(rng: random.Random, folder: Path, template: Path) -> str:
 
 def model_case(rng: random.Random, folder: Path, template: Path) -> str:
     """A copy of the model folder ``template``, damaged: flipped bytes (sealed again or not), hostile JSON
-    values, nesting, symlinks out, zip bombs, a bare .npy, a non-symmetric Sigma."""
+    values, nesting, symlinks out, zip bombs, a bare .npy, a non-symmetric Sigma; hostile values resealed and
+    files grown sparse to gigabytes (issue 26)."""
     from spcotmhp.learning.model_folder import MANIFEST, manifest_of
 
     shutil.copytree(template, folder, dirs_exist_ok=True, symlinks=True)
     reseal = rng.random() < 0.7
-    kind = rng.randrange(9)
+    kind = rng.randrange(11)
+    if kind == 9:  # issue 26: hostile values behind a valid checksum
+        from tests.helpers.strategies import ISSUE_26_VALUES, apply_edits
+
+        edit = rng.choice(ISSUE_26_VALUES)
+        return apply_edits(folder, [edit]) + " (resealed)"
+    if kind == 10:  # issue 26: a file grown sparse to gigabytes, its size (not its hash) in the manifest
+        name, size = rng.choice(["arrays.npz", "map.pgm", "model.json", "map.yaml"]), rng.choice([2**30, 2**33])
+        with open(folder / name, "r+b") as handle:
+            handle.truncate(size)
+        manifest = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+        manifest["files"][name]["bytes"] = size if rng.random() < 0.7 else manifest["files"][name]["bytes"]
+        (folder / MANIFEST).write_text(json.dumps(manifest), encoding="utf-8")
+        return f"{name} grown sparse to {size} bytes"
     if kind == 0:
         name = rng.choice(["arrays.npz", "model.json", "map.yaml", "map.pgm", MANIFEST])
         data = bytearray((folder / name).read_bytes())

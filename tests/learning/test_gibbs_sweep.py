@@ -115,7 +115,7 @@ def test_priors_follow_the_truncation():
     assert (r.L, r.K, r.alpha, r.gamma, r.omega) == (10, 40, 1.0, 0.025, 0.25)
     given = Hyperparameters(alpha=2.0, omega=0.1).resized(10, 40)  # given values are kept
     assert (given.alpha, given.gamma, given.omega) == (2.0, 0.025, 0.1)
-    with pytest.raises(ValueError, match="L and K must be >= 1 to derive alpha, gamma, omega, got L=0, K=20"):
+    with pytest.raises(ValueError, match=r"L must be an integer in \[1, 10000\], got 0"):
         Hyperparameters(L=0)
     est = _fit(planted_dataset(E=40), L=8, K=25, iterations=2, connectivity="hmm")
     hy = est.model_.hyper

@@ -167,9 +167,16 @@ def test_missing_array(saved):
         (
             "Sigma",
             lambda m: -m.Sigma,
-            r"Sigma\[0\] is not positive definite \(eigenvalues -[\d.e-]+, -[\d.e-]+\); a covariance must be "
-            r"positive definite, its smaller eigenvalue above 1e-12 times the larger$",
+            r"arrays.npz: Sigma\[0\] is not positive definite within the usable range \(eigenvalues -[\d.e-]+, "
+            r"-[\d.e-]+\); a covariance must be positive definite, its smaller eigenvalue at least 1e-10 square "
+            r"metres and above 1e-12 times the larger$",
         ),
+        (  # issue 26: a covariance scaled by 1e-300 loaded, then planning crashed on its zero determinant
+            "Sigma",
+            lambda m: m.Sigma * 1e-300,
+            r"arrays.npz: Sigma\[0\] is not positive definite within the usable range \(eigenvalues [\d.]+e-30\d",
+        ),
+        ("psi", lambda m: np.full_like(m.psi, 0.0), r"arrays.npz: psi must be non-negative with rows summing to 1"),
         (
             "active_places",
             lambda m: m.active_places.astype(float),
@@ -313,16 +320,19 @@ def test_non_finite_cost_map_setting(saved):
 @pytest.mark.parametrize(
     "name,value,message",
     [
-        ("alpha", "big", r"hyper-parameter alpha must be a finite number > 0, got 'big'"),
-        ("gamma", -0.1, r"hyper-parameter gamma must be a finite number > 0, got -0.1"),
-        ("beta", 0, r"hyper-parameter beta must be a finite number > 0, got 0"),
-        ("omega", None, r"hyper-parameter omega must be a finite number > 0, got None"),
+        ("alpha", "big", r"model.json: hyper-parameter alpha must be a finite number in \[1e-06, 1e\+06\], got 'big'"),
+        ("gamma", -0.1, r"hyper-parameter gamma must be a finite number in \[1e-06, 1e\+06\], got -0.1"),
+        ("beta", 0, r"hyper-parameter beta must be a finite number in \[1e-06, 1e\+06\], got 0"),
+        ("omega", None, r"hyper-parameter omega must be a finite number in \[1e-06, 1e\+06\], got None"),
         ("kappa0", 1e400, r"model.json is not accepted: Infinity is not a number JSON accepts"),
-        ("nu0", 1, r"hyper-parameter nu0 must be a finite number > 1"),
-        ("L", 2.5, r"hyper-parameter L must be an integer >= 1, got 2.5"),
-        ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers, got \[0, 'x'\]"),
-        ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 must be a symmetric positive definite 2 x 2 matrix"),
-        ("place_size", -2, r"hyper-parameter place_size must be a finite number > 0 or null, got -2"),
+        ("kappa0", 1e300, r"hyper-parameter kappa0 must be a finite number in \[1e-06, 1e\+06\], got 1e\+300"),
+        ("nu0", 1, r"hyper-parameter nu0 must be a finite number in \(1, 1e\+06\], got 1"),
+        ("L", 2.5, r"hyper-parameter L must be an integer in \[1, 10000\], got 2.5"),
+        ("m0", [0, "x"], r"hyper-parameter m0 must be two finite numbers within \+-1e\+06 m, got \(0, 'x'\)"),
+        ("V0", [[1, 2], [2, 1]], r"hyper-parameter V0 is not positive definite within the usable range"),
+        ("V0", [[1, 0], [0, 1e-300]], r"hyper-parameter V0 is not positive definite within the usable range"),
+        ("place_size", -2, r"hyper-parameter place_size must be a finite number of metres in \[0.001, 100000\]"),
+        ("place_size", 1e308, r"hyper-parameter place_size must be a finite number of metres in .*, got 1e\+308"),
     ],
 )
 def test_bad_hyper_parameters_are_refused(saved, name, value, message):
@@ -444,3 +454,44 @@ def test_load_model_takes_a_folder(given, shown):
     with pytest.raises(ModelError) as info:
         load_model(given)
     assert str(info.value) == f"load_model takes a model folder (a str or a path), got {shown}"
+
+
+def _grow_sparse(path, size: int) -> None:
+    with open(path, "r+b") as handle:
+        handle.truncate(size)
+
+
+@pytest.mark.parametrize("resealed", [False, True])
+def test_a_huge_sparse_arrays_npz_is_refused_before_it_is_hashed(saved, resealed):
+    """Issue 26: arrays.npz grown to 8 GiB (sparse) was hashed in full (12 s) before it was refused. The size is
+    now checked against the manifest, and against what K, L, V and D allow, before any byte is hashed: with
+    the manifest resealed to the new size (its SHA-256 left stale), the refusal must name the bound, which it
+    could not if the file had been hashed first (that would be a checksum mismatch)."""
+    _grow_sparse(saved / "arrays.npz", 8 * 2**30)
+    if resealed:
+        manifest = json.loads((saved / "manifest.json").read_text(encoding="utf-8"))
+        manifest["files"]["arrays.npz"]["bytes"] = 8 * 2**30
+        (saved / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+        message = r"arrays.npz is 8589934592 bytes; a model of K=\d+, L=\d+, V=\d+, D=365 has at most \d+"
+    else:
+        message = r"arrays.npz is 8589934592 bytes, but manifest.json lists \d+: the model folder is torn or altered"
+    with pytest.raises(ModelError, match=message) as info:
+        load_model(saved)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "name, size, message",
+    [
+        ("model.json", 2**34, r"model.json is 17179869184 bytes; at most 16777216 are accepted"),
+        ("map.yaml", 2**30, r"map.yaml is 1073741824 bytes; at most 65536 are accepted"),
+        ("map.pgm", 2**36, r"map.pgm is 68719476736 bytes; a map image of at most 16000000 pixels has at most \d+"),
+    ],
+)
+def test_every_file_has_a_bound_checked_before_it_is_read(saved, name, size, message):
+    _grow_sparse(saved / name, size)
+    manifest = json.loads((saved / "manifest.json").read_text(encoding="utf-8"))
+    manifest["files"][name]["bytes"] = size
+    (saved / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+    with pytest.raises(ModelError, match=message):
+        load_model(saved)

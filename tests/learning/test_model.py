@@ -35,7 +35,8 @@ def test_place_size_sets_a_finite_prior_mean():
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"place_size": 0.0}, "place_size must be a finite number of metres > 0, got 0.0"),
+        ({"place_size": 0.0}, r"place_size must be a finite number of metres in \[0.001, 100000\], got 0.0"),
+        ({"place_size": 1e308}, r"place_size must be a finite number of metres in \[0.001, 100000\], got 1e\+308"),
         ({"place_size": float("inf")}, "place_size must be a finite number"),
         ({"place_size": True}, "place_size must be a finite number"),
         ({"place_size": 1.0, "nu0": 7.0}, r"place_size sets nu0 and V0 \(to 5 and 2 I\): give one or the other"),

@@ -76,3 +76,24 @@ def test_an_utterance_in_another_language_is_refused(lang, utterance, message, t
     assert ("study" if lang == "en" else "書斎") in teach(
         model, [{"x": STUDY[0], "y": STUDY[1], "utterance": same}]
     ).model.vocabulary
+
+
+@pytest.fixture(scope="module")
+def model6ja(tmp_path_factory):
+    """The supervised fit of 3LDK_06 with its Japanese words."""
+    return load_model(supervised_model_dir("3LDK_06", tmp_path_factory.mktemp("teachja") / "m06ja", lang="ja"))
+
+
+def test_japanese_teaching_works_as_typed(model6ja):
+    """Issue 23: "ここは書斎です" typed without spaces is the words ここ, は, 書斎, です (janome), as
+    "ここ は 書斎 です" is; three teaches make 書斎 a place word and plan to it; before, the sentence was one word
+    no instruction could say."""
+    spaced = teach(model6ja, [{"x": STUDY[0], "y": STUDY[1], "utterance": "ここ は 書斎 です"}]).model
+    unspaced = teach(model6ja, [{"x": STUDY[0], "y": STUDY[1], "utterance": "ここは書斎です"}]).model
+    assert "書斎" in unspaced.vocabulary and "ここは書斎です" not in unspaced.vocabulary
+    assert list(unspaced.vocabulary) == list(spaced.vocabulary)
+    taught = _teach(model6ja, "ここは書斎です", 3)
+    planner, _ = planner_for(taught)
+    assert "書斎" in planner.place_words and not {"は", "ここ", "です"} & set(planner.place_words)
+    end = planner.plan("書斎に行って", start_near(model6ja, "玄関")).path[-1]
+    assert np.linalg.norm(end - np.array(STUDY)) < 1.5

@@ -91,3 +91,20 @@ def test_place_graph_is_connected_on_generated_homes(seed):
     model = fit_supervised(data, adjacency="map")
     A = map_adjacency(model, data.map)
     assert connected_components(A, directed=False)[0] == 1
+
+
+def test_partition_extra_seeds_add_a_piece_or_a_single_cell_by_hand():
+    """planning/regions.py's extra seeds: a place's piece holding the cell, else the cell alone (taking it from the
+    piece it lies in), never a cell another single-cell seed holds; without them, place_territories' partition."""
+    from spcotmhp.learning.territory import partition
+
+    labels = np.array([[0, 0, -1, 1, 1], [0, 0, -1, 1, 0]])  # two free components; (1, 4) a stray piece of 0
+    anchors = np.array([[0, 0], [0, 3], [1, 3]])  # place 2 is most probable nowhere: it keeps its anchor (1, 3)
+    base = partition(labels, anchors)
+    np.testing.assert_array_equal(base, [[0, 0, -1, 1, 1], [0, 0, -1, 2, 1]])
+    piece = partition(labels, anchors, np.array([0]), np.array([[1, 4]]))  # the stray piece becomes a seed of 0
+    np.testing.assert_array_equal(piece, [[0, 0, -1, 1, 1], [0, 0, -1, 2, 0]])
+    alone = partition(labels, anchors, np.array([0]), np.array([[0, 4]]))  # a cell of 1's piece: taken, then grown
+    np.testing.assert_array_equal(alone, [[0, 0, -1, 1, 0], [0, 0, -1, 2, 0]])
+    pinned = partition(labels, anchors, np.array([0]), np.array([[1, 3]]))  # place 2's anchor: not taken
+    np.testing.assert_array_equal(pinned, base)

@@ -224,6 +224,7 @@ def test_plan_json_and_timings(planner):
         "role": "start",
         "label": "corridor",
         "point": [6.25, 1.75],
+        "chosen_by": None,  # no relation picked it
     }
     assert d["places"][2]["point"] == pytest.approx(
         list(planner.model.map.cell_to_world(planner.model.map.world_to_cell(planner.model.mu[K])))
@@ -445,7 +446,7 @@ def test_two_names_that_no_place_carries_together_are_refused_with_inactive_plac
         mu=np.vstack([base.mu, base.mu[:1]]),
         Sigma=np.concatenate([base.Sigma, base.Sigma[:1]]),
         psi=np.full((K + 1, K + 1), 1.0 / (K + 1)),
-        phi=np.hstack([base.phi, column[:, None]]),
+        phi=np.hstack([base.phi * (1.0 - column[:, None]), column[:, None]]),  # rows still sum to 1
         active_places=np.array([True] * K + [False]),
     )
     ghost_planner = HierarchicalPlanner(ghost, cache=GRAPHS)

@@ -55,6 +55,8 @@ def _escape_on(free: np.ndarray, main: np.ndarray, cell: tuple[int, int], radius
         model=SimpleNamespace(require_map=lambda: occ),
         offset=(0, 0),
         main=main,
+        plannable=None,
+        regions={},
         settings=SimpleNamespace(connectivity=8),
     )
     return _escape(free, graph, np.array(cell), radius_m)
@@ -98,6 +100,12 @@ def test_no_escape_beyond_the_window():
         ((True, False), StartOutsideMap),  # audit item 13: booleans were taken as (1, 0)
         ([0.5, np.True_], StartOutsideMap),
         (np.array([True, False]), StartOutsideMap),
+        (["1", "2"], StartOutsideMap),  # issue 26: strings were converted, unlike in the HTTP API
+        ((1.0, "2"), StartOutsideMap),
+        (np.array(["1", "2"]), StartOutsideMap),
+        ([1.0, None], StartOutsideMap),
+        ((1 + 2j, 0.0), StartOutsideMap),
+        ({1.0, 2.0}, StartOutsideMap),
     ],
 )
 def test_bad_starts_are_typed(home, start, error):
@@ -121,3 +129,20 @@ def test_metric_fallback_when_the_place_graph_has_no_edge(home):
     assert "metric route" in plan.explanation
     assert (cm.costs[plan.cells[:, 0], plan.cells[:, 1]] < INSCRIBED_INFLATED_OBSTACLE).all()
     assert [p.role for p in plan.places if p.role != "via"] == ["start", "waypoint", "goal"]
+
+
+@pytest.mark.parametrize(
+    "start, message",
+    [
+        (["1", "2"], r"the start must be two numbers \(x, y\) in metres, got \['1', '2'\] \(str is not a number\)"),
+        ([1, None], r"got \[1, None\] \(NoneType is not a number\)"),
+        ([1.0, 2.0, 3.0], r"the start must be two finite numbers \(x, y\) in metres, got \[1.0, 2.0, 3.0\]"),
+    ],
+)
+def test_a_start_is_two_numbers_as_in_the_http_api(start, message):
+    from spcotmhp.planning.start import start_point
+
+    with pytest.raises(StartOutsideMap, match=message):
+        start_point(start)
+    assert start_point([np.int64(1), np.float32(2.5)]).tolist() == [1.0, 2.5]
+    assert start_point(np.array([[3, 4]])).tolist() == [3.0, 4.0]

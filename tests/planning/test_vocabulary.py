@@ -26,7 +26,8 @@ def test_grammar_words_set_no_bar_for_a_places_names():
     W /= W.sum(axis=1, keepdims=True)
     phi = np.vstack([base.phi, np.full(4, 0.25)])
     pi = np.array([0.2475] * 4 + [0.01])
-    model = dataclasses.replace(base, W=W, vocabulary=vocab, phi=phi, pi=pi)
+    active = np.array([True] * 4 + [False])  # the fifth concept holds no data
+    model = dataclasses.replace(base, W=W, vocabulary=vocab, phi=phi, pi=pi, active_concepts=active)
     words = place_vocabulary(model)
     assert words == ["bedroom", "corridor", "kitchen", "pantry"]
     assert place_labels(model, words)[2] == "kitchen"  # pantry, said 0.13 < 0.75 * 0.2, is not in the label

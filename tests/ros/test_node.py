@@ -170,7 +170,7 @@ def test_places_for_rviz_reach_a_late_subscriber(setup):
 
 def test_instruction_before_any_pose_is_an_error_status(setup):
     status = setup["client"].ask(setup["client"].instruction_pub, "go to the kitchen")
-    assert status["ok"] is False and status["type"] == "StartBlocked" and "no robot pose" in status["error"]
+    assert status["ok"] is False and status["type"] == "NoValidPose" and "no robot pose" in status["error"]
 
 
 def test_bedroom_via_corridor_within_two_seconds(setup):
@@ -250,17 +250,31 @@ def test_bad_instructions_get_an_error_status_and_the_node_keeps_serving(setup, 
     assert setup["proc"].poll() is None
 
 
-def test_bad_poses_are_refused(setup):
+def test_bad_poses_are_refused_and_no_stale_pose_is_used(setup):
+    """Issue 26: after a pose in frame odom or with NaN was rejected (as StartBlocked), the next instruction was
+    planned from the previous pose, with ok: true. A rejected pose (PoseRejected: wrong frame, not finite, off
+    the map) now drops the pose: instructions and teaching are refused (NoValidPose, naming why) until a
+    valid pose arrives."""
     client, planner = setup["client"], setup["planner"]
-    n = len(client.status)
-    client.set_pose(1.0, 1.0, frame="odom")
-    client.set_pose(float("nan"), 0.0)
-    assert client.spin_until(lambda: len(client.status) >= n + 2, 5)
-    assert [s["type"] for s in client.status[n : n + 2]] == ["StartBlocked", "StartBlocked"]
-    assert "frame 'odom'" in client.status[n]["error"]
-    client.set_pose(500.0, 500.0)  # off the map: the plan says so
-    assert client.ask(client.instruction_pub, "go to the kitchen")["type"] == "StartOutsideMap"
-    client.set_pose(*place_point(planner, "entrance"))
+    entrance = place_point(planner, "entrance")
+    for bad, why in (
+        ({"x": 1.0, "y": 1.0, "frame": "odom"}, "frame 'odom'"),
+        ({"x": float("nan"), "y": 0.0}, "is not finite"),
+        ({"x": 500.0, "y": 500.0}, "outside the map"),
+    ):
+        client.set_pose(*entrance)
+        assert client.ask(client.instruction_pub, "go to the kitchen")["ok"]
+        n = len(client.status)
+        client.set_pose(**bad)
+        assert client.spin_until(lambda n=n: len(client.status) > n, 5)
+        rejected = client.status[n]
+        assert rejected["type"] == "PoseRejected" and why in rejected["error"] and rejected["ok"] is False
+        refused = client.ask(client.instruction_pub, "go to the kitchen")
+        assert refused["type"] == "NoValidPose" and refused["ok"] is False, refused
+        assert "the latest robot pose was rejected" in refused["error"] and why in refused["error"]
+        taught = client.ask(client.teach_pub, "this is the hall")
+        assert taught["type"] == "NoValidPose" and taught["kind"] == "taught"
+    client.set_pose(*entrance)
     assert client.ask(client.instruction_pub, "go to the kitchen")["ok"]
 
 

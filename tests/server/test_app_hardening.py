@@ -96,6 +96,7 @@ def test_the_time_budget_gives_503(folder, start):
     res = TestClient(app, base_url="http://localhost").post("/plan", json={"instruction": INSTRUCTION, "start": start})
     assert res.status_code == 503 and time.perf_counter() - t0 < 0.9
     assert res.json()["cause"] == "PlanningTimeout" and "time budget of 0.3 s" in res.json()["detail"]
+    assert res.headers["retry-after"] == "1"  # issue 26: every 503 says when to try again
     time.sleep(1.0)  # let the running plan finish
 
 
@@ -122,6 +123,7 @@ def test_long_plans_do_not_starve_short_ones(folder, start):
     assert res.status_code == 200 and time.perf_counter() - t0 < 1.0  # not behind 4 x 1.5 s of heavy plans
     busy = client.post("/plan", json={"instruction": LONG, "start": start})
     assert busy.status_code == 503 and busy.json()["cause"] == "ServiceBusy"
+    assert busy.headers["retry-after"] == "1" and "retry-after" not in res.headers
     for t in heavy:
         t.join()
     assert sm.heavy.load == 0
@@ -145,6 +147,7 @@ def test_one_client_holds_one_heavy_slot_and_the_cost_is_capped(folder, start):
     time.sleep(0.2)
     second = client.post("/plan", json={"instruction": LONG, "start": start})
     assert second.status_code == 503 and "this client already has 1 long plan" in second.json()["detail"]
+    assert second.headers["retry-after"] == "1"
     gate.set()
     first.join()
     huge = client.post("/plan", json={"instruction": "go to the bedroom " * 40, "start": start})

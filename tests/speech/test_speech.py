@@ -13,7 +13,6 @@ import pytest
 from scipy.io import wavfile
 
 from spcotmhp.errors import InstructionError, SpcotmhpError
-from spcotmhp.planning.grammar import ENGLISH
 from spcotmhp.planning.instructions import parse_nbest
 from spcotmhp.speech.audio import NOISE_FLOOR, RATE, AudioError, load_audio, read_wav, to_16k_mono
 from spcotmhp.speech.jsgf import CONNECTORS, GOAL_MARKERS, MARKERS, instruction_grammar
@@ -150,11 +149,21 @@ def test_dictionary_pronunciations_reads_every_variant():
 
 
 def test_grammar_words_are_the_parsers():
+    """Every phrase the recogniser may hear is read by the instruction grammar, in the role the JSGF gives it."""
+    from spcotmhp.planning.instructions import parse_text
+
     for m in GOAL_MARKERS:
-        assert ENGLISH.markers[m] == "goal", m
+        assert parse_text(f"go {m} the kitchen", ["kitchen"]).goal.label == "kitchen", m
     for m in MARKERS:
-        assert ENGLISH.markers[m] in ("waypoint", "avoid", "from"), m
-    assert set(CONNECTORS) <= ENGLISH.connectors
+        if m == "from":  # heard so that the parser can refuse it by name (a start place)
+            with pytest.raises(InstructionError, match="'from' gives 'kitchen' as the start"):
+                parse_text(f"go to the bedroom {m} the kitchen", ["kitchen", "bedroom"])
+            continue
+        ins = parse_text(f"go to the bedroom {m} the kitchen", ["kitchen", "bedroom"])
+        assert ins.goal.label == "bedroom" and [q.label for q in (*ins.waypoints, *ins.avoid)] == ["kitchen"], m
+    for c in CONNECTORS:
+        ins = parse_text(f"go to the kitchen {c} the bedroom", ["kitchen", "bedroom"])
+        assert [q.label for q in ins.stages] == ["kitchen", "bedroom"], c
 
 
 def test_instruction_grammar_text_and_dropped_phrases():

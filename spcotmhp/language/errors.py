@@ -1,0 +1,166 @@
+"""The refusal of a sentence the grammar has no derivation for: one :class:`~spcotmhp.errors.InstructionError`
+naming the first word it could not place, and why.
+
+* Words of no class that are no place word (WORD tokens): :class:`~spcotmhp.errors.UnknownPlaceWord` naming all of
+  them, with near misses ("did you mean 'bedroom'?") and, when the sentence also holds a refused word, its reason.
+  A sentence with no place word at all says so.
+* A word of a refusal class of the word table (conditions, corrections, ordinals, ...) where the grammar does not
+  accept it, or the grammar's first unacceptable token when such a word comes before it ("no kitchen"):
+  :class:`~spcotmhp.errors.UnsupportedPhrase` with the class's reason.
+* A word of a class the table says why it cannot stand there ("in" between two places, "avoid" after "not"):
+  that reason.
+* A marker at the end ("go to the bedroom avoiding"): :class:`~spcotmhp.errors.MalformedInstruction`.
+* Any other word the grammar does not accept where it stands: :class:`~spcotmhp.errors.UnsupportedPhrase` naming it
+  and the word before it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from spcotmhp.errors import InstructionError, MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
+from spcotmhp.language.lexicon import Token, WordTable
+from spcotmhp.language.wording import excerpt, named, not_understood, unknown_tail
+
+_MODIFIER_BEFORE_PLACE = ("FIRST", "LAST")
+_JA_MARKERS = ("GOAL", "GOAL_THEN", "ON_WAY_TO", "VIA", "VIA_THEN", "STOP", "STOP_THEN", "AVOID", "NOT_GOAL")
+"""Japanese markers: they follow the place they mark."""
+_BLAME_FIRST = ("BACK", "NO", "HERE", "INSTEAD", "HALT", "WAIT")
+"""Words that make the word after them unacceptable rather than the other way round ("come back here": 'come
+back' is what cannot be done)."""
+
+
+MAX_MESSAGE = 400
+"""Longest refusal message (characters): the words named and why come first, the lists last."""
+
+
+def refusal(
+    toks: Sequence[Token], bad: Any, table: WordTable, place_words: Sequence[str], text: str
+) -> InstructionError:
+    """The error for ``toks`` when the parser stopped at ``bad`` (a lark Token whose ``start_pos`` is its index in
+    ``toks``; ``$END`` or None at the end), its message cut to :data:`MAX_MESSAGE` characters."""
+    error = _refusal(toks, bad, table, place_words, text)
+    message = str(error)
+    if len(message) > MAX_MESSAGE:
+        error = type(error)(message[: MAX_MESSAGE - 1] + "…")
+    return error
+
+
+def _refusal(
+    toks: Sequence[Token], bad: Any, table: WordTable, place_words: Sequence[str], text: str
+) -> InstructionError:
+    at = bad.start_pos if bad is not None and getattr(bad, "type", "$END") != "$END" else len(toks)
+    unknown = [t.surface for t in toks if t.kind == "WORD"]
+    refused = _first_refused(toks, table)
+    if not any(t.kind == "PLACE" for t in toks):
+        said = [w for w in unknown if w not in table.nouns]
+        return UnknownPlaceWord(
+            f"no known place word in {excerpt(text)}{not_understood(said)}{_also(toks, refused, table)}"
+            f"{unknown_tail(unknown, place_words)}"
+        )
+    if refused is not None:
+        tail = f" (not understood: {', '.join(unknown)})" if unknown else ""
+        return UnsupportedPhrase(f"{_reason(toks, refused, table.reasons[toks[refused].kind])}{tail}")
+    if unknown:
+        placed = [_placed(toks, k, table) for k, t in enumerate(toks) if t.kind == "WORD"]
+        verb = "is not a known place word" if len(unknown) == 1 else "are not known place words"
+        return UnknownPlaceWord(f"{', '.join(placed[:6])} {verb}{unknown_tail(unknown, place_words)}")
+    if at >= len(toks):
+        if toks and toks[-1].kind in _BLAME_FIRST and toks[-1].kind in table.misplaced:
+            return UnsupportedPhrase(table.misplaced[toks[-1].kind].format(**_around(toks, len(toks) - 1)))
+        last = toks[-1].surface if toks else text
+        return MalformedInstruction(
+            f"{excerpt(last)} is followed by no known place word; say which place, e.g. 'avoiding the kitchen'"
+        )
+    return _misplaced(toks, at, table, text)
+
+
+def _misplaced(toks: Sequence[Token], at: int, table: WordTable, text: str) -> InstructionError:
+    """The error for a known word the grammar does not accept where it stands (``toks[at]``)."""
+    tok = toks[at]
+    nxt = toks[at + 1] if at + 1 < len(toks) else None
+    if tok.kind in _MODIFIER_BEFORE_PLACE and nxt is not None and nxt.kind == "PLACE":
+        return UnsupportedPhrase(_reason(toks, at, table.reasons["MODIFIER"]))
+    if tok.kind == "AT" and nxt is not None and nxt.kind == "DURATION":
+        return UnsupportedPhrase(table.misplaced["AT_DURATION"].format(**_around(toks, at)))
+    if table.by_character and tok.kind in _JA_MARKERS and (at == 0 or toks[at - 1].kind != "PLACE"):
+        where = "say which place (廊下を通って)"
+        return MalformedInstruction(f"{excerpt(tok.surface)} follows no known place word; {where}")
+    if tok.kind == "PLACE" and at > 0 and toks[at - 1].kind == "PLACE":
+        gap = _between(text, toks[at - 1], tok) if not table.by_character else []
+        pair_said = f"{excerpt(toks[at - 1].surface)} and {excerpt(tok.surface)}"
+        where = f"{named(gap)} between {pair_said}" if gap else f"{pair_said} side by side"
+        return UnsupportedPhrase(
+            f"{where} do not say how the two places relate; join places with 'and' or 'then', or give each its own "
+            "word ('via the corridor', 'to the bedroom')"
+        )
+    pair = f"{toks[at - 1].kind}>{tok.kind}" if at > 0 else ""
+    if pair in table.misplaced:
+        return UnsupportedPhrase(table.misplaced[pair].format(**_around(toks, at)))
+    blame = [at - 1, at] if at > 0 and toks[at - 1].kind in _BLAME_FIRST else [at]
+    for k in blame:
+        if toks[k].kind in table.misplaced:
+            return UnsupportedPhrase(table.misplaced[toks[k].kind].format(**_around(toks, k)))
+    before = f" after {excerpt(toks[at - 1].surface)}" if at > 0 else " there"
+    return UnsupportedPhrase(
+        f"{excerpt(tok.surface)} cannot stand{before}; say where to go ('to the kitchen'), what to pass ('via the "
+        "corridor') and what to avoid ('avoiding the bath')"
+    )
+
+
+def _first_refused(toks: Sequence[Token], table: WordTable) -> int | None:
+    """The first word of a refusal class that the sentence cannot accept: not a correction word opening the
+    instruction ("Actually, ..."), not a modifier of an unknown word ("the front door": the unknown word is what
+    is not understood)."""
+    for k, tok in enumerate(toks):
+        if tok.kind not in table.reasons:
+            continue
+        opening = all(t.kind in ("COMMA", "_STOP") for t in toks[:k])
+        if tok.kind == "CORRECTION" and opening:
+            continue
+        if tok.kind == "MODIFIER" and k + 1 < len(toks) and toks[k + 1].kind == "WORD":
+            continue
+        if tok.kind == "FROM" and table.by_character and (k == 0 or toks[k - 1].kind != "PLACE"):
+            continue  # から after no place: "because" (赤ちゃん寝てるから), whose words are what is not understood
+        return k
+    return None
+
+
+def _placed(toks: Sequence[Token], k: int, table: WordTable) -> str:
+    """An unknown word with the word it stands next to: "'garage' (after 'to')", "'ガレージ' (before 'へ行って')"."""
+    before_place = k + 1 < len(toks) and toks[k + 1].kind == "PLACE"
+    j = k + 1 if table.by_character or before_place else k - 1
+    if 0 <= j < len(toks) and toks[j].kind != "WORD":
+        side = "before" if j > k else "after"
+        return f"{excerpt(toks[k].surface, 30)} ({side} {excerpt(toks[j].surface, 30)})"
+    return excerpt(toks[k].surface, 30)
+
+
+def _reason(toks: Sequence[Token], k: int, reason: str) -> str:
+    return f"{excerpt(toks[k].surface)} {reason.format(**_around(toks, k))}"
+
+
+def _also(toks: Sequence[Token], refused: int | None, table: WordTable) -> str:
+    return f"; and {_reason(toks, refused, table.reasons[toks[refused].kind])}" if refused is not None else ""
+
+
+def _between(text: str, a: Token, b: Token) -> list[str]:
+    """The words left out between two tokens (fillers) of an English sentence."""
+    from spcotmhp.language.lexicon import english_units
+
+    return english_units(text)[a.end : b.start]
+
+
+def _around(toks: Sequence[Token], at: int) -> dict[str, str]:
+    """The words a misplaced-word message may quote: the word, the word before it, and the places around it."""
+    before = next((t.surface for t in reversed(toks[:at]) if t.kind == "PLACE"), "")
+    after = next((t.surface for t in toks[at + 1 :] if t.kind == "PLACE"), "")
+    return {
+        "word": excerpt(toks[at].surface),
+        "prev": excerpt(toks[at - 1].surface) if at > 0 else "''",
+        "before": excerpt(before),
+        "after": excerpt(after),
+        "choice": " or ".join(p for p in (before, after) if p),
+        "place": after or before or "place",
+    }

@@ -1,0 +1,106 @@
+"""The visiting order of the places an instruction names: precedence constraints, then one topological order.
+
+Each place to visit is a :class:`Visit` with its spoken position, its rank ("first": 0, none: 1, "finally" / "end
+at": 2), its step (a sequencer such as "then" followed by a new marker starts a new step) and its role. The order
+satisfies:
+
+1. rank: every place ranked lower comes before every place ranked higher;
+2. steps: inside one rank, every place of an earlier step comes before every place of a later one;
+3. the pairs the order words give ("the bath after the kitchen": kitchen, bath; "before that"; chains such as
+   "the bath after the kitchen after the toilet");
+4. the destination: inside one rank and step, the last place with a goal marker ("to", "into", a bare name) that
+   is not itself the object of an order word comes after every other place of that rank and step ("go to the
+   bedroom via the corridor": corridor, bedroom), except where rule 3 already puts it first ("go to the kitchen
+   before the bedroom": kitchen, bedroom).
+
+Of the orders that satisfy all of them, the one closest to the spoken order is taken (Kahn's algorithm, always
+taking the earliest-spoken place that is free): the spoken order decides whatever the words leave open. Pairs that
+contradict each other have no order and are refused (:class:`~spcotmhp.errors.UnsupportedPhrase`).
+
+>>> visits = [Visit(0, role="goal"), Visit(1, role="via")]          # "go to the bedroom via the corridor"
+>>> visiting_order(visits, [])
+[1, 0]
+>>> visits = [Visit(0, role="goal"), Visit(1, role="visit"), Visit(2, role="visit")]
+>>> visiting_order(visits, [(2, 1), (1, 0)])                           # "the bath after the kitchen after the toilet"
+[2, 1, 0]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from spcotmhp.errors import UnsupportedPhrase
+
+
+@dataclass
+class Visit:
+    """A place to visit as the order sees it: its spoken position, rank, step, role and whether an order word
+    ties it to another place (``tied``: it is then never the free destination of rule 3)."""
+
+    spoken: int
+    rank: int = 1
+    step: int = 0
+    role: str = "goal"
+    tied: bool = False
+
+
+def visiting_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]) -> list[int]:
+    """Positions (indices into ``visits``) in visiting order; ``pairs``: (a, b) = a before b (rule 4).
+
+    Raises:
+        UnsupportedPhrase: the pairs contradict each other (or rules 1-3).
+    """
+    n = len(visits)
+    before: list[set[int]] = [set() for _ in range(n)]  # before[b]: what must come before b
+    for a in range(n):
+        for b in range(n):
+            va, vb = visits[a], visits[b]
+            if va.rank < vb.rank or (va.rank == vb.rank and va.step < vb.step):
+                before[b].add(a)
+    groups: dict[tuple[int, int], list[int]] = {}
+    for k, v in enumerate(visits):
+        groups.setdefault((v.rank, v.step), []).append(k)
+    for a, b in pairs:
+        if a != b:
+            before[b].add(a)
+    _topological(visits, before)  # rules 1-3 must agree
+    for members in groups.values():
+        free = [k for k in members if visits[k].role == "goal" and not visits[k].tied]
+        if free:
+            dest = max(free, key=lambda k: visits[k].spoken)
+            for k in members:
+                if k != dest and not _precedes(dest, k, before):
+                    before[dest].add(k)
+    return _topological(visits, before)
+
+
+def _precedes(a: int, b: int, before: list[set[int]]) -> bool:
+    """Whether the constraints put ``a`` before ``b`` (transitively)."""
+    seen, stack = set(), [b]
+    while stack:
+        k = stack.pop()
+        for p in before[k]:
+            if p == a:
+                return True
+            if p not in seen:
+                seen.add(p)
+                stack.append(p)
+    return False
+
+
+def _topological(visits: Sequence[Visit], before: list[set[int]]) -> list[int]:
+    """Kahn's algorithm, always taking the earliest-spoken free place."""
+    done: list[int] = []
+    left = set(range(len(visits)))
+    while left:
+        free = [k for k in left if not (before[k] & left)]
+        if not free:
+            raise UnsupportedPhrase(
+                "the order words contradict each other (each place would come before the other); say the order "
+                "with 'first' and 'then'"
+            )
+        k = min(free, key=lambda k: visits[k].spoken)
+        done.append(k)
+        left.remove(k)
+    return done

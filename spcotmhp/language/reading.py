@@ -1,0 +1,178 @@
+"""Reading an instruction: its tokens (:mod:`spcotmhp.language.lexicon`) parsed by the grammar of its language
+(``grammars/<lang>.lark``: LALR(1) with no conflict, so a sentence has one derivation or none), the derivation read
+into a :class:`~spcotmhp.language.meaning.Reading` (:mod:`spcotmhp.language.walk_en`,
+:mod:`spcotmhp.language.walk_ja`), and a sentence with no derivation refused naming the first word that could not
+be placed (:mod:`spcotmhp.language.errors`).
+
+>>> r = read("go to the bedroom closest to the bath via the corridor, slowly", ["bath", "bedroom", "corridor"], "en")
+>>> [p.describe() for p in r.visit], r.speed
+(['corridor', 'bedroom (closest to the bath)'], 'slow')
+>>> [p.label for p in read("廊下を通って風呂に一番近い寝室へ", ["廊下", "風呂", "寝室"], "ja").visit]
+['廊下', '寝室']
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+from collections.abc import Sequence
+from importlib import resources
+from pathlib import Path
+from typing import Any, cast
+
+from lark import Lark, Tree
+from lark import Token as LarkToken
+
+from spcotmhp.errors import EmptyInstruction
+from spcotmhp.language.errors import refusal
+from spcotmhp.language.lexicon import tokens, word_table
+from spcotmhp.language.meaning import Reading
+from spcotmhp.language.walk_en import EnglishWalk
+from spcotmhp.language.walk_ja import JapaneseWalk
+
+LANGUAGES = ("en", "ja")
+"""Languages with a grammar (``grammars/<lang>.lark`` and ``grammars/<lang>.json``)."""
+_WALKS = {"en": EnglishWalk, "ja": JapaneseWalk}
+
+
+@functools.cache
+def grammar(lang: str) -> Lark:
+    """The LALR(1) parser of ``grammars/<lang>.lark``, built once per process (Lark refuses reduce/reduce
+    conflicts; ``tests/language/test_reading.py`` checks there is no shift/reduce conflict either)."""
+    return Lark(_source(lang), parser="lalr", lexer="basic")  # type: ignore[arg-type]  # lark's stub lacks "basic"
+
+
+def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
+    """The meaning of ``text``; raises an :class:`~spcotmhp.errors.InstructionError` saying what was not
+    understood (module docstring)."""
+    if not text.strip():
+        raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
+    table = word_table(lang)
+    toks = tokens(text, table, place_words)
+    try:
+        root = derive(lang, [t.kind for t in toks], [t.surface for t in toks])
+    except _NoDerivation as exc:
+        bad = LarkToken(toks[exc.at].kind, toks[exc.at].surface, start_pos=exc.at) if exc.at < len(toks) else None
+        raise refusal(toks, bad, table, place_words, text) from None
+    return _WALKS[lang](toks, text, table).read(root)
+
+
+class _NoDerivation(Exception):
+    """The grammar accepts no sentence with the tokens read so far and ``kinds[at]`` next (``at == len``: the end)."""
+
+    def __init__(self, at: int) -> None:
+        self.at = at
+
+
+def derive(lang: str, kinds: Sequence[str], values: Sequence[str]) -> Tree:
+    """The derivation of a token sequence by the LALR(1) table of ``grammar(lang)``: the tree Lark itself builds
+    (rules named with ``_`` inlined into their parent, terminals named with ``_`` left out, aliases as names), by a
+    driver that only shifts and reduces (Lark's own per-token parser state costs several times more, which a plan
+    would pay on every instruction). Tokens carry their index as ``start_pos``.
+
+    Raises:
+        _NoDerivation: at the first token (or the end) the table has no action for.
+    """
+    states, start, end, rules = _table(lang)
+    state_stack: list[int] = [start]
+    value_stack: list[Any] = []
+    for i in range(len(kinds) + 1):
+        kind = kinds[i] if i < len(kinds) else "$END"
+        while True:
+            action = states[state_stack[-1]].get(kind)
+            if action is None:
+                raise _NoDerivation(i)
+            shift, arg = action
+            if shift:
+                if kind == "$END":  # pragma: no cover - the end is accepted by a reduction into the end state
+                    break
+                state_stack.append(arg)
+                value_stack.append(None if kind.startswith("_") else LarkToken(kind, values[i], start_pos=i))
+                break
+            name, size, inline, origin = rules[arg]
+            popped = value_stack[len(value_stack) - size :] if size else []
+            if size:
+                del state_stack[-size:]
+                del value_stack[-size:]
+            children: list = []
+            for v in popped:
+                if type(v) is list:
+                    children.extend(v)
+                elif v is not None:
+                    children.append(v)
+            value = children if inline else Tree(name, children)
+            goto = states[state_stack[-1]][origin]
+            state_stack.append(goto[1])
+            value_stack.append(value)
+            if kind == "$END" and state_stack[-1] == end:
+                return cast(Tree, value_stack[-1])
+    raise _NoDerivation(len(kinds))  # pragma: no cover - the table accepts or refuses before
+
+
+@functools.cache
+def _table(lang: str) -> tuple[dict, int, int, dict]:
+    """The LALR(1) table of ``grammar(lang)`` as plain dictionaries (:func:`build_table`): read from
+    ``grammars/<lang>.table.json`` when that file was written from the grammar as it is (its SHA-256 says so; about
+    30 times faster than building the table, which every process's first instruction would pay), else built."""
+    source = _source(lang)
+    path = resources.files("spcotmhp.language") / "grammars" / f"{lang}.table.json"
+    try:
+        stored = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        stored = None
+    if not isinstance(stored, dict) or stored.get("source_sha256") != hashlib.sha256(source.encode()).hexdigest():
+        return build_table(lang)
+    states = {int(k): {sym: (bool(a[0]), int(a[1])) for sym, a in row.items()} for k, row in stored["states"].items()}
+    rules = {i: (str(r[0]), int(r[1]), bool(r[2]), str(r[3])) for i, r in enumerate(stored["rules"])}
+    return states, int(stored["start"]), int(stored["end"]), rules
+
+
+def build_table(lang: str) -> tuple[dict, int, int, dict]:
+    """The LALR(1) table Lark builds from ``grammars/<lang>.lark``: state -> {terminal or rule name: (shift?, next
+    state or rule id)}, the start and end states, rule id -> (tree name, size, inlined?, origin)."""
+    from lark.parsers.lalr_analysis import Shift
+
+    lalr = cast(Any, grammar(lang)).parser.parser.parser  # lark's LALR _Parser: its parse table
+    table = lalr.parse_table
+    rule_ids: dict = {}
+    rules: dict[int, tuple[str, int, bool, str]] = {}
+    states: dict[int, dict[str, tuple[bool, int]]] = {}
+    for state, actions in table.states.items():
+        row: dict[str, tuple[bool, int]] = {}
+        for sym, (action, arg) in actions.items():
+            if action is Shift:
+                row[sym] = (True, arg)
+            else:
+                rid = rule_ids.setdefault(arg, len(rule_ids))
+                origin = str(arg.origin.name)
+                name = str(arg.alias or origin)
+                rules[rid] = (name, len(arg.expansion), origin.startswith("_") and not arg.alias, origin)
+                row[sym] = (False, rid)
+        states[state] = row
+    return states, table.start_states["start"], table.end_states["start"], rules
+
+
+def table_json(lang: str) -> str:
+    """The text of ``grammars/<lang>.table.json``: :func:`build_table` with the SHA-256 of the grammar it is of
+    (``python -m spcotmhp.language.reading`` writes both; a test checks they are current)."""
+    states, start, end, rules = build_table(lang)
+    body = {
+        "source_sha256": hashlib.sha256(_source(lang).encode()).hexdigest(),
+        "start": start,
+        "end": end,
+        "rules": [list(rules[i]) for i in range(len(rules))],
+        "states": {str(k): {sym: [int(a[0]), a[1]] for sym, a in row.items()} for k, row in states.items()},
+    }
+    return json.dumps(body, separators=(",", ":"), sort_keys=True) + "\n"
+
+
+def _source(lang: str) -> str:
+    return (resources.files("spcotmhp.language") / "grammars" / f"{lang}.lark").read_text(encoding="utf-8")
+
+
+if __name__ == "__main__":  # python -m spcotmhp.language.reading: write the tables of the grammars
+    for _lang in LANGUAGES:
+        target = Path(__file__).with_name("grammars") / f"{_lang}.table.json"
+        target.write_text(table_json(_lang), encoding="utf-8")
+        print(f"wrote {target}")

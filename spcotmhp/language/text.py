@@ -1,0 +1,119 @@
+"""Text as words: one normalisation and one word splitter for everything people say (instructions, teaching
+utterances, dataset rows), so that "ｋｉｔｃｈｅｎ", "KITCHEN" and "kitchen", or "ｷｯﾁﾝ" and "キッチン", are one word.
+
+* :func:`normalise`: Unicode NFKC (full-width Latin letters and digits become ASCII, half-width katakana
+  becomes full-width), case folding, and typographic apostrophes as "'".
+* :func:`words`: English word units (letters and digits, inner apostrophes kept: "alice's"); Japanese as the
+  speaker spaced it, or, when the text has no spaces, cut by the morphological analyser janome (its dictionary
+  ships with it; loaded on first use, about 0.2 s) with consecutive nouns joined into one word, because a
+  Japanese compound noun is written without a break and names one thing (子供+部屋 -> 子供部屋, 洗濯+室 ->
+  洗濯室; janome's own entries already hold many such compounds).
+* :func:`is_japanese`: whether a text holds kana or kanji.
+
+>>> normalise("ＧＯ ｔｏ ｔｈｅ Ｋｉｔｃｈｅｎ"), normalise("ｷｯﾁﾝ"), normalise("Alice’s room")
+('go to the kitchen', 'キッチン', "alice's room")
+>>> words("This is Alice's room!", "en")
+['this', 'is', "alice's", 'room']
+>>> words("ここ は 書斎 です", "ja") == words("ここは書斎です", "ja") == ['ここ', 'は', '書斎', 'です']
+True
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+import threading
+import unicodedata
+from typing import Any
+
+_EN_WORD = re.compile(r"[^\W_]+(?:'[^\W_]+)*")
+_CJK = re.compile(r"[\u3040-\u30ff\u3400-\u9fff]")
+_APOSTROPHES = str.maketrans({"\u2019": "'", "\u2018": "'", "\u02bc": "'", "\uff07": "'"})
+_JOINED_NOUNS = ("一般", "サ変接続", "固有名詞", "形容動詞語幹", "接尾", "副詞可能", "ナイ形容詞語幹")
+"""janome (IPADIC) noun subclasses that continue a compound noun; pronouns (代名詞), dependent nouns (非自立)
+and numbers (数) do not, so ここ, こと and ２ stay words of their own."""
+_lock = threading.Lock()
+
+
+def normalise(text: str) -> str:
+    """NFKC, case-folded, with typographic apostrophes as "'" (module docstring)."""
+    return unicodedata.normalize("NFKC", text).translate(_APOSTROPHES).casefold()
+
+
+def is_japanese(text: str) -> bool:
+    """Whether ``text`` holds kana or kanji (after NFKC, half-width katakana included)."""
+    return bool(_CJK.search(unicodedata.normalize("NFKC", text)))
+
+
+def words(text: str, lang: str, segment: bool = True) -> list[str]:
+    """The words of ``text`` (normalised): English word units, or Japanese words (module docstring). With
+    ``segment`` False, Japanese is split at spaces only, as dataset rows are given (a row is one phrase per space,
+    so a row without spaces is one word: 物置き)."""
+    text = normalise(text)
+    if lang == "ja":
+        if not segment or any(ch.isspace() for ch in text.strip()):
+            return text.split()
+        return segment_ja(text)
+    return _EN_WORD.findall(text)
+
+
+def segment_ja(text: str) -> list[str]:
+    """Japanese text without spaces cut into words by janome, consecutive nouns joined (module docstring);
+    punctuation and symbols are dropped."""
+    out: list[str] = []
+    noun_run = False
+    for token in _tokenizer().tokenize(text):
+        pos = token.part_of_speech.split(",")
+        if pos[0] == "記号" or not token.surface.strip():
+            noun_run = False
+            continue
+        is_noun = pos[0] == "名詞" and pos[1] in _JOINED_NOUNS
+        if is_noun and noun_run and out:
+            out[-1] += token.surface
+        else:
+            out.append(token.surface)
+        noun_run = is_noun
+    return out
+
+
+@functools.lru_cache(maxsize=4096)
+def japanese_function_word(word: str) -> bool:
+    """Whether janome reads ``word`` as one morpheme of a closed class (particle, auxiliary, pronoun,
+    adnominal, conjunction, interjection, filler, symbol, dependent noun): words that never name a place.
+
+    >>> japanese_function_word("は"), japanese_function_word("ここ"), japanese_function_word("書斎")
+    (True, True, False)
+    """
+    morphemes = list(_tokenizer().tokenize(word))
+    if len(morphemes) != 1:
+        return False
+    pos = morphemes[0].part_of_speech.split(",")
+    closed = ("助詞", "助動詞", "連体詞", "接続詞", "感動詞", "フィラー", "記号")
+    return pos[0] in closed or (pos[0] == "名詞" and pos[1] in ("代名詞", "非自立"))
+
+
+def reading(word: str) -> str:
+    """The katakana reading of a Japanese word that janome's dictionary holds as one entry ("" otherwise: a
+    reading pieced together from parts may be wrong, 物置+き).
+
+    >>> reading("風呂"), reading("物置き")
+    ('フロ', '')
+    """
+    morphemes = list(_tokenizer().tokenize(unicodedata.normalize("NFKC", word)))
+    if len(morphemes) != 1 or morphemes[0].reading in ("", "*"):
+        return ""
+    return str(morphemes[0].reading)
+
+
+def _tokenizer() -> Any:
+    """janome's tokenizer, built once per process (its dictionary loads on first use)."""
+    global _TOKENIZER
+    with _lock:
+        if _TOKENIZER is None:
+            from janome.tokenizer import Tokenizer
+
+            _TOKENIZER = Tokenizer()
+        return _TOKENIZER
+
+
+_TOKENIZER: Any = None

@@ -1,0 +1,196 @@
+"""What the two languages' derivations share: the places said so far (mentions, with their roles, ranks, steps
+and waits), the place phrases with their relations, and the final :class:`~spcotmhp.language.meaning.Reading`
+with its checks. :mod:`spcotmhp.language.walk_en` and :mod:`spcotmhp.language.walk_ja` read the derivations."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from lark import Token as LarkToken
+from lark import Tree
+
+from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, UnsupportedPhrase
+from spcotmhp.language.lexicon import MAX_WAIT_S, Token, WordTable
+from spcotmhp.language.meaning import PlaceRef, Reading, Relation
+from spcotmhp.language.order import Visit, visiting_order
+from spcotmhp.language.wording import excerpt
+
+VISIT_ROLES = ("goal", "via", "stop", "visit")
+"""Roles of places to visit: to go to, to pass, to stop at, ordered by an order word only."""
+
+
+@dataclass
+class Mention:
+    """A place said, with what the sentence says about it."""
+
+    ref: PlaceRef
+    role: str  # goal, via, stop, visit, avoid, not_goal
+    sentence: int
+    step: int
+    rank: int = 1  # first 0, finally 2
+    tied: bool = False  # the object of an order word (never the free destination: order.py rule 4)
+    wait: float | None | bool = False  # False: no wait; None: until the next instruction; seconds
+    contrast: bool = False  # a negated bare name ("not the bath")
+    inherited: bool = False  # a bare name after a connector, with the role of the place before it
+    order_kind: str = ""  # "before" / "after" when an order word introduced it
+    wait_word: str = "wait"  # the word that asked for the wait
+
+
+def tree(node: object) -> Tree:
+    """``node`` as a subtree (the grammar puts one there)."""
+    assert isinstance(node, Tree), node
+    return node
+
+
+def tok(node: object) -> LarkToken:
+    """``node`` as a token (the grammar puts one there)."""
+    assert isinstance(node, LarkToken), node
+    return node
+
+
+def subtrees(node: Tree) -> list[Tree]:
+    return [c for c in node.children if isinstance(c, Tree)]
+
+
+def tokens_of(node: Tree) -> list[LarkToken]:
+    return [c for c in node.children if isinstance(c, LarkToken)]
+
+
+@dataclass
+class Walk:
+    """The state of reading one derivation (subclasses read the trees of one language)."""
+
+    toks: list[Token]
+    text: str
+    table: WordTable
+    mentions: list[Mention] = field(default_factory=list)
+    pairs: list[tuple[int, int]] = field(default_factory=list)  # (a, b): mention a before mention b
+    speeds: list[str] = field(default_factory=list)
+    sentence: int = 0
+    step: int = 0
+
+    # ---- mentions ----------------------------------------------------------------------------------------
+    def mention(self, ref: PlaceRef, role: str) -> Mention:
+        """A new mention, or the last one again when "there" / "it" points back to it, or the same place is said
+        again right after it in the same role ("the bedroom near the hall, go there", "the washroom? go to the
+        washroom": one visit; "go to the bedroom via the bedroom" is two)."""
+        last = self.mentions[-1] if self.mentions else None
+        again = last is not None and (last.ref is ref or (last.ref == ref and last.role == role))
+        if again and last is not None and last.role in VISIT_ROLES and role in VISIT_ROLES:
+            if role == "goal":  # "there" / "it", or a place to go to said twice in a row: one visit
+                last.role = "goal"
+            return last
+        m = Mention(ref, role, self.sentence, self.step)
+        self.mentions.append(m)
+        return m
+
+    def last_visit(self, before: int | None = None) -> int | None:
+        """Index of the last mention of a place to visit before index ``before`` (default: all)."""
+        end = len(self.mentions) if before is None else before
+        return next((k for k in range(end - 1, -1, -1) if self.mentions[k].role in VISIT_ROLES), None)
+
+    def destination(self) -> int | None:
+        """Index of the place the robot is going to at this point ("wait there"): the last place to go to of the
+        current step, else the last place to visit."""
+        goals = [k for k, m in enumerate(self.mentions) if m.role == "goal" and m.step == self.step]
+        return goals[-1] if goals else self.last_visit()
+
+    def apply_orders(self, orders: list[str], mine: list[Mention], start: int) -> None:
+        """Order words on the mentions they apply to: "first" / まず rank them first, "finally" / 最後に last, "on
+        the way" / 途中で make a place to go to one to pass, "before that" / その前に puts them right before the
+        place said before index ``start``."""
+        for order in orders:
+            for m in mine:
+                if order == "first":
+                    m.rank = 0
+                elif order == "last":
+                    m.rank = 2
+                elif order == "on_the_way" and m.role == "goal":
+                    m.role = "via"
+                elif order == "before_that":
+                    target = self.last_visit(start)
+                    if target is not None:
+                        m.tied = True
+                        self.pairs.append((self.mentions.index(m), target))
+
+    def last_ref(self, word: str) -> PlaceRef:
+        """The place said last ("there", "it"); refused when none was."""
+        if not self.mentions:
+            raise UnsupportedPhrase(f"{excerpt(word)} names no place said before it: say the place's name")
+        return self.mentions[-1].ref
+
+    def place(self, node: LarkToken, relation: Relation | None = None, every: bool = False) -> PlaceRef:
+        """The :class:`PlaceRef` of a PLACE token."""
+        t = self.toks[node.start_pos or 0]
+        return PlaceRef(t.words, t.surface, relation, every)
+
+    def seconds(self, nodes: Iterable[object]) -> float | None:
+        """The seconds of the DURATION token among ``nodes``, if any."""
+        for node in nodes:
+            if isinstance(node, LarkToken) and node.type == "DURATION":
+                return self.toks[node.start_pos or 0].seconds
+        return None
+
+    def wait_at(self, m: Mention, toks: list[LarkToken]) -> None:
+        """``m`` waits for the DURATION among ``toks`` (or until the next instruction), as the WAIT token said."""
+        m.wait = self.seconds(toks)
+        m.wait_word = next((t.value for t in toks if t.type == "WAIT"), m.wait_word)
+
+    def refuse_lead(self, word: str) -> None:
+        """A correction word ("actually", やっぱり) only opens the instruction, before any place is said."""
+        if self.mentions:
+            raise UnsupportedPhrase(f"{excerpt(word)} {self.table.reasons['CORRECTION']}")
+
+    # ---- the reading ---------------------------------------------------------------------------------------
+    def result(self) -> Reading:
+        """The :class:`Reading` of the mentions, or the refusal of what cannot be honoured."""
+        visits = [k for k, m in enumerate(self.mentions) if m.role in VISIT_ROLES]
+        avoid = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "avoid"))
+        not_goal = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "not_goal"))
+        if not visits:
+            what = "places to avoid or not to end in" if avoid or not_goal else "no place"
+            raise EmptyInstruction(f"{excerpt(self.text)} names no place to go to, only {what}; say where to go")
+        last = self.mentions[visits[-1]]
+        if all(self.mentions[k].role == "via" for k in visits) and last.inherited and len(visits) > 1:
+            last.role = "goal"  # "go through the corridor and then the bedroom": the last place is where to go
+        if all(self.mentions[k].role == "via" for k in visits):
+            passed = ", ".join(self.mentions[k].ref.label for k in visits)
+            raise UnsupportedPhrase(
+                f"{excerpt(self.text)} names only places to pass ({passed}) and no destination: say where to go"
+            )
+        order = visiting_order(
+            [Visit(k, m.rank, m.step, m.role, m.tied) for k, m in ((k, self.mentions[k]) for k in visits)],
+            [(visits.index(a), visits.index(b)) for a, b in self.pairs if a in visits and b in visits],
+        )
+        ordered = [self.mentions[visits[i]] for i in order]
+        self._check(ordered, avoid, not_goal)
+        waits = tuple((i, m.wait) for i, m in enumerate(ordered) if m.wait is not False)
+        for i, wait in waits:
+            if wait is None and i < len(ordered) - 1:
+                raise UnsupportedPhrase(
+                    f"{excerpt(ordered[i].wait_word)} between two places (at {excerpt(ordered[i].ref.label)}, on the "
+                    "way) is a correction or a stop with no length; say how long ('wait there for 2 minutes, then ...')"
+                )
+            if isinstance(wait, float) and wait > MAX_WAIT_S:
+                raise InstructionTooLarge(f"a wait of {wait:.0f} s is longer than the {MAX_WAIT_S:.0f} s accepted")
+        speeds = sorted(set(self.speeds))
+        if len(speeds) > 1:
+            raise UnsupportedPhrase(f"{excerpt(self.text)} asks for two speeds ({' and '.join(speeds)}): say one")
+        return Reading(
+            tuple(m.ref for m in ordered),
+            tuple(avoid),
+            tuple(not_goal),
+            speeds[0] if speeds else None,
+            tuple((i, w if isinstance(w, float) else None) for i, w in waits),
+        )
+
+    def _check(self, ordered: list[Mention], avoid: list[PlaceRef], not_goal: list[PlaceRef]) -> None:
+        for m in ordered:
+            if m.ref.every:
+                raise UnsupportedPhrase(
+                    f"{excerpt(m.ref.label)} asks for every place of that name, but a plan goes to one place for "
+                    "each waypoint and one goal: name them one by one"
+                )
+        # a place both to visit and to avoid (or not to end in) is refused by the planner, which knows its
+        # instances (ConflictingInstruction): "the bedroom, avoiding the bedroom next to the bath" is no conflict
