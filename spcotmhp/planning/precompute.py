@@ -113,8 +113,6 @@ def _region_inputs(
         fallback,
         shared["points"],
     )
-    if settings.optimality == "every_step":  # the destination's Gaussian is in every step of the field instead
-        end_term = np.zeros_like(end_term)
     act = np.flatnonzero(model.active_places)
     return {
         "model": model,
@@ -124,7 +122,7 @@ def _region_inputs(
         "traversable": mask,
         "node_place": node_place,
         "node_cell": cells,
-        "end_term": end_term,
+        "end_term": end_term if settings.optimality == "end" else np.zeros_like(end_term),  # every step: in the field
         "dist": [],
         "next_step": [],
         "w_hat": np.empty(0),
