@@ -115,6 +115,9 @@ def test_plan_command_plans_with_the_collector_paused_then_resumes_it(tmp_path: 
     folder = supervised_model_dir("3LDK_06", tmp_path / "model")
     x, y = load_model(folder).mu[0]
     seen = run_child(COMMAND, "plan", str(folder), INSTRUCTION, "--start", f"{x:.3f}", f"{y:.3f}")
+    # the text output plans twice (the first plan of the process, then the same plan warm: issue 25), both paused
+    assert seen == {"during": [False, False], "after": True, "frozen": True}
+    seen = run_child(COMMAND, "plan", str(folder), INSTRUCTION, "--start", f"{x:.3f}", f"{y:.3f}", "--json")
     assert seen == {"during": [False], "after": True, "frozen": True}
 
 

@@ -22,6 +22,8 @@ MODULES = [
     "spcotmhp.learning.model",
     "spcotmhp.baselines.smoothing",
     "spcotmhp.evaluation.metrics",
+    "spcotmhp.evaluation.spread",
+    "spcotmhp.datasets.against_wall",
     "spcotmhp.datasets.synthetic",
     "spcotmhp.datasets.synthetic_furniture",
     "spcotmhp.speech.lexicon",

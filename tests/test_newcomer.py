@@ -11,10 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from PIL import Image, ImageDraw
+from PIL import Image
 
 from spcotmhp import __version__
 from spcotmhp.commands.conventions import plain_table
+from spcotmhp.commands.examples import draw_flat
 
 EXE = Path(sys.executable).parent / "spcotmhp"
 CLI = [str(EXE)] if EXE.exists() else [sys.executable, "-m", "spcotmhp.cli"]
@@ -40,15 +41,10 @@ def run(*args: str, cwd: Path) -> subprocess.CompletedProcess:
 
 def draw_home(folder: Path) -> None:
     """A 10 m x 6 m flat drawn in a paint program (RGB PNG, black walls on white): a kitchen and a bedroom
-    above a hallway, each with a door; 0.05 m per pixel, origin at the bottom left corner."""
+    above a hallway, each with a door; 0.05 m per pixel, origin at the bottom left corner (the drawing
+    `spcotmhp examples` writes as drawn-map.png, which the README copies)."""
     folder.mkdir()
-    image = Image.new("RGB", (200, 120), (255, 255, 255))
-    pen = ImageDraw.Draw(image)
-    pen.rectangle([0, 0, 199, 119], outline=(0, 0, 0), width=3)
-    pen.line([(100, 0), (100, 70)], fill=(0, 0, 0), width=3)
-    pen.line([(0, 70), (80, 70)], fill=(0, 0, 0), width=3)
-    pen.line([(120, 70), (199, 70)], fill=(0, 0, 0), width=3)
-    image.save(folder / "map.png")
+    draw_flat(folder / "map.png")
     (folder / "map.yaml").write_text(
         "image: map.png\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
         "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
@@ -168,7 +164,10 @@ def test_examples_are_the_tours_inputs(tmp_path):
         "map.pgm",
         "robot.bag",
         "say.wav",
+        "drawn-map.png",  # the README's own-data block copies it (issue 25: map.png did not exist)
     }
+    drawn = Image.open(tmp_path / "examples" / "drawn-map.png")
+    assert drawn.format == "PNG" and drawn.size == (200, 120) and drawn.mode == "RGB"
     again = run("examples", cwd=tmp_path)
     assert again.returncode == 2 and "exists; give --overwrite" in again.stderr
     bag = run(

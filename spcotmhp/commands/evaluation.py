@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 METHOD_NAMES = (
     "spcotmhp,astar,spconavi-viterbi,spconavi-astar,hpp1,hpp2,hpp1-smoothed,hpp2-smoothed,"
-    "spcotmhp-unsmoothed,spcotmhp-ma,spcotmhp-nostage"
+    "spcotmhp-unsmoothed,spcotmhp-ma,spcotmhp-paper,spcotmhp-paper-ma"
 )
 
 
@@ -65,7 +65,7 @@ def check_writable(path: Path) -> None:
 
 def _print_result(result: dict) -> None:
     from spcotmhp.commands.conventions import plain_table
-    from spcotmhp.evaluation.tables import COLUMNS, METHOD_LABELS, fmt_time
+    from spcotmhp.evaluation.tables import COLUMNS, METHOD_LABELS, fmt_time, success_rule
 
     keys = [k for k, _ in COLUMNS[result["task"]]]
     heads = [h for _, h in COLUMNS[result["task"]]]
@@ -74,8 +74,9 @@ def _print_result(result: dict) -> None:
         rows = [
             [
                 METHOD_LABELS.get(method, method),
-                *[f"{m[k]:.3f}" for k in keys],
-                f"{m['success']:.3f}",
+                *[_with_interval(m, k) for k in keys],
+                _with_interval(m, "success"),
+                " / ".join(f"{m[f'strict_{k}']:.3f}" for k in [*keys, "success"]),
                 fmt_time(m["time_median_s"]),
                 fmt_time(m["time_p95_s"]),
                 m["n_tasks"],
@@ -84,18 +85,31 @@ def _print_result(result: dict) -> None:
         ]
         typer.echo(
             plain_table(
-                ["Method"] + heads + ["Success", "Time median", "Time p95", "Tasks"],
+                ["Method"]
+                + heads
+                + ["Success", "Strict: " + " / ".join([*heads, "Success"])]
+                + ["Time median", "Time p95", "Tasks"],
                 rows,
                 title=f"{home}: {result['task']} tasks, {result['params']} parameters",
             )
             + "\n"
         )
+    typer.echo(success_rule(spread=False) + " [low, high]: 95% bootstrap interval over tasks.")
     for home, note in result["notes"].items():
         extra = f"; {len(note['dropped'])} task(s) dropped (unreachable)" if note.get("dropped") else ""
+        if note.get("no_safe_path"):
+            extra += f"; {len(note['no_safe_path'])} task(s) set apart (no footprint-safe path)"
+        for scores in note.get("vs_truth") or []:
+            extra += f"; learned vs truth: ARI places {scores['ari_i']:.3f}, concepts {scores['ari_c']:.3f}"
         typer.echo(f"{home}: place adjacency: {note['adjacency']}; precompute {fmt_time(note['precompute_s'])}{extra}")
     if result.get("moves"):
         moves = "; ".join(f"{METHOD_LABELS.get(m, m)} {v}" for m, v in result["moves"].items())
         typer.echo(f"moves: {moves}; SPL's reference length l is an 8-connected geodesic")
+
+
+def _with_interval(metrics: dict, key: str) -> str:
+    ci = metrics.get(f"{key}_ci")
+    return f"{metrics[key]:.3f}" + ("" if ci is None else f" [{ci[0]:.3f}, {ci[1]:.3f}]")
 
 
 def register(app: typer.Typer) -> None:
@@ -213,6 +227,17 @@ def register(app: typer.Typer) -> None:
                 help=("Where learned psi comes from: auto (walk, else map), hmm, walk or map."),
             ),
         ] = "auto",
+        model: Annotated[
+            Path | None,
+            typer.Option(
+                "--model",
+                metavar="MODEL_DIR",
+                help=(
+                    "Evaluate this model folder (learned, taught or questioned) as it is, on the one DATASET_DIR "
+                    "it was made on, instead of fitting parameters (--params is then ignored)."
+                ),
+            ),
+        ] = None,
         as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
         ray: Annotated[
             str | None,
@@ -224,7 +249,8 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Experiment I: plan every task of each home with each method and report SPL, N-SPL (and W-SPL, WN-SPL
-        for advanced tasks), success and online planning time, mean ± sd over seeds."""
+        for advanced tasks), success and online planning time, mean ± sd over seeds, with a 95% bootstrap interval
+        over tasks, under the footprint success rule and the paper's strict one."""
         from spcotmhp.evaluation.context import CONNECTIVITY
         from spcotmhp.evaluation.runner import evaluate as run
 
@@ -232,6 +258,15 @@ def register(app: typer.Typer) -> None:
         _check(connectivity, CONNECTIVITY, "--connectivity")
         _check(params, ("supervised", "learned"), "--params")
         _check(lang, ("en", "ja"), "--lang")
+        if model is not None and len(datasets) != 1:
+            raise SpcotmhpError(
+                f"--model evaluates one model on the one dataset it was made on; got {len(datasets)} datasets"
+            )
+        given = None
+        if model is not None:
+            from spcotmhp.learning.io import load_model
+
+            given = load_model(model)
         homes = [load_home(d, lang) for d in datasets]
         kind: TaskKind = "advanced" if task == "advanced" else "basic"
         result = run(
@@ -246,7 +281,10 @@ def register(app: typer.Typer) -> None:
             ray,
             seeds=seeds,
             connectivity=connectivity,
+            model=given,
         )
+        if given is not None:
+            result["model"] = str(model)
         if as_json:
             typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
         else:

@@ -254,6 +254,13 @@ def _overlaps(out: Path, folder: Path) -> bool:
     return same_file(Path(out), folder) or here.is_relative_to(target)
 
 
+CRITERION_WORDS = {
+    "log_joint": "the highest collapsed log joint",
+    "mutual_information": "the highest word-concept mutual information",
+}
+"""How ``learn`` names the run-selection criterion it used (the others by their names)."""
+
+
 def _fit_gibbs(
     data: Dataset,
     runs: int,
@@ -291,8 +298,11 @@ def _fit_gibbs(
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
+    why = CRITERION_WORDS.get(sel.criterion_, sel.criterion_)
+    if criterion == "auto":
+        why += f" (--criterion auto: {'with' if sel.criterion_ == 'mutual_information' else 'no'} image features)"
     summary = (
-        f"{model.info['method']}: run {sel.best_index_} of {runs} kept ({sel.criterion_}), "
+        f"{model.info['method']}: run {sel.best_index_} of {runs} kept by {why}, "
         f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
         f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s"
     )

@@ -48,13 +48,13 @@ from spcotmhp.datasets.synthetic_battery import battery_home
 from spcotmhp.errors import AmbiguousPlace, SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import task_instruction
-from spcotmhp.evaluation.metrics import Outcome, failed, summarise
-from spcotmhp.evaluation.tasks import Task, make_tasks, robot_cells, subset
-from spcotmhp.evaluation.work import score_task
+from spcotmhp.evaluation.metrics import Outcome, summarise
+from spcotmhp.evaluation.reference import HomeGeometry
+from spcotmhp.evaluation.tasks import Task, home_geometry, make_tasks, subset
+from spcotmhp.evaluation.work import failed_task, score_task
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate
 from spcotmhp.metric.grid_ops import label4
-from spcotmhp.metric.grid_search import geodesic_distance
 from spcotmhp.planning.places import mahalanobis2
 from spcotmhp.planning.regions import REACH_SIGMAS
 
@@ -78,6 +78,9 @@ class HomeBattery:
     n_spl: float = 0.0
     wn_spl: float = 0.0
     wn_spl_via: float = 0.0
+    strict_spl: float = 0.0
+    strict_wn_spl_via: float = 0.0
+    set_apart: int = 0  # tasks with no footprint-safe path (evaluation/tasks.py), not planned
     reach_checks: int = 0
     cut_off: int = 0
     time_median_ms: float = 0.0
@@ -100,20 +103,24 @@ def evaluate_home(
     the battery's tasks on it."""
     ctx = build_context(dataset, params, seed, learner=learner, model=model)
     out = HomeBattery(dataset.name, params)
-    basic = make_tasks(dataset, "basic", ctx.adjacency, places=ctx.places).tasks
-    advanced = subset(make_tasks(dataset, "advanced", ctx.adjacency, places=ctx.places).tasks, max_advanced, seed)
-    shared = shared_word_tasks(ctx, len(basic) + len(advanced))
+    basic_all = make_tasks(dataset, "basic", ctx.adjacency, places=ctx.places)
+    advanced_all = make_tasks(dataset, "advanced", ctx.adjacency, places=ctx.places)
+    basic, advanced = basic_all.tasks, subset(advanced_all.tasks, max_advanced, seed)
+    geometry = home_geometry(dataset, ctx.places)
+    shared = shared_word_tasks(ctx, len(basic) + len(advanced), geometry)
     costmap = inflate(dataset.map, **ctx.model.costmap)
     costs = costmap.costs
     outcomes: dict[str, list[Outcome]] = {"basic": [], "advanced": []}
     times = []
     for task in [*basic, *shared, *advanced]:
-        outcome, elapsed = _run(ctx, task, costs, out)
+        outcome, elapsed = _run(ctx, task, costs, out, geometry)
         times.append(elapsed)
         if task.goal_name != SHARED_WORD:
             outcomes[task.kind].append(outcome)
     b, a = summarise(outcomes["basic"]), summarise(outcomes["advanced"])
     out.spl, out.n_spl, out.wn_spl, out.wn_spl_via = b["spl"], b["n_spl"], a["wn_spl"], a["wn_spl_via"]
+    out.strict_spl, out.strict_wn_spl_via = b["strict_spl"], a["strict_wn_spl_via"]
+    out.set_apart = len(basic_all.no_safe_path) + len(advanced_all.no_safe_path)
     out.time_median_ms = 1000.0 * float(np.median(times))
     reach_refusals(ctx, costmap.free, out)
     return out
@@ -152,21 +159,22 @@ def _regions_within(ctx: HomeContext, k: int, robot: np.ndarray, regions: np.nda
     return set(np.unique(regions[robot & (m2 <= REACH_SIGMAS**2)]).tolist())
 
 
-def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
+def shared_word_tasks(ctx: HomeContext, first_index: int, geometry: HomeGeometry | None = None) -> list[Task]:
     """ "go to the corridor" from every place that is not a corridor: every place whose name holds the word is an
-    instance, the closest by the robot's geodesic is the one N-SPL asks for."""
+    instance, the closest by the robot's geodesic is the one N-SPL asks for (under each success rule,
+    :mod:`~spcotmhp.evaluation.reference`); places from which no corridor region can be reached safely are
+    left out."""
     data, places = ctx.dataset, ctx.places
     goals = tuple(p.index for p in places if SHARED_WORD in p.name.split())
     if len(goals) < 2:
         return []
-    robot = robot_cells(data)
+    geometry = home_geometry(data, places) if geometry is None else geometry
     out: list[Task] = []
     for p in places:
         if p.index in goals:
             continue
-        d = geodesic_distance(robot, [p.cell], 8, data.map.resolution)
-        lengths = np.array([d[places[g].cell] for g in goals])
-        if not np.isfinite(lengths).any():
+        safe, strict = geometry.footprint(p.cell, goals, ()), geometry.strict(p.cell, goals, ())
+        if not (np.isfinite(safe.l) and np.isfinite(strict.l) and safe.l > 0 and strict.l > 0):
             continue
         x, y = data.map.cell_to_world(np.array(p.cell))
         out.append(
@@ -175,7 +183,7 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
                 "basic",
                 first_index + len(out),
                 p.index,
-                goals[int(np.argmin(lengths))],
+                goals[safe.closest],
                 None,
                 p.cell,
                 (float(x), float(y)),
@@ -183,18 +191,23 @@ def shared_word_tasks(ctx: HomeContext, first_index: int) -> list[Task]:
                 None,
                 goals,
                 (),
-                int(np.argmin(lengths)),
-                float(lengths.min()),
+                safe.closest,
+                safe.l,
+                safe.closest,
+                strict_l=strict.l,
+                strict_closest_goal=strict.closest,
+                strict_closest_goal_via=strict.closest,
             )
         )
     return out
 
 
-def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> tuple[Outcome, float]:
-    """Plan one task, score it and update the counts."""
+def _run(
+    ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery, geometry: HomeGeometry | None = None
+) -> tuple[Outcome, float]:
+    """Plan one task, score it and update the counts (``geometry``: the home's, made when not given)."""
 
     ins = task_instruction(task, ctx.dataset.lang)
-    advanced = task.kind == "advanced"
     out.tasks += 1
     t0 = time.perf_counter()
     try:
@@ -203,11 +216,11 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
         elapsed = time.perf_counter() - t0
         if task.goal_name == SHARED_WORD and isinstance(exc, AmbiguousPlace):
             out.asked += 1
-            return failed(task.l, elapsed, advanced, advanced), elapsed
+            return failed_task(task, elapsed), elapsed
         out.refused += 1
         if len(out.errors) < 3:
             out.errors.append(f"{task.label()}: {exc}")
-        return failed(task.l, elapsed, advanced, advanced), elapsed
+        return failed_task(task, elapsed), elapsed
     elapsed = time.perf_counter() - t0
     cells = plan.cells
     start_cost = costs[cells[0, 0], cells[0, 1]]
@@ -220,17 +233,16 @@ def _run(ctx: HomeContext, task: Task, costs: np.ndarray, out: HomeBattery) -> t
     outcome = score_task(ctx, task, plan.path, elapsed)
     if len(task.goal_places) > 1 and task.kind == "basic" and outcome.success:
         out.repeated += 1
-        out.closest += int(_is_closest(ctx, task, plan.path[-1]))
+        geometry = home_geometry(ctx.dataset, ctx.places) if geometry is None else geometry
+        out.closest += int(_is_closest(ctx, task, plan.path[-1], geometry))
     return outcome, elapsed
 
 
-def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray) -> bool:
-    """Whether the goal instance the path ends in has the shortest robot path from the start (within the
-    tolerance)."""
-    data = ctx.dataset
-    d = geodesic_distance(robot_cells(data), [task.start_cell], 8, data.map.resolution)
-    lengths = np.array([d[ctx.places[g].cell] for g in task.goal_places])
-    reached = [i for i, g in enumerate(task.goal_places) if ctx.places[g].box.contains(end)]
+def _is_closest(ctx: HomeContext, task: Task, end: np.ndarray, geometry: HomeGeometry) -> bool:
+    """Whether the goal instance whose region the path ends in has the shortest robot path from the start to its
+    footprint target (within the tolerance; :mod:`~spcotmhp.evaluation.reference`)."""
+    lengths = geometry.to_places(task.start_cell, task.goal_places)
+    reached = [i for i, g in enumerate(task.goal_places) if ctx.places[g].region.contains(end)]
     return any(lengths[i] <= lengths.min() + CLOSEST_TOLERANCE_M for i in reached)
 
 
@@ -291,6 +303,9 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
             "wn_spl_min": float(np.min([r.wn_spl for r in rows])),
             "wn_spl_via_mean": float(np.mean([r.wn_spl_via for r in rows])),
             "wn_spl_via_min": float(np.min([r.wn_spl_via for r in rows])),
+            "strict_spl_mean": float(np.mean([r.strict_spl for r in rows])),
+            "strict_wn_spl_via_mean": float(np.mean([r.strict_wn_spl_via for r in rows])),
+            "set_apart": sum(r.set_apart for r in rows),
             "reach_checks": sum(r.reach_checks for r in rows),
             "cut_off": sum(r.cut_off for r in rows),
             "time_median_ms": float(np.median([r.time_median_ms for r in rows])),
@@ -299,20 +314,26 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
 
 
 def markdown(results: Sequence[HomeBattery]) -> str:
-    """The summary as a markdown table (one row per kind of parameters)."""
+    """The summary as a markdown table (one row per kind of parameters), under its success rule."""
+    from spcotmhp.evaluation.tables import success_rule
+
     rows = [
+        success_rule(spread=False)
+        + " Set apart: tasks with no footprint-safe path (all of them, not only the planned subset).",
+        "",
         (
-            "| parameters | homes | tasks | refused with a free path | plans touching walls | closest instance "
-            "| basic SPL | basic N-SPL | advanced WN-SPL mean (min) | advanced WN-SPL via mean (min) "
-            "| places refused within reach (2 sigma) | online median |"
+            "| parameters | homes | tasks | set apart | refused with a free path | plans touching walls | closest "
+            "instance | basic SPL | basic N-SPL | advanced WN-SPL mean (min) | advanced WN-SPL via mean (min) "
+            "| strict: basic SPL / advanced WN-SPL via | places refused within reach (2 sigma) | online median |"
         ),
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for p, s in summary(results).items():
         rows.append(
-            f"| {p} | {s['homes']} | {s['tasks']} | {s['refused']} | {s['unsafe']} | "
+            f"| {p} | {s['homes']} | {s['tasks']} | {s['set_apart']} | {s['refused']} | {s['unsafe']} | "
             f"{s['closest_rate']:.1%} of {s['repeated']} | {s['spl_mean']:.3f} | {s['n_spl_mean']:.3f} | "
             f"{s['wn_spl_mean']:.3f} ({s['wn_spl_min']:.3f}) | {s['wn_spl_via_mean']:.3f} ({s['wn_spl_via_min']:.3f}) "
-            f"| {s['cut_off']} of {s['reach_checks']} | {s['time_median_ms']:.2f} ms |"
+            f"| {s['strict_spl_mean']:.3f} / {s['strict_wn_spl_via_mean']:.3f} | {s['cut_off']} of {s['reach_checks']} "
+            f"| {s['time_median_ms']:.2f} ms |"
         )
     return "\n".join(rows)

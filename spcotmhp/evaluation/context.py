@@ -3,8 +3,15 @@ online planning): the parameters (supervised "ideal" ones as in the paper's Expe
 labels), the cost map, the SpCoTMHP planning graph (shared with HPP-I/II), and the ground-truth places.
 
 Beside the planner as shipped, the context holds the planner variants the tables compare (:data:`VARIANTS`):
-without smoothing (Algorithm 1, line 13 off) and without the stage constraint (every active place may complete
-every stage, Eq. 28 alone decides: the planner's ``stage_constraint=False``).
+without smoothing (Algorithm 1, line 13 off), without the stage constraint (every active place may complete
+every stage, Eq. 28 alone decides: the planner's ``stage_constraint=False``), and the paper's method ("paper"):
+Eq. 24 as written, optimality observed at every step of a leg with the destination's Gaussian
+(``optimality="every_step"``, :mod:`spcotmhp.planning.graph`), steps of Eq. 28 only between Figure 3's connected
+places (``adjacent_only=True``, the reference code's graph), no smoothing (Algorithm 1's line 13 is optional). It
+keeps the stage constraint: Eq. 28 gives no rule for where a stage ends, and its maximum over 1..E steps ends at
+the nearest place whatever its name (method spcotmhp-nostage); the reference code fixed each stage's place by
+drawing it from p(i | S), our stage constraint lets Eq. 28 choose among the places the words name. So "ours
+against the paper" differs in w-hat, the graph and smoothing, nothing else.
 
 Homes without adjacency.csv get their place adjacency from the map (the learning package's connectivity rule);
 the context says so in its notes, and the evaluation output carries them.
@@ -30,11 +37,12 @@ from spcotmhp.planning.protocol import Planner
 
 PARAMS = ("supervised", "learned")
 CONNECTIVITY = ("auto", "hmm", "walk", "map")
-VARIANTS = {  # name: (stage constraint, smoothing)
-    "ours": (True, True),
-    "unsmoothed": (True, False),
-    "nostage": (False, True),
-    "nostage-unsmoothed": (False, False),
+VARIANTS: dict[str, dict[str, Any]] = {  # name: the planner's settings that differ from ours (PlannerSettings)
+    "ours": {},
+    "unsmoothed": {"smooth": False},
+    "nostage": {"stage_constraint": False},
+    "nostage-unsmoothed": {"stage_constraint": False, "smooth": False},
+    "paper": {"optimality": "every_step", "adjacent_only": True, "smooth": False},
 }
 
 
@@ -68,10 +76,12 @@ class HomeContext:
     timings: dict = field(default_factory=dict)
 
     def notes(self) -> dict:
-        """What the output reports about this home."""
+        """What the output reports about this home (``vs_truth``: learned parameters' NMI / ARI of the kept run's
+        places and concepts against the truth, :func:`fit_params`; empty otherwise)."""
         return {
             "params": self.params,
             "adjacency": self.adjacency_source,
+            "vs_truth": dict(self.model.info.get("vs_truth") or {}),
             "psi": str(self.model.info.get("psi_from", "given adjacency")),
             "places": [p.name for p in self.places],
             "precompute_s": round(float(self.timings.get("graph_s", 0.0)), 4),
@@ -102,7 +112,9 @@ def fit_params(
     """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
     unsupervised Gibbs sampling: the learner's default number of runs and selection criterion; ``connectivity``
     is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`; ``learner``: other settings of
-    the learner, e.g. ``hyper`` or ``split_merge``) parameters."""
+    the learner, e.g. ``hyper`` or ``split_merge``) parameters. Learned parameters say how close the kept run's
+    partition is to the truth: ``model.info["vs_truth"]``, NMI and ARI of its places and concepts
+    (:func:`~spcotmhp.learning.table6.score_run`)."""
     if params == "supervised":
         from spcotmhp.learning.supervised import fit_supervised
 
@@ -112,8 +124,35 @@ def fit_params(
 
         if connectivity not in CONNECTIVITY:
             raise DatasetError(f"connectivity must be one of {', '.join(CONNECTIVITY)}, got {connectivity!r}")
-        return fit_runs(dataset, seed=seed, connectivity=connectivity, **dict(learner or {})).model_
+        from spcotmhp.learning.table6 import score_run
+
+        runs = fit_runs(dataset, seed=seed, connectivity=connectivity, **dict(learner or {}))
+        model = runs.model_
+        if dataset.truth_place is not None:
+            model.info["vs_truth"] = score_run(dataset, runs.best_.places_, runs.best_.concepts_)
+        return model
     raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
+
+
+def check_model_map(model: SpatialConceptModel, dataset: Dataset) -> None:
+    """A model evaluated on a dataset must have been made on its map: same size, resolution, origin and cells (the
+    tasks' positions are the dataset's cells, the planner's are the model's).
+
+    Raises:
+        DatasetError: the maps differ (which property, both values or how many cells).
+    """
+    mine, theirs = model.require_map(), dataset.map
+    for what, a, b in (
+        ("size (rows x cols)", tuple(mine.shape), tuple(theirs.shape)),
+        ("resolution (m)", mine.resolution, theirs.resolution),
+        ("origin", tuple(mine.origin[:2]), tuple(theirs.origin[:2])),
+        ("cells that differ", int(np.count_nonzero(mine.data != theirs.data)) if mine.shape == theirs.shape else 0, 0),
+    ):
+        if a != b:
+            raise DatasetError(
+                f"{dataset.name}: the model's map is not the dataset's ({what}: {a} against {b}); evaluate a model "
+                "on the dataset it was learned or taught on"
+            )
 
 
 def build_context(
@@ -125,11 +164,11 @@ def build_context(
     model: SpatialConceptModel | None = None,
 ) -> HomeContext:
     """Fit (or learn) the parameters and precompute everything offline for one home (``learner``: settings of
-    the learner for learned parameters, ``fit_params``; ``model``: parameters of kind ``params`` already fitted,
-    used as they are)."""
+    the learner for learned parameters, ``fit_params``; ``model``: parameters already fitted, used as they are,
+    ``params`` then only names them, e.g. "model"; a model's map must be the dataset's, :func:`check_model_map`)."""
     from spcotmhp.baselines.hpp import EDGE_COSTS, HPP
 
-    if params not in PARAMS:
+    if params not in PARAMS and model is None:
         raise DatasetError(f"params must be one of {', '.join(PARAMS)}, got {params!r}")
     timings = {}
     places = build_places(dataset)
@@ -139,6 +178,7 @@ def build_context(
         model = fit_params(dataset, params, adjacency, seed, connectivity, learner)
     if model.map is None:
         model.map = dataset.map
+    check_model_map(model, dataset)
     timings["fit_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     costmap = inflate(dataset.map, **model.costmap)
@@ -147,10 +187,8 @@ def build_context(
     planner = HierarchicalPlanner(model, log_p=costmap.log_p)
     timings["graph_s"] = time.perf_counter() - t0
     variants = {
-        name: planner
-        if name == "ours"
-        else HierarchicalPlanner(model, log_p=costmap.log_p, smooth=smooth, stage_constraint=stage)
-        for name, (stage, smooth) in VARIANTS.items()
+        name: planner if not overrides else HierarchicalPlanner(model, log_p=costmap.log_p, **overrides)
+        for name, overrides in VARIANTS.items()
     }
     t0 = time.perf_counter()
     hpp = {name: HPP(planner.graph, cost) for name, cost in EDGE_COSTS.items()}

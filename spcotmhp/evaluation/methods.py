@@ -8,7 +8,9 @@ Variants that separate the method from its post-processing (Algorithm 1, line 13
 (:data:`~spcotmhp.evaluation.context.VARIANTS`): SpCoTMHP unsmoothed, with the paper's moving average
 (:func:`~spcotmhp.baselines.smoothing.moving_average`), without the stage constraint (Eq. 28 alone); without the
 stage constraint also unsmoothed or with the moving average; HPP-I/II with SpCoTMHP's own
-smoothing.
+smoothing. The paper's method (``spcotmhp-paper``; with the moving average ``spcotmhp-paper-ma``): Eq. 24 as
+written (optimality at every step) on the paper's graph (steps only between connected places), unsmoothed
+(:data:`~spcotmhp.evaluation.context.VARIANTS` says what it keeps).
 
 For advanced tasks, A* and SpCoNavi receive the waypoint and goal words as one bag of words (as in the paper);
 the hierarchical methods get them as ordered stages.
@@ -76,6 +78,8 @@ METHODS: dict[str, Callable[[Offline], Planner]] = {
     "spcotmhp-nostage": lambda o: o.variants["nostage"],
     "spcotmhp-nostage-unsmoothed": lambda o: o.variants["nostage-unsmoothed"],
     "spcotmhp-nostage-ma": lambda o: MovingAveragePlanner(o.variants["nostage-unsmoothed"]),
+    "spcotmhp-paper": lambda o: o.variants["paper"],
+    "spcotmhp-paper-ma": lambda o: MovingAveragePlanner(o.variants["paper"]),
 }
 """Each method's planner, made from the home's :class:`Offline` part."""
 
@@ -91,6 +95,8 @@ MOVE_MODELS = {
     "spcotmhp-nostage": "8-connected",
     "spcotmhp-nostage-unsmoothed": "8-connected",
     "spcotmhp-nostage-ma": "8-connected, then a moving average (off the grid)",
+    "spcotmhp-paper": "8-connected (the reference code: 4-connected + stay)",
+    "spcotmhp-paper-ma": "8-connected, then a moving average (off the grid)",
     "spconavi-viterbi": "4-connected + stay (the paper's SpCoNavi action set)",
     "spconavi-astar": "4-connected + stay (the paper's SpCoNavi action set)",
 }

@@ -15,7 +15,22 @@ variants weight the same ratio by a different success:
 Our variant of N, ``N_via`` (columns N-SPL (via) and WN-SPL (via)), takes as "closest" the goal instance where
 the shortest path *through a waypoint* ends; on basic tasks the two coincide.
 
-A region is the axis-aligned box of a place's teaching positions grown by a margin (0.1 m). Tasks with
+Two success rules (:data:`SUCCESS_RULE`), both reported for every method:
+
+* **footprint** (the primary figures, keys ``spl``, ``n_spl``, ...): a pose reaches a place when the robot's
+  *centre* lies within the robot's inscribed radius r of the place's box, i.e. inside the box grown by a disc of
+  radius r (the box's Minkowski sum with the disc, :meth:`Box.grown`): the robot's body then touches the place.
+  SPL (Anderson et al. 2018) leaves the success distance to the task ("within a distance d of the goal"); the box
+  alone asks the robot's centre to stand where, against furniture or a wall, no centre fits (every cell of a
+  kitchen taught against its counter can be inscribed), so a planner that keeps the footprint clear of obstacles
+  would be scored as failing exactly because it is safe. The reference length l is the shortest path over the
+  cells the robot's centre may occupy (cost below inscribed) to the place's target inside that grown box: the
+  robot cell nearest the mean of its teaching positions there (:mod:`~spcotmhp.evaluation.reference` says why
+  not to the grown box's edge);
+* **strict** (the paper's rule, keys ``strict_spl``, ``strict_n_spl``, ...): the centre inside the box itself,
+  and l to the place's position (the robot cell nearest the mean, wherever it lies).
+
+A box is the axis-aligned box of a place's teaching positions grown by a margin (0.1 m). Tasks with
 ``l = 0`` (the start already satisfies the task) are not made (:mod:`~spcotmhp.evaluation.tasks`), since their
 ratio ``0 / max(p, 0)`` is undefined for a path that stays put.
 """
@@ -23,21 +38,33 @@ ratio ``0 / max(p, 0)`` is undefined for a path that stays put.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 REGION_MARGIN_M = 0.1
 
 
+SUCCESS_RULE = (
+    "Success: the path's last pose within the robot's inscribed radius ({radius:.2f} m) of the goal place's box "
+    "(its teaching positions' bounding box + 0.1 m), i.e. the robot's body reaches the place; l is the shortest "
+    "path of the robot's centre (cells below the inscribed cost) to the cell nearest the place's mean inside that "
+    "grown box. Strict (the paper's rule): the last pose inside the box itself, l to the robot cell nearest the "
+    "place's mean."
+)
+"""The success rule every table states (format with ``radius``, the inscribed radius in metres)."""
+
+
 @dataclass(frozen=True)
 class Box:
-    """An axis-aligned rectangle in map-frame metres (inclusive bounds)."""
+    """An axis-aligned rectangle in map-frame metres (inclusive bounds), optionally grown by a disc of
+    ``radius`` metres (its Minkowski sum with the disc: the points within ``radius`` of the rectangle)."""
 
     xmin: float
     ymin: float
     xmax: float
     ymax: float
+    radius: float = 0.0
 
     @classmethod
     def around(cls, points: np.ndarray, margin: float = REGION_MARGIN_M) -> Box:
@@ -46,11 +73,31 @@ class Box:
         lo, hi = pts.min(axis=0) - margin, pts.max(axis=0) + margin
         return cls(float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
 
-    def contains(self, xy: np.ndarray) -> np.ndarray:
-        """Boolean (...,) : which of the (..., 2) points lie inside (bounds included)."""
+    def grown(self, radius: float) -> Box:
+        """The box grown by a disc of ``radius`` metres (radii add up).
+
+        >>> Box(0.0, 0.0, 1.0, 1.0).grown(0.5).contains(np.array([[1.3, 1.3], [1.4, 1.4]])).tolist()
+        [True, False]
+        """
+        if not (np.isfinite(radius) and radius >= 0):
+            raise ValueError(f"a box grows by a finite radius >= 0, got {radius}")
+        return replace(self, radius=self.radius + float(radius))
+
+    def distance(self, xy: np.ndarray) -> np.ndarray:
+        """(...,) Euclidean distance of the (..., 2) points to the rectangle (0 inside; the radius ignored)."""
         xy = np.asarray(xy, dtype=float)
-        x, y = xy[..., 0], xy[..., 1]
-        return (x >= self.xmin) & (x <= self.xmax) & (y >= self.ymin) & (y <= self.ymax)
+        dx = np.maximum(np.maximum(self.xmin - xy[..., 0], xy[..., 0] - self.xmax), 0.0)
+        dy = np.maximum(np.maximum(self.ymin - xy[..., 1], xy[..., 1] - self.ymax), 0.0)
+        return np.hypot(dx, dy)
+
+    def contains(self, xy: np.ndarray) -> np.ndarray:
+        """Boolean (...,) : which of the (..., 2) points lie inside (bounds included; within ``radius`` of the
+        rectangle when grown, up to 1e-9 m of rounding)."""
+        xy = np.asarray(xy, dtype=float)
+        if self.radius == 0.0:
+            x, y = xy[..., 0], xy[..., 1]
+            return (x >= self.xmin) & (x <= self.xmax) & (y >= self.ymin) & (y <= self.ymax)
+        return self.distance(xy) <= self.radius + 1e-9
 
 
 def path_length(path_xy: np.ndarray) -> float:
@@ -93,6 +140,7 @@ class Outcome:
     time_s: float
     n_via_success: bool | None = None
     collides: bool = False
+    strict: Outcome | None = None  # the same path under the paper's strict rule (module docstring)
 
 
 def efficiency(p: float, l: float) -> float:
@@ -166,15 +214,29 @@ def off_free_space(
     return bool(not inside.all() or not free[cells[:, 0], cells[:, 1]].all())
 
 
-def failed(l: float, time_s: float, advanced: bool, via: bool = False) -> Outcome:
-    """The outcome of a method that returned no path (every success is 0)."""
-    return Outcome(False, False, False if advanced else None, 0.0, float(l), 0.0, float(time_s), False if via else None)
+def failed(l: float, time_s: float, advanced: bool, via: bool = False, strict_l: float | None = None) -> Outcome:
+    """The outcome of a method that returned no path (every success is 0; under the strict rule too when its
+    reference length ``strict_l`` is given)."""
+    strict = None if strict_l is None else failed(strict_l, time_s, advanced, via)
+    return Outcome(
+        False,
+        False,
+        False if advanced else None,
+        0.0,
+        float(l),
+        0.0,
+        float(time_s),
+        False if via else None,
+        strict=strict,
+    )
 
 
-def summarise(outcomes: Sequence[Outcome]) -> dict[str, float | int]:
-    """Mean metrics over tasks: spl, n_spl, success, n_success, collides (the share of paths that leave the free
-    space, :func:`off_free_space`), time_median_s, time_p95_s, n_tasks and, when
-    the tasks have waypoints, w_spl, wn_spl, w_success; when they have N_via, n_spl_via and wn_spl_via.
+def task_terms(outcomes: Sequence[Outcome], prefix: str = "") -> dict[str, np.ndarray]:
+    """Per-task terms whose means are the metrics (one home for each metric's definition): spl = S * ratio,
+    n_spl = N * ratio, success, n_success, collides and, for advanced tasks, w_spl = W * ratio, wn_spl =
+    W * N * ratio, w_success and (when scored) n_spl_via, wn_spl_via; then the same under the strict rule with
+    keys ``strict_...`` when every outcome carries its strict reading. Keys in the order :func:`summarise`
+    reports them.
 
     Raises:
         ValueError: no outcomes, or a mix of basic and advanced outcomes.
@@ -187,20 +249,36 @@ def summarise(outcomes: Sequence[Outcome]) -> dict[str, float | int]:
     r = np.array([o.ratio for o in outcomes])
     s = np.array([o.success for o in outcomes], dtype=float)
     n = np.array([o.n_success for o in outcomes], dtype=float)
-    t = np.array([o.time_s for o in outcomes], dtype=float)
-    out: dict[str, float | int] = {"spl": float(np.mean(s * r)), "n_spl": float(np.mean(n * r))}
+    out = {"spl": s * r, "n_spl": n * r}
     if advanced.pop():
         w = np.array([o.w_success for o in outcomes], dtype=float)
-        out["w_spl"] = float(np.mean(w * r))
-        out["wn_spl"] = float(np.mean(w * n * r))
-        out["w_success"] = float(np.mean(w))
+        out.update(w_spl=w * r, wn_spl=w * n * r, w_success=w)
         if all(o.n_via_success is not None for o in outcomes):
             nv = np.array([o.n_via_success for o in outcomes], dtype=float)
-            out["n_spl_via"] = float(np.mean(nv * r))
-            out["wn_spl_via"] = float(np.mean(w * nv * r))
-    out["success"] = float(np.mean(s))
-    out["collides"] = float(np.mean([o.collides for o in outcomes]))
-    out["n_success"] = float(np.mean(n))
+            out.update(n_spl_via=nv * r, wn_spl_via=w * nv * r)
+    out["success"] = s
+    if not prefix:
+        out["collides"] = np.array([o.collides for o in outcomes], dtype=float)
+    out["n_success"] = n
+    out = {prefix + k: v for k, v in out.items()}
+    strict = [o.strict for o in outcomes]
+    if not prefix and all(o is not None for o in strict):
+        out.update(task_terms([o for o in strict if o is not None], "strict_"))
+    return out
+
+
+def summarise(outcomes: Sequence[Outcome]) -> dict[str, float | int]:
+    """Mean metrics over tasks (the means of :func:`task_terms`: spl, n_spl, success, n_success, collides (the
+    share of paths that leave the free space, :func:`off_free_space`) and, when the tasks have waypoints, w_spl,
+    wn_spl, w_success; when they have N_via, n_spl_via and wn_spl_via; the strict rule's ``strict_...`` when
+    scored), then time_median_s, time_p95_s and n_tasks.
+
+    Raises:
+        ValueError: no outcomes, or a mix of basic and advanced outcomes.
+    """
+    terms = task_terms(outcomes)
+    t = np.array([o.time_s for o in outcomes], dtype=float)
+    out: dict[str, float | int] = {k: float(np.mean(v)) for k, v in terms.items()}
     out["time_median_s"] = float(np.median(t))
     out["time_p95_s"] = float(np.percentile(t, 95))
     out["n_tasks"] = len(outcomes)

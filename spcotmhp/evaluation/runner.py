@@ -10,9 +10,11 @@ task (numba compilation and first-call caches are never timed).
 With several seeds (:func:`evaluate`, ``seeds``) every seed is a complete repetition: learned parameters are
 learned again from that seed, and every random draw follows it. With supervised parameters nothing but the
 draws depends on the seed, so the methods that draw nothing (:data:`~spcotmhp.evaluation.methods.RANDOM`) run
-once and their outcomes count for every seed. Results are means over the seeds with their standard deviations
-(:mod:`spcotmhp.evaluation.spread`). Tasks whose start lies inside a waypoint-named place are summarised apart
-(``start_in_waypoint``), not in ``homes`` and ``mean``.
+once and their outcomes count for every seed (the result lists them in ``deterministic``). Results are means over
+the seeds with their standard deviations and, for every metric, a 95% bootstrap interval over tasks (``<key>_ci``:
+tasks resampled within each home, the per-task terms averaged over the seeds first; the generator seeded with
+``seed``; :mod:`spcotmhp.evaluation.spread`). Tasks whose start lies inside a waypoint-named place are summarised
+apart (``start_in_waypoint``), not in ``homes`` and ``mean``.
 """
 
 from __future__ import annotations
@@ -24,15 +26,18 @@ from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
+import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import METHODS, MOVE_MODELS, RANDOM
-from spcotmhp.evaluation.metrics import Outcome, summarise
-from spcotmhp.evaluation.spread import aggregate_methods
+from spcotmhp.evaluation.metrics import Outcome, summarise, task_terms
+from spcotmhp.evaluation.spread import aggregate_methods, bootstrap_ci
 from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, subset
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.limits import MAX_JOBS, MAX_SEEDS, check_count
 
 
@@ -125,8 +130,6 @@ def default_workers() -> int:
 
 def check_methods(methods: Iterable[str]) -> list[str]:
     """The method names, validated against :data:`~spcotmhp.evaluation.methods.METHODS`."""
-    from spcotmhp.errors import SpcotmhpError
-
     names = [m.strip() for m in methods if m.strip()]
     bad = [m for m in names if m not in METHODS]
     if bad or not names:
@@ -184,6 +187,7 @@ def overall(results: Sequence[HomeResult], apart: bool = False) -> dict[str, dic
     return summarise_records((r for res in results for r in res.records), apart)
 
 
+# long: the runner's public entry: 13 options, a docstring that gives the result's layout, the loop over seeds
 def evaluate(
     datasets: Sequence,
     kind: TaskKind,
@@ -197,14 +201,22 @@ def evaluate(
     quiet: bool = False,
     seeds: int = 1,
     connectivity: str = "auto",
+    model: SpatialConceptModel | None = None,
 ) -> dict:
     """Evaluate methods on the tasks of several homes over ``seeds`` seeds (seed, seed + 1, ...); the JSON-ready
     result ``{task, params, seed, seeds, connectivity, homes: {name: {method: metrics}}, mean: {method: metrics},
-    start_in_waypoint: {method: metrics}, notes: {name: {...}}, moves: {method: move model}, time_s}``: every
-    metric is the mean over the seeds with ``<metric>_sd`` beside it (``mean`` pools the tasks of all homes;
-    ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is where learned psi comes from."""
+    start_in_waypoint: {method: metrics}, deterministic: [method], notes: {name: {...}}, moves: {method: move
+    model}, time_s}``: every metric is the mean over the seeds with ``<metric>_sd`` and ``<metric>_ci`` beside it
+    (``mean`` pools the tasks of all homes; ``start_in_waypoint`` pools the tasks set apart). ``connectivity`` is
+    where learned psi comes from. ``model``: parameters already made (a model folder, taught or questioned) to
+    evaluate as they are on the one dataset given, instead of fitting (``params`` is then "model")."""
     methods = check_methods(methods)
     check_count(seeds, "seeds", 1, MAX_SEEDS, ValueError)
+    if model is not None:  # a given model: on the one dataset it was made on
+        if len(datasets) != 1:
+            raise SpcotmhpError(f"a given model is evaluated on one dataset; got {len(datasets)}")
+        params = "model"
+    fixed = params in ("supervised", "model")  # only the methods that draw change with the seed
     t_start = time.perf_counter()
     notes: dict = {}
     per_seed: list[list[HomeResult]] = []
@@ -213,47 +225,72 @@ def evaluate(
         for k in range(seeds):
             results = []
             for ds in datasets:
-                ctx = build_context(ds, params, seed + k, connectivity)
-                home_tasks = make_tasks(ds, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
-                tasks = subset(home_tasks.tasks, max_tasks, seed)
-                note = notes.setdefault(ds.name, _home_note(ctx, home_tasks, tasks))
-                note["psi"].append(ctx.notes()["psi"])
+                ctx = build_context(ds, params, seed + k, connectivity, model=model)
+                tasks, note = _tasks_and_note(ctx, kind, max_tasks, seed, notes)
                 if not tasks:
                     continue
-                again = [m for m in methods if k == 0 or params != "supervised" or m in RANDOM]
-                if again:
-                    res = evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
-                else:  # supervised and only methods that draw nothing: seed 0's outcomes hold for every seed
-                    res = HomeResult(ds.name, [], dict(first[ds.name].notes))
-                if len(again) < len(methods):  # supervised: the methods that draw nothing gave this already
-                    res.records += [r for r in first[ds.name].records if r.method not in again]
-                first.setdefault(ds.name, res)
+                again = [m for m in methods if k == 0 or not fixed or m in RANDOM]
+                res = (
+                    evaluate_home(ctx, tasks, again, seed + k, workers, backend, ray_address, progress)
+                    if again
+                    else None
+                )
+                res = _with_first(res, ds.name, first, again, methods)
                 _count_no_path(note, res.records)
                 results.append(res)
             per_seed.append(results)
     for note in notes.values():
         note["psi"] = sorted(set(note["psi"]))
+        note["vs_truth"] = [v for v in note["vs_truth"] if v]
     return {
         "task": kind,
         "params": params,
         "seed": seed,
         "seeds": seeds,
         "connectivity": connectivity,
-        **_aggregate_seeds(per_seed, list(first), methods),
+        **_aggregate_seeds(per_seed, list(first), methods, seed),
+        "deterministic": [m for m in methods if fixed and m not in RANDOM],
         "notes": notes,
         "moves": {m: MOVE_MODELS[m] for m in methods},
         "time_s": time.perf_counter() - t_start,
     }
 
 
+def _tasks_and_note(ctx: HomeContext, kind: TaskKind, max_tasks: int | None, seed: int, notes: dict):
+    """One home's tasks of one seed (the same seeded subset in every seed) and its note in ``notes`` (made on the
+    first seed, :func:`_home_note`), with this seed's psi source and learned-vs-truth scores added."""
+    home_tasks = make_tasks(ctx.dataset, kind, ctx.adjacency, ctx.adjacency_source, places=ctx.places)
+    tasks = subset(home_tasks.tasks, max_tasks, seed)
+    note = notes.setdefault(ctx.name, _home_note(ctx, home_tasks, tasks))
+    for key in ("psi", "vs_truth"):
+        note[key].append(ctx.notes()[key])
+    return tasks, note
+
+
+def _with_first(
+    res: HomeResult | None, home: str, first: dict[str, HomeResult], again: Sequence[str], methods: Sequence[str]
+) -> HomeResult:
+    """A seed's result of ``home`` completed with the first seed's outcomes of the methods it did not run again
+    (nothing re-fitted and they draw nothing: those outcomes hold for every seed); the first one is kept."""
+    if res is None:
+        res = HomeResult(home, [], dict(first[home].notes))
+    if len(again) < len(methods):
+        res.records += [r for r in first[home].records if r.method not in again]
+    first.setdefault(home, res)
+    return res
+
+
 def _home_note(ctx: HomeContext, home_tasks: HomeTasks, tasks: Sequence[Task]) -> dict:
     """A home's notes in :func:`evaluate`'s result: the context's, the task counts and dropped tasks, and the
-    per-seed lists to be filled (``psi``: the psi source of each seed; ``no_path``: {method: failed plans})."""
+    per-seed lists to be filled (``psi``: the psi source of each seed; ``vs_truth``: learned parameters' NMI / ARI
+    against the truth, per seed; ``no_path``: {method: failed plans})."""
     return {
         **ctx.notes(),
         "psi": [],
+        "vs_truth": [],
         "n_tasks_all": len(home_tasks.tasks),
         "dropped": home_tasks.dropped,
+        "no_safe_path": home_tasks.no_safe_path,
         "zero_length": len(home_tasks.zero_length),
         "start_in_waypoint": sum(t.start_in_waypoint for t in tasks),
         "no_path": {},
@@ -267,16 +304,19 @@ def _count_no_path(note: dict, records: Iterable[TaskRecord]) -> None:
             note["no_path"][r.method] = note["no_path"].get(r.method, 0) + 1
 
 
-def _aggregate_seeds(per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[str], methods: Sequence[str]) -> dict:
-    """``{homes, mean, start_in_waypoint}`` of :func:`evaluate`: every metric's mean and sd over the seeds, per
-    home, over all homes pooled, and over the tasks set apart; methods in the order given."""
+def _aggregate_seeds(
+    per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[str], methods: Sequence[str], seed: int = 0
+) -> dict:
+    """``{homes, mean, start_in_waypoint}`` of :func:`evaluate`: every metric's mean and sd over the seeds and its
+    bootstrap interval over tasks (:func:`_add_intervals`), per home, over all homes pooled, and over the tasks set
+    apart; methods in the order given."""
     order = {m: i for i, m in enumerate(methods)}
 
     def ordered(d: dict) -> dict:
         return dict(sorted(d.items(), key=lambda kv: order[kv[0]]))
 
     apart = [overall(rs, apart=True) for rs in per_seed if rs]
-    return {
+    out = {
         "homes": {
             name: ordered(aggregate_methods([next(r for r in rs if r.home == name).metrics() for rs in per_seed]))
             for name in homes
@@ -284,3 +324,43 @@ def _aggregate_seeds(per_seed: Sequence[Sequence[HomeResult]], homes: Sequence[s
         "mean": ordered(aggregate_methods([overall(rs) for rs in per_seed if rs])),
         "start_in_waypoint": ordered(aggregate_methods(apart)) if apart and apart[0] else {},
     }
+    _add_intervals(out, per_seed, seed)
+    return out
+
+
+def _add_intervals(out: dict, per_seed: Sequence[Sequence[HomeResult]], seed: int) -> None:
+    """Add ``<key>_ci`` (:func:`~spcotmhp.evaluation.spread.bootstrap_ci`, seeded with ``seed``) beside every
+    per-task metric of ``out["homes"]``, ``out["mean"]`` (stratified by home) and ``out["start_in_waypoint"]``."""
+    homes = list(dict.fromkeys(r.home for rs in per_seed for r in rs))
+    for apart, pooled in ((False, out["mean"]), (True, out["start_in_waypoint"])):
+        for method, metrics in pooled.items():
+            found = {h: m for h in homes if (m := _task_matrix(per_seed, h, method, apart)) is not None}
+            if not found:
+                continue
+            keys = next(iter(found.values()))[0]
+            _put(metrics, keys, bootstrap_ci([terms for _, terms in found.values()], seed))
+            for home, (keys, terms) in found.items() if not apart else ():
+                _put(out["homes"][home][method], keys, bootstrap_ci([terms], seed))
+
+
+def _task_matrix(
+    per_seed: Sequence[Sequence[HomeResult]], home: str, method: str, apart: bool
+) -> tuple[list[str], np.ndarray] | None:
+    """The metric keys and the (tasks, keys) matrix of one method's per-task terms on one home
+    (:func:`~spcotmhp.evaluation.metrics.task_terms`), averaged over the seeds (None: no task)."""
+    outcomes = [
+        [r.outcome for r in res.records if r.method == method and r.apart == apart]
+        for results in per_seed
+        for res in results
+        if res.home == home
+    ]
+    terms = [task_terms(o) for o in outcomes if o]
+    if not terms:
+        return None
+    keys = list(terms[0])
+    return keys, np.mean([np.stack([t[k] for k in keys], axis=1) for t in terms], axis=0)
+
+
+def _put(metrics: dict, keys: Sequence[str], ci: np.ndarray) -> None:
+    for key, (low, high) in zip(keys, ci.tolist(), strict=True):
+        metrics[f"{key}_ci"] = [low, high]

@@ -10,23 +10,25 @@ Each place's *position* is the robot cell nearest the mean of its teaching posit
 free cells outside the inscribed radius of costmap_2d's default settings (:func:`robot_cells`: a 0.22 m robot
 centred there touches no obstacle), within the free region (4-connected robot cells) where most of its teaching
 positions' nearest robot cells lie (:func:`place_position`: a pocket cut off by furniture in the middle of a room
-is not where the room is reached from); the start of a task is the position of place i. A place's success region is the
-box of its teaching positions plus 0.1 m
-(:class:`~spcotmhp.evaluation.metrics.Box`); every place sharing a name is an *instance* of that name.
+is not where the room is reached from); the start of a task is the position of place i. A place's *box* is the box of
+its teaching positions plus 0.1 m (:class:`~spcotmhp.evaluation.metrics.Box`), its *region* that box grown by the
+inscribed radius (where the robot's centre stands when its body reaches the box: the footprint success rule of
+:mod:`~spcotmhp.evaluation.metrics`); every place sharing a name is an *instance* of that name.
 
-Tasks whose ``l`` is 0 (a basic task from one bedroom to "bedroom": the start is already a goal instance's
-position) are left out and counted (``HomeTasks.zero_length``); tasks whose start lies inside the region of a
-waypoint-named place are flagged (``Task.start_in_waypoint``) and reported apart by the runner.
+Each task carries its reference length ``l`` and closest instances under both success rules
+(:mod:`~spcotmhp.evaluation.reference`): ``l``, ``closest_goal``, ``closest_goal_via`` for the footprint rule
+(the primary figures) and ``strict_l``, ``strict_closest_goal``, ``strict_closest_goal_via`` for the paper's.
+N-SPL's "closest" instance is, as the paper defines it, the goal instance closest from the initial position; the
+goal instance of the minimum through a waypoint is our variant (``closest_goal_via``; the same on basic tasks).
+Both come from geodesics, not from the hand-written tables of the original.
 
-The reference length ``l`` of SPL is, as in Anderson et al. (2018), a geodesic to the goal's position (not to the
-edge of its success region): the shortest path over the robot cells (8-connected, steps 1 and sqrt 2 cells, no costs)
-from
-the start through the position of a waypoint-named place to the position of a goal-named place, minimised
-jointly over the instances, ``l = min_{w, g} d(start, w) + d(w, g)`` (``min_g d(start, g)`` for basic tasks).
-N-SPL's "closest" instance is, as the paper defines it, the goal instance closest from the initial position,
-``argmin_g d(start, g)`` (``Task.closest_goal``); the goal instance of the minimum through a waypoint is our
-variant (``Task.closest_goal_via``; the same on basic tasks). Both come from geodesics, not from the hand-written
-tables of the original.
+Left out and counted: tasks that no robot path joins at all (``HomeTasks.dropped``); tasks with *no
+footprint-safe path*, whose goal or waypoint region holds no robot cell reachable from the start (a place taught
+against furniture whose every free cell is inscribed, too far for the body to reach: ``HomeTasks.no_safe_path``),
+so that no task counts as failed only because no safe robot can succeed; tasks whose ``l`` is 0 under either rule
+(a basic task from one bedroom to "bedroom": the start already satisfies it, ``HomeTasks.zero_length``). Tasks whose
+start lies inside the region of a waypoint-named place are flagged (``Task.start_in_waypoint``) and reported apart
+by the runner.
 """
 
 from __future__ import annotations
@@ -41,25 +43,29 @@ import numpy as np
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError
 from spcotmhp.evaluation.metrics import REGION_MARGIN_M, Box
-from spcotmhp.metric.costmap import inflate
+from spcotmhp.evaluation.reference import HomeGeometry, footprint_targets, robot_cells
+from spcotmhp.metric.costmap import CostMapSettings
 from spcotmhp.metric.grid_ops import label4
-from spcotmhp.metric.grid_search import geodesic_distance
 from spcotmhp.metric.snap import nearest_index, snap
 
 TaskKind = Literal["basic", "advanced"]
 TASK_KINDS = ("basic", "advanced")
+ROBOT_RADIUS_M = CostMapSettings().inscribed_radius
+"""The robot's inscribed radius of the evaluation (costmap_2d's default, as :func:`robot_cells`)."""
 
 
 @dataclass(frozen=True)
 class Place:
-    """A ground-truth place: index (truth.csv), name, mean of its teaching positions, position (the free cell
-    nearest the mean), success region."""
+    """A ground-truth place: index (truth.csv), name, mean of its teaching positions, position (the robot cell
+    nearest the mean), box (the strict success region) and region (the box grown by the robot's inscribed radius:
+    the footprint success region)."""
 
     index: int
     name: str
     mean: np.ndarray
     cell: tuple[int, int]
     box: Box
+    region: Box
 
 
 @dataclass(frozen=True)
@@ -78,10 +84,13 @@ class Task:
     waypoint_name: str | None
     goal_places: tuple[int, ...]
     waypoint_places: tuple[int, ...]
-    closest_goal: int  # index into goal_places: closest from the start (the paper's N)
-    l: float
+    closest_goal: int  # index into goal_places: closest from the start (the paper's N), footprint rule
+    l: float  # the reference length under the footprint rule
     closest_goal_via: int = -1  # index into goal_places: where the shortest path through a waypoint ends
     start_in_waypoint: bool = False  # the start lies inside a waypoint-named place's region
+    strict_l: float = float("nan")  # the same three under the paper's strict rule (nan: not scored)
+    strict_closest_goal: int = -1
+    strict_closest_goal_via: int = -1
 
     @property
     def goal_words(self) -> list[str]:
@@ -110,11 +119,9 @@ class HomeTasks:
     adjacency: np.ndarray
     adjacency_source: str
     tasks: list[Task]
-    dropped: list[str] = field(default_factory=list)  # tasks left out (unreachable goal), with the reason
+    dropped: list[str] = field(default_factory=list)  # tasks left out (no robot path at all), with the reason
     zero_length: list[str] = field(default_factory=list)  # tasks left out because l = 0
-
-    def boxes(self, place_ids: tuple[int, ...]) -> list[Box]:
-        return [self.places[k].box for k in place_ids]
+    no_safe_path: list[str] = field(default_factory=list)  # left out: no footprint-safe path (module docstring)
 
 
 def build_places(dataset: Dataset) -> list[Place]:
@@ -140,16 +147,9 @@ def build_places(dataset: Dataset) -> list[Place]:
     regions, nearest = label4(robot)[0], nearest_index(robot)
     for k in range(n):
         pts = dataset.positions[truth == k]
-        mean = pts.mean(axis=0)
-        places.append(
-            Place(
-                k,
-                str(names[k]),
-                mean,
-                place_position(dataset, pts, robot, regions, nearest),
-                Box.around(pts, REGION_MARGIN_M),
-            )
-        )
+        box = Box.around(pts, REGION_MARGIN_M)
+        position = place_position(dataset, pts, robot, regions, nearest)
+        places.append(Place(k, str(names[k]), pts.mean(axis=0), position, box, box.grown(ROBOT_RADIUS_M)))
     return places
 
 
@@ -187,12 +187,6 @@ def names_from_words(tokens: list[list[str]], truth: np.ndarray) -> list[str]:
     return names
 
 
-def robot_cells(dataset: Dataset) -> np.ndarray:
-    """(H, W) bool: the map's free cells outside the inscribed radius (costmap_2d defaults,
-    :class:`~spcotmhp.metric.costmap.CostMapSettings`): where a robot can be without touching an obstacle."""
-    return inflate(dataset.map).free
-
-
 def nearest_free_cell(dataset: Dataset, xy: np.ndarray, robot: np.ndarray | None = None) -> tuple[int, int]:
     """The robot cell (:func:`robot_cells`) whose centre is nearest to ``xy`` (Euclidean in cells;
     :func:`spcotmhp.metric.snap.snap`)."""
@@ -226,23 +220,25 @@ def make_tasks(
     adjacency = np.asarray(adjacency)
     if adjacency.shape != (n, n):
         raise DatasetError(f"{dataset.name}: adjacency is {adjacency.shape} but truth.csv has {n} places")
-    geodesic = place_geodesics(dataset, places)
+    geometry = home_geometry(dataset, places)
     by_name: dict[str, list[int]] = {}
     for p in places:
         by_name.setdefault(p.name, []).append(p.index)
     out = HomeTasks(dataset.name, places, adjacency, adjacency_source, [])
     for i, j, h in _task_places(kind, places, adjacency):
-        _add_task(out, dataset, kind, geodesic, by_name, i, j, h)
+        _add_task(out, dataset, kind, geometry, by_name, i, j, h)
     return out
 
 
-def place_geodesics(dataset: Dataset, places: list[Place]) -> np.ndarray:
-    """(P, P) free-space distance (m) between the positions of every two places, over the robot cells
-    (:func:`robot_cells`; 8-connected, no costs); inf where no path joins them."""
-    cells = [p.cell for p in places]
+def home_geometry(dataset: Dataset, places: list[Place]) -> HomeGeometry:
+    """The home's geodesic fields over the robot cells (:class:`~spcotmhp.evaluation.reference.HomeGeometry`),
+    with each place's position and footprint target (:func:`~spcotmhp.evaluation.reference.footprint_targets`)."""
     robot = robot_cells(dataset)
-    at = tuple(np.array(cells).T)
-    return np.array([geodesic_distance(robot, [c], 8, dataset.map.resolution)[at] for c in cells])
+    occ = dataset.map
+    means = occ.world_to_cell(np.array([p.mean for p in places]))
+    positions = np.array([p.cell for p in places])
+    targets = footprint_targets(robot, occ.cell_centres(), means, [p.region for p in places], positions)
+    return HomeGeometry(robot, occ.resolution, positions, targets)
 
 
 def _task_places(kind: TaskKind, places: list[Place], adjacency: np.ndarray) -> Iterator[tuple[int, int, int | None]]:
@@ -265,30 +261,34 @@ def _add_task(
     out: HomeTasks,
     dataset: Dataset,
     kind: TaskKind,
-    geodesic: np.ndarray,
+    geometry: HomeGeometry,
     by_name: dict[str, list[int]],
     i: int,
     j: int,
     h: int | None,
 ) -> None:
     """Append the task (start i, goal j, waypoint h) to ``out.tasks``, or record why it is left out (no path:
-    ``out.dropped``; l = 0: ``out.zero_length``)."""
+    ``out.dropped``; no footprint-safe path: ``out.no_safe_path``; l = 0: ``out.zero_length``)."""
     places = out.places
     goals = tuple(by_name[places[j].name])
     wps = () if h is None else tuple(by_name[places[h].name])
-    if wps:  # (waypoint instance, goal instance) -> d(start, w) + d(w, g)
-        via = geodesic[i, list(wps)][:, None] + geodesic[np.ix_(wps, goals)]
-    else:
-        via = geodesic[i, list(goals)][None, :]
-    l = float(via.min())
-    if not np.isfinite(l):
-        label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+    label = f"start {i} -> {places[j].name} ({j})" + ("" if h is None else f" via {places[h].name} ({h})")
+    strict = geometry.strict(places[i].cell, goals, wps)
+    if not np.isfinite(strict.l):
         out.dropped.append(f"{label}: no free-space path reaches a goal-named place")
         return
-    x, y = dataset.map.cell_to_world(np.array(places[i].cell))
-    if l == 0:
-        out.zero_length.append(f"start {i} -> {places[j].name} ({j}): the start is a goal instance")
+    safe = geometry.footprint(places[i].cell, goals, wps)
+    if not np.isfinite(safe.l):
+        out.no_safe_path.append(
+            f"{label}: no cell where the robot's centre fits within {ROBOT_RADIUS_M:.2f} m of a "
+            + ("goal" if h is None else "waypoint and a goal")
+            + "-named place's box is reachable"
+        )
         return
+    if safe.l == 0 or strict.l == 0:
+        out.zero_length.append(f"{label}: the start is a goal instance")
+        return
+    x, y = dataset.map.cell_to_world(np.array(places[i].cell))
     out.tasks.append(
         Task(
             dataset.name,
@@ -303,10 +303,13 @@ def _add_task(
             None if h is None else places[h].name,
             goals,
             wps,
-            int(np.argmin(geodesic[i, list(goals)])),
-            l,
-            int(np.unravel_index(int(np.argmin(via)), via.shape)[1]),
-            bool(any(places[k].box.contains(np.array([x, y])) for k in wps)),
+            safe.closest,
+            safe.l,
+            safe.closest_via,
+            bool(any(places[k].region.contains(np.array([x, y])) for k in wps)),
+            strict.l,
+            strict.closest,
+            strict.closest_via,
         )
     )
 

@@ -21,7 +21,17 @@ from spcotmhp.evaluation.methods import task_instruction
 from spcotmhp.evaluation.metrics import Box, Outcome, failed, off_free_space, score_path
 from spcotmhp.evaluation.tasks import Task
 
-__all__ = ["CHUNK", "TaskRecord", "chunks", "evaluate_chunk", "run_method", "task_seed", "warm_up"]
+__all__ = [
+    "CHUNK",
+    "TaskRecord",
+    "chunks",
+    "evaluate_chunk",
+    "failed_task",
+    "run_method",
+    "score_task",
+    "task_seed",
+    "warm_up",
+]
 
 CHUNK = 16  # tasks per work item: large enough to amortise IPC, small enough to balance two cores
 
@@ -62,30 +72,44 @@ def warm_up(ctx: HomeContext, task: Task | None = None, methods: Sequence[str] =
 
 
 def score_task(ctx: HomeContext, task: Task, path: np.ndarray, elapsed: float) -> Outcome:
-    """Score one planned ``path`` for ``task``: the SPL family (:func:`score_path`) with the task's goal and
-    waypoint boxes, the waypoint counted only once the path has left the start's cell, and collisions with
-    occupied or unknown space. The one scoring rule of the evaluation tables and the battery."""
+    """Score one planned ``path`` for ``task``: the SPL family (:func:`score_path`) under the footprint rule (the
+    goal and waypoint regions, the task's ``l`` and closest instances) with, as its ``strict`` reading, the
+    paper's rule (the boxes, ``strict_l``, the strict closest instances); a waypoint counted only once the path has
+    left the start's cell, and collisions with occupied or unknown space. The one scoring rule of the evaluation
+    tables and the battery."""
     advanced = task.kind == "advanced"
     occ = ctx.dataset.map
-    outcome = score_path(
-        path,
-        [ctx.places[k].box for k in task.goal_places],
-        task.closest_goal,
-        task.l,
-        elapsed,
-        [ctx.places[k].box for k in task.waypoint_places] if advanced else None,
-        step=occ.resolution / 2,
-        closest_goal_via=task.closest_goal_via if advanced else None,
-        start_box=Box.around(np.array([task.start_xy]), occ.resolution / 2),
-    )
-    return replace(outcome, collides=off_free_space(path, occ.free, occ.world_to_cell, occ.resolution / 4))
+    start_box = Box.around(np.array([task.start_xy]), occ.resolution / 2)
+
+    def scored(kind: str, l: float, closest: int, closest_via: int) -> Outcome:
+        return score_path(
+            path,
+            [getattr(ctx.places[k], kind) for k in task.goal_places],
+            closest,
+            l,
+            elapsed,
+            [getattr(ctx.places[k], kind) for k in task.waypoint_places] if advanced else None,
+            step=occ.resolution / 2,
+            closest_goal_via=closest_via if advanced else None,
+            start_box=start_box,
+        )
+
+    strict = scored("box", task.strict_l, task.strict_closest_goal, task.strict_closest_goal_via)
+    outcome = scored("region", task.l, task.closest_goal, task.closest_goal_via)
+    collides = off_free_space(path, occ.free, occ.world_to_cell, occ.resolution / 4)
+    return replace(outcome, collides=collides, strict=replace(strict, collides=collides))
+
+
+def failed_task(task: Task, elapsed: float) -> Outcome:
+    """The outcome of a task with no path, under both rules."""
+    advanced = task.kind == "advanced"
+    return failed(task.l, elapsed, advanced, advanced, task.strict_l)
 
 
 def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[str], seed: int) -> list[TaskRecord]:
     """Run each method on each task and score it (runs in a worker)."""
     out = []
     for task in tasks:
-        advanced = task.kind == "advanced"
         for method in methods:
             rng = np.random.default_rng(task_seed(seed, ctx.name, task.index, method))
             t0 = time.perf_counter()
@@ -95,7 +119,7 @@ def evaluate_chunk(ctx: HomeContext, tasks: Sequence[Task], methods: Sequence[st
                 path, error = None, str(exc)
             elapsed = time.perf_counter() - t0
             if path is None or len(path) == 0:
-                outcome = failed(task.l, elapsed, advanced, advanced)
+                outcome = failed_task(task, elapsed)
                 error = error or "no path"
             else:
                 outcome = score_task(ctx, task, path, elapsed)

@@ -24,6 +24,14 @@ j is then the same for every destination place, so one cost-to-go field per node
 Steps into a diagonal neighbour weigh sqrt 2. Every step cost is at least log|A| > 0, so shortest paths are
 well defined.
 
+The paper's Eq. 24 as written (``GraphSettings.optimality = "every_step"``, to compare methods): optimality is
+observed at every cell of a leg, so the step cost into a cell x of a leg towards node j of place b is
+``log|A| - log p(x|m) - log N(x | mu_b, Sigma_b)`` (:func:`~spcotmhp.metric.grid_search.step_cost_map`; the
+reference code's ``log 5 - log(p N)`` on its 4-connected grid), one cost-to-go field per node over its own step
+cost, ``w_hat[i, j] = -field_j[cell_i]`` and the end term 0 (the node's cell is the leg's last step, counted in the
+field; a negative step cost is refused, :func:`~spcotmhp.planning.precompute.every_step_cost`). It needs the
+dense fields (the portal graph shares one step cost between destinations).
+
 The grid is the robot's: p(x|m) = 0 on occupied, unknown, lethal and inscribed cells (:mod:`spcotmhp.metric.
 costmap`), so no partial path, start leg or smoothed path puts the robot's centre where its footprint overlaps
 an obstacle. Candidate points are snapped into their own place's territory (:mod:`spcotmhp.learning.territory`)
@@ -73,13 +81,13 @@ import numpy as np
 
 import spcotmhp.planning.hierarchy as hierarchy
 from spcotmhp.collector import paused
-from spcotmhp.errors import ModelError, PlanningError
+from spcotmhp.errors import InvalidSettings, ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
 from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
-from spcotmhp.planning.precompute import graph_inputs
+from spcotmhp.planning.precompute import every_step_cost, graph_inputs
 from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import tube_window
 
@@ -194,7 +202,13 @@ class PlanningGraph:
         ``max_dense_bytes``, else territory-local ones joined by a portal graph (module docstring), keeping those
         of ``reuse`` whose territory did not change."""
         cells, occ = self.node_cell, self.model.require_map()
-        if 12 * len(cells) * self.log_p.size <= self.settings.max_dense_bytes:
+        dense = 12 * len(cells) * self.log_p.size <= self.settings.max_dense_bytes
+        if not dense and self.settings.optimality == "every_step":
+            raise InvalidSettings(
+                f"optimality 'every_step' needs one dense field per node ({12 * len(cells) * self.log_p.size} "
+                f"bytes), more than max_dense_bytes = {self.settings.max_dense_bytes}; raise it or use 'end'"
+            )
+        if dense:
             fields = [self._field(j) for j in range(len(cells))]
             self.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
             self.next_step = np.stack([n for _, n in fields])
@@ -212,9 +226,13 @@ class PlanningGraph:
         self.info.update(self.hier.info)
 
     def _field(self, j: int) -> tuple[np.ndarray, np.ndarray]:
-        """The cost-to-go field into node j (Alg. 1, lines 4-6) under the step cost log|A| - log p(x|m), with
-        the blocked cells blocked (module docstring)."""
-        return cost_to_go(self.map_cost, self.node_cell[j][None, :], self.settings.connectivity, SQRT2)
+        """The cost-to-go field into node j (Alg. 1, lines 4-6) under the step cost log|A| - log p(x|m) (minus
+        log N(x | mu_b, Sigma_b) of node j's place b with ``optimality = "every_step"``), with the blocked cells
+        blocked (module docstring)."""
+        cost = self.map_cost
+        if self.settings.optimality == "every_step":
+            cost = every_step_cost(self.model, self.map_cost, self.centres, int(self.node_place[j]))
+        return cost_to_go(cost, self.node_cell[j][None, :], self.settings.connectivity, SQRT2)
 
     def _edges(self) -> None:
         """w-hat of the partial paths between candidates of connected places (Alg. 1, line 6) and the per-step

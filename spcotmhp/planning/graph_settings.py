@@ -15,6 +15,9 @@ from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS, check_count, is_count
 from spcotmhp.planning.vocabulary import INSTANCE_RATIO
 
+OPTIMALITY = ("end", "every_step")
+"""Where a partial path observes optimality (:class:`GraphSettings`)."""
+
 
 @dataclass(frozen=True)
 class GraphSettings:
@@ -29,6 +32,9 @@ class GraphSettings:
         this many bytes (12 per cell and node); beyond, territory-local fields and a portal graph
         (:mod:`spcotmhp.planning.hierarchy`).
     portal_spacing: metres between the crossings of one entrance of the portal graph.
+    optimality: where a partial path observes optimality o_t = 1 (Eq. 24): "end" (ours: once, at the leg's end)
+        or "every_step" (the paper as written: at every cell of the leg, with the destination's Gaussian; dense
+        fields only); :mod:`spcotmhp.planning.graph` gives both.
     """
 
     n_candidates: int = 1
@@ -39,9 +45,12 @@ class GraphSettings:
     tube_margin: float = 0.2
     max_dense_bytes: int = 2**28
     portal_spacing: float = 1.0
+    optimality: str = "end"
 
     def __post_init__(self) -> None:
         """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
+        if self.optimality not in OPTIMALITY:
+            raise InvalidSettings(f"optimality must be one of {', '.join(OPTIMALITY)}, got {self.optimality!r}")
         require_int(self.n_candidates, "n_candidates", 1, MAX_CANDIDATES)
         require_int(self.seed, "seed", 0)
         if self.connectivity not in (4, 8) or isinstance(self.connectivity, bool):

@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from spcotmhp.errors import ModelError
-from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.errors import InvalidSettings, ModelError
+from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.planning.graph_settings import GraphSettings
@@ -122,7 +122,7 @@ def _region_inputs(
         "traversable": mask,
         "node_place": node_place,
         "node_cell": cells,
-        "end_term": end_term,
+        "end_term": end_term if settings.optimality == "end" else np.zeros_like(end_term),  # every step: in the field
         "dist": [],
         "next_step": [],
         "w_hat": np.empty(0),
@@ -154,3 +154,18 @@ def crop_cost_map(occ, log_p_full: np.ndarray) -> tuple[np.ndarray, tuple[int, i
     rows, cols = np.flatnonzero(finite.any(axis=1)), np.flatnonzero(finite.any(axis=0))
     r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
     return np.ascontiguousarray(log_p_full[r0:r1, c0:c1]), (r0, r1, c0, c1)
+
+
+def every_step_cost(model: SpatialConceptModel, map_cost: np.ndarray, centres: np.ndarray, place: int) -> np.ndarray:
+    """The step cost of Eq. 24 as written into a node of ``place`` b: ``map_cost`` (log|A| - log p(x|m), inf off
+    the traversable cells) minus log N(x | mu_b, Sigma_b) at the cells' ``centres`` (h, w, 2). A Gaussian so narrow
+    that its density exceeds |A| / p(x|m) somewhere gives a negative cost, which no shortest-path search handles:
+    refused (:class:`~spcotmhp.errors.InvalidSettings`) rather than clipped."""
+    log_n = log_gaussian(centres.reshape(-1, 2), model.mu[place : place + 1], model.Sigma[place : place + 1])
+    cost = map_cost - log_n.reshape(map_cost.shape)
+    if (cost < 0).any():
+        raise InvalidSettings(
+            f"place {place}'s Gaussian is so narrow that the step cost of Eq. 24 at every step, log|A| - log p(x|m) "
+            f"- log N(x | mu, Sigma), is negative (min {cost.min():.3g}); plan with optimality 'end'"
+        )
+    return cost

@@ -13,9 +13,12 @@ def test_battery_reports_both_readings_of_n():
     assert 0.0 <= home.wn_spl < home.wn_spl_via <= 1.0
     s = summary(results)["supervised"]
     assert s["wn_spl_via_min"] == home.wn_spl_via
-    table = markdown(results).splitlines()
-    assert "advanced WN-SPL via mean (min)" in table[0]
+    text = markdown(results).splitlines()
+    assert text[0].startswith("Success: the path's last pose within the robot's inscribed radius (0.22 m)")
+    table = text[2:]  # the success rule, a blank line, then the table
+    assert "advanced WN-SPL via mean (min)" in table[0] and "| set apart |" in table[0]
     assert len({row.count("|") for row in table}) == 1
+    assert 0.0 < home.strict_wn_spl_via <= 1.0 and home.set_apart == 0
 
 
 def test_furnished_battery_plans_every_place_within_reach():
@@ -26,4 +29,4 @@ def test_furnished_battery_plans_every_place_within_reach():
     assert home.home == "battery-0-furniture"
     assert home.reach_checks > 50 and home.cut_off == 0, home.errors
     assert home.refused == 0 and home.unsafe == 0
-    assert "places refused within reach (2 sigma)" in markdown([home]).splitlines()[0]
+    assert "places refused within reach (2 sigma)" in markdown([home]).splitlines()[2]  # under the success rule

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from spcotmhp.baselines.smoothing import moving_average
-from spcotmhp.evaluation.spread import aggregate, aggregate_methods, pm
+from spcotmhp.evaluation.spread import aggregate, aggregate_methods, bootstrap_ci, pm
 
 
 def test_aggregate_mean_and_sample_sd():
@@ -68,3 +68,23 @@ def test_hpp_with_our_smoothing_keeps_start_waypoint_and_is_not_longer():
         wp = draw_place(g, ["kitchen"], np.random.default_rng(k))
         anchor = g.node_cell[np.flatnonzero(g.node_place == wp)[0]]
         assert (raw == anchor).all(axis=1).any() and (smooth == anchor).all(axis=1).any()
+
+
+def test_bootstrap_interval_by_hand():
+    # two tasks scoring 0 and 1: a resample's mean is 0, 1/2 or 1 with probabilities 1/4, 1/2, 1/4, so the 2.5th
+    # and 97.5th percentiles of 2000 resamples are 0 and 1
+    ci = bootstrap_ci([np.array([[0.0], [1.0]])], seed=0)
+    assert ci.tolist() == [[0.0, 1.0]]
+    # stratified by home: each home keeps its two tasks, so homes that are uniform inside give a fixed mean
+    assert bootstrap_ci([np.array([[0.0], [0.0]]), np.array([[1.0], [1.0]])], seed=1).tolist() == [[0.5, 0.5]]
+    # 100 tasks, 30 successes: the interval holds 0.3 and is about 2 standard errors wide each way
+    terms = np.array([[1.0]] * 30 + [[0.0]] * 70)
+    ((low, high),) = bootstrap_ci([terms], seed=2)
+    se = np.sqrt(0.3 * 0.7 / 100)
+    assert low < 0.3 < high and abs((high - low) / 2 - 1.96 * se) < 0.02
+    assert (bootstrap_ci([terms], seed=2) == bootstrap_ci([terms], seed=2)).all()  # seeded
+    with pytest.raises(ValueError, match="no tasks"):
+        bootstrap_ci([], seed=0)
+    assert pm({"spl": 0.5, "spl_ci": [0.25, 0.75], "spl_sd": 0.0, "seeds": 2}, "spl", interval=True) == (
+        "0.500 [0.250, 0.750]"
+    )

@@ -52,6 +52,14 @@ def test_places_regions_and_starts():
     assert [p.name for p in places] == ["a", "bed", "bed", "hall"]
     assert [p.cell for p in places] == [(1, 1), (1, 6), (1, 11), (1, 9)]
     assert places[3].box.contains(np.array([[9.5, 2.55], [9.5, 2.65]])).tolist() == [True, False]
+    # the region is the box (x 9.4..9.6, y 0.4..2.6) grown by the robot's 0.22 m: 2.65 is 0.05 m above it, 2.85
+    # 0.25 m, and the corner point (9.75, 2.75) is sqrt(0.15^2 + 0.15^2) = 0.21 m from the box's corner
+    assert places[3].region.contains(np.array([[9.5, 2.65], [9.5, 2.85], [9.75, 2.75], [9.77, 2.77]])).tolist() == [
+        True,
+        False,
+        True,
+        False,
+    ]
     # a mean inside a wall moves to the nearest free cell
     data = np.zeros((3, 13), np.int8)
     data[:, 5:7] = 100  # (1, 6) is blocked; (1, 7) is 1 cell away, (1, 4) 2 cells
@@ -67,7 +75,10 @@ def test_basic_tasks_by_hand():
         "start 1 -> bed (2): the start is a goal instance",
         "start 2 -> bed (1): the start is a goal instance",
     ]
-    expect = {  # (i, j): (l, the goal place where the shortest reference path ends); positions at cols 1, 6, 11, 9
+    # (i, j): (l, the goal place where the shortest reference path ends), to the places' positions at cols 1, 6,
+    # 11, 9; each position lies in its place's region (the box + 0.22 m), so the footprint rule's targets are the
+    # positions too and both rules give the same l
+    expect = {
         (0, 2): (5.0, 1),  # "bed" = places 1 (5 m away) and 2 (10 m)
         (0, 3): (8.0, 3),
         (2, 0): (10.0, 0),
@@ -75,25 +86,24 @@ def test_basic_tasks_by_hand():
     }
     for (i, j), (l, goal) in expect.items():
         t = tasks[(i, None, j)]
-        assert t.l == pytest.approx(l), (i, j)
-        assert t.goal_places[t.closest_goal] == goal, (i, j)
-        assert t.closest_goal_via == t.closest_goal and not t.start_in_waypoint
+        assert t.strict_l == pytest.approx(l) and t.l == pytest.approx(l), (i, j)
+        assert t.goal_places[t.strict_closest_goal] == t.goal_places[t.closest_goal] == goal, (i, j)
+        assert t.closest_goal_via == t.closest_goal and t.strict_closest_goal_via == t.strict_closest_goal
+        assert not t.start_in_waypoint
         assert t.goal_words == [t.goal_name]
         assert t.waypoint_place is None and t.waypoint_words == []
     assert tasks[(0, None, 2)].goal_places == (1, 2)
     assert tasks[(0, None, 2)].start_xy == (1.5, 1.5)
+    assert ht.no_safe_path == [] and ht.dropped == []
 
 
 def test_advanced_tasks_by_hand():
     ht = make_tasks(corridor_home(), "advanced", corridor_home().adjacency)
     tasks = by_places(ht)
-    expect = {  # (i, h, j): (l, goal place where the shortest path via the waypoint ends, closest goal from the
-        # start) with l = min over instances w, g of d(start, w) + d(w, g)
-        (0, 3, 2): (
-            10.0,
-            2,
-            1,
-        ),  # to the hall 8, then the bed beyond it 2 (from the start the near bed is closest)
+    # (i, h, j): (l, goal place where the shortest path via the waypoint ends, closest goal from the start) with
+    # l = min over instances w, g of d(start, w) + d(w, g) between positions (the footprint targets here too)
+    expect = {
+        (0, 3, 2): (10.0, 2, 1),  # to the hall 8, then the bed beyond it 2 (from the start the near bed is closest)
         (0, 1, 3): (8.0, 3, 3),
         (0, 2, 3): (8.0, 3, 3),  # "bed" = either bedroom: via place 1, 5 + 3
         (1, 0, 2): (10.0, 1, 1),  # out to "a" 5 and back to the first bedroom 5
@@ -108,12 +118,12 @@ def test_advanced_tasks_by_hand():
     assert set(tasks) == set(expect)  # h never in {i, j}; the waypoint's name never the goal's
     for key, (l, via, goal) in expect.items():
         t = tasks[key]
-        assert t.l == pytest.approx(l), key
-        assert t.goal_places[t.closest_goal_via] == via, key
-        assert t.goal_places[t.closest_goal] == goal, key
+        assert (t.strict_l, t.l) == (pytest.approx(l), pytest.approx(l)), key
+        assert t.goal_places[t.strict_closest_goal_via] == t.goal_places[t.closest_goal_via] == via, key
+        assert t.goal_places[t.strict_closest_goal] == t.goal_places[t.closest_goal] == goal, key
         assert t.all_words == t.waypoint_words + t.goal_words
     assert tasks[(0, 1, 3)].waypoint_places == (1, 2)
-    # the start of place 2 lies in a "bed" box: via "bed" it is set apart; via the hall it is not
+    # the start of place 2 lies in a "bed" region: via "bed" it is set apart; via the hall it is not
     assert tasks[(2, 1, 0)].start_in_waypoint and not tasks[(2, 3, 0)].start_in_waypoint
     assert [t.index for t in ht.tasks] == list(range(len(ht.tasks)))
 
@@ -128,7 +138,7 @@ def test_unreachable_goal_is_dropped_with_reason():
         "start 2 -> a (0): no free-space path reaches a goal-named place",
         "start 3 -> a (0): no free-space path reaches a goal-named place",
     ]
-    assert by_places(ht)[(0, None, 2)].l == pytest.approx(5.0)  # the near bed still counts
+    assert by_places(ht)[(0, None, 2)].strict_l == pytest.approx(5.0)  # the near bed still counts
 
 
 def test_bad_inputs():
@@ -174,15 +184,15 @@ def test_bundled_homes_follow_the_protocol(home, n_basic):
     same = sum(1 for i in range(11) for j in range(11) if i != j and names[i] == names[j] and not ds.adjacency[i, j])
     assert len(basic.tasks) + len(basic.zero_length) == 110 - int(ds.adjacency.sum() - 11) == n_basic
     assert len(basic.zero_length) == same > 0
-    assert not basic.dropped
+    assert not basic.dropped and not basic.no_safe_path
     adv = make_tasks(ds, "advanced", ds.adjacency, places=basic.places)
     for t in adv.tasks:
         assert t.start_place != t.goal_place and not ds.adjacency[t.start_place, t.goal_place]
         assert t.waypoint_place not in (t.start_place, t.goal_place)
         assert names[t.waypoint_place] != names[t.goal_place]
-        assert ds.map.free[t.start_cell] and np.isfinite(t.l) and t.l > 0
+        assert ds.map.free[t.start_cell] and np.isfinite(t.l) and t.l > 0 and t.strict_l > 0
         assert t.start_cell == basic.places[t.start_place].cell
-        start_in = any(basic.places[k].box.contains(np.array(t.start_xy)) for k in t.waypoint_places)
+        start_in = any(basic.places[k].region.contains(np.array(t.start_xy)) for k in t.waypoint_places)
         assert t.start_in_waypoint == start_in
     per_pair = {
         (i, j): sum(1 for h in range(11) if h not in (i, j) and names[h] != names[j])

@@ -244,3 +244,56 @@ def test_precomputation_runs_with_the_collector_paused_and_resumes_it(monkeypatc
     assert gc.isenabled()
     build()
     assert seen == [False] and gc.isenabled()
+
+
+def test_every_step_w_hat_is_minus_the_eq24_cost_of_the_best_leg():
+    """Eq. 24 as written (optimality at every step): w-hat[i, j] = max over legs of sum over its cells (the start
+    cell excepted) of log p(x|m) + log N(x | mu_b, Sigma_b) - log|A|, checked against an independent search on
+    step_cost_map with the destination's Gaussian; the end term is 0."""
+    g = build(optimality="every_step")
+    model, occ = g.model, g.model.map
+    log_p = home_log_p(occ)
+    centres = occ.cell_centres()
+    assert (g.end_term == 0).all()
+    for i, j in zip(*np.nonzero(np.isfinite(g.w_hat)), strict=False):
+        b = g.node_place[j]
+        log_n = log_gaussian(centres.reshape(-1, 2), model.mu[b : b + 1], model.Sigma[b : b + 1]).reshape(occ.shape)
+        cost = step_cost_map(log_p, log_n, connectivity=8)
+        ref = shortest_paths(
+            cost, g.to_map(g.node_cell[i]), g.to_map(g.node_cell[j])[None], connectivity=8, diagonal_factor=SQRT2
+        )
+        assert g.w_hat[i, j] == pytest.approx(-ref.cost, rel=1e-9)
+    # the leg into a place now pays its Gaussian along the way: every w-hat is lower than the end-observed one by
+    # at least the Gaussian's smallest -log N over the cells it passes (here: strictly lower)
+    end = build()
+    both = np.isfinite(g.w_hat) & np.isfinite(end.w_hat)
+    assert both.any() and (g.w_hat[both] != end.w_hat[both]).all()
+
+
+def test_every_step_on_a_one_row_corridor_by_hand():
+    data = np.full((3, 12), 100, dtype=np.int8)
+    data[1, 1:11] = 0
+    occ = OccupancyMap(data=data, resolution=1.0)
+    model = dataclasses.replace(
+        home_model(),
+        mu=np.array([[2.5, 1.5], [5.5, 1.5], [8.5, 1.5], [9.5, 1.5]]),
+        Sigma=np.tile(np.diag([4.0, 1.0]), (4, 1, 1)),
+        map=occ,
+    )
+    g = PlanningGraph.build(model, GraphSettings(optimality="every_step"), log_p=np.where(data == 0, 0.0, -np.inf))
+    # from col 2 into place 1's mean at col 5: cells 3, 4, 5 at x-distances 2, 1, 0 from it, each
+    # log 9 - log N = log 9 + log(2 pi) + log(4) / 2 + dx^2 / (2 * 4)
+    per_cell = math.log(9) + math.log(2 * math.pi) + 0.5 * math.log(4.0)
+    assert g.w_hat[0, 1] == pytest.approx(-(3 * per_cell + (4 + 1 + 0) / 8))
+
+
+def test_every_step_refuses_a_negative_step_cost_and_the_portal_graph():
+    from spcotmhp.errors import InvalidSettings
+
+    narrow = dataclasses.replace(home_model(), Sigma=np.tile(np.eye(2) * 1e-4, (4, 1, 1)))
+    with pytest.raises(InvalidSettings, match="so narrow that the step cost of Eq. 24 at every step"):
+        build(narrow, optimality="every_step")
+    with pytest.raises(InvalidSettings, match="optimality 'every_step' needs one dense field per node"):
+        build(optimality="every_step", max_dense_bytes=0)
+    with pytest.raises(InvalidSettings, match="optimality must be one of end, every_step"):
+        GraphSettings(optimality="sometimes")
