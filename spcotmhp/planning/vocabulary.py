@@ -113,7 +113,10 @@ def place_labels(
     the place says it more often than chance, p(w | k) > 1 / (vocabulary size), the p(w | k) of a place whose
     concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
     p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
-    place is "place k".
+    place is "place k". Likewise a word joins a label only if the place says it more often than a place with no
+    events does (an inactive component of the weak limit, whose p(l | k) is the concepts' prior mass alone): a
+    place of one taught event otherwise carried the names of the largest concepts besides its own ("study
+    bedroom"), though none of its events said them.
 
     Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
     spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
@@ -129,6 +132,8 @@ def place_labels(
     act = np.asarray(model.active_places, dtype=bool)
     chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
+    if not act.all():  # and more often than a place with no events says it (the concepts' prior mass alone)
+        chosen &= said > said[np.flatnonzero(~act)[0]][None, :]
     shared = chosen[act].sum(axis=0)
     if names is None:
         info = getattr(model, "info", None) or {}
