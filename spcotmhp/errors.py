@@ -140,3 +140,10 @@ class TeachingError(SpcotmhpError):
 class NotANaming(TeachingError):
     """A teaching utterance that names no place: a greeting, a question, a negation, an instruction
     (:mod:`spcotmhp.language.naming`); nothing is learned."""
+
+
+class TeachingBusy(TeachingError):
+    """Too many teaches are queued for this model (or from this client), or one did not finish within the time
+    budget; try again shortly (HTTP 503 with Retry-After)."""
+
+    http_status = 503

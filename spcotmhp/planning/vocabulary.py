@@ -113,7 +113,7 @@ def place_labels(
     the place says it more often than chance, p(w | k) > 1 / (vocabulary size), the p(w | k) of a place whose
     concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
     p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
-    place is "place k". Likewise a word joins a label only if the place says it more often than a place with no
+    place is "place k". Likewise a word joins an active place's label only if the place says it more often than a place with no
     events does (an inactive component of the weak limit, whose p(l | k) is the concepts' prior mass alone): a
     place of one taught event otherwise carried the names of the largest concepts besides its own ("study
     bedroom"), though none of its events said them.
@@ -133,7 +133,7 @@ def place_labels(
     chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
     if not act.all():  # and more often than a place with no events says it (the concepts' prior mass alone)
-        chosen &= said > said[np.flatnonzero(~act)[0]][None, :]
+        chosen &= (said > said[np.flatnonzero(~act)[0]][None, :]) | ~act[:, None]
     shared = chosen[act].sum(axis=0)
     if names is None:
         info = getattr(model, "info", None) or {}

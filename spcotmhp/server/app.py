@@ -64,7 +64,7 @@ ERROR_CAUSES = {
     415: "A JSON body sent with another Content-Type.",
     422: "An invalid field, an instruction not understood, a start in a wall or off the map.",
     501: "Speech input is not installed (extra 'speech').",
-    503: "The planner is busy, or the plan exceeded the time budget.",
+    503: "The planner (or the teaching lane) is busy, or the request exceeded its time budget.",
 }
 
 
@@ -76,7 +76,7 @@ def errors(*codes: int) -> dict[int | str, dict[str, Any]]:
 
 MAP_ERRORS = errors(404, 422)
 PLAN_ERRORS = errors(404, 408, 409, 413, 415, 422, 503)
-TEACH_ERRORS = errors(404, 408, 413, 415, 422)
+TEACH_ERRORS = errors(404, 408, 413, 415, 422, 503)
 AUDIO_ERRORS = errors(404, 408, 409, 413, 422, 501, 503)
 
 
@@ -201,13 +201,15 @@ def create_app(
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
     @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
-    async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
-        """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
-        later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
-        then unchanged)."""
+    async def teach(body: TeachRequest, request: Request, model: ModelQuery = None) -> dict:
+        """Teach what a place is called: the name the utterance says at (x, y) is learned at once (online
+        learning) and later plans use it; the reply says whether it made a new place or joined one
+        (``outcome``, ``message``). 422 for an utterance that names no place ("hello", a question) or a
+        position off the map or in a wall (the model is then unchanged); 503 when too many teaches are queued or
+        one exceeds the time budget."""
         sm = pick(_one_model(model, body.model))
         try:
-            return await run_in_threadpool(sm.teach, body.utterance, body.x, body.y)
+            return await sm.teach_async(body.utterance, body.x, body.y, _client(request))
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 

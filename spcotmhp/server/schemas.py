@@ -124,6 +124,10 @@ class TeachResponse(BaseModel):
     label: str
     names: list[str]
     new_place: bool
+    name: str | None = Field(None, description="The name the utterance taught, as read.")
+    outcome: Literal["new place", "joined place"] = Field(..., description="Whether the teach made a new place.")
+    named: bool = Field(..., description="Whether the name now names that place (its label carries it).")
+    message: str = Field(..., description="What happened, in one line.")
     places: int
     place_words: list[str]
     time_update_s: float

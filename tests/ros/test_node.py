@@ -335,3 +335,23 @@ def test_sigint_stops_the_node_cleanly(setup):
     _, err = proc.communicate(timeout=20)
     assert proc.returncode == 0, err
     assert "Traceback" not in err and "spcotmhp node ready" in err
+
+
+def test_a_flood_of_teaches_is_bounded_and_instructions_are_answered(setup):
+    """Issue 24: teaching ran on the node's only thread (instructions waited behind it) and every teach was
+    queued. Teaches now run on a thread of their own, at most MAX_PENDING_TEACHES waiting: a burst of ten gets a
+    status each, some TeachingBusy, and an instruction sent right after it is planned."""
+    client, planner = setup["client"], setup["planner"]
+    client.set_pose(*place_point(planner, "entrance"))
+    n = len(client.status)
+    for i in range(10):
+        client.publish(client.teach_pub, String(data=f"this is the annex {chr(ord('a') + i)}"))
+    client.publish(client.instruction_pub, String(data="go to the kitchen"))
+    assert client.spin_until(lambda: len(client.status) >= n + 11, 60), client.status[n:]
+    answers = client.status[n:]
+    taught = [s for s in answers if s["kind"] == "taught"]
+    assert len(taught) == 10
+    assert any(s.get("type") == "TeachingBusy" for s in taught)
+    assert any(s["ok"] for s in taught)
+    planned = [s for s in answers if s["kind"] == "plan"]
+    assert planned and planned[0]["ok"]
