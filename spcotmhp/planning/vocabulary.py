@@ -113,10 +113,10 @@ def place_labels(
     the place says it more often than chance, p(w | k) > 1 / (vocabulary size), the p(w | k) of a place whose
     concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
     p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
-    place is "place k". Likewise a word joins an active place's label only if the place says it more often than a place with no
-    events does (an inactive component of the weak limit, whose p(l | k) is the concepts' prior mass alone): a
-    place of one taught event otherwise carried the names of the largest concepts besides its own ("study
-    bedroom"), though none of its events said them.
+    place is "place k". Likewise a word joins an active place's label only if the place says it more often than
+    a place with no events does (an inactive component of the weak limit, whose p(l | k) is the concepts' prior
+    mass alone): a place of one taught event otherwise carried the names of the largest concepts besides its own
+    ("study bedroom"), though none of its events said them.
 
     Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
     spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
