@@ -311,7 +311,7 @@ def run_node(
 
     t0 = time.perf_counter()
     model = load_model(model_dir)
-    log = TeachingLog(record, model.require_map()) if record is not None else None
+    log = TeachingLog(record, model.require_map(), model_dir) if record is not None else None
     planner = HierarchicalPlanner(model)
     planner.warm_up()
     rclpy.init()
