@@ -61,6 +61,33 @@ def teach(
     )
 
 
+def questions(
+    model_dir: Annotated[Path, typer.Argument(help="Model folder.")],
+    max_questions: Annotated[int, typer.Option("--max", min=1, max=100, help="Questions to list.")] = 5,
+    as_json: Annotated[bool, typer.Option("--json", help='Print {"questions": [...]} as JSON.')] = False,
+) -> None:
+    """List where an answer would tell the model most about what a place is called, best first
+    (spcotmhp/learning/questions.py: the entropy of the name the model expects there). Answer one with
+    'spcotmhp teach MODEL_DIR "this is the NAME" --at X Y'."""
+    import json
+
+    from spcotmhp.learning.io import load_model
+    from spcotmhp.learning.questions import questions as ask
+
+    asked = ask(load_model(model_dir), max_questions)
+    if as_json:
+        typer.echo(json.dumps({"questions": asked}, ensure_ascii=False))
+        return
+    if not asked:
+        typer.echo("no question: the model is sure of the name wherever it was taught")
+    for i, q in enumerate(asked, 1):
+        typer.echo(
+            f"{i}. at ({q['x']:g}, {q['y']:g}): {q['ask']} ({' or '.join(q['candidates'])}?) "
+            f"[{q['information']:.2f} nats: {q['why']}]"
+        )
+
+
 def register(app: typer.Typer) -> None:
-    """Add ``teach`` to ``app``."""
+    """Add ``teach`` and ``questions`` to ``app``."""
     app.command()(teach)
+    app.command()(questions)

@@ -23,6 +23,9 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   instructions keep being planned meanwhile with the planner before it; the new planner is swapped in whole
   when ready. At most ``MAX_PENDING_TEACHES`` wait or run: past that a teach is refused at once (TeachingBusy
   on the status topic). The ``taught`` status says whether it made a new place or joined one.
+* ``spcotmhp/questions`` (std_msgs/String, out, transient local): ``{"questions": [...]}`` where an answer would
+  help the model most (:mod:`spcotmhp.learning.questions`), published at start and after every teach; answer one
+  by teaching at its (x, y).
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
 
@@ -127,13 +130,21 @@ class SpcotmhpNode(Node):
         self.plan_pub = self.create_publisher(Path, "spcotmhp/plan", LATCHED)
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
+        self.questions_pub = self.create_publisher(String, "spcotmhp/questions", LATCHED)
         self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
         self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
         self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
         self.create_subscription(OccupancyGrid, "map", self.on_map, MATCH_PUBLISHER)
         self.places_pub.publish(self.markers())
+        self.publish_questions()
 
     # ---- output ----------------------------------------------------------------------------------------
+    def publish_questions(self) -> None:
+        from spcotmhp.learning.questions import questions
+
+        asked = {"questions": questions(self.planner.model)}
+        self.questions_pub.publish(String(data=json.dumps(asked, ensure_ascii=False)))
+
     def status(self, data: dict) -> None:
         self.status_pub.publish(String(data=json.dumps(data, ensure_ascii=False)))
 
@@ -265,6 +276,7 @@ class SpcotmhpNode(Node):
         event = self.log.append(x, y, job.data) if self.log is not None else None
         self.planner = planner  # one assignment: an instruction uses the old planner or the new one, whole
         self.places_pub.publish(self.markers())
+        self.publish_questions()
         self.status(
             {
                 "kind": "taught",

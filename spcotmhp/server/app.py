@@ -49,6 +49,7 @@ from spcotmhp.server.schemas import (
     PlacesResponse,
     PlanRequest,
     PlanResponse,
+    QuestionsResponse,
     TeachRequest,
     TeachResponse,
 )
@@ -180,6 +181,14 @@ def create_app(
             return Response(status_code=304, headers=headers)
         png = sm.figure_png() if frame else sm.image.png
         return Response(png, media_type="image/png", headers=headers)
+
+    @app.get("/questions", response_model=QuestionsResponse, responses=MAP_ERRORS, tags=["learning"])
+    def questions(
+        model: ModelQuery = None, max: int = Query(5, ge=1, le=100, description="Questions to list.")
+    ) -> dict:
+        """Where an answer ("this is the kitchen") would tell the model most about what a place is called, best
+        first (the entropy of the name it expects there); answer one with ``POST /teach`` at its (x, y)."""
+        return pick(model).questions(max)
 
     @app.get("/map.json", response_model=MapInfo, responses=MAP_ERRORS, tags=["map"])
     def map_json(model: ModelQuery = None) -> dict:

@@ -175,6 +175,13 @@ class ServedModel:
             "time_planner_s": seconds,
         }
 
+    def questions(self, max_questions: int = 5) -> dict:
+        """``{"questions": [...]}`` where an answer would help the model most (:mod:`spcotmhp.learning.questions`);
+        answer one with ``POST /teach`` at its (x, y)."""
+        from spcotmhp.learning.questions import questions
+
+        return {"model": self.name, "questions": questions(self.model, max_questions)}
+
     def figure_png(self) -> bytes:
         """The framed picture of the learned map (axes in metres), drawn on first use."""
         with self._draw:

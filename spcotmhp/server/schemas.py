@@ -135,6 +135,22 @@ class TeachResponse(BaseModel):
     time_planner_s: float
 
 
+class Question(BaseModel):
+    x: float
+    y: float
+    ask: str
+    candidates: list[str] = Field(..., description="The names the model expects there, most probable first.")
+    why: str
+    information: float = Field(..., description="Entropy of the name expected there (nats): what an answer tells.")
+
+
+class QuestionsResponse(BaseModel):
+    """Where an answer would help the model most, best first; answer with POST /teach at (x, y)."""
+
+    model: str
+    questions: list[Question]
+
+
 class PlanPlaceOut(BaseModel):
     id: int
     name: str

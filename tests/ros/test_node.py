@@ -389,6 +389,17 @@ def test_recorded_teaching_lands_in_the_model_it_was_said_against(setup, tmp_pat
     assert again.returncode == 0 and "nothing new" in again.stdout
 
 
+def test_questions_are_published_latched(setup):
+    """Issue 24: the node publishes where an answer would help the model most on spcotmhp/questions (latched, so a
+    late subscriber gets it), and again after every teach."""
+    client = setup["client"]
+    got: list[dict] = []
+    client.node.create_subscription(String, "/spcotmhp/questions", lambda m: got.append(json.loads(m.data)), LATCHED)
+    assert client.spin_until(lambda: bool(got), 20)
+    asked = got[-1]["questions"]
+    assert asked and set(asked[0]) == {"x", "y", "ask", "candidates", "why", "information"}
+
+
 def test_sigint_stops_the_node_cleanly(setup):
     proc = setup["proc"]
     assert proc.poll() is None

@@ -268,3 +268,24 @@ def test_teaching_has_admission_control_and_says_what_happened(tmp_path):
         worker.join(20)
         sm.teach = original
     assert "den" in client.get("/models").json()["models"][0]["place_words"]
+
+
+def test_questions_are_served(tmp_path):
+    """GET /questions: where an answer would help the model most, best first, each answerable by POST /teach."""
+    from fastapi.testclient import TestClient
+
+    from spcotmhp.server import create_app
+    from tests.helpers.server import supervised_model_dir
+
+    client = TestClient(
+        create_app({"home": supervised_model_dir("3LDK_06", tmp_path / "m")}), base_url="http://localhost"
+    )
+    got = client.get("/questions", params={"max": 3})
+    assert got.status_code == 200, got.text
+    asked = got.json()["questions"]
+    assert 1 <= len(asked) <= 3 and set(asked[0]) == {"x", "y", "ask", "candidates", "why", "information"}
+    assert [q["information"] for q in asked] == sorted((q["information"] for q in asked), reverse=True)
+    assert client.get("/questions", params={"max": 0}).status_code == 422
+    q = asked[0]
+    answer = client.post("/teach", json={"utterance": f"this is the {q['candidates'][0]}", "x": q["x"], "y": q["y"]})
+    assert answer.status_code == 200, answer.text
