@@ -3,7 +3,8 @@
 For each home: learn it without labels (the battery's learned parameters, ``evaluation.context.build_context``),
 score the battery's tasks (advanced WN-SPL via, ``evaluation.battery.evaluate_home``), then ask the model's best
 question (``learning.questions.questions``), answer it from the truth (the true name of the teaching event nearest
-the asked point, as "this is the NAME" / "ここはNAMEです"), teach it (``learning.teach.teach``), and score again,
+the asked point, as "this is the NAME"; on albert-b, whose names are its own hiragana words, the word as a naming
+event), teach it (``learning.teach.teach``), and score again,
 up to ``--questions`` answers, stopping once the home reaches ``--target``. Homes: the battery's seeds (only those
 below the target before any question count toward the acceptance; ``--all`` reports the others too) and,
 with ``--albert``, albert-b. Prints one line per home and a table (JSON with ``--json``).
@@ -31,14 +32,26 @@ def parse_seeds(text: str) -> list[int]:
 
 
 def answer(data, x: float, y: float) -> str:
-    """The true name at (x, y): that of the teaching event nearest it."""
+    """The true name at (x, y): that of the true place of the teaching event nearest it (a dataset without place
+    names, albert-b: the word said most often in that place's events, grammar words left out)."""
+    from collections import Counter
+
+    from spcotmhp.planning.vocabulary import _FUNCTION_WORDS
+
     j = int(np.argmin(np.hypot(data.positions[:, 0] - x, data.positions[:, 1] - y)))
-    return str(data.place_names[int(data.truth_place[j])])
+    place = int(data.truth_place[j])
+    if data.place_names is not None:
+        return str(data.place_names[place])
+    said = Counter(
+        w for e in np.flatnonzero(data.truth_place == place) for w in data.tokens[e] if w not in _FUNCTION_WORDS
+    )
+    return said.most_common(1)[0][0]
 
 
 def run_home(data, lang: str, questions_max: int, target: float, params: str = "learned") -> dict:
     from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.evaluation.context import build_context
+    from spcotmhp.learning.online import TeachingEvent
     from spcotmhp.learning.questions import questions
     from spcotmhp.learning.teach import teach
 
@@ -54,8 +67,11 @@ def run_home(data, lang: str, questions_max: int, target: float, params: str = "
             break
         q = asked[0]
         name = answer(data, q["x"], q["y"])
-        said = f"ここは{name}です" if lang == "ja" else f"this is the {name}"
-        model = teach(model, [{"x": q["x"], "y": q["y"], "utterance": said}]).model
+        if lang == "ja":  # albert-b's names are its own words (hiragana, which janome may cut): taught as that word
+            event: object = TeachingEvent(q["x"], q["y"], (name,), named=True)
+        else:
+            event = {"x": q["x"], "y": q["y"], "utterance": f"this is the {name}"}
+        model = teach(model, [event]).model
         row["asked"] += 1
         row["answers"].append({"x": q["x"], "y": q["y"], "candidates": q["candidates"], "answer": name})
         row["after"] = evaluate_home(data, params, 0, model=model).wn_spl_via
