@@ -114,9 +114,8 @@ def place_labels(
     concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
     p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
     place is "place k". Likewise a word joins an active place's label only if the place says it more often than
-    a place with no events does (an inactive component of the weak limit, whose p(l | k) is the concepts' prior
-    mass alone): a place of one taught event otherwise carried the names of the largest concepts besides its own
-    ("study bedroom"), though none of its events said them.
+    a place with no events would (:func:`_said_by_an_empty_place`): a place of one taught event otherwise carried
+    the names of the largest concepts besides its own ("study bedroom"), though none of its events said them.
 
     Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
     spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
@@ -132,8 +131,7 @@ def place_labels(
     act = np.asarray(model.active_places, dtype=bool)
     chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
-    if not act.all():  # and more often than a place with no events says it (the concepts' prior mass alone)
-        chosen &= (said > said[np.flatnonzero(~act)[0]][None, :]) | ~act[:, None]
+    chosen &= (said > _said_by_an_empty_place(model, idx)[None, :]) | ~act[:, None]
     shared = chosen[act].sum(axis=0)
     if names is None:
         info = getattr(model, "info", None) or {}
@@ -153,6 +151,17 @@ def place_labels(
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
         labels.append(" ".join(order))
     return labels
+
+
+def _said_by_an_empty_place(model: Any, idx: list[int]) -> np.ndarray:
+    """p(w | k) of a place with no events, for the words ``idx``: p(l | k) proportional to pi_l phi_l(k), where
+    phi_l(k) of a place none of concept l's events is at is the least entry of phi_l (gamma / (N_l + K gamma) for
+    a Dirichlet posterior mean), so the concepts' prior mass alone."""
+    p_l = np.asarray(model.pi, dtype=float) * np.asarray(model.phi, dtype=float).min(axis=1)
+    total = p_l.sum()
+    if not total > 0:
+        return np.zeros(len(idx))
+    return (p_l / total) @ np.asarray(model.W, dtype=float)[:, idx]
 
 
 def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None) -> Any:
