@@ -113,9 +113,9 @@ def place_labels(
     the place says it more often than chance, p(w | k) > 1 / (vocabulary size), the p(w | k) of a place whose
     concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
     p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
-    place is "place k". Likewise a word joins an active place's label only if the place says it more often than
-    a place with no events would (:func:`_said_by_an_empty_place`): a place of one taught event otherwise carried
-    the names of the largest concepts besides its own ("study bedroom"), though none of its events said them.
+    place is "place k". Likewise a word joins an active place's label only if a concept with events at the place
+    says it more often than chance (:func:`_said_by_own_concepts`): a place of one taught event otherwise carried
+    the names of the largest concepts besides its own ("study bedroom"), whose prior mass alone puts them there.
 
     Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
     spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
@@ -131,7 +131,7 @@ def place_labels(
     act = np.asarray(model.active_places, dtype=bool)
     chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
-    chosen &= (said > _said_by_an_empty_place(model, idx)[None, :]) | ~act[:, None]
+    chosen &= _said_by_own_concepts(model, idx, chance) | ~act[:, None]
     shared = chosen[act].sum(axis=0)
     if names is None:
         info = getattr(model, "info", None) or {}
@@ -153,15 +153,14 @@ def place_labels(
     return labels
 
 
-def _said_by_an_empty_place(model: Any, idx: list[int]) -> np.ndarray:
-    """p(w | k) of a place with no events, for the words ``idx``: p(l | k) proportional to pi_l phi_l(k), where
-    phi_l(k) of a place none of concept l's events is at is the least entry of phi_l (gamma / (N_l + K gamma) for
-    a Dirichlet posterior mean), so the concepts' prior mass alone."""
-    p_l = np.asarray(model.pi, dtype=float) * np.asarray(model.phi, dtype=float).min(axis=1)
-    total = p_l.sum()
-    if not total > 0:
-        return np.zeros(len(idx))
-    return (p_l / total) @ np.asarray(model.W, dtype=float)[:, idx]
+def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarray:
+    """(K, len(idx)) bool: some concept with events at the place says the word more often than chance. A concept
+    l has events at place k when phi_l(k) is above its least entry (for a Dirichlet posterior mean the least entry
+    is gamma / (N_l + K gamma), the prior alone, at the places none of l's events is at)."""
+    phi = np.asarray(model.phi, dtype=float)
+    own = phi > phi.min(axis=1, keepdims=True) * (1.0 + 1e-9)  # (L, K)
+    says = np.asarray(model.W, dtype=float)[:, idx] > chance  # (L, words)
+    return (own.T.astype(np.int64) @ says.astype(np.int64)) > 0
 
 
 def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None) -> Any:
