@@ -135,3 +135,15 @@ class TeachingError(SpcotmhpError):
     """A teaching event cannot be learned from: an empty or over-long utterance, a position that is not finite,
     off the map, in unknown space or in a wall, or image features that do not fit the model (the model is left
     unchanged)."""
+
+
+class NotANaming(TeachingError):
+    """A teaching utterance that names no place: a greeting, a question, a negation, an instruction
+    (:mod:`spcotmhp.language.naming`); nothing is learned."""
+
+
+class TeachingBusy(TeachingError):
+    """Too many teaches are queued for this model (or from this client), or one did not finish within the time
+    budget; try again shortly (HTTP 503 with Retry-After)."""
+
+    http_status = 503

@@ -16,6 +16,7 @@ MODULES = [
     "spcotmhp.planning.nbest",
     "spcotmhp.planning.start",
     "spcotmhp.planning.regions",
+    "spcotmhp.language.naming",
     "spcotmhp.metric.grid_search",
     "spcotmhp.metric.maps",
     "spcotmhp.learning.logspace",

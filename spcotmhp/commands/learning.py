@@ -186,9 +186,13 @@ def learn(
     """Learn spatial concepts and places from a dataset and save the model.
 
     --out must be a new or empty folder, or with --overwrite a model folder; it is written whole or not at all
-    (the previous model stays loadable until the new one is complete), never onto the dataset itself."""
+    (the previous model stays loadable until the new one is complete), never onto the dataset itself. A folder
+    recorded by ``spcotmhp ros2 --record`` is refused: its teaching goes into its model (``teach --from``)."""
     from spcotmhp.learning.io import prepare_model_folder, save_model
+    from spcotmhp.learning.recorded import refuse_learning_alone
 
+    if Path(dataset).is_dir():
+        refuse_learning_alone(Path(dataset))
     weight = parse_feature_weight(feature_weight)
     if supervised:
         _not_for_supervised(

@@ -102,8 +102,8 @@ def serve(
         float, typer.Option(callback=_seconds, help="Seconds (0.1 to 600) to receive a JSON request body before a 408.")
     ] = 10.0,
 ) -> None:
-    """Serve planning over HTTP (FastAPI): POST /plan, /plan/audio and /teach; GET /places, /map.png, /map.json,
-    /models and /healthz; the web page at /.
+    """Serve planning over HTTP (FastAPI): POST /plan, /plan/audio and /teach; GET /places, /questions, /map.png,
+    /map.json, /models and /healthz; the web page at /.
 
     Requests must address an allowed host (DNS-rebinding protection); long instructions run on a second
     planner per model with admission limits, so they cannot starve short ones; the API description at /docs

@@ -1,4 +1,5 @@
-"""CLI command ``teach``: teach a saved model a place name at run time (online learning)."""
+"""CLI command ``teach``: teach a saved model a place name at run time (online learning), or apply teaching
+recorded by ``spcotmhp ros2 MODEL --record DIR`` to the model it was said against (``--from DIR``)."""
 
 from __future__ import annotations
 
@@ -10,26 +11,83 @@ import typer
 
 def teach(
     model_dir: Annotated[Path, typer.Argument(help="Model folder to update (written back atomically).")],
-    utterance: Annotated[str, typer.Argument(help='What the place is called, e.g. "this is alice\'s room".')],
-    at: Annotated[tuple[float, float], typer.Option("--at", help="Where it was said: X Y in metres (map frame).")],
+    utterance: Annotated[
+        str | None, typer.Argument(help='What the place is called, e.g. "this is alice\'s room".')
+    ] = None,
+    at: Annotated[
+        tuple[float, float] | None, typer.Option("--at", help="Where it was said: X Y in metres (map frame).")
+    ] = None,
+    from_: Annotated[
+        Path | None,
+        typer.Option(
+            "--from",
+            help="A folder recorded by 'spcotmhp ros2 MODEL_DIR --record DIR': apply its utterances (those not "
+            "applied yet) to this model.",
+        ),
+    ] = None,
 ) -> None:
-    """Teach the model in MODEL_DIR that UTTERANCE was said at X Y, save it, and print the place it was assigned
-    to. The folder is replaced whole or not at all; it must hold a model (nothing else is ever overwritten)."""
+    """Teach the model in MODEL_DIR that UTTERANCE was said at X Y (or the utterances recorded in --from DIR), save
+    it, and print what happened (a new place, or the place it joined). The folder is replaced whole or not at all;
+    it must hold a model (nothing else is ever overwritten)."""
+    from spcotmhp.errors import TeachingError
     from spcotmhp.learning.io import check_target, load_model, save_model
+    from spcotmhp.learning.recorded import apply_recording
     from spcotmhp.learning.teach import teach as teach_model
 
+    if (from_ is None) == (utterance is None) or (utterance is not None and at is None) or (from_ and at):
+        raise TeachingError("give an UTTERANCE with --at X Y, or --from DIR (a folder recorded by 'spcotmhp ros2')")
     model = load_model(model_dir)
     check_target(model_dir, True, "teach replaces the model folder whole: move those files out of it first")
+    if from_ is not None:
+        taught, applied, total = apply_recording(model, from_)
+        if taught is None:
+            typer.echo(f"nothing new in {from_}: its {total} utterance(s) are already in {model_dir}")
+            return
+        save_model(taught.model, model_dir, overwrite=True)
+        for k in range(applied):
+            typer.echo(f"{taught.summary(k)['message']}")
+        typer.echo(
+            f"applied {applied} recorded utterance(s) of {from_} ({total} in all); "
+            f"{int(taught.model.active_places.sum())} places; saved to {model_dir}"
+        )
+        return
+    assert at is not None and utterance is not None
     taught = teach_model(model, [{"x": at[0], "y": at[1], "utterance": utterance}])
     save_model(taught.model, model_dir, overwrite=True)
     s = taught.summary()
     typer.echo(
-        f"taught {utterance!r} at ({at[0]:g}, {at[1]:g}): place {s['place']} "
-        f"'{s['label']}'{' (a new place)' if s['new_place'] else ''}; {s['places']} places; update "
+        f"taught {utterance!r} at ({at[0]:g}, {at[1]:g}): {s['message']}; {s['places']} places; update "
         f"{1000 * s['time_update_s']:.0f} ms, model {1000 * s['time_export_s']:.0f} ms; saved to {model_dir}"
     )
 
 
+def questions(
+    model_dir: Annotated[Path, typer.Argument(help="Model folder.")],
+    max_questions: Annotated[int, typer.Option("--max", min=1, max=100, help="Questions to list.")] = 5,
+    as_json: Annotated[bool, typer.Option("--json", help='Print {"questions": [...]} as JSON.')] = False,
+) -> None:
+    """List where an answer would tell the model most about what a place is called, best first
+    (spcotmhp/learning/questions.py: the entropy of the name the model expects there). Answer one with
+    'spcotmhp teach MODEL_DIR "this is the NAME" --at X Y'."""
+    import json
+
+    from spcotmhp.learning.io import load_model
+    from spcotmhp.learning.questions import questions as ask
+
+    asked = ask(load_model(model_dir), max_questions)
+    if as_json:
+        typer.echo(json.dumps({"questions": asked}, ensure_ascii=False))
+        return
+    if not asked:
+        typer.echo("no question: the model is sure of the name wherever it was taught")
+    for i, q in enumerate(asked, 1):
+        typer.echo(
+            f"{i}. at ({q['x']:g}, {q['y']:g}): {q['ask']} ({' or '.join(q['candidates'])}?) "
+            f"[{q['information']:.2f} nats: {q['why']}]"
+        )
+
+
 def register(app: typer.Typer) -> None:
-    """Add ``teach`` to ``app``."""
+    """Add ``teach`` and ``questions`` to ``app``."""
     app.command()(teach)
+    app.command()(questions)

@@ -11,7 +11,14 @@ One Gibbs step for event e (``CollapsedState.step``) removes it from the counts 
       * (n_l + alpha) (n_{l,k} + gamma) / (n_l + K gamma)       pi, phi integrated out (Eqs. 10-11, 14)
       * DirMult(f_e | chi + F_l) DirMult(S_e | beta + W_l)     theta, W integrated out (Eqs. 12-13, 15-17)
 
-then resamples the background switch of each of its tokens (as ``concepts.py`` does in batch). R holds the
+then resamples the background switch of each of its tokens (as ``concepts.py`` does in batch).
+
+A *naming* event (a teach, :func:`spcotmhp.learning.teach.teach`: its tokens are the name a person said for the
+place where the robot stands) is conditioned on that act: its tokens are concept tokens (a name is not a
+background word), and its concept is one that already holds one of its words or a concept with no events yet,
+so that the name is a name of the concept it joins, not a stray token of an unrelated one; among those (i_e, C_e)
+is set to the mode of the conditional above (``log_conditional(..., concepts=...)``), which makes a teach's
+outcome a function of the model and the position (``teach`` says which it was) rather than of a draw. R holds the
 transition counts of the event sequence plus, with reverse replay (Section 3.2), their transpose. This is the
 batch sampler's step 4 (Eq. 9's place term) and step 5 (the collapsed concept step) drawn as one block, with
 mu, Sigma and psi integrated out instead of drawn: a single-site collapsed Gibbs step. Counts may be fractional
@@ -59,6 +66,7 @@ class CollapsedState:
         self.tokens: list[np.ndarray] = []  # word indices of each event
         self.z: list[np.ndarray] = []  # True: concept token, False: background token
         self.features: list[np.ndarray | None] = []
+        self.named: list[bool] = []  # naming events (module docstring)
 
     # ---- sizes ---------------------------------------------------------------------------------------------
     @property
@@ -79,8 +87,16 @@ class CollapsedState:
         self.hyper = self.hyper.resized(L, K)
 
     # ---- events --------------------------------------------------------------------------------------------
-    def append(self, x: np.ndarray, tokens: np.ndarray, features: np.ndarray | None, rng: np.random.Generator) -> int:
-        """Add a new event and draw its place, concept and switches; returns its index.
+    def append(
+        self,
+        x: np.ndarray,
+        tokens: np.ndarray,
+        features: np.ndarray | None,
+        rng: np.random.Generator,
+        named: bool = False,
+    ) -> int:
+        """Add a new event and draw its place, concept and switches (a naming event: set to the mode, module
+        docstring); returns its index.
 
         The first draw leaves out the transition factors, and its tokens start as concept tokens. Teaching comes
         in runs at one place (15 consecutive events per room in the bundled homes), so the self-transition
@@ -96,6 +112,7 @@ class CollapsedState:
         self.tokens.append(np.asarray(tokens, dtype=np.int64))
         self.z.append(np.ones(len(tokens), dtype=bool))  # concept tokens first; switches resampled after C_e
         self.features.append(features)
+        self.named.append(bool(named))
         e = self.E - 1
         self.draw(e, rng, transitions=False)
         return e
@@ -106,13 +123,31 @@ class CollapsedState:
         self.draw(e, rng)
 
     def draw(self, e: int, rng: np.random.Generator, transitions: bool = True) -> None:
-        """Draw (i_e, C_e) for an event not in the counts, add it, then resample its token switches."""
+        """Draw (i_e, C_e) for an event not in the counts, add it, then resample its token switches (a naming
+        event: the mode among the concepts that can hold its name, its tokens concept tokens; module docstring)."""
+        if self.is_named(e):
+            cols = self.naming_concepts(e)
+            logp = self.log_conditional(e, transitions, cols)
+            k, c = np.unravel_index(int(np.argmax(logp)), logp.shape)
+            self.place[e], self.concept[e] = int(k), int(cols[c])
+            self.move(e, 1.0)
+            return
         logp = self.log_conditional(e, transitions)
         flat = int(np.argmax(logp.ravel() + rng.gumbel(size=logp.size)))
         self.place[e], self.concept[e] = flat // self.L, flat % self.L
         self.move(e, 1.0)
         if self.background:
             self._switches(e, rng)
+
+    def is_named(self, e: int) -> bool:
+        return e < len(self.named) and self.named[e]
+
+    def naming_concepts(self, e: int) -> np.ndarray:
+        """The concepts a naming event may join (event e out of the counts): those whose concept tokens hold one
+        of its words, and the first concept with no events (all empty ones are alike)."""
+        holding = self.W_lv[:, np.unique(self.tokens[e])].sum(axis=1) > 0
+        empty = np.flatnonzero(self.n_l <= 0)
+        return np.union1d(np.flatnonzero(holding), empty[:1]).astype(np.int64)
 
     # ---- the conditional -----------------------------------------------------------------------------------
     def log_conditional(self, e: int, transitions: bool = True, concepts: np.ndarray | None = None) -> np.ndarray:
@@ -217,6 +252,8 @@ class CollapsedState:
         the number of switches changed."""
         l, beta, V = self.concept[e], self.hyper.beta, self.V
         changed = 0
+        if self.is_named(e):
+            return 0
         for j, v in enumerate(self.tokens[e]):
             was = on = self.z[e][j]
             (self.W_lv[l] if on else self.bg_v)[v] -= 1.0

@@ -6,7 +6,8 @@ A model folder saved with a learner state holds ``learner.json`` (sizes and sett
   statistics), ``n_l``, ``n_lk`` (concepts, places per concept), ``W_lv``, ``bg_v``, ``z_tot`` (concept and
   background words), ``trans`` (event transitions), ``F_ld`` (image features, when the model has them);
 * the events and their current assignments: ``X`` (E, 2), ``place``, ``concept`` (E,), the tokens as
-  ``tok_ptr`` (E + 1,), ``tok_word``, ``tok_z`` (T,), and ``features`` (E, D) with ``has_features`` (E,).
+  ``tok_ptr`` (E + 1,), ``tok_word``, ``tok_z`` (T,), and ``features`` (E, D) with ``has_features`` (E,);
+  ``named`` (E,) marks the naming events (teaches, ``collapsed.py``), absent in folders without any.
 
 The batch learner stores its final sample this way (``from_batch``), so teaching a batch-learned model continues
 from that sample; its posterior means are unchanged by storing it. A model without a learner state (a supervised
@@ -42,6 +43,8 @@ def member_of(st: CollapsedState) -> dict:
     arrays["tok_ptr"] = np.concatenate(([0], np.cumsum(lengths))).astype(np.int64)
     arrays["tok_word"] = np.concatenate(st.tokens).astype(np.int64) if st.tokens else np.zeros(0, np.int64)
     arrays["tok_z"] = np.concatenate(st.z).astype(bool) if st.z else np.zeros(0, bool)
+    if any(st.named):
+        arrays["named"] = np.array([st.is_named(e) for e in range(st.E)], dtype=bool)
     if st.F_ld is not None and st.D is not None:
         arrays["F_ld"] = st.F_ld.copy()
         arrays["has_features"] = np.array([f is not None for f in st.features], dtype=bool)
@@ -61,6 +64,7 @@ def state_of_member(member: dict, model: SpatialConceptModel) -> CollapsedState:
     st.tokens = [np.array(a["tok_word"][ptr[e] : ptr[e + 1]], dtype=np.int64) for e in range(len(st.place))]
     st.z = [np.array(a["tok_z"][ptr[e] : ptr[e + 1]], dtype=bool) for e in range(len(st.place))]
     st.features = [None] * len(st.place)
+    st.named = [bool(v) for v in a["named"]] if "named" in a else [False] * len(st.place)
     if D is not None:
         st.F_ld = np.array(a["F_ld"], dtype=float)
         st.features = [
@@ -97,6 +101,7 @@ def from_batch(
     st.tokens = [tok_word[tok_ptr[e] : tok_ptr[e + 1]].astype(np.int64) for e in range(obs.E)]
     st.z = [z[tok_ptr[e] : tok_ptr[e + 1]].astype(bool) for e in range(obs.E)]
     st.features = [None] * obs.E if D is None else [row.copy() for row in obs.features]
+    st.named = [False] * obs.E
     g = GaussianStats.from_assignments(st.X, st.place, K)
     st.n_k, st.sx, st.sxx = g.n, g.sx, g.sxx
     st.n_l = np.bincount(st.concept, minlength=L).astype(float)
@@ -299,12 +304,13 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_word": (T,),
         "tok_z": (T,),
     }
-    kinds = {"place": "iu", "concept": "iu", "tok_ptr": "iu", "tok_word": "iu", "tok_z": "b"}
-    optional: tuple[str, ...] = ()
+    specs["named"] = (E,)
+    kinds = {"place": "iu", "concept": "iu", "tok_ptr": "iu", "tok_word": "iu", "tok_z": "b", "named": "b"}
+    optional: tuple[str, ...] = ("named",)
     if D is not None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"
-        optional = ("F_ld", "features", "has_features")
+        optional = ("named", "F_ld", "features", "has_features")
     return {n: (shape, kinds.get(n, "f")) for n, shape in specs.items()}, optional
 
 
@@ -318,8 +324,9 @@ def read_learner(root, model: SpatialConceptModel) -> dict | None:
     D = None if model.theta is None else int(model.theta.shape[1])
     specs, optional = learner_specs(meta, model.K, model.L, len(model.vocabulary), D)
     arrays = read_npz(inside(root, "learner.npz", "learner.npz"), specs, optional)
-    if D is not None and not all(n in arrays for n in optional):
-        for n in optional:
+    features = ("F_ld", "features", "has_features")
+    if D is not None and not all(n in arrays for n in features):
+        for n in features:
             arrays.pop(n, None)
     member = {"replay": meta["replay"], "background": meta["background"], "arrays": arrays}
     V, found_D = len(model.vocabulary), D if "F_ld" in arrays else None

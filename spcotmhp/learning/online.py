@@ -57,7 +57,7 @@ from spcotmhp.language.text import words as text_words
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.gibbs import make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
-from spcotmhp.learning.online_split_merge import KINDS, propose
+from spcotmhp.learning.online_split_merge import KINDS, propose, settle_name
 from spcotmhp.learning.truncation import TruncationWarning
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count
 from spcotmhp.metric.maps import OccupancyMap
@@ -68,12 +68,14 @@ MAX_WORDS = 50
 
 @dataclass(frozen=True)
 class TeachingEvent:
-    """One teaching event: a position (map frame, metres), the words of the utterance, optional image features."""
+    """One teaching event: a position (map frame, metres), the words of the utterance, optional image features;
+    ``named``: the words are a name said for the place (a teach, ``collapsed.py``'s naming events)."""
 
     x: float
     y: float
     words: tuple[str, ...]
     features: np.ndarray | None = None
+    named: bool = False
 
     @classmethod
     def from_utterance(cls, utterance: str, x: float, y: float, features: np.ndarray | None = None) -> TeachingEvent:
@@ -346,7 +348,8 @@ class OnlineSpCoTMHP:
             total = feats.sum()
             if self.feature_weight is not None and total > 0:
                 feats = feats * (self.feature_weight / total)
-        e = st.append(np.array([event.x, event.y]), np.array([self.word_index_[w] for w in event.words]), feats, rng)
+        tokens = np.array([self.word_index_[w] for w in event.words])
+        e = st.append(np.array([event.x, event.y]), tokens, feats, rng, event.named)
         for j in range(max(0, e - self.lag), e):
             st.step(j, rng)
         older = max(0, e - self.lag)
@@ -354,6 +357,8 @@ class OnlineSpCoTMHP:
             for j in rng.integers(older, size=self.rejuvenation):
                 st.step(int(j), rng)
         self._split_merge(e, rng)
+        if event.named:
+            settle_name(st, e)
         self._grow_if_saturated()
 
     def _split_merge(self, e: int, rng: np.random.Generator) -> None:

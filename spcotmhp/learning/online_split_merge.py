@@ -241,3 +241,32 @@ def _pseudo(st: CollapsedState) -> bool:
     return not (
         np.isclose(st.n_k.sum(), st.E) and np.isclose(st.n_l.sum(), st.E) and np.isclose(st.z_tot.sum(), tokens)
     )
+
+
+def settle_name(st: CollapsedState, e: int) -> bool:
+    """A block step for the concept of naming event e (``collapsed.py``): when that concept holds naming events
+    only, all at one place that holds other events too, move them together to a new place if that raises
+    ``log_target`` (the mode of the two). Single-site steps cannot: the first event alone in a new place is less
+    probable than in the place around it, while the name's events together, one name said at one spot several
+    times, make a place of their own. Returns whether they moved."""
+    l = st.concept[e]
+    members = np.flatnonzero(st.concept == l)
+    empty = np.flatnonzero(st.n_k <= 0)
+    if not len(empty) or not all(st.is_named(int(j)) for j in members) or len(set(st.place[members])) != 1:
+        return False
+    k = int(st.place[members[0]])
+    if st.n_k[k] <= len(members) + 1e-9:
+        return False
+    before = log_target(st)
+    _relabel_block(st, members, int(empty[0]), int(l))
+    if log_target(st) > before:
+        return True
+    _relabel_block(st, members, k, int(l))
+    return False
+
+
+def _relabel_block(st: CollapsedState, members: np.ndarray, place: int, concept: int) -> None:
+    for j in members:
+        st.move(int(j), -1.0)
+        st.place[j], st.concept[j] = place, concept
+        st.move(int(j), 1.0)

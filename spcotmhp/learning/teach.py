@@ -3,18 +3,41 @@
 
 ``teach(model, events)`` continues the online learner from ``model`` (its learner state, else pseudo-counts;
 :mod:`spcotmhp.learning.online`) and returns the updated model and what each event was assigned to;
+
+What one teach does (the rule). An utterance is read for the name it teaches (:mod:`spcotmhp.language.naming`;
+one that names nothing, "hello" or "is this the kitchen?", is refused with NotANaming and nothing is learned),
+and the name's words are learned as a *naming event* (:mod:`spcotmhp.learning.collapsed`): its concept is one that
+already holds a word of the name or a new one, and (i_e, C_e) is the mode of the online learner's collapsed
+conditional, Eqs. 8-17 with every parameter integrated out,
+
+    p(i_e = k, C_e = l | x_e, S_e, rest)  proportional to  t(x_e | place k) / sum_c phi_c(k)
+                                                            * (n_l + alpha) (n_lk + gamma) / (n_l + K gamma)
+                                                            * DirMult(S_e | beta + W_l)
+
+(a place with no events has t = 1 / known area). So a word no place carries, taught far from every place (where
+t(x_e | k) of every place is below the density of a new one, after Eq. 9's rescaling), makes a new place and a
+new concept holding the word: the place's label is the word, and it is plannable at once. Taught inside a place,
+the new concept joins that place; it becomes one of the place's names (its label) when the posterior says so,
+p(w | k) >= ``vocabulary.PLACE_WORD_RATIO`` times the place's most said name, which one teach against many earlier
+events does not reach. The reply (:meth:`Taught.summary`) says which happened.
+
 ``planner_for(model)`` gives the planner of the updated model (the previous planner's graph updated
 incrementally, kept in the graph cache the caller passes or the previous planner's own).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, as_event
+
+if TYPE_CHECKING:
+    from spcotmhp.language.naming import Naming
 
 
 @dataclass
@@ -29,15 +52,46 @@ class Taught:
     place_words: list[str]
     time_update_s: float
     time_export_s: float
+    names: list[Naming | None] = dataclasses.field(default_factory=list)
+
+    def outcome(self, k: int = -1) -> tuple[str, bool, str]:
+        """(what happened to event ``k``: "new place" or "joined place", whether its name now names that place,
+        a one-line message) (module docstring)."""
+        label, place = self.labels[k], self.places[k]
+        naming = self.names[k] if self.names else None
+        kind = "new place" if self.new_places[k] else "joined place"
+        if naming is None:
+            return kind, False, f"learned at place {place} '{label}'"
+        names = all(w in label.split() for w in naming.words)
+        said = f"'{naming.name}'"
+        if self.new_places[k]:
+            return kind, names, f"{said} is a new place (place {place}, '{label}')"
+        if names:
+            return kind, True, f"{said} joined place {place} and is one of its names ('{label}')"
+        return (
+            kind,
+            False,
+            (
+                f"{said} joined place {place} '{label}' but does not name it yet: the place's other names outweigh "
+                "this teach (teach it again there, or teach it where no place is)"
+            ),
+        )
 
     def summary(self, k: int = -1) -> dict:
-        """JSON-ready: the place of event ``k`` (default the last), its label and words."""
+        """JSON-ready: the place of event ``k`` (default the last), its label and words, and what happened
+        (:meth:`outcome`)."""
         label = self.labels[k]
+        kind, named, message = self.outcome(k)
+        naming = self.names[k] if self.names else None
         return {
             "place": self.places[k],
             "label": label,
             "names": [w for w in label.split() if w in self.place_words],
             "new_place": self.new_places[k],
+            "name": None if naming is None else naming.name,
+            "outcome": kind,
+            "named": named,
+            "message": message,
             "places": int(self.model.active_places.sum()),
             "time_update_s": self.time_update_s,
             "time_export_s": self.time_export_s,
@@ -54,7 +108,8 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
     learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0)
     before = {int(k) for k in model.active_places.nonzero()[0]}
     t0 = time.perf_counter()
-    batch = [as_event(item) for item in events]
+    read = [naming_event(item) for item in events]
+    batch = [event for event, _ in read]
     learner.partial_fit(batch)
     t1 = time.perf_counter()
     updated = learner.model_
@@ -71,7 +126,26 @@ def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
         words,
         t1 - t0,
         t2 - t1,
+        [naming for _, naming in read],
     )
+
+
+def naming_event(item: object) -> tuple[TeachingEvent, Naming | None]:
+    """A teaching event (``online.as_event`` forms) and, for one given as an utterance (text), the name it teaches
+    (:func:`spcotmhp.language.naming.read_naming`): the event's words are then the name's, as a naming event. Events
+    given as words are learned as they are. NotANaming (a TeachingError) for an utterance that names nothing."""
+    from spcotmhp.language.naming import read_naming
+
+    event = as_event(item)
+    said = None
+    if isinstance(item, Mapping):
+        said = item.get("utterance")
+    elif isinstance(item, (tuple, list)) and len(item) >= 3:
+        said = item[2]
+    if not isinstance(said, str):
+        return event, None
+    naming = read_naming(said)
+    return dataclasses.replace(event, words=naming.words, named=True), naming
 
 
 def count_taught(model: SpatialConceptModel, batch: list[TeachingEvent]) -> dict[str, int]:

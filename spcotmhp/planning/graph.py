@@ -181,6 +181,8 @@ class PlanningGraph:
         makes long-lived arrays and, in a fresh process, numba's registries; collecting meanwhile frees nothing)."""
         t0 = time.perf_counter()
         with paused():
+            if log_p_full is None and reuse is not None:
+                log_p_full = reuse._same_cost_map(model)
             inputs, subs = graph_inputs(model, settings, log_p_full)  # Alg. 1, lines 1-3
             graph = cls(key=key, **inputs)
             graph._fields(reuse)
@@ -188,7 +190,7 @@ class PlanningGraph:
             for label, sub_inputs in subs.items():  # every other free region with places: a graph of its own
                 t1 = time.perf_counter()
                 sub = cls(key=f"{key}/region-{label}", **sub_inputs)
-                sub._fields(None)
+                sub._fields(None if reuse is None else reuse.regions.get(label))
                 sub._edges()
                 sub.time_precompute_s = time.perf_counter() - t1
                 graph.regions[label] = sub
@@ -209,7 +211,9 @@ class PlanningGraph:
                 f"bytes), more than max_dense_bytes = {self.settings.max_dense_bytes}; raise it or use 'end'"
             )
         if dense:
-            fields = [self._field(j) for j in range(len(cells))]
+            kept = self._reusable_fields(reuse)
+            fields = [kept.get((int(r), int(c))) or self._field(j) for j, (r, c) in enumerate(cells)]
+            self.info["fields_reused"] = sum((int(r), int(c)) in kept for r, c in cells)
             self.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
             self.next_step = np.stack([n for _, n in fields])
             return
@@ -224,6 +228,43 @@ class PlanningGraph:
             reuse=old,
         )
         self.info.update(self.hier.info)
+
+    def _reusable_fields(self, reuse: PlanningGraph | None) -> dict[tuple[int, int], tuple[np.ndarray, np.ndarray]]:
+        """{node cell: (field, next step)} of ``reuse``'s dense fields, when its window and step costs are this
+        graph's: a field depends on nothing but the step cost and its node's cell (Eq. 26; with ``optimality =
+        "every_step"`` also its place's Gaussian, so nothing is kept), so the fields into
+        nodes that did not move are kept and only those of new or moved nodes are computed (a teach changes one
+        or two places)."""
+        if (
+            reuse is None
+            or not isinstance(reuse.dist, np.ndarray)
+            or reuse.offset != self.offset
+            or reuse.log_p.shape != self.log_p.shape
+            or reuse.settings.connectivity != self.settings.connectivity
+            or self.settings.optimality == "every_step"  # its fields hold the node's place, which a teach moves
+            or not np.array_equal(reuse.map_cost, self.map_cost)
+        ):
+            return {}
+        return {
+            (int(r), int(c)): (reuse.dist[j], reuse.next_step[j])
+            for j, (r, c) in enumerate(reuse.node_cell)
+            if reuse.usable[j]
+        }
+
+    def _same_cost_map(self, model: SpatialConceptModel) -> np.ndarray | None:
+        """The full-map cost map log p(x|m) this graph was built on, when ``model`` has the same map and cost map
+        settings (a teach changes neither), so that an update does not inflate the map again; else None."""
+        old = self.model
+        if old.map is None or model.map is None or old.costmap != model.costmap or self.blocked is not None:
+            return None
+        if old.map is not model.map and not np.array_equal(old.map.data, model.map.data):
+            return None
+        r0, r1, c0, c1 = self.info.get("crop", (0, 0, 0, 0))
+        if (r1 - r0, c1 - c0) != self.log_p.shape:
+            return None
+        full = np.full(model.map.shape, -np.inf)
+        full[r0:r1, c0:c1] = self.log_p
+        return full
 
     def _field(self, j: int) -> tuple[np.ndarray, np.ndarray]:
         """The cost-to-go field into node j (Alg. 1, lines 4-6) under the step cost log|A| - log p(x|m) (minus

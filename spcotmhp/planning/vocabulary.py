@@ -113,7 +113,9 @@ def place_labels(
     the place says it more often than chance, p(w | k) > 1 / (vocabulary size), the p(w | k) of a place whose
     concepts hold no words: a place whose events carry no place word (a new place taught "this is the"), its
     p(l | k) spread over every concept, said every name about equally and was labelled with all of them; such a
-    place is "place k".
+    place is "place k". Likewise a word joins an active place's label only if a concept with events at the place
+    says it more often than chance (:func:`_said_by_own_concepts`): a place of one taught event otherwise carried
+    the names of the largest concepts besides its own ("study bedroom"), whose prior mass alone puts them there.
 
     Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
     spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
@@ -129,6 +131,7 @@ def place_labels(
     act = np.asarray(model.active_places, dtype=bool)
     chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
+    chosen &= _said_by_own_concepts(model, idx, chance) | ~act[:, None]
     shared = chosen[act].sum(axis=0)
     if names is None:
         info = getattr(model, "info", None) or {}
@@ -148,6 +151,16 @@ def place_labels(
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
         labels.append(" ".join(order))
     return labels
+
+
+def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarray:
+    """(K, len(idx)) bool: some concept with events at the place says the word more often than chance. A concept
+    l has events at place k when phi_l(k) is above its least entry (for a Dirichlet posterior mean the least entry
+    is gamma / (N_l + K gamma), the prior alone, at the places none of l's events is at)."""
+    phi = np.asarray(model.phi, dtype=float)
+    own = phi > phi.min(axis=1, keepdims=True) * (1.0 + 1e-9)  # (L, K)
+    says = np.asarray(model.W, dtype=float)[:, idx] > chance  # (L, words)
+    return (own.T.astype(np.int64) @ says.astype(np.int64)) > 0
 
 
 def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None) -> Any:

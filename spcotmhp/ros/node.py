@@ -19,6 +19,13 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
 * ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose: learned at once (online
   learning, :mod:`spcotmhp.learning.teach`; later instructions and the place markers use it; the model folder
   is not rewritten) and, with ``record``, appended to that dataset folder (:mod:`spcotmhp.ros.teaching_log`).
+  A teach is applied on a worker thread of its own (the model update and ``PlanningGraph.update``), so that
+  instructions keep being planned meanwhile with the planner before it; the new planner is swapped in whole
+  when ready. At most ``MAX_PENDING_TEACHES`` wait or run: past that a teach is refused at once (TeachingBusy
+  on the status topic). The ``taught`` status says whether it made a new place or joined one.
+* ``spcotmhp/questions`` (std_msgs/String, out, transient local): ``{"questions": [...]}`` where an answer would
+  help the model most (:mod:`spcotmhp.learning.questions`), published at start and after every teach; answer one
+  by teaching at its (x, y).
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
 
@@ -32,8 +39,11 @@ import colorsys
 import functools
 import json
 import math
+import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path as FilePath
 
 import numpy as np
@@ -47,7 +57,7 @@ from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from spcotmhp.collector import end_startup
-from spcotmhp.errors import NoValidPose, PoseRejected, SpcotmhpError, StartOutsideMap
+from spcotmhp.errors import NoValidPose, PoseRejected, SpcotmhpError, StartOutsideMap, TeachingBusy
 from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.planning.start import locate_start
@@ -68,6 +78,16 @@ MATCH_PUBLISHER = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.BEST_AVAILABLE, durability=DurabilityPolicy.BEST_AVAILABLE
 )
 EVENTS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+MAX_PENDING_TEACHES = 4  # teaches waiting or running on the teaching thread (each holds a model copy)
+
+
+@dataclass(frozen=True)
+class TeachJob:
+    """A teach waiting for the teaching thread: the utterance (``data``, as a String message has) and the pose."""
+
+    data: str
+    x: float
+    y: float
 
 
 def answered(kind: str) -> Callable:
@@ -103,17 +123,28 @@ class SpcotmhpNode(Node):
         super().__init__("spcotmhp")
         self.planner, self.frame, self.log = planner, frame, log
         self.pose: tuple[float, float, float] | None = None  # the latest pose, None once one is rejected
+        self.teacher = ThreadPoolExecutor(1, thread_name_prefix="spcotmhp-teach")
+        self._pending = 0
+        self._pending_lock = threading.Lock()
         self.rejected: str | None = None  # why the latest pose was rejected
         self.plan_pub = self.create_publisher(Path, "spcotmhp/plan", LATCHED)
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
+        self.questions_pub = self.create_publisher(String, "spcotmhp/questions", LATCHED)
         self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
         self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
         self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
         self.create_subscription(OccupancyGrid, "map", self.on_map, MATCH_PUBLISHER)
         self.places_pub.publish(self.markers())
+        self.publish_questions()
 
     # ---- output ----------------------------------------------------------------------------------------
+    def publish_questions(self) -> None:
+        from spcotmhp.learning.questions import questions
+
+        asked = {"questions": questions(self.planner.model)}
+        self.questions_pub.publish(String(data=json.dumps(asked, ensure_ascii=False)))
+
     def status(self, data: dict) -> None:
         self.status_pub.publish(String(data=json.dumps(data, ensure_ascii=False)))
 
@@ -207,24 +238,50 @@ class SpcotmhpNode(Node):
     @answered("error")
     def on_instruction(self, msg: String) -> None:
         x, y, yaw = self.current_pose("an instruction")
-        plan = self.planner.plan(msg.data, (x, y))
-        points = path_poses(plan.path, plan.cells, (x, y), self.planner.model.require_map())
+        planner = self.planner  # the one in place now (a teach may swap in another meanwhile)
+        plan = planner.plan(msg.data, (x, y))
+        points = path_poses(plan.path, plan.cells, (x, y), planner.model.require_map())
         self.plan_pub.publish(self.path_message(points, yaw))
         self.status(plan_status(plan, msg.data, (x, y), points, self.frame))
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
+        """Queue the teach for the teaching thread (module docstring); TeachingBusy when too many wait."""
         x, y, _ = self.current_pose("teaching (an utterance is learned at the robot's pose)")
-        taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": msg.data}])
+        with self._pending_lock:
+            if self._pending >= MAX_PENDING_TEACHES:
+                raise TeachingBusy(
+                    f"{self._pending} teaches are waiting or being applied (the limit); teach again shortly"
+                )
+            self._pending += 1
+        try:
+            self.teacher.submit(self.apply_teach, TeachJob(msg.data, x, y))
+        except RuntimeError:  # shutting down
+            with self._pending_lock:
+                self._pending -= 1
+
+    def apply_teach(self, job: TeachJob) -> None:
+        try:
+            self._apply_teach(job)
+        finally:
+            with self._pending_lock:
+                self._pending -= 1
+
+    @answered("taught")
+    def _apply_teach(self, job: TeachJob) -> None:
+        """Learn the teach and update the graph on this (the teaching) thread, then swap the planner in."""
+        x, y = job.x, job.y
+        taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": job.data}])
         planner, seconds = planner_for(taught.model, self.planner.settings, self.planner)
-        event = self.log.append(x, y, msg.data) if self.log is not None else None
-        self.planner = planner
+        event = self.log.append(x, y, job.data) if self.log is not None else None
+        self.planner = planner  # one assignment: an instruction uses the old planner or the new one, whole
         self.places_pub.publish(self.markers())
+        self.publish_questions()
         self.status(
             {
                 "kind": "taught",
                 "ok": True,
-                "utterance": msg.data,
+                "utterance": job.data,
                 "event": event,
                 "x": round(x, 4),
                 "y": round(y, 4),
@@ -266,7 +323,7 @@ def run_node(
 
     t0 = time.perf_counter()
     model = load_model(model_dir)
-    log = TeachingLog(record, model.require_map()) if record is not None else None
+    log = TeachingLog(record, model.require_map(), model_dir) if record is not None else None
     planner = HierarchicalPlanner(model)
     planner.warm_up()
     rclpy.init()
@@ -283,6 +340,7 @@ def run_node(
         except (KeyboardInterrupt, ExternalShutdownException):
             pass
         finally:
+            node.teacher.shutdown(wait=True, cancel_futures=True)
             node.destroy_node()
     finally:
         rclpy.try_shutdown()

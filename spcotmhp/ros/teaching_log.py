@@ -1,7 +1,9 @@
 """Teaching while driving: utterances taught at the robot's pose, appended to a dataset folder in the project's
 layout (``spcotmhp/data/README.md``) that ``spcotmhp learn`` and :func:`spcotmhp.datasets.load_dataset` read.
 
-The folder gets the model's map (``map.yaml`` + ``map.pgm``, as Nav2's map_saver writes it) when it is created,
+The folder gets ``recorded.json`` naming the model folder (:mod:`spcotmhp.learning.recorded`: ``spcotmhp teach
+MODEL --from DIR`` applies the recording to that model; ``spcotmhp learn DIR`` refuses it), the model's map
+(``map.yaml`` + ``map.pgm``, as Nav2's map_saver writes it) when it is created,
 and ``teaching.csv`` (``event,x,y,words_ja,words_en``) from the first utterance on; each utterance goes into the
 column of its language (kana or kanji: ``words_ja``, cut into words and spaced as dataset rows are read, else
 ``words_en``). Every change rewrites the file
@@ -31,7 +33,11 @@ MAX_UTTERANCE_CHARS = 1000
 class TeachingLog:
     """A dataset folder that teaching events are appended to (module docstring)."""
 
-    def __init__(self, folder: str | Path, occ: OccupancyMap) -> None:
+    def __init__(self, folder: str | Path, occ: OccupancyMap, model_dir: str | Path | None = None) -> None:
+        """``model_dir``: the model folder the teaching is said against, named in ``recorded.json`` (so that
+        ``spcotmhp learn`` refuses the folder and ``spcotmhp teach MODEL --from`` applies it to that model)."""
+        from spcotmhp.learning.recorded import write_marker
+
         self.folder = Path(folder)
         self.teaching = self.folder / "teaching.csv"
         self.n_events = 0
@@ -42,6 +48,8 @@ class TeachingLog:
             raise DatasetError(f"--record {self.folder} is a file; give a folder for the dataset")
         else:
             self._create(occ)
+        if model_dir is not None:
+            write_marker(self.folder, Path(model_dir))
 
     def _create(self, occ: OccupancyMap) -> None:
         if not self.folder.parent.is_dir():

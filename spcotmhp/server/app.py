@@ -49,6 +49,7 @@ from spcotmhp.server.schemas import (
     PlacesResponse,
     PlanRequest,
     PlanResponse,
+    QuestionsResponse,
     TeachRequest,
     TeachResponse,
 )
@@ -64,7 +65,7 @@ ERROR_CAUSES = {
     415: "A JSON body sent with another Content-Type.",
     422: "An invalid field, an instruction not understood, a start in a wall or off the map.",
     501: "Speech input is not installed (extra 'speech').",
-    503: "The planner is busy, or the plan exceeded the time budget.",
+    503: "The planner (or the teaching lane) is busy, or the request exceeded its time budget.",
 }
 
 
@@ -76,7 +77,7 @@ def errors(*codes: int) -> dict[int | str, dict[str, Any]]:
 
 MAP_ERRORS = errors(404, 422)
 PLAN_ERRORS = errors(404, 408, 409, 413, 415, 422, 503)
-TEACH_ERRORS = errors(404, 408, 413, 415, 422)
+TEACH_ERRORS = errors(404, 408, 413, 415, 422, 503)
 AUDIO_ERRORS = errors(404, 408, 409, 413, 422, 501, 503)
 
 
@@ -181,6 +182,14 @@ def create_app(
         png = sm.figure_png() if frame else sm.image.png
         return Response(png, media_type="image/png", headers=headers)
 
+    @app.get("/questions", response_model=QuestionsResponse, responses=MAP_ERRORS, tags=["learning"])
+    def questions(
+        model: ModelQuery = None, max: int = Query(5, ge=1, le=100, description="Questions to list.")
+    ) -> dict:
+        """Where an answer ("this is the kitchen") would tell the model most about what a place is called, best
+        first (the entropy of the name it expects there); answer one with ``POST /teach`` at its (x, y)."""
+        return pick(model).questions(max)
+
     @app.get("/map.json", response_model=MapInfo, responses=MAP_ERRORS, tags=["map"])
     def map_json(model: ModelQuery = None) -> dict:
         """Georeferencing of ``GET /map.png``: pixel (0, 0) is (x0, y1), pixel (width, height) is (x1, y0)."""
@@ -201,13 +210,15 @@ def create_app(
         return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
 
     @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
-    async def teach(body: TeachRequest, model: ModelQuery = None) -> dict:
-        """Teach what a place is called: the utterance said at (x, y) is learned at once (online learning) and
-        later plans use it. 422 for an empty utterance or a position off the map or in a wall (the model is
-        then unchanged)."""
+    async def teach(body: TeachRequest, request: Request, model: ModelQuery = None) -> dict:
+        """Teach what a place is called: the name the utterance says at (x, y) is learned at once (online
+        learning) and later plans use it; the reply says whether it made a new place or joined one
+        (``outcome``, ``message``). 422 for an utterance that names no place ("hello", a question) or a
+        position off the map or in a wall (the model is then unchanged); 503 when too many teaches are queued or
+        one exceeds the time budget."""
         sm = pick(_one_model(model, body.model))
         try:
-            return await run_in_threadpool(sm.teach, body.utterance, body.x, body.y)
+            return await sm.teach_async(body.utterance, body.x, body.y, _client(request))
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from spcotmhp.errors import ModelError
+from spcotmhp.errors import ModelError, TeachingBusy
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.plan import Plan
@@ -48,7 +48,7 @@ class ServedModel:
     model: SpatialConceptModel
     planner: HierarchicalPlanner
     labels: list[str]
-    image: MapImage
+    _image: MapImage | None
     light: Lane = field(default_factory=lambda: Lane("light", Budget.max_light), repr=False)
     heavy: Lane = field(
         default_factory=lambda: Lane("heavy", Budget.max_heavy, Budget.max_heavy_per_client), repr=False
@@ -58,6 +58,19 @@ class ServedModel:
     _figure: bytes | None = field(default=None, repr=False)
     version: int = 0  # teaches so far: the map pictures' ETag (a taught place changes them)
     _teaching: threading.Lock = field(default_factory=threading.Lock, repr=False)
+    teach_lane: Lane = field(
+        default_factory=lambda: Lane("teach", Budget.max_teach, Budget.max_teach_per_client, TeachingBusy), repr=False
+    )
+    _draw: threading.Lock = field(default_factory=threading.Lock, repr=False)
+
+    @property
+    def image(self) -> MapImage:
+        """The map picture, drawn on first use after start-up or a teach (a teach does not wait for it)."""
+        with self._draw:
+            image = self._image
+            if image is None:
+                image = self._image = map_image(self.model)
+            return image
 
     @property
     def lock(self) -> threading.Lock:
@@ -78,6 +91,7 @@ class ServedModel:
         planner.warm_up()
         light = Lane(f"{name}-light", budget.max_light)
         heavy = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
+        teach_lane = Lane(f"{name}-teach", budget.max_teach, budget.max_teach_per_client, TeachingBusy)
         return cls(
             name,
             source,
@@ -89,6 +103,7 @@ class ServedModel:
             heavy,
             budget,
             cache,
+            teach_lane=teach_lane,
         )
 
     @property
@@ -125,26 +140,33 @@ class ServedModel:
         never waits for a second precomputation."""
         return self.planner
 
+    async def teach_async(self, utterance: str, x: float, y: float, client: str = "") -> dict:
+        """:meth:`teach` on the teaching lane, within its admission limits and time budget (TeachingBusy)."""
+        return await run_in_lane(
+            self.teach_lane,
+            client,
+            self.budget.teach_budget,
+            lambda: self.teach(utterance, x, y),
+            lambda why: TeachingBusy(f"the teach was {why}; it is applied when it finishes"),
+        )
+
     def teach(self, utterance: str, x: float, y: float) -> dict:
-        """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), rebuild
-        the planner off the lanes, then swap model, planner and pictures in under the light lane's lock, so that
-        every later plan uses the update. Teaches of one model run one at a time; the served model stays as it
-        was on a TeachingError. The update lives in memory (the model folder is not rewritten)."""
+        """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), update
+        the planning graph off the planning lanes (``PlanningGraph.update``: only the fields of new or moved nodes),
+        then swap model, planner and labels in at once under the light lane's lock, so that every later plan uses
+        the update and no plan sees half of it; the map picture is drawn again on its next request. Teaches of
+        one model run one at a time; the served model stays as it was on a TeachingError. The update lives in
+        memory (the model folder is not rewritten)."""
         from spcotmhp.learning.teach import planner_for, teach
 
         with self._teaching:
             taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
             planner, seconds = planner_for(taught.model, self.planner.settings, self.planner, self.cache)
             labels = place_display_labels(taught.model, planner.place_words)
-            image = map_image(taught.model)
             with self.lock:
-                self.model, self.planner, self.labels, self.image, self._figure = (
-                    taught.model,
-                    planner,
-                    labels,
-                    image,
-                    None,
-                )
+                self.model, self.planner, self.labels = taught.model, planner, labels
+                with self._draw:
+                    self._image, self._figure = None, None
                 self.version += 1
         return {
             "model": self.name,
@@ -153,9 +175,16 @@ class ServedModel:
             "time_planner_s": seconds,
         }
 
+    def questions(self, max_questions: int = 5) -> dict:
+        """``{"questions": [...]}`` where an answer would help the model most (:mod:`spcotmhp.learning.questions`);
+        answer one with ``POST /teach`` at its (x, y)."""
+        from spcotmhp.learning.questions import questions
+
+        return {"model": self.name, "questions": questions(self.model, max_questions)}
+
     def figure_png(self) -> bytes:
         """The framed picture of the learned map (axes in metres), drawn on first use."""
-        with self.lock:
+        with self._draw:
             if self._figure is None:
                 buf = io.BytesIO()
                 render(

@@ -12,6 +12,9 @@ the planner cannot be interrupted. So that such requests cannot starve the other
 * **Admission.** A lane holds at most ``max_light`` / ``max_heavy`` requests (queued or running); the heavy
   lane also at most ``max_heavy_per_client`` per client address. Past that a request is refused at once with
   ``ServiceBusy`` (503); a request costlier than ``max_cost`` with ``InstructionTooLarge`` (413).
+* **Teaching.** ``POST /teach`` has a lane of its own (``max_teach`` queued or running, ``max_teach_per_client``
+  per client, ``teach_budget`` seconds; past them ``TeachingBusy``, 503): a teach is applied off the planning
+  lanes and swapped in whole, and a flood of teaches is refused rather than queued without bound.
 * **Time budget.** A request waits at most ``time_budget`` seconds for its plan, then gets ``PlanningTimeout``
   (503). A request still queued then is dropped from the queue; one already running finishes in the
   background and keeps its lane slot until it does, so a client cannot pile up work by timing out.
@@ -29,7 +32,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from spcotmhp.errors import InstructionTooLarge, PlanningError, PlanningTimeout
+from spcotmhp.errors import InstructionTooLarge, PlanningError, PlanningTimeout, SpcotmhpError
 
 T = TypeVar("T")
 # the Retry-After (seconds) of every 503: a lane frees its slot when a plan ends (about a millisecond for a light
@@ -53,6 +56,9 @@ class Budget:
     max_light: int = 512  # requests queued or running on a light lane
     max_heavy: int = 4  # ... on a heavy lane
     max_heavy_per_client: int = 1  # ... on a heavy lane from one client address
+    teach_budget: float = 10.0  # seconds a teach waits to be applied
+    max_teach: int = 8  # teaches queued or running for one model (each holds a model copy while it runs)
+    max_teach_per_client: int = 2  # ... from one client address
 
 
 def estimate_cost(source: Any) -> int:
@@ -70,9 +76,13 @@ def estimate_cost(source: Any) -> int:
 
 
 class Lane:
-    """One worker thread and its lock, with admission counts (total and per client)."""
+    """One worker thread and its lock, with admission counts (total and per client); ``busy`` is the error class
+    raised past them."""
 
-    def __init__(self, name: str, limit: int, per_client: int | None = None) -> None:
+    def __init__(
+        self, name: str, limit: int, per_client: int | None = None, busy: type[SpcotmhpError] | None = None
+    ) -> None:
+        self.busy: type[SpcotmhpError] = busy or ServiceBusy
         self.lock = threading.Lock()
         self.worker = ThreadPoolExecutor(1, thread_name_prefix=f"plan-{name}")
         self.limit, self.per_client = limit, per_client
@@ -81,16 +91,19 @@ class Lane:
         self._clients: Counter[str] = Counter()
 
     def admit(self, client: str) -> None:
-        """Count a request in, or raise ServiceBusy (the message says which limit was reached)."""
+        """Count a request in, or raise ``busy`` (the message says which limit was reached)."""
+        what = "teach" if self.busy is not ServiceBusy else "plan"
         with self._guard:
             if self._total >= self.limit:
-                raise ServiceBusy(
-                    f"the planner is busy ({self._total} plans queued or running, the limit); try again shortly"
+                raise self.busy(
+                    f"the {'model' if what == 'teach' else 'planner'} is busy ({self._total} {what}s queued or "
+                    "running, the limit); try again shortly"
                 )
             if self.per_client is not None and self._clients[client] >= self.per_client:
-                raise ServiceBusy(
-                    f"this client already has {self._clients[client]} long plan(s) running (the "
-                    f"limit is {self.per_client}); wait for it, or shorten the instruction"
+                raise self.busy(
+                    f"this client already has {self._clients[client]} {'' if what == 'teach' else 'long '}"
+                    f"{what}(s) running (the limit is {self.per_client}); wait for it"
+                    + ("" if what == "teach" else ", or shorten the instruction")
                 )
             self._total += 1
             self._clients[client] += 1
@@ -107,7 +120,9 @@ class Lane:
         return self._total
 
 
-async def run_in_lane(lane: Lane, client: str, budget: float, call: Callable[[], T]) -> T:
+async def run_in_lane(
+    lane: Lane, client: str, budget: float, call: Callable[[], T], timeout: Callable[[str], Exception] | None = None
+) -> T:
     """Run ``call`` under ``lane.lock`` on the lane's worker, admitted for ``client``, waiting at most
     ``budget`` seconds (module docstring)."""
     lane.admit(client)
@@ -126,6 +141,8 @@ async def run_in_lane(lane: Lane, client: str, budget: float, call: Callable[[],
         return await asyncio.wait_for(asyncio.wrap_future(future), budget)
     except TimeoutError:
         future.cancel()  # dropped if still queued; a running plan finishes and then frees its slot
+        if timeout is not None:
+            raise timeout(f"not finished within the time budget of {budget:g} s; try again shortly") from None
         raise PlanningTimeout(
             f"planning did not finish within the time budget of {budget:g} s; shorten the "
             "instruction (fewer waypoints) or try again"

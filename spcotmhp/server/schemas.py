@@ -124,11 +124,31 @@ class TeachResponse(BaseModel):
     label: str
     names: list[str]
     new_place: bool
+    name: str | None = Field(None, description="The name the utterance taught, as read.")
+    outcome: Literal["new place", "joined place"] = Field(..., description="Whether the teach made a new place.")
+    named: bool = Field(..., description="Whether the name now names that place (its label carries it).")
+    message: str = Field(..., description="What happened, in one line.")
     places: int
     place_words: list[str]
     time_update_s: float
     time_export_s: float
     time_planner_s: float
+
+
+class Question(BaseModel):
+    x: float
+    y: float
+    ask: str
+    candidates: list[str] = Field(..., description="The names the model expects there, most probable first.")
+    why: str
+    information: float = Field(..., description="Entropy of the name expected there (nats): what an answer tells.")
+
+
+class QuestionsResponse(BaseModel):
+    """Where an answer would help the model most, best first; answer with POST /teach at (x, y)."""
+
+    model: str
+    questions: list[Question]
 
 
 class PlanPlaceOut(BaseModel):

@@ -22,3 +22,14 @@ def test_teach_into_a_model_folder_holding_other_files_gives_teach_advice(model_
         "teach replaces the model folder whole: move those files out of it first"
     ]
     assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
+
+
+def test_questions_lists_where_to_ask_as_json(model_3ldk06_dir):
+    """`spcotmhp questions MODEL --max 2 --json` prints {"questions": [...]} (issue 24)."""
+    import json
+
+    cmd = [sys.executable, "-m", "spcotmhp.cli", "questions", str(model_3ldk06_dir), "--max", "2", "--json"]
+    out = subprocess.run(cmd, capture_output=True, text=True, timeout=120, check=False)
+    assert out.returncode == 0, out.stderr
+    asked = json.loads(out.stdout)["questions"]
+    assert 1 <= len(asked) <= 2 and asked[0]["ask"] == "What is this place called?" and asked[0]["candidates"]

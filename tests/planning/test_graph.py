@@ -297,3 +297,27 @@ def test_every_step_refuses_a_negative_step_cost_and_the_portal_graph():
         build(optimality="every_step", max_dense_bytes=0)
     with pytest.raises(InvalidSettings, match="optimality must be one of end, every_step"):
         GraphSettings(optimality="sometimes")
+
+
+def test_an_update_after_a_teach_keeps_the_fields_of_nodes_that_did_not_move(tmp_path):
+    """Issue 24: a teach rebuilt every dense cost-to-go field (0.1-1.4 s). A field depends only on the step cost
+    and its node's cell, so ``update`` keeps those of unmoved nodes and computes the rest; the graph equals a full
+    build, and the cost map is not inflated again."""
+    import warnings
+
+    from spcotmhp.datasets import load_bundled
+    from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.learning.teach import teach
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fit_supervised(load_bundled("3LDK_06"))
+    before = PlanningGraph.build(model)
+    taught = teach(model, [{"x": 3.0, "y": 3.0, "utterance": "this is the study"}]).model
+    updated = before.update(taught)
+    fresh = PlanningGraph.build(taught)
+    assert updated.info["fields_reused"] >= updated.n_nodes - 2 > 0
+    assert "fields_reused" not in fresh.info or fresh.info["fields_reused"] == 0
+    assert np.array_equal(updated.node_cell, fresh.node_cell)
+    assert np.array_equal(updated.dist, fresh.dist) and np.array_equal(updated.next_step, fresh.next_step)
+    assert np.array_equal(updated.w_hat, fresh.w_hat) and np.array_equal(updated.log_p, fresh.log_p)

@@ -78,6 +78,7 @@ def setup(tmp_path_factory):
             "model": model,
             "dataset": dataset,
             "record": record,
+            "folder": folder,
             "planner": HierarchicalPlanner(model),
         }
     finally:
@@ -326,6 +327,77 @@ def test_the_published_map_is_checked(setup):
         assert status["ok"] is ok
     assert len(status["differences"]) == 2
     assert "resolution 0.05" in status["differences"][0] and "origin (-9.000" in status["differences"][1]
+
+
+def test_a_flood_of_teaches_is_bounded_and_instructions_are_answered(setup):
+    """Issue 24: teaching ran on the node's only thread (instructions waited behind it) and every teach was
+    queued. Teaches now run on a thread of their own, at most MAX_PENDING_TEACHES waiting: a burst of ten gets a
+    status each, some TeachingBusy, and an instruction sent right after it is planned."""
+    client, planner = setup["client"], setup["planner"]
+    assert setup["proc"].poll() is None
+    client.set_pose(*place_point(planner, "entrance"))
+    n = len(client.status)
+    for i in range(10):
+        client.publish(client.teach_pub, String(data=f"this is the annex {chr(ord('a') + i)}"))
+    client.publish(client.instruction_pub, String(data="go to the kitchen"))
+    assert client.spin_until(lambda: len(client.status) >= n + 11, 60), client.status[n:]
+    answers = client.status[n:]
+    taught = [s for s in answers if s["kind"] == "taught"]
+    assert len(taught) == 10
+    assert any(s.get("type") == "TeachingBusy" for s in taught)
+    assert any(s["ok"] for s in taught)
+    planned = [s for s in answers if s["kind"] == "plan"]
+    assert planned and planned[0]["ok"]
+
+
+def test_recorded_teaching_lands_in_the_model_it_was_said_against(setup, tmp_path):
+    """Issue 24: after `ros2 MODEL --record DIR`, `spcotmhp learn DIR` gave a model of the recorded utterances
+    alone (one place labelled "is"). `learn DIR` now refuses the folder, naming `teach MODEL --from DIR`, which
+    applies the recorded utterances to MODEL: its places stay and the taught names join them; a second run
+    applies nothing twice."""
+    import shutil
+
+    client, model, record = setup["client"], setup["model"], setup["record"]
+    client.set_pose(3.0, 3.0)  # free, outside every place's 2-sigma ellipse: a new place (tests/learning/test_teach)
+    assert client.ask(client.teach_pub, "this is the observatory", 30)["outcome"] == "new place"
+    target = tmp_path / "model"
+    shutil.copytree(setup["folder"], target)
+    learn = subprocess.run(
+        [EXE, "learn", str(record), "--out", str(tmp_path / "alone")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert learn.returncode == 2 and f"teach {setup['folder'].resolve()} --from {record}" in learn.stderr
+    assert not (tmp_path / "alone").exists()
+    out = subprocess.run(
+        [EXE, "teach", str(target), "--from", str(record)], capture_output=True, text=True, timeout=300, check=False
+    )
+    assert out.returncode == 0, out.stderr
+    from spcotmhp.learning.io import load_model
+
+    taught = load_model(target)
+    rows = len(load_dataset(record, lang="en").positions)
+    assert taught.learner["arrays"]["named"].sum() == rows  # every recorded utterance, as a teach
+    words = HierarchicalPlanner(taught).place_words
+    assert {"kitchen", "bedroom", "observatory"} <= set(words)  # the model's own places and the taught name
+    assert taught.active_places.sum() > model.active_places.sum()
+    again = subprocess.run(
+        [EXE, "teach", str(target), "--from", str(record)], capture_output=True, text=True, timeout=300, check=False
+    )
+    assert again.returncode == 0 and "nothing new" in again.stdout
+
+
+def test_questions_are_published_latched(setup):
+    """Issue 24: the node publishes where an answer would help the model most on spcotmhp/questions (latched, so a
+    late subscriber gets it), and again after every teach."""
+    client = setup["client"]
+    got: list[dict] = []
+    client.node.create_subscription(String, "/spcotmhp/questions", lambda m: got.append(json.loads(m.data)), LATCHED)
+    assert client.spin_until(lambda: bool(got), 20)
+    asked = got[-1]["questions"]
+    assert asked and set(asked[0]) == {"x", "y", "ask", "candidates", "why", "information"}
 
 
 def test_sigint_stops_the_node_cleanly(setup):

@@ -352,8 +352,9 @@ def test_openapi_lists_every_error_status_an_endpoint_answers(client, model6, st
         ("/places", "get"): {200, 400, 404, 422},
         ("/map.png", "get"): {200, 304, 400, 404, 422},
         ("/map.json", "get"): {200, 400, 404, 422},
+        ("/questions", "get"): {200, 400, 404, 422},  # issue 24: a new endpoint
         ("/plan", "post"): {200, 400, 404, 408, 409, 413, 415, 422, 503},
-        ("/teach", "post"): {200, 400, 404, 408, 413, 415, 422},
+        ("/teach", "post"): {200, 400, 404, 408, 413, 415, 422, 503},  # issue 24: teaching's admission control
         ("/plan/audio", "post"): {200, 400, 404, 408, 409, 413, 422, 501, 503},
     }
     error = {"$ref": "#/components/schemas/ErrorResponse"}

@@ -217,3 +217,75 @@ def _fuzz_client(folder):
     if folder not in _CLIENTS:
         _CLIENTS[folder] = TestClient(_app(folder)[0], base_url="http://localhost")
     return _CLIENTS[folder]
+
+
+def test_teaching_has_admission_control_and_says_what_happened(tmp_path):
+    """Issue 24: a flood of 273 teaches was all accepted (memory 364 -> 606 MB, waits of 28 s). /teach now has a
+    lane of its own: past ``max_teach`` queued or running it answers 503 with Retry-After at once, and a teach that
+    is applied says whether it made a new place. Plans are answered while a teach is held."""
+    import threading
+
+    from fastapi.testclient import TestClient
+
+    from spcotmhp.server import create_app
+    from spcotmhp.server.scheduling import Budget
+    from tests.helpers.server import start_near, supervised_model_dir
+
+    folder = supervised_model_dir("3LDK_06", tmp_path / "m")
+    app = create_app({"home": folder}, budget=Budget(max_teach=1, max_teach_per_client=1))
+    client = TestClient(app, base_url="http://localhost")
+    sm = app.state.served["home"]
+    start = start_near(sm.model)
+    first = client.post("/teach", json={"utterance": "this is the study", "x": 3.0, "y": 3.0})
+    assert first.status_code == 200, first.text
+    body = first.json()
+    assert (body["outcome"], body["named"], body["name"]) == ("new place", True, "study")
+    assert "study" in body["place_words"] and "is a new place" in body["message"]
+    refused = client.post("/teach", json={"utterance": "hello", "x": 3.0, "y": 3.0})
+    assert refused.status_code == 422 and refused.json()["cause"] == "NotANaming"
+    release, entered = threading.Event(), threading.Event()
+    original = sm.teach
+
+    def held(*args):
+        entered.set()
+        release.wait(10)
+        return original(*args)
+
+    sm.teach = held
+    try:
+        worker = threading.Thread(
+            target=client.post, args=("/teach",), kwargs={"json": {"utterance": "this is the den", "x": 3, "y": 3}}
+        )
+        worker.start()
+        assert entered.wait(10)
+        busy = client.post("/teach", json={"utterance": "this is the library", "x": 3.0, "y": 3.0})
+        assert busy.status_code == 503 and busy.headers["Retry-After"] == "1"
+        assert busy.json()["cause"] == "TeachingBusy" and "busy" in busy.json()["detail"]
+        planned = client.post("/plan", json={"instruction": "go to the study", "start": start})
+        assert planned.status_code == 200, planned.text
+    finally:
+        release.set()
+        worker.join(20)
+        sm.teach = original
+    assert "den" in client.get("/models").json()["models"][0]["place_words"]
+
+
+def test_questions_are_served(tmp_path):
+    """GET /questions: where an answer would help the model most, best first, each answerable by POST /teach."""
+    from fastapi.testclient import TestClient
+
+    from spcotmhp.server import create_app
+    from tests.helpers.server import supervised_model_dir
+
+    client = TestClient(
+        create_app({"home": supervised_model_dir("3LDK_06", tmp_path / "m")}), base_url="http://localhost"
+    )
+    got = client.get("/questions", params={"max": 3})
+    assert got.status_code == 200, got.text
+    asked = got.json()["questions"]
+    assert 1 <= len(asked) <= 3 and set(asked[0]) == {"x", "y", "ask", "candidates", "why", "information"}
+    assert [q["information"] for q in asked] == sorted((q["information"] for q in asked), reverse=True)
+    assert client.get("/questions", params={"max": 0}).status_code == 422
+    q = asked[0]
+    answer = client.post("/teach", json={"utterance": f"this is the {q['candidates'][0]}", "x": q["x"], "y": q["y"]})
+    assert answer.status_code == 200, answer.text

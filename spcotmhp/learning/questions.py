@@ -1,0 +1,124 @@
+"""Questions where the map is unsure: the spots where an answer ("this is the kitchen") would tell the model most
+about what a place is called (issue 24).
+
+The measure is the model's own: at a position x, the name the model expects to hear is
+
+    p(n | x) = sum_k p(k | x) p(n | k),   p(k | x) of Eq. 3 (the place posterior),
+                                         p(n | k) = sum_l p(l | k) W_l(n) over the place words n (Eqs. 10-17)
+
+and an answer (the true name, a teach at x) removes its uncertainty, so the expected information an answer gives
+about the name at x is the entropy H[p(n | x)] in nats (the expected change of the name's posterior there, with the
+model's own p(n | x) as the distribution of answers; the names are the active places' labels, a name's p(n | k)
+the geometric mean of its words' p(w | k)). It is high where a place's words belong to two names, where two places
+with different names share the position, and where a place's few events leave its words spread over concepts; it
+is zero where one name is certain. It does not see two rooms of one name merged into one place (both answers
+would be the same name). The candidate positions are the teaching events' positions (the
+learner state's; else the places' means), on known free cells, best first, each at least ``SPACING_M`` from the
+ones before (one question per spot). ``why`` says which of those causes applies, read off the same quantities.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from spcotmhp.learning.model import SpatialConceptModel
+
+SPACING_M = 2.0
+"""Questions are at least this far apart (metres): two spots closer than a room's half-width ask the same thing."""
+MIN_ENTROPY = 0.1
+"""Spots whose name entropy is below this (nats; p = 0.98 on one name) are not asked about."""
+ASK = {"en": "What is this place called?", "ja": "ここは何という場所ですか？"}
+
+
+def name_distribution(model: SpatialConceptModel, xy: np.ndarray, names: list[str], words: list[str]) -> np.ndarray:
+    """(N, len(names)) p(n | x) at the positions ``xy`` (module docstring), over the places' names ``names`` (their
+    labels, each one or more of the place words ``words``): a name is said with all its words, so p(n | k) is the
+    geometric mean of its words' p(w | k), normalised over the names."""
+    from spcotmhp.planning.vocabulary import _word_scores
+
+    said = _word_scores(model)[0][:, [model.word_index[w] for w in words]]  # (K, words) p(w | k)
+    with np.errstate(divide="ignore"):
+        log_said = np.log(said)
+    index = {w: j for j, w in enumerate(words)}
+    log_name = np.stack([log_said[:, [index[w] for w in n.split()]].mean(axis=1) for n in names], axis=1)
+    p_name = np.exp(log_name - log_name.max(axis=1, keepdims=True))
+    p_name /= p_name.sum(axis=1, keepdims=True)  # (K, names) p(n | k)
+    act = np.asarray(model.active_places, dtype=bool)
+    post = model.place_posterior(np.asarray(xy, dtype=float)) * act[None, :]
+    post /= np.maximum(post.sum(axis=1, keepdims=True), 1e-300)
+    p = post @ p_name
+    return p / np.maximum(p.sum(axis=1, keepdims=True), 1e-300)
+
+
+def questions(model: SpatialConceptModel, max_questions: int = 5, lang: str | None = None) -> list[dict]:
+    """The questions, best first (module docstring): {x, y, ask, candidates, why, information}."""
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+
+    words = place_vocabulary(model)
+    if not words or max_questions < 1:
+        return []
+    labels = place_labels(model, words)
+    names = sorted({labels[k] for k in np.flatnonzero(model.active_places) if not labels[k].startswith("place ")})
+    xy = _candidate_positions(model)
+    if not len(xy) or not names:
+        return []
+    p = name_distribution(model, xy, names, words)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        entropy = -np.nansum(np.where(p > 0, p * np.log(p), 0.0), axis=1)
+    post = model.place_posterior(np.asarray(xy, dtype=float))
+    lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
+    out: list[dict] = []
+    for i in np.argsort(-entropy, kind="stable"):
+        if entropy[i] < MIN_ENTROPY or len(out) >= max_questions:
+            break
+        if any(np.hypot(q["x"] - xy[i, 0], q["y"] - xy[i, 1]) < SPACING_M for q in out):
+            continue
+        order = np.argsort(-p[i])
+        candidates = [names[j] for j in order if p[i, j] >= 0.1][:4]
+        out.append(
+            {
+                "x": round(float(xy[i, 0]), 3),
+                "y": round(float(xy[i, 1]), 3),
+                "ask": ASK.get(lang, ASK["en"]),
+                "candidates": candidates,
+                "why": _why(model, post[i], labels, candidates, names),
+                "information": round(float(entropy[i]), 4),
+            }
+        )
+    return out
+
+
+def _candidate_positions(model: SpatialConceptModel) -> np.ndarray:
+    """Teaching events' positions (else the active places' means) on known free cells, one per 0.5 m cell."""
+    learner = model.learner
+    xy = np.asarray(learner["arrays"]["X"], dtype=float) if learner is not None else np.empty((0, 2))
+    if not len(xy):
+        xy = model.mu[np.asarray(model.active_places, dtype=bool)]
+    occ = model.map
+    if occ is not None and len(xy):
+        cells = occ.world_to_cell(xy)
+        inside = np.array([occ.in_bounds(c) for c in cells], dtype=bool)
+        ok = np.zeros(len(xy), dtype=bool)
+        rows, cols = cells[inside, 0], cells[inside, 1]
+        ok[inside] = ~occ.unknown[rows, cols] & ~occ.occupied[rows, cols]
+        xy = xy[ok]
+    _, first = np.unique(np.floor(xy / 0.5).astype(np.int64), axis=0, return_index=True)
+    return xy[np.sort(first)]
+
+
+def _why(model: SpatialConceptModel, post: np.ndarray, labels: list[str], candidates: list[str], names) -> str:
+    """Which cause of the uncertainty applies here, from the same quantities."""
+    k = int(np.argmax(post))
+    reasons = []
+    if labels[k] not in names:
+        reasons.append(f"the place here is labelled '{labels[k]}', which no place's name is alone")
+    second = np.argsort(-post)[1] if post.size > 1 else k
+    if post[second] > 0.2 and labels[second] != labels[k]:
+        reasons.append(f"two places meet here ('{labels[k]}' and '{labels[int(second)]}')")
+    if model.learner is not None:
+        events = int(np.sum(np.asarray(model.learner["arrays"]["place"]) == k))
+        if events < 5:
+            reasons.append(f"the place here holds {events} teaching event(s)")
+    if not reasons:
+        reasons.append("the names said here are spread over several concepts")
+    return "; ".join(reasons) + f"; the model would expect {' or '.join(repr(c) for c in candidates) or 'no name'}"
