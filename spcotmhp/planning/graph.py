@@ -71,7 +71,6 @@ the graph's read-only arrays and assigned whole (a race at worst computes one tw
 
 from __future__ import annotations
 
-import copy
 import math
 import threading
 import time
@@ -87,6 +86,7 @@ from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_f
 from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
+from spcotmhp.planning.graph_update import reusable_fields, same_cost_map, with_place
 from spcotmhp.planning.precompute import every_step_cost, graph_inputs
 from spcotmhp.planning.sight import chessboard_clearance
 from spcotmhp.planning.territory import tube_window
@@ -182,7 +182,7 @@ class PlanningGraph:
         t0 = time.perf_counter()
         with paused():
             if log_p_full is None and reuse is not None:
-                log_p_full = reuse._same_cost_map(model)
+                log_p_full = same_cost_map(reuse, model)
             inputs, subs = graph_inputs(model, settings, log_p_full)  # Alg. 1, lines 1-3
             graph = cls(key=key, **inputs)
             graph._fields(reuse)
@@ -211,7 +211,7 @@ class PlanningGraph:
                 f"bytes), more than max_dense_bytes = {self.settings.max_dense_bytes}; raise it or use 'end'"
             )
         if dense:
-            kept = self._reusable_fields(reuse)
+            kept = reusable_fields(reuse, self)
             fields = [kept.get((int(r), int(c))) or self._field(j) for j, (r, c) in enumerate(cells)]
             self.info["fields_reused"] = sum((int(r), int(c)) in kept for r, c in cells)
             self.dist = np.stack([d for d, _ in fields])  # (M, h, w), shared by avoidance views
@@ -228,43 +228,6 @@ class PlanningGraph:
             reuse=old,
         )
         self.info.update(self.hier.info)
-
-    def _reusable_fields(self, reuse: PlanningGraph | None) -> dict[tuple[int, int], tuple[np.ndarray, np.ndarray]]:
-        """{node cell: (field, next step)} of ``reuse``'s dense fields, when its window and step costs are this
-        graph's: a field depends on nothing but the step cost and its node's cell (Eq. 26; with ``optimality =
-        "every_step"`` also its place's Gaussian, so nothing is kept), so the fields into
-        nodes that did not move are kept and only those of new or moved nodes are computed (a teach changes one
-        or two places)."""
-        if (
-            reuse is None
-            or not isinstance(reuse.dist, np.ndarray)
-            or reuse.offset != self.offset
-            or reuse.log_p.shape != self.log_p.shape
-            or reuse.settings.connectivity != self.settings.connectivity
-            or self.settings.optimality == "every_step"  # its fields hold the node's place, which a teach moves
-            or not np.array_equal(reuse.map_cost, self.map_cost)
-        ):
-            return {}
-        return {
-            (int(r), int(c)): (reuse.dist[j], reuse.next_step[j])
-            for j, (r, c) in enumerate(reuse.node_cell)
-            if reuse.usable[j]
-        }
-
-    def _same_cost_map(self, model: SpatialConceptModel) -> np.ndarray | None:
-        """The full-map cost map log p(x|m) this graph was built on, when ``model`` has the same map and cost map
-        settings (a teach changes neither), so that an update does not inflate the map again; else None."""
-        old = self.model
-        if old.map is None or model.map is None or old.costmap != model.costmap or self.blocked is not None:
-            return None
-        if old.map is not model.map and not np.array_equal(old.map.data, model.map.data):
-            return None
-        r0, r1, c0, c1 = self.info.get("crop", (0, 0, 0, 0))
-        if (r1 - r0, c1 - c0) != self.log_p.shape:
-            return None
-        full = np.full(model.map.shape, -np.inf)
-        full[r0:r1, c0:c1] = self.log_p
-        return full
 
     def _field(self, j: int) -> tuple[np.ndarray, np.ndarray]:
         """The cost-to-go field into node j (Alg. 1, lines 4-6) under the step cost log|A| - log p(x|m) (minus
@@ -455,20 +418,7 @@ class PlanningGraph:
     def update_place(self, k: int, mu: np.ndarray, Sigma: np.ndarray, cache: GraphCache | None = None) -> PlanningGraph:
         """The graph of this model with place k's Gaussian replaced by N(mu, Sigma), reusing every territory-
         local field whose territory's cells and costs did not change (:meth:`build` with ``reuse``)."""
-        K = self.model.K
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= k < K:
-            raise ModelError(f"place index must be an integer in 0..{K - 1}, got {k!r}")
-        mu, Sigma = np.asarray(mu, dtype=float), np.asarray(Sigma, dtype=float)
-        if mu.shape != (2,) or Sigma.shape != (2, 2) or not (np.isfinite(mu).all() and np.isfinite(Sigma).all()):
-            raise ModelError(
-                f"place {k}: mu must be 2 finite numbers and Sigma 2 x 2 finite numbers, got shapes "
-                f"{mu.shape} and {Sigma.shape}"
-            )
-        if not (np.allclose(Sigma, Sigma.T) and np.linalg.eigvalsh(Sigma)[0] > 0):
-            raise ModelError(f"place {k}: Sigma must be symmetric positive definite")
-        model = copy.copy(self.model)
-        model.mu, model.Sigma = self.model.mu.copy(), self.model.Sigma.copy()
-        model.mu[k], model.Sigma[k] = mu, Sigma
+        model = with_place(self.model, k, mu, Sigma)
         return self.update(model, cache=cache)
 
     def update(
