@@ -111,7 +111,7 @@ def _without_fillers(
             if not n:
                 out.append(kept[i])
             i += n or 1
-        if len(out) == len(items):
+        if len(out) == len(kept):  # no phrase left out: the next pass would leave out nothing
             return out
         items = out
 
@@ -119,6 +119,8 @@ def _without_fillers(
 def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
     """Rule 2: "(for) <number> <unit>" -> a DURATION token; "half a minute" is 30 s. Each item with the index of
     its first unit."""
+    if _UNITS.keys().isdisjoint(units):  # no unit of time: no duration
+        return [(u, i) for i, u in enumerate(units)]
     out: list[tuple[Token | str, int]] = []
     i = 0
     while i < len(units):

@@ -51,6 +51,33 @@ def visiting_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]) ->
     Raises:
         UnsupportedPhrase: the pairs contradict each other (or rules 1-3).
     """
+    if not any(a != b for a, b in pairs):  # rules 1, 2 and 4 alone (most instructions): a sort
+        return _sorted_order(visits)
+    return _constrained_order(visits, pairs)
+
+
+def _sorted_order(visits: Sequence[Visit]) -> list[int]:
+    """The order of rules 1, 2 and 4 without pairs, as a sort: by rank, then step, then the destination of its rank
+    and step last, then spoken order (what Kahn's algorithm of :func:`_constrained_order` takes without pairs)."""
+    dest: dict[tuple[int, int], int] = {}
+    for k, v in enumerate(visits):
+        if v.role == "goal" and not v.tied:
+            group = (v.rank, v.step)
+            if group not in dest or v.spoken > visits[dest[group]].spoken:
+                dest[group] = k
+    return sorted(
+        range(len(visits)),
+        key=lambda k: (
+            visits[k].rank,
+            visits[k].step,
+            dest.get((visits[k].rank, visits[k].step)) == k,
+            visits[k].spoken,
+        ),
+    )
+
+
+def _constrained_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]) -> list[int]:
+    """Rules 1-4 as precedence constraints, then Kahn's algorithm (module docstring)."""
     n = len(visits)
     before: list[set[int]] = [set() for _ in range(n)]  # before[b]: what must come before b
     for a in range(n):

@@ -67,7 +67,30 @@ class _NoDerivation(Exception):
 
 
 def derive(lang: str, kinds: Sequence[str], values: Sequence[str]) -> Tree:
-    """The derivation of a token sequence by the LALR(1) table of ``grammar(lang)``: the tree Lark itself builds
+    """The derivation of a token sequence (:func:`_shape`) with each token's value at its leaf: the shape of a
+    derivation depends on the terminals alone, so it is kept per terminal sequence (a bounded cache; ordinary
+    instructions share a few shapes whichever places and words they say) and filled with this sentence's values.
+
+    Raises:
+        _NoDerivation: at the first token (or the end) the table has no action for.
+    """
+    return _filled(_shape(lang, tuple(kinds)), values)
+
+
+def _filled(node: Tree, values: Sequence[str]) -> Tree:
+    """A copy of the shape ``node`` with the value of token i at each leaf of index i (the shapes stay unchanged)."""
+    children: list[Any] = []
+    for c in node.children:
+        if isinstance(c, LarkToken):
+            children.append(LarkToken(c.type, values[c.start_pos or 0], start_pos=c.start_pos))
+        else:
+            children.append(_filled(cast(Tree, c), values))
+    return Tree(node.data, children)
+
+
+@functools.lru_cache(maxsize=1024)
+def _shape(lang: str, kinds: tuple[str, ...]) -> Tree:
+    """The derivation of a terminal sequence by the LALR(1) table of ``grammar(lang)``: the tree Lark itself builds
     (rules named with ``_`` inlined into their parent, terminals named with ``_`` left out, aliases as names), by a
     driver that only shifts and reduces (Lark's own per-token parser state costs several times more, which a plan
     would pay on every instruction). Tokens carry their index as ``start_pos``.
@@ -89,7 +112,7 @@ def derive(lang: str, kinds: Sequence[str], values: Sequence[str]) -> Tree:
                 if kind == "$END":  # pragma: no cover - the end is accepted by a reduction into the end state
                     break
                 state_stack.append(arg)
-                value_stack.append(None if kind.startswith("_") else LarkToken(kind, values[i], start_pos=i))
+                value_stack.append(None if kind.startswith("_") else LarkToken(kind, "", start_pos=i))
                 break
             name, size, inline, origin = rules[arg]
             popped = value_stack[len(value_stack) - size :] if size else []

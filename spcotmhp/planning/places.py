@@ -187,6 +187,8 @@ def one_name(index: LabelIndex, named: np.ndarray, words: Mapping[str, float], l
         AmbiguousPlace: naming the names to choose from.
     """
     names = sorted({index.labels[k] for k in np.flatnonzero(named)})
+    if len(names) < 2:
+        return
     said = sorted(w for w, c in words.items() if c > 0)
     if len(names) > 1 and not any(sorted(n.split()) == said for n in names):
         raise AmbiguousPlace(f"{label!r} is part of {len(names)} names: {', '.join(names)}; say which one")
