@@ -16,6 +16,7 @@ from typing import Annotated, Any
 import numpy as np
 import typer
 
+from spcotmhp.commands.service import DEFAULT_PORT
 from spcotmhp.errors import InstructionError, PlanningError, SpcotmhpError
 from spcotmhp.limits import MAX_ITERATIONS, MAX_RUNS
 from spcotmhp.safe_write import atomic_write, atomic_write_text, check_output, outside_model
@@ -229,14 +230,29 @@ def demo(
     typer.echo(f"next:        {next_command(model_dir)}")
 
 
-def next_command(model_dir: Path) -> str:
-    """The demo's hint, runnable as typed from here: serve the model (with the install of the extra 'server'
-    first when it is missing) and open the page."""
+def serve_port(preferred: int = DEFAULT_PORT) -> int:
+    """The port the demo's hint names: ``preferred`` (the service's default) when it can be bound now, else a
+    port the system says is free, so the hint runs as typed where something already listens on 8000."""
+    import socket
+
+    with socket.socket() as sock:
+        try:
+            sock.bind(("127.0.0.1", preferred))
+        except OSError:
+            sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+def next_command(model_dir: Path, preferred: int = DEFAULT_PORT) -> str:
+    """The demo's hint, runnable as typed from here: serve the model on a port that is free now (with the
+    install of the extra 'server' first when it is missing) and open the page."""
     import importlib.util
 
     from spcotmhp.extras import command_prefix, install_hint
 
-    serve = f"{command_prefix()} serve {model_dir}   # then open http://127.0.0.1:8000/"
+    port = serve_port(preferred)
+    option = "" if port == DEFAULT_PORT else f" --port {port}"
+    serve = f"{command_prefix()} serve {model_dir}{option}   # then open http://127.0.0.1:{port}/"
     if importlib.util.find_spec("uvicorn") is None or importlib.util.find_spec("fastapi") is None:
         return f"{install_hint('server')} && {serve}"
     return serve

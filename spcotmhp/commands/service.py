@@ -17,6 +17,8 @@ from spcotmhp.collector import end_startup
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.extras import missing_extra
 
+DEFAULT_PORT = 8000  # `serve --port`'s default; the demo's hint names another when this one is taken
+
 
 class LogLevel(StrEnum):
     """uvicorn's log levels (a bad value is a usage error listing them)."""
@@ -84,7 +86,7 @@ def serve(
         ),
     ],
     host: Annotated[str, typer.Option(help="Interface to listen on (default: this machine only).")] = "127.0.0.1",
-    port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port.")] = 8000,
+    port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port (0: any free port).")] = DEFAULT_PORT,
     log_level: Annotated[LogLevel, typer.Option(help="uvicorn log level.")] = LogLevel.info,
     allowed_host: Annotated[
         list[str] | None,

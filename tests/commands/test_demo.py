@@ -4,8 +4,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
+import re
+import signal
+import socket
 import subprocess
 import sys
+import time
 import warnings
 
 import numpy as np
@@ -14,7 +19,7 @@ from PIL import Image
 from typer.testing import CliRunner
 
 from spcotmhp.cli import app
-from spcotmhp.commands.demo import _progress, demo_start, learn_demo_model
+from spcotmhp.commands.demo import _progress, demo_start, learn_demo_model, next_command, serve_port
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import InstructionError
 from spcotmhp.learning.io import save_model
@@ -113,6 +118,50 @@ def test_demo_start_is_the_free_cell_nearest_the_place_mean(home):
 @pytest.fixture(scope="module")
 def model_dir(home, tmp_path_factory):
     return save_model(fit_supervised(home), tmp_path_factory.mktemp("model") / "3LDK_06")
+
+
+def test_the_hint_keeps_a_free_preferred_port():
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    assert serve_port(port) == port
+
+
+def test_the_hint_serves_on_a_free_port_when_the_preferred_one_is_taken(model_dir):
+    """Where something already listens on the default port, the demo's `next:` line names another port, and the
+    line, run as typed, serves the model there."""
+    with socket.socket() as held:
+        held.bind(("127.0.0.1", 0))
+        held.listen()
+        taken = held.getsockname()[1]
+        hint = next_command(model_dir, preferred=taken)
+        match = re.fullmatch(r"(.* serve \S+ --port (\d+))   # then open http://127\.0\.0\.1:(\d+)/", hint)
+        assert match and match.group(2) == match.group(3) and int(match.group(2)) != taken, hint
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+        server = subprocess.Popen(
+            ["bash", "-c", match.group(1)],
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            start_new_session=True,
+        )
+        try:
+            import httpx
+
+            url = f"http://127.0.0.1:{match.group(2)}/healthz"
+            for _ in range(600):
+                try:
+                    if httpx.get(url, timeout=1).status_code == 200:
+                        break
+                except httpx.TransportError:
+                    assert server.poll() is None, server.communicate()[0]
+                    time.sleep(0.2)
+            else:
+                pytest.fail(f"the hint's server did not answer at {url}")
+        finally:
+            os.killpg(server.pid, signal.SIGKILL)  # the shell and the server it started
+            server.communicate()
 
 
 def test_show_lists_places_and_edges(model_dir):
