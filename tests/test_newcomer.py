@@ -165,6 +165,7 @@ def test_examples_are_the_tours_inputs(tmp_path):
         "robot.bag",
         "say.wav",
         "drawn-map.png",  # the README's own-data block copies it (issue 25: map.png did not exist)
+        "tell.py",  # the README's ROS 2 client (issue 25: shipped rather than printed in the README)
     }
     drawn = Image.open(tmp_path / "examples" / "drawn-map.png")
     assert drawn.format == "PNG" and drawn.size == (200, 120) and drawn.mode == "RGB"

@@ -11,7 +11,7 @@ import typer
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.safe_write import atomic_write, check_output
 
-FILES = ("map.yaml", "map.pgm", "robot.bag", "say.wav", "drawn-map.png")
+FILES = ("map.yaml", "map.pgm", "robot.bag", "say.wav", "drawn-map.png", "tell.py")
 
 
 def draw_flat(path: Path) -> None:
@@ -35,8 +35,9 @@ def examples(
 ) -> None:
     """Write the Tour's example inputs: map.yaml + map.pgm (a generated flat, seed 1), robot.bag (a ROS 1 bag of
     a teaching walk through that map: /amcl_pose and /speech; needs the extra 'ros'), say.wav (the spoken
-    instruction "go to the bedroom via the corridor", 16 kHz mono) and drawn-map.png (the floor plan the README's
-    "From a map you drew" uses, :func:`draw_flat`)."""
+    instruction "go to the bedroom via the corridor", 16 kHz mono), drawn-map.png (the floor plan the README's
+    "From a map you drew" uses, :func:`draw_flat`) and tell.py (a ROS 2 client: a pose as AMCL sends it, an
+    instruction, the node's answer; needs the extra 'ros2')."""
     from spcotmhp.datasets.bag_export import write_teaching_bag
     from spcotmhp.datasets.bundled import data_root
     from spcotmhp.datasets.synthetic import generate_environment
@@ -52,6 +53,7 @@ def examples(
     save_map(home.map, out / "map")
     atomic_write(out / "say.wav", lambda tmp: shutil.copyfile(data_root() / "examples" / "say.wav", tmp))
     atomic_write(out / "drawn-map.png", draw_flat)
+    atomic_write(out / "tell.py", lambda tmp: shutil.copyfile(data_root() / "examples" / "tell.py", tmp))
     wrote = [
         (
             f"{out / 'map.yaml'} (+ map.pgm: {home.map.height} x {home.map.width} cells, places "
@@ -59,6 +61,7 @@ def examples(
         ),
         f"{out / 'say.wav'}",
         f"{out / 'drawn-map.png'} (a drawn 10 m x 6 m flat: kitchen, bedroom, hallway; 0.05 m per pixel)",
+        f"{out / 'tell.py'} (a ROS 2 client: a pose as AMCL sends it, then an instruction; extra 'ros2')",
     ]
     try:
         atomic_write(out / "robot.bag", lambda tmp: write_teaching_bag(home, tmp, every=3))
