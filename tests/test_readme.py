@@ -9,6 +9,7 @@ its quick start is what CI runs."""
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import os
 import re
@@ -203,10 +204,8 @@ class Workspace:
             self.failed[k] = f"timed out after {BLOCK_TIMEOUT} s:\n{out[-3000:]}"
             raise AssertionError(self.failed[k]) from None
         finally:
-            try:  # a server or node the block started and did not stop
+            with contextlib.suppress(ProcessLookupError):  # a server or node the block started and did not stop
                 os.killpg(proc.pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
         if proc.returncode != 0:
             self.failed[k] = f"exit status {proc.returncode}:\n{out[-3000:]}"
             raise AssertionError(f"README block {BLOCKS[k].name} failed with " + self.failed[k])
