@@ -20,8 +20,12 @@ $(STAMP_CORE): pyproject.toml | $(PY)
 	$(VENV)/bin/spcotmhp warmup
 	touch $@
 
+# the extra ros2's ros-rosidl-parser pulls lark-parser 0.12, which installs its files under the same top-level
+# package `lark` as lark 1.x and may overwrite them (the instruction grammars then fail on a fresh machine):
+# lark 1.x is put back whole (rosidl's parser, used only to build message types, works with it)
 $(STAMP_ALL): pyproject.toml | $(PY)
 	$(PIP) install -q -e ".[all]"
+	$(PIP) install -q --force-reinstall --no-deps "lark>=1.2"
 	$(VENV)/bin/spcotmhp warmup
 	touch $@ $(STAMP_CORE)
 
