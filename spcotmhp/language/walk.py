@@ -5,12 +5,13 @@ with its checks. :mod:`spcotmhp.language.walk_en` and :mod:`spcotmhp.language.wa
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from lark import Token as LarkToken
 from lark import Tree
 
 from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, UnsupportedPhrase
+from spcotmhp.language.floors import FloorValue
 from spcotmhp.language.lexicon import MAX_WAIT_S
 from spcotmhp.language.meaning import PlaceRef, Reading, Relation
 from spcotmhp.language.order import Visit, visiting_order
@@ -126,6 +127,24 @@ class Walk:
         """The :class:`PlaceRef` of a PLACE token."""
         t = self.toks[node.start_pos or 0]
         return PlaceRef(t.words, t.surface, relation, every)
+
+    def floor(self, nodes: Iterable[object]) -> tuple[FloorValue | None, str]:
+        """The floor of the FLOOR (or FLOOR_TO) token among ``nodes`` and its words, if any."""
+        for node in nodes:
+            if isinstance(node, LarkToken) and node.type in ("FLOOR", "FLOOR_TO"):
+                t = self.toks[node.start_pos or 0]
+                return t.floor, t.surface
+        return None, ""
+
+    def on_floor(self, ref: PlaceRef, nodes: Iterable[object]) -> PlaceRef:
+        """``ref`` on the floor a FLOOR token among ``nodes`` says ("go upstairs to the bedroom on the first floor":
+        two floors, refused)."""
+        floor, said = self.floor(nodes)
+        if floor is None or floor == ref.floor:
+            return ref
+        if ref.floor is not None:
+            raise UnsupportedPhrase(f"{excerpt(ref.label)} is given two floors ({ref.floor_said}, {said}); say one")
+        return replace(ref, floor=floor, floor_said=said)
 
     def seconds(self, nodes: Iterable[object]) -> float | None:
         """The seconds of the DURATION token among ``nodes``, if any."""

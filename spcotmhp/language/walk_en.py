@@ -21,7 +21,7 @@ The rules a reader needs besides the grammar:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -123,7 +123,8 @@ class EnglishWalk(Walk):
             m = self.mention(self._ref(kids[0]), self._inherited_role(first_item))
             m.inherited = first_item and bool(self.joint)
         elif kind in _ROLES:
-            m = self.mention(self._ref(kids[0]) if kids else self._there(toks), _ROLES[kind])
+            ref = self._ref(kids[0]) if kids else self._there(toks)
+            m = self.mention(self.on_floor(ref, toks), _ROLES[kind])  # "go upstairs to the bedroom"
             m.rank = 2 if kind == "goal_last" else m.rank
             self.speeds += ["fast"] if kind == "hurry_goal" else []
             seconds = self.seconds(toks)
@@ -197,24 +198,26 @@ class EnglishWalk(Walk):
             return self.last_ref(tok(np.children[0]).value)
         if np.data == "one":
             last = self.last_ref(tok(np.children[0]).value)
-            return PlaceRef(last.words, last.label, self._relation(tree(np.children[1])))
+            return replace(last, relation=self._relation(tree(np.children[1])), every=False)
         ref = self._name(tree(np.children[0]))
         if np.data == "related":
             relation = self._relation(tree(np.children[1]))
             if relation is not None and ref.relation is not None:
                 raise UnsupportedPhrase(f"{excerpt(ref.label)} is given two relations; say one")
-            return PlaceRef(ref.words, ref.label, relation or ref.relation, ref.every)
+            return replace(ref, relation=relation or ref.relation)
         return ref
 
     def _name(self, name: Tree) -> PlaceRef:
         if name.data in ("largest_elided", "smallest_elided"):  # "the smallest bedroom, not the biggest"
             last = self.last_ref(tok(name.children[0]).value)
-            return PlaceRef(last.words, last.label, Relation(name.data.split("_")[0]))
+            return replace(last, relation=Relation(name.data.split("_")[0]), every=False)
         place = next(t for t in tokens_of(name) if t.type == "PLACE")
         if name.data == "every":
             ref = self.place(place, every=True)
-            return PlaceRef(ref.words, f"{tok(name.children[0]).value} {ref.label}", every=True)
-        return self.place(place, Relation(name.data) if name.data in ("largest", "smallest") else None)
+            ref = PlaceRef(ref.words, f"{tok(name.children[0]).value} {ref.label}", every=True)
+        else:
+            ref = self.place(place, Relation(name.data) if name.data in ("largest", "smallest") else None)
+        return self.on_floor(ref, name.children)
 
     def _relation(self, relation: Tree) -> Relation | None:
         rel = tree(relation.children[-1])

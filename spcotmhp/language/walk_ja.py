@@ -102,6 +102,9 @@ class JapaneseWalk(Walk):
         return [self.place(tokens_of(group)[-1], Relation("between", (nps[0], nps[1])))]
 
     def _np(self, np: Tree) -> PlaceRef:
+        return self.on_floor(self._said(np), np.children)  # 2階の寝室
+
+    def _said(self, np: Tree) -> PlaceRef:
         place = [t for t in tokens_of(np) if t.type == "PLACE"][-1]
         if np.data == "every":
             ref = self.place(place)
