@@ -178,9 +178,11 @@ def _number(unit: str) -> float | None:
 
 def _merge(items: list[Token]) -> list[Token]:
     """Place words side by side (fillers between them left out) form one name (rule 5); a name no place has
-    ("the hall please the entrance": "hall entrance") is refused where the planner checks names."""
+    ("the hall please the entrance": "hall entrance") is refused where the planner checks names. Lengths of time
+    side by side, each shorter than the one before (maybe joined by "and"), are one length: "1 minute 30 seconds",
+    1分30秒 (a longer or equal one after it is not a part of it, and is refused where it stands)."""
     out: list[Token] = []
-    for it in items:
+    for it in _summed(items):
         if it.kind == "PLACE" and out and out[-1].kind == "PLACE":
             last = out[-1]
             joiner = "" if _is_cjk(last.surface) else " "
@@ -188,6 +190,21 @@ def _merge(items: list[Token]) -> list[Token]:
                 "PLACE", last.surface + joiner + it.surface, last.words + it.words, plural=it.plural,
                 start=last.start, end=it.end,
             )  # fmt: skip
+        else:
+            out.append(it)
+    return out
+
+
+def _summed(items: list[Token]) -> list[Token]:
+    out: list[Token] = []
+    for it in items:
+        joined = len(out) >= 2 and out[-1].kind == "AND" and out[-2].kind == "DURATION"
+        last = out[-2] if joined else out[-1] if out else None
+        if it.kind == "DURATION" and last is not None and last.kind == "DURATION" and it.seconds < last.seconds:
+            del out[-2 if joined else -1 :]
+            joiner = "" if _is_cjk(last.surface) else " "
+            surface = joiner.join((last.surface, *(["and"] if joined else []), it.surface))
+            out.append(Token("DURATION", surface, seconds=last.seconds + it.seconds, start=last.start, end=it.end))
         else:
             out.append(it)
     return out

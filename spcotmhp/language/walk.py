@@ -70,6 +70,7 @@ class Walk:
     mentions: list[Mention] = field(default_factory=list)
     pairs: list[tuple[int, int]] = field(default_factory=list)  # (a, b): mention a before mention b
     speeds: list[str] = field(default_factory=list)
+    said: list[PlaceRef] = field(default_factory=list)  # every place name read, relations' places too, in order
     sentence: int = 0
     step: int = 0
 
@@ -126,7 +127,9 @@ class Walk:
     def place(self, node: LarkToken, relation: Relation | None = None, every: bool = False) -> PlaceRef:
         """The :class:`PlaceRef` of a PLACE token."""
         t = self.toks[node.start_pos or 0]
-        return PlaceRef(t.words, t.surface, relation, every)
+        ref = PlaceRef(t.words, t.surface, relation, every)
+        self.said.append(ref)
+        return ref
 
     def floor(self, nodes: Iterable[object]) -> tuple[FloorValue | None, str]:
         """The floor of the FLOOR (or FLOOR_TO) token among ``nodes`` and its words, if any."""
@@ -147,11 +150,13 @@ class Walk:
         return replace(ref, floor=floor, floor_said=said)
 
     def seconds(self, nodes: Iterable[object]) -> float | None:
-        """The seconds of the DURATION token among ``nodes``, if any."""
-        for node in nodes:
-            if isinstance(node, LarkToken) and node.type == "DURATION":
-                return self.toks[node.start_pos or 0].seconds
-        return None
+        """The seconds of the DURATION token among ``nodes``, if any; two lengths for one wait are refused ("wait
+        30 seconds 1 minute": which?)."""
+        said = [self.toks[n.start_pos or 0] for n in nodes if isinstance(n, LarkToken) and n.type == "DURATION"]
+        if len(said) > 1:
+            lengths = " and ".join(excerpt(t.surface) for t in said)
+            raise UnsupportedPhrase(f"{lengths} are two lengths for one wait; say one ('wait 1 minute 30 seconds')")
+        return said[0].seconds if said else None
 
     def wait_at(self, m: Mention, toks: list[LarkToken]) -> None:
         """``m`` waits for the DURATION among ``toks`` (or until the next instruction), as the WAIT token said."""

@@ -198,10 +198,10 @@ class EnglishWalk(Walk):
             return self.last_ref(tok(np.children[0]).value)
         if np.data == "one":
             last = self.last_ref(tok(np.children[0]).value)
-            return replace(last, relation=self._relation(tree(np.children[1])), every=False)
+            return replace(last, relation=self._relation(tree(np.children[1]), last), every=False)
         ref = self._name(tree(np.children[0]))
         if np.data == "related":
-            relation = self._relation(tree(np.children[1]))
+            relation = self._relation(tree(np.children[1]), ref)
             if relation is not None and ref.relation is not None:
                 raise UnsupportedPhrase(f"{excerpt(ref.label)} is given two relations; say one")
             return replace(ref, relation=relation or ref.relation)
@@ -219,17 +219,24 @@ class EnglishWalk(Walk):
             ref = self.place(place, Relation(name.data) if name.data in ("largest", "smallest") else None)
         return self.on_floor(ref, name.children)
 
-    def _relation(self, relation: Tree) -> Relation | None:
+    def _relation(self, relation: Tree, head: PlaceRef) -> Relation | None:
         rel = tree(relation.children[-1])
         if rel.data == "nearest":  # "whichever bedroom is closest": the planner's default
             return None
         kind = {"largest_is": "largest", "smallest_is": "smallest"}.get(rel.data, rel.data)
-        return Relation(kind, tuple(self._argument(a) for a in subtrees(rel)))
+        return Relation(kind, tuple(self._argument(a, head) for a in subtrees(rel)))
 
-    def _argument(self, arg: Tree) -> PlaceRef:
-        if arg.data in ("it", "there"):
-            return self.last_ref(tok(arg.children[0]).value)
-        return self.place(tok(arg.children[0]))
+    def _argument(self, arg: Tree, head: PlaceRef) -> PlaceRef:
+        """A relation's place; "it" / "there" is the last place said by another name than the place the relation
+        picks ("the bedroom farthest from the bath, not the one nearest it": the bath), refused when there is none."""
+        word = tok(arg.children[0]).value
+        if arg.data not in ("it", "there"):
+            return self.place(tok(arg.children[0]))
+        other = next((r for r in reversed(self.said) if r.words != head.words), None)
+        if other is None:
+            raise UnsupportedPhrase(f"{excerpt(word)} names no place said before it but {excerpt(head.label)}: say "
+                                    "the place's name")  # fmt: skip
+        return PlaceRef(other.words, other.label)
 
     def _ordered(self, kind: str, kids: list[Tree], toks: list[LarkToken]) -> None:
         """ "X after R" / "X before R" (module docstring)."""
