@@ -107,6 +107,8 @@ def _without_fillers(
     while True:
         kept = [(u, p) for u, p in items if not isinstance(u, str) or u not in table.fillers or u in places.words]
         units = [u for u, _ in kept]
+        if table.filler_from.keys().isdisjoint(units):  # no unit opens a filler phrase
+            return kept
         out: list[tuple[Token | str, int]] = []
         i = 0
         while i < len(kept):

@@ -124,6 +124,10 @@ class Walk:
             raise UnsupportedPhrase(f"{excerpt(word)} names no place said before it: say the place's name")
         return self.mentions[-1].ref
 
+    def word(self, node: object) -> str:
+        """The words of token ``node`` as said (a derivation's leaves carry only their index: reading.py)."""
+        return self.toks[tok(node).start_pos or 0].surface
+
     def place(self, node: LarkToken, relation: Relation | None = None, every: bool = False) -> PlaceRef:
         """The :class:`PlaceRef` of a PLACE token."""
         t = self.toks[node.start_pos or 0]
@@ -161,7 +165,7 @@ class Walk:
     def wait_at(self, m: Mention, toks: list[LarkToken]) -> None:
         """``m`` waits for the DURATION among ``toks`` (or until the next instruction), as the WAIT token said."""
         m.wait = self.seconds(toks)
-        m.wait_word = next((t.value for t in toks if t.type == "WAIT"), m.wait_word)
+        m.wait_word = next((self.word(t) for t in toks if t.type == "WAIT"), m.wait_word)
 
     def refuse_lead(self, word: str) -> None:
         """A correction word ("actually", やっぱり) only opens the instruction, before any place is said."""

@@ -189,11 +189,11 @@ def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], 
 def one_floor(ins: Any) -> Any:
     """``ins`` when none of its places says a floor; else UnsupportedPhrase: one map is one floor, and a floor said
     ("the bedroom upstairs") cannot be honoured on it, so it is refused rather than dropped."""
-    from spcotmhp.errors import UnsupportedPhrase
-    from spcotmhp.language.wording import excerpt
-
-    said = [q for q in (*ins.stages, *ins.avoid, *ins.not_goal) if q.floor is not None]
+    said = [q for q in (*ins.waypoints, ins.goal, *ins.avoid, *ins.not_goal) if q.floor is not None]
     if said:
+        from spcotmhp.errors import UnsupportedPhrase
+        from spcotmhp.language.wording import excerpt
+
         raise UnsupportedPhrase(
             f"{excerpt(said[0].floor_said or str(said[0].floor))} gives the floor of {excerpt(said[0].label)}, but "
             "this model is one floor: a building's model plans across floors ('spcotmhp learn BUILDING_DIR'); here say "
