@@ -300,3 +300,17 @@ def test_waiting_at_the_place_just_named_is_one_visit(text, lang, visit, waits):
     words = ["kitchen", "bath", "キッチン", "寝室"]
     r = read(text, words, lang)
     assert [p.label for p in r.visit] == visit and r.waits == waits
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "could you go to the kitchen if you could you don't mind",
+        "could you go to the kitchen if you if you can don't mind",
+        "could if you can you go to the kitchen if you don't mind",
+        "go to the kitchen when could you you're ready",
+    ],
+)
+def test_a_filler_phrase_said_inside_another_leaves_both_out(text):
+    """Found by the filler property below: the phrase said inside another is left out first, whichever it is."""
+    assert [p.label for p in read(text, ["kitchen"], "en").visit] == ["kitchen"]
