@@ -26,6 +26,8 @@ MODULES = [
     "spcotmhp.evaluation.spread",
     "spcotmhp.datasets.against_wall",
     "spcotmhp.datasets.synthetic",
+    "spcotmhp.building.layout",
+    "spcotmhp.building.loader",
     "spcotmhp.datasets.synthetic_furniture",
     "spcotmhp.speech.lexicon",
     "spcotmhp.limits",
