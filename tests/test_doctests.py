@@ -28,6 +28,7 @@ MODULES = [
     "spcotmhp.datasets.synthetic",
     "spcotmhp.building.layout",
     "spcotmhp.building.loader",
+    "spcotmhp.building.learn",
     "spcotmhp.datasets.synthetic_furniture",
     "spcotmhp.speech.lexicon",
     "spcotmhp.limits",

@@ -15,6 +15,7 @@ side fit the map bounds (:class:`~spcotmhp.building.layout.Layout`). Each failur
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,7 +26,7 @@ from spcotmhp.building.spec import SPEC_FILE, BuildingSpec, read_spec
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.loader import available_languages, load_dataset
 from spcotmhp.errors import BuildingError, DatasetError, SpcotmhpError
-from spcotmhp.metric.maps import FREE
+from spcotmhp.metric.maps import FREE, OccupancyMap
 
 
 @dataclass
@@ -82,15 +83,20 @@ def load_building(path: str | Path, lang: str | None = None) -> Building:
 def check_building(building: Building) -> None:
     """The building's own checks (module docstring): BuildingError on the first failure."""
     building.layout()  # one resolution, within the map bounds
-    spec = building.spec
+    check_stops(building.spec, {i: d.map for i, d in building.floors.items()})
+
+
+def check_stops(spec: BuildingSpec, maps: Mapping[int, OccupancyMap], error: type[Exception] = BuildingError) -> None:
+    """``error`` naming the connector when one of its stops lies off its floor's map or on a cell that is not
+    free."""
     for i, c in enumerate(spec.connectors):
         for s in c.stops:
-            occ = building.floors[s.floor].map
+            occ = maps[s.floor]
             cell = occ.world_to_cell(np.array([[s.x, s.y]]))
             where = f"{SPEC_FILE}: connectors[{i}] ({c.name}) stop on floor {s.floor} at ({s.x:.2f}, {s.y:.2f})"
             if not occ.in_bounds(cell)[0]:
-                raise BuildingError(f"{where} lies off that floor's map")
+                raise error(f"{where} lies off that floor's map")
             value = int(occ.data[cell[0, 0], cell[0, 1]])
             if value != FREE:
                 what = {100: "an occupied", -1: "an unknown"}.get(value, "a non-free")
-                raise BuildingError(f"{where} lies in {what} cell of that floor's map; a stop must be free")
+                raise error(f"{where} lies in {what} cell of that floor's map; a stop must be free")

@@ -4,11 +4,22 @@ building model)."""
 
 from __future__ import annotations
 
+import warnings
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from spcotmhp.errors import BuildingError
+
+if TYPE_CHECKING:
+    from spcotmhp.building.layout import Layout
+    from spcotmhp.building.loader import Building
+    from spcotmhp.datasets.dataset import Dataset
+    from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+
+SHOWN_WARNINGS = 3
 
 
 def synth_building(
@@ -45,3 +56,58 @@ def synth_building(
     if only is not None:
         lines.append(f"  floor {only} is reached by the lift only")
     typer.echo("\n".join(lines))
+
+
+@dataclass
+class JointBuilding:
+    """A building folder read for ``learn``: its floors as one joint dataset (:mod:`spcotmhp.building.joint`)."""
+
+    building: Building
+    layout: Layout
+    data: Dataset
+
+    @property
+    def default_places(self) -> int:
+        from spcotmhp.building.learn import default_places
+
+        return default_places(len(self.layout.tiles))
+
+    def hyper(self, supervised: bool) -> Hyperparameters:
+        """The priors ``learn`` uses on the joint dataset (:func:`~spcotmhp.building.learn.building_hyper`)."""
+        from spcotmhp.building.learn import building_hyper
+        from spcotmhp.learning.model import Hyperparameters
+        from spcotmhp.learning.supervised import SUPERVISED_HYPER
+
+        return building_hyper(self.layout, SUPERVISED_HYPER if supervised else Hyperparameters())
+
+    def save(self, model: SpatialConceptModel, out: Path, overwrite: bool) -> None:
+        """Save ``model`` (learned on ``data``) as the building's model and say how many places each floor has."""
+        from spcotmhp.building.io import save_building_model
+        from spcotmhp.building.model import BuildingModel
+
+        model.info["building"] = self.building.name
+        bm = BuildingModel(model, self.layout, self.building.spec)
+        save_building_model(bm, out, overwrite=overwrite)
+        counts = ", ".join(f"{f.index} ({f.name}) {int(bm.floor_places(f.index).sum())}" for f in bm.spec.floors)
+        typer.echo(f"building {bm.name}: places per floor: {counts}")
+
+
+def joint_or_none(dataset: str, lang: str | None) -> JointBuilding | None:
+    """``learn``'s building branch: None unless ``dataset`` is a building folder; else the building (its floors'
+    dataset warnings summarised on stderr as ``learn`` does for one dataset) and its joint dataset."""
+    from spcotmhp.building.joint import joint_dataset
+    from spcotmhp.building.loader import is_building, load_building
+    from spcotmhp.datasets.loader import DatasetWarning
+
+    if not is_building(dataset):
+        return None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DatasetWarning)
+        building = load_building(dataset, lang)
+    messages = [str(w.message) for w in caught if issubclass(w.category, DatasetWarning)]
+    if messages:
+        lines = [f"{building.name}: {len(messages)} dataset warning(s)"]
+        lines += [f"  warning: {m}" for m in messages[:SHOWN_WARNINGS]]
+        typer.echo("\n".join(lines), err=True)
+    layout = building.layout()
+    return JointBuilding(building, layout, joint_dataset(building, layout))
