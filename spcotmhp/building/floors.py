@@ -25,6 +25,7 @@ from typing import Any
 
 from spcotmhp.errors import MalformedInstruction
 from spcotmhp.planning.query import Instruction
+from spcotmhp.planning.structured import _json_value
 from spcotmhp.safe_read import excerpt
 
 MAX_FLOOR_CHARS = 64
@@ -68,6 +69,8 @@ def split_floors(instruction: Any, goal_floor: object = None) -> tuple[Any, Plac
     (None when the instruction is not a structured form and no ``goal_floor`` is given: the places' own
     ``floor`` attributes, if any, are read after parsing, :meth:`PlaceFloors.of`)."""
     goal_floor = check_value(goal_floor, "goal_floor")
+    if isinstance(instruction, str) and instruction.lstrip().startswith("{"):
+        instruction = _json_value(instruction)  # a structured form as JSON text (the CLI's, HTTP's)
     if not isinstance(instruction, Mapping):
         return instruction, None if goal_floor is None else PlaceFloors((goal_floor,))
     obj = dict(instruction)

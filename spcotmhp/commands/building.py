@@ -111,3 +111,60 @@ def joint_or_none(dataset: str, lang: str | None) -> JointBuilding | None:
         typer.echo("\n".join(lines), err=True)
     layout = building.layout()
     return JointBuilding(building, layout, joint_dataset(building, layout))
+
+
+def plan_building(
+    model_dir: Path,
+    source: object,
+    start: tuple[float, float],
+    floor: str | None,
+    *,
+    audio: Path | None,
+    as_json: bool,
+    png: Path | None,
+    overwrite: bool,
+    lang: str | None,
+    settings: dict,
+) -> None:
+    """``plan``'s building branch: plan from ``start`` on ``floor`` (the start's floor, index or name) in the
+    building model ``model_dir`` (:class:`~spcotmhp.building.planner.BuildingPlanner`); print the explanation or
+    the JSON (with ``segments``); ``--png`` writes one picture per floor crossed (:mod:`spcotmhp.viz.building`)."""
+    from spcotmhp.building.io import load_building_model
+    from spcotmhp.building.planner import BuildingPlanner
+    from spcotmhp.collector import end_startup
+    from spcotmhp.commands.planning import recognise_audio
+    from spcotmhp.errors import SpcotmhpError
+    from spcotmhp.safe_write import atomic_write, check_output, outside_model
+
+    bm = load_building_model(model_dir)
+    if floor is None:
+        if len(bm.indices) > 1:
+            raise typer.BadParameter(
+                f"a building's model needs --floor F, the start's floor: {bm.spec.describe_floors()}"
+            )
+        floor = str(bm.indices[0])
+    if audio is not None:
+        source = recognise_audio(audio, bm.model)
+    planner = BuildingPlanner(bm, **settings)
+    plan = planner.plan(source, start, floor, lang=lang)
+    warm = None if as_json else planner.plan(source, start, floor, lang=lang).time_online_s
+    end_startup()
+    if png is not None:
+        from spcotmhp.viz.building import draw_segment, picture_paths
+
+        paths = picture_paths(plan, png)
+        for path in paths:
+            check_output(path, overwrite, [model_dir], SpcotmhpError, "--png")
+            outside_model(path, model_dir, "--png")
+        for k, path in enumerate(paths):
+            atomic_write(path, lambda tmp, k=k: draw_segment(plan, bm, k, tmp), SpcotmhpError)  # type: ignore[misc]
+    if as_json:
+        typer.echo(plan.to_json())
+        return
+    typer.echo(plan.explanation)
+    assert warm is not None
+    typer.echo(
+        f"log p = {plan.log_prob:.2f}; planned in {warm * 1e3:.2f} ms warm (the first plan of this process took "
+        f"{plan.time_online_s * 1e3:.0f} ms; precomputation {plan.time_precompute_s:.2f} s)",
+        err=True,
+    )

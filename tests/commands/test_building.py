@@ -1,8 +1,10 @@
-"""The CLI on buildings: ``learn BUILDING_DIR --out M`` writes a building model (supervised and Gibbs); errors are
-one line."""
+"""The CLI on buildings: ``learn BUILDING_DIR --out M`` writes a building model (supervised and Gibbs); ``plan M
+TEXT --start X Y --floor F`` plans across floors (text, ``--json`` with segments, one ``--png`` per floor); errors
+are one line."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -39,3 +41,51 @@ def test_learn_errors_are_one_line(tmp_path):
                           text=True, timeout=120)  # fmt: skip
     assert done.returncode == 2
     assert done.stderr.startswith("error: floor 1 (g, none): dataset folder") and done.stderr.count("\n") == 1
+
+
+@pytest.fixture(scope="module")
+def model_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bm") / "m"
+    res = CliRunner().invoke(app, ["learn", str(example_path()), "--out", str(out), "--supervised"])
+    assert res.exit_code == 0, res.output
+    return out
+
+
+def test_plan_across_floors(model_dir, tmp_path):
+    bm = load_building_model(model_dir)
+    stairs = next(c for c in bm.spec.connectors if c.kind == "stairs")
+    start = [str(stairs.stops[0].x + 0.5), str(stairs.stops[0].y)]
+    args = ["plan", str(model_dir), '{"goal": {"words": "bedroom", "floor": 2}}', "--start", *start]
+    res = CliRunner().invoke(app, [*args, "--floor", "ground", "--json", "--png", str(tmp_path / "r.png")])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert [s["floor"] for s in d["segments"]] == [1, 2]
+    assert d["goal"]["floor"] == 2 and "bedroom" in d["goal"]["label"]
+    assert d["segments"][0]["path"][0] == pytest.approx([float(v) for v in start], abs=0.05)
+    ride = d["rides"][0]
+    assert d["segments"][1]["path"][0] == pytest.approx([ride["to"]["x"], ride["to"]["y"]], abs=0.05)
+    assert d["route_m"] == pytest.approx(d["length_m"] + ride["cost_m"], abs=1e-3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r-floor1.png", "r-floor2.png"]
+    text = CliRunner().invoke(app, [*args, "--floor", "1"])
+    assert text.exit_code == 0 and "to floor 2 (first)" in text.stdout and "bedroom" in text.stdout
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        ([], "error: Invalid value: a building's model needs --floor F"),
+        (["--floor", "9"], "error: the building has no floor '9'; its floors: 1 (ground), 2 (first)"),
+    ],
+)
+def test_plan_errors_are_one_line(model_dir, extra, message):
+    done = subprocess.run([SPCOTMHP, "plan", str(model_dir), "go to the bedroom", "--start", "3", "5", *extra],
+                          capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert done.returncode == 2 and done.stderr.startswith(message) and done.stderr.count("\n") == 1, done.stderr
+
+
+def test_floor_needs_a_building_model(tmp_path):
+    from spcotmhp.datasets.bundled import bundled_path
+
+    done = subprocess.run([SPCOTMHP, "plan", str(bundled_path("3LDK_01")), "go to the bedroom", "--start", "0", "0",
+                           "--floor", "2"], capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert done.returncode == 2 and "--floor is for a building's model" in done.stderr
