@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from spcotmhp.building.route import Segment
-from spcotmhp.planning.plan import PlanPlace
+from spcotmhp.planning.plan import PlanPlace, instruction_dict
 from spcotmhp.planning.query import Instruction
 
 
@@ -128,10 +128,47 @@ class BuildingPlan:
         return f", most probable of {len(self.goal_options)}{where}; {best.label} on floor {best.floor} is closer"
 
     def to_dict(self) -> dict:
-        """JSON-ready: ``segments`` [{floor, path [[x, y], ...], length_m, board / leave}], rides, places with
-        floors, the route's length, the explanation."""
+        """JSON-ready: the single-floor plan's keys (``path`` is the first segment's, on the start's floor, in that
+        floor's map frame; places and goal options carry their floor; goal options' ``length_m`` is the route's
+        metres, walked plus ridden) and ``floor`` (the start's), ``goal_floor``, ``segments`` [{floor, path [[x, y],
+        ...], length_m}] in order, ``rides`` (the connector between consecutive segments) and ``route_m``."""
         ins = self.instruction
         return {
+            "path": np.round(self.segments[0].path, 4).tolist(),
+            "places": [
+                {
+                    "floor": f,
+                    "id": p.id,
+                    "name": p.name,
+                    "role": p.role,
+                    "label": p.label,
+                    "chosen_by": None,
+                    "point": None if p.point is None else [round(float(v), 4) for v in p.point],
+                }
+                for f, p in self.places
+            ],  # fmt: skip
+            "speed": ins.speed,
+            "waits": [],
+            "length_m": round(self.length_m, 4),
+            "log_prob": self.log_prob,
+            "time_online_s": self.time_online_s,
+            "time_precompute_s": self.time_precompute_s,
+            "explanation": self.explanation,
+            "instruction": {**instruction_dict(ins), "floors": list(self.floors)},
+            "goal_options": [
+                {
+                    "id": o.id,
+                    "floor": o.floor,
+                    "label": o.label,
+                    "length_m": round(o.route_m, 4),
+                    "route_m": round(o.route_m, 4),
+                    "log_prob": o.log_prob,
+                }
+                for o in self.goal_options
+            ],  # fmt: skip
+            "notes": list(self.notes),
+            "floor": self.segments[0].floor,
+            "goal_floor": self.goal[0],
             "segments": [
                 {"floor": s.floor, "path": np.round(s.path, 4).tolist(), "length_m": round(s.length_m, 4)}
                 for s in self.segments
@@ -146,30 +183,7 @@ class BuildingPlan:
                 }
                 for r in self.rides
             ],  # fmt: skip
-            "places": [
-                {
-                    "floor": f,
-                    "id": p.id,
-                    "name": p.name,
-                    "label": p.label,
-                    "role": p.role,
-                    "point": None if p.point is None else [round(float(v), 4) for v in p.point],
-                }
-                for f, p in self.places
-            ],  # fmt: skip
-            "goal": {"floor": self.goal[0], "id": self.goal[1].id, "label": self.goal[1].label},
-            "length_m": round(self.length_m, 4),
             "route_m": round(self.route_m, 4),
-            "log_prob": self.log_prob,
-            "time_online_s": self.time_online_s,
-            "time_precompute_s": self.time_precompute_s,
-            "explanation": self.explanation,
-            "instruction": {"understood": ins.describe(), "floors": list(self.floors), "text": ins.text},
-            "goal_options": [
-                {"id": o.id, "floor": o.floor, "label": o.label, "route_m": round(o.route_m, 4), "log_prob": o.log_prob}
-                for o in self.goal_options
-            ],
-            "notes": list(self.notes),
         }
 
     def to_json(self, **kwargs) -> str:

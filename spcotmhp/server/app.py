@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from fastapi import Depends, FastAPI, File, Form, Query, Request, UploadFile
 from fastapi.exceptions import RequestValidationError
@@ -41,6 +41,7 @@ from spcotmhp.server.limits import (
 from spcotmhp.server.registry import ServedModel, load_served
 from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
+    AnyPlanResponse,
     AudioPlanResponse,
     ErrorResponse,
     Health,
@@ -48,11 +49,13 @@ from spcotmhp.server.schemas import (
     ModelsResponse,
     PlacesResponse,
     PlanRequest,
-    PlanResponse,
     QuestionsResponse,
     TeachRequest,
     TeachResponse,
 )
+
+if TYPE_CHECKING:
+    from spcotmhp.building.model import BuildingModel
 
 STATIC = Path(__file__).parent / "static"
 ModelQuery = Annotated[str | None, Query(max_length=200, description="Served model name (default: the first).")]
@@ -90,7 +93,7 @@ class APIError(Exception):
 
 
 def create_app(
-    models: Mapping[str, str | Path | SpatialConceptModel],
+    models: Mapping[str, str | Path | SpatialConceptModel | BuildingModel],
     *,
     json_limit: int = JSON_LIMIT,
     audio_limit: int = AUDIO_LIMIT,
@@ -203,11 +206,12 @@ def create_app(
             "resolution": sm.model.require_map().resolution,
         }
 
-    @app.post("/plan", response_model=PlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
+    @app.post("/plan", response_model=AnyPlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
-        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
+        sm = pick(_one_model(model, body.model))
+        return await _plan(sm, body.source(), body.start, body.lang, _client(request), body.floor)
 
     @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, request: Request, model: ModelQuery = None) -> dict:
@@ -288,9 +292,11 @@ def _client(request: Request) -> str:
     return request.client.host if request.client is not None else ""
 
 
-async def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None, client: str = "") -> dict:
+async def _plan(
+    sm: ServedModel, source: Any, start: Any, lang: str | None, client: str = "", floor: int | str | None = None
+) -> dict:
     try:
-        result = await sm.plan_async(source, start, lang, client)
+        result = await sm.plan_async(source, start, lang, client, floor)
     except InstructionError as exc:
         raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:

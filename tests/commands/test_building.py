@@ -60,7 +60,9 @@ def test_plan_across_floors(model_dir, tmp_path):
     assert res.exit_code == 0, res.output
     d = json.loads(res.stdout)
     assert [s["floor"] for s in d["segments"]] == [1, 2]
-    assert d["goal"]["floor"] == 2 and "bedroom" in d["goal"]["label"]
+    goal = d["places"][-1]
+    assert d["goal_floor"] == goal["floor"] == 2 and goal["role"] == "goal" and "bedroom" in goal["label"]
+    assert d["floor"] == 1 and d["path"] == d["segments"][0]["path"]
     assert d["segments"][0]["path"][0] == pytest.approx([float(v) for v in start], abs=0.05)
     ride = d["rides"][0]
     assert d["segments"][1]["path"][0] == pytest.approx([ride["to"]["x"], ride["to"]["y"]], abs=0.05)
