@@ -106,7 +106,8 @@ def export_nav2(
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --out folder.")] = False,
 ) -> None:
     """Export the learned map for Nav2: a Route Server graph (places as nodes, partial paths as edges) and,
-    with --avoid, a keepout mask for the costmap filters."""
+    with --avoid, a keepout mask for the costmap filters. A building's model: one graph per floor (floorF/) with
+    its stair and lift stops as nodes, and connectors.json."""
     from spcotmhp.ros.nav2_export import export_nav2 as run_export
 
     summary = run_export(model_dir, out, avoid=avoid or [], frame=frame, overwrite=overwrite)
