@@ -28,14 +28,16 @@ class Ride:
 
 @dataclass(frozen=True)
 class FloorOption:
-    """The best plan ending in one instance of the goal's name (any floor): its place, floor, label, the length
-    of its route before smoothing (walked metres plus connectors' cost_m) and its Eq. 28 log score."""
+    """The best plan ending in one instance of the goal's name (any floor): its place, floor, label, the metres of
+    its route (walked plus connectors' cost_m; a lower bound when ``exact`` is False:
+    :mod:`spcotmhp.building.options`) and its Eq. 28 log score."""
 
     id: int
     floor: int
     label: str
     route_m: float
     log_prob: float
+    exact: bool = True
 
 
 @dataclass

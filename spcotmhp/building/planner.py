@@ -32,10 +32,11 @@ import numpy as np
 
 from spcotmhp.building.floors import PlaceFloors, split_floors
 from spcotmhp.building.model import BuildingModel
-from spcotmhp.building.plan import BuildingPlan, FloorOption, Ride
+from spcotmhp.building.options import goal_options
+from spcotmhp.building.plan import BuildingPlan, Ride
 from spcotmhp.building.queries import FloorQueries, floor_queries, joint_instances
 from spcotmhp.building.route import Segment, assemble
-from spcotmhp.building.stitch import Endpoint, FloorPart, StopFields, stitch
+from spcotmhp.building.stitch import Endpoint, FloorPart, Skeleton, StopFields, skeleton, skeleton_key, stitch
 from spcotmhp.errors import HorizonTooShort, SpcotmhpError, StartInAvoidedPlace
 from spcotmhp.planning import explain
 from spcotmhp.planning.avoid import avoided_view
@@ -45,6 +46,8 @@ from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.planning.search import search
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.vocabulary import parse_instruction
+
+SKELETONS = 64  # stitched transitions kept (floor graphs and avoidance views; least recently used go first)
 
 
 class BuildingPlanner:
@@ -74,6 +77,7 @@ class BuildingPlanner:
             if a.floor != b.floor and a.region and b.region
         }
         self.fields = StopFields()
+        self.skeletons = GraphCache(SKELETONS)
         self.time_precompute_s = time.perf_counter() - t0
 
     def _endpoints(self) -> list[Endpoint]:
@@ -180,7 +184,7 @@ class BuildingPlanner:
 
         order = [parts[f] for f in sorted(parts)]
         E = self.horizon(len(ins.stages))
-        st = stitch(order, parts[f0], cell, self.rides, self.fields, E)
+        st = stitch(self._skeleton(order, False), order, parts[f0], cell, self.fields, E)
         result = search(st.problem)
         if result is not None:
             return result, False, st
@@ -190,11 +194,17 @@ class BuildingPlanner:
                 f"no sequence of at most {E} place-to-place steps from ({x0[0]:.2f}, {x0[1]:.2f}) on floor {f0} "
                 f"satisfies '{ins.describe()}'; raise max_steps"
             )
-        metric = stitch(order, parts[f0], cell, self.rides, self.fields, E, metric=True)
+        metric = stitch(self._skeleton(order, True), order, parts[f0], cell, self.fields, E, metric=True)
         result = search(metric.problem)
         if result is None:
             raise why_not(metric, ins, x0, f0, any(p.graph.blocked is not None for p in order))
         return result, True, metric
+
+    def _skeleton(self, order: list[FloorPart], metric: bool) -> Skeleton:
+        """The stitched transition of these floor graphs and stops, made once (a query without avoided places
+        starting in a floor's main region reuses it: only its start row and word terms are new)."""
+        key = skeleton_key(order, metric)
+        return self.skeletons.get_or_build(key, lambda: skeleton(order, self.rides, self.fields, metric))
 
     def _plan(self, segments: list[Segment], st, result, parts, ins, floors, x0) -> BuildingPlan:
         """The plan: the segments' places named, the rides, the goal options over every floor."""
@@ -216,35 +226,13 @@ class BuildingPlanner:
         names = {f.index: f.name for f in self.bm.spec.floors}
         pre = max(p.graph.time_precompute_s for p in self.floors.values()) + self.time_precompute_s
         plan = BuildingPlan(segments, rides, names, result.log_prob, ins, tuple(floors), time_precompute_s=pre)
-        plan.goal_options = self._options(st, result, parts, last)
+        plan.goal_options = goal_options(self, st, result, parts, last, (plan.goal[1].id, plan.route_m))
         return plan
 
     def _ride(self, board: Endpoint | None, leave: Endpoint | None) -> Ride:
         assert board is not None and leave is not None
         c = self.bm.spec.connectors[board.connector]
         return Ride(c.name, c.kind, (board.floor, board.point), (leave.floor, leave.point), c.cost_m)
-
-    def _options(self, st, result, parts, last: int) -> list[FloorOption]:
-        """The best plan into each goal instance on every floor, with its route length before smoothing."""
-        goal_nodes = np.flatnonzero(st.problem.completes[last] & np.isfinite(result.terminal))
-        if len(goal_nodes) < 2:
-            return []
-        best: dict[int, int] = {}
-        for node in goal_nodes:
-            part = parts[int(st.floor_of[node])]
-            k = int(part.graph.node_place[st.local[node]])
-            if k not in best or result.terminal[node] > result.terminal[best[k]]:
-                best[k] = int(node)
-        out = []
-        for k, end in best.items():
-            alt = result.ending_at(end)
-            segs = assemble(st, alt, parts, st.start_cell, np.empty((0, 2), np.int64), self.fields, False)
-            floor = int(st.floor_of[end])
-            route = sum(s.length_m for s in segs) + sum(self.rides.get((a.leave.id, b.arrive.id), 0.0)
-                        for a, b in zip(segs, segs[1:], strict=False) if a.leave and b.arrive)  # fmt: skip
-            label = explain.place(parts[floor].planner, k, "goal").label
-            out.append(FloorOption(k, floor, label, float(route), float(alt.log_prob)))
-        return sorted(out, key=lambda o: -o.log_prob)
 
 
 def _aligned(given: PlaceFloors | None, ins) -> PlaceFloors | None:

@@ -103,36 +103,44 @@ class Stitched:
     start_cell: np.ndarray
 
 
-def stitch(
-    parts: list[FloorPart],
-    start: FloorPart,
-    cell: np.ndarray,
-    rides: dict[tuple[int, int], float],
-    fields: StopFields,
-    max_steps: int,
-    metric: bool = False,
-) -> Stitched:
-    """The stitched problem (module docstring). ``rides[(e, e')]``: the cost in metres of riding from stop e to
-    stop e' (ids of :class:`Endpoint`); ``cell``: the start's crop cell in ``start.graph``."""
-    n = 0
+@dataclass(frozen=True)
+class Skeleton:
+    """What a stitched problem holds that no instruction changes, for one choice of floor graphs (views) and
+    stops: the (M, M) transition, ``floor_of`` / ``local`` per node, the stops, each floor's first node index
+    (``offsets``) and the number of floor nodes. Kept by the building's planner per choice (:func:`skeleton_key`)."""
+
+    transition: np.ndarray
+    floor_of: np.ndarray
+    local: np.ndarray
+    stops: tuple[Endpoint, ...]
+    offsets: dict[int, int]
+    n_floor_nodes: int
+
+
+def skeleton_key(parts: list[FloorPart], metric: bool) -> tuple:
+    """The key of a skeleton: each floor's graph (its key and avoided places) and its usable stops."""
+    return (metric, *((p.floor, p.graph.key, tuple(p.graph.info.get("avoided", ())), tuple(s.id for s in p.stops))
+                      for p in parts))  # fmt: skip
+
+
+def skeleton(parts: list[FloorPart], rides: dict[tuple[int, int], float], fields: StopFields, metric: bool) -> Skeleton:
+    """The instruction-free part of the stitched problem (module docstring). ``rides[(e, e')]``: the cost in metres
+    of riding from stop e to stop e' (ids of :class:`Endpoint`)."""
+    n, offsets = 0, {}
     for part in parts:
-        part.offset, n = n, n + part.graph.n_nodes
+        offsets[part.floor], n = n, n + part.graph.n_nodes
     stops = [s for part in parts for s in part.stops]
     M = n + len(stops)
     T = np.full((M, M), -np.inf)
-    start_row = np.full(M, -np.inf)
-    S = parts[0].semantic.shape[0]
-    word, completes = np.zeros((S, M)), np.zeros((S, M), dtype=bool)
     floor_of, local = np.empty(M, np.int64), np.full(M, -1, np.int64)
     index = {s.id: n + k for k, s in enumerate(stops)}
     for part in parts:
-        g, a = part.graph, part.offset
+        g, a = part.graph, offsets[part.floor]
         nodes = g.node_place
         sl = slice(a, a + g.n_nodes)
         floor_of[sl], local[sl] = part.floor, np.arange(g.n_nodes)
         ur = part.planner.terms.log_ur[nodes]
         T[sl, sl] = g.w_hat_metric - ur[None, :] if metric else _floor_transition(part)
-        word[:, sl], completes[:, sl] = part.semantic[:, nodes], part.inst[:, nodes]
         rows, cols = g.node_cell[:, 0], g.node_cell[:, 1]
         for s in part.stops:
             e = index[s.id]
@@ -148,15 +156,35 @@ def stitch(
     for (a_id, b_id), cost_m in rides.items():
         if a_id in index and b_id in index:
             T[index[a_id], index[b_id]] = -cost_m * _nats(parts, floor_of[index[a_id]])
+    T.setflags(write=False)
+    return Skeleton(T, floor_of, local, tuple(stops), offsets, n)
+
+
+def stitch(
+    sk: Skeleton, parts: list[FloorPart], start: FloorPart, cell: np.ndarray, fields: StopFields, max_steps: int,
+    metric: bool = False,
+) -> Stitched:  # fmt: skip
+    """The stitched problem of one instruction (module docstring) on the skeleton ``sk`` of ``parts``: the start
+    row, the word terms and the instances. ``cell``: the start's crop cell in ``start.graph``."""
+    M = sk.transition.shape[0]
+    start_row = np.full(M, -np.inf)
+    S = parts[0].semantic.shape[0]
+    word, completes = np.zeros((S, M)), np.zeros((S, M), dtype=bool)
+    for part in parts:
+        part.offset = sk.offsets[part.floor]
+        nodes = part.graph.node_place
+        sl = slice(part.offset, part.offset + part.graph.n_nodes)
+        word[:, sl], completes[:, sl] = part.semantic[:, nodes], part.inst[:, nodes]
     g, a = start.graph, start.offset
-    posterior = start.planner.terms.place_posterior(start.planner.model.require_map().cell_to_world(g.to_map(cell)))
-    terms = -start.planner.terms.log_ur[g.node_place] if metric else start.planner.terms.start_terms(
-        posterior, g.node_place)  # fmt: skip
-    start_row[a : a + g.n_nodes] = terms + g.start_w_hat(cell)
+    terms = start.planner.terms
+    posterior = terms.place_posterior(start.planner.model.require_map().cell_to_world(g.to_map(cell)))
+    row = -terms.log_ur[g.node_place] if metric else terms.start_terms(posterior, g.node_place)
+    start_row[a : a + g.n_nodes] = row + g.start_w_hat(cell)
+    index = {s.id: sk.n_floor_nodes + k for k, s in enumerate(sk.stops)}
     for s in start.stops:
         start_row[index[s.id]] = -fields.get(g, s)[0][int(cell[0]), int(cell[1])]
-    problem = SearchProblem(T, start_row, word, completes, int(max_steps))
-    return Stitched(problem, floor_of, local, tuple(stops), n, np.asarray(cell, np.int64))
+    problem = SearchProblem(sk.transition, start_row, word, completes, int(max_steps))
+    return Stitched(problem, sk.floor_of, sk.local, sk.stops, sk.n_floor_nodes, np.asarray(cell, np.int64))
 
 
 def _floor_transition(part: FloorPart) -> np.ndarray:

@@ -74,3 +74,47 @@ class BuildingOracle:
     def ends_in(self, floor: int, xy) -> list[int]:
         """The truth places of ``floor`` whose footprint region holds the point ``xy``."""
         return [g for g, p in enumerate(self.places[floor]) if p.region.contains(np.asarray(xy, float))]
+
+
+def battery(building: Building, planner, starts_per_floor: int = 2) -> dict:
+    """The acceptance battery of issue 28 on one building: from ``starts_per_floor`` truth positions of every
+    floor, for every name with instances on two floors or more, "go to the X" with the goal on each floor F (ends
+    on F in the closest instance there) and on any floor (the closest over all floors, counting connector
+    costs). Returns counts: plans, on_floor (ended on the floor asked), closest, no_path (a planning error
+    where the oracle has a route), failures (the first few, described)."""
+    from spcotmhp.errors import SpcotmhpError
+    from spcotmhp.evaluation.battery import CLOSEST_TOLERANCE_M
+
+    oracle = BuildingOracle(building)
+    names = sorted({p.name for ps in oracle.places.values() for p in ps})
+    shared = [n for n in names if len({f for f, _ in oracle.named(n)}) > 1]
+    out = {"plans": 0, "on_floor": 0, "closest": 0, "no_path": 0, "failures": []}
+    for f0, d in building.floors.items():
+        for p in oracle.places[f0][:starts_per_floor]:
+            xy = tuple(d.map.cell_to_world(np.array(p.cell)))
+            routes = oracle.routes(f0, xy)
+            for name in shared:
+                for goal_floor in [*building.floors, None]:
+                    allowed = [fg for fg in oracle.named(name) if goal_floor is None or fg[0] == goal_floor]
+                    best = min(routes[fg] for fg in allowed)
+                    if not math.isfinite(best):
+                        continue
+                    out["plans"] += 1
+                    what = f"{name} on {goal_floor} from floor {f0} {np.round(xy, 2).tolist()}"
+                    try:
+                        plan = planner.plan(f"go to the {name}", xy, f0, goal_floor=goal_floor)
+                    except SpcotmhpError as exc:
+                        out["no_path"] += 1
+                        out["failures"].append(f"{what}: {type(exc).__name__}: {exc}")
+                        continue
+                    end = plan.segments[-1]
+                    hit = [(end.floor, g) for g in oracle.ends_in(end.floor, end.path[-1]) if (end.floor, g) in allowed]
+                    out["on_floor"] += int(goal_floor is None or end.floor == goal_floor)
+                    ok = bool(hit) and min(routes[fg] for fg in hit) <= best + CLOSEST_TOLERANCE_M
+                    out["closest"] += int(ok)
+                    if not ok:
+                        got = min((routes[fg] for fg in hit), default=math.inf)
+                        out["failures"].append(
+                            f"{what}: ends on floor {end.floor}, route {got:.2f} m, best {best:.2f} m"
+                        )
+    return out
