@@ -71,7 +71,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args(argv)
     print(f"machine: {platform.machine()}, Python {platform.python_version()}; {args.floors} floors of "
-          f"{args.rooms} places vs one floor of {args.floors * args.rooms}; times per plan, best of {args.repeat}")  # fmt: skip
+          f"{args.rooms} places vs one floor of {args.floors * args.rooms}; best of {args.repeat}")  # fmt: skip
     print("\n| seed | building: cells | single: cells | building ms (any floor) | building ms (floor named) | "
           "single ms | ratio (any) | ratio (named) | precompute s (building / single) |")  # fmt: skip
     print("|---|---|---|---|---|---|---|---|---|")
