@@ -13,6 +13,7 @@ route to the stop on one floor, rides, loads the next floor's map and graph, and
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -20,10 +21,11 @@ import numpy as np
 from spcotmhp.building.planner import BuildingPlanner
 from spcotmhp.building.spec import Connector
 from spcotmhp.building.stitch import Endpoint
-from spcotmhp.errors import ModelError
+from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.planner import HierarchicalPlanner
-from spcotmhp.ros.nav2_export import MAX_ID, ROUTE_GRAPH, route_graph
+from spcotmhp.ros.nav2_export import MAX_ID, ROUTE_GRAPH, check_target, route_graph
+from spcotmhp.safe_write import build_folder
 
 CONNECTORS = "connectors.json"
 
@@ -116,3 +118,23 @@ place it lies in. `connectors.json` lists the connectors, their cost in metres a
 To go to another floor: route on this floor's graph to the stop's node, ride, load the next floor's map and
 graph (`graph_filepath` of the route server, or a route server per floor), and route on from the stop there.
 """
+
+
+def export_building(
+    model_dir: str | Path, out: str | Path, avoid: Sequence[str] = (), frame: str = "map", overwrite: bool = False
+) -> str:
+    """Write ``out``: a route graph per floor, connectors.json and README.md (module docstring); as
+    :func:`~spcotmhp.ros.nav2_export.export_nav2` for a single floor (the folder built beside ``out`` and swapped
+    in). Returns a one-line summary."""
+    from spcotmhp.building.io import load_building_model
+
+    if avoid:
+        raise SpcotmhpError("--avoid (a keepout mask) is for a single floor's model; a building's export has none yet")
+    model_dir, out = Path(model_dir), Path(out)
+    bm = load_building_model(model_dir)
+    check_target(out, model_dir, overwrite, (ROUTE_GRAPH, "README.md", CONNECTORS, *map(floor_folder, bm.indices)))
+    planner = BuildingPlanner(bm)
+    counts: list[tuple[int, int]] = []
+    build_folder(out, lambda folder: counts.append(write_building_export(planner, folder, frame)))
+    floors, connectors = counts[0]
+    return f"wrote {out}: route graphs of {floors} floors and {connectors} connectors ({CONNECTORS})"

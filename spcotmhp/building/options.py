@@ -11,28 +11,25 @@ building with many bedrooms does not assemble a route into each of them per plan
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from spcotmhp.building.plan import FloorOption
 from spcotmhp.building.route import Segment, assemble
-from spcotmhp.building.stitch import FloorPart, Stitched
+from spcotmhp.building.stitch import FloorPart, Stitched, StopFields
 from spcotmhp.planning import explain
 from spcotmhp.planning.search import SearchResult
 
-if TYPE_CHECKING:
-    from spcotmhp.building.planner import BuildingPlanner
+Rides = dict[tuple[int, int], float]
 
 
-def route_metres(bp: BuildingPlanner, segments: list[Segment]) -> float:
-    """Walked metres of ``segments`` plus the cost_m of the rides between them."""
-    rides = sum(bp.rides.get((a.leave.id, b.arrive.id), 0.0) for a, b in zip(segments, segments[1:], strict=False)
+def route_metres(rides: Rides, segments: list[Segment]) -> float:
+    """Walked metres of ``segments`` plus the cost_m of the rides between them (``rides[(e, e')]``: metres)."""
+    ridden = sum(rides.get((a.leave.id, b.arrive.id), 0.0) for a, b in zip(segments, segments[1:], strict=False)
                 if a.leave is not None and b.arrive is not None)  # fmt: skip
-    return float(sum(s.length_m for s in segments) + rides)
+    return float(sum(s.length_m for s in segments) + ridden)
 
 
-def lower_bound(bp: BuildingPlanner, st: Stitched, alt: SearchResult, parts: dict[int, FloorPart]) -> float:
+def lower_bound(rides: Rides, st: Stitched, alt: SearchResult, parts: dict[int, FloorPart]) -> float:
     """A lower bound of the route of ``alt`` (module docstring), in metres."""
     here = (int(st.floor_of[alt.nodes[0]]), np.asarray(st.start_cell))
     total = 0.0
@@ -46,25 +43,26 @@ def lower_bound(bp: BuildingPlanner, st: Stitched, alt: SearchResult, parts: dic
             res = float(parts[floor].planner.model.require_map().resolution)
             total += res * explain.octile(here[1], cell)
         elif stop is not None:
-            total += _ride(bp, st, alt, node)
+            total += _ride(rides, st, alt, node)
         here = (floor, cell)
     return total
 
 
-def _ride(bp: BuildingPlanner, st: Stitched, alt: SearchResult, node: int) -> float:
+def _ride(rides: Rides, st: Stitched, alt: SearchResult, node: int) -> float:
     """The cost_m of the ride arriving at stop ``node`` (from the stop before it in ``alt``)."""
     seq = alt.nodes.tolist()
     prev = seq[seq.index(node) - 1]
     a, b = st.stops[prev - st.n_floor_nodes], st.stops[node - st.n_floor_nodes]
-    return bp.rides.get((a.id, b.id), 0.0)
+    return rides.get((a.id, b.id), 0.0)
 
 
 def goal_options(
-    bp: BuildingPlanner, st: Stitched, result: SearchResult, parts: dict[int, FloorPart], last: int,
-    chosen: tuple[int, float],
+    st: Stitched, result: SearchResult, parts: dict[int, FloorPart], last: int, chosen: tuple[int, float],
+    rides: Rides, fields: StopFields, smooth: bool,
 ) -> list[FloorOption]:  # fmt: skip
     """The options (module docstring), best Eq. 28 score first; ``chosen``: (goal place, route metres) of the plan
-    made; empty unless the goal's name has two instances or more with a route."""
+    made; ``rides``, ``fields``, ``smooth``: the building planner's; empty unless the goal's name has two
+    instances or more with a route."""
     goal_nodes = np.flatnonzero(st.problem.completes[last] & np.isfinite(result.terminal))
     best: dict[int, int] = {}
     for node in goal_nodes:
@@ -81,14 +79,14 @@ def goal_options(
             options.append(FloorOption(k, floor, label, chosen[1], float(result.log_prob)))
             continue
         alt = result.ending_at(end)
-        pending.append((lower_bound(bp, st, alt, parts), k, floor, label, alt))
+        pending.append((lower_bound(rides, st, alt, parts), k, floor, label, alt))
     shortest = chosen[1]
     empty = np.empty((0, 2), np.int64)
     for bound, k, floor, label, alt in sorted(pending, key=lambda p: p[0]):
         if bound > shortest + 1e-9:
             options.append(FloorOption(k, floor, label, bound, float(alt.log_prob), exact=False))
             continue
-        route = route_metres(bp, assemble(st, alt, parts, st.start_cell, empty, bp.fields, bp.settings.smooth))
+        route = route_metres(rides, assemble(st, alt, parts, st.start_cell, empty, fields, smooth))
         shortest = min(shortest, route)
         options.append(FloorOption(k, floor, label, route, float(alt.log_prob)))
     return sorted(options, key=lambda o: -o.log_prob)

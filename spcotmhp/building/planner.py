@@ -226,7 +226,8 @@ class BuildingPlanner:
         names = {f.index: f.name for f in self.bm.spec.floors}
         pre = max(p.graph.time_precompute_s for p in self.floors.values()) + self.time_precompute_s
         plan = BuildingPlan(segments, rides, names, result.log_prob, ins, tuple(floors), time_precompute_s=pre)
-        plan.goal_options = goal_options(self, st, result, parts, last, (plan.goal[1].id, plan.route_m))
+        chosen = (plan.goal[1].id, plan.route_m)
+        plan.goal_options = goal_options(st, result, parts, last, chosen, self.rides, self.fields, self.settings.smooth)
         return plan
 
     def _ride(self, board: Endpoint | None, leave: Endpoint | None) -> Ride:

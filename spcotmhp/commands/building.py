@@ -5,9 +5,10 @@ building model)."""
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import typer
 
@@ -119,7 +120,7 @@ def plan_building(
     start: tuple[float, float],
     floor: str | None,
     *,
-    audio: Path | None,
+    recognise: Callable[[Any], Any] | None,
     as_json: bool,
     png: Path | None,
     overwrite: bool,
@@ -132,7 +133,6 @@ def plan_building(
     from spcotmhp.building.io import load_building_model
     from spcotmhp.building.planner import BuildingPlanner
     from spcotmhp.collector import end_startup
-    from spcotmhp.commands.planning import recognise_audio
     from spcotmhp.errors import SpcotmhpError
     from spcotmhp.safe_write import atomic_write, check_output, outside_model
 
@@ -143,8 +143,8 @@ def plan_building(
                 f"a building's model needs --floor F, the start's floor: {bm.spec.describe_floors()}"
             )
         floor = str(bm.indices[0])
-    if audio is not None:
-        source = recognise_audio(audio, bm.model)
+    if recognise is not None:  # --audio: recognised with the building's vocabulary
+        source = recognise(bm.model)
     planner = BuildingPlanner(bm, **settings)
     plan = planner.plan(source, start, floor, lang=lang)
     warm = None if as_json else planner.plan(source, start, floor, lang=lang).time_online_s

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -99,8 +100,9 @@ def plan_command(
     if plan_in_building(model_dir, floor):
         from spcotmhp.commands.building import plan_building
 
-        plan_building(model_dir, source, start, floor, audio=audio, as_json=as_json, png=png, overwrite=overwrite,
-                      lang=lang, settings=settings)  # fmt: skip
+        recognise = None if audio is None else functools.partial(recognise_audio, audio)
+        plan_building(model_dir, source, start, floor, recognise=recognise, as_json=as_json, png=png,
+                      overwrite=overwrite, lang=lang, settings=settings)  # fmt: skip
         return
     model = load_model(model_dir)
     if audio is not None:

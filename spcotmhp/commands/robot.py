@@ -130,8 +130,13 @@ def export_nav2(
     """Export the learned map for Nav2: a Route Server graph (places as nodes, partial paths as edges) and,
     with --avoid, a keepout mask for the costmap filters. A building's model: one graph per floor (floorF/) with
     its stair and lift stops as nodes, and connectors.json."""
+    from spcotmhp.building.io import is_building_model
     from spcotmhp.ros.nav2_export import export_nav2 as run_export
 
+    if is_building_model(model_dir):
+        from spcotmhp.building.nav2 import export_building
+
+        run_export = export_building
     summary = run_export(model_dir, out, avoid=avoid or [], frame=frame, overwrite=overwrite)
     typer.echo(summary)
 

@@ -17,8 +17,8 @@ resolution and origin, occupied (100) on the territories of the avoided places (
 for "avoid the kitchen": :func:`~spcotmhp.planning.avoid.avoided_view`) and free elsewhere; served by a second
 map_server with costmap_filter_info_server type 0 (keepout), base 0, multiplier 1 (README.md beside it).
 
-A building's model exports one route graph per floor and the connectors between them (:mod:`spcotmhp.building.
-nav2`).
+A building's model exports one route graph per floor and the connectors between them
+(:func:`spcotmhp.building.nav2.export_building`).
 """
 
 from __future__ import annotations
@@ -130,13 +130,10 @@ def export_nav2(
     """Write ``out``/route_graph.geojson, README.md and, with ``avoid``, keepout.yaml + keepout.pgm; the folder
     is built beside ``out`` and swapped in. ``out`` must be absent, an empty folder or (with ``overwrite``) an
     earlier export. Returns a one-line summary."""
-    from spcotmhp.building.io import is_building_model
     from spcotmhp.learning.io import load_model
 
     out = Path(out)
-    if is_building_model(model_dir):
-        return _export_building(Path(model_dir), out, avoid, frame, overwrite)
-    _check_target(out, Path(model_dir), overwrite)
+    check_target(out, Path(model_dir), overwrite)
     planner = HierarchicalPlanner(load_model(model_dir))
     doc = route_graph(planner, frame)
     mask, avoided = keepout_mask(planner, avoid) if avoid else (None, [])
@@ -158,24 +155,7 @@ def export_nav2(
     return text
 
 
-def _export_building(model_dir: Path, out: Path, avoid: Sequence[str], frame: str, overwrite: bool) -> str:
-    """A building's export (:mod:`spcotmhp.building.nav2`): a route graph per floor and the connectors."""
-    from spcotmhp.building.io import load_building_model
-    from spcotmhp.building.nav2 import CONNECTORS, floor_folder, write_building_export
-    from spcotmhp.building.planner import BuildingPlanner
-
-    if avoid:
-        raise SpcotmhpError("--avoid (a keepout mask) is for a single floor's model; a building's export has none yet")
-    bm = load_building_model(model_dir)
-    _check_target(out, model_dir, overwrite, (ROUTE_GRAPH, "README.md", CONNECTORS, *map(floor_folder, bm.indices)))
-    planner = BuildingPlanner(bm)
-    counts: list[tuple[int, int]] = []
-    build_folder(out, lambda folder: counts.append(write_building_export(planner, folder, frame)))
-    floors, connectors = counts[0]
-    return f"wrote {out}: route graphs of {floors} floors and {connectors} connectors ({CONNECTORS})"
-
-
-def _check_target(out: Path, model_dir: Path, overwrite: bool, allowed: Sequence[str] = EXPORT_FILES) -> None:
+def check_target(out: Path, model_dir: Path, overwrite: bool, allowed: Sequence[str] = EXPORT_FILES) -> None:
     if out.is_symlink() or (out.exists() and not out.is_dir()):
         raise SpcotmhpError(f"--out {out} exists and is not a folder; give a folder")
     if model_dir.exists() and (same_file(out, model_dir) or model_dir.resolve().is_relative_to(out.resolve())):

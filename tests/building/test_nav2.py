@@ -11,11 +11,10 @@ import pytest
 
 from spcotmhp.building.io import save_building_model
 from spcotmhp.building.learn import learn_building
-from spcotmhp.building.nav2 import building_route_graphs
+from spcotmhp.building.nav2 import building_route_graphs, export_building
 from spcotmhp.building.planner import BuildingPlanner
 from spcotmhp.building.synthetic import generate_building
 from spcotmhp.errors import SpcotmhpError
-from spcotmhp.ros.nav2_export import export_nav2
 
 
 @pytest.fixture(scope="module")
@@ -54,12 +53,18 @@ def test_graphs_per_floor_and_connectors(bm):
 
 def test_export_folder(bm, tmp_path):
     model = save_building_model(bm, tmp_path / "m")
-    summary = export_nav2(model, tmp_path / "nav")
+    summary = export_building(model, tmp_path / "nav")
     assert summary.endswith("route graphs of 3 floors and 2 connectors (connectors.json)")
     assert sorted(p.name for p in (tmp_path / "nav").iterdir()) == [
         "README.md", "connectors.json", "floor1", "floor2", "floor3"]  # fmt: skip
     doc = json.loads((tmp_path / "nav" / "connectors.json").read_text())
     assert all((tmp_path / "nav" / f["route_graph"]).is_file() for f in doc["floors"])
-    export_nav2(model, tmp_path / "nav", overwrite=True)  # an earlier building export may be replaced
+    export_building(model, tmp_path / "nav", overwrite=True)  # an earlier building export may be replaced
     with pytest.raises(SpcotmhpError, match="--avoid"):
-        export_nav2(model, tmp_path / "nav2", avoid=["kitchen"])
+        export_building(model, tmp_path / "nav2", avoid=["kitchen"])
+    from typer.testing import CliRunner
+
+    from spcotmhp.cli import app
+
+    res = CliRunner().invoke(app, ["export-nav2", str(model), "--out", str(tmp_path / "cli")])
+    assert res.exit_code == 0 and "route graphs of 3 floors" in res.output, res.output

@@ -1,5 +1,5 @@
 """Planning in a building (the stitched Eq. 28 search): goals on a named floor end there, in the closest instance
-(an independent geodesic oracle, tests/helpers/building.py); shared names pick the closest over all floors
+(an independent geodesic oracle, spcotmhp/evaluation/building_battery.py); shared names pick the closest over all floors
 counting the connectors' costs; segments join at the connectors; floor words; refusals."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from spcotmhp.building.planner import BuildingPlanner
 from spcotmhp.building.synthetic import generate_building, lift_only_floor
 from spcotmhp.errors import FloorUnreachable, MalformedInstruction, PlaceNotOnFloor, UnknownFloor
 from spcotmhp.evaluation.battery import CLOSEST_TOLERANCE_M
-from tests.helpers.building import BuildingOracle
+from spcotmhp.evaluation.building_battery import BuildingOracle
 
 
 @pytest.fixture(autouse=True)

@@ -1,7 +1,9 @@
-"""An independent oracle for plans in a building: geodesic route lengths over the robot cells of every floor
-(no cost map: :func:`~spcotmhp.evaluation.reference.robot_cells`, steps 1 and sqrt 2) joined by the connectors'
-cost_m, by Dijkstra over the connectors' stops; the ground-truth places of each floor's dataset
-(:func:`~spcotmhp.evaluation.tasks.build_places`)."""
+"""Issue 28's acceptance battery for buildings, scored by an independent oracle: geodesic route lengths over the
+robot cells of every floor (no cost map: :func:`~spcotmhp.evaluation.reference.robot_cells`, steps 1 and sqrt 2),
+joined by the connectors' cost_m, by Dijkstra over the connectors' stops; the ground-truth places of each floor's
+dataset (:func:`~spcotmhp.evaluation.tasks.build_places`). The planner optimises Eq. 28 (walked cells weighted by
+the cost map, rides at their cost_m in metres of free floor); the oracle measures plain metres, so two instances
+whose routes differ by less than the single-floor battery's CLOSEST_TOLERANCE_M count as equally close."""
 
 from __future__ import annotations
 
@@ -88,7 +90,7 @@ def battery(building: Building, planner, starts_per_floor: int = 2) -> dict:
     oracle = BuildingOracle(building)
     names = sorted({p.name for ps in oracle.places.values() for p in ps})
     shared = [n for n in names if len({f for f, _ in oracle.named(n)}) > 1]
-    out = {"plans": 0, "on_floor": 0, "closest": 0, "no_path": 0, "failures": []}
+    out: dict = {"plans": 0, "on_floor": 0, "closest": 0, "no_path": 0, "failures": []}
     for f0, d in building.floors.items():
         for p in oracle.places[f0][:starts_per_floor]:
             xy = tuple(d.map.cell_to_world(np.array(p.cell)))

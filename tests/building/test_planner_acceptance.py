@@ -1,9 +1,9 @@
-"""Issue 28's acceptance battery on generated buildings of 2 to 5 floors (names repeated across floors, one floor
-reached only by the lift): every "go to the X" with the goal on floor F ends on floor F in the closest instance
-there, every "go to the X" in the closest instance over all floors counting the connectors' costs (within the
-single-floor battery's tolerance, against the independent geodesic oracle of tests/helpers/building.py), and no
-"no path" where a connector route exists. docs/buildings.md gives the figures on more seeds and on learned
-models."""
+"""Issue 28's acceptance battery (:mod:`spcotmhp.evaluation.building_battery`) on generated buildings of 2 to 5
+floors (names repeated across floors, one floor reached only by the lift): every "go to the X" with the goal on
+floor F ends on floor F in the closest instance there, every "go to the X" in the closest instance over all floors
+counting the connectors' costs (within the single-floor battery's tolerance, against the independent geodesic
+oracle), and no "no path" where a connector route exists. docs/buildings.md gives the figures on more seeds and
+on learned models (benchmarks/building_battery.py)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import pytest
 from spcotmhp.building.learn import learn_building
 from spcotmhp.building.planner import BuildingPlanner
 from spcotmhp.building.synthetic import generate_building, lift_only_floor
-from tests.helpers.building import battery
+from spcotmhp.evaluation.building_battery import battery
 
 
 @pytest.mark.parametrize(("floors", "seed"), [(2, 1), (3, 2), (4, 3), (5, 4)])
