@@ -29,6 +29,7 @@ MODULES = [
     "spcotmhp.building.layout",
     "spcotmhp.building.loader",
     "spcotmhp.building.learn",
+    "spcotmhp.building.model",
     "spcotmhp.datasets.synthetic_furniture",
     "spcotmhp.speech.lexicon",
     "spcotmhp.limits",

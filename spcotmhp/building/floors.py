@@ -1,15 +1,15 @@
 """Which floor each place of an instruction is on, as a building's planner reads it.
 
-Until the grammar reads floor phrases ("on the second floor", "upstairs", 2階の寝室; docs/buildings.md lists what
-it is to produce), floors come as structured values:
+Floors come from the words (the grammar's floor phrases, :mod:`spcotmhp.language.floors`: "the bedroom on the
+second floor", "upstairs", 2階の寝室, on each :class:`~spcotmhp.planning.query.PlaceQuery`'s ``floor``) and as
+structured values:
 
 * ``floor=F`` (the API's keyword, the CLI's ``--floor`` with the start, the HTTP ``floor``) is the *start's*
   floor; ``goal_floor=G`` the goal's;
 * in a structured instruction a place object may carry ``"floor"``: ``{"goal": {"words": "bedroom", "floor":
   2}, "waypoints": [{"words": "kitchen", "floor": "downstairs"}], "avoid": [{"words": "bath", "floor": 1}]}``,
   and a top-level ``"floor"`` is the goal's;
-* an :class:`~spcotmhp.planning.query.PlaceQuery` with a ``floor`` attribute (what the grammar will give) is
-  read as well.
+* a floor given both ways must agree (MalformedInstruction otherwise).
 
 A floor value is a floor's index (an int), its name ("ground"), or "upstairs" / "downstairs" (the next floor up or
 down from the start's, in index order: :meth:`~spcotmhp.building.model.BuildingModel.resolve_floor`). A place with
@@ -43,14 +43,37 @@ class PlaceFloors:
 
     @classmethod
     def of(cls, ins: Instruction, given: PlaceFloors | None = None) -> PlaceFloors:
-        """The floors ``given`` by a structured form, else those the instruction's places carry (``floor``)."""
-        if given is not None:
-            return given
-        return cls(
+        """The floors the instruction's places carry (``floor``, from the words), with those ``given`` by a
+        structured form or ``goal_floor`` (for the goal alone when their counts differ); MalformedInstruction
+        when both give a place different floors."""
+        said = cls(
             tuple(getattr(q, "floor", None) for q in ins.stages),
             tuple(getattr(q, "floor", None) for q in ins.avoid),
             tuple(getattr(q, "floor", None) for q in ins.not_goal),
         )
+        if given is None:
+            return said
+        if len(given.stages) != len(ins.stages):  # goal_floor with a sentence
+            given = cls((None,) * (len(ins.stages) - 1) + (given.stages[-1],))
+        return cls(
+            _merge(said.stages, given.stages, [q.label for q in ins.stages]),
+            _merge(said.avoid, given.avoid, [q.label for q in ins.avoid]),
+            _merge(said.not_goal, given.not_goal, [q.label for q in ins.not_goal]),
+        )
+
+
+def _merge(said: tuple[object, ...], given: tuple[object, ...], labels: list[str]) -> tuple[object, ...]:
+    """Each place's floor from the words or from the structured value (missing values: None)."""
+    out = []
+    for k, label in enumerate(labels):
+        a = said[k] if k < len(said) else None
+        b = given[k] if k < len(given) else None
+        if a is not None and b is not None and str(a).lower() != str(b).lower():
+            raise MalformedInstruction(
+                f"the floor of '{excerpt(label)}' is given twice ({excerpt(a)} and {excerpt(b)})"
+            )
+        out.append(a if a is not None else b)
+    return tuple(out)
 
 
 def check_value(value: Any, where: str) -> object:

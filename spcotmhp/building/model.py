@@ -28,6 +28,8 @@ from spcotmhp.learning.model import SpatialConceptModel
 
 RELATIVE = {"upstairs": 1, "up": 1, "above": 1, "downstairs": -1, "down": -1, "below": -1}
 """Floor words read relative to the start's floor: the next floor up or down, in index order."""
+ENDS = {"top": 1, "bottom": -1}
+"""Floor words for the highest and lowest floor (index order), unless a floor has that name."""
 
 
 @dataclass
@@ -109,8 +111,24 @@ class BuildingModel:
         raise UnknownFloor(f"the building has no floor {str(value)[:40]!r}; its floors: {self.spec.describe_floors()}")
 
     def resolve_floor(self, value: object, start_floor: int) -> int:
-        """:meth:`check_floor`, and "upstairs"/"downstairs" (:data:`RELATIVE`): the next floor up or down from
-        ``start_floor``, in index order (UnknownFloor when there is none)."""
+        """:meth:`check_floor` (an index, or a floor's name in any case: "Ground"), "upstairs"/"downstairs"
+        (:data:`RELATIVE`): the next floor up or down from ``start_floor``, in index order (UnknownFloor when there
+        is none), and, when no floor has that name, "top"/"bottom" (:data:`ENDS`): the highest or lowest index.
+        An int is the index the words gave: "the second floor" is the floor of index 2, whatever its name.
+
+        >>> from spcotmhp.building.spec import parse_spec
+        >>> spec = parse_spec({"floors": [{"index": 0, "name": "Ground", "dataset": "g"},
+        ...                               {"index": 1, "name": "first", "dataset": "f"}]}, "b")
+        >>> bm = BuildingModel.__new__(BuildingModel); bm.spec = spec
+        >>> [bm.resolve_floor(v, 0) for v in ("ground", "UPSTAIRS", "top", "bottom", 1, "1")]
+        [0, 1, 1, 0, 1, 1]
+        """
+        if (
+            isinstance(value, str)
+            and value.strip().lower() in ENDS
+            and not any(f.name.lower() == value.strip().lower() for f in self.spec.floors)
+        ):
+            return self.indices[-1] if ENDS[value.strip().lower()] > 0 else self.indices[0]
         if isinstance(value, str) and value.strip().lower() in RELATIVE:
             step = RELATIVE[value.strip().lower()]
             order = self.indices

@@ -122,8 +122,8 @@ class BuildingPlanner:
         t0 = time.perf_counter()
         f0 = self.bm.check_floor(floor)
         raw, given = split_floors(instruction, goal_floor)
-        ins = parse_instruction(raw, self.bm.model, self.place_words, lang)
-        resolved = self._resolve(PlaceFloors.of(ins, _aligned(given, ins)), f0)
+        ins = parse_instruction(raw, self.bm.model, self.place_words, lang, floors=True)
+        resolved = self._resolve(PlaceFloors.of(ins, given), f0)
         home = self.floors[f0]
         x0, cell, escape = start_cell(home.model, home.graph, start)
         region, cell = home.graph.for_start(cell)
@@ -234,11 +234,3 @@ class BuildingPlanner:
         assert board is not None and leave is not None
         c = self.bm.spec.connectors[board.connector]
         return Ride(c.name, c.kind, (board.floor, board.point), (leave.floor, leave.point), c.cost_m)
-
-
-def _aligned(given: PlaceFloors | None, ins) -> PlaceFloors | None:
-    """Floors given for the goal alone (``goal_floor`` with a sentence) stretched over the instruction's stages."""
-    if given is None or len(given.stages) == len(ins.stages):
-        return given
-    return PlaceFloors((None,) * (len(ins.stages) - 1) + (given.stages[-1],), (None,) * len(ins.avoid),
-                       (None,) * len(ins.not_goal))  # fmt: skip

@@ -167,3 +167,92 @@ def test_a_floor_no_connector_reaches(bm, oracle):
         planner.plan("go to the kitchen", starts(oracle, other)[0], other, goal_floor=lift_only)
     # with the name on every floor, the goal is on a floor the stairs reach
     assert planner.plan("go to the kitchen", starts(oracle, other)[0], other).segments[-1].floor != lift_only
+
+
+@pytest.mark.parametrize(
+    ("text", "start_floor", "goal_floor"),
+    [
+        ("go to the bedroom on the second floor", 1, 2),  # "the Nth floor" is the floor of index N
+        ("go to the bedroom on floor 3", 1, 3),
+        ("go to the bedroom upstairs", 2, 3),
+        ("go upstairs to the bedroom", 1, 2),
+        ("go to the bedroom downstairs", 2, 1),
+        ("go to the kitchen on the top floor", 1, 3),
+        ("go to the kitchen on the ground floor", 3, 1),  # the floor named "ground"
+        ("go to the bedroom on the floor above", 1, 2),
+    ],
+)
+def test_sentences_name_floors(planner, oracle, text, start_floor, goal_floor):
+    xy = starts(oracle, start_floor)[0]
+    plan = planner.plan(text, xy, start_floor)
+    assert plan.segments[-1].floor == goal_floor and plan.floors[-1] == goal_floor
+    check_closest(oracle, plan, start_floor, xy, text.split(" the ")[1].split()[0], goal_floor)
+
+
+def test_sentences_with_floors_on_several_places(planner, oracle):
+    xy = starts(oracle, 2)[0]
+    plan = planner.plan("go to the bedroom on the third floor via the kitchen on the first floor", xy, 2)
+    floors = [s.floor for s in plan.segments]
+    assert floors[0] == 2 and 1 in floors and floors[-1] == 3
+    waypoint = [(f, p) for f, p in plan.places if p.role == "waypoint"]
+    assert [f for f, _ in waypoint] == [1] and "kitchen" in waypoint[0][1].label
+    avoid = planner.plan("go to the bedroom on floor 2 avoiding the corridor on the second floor", xy, 2)
+    names = planner.floors[2].names
+    corridors = [k for k in np.flatnonzero(bm_places(planner, 2)) if names[k] == "corridor"]
+    graph = planner.floors[2].graph
+    crop = graph.to_crop(avoid.segments[-1].cells)
+    assert not np.isin(graph.territory[crop[:, 0], crop[:, 1]], corridors).any()
+    with pytest.raises(UnknownFloor, match="above floor 3"):
+        planner.plan("go to the bedroom upstairs", starts(oracle, 3)[0], 3)
+
+
+def bm_places(planner, floor):
+    return planner.bm.floor_places(floor)
+
+
+@pytest.fixture(scope="module")
+def japanese():
+    """Two bundled Japanese homes as the floors of one building, stairs between their entrances."""
+    from spcotmhp.building.loader import Building
+    from spcotmhp.building.spec import BuildingSpec, Connector, FloorSpec, Stop
+    from spcotmhp.datasets.bundled import load_bundled
+    from spcotmhp.evaluation.tasks import build_places
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        floors = {1: load_bundled("3LDK_01", lang="ja"), 2: load_bundled("3LDK_06", lang="ja")}
+
+    def entrance(d):
+        p = next(p for p in build_places(d) if "玄関" in p.name)
+        return d.map.cell_to_world(np.array(p.cell))
+
+    (x1, y1), (x2, y2) = entrance(floors[1]), entrance(floors[2])
+    stairs = Connector("stairs", "stairs", (Stop(1, float(x1), float(y1)), Stop(2, float(x2), float(y2))), 8.0)
+    spec = BuildingSpec("ja-2f", (FloorSpec(1, "1階", "f1"), FloorSpec(2, "2階", "f2")), (stairs,))
+    building = Building(spec, floors)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return building, BuildingPlanner(learn_building(building))
+
+
+@pytest.mark.parametrize("text", ["2階の寝室に行って", "上の階の寝室に行って"])
+def test_japanese_floor_phrases(japanese, text):
+    building, planner = japanese
+    oracle = BuildingOracle(building)
+    stop = building.spec.connectors[0].stops[0]
+    plan = planner.plan(text, (stop.x, stop.y), 1)
+    assert plan.segments[-1].floor == 2 and "寝室" in plan.goal[1].label and len(plan.rides) == 1
+    check_closest(oracle, plan, 1, (stop.x, stop.y), "寝室", 2)
+    anywhere = planner.plan("寝室に行って", (stop.x, stop.y), 1)
+    check_closest(oracle, anywhere, 1, (stop.x, stop.y), "寝室", None)
+
+
+def test_floors_given_twice_must_agree(planner, oracle):
+    xy = starts(oracle, 1)[0]
+    same = planner.plan("go to the bedroom on floor 2", xy, 1, goal_floor=2)
+    assert same.segments[-1].floor == 2
+    with pytest.raises(MalformedInstruction, match="given twice"):
+        planner.plan("go to the bedroom on floor 2", xy, 1, goal_floor=3)
+    # a floor said for the waypoint and one given for the goal both hold
+    plan = planner.plan("go to the bedroom via the kitchen on floor 3", xy, 1, goal_floor=2)
+    assert plan.floors == (3, 2) and plan.segments[-1].floor == 2
