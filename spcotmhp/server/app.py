@@ -41,8 +41,8 @@ from spcotmhp.server.limits import (
 from spcotmhp.server.registry import ServedModel, load_served
 from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
+    AnyAudioPlanResponse,
     AnyPlanResponse,
-    AudioPlanResponse,
     ErrorResponse,
     Health,
     MapInfo,
@@ -226,7 +226,7 @@ def create_app(
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 
-    @app.post("/plan/audio", response_model=AudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
+    @app.post("/plan/audio", response_model=AnyAudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
     async def plan_audio(
         request: Request,
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
@@ -234,6 +234,9 @@ def create_app(
         model: Annotated[str | None, Form(max_length=200)] = None,
         nbest: Annotated[int, Form(ge=1, le=20, description="Hypotheses to keep.")] = 5,
         query_model: Annotated[str | None, Query(alias="model", max_length=200)] = None,
+        floor: Annotated[
+            str | None, Form(max_length=64, description="A building's model only: the start's floor (index or name).")
+        ] = None,
     ) -> dict:
         """Recognise a spoken instruction (pocketsphinx, grammar of the model's place words) and plan from its
         N-best hypotheses (Eq. 25). An error once recognised also lists the ``hypotheses``."""
@@ -255,7 +258,7 @@ def create_app(
             raise APIError(501, str(exc)) from None
         heard = [{"text": t, "score": s} for t, s in hypotheses]
         try:
-            out = await _plan(sm, hypotheses, xy, "en", _client(request))
+            out = await _plan(sm, hypotheses, xy, "en", _client(request), floor)
         except APIError as exc:  # what was heard helps with a plan that failed (an unknown word, a bad start)
             exc.extra["hypotheses"] = heard
             raise

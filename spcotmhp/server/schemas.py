@@ -262,6 +262,16 @@ class AudioPlanResponse(PlanResponse):
     hypotheses: list[Hypothesis]
 
 
+class AudioBuildingPlanResponse(BuildingPlanResponse):
+    """A plan in a building from speech, with the recognised hypotheses it was planned from."""
+
+    hypotheses: list[Hypothesis]
+
+
+AnyAudioPlanResponse = Annotated[AudioBuildingPlanResponse | AudioPlanResponse, Field(union_mode="left_to_right")]
+"""What ``POST /plan/audio`` returns."""
+
+
 class PlaceOut(BaseModel):
     id: int
     name: str

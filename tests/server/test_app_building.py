@@ -71,3 +71,22 @@ def test_a_single_floor_answer_is_unchanged(served):
     assert res.status_code == 200, res.text
     assert not {"segments", "rides", "floor", "goal_floor", "route_m"} & set(res.json())
     assert res.json()["path"][0] == pytest.approx(start, abs=0.05)
+
+
+def test_plan_from_speech_in_a_building(served, monkeypatch):
+    """/plan/audio takes the start's floor too (the recogniser replaced: what it heard is given)."""
+    import spcotmhp.speech as speech
+
+    bm, client = served
+
+    class Heard:
+        def recognise(self, data, nbest, name):
+            return [("go to the bedroom upstairs", 0.0)]
+
+    monkeypatch.setattr(speech, "cached_recogniser", lambda words: Heard())
+    start = ",".join(str(v) for v in start_of(bm))
+    wav = {"audio": ("say.wav", b"RIFF", "audio/wav")}
+    res = client.post("/plan/audio?model=house", files=wav, data={"start": start, "floor": "1"})
+    assert res.status_code == 200, res.text
+    d = res.json()
+    assert [s["floor"] for s in d["segments"]] == [1, 2] and d["hypotheses"][0]["text"] == "go to the bedroom upstairs"
