@@ -32,28 +32,20 @@ def route_metres(rides: Rides, segments: list[Segment]) -> float:
 def lower_bound(rides: Rides, st: Stitched, alt: SearchResult, parts: dict[int, FloorPart]) -> float:
     """A lower bound of the route of ``alt`` (module docstring), in metres."""
     here = (int(st.floor_of[alt.nodes[0]]), np.asarray(st.start_cell))
-    total = 0.0
+    total, prev = 0.0, -1
     for node, done in zip(alt.nodes.tolist(), alt.completed, strict=True):
         floor, local = int(st.floor_of[node]), int(st.local[node])
         stop = st.stops[node - st.n_floor_nodes] if local < 0 else None
+        if floor != here[0] and stop is not None and prev >= st.n_floor_nodes:  # a ride from the stop before
+            total += rides.get((st.stops[prev - st.n_floor_nodes].id, stop.id), 0.0)
+        prev = node
         if local >= 0 and not done:
             continue  # a place passed through: smoothing may cut its corner
         cell = np.asarray(stop.cell) if stop is not None else parts[floor].graph.node_cell[local]
         if floor == here[0]:
-            res = float(parts[floor].planner.model.require_map().resolution)
-            total += res * explain.octile(here[1], cell)
-        elif stop is not None:
-            total += _ride(rides, st, alt, node)
+            total += float(parts[floor].planner.model.require_map().resolution) * explain.octile(here[1], cell)
         here = (floor, cell)
     return total
-
-
-def _ride(rides: Rides, st: Stitched, alt: SearchResult, node: int) -> float:
-    """The cost_m of the ride arriving at stop ``node`` (from the stop before it in ``alt``)."""
-    seq = alt.nodes.tolist()
-    prev = seq[seq.index(node) - 1]
-    a, b = st.stops[prev - st.n_floor_nodes], st.stops[node - st.n_floor_nodes]
-    return rides.get((a.id, b.id), 0.0)
 
 
 def goal_options(

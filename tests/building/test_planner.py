@@ -256,3 +256,32 @@ def test_floors_given_twice_must_agree(planner, oracle):
     # a floor said for the waypoint and one given for the goal both hold
     plan = planner.plan("go to the bedroom via the kitchen on floor 3", xy, 1, goal_floor=2)
     assert plan.floors == (3, 2) and plan.segments[-1].floor == 2
+
+
+def test_goal_options_bound_and_revisited_stops(planner, oracle):
+    """Options whose route goes back through a stop it used (down the stairs it came up) are scored; an option
+    left inexact has a lower bound no shorter than the shortest exact route, and every bound is below the exact
+    route of its option (assembled here for all of them)."""
+    from spcotmhp.building import options as opts
+
+    xy = starts(oracle, 2)[0]
+    plan = planner.plan("go to the kitchen via the bedroom upstairs", xy, 2)
+    assert [s.floor for s in plan.segments][:2] == [2, 3]
+    assert len(plan.goal_options) == 3 and {o.floor for o in plan.goal_options} == {1, 2, 3}
+    exact = [o.route_m for o in plan.goal_options if o.exact]
+    assert all(o.route_m >= min(exact) - 1e-9 for o in plan.goal_options if not o.exact)
+    seen = []
+    real = opts.lower_bound
+
+    def spy(rides, st, alt, parts):
+        bound = real(rides, st, alt, parts)
+        segs = opts.assemble(st, alt, parts, st.start_cell, np.empty((0, 2), np.int64), planner.fields, True)
+        seen.append((bound, opts.route_metres(rides, segs)))
+        return bound
+
+    opts.lower_bound = spy
+    try:
+        planner.plan("go to the kitchen via the bedroom upstairs", xy, 2)
+    finally:
+        opts.lower_bound = real
+    assert seen and all(b <= r + 1e-9 for b, r in seen)
