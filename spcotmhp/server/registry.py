@@ -166,36 +166,40 @@ class ServedModel:
         never waits for a second precomputation."""
         return self.planner
 
-    async def teach_async(self, utterance: str, x: float, y: float, client: str = "") -> dict:
+    async def teach_async(self, utterance: str, x: float, y: float, client: str = "", floor: object = None) -> dict:
         """:meth:`teach` on the teaching lane, within its admission limits and time budget (TeachingBusy)."""
         return await run_in_lane(
             self.teach_lane,
             client,
             self.budget.teach_budget,
-            lambda: self.teach(utterance, x, y),
+            lambda: self.teach(utterance, x, y, floor),
             lambda why: TeachingBusy(f"the teach was {why}; it is applied when it finishes"),
         )
 
-    def teach(self, utterance: str, x: float, y: float) -> dict:
+    def teach(self, utterance: str, x: float, y: float, floor: object = None) -> dict:
         """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), update
         the planning graph off the planning lanes (``PlanningGraph.update``: only the fields of new or moved nodes),
         then swap model, planner and labels in at once under the light lane's lock, so that every later plan uses
         the update and no plan sees half of it; the map picture is drawn again on its next request. Teaches of
         one model run one at a time; the served model stays as it was on a TeachingError. The update lives in
-        memory (the model folder is not rewritten)."""
+        memory (the model folder is not rewritten). A building's model is taught on ``floor`` ((x, y) in that
+        floor's map frame: :func:`~spcotmhp.building.learn.teach_building`) and its building planner made again."""
         from spcotmhp.learning.teach import planner_for, teach
 
-        if self.building is not None:
-            raise TeachingError(
-                f"model {self.name!r} is a building's: teaching it over HTTP is not supported yet (teach the "
-                "building's model in Python with spcotmhp.building.learn.teach_building, which takes a floor)"
-            )
+        if (floor is None) != (self.building is None):
+            why = "give 'floor', the floor taught on" if floor is None else "'floor' is for a building's model"
+            raise TeachingError(f"model {self.name!r}: {why}")
         with self._teaching:
-            taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
+            building = self.building
+            if building is not None:
+                updated, taught = _teach_building(building, utterance, x, y, floor)
+                building = _building_planner(updated, self.cache, warm=False)
+            else:
+                taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
             planner, seconds = planner_for(taught.model, self.planner.settings, self.planner, self.cache)
             labels = place_display_labels(taught.model, planner.place_words)
             with self.lock:
-                self.model, self.planner, self.labels = taught.model, planner, labels
+                self.model, self.planner, self.labels, self.building = taught.model, planner, labels, building
                 with self._draw:
                     self._image, self._figure = None, None
                 self.version += 1
@@ -286,11 +290,22 @@ def load_served(
     return out
 
 
-def _building_planner(bm: BuildingModel, cache: GraphCache) -> BuildingPlanner:
+def _building_planner(bm: BuildingModel, cache: GraphCache, warm: bool = True) -> BuildingPlanner:
     """The building's planner, on the served model's graph cache, warmed up as the single floor's."""
     from spcotmhp.building.planner import BuildingPlanner
 
     planner = BuildingPlanner(bm, cache=cache)
-    for p in planner.floors.values():
+    for p in planner.floors.values() if warm else ():
         p.warm_up()
     return planner
+
+
+def _teach_building(building: BuildingPlanner, utterance: str, x: float, y: float, floor: object):
+    """:func:`~spcotmhp.building.learn.teach_building` with a floor the building lacks as a TeachingError (422)."""
+    from spcotmhp.building.learn import teach_building
+    from spcotmhp.errors import UnknownFloor
+
+    try:
+        return teach_building(building.bm, [{"x": x, "y": y, "utterance": utterance}], floor)
+    except UnknownFloor as exc:
+        raise TeachingError(str(exc)) from None

@@ -122,6 +122,9 @@ class TeachRequest(BaseModel):
     x: Number
     y: Number
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
+    floor: int | Annotated[str, Field(min_length=1, max_length=64)] | None = Field(
+        None, description="A building's model only (required there): the floor taught on; x, y in its map frame."
+    )
 
 
 class TeachResponse(BaseModel):

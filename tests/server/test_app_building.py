@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import warnings
 
+import numpy as np
 import pytest
 
 from spcotmhp.building.io import save_building_model
@@ -60,7 +61,28 @@ def test_floor_rules(served):
     flat = client.post("/plan?model=flat", json={"instruction": "go to the kitchen", "start": [1.0, 1.0], "floor": 1})
     assert flat.status_code == 422 and "is one floor" in flat.json()["detail"]
     taught = client.post("/teach?model=house", json={"utterance": "this is the study", "x": 1.0, "y": 1.0})
-    assert taught.status_code == 422 and "building's" in taught.json()["detail"]
+    assert taught.status_code == 422 and "give 'floor'" in taught.json()["detail"]
+    body = {"utterance": "this is the study", "x": 1.0, "y": 1.0, "floor": 1}
+    assert client.post("/teach?model=flat", json=body).status_code == 422
+    nowhere = client.post("/teach?model=house", json={**body, "floor": 7})
+    assert nowhere.status_code == 422 and "no floor '7'" in nowhere.json()["detail"]
+
+
+def test_teach_on_a_floor(tmp_path):
+    """A teach on floor 2 of a building makes a place there that later plans reach across floors."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = load_building(example_path())
+        bm = learn_building(building)
+    client = TestClient(create_app({"house": save_building_model(bm, tmp_path / "m")}), base_url="http://localhost")
+    d2 = building.floors[2]
+    spot = d2.positions[int(np.argmax(np.hypot(*(d2.positions - d2.positions.mean(axis=0)).T)))]
+    taught = client.post("/teach", json={"utterance": "this is the library", "x": spot[0], "y": spot[1], "floor": 2})
+    assert taught.status_code == 200, taught.text
+    res = client.post("/plan", json={"instruction": "go to the library", "start": start_of(bm), "floor": 1})
+    assert res.status_code == 200, res.text
+    goal = res.json()["places"][-1]
+    assert goal["floor"] == 2 and "library" in goal["label"] and [s["floor"] for s in res.json()["segments"]] == [1, 2]
 
 
 def test_a_single_floor_answer_is_unchanged(served):
