@@ -52,7 +52,7 @@ import functools
 import itertools
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import fields, replace
 from typing import Any
 
@@ -78,7 +78,7 @@ from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instructi
 from spcotmhp.planning.places import LabelIndex, by_label, inside_places
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.relations import PlaceGeometry, place_geometry, resolve
-from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
+from spcotmhp.planning.search import SearchProblem, SearchResult, search, solve, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
 from spcotmhp.planning.vocabulary import parse_instruction, place_labels, place_vocabulary
@@ -185,8 +185,7 @@ class HierarchicalPlanner:
                 f"the start is within the robot's radius of an obstacle: the path first moves "
                 f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), res):.2f} m clear"
             )
-        problem_for = functools.partial(self._problem, graph, posterior, cell, semantic, inst, S)
-        result = self._solve(graph, problem_for, ins, x0, avoided, notes)
+        result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self.metric_path(graph, cell, result)
         occ = model.require_map()
         node_points = occ.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
@@ -350,19 +349,30 @@ class HierarchicalPlanner:
     def _solve(
         self,
         graph: PlanningGraph,
-        problem_for: Callable[..., SearchProblem],
+        posterior: np.ndarray,
+        cell: np.ndarray,
+        semantic: np.ndarray,
+        inst: np.ndarray,
         ins: Instruction,
         x0: np.ndarray,
         avoided: np.ndarray,
         notes: list[str],
     ) -> SearchResult:
-        """Algorithm 1, line 11: the Eq. 28 search (``problem_for(metric=...)``: :meth:`_problem` of this query);
-        when no place sequence satisfies the instruction, a longer horizon would
-        (:class:`~spcotmhp.errors.HorizonTooShort`), else the metric fallback (noted in ``notes``), else the
-        reason (:func:`~spcotmhp.planning.search.why_no_plan`)."""
+        """Algorithm 1, line 11: the Eq. 28 search (:meth:`_problem` of this query); when no place sequence
+        satisfies the instruction, a longer horizon would (:class:`~spcotmhp.errors.HorizonTooShort`), else the
+        metric fallback (noted in ``notes``), else the reason (:func:`~spcotmhp.planning.search.why_no_plan`).
+        The first search reads the planner's own arrays as they are (:func:`~spcotmhp.planning.search.solve`:
+        the (S, K) place terms, no (S, M) copies, no second check of what this class built)."""
         S = len(ins.stages)
+        start_w_hat = graph.start_w_hat(cell)
+        problem_for = functools.partial(self._problem, graph, posterior, start_w_hat, semantic, inst, S)
+        if not self.settings.adjacent_only:
+            start = self.terms.start_terms(posterior, graph.node_place, start_w_hat)
+            result = solve(graph.log_transition_all, start, semantic, inst, graph.node_place, self._horizon(S))
+            if result is not None:
+                return result
         problem = problem_for(metric=False)
-        result = search(problem)
+        result = search(problem) if self.settings.adjacent_only else None
         if result is not None:
             return result
         longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
@@ -379,33 +389,36 @@ class HierarchicalPlanner:
         notes.append("the place graph has no route for this instruction: metric route over the free space")
         return result
 
+    def _horizon(self, S: int) -> int:
+        """The topological horizon E for ``S`` stages (module docstring)."""
+        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
+        return int(E)
+
     def _problem(
         self,
         graph: PlanningGraph,
         posterior: np.ndarray,
-        cell: np.ndarray,
+        start_w_hat: np.ndarray,
         semantic: np.ndarray,
         inst: np.ndarray,
         S: int,
         metric: bool = False,
     ) -> SearchProblem:
-        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`). With ``metric``, the fallback:
-        any node may follow any other (the legs are free-space paths) and the transition term is dropped."""
+        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`; ``start_w_hat``: the graph's start legs
+        from the query's cell). With ``metric``, the fallback: any node may follow any other (the legs are
+        free-space paths) and the transition term is dropped."""
         nodes = graph.node_place
-        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
-        start_w_hat = graph.start_w_hat(cell)
+        E = self._horizon(S)
         if metric:
             ur = self.terms.log_ur[nodes]
-            return SearchProblem(
-                graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], int(E)
-            )
-        start = self.terms.start_terms(posterior, nodes) + start_w_hat  # log sum_k p(k|x0) psi[k, i_1] - log UR
+            return SearchProblem(graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], E)
+        start = self.terms.start_terms(posterior, nodes, start_w_hat)  # log sum_k p(k|x0) psi[k, i_1] - log UR
         if not self.settings.adjacent_only:
-            return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], int(E))
+            return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], E)
         plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
         first = graph.connected[plausible].any(axis=0)[nodes]  # i_1 next to a plausible i_0
         start = np.where(first, start, -np.inf)
-        return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
+        return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], E)
 
     def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
         """Algorithm 1, line 12: the joined cells, the index where each node is reached, and the anchors (the
