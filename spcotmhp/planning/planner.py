@@ -75,6 +75,7 @@ from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
+from spcotmhp.planning.phrases import PhraseMemo, phrase_key
 from spcotmhp.planning.places import LabelIndex, by_label, inside_places
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.relations import PlaceGeometry, place_geometry, resolve
@@ -137,6 +138,7 @@ class HierarchicalPlanner:
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
         self._geometries: dict[int, PlaceGeometry] = {}
+        self._phrases = PhraseMemo()  # _phrase_terms's
 
     def geometry_of(self, region: PlanningGraph) -> PlaceGeometry:
         """What relations measure in a free region's graph (:mod:`spcotmhp.planning.relations`), built on first use
@@ -257,6 +259,17 @@ class HierarchicalPlanner:
             return both if both.any() else named
         return likely
 
+    def _phrase_terms(self, query: PlaceQuery, stage: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """(K,) the word term of Eq. 28 of a place query (:meth:`~spcotmhp.planning.terms.ModelTerms.stage_terms`)
+        and (K,) the places it names (:meth:`_instances`, before its relation), read-only, kept per phrase
+        (:mod:`spcotmhp.planning.phrases`)."""
+
+        def compute() -> tuple[np.ndarray, np.ndarray]:
+            semantic, likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)
+            return semantic[0], self._instances(query, likely[0], stage)
+
+        return self._phrases.get(phrase_key(query, stage), self.settings, compute)
+
     def _stage_instances(
         self, ins: Instruction, chosen: dict[int, str] | None = None, region: PlanningGraph | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -266,12 +279,14 @@ class HierarchicalPlanner:
         (:meth:`_related`)."""
         stages = ins.stages
         chosen = {} if chosen is None else chosen
-        semantic, likely = self.terms.stage_terms([q.words for q in stages], self.settings.instance_ratio)
-        inst = np.stack([self._instances(q, row, stage=True) for q, row in zip(stages, likely, strict=True)])
+        terms = [self._phrase_terms(q, stage=True) for q in stages]
+        semantic = np.array([t[0] for t in terms])
+        inst = np.array([t[1] for t in terms])
         for s, q in enumerate(stages):
-            inst[s] = self._related(q, inst[s], chosen, region)
+            if q.relation is not None:
+                inst[s] = self._related(q, inst[s], chosen, region)
         for q in ins.not_goal:
-            inst[-1] &= ~self._related(q, self._instances(q), chosen, region)
+            inst[-1] &= ~self._related(q, self._phrase_terms(q)[1], chosen, region)
             if not inst[-1].any():
                 raise ConflictingInstruction(
                     f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
@@ -327,7 +342,7 @@ class HierarchicalPlanner:
         if not ins.avoid:
             return region, avoided
         for q in ins.avoid:
-            avoided |= self._related(q, self._instances(q), chosen, region)
+            avoided |= self._related(q, self._phrase_terms(q)[1], chosen, region)
         if not avoided.any():
             return region, avoided
         inst &= ~avoided
@@ -411,7 +426,9 @@ class HierarchicalPlanner:
         E = self._horizon(S)
         if metric:
             ur = self.terms.log_ur[nodes]
-            return SearchProblem(graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], E)
+            return SearchProblem(
+                graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], E
+            )
         start = self.terms.start_terms(posterior, nodes, start_w_hat)  # log sum_k p(k|x0) psi[k, i_1] - log UR
         if not self.settings.adjacent_only:
             return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], E)

@@ -138,9 +138,7 @@ def solve(
     if not len(nodes):
         return None
     completed = tuple(tuple(s for s, flag in enumerate(row) if flag) for row in done.tolist())
-    return SearchResult(
-        nodes, stages, completed, float(terminal[nodes[-1]]), terminal, pred, from_stage, terminal_step
-    )
+    return SearchResult(nodes, stages, completed, float(terminal[nodes[-1]]), terminal, pred, from_stage, terminal_step)
 
 
 @njit(cache=True)
