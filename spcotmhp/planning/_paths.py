@@ -120,6 +120,16 @@ def territory_sequence(territory, cells, min_dwell):  # pragma: no cover - numba
 
 
 @njit(cache=True)
+def last_territory(territory, cells):  # pragma: no cover - numba
+    """The territory of the last cell of ``cells`` that lies in one (-1: none does)."""
+    for i in range(cells.shape[0] - 1, -1, -1):
+        label = territory[cells[i, 0], cells[i, 1]]
+        if label >= 0:
+            return label
+    return -1
+
+
+@njit(cache=True)
 def piece_places(territory, cells, a, b, ends, node_place, n_places):  # pragma: no cover - numba
     """The sorted distinct places of the tube of the piece ``cells[a:b + 1]``: the territories of its cells (-1:
     none) and the places of the nodes reached in it (``ends[e]``, the index where node e, of place

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from spcotmhp.planning._paths import territory_sequence
+from spcotmhp.planning._paths import last_territory, territory_sequence
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.plan import GoalOption, PlanPlace
 from spcotmhp.planning.search import SearchResult
@@ -65,10 +65,9 @@ def path_places(
         if done
     ]
     seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
-    ends_in = graph.territory[cells[:, 0], cells[:, 1]]
-    ends_in = ends_in[ends_in >= 0]
-    if len(ends_in) and marks and ends_in[-1] == marks[-1][0] and (not seq or seq[-1] != ends_in[-1]):
-        seq.append(int(ends_in[-1]))  # the path ends in the goal: arriving counts, however short the stay
+    ends_in = int(last_territory(graph.territory, cells))  # the last territory the path is in (-1: none)
+    if ends_in >= 0 and marks and ends_in == marks[-1][0] and (not seq or seq[-1] != ends_in):
+        seq.append(ends_in)  # the path ends in the goal: arriving counts, however short the stay
     out = [place(planner, start_place, "start", x0)]
     pos = 1 if seq and seq[0] == start_place else 0
     for k, role, xy in marks:

@@ -135,6 +135,7 @@ class HierarchicalPlanner:
         self._width = int(self.graph.log_p.shape[1])  # the crop's flat cell indices of the nodes
         self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
         self.resolution = float(occ.resolution)
+        self._origin = np.array(occ.origin[:2], dtype=float)
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
         self._geometries: dict[int, PlaceGeometry] = {}
@@ -189,15 +190,14 @@ class HierarchicalPlanner:
             )
         result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self.metric_path(graph, cell, result)
-        occ = model.require_map()
-        node_points = occ.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
+        node_points = self._world(graph.to_map(graph.node_cell[result.nodes]))
         start_place = int(np.argmax(posterior))
         places = explain.path_places(self, graph, start_place, x0, result, node_points, cells)
         length = path_length(cells, res)
         options = explain.goal_options(self, graph, cell, result, inst[S - 1], length)
         map_cells = np.vstack([escape, graph.to_map(cells)]) if len(escape) else graph.to_map(cells)
         plan = Plan(
-            path=occ.cell_to_world(map_cells),
+            path=self._world(map_cells),
             cells=map_cells,
             places=places,
             length_m=path_length(map_cells, res) if len(escape) else length,
@@ -214,6 +214,11 @@ class HierarchicalPlanner:
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
+
+    def _world(self, map_cells: np.ndarray) -> np.ndarray:
+        """The map's ``cell_to_world`` of (n, 2) integer map cells, with the origin kept as an array: the same
+        arithmetic (exact integers + 1/2, times the resolution, plus the origin), so the same floats."""
+        return (map_cells[:, ::-1] + 0.5) * self.resolution + self._origin
 
     def warm_up(self) -> None:
         """Plan to the first places once, from the first node, and forget the plans: this loads (or, with an empty
@@ -462,7 +467,9 @@ class HierarchicalPlanner:
         raw = cells
         if settings.smooth:
             cells, anchors = smooth_on_graph(graph, cells, ends, result.nodes, anchors)
-        smoothed = settings.smooth and not np.array_equal(cells, raw)
+        smoothed = settings.smooth and not (
+            cells is raw or (cells.shape == raw.shape and bool((cells == raw).all()))
+        )  # np.array_equal, without its conversions (both are arrays)
         if settings.arrival_quantile is not None:
             # the last cut: the path ends at the first cell, after the last waypoint, inside the goal's region
             goal = int(graph.node_place[result.nodes[-1]])

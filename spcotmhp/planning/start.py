@@ -38,7 +38,7 @@ def start_point(start: Any) -> np.ndarray:
     """
     if isinstance(start, np.ndarray) and start.dtype.kind in "iuf" and start.shape == (2,):
         x0 = start.astype(float)  # numbers by their type: only finiteness is left to check
-        if np.isfinite(x0).all():
+        if math.isfinite(x0[0]) and math.isfinite(x0[1]):
             return x0
     if isinstance(start, np.ndarray):
         values = start.reshape(-1).tolist() if start.dtype.kind in "iuf" else None
