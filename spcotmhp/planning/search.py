@@ -130,15 +130,15 @@ def solve(
     place terms and each node's place, so no (S, M) copy is made; :func:`search` passes 0..M-1). The arrays
     must be C-contiguous float64 (``completes`` bool, ``columns`` int64) of the shapes of :class:`SearchProblem`;
     their shapes are not checked again (the planner builds them), but a NaN in a log weight is still refused."""
-    pred, from_stage, terminal, terminal_step, nodes, stages, done, ok = _viterbi(
-        transition, start, word, completes, columns, max_steps
-    )
+    tables, terminal, terminal_step, trace, ok = _viterbi(transition, start, word, completes, columns, max_steps)
     if not ok:
         raise ValueError("log weights must not be NaN")
-    if not len(nodes):
+    if not trace.shape[1]:
         return None
-    completed = tuple(tuple(s for s, flag in enumerate(row) if flag) for row in done.tolist())
-    return SearchResult(nodes, stages, completed, float(terminal[nodes[-1]]), terminal, pred, from_stage, terminal_step)
+    nodes, stages, completed = _read_trace(trace)
+    return SearchResult(
+        nodes, stages, completed, float(terminal[nodes[-1]]), terminal, tables[0], tables[1], terminal_step
+    )
 
 
 @njit(cache=True)
@@ -148,16 +148,18 @@ def _viterbi(transition, start, word, completes, columns, E):  # pragma: no cove
     (s, j) -> (s + 1, j) where j is an instance of stage s, optional (the states stay, so a plan may pass one goal
     instance on its way to a better one). Returns the predecessor and completed-stage tables, the best log weight
     of finishing at each node and its step, the best sequence read back (:func:`_trace`; empty when no
-    sequence completes every stage), and False instead of a search when a log weight it reads is NaN."""
+    sequence completes every stage), and False instead of a search when a log weight it reads is NaN. The
+    predecessor and completed-stage tables are one array (2, E + 1, S, M) and the sequence one array (2 + S,
+    n): fewer arrays to hand back to Python."""
     S = word.shape[0]
     M = start.shape[0]
-    pred = np.full((E + 1, S, M), -1, dtype=np.int64)  # previous node (-1: the start pose)
-    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)  # >= 0: reached by completing that stage here
+    tables = np.full((2, E + 1, S, M), -1, dtype=np.int64)
+    pred = tables[0]  # previous node (-1: the start pose)
+    from_stage = tables[1]  # >= 0: reached by completing that stage here
     best_terminal = np.full(M, NEG_INF)
     terminal_step = np.full(M, -1, dtype=np.int64)
     if _has_nan(transition, start, word, columns):
-        nodes, stages, done = _trace(pred, from_stage, 0, 0, S - 1)
-        return pred, from_stage, best_terminal, terminal_step, nodes, stages, done, False
+        return tables, best_terminal, terminal_step, _trace(pred, from_stage, 0, 0, S - 1), False
     value = np.full((S, M), NEG_INF)
     new = np.empty((S, M))
     for j in range(M):
@@ -198,8 +200,8 @@ def _viterbi(transition, start, word, completes, columns, E):  # pragma: no cove
         found = found or np.isfinite(best_terminal[j])
         if best_terminal[j] > best_terminal[end]:
             end = j
-    nodes, stages, done = _trace(pred, from_stage, terminal_step[end] if found else 0, end, S - 1)
-    return pred, from_stage, best_terminal, terminal_step, nodes, stages, done, True
+    trace = _trace(pred, from_stage, terminal_step[end] if found else 0, end, S - 1)
+    return tables, best_terminal, terminal_step, trace, True
 
 
 @njit(cache=True)
@@ -222,20 +224,23 @@ def _has_nan(transition, start, word, columns):  # pragma: no cover - numba
 def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, stage: int):
     """The sequence that reaches ``node`` at ``step`` having completed ``stage``: its nodes, the stage pursued
     at each and the stages completed on arriving at each (read back through the tables of :func:`_viterbi`)."""
-    nodes, stages, done = _trace(pred, from_stage, step, node, stage)
-    completed = tuple(tuple(s for s, flag in enumerate(row) if flag) for row in done.tolist())
-    return nodes, stages, completed
+    return _read_trace(_trace(pred, from_stage, step, node, stage))
+
+
+def _read_trace(trace: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[tuple[int, ...], ...]]:
+    """(nodes, stages, completed) of :func:`_trace`'s array: its first two rows, and per column the stages whose
+    flag (rows 2..) is set."""
+    completed = tuple(tuple(s for s, flag in enumerate(col) if flag) for col in trace[2:].T.tolist())
+    return trace[0], trace[1], completed
 
 
 @njit(cache=True)
 def _trace(pred, from_stage, step, node, stage):  # pragma: no cover - numba
-    """:func:`_backtrack` in compiled code: (nodes, stages, done) with done[e, s] True when stage s is completed
-    on arriving at nodes[e]."""
+    """:func:`_backtrack` in compiled code, as one (2 + S, n) array: the nodes, the stages pursued, then per stage s
+    (row 2 + s) 1 where stage s is completed on arriving at the node."""
     S = from_stage.shape[1]
-    nodes = np.empty(step, np.int64)
-    stages = np.empty(step, np.int64)
-    done = np.zeros((step, S), np.bool_)
-    n = 0
+    out = np.zeros((2 + S, step), np.int64)  # filled from its last column back
+    k = step
     pending = np.zeros(S, np.bool_)  # the stages completed at the node being read back
     pending[stage] = True
     e, s, j = step, stage, node
@@ -245,14 +250,15 @@ def _trace(pred, from_stage, step, node, stage):  # pragma: no cover - numba
             pending[prev_stage] = True
             s = prev_stage
             continue
-        nodes[n] = j
-        stages[n] = s
-        done[n] = pending
+        k -= 1
+        out[0, k] = j
+        out[1, k] = s
+        for t in range(S):
+            out[2 + t, k] = pending[t]
         pending[:] = False
-        n += 1
         j = pred[e, s, j]
         e -= 1
-    return nodes[:n][::-1].copy(), stages[:n][::-1].copy(), done[:n][::-1].copy()
+    return out[:, k:].copy()
 
 
 def why_no_plan(
