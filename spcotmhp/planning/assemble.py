@@ -209,11 +209,20 @@ def smooth_on_graph(
     Returns the cells and the new anchor indices. The one implementation SpCoTMHP and the smoothed baselines
     use."""
     raw = np.ascontiguousarray(cells, dtype=np.int64)
-    ends_arr = np.asarray(ends, dtype=np.int64)
+    connectivity = graph.settings.connectivity
+
+    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
+        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity, graph.clearance)
+        return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
+
+    marks = [int(a) for a in anchors]
+    ends_list = ends.tolist() if isinstance(ends, np.ndarray) else [int(e) for e in ends]
+    if {0, len(raw) - 1, *marks}.issuperset(ends_list):
+        return shortcut(raw, marks)  # every piece is one leg, already a field's path (shorten keeps it as is)
+    ends_arr = np.asarray(ends_list, dtype=np.int64)
     nodes = np.asarray(nodes, dtype=np.int64)
     node_place = graph.node_place[nodes]
     n_places = int(graph.model.K)
-    connectivity = graph.settings.connectivity
 
     found: dict[tuple[int, int], np.ndarray] = {}
 
@@ -228,13 +237,6 @@ def smooth_on_graph(
     def exact(a: int, b: int) -> np.ndarray | None:
         return graph.field_piece(raw, a, b, ends_arr, nodes, places(a, b))
 
-    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity, graph.clearance)
-        return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
-
-    marks = [int(a) for a in anchors]
-    if {0, len(raw) - 1, *marks}.issuperset(ends_arr.tolist()):
-        return shortcut(raw, marks)  # every piece is one leg, already a field's path (shorten keeps it as is)
     # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path keeps off the
     # walls, so shortcuts of the assembled one are occasionally shorter still
     path, moved = shorten(raw, marks, tube, graph.map_cost, connectivity, exact)

@@ -102,7 +102,7 @@ def goal_options(
     cells that smoothing keeps); one whose bound already exceeds the shortest path found so far (the chosen
     one's or a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a
     building with 90 offices does not smooth 90 paths per plan."""
-    if goal_places.sum() < 2:
+    if np.count_nonzero(goal_places) < 2:
         return []
     options, pending = [], []
     end_place = int(graph.node_place[result.nodes[-1]])

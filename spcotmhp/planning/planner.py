@@ -136,6 +136,7 @@ class HierarchicalPlanner:
         self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
         self.resolution = float(occ.resolution)
         self._origin = np.array(occ.origin[:2], dtype=float)
+        self._half: dict[tuple[int, int], np.ndarray] = {}  # _world's per crop corner
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
         self._geometries: dict[int, PlaceGeometry] = {}
@@ -190,7 +191,7 @@ class HierarchicalPlanner:
             )
         result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self.metric_path(graph, cell, result)
-        node_points = self._world(graph.to_map(graph.node_cell[result.nodes]))
+        node_points = self._world(graph.node_cell[result.nodes], graph.offset)
         start_place = int(np.argmax(posterior))
         places = explain.path_places(self, graph, start_place, x0, result, node_points, cells)
         length = path_length(cells, res)
@@ -206,7 +207,7 @@ class HierarchicalPlanner:
             time_precompute_s=self.graph.time_precompute_s,
             instruction=ins,
             goal_options=options,
-            n_goal_instances=int(inst[S - 1].sum()),
+            n_goal_instances=int(np.count_nonzero(inst[S - 1])),
             node_points=node_points,
             smoothed=smoothed,
             notes=notes,
@@ -215,10 +216,16 @@ class HierarchicalPlanner:
         plan.time_online_s = time.perf_counter() - t0
         return plan
 
-    def _world(self, map_cells: np.ndarray) -> np.ndarray:
-        """The map's ``cell_to_world`` of (n, 2) integer map cells, with the origin kept as an array: the same
-        arithmetic (exact integers + 1/2, times the resolution, plus the origin), so the same floats."""
-        return (map_cells[:, ::-1] + 0.5) * self.resolution + self._origin
+    def _world(self, cells: np.ndarray, offset: tuple[int, int] | None = None) -> np.ndarray:
+        """The map's ``cell_to_world`` of (n, 2) integer map cells (crop cells of a crop whose corner is at map cell
+        ``offset``), with the origin kept as an array: the same arithmetic (exact integers + 1/2, times the
+        resolution, plus the origin), so the same floats."""
+        if offset is None:
+            return (cells[:, ::-1] + 0.5) * self.resolution + self._origin
+        half = self._half.get(offset)
+        if half is None:  # (col, row) of the corner + 1/2: exact, as the sum of the integers then + 1/2
+            half = self._half[offset] = np.array([offset[1] + 0.5, offset[0] + 0.5])
+        return (cells[:, ::-1] + half) * self.resolution + self._origin
 
     def warm_up(self) -> None:
         """Plan to the first places once, from the first node, and forget the plans: this loads (or, with an empty
@@ -385,12 +392,12 @@ class HierarchicalPlanner:
         the (S, K) place terms, no (S, M) copies, no second check of what this class built)."""
         S = len(ins.stages)
         start_w_hat = graph.start_w_hat(cell)
-        problem_for = functools.partial(self._problem, graph, posterior, start_w_hat, semantic, inst, S)
         if not self.settings.adjacent_only:
             start = self.terms.start_terms(posterior, graph.node_place, start_w_hat)
             result = solve(graph.log_transition_all, start, semantic, inst, graph.node_place, self._horizon(S))
             if result is not None:
                 return result
+        problem_for = functools.partial(self._problem, graph, posterior, start_w_hat, semantic, inst, S)
         problem = problem_for(metric=False)
         result = search(problem) if self.settings.adjacent_only else None
         if result is not None:
