@@ -120,6 +120,17 @@ def territory_sequence(territory, cells, min_dwell):  # pragma: no cover - numba
 
 
 @njit(cache=True)
+def start_legs(dist, r, c, usable, end_term):  # pragma: no cover - numba
+    """(M,) end_term[j] - dist[j, r, c] (in float64) for the usable nodes, -inf for the others: the start legs'
+    w-hat from crop cell (r, c) on dense fields (``PlanningGraph.start_w_hat``'s np.where, in one pass)."""
+    M = end_term.shape[0]
+    out = np.empty(M)
+    for j in range(M):
+        out[j] = end_term[j] - np.float64(dist[j, r, c]) if usable[j] else -np.inf
+    return out
+
+
+@njit(cache=True)
 def last_territory(territory, cells):  # pragma: no cover - numba
     """The territory of the last cell of ``cells`` that lies in one (-1: none does)."""
     for i in range(cells.shape[0] - 1, -1, -1):
