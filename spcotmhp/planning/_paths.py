@@ -141,6 +141,12 @@ def last_territory(territory, cells):  # pragma: no cover - numba
 
 
 @njit(cache=True)
+def path_territories(territory, cells, min_dwell):  # pragma: no cover - numba
+    """:func:`territory_sequence` and :func:`last_territory` of one path, in one call."""
+    return territory_sequence(territory, cells, min_dwell), last_territory(territory, cells)
+
+
+@njit(cache=True)
 def piece_places(territory, cells, a, b, ends, node_place, n_places):  # pragma: no cover - numba
     """The sorted distinct places of the tube of the piece ``cells[a:b + 1]``: the territories of its cells (-1:
     none) and the places of the nodes reached in it (``ends[e]``, the index where node e, of place

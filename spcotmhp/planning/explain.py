@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from spcotmhp.planning._paths import last_territory, territory_sequence
+from spcotmhp.planning._paths import path_territories
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.plan import GoalOption, PlanPlace
 from spcotmhp.planning.search import SearchResult
@@ -64,8 +64,9 @@ def path_places(
         for k, done, xy in zip(places, result.completed, points.tolist(), strict=True)
         if done
     ]
-    seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
-    ends_in = int(last_territory(graph.territory, cells))  # the last territory the path is in (-1: none)
+    # the places along the path, and the last territory the path is in (-1: none)
+    along, ends_in = path_territories(graph.territory, cells, planner.diameter_cells)
+    seq = along.tolist()
     if ends_in >= 0 and marks and ends_in == marks[-1][0] and (not seq or seq[-1] != ends_in):
         seq.append(ends_in)  # the path ends in the goal: arriving counts, however short the stay
     out = [place(planner, start_place, "start", x0)]
