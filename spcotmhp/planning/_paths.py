@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.metric._grid_kernels import follow_links
+from spcotmhp.planning.sight import shortcut
 
 SQRT2 = math.sqrt(2.0)
 
@@ -117,6 +118,14 @@ def territory_sequence(territory, cells, min_dwell):  # pragma: no cover - numba
             m += 1
         i = j
     return out[:m].copy()
+
+
+@njit(cache=True)
+def shortcut_if_better(cells, clearance, fixed, four, cost):  # pragma: no cover - numba
+    """:func:`~spcotmhp.planning.sight.shortcut` of ``cells`` and whether it :func:`is_better` than ``cells``
+    under ``cost``, in one call."""
+    out, ends = shortcut(cells, clearance, fixed, four)
+    return out, ends, is_better(out, cells, cost)
 
 
 @njit(cache=True)
