@@ -361,7 +361,7 @@ class HierarchicalPlanner:
         for s, q in enumerate(ins.stages):
             if not inst[s].any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-        graph = avoided_view(region, tuple(np.flatnonzero(avoided)))
+        graph = avoided_view(region, tuple(np.flatnonzero(avoided).tolist()))
         blocked = graph.blocked
         assert blocked is not None  # an avoidance view has its blocked cells
         esc = graph.to_crop(escape) if len(escape) else escape
