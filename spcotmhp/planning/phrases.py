@@ -20,12 +20,13 @@ PHRASES_KEPT = 1024
 
 
 def phrase_key(query: PlaceQuery, stage: bool) -> tuple | None:
-    """What a phrase's terms depend on: its bags (in their order), ``every`` and whether it is a stage (a place
-    to visit is checked for naming one place); None when a bag cannot be a key (then nothing is kept). The label
-    and the relation are not part of it: the label only words refusals, which are never kept, and a relation
-    is resolved after (in the start's free region)."""
+    """What a phrase's terms depend on: its bags (in their order), ``every``, its floor and whether it is a stage
+    (a place to visit is checked for naming one place); None when a bag cannot be a key (then nothing is kept).
+    The label and the relation are not part of it: the label only words refusals, which are never kept, and a
+    relation is resolved after (in the start's free region)."""
     try:
-        key = (tuple(query.words.items()), tuple(tuple(a.items()) for a in query.alternatives), query.every, stage)
+        bags = (tuple(query.words.items()), tuple(tuple(a.items()) for a in query.alternatives))
+        key = (*bags, query.every, query.floor, stage)
         hash(key)
     except TypeError:
         return None

@@ -78,6 +78,7 @@ def test_key_holds_what_the_terms_depend_on():
     assert phrase_key(one, True) != phrase_key(one, False)
     assert phrase_key(one, True) == phrase_key(dataclasses.replace(one, label="the bedroom"), True)
     assert phrase_key(one, True) != phrase_key(dataclasses.replace(one, every=True), True)
+    assert phrase_key(one, True) != phrase_key(dataclasses.replace(one, floor=2), True)
     nbest = dataclasses.replace(one, alternatives=({"bedroom": 0.6}, {"bathroom": 0.4}))
     assert phrase_key(one, True) != phrase_key(nbest, True)
     assert phrase_key(PlaceQuery({"bedroom": [1.0]}, "bedroom"), True) is None  # type: ignore[dict-item]
