@@ -11,7 +11,10 @@ satisfies:
 4. the destination: inside one rank and step, the last place with a goal marker ("to", "into", a bare name) that
    is not itself the object of an order word comes after every other place of that rank and step ("go to the
    bedroom via the corridor": corridor, bedroom), except where rule 3 already puts it first ("go to the kitchen
-   before the bedroom": kitchen, bedroom).
+   before the bedroom": kitchen, bedroom), and except, when places of a higher rank or a later step follow (the
+   destination is a stop on the way), the places said in a later clause than it: a narrative keeps its order
+   ("go to the kitchen, pass through the corridor and end at the entrance": kitchen, corridor, entrance; "go to
+   the kitchen via the corridor and end at the entrance": corridor, kitchen, entrance).
 
 Of the orders that satisfy all of them, the one closest to the spoken order is taken (Kahn's algorithm, always
 taking the earliest-spoken place that is free): the spoken order decides whatever the words leave open. Pairs that
@@ -35,14 +38,16 @@ from spcotmhp.errors import UnsupportedPhrase
 
 @dataclass
 class Visit:
-    """A place to visit as the order sees it: its spoken position, rank, step, role and whether an order word
-    ties it to another place (``tied``: it is then never the free destination of rule 3)."""
+    """A place to visit as the order sees it: its spoken position, rank, step, role, whether an order word
+    ties it to another place (``tied``: it is then never the free destination of rule 3) and the clause it was
+    said in (rule 4)."""
 
     spoken: int
     rank: int = 1
     step: int = 0
     role: str = "goal"
     tied: bool = False
+    clause: int = 0
 
 
 def visiting_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]) -> list[int]:
@@ -59,21 +64,32 @@ def visiting_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]) ->
 def _sorted_order(visits: Sequence[Visit]) -> list[int]:
     """The order of rules 1, 2 and 4 without pairs, as a sort: by rank, then step, then the destination of its rank
     and step last, then spoken order (what Kahn's algorithm of :func:`_constrained_order` takes without pairs)."""
+    dest = _destinations(visits)
+
+    def phase(k: int) -> int:  # 0: before its group's destination, 1: the destination, 2: after it (rule 4)
+        d = dest.get((visits[k].rank, visits[k].step))
+        return 0 if d is None else 1 if d == k else 2 if _narrated(visits, d, k) else 0
+
+    return sorted(range(len(visits)), key=lambda k: (visits[k].rank, visits[k].step, phase(k), visits[k].spoken))
+
+
+def _destinations(visits: Sequence[Visit]) -> dict[tuple[int, int], int]:
+    """(rank, step) -> the destination of rule 4: its last place with a goal marker that no order word ties."""
     dest: dict[tuple[int, int], int] = {}
     for k, v in enumerate(visits):
         if v.role == "goal" and not v.tied:
             group = (v.rank, v.step)
             if group not in dest or v.spoken > visits[dest[group]].spoken:
                 dest[group] = k
-    return sorted(
-        range(len(visits)),
-        key=lambda k: (
-            visits[k].rank,
-            visits[k].step,
-            dest.get((visits[k].rank, visits[k].step)) == k,
-            visits[k].spoken,
-        ),
-    )
+    return dest
+
+
+def _narrated(visits: Sequence[Visit], d: int, k: int) -> bool:
+    """Whether place ``k`` keeps its spoken place after destination ``d`` (rule 4's exception): said in a later
+    clause than ``d``, whose group is followed by a higher rank or a later step."""
+    last = max((v.rank, v.step) for v in visits)
+    later = visits[k].clause > visits[d].clause and visits[k].spoken > visits[d].spoken
+    return later and (visits[d].rank, visits[d].step) < last
 
 
 def _constrained_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]) -> list[int]:
@@ -97,7 +113,7 @@ def _constrained_order(visits: Sequence[Visit], pairs: Sequence[tuple[int, int]]
         if free:
             dest = max(free, key=lambda k: visits[k].spoken)
             for k in members:
-                if k != dest and not _precedes(dest, k, before):
+                if k != dest and not _precedes(dest, k, before) and not _narrated(visits, dest, k):
                     before[dest].add(k)
     return _topological(visits, before)
 

@@ -38,6 +38,7 @@ class Mention:
     inherited: bool = False  # a bare name after a connector, with the role of the place before it
     order_kind: str = ""  # "before" / "after" when an order word introduced it
     wait_word: str = "wait"  # the word that asked for the wait
+    clause: int = 0  # the clause it was said in (order.py rule 4)
 
 
 def tree(node: object) -> Tree:
@@ -73,6 +74,7 @@ class Walk:
     said: list[PlaceRef] = field(default_factory=list)  # every place name read, relations' places too, in order
     sentence: int = 0
     step: int = 0
+    clause: int = 0
 
     # ---- mentions ----------------------------------------------------------------------------------------
     def mention(self, ref: PlaceRef, role: str) -> Mention:
@@ -85,7 +87,7 @@ class Walk:
             if role == "goal":  # "there" / "it", or a place to go to said twice in a row: one visit
                 last.role = "goal"
             return last
-        m = Mention(ref, role, self.sentence, self.step)
+        m = Mention(ref, role, self.sentence, self.step, clause=self.clause)
         self.mentions.append(m)
         return m
 
@@ -190,7 +192,7 @@ class Walk:
                 f"{excerpt(self.text)} names only places to pass ({passed}) and no destination: say where to go"
             )
         order = visiting_order(
-            [Visit(k, m.rank, m.step, m.role, m.tied) for k, m in ((k, self.mentions[k]) for k in visits)],
+            [Visit(k, m.rank, m.step, m.role, m.tied, m.clause) for k, m in ((k, self.mentions[k]) for k in visits)],
             [(visits.index(a), visits.index(b)) for a, b in self.pairs if a in visits and b in visits],
         )
         ordered = [self.mentions[visits[i]] for i in order]

@@ -76,6 +76,7 @@ class EnglishWalk(Walk):
         waiting[-1].wait = self.seconds(sentence.children)
 
     def _clause(self, clause: Tree) -> None:
+        self.clause += 1
         items = subtrees(clause)
         first = items[0]
         if "OR" in self.joint:
