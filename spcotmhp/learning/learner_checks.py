@@ -49,7 +49,8 @@ def check_counts_cover_events(a: Mapping[str, np.ndarray], K: int, L: int, V: in
     docstring); ``a``'s indices are already checked to fit K, L, V."""
     place, concept = a["place"].astype(np.int64), a["concept"].astype(np.int64)
     words, z = a["tok_word"].astype(np.int64), a["tok_z"].astype(bool)
-    of_token = np.repeat(concept, np.diff(a["tok_ptr"].astype(np.int64)))
+    lengths: np.ndarray = np.diff(a["tok_ptr"].astype(np.int64)).astype(np.int64)
+    of_token = np.repeat(concept, lengths)
     need = {
         "n_k": np.bincount(place, minlength=K).astype(float),
         "n_l": np.bincount(concept, minlength=L).astype(float),

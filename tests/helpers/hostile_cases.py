@@ -148,11 +148,16 @@ def door_model(root: Path) -> Path:
     return folder
 
 
-def door_start(root: Path, row: int, col: int) -> list[str]:
-    from spcotmhp.learning.io import load_model
+def door_plan(instruction: str, row: int, col: int) -> Callable[[Path], list[str]]:
+    """`plan` on the closed-door home from the cell (row, col)."""
 
-    x, y = load_model(door_model(root)).require_map().cell_to_world(np.array([row, col]))
-    return ["--start", f"{x:.3f}", f"{y:.3f}"]
+    def build(root: Path) -> list[str]:
+        from spcotmhp.learning.io import load_model
+
+        x, y = load_model(door_model(root)).require_map().cell_to_world(np.array([row, col]))
+        return ["plan", str(door_model(root)), instruction, "--start", f"{x:.3f}", f"{y:.3f}"]
+
+    return build
 
 
 def copy_model(root: Path, name: str) -> Path:
@@ -276,7 +281,9 @@ def learner_grown(root: Path) -> list[str]:
 
 
 # ---- map images ---------------------------------------------------------------------------------------------
-MAP_YAML = "image: {image}\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+MAP_YAML = (
+    "image: {image}\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+)
 
 
 def costmap_of(image_name: str, image: Callable[[Path], None], yaml: str = MAP_YAML) -> Callable[[Path], list[str]]:
@@ -333,8 +340,12 @@ def _png(width: int, height: int, rows: bytes, extra: bytes = b"") -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
     ihdr = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + extra + chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(
-        b"IEND", b""
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", ihdr)
+        + extra
+        + chunk(b"IDAT", zlib.compress(rows, 9))
+        + chunk(b"IEND", b"")
     )
 
 
@@ -579,7 +590,8 @@ def _huge_int_K(folder: Path) -> None:
 
 def _deep_info(folder: Path) -> None:
     text = (folder / "model.json").read_text(encoding="utf-8")
-    (folder / "model.json").write_text(text.replace('"info": {', '"info": {"x": ' + "[" * 100_000 + "]" * 100_000 + ", ", 1), encoding="utf-8")
+    deep = '"info": {"x": ' + "[" * 100_000 + "]" * 100_000 + ", "
+    (folder / "model.json").write_text(text.replace('"info": {', deep, 1), encoding="utf-8")
 
 
 def _map_resolution(folder: Path) -> None:
@@ -704,10 +716,20 @@ CASES: list[Case] = [
     Case("v: map resolution 1e-300", "variant", yaml_tiny_resolution, expect="resolution"),
     Case("v: PGM 4000 x 4000 (the pixel cap)", "variant", costmap_of("m.pgm", pgm_cap_square), 0, slow=True),
     # -- a map cut by a closed door (issue item 4) --
-    Case("door: goal in the start's small region", "regions", lambda r: ["plan", str(door_model(r)), "go to the bedroom", *door_start(r, 6, 5)], 0),
-    Case("door: goal only behind the door", "regions", lambda r: ["plan", str(door_model(r)), "go to the kitchen", *door_start(r, 6, 5)], expect="not reachable from here.*free space is cut"),
-    Case("v: door: waypoint behind the door", "variant", lambda r: ["plan", str(door_model(r)), "go to the bedroom via the corridor", *door_start(r, 6, 5)], expect="corridor is not reachable"),
-    Case("v: door: start in the wall", "variant", lambda r: ["plan", str(door_model(r)), "go to the bedroom", *door_start(r, 5, 10)], expect="start"),
+    Case("door: goal in the start's small region", "regions", door_plan("go to the bedroom", 6, 5), 0),
+    Case(
+        "door: goal only behind the door",
+        "regions",
+        door_plan("go to the kitchen", 6, 5),
+        expect="the kitchen is not reachable from here.*the free space is cut",
+    ),
+    Case(
+        "v: door: waypoint behind the door",
+        "variant",
+        door_plan("go to the bedroom via the corridor", 6, 5),
+        expect="the corridor is not reachable",
+    ),
+    Case("v: door: start in the wall", "variant", door_plan("go to the bedroom", 5, 10), expect="start"),
     # -- small things (issue item 5) --
     Case("serve: busy port, missing model", "small", busy_port_missing_model, expect="no-such-model"),
     Case("v: serve: busy port, Sigma x 1e-300", "variant", busy_port_bad_model, expect="Sigma"),
@@ -800,8 +822,10 @@ def main(argv: list[str]) -> int:
         verdict = judge(case, outcome)
         bad += bool(verdict)
         first = (outcome.error_lines or outcome.stdout.strip().splitlines() or [""])[0]
-        print(f"{case.name[:44]:44s} {outcome.status:4d} {outcome.seconds:7.2f}  {'ok' if not verdict else 'FAIL':8s} "
-              f"{_shown(args, root)}")
+        print(
+            f"{case.name[:44]:44s} {outcome.status:4d} {outcome.seconds:7.2f}  {'ok' if not verdict else 'FAIL':8s} "
+            f"{_shown(args, root)}"
+        )
         print(f"{'':44s} {'':4s} {'':7s}  {'':8s} -> {(verdict or first)[:160]}")
     print(f"{bad} case(s) failed")
     return 1 if bad else 0
