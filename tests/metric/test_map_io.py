@@ -513,7 +513,8 @@ def test_grey_images_through_the_shade_table_give_the_per_pixel_rule(maxval, mod
     """The table path of grey images (a broadcast channel, no alpha) gives the grid of the per-pixel rule."""
     from spcotmhp.metric.map_io import pixels_to_grid
 
-    grey = np.random.default_rng(maxval).integers(0, maxval + 1, (300, 300))  # more pixels than shades: the table path.astype(np.int32)
+    # more pixels than shades: the table path
+    grey = np.random.default_rng(maxval).integers(0, maxval + 1, (300, 300)).astype(np.int32)
     view = np.broadcast_to(grey[:, :, None], grey.shape + (3,))
     fast = pixels_to_grid(view, None, maxval, mode, negate, 0.65, 0.196)
     rule = pixels_to_grid(np.ascontiguousarray(view), None, maxval, mode, negate, 0.65, 0.196)
