@@ -77,32 +77,47 @@ def check_counts_cover_events(a: Mapping[str, np.ndarray], K: int, L: int, V: in
 
 
 def check_place_posteriors(a: Mapping[str, np.ndarray], hyper: Hyperparameters, where: str) -> None:
-    """ModelError unless X and every place's NIW posterior from n_k, sx, sxx are usable (module docstring)."""
-    X = a["X"]
-    if len(X) and (np.abs(X) > MAX_MEAN_M).any():
-        e = int(np.argmax((np.abs(X) > MAX_MEAN_M).any(axis=1)))
+    """ModelError unless X and every place's NIW posterior are usable (module docstring): the posterior of the
+    counts less their events' share (the prior and pseudo-counts) and of the counts as they are. Every state
+    the sampler visits adds some of the events back to the first, and adding an event to a NIW posterior adds
+    a positive semi-definite term to its scale matrix, so none of them is worse."""
+    X, place = a["X"], a["place"].astype(np.int64)
+    if len(X) and not (np.abs(X) <= MAX_MEAN_M).all():
+        e = int(np.argmax(~(np.abs(X) <= MAX_MEAN_M).all(axis=1)))
         raise ModelError(f"{where}: event {e} lies at {X[e].tolist()}, beyond +-{MAX_MEAN_M:g} m")
+    K = len(a["n_k"])
+    n_e, sx_e, sxx_e = np.bincount(place, minlength=K).astype(float), np.zeros((K, 2)), np.zeros((K, 2, 2))
+    np.add.at(sx_e, place, X)
+    np.add.at(sxx_e, place, X[:, :, None] * X[:, None, :])
+    for what, n, sx, sxx in (
+        ("less their events' share", a["n_k"] - n_e, a["sx"] - sx_e, a["sxx"] - sxx_e),
+        ("as they are", a["n_k"], a["sx"], a["sxx"]),
+    ):
+        _check_posterior(np.maximum(n, 0.0), sx, sxx, hyper, f"{where}: n_k, sx, sxx {what}")
+
+
+def _check_posterior(n: np.ndarray, sx: np.ndarray, sxx: np.ndarray, hyper: Hyperparameters, where: str) -> None:
+    """The posterior mean within +-MAX_MEAN_M and the Student-t scale a usable covariance, for every place."""
     m0, V0 = np.asarray(hyper.m0, dtype=float), np.asarray(hyper.V0, dtype=float)
-    n = a["n_k"]
     kn, dof = hyper.kappa0 + n, hyper.nu0 + n - 1.0
     with np.errstate(all="ignore"):
-        mn = (hyper.kappa0 * m0 + a["sx"]) / kn[:, None]
-        Vn = V0 + a["sxx"] + hyper.kappa0 * np.outer(m0, m0) - kn[:, None, None] * mn[:, :, None] * mn[:, None, :]
+        mn = (hyper.kappa0 * m0 + sx) / kn[:, None]
+        Vn = V0 + sxx + hyper.kappa0 * np.outer(m0, m0) - kn[:, None, None] * mn[:, :, None] * mn[:, None, :]
         scale = Vn * ((kn + 1.0) / (kn * dof))[:, None, None]
     far = ~(np.abs(mn) <= MAX_MEAN_M).all(axis=1)
     if far.any():
         k = int(np.argmax(far))
         raise ModelError(
-            f"{where}: n_k, sx give place {k} a posterior mean of {mn[k].tolist()}, beyond +-{MAX_MEAN_M:g} m "
-            "(the learner state is corrupt or altered)"
+            f"{where} give place {k} a posterior mean of {mn[k].tolist()}, beyond +-{MAX_MEAN_M:g} m (the learner "
+            "state is corrupt or altered)"
         )
-    bad = ~np.isfinite(scale).all(axis=(1, 2))
     try:
+        bad = ~np.isfinite(scale).all(axis=(1, 2))
         if bad.any():
             raise ModelValueError(f"Sigma_n[{int(np.argmax(bad))}] is not finite")
         check_covariances(scale, "Sigma_n", "learner.sxx")
     except ModelValueError as exc:
         raise ModelError(
-            f"{where}: n_k, sx, sxx do not give every place a usable posterior (Sigma_n, the scale of its "
-            f"Student-t predictive): {exc}"
+            f"{where} do not give every place a usable posterior (Sigma_n, the scale of its Student-t "
+            f"predictive): {exc}"
         ) from None
