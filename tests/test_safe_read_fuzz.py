@@ -358,3 +358,25 @@ def test_fuzzed_pgm_headers(tmp_path_factory, image):
 
     _check(run_case(load, f"{image[:40]!r} ({len(image)} bytes)"))
     shutil.rmtree(folder)
+
+
+@pytest.mark.parametrize(
+    "magic,side,body",
+    [(b"P2", 1415, b"254\n"), (b"P3", 817, b"254 254 254\n"), (b"P1", 1415, b"0 ")],
+)
+def test_plain_pnm_files_beyond_two_million_values_are_refused_before_decoding(tmp_path, magic, side, body):
+    """Found from the outside: a plain (ASCII) PGM at the pixel cap took 5 s of Pillow's Python decoding. Plain
+    files hold at most MAX_PLAIN_PNM_VALUES sample values; one side fewer loads."""
+    from spcotmhp.safe_read import MAX_PLAIN_PNM_VALUES
+
+    for n, refused in ((side, True), (side - 1, False)):
+        values = n * n * (3 if magic == b"P3" else 1)
+        assert (values > MAX_PLAIN_PNM_VALUES) == refused
+        maxval = b"" if magic == b"P1" else b"255\n"
+        (tmp_path / "m.pgm").write_bytes(magic + b"\n# a comment\n%d %d\n" % (n, n) + maxval + body * (n * n))
+        (tmp_path / "map.yaml").write_text(BASE + "image: m.pgm\n", encoding="utf-8")
+        if refused:
+            with pytest.raises(MapError, match=r"plain \(ASCII\) P\d file of \d+ x \d+ pixels.*binary PGM \(P5\)"):
+                load_map(tmp_path / "map.yaml")
+        else:
+            assert load_map(tmp_path / "map.yaml").shape == (n, n)

@@ -335,6 +335,15 @@ def pgm_cap_square(path: Path) -> None:
     path.write_bytes(b"P5\n4000 4000\n255\n" + bytes([254]) * 16_000_000)
 
 
+def plain_pgm_cap(path: Path) -> None:
+    """A plain (ASCII) PGM at the pixel cap: 64 MB of text that Pillow decodes in Python."""
+    path.write_bytes(b"P2\n4000 4000\n255\n" + b"254\n" * 16_000_000)
+
+
+def plain_ppm(path: Path) -> None:
+    path.write_bytes(b"P3\n1000 1000\n255\n" + b"254 254 254\n" * 1_000_000)
+
+
 def _png(width: int, height: int, rows: bytes, extra: bytes = b"") -> bytes:
     def chunk(kind: bytes, data: bytes) -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
@@ -706,6 +715,8 @@ CASES: list[Case] = [
     Case("v: PGM 50 MB of leading zeros", "variant", costmap_of("m.pgm", pgm_zeros_50mb), expect="m.pgm"),
     Case("v: PGM 5,000,000 empty comments", "variant", costmap_of("m.pgm", pgm_comments_many), expect="m.pgm"),
     Case("v: PGM 8 GiB comment (sparse)", "variant", costmap_of("m.pgm", pgm_huge_header_sparse), expect="m.pgm"),
+    Case("v: plain PGM (P2) 4000 x 4000", "variant", costmap_of("m.pgm", plain_pgm_cap), expect="plain"),
+    Case("v: plain PPM (P3) 1000 x 1000", "variant", costmap_of("m.ppm", plain_ppm), expect="plain"),
     Case("v: map image a FIFO", "variant", costmap_of("m.pgm", fifo_image), expect="m.pgm"),
     Case("v: map image -> /dev/zero", "variant", costmap_of("m.pgm", dev_zero_image), expect="m.pgm"),
     Case("v: PNG 16,000,000 x 1", "variant", costmap_of("m.png", png_strip), expect="m.png"),
