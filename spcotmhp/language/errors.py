@@ -96,6 +96,8 @@ def _misplaced(toks: Sequence[Token], at: int, table: WordTable, text: str) -> I
             f"{where} do not say how the two places relate; join places with 'and' or 'then', or give each its own "
             "word ('via the corridor', 'to the bedroom')"
         )
+    if at >= 2 and toks[at - 2].kind == "FLOOR" and toks[at - 1].kind == "PLACE" and "FLOOR" in table.misplaced:
+        return UnsupportedPhrase(table.misplaced["FLOOR"].format(**_around(toks, at - 2)))  # 2階の風呂に一番近い
     pair = f"{toks[at - 1].kind}>{tok.kind}" if at > 0 else ""
     if pair in table.misplaced:
         return UnsupportedPhrase(table.misplaced[pair].format(**_around(toks, at)))

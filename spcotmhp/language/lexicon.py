@@ -6,7 +6,8 @@ Rules, in this order (English; Japanese below):
 1. The text is normalised (:func:`spcotmhp.language.text.normalise`) and cut into units: words (inner apostrophes
    kept) and the punctuation that separates clauses; a hyphen inside a word is a space ("living-room").
 2. Lengths of time become one DURATION token: an optional "for", a number (digits or a number word, "a", "an",
-   "half a") and a unit (seconds, minutes, hours): "for two minutes" is 120 s.
+   "half a") and a unit (seconds, minutes, hours): "for two minutes" is 120 s. Floor phrases ("on the second
+   floor", "upstairs") become one FLOOR token, or FLOOR_TO before "to" (:mod:`spcotmhp.language.floors`).
 3. Fillers (the table's small closed class: articles, politeness, hesitations) are left out, single words first,
    then filler phrases; nothing else is ever left out.
 4. Longest match, place words winning ties, against the place words and the table's phrases (each phrase as its
@@ -26,6 +27,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
+from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
@@ -63,7 +65,7 @@ def english_units(text: str) -> list[str]:
 
 def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     units = english_units(text)
-    kept = _without_fillers(_durations_en(units), table, places)
+    kept = _without_fillers(_floors_en(_durations_en(units)), table, places)
     seq = [u for u, _ in kept]
     plain = all(type(u) is str for u in seq)  # no DURATION token among the units
     out: list[Token] = []
@@ -105,6 +107,8 @@ def _without_fillers(
     while True:
         kept = [(u, p) for u, p in items if not isinstance(u, str) or u not in table.fillers or u in places.words]
         units = [u for u, _ in kept]
+        if table.filler_from.keys().isdisjoint(units):  # no unit opens a filler phrase
+            return kept
         out: list[tuple[Token | str, int]] = []
         i = 0
         while i < len(kept):
@@ -140,6 +144,29 @@ def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
     return out
 
 
+def _floors_en(items: list[tuple[Token | str, int]]) -> list[tuple[Token | str, int]]:
+    """Rule 2: floor phrases -> a FLOOR token (FLOOR_TO when "to" / "into" follows)."""
+    if CUES.isdisjoint(u for u, _ in items if isinstance(u, str)):
+        return items
+    units = [u for u, _ in items]
+    out: list[tuple[Token | str, int]] = []
+    i = 0
+    while i < len(items):
+        hit = floor_en(units, i)
+        if hit is None:
+            out.append(items[i])
+            i += 1
+            continue
+        value, n = hit
+        kind = "FLOOR_TO" if i + n < len(units) and units[i + n] in ("to", "into") else "FLOOR"
+        n += kind == "FLOOR_TO"
+        start = items[i][1]
+        surface = " ".join(str(u) for u in units[i : i + n])
+        out.append((Token(kind, surface, floor=value, start=start, end=items[i + n - 1][1] + 1), start))
+        i += n
+    return out
+
+
 def _number(unit: str) -> float | None:
     if unit in _NUMBERS:
         return float(_NUMBERS[unit])
@@ -153,9 +180,11 @@ def _number(unit: str) -> float | None:
 
 def _merge(items: list[Token]) -> list[Token]:
     """Place words side by side (fillers between them left out) form one name (rule 5); a name no place has
-    ("the hall please the entrance": "hall entrance") is refused where the planner checks names."""
+    ("the hall please the entrance": "hall entrance") is refused where the planner checks names. Lengths of time
+    side by side, each shorter than the one before (maybe joined by "and"), are one length: "1 minute 30 seconds",
+    1分30秒 (a longer or equal one after it is not a part of it, and is refused where it stands)."""
     out: list[Token] = []
-    for it in items:
+    for it in _summed(items):
         if it.kind == "PLACE" and out and out[-1].kind == "PLACE":
             last = out[-1]
             joiner = "" if _is_cjk(last.surface) else " "
@@ -163,6 +192,21 @@ def _merge(items: list[Token]) -> list[Token]:
                 "PLACE", last.surface + joiner + it.surface, last.words + it.words, plural=it.plural,
                 start=last.start, end=it.end,
             )  # fmt: skip
+        else:
+            out.append(it)
+    return out
+
+
+def _summed(items: list[Token]) -> list[Token]:
+    out: list[Token] = []
+    for it in items:
+        joined = len(out) >= 2 and out[-1].kind == "AND" and out[-2].kind == "DURATION"
+        last = out[-2] if joined else out[-1] if out else None
+        if it.kind == "DURATION" and last is not None and last.kind == "DURATION" and it.seconds < last.seconds:
+            del out[-2 if joined else -1 :]
+            joiner = "" if _is_cjk(last.surface) else " "
+            surface = joiner.join((last.surface, *(["and"] if joined else []), it.surface))
+            out.append(Token("DURATION", surface, seconds=last.seconds + it.seconds, start=last.start, end=it.end))
         else:
             out.append(it)
     return out

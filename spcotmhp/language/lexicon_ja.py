@@ -1,6 +1,7 @@
 """Japanese sentences -> tokens (rules of :mod:`spcotmhp.language.lexicon`, on characters): the longest match
 over the place words (with their spelling variants) and the table's phrases, fillers left out after matching, a
-run of unmatched characters one WORD; digits or kanji numerals before 秒, 分 or 時間 a DURATION (1分半: 90 s); a lone
+run of unmatched characters one WORD; digits or kanji numerals before 秒, 分 or 時間 a DURATION (1分半: 90 s); a floor
+phrase (2階の, 上の階の: :mod:`spcotmhp.language.floors`) a FLOOR; a lone
 の between two places joins them into one name (玄関の廊下); か is a choice only between two places.
 """
 
@@ -8,11 +9,13 @@ from __future__ import annotations
 
 import re
 
+from spcotmhp.language.floors import floor_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
 
 _JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
+_FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
 
 
@@ -21,7 +24,13 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     out: list[Token] = []
     i = 0
     while i < len(chars):
-        duration = _JA_DURATION.match("".join(chars[i : i + 12]))
+        ahead = "".join(chars[i : i + 12])
+        floor = floor_ja(ahead) if chars[i] in _FLOOR_STARTS else None
+        if floor is not None and not _place_within(chars, i, floor[1], table, places):
+            out.append(Token("FLOOR", ahead[: floor[1]], floor=floor[0], start=i, end=i + floor[1]))
+            i += floor[1]
+            continue
+        duration = _JA_DURATION.match(ahead)
         if duration:
             n = len(duration.group(0))
             out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
@@ -47,6 +56,12 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
     return out
+
+
+def _place_within(chars: list[str], i: int, n: int, table: WordTable, places: PlaceLexicon) -> bool:
+    """Whether a place word at least ``n`` characters long starts at ``chars[i]`` (地下室 is a room, not 地下)."""
+    hit = longest_match(chars, i, table, places)
+    return hit is not None and hit[0] == "PLACE" and hit[2] >= n
 
 
 _NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from spcotmhp.language.floors import FloorValue, describe_floor
+
 RELATIONS = ("closest", "farthest", "next_to", "between", "largest", "smallest")
 """The relations a place phrase may carry."""
 ARITY = {"closest": 1, "farthest": 1, "next_to": 1, "between": 2, "largest": 0, "smallest": 0}
@@ -47,18 +49,26 @@ class Relation:
 @dataclass(frozen=True)
 class PlaceRef:
     """A place as said: its place words (a multi-word name has several), how it was said, an optional relation,
-    and ``every`` for "all the bedrooms" / "both corridors" (every place of that name)."""
+    ``every`` for "all the bedrooms" / "both corridors" (every place of that name), and the floor it is on as said
+    (``floor``: :mod:`spcotmhp.language.floors`; None: any floor) with the words that said it (``floor_said``)."""
 
     words: tuple[str, ...]
     label: str
     relation: Relation | None = None
     every: bool = False
+    floor: FloorValue | None = None
+    floor_said: str = ""
 
     def describe(self) -> str:
-        """E.g. "bedroom (closest to the bath)"."""
-        if self.relation is None:
-            return ("every " if self.every else "") + self.label
-        return f"{self.label} ({self.relation.describe()})"
+        """E.g. "bedroom (closest to the bath)", "every bedroom (on floor 2)"."""
+        return ("every " if self.every else "") + qualified(self.label, self.relation, self.floor)
+
+
+def qualified(label: str, relation: Relation | None, floor: FloorValue | None) -> str:
+    """A place's label with what picks it: "bedroom (on floor 2, closest to the bath)"."""
+    said = [describe_floor(floor)] if floor is not None else []
+    said += [relation.describe()] if relation is not None else []
+    return f"{label} ({', '.join(said)})" if said else label
 
 
 @dataclass(frozen=True)

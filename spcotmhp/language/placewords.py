@@ -13,8 +13,8 @@ from spcotmhp.language.table import EN_UNIT, WordTable, longest_from
 
 class Token(NamedTuple):
     """One token of a sentence: its terminal (``kind``), its surface, the place words of a PLACE, the seconds of a
-    DURATION, and whether a place word was said in the plural (a tuple: made for every word of every
-    instruction)."""
+    DURATION, the floor of a FLOOR, and whether a place word was said in the plural (a tuple: made for every word
+    of every instruction)."""
 
     kind: str
     surface: str
@@ -23,6 +23,7 @@ class Token(NamedTuple):
     plural: bool = False
     start: int = 0  # index of its first unit in the sentence (fillers included)
     end: int = 0  # index after its last unit
+    floor: int | str | None = None  # the floor a FLOOR token says (spcotmhp.language.floors)
 
 
 class PlaceLexicon:

@@ -52,7 +52,7 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
     table = word_table(lang)
     toks = tokens(text, table, place_words)
     try:
-        root = derive(lang, [t.kind for t in toks], [t.surface for t in toks])
+        root = _shape(lang, tuple(t.kind for t in toks))  # read-only: the walks take each leaf's words from toks
     except _NoDerivation as exc:
         bad = LarkToken(toks[exc.at].kind, toks[exc.at].surface, start_pos=exc.at) if exc.at < len(toks) else None
         raise refusal(toks, bad, table, place_words, text) from None

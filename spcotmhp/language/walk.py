@@ -5,12 +5,13 @@ with its checks. :mod:`spcotmhp.language.walk_en` and :mod:`spcotmhp.language.wa
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from lark import Token as LarkToken
 from lark import Tree
 
 from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, UnsupportedPhrase
+from spcotmhp.language.floors import FloorValue
 from spcotmhp.language.lexicon import MAX_WAIT_S
 from spcotmhp.language.meaning import PlaceRef, Reading, Relation
 from spcotmhp.language.order import Visit, visiting_order
@@ -69,6 +70,7 @@ class Walk:
     mentions: list[Mention] = field(default_factory=list)
     pairs: list[tuple[int, int]] = field(default_factory=list)  # (a, b): mention a before mention b
     speeds: list[str] = field(default_factory=list)
+    said: list[PlaceRef] = field(default_factory=list)  # every place name read, relations' places too, in order
     sentence: int = 0
     step: int = 0
 
@@ -122,22 +124,48 @@ class Walk:
             raise UnsupportedPhrase(f"{excerpt(word)} names no place said before it: say the place's name")
         return self.mentions[-1].ref
 
+    def word(self, node: object) -> str:
+        """The words of token ``node`` as said (a derivation's leaves carry only their index: reading.py)."""
+        return self.toks[tok(node).start_pos or 0].surface
+
     def place(self, node: LarkToken, relation: Relation | None = None, every: bool = False) -> PlaceRef:
         """The :class:`PlaceRef` of a PLACE token."""
         t = self.toks[node.start_pos or 0]
-        return PlaceRef(t.words, t.surface, relation, every)
+        ref = PlaceRef(t.words, t.surface, relation, every)
+        self.said.append(ref)
+        return ref
+
+    def floor(self, nodes: Iterable[object]) -> tuple[FloorValue | None, str]:
+        """The floor of the FLOOR (or FLOOR_TO) token among ``nodes`` and its words, if any."""
+        for node in nodes:
+            if isinstance(node, LarkToken) and node.type in ("FLOOR", "FLOOR_TO"):
+                t = self.toks[node.start_pos or 0]
+                return t.floor, t.surface
+        return None, ""
+
+    def on_floor(self, ref: PlaceRef, nodes: Iterable[object]) -> PlaceRef:
+        """``ref`` on the floor a FLOOR token among ``nodes`` says ("go upstairs to the bedroom on the first floor":
+        two floors, refused)."""
+        floor, said = self.floor(nodes)
+        if floor is None or floor == ref.floor:
+            return ref
+        if ref.floor is not None:
+            raise UnsupportedPhrase(f"{excerpt(ref.label)} is given two floors ({ref.floor_said}, {said}); say one")
+        return replace(ref, floor=floor, floor_said=said)
 
     def seconds(self, nodes: Iterable[object]) -> float | None:
-        """The seconds of the DURATION token among ``nodes``, if any."""
-        for node in nodes:
-            if isinstance(node, LarkToken) and node.type == "DURATION":
-                return self.toks[node.start_pos or 0].seconds
-        return None
+        """The seconds of the DURATION token among ``nodes``, if any; two lengths for one wait are refused ("wait
+        30 seconds 1 minute": which?)."""
+        said = [self.toks[n.start_pos or 0] for n in nodes if isinstance(n, LarkToken) and n.type == "DURATION"]
+        if len(said) > 1:
+            lengths = " and ".join(excerpt(t.surface) for t in said)
+            raise UnsupportedPhrase(f"{lengths} are two lengths for one wait; say one ('wait 1 minute 30 seconds')")
+        return said[0].seconds if said else None
 
     def wait_at(self, m: Mention, toks: list[LarkToken]) -> None:
         """``m`` waits for the DURATION among ``toks`` (or until the next instruction), as the WAIT token said."""
         m.wait = self.seconds(toks)
-        m.wait_word = next((t.value for t in toks if t.type == "WAIT"), m.wait_word)
+        m.wait_word = next((self.word(t) for t in toks if t.type == "WAIT"), m.wait_word)
 
     def refuse_lead(self, word: str) -> None:
         """A correction word ("actually", やっぱり) only opens the instruction, before any place is said."""

@@ -21,7 +21,7 @@ The rules a reader needs besides the grammar:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -56,7 +56,7 @@ class EnglishWalk(Walk):
                 continue
             for child in subtrees(sentence):
                 if child.data == "lead":
-                    self.refuse_lead(tok(child.children[0]).value)
+                    self.refuse_lead(self.word(child.children[0]))
                 elif child.data == "joint":
                     self.joint = {t.type for t in tokens_of(child)}
                 elif child.data == "clause":
@@ -70,7 +70,7 @@ class EnglishWalk(Walk):
         waiting = [m for m in self.mentions if m.wait is not False]
         if not waiting or waiting[-1].wait is not None:
             raise UnsupportedPhrase(
-                f"{excerpt(tok(sentence.children[0]).value)} says how long, but no wait before it is waiting for "
+                f"{excerpt(self.word(sentence.children[0]))} says how long, but no wait before it is waiting for "
                 "a length: say 'wait there for 2 minutes'"
             )
         waiting[-1].wait = self.seconds(sentence.children)
@@ -92,7 +92,7 @@ class EnglishWalk(Walk):
         for k, item in enumerate(items):
             self._item(item, orders, first_item=k == 0)
         self.related_end = _ends_with_relation(items[-1])
-        self.waited = next((tokens_of(i)[0].value for i in items if i.data == "wait"), "")
+        self.waited = next((self.word(tokens_of(i)[0]) for i in items if i.data == "wait"), "")
         mine = [m for m in self.mentions[start:] if m.role in VISIT_ROLES]
         if mine:
             self.apply_orders(self.pending + orders, mine, start)
@@ -123,7 +123,8 @@ class EnglishWalk(Walk):
             m = self.mention(self._ref(kids[0]), self._inherited_role(first_item))
             m.inherited = first_item and bool(self.joint)
         elif kind in _ROLES:
-            m = self.mention(self._ref(kids[0]) if kids else self._there(toks), _ROLES[kind])
+            ref = self._ref(kids[0]) if kids else self._there(toks)
+            m = self.mention(self.on_floor(ref, toks), _ROLES[kind])  # "go upstairs to the bedroom"
             m.rank = 2 if kind == "goal_last" else m.rank
             self.speeds += ["fast"] if kind == "hurry_goal" else []
             seconds = self.seconds(toks)
@@ -144,9 +145,9 @@ class EnglishWalk(Walk):
         elif kind in ("first", "last", "on_the_way", "before_that"):
             orders.append(kind)
         elif kind == "instead":
-            self._instead(toks[0].value)
+            self._instead(self.word(toks[0]))
         elif kind == "halt":
-            self.halted = toks[0].value
+            self.halted = self.word(toks[0])
         elif kind in ("slow", "fast", "hurry"):
             self.speeds.append("fast" if kind == "hurry" else kind)
         elif kind == "wait":
@@ -189,48 +190,57 @@ class EnglishWalk(Walk):
         return "avoid" if before in ("via", "stop", "avoid") else "not_goal"
 
     def _there(self, toks: list[LarkToken]) -> PlaceRef:
-        return self.last_ref(next((t.value for t in toks if t.type == "THERE"), "there"))
+        return self.last_ref(next((self.word(t) for t in toks if t.type == "THERE"), "there"))
 
     def _ref(self, np: Tree) -> PlaceRef:
         """The :class:`PlaceRef` of an ``np`` (or ``_target``) subtree."""
         if np.data == "it":
-            return self.last_ref(tok(np.children[0]).value)
+            return self.last_ref(self.word(np.children[0]))
         if np.data == "one":
-            last = self.last_ref(tok(np.children[0]).value)
-            return PlaceRef(last.words, last.label, self._relation(tree(np.children[1])))
+            last = self.last_ref(self.word(np.children[0]))
+            return replace(last, relation=self._relation(tree(np.children[1]), last), every=False)
         ref = self._name(tree(np.children[0]))
         if np.data == "related":
-            relation = self._relation(tree(np.children[1]))
+            relation = self._relation(tree(np.children[1]), ref)
             if relation is not None and ref.relation is not None:
                 raise UnsupportedPhrase(f"{excerpt(ref.label)} is given two relations; say one")
-            return PlaceRef(ref.words, ref.label, relation or ref.relation, ref.every)
+            return replace(ref, relation=relation or ref.relation)
         return ref
 
     def _name(self, name: Tree) -> PlaceRef:
         if name.data in ("largest_elided", "smallest_elided"):  # "the smallest bedroom, not the biggest"
-            last = self.last_ref(tok(name.children[0]).value)
-            return PlaceRef(last.words, last.label, Relation(name.data.split("_")[0]))
+            last = self.last_ref(self.word(name.children[0]))
+            return replace(last, relation=Relation(name.data.split("_")[0]), every=False)
         place = next(t for t in tokens_of(name) if t.type == "PLACE")
         if name.data == "every":
             ref = self.place(place, every=True)
-            return PlaceRef(ref.words, f"{tok(name.children[0]).value} {ref.label}", every=True)
-        return self.place(place, Relation(name.data) if name.data in ("largest", "smallest") else None)
+            ref = PlaceRef(ref.words, f"{self.word(name.children[0])} {ref.label}", every=True)
+        else:
+            ref = self.place(place, Relation(name.data) if name.data in ("largest", "smallest") else None)
+        return self.on_floor(ref, name.children)
 
-    def _relation(self, relation: Tree) -> Relation | None:
+    def _relation(self, relation: Tree, head: PlaceRef) -> Relation | None:
         rel = tree(relation.children[-1])
         if rel.data == "nearest":  # "whichever bedroom is closest": the planner's default
             return None
         kind = {"largest_is": "largest", "smallest_is": "smallest"}.get(rel.data, rel.data)
-        return Relation(kind, tuple(self._argument(a) for a in subtrees(rel)))
+        return Relation(kind, tuple(self._argument(a, head) for a in subtrees(rel)))
 
-    def _argument(self, arg: Tree) -> PlaceRef:
-        if arg.data in ("it", "there"):
-            return self.last_ref(tok(arg.children[0]).value)
-        return self.place(tok(arg.children[0]))
+    def _argument(self, arg: Tree, head: PlaceRef) -> PlaceRef:
+        """A relation's place; "it" / "there" is the last place said by another name than the place the relation
+        picks ("the bedroom farthest from the bath, not the one nearest it": the bath), refused when there is none."""
+        word = self.word(arg.children[0])
+        if arg.data not in ("it", "there"):
+            return self.place(tok(arg.children[0]))
+        other = next((r for r in reversed(self.said) if r.words != head.words), None)
+        if other is None:
+            raise UnsupportedPhrase(f"{excerpt(word)} names no place said before it but {excerpt(head.label)}: say "
+                                    "the place's name")  # fmt: skip
+        return PlaceRef(other.words, other.label)
 
     def _ordered(self, kind: str, kids: list[Tree], toks: list[LarkToken]) -> None:
         """ "X after R" / "X before R" (module docstring)."""
-        word = next(t.value for t in toks if t.type in ("BEFORE", "AFTER"))
+        word = next(self.word(t) for t in toks if t.type in ("BEFORE", "AFTER"))
         role = next((_MARKER_ROLES[t.type] for t in toks if t.type in _MARKER_ROLES), "visit")
         ref = self._ref(kids[0])
         x = len(self.mentions) - 1 if self.mentions and self.mentions[-1].sentence == self.sentence else None

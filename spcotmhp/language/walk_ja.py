@@ -44,7 +44,7 @@ class JapaneseWalk(Walk):
         for sentence in subtrees(root):
             for item in subtrees(sentence):
                 if item.data == "lead":
-                    self.refuse_lead(tok(item.children[0]).value)
+                    self.refuse_lead(self.word(item.children[0]))
                 else:
                     self._item(item)
             self.sentence += 1
@@ -63,19 +63,20 @@ class JapaneseWalk(Walk):
         elif kind == "wait":
             k = self.destination()
             if k is None:
-                raise UnsupportedPhrase(f"{excerpt(toks[-1].value)} says no place to wait at: say where (寝室で待って)")
+                said = excerpt(self.word(toks[-1]))
+                raise UnsupportedPhrase(f"{said} says no place to wait at: say where (寝室で待って)")
             self.wait_at(self.mentions[k], toks)
         elif kind == "bare":
             self._group(tree(kids[0]), "goal")
         elif kind in _ROLES:
             mentions = self._group(tree(kids[0]), _ROLES[kind])
-            marker = toks[-1].value if toks else ""
+            marker = self.word(toks[-1]) if toks else ""
             if any(t.type == "COMMA" for t in tokens_of(tree(kids[0]))) and _ROLES[kind] in ("via", "stop"):
                 self.lists.append((mentions, "、", marker))
             if kind.endswith("_then"):
                 self.step += 1
         elif kind in ("before", "after"):
-            word = toks[-1].value
+            word = self.word(toks[-1])
             role = "goal" if word[:1] in "にへ" else "via" if word.startswith("を通") else "visit"
             mentions = self._group(tree(kids[0]), role)
             for m in mentions:
@@ -102,10 +103,13 @@ class JapaneseWalk(Walk):
         return [self.place(tokens_of(group)[-1], Relation("between", (nps[0], nps[1])))]
 
     def _np(self, np: Tree) -> PlaceRef:
+        return self.on_floor(self._said(np), np.children)  # 2階の寝室
+
+    def _said(self, np: Tree) -> PlaceRef:
         place = [t for t in tokens_of(np) if t.type == "PLACE"][-1]
         if np.data == "every":
             ref = self.place(place)
-            return PlaceRef(ref.words, tok(np.children[0]).value + ref.label, every=True)
+            return PlaceRef(ref.words, self.word(np.children[0]) + ref.label, every=True)
         if np.data in ("largest", "smallest"):
             return self.place(place, Relation(np.data))
         if np.data in ("closest", "farthest", "next_to"):

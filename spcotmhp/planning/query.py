@@ -8,7 +8,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from spcotmhp.errors import InstructionTooLarge, MalformedInstruction
-from spcotmhp.language.meaning import PlaceRef, Relation
+from spcotmhp.language.floors import FloorValue
+from spcotmhp.language.meaning import PlaceRef, Relation, qualified
 from spcotmhp.language.wording import excerpt
 
 MAX_CHARS = 500
@@ -32,13 +33,16 @@ class PlaceQuery:
     ``alternatives``: for a bag merged from N-best hypotheses, each hypothesis's own bag (one of them names the
     place; empty for a single phrase, whose words all name it). ``relation``: what picks one of the places so named
     ("closest to the bath": :mod:`spcotmhp.planning.relations`); ``every``: every place so named ("both
-    corridors", only to avoid)."""
+    corridors", only to avoid); ``floor``: the floor it is on, as the words ``floor_said`` said it ("the bedroom
+    upstairs": :mod:`spcotmhp.language.floors`; a building's planner honours it, a one-floor planner refuses it)."""
 
     words: Mapping[str, float]
     label: str
     alternatives: tuple[Mapping[str, float], ...] = ()
     relation: Relation | None = None
     every: bool = False
+    floor: FloorValue | None = None
+    floor_said: str = ""
 
     @property
     def phrases(self) -> tuple[Mapping[str, float], ...]:
@@ -50,8 +54,8 @@ class PlaceQuery:
             raise MalformedInstruction(f"the place {excerpt(self.label)} has no words")
 
     def describe(self) -> str:
-        """E.g. "bedroom (closest to the bath)"."""
-        return self.label if self.relation is None else f"{self.label} ({self.relation.describe()})"
+        """E.g. "bedroom (closest to the bath)", "bedroom (upstairs)"."""
+        return qualified(self.label, self.relation, self.floor)
 
     @classmethod
     def of(cls, ref: PlaceRef) -> PlaceQuery:
@@ -59,7 +63,8 @@ class PlaceQuery:
         bag: dict[str, float] = {}
         for word in ref.words:
             bag[word] = bag.get(word, 0) + 1
-        return cls(bag, ref.label, relation=ref.relation, every=ref.every)
+        return cls(bag, ref.label, relation=ref.relation, every=ref.every, floor=ref.floor,
+                   floor_said=ref.floor_said)  # fmt: skip
 
 
 @dataclass(frozen=True)

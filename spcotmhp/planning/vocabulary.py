@@ -164,14 +164,14 @@ def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarr
 
 
 def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None) -> Any:
-    """``to_instruction(instruction, place_words, lang)``; an UnknownPlaceWord for a word taught at run time that
-    names no place yet (rule 4 of :func:`place_vocabulary`) says so and how often it was taught, rather than
-    that the word is unknown."""
+    """``to_instruction(instruction, place_words, lang)`` with no floor said (:func:`one_floor`); an
+    UnknownPlaceWord for a word taught at run time that names no place yet (rule 4 of :func:`place_vocabulary`)
+    says so and how often it was taught, rather than that the word is unknown."""
     from spcotmhp.errors import UnknownPlaceWord
     from spcotmhp.planning.instructions import to_instruction
 
     try:
-        return to_instruction(instruction, place_words, lang)
+        return one_floor(to_instruction(instruction, place_words, lang))
     except UnknownPlaceWord:
         taught = taught_counts(model)
         said = {w.lower() for w in str(instruction).replace("'", " ").split()} if taught else set()
@@ -184,3 +184,19 @@ def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], 
             f"'{word}' was taught {times} but names no place yet: the teaches there do not yet outweigh the "
             "place's other names; teach it again where that place is"
         ) from None
+
+
+def one_floor(ins: Any) -> Any:
+    """``ins`` when none of its places says a floor; else UnsupportedPhrase: one map is one floor, and a floor said
+    ("the bedroom upstairs") cannot be honoured on it, so it is refused rather than dropped."""
+    said = [q for q in (*ins.waypoints, ins.goal, *ins.avoid, *ins.not_goal) if q.floor is not None]
+    if said:
+        from spcotmhp.errors import UnsupportedPhrase
+        from spcotmhp.language.wording import excerpt
+
+        raise UnsupportedPhrase(
+            f"{excerpt(said[0].floor_said or str(said[0].floor))} gives the floor of {excerpt(said[0].label)}, but "
+            "this model is one floor: a building's model plans across floors ('spcotmhp learn BUILDING_DIR'); here say "
+            "the place's name alone"
+        )
+    return ins

@@ -26,7 +26,7 @@ from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, parse_text
 from spcotmhp.planning.places import LabelIndex, by_label
-from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+from spcotmhp.planning.vocabulary import one_floor, place_labels, place_vocabulary
 
 DATA = Path(__file__).parents[1] / "data"
 HOMES = ("3LDK_01", "3LDK_05", "3LDK_06")
@@ -83,7 +83,7 @@ def vocabulary(name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
 def read(text: str, name: str) -> Instruction:
     """``text`` read against vocabulary ``name``, its place phrases checked against the names."""
     words, names = vocabulary(name)
-    ins = parse_text(text, words)
+    ins = one_floor(parse_text(text, words))  # as the planner: the homes are one floor each
     index = LabelIndex(names)
     stages = [(q, by_label(index, q, stage=True)) for q in ins.stages]
     avoided = [(q, by_label(index, q)) for q in ins.avoid]

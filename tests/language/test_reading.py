@@ -51,12 +51,13 @@ def test_grammar_is_lalr1_without_any_conflict(lang):
 
 @pytest.mark.parametrize("lang", LANGUAGES)
 def test_word_classes_and_terminals_agree(lang):
-    """Every terminal the grammar declares is a word class of the table (or PLACE, DURATION, WORD), and every class
+    """Every terminal the grammar declares is a word class of the table (or one the lexicon makes: PLACE, DURATION,
+    FLOOR, FLOOR_TO, WORD), and every class
     of the table is either a terminal or a refusal (which no rule accepts)."""
     table = word_table(lang)
     terminals = {s.name for rule in grammar(lang).rules for s in rule.expansion if s.is_term}
     classes = set(table.surfaces) - {"FILLER"}
-    assert terminals - classes <= {"PLACE", "DURATION"}
+    assert terminals - classes <= {"PLACE", "DURATION", "FLOOR", "FLOOR_TO"}
     assert classes - terminals <= set(table.reasons) | set(table.misplaced), classes - terminals
 
 
@@ -245,3 +246,35 @@ def test_the_stored_tables_are_the_grammars(lang):
             token = getattr(exc, "token", None)
             theirs = len(toks) if token is None or token.type == "$END" else token.start_pos
         assert ours == theirs, text
+
+
+@pytest.mark.parametrize(
+    ("text", "lang", "seconds"),
+    [
+        ("go to the bedroom, wait 1 minute 30 seconds", "en", 90.0),
+        ("go to the bedroom and wait one minute and thirty seconds", "en", 90.0),
+        ("go to the bedroom and wait 2 minutes and 5 seconds", "en", 125.0),
+        ("寝室で1分30秒待って", "ja", 90.0),
+    ],
+)
+def test_lengths_of_time_side_by_side_are_one_length(text, lang, seconds):
+    """A length said in parts, each shorter than the one before, is their sum (it used to keep the first part)."""
+    assert read(text, ["bedroom", "寝室"], lang).waits == ((0, seconds),)
+
+
+@pytest.mark.parametrize(
+    "text", ["go to the bedroom, wait 30 seconds 1 minute", "go to the bedroom, wait 1 minute 1 minute"]
+)
+def test_two_lengths_for_one_wait_are_refused(text):
+    with pytest.raises(UnsupportedPhrase, match="two lengths"):
+        read(text, ["bedroom"], "en")
+
+
+def test_it_in_a_relation_is_the_last_place_of_another_name():
+    """ "not the one nearest it" after "the bedroom farthest from the bath": it is the bath, not a bedroom."""
+    r = read("Go to the bedroom farthest from the bath, not the one nearest it.", ["bedroom", "bath"], "en")
+    assert [q.describe() for q in r.not_goal] == ["bedroom (closest to the bath)"]
+    r = read("go to the kitchen and then the bedroom closest to it", ["bedroom", "kitchen"], "en")
+    assert r.visit[-1].describe() == "bedroom (closest to the kitchen)"
+    with pytest.raises(UnsupportedPhrase, match="'it' names no place"):
+        read("go to the bedroom closest to it", ["bedroom"], "en")
