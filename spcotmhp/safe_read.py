@@ -232,7 +232,11 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
     accepted = ", ".join(dict.fromkeys(IMAGE_FORMATS.values()))
     try:
         if not path.is_file():
-            raise error(f"map image {path} does not exist")
+            raise error(
+                f"map image {path} is not a regular file (a named pipe, a device or a folder)"
+                if path.exists()
+                else f"map image {path} does not exist"
+            )
         check_pnm_header(path, error)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
