@@ -188,6 +188,12 @@ def _verified_meta(root: Path) -> dict:
             "has: the folder is torn or was altered; save the model again"
         )
     learner = read_learner_meta(root)
+    if learner is not None:
+        from spcotmhp.learning.learner_checks import check_learner_size
+        from spcotmhp.learning.learner_state import learner_specs
+
+        specs, _ = learner_specs(learner, meta["K"], meta["L"], meta["V"], meta.get("D"))
+        check_learner_size(specs, learner["E"], learner["T"], str(root / "learner.json"))
     large = [n for n in names if n not in small]
     check_sizes(root, large, lambda name: file_bound(name, meta, learner))
     if entries is not None:

@@ -34,7 +34,7 @@ def _word_scores(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         lp_lk = np.log(model.pi)[:, None] + np.log(model.phi)
     p_l_given_k = np.exp(model.log_concept_given_place())
     said = p_l_given_k.T @ model.W
-    rescaled = p_l_given_k.T @ (model.W / model.W.sum(axis=0, keepdims=True))
+    rescaled = p_l_given_k.T @ model.unigram_rescaled_W()
     return said, rescaled, lp_lk
 
 
