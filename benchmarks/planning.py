@@ -9,8 +9,11 @@ planning graph, +inf on blocked cells):
 * (a) pyastar2d (C++ A*, 8-connected; its cost model: entering a cell costs its weight, diagonals unscaled);
 * (b) the project's flat grid search (:func:`spcotmhp.metric.grid_search.shortest_paths`, exact, numba);
 * (c) the previous planner, when ``--previous DIR`` names a checkout of an earlier version: the same queries
-  planned there, in a subprocess with that checkout first on the path; "same plans as (c)" counts the queries
-  whose plans (cells, length, places, goal options, notes, explanation; or the refusal's type) are identical.
+  planned there, in a subprocess with that checkout first on the path, and planned by this version in a subprocess
+  of its own with the same protocol; the two alternate for ``--rounds`` rounds (default 3) and each query keeps its
+  fastest time over all rounds, so that a slow spell of a shared machine does not fall on one side only; "(c) /
+  plan" is the ratio of the two medians; "same plans as (c)" counts the queries whose plans (cells, length,
+  places, goal options, notes, explanation; or the refusal's type) are identical.
 
 With ``--repeat R`` (default 3) every query, pyastar2d search and flat search is run R times in a row and the
 fastest kept (on a machine shared with other jobs, the slower tries measure the other jobs); the p95 of the
@@ -20,7 +23,7 @@ next-step links. Plans that are impossible (the avoided place is the only way, t
 counted as failed.
 
     .venv/bin/python benchmarks/planning.py [--queries 150] [--repeat 3] [--homes 3LDK_01 3LDK_05 3LDK_06]
-        [--previous DIR]
+        [--previous DIR] [--rounds 3]
 """
 
 from __future__ import annotations
@@ -112,7 +115,7 @@ def plan_times(name: str, n: int, seed: int, repeat: int = 1) -> dict:
     return {"times": times, "records": records}
 
 
-def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int = 3) -> list[dict]:
+def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int = 3, rounds: int = 3) -> list[dict]:
     import pyastar2d
 
     from spcotmhp.metric.grid_search import shortest_paths
@@ -120,7 +123,7 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
     planner, lang, t_pre = setup(name)
     graph = planner.graph
     weights = np.ascontiguousarray(graph.map_cost, dtype=np.float32)
-    old = _previous_times(previous, name, n, seed, repeat) if previous else None
+    old, now = _alternated(previous, name, n, seed, repeat, rounds) if previous else (None, None)
     rows = []
     qs = queries(planner, n, seed, lang)
     for kind in KINDS:
@@ -158,6 +161,7 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
                 "astar_cpu_ms": 1e3 * statistics.median(astar_cpu),
                 "flat_ms": 1e3 * statistics.median(flat),
                 "previous_ms": 1e3 * statistics.median(old["times"][kind]) if old and old["times"][kind] else None,
+                "this_ms": 1e3 * statistics.median(now["times"][kind]) if now and now["times"][kind] else None,
                 "same_plans": f"{same}/{len(times) + failures}" if old else "-",
                 "precompute_s": t_pre,
                 "nodes": graph.n_nodes,
@@ -166,6 +170,22 @@ def bench_home(name: str, n: int, seed: int, previous: str | None, repeat: int =
             }
         )
     return rows
+
+
+def _alternated(folder: str, name: str, n: int, seed: int, repeat: int, rounds: int) -> tuple[dict, dict]:
+    """:func:`plan_times` of the checkout ``folder`` and of this version, each in a subprocess, alternating for
+    ``rounds`` rounds; each query's time is its fastest over the rounds (module docstring, (c))."""
+    here = str(Path(__file__).resolve().parents[1])
+    runs: dict[str, list[dict]] = {"old": [], "now": []}
+    for _ in range(max(1, rounds)):
+        runs["old"].append(_previous_times(folder, name, n, seed, repeat))
+        runs["now"].append(_previous_times(here, name, n, seed, repeat))
+    out = []
+    for side in ("old", "now"):
+        first = runs[side][0]
+        times = {k: [min(ts) for ts in zip(*(r["times"][k] for r in runs[side]), strict=True)] for k in KINDS}
+        out.append({"times": times, "records": first["records"]})
+    return out[0], out[1]
 
 
 def _previous_times(folder: str, name: str, n: int, seed: int, repeat: int) -> dict:
@@ -193,6 +213,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=3, help="tries per query; the fastest is kept")
     parser.add_argument("--homes", nargs="+", default=["3LDK_01", "3LDK_05", "3LDK_06"])
     parser.add_argument("--previous", help="a checkout of an earlier version to time the same queries with")
+    parser.add_argument("--rounds", type=int, default=3, help="rounds alternating the previous and this version")
     args = parser.parse_args(argv)
     from spcotmhp.warmup import warm_up
 
@@ -200,7 +221,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for name in args.homes:
         print(f"benchmarking {name} ...", file=sys.stderr)
-        rows += bench_home(name, args.queries, args.seed, args.previous, args.repeat)
+        rows += bench_home(name, args.queries, args.seed, args.previous, args.repeat, args.rounds)
     print(
         f"machine: {platform.machine()}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}; "
         f"load average {os.getloadavg()[0]:.1f} at the end; fastest of {args.repeat} tries per query"
@@ -208,12 +229,17 @@ def main(argv: list[str] | None = None) -> int:
     print(
         "\n| home | instructions | plans (failed) | online median ms | p95 ms | p95 first try ms "
         "| CPU median / p95 ms | (a) pyastar2d ms (CPU) | plan / (a) (CPU) "
-        "| (b) flat search ms | plan / (b) | (c) previous ms | (c) / plan | same plans as (c) | precompute s "
+        "| (b) flat search ms | plan / (b) | (c) previous ms | this version, same protocol ms | (c) / plan "
+        "| same plans as (c) | precompute s "
         "| fields MiB |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        prev = f"{r['previous_ms']:.2f} | {r['previous_ms'] / r['median_ms']:.1f}x" if r["previous_ms"] else "- | -"
+        prev = (
+            f"{r['previous_ms']:.3f} | {r['this_ms']:.3f} | {r['previous_ms'] / r['this_ms']:.2f}x"
+            if r["previous_ms"] and r["this_ms"]
+            else "- | - | -"
+        )
         print(
             f"| {r['home']} | {r['kind']} | {r['queries']} ({r['failures']}) | {r['median_ms']:.3f} | "
             f"{r['p95_ms']:.3f} | {r['p95_first_ms']:.3f} | {r['cpu_ms']:.3f} / {r['cpu_p95_ms']:.3f} | "

@@ -65,6 +65,7 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
     units = english_units(text)
     kept = _without_fillers(_durations_en(units), table, places)
     seq = [u for u, _ in kept]
+    plain = all(type(u) is str for u in seq)  # no DURATION token among the units
     out: list[Token] = []
     i = 0
     while i < len(seq):
@@ -73,7 +74,7 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
             out.append(unit)
             i += 1
             continue
-        hit = longest_match(seq, i, table, places)
+        hit = longest_match(seq, i, table, places, plain)
         if hit is not None:
             kind, value, n = hit
             end = kept[i + n - 1][1] + 1

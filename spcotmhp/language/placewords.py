@@ -118,15 +118,18 @@ def place_lexicon(table: WordTable, place_words: tuple[str, ...]) -> PlaceLexico
     return PlaceLexicon(table, place_words)
 
 
-def longest_match(units: Sequence[Any], i: int, table: WordTable, places: PlaceLexicon) -> tuple[str, str, int] | None:
-    """(class, place word, length) of the longest entry starting at ``units[i]`` (places win ties), or None."""
+def longest_match(
+    units: Sequence[Any], i: int, table: WordTable, places: PlaceLexicon, plain: bool = False
+) -> tuple[str, str, int] | None:
+    """(class, place word, length) of the longest entry starting at ``units[i]`` (places win ties), or None;
+    ``plain``: the caller knows ``units`` holds no token (nothing to skip)."""
     first = units[i]
     if not isinstance(first, str):
         return None
     most = max(places.longest_from.get(first, 0), table.phrase_from.get(first, 0))
     for n in range(min(len(units) - i, most), 0, -1):
         key = tuple(units[i : i + n])
-        if n > 1 and any(isinstance(u, Token) for u in key):
+        if n > 1 and not plain and any(isinstance(u, Token) for u in key):
             continue
         if key in places.keys and not (key in places.glued and _dictionary_word(key[0])):
             return "PLACE", places.keys[key], n

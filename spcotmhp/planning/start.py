@@ -36,6 +36,10 @@ def start_point(start: Any) -> np.ndarray:
     >>> start_point((1, 2.5)).tolist()
     [1.0, 2.5]
     """
+    if isinstance(start, np.ndarray) and start.dtype.kind in "iuf" and start.shape == (2,):
+        x0 = start.astype(float)  # numbers by their type: only finiteness is left to check
+        if np.isfinite(x0).all():
+            return x0
     if isinstance(start, np.ndarray):
         values = start.reshape(-1).tolist() if start.dtype.kind in "iuf" else None
     elif isinstance(start, (list, tuple)):
