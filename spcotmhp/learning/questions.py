@@ -14,10 +14,7 @@ with different names share the position, and where a place's few events leave it
 is zero where one name is certain. It does not see two rooms of one name merged into one place (both answers
 would be the same name). The candidate positions are the teaching events' positions (the
 learner state's; else the places' means), on known free cells, best first, each at least ``SPACING_M`` from the
-ones before (one question per spot) and from every naming event already learned (a teach or an earlier answer):
-there the person has said what the place is called, and asking again gets the same answer, which the measure,
-treating answers as independent draws of p(n | x), cannot see. ``why`` says which of those causes applies, read
-off the same quantities.
+ones before (one question per spot). ``why`` says which of those causes applies, read off the same quantities.
 """
 
 from __future__ import annotations
@@ -63,10 +60,6 @@ def questions(model: SpatialConceptModel, max_questions: int = 5, lang: str | No
     labels = place_labels(model, words)
     names = sorted({labels[k] for k in np.flatnonzero(model.active_places) if not labels[k].startswith("place ")})
     xy = _candidate_positions(model)
-    said = _named_positions(model)
-    if len(xy) and len(said):
-        near = np.hypot(xy[:, None, 0] - said[None, :, 0], xy[:, None, 1] - said[None, :, 1]).min(axis=1)
-        xy = xy[near >= SPACING_M]
     if not len(xy) or not names:
         return []
     p = name_distribution(model, xy, names, words)
@@ -111,15 +104,6 @@ def _candidate_positions(model: SpatialConceptModel) -> np.ndarray:
         xy = xy[ok]
     _, first = np.unique(np.floor(xy / 0.5).astype(np.int64), axis=0, return_index=True)
     return xy[np.sort(first)]
-
-
-def _named_positions(model: SpatialConceptModel) -> np.ndarray:
-    """(M, 2) positions of the learner state's naming events (teaches and answers; ``collapsed.py``)."""
-    learner = model.learner
-    if learner is None or "named" not in learner["arrays"]:
-        return np.empty((0, 2))
-    named = np.asarray(learner["arrays"]["named"], dtype=bool)
-    return np.asarray(learner["arrays"]["X"], dtype=float)[named]
 
 
 def _why(model: SpatialConceptModel, post: np.ndarray, labels: list[str], candidates: list[str], names) -> str:

@@ -84,21 +84,3 @@ def test_an_answer_is_a_teach_and_moves_the_name_toward_it(blurred):
     before = name_distribution(model, xy, names, names)[0]
     after = name_distribution(taught, xy, names, names)[0]
     assert after[0] > before[0] and after[1] < before[1]
-
-
-def test_an_answered_spot_is_not_asked_again(blurred):
-    """After the answer at the best spot, no question is within SPACING_M of it (the person would give the same
-    answer), though the name entropy there is still above the asking threshold (one teach against 15 events) and
-    above that of every spot still asked."""
-    from spcotmhp.learning.questions import MIN_ENTROPY, name_distribution
-
-    model, _ = blurred
-    first = questions(model, 1)[0]
-    taught = teach(model, [{"x": first["x"], "y": first["y"], "utterance": "this is the dining"}]).model
-    xy = np.array([[first["x"], first["y"]]])
-    p = name_distribution(taught, xy, ["dining", "kitchen"], ["dining", "kitchen"])[0]
-    after = questions(taught, 5)
-    assert -(p * np.log(p)).sum() > max([MIN_ENTROPY] + [q["information"] for q in after])  # still unsure there
-    assert questions(model, 1)[0]["x"] == first["x"]  # the untaught model asks there
-    for q in after:
-        assert np.hypot(q["x"] - first["x"], q["y"] - first["y"]) >= SPACING_M
