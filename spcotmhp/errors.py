@@ -22,6 +22,11 @@ class DatasetError(SpcotmhpError):
     """A dataset folder is missing a file, or a file has rows that do not parse."""
 
 
+class BuildingError(DatasetError):
+    """A building folder's building.yaml is missing or malformed, or disagrees with its floors (a floor's dataset,
+    a connector off its floor's free space, floors of different resolutions); the message names the field."""
+
+
 class ModelError(SpcotmhpError):
     """A model folder is missing, corrupt, or from an incompatible format version."""
 
@@ -69,6 +74,16 @@ class InstructionTooLarge(InstructionError):
     """The instruction is longer, or names more waypoints or avoided places, than the configured limits."""
 
     http_status = 413
+
+
+class UnknownFloor(InstructionError):
+    """An instruction or a start names a floor the building does not have ("upstairs" on the top floor, floor 7
+    of five); the message lists the floors."""
+
+
+class PlaceNotOnFloor(InstructionError):
+    """An instruction names a place on a floor where no place of that name is; the message says on which floors
+    places of that name are."""
 
 
 class UnsupportedLanguage(InstructionError):
@@ -119,6 +134,10 @@ class NoReachablePlace(PlanningError):
 class PlaceCutOff(NoReachablePlace):
     """A place the instruction names lies only in free space the start cannot reach: the robot's free space is
     cut (a closed door, a gap in the map, furniture) between them."""
+
+
+class FloorUnreachable(NoReachablePlace):
+    """No connector route (stairs, lifts) from the start's floor reaches the floor a stage must end on."""
 
 
 class HorizonTooShort(PlanningError):

@@ -10,7 +10,8 @@ Every reader of a data, map or model file goes through these helpers, so the sam
   range such as ``1e400`` refused too).
 * ``open_image``: only PGM/PPM, PNG and BMP are decoded (never EPS/PS, which would start Ghostscript), after
   checking from the header, before decoding: a PGM/PPM header (comments included) of at most
-  ``MAX_PNM_HEADER_BYTES`` (64 KiB; map_saver writes about 50 bytes), the pixel count against
+  ``MAX_PNM_HEADER_BYTES`` (64 KiB; map_saver writes about 50 bytes), at most ``MAX_PLAIN_PNM_VALUES`` sample
+  values in a plain (ASCII) PGM/PPM/PBM (2,000,000: Pillow decodes them in Python), the pixel count against
   ``max_map_pixels()`` (no decompression bomb) and the aspect ratio against ``MAX_MAP_ASPECT`` (1000: a
   corridor 1 km long and 1 m wide at 5 cm cells; a longer strip is not a floor plan, and every per-row step of
   the tools grows with its length); any decoder failure (a corrupt chunk, a truncated file) is one error naming
@@ -45,6 +46,7 @@ EXCERPT_CHARS = 60
 IMAGE_BYTES_PER_PIXEL = 8
 MAX_PNM_HEADER_BYTES = 64 * 1024
 MAX_MAP_ASPECT = 1000
+MAX_PLAIN_PNM_VALUES = 2_000_000  # sample values of a plain (ASCII) P1/P2/P3 file: about 0.6 s of Pillow's decoding
 PNM_WHITESPACE = b" \t\n\x0b\x0c\r"
 IMAGE_EXTRA_BYTES = 1 << 20
 
@@ -230,7 +232,11 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
     accepted = ", ".join(dict.fromkeys(IMAGE_FORMATS.values()))
     try:
         if not path.is_file():
-            raise error(f"map image {path} does not exist")
+            raise error(
+                f"map image {path} is not a regular file (a named pipe, a device or a folder)"
+                if path.exists()
+                else f"map image {path} does not exist"
+            )
         check_pnm_header(path, error)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
@@ -272,31 +278,55 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
 def check_pnm_header(path: Path, error: ErrorType) -> None:
     """A PGM/PPM/PBM file's header (magic, width, height and maxval, with any comments) must end within
     ``MAX_PNM_HEADER_BYTES``; read with one bounded read, before Pillow's byte-by-byte parser sees the file.
-    Files of other formats, and headers that end early or do not parse, are left to the decoder."""
+    A plain (ASCII: P1, P2, P3) file may hold at most ``MAX_PLAIN_PNM_VALUES`` sample values (Pillow decodes
+    them in Python, about 0.3 s a million: a plain PGM at the pixel cap took 5 s of CPU). Files of other
+    formats, and headers that do not parse, are left to the decoder."""
     try:
         with path.open("rb") as handle:
             head = handle.read(MAX_PNM_HEADER_BYTES + 1)
     except OSError as exc:
         raise error(f"cannot read map image {path}: {exc.strerror or exc}") from None
-    if len(head) <= MAX_PNM_HEADER_BYTES or head[:1] != b"P" or head[1:2] not in b"0123456fy":
+    if head[:1] != b"P" or head[1:2] not in b"0123456fy" or len(head) < 2:
         return
-    fields = 2 if head[:2] in (b"P1", b"P4") else 3  # width, height (and maxval, or a scale)
+    tokens = _pnm_header_tokens(head, 2 if head[:2] in (b"P1", b"P4") else 3)
+    if tokens is None and len(head) > MAX_PNM_HEADER_BYTES:
+        raise error(
+            f"map image {path}: its PGM/PPM header (with comments) is longer than {MAX_PNM_HEADER_BYTES} bytes; "
+            f"at most {MAX_PNM_HEADER_BYTES} are accepted"
+        )
+    if tokens is None or head[:2] not in (b"P1", b"P2", b"P3"):
+        return
+    if not all(t.isdigit() and len(t) <= 20 for t in tokens[:2]):
+        return  # not a size the decoder accepts: it refuses the file
+    width, height = (int(t) for t in tokens[:2])
+    values = width * height * (3 if head[:2] == b"P3" else 1)
+    if values > MAX_PLAIN_PNM_VALUES:
+        raise error(
+            f"map image {path} is a plain (ASCII) {head[:2].decode()} file of {width} x {height} pixels, "
+            f"{values} sample values; a plain PNM file may hold at most {MAX_PLAIN_PNM_VALUES} (save larger maps "
+            "as binary PGM (P5) or PNG, as map_saver does)"
+        )
+
+
+def _pnm_header_tokens(head: bytes, fields: int) -> list[bytes] | None:
+    """The ``fields`` tokens after the magic number of a PNM header (comments skipped), or None when they do not
+    all end within ``MAX_PNM_HEADER_BYTES`` of ``head``."""
+    tokens: list[bytes] = []
     at = next((i for i in range(min(len(head), 7)) if head[i] in PNM_WHITESPACE), 6)
-    while fields and at < MAX_PNM_HEADER_BYTES:
+    while len(tokens) < fields and at < min(len(head), MAX_PNM_HEADER_BYTES):
         if head[at] in PNM_WHITESPACE:
             at += 1
         elif head[at] == ord("#"):
             ends = [i for i in (head.find(b"\n", at), head.find(b"\r", at)) if i >= 0]
             at = min(ends) if ends else len(head)
         else:
+            begin = at
             while at < len(head) and head[at] not in PNM_WHITESPACE and head[at] != ord("#"):
                 at += 1
-            fields -= 1
-    if fields:
-        raise error(
-            f"map image {path}: its PGM/PPM header (with comments) is longer than {MAX_PNM_HEADER_BYTES} bytes; "
-            f"at most {MAX_PNM_HEADER_BYTES} are accepted"
-        )
+            if at >= len(head) and len(head) > MAX_PNM_HEADER_BYTES:
+                return None  # the token runs past the bound
+            tokens.append(head[begin:at])
+    return tokens if len(tokens) == fields else None
 
 
 def _reason(exc: BaseException) -> str:

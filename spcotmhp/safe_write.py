@@ -138,15 +138,16 @@ def _new_file(path: Path) -> None:
 
 
 def _process_start() -> float:
-    """The wall-clock time this process started: on Linux its start after boot (/proc/self/stat, clock ticks)
-    plus the boot time (/proc/stat btime, rounded down to whole seconds, so at most 1 s early: on the safe side);
-    elsewhere the time this module was imported."""
+    """The wall-clock time this process started: on Linux the time since boot now (CLOCK_BOOTTIME, which
+    /proc/self/stat's start time counts in) less the process's start after boot (clock ticks, 10 ms: at most that
+    early, on the safe side), subtracted from the time now; elsewhere the time this module was imported. (The
+    boot time of /proc/stat is rounded to whole seconds: a save killed less than a second before a supervisor
+    restarted the process looked newer than it, and its staging folder was never removed.)"""
     try:
         ticks = int(Path("/proc/self/stat").read_text().rsplit(")", 1)[1].split()[19])
-        with open("/proc/stat") as stat:
-            boot = next(int(line.split()[1]) for line in stat if line.startswith("btime "))
-        return boot + ticks / os.sysconf("SC_CLK_TCK")
-    except (OSError, ValueError, IndexError, StopIteration):
+        since = time.clock_gettime(time.CLOCK_BOOTTIME) - ticks / os.sysconf("SC_CLK_TCK")
+        return time.time() - since - 0.01
+    except (OSError, ValueError, IndexError, AttributeError):
         return time.time()
 
 

@@ -20,7 +20,7 @@ from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.map_io import load_map
 from tests.helpers.hardening_corpus import dataset_case, map_case, model_case, run_case
-from tests.helpers.strategies import apply_edits, model_edits, pnm_files
+from tests.helpers.strategies import apply_edits, apply_learner_edits, learner_edits, model_edits, pnm_files
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 FUZZ = settings(max_examples=120, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
@@ -261,10 +261,13 @@ def test_a_case_peak_is_the_case_s_own():
 @example(edits=[("hyper", "place_size", 1e308), ("hyper", "nu0", 5.0)])
 @example(edits=[("array", "Sigma", "scale", 1e-300)])
 @example(edits=[("array", "Sigma", "scale", 1e-150)])
+@example(edits=[("array", "W", "zero-column", 0.0)])  # found from the outside: a word no concept uses
+@example(edits=[("vocabulary", 0, "")])  # ... and a word nobody can say
 @FUZZ
 def test_fuzzed_model_values_load_and_plan_or_are_refused(templates, tmp_path_factory, edits):
     """A model folder whose values were changed and resealed loads and plans (finite paths) or is refused with
-    one line: never a traceback in loading or planning (issue 26: place_size 1e308, covariances x 1e-300)."""
+    one line: never a traceback or a numpy warning (the command line prints it: more than one line) in loading
+    or planning (issue 26: place_size 1e308, covariances x 1e-300)."""
     from spcotmhp.errors import SpcotmhpError
     from spcotmhp.planning import HierarchicalPlanner
 
@@ -272,6 +275,7 @@ def test_fuzzed_model_values_load_and_plan_or_are_refused(templates, tmp_path_fa
     shutil.copytree(templates[1], folder)
     label = apply_edits(folder, edits)
 
+    @_no_runtime_warning
     def load_and_plan() -> None:
         model = load_model(folder)
         planner = HierarchicalPlanner(model)
@@ -284,6 +288,52 @@ def test_fuzzed_model_values_load_and_plan_or_are_refused(templates, tmp_path_fa
             assert np.isfinite(plan.path).all() and np.isfinite(plan.length_m), label
 
     _check(run_case(load_and_plan, label))
+    shutil.rmtree(folder.parent)
+
+
+def _no_runtime_warning(call):
+    """``call`` with numpy's RuntimeWarnings (overflow, invalid value, division by zero) raised as errors."""
+
+    def wrapped() -> None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            call()
+
+    return wrapped
+
+
+@pytest.fixture(scope="module")
+def learner_template(templates, tmp_path_factory):
+    """A 4-sweep SpCoTMHP fit of the template dataset, saved with its learner state."""
+    from spcotmhp.learning.gibbs import SpCoTMHP
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = SpCoTMHP(iterations=4, seed=4).fit(load_dataset(templates[0])).model_
+    return save_model(model, tmp_path_factory.mktemp("learner") / "m")
+
+
+@given(edits=learner_edits())
+@example(edits=[("n_k", "zero", 0.0)])  # found from the outside: counts below their events'
+@example(edits=[("sxx", "scale", -1e6)])  # a scatter that gives no covariance
+@example(edits=[("X", "row", 1e300)])  # an event 1e300 m away
+@FUZZ
+def test_fuzzed_learner_states_load_and_teach_or_are_refused(templates, learner_template, tmp_path_factory, edits):
+    """A learner state whose counts, scatters or positions were changed and resealed loads and is taught, or is
+    refused with one line: never a traceback or a numpy warning (the learner's values behind a valid checksum)."""
+    from spcotmhp.learning.teach import teach
+
+    folder = tmp_path_factory.mktemp("learner-values") / "m"
+    shutil.copytree(learner_template, folder)
+    label = apply_learner_edits(folder, edits)
+    model = load_model(templates[1])
+    x, y = model.mu[int(np.flatnonzero(model.active_places)[0])]
+
+    @_no_runtime_warning
+    def load_and_teach() -> None:
+        teach(load_model(folder), [(float(x), float(y), "this is the kitchen")])
+
+    _check(run_case(load_and_teach, label))
     shutil.rmtree(folder.parent)
 
 
@@ -308,3 +358,25 @@ def test_fuzzed_pgm_headers(tmp_path_factory, image):
 
     _check(run_case(load, f"{image[:40]!r} ({len(image)} bytes)"))
     shutil.rmtree(folder)
+
+
+@pytest.mark.parametrize(
+    "magic,side,body",
+    [(b"P2", 1415, b"254\n"), (b"P3", 817, b"254 254 254\n"), (b"P1", 1415, b"0 ")],
+)
+def test_plain_pnm_files_beyond_two_million_values_are_refused_before_decoding(tmp_path, magic, side, body):
+    """Found from the outside: a plain (ASCII) PGM at the pixel cap took 5 s of Pillow's Python decoding. Plain
+    files hold at most MAX_PLAIN_PNM_VALUES sample values; one side fewer loads."""
+    from spcotmhp.safe_read import MAX_PLAIN_PNM_VALUES
+
+    for n, refused in ((side, True), (side - 1, False)):
+        values = n * n * (3 if magic == b"P3" else 1)
+        assert (values > MAX_PLAIN_PNM_VALUES) == refused
+        maxval = b"" if magic == b"P1" else b"255\n"
+        (tmp_path / "m.pgm").write_bytes(magic + b"\n# a comment\n%d %d\n" % (n, n) + maxval + body * (n * n))
+        (tmp_path / "map.yaml").write_text(BASE + "image: m.pgm\n", encoding="utf-8")
+        if refused:
+            with pytest.raises(MapError, match=r"plain \(ASCII\) P\d file of \d+ x \d+ pixels.*binary PGM \(P5\)"):
+                load_map(tmp_path / "map.yaml")
+        else:
+            assert load_map(tmp_path / "map.yaml").shape == (n, n)

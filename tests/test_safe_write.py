@@ -69,3 +69,16 @@ def test_only_stale_staging_folders_of_the_target_are_removed(tmp_path):
 
 def test_the_process_start_is_before_now_and_after_boot():
     assert time.time() - 3600 * 24 * 365 < safe_write.PROCESS_START <= time.time()
+
+
+def test_the_process_start_is_precise_to_the_tick():
+    """A staging folder left by a save killed just before a supervisor restarted the process is older than the
+    new process: the start must not be rounded to whole seconds (the boot time of /proc/stat was)."""
+    import subprocess
+    import sys
+
+    code = "from spcotmhp import safe_write; print(repr(safe_write.PROCESS_START))"
+    before = time.time()
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    after = time.time()
+    assert before - 0.05 <= float(out) <= after

@@ -134,7 +134,7 @@ def check_dataset(
 
 
 def synth(
-    kind: Annotated[str, typer.Argument(help="flat, house or office")],
+    kind: Annotated[str, typer.Argument(help="flat, house or office; or building (of houses, with --floors)")],
     out: Annotated[Path, typer.Option("--out", help="dataset folder to write")],
     rooms: Annotated[
         int | None, typer.Option("--rooms", min=1, max=MAX_SYNTH_ROOMS, help="number of places, corridors included")
@@ -157,11 +157,21 @@ def synth(
             help=("Replace the dataset already in --out (a folder holding anything else is never replaced)."),
         ),
     ] = False,
+    floors: Annotated[
+        int | None, typer.Option("--floors", min=1, max=20, help="with KIND building: number of floors (default 2)")
+    ] = None,
 ) -> None:
-    """Generate a seeded synthetic environment (floor plan + teaching walk) as a dataset folder.
+    """Generate a seeded synthetic environment (floor plan + teaching walk) as a dataset folder; `synth building
+    --floors N` a building folder (building.yaml and a house per floor, stairs and a lift; spcotmhp/building/).
 
     --out must be a new or empty folder, or with --overwrite a dataset folder, which is replaced whole."""
     from spcotmhp.datasets.synthetic import check_dataset_target, generate_environment, write_dataset
+
+    if kind == "building" or floors is not None:
+        from spcotmhp.commands.building import synth_building
+
+        synth_building(kind, out, floors, rooms, size, seed, word_noise, events_per_room, overwrite)
+        return
 
     check_dataset_target(out, overwrite)  # before generating
     d = generate_environment(

@@ -17,6 +17,7 @@ from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, 
 
 if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
     from spcotmhp.datasets.dataset import Dataset
+    from spcotmhp.learning.model import Hyperparameters
 
 SHOWN_WARNINGS = 3
 # learn --connectivity -> the adjacency source of the supervised fit ("hmm": the truth's transition counts)
@@ -213,7 +214,10 @@ def learn(
                 f"--connectivity must be one of {', '.join(SUPERVISED_CONNECTIVITY)} with "
                 f"--supervised, got {connectivity!r}"
             )
-    data = load_dataset_reporting(dataset, lang)
+    from spcotmhp.commands.building import joint_or_none
+
+    building = joint_or_none(dataset, lang)  # a building folder: its floors as one (joint) dataset
+    data = building.data if building is not None else load_dataset_reporting(dataset, lang)
     if data.path is not None and _overlaps(out, Path(data.path)):
         raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
     prepare_model_folder(out, overwrite)  # a bad --out fails now, not after the fit
@@ -225,6 +229,7 @@ def learn(
             adjacency=SUPERVISED_CONNECTIVITY[connectivity],
             use_features=features,
             feature_weight=weight,
+            hyper=None if building is None else building.hyper(supervised=True),
         )
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
     else:
@@ -239,11 +244,15 @@ def learn(
             connectivity,
             features,
             weight,
-            max_places or 20,
+            max_places or (20 if building is None else building.default_places),
             max_concepts or 20,
             jobs or 1,
+            None if building is None else building.hyper(supervised=False),
         )
-    save_model(model, out, overwrite=overwrite)
+    if building is not None:
+        building.save(model, out, overwrite)
+    else:
+        save_model(model, out, overwrite=overwrite)
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
@@ -279,6 +288,7 @@ def _fit_gibbs(
     K: int,
     L: int,
     jobs: int,
+    hyper: Hyperparameters | None = None,
 ):
     """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
     from spcotmhp.learning.gibbs import SpCoTMHP
@@ -295,6 +305,7 @@ def _fit_gibbs(
         connectivity=connectivity,
         use_features=features,
         feature_weight=feature_weight,
+        hyper=hyper,
     )
     with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run

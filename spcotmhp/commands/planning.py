@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -67,6 +68,15 @@ def plan_command(
         int | None, typer.Option(min=1, max=MAX_STEPS, help="Topological horizon E (default 10 per waypoint/goal).")
     ] = None,
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --png file.")] = False,
+    floor: Annotated[
+        str | None,
+        typer.Option(
+            "--floor",
+            metavar="F",
+            help="A building's model: the start's floor (its index or name); --start is in that floor's map frame, "
+            "--png writes one picture per floor crossed (NAME-floorF.png) and --json adds segments per floor.",
+        ),
+    ] = None,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
     from spcotmhp.learning.io import load_model
@@ -86,10 +96,18 @@ def plan_command(
         check_output(png, overwrite, input_files(model_dir, nbest, audio), SpcotmhpError, "--png")
         outside_model(png, model_dir, "--png")
     source: Any = instruction if nbest is None else read_nbest(nbest)
+    settings: dict[str, Any] = {"n_candidates": candidates, "seed": seed, "smooth": smooth, "max_steps": max_steps}
+    if plan_in_building(model_dir, floor):
+        from spcotmhp.commands.building import plan_building
+
+        recognise = None if audio is None else functools.partial(recognise_audio, audio)
+        plan_building(model_dir, source, start, floor, recognise=recognise, as_json=as_json, png=png,
+                      overwrite=overwrite, lang=lang, settings=settings)  # fmt: skip
+        return
     model = load_model(model_dir)
     if audio is not None:
         source = recognise_audio(audio, model)
-    planner = HierarchicalPlanner(model, n_candidates=candidates, seed=seed, smooth=smooth, max_steps=max_steps)
+    planner = HierarchicalPlanner(model, **settings)
     plan = planner.plan(source, start, lang=lang)
     # the first plan of a process loads the compiled kernels: the text output says so, and what the same plan
     # takes warm (planned again, still with the collector paused)
@@ -110,6 +128,20 @@ def plan_command(
             f"{plan.time_precompute_s:.2f} s)",
             err=True,
         )
+
+
+def plan_in_building(model_dir: Path, floor: str | None) -> bool:
+    """Whether ``plan`` takes its building branch: the folder holds a building's model; ``--floor`` with any other
+    model is refused."""
+    from spcotmhp.building.io import is_building_model
+
+    if is_building_model(model_dir):
+        return True
+    if floor is not None:
+        raise typer.BadParameter(
+            f"--floor is for a building's model (learned from a building folder); {model_dir} is not one"
+        )
+    return False
 
 
 def input_files(model_dir: Path, *files: Path | None) -> list[Path]:

@@ -71,13 +71,35 @@ def ros2(
             "appended to (created with the model's map if new)."
         ),
     ] = None,
+    floor: Annotated[
+        str | None,
+        typer.Option(
+            "--floor",
+            metavar="F",
+            help="A building's model: the floor the robot starts on (index or name); /spcotmhp/floor switches it.",
+        ),
+    ] = None,
 ) -> None:
     """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
     plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
-    /spcotmhp/places."""
+    /spcotmhp/places. A building's model: the current floor's segment of the route on /spcotmhp/plan, the floor
+    switched by /spcotmhp/floor."""
+    from spcotmhp.building.io import is_building_model
     from spcotmhp.ros import require_rclpy
 
     require_rclpy()
+    if is_building_model(model_dir):
+        from spcotmhp.errors import SpcotmhpError
+        from spcotmhp.ros.building_node import run_building_node
+
+        if record is not None:
+            raise SpcotmhpError("--record is for a single floor's model; a building's node teaches without recording")
+        run_building_node(model_dir, floor, frame, start_topic, progress=lambda line: typer.echo(line, err=True))
+        return
+    if floor is not None:
+        raise typer.BadParameter(
+            f"--floor is for a building's model (learned from a building folder); {model_dir} is not one"
+        )
     from spcotmhp.ros.node import run_node
 
     run_node(
@@ -106,9 +128,15 @@ def export_nav2(
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --out folder.")] = False,
 ) -> None:
     """Export the learned map for Nav2: a Route Server graph (places as nodes, partial paths as edges) and,
-    with --avoid, a keepout mask for the costmap filters."""
+    with --avoid, a keepout mask for the costmap filters. A building's model: one graph per floor (floorF/) with
+    its stair and lift stops as nodes, and connectors.json."""
+    from spcotmhp.building.io import is_building_model
     from spcotmhp.ros.nav2_export import export_nav2 as run_export
 
+    if is_building_model(model_dir):
+        from spcotmhp.building.nav2 import export_building
+
+        run_export = export_building
     summary = run_export(model_dir, out, avoid=avoid or [], frame=frame, overwrite=overwrite)
     typer.echo(summary)
 

@@ -120,12 +120,16 @@ def serve(
         import uvicorn
     except ImportError:
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
+    from spcotmhp.building.io import is_building_model, load_building_model
     from spcotmhp.learning.io import load_model
 
     console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
     mapping = model_mapping(models)
     with console.status("loading models"):
-        loaded = {name: load_model(folder) for name, folder in mapping.items()}  # a bad model is named first
+        loaded = {  # a bad model is named first; a building's model is served with its building planner
+            name: load_building_model(folder) if is_building_model(folder) else load_model(folder)
+            for name, folder in mapping.items()
+        }
     sock = listening_socket(host, port)  # before the planners are precomputed: a port in use fails at once
     hosts = list(allowed_host or LOCAL_HOSTS)
     if not allowed_host and host not in LOCAL_HOSTS + ("0.0.0.0", "::"):

@@ -28,9 +28,11 @@ def data_root() -> Path:
 
 
 def _folders() -> dict[str, Path]:
-    """Relative path under data/ -> folder, for every bundled dataset."""
+    """Relative path under data/ -> folder, for every bundled dataset (not the example inputs under examples/: the
+    floors of the example building are read through its building.yaml)."""
     root = data_root()
-    return {p.parent.relative_to(root).as_posix(): p.parent for p in sorted(root.rglob("teaching.csv"))}
+    found = sorted(p for p in root.rglob("teaching.csv") if p.relative_to(root).parts[0] != "examples")
+    return {p.parent.relative_to(root).as_posix(): p.parent for p in found}
 
 
 def list_bundled() -> list[str]:

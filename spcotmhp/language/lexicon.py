@@ -100,25 +100,39 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
 
 
 def _without_fillers(
-    items: list[tuple[Token | str, int]], table: WordTable, places: PlaceLexicon
+    items: list[tuple[Token | str, int]], table: WordTable, places: PlaceLexicon, budget: list[int] | None = None
 ) -> list[tuple[Token | str, int]]:
     """Rule 3: the fillers left out, single words and phrases, again until none is left (a filler said inside
-    another, "when could you you're ready", leaves the outer one whole once it is out). Place words stay."""
+    another, "when could you you're ready", leaves the outer one whole once it is out; a phrase inside a longer one
+    goes with it, "if you can"). Where several phrases are found, one may have been said inside another ("if you
+    could you don't mind", "if you if you can don't mind"): each is tried first, and the reading that leaves the
+    fewest words wins (at most :data:`_MAX_FILLER_TRIES` tries per sentence, then all at once). Place words
+    stay."""
+    budget = [_MAX_FILLER_TRIES] if budget is None else budget
     while True:
         kept = [(u, p) for u, p in items if not isinstance(u, str) or u not in table.fillers or u in places.words]
         units = [u for u, _ in kept]
         if table.filler_from.keys().isdisjoint(units):  # no unit opens a filler phrase
             return kept
-        out: list[tuple[Token | str, int]] = []
-        i = 0
-        while i < len(kept):
-            n = filler_at(units, i, table, places.words)
-            if not n:
-                out.append(kept[i])
-            i += n or 1
-        if len(out) == len(kept):  # no phrase left out: the next pass would leave out nothing
-            return out
-        items = out
+        found = [(i, n) for i in range(len(units)) if (n := filler_at(units, i, table, places.words))]
+        found = [(i, n) for i, n in found if not any(j <= i and i + n <= j + m and m > n for j, m in found)]
+        if not found:
+            return kept
+        if len(found) == 1 or budget[0] < len(found):
+            gone = {k for i, n in found for k in range(i, i + n)}
+            items = [item for k, item in enumerate(kept) if k not in gone]
+            continue
+        budget[0] -= len(found)
+        readings = [_without_fillers(_cut(kept, m), table, places, budget) for m in found]
+        return min(readings, key=len)
+
+
+_MAX_FILLER_TRIES = 32
+"""Most alternative removals of crossing filler phrases tried for one sentence (rule 3)."""
+
+
+def _cut(kept: list[tuple[Token | str, int]], match: tuple[int, int]) -> list[tuple[Token | str, int]]:
+    return kept[: match[0]] + kept[match[0] + match[1] :]
 
 
 def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:

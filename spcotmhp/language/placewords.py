@@ -44,6 +44,9 @@ class PlaceLexicon:
                 if key and key not in keys:
                     variants.setdefault(key, w)
             glued.update((w + noun,) for noun in table.nouns if not table.by_character)
+        synonyms = {key: w for key, w in _synonyms(table, self.words).items() if key not in keys}
+        variants.update(synonyms)  # "bathroom" is the table's other name of the bath, not "bath" glued to "room"
+        glued -= synonyms.keys()
         self.keys: Mapping[tuple[str, ...], str] = MappingProxyType({**variants, **keys})
         self.glued = frozenset(glued - set(keys))
         self.longest = max(map(len, self.keys), default=1)
@@ -76,6 +79,24 @@ def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
         out += [(word + noun,) for noun in table.nouns]
         out += [(word[:i], word[i:]) for i in range(3, len(word) - 2)]
     return out
+
+
+def _synonyms(table: WordTable, words: frozenset[str]) -> dict[tuple[str, ...], str]:
+    """The other names of the table's ``synonyms`` (as units, also after an honorific) -> the one place word of
+    ``words`` they may name; a name that may name several of ``words`` is left out (rule 4: "bathroom" is the bath
+    only in a map without a toilet or a washroom)."""
+    named: dict[tuple[str, ...], set[str]] = {}
+    for word, others in table.synonyms.items():
+        if word not in words:
+            continue
+        for other in others:
+            spellings = [other, *(p + other for p in table.honorifics)] if table.by_character else [other]
+            for spelling in spellings:
+                key = table.units(spelling) if table.by_character else tuple(EN_UNIT.findall(spelling))
+                if key:
+                    named.setdefault(key, set()).add(word)
+    ambiguous = {key for key, ws in named.items() if len(ws) > 1}
+    return {key: next(iter(ws)) for key, ws in named.items() if key not in ambiguous}
 
 
 def _hiragana(word: str) -> str:

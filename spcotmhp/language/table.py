@@ -40,6 +40,7 @@ class WordTable:
     filler_keys: frozenset[tuple[str, ...]] = frozenset()  # filler phrases as units (English)
     phrase_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest phrase
     filler_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest filler phrase
+    synonyms: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # place word -> other names of it
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -114,6 +115,7 @@ def read_table(text: str, source: str) -> WordTable:
         filler_keys=filler_keys,
         phrase_from=MappingProxyType(longest_from(phrases)),
         filler_from=MappingProxyType(longest_from(filler_keys)),
+        synonyms=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("synonyms", {}).items()}),
     )
 
 

@@ -91,6 +91,12 @@ class Walk:
         self.mentions.append(m)
         return m
 
+    def waiting_place(self, ref: PlaceRef) -> Mention:
+        """Where "wait in the X" / Xで待って waits: the place to visit said last when it is the X ("go to the kitchen
+        and wait in the kitchen": one visit), else a new stop."""
+        k = self.last_visit()
+        return self.mentions[k] if k is not None and self.mentions[k].ref == ref else self.mention(ref, "stop")
+
     def last_visit(self, before: int | None = None) -> int | None:
         """Index of the last mention of a place to visit before index ``before`` (default: all)."""
         end = len(self.mentions) if before is None else before

@@ -286,8 +286,9 @@ class EnglishWalk(Walk):
             self.pairs += [(r, k) if kind == "after" else (k, r) for k in later]
 
     def _wait(self, kids: list[Tree], toks: list[LarkToken]) -> None:
+        """ "wait (there)": at the place being gone to; "wait in the X": :meth:`waiting_place`."""
         if kids:
-            m = self.mention(self._ref(kids[0]), "stop")
+            m = self.waiting_place(self._ref(kids[0]))
         elif any(t.type == "THERE" for t in toks) or self.mentions:
             k = self.destination()
             if k is None:

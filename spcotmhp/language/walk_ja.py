@@ -83,7 +83,10 @@ class JapaneseWalk(Walk):
                 m.tied, m.order_kind = True, kind
             self.backward.append((kind, [self.mentions.index(m) for m in mentions], self.sentence, word))
         elif kind == "wait_at":
-            for m in self._group(tree(kids[0]), "stop"):
+            refs = self._refs(tree(kids[0]))
+            alone = len(refs) == 1 and not self.pending  # an order word makes it a place of its own
+            waiting = [self.waiting_place(refs[0])] if alone else self._group(tree(kids[0]), "stop")
+            for m in waiting:
                 self.wait_at(m, toks)
 
     def _group(self, group: Tree, role: str) -> list[Mention]:

@@ -27,6 +27,7 @@ not a positive number or null) raises ``ModelError`` naming the file, the field 
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 from dataclasses import asdict
@@ -61,11 +62,18 @@ MODEL_FILES = (
     "map.bmp",
     "learner.json",
     "learner.npz",
+    "building.json",
 )
+EXTRA_FILES = ("building.json",)
+"""JSON files a caller may save beside the model (``save_model(extra=...)``): a building model's floors and
+connectors (:mod:`spcotmhp.building.io`). ``load_model`` checks them against the manifest and ignores them."""
 
 
-def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = False) -> Path:
-    """Write ``model`` to ``folder`` atomically (module docstring) and return the folder.
+def save_model(
+    model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = False, extra: dict[str, str] | None = None
+) -> Path:
+    """Write ``model`` to ``folder`` atomically (module docstring) and return the folder; ``extra``: the texts of
+    further files of :data:`EXTRA_FILES` to write with it (listed in the manifest).
 
     An existing model folder is replaced only with ``overwrite=True`` (else a ModelError, as the CLI refuses
     without --overwrite); a folder that holds files other than a model's is never replaced. Raises ModelError
@@ -98,6 +106,10 @@ def save_model(model: SpatialConceptModel, folder: str | Path, *, overwrite: boo
         from spcotmhp.learning.learner_state import learner_writers
 
         writers.update(learner_writers(model.learner))
+    for name, content in (extra or {}).items():
+        if name not in EXTRA_FILES:
+            raise ModelError(f"save_model: {name!r} is not a file a model folder holds beside the model")
+        writers[name] = functools.partial(_write_text, text=content)
     occ = model.map
     if occ is not None:
         mode = "trinary" if np.isin(np.unique(occ.data), (-1, 0, 100)).all() else "raw"
@@ -176,6 +188,12 @@ def _verified_meta(root: Path) -> dict:
             "has: the folder is torn or was altered; save the model again"
         )
     learner = read_learner_meta(root)
+    if learner is not None:
+        from spcotmhp.learning.learner_checks import check_learner_size
+        from spcotmhp.learning.learner_state import learner_specs
+
+        specs, _ = learner_specs(learner, meta["K"], meta["L"], meta["V"], meta.get("D"))
+        check_learner_size(specs, learner["E"], learner["T"], str(root / "learner.json"))
     large = [n for n in names if n not in small]
     check_sizes(root, large, lambda name: file_bound(name, meta, learner))
     if entries is not None:
@@ -195,6 +213,10 @@ def _learn_hint(path: Path) -> str:
     else:
         return ""
     return f"{what}; learn a model from it first: spcotmhp learn {path} --out {path.name}-model"
+
+
+def _write_text(path: Path, text: str) -> None:
+    path.write_text(text, encoding="utf-8")
 
 
 def _json_default(obj: object) -> object:

@@ -27,6 +27,7 @@ from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.connectivity import map_adjacency, psi_from_adjacency
 from spcotmhp.learning.distributions import GaussianStats
 from spcotmhp.learning.hmm import transition_counts
+from spcotmhp.learning.learner_checks import check_counts_cover_events, check_learner_size, check_place_posteriors
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.posterior import Priors, SufficientStats, posterior_mean_model
 
@@ -252,6 +253,14 @@ def learner_writers(member: dict) -> dict:
         "replay": member["replay"],
         "background": member["background"],
     }
+    L, K = a["n_lk"].shape
+    D = a["F_ld"].shape[1] if "F_ld" in a else None
+    if meta["E"] > MAX_EVENTS or meta["T"] > MAX_TOKENS:
+        raise ModelError(
+            f"the learner state holds {meta['E']} events and {meta['T']} tokens; a model folder holds at most "
+            f"{MAX_EVENTS} and {MAX_TOKENS} (learn from fewer events)"
+        )
+    check_learner_size(learner_specs(meta, K, L, a["W_lv"].shape[1], D)[0], meta["E"], meta["T"], "the model")
     return {
         "learner.json": lambda path: path.write_text(json.dumps(meta), encoding="utf-8"),
         "learner.npz": lambda path: np.savez(path, **a),
@@ -330,5 +339,8 @@ def read_learner(root, model: SpatialConceptModel) -> dict | None:
             arrays.pop(n, None)
     member = {"replay": meta["replay"], "background": meta["background"], "arrays": arrays}
     V, found_D = len(model.vocabulary), D if "F_ld" in arrays else None
-    check_member(member, model.K, model.L, V, found_D, str(root / "learner.npz"))
+    where = str(root / "learner.npz")
+    check_member(member, model.K, model.L, V, found_D, where)
+    check_counts_cover_events(arrays, model.K, model.L, V, where)
+    check_place_posteriors(arrays, model.hyper, where)
     return member

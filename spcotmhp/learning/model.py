@@ -261,12 +261,17 @@ class SpatialConceptModel:
         ls = np.where(self.active_places, self.log_semantic(bag), -np.inf)
         return ls - logsumexp(ls)
 
+    def unigram_rescaled_W(self) -> np.ndarray:
+        """W_l(w) / sum_c W_c(w), (L, V): how much of word w's use concept l has; 0 for a word no concept uses
+        (a column of zeros is a valid W: such a word is never said)."""
+        total = self.W.sum(axis=0, keepdims=True)
+        return np.divide(self.W, total, out=np.zeros_like(self.W), where=total > 0)
+
     def place_names(self) -> list[str]:
         """A readable name per place: the word with the highest rescaled probability
         sum_l p(l | k) W_l(w) / sum_c W_c(w) (unigram rescaling suppresses function words such as "this")."""
         p_l_given_k = np.exp(self.log_concept_given_place())  # (L, K)
-        rescaled = self.W / self.W.sum(axis=0, keepdims=True)  # (L, V)
-        score = p_l_given_k.T @ rescaled  # (K, V)
+        score = p_l_given_k.T @ self.unigram_rescaled_W()  # (K, V)
         return [
             self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
             for k, j in enumerate(np.argmax(score, axis=1))

@@ -16,7 +16,7 @@ import numpy as np
 from spcotmhp.errors import ModelError, ModelValueError
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.model_values import CONCENTRATION
-from spcotmhp.limits import MODEL_MAX_SIZES
+from spcotmhp.limits import MODEL_MAX_ELEMENTS, MODEL_MAX_SIZES
 from spcotmhp.safe_read import excerpt, finite_number, load_json
 
 FORMAT = "spcotmhp-model"
@@ -24,7 +24,7 @@ READABLE_VERSIONS = (1, 2)  # 1: before the manifest (still loaded; see spcotmhp
 REQUIRED_HYPER = ("alpha", "gamma", "beta", "chi", "omega")  # null in a file is refused (not "derive it")
 MAX_JSON_BYTES = 16 * 1024 * 1024
 MAX_SIZES = MODEL_MAX_SIZES
-MAX_ELEMENTS = 32 * 1024 * 1024  # numbers in all arrays together (256 MiB of float64)
+MAX_ELEMENTS = MODEL_MAX_ELEMENTS  # numbers in all arrays together (256 MiB of float64)
 IN_MODEL_JSON = ("hyper", "costmap", "vocabulary")  # keys of model values (model_values) kept in model.json
 
 

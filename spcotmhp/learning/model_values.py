@@ -16,7 +16,9 @@ The ranges and why:
 * ``psi``, ``pi``, ``phi``, ``W``, ``theta``, ``psi_learned``: finite, non-negative, every row summing to 1 within
   ``PROB_TOL`` = 1e-6 (categorical distributions, Eqs. 7-17).
 * ``active_places`` / ``active_concepts``: K / L booleans; ``vocabulary``: V distinct strings of at most
-  ``MAX_WORD_CHARS`` characters.
+  ``MAX_WORD_CHARS`` characters, each non-empty, without leading or trailing spaces or control characters (a
+  word of the vocabulary is one that was said; an empty word or a line break cannot be, and would name a place
+  nobody can ask for).
 * Hyper-parameters (``HYPER_RANGES``): L and K integers in 1..``MODEL_MAX_SIZES``; the Dirichlet concentrations
   alpha, gamma, beta, chi, omega and kappa0 in [1e-6, 1e6] (pseudo-observations: below 1e-6 a log-space
   Dirichlet draw loses every outcome but one to -inf, above 1e6 the prior outweighs a million observations);
@@ -29,6 +31,7 @@ The ranges and why:
 
 from __future__ import annotations
 
+import unicodedata
 from collections.abc import Iterable, Mapping
 from dataclasses import fields
 from typing import Any
@@ -199,6 +202,12 @@ def check_vocabulary(vocabulary: Iterable[object]) -> list[str]:
                 "vocabulary",
                 f'"vocabulary" lists {excerpt(word)} twice (again at index {j}); each word must be listed once '
                 "(it names one column of W)",
+            )
+        if not word.strip() or word != word.strip() or any(unicodedata.category(c) == "Cc" for c in word):
+            raise refuse(
+                "vocabulary",
+                f'"vocabulary" word {j} is {excerpt(word)}; a word must be non-empty text without leading or '
+                "trailing spaces or control characters (it must be something that can be said)",
             )
         if len(word) > MAX_WORD_CHARS:
             raise refuse(

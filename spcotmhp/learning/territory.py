@@ -5,9 +5,13 @@ place it belongs to, in two steps:
 
 1. **Most probable place.** Each cell starts with arg max_i N(x | mu_i, Sigma_i) p(i) over the active places
    (the posterior of Eq. 3, the partition the place posterior induces). For each place the *seed* is the
-   4-connected piece of its cells that holds its anchor (the robot cell nearest its mean), else its largest
-   piece, else the anchor cell alone: a place whose mean lies in a wall, in unknown space or under a larger
-   Gaussian still owns a cell.
+   4-connected piece of its cells that holds its anchor (the robot cell nearest its mean), else the anchor cell
+   alone: a place whose mean lies in a wall, in unknown space or under a larger Gaussian still owns a cell, and
+   it is the cell where its own density N(x | mu_i, Sigma_i) (the end term of Eq. 28) is highest. Not its largest
+   piece elsewhere: a place under a stronger neighbour's Gaussian at its mean (a name taught once beside a room:
+   one event, a broad prior-sized Gaussian, a small p(i)) is most probable only on the far rim of its own
+   Gaussian, metres from the events it was learned from, and a territory there sent "go to" it 1.1-3.7 m from
+   where it was taught (10 of 120 teaches on generated homes; docs/teaching.md).
 2. **Geodesic growth.** Every other cell (stray fragments of a place's posterior region, cells no seed holds)
    goes to the seed that a breadth-first wave from all seeds at once reaches first through free cells.
 
@@ -232,16 +236,12 @@ def _partition(labels, anchors, n, extra_place, extra_cell):  # pragma: no cover
     height, width = labels.shape
     N = height * width
     flat = labels.reshape(-1)
-    comp, sizes, comp_label, n_comp = _pieces(flat, height, width)
+    comp, _sizes, _labels, n_comp = _pieces(flat, height, width)
     seed_comp = np.full(n, -1, dtype=np.int64)
-    for k in range(n):  # the anchor's piece, else the largest piece
+    for k in range(n):  # the anchor's piece; a place most probable elsewhere only keeps its anchor (pinned below)
         a = anchors[k, 0] * width + anchors[k, 1]
         if flat[a] == k:
             seed_comp[k] = comp[a]
-    for q in range(n_comp):
-        k = comp_label[q]
-        if flat[anchors[k, 0] * width + anchors[k, 1]] != k and (seed_comp[k] < 0 or sizes[q] > sizes[seed_comp[k]]):
-            seed_comp[k] = q
     owner = np.full(n_comp, -1, dtype=np.int64)
     for k in range(n):
         if seed_comp[k] >= 0:

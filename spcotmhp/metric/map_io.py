@@ -207,7 +207,23 @@ def pixels_to_grid(
     free_thresh: float,
 ) -> np.ndarray:
     """Nav2's per-pixel rule (module docstring) on integer image-order pixels (``read_image``) -> int8 grid in
-    OccupancyGrid order. Like Nav2, the channel sum is exact and ``shade = (sum / n) / maxval``."""
+    OccupancyGrid order. Like Nav2, the channel sum is exact and ``shade = (sum / n) / maxval``.
+
+    A grey image without alpha (``rgb`` a broadcast of one channel) is mapped through a table of the rule's
+    value for each of the maxval + 1 shades, computed by this same rule: the same grid, without float arrays
+    of the image's size (a 4000 x 4000 map took seconds)."""
+    if alpha is None and rgb.ndim == 3 and rgb.strides[2] == 0 and rgb.size > 3 * (maxval + 1):
+        shades = np.arange(maxval + 1, dtype=np.int32)
+        table = pixels_to_grid(
+            np.broadcast_to(shades[None, :, None], (1, maxval + 1, 3)),
+            None,
+            maxval,
+            mode,
+            negate,
+            occupied_thresh,
+            free_thresh,
+        )[0]
+        return np.ascontiguousarray(table[rgb[::-1, :, 0]])
     if mode == "trinary" and alpha is not None:
         shade = ((rgb.sum(axis=2) + alpha) / 4.0) / maxval
     else:

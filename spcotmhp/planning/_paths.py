@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.metric._grid_kernels import follow_links
+from spcotmhp.planning.sight import shortcut
 
 SQRT2 = math.sqrt(2.0)
 
@@ -117,6 +118,41 @@ def territory_sequence(territory, cells, min_dwell):  # pragma: no cover - numba
             m += 1
         i = j
     return out[:m].copy()
+
+
+@njit(cache=True)
+def shortcut_if_better(cells, clearance, fixed, four, cost):  # pragma: no cover - numba
+    """:func:`~spcotmhp.planning.sight.shortcut` of ``cells`` and whether it :func:`is_better` than ``cells``
+    under ``cost``, in one call."""
+    out, ends = shortcut(cells, clearance, fixed, four)
+    return out, ends, is_better(out, cells, cost)
+
+
+@njit(cache=True)
+def start_legs(dist, r, c, usable, end_term):  # pragma: no cover - numba
+    """(M,) end_term[j] - dist[j, r, c] (in float64) for the usable nodes, -inf for the others: the start legs'
+    w-hat from crop cell (r, c) on dense fields (``PlanningGraph.start_w_hat``'s np.where, in one pass)."""
+    M = end_term.shape[0]
+    out = np.empty(M)
+    for j in range(M):
+        out[j] = end_term[j] - np.float64(dist[j, r, c]) if usable[j] else -np.inf
+    return out
+
+
+@njit(cache=True)
+def last_territory(territory, cells):  # pragma: no cover - numba
+    """The territory of the last cell of ``cells`` that lies in one (-1: none does)."""
+    for i in range(cells.shape[0] - 1, -1, -1):
+        label = territory[cells[i, 0], cells[i, 1]]
+        if label >= 0:
+            return label
+    return -1
+
+
+@njit(cache=True)
+def path_territories(territory, cells, min_dwell):  # pragma: no cover - numba
+    """:func:`territory_sequence` and :func:`last_territory` of one path, in one call."""
+    return territory_sequence(territory, cells, min_dwell), last_territory(territory, cells)
 
 
 @njit(cache=True)

@@ -47,7 +47,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from spcotmhp.metric.grid_search import shortest_paths
-from spcotmhp.planning._paths import cells_cost, is_better, octile_length, piece_places
+from spcotmhp.planning._paths import cells_cost, is_better, octile_length, piece_places, shortcut_if_better
 from spcotmhp.planning.sight import chessboard_clearance, shortcut
 
 _AROUND = np.array([(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)], dtype=np.int64)
@@ -177,10 +177,12 @@ def smooth_anchored(
     anchors: Sequence[int],
     connectivity: int = 8,
     clearance: np.ndarray | None = None,
+    cost: np.ndarray | None = None,
 ) -> tuple[np.ndarray, list[int]]:
     """:func:`smooth`, also returning the new index of each anchor; ``clearance``:
     :func:`~spcotmhp.planning.sight.chessboard_clearance` of ``allowed`` when already at hand (the shortcuts are
-    the same with or without it; it is computed when not given)."""
+    the same with or without it; it is computed when not given). With ``cost``, the shortcuts are kept only if
+    :func:`better` under it (checked in the same kernel call), else ``cells`` and ``anchors`` come back."""
     if connectivity not in (4, 8):
         raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
     cells = np.ascontiguousarray(cells, dtype=np.int64)
@@ -191,8 +193,14 @@ def smooth_anchored(
     fixed = sorted({0, last, *kept})
     if clearance is None:
         clearance = chessboard_clearance(allowed)
-    out, ends = shortcut(cells, clearance, np.array(fixed, dtype=np.int64), connectivity == 4)
-    where = {f: int(e) for f, e in zip(fixed, ends, strict=True)}
+    fixed_arr = np.array(fixed, dtype=np.int64)
+    if cost is None:
+        out, ends = shortcut(cells, clearance, fixed_arr, connectivity == 4)
+    else:
+        out, ends, kept_it = shortcut_if_better(cells, clearance, fixed_arr, connectivity == 4, cost)
+        if not kept_it:
+            return cells, [int(a) for a in anchors]
+    where = dict(zip(fixed, ends.tolist(), strict=True))
     return out, [where[a] for a in kept]
 
 
@@ -209,11 +217,19 @@ def smooth_on_graph(
     Returns the cells and the new anchor indices. The one implementation SpCoTMHP and the smoothed baselines
     use."""
     raw = np.ascontiguousarray(cells, dtype=np.int64)
-    ends_arr = np.asarray(ends, dtype=np.int64)
+    connectivity = graph.settings.connectivity
+
+    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:  # kept only if better
+        return smooth_anchored(path, graph.traversable, marks, connectivity, graph.clearance, graph.map_cost)
+
+    marks = [int(a) for a in anchors]
+    ends_list = ends.tolist() if isinstance(ends, np.ndarray) else [int(e) for e in ends]
+    if {0, len(raw) - 1, *marks}.issuperset(ends_list):
+        return shortcut(raw, marks)  # every piece is one leg, already a field's path (shorten keeps it as is)
+    ends_arr = np.asarray(ends_list, dtype=np.int64)
     nodes = np.asarray(nodes, dtype=np.int64)
     node_place = graph.node_place[nodes]
     n_places = int(graph.model.K)
-    connectivity = graph.settings.connectivity
 
     found: dict[tuple[int, int], np.ndarray] = {}
 
@@ -228,13 +244,6 @@ def smooth_on_graph(
     def exact(a: int, b: int) -> np.ndarray | None:
         return graph.field_piece(raw, a, b, ends_arr, nodes, places(a, b))
 
-    def shortcut(path: np.ndarray, marks: list[int]) -> tuple[np.ndarray, list[int]]:
-        short, moved = smooth_anchored(path, graph.traversable, marks, connectivity, graph.clearance)
-        return (short, moved) if better(short, path, graph.map_cost) else (path, marks)
-
-    marks = [int(a) for a in anchors]
-    if {0, len(raw) - 1, *marks}.issuperset(ends_arr.tolist()):
-        return shortcut(raw, marks)  # every piece is one leg, already a field's path (shorten keeps it as is)
     # line-of-sight shortcuts on the re-planned path and on the assembled one: the re-planned path keeps off the
     # walls, so shortcuts of the assembled one are occasionally shorter still
     path, moved = shorten(raw, marks, tube, graph.map_cost, connectivity, exact)

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from spcotmhp.planning._paths import territory_sequence
+from spcotmhp.planning._paths import path_territories
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.plan import GoalOption, PlanPlace
 from spcotmhp.planning.search import SearchResult
@@ -64,11 +64,11 @@ def path_places(
         for k, done, xy in zip(places, result.completed, points.tolist(), strict=True)
         if done
     ]
-    seq = territory_sequence(graph.territory, cells, planner.diameter_cells).tolist()
-    ends_in = graph.territory[cells[:, 0], cells[:, 1]]
-    ends_in = ends_in[ends_in >= 0]
-    if len(ends_in) and marks and ends_in[-1] == marks[-1][0] and (not seq or seq[-1] != ends_in[-1]):
-        seq.append(int(ends_in[-1]))  # the path ends in the goal: arriving counts, however short the stay
+    # the places along the path, and the last territory the path is in (-1: none)
+    along, ends_in = path_territories(graph.territory, cells, planner.diameter_cells)
+    seq = along.tolist()
+    if ends_in >= 0 and marks and ends_in == marks[-1][0] and (not seq or seq[-1] != ends_in):
+        seq.append(ends_in)  # the path ends in the goal: arriving counts, however short the stay
     out = [place(planner, start_place, "start", x0)]
     pos = 1 if seq and seq[0] == start_place else 0
     for k, role, xy in marks:
@@ -103,7 +103,7 @@ def goal_options(
     cells that smoothing keeps); one whose bound already exceeds the shortest path found so far (the chosen
     one's or a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a
     building with 90 offices does not smooth 90 paths per plan."""
-    if goal_places.sum() < 2:
+    if np.count_nonzero(goal_places) < 2:
         return []
     options, pending = [], []
     end_place = int(graph.node_place[result.nodes[-1]])

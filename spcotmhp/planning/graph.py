@@ -83,7 +83,7 @@ from spcotmhp.collector import paused
 from spcotmhp.errors import InvalidSettings, ModelError, PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.grid_search import SQRT2, GridPath, cost_to_go, path_from_field
-from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length
+from spcotmhp.planning._paths import cells_cost, field_path_within, octile_length, start_legs
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import GraphSettings, fingerprint
 from spcotmhp.planning.graph_update import reusable_fields, same_cost_map, with_place
@@ -281,6 +281,8 @@ class PlanningGraph:
         In an avoidance view, a shared field whose path from ``cell`` enters the blocked region is recomputed
         first (and kept), so the value is exact for the blocked map (:class:`~spcotmhp.planning.avoid.
         AvoidanceView`)."""
+        if self.hier is None and isinstance(self.dist, np.ndarray):  # dense fields: one kernel, the same values
+            return start_legs(self.dist, int(cell[0]), int(cell[1]), self.usable, self.end_term)
         return np.where(self.usable, self.end_term - self.cost_to_nodes(cell), -np.inf)
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:

@@ -165,17 +165,7 @@ class Plan:
             "time_online_s": self.time_online_s,
             "time_precompute_s": self.time_precompute_s,
             "explanation": self.explanation,
-            "instruction": {
-                "text": ins.text,
-                "goal": dict(ins.goal.words),
-                "waypoints": [dict(w.words) for w in ins.waypoints],
-                "avoid": [dict(a.words) for a in ins.avoid],
-                "not_goal": [dict(a.words) for a in ins.not_goal],
-                "relations": {
-                    q.label: q.relation.describe() for q in (*ins.stages, *ins.avoid, *ins.not_goal) if q.relation
-                },
-                "understood": ins.describe(),
-            },
+            "instruction": instruction_dict(ins),
             "goal_options": [
                 {
                     "id": o.id,
@@ -197,3 +187,16 @@ def _plural(name: str) -> str:
     if not name.isascii() or not name.isalpha():
         return f"places named {name}"
     return name + ("es" if name.endswith(("s", "sh", "ch", "x", "z")) else "s")
+
+
+def instruction_dict(ins: Instruction) -> dict:
+    """What a plan's JSON says of the instruction understood: its text, bags of words, relations, in words."""
+    return {
+        "text": ins.text,
+        "goal": dict(ins.goal.words),
+        "waypoints": [dict(w.words) for w in ins.waypoints],
+        "avoid": [dict(a.words) for a in ins.avoid],
+        "not_goal": [dict(a.words) for a in ins.not_goal],
+        "relations": {q.label: q.relation.describe() for q in (*ins.stages, *ins.avoid, *ins.not_goal) if q.relation},
+        "understood": ins.describe(),
+    }

@@ -52,7 +52,7 @@ import functools
 import itertools
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import fields, replace
 from typing import Any
 
@@ -75,10 +75,11 @@ from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.graph_settings import PlannerSettings
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
+from spcotmhp.planning.phrases import PhraseMemo, phrase_key
 from spcotmhp.planning.places import LabelIndex, by_label, inside_places
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.relations import PlaceGeometry, place_geometry, resolve
-from spcotmhp.planning.search import SearchProblem, SearchResult, search, why_no_plan
+from spcotmhp.planning.search import SearchProblem, SearchResult, search, solve, why_no_plan
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
 from spcotmhp.planning.vocabulary import parse_instruction, place_labels, place_vocabulary
@@ -134,9 +135,12 @@ class HierarchicalPlanner:
         self._width = int(self.graph.log_p.shape[1])  # the crop's flat cell indices of the nodes
         self._node_flat = np.ascontiguousarray(self.graph.node_cell[:, 0] * self._width + self.graph.node_cell[:, 1])
         self.resolution = float(occ.resolution)
+        self._origin = np.array(occ.origin[:2], dtype=float)
+        self._half: dict[tuple[int, int], np.ndarray] = {}  # _world's per crop corner
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
         self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
         self._geometries: dict[int, PlaceGeometry] = {}
+        self._phrases = PhraseMemo()  # _phrase_terms's
 
     def geometry_of(self, region: PlanningGraph) -> PlaceGeometry:
         """What relations measure in a free region's graph (:mod:`spcotmhp.planning.relations`), built on first use
@@ -185,18 +189,16 @@ class HierarchicalPlanner:
                 f"the start is within the robot's radius of an obstacle: the path first moves "
                 f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), res):.2f} m clear"
             )
-        problem_for = functools.partial(self._problem, graph, posterior, cell, semantic, inst, S)
-        result = self._solve(graph, problem_for, ins, x0, avoided, notes)
+        result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self.metric_path(graph, cell, result)
-        occ = model.require_map()
-        node_points = occ.cell_to_world(graph.to_map(graph.node_cell[result.nodes]))
+        node_points = self._world(graph.node_cell[result.nodes], graph.offset)
         start_place = int(np.argmax(posterior))
         places = explain.path_places(self, graph, start_place, x0, result, node_points, cells)
         length = path_length(cells, res)
         options = explain.goal_options(self, graph, cell, result, inst[S - 1], length)
         map_cells = np.vstack([escape, graph.to_map(cells)]) if len(escape) else graph.to_map(cells)
         plan = Plan(
-            path=occ.cell_to_world(map_cells),
+            path=self._world(map_cells),
             cells=map_cells,
             places=places,
             length_m=path_length(map_cells, res) if len(escape) else length,
@@ -205,7 +207,7 @@ class HierarchicalPlanner:
             time_precompute_s=self.graph.time_precompute_s,
             instruction=ins,
             goal_options=options,
-            n_goal_instances=int(inst[S - 1].sum()),
+            n_goal_instances=int(np.count_nonzero(inst[S - 1])),
             node_points=node_points,
             smoothed=smoothed,
             notes=notes,
@@ -213,6 +215,17 @@ class HierarchicalPlanner:
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
+
+    def _world(self, cells: np.ndarray, offset: tuple[int, int] | None = None) -> np.ndarray:
+        """The map's ``cell_to_world`` of (n, 2) integer map cells (crop cells of a crop whose corner is at map cell
+        ``offset``), with the origin kept as an array: the same arithmetic (exact integers + 1/2, times the
+        resolution, plus the origin), so the same floats."""
+        if offset is None:
+            return (cells[:, ::-1] + 0.5) * self.resolution + self._origin
+        half = self._half.get(offset)
+        if half is None:  # (col, row) of the corner + 1/2: exact, as the sum of the integers then + 1/2
+            half = self._half[offset] = np.array([offset[1] + 0.5, offset[0] + 0.5])
+        return (cells[:, ::-1] + half) * self.resolution + self._origin
 
     def warm_up(self) -> None:
         """Plan to the first places once, from the first node, and forget the plans: this loads (or, with an empty
@@ -258,6 +271,17 @@ class HierarchicalPlanner:
             return both if both.any() else named
         return likely
 
+    def _phrase_terms(self, query: PlaceQuery, stage: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """(K,) the word term of Eq. 28 of a place query (:meth:`~spcotmhp.planning.terms.ModelTerms.stage_terms`)
+        and (K,) the places it names (:meth:`_instances`, before its relation), read-only, kept per phrase
+        (:mod:`spcotmhp.planning.phrases`)."""
+
+        def compute() -> tuple[np.ndarray, np.ndarray]:
+            semantic, likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)
+            return semantic[0], self._instances(query, likely[0], stage)
+
+        return self._phrases.get(phrase_key(query, stage), self.settings, compute)
+
     def _stage_instances(
         self, ins: Instruction, chosen: dict[int, str] | None = None, region: PlanningGraph | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -267,12 +291,14 @@ class HierarchicalPlanner:
         (:meth:`_related`)."""
         stages = ins.stages
         chosen = {} if chosen is None else chosen
-        semantic, likely = self.terms.stage_terms([q.words for q in stages], self.settings.instance_ratio)
-        inst = np.stack([self._instances(q, row, stage=True) for q, row in zip(stages, likely, strict=True)])
+        terms = [self._phrase_terms(q, stage=True) for q in stages]
+        semantic = np.array([t[0] for t in terms])
+        inst = np.array([t[1] for t in terms])
         for s, q in enumerate(stages):
-            inst[s] = self._related(q, inst[s], chosen, region)
+            if q.relation is not None:
+                inst[s] = self._related(q, inst[s], chosen, region)
         for q in ins.not_goal:
-            inst[-1] &= ~self._related(q, self._instances(q), chosen, region)
+            inst[-1] &= ~self._related(q, self._phrase_terms(q)[1], chosen, region)
             if not inst[-1].any():
                 raise ConflictingInstruction(
                     f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
@@ -328,14 +354,14 @@ class HierarchicalPlanner:
         if not ins.avoid:
             return region, avoided
         for q in ins.avoid:
-            avoided |= self._related(q, self._instances(q), chosen, region)
+            avoided |= self._related(q, self._phrase_terms(q)[1], chosen, region)
         if not avoided.any():
             return region, avoided
         inst &= ~avoided
         for s, q in enumerate(ins.stages):
             if not inst[s].any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
-        graph = avoided_view(region, tuple(np.flatnonzero(avoided)))
+        graph = avoided_view(region, tuple(np.flatnonzero(avoided).tolist()))
         blocked = graph.blocked
         assert blocked is not None  # an avoidance view has its blocked cells
         esc = graph.to_crop(escape) if len(escape) else escape
@@ -350,19 +376,30 @@ class HierarchicalPlanner:
     def _solve(
         self,
         graph: PlanningGraph,
-        problem_for: Callable[..., SearchProblem],
+        posterior: np.ndarray,
+        cell: np.ndarray,
+        semantic: np.ndarray,
+        inst: np.ndarray,
         ins: Instruction,
         x0: np.ndarray,
         avoided: np.ndarray,
         notes: list[str],
     ) -> SearchResult:
-        """Algorithm 1, line 11: the Eq. 28 search (``problem_for(metric=...)``: :meth:`_problem` of this query);
-        when no place sequence satisfies the instruction, a longer horizon would
-        (:class:`~spcotmhp.errors.HorizonTooShort`), else the metric fallback (noted in ``notes``), else the
-        reason (:func:`~spcotmhp.planning.search.why_no_plan`)."""
+        """Algorithm 1, line 11: the Eq. 28 search (:meth:`_problem` of this query); when no place sequence
+        satisfies the instruction, a longer horizon would (:class:`~spcotmhp.errors.HorizonTooShort`), else the
+        metric fallback (noted in ``notes``), else the reason (:func:`~spcotmhp.planning.search.why_no_plan`).
+        The first search reads the planner's own arrays as they are (:func:`~spcotmhp.planning.search.solve`:
+        the (S, K) place terms, no (S, M) copies, no second check of what this class built)."""
         S = len(ins.stages)
+        start_w_hat = graph.start_w_hat(cell)
+        if not self.settings.adjacent_only:
+            start = self.terms.start_terms(posterior, graph.node_place, start_w_hat)
+            result = solve(graph.log_transition_all, start, semantic, inst, graph.node_place, self._horizon(S))
+            if result is not None:
+                return result
+        problem_for = functools.partial(self._problem, graph, posterior, start_w_hat, semantic, inst, S)
         problem = problem_for(metric=False)
-        result = search(problem)
+        result = search(problem) if self.settings.adjacent_only else None
         if result is not None:
             return result
         longest = replace(problem, max_steps=max(problem.max_steps, graph.n_nodes * S))
@@ -379,33 +416,38 @@ class HierarchicalPlanner:
         notes.append("the place graph has no route for this instruction: metric route over the free space")
         return result
 
+    def _horizon(self, S: int) -> int:
+        """The topological horizon E for ``S`` stages (module docstring)."""
+        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
+        return int(E)
+
     def _problem(
         self,
         graph: PlanningGraph,
         posterior: np.ndarray,
-        cell: np.ndarray,
+        start_w_hat: np.ndarray,
         semantic: np.ndarray,
         inst: np.ndarray,
         S: int,
         metric: bool = False,
     ) -> SearchProblem:
-        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`). With ``metric``, the fallback:
-        any node may follow any other (the legs are free-space paths) and the transition term is dropped."""
+        """The arrays of Eq. 28 for this query (see :class:`SearchProblem`; ``start_w_hat``: the graph's start legs
+        from the query's cell). With ``metric``, the fallback: any node may follow any other (the legs are
+        free-space paths) and the transition term is dropped."""
         nodes = graph.node_place
-        E = self.settings.steps_per_stage * S if self.settings.max_steps is None else self.settings.max_steps
-        start_w_hat = graph.start_w_hat(cell)
+        E = self._horizon(S)
         if metric:
             ur = self.terms.log_ur[nodes]
             return SearchProblem(
-                graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], int(E)
+                graph.w_hat_metric - ur[None, :], start_w_hat - ur, semantic[:, nodes], inst[:, nodes], E
             )
-        start = self.terms.start_terms(posterior, nodes) + start_w_hat  # log sum_k p(k|x0) psi[k, i_1] - log UR
+        start = self.terms.start_terms(posterior, nodes, start_w_hat)  # log sum_k p(k|x0) psi[k, i_1] - log UR
         if not self.settings.adjacent_only:
-            return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], int(E))
+            return SearchProblem(graph.log_transition_all, start, semantic[:, nodes], inst[:, nodes], E)
         plausible = posterior >= min(self.settings.start_min_posterior, posterior.max())
         first = graph.connected[plausible].any(axis=0)[nodes]  # i_1 next to a plausible i_0
         start = np.where(first, start, -np.inf)
-        return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], int(E))
+        return SearchProblem(graph.log_transition, start, semantic[:, nodes], inst[:, nodes], E)
 
     def _assemble(self, graph: PlanningGraph, cell: np.ndarray, result: SearchResult):
         """Algorithm 1, line 12: the joined cells, the index where each node is reached, and the anchors (the
@@ -432,7 +474,9 @@ class HierarchicalPlanner:
         raw = cells
         if settings.smooth:
             cells, anchors = smooth_on_graph(graph, cells, ends, result.nodes, anchors)
-        smoothed = settings.smooth and not np.array_equal(cells, raw)
+        smoothed = settings.smooth and not (
+            cells is raw or (cells.shape == raw.shape and bool((cells == raw).all()))
+        )  # np.array_equal, without its conversions (both are arrays)
         if settings.arrival_quantile is not None:
             # the last cut: the path ends at the first cell, after the last waypoint, inside the goal's region
             goal = int(graph.node_place[result.nodes[-1]])

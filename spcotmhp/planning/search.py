@@ -105,39 +105,65 @@ class SearchResult:
 
 def search(problem: SearchProblem) -> SearchResult | None:
     """Maximise Eq. 28 over sequences of 1..E steps (module docstring); None if no sequence completes every
-    stage within E steps. The recursion runs in one compiled kernel (:func:`_viterbi`)."""
-    S = problem.word.shape[0]
-    pred, from_stage, best_terminal, terminal_step = _viterbi(
+    stage within E steps. The recursion and the read-back run in one compiled kernel (:func:`_viterbi`)."""
+    M = problem.start.shape[0]
+    return solve(
         np.ascontiguousarray(problem.transition, dtype=np.float64),
         np.ascontiguousarray(problem.start, dtype=np.float64),
         np.ascontiguousarray(problem.word, dtype=np.float64),
         np.ascontiguousarray(problem.completes, dtype=np.bool_),
+        np.arange(M, dtype=np.int64),
         int(problem.max_steps),
     )
-    if not np.isfinite(best_terminal).any():
+
+
+def solve(
+    transition: np.ndarray,
+    start: np.ndarray,
+    word: np.ndarray,
+    completes: np.ndarray,
+    columns: np.ndarray,
+    max_steps: int,
+) -> SearchResult | None:
+    """:func:`search` on arrays as the planner builds them, with the word term and the instances given per
+    column: node j reads ``word[:, columns[j]]`` and ``completes[:, columns[j]]`` (the planner passes its (S, K)
+    place terms and each node's place, so no (S, M) copy is made; :func:`search` passes 0..M-1). The arrays
+    must be C-contiguous float64 (``completes`` bool, ``columns`` int64) of the shapes of :class:`SearchProblem`;
+    their shapes are not checked again (the planner builds them), but a NaN in a log weight is still refused."""
+    tables, terminal, terminal_step, trace, ok = _viterbi(transition, start, word, completes, columns, max_steps)
+    if not ok:
+        raise ValueError("log weights must not be NaN")
+    if not trace.shape[1]:
         return None
-    end = int(np.argmax(best_terminal))
-    nodes, stages, completed = _backtrack(pred, from_stage, int(terminal_step[end]), end, S - 1)
+    nodes, stages, completed = _read_trace(trace)
     return SearchResult(
-        nodes, stages, completed, float(best_terminal[end]), best_terminal, pred, from_stage, terminal_step
+        nodes, stages, completed, float(terminal[nodes[-1]]), terminal, tables[0], tables[1], terminal_step
     )
 
 
 @njit(cache=True)
-def _viterbi(transition, start, word, completes, E):  # pragma: no cover - numba
-    """The max-product recursion over steps e = 1..E on states (stage, node); ties go to the lowest index.
-    Stage completion at each step, in place: (s, j) -> (s + 1, j) where j is an instance of stage s, optional
-    (the states stay, so a plan may pass one goal instance on its way to a better one). Returns the
-    predecessor and completed-stage tables, the best log weight of finishing at each node and its step."""
-    S, M = word.shape
-    pred = np.full((E + 1, S, M), -1, dtype=np.int64)  # previous node (-1: the start pose)
-    from_stage = np.full((E + 1, S, M), -1, dtype=np.int64)  # >= 0: reached by completing that stage here
+def _viterbi(transition, start, word, completes, columns, E):  # pragma: no cover - numba
+    """The max-product recursion over steps e = 1..E on states (stage, node), node j reading the word term and
+    the instances of column ``columns[j]``; ties go to the lowest index. Stage completion at each step, in place:
+    (s, j) -> (s + 1, j) where j is an instance of stage s, optional (the states stay, so a plan may pass one goal
+    instance on its way to a better one). Returns the predecessor and completed-stage tables, the best log weight
+    of finishing at each node and its step, the best sequence read back (:func:`_trace`; empty when no
+    sequence completes every stage), and False instead of a search when a log weight it reads is NaN. The
+    predecessor and completed-stage tables are one array (2, E + 1, S, M) and the sequence one array (2 + S,
+    n): fewer arrays to hand back to Python."""
+    S = word.shape[0]
+    M = start.shape[0]
+    tables = np.full((2, E + 1, S, M), -1, dtype=np.int64)
+    pred = tables[0]  # previous node (-1: the start pose)
+    from_stage = tables[1]  # >= 0: reached by completing that stage here
     best_terminal = np.full(M, NEG_INF)
     terminal_step = np.full(M, -1, dtype=np.int64)
+    if _has_nan(transition, start, word, columns):
+        return tables, best_terminal, terminal_step, _trace(pred, from_stage, 0, 0, S - 1), False
     value = np.full((S, M), NEG_INF)
     new = np.empty((S, M))
     for j in range(M):
-        value[0, j] = start[j] + word[0, j]
+        value[0, j] = start[j] + word[0, columns[j]]
     for e in range(1, E + 1):
         if e > 1:
             for s in range(S):
@@ -150,16 +176,16 @@ def _viterbi(transition, start, word, completes, E):  # pragma: no cover - numba
                             best = v
                             arg = i
                     pred[e, s, j] = arg
-                    new[s, j] = best + word[s, j]
+                    new[s, j] = best + word[s, columns[j]]
             value[:, :] = new
         for s in range(S - 1):
             for j in range(M):
-                if completes[s, j] and value[s, j] > value[s + 1, j]:
+                if completes[s, columns[j]] and value[s, j] > value[s + 1, j]:
                     value[s + 1, j] = value[s, j]
                     from_stage[e, s + 1, j] = s
         alive = False
         for j in range(M):
-            t = value[S - 1, j] if completes[S - 1, j] else NEG_INF
+            t = value[S - 1, j] if completes[S - 1, columns[j]] else NEG_INF
             if t > best_terminal[j]:
                 best_terminal[j] = t
                 terminal_step[j] = e
@@ -168,26 +194,53 @@ def _viterbi(transition, start, word, completes, E):  # pragma: no cover - numba
                     alive = True
         if not alive:
             break
-    return pred, from_stage, best_terminal, terminal_step
+    found = False
+    end = 0  # the first node of the best terminal value (np.argmax's tie rule), when one is finite
+    for j in range(M):
+        found = found or np.isfinite(best_terminal[j])
+        if best_terminal[j] > best_terminal[end]:
+            end = j
+    trace = _trace(pred, from_stage, terminal_step[end] if found else 0, end, S - 1)
+    return tables, best_terminal, terminal_step, trace, True
+
+
+@njit(cache=True)
+def _has_nan(transition, start, word, columns):  # pragma: no cover - numba
+    """Whether a log weight the search reads is NaN (SearchProblem refuses them)."""
+    M = start.shape[0]
+    for i in range(M):
+        if np.isnan(start[i]):
+            return True
+        for j in range(M):
+            if np.isnan(transition[i, j]):
+                return True
+    for s in range(word.shape[0]):
+        for j in range(M):
+            if np.isnan(word[s, columns[j]]):
+                return True
+    return False
 
 
 def _backtrack(pred: np.ndarray, from_stage: np.ndarray, step: int, node: int, stage: int):
     """The sequence that reaches ``node`` at ``step`` having completed ``stage``: its nodes, the stage pursued
     at each and the stages completed on arriving at each (read back through the tables of :func:`_viterbi`)."""
-    nodes, stages, done = _trace(pred, from_stage, step, node, stage)
-    completed = tuple(tuple(s for s, flag in enumerate(row) if flag) for row in done.tolist())
-    return nodes, stages, completed
+    return _read_trace(_trace(pred, from_stage, step, node, stage))
+
+
+def _read_trace(trace: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[tuple[int, ...], ...]]:
+    """(nodes, stages, completed) of :func:`_trace`'s array: its first two rows, and per column the stages whose
+    flag (rows 2..) is set."""
+    completed = tuple(tuple(s for s, flag in enumerate(col) if flag) for col in trace[2:].T.tolist())
+    return trace[0], trace[1], completed
 
 
 @njit(cache=True)
 def _trace(pred, from_stage, step, node, stage):  # pragma: no cover - numba
-    """:func:`_backtrack` in compiled code: (nodes, stages, done) with done[e, s] True when stage s is completed
-    on arriving at nodes[e]."""
+    """:func:`_backtrack` in compiled code, as one (2 + S, n) array: the nodes, the stages pursued, then per stage s
+    (row 2 + s) 1 where stage s is completed on arriving at the node."""
     S = from_stage.shape[1]
-    nodes = np.empty(step, np.int64)
-    stages = np.empty(step, np.int64)
-    done = np.zeros((step, S), np.bool_)
-    n = 0
+    out = np.zeros((2 + S, step), np.int64)  # filled from its last column back
+    k = step
     pending = np.zeros(S, np.bool_)  # the stages completed at the node being read back
     pending[stage] = True
     e, s, j = step, stage, node
@@ -197,14 +250,15 @@ def _trace(pred, from_stage, step, node, stage):  # pragma: no cover - numba
             pending[prev_stage] = True
             s = prev_stage
             continue
-        nodes[n] = j
-        stages[n] = s
-        done[n] = pending
+        k -= 1
+        out[0, k] = j
+        out[1, k] = s
+        for t in range(S):
+            out[2 + t, k] = pending[t]
         pending[:] = False
-        n += 1
         j = pred[e, s, j]
         e -= 1
-    return nodes[:n][::-1].copy(), stages[:n][::-1].copy(), done[:n][::-1].copy()
+    return out[:, k:].copy()
 
 
 def why_no_plan(

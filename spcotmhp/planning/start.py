@@ -38,7 +38,7 @@ def start_point(start: Any) -> np.ndarray:
     """
     if isinstance(start, np.ndarray) and start.dtype.kind in "iuf" and start.shape == (2,):
         x0 = start.astype(float)  # numbers by their type: only finiteness is left to check
-        if np.isfinite(x0).all():
+        if math.isfinite(x0[0]) and math.isfinite(x0[1]):
             return x0
     if isinstance(start, np.ndarray):
         values = start.reshape(-1).tolist() if start.dtype.kind in "iuf" else None
@@ -87,10 +87,12 @@ def start_cell(
     (the planning starts at its end). The cell is in the main graph's crop, in any such region."""
     occ = model.require_map()
     x0, row, col = locate_start(occ, start)
-    full = np.array([row, col], dtype=np.int64)
-    cell = np.array([row - graph.offset[0], col - graph.offset[1]], dtype=np.int64)
-    if graph.in_crop(cell) and _plannable(graph)[cell[0], cell[1]]:
+    r, c = row - int(graph.offset[0]), col - int(graph.offset[1])
+    cell = np.array([r, c], dtype=np.int64)
+    h, w = graph.log_p.shape
+    if 0 <= r < h and 0 <= c < w and _plannable(graph)[r, c]:  # graph.in_crop, in Python integers
         return x0, cell, np.empty((0, 2), dtype=np.int64)
+    full = np.array([row, col], dtype=np.int64)
     where = f"the start ({x0[0]:.2f}, {x0[1]:.2f})"
     if graph.in_crop(cell) and graph.traversable[cell[0], cell[1]]:
         raise StartBlocked(

@@ -37,6 +37,7 @@ class ModelTerms:
         self._log_W0 = np.ascontiguousarray(np.where(self._finite_W, self.log_W, 0.0))
         self._mu = np.ascontiguousarray(model.mu, dtype=np.float64)
         self._Sigma = np.ascontiguousarray(model.Sigma, dtype=np.float64)
+        self._psi = np.ascontiguousarray(model.psi, dtype=np.float64)
 
     def place_posterior(self, x: np.ndarray) -> np.ndarray:
         """p(i_0 = k | x_0) over places (K,) for one point (Eq. 3 with the place prior)."""
@@ -63,10 +64,12 @@ class ModelTerms:
         """log p(i | S) over active places, normalised (K,)."""
         return self.normalise(self.log_semantic(bag))
 
-    def start_terms(self, posterior: np.ndarray, places: np.ndarray) -> np.ndarray:
+    def start_terms(self, posterior: np.ndarray, places: np.ndarray, plus: np.ndarray | None = None) -> np.ndarray:
         """log sum_k p(i_0 = k | x_0) psi[k, i] - log sum_c phi_c(i) for the place i of each node (``places``):
-        the first step's transition term of Eq. 28 with i_0 marginalised."""
-        return _start_terms(posterior, self.model.psi, places, self.log_ur)
+        the first step's transition term of Eq. 28 with i_0 marginalised; ``plus`` (one value per node, e.g. the
+        start legs' w-hat) is added, in the same kernel."""
+        plus = np.zeros(len(places)) if plus is None else plus
+        return _start_terms(posterior, self._psi, places, self.log_ur, plus)
 
     def stage_terms(self, bags: Sequence[Mapping[str, float]], ratio: float) -> tuple[np.ndarray, np.ndarray]:
         """For the bags S_1..S_n of an instruction's stages, in one kernel: (n, K) :meth:`log_semantic` of each
@@ -155,14 +158,14 @@ def _normalise(log_semantic, active):  # pragma: no cover - numba
 
 
 @njit(cache=True)
-def _start_terms(posterior, psi, places, log_ur):  # pragma: no cover - numba
+def _start_terms(posterior, psi, places, log_ur, plus):  # pragma: no cover - numba
     out = np.empty(places.shape[0])
     for j in range(places.shape[0]):
         i = places[j]
         total = 0.0
         for k in range(posterior.shape[0]):
             total += posterior[k] * psi[k, i]
-        out[j] = np.log(total) - log_ur[i]
+        out[j] = (np.log(total) - log_ur[i]) + plus[j]
     return out
 
 

@@ -34,7 +34,7 @@ def _word_scores(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         lp_lk = np.log(model.pi)[:, None] + np.log(model.phi)
     p_l_given_k = np.exp(model.log_concept_given_place())
     said = p_l_given_k.T @ model.W
-    rescaled = p_l_given_k.T @ (model.W / model.W.sum(axis=0, keepdims=True))
+    rescaled = p_l_given_k.T @ model.unigram_rescaled_W()
     return said, rescaled, lp_lk
 
 
@@ -163,15 +163,19 @@ def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarr
     return (own.T.astype(np.int64) @ says.astype(np.int64)) > 0
 
 
-def parse_instruction(instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None) -> Any:
-    """``to_instruction(instruction, place_words, lang)`` with no floor said (:func:`one_floor`); an
+def parse_instruction(
+    instruction: Any, model: Any, place_words: Sequence[str], lang: str | None = None, *, floors: bool = False
+) -> Any:
+    """``to_instruction(instruction, place_words, lang)`` with no floor said (:func:`one_floor`; ``floors``: a
+    building's planner, which honours them); an
     UnknownPlaceWord for a word taught at run time that names no place yet (rule 4 of :func:`place_vocabulary`)
     says so and how often it was taught, rather than that the word is unknown."""
     from spcotmhp.errors import UnknownPlaceWord
     from spcotmhp.planning.instructions import to_instruction
 
     try:
-        return one_floor(to_instruction(instruction, place_words, lang))
+        ins = to_instruction(instruction, place_words, lang)
+        return ins if floors else one_floor(ins)
     except UnknownPlaceWord:
         taught = taught_counts(model)
         said = {w.lower() for w in str(instruction).replace("'", " ").split()} if taught else set()

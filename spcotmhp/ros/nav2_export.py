@@ -16,6 +16,9 @@ server (the README's "On your robot").
 resolution and origin, occupied (100) on the territories of the avoided places (the cells the planner blocks
 for "avoid the kitchen": :func:`~spcotmhp.planning.avoid.avoided_view`) and free elsewhere; served by a second
 map_server with costmap_filter_info_server type 0 (keepout), base 0, multiplier 1 (README.md beside it).
+
+A building's model exports one route graph per floor and the connectors between them
+(:func:`spcotmhp.building.nav2.export_building`).
 """
 
 from __future__ import annotations
@@ -130,7 +133,7 @@ def export_nav2(
     from spcotmhp.learning.io import load_model
 
     out = Path(out)
-    _check_target(out, Path(model_dir), overwrite)
+    check_target(out, Path(model_dir), overwrite)
     planner = HierarchicalPlanner(load_model(model_dir))
     doc = route_graph(planner, frame)
     mask, avoided = keepout_mask(planner, avoid) if avoid else (None, [])
@@ -152,7 +155,7 @@ def export_nav2(
     return text
 
 
-def _check_target(out: Path, model_dir: Path, overwrite: bool) -> None:
+def check_target(out: Path, model_dir: Path, overwrite: bool, allowed: Sequence[str] = EXPORT_FILES) -> None:
     if out.is_symlink() or (out.exists() and not out.is_dir()):
         raise SpcotmhpError(f"--out {out} exists and is not a folder; give a folder")
     if model_dir.exists() and (same_file(out, model_dir) or model_dir.resolve().is_relative_to(out.resolve())):
@@ -161,7 +164,7 @@ def _check_target(out: Path, model_dir: Path, overwrite: bool) -> None:
     present = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
     if not present:
         return
-    others = [name for name in present if name not in EXPORT_FILES]
+    others = [name for name in present if name not in allowed]
     if others:
         raise SpcotmhpError(
             f"--out {out} holds files that are not an export's ({', '.join(others[:5])}); choose an empty or new folder"

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from fastapi import Depends, FastAPI, File, Form, Query, Request, UploadFile
 from fastapi.exceptions import RequestValidationError
@@ -41,18 +41,21 @@ from spcotmhp.server.limits import (
 from spcotmhp.server.registry import ServedModel, load_served
 from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
-    AudioPlanResponse,
+    AnyAudioPlanResponse,
+    AnyPlanResponse,
     ErrorResponse,
     Health,
     MapInfo,
     ModelsResponse,
     PlacesResponse,
     PlanRequest,
-    PlanResponse,
     QuestionsResponse,
     TeachRequest,
     TeachResponse,
 )
+
+if TYPE_CHECKING:
+    from spcotmhp.building.model import BuildingModel
 
 STATIC = Path(__file__).parent / "static"
 ModelQuery = Annotated[str | None, Query(max_length=200, description="Served model name (default: the first).")]
@@ -90,7 +93,7 @@ class APIError(Exception):
 
 
 def create_app(
-    models: Mapping[str, str | Path | SpatialConceptModel],
+    models: Mapping[str, str | Path | SpatialConceptModel | BuildingModel],
     *,
     json_limit: int = JSON_LIMIT,
     audio_limit: int = AUDIO_LIMIT,
@@ -203,11 +206,12 @@ def create_app(
             "resolution": sm.model.require_map().resolution,
         }
 
-    @app.post("/plan", response_model=PlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
+    @app.post("/plan", response_model=AnyPlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
     async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
         503 when the planner is busy or the plan exceeds the time budget."""
-        return await _plan(pick(_one_model(model, body.model)), body.source(), body.start, body.lang, _client(request))
+        sm = pick(_one_model(model, body.model))
+        return await _plan(sm, body.source(), body.start, body.lang, _client(request), body.floor)
 
     @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, request: Request, model: ModelQuery = None) -> dict:
@@ -218,11 +222,11 @@ def create_app(
         one exceeds the time budget."""
         sm = pick(_one_model(model, body.model))
         try:
-            return await sm.teach_async(body.utterance, body.x, body.y, _client(request))
+            return await sm.teach_async(body.utterance, body.x, body.y, _client(request), body.floor)
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 
-    @app.post("/plan/audio", response_model=AudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
+    @app.post("/plan/audio", response_model=AnyAudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
     async def plan_audio(
         request: Request,
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
@@ -230,6 +234,9 @@ def create_app(
         model: Annotated[str | None, Form(max_length=200)] = None,
         nbest: Annotated[int, Form(ge=1, le=20, description="Hypotheses to keep.")] = 5,
         query_model: Annotated[str | None, Query(alias="model", max_length=200)] = None,
+        floor: Annotated[
+            str | None, Form(max_length=64, description="A building's model only: the start's floor (index or name).")
+        ] = None,
     ) -> dict:
         """Recognise a spoken instruction (pocketsphinx, grammar of the model's place words) and plan from its
         N-best hypotheses (Eq. 25). An error once recognised also lists the ``hypotheses``."""
@@ -251,7 +258,7 @@ def create_app(
             raise APIError(501, str(exc)) from None
         heard = [{"text": t, "score": s} for t, s in hypotheses]
         try:
-            out = await _plan(sm, hypotheses, xy, "en", _client(request))
+            out = await _plan(sm, hypotheses, xy, "en", _client(request), floor)
         except APIError as exc:  # what was heard helps with a plan that failed (an unknown word, a bad start)
             exc.extra["hypotheses"] = heard
             raise
@@ -288,9 +295,11 @@ def _client(request: Request) -> str:
     return request.client.host if request.client is not None else ""
 
 
-async def _plan(sm: ServedModel, source: Any, start: Any, lang: str | None, client: str = "") -> dict:
+async def _plan(
+    sm: ServedModel, source: Any, start: Any, lang: str | None, client: str = "", floor: int | str | None = None
+) -> dict:
     try:
-        result = await sm.plan_async(source, start, lang, client)
+        result = await sm.plan_async(source, start, lang, client, floor)
     except InstructionError as exc:
         raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:

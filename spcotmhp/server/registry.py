@@ -12,6 +12,11 @@ a millisecond of mostly CPU-bound Python (the GIL would serialise it anyway); on
 web framework's shared pool of 40 threads saves the threads' contention for the GIL (measured with
 benchmarks/load_test.py; docs/results.md gives the throughputs). Requests for different models run in parallel,
 and recognition (the slow part of ``/plan/audio``) runs outside the lock (the recogniser has its own).
+
+A building's model (a folder with building.json, or a :class:`~spcotmhp.building.model.BuildingModel`) is served
+as its joint model (``/map``, ``/places``: the floors side by side, :mod:`spcotmhp.building.joint`) with a
+:class:`~spcotmhp.building.planner.BuildingPlanner` beside it: ``/plan`` then needs the start's ``floor`` and
+answers with one segment per floor. ``floor`` with a single floor's model is refused (422).
 """
 
 from __future__ import annotations
@@ -22,11 +27,11 @@ import threading
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from spcotmhp.errors import ModelError, TeachingBusy
+from spcotmhp.errors import MalformedInstruction, ModelError, TeachingBusy, TeachingError, UnknownFloor
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.plan import Plan
@@ -34,6 +39,11 @@ from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.server.scheduling import Budget, Lane, check_cost, estimate_cost, run_in_lane
 from spcotmhp.viz.draw import MapImage, map_image, place_colours, render, topological_edges
 from spcotmhp.viz.labels import place_display_labels
+
+if TYPE_CHECKING:
+    from spcotmhp.building.model import BuildingModel
+    from spcotmhp.building.plan import BuildingPlan
+    from spcotmhp.building.planner import BuildingPlanner
 
 NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 
@@ -62,6 +72,7 @@ class ServedModel:
         default_factory=lambda: Lane("teach", Budget.max_teach, Budget.max_teach_per_client, TeachingBusy), repr=False
     )
     _draw: threading.Lock = field(default_factory=threading.Lock, repr=False)
+    building: BuildingPlanner | None = field(default=None, repr=False)
 
     @property
     def image(self) -> MapImage:
@@ -79,10 +90,12 @@ class ServedModel:
 
     @classmethod
     def build(
-        cls, name: str, model: SpatialConceptModel, source: str = "", budget: Budget | None = None
+        cls, name: str, item: SpatialConceptModel | BuildingModel, source: str = "", budget: Budget | None = None
     ) -> ServedModel:
         """Precompute the planner (Algorithm 1, lines 1-7), warm it up (:meth:`HierarchicalPlanner.warm_up`: the
-        first request does not wait for numba's kernels) and draw the map picture."""
+        first request does not wait for numba's kernels) and draw the map picture; for a building's model, its
+        :class:`~spcotmhp.building.planner.BuildingPlanner` too (module docstring)."""
+        model = item if isinstance(item, SpatialConceptModel) else item.model
         if model.map is None:
             raise ModelError(f"model {name!r} ({source}) has no map; the service plans on the model's map")
         budget = budget or Budget()
@@ -104,35 +117,48 @@ class ServedModel:
             budget,
             cache,
             teach_lane=teach_lane,
+            building=None if isinstance(item, SpatialConceptModel) else _building_planner(item, cache),
         )
 
     @property
     def place_words(self) -> list[str]:
         return list(self.planner.place_words)
 
-    def plan(self, instruction: Any, start: Sequence[float], lang: str | None = None) -> Plan:
+    def plan(
+        self, instruction: Any, start: Sequence[float], lang: str | None = None, floor: object = None
+    ) -> Plan | BuildingPlan:
         """Plan under this model's lock (module docstring)."""
         with self.lock:
-            return self.planner.plan(instruction, start, lang)
+            return self._planned(instruction, start, lang, floor)
+
+    def _planned(
+        self, instruction: Any, start: Sequence[float], lang: str | None, floor: object, heavy: bool = False
+    ) -> Plan | BuildingPlan:
+        """The plan of the building's planner (``floor``: the start's) or of the single floor's (the heavy lane's
+        planner when ``heavy``)."""
+        if self.building is None:
+            if floor is not None:
+                raise MalformedInstruction(f"'floor' is for a building's model; model {self.name!r} is one floor")
+            return (self._heavy_planner() if heavy else self.planner).plan(instruction, start, lang)
+        if floor is None:
+            raise UnknownFloor(
+                f"model {self.name!r} is a building's: give 'floor', the start's floor "
+                f"({self.building.bm.spec.describe_floors()})"
+            )
+        return self.building.plan(instruction, start, floor, lang=lang)
 
     async def plan_async(
-        self, instruction: Any, start: Sequence[float], lang: str | None = None, client: str = ""
-    ) -> Plan:
+        self, instruction: Any, start: Sequence[float], lang: str | None = None, client: str = "", floor: object = None
+    ) -> Plan | BuildingPlan:
         """Plan on the light or heavy lane by the instruction's cost, within the budget (module docstring)."""
         cost = estimate_cost(instruction)
         check_cost(cost, self.budget)
-        if cost <= self.budget.light_cost:
-            return await run_in_lane(
-                self.light,
-                client,
-                self.budget.time_budget,
-                lambda: self.planner.plan(instruction, start, lang),
-            )
+        heavy = cost > self.budget.light_cost
         return await run_in_lane(
-            self.heavy,
+            self.heavy if heavy else self.light,
             client,
             self.budget.time_budget,
-            lambda: self._heavy_planner().plan(instruction, start, lang),
+            lambda: self._planned(instruction, start, lang, floor, heavy),
         )
 
     def _heavy_planner(self) -> HierarchicalPlanner:
@@ -140,31 +166,40 @@ class ServedModel:
         never waits for a second precomputation."""
         return self.planner
 
-    async def teach_async(self, utterance: str, x: float, y: float, client: str = "") -> dict:
+    async def teach_async(self, utterance: str, x: float, y: float, client: str = "", floor: object = None) -> dict:
         """:meth:`teach` on the teaching lane, within its admission limits and time budget (TeachingBusy)."""
         return await run_in_lane(
             self.teach_lane,
             client,
             self.budget.teach_budget,
-            lambda: self.teach(utterance, x, y),
+            lambda: self.teach(utterance, x, y, floor),
             lambda why: TeachingBusy(f"the teach was {why}; it is applied when it finishes"),
         )
 
-    def teach(self, utterance: str, x: float, y: float) -> dict:
+    def teach(self, utterance: str, x: float, y: float, floor: object = None) -> dict:
         """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), update
         the planning graph off the planning lanes (``PlanningGraph.update``: only the fields of new or moved nodes),
         then swap model, planner and labels in at once under the light lane's lock, so that every later plan uses
         the update and no plan sees half of it; the map picture is drawn again on its next request. Teaches of
         one model run one at a time; the served model stays as it was on a TeachingError. The update lives in
-        memory (the model folder is not rewritten)."""
+        memory (the model folder is not rewritten). A building's model is taught on ``floor`` ((x, y) in that
+        floor's map frame: :func:`~spcotmhp.building.learn.teach_building`) and its building planner made again."""
         from spcotmhp.learning.teach import planner_for, teach
 
+        if (floor is None) != (self.building is None):
+            why = "give 'floor', the floor taught on" if floor is None else "'floor' is for a building's model"
+            raise TeachingError(f"model {self.name!r}: {why}")
         with self._teaching:
-            taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
+            building = self.building
+            if building is not None:
+                updated, taught = _teach_building(building, utterance, x, y, floor)
+                building = _building_planner(updated, self.cache, warm=False)
+            else:
+                taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
             planner, seconds = planner_for(taught.model, self.planner.settings, self.planner, self.cache)
             labels = place_display_labels(taught.model, planner.place_words)
             with self.lock:
-                self.model, self.planner, self.labels = taught.model, planner, labels
+                self.model, self.planner, self.labels, self.building = taught.model, planner, labels, building
                 with self._draw:
                     self._image, self._figure = None, None
                 self.version += 1
@@ -231,11 +266,12 @@ class ServedModel:
 
 
 def load_served(
-    models: Mapping[str, str | Path | SpatialConceptModel],
+    models: Mapping[str, str | Path | SpatialConceptModel | BuildingModel],
     progress: Callable[[str], None] | None = None,
     budget: Budget | None = None,
 ) -> dict[str, ServedModel]:
     """Build every served model (name -> model folder or model), in order; the first is the default."""
+    from spcotmhp.building.io import is_building_model, load_building_model
     from spcotmhp.learning.io import load_model
 
     if not models:
@@ -246,8 +282,30 @@ def load_served(
             raise ModelError(f"bad model name {name!r}: use letters, digits, '-', '_' or '.'")
         if progress is not None:
             progress(name)
-        if isinstance(item, SpatialConceptModel):
+        if not isinstance(item, (str, Path)):
             out[name] = ServedModel.build(name, item, "(in memory)", budget)
         else:
-            out[name] = ServedModel.build(name, load_model(item), str(item), budget)
+            loaded = load_building_model(item) if is_building_model(item) else load_model(item)
+            out[name] = ServedModel.build(name, loaded, str(item), budget)
     return out
+
+
+def _building_planner(bm: BuildingModel, cache: GraphCache, warm: bool = True) -> BuildingPlanner:
+    """The building's planner, on the served model's graph cache, warmed up as the single floor's."""
+    from spcotmhp.building.planner import BuildingPlanner
+
+    planner = BuildingPlanner(bm, cache=cache)
+    for p in planner.floors.values() if warm else ():
+        p.warm_up()
+    return planner
+
+
+def _teach_building(building: BuildingPlanner, utterance: str, x: float, y: float, floor: object):
+    """:func:`~spcotmhp.building.learn.teach_building` with a floor the building lacks as a TeachingError (422)."""
+    from spcotmhp.building.learn import teach_building
+    from spcotmhp.errors import UnknownFloor
+
+    try:
+        return teach_building(building.bm, [{"x": x, "y": y, "utterance": utterance}], floor)
+    except UnknownFloor as exc:
+        raise TeachingError(str(exc)) from None

@@ -38,6 +38,9 @@ class RelatedPlace(BaseModel):
     words: Words
     relation: Literal["closest", "farthest", "next_to", "between", "largest", "smallest"] | None = None
     of: list[Words] = Field(default=[], max_length=2, description="The relation's other places (two for 'between').")
+    floor: int | Annotated[str, Field(min_length=1, max_length=64)] | None = Field(
+        None, description="A building's model only: the floor of this place (index, name, upstairs, downstairs)."
+    )
 
 
 Place = Words | RelatedPlace
@@ -83,6 +86,11 @@ class PlanRequest(BaseModel):
     start: tuple[Number, Number] = Field(description="Start pose [x, y] in metres, map frame.")
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
     lang: Literal["en", "ja"] | None = Field(None, description="Instruction language (default: detected).")
+    floor: int | str | None = Field(
+        None,
+        description="A building's model only: the start's floor (its index or name); ``start`` is in that floor's "
+        "map frame. Places of a structured instruction may carry a floor too (index, name, upstairs, downstairs).",
+    )
 
     @model_validator(mode="after")
     def _one_instruction(self) -> PlanRequest:
@@ -114,6 +122,9 @@ class TeachRequest(BaseModel):
     x: Number
     y: Number
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
+    floor: int | Annotated[str, Field(min_length=1, max_length=64)] | None = Field(
+        None, description="A building's model only (required there): the floor taught on; x, y in its map frame."
+    )
 
 
 class TeachResponse(BaseModel):
@@ -201,10 +212,67 @@ class PlanResponse(BaseModel):
     notes: list[str] = []
 
 
+class BuildingPlaceOut(PlanPlaceOut):
+    floor: int
+
+
+class BuildingGoalOptionOut(GoalOptionOut):
+    floor: int
+    route_m: float = Field(description="Metres walked plus the connectors' cost_m.")
+
+
+class SegmentOut(BaseModel):
+    floor: int
+    path: list[Point] = Field(description="[x, y] metres in that floor's map frame.")
+    length_m: float
+
+
+class StopOut(BaseModel):
+    floor: int
+    x: float
+    y: float
+
+
+class RideOut(BaseModel):
+    model_config = ConfigDict(populate_by_name=True)
+    name: str
+    kind: Literal["stairs", "lift"]
+    from_: StopOut = Field(alias="from")
+    to: StopOut
+    cost_m: float
+
+
+class BuildingPlanResponse(PlanResponse):
+    """A plan in a building (``BuildingPlan.to_dict()``): the single-floor keys (``path``: the first segment's)
+    and one segment per floor, in order, with the connector ridden between consecutive segments."""
+
+    places: list[BuildingPlaceOut]  # type: ignore[assignment]  # the single floor's places, with their floor
+    goal_options: list[BuildingGoalOptionOut]  # type: ignore[assignment]  # likewise
+    floor: int = Field(description="The start's floor.")
+    goal_floor: int
+    segments: list[SegmentOut]
+    rides: list[RideOut]
+    route_m: float
+
+
+AnyPlanResponse = Annotated[BuildingPlanResponse | PlanResponse, Field(union_mode="left_to_right")]
+"""What ``POST /plan`` returns: a building's plan (with segments) or a single floor's."""
+
+
 class AudioPlanResponse(PlanResponse):
     """A plan from speech, with the recognised hypotheses it was planned from."""
 
     hypotheses: list[Hypothesis]
+
+
+class AudioBuildingPlanResponse(BuildingPlanResponse):
+    """A plan in a building from speech, with the recognised hypotheses it was planned from."""
+
+    hypotheses: list[Hypothesis]
+
+
+AnyAudioPlanResponse = Annotated[AudioBuildingPlanResponse | AudioPlanResponse, Field(union_mode="left_to_right")]
+"""What ``POST /plan/audio`` returns."""
 
 
 class PlaceOut(BaseModel):

@@ -125,3 +125,25 @@ def test_serve_time_options_must_be_finite_seconds(model_dir, option, value):
     run = _serve(str(model_dir), option, value)
     assert run.returncode == 2
     assert f"Invalid value for '{option}': must be a finite number of seconds in [0.1, 600], got " in run.stderr
+
+
+def test_serve_a_buildings_model(tmp_path):
+    """A building's model folder is served with its building planner: /plan takes the start's floor."""
+    import warnings
+
+    from spcotmhp.building.io import save_building_model
+    from spcotmhp.building.learn import learn_building
+    from spcotmhp.building.loader import load_building
+    from spcotmhp.building.synthetic import example_path
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bm = learn_building(load_building(example_path()))
+    folder = save_building_model(bm, tmp_path / "m")
+    stairs = next(c for c in bm.spec.connectors if c.kind == "stairs")
+    start = [stairs.stops[0].x + 0.5, stairs.stops[0].y]
+    with ServerProcess([f"house={folder}"]) as server:
+        body = {"instruction": "go to the bedroom upstairs", "start": start, "floor": "ground"}
+        r = httpx.post(server.url + "/plan", json=body, timeout=30)
+        assert r.status_code == 200, r.text
+        assert [s["floor"] for s in r.json()["segments"]] == [1, 2]

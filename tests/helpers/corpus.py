@@ -130,12 +130,18 @@ def written(ins: Instruction, name: str) -> tuple[str, ...]:
 
 
 def expected(row: dict) -> tuple[str, ...]:
-    """A row's expected reading, in the order of :func:`written` (missing columns read as empty; the old corpus
-    joins avoided places with commas)."""
+    """A row's expected reading, in the order of :func:`written` (missing columns read as empty). Notations of the
+    corpora's writers read as :func:`written` writes them: avoided places and places not to end in joined by
+    commas (the old corpus) or ">" (blind3) are a set joined by ";"; a wait "place@" (blind3: until told) is
+    "place", several joined by ">" are joined by ";"."""
     out = []
     for key in ("goal", "waypoints", "avoid", "not_goal", "speed", "wait"):
         value = row.get(key) or ""
-        out.append(value.replace(",", ";") if key in ("avoid", "not_goal") else value)
+        if key in ("avoid", "not_goal"):
+            value = value.replace(",", ";").replace(">", ";")
+        elif key == "wait":
+            value = ";".join(w.removesuffix("@") for w in value.replace(">", ";").split(";")) if value else ""
+        out.append(value)
     return tuple(" ".join(x.split()) for x in out)
 
 

@@ -4,6 +4,8 @@
   setting or ``info.feature_weight`` set to a hostile number or JSON value, or an array of arrays.npz scaled,
   poked or broken (an entry, a row, a covariance's symmetry), applied by :func:`apply_edits` (which reseals the
   manifest, so the value checks are what is tested).
+* ``learner_edits()``: changes to a learner state (learner.npz) behind a valid checksum: a count scaled,
+  zeroed or poked, a scatter or position set to a hostile number (:func:`apply_learner_edits`, resealed).
 * ``pnm_files()``: PGM/PPM/PBM files with hostile headers: magic numbers, sizes (0, huge, long strips),
   comments up to past the header bound, separators, maxvals, and bodies short, exact or missing.
 """
@@ -40,6 +42,10 @@ ISSUE_26_VALUES = [
     ("costmap", "inflation_radius", 1e308),
 ]
 ARRAYS = ("mu", "Sigma", "psi", "pi", "phi", "W")
+# words a vocabulary must not hold (empty, spaces around, control characters), and a few it may
+WORDS = st.sampled_from(
+    ["", " ", "\n", "kitchen ", " kitchen", "a\x00b", "tab\there", "x" * 257, "東京", "living room"]
+)
 ARRAY_OPS = ("scale", "entry", "row", "asymmetric", "zero-column")
 
 
@@ -48,8 +54,10 @@ def model_edits(draw) -> list[tuple]:
     """One to three edits: ("hyper" | "costmap" | "info", key, value) or ("array", name, op, number)."""
     edits = []
     for _ in range(draw(st.integers(1, 3))):
-        kind = draw(st.sampled_from(["hyper", "hyper", "costmap", "info", "array", "array", "array"]))
-        if kind == "hyper":
+        kind = draw(st.sampled_from(["hyper", "hyper", "costmap", "info", "vocabulary", "array", "array", "array"]))
+        if kind == "vocabulary":
+            edits.append(("vocabulary", draw(st.integers(0, 3)), draw(WORDS)))
+        elif kind == "hyper":
             edits.append(("hyper", draw(st.sampled_from([f.name for f in fields(Hyperparameters)])), draw(VALUES)))
         elif kind == "costmap":
             edits.append(("costmap", draw(st.sampled_from([f.name for f in fields(CostMapSettings)])), draw(VALUES)))
@@ -89,10 +97,36 @@ def apply_edits(folder: Path, edits: list[tuple]) -> str:
         if edit[0] == "array":
             _, name, op, x = edit
             arrays[name] = _edit_array(arrays[name], op, x)
+        elif edit[0] == "vocabulary":
+            meta["vocabulary"][edit[1] % len(meta["vocabulary"])] = edit[2]
         else:
             meta[edit[0]][edit[1]] = edit[2]
     (folder / "model.json").write_text(json.dumps(meta), encoding="utf-8")  # NaN / Infinity as JSON writes them
     np.savez(folder / "arrays.npz", **arrays)
+    reseal(folder)
+    return "; ".join(" ".join(str(v)[:24] for v in edit) for edit in edits)
+
+
+LEARNER_ARRAYS = ("n_k", "sx", "sxx", "n_l", "n_lk", "W_lv", "bg_v", "z_tot", "trans", "X")
+
+
+@st.composite
+def learner_edits(draw) -> list[tuple]:
+    """One to three (array of learner.npz, op of ``_edit_array`` or "zero", number) edits."""
+    ops = st.sampled_from(ARRAY_OPS + ("zero",))
+    return [
+        (draw(st.sampled_from(LEARNER_ARRAYS)), draw(ops), draw(HOSTILE_NUMBERS))
+        for _ in range(draw(st.integers(1, 3)))
+    ]
+
+
+def apply_learner_edits(folder: Path, edits: list[tuple]) -> str:
+    """Apply ``edits`` (``learner_edits``) to learner.npz of ``folder``, reseal its manifest; a short label."""
+    with np.load(folder / "learner.npz") as npz:
+        arrays = {k: npz[k] for k in npz.files}
+    for name, op, x in edits:
+        arrays[name] = np.zeros_like(arrays[name], dtype=float) if op == "zero" else _edit_array(arrays[name], op, x)
+    np.savez(folder / "learner.npz", **arrays)
     reseal(folder)
     return "; ".join(" ".join(str(v)[:24] for v in edit) for edit in edits)
 

@@ -278,3 +278,39 @@ def test_it_in_a_relation_is_the_last_place_of_another_name():
     assert r.visit[-1].describe() == "bedroom (closest to the kitchen)"
     with pytest.raises(UnsupportedPhrase, match="'it' names no place"):
         read("go to the bedroom closest to it", ["bedroom"], "en")
+
+
+@pytest.mark.parametrize(
+    ("text", "lang", "visit", "waits"),
+    [
+        ("go to the kitchen and wait in the kitchen for 2 minutes", "en", ["kitchen"], ((0, 120.0),)),
+        ("go to the bath via the kitchen, wait in the kitchen for a minute", "en", ["kitchen", "bath"], ((0, 60.0),)),
+        (
+            "go to the kitchen, then the bath, then wait in the kitchen for a minute",
+            "en",
+            ["kitchen", "bath", "kitchen"],
+            ((2, 60.0),),
+        ),
+        ("キッチンへ行って、キッチンで2分待って", "ja", ["キッチン"], ((0, 120.0),)),
+        ("まず寝室で待って", "ja", ["寝室"], ((0, None),)),
+    ],
+)
+def test_waiting_at_the_place_just_named_is_one_visit(text, lang, visit, waits):
+    """ "wait in the X" right after X was named to visit waits there; after another place it is a new stop."""
+    words = ["kitchen", "bath", "キッチン", "寝室"]
+    r = read(text, words, lang)
+    assert [p.label for p in r.visit] == visit and r.waits == waits
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "could you go to the kitchen if you could you don't mind",
+        "could you go to the kitchen if you if you can don't mind",
+        "could if you can you go to the kitchen if you don't mind",
+        "go to the kitchen when could you you're ready",
+    ],
+)
+def test_a_filler_phrase_said_inside_another_leaves_both_out(text):
+    """Found by the filler property below: the phrase said inside another is left out first, whichever it is."""
+    assert [p.label for p in read(text, ["kitchen"], "en").visit] == ["kitchen"]

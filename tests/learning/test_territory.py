@@ -108,3 +108,27 @@ def test_partition_extra_seeds_add_a_piece_or_a_single_cell_by_hand():
     np.testing.assert_array_equal(alone, [[0, 0, -1, 1, 0], [0, 0, -1, 2, 0]])
     pinned = partition(labels, anchors, np.array([0]), np.array([[1, 3]]))  # place 2's anchor: not taken
     np.testing.assert_array_equal(pinned, base)
+
+
+def test_a_place_under_a_stronger_neighbour_keeps_its_anchor_not_its_rim():
+    """Issue 24 item 2: a name taught once beside a room is a one-event place, a broad Gaussian of small weight.
+    At its own mean the room's place is more probable, so its most probable cells form a rim far from its mean;
+    its territory used to be that rim's largest piece, and "go to" it ended 1.1-3.7 m from where it was taught.
+    Its seed is now its anchor (the cell nearest its mean, where its own density is highest)."""
+    data = np.full((32, 92), 100, dtype=np.int8)
+    data[1:31, 1:91] = 0  # one room 9 m x 3 m
+    occ = OccupancyMap(data=data, resolution=0.1)
+    m = model_at([(3.0, 1.5), (4.5, 1.5)], [0.7, 1.4], occ)
+    m.phi = np.array([[0.97, 0.03]])  # p(i): the room 0.97, the taught place 0.03
+    mask = occ.data == 0
+    centres = occ.cell_centres()
+    post = m.place_posterior(centres)
+    anchor = tuple(occ.world_to_cell(np.array([4.5, 1.5])))
+    assert post[anchor][0] > post[anchor][1]  # the room is more probable at the taught place's own mean
+    assert ((post[..., 1] > post[..., 0]) & mask).any()  # the taught place wins only away from it (the rim)
+    t = place_territories(m, mask, centres)
+    assert t[anchor] == 1
+    _, n = ndimage.label(t == 1, structure=FOUR)
+    assert n == 1  # one piece: no territory on the far rim
+    far = np.argwhere(t == 1)
+    assert np.abs(occ.cell_to_world(far) - np.array([4.5, 1.5])).max() < 1.0

@@ -504,3 +504,19 @@ def test_save_errors_on_yaw_and_unwritable_folder(tmp_path: Path) -> None:
     m = OccupancyMap(np.zeros((2, 2), dtype=np.int8), 0.1)
     with pytest.raises(MapError, match=r"cannot write .*nodir/x\.pgm: No such file"):
         save_map(m, tmp_path / "nodir" / "x")
+
+
+@pytest.mark.parametrize("maxval", [255, 65535])
+@pytest.mark.parametrize("mode", ["trinary", "scale", "raw"])
+@pytest.mark.parametrize("negate", [False, True])
+def test_grey_images_through_the_shade_table_give_the_per_pixel_rule(maxval, mode, negate):
+    """The table path of grey images (a broadcast channel, no alpha) gives the grid of the per-pixel rule."""
+    from spcotmhp.metric.map_io import pixels_to_grid
+
+    # more pixels than shades: the table path
+    grey = np.random.default_rng(maxval).integers(0, maxval + 1, (300, 300)).astype(np.int32)
+    view = np.broadcast_to(grey[:, :, None], grey.shape + (3,))
+    fast = pixels_to_grid(view, None, maxval, mode, negate, 0.65, 0.196)
+    rule = pixels_to_grid(np.ascontiguousarray(view), None, maxval, mode, negate, 0.65, 0.196)
+    assert fast.dtype == rule.dtype == np.int8 and fast.flags.c_contiguous
+    np.testing.assert_array_equal(fast, rule)

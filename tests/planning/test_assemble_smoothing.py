@@ -374,3 +374,24 @@ def test_a_4_connected_planner_never_steps_diagonally():
     pl = HierarchicalPlanner(model, log_p=home_log_p(model.map), connectivity=4)
     plan = pl.plan("go to the bedroom", model.map.cell_to_world(np.array([2, 2])))
     assert plan.smoothed and (np.abs(np.diff(plan.cells, axis=0)).sum(axis=1) == 1).all()
+
+
+def test_smooth_anchored_with_a_cost_keeps_the_shortcuts_only_if_better():
+    """With ``cost``, smooth_anchored is its shortcuts when better() under that cost, else the path and anchors
+    as given (one kernel call instead of two): checked on monotone staircases, whose shortcuts are as long, so
+    the cost decides either way."""
+    rng = np.random.default_rng(4)
+    allowed = np.ones((30, 60), dtype=bool)
+    outcomes = set()
+    for _ in range(200):
+        steps = rng.integers(0, 2, size=int(rng.integers(3, 40)))  # 0: right, 1: diagonal
+        path = np.cumsum(np.column_stack([steps, np.ones_like(steps)]), axis=0) + np.array([2, 2])
+        path = np.vstack([[2, 2], path]).astype(np.int64)
+        anchors = sorted(rng.choice(len(path), size=int(rng.integers(0, 3)), replace=False).tolist())
+        cost = rng.uniform(1.0, 2.0, size=allowed.shape)
+        short, moved = smooth_anchored(path, allowed, anchors)
+        expected = (short, moved) if better(short, path, cost) else (path, anchors)
+        outcomes.add(better(short, path, cost))
+        got = smooth_anchored(path, allowed, anchors, cost=cost)
+        assert np.array_equal(got[0], expected[0]) and got[1] == expected[1]
+    assert outcomes == {True, False}

@@ -321,3 +321,20 @@ def test_an_update_after_a_teach_keeps_the_fields_of_nodes_that_did_not_move(tmp
     assert np.array_equal(updated.node_cell, fresh.node_cell)
     assert np.array_equal(updated.dist, fresh.dist) and np.array_equal(updated.next_step, fresh.next_step)
     assert np.array_equal(updated.w_hat, fresh.w_hat) and np.array_equal(updated.log_p, fresh.log_p)
+
+
+def test_start_legs_kernel_is_the_fields_formula_exactly():
+    """On dense fields start_w_hat is one kernel (start_legs): the same floats as end_term - cost_to_nodes where
+    the node is usable, -inf elsewhere, from every crop cell (reached or not)."""
+    g = build()
+    assert g.hier is None and isinstance(g.dist, np.ndarray)
+    usable = g.usable.copy()
+    usable[1] = False  # as in an avoidance view
+    g = dataclasses.replace(g, usable=usable)
+    assert not g.usable[1] and isinstance(g.dist, np.ndarray)
+    h, w = g.log_p.shape
+    for r in range(h):
+        for c in range(w):
+            cell = np.array([r, c])
+            expected = np.where(g.usable, g.end_term - g.cost_to_nodes(cell), -np.inf)
+            assert np.array_equal(g.start_w_hat(cell), expected)

@@ -104,10 +104,18 @@ def test_joined_field_legs_equal_the_joined_legs(home):
 
 def test_kernels_match_their_numpy_definitions():
     """territory_sequence is dwell_filtered_sequence of the territories along a path, then of its non-negative
-    entries with a dwell of 1; piece_places is the union of the piece's territories and its nodes' places;
-    crossing_fields is crosses() of each finite field: checked on random grids, paths and link chains."""
+    entries with a dwell of 1; last_territory its last non-negative entry (path_territories: both); piece_places
+    is the union of the piece's territories and its nodes' places; crossing_fields is crosses() of each finite
+    field: checked on random grids, paths and link chains."""
     from spcotmhp.learning.hmm import dwell_filtered_sequence
-    from spcotmhp.planning._paths import crosses, crossing_fields, piece_places, territory_sequence
+    from spcotmhp.planning._paths import (
+        crosses,
+        crossing_fields,
+        last_territory,
+        path_territories,
+        piece_places,
+        territory_sequence,
+    )
 
     rng = np.random.default_rng(2)
     for _ in range(200):
@@ -118,6 +126,13 @@ def test_kernels_match_their_numpy_definitions():
         assert (
             territory_sequence(territory, cells, dwell).tolist() == dwell_filtered_sequence(seq[seq >= 0], 1).tolist()
         )
+        for n in (0, 1, 30):  # last_territory: the last non-negative territory along the path, -1 without one
+            labels = territory[cells[:n, 0], cells[:n, 1]]
+            labels = labels[labels >= 0]
+            assert last_territory(territory, cells[:n]) == (labels[-1] if len(labels) else -1)
+            along, last = path_territories(territory, cells[:n], dwell)
+            assert along.tolist() == territory_sequence(territory, cells[:n], dwell).tolist()
+            assert last == last_territory(territory, cells[:n])
         a, b = sorted(rng.integers(0, 30, 2))
         ends = np.sort(rng.integers(0, 30, 3)).astype(np.int64)
         node_place = rng.integers(0, 4, 3).astype(np.int64)

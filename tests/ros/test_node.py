@@ -262,6 +262,11 @@ def test_bad_poses_are_refused_and_no_stale_pose_is_used(setup):
         ({"x": 1.0, "y": 1.0, "frame": "odom"}, "frame 'odom'"),
         ({"x": float("nan"), "y": 0.0}, "is not finite"),
         ({"x": 500.0, "y": 500.0}, "outside the map"),
+        # hostile variants (issue 26 checked from the outside): another spelling of a frame, an infinite
+        # coordinate, a NaN orientation
+        ({"x": 1.0, "y": 1.0, "frame": "/odom"}, "frame 'odom'"),
+        ({"x": float("inf"), "y": 0.0}, "is not finite"),
+        ({"x": 1.0, "y": 1.0, "yaw": float("nan")}, "is not finite"),
     ):
         client.set_pose(*entrance)
         assert client.ask(client.instruction_pub, "go to the kitchen")["ok"]

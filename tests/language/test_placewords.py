@@ -1,0 +1,47 @@
+"""Place words as the units they match (spcotmhp/language/placewords.py): spelling variants and the table's other
+names of a kind of place (synonyms), which name a place word only when they can name exactly one of the map's."""
+
+from __future__ import annotations
+
+import pytest
+
+from spcotmhp.errors import UnknownPlaceWord
+from spcotmhp.language.reading import read
+
+
+def goal(text: str, words: list[str], lang: str = "en") -> tuple[str, ...]:
+    return read(text, words, lang).visit[-1].words
+
+
+@pytest.mark.parametrize(
+    ("text", "words", "lang", "named"),
+    [
+        ("go to the loo", ["toilet", "bath"], "en", ("toilet",)),
+        ("pop into the restroom", ["toilet", "washroom"], "en", ("toilet",)),
+        ("go to the storage room", ["storeroom", "kitchen"], "en", ("storeroom",)),
+        ("go to the front door", ["entrance", "kitchen"], "en", ("entrance",)),
+        ("go to the bathroom", ["bath", "kitchen"], "en", ("bath",)),  # the only place it may name here
+        ("go to the hallway", ["corridor", "kitchen"], "en", ("corridor",)),
+        ("go to the hall", ["hall", "corridor"], "en", ("hall",)),  # a place word of the map is itself
+        ("台所を通って居間へ", ["キッチン", "リビング"], "ja", ("リビング",)),
+        ("お台所へ", ["キッチン", "リビング"], "ja", ("キッチン",)),  # after an honorific
+        ("お手洗いへ行っておくれ", ["トイレ", "風呂"], "ja", ("トイレ",)),
+        ("浴室に向かって", ["トイレ", "風呂"], "ja", ("風呂",)),
+    ],
+)
+def test_other_names_read_as_the_one_place_word_they_name(text, words, lang, named):
+    assert goal(text, words, lang) == named
+
+
+@pytest.mark.parametrize(
+    ("text", "words", "lang"),
+    [
+        ("go to the bathroom", ["bath", "toilet", "washroom"], "en"),  # bath, toilet or washroom?
+        ("go to the hallway", ["hall", "corridor"], "en"),
+        ("バスルームに行って", ["風呂", "トイレ", "洗面所"], "ja"),
+        ("go to the loo", ["bath", "kitchen"], "en"),  # no toilet in this map
+    ],
+)
+def test_an_other_name_that_could_name_several_places_or_none_is_refused(text, words, lang):
+    with pytest.raises(UnknownPlaceWord):
+        read(text, words, lang)
