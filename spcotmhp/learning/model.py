@@ -11,8 +11,8 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model_values import HYPER_RANGES, check_hyper, check_model, check_truncation, in_range, refuse
+from spcotmhp.logspace import logsumexp
 from spcotmhp.metric.maps import OccupancyMap
 
 LOG_2PI = float(np.log(2.0 * np.pi))

@@ -23,8 +23,8 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.learning.hmm import EMIT_FLOOR, ffbs_kernel
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import LOG_2PI, log_gaussian
+from spcotmhp.logspace import logsumexp
 
 __all__ = ["place_emissions", "sample_places"]
 
