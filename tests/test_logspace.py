@@ -1,4 +1,4 @@
-"""The package's one log-sum-exp (spcotmhp/logspace.py), numpy and numba, against scipy's."""
+"""The package's one log-sum-exp and Gaussian log-density (spcotmhp/logspace.py), numpy and numba, against scipy's."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy.special import logsumexp as scipy_logsumexp
 
-from spcotmhp.logspace import logsumexp, logsumexp_vector
+from spcotmhp.logspace import gaussian_log_density, log_gaussian, logsumexp, logsumexp_vector
 
 values = st.one_of(st.floats(-700, 700), st.just(-np.inf))
 
@@ -38,3 +38,46 @@ def test_numba_logsumexp_is_scipys(v):
 def test_an_empty_or_all_minus_infinity_sum_is_minus_infinity():
     assert logsumexp(np.array([])) == -np.inf and logsumexp_vector(np.array([])) == -np.inf
     assert logsumexp(np.full(3, -np.inf)) == -np.inf and logsumexp_vector(np.full(3, -np.inf)) == -np.inf
+
+
+def _covariances(seed: int, k: int) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    mu = rng.normal(0, 3, (k, 2))
+    A = rng.normal(0, 1, (k, 2, 2))
+    Sigma = A @ A.transpose(0, 2, 1) + 0.05 * np.eye(2)
+    return mu, Sigma
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_log_gaussian_is_scipys_multivariate_normal(seed):
+    from scipy.stats import multivariate_normal
+
+    mu, Sigma = _covariances(seed, 4)
+    x = np.random.default_rng(seed + 10).normal(0, 4, (7, 2))
+    want = np.stack([multivariate_normal(mu[k], Sigma[k]).logpdf(x) for k in range(4)], axis=-1)
+    np.testing.assert_allclose(log_gaussian(x, mu, Sigma), want, rtol=1e-10)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_kernels_gaussian_is_log_gaussian_to_the_bit(seed):
+    mu, Sigma = _covariances(seed, 3)
+    x = np.random.default_rng(seed + 20).normal(0, 4, (5, 2))
+    det = Sigma[:, 0, 0] * Sigma[:, 1, 1] - Sigma[:, 0, 1] * Sigma[:, 1, 0]
+    got = np.array(
+        [
+            [
+                gaussian_log_density(
+                    p[0] - mu[k, 0], p[1] - mu[k, 1], Sigma[k, 0, 0], Sigma[k, 0, 1] + Sigma[k, 1, 0],
+                    Sigma[k, 1, 1], det[k], np.log(det[k]),
+                )
+                for k in range(3)
+            ]
+            for p in x
+        ]
+    )  # fmt: skip
+    assert np.array_equal(got, log_gaussian(x, mu, Sigma))
+
+
+def test_a_covariance_that_is_not_positive_definite_is_refused():
+    with pytest.raises(ValueError, match="not positive definite"):
+        log_gaussian(np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2, 2)))

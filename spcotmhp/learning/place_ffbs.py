@@ -23,8 +23,7 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.learning.hmm import EMIT_FLOOR, ffbs_kernel
-from spcotmhp.learning.model import LOG_2PI, log_gaussian
-from spcotmhp.logspace import logsumexp
+from spcotmhp.logspace import gaussian_log_density, log_gaussian, logsumexp
 
 __all__ = ["place_emissions", "sample_places"]
 
@@ -52,8 +51,7 @@ def _emission_row(X, e, c, cols, det, log_det, log_phi, log_norm, row):  # pragm
     for k in range(row.shape[0]):
         dx = x0 - m0[k]
         dy = x1 - m1[k]
-        maha = (sd[k] * dx * dx - sbc[k] * dx * dy + sa[k] * dy * dy) / det[k]
-        row[k] = (-0.5 * (maha + log_det[k]) - LOG_2PI + log_phi[c, k]) - log_norm[k]
+        row[k] = (gaussian_log_density(dx, dy, sa[k], sbc[k], sd[k], det[k], log_det[k]) + log_phi[c, k]) - log_norm[k]
 
 
 @njit(cache=True)

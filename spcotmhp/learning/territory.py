@@ -27,7 +27,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import LOG_2PI, gaussian_log_density, log_gaussian
 from spcotmhp.metric.snap import snap
 
 __all__ = [
@@ -225,8 +226,7 @@ def _score(points, p, mu, Sigma, det, log_det, prior, k):  # pragma: no cover - 
     a, b, c, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
     dx = points[p, 0] - mu[k, 0]
     dy = points[p, 1] - mu[k, 1]
-    maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det[k]
-    return (-0.5 * (maha + log_det[k]) - LOG_2PI) + prior[k]
+    return gaussian_log_density(dx, dy, a, b + c, d, det[k], log_det[k]) + prior[k]
 
 
 @njit(cache=True)

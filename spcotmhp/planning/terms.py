@@ -15,9 +15,9 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import gaussian_log_density, logsumexp_vector
 from spcotmhp.logspace import logsumexp as _lse
-from spcotmhp.logspace import logsumexp_vector
 
 
 class ModelTerms:
@@ -110,8 +110,7 @@ def _posterior(x, y, mu, Sigma, log_prior):  # pragma: no cover - numba
             raise ValueError("a place covariance is not positive definite")
         dx = x - mu[k, 0]
         dy = y - mu[k, 1]
-        maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det
-        lp[k] = -0.5 * (maha + np.log(det)) - LOG_2PI + log_prior[k]
+        lp[k] = gaussian_log_density(dx, dy, a, b + c, d, det, np.log(det)) + log_prior[k]
     return np.exp(lp - logsumexp_vector(lp))
 
 

@@ -17,7 +17,7 @@ from spcotmhp.learning.distributions import (
     sample_inverse_wishart_2d,
     sample_log_dirichlet,
 )
-from spcotmhp.learning.model import log_gaussian
+from spcotmhp.logspace import log_gaussian
 
 M0 = np.array([0.0, 0.0])
 V0 = 2.0 * np.eye(2)
