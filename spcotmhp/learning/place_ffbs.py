@@ -9,7 +9,7 @@ and the draw is forward filtering, backward sampling over the HMM with transitio
 :func:`~spcotmhp.learning.hmm.ffbs_kernel`, with the same arithmetic in the same order, so the same uniforms
 give the same places bit for bit (tested). What changes is the bookkeeping: no (E, K) table of emissions or
 filtered probabilities is written. Each event's emissions are computed into one row (the Gaussian term with the
-arithmetic of :func:`~spcotmhp.learning.model.log_gaussian`, from contiguous columns of the means and
+arithmetic of :func:`~spcotmhp.logspace.log_gaussian`, from contiguous columns of the means and
 covariances); the forward pass keeps, per event, only the states of non-zero filtered probability (the states
 within :data:`~spcotmhp.learning.hmm.EMIT_FLOOR` nats of the event's best emission that some state of the previous event
 can reach), in a compressed row list; and the backward pass draws from those states only (the others have weight
@@ -45,7 +45,7 @@ def _columns(mu, Sigma):  # pragma: no cover - numba
 @njit(cache=True)
 def _emission_row(X, e, c, cols, det, log_det, log_phi, log_norm, row):  # pragma: no cover - numba
     """The emissions of event e (concept c) at every place into ``row`` (K,): Eq. 9, with the Gaussian term
-    evaluated exactly as :func:`~spcotmhp.learning.model.log_gaussian` does (``cols`` from ``_columns``)."""
+    evaluated exactly as :func:`~spcotmhp.logspace.log_gaussian` does (``cols`` from ``_columns``)."""
     m0, m1, sa, sbc, sd = cols
     x0, x1 = X[e, 0], X[e, 1]
     for k in range(row.shape[0]):

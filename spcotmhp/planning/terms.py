@@ -3,7 +3,7 @@
 The same quantities as :class:`~spcotmhp.learning.model.SpatialConceptModel`'s methods (``place_posterior``,
 ``log_semantic``, ``log_place_given_words``; tests check they agree), with log pi, log phi, log W, the place
 prior and the Gaussians' closed-form 2 x 2 inverses precomputed, and the per-query arithmetic in compiled
-kernels (the same formulas as :func:`~spcotmhp.learning.model.log_gaussian`,
+kernels (the same formulas as :func:`~spcotmhp.logspace.log_gaussian`,
 :func:`~spcotmhp.learning.model.log_multinomial` and the package's ``logsumexp``), so that a query costs a few
 microseconds.
 """
