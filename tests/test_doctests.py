@@ -19,7 +19,7 @@ MODULES = [
     "spcotmhp.language.naming",
     "spcotmhp.metric.grid_search",
     "spcotmhp.metric.maps",
-    "spcotmhp.learning.logspace",
+    "spcotmhp.logspace",
     "spcotmhp.learning.model",
     "spcotmhp.baselines.smoothing",
     "spcotmhp.evaluation.metrics",

@@ -18,10 +18,10 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
-from scipy.special import logsumexp
 
 from spcotmhp.errors import PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import logsumexp
 from spcotmhp.metric.grid_search import shortest_paths, step_cost_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.metric.snap import component_at, snap

@@ -30,9 +30,9 @@ from typing import Any
 import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
-from scipy.special import logsumexp
 
 from spcotmhp.errors import PlanningError
+from spcotmhp.logspace import logsumexp
 from spcotmhp.planning.assemble import join_legs, path_length
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.plan import Plan

@@ -34,10 +34,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.special import logsumexp
 
 from spcotmhp.errors import PlanningError
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import logsumexp
 from spcotmhp.metric.grid_search import shortest_paths
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.plan import Plan

@@ -14,19 +14,12 @@ import numpy as np
 from spcotmhp.building.stitch import Stitched
 from spcotmhp.errors import FloorUnreachable, HorizonTooShort, NoReachablePlace, StartBlocked
 from spcotmhp.planning.query import Instruction
+from spcotmhp.planning.search import reachable
 
 
 def reached(st: Stitched) -> np.ndarray:
     """(M,) the stitched nodes some sequence from the start reaches (breadth-first over finite steps)."""
-    problem = st.problem
-    reach = np.isfinite(problem.start)
-    frontier = reach.copy()
-    step = np.isfinite(problem.transition)
-    while frontier.any():
-        new = step[frontier].any(axis=0) & ~reach
-        reach |= new
-        frontier = new
-    return reach
+    return reachable(st.problem)
 
 
 def why_not(st: Stitched, ins: Instruction, x0: np.ndarray, f0: int, avoiding: bool) -> Exception:

@@ -77,18 +77,41 @@ def _rename(plan: FloorPlan, corridors: list[Room], spare: list[Room], rng: np.r
 
 
 def _unknown_strip(plan: FloorPlan, rng: np.random.Generator) -> Room:
-    """Mark the far side (from its first door) of one non-corridor room unknown in the plan's map."""
-    rooms = [r for r in plan.rooms if not r.is_corridor and r.name != "entrance" and len(r.doors) == 1]
-    room = rooms[int(rng.integers(len(rooms)))]
+    """Mark the far side of one non-corridor room unknown in the plan's map: a room with one door (the side away
+    from it) where the plan has one, else the first room, in a seeded order, with a side no door is near (a strip
+    over a door would cut the room off)."""
+    rooms = [r for r in plan.rooms if not r.is_corridor and r.name != "entrance" and r.doors]
+    single = [r for r in rooms if len(r.doors) == 1]
+    order = [single[int(rng.integers(len(single)))]] if single else [rooms[k] for k in rng.permutation(len(rooms))]
+    for room in order:
+        strip = _far_strip(room)
+        if strip is not None:
+            plan.map.data[strip] = UNKNOWN
+            return room
+    raise DatasetError("the generated plan has no room with a side away from its doors to leave unknown")
+
+
+def _far_strip(room: Room) -> tuple[slice, slice] | None:
+    """The cells of ``room`` within UNKNOWN_SHARE of its depth from the side away from its first door (one door),
+    or from a side no door is within a cell of (several doors); None when no side is clear."""
     r0, c0, r1, c1 = room.box
-    door_row, door_col = room.doors[0]
-    data = plan.map.data
-    if abs(door_row - (r0 + r1) / 2) >= abs(door_col - (c0 + c1) / 2):  # the door is on a row side
-        depth = round(UNKNOWN_SHARE * (r1 - r0))
-        rows = slice(r1 - depth, r1) if door_row < (r0 + r1) / 2 else slice(r0, r0 + depth)
-        data[rows, c0:c1] = UNKNOWN
-    else:
-        depth = round(UNKNOWN_SHARE * (c1 - c0))
-        cols = slice(c1 - depth, c1) if door_col < (c0 + c1) / 2 else slice(c0, c0 + depth)
-        data[r0:r1, cols] = UNKNOWN
-    return room
+    depth_r, depth_c = round(UNKNOWN_SHARE * (r1 - r0)), round(UNKNOWN_SHARE * (c1 - c0))
+    sides = {
+        "bottom": (slice(r1 - depth_r, r1), slice(c0, c1)),
+        "top": (slice(r0, r0 + depth_r), slice(c0, c1)),
+        "right": (slice(r0, r1), slice(c1 - depth_c, c1)),
+        "left": (slice(r0, r1), slice(c0, c0 + depth_c)),
+    }
+    if len(room.doors) == 1:
+        door_row, door_col = room.doors[0]
+        if abs(door_row - (r0 + r1) / 2) >= abs(door_col - (c0 + c1) / 2):  # the door is on a row side
+            return sides["bottom" if door_row < (r0 + r1) / 2 else "top"]
+        return sides["right" if door_col < (c0 + c1) / 2 else "left"]
+    for rows, cols in sides.values():
+        near = [
+            (dr, dc) for dr, dc in room.doors
+            if rows.start - 1 <= dr <= rows.stop and cols.start - 1 <= dc <= cols.stop
+        ]  # fmt: skip
+        if not near:
+            return rows, cols
+    return None

@@ -39,8 +39,9 @@ import numpy as np
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.hmm import runs
 from spcotmhp.learning.hmm import trajectory_places as hmm_trajectory_places
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import place_territories, territory_adjacency
+from spcotmhp.logspace import log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.metric.maps import OccupancyMap

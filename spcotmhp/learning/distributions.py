@@ -20,8 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from spcotmhp.learning.logspace import logsumexp
-from spcotmhp.learning.model import log_gaussian
+from spcotmhp.logspace import log_gaussian, logsumexp
 
 POSITION_DIM = 2  # positions are 2-D (the feature dimension of theta is called D elsewhere)
 

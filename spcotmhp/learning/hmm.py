@@ -24,20 +24,10 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.learning.territory import posterior_arg_max
+from spcotmhp.logspace import logsumexp_vector
 
 EMIT_FLOOR = 60.0
 """Nats below an event's best emission under which a state is dropped from the forward pass (``_forward_scaled``)."""
-
-
-@njit(cache=True)
-def _logsumexp_vec(v: np.ndarray) -> float:
-    m = v.max()
-    if m == -np.inf:
-        return -np.inf
-    s = 0.0
-    for x in v:
-        s += np.exp(x - m)
-    return m + np.log(s)
 
 
 @njit(cache=True)
@@ -95,7 +85,7 @@ def _forward_log(log_emit, log_trans, log_init, alpha):
         for k in range(K):
             for j in range(K):
                 tmp[j] = alpha[e - 1, j] + log_trans[j, k]
-            alpha[e, k] = _logsumexp_vec(tmp) + log_emit[e, k]
+            alpha[e, k] = logsumexp_vector(tmp) + log_emit[e, k]
 
 
 @njit(cache=True)

@@ -11,12 +11,9 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model_values import HYPER_RANGES, check_hyper, check_model, check_truncation, in_range, refuse
+from spcotmhp.logspace import log_gaussian, logsumexp
 from spcotmhp.metric.maps import OccupancyMap
-
-LOG_2PI = float(np.log(2.0 * np.pi))
-
 
 # Total concentrations of the weak-limit Dirichlet priors (the authors' code: alpha = 10 / L, gamma = 1 / K,
 # omega = 10 / K, i.e. the weak-limit approximation Dir(a0 / M, ..., a0 / M) of a DP(a0) over M components).
@@ -300,21 +297,3 @@ def bag_counts(bag: Mapping[str, float] | list[str], index: Mapping[str, int], s
         if w in index:
             vec[index[w]] += float(c)
     return vec
-
-
-def log_gaussian(x: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> np.ndarray:
-    """log N(x | mu_k, Sigma_k) for 2-D Gaussians, vectorised: x (..., 2), mu (K, 2), Sigma (K, 2, 2) -> (..., K).
-
-    Uses the closed-form 2x2 inverse and determinant; exact, no underflow.
-    """
-    a = Sigma[:, 0, 0]
-    b = Sigma[:, 0, 1]
-    c = Sigma[:, 1, 0]
-    d = Sigma[:, 1, 1]
-    det = a * d - b * c
-    if np.any(det <= 0):
-        raise ValueError("a place covariance is not positive definite")
-    dx = x[..., None, 0] - mu[:, 0]
-    dy = x[..., None, 1] - mu[:, 1]
-    maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det
-    return -0.5 * (maha + np.log(det)) - LOG_2PI

@@ -10,7 +10,7 @@ The ranges and why:
 * ``Sigma``, and the prior scale ``V0``: symmetric (up to ``SYMMETRY_TOL`` relative, then made exactly so), both
   eigenvalues in [``MIN_VARIANCE_M2``, ``MAX_VARIANCE_M2``] = [1e-10, 1e12] m^2 (a spread from 10 um to 1000 km)
   and a condition number (larger / smaller eigenvalue) of at most ``MAX_CONDITION`` = 1e12: Eqs. 3, 9 and 26
-  take the determinant and the inverse in closed form (:func:`~spcotmhp.learning.model.log_gaussian`), which
+  take the determinant and the inverse in closed form (:func:`~spcotmhp.logspace.log_gaussian`), which
   within these bounds stay positive and accurate to 1e-4 relative; a covariance scaled by 1e-300 underflows
   its determinant to 0.
 * ``psi``, ``pi``, ``phi``, ``W``, ``theta``, ``psi_learned``: finite, non-negative, every row summing to 1 within

@@ -9,7 +9,7 @@ and the draw is forward filtering, backward sampling over the HMM with transitio
 :func:`~spcotmhp.learning.hmm.ffbs_kernel`, with the same arithmetic in the same order, so the same uniforms
 give the same places bit for bit (tested). What changes is the bookkeeping: no (E, K) table of emissions or
 filtered probabilities is written. Each event's emissions are computed into one row (the Gaussian term with the
-arithmetic of :func:`~spcotmhp.learning.model.log_gaussian`, from contiguous columns of the means and
+arithmetic of :func:`~spcotmhp.logspace.log_gaussian`, from contiguous columns of the means and
 covariances); the forward pass keeps, per event, only the states of non-zero filtered probability (the states
 within :data:`~spcotmhp.learning.hmm.EMIT_FLOOR` nats of the event's best emission that some state of the previous event
 can reach), in a compressed row list; and the backward pass draws from those states only (the others have weight
@@ -23,8 +23,7 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.learning.hmm import EMIT_FLOOR, ffbs_kernel
-from spcotmhp.learning.logspace import logsumexp
-from spcotmhp.learning.model import LOG_2PI, log_gaussian
+from spcotmhp.logspace import gaussian_log_density, log_gaussian, logsumexp
 
 __all__ = ["place_emissions", "sample_places"]
 
@@ -46,14 +45,13 @@ def _columns(mu, Sigma):  # pragma: no cover - numba
 @njit(cache=True)
 def _emission_row(X, e, c, cols, det, log_det, log_phi, log_norm, row):  # pragma: no cover - numba
     """The emissions of event e (concept c) at every place into ``row`` (K,): Eq. 9, with the Gaussian term
-    evaluated exactly as :func:`~spcotmhp.learning.model.log_gaussian` does (``cols`` from ``_columns``)."""
+    evaluated exactly as :func:`~spcotmhp.logspace.log_gaussian` does (``cols`` from ``_columns``)."""
     m0, m1, sa, sbc, sd = cols
     x0, x1 = X[e, 0], X[e, 1]
     for k in range(row.shape[0]):
         dx = x0 - m0[k]
         dy = x1 - m1[k]
-        maha = (sd[k] * dx * dx - sbc[k] * dx * dy + sa[k] * dy * dy) / det[k]
-        row[k] = (-0.5 * (maha + log_det[k]) - LOG_2PI + log_phi[c, k]) - log_norm[k]
+        row[k] = (gaussian_log_density(dx, dy, sa[k], sbc[k], sd[k], det[k], log_det[k]) + log_phi[c, k]) - log_norm[k]
 
 
 @njit(cache=True)

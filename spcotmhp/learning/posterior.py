@@ -12,10 +12,10 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.off_name import log_off_name
+from spcotmhp.logspace import logsumexp
 
 
 @dataclass

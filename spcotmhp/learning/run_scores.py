@@ -33,10 +33,10 @@ import numpy as np
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.learner_state import state_of_member
-from spcotmhp.learning.logspace import logsumexp
 from spcotmhp.learning.online_split_merge import state_stats
 from spcotmhp.learning.posterior import Priors, log_joint, log_joint_terms
 from spcotmhp.learning.switch_marginal import log_words_given_concepts
+from spcotmhp.logspace import logsumexp
 
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch (as concepts.py)
 TAIL_FRACTION = 0.25

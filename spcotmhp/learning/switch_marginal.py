@@ -39,7 +39,7 @@ from numba import njit
 from scipy.special import gammaln
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.logspace import logsumexp
+from spcotmhp.logspace import logsumexp
 
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch (as concepts.py)
 SWEEPS = 300

@@ -27,7 +27,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import LOG_2PI, gaussian_log_density, log_gaussian
 from spcotmhp.metric.snap import snap
 
 __all__ = [
@@ -139,7 +140,7 @@ def posterior_arg_max(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log
     """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
     ties: the posterior of Eq. 3 up to its normaliser. Compiled, one thread (no OpenMP: the Gibbs runs fork
     worker processes after using it), memory O(points) (not O(points K));
-    the same numbers as :func:`~spcotmhp.learning.model.log_gaussian` plus ``log_prior``, and the same answer as
+    the same numbers as :func:`~spcotmhp.logspace.log_gaussian` plus ``log_prior``, and the same answer as
     trying every place at every point (:func:`_most_probable`). Raises ValueError for a covariance that is not
     positive definite."""
     points = np.asarray(points, dtype=float)
@@ -157,7 +158,7 @@ CHUNK = 64  # consecutive points bounded together (a row of cells, a stretch of 
 @njit(cache=True)
 def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
     """arg max_n log N(x | mu_n, Sigma_n) + prior_n per point (first maximum on ties), with the arithmetic of
-    :func:`~spcotmhp.learning.model.log_gaussian`, over chunks of :data:`CHUNK` consecutive points.
+    :func:`~spcotmhp.logspace.log_gaussian`, over chunks of :data:`CHUNK` consecutive points.
 
     Within a chunk, place n can only win if an upper bound of its score over the chunk's bounding box reaches
     the smallest exact score, over the chunk, of the place with the highest bound (every point's best score is
@@ -225,8 +226,7 @@ def _score(points, p, mu, Sigma, det, log_det, prior, k):  # pragma: no cover - 
     a, b, c, d = Sigma[k, 0, 0], Sigma[k, 0, 1], Sigma[k, 1, 0], Sigma[k, 1, 1]
     dx = points[p, 0] - mu[k, 0]
     dy = points[p, 1] - mu[k, 1]
-    maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det[k]
-    return (-0.5 * (maha + log_det[k]) - LOG_2PI) + prior[k]
+    return gaussian_log_density(dx, dy, a, b + c, d, det[k], log_det[k]) + prior[k]
 
 
 @njit(cache=True)

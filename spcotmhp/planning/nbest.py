@@ -16,7 +16,7 @@ import numpy as np
 
 from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, MalformedInstruction
 from spcotmhp.language.wording import excerpt
-from spcotmhp.learning.logspace import logsumexp
+from spcotmhp.logspace import logsumexp
 
 T = TypeVar("T")
 

@@ -44,8 +44,9 @@ from typing import Any
 import numpy as np
 
 from spcotmhp.errors import AmbiguousPlace, UnknownPlaceWord
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import posterior_arg_max
+from spcotmhp.logspace import log_gaussian
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.snap import largest_component as main_component
 from spcotmhp.metric.snap import snap

@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 
 from spcotmhp.errors import InvalidSettings, ModelError
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.planning.graph_settings import GraphSettings

@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from spcotmhp.learning.logspace import logsumexp
-from spcotmhp.learning.model import SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import most_probable_labels, partition, place_anchors
+from spcotmhp.logspace import log_gaussian, logsumexp
 from spcotmhp.metric.grid_ops import label4
 
 REACH_SIGMAS = 2.0

@@ -261,6 +261,18 @@ def _trace(pred, from_stage, step, node, stage):  # pragma: no cover - numba
     return out[:, k:].copy()
 
 
+def reachable(problem: SearchProblem) -> np.ndarray:
+    """(M,) the nodes some sequence from the start reaches (breadth-first over finite steps of ``problem``)."""
+    reach = np.isfinite(problem.start)
+    frontier = reach.copy()
+    step = np.isfinite(problem.transition)
+    while frontier.any():
+        new = step[frontier].any(axis=0) & ~reach
+        reach |= new
+        frontier = new
+    return reach
+
+
 def why_no_plan(
     problem: SearchProblem, ins: Instruction, x0: np.ndarray, avoiding: bool, unreachable: list[str]
 ) -> Exception:
@@ -270,15 +282,9 @@ def why_no_plan(
     robot fits in), given as a hint."""
     where = f"from ({x0[0]:.2f}, {x0[1]:.2f})"
     tail = " without entering the places to avoid" if avoiding else ""
-    reach = np.isfinite(problem.start)
+    reach = reachable(problem)
     if not reach.any():
         return StartBlocked(f"no place can be reached {where}{tail} (the start is cut off from every place)")
-    frontier = reach.copy()
-    step = np.isfinite(problem.transition)
-    while frontier.any():
-        new = step[frontier].any(axis=0) & ~reach
-        reach |= new
-        frontier = new
     for s, q in enumerate(ins.stages):
         if not (reach & problem.completes[s]).any():
             role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"

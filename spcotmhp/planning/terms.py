@@ -3,7 +3,7 @@
 The same quantities as :class:`~spcotmhp.learning.model.SpatialConceptModel`'s methods (``place_posterior``,
 ``log_semantic``, ``log_place_given_words``; tests check they agree), with log pi, log phi, log W, the place
 prior and the Gaussians' closed-form 2 x 2 inverses precomputed, and the per-query arithmetic in compiled
-kernels (the same formulas as :func:`~spcotmhp.learning.model.log_gaussian`,
+kernels (the same formulas as :func:`~spcotmhp.logspace.log_gaussian`,
 :func:`~spcotmhp.learning.model.log_multinomial` and the package's ``logsumexp``), so that a query costs a few
 microseconds.
 """
@@ -15,8 +15,9 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.logspace import logsumexp as _lse
-from spcotmhp.learning.model import LOG_2PI, SpatialConceptModel
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.logspace import gaussian_log_density, logsumexp_vector
+from spcotmhp.logspace import logsumexp as _lse
 
 
 class ModelTerms:
@@ -98,20 +99,6 @@ class ModelTerms:
 
 
 @njit(cache=True)
-def _lse1(a):  # pragma: no cover - numba
-    """log sum exp of a vector (the package's ``logsumexp``: an all -inf vector gives -inf)."""
-    m = -np.inf
-    for v in a:
-        m = max(m, v)
-    if not np.isfinite(m):
-        m = 0.0
-    total = 0.0
-    for v in a:
-        total += np.exp(v - m)
-    return np.log(total) + m
-
-
-@njit(cache=True)
 def _posterior(x, y, mu, Sigma, log_prior):  # pragma: no cover - numba
     """p(k | x) proportional to N(x | mu_k, Sigma_k) p(k) (log_gaussian's closed form, then normalised)."""
     K = mu.shape[0]
@@ -123,9 +110,8 @@ def _posterior(x, y, mu, Sigma, log_prior):  # pragma: no cover - numba
             raise ValueError("a place covariance is not positive definite")
         dx = x - mu[k, 0]
         dy = y - mu[k, 1]
-        maha = (d * dx * dx - (b + c) * dx * dy + a * dy * dy) / det
-        lp[k] = -0.5 * (maha + np.log(det)) - LOG_2PI + log_prior[k]
-    return np.exp(lp - _lse1(lp))
+        lp[k] = gaussian_log_density(dx, dy, a, b + c, d, det, np.log(det)) + log_prior[k]
+    return np.exp(lp - logsumexp_vector(lp))
 
 
 @njit(cache=True)
@@ -147,14 +133,14 @@ def _semantic(idx, weight, log_W0, finite_W, log_pi, log_phi):  # pragma: no cov
     for i in range(K):
         for c in range(L):
             col[c] = lw[c] + log_phi[c, i]
-        out[i] = _lse1(col)
+        out[i] = logsumexp_vector(col)
     return out
 
 
 @njit(cache=True)
 def _normalise(log_semantic, active):  # pragma: no cover - numba
     ls = np.where(active, log_semantic, -np.inf)
-    return ls - _lse1(ls)
+    return ls - logsumexp_vector(ls)
 
 
 @njit(cache=True)

@@ -30,15 +30,13 @@ from pathlib import Path as FilePath
 import numpy as np
 import rclpy
 from nav_msgs.msg import OccupancyGrid
-from rclpy.executors import ExternalShutdownException
 from std_msgs.msg import String
 
 from spcotmhp.building.learn import teach_building
 from spcotmhp.building.plan import BuildingPlan
 from spcotmhp.building.planner import BuildingPlanner
-from spcotmhp.collector import end_startup
 from spcotmhp.metric.maps import OccupancyMap
-from spcotmhp.ros.node import EVENTS, LATCHED, SpcotmhpNode, TeachJob, answered
+from spcotmhp.ros.node import EVENTS, LATCHED, SpcotmhpNode, TeachJob, answered, serve
 from spcotmhp.ros.shapes import path_poses
 
 
@@ -187,13 +185,6 @@ def run_building_node(
             f"spcotmhp building node ready in {time.perf_counter() - t0:.1f} s: {len(bm.indices)} floors, on floor "
             f"{node.floor}; plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
         )
-        end_startup()
-        try:
-            rclpy.spin(node)
-        except (KeyboardInterrupt, ExternalShutdownException):
-            pass
-        finally:
-            node.teacher.shutdown(wait=True, cancel_futures=True)
-            node.destroy_node()
+        serve(node)
     finally:
         rclpy.try_shutdown()

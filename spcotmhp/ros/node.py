@@ -334,13 +334,18 @@ def run_node(
             f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
             + (f", teaching recorded in {record}" if record is not None else "")
         )
-        end_startup()
-        try:
-            rclpy.spin(node)
-        except (KeyboardInterrupt, ExternalShutdownException):
-            pass
-        finally:
-            node.teacher.shutdown(wait=True, cancel_futures=True)
-            node.destroy_node()
+        serve(node)
     finally:
         rclpy.try_shutdown()
+
+
+def serve(node: SpcotmhpNode) -> None:
+    """Spin ``node`` until Ctrl-C or SIGTERM, then stop its teaching thread and destroy it."""
+    end_startup()
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        node.teacher.shutdown(wait=True, cancel_futures=True)
+        node.destroy_node()

@@ -22,10 +22,10 @@ from collections.abc import Iterable
 from functools import lru_cache
 
 import numpy as np
-from scipy.special import logsumexp
 
 from spcotmhp.errors import EmptyInstruction, SpcotmhpError, UnknownPlaceWord, UnsupportedLanguage
 from spcotmhp.extras import missing_extra
+from spcotmhp.logspace import logsumexp
 from spcotmhp.speech.audio import AudioError, AudioSource, load_audio
 from spcotmhp.speech.jsgf import InstructionGrammar, instruction_grammar
 from spcotmhp.speech.lexicon import SPEAKABLE, dictionary_pronunciations, letter_to_sound

@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spcotmhp.learning.hmm import ffbs_kernel, trajectory_places
-from spcotmhp.learning.model import log_gaussian
 from spcotmhp.learning.territory import posterior_arg_max
+from spcotmhp.logspace import log_gaussian
 
 
 @st.composite

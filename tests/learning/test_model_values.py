@@ -10,8 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spcotmhp.errors import ModelValueError
-from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel, log_gaussian
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.model_values import HYPER_RANGES, MAX_CONDITION, MIN_VARIANCE_M2
+from spcotmhp.logspace import log_gaussian
 from tests.helpers.learning import PLANTED_MU, PLANTED_PSI, PLANTED_SIGMA
 
 

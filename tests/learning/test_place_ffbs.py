@@ -9,9 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spcotmhp.learning.hmm import ffbs
-from spcotmhp.learning.logspace import logsumexp
-from spcotmhp.learning.model import log_gaussian
 from spcotmhp.learning.place_ffbs import FULL, UNDERFLOW, _sparse_forward, place_emissions, sample_places
+from spcotmhp.logspace import log_gaussian, logsumexp
 
 
 def _case(seed: int, K: int, L: int, E: int, spread: float):

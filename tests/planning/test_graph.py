@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.model import log_gaussian
+from spcotmhp.logspace import log_gaussian
 from spcotmhp.metric.grid_search import SQRT2, cost_to_go, shortest_paths, step_cost_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.avoid import avoided_view

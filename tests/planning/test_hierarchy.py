@@ -11,9 +11,9 @@ import pytest
 
 from spcotmhp.datasets.synthetic import generate_environment
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.model import log_gaussian
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.learning.territory import posterior_arg_max
+from spcotmhp.logspace import log_gaussian
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.planning._paths import cells_cost
 from spcotmhp.planning.avoid import avoided_view
