@@ -44,6 +44,8 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_battery import battery_home
 from spcotmhp.evaluation.battery import evaluate_home
 from spcotmhp.evaluation.context import place_adjacency
+from spcotmhp.evaluation.online_eval import evaluate_online
+from spcotmhp.evaluation.table6 import concept_truth, evaluate_seeds, score_run
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.hmm import transition_counts
@@ -51,10 +53,8 @@ from spcotmhp.learning.learner_state import from_batch, state_of_member
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.online import log_new_place_density
-from spcotmhp.learning.online_eval import evaluate_online
 from spcotmhp.learning.online_split_merge import log_target_terms
 from spcotmhp.learning.selection import CRITERIA, MultiRunSelector, fit_runs
-from spcotmhp.learning.table6 import concept_truth, evaluate_seeds, score_run
 
 # name: (priors, settings of the batch learner's fit); the online learner has its moves in every variant
 SWITCH_MODE = {"criterion": "log_joint_switch_mode"}

@@ -22,8 +22,8 @@ import warnings
 import numpy as np
 
 from spcotmhp.datasets.bundled import load_bundled
+from spcotmhp.evaluation.online_eval import dataset_events
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent
-from spcotmhp.learning.online_eval import dataset_events
 
 
 def long_stream(home: str, events: int, seed: int) -> tuple[list[TeachingEvent], object]:
@@ -51,9 +51,9 @@ def log_joint_of(st) -> float:
 
 def compare_log_joint(home: str, seeds: int) -> list[dict]:
     """Per seed: log joint and ARI of the batch learner's final sample and of the online learner's."""
+    from spcotmhp.evaluation.table6 import score_run
     from spcotmhp.learning.gibbs import SpCoTMHP
     from spcotmhp.learning.learner_state import state_of_member
-    from spcotmhp.learning.table6 import score_run
 
     _, data = long_stream(home, 0, 0)
     stream = dataset_events(data)

@@ -352,7 +352,7 @@ def evaluate_learning(
 ) -> None:
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
-    from spcotmhp.learning import table6
+    from spcotmhp.evaluation import table6
     from spcotmhp.learning.truncation import TruncationWarning
 
     data = load_dataset_reporting(dataset, lang)
@@ -405,8 +405,8 @@ def _evaluate_online(
     K: int,
     L: int,
 ) -> None:
-    """evaluate-learning --online (``learning.online_eval``): JSON with an "online" key, or a short table."""
-    from spcotmhp.learning.online_eval import evaluate_online, format_report
+    """evaluate-learning --online (``evaluation.online_eval``): JSON with an "online" key, or a short table."""
+    from spcotmhp.evaluation.online_eval import evaluate_online, format_report
     from spcotmhp.learning.truncation import TruncationWarning
 
     with warnings.catch_warnings():

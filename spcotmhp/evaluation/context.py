@@ -114,7 +114,7 @@ def fit_params(
     is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`; ``learner``: other settings of
     the learner, e.g. ``hyper`` or ``split_merge``) parameters. Learned parameters say how close the kept run's
     partition is to the truth: ``model.info["vs_truth"]``, NMI and ARI of its places and concepts
-    (:func:`~spcotmhp.learning.table6.score_run`)."""
+    (:func:`~spcotmhp.evaluation.table6.score_run`)."""
     if params == "supervised":
         from spcotmhp.learning.supervised import fit_supervised
 
@@ -124,7 +124,7 @@ def fit_params(
 
         if connectivity not in CONNECTIVITY:
             raise DatasetError(f"connectivity must be one of {', '.join(CONNECTIVITY)}, got {connectivity!r}")
-        from spcotmhp.learning.table6 import score_run
+        from spcotmhp.evaluation.table6 import score_run
 
         runs = fit_runs(dataset, seed=seed, connectivity=connectivity, **dict(learner or {}))
         model = runs.model_

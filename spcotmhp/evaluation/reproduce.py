@@ -84,7 +84,7 @@ def table6_section(plan: Plan, say: Callable[[str], None]) -> str:
     import warnings
 
     from spcotmhp.datasets import load_bundled
-    from spcotmhp.learning import table6
+    from spcotmhp.evaluation import table6
     from spcotmhp.learning.truncation import TruncationWarning
 
     out = []

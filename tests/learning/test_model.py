@@ -8,13 +8,13 @@ import math
 import numpy as np
 import pytest
 
+from spcotmhp.evaluation.online_eval import dataset_events
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters, place_size_prior
 from spcotmhp.learning.online import OnlineSpCoTMHP
-from spcotmhp.learning.online_eval import dataset_events
 from spcotmhp.learning.posterior import Priors
 from tests.helpers.learning import planted_dataset
 

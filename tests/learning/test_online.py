@@ -12,14 +12,14 @@ from scipy.stats import multivariate_t
 
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.errors import TeachingError
+from spcotmhp.evaluation.online_eval import dataset_events
+from spcotmhp.evaluation.table6 import score_run
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats, NIWGaussians
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent
-from spcotmhp.learning.online_eval import dataset_events
-from spcotmhp.learning.table6 import score_run
 from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.learning.truncation import TruncationWarning
 from spcotmhp.metric.costmap import inflate

@@ -20,13 +20,13 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
+from spcotmhp.evaluation.table6 import concept_truth, evaluate_learning, score_run
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.learner_state import state_of_member
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, log_new_place_density
 from spcotmhp.learning.online_split_merge import log_target
 from spcotmhp.learning.selection import MultiRunSelector
-from spcotmhp.learning.table6 import concept_truth, evaluate_learning, score_run
 from spcotmhp.learning.truncation import TruncationWarning
 
 SCORES = ("nmi_c", "nmi_i", "ari_c", "ari_i")

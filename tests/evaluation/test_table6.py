@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from spcotmhp.datasets import load_bundled
-from spcotmhp.learning.table6 import PAPER, as_json, concept_truth, evaluate_learning, format_table
+from spcotmhp.evaluation.table6 import PAPER, as_json, concept_truth, evaluate_learning, format_table
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
 

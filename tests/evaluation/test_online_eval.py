@@ -1,4 +1,4 @@
-"""evaluate-learning --online (``learning.online_eval``): the final samples it reports beside the scores (places,
+"""evaluate-learning --online (``evaluation.online_eval``): the final samples it reports beside the scores (places,
 concepts and the collapsed log target of the online and the batch samples, on the same terms)."""
 
 from __future__ import annotations
@@ -10,16 +10,16 @@ import numpy as np
 import pytest
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.gibbs import SpCoTMHP
-from spcotmhp.learning.learner_state import state_of_member
-from spcotmhp.learning.online import OnlineSpCoTMHP, log_new_place_density
-from spcotmhp.learning.online_eval import (
+from spcotmhp.evaluation.online_eval import (
     batch_sample_summary,
     dataset_events,
     evaluate_online,
     format_report,
     sample_summary,
 )
+from spcotmhp.learning.gibbs import SpCoTMHP
+from spcotmhp.learning.learner_state import state_of_member
+from spcotmhp.learning.online import OnlineSpCoTMHP, log_new_place_density
 from spcotmhp.learning.online_split_merge import log_target
 from spcotmhp.metric.maps import OccupancyMap
 from tests.helpers.learning import planted_dataset
