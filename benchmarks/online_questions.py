@@ -3,7 +3,7 @@ questions bring albert-b's online learner within 0.05 NMI (C and i) of batch lea
 
 Per seed: albert-b's teaching events are streamed one at a time (``OnlineSpCoTMHP.partial_fit``, as
 ``evaluation.online_eval.evaluate_online``); then, up to ``--questions`` times, the model's best question
-(``learning.questions.questions``) is answered from the truth (the word said most often in the true place of the
+(``teaching.questions.questions``) is answered from the truth (the word said most often in the true place of the
 teaching event nearest the asked point, as ``benchmarks/questions.py`` does) and learned by the same learner as a
 naming event (its usual steps, rejuvenation and split-merge moves, follow). NMI and ARI of C and i are scored on
 the dataset's own events (the answers left out) after each answer, beside batch learning
@@ -30,7 +30,7 @@ from spcotmhp.datasets.bundled import load_bundled  # noqa: E402
 from spcotmhp.evaluation.online_eval import SCORES, dataset_events, evaluate_batch  # noqa: E402
 from spcotmhp.evaluation.table6 import score_run  # noqa: E402
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent  # noqa: E402
-from spcotmhp.learning.questions import questions  # noqa: E402
+from spcotmhp.teaching.questions import questions  # noqa: E402
 
 
 def run_seed(data, seed: int, n_questions: int) -> list[dict]:

@@ -2,9 +2,9 @@
 
 For each home: learn it without labels (the battery's learned parameters, ``evaluation.context.build_context``),
 score the battery's tasks (advanced WN-SPL via, ``evaluation.battery.evaluate_home``), then ask the model's best
-question (``learning.questions.questions``), answer it from the truth (the true name of the teaching event nearest
+question (``teaching.questions.questions``), answer it from the truth (the true name of the teaching event nearest
 the asked point, as "this is the NAME"; on albert-b, whose names are its own hiragana words, the word as a naming
-event), teach it (``learning.teach.teach``), and score again,
+event), teach it (``teaching.teach.teach``), and score again,
 up to ``--questions`` answers, stopping once the home reaches ``--target``. Homes: the battery's seeds (only those
 below the target before any question count toward the acceptance; ``--all`` reports the others too) and,
 with ``--albert``, albert-b. Prints one line per home and a table (JSON with ``--json``).
@@ -52,8 +52,8 @@ def run_home(data, lang: str, questions_max: int, target: float, params: str = "
     from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.evaluation.context import build_context
     from spcotmhp.learning.online import TeachingEvent
-    from spcotmhp.learning.questions import questions
-    from spcotmhp.learning.teach import teach
+    from spcotmhp.teaching.questions import questions
+    from spcotmhp.teaching.teach import teach
 
     t0 = time.perf_counter()
     model = build_context(data, params, 0).model

@@ -5,7 +5,7 @@ largest learned place that holds the events of two true places a and b, and the 
 (``online_split_merge.log_target``: Eqs. 5-17 marginals, Eq. 9's rescaling; token switches at their local mode)
 when that place is split as the truth splits it (b's events to a new place; to a new concept too when a and b
 have different names), term by term (``log_target_terms``), after 0, 1 and 3 answers (the true names at teaching
-positions of a, b, a drawn with the seed, each taught with ``learning.teach.teach`` as an ordinary teach; an
+positions of a, b, a drawn with the seed, each taught with ``teaching.teach.teach`` as an ordinary teach; an
 answer at b moves with b). A negative total: the model prefers the merge, so no answer taught as one more event,
 and no move judged by the model, splits it.
 
@@ -50,7 +50,7 @@ def split_gain(model, a_events: np.ndarray, b_events: np.ndarray, same_name: boo
 def run_home(seed: int) -> dict | None:
     from spcotmhp.datasets.synthetic_battery import battery_home
     from spcotmhp.evaluation.context import build_context
-    from spcotmhp.learning.teach import teach
+    from spcotmhp.teaching.teach import teach
 
     data = battery_home(seed)
     model = build_context(data, "learned", 0).model

@@ -2,7 +2,7 @@
 
 For each generated home (``generate_environment``, kinds flat / house / office in turn, seeds ``--seeds``) the
 supervised fit, then ``--spots`` free robot cells (finite inflated cost) drawn from a seeded stream outside every
-active place's 2-sigma ellipse; at each, "this is the study" is taught once (``learning.teach.teach``, from the
+active place's 2-sigma ellipse; at each, "this is the study" is taught once (``teaching.teach.teach``, from the
 fit each time) and "go to the study" planned from the first true place's position. Counted: a new place, the
 plan's end within 1 m of the spot, and the distances of the others. With ``--bundled`` also 3LDK_06 taught inside
 its places (spots inside some active place's 2-sigma ellipse).
@@ -49,7 +49,7 @@ def spots(model, n: int, seed: int, inside: bool = False) -> np.ndarray:
 def teach_at(model, start, xy) -> dict:
     """Teach "this is the study" once at ``xy`` and plan "go to the study" from ``start``."""
     from spcotmhp.errors import SpcotmhpError
-    from spcotmhp.learning.teach import planner_for, teach
+    from spcotmhp.teaching.teach import planner_for, teach
 
     taught = teach(model, [{"x": float(xy[0]), "y": float(xy[1]), "utterance": "this is the study"}])
     reply = taught.summary()
@@ -98,7 +98,7 @@ def main() -> None:
             free = np.isfinite(inflate(model.map, **model.costmap).log_p)
             start = model.map.cell_to_world(snap(free, model.map.world_to_cell(truth0[None]))[0])
             taught = spots(model, args.spots, seed, inside)
-            if inside:  # the audit's spot (tests/learning/test_teach.py: STUDY), in a bedroom, first
+            if inside:  # the audit's spot (tests/teaching/test_teach.py: STUDY), in a bedroom, first
                 taught = np.vstack([[5.5, -4.0], taught])
             for xy in taught:
                 row = teach_at(model, start, xy)

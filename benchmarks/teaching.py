@@ -46,9 +46,9 @@ def name(i: int) -> str:
 
 
 def in_process(model, xy: np.ndarray) -> dict:
-    from spcotmhp.learning.teach import planner_for, teach
     from spcotmhp.planning.graph_cache import GraphCache
     from spcotmhp.planning.planner import HierarchicalPlanner
+    from spcotmhp.teaching.teach import planner_for, teach
 
     base = HierarchicalPlanner(model)
     base.warm_up()

@@ -321,7 +321,7 @@ def learner_template(templates, tmp_path_factory):
 def test_fuzzed_learner_states_load_and_teach_or_are_refused(templates, learner_template, tmp_path_factory, edits):
     """A learner state whose counts, scatters or positions were changed and resealed loads and is taught, or is
     refused with one line: never a traceback or a numpy warning (the learner's values behind a valid checksum)."""
-    from spcotmhp.learning.teach import teach
+    from spcotmhp.teaching.teach import teach
 
     folder = tmp_path_factory.mktemp("learner-values") / "m"
     shutil.copytree(learner_template, folder)

@@ -14,7 +14,7 @@ teaching with a floor.
   gets is the largest it could get on its floor alone.
 * :func:`learn_building_online` streams every floor's events, floor by floor, through the online learner.
 * :func:`teach_building` teaches events said on one floor (positions in that floor's map frame): they are moved
-  into the joint frame and taught to the joint model (:func:`~spcotmhp.learning.teach.teach`); a new place lands
+  into the joint frame and taught to the joint model (:func:`~spcotmhp.teaching.teach.teach`); a new place lands
   on that floor.
 
     >>> from spcotmhp.building.synthetic import generate_building
@@ -38,8 +38,8 @@ from spcotmhp.building.model import BuildingModel
 from spcotmhp.errors import TeachingError
 from spcotmhp.learning.model import DERIVED, Hyperparameters
 from spcotmhp.learning.online import TeachingEvent
-from spcotmhp.learning.teach import Taught, teach
 from spcotmhp.limits import MAX_PLACES
+from spcotmhp.teaching.teach import Taught, teach
 
 PLACES_PER_FLOOR = 20
 MIN_KAPPA0 = 1e-6  # the least kappa0 a model accepts (learning/model_values.py)
@@ -117,7 +117,7 @@ def learn_building_online(building: Building, seed: int = 0, **params: object) -
 
 
 def teach_building(bm: BuildingModel, events: Iterable[object], floor: object) -> tuple[BuildingModel, Taught]:
-    """Teach ``events`` (the forms :func:`~spcotmhp.learning.teach.teach` takes, positions in floor ``floor``'s
+    """Teach ``events`` (the forms :func:`~spcotmhp.teaching.teach.teach` takes, positions in floor ``floor``'s
     map frame) to the building's model; returns the updated building model and what was learned (place ids are
     the joint model's; :meth:`BuildingModel.place_floor` gives their floors). TeachingError for a position off
     that floor's map; UnknownFloor for a floor the building does not have."""

@@ -190,7 +190,7 @@ def learn(
     (the previous model stays loadable until the new one is complete), never onto the dataset itself. A folder
     recorded by ``spcotmhp ros2 --record`` is refused: its teaching goes into its model (``teach --from``)."""
     from spcotmhp.learning.io import prepare_model_folder, save_model
-    from spcotmhp.learning.recorded import refuse_learning_alone
+    from spcotmhp.teaching.recorded import refuse_learning_alone
 
     if Path(dataset).is_dir():
         refuse_learning_alone(Path(dataset))

@@ -31,8 +31,8 @@ def teach(
     it must hold a model (nothing else is ever overwritten)."""
     from spcotmhp.errors import TeachingError
     from spcotmhp.learning.io import check_target, load_model, save_model
-    from spcotmhp.learning.recorded import apply_recording
-    from spcotmhp.learning.teach import teach as teach_model
+    from spcotmhp.teaching.recorded import apply_recording
+    from spcotmhp.teaching.teach import teach as teach_model
 
     if (from_ is None) == (utterance is None) or (utterance is not None and at is None) or (from_ and at):
         raise TeachingError("give an UTTERANCE with --at X Y, or --from DIR (a folder recorded by 'spcotmhp ros2')")
@@ -67,12 +67,12 @@ def questions(
     as_json: Annotated[bool, typer.Option("--json", help='Print {"questions": [...]} as JSON.')] = False,
 ) -> None:
     """List where an answer would tell the model most about what a place is called, best first
-    (spcotmhp/learning/questions.py: the entropy of the name the model expects there). Answer one with
+    (spcotmhp/teaching/questions.py: the entropy of the name the model expects there). Answer one with
     'spcotmhp teach MODEL_DIR "this is the NAME" --at X Y'."""
     import json
 
     from spcotmhp.learning.io import load_model
-    from spcotmhp.learning.questions import questions as ask
+    from spcotmhp.teaching.questions import questions as ask
 
     asked = ask(load_model(model_dir), max_questions)
     if as_json:

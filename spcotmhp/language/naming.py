@@ -1,7 +1,7 @@
 """Reading a teaching utterance: which name it teaches, or that it teaches none.
 
 A teach is a *naming*: the person says what the place where the robot stands is called. Only the name is learned
-(:func:`spcotmhp.learning.teach.teach`); an utterance that names nothing ("hello", "is this the kitchen?", "this
+(:func:`spcotmhp.teaching.teach.teach`); an utterance that names nothing ("hello", "is this the kitchen?", "this
 isn't the study", "go to the kitchen") is refused with :class:`~spcotmhp.errors.NotANaming` rather than learned as
 words. The rules, per language:
 

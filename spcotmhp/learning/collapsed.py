@@ -13,7 +13,7 @@ One Gibbs step for event e (``CollapsedState.step``) removes it from the counts 
 
 then resamples the background switch of each of its tokens (as ``concepts.py`` does in batch).
 
-A *naming* event (a teach, :func:`spcotmhp.learning.teach.teach`: its tokens are the name a person said for the
+A *naming* event (a teach, :func:`spcotmhp.teaching.teach.teach`: its tokens are the name a person said for the
 place where the robot stands) is conditioned on that act: its tokens are concept tokens (a name is not a
 background word), and its concept is one that already holds one of its words or a concept with no events yet,
 so that the name is a name of the concept it joins, not a stray token of an unrelated one; among those (i_e, C_e)

@@ -91,7 +91,7 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
 
 
 def taught_counts(model: Any) -> dict[str, int]:
-    """{word: how many teaches said it} (``model.info["taught"]``, kept by :func:`spcotmhp.learning.teach.
+    """{word: how many teaches said it} (``model.info["taught"]``, kept by :func:`spcotmhp.teaching.teach.
     teach`); empty for a model never taught at run time."""
     info = getattr(model, "info", None)
     taught = info.get("taught") if isinstance(info, dict) else None

@@ -17,14 +17,14 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
 * ``spcotmhp/places`` (visualization_msgs/MarkerArray, out, transient local): place ellipses, names and
   topological edges, for RViz (late subscribers get it too).
 * ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose: learned at once (online
-  learning, :mod:`spcotmhp.learning.teach`; later instructions and the place markers use it; the model folder
+  learning, :mod:`spcotmhp.teaching.teach`; later instructions and the place markers use it; the model folder
   is not rewritten) and, with ``record``, appended to that dataset folder (:mod:`spcotmhp.ros.teaching_log`).
   A teach is applied on a worker thread of its own (the model update and ``PlanningGraph.update``), so that
   instructions keep being planned meanwhile with the planner before it; the new planner is swapped in whole
   when ready. At most ``MAX_PENDING_TEACHES`` wait or run: past that a teach is refused at once (TeachingBusy
   on the status topic). The ``taught`` status says whether it made a new place or joined one.
 * ``spcotmhp/questions`` (std_msgs/String, out, transient local): ``{"questions": [...]}`` where an answer would
-  help the model most (:mod:`spcotmhp.learning.questions`), published at start and after every teach; answer one
+  help the model most (:mod:`spcotmhp.teaching.questions`), published at start and after every teach; answer one
   by teaching at its (x, y).
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
@@ -58,7 +58,6 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from spcotmhp.collector import end_startup
 from spcotmhp.errors import NoValidPose, PoseRejected, SpcotmhpError, StartOutsideMap, TeachingBusy
-from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.planning.start import locate_start
 from spcotmhp.ros.shapes import (
@@ -72,6 +71,7 @@ from spcotmhp.ros.shapes import (
     yaw_quaternion,
 )
 from spcotmhp.ros.teaching_log import TeachingLog
+from spcotmhp.teaching.teach import planner_for, teach
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 MATCH_PUBLISHER = QoSProfile(
@@ -140,7 +140,7 @@ class SpcotmhpNode(Node):
 
     # ---- output ----------------------------------------------------------------------------------------
     def publish_questions(self) -> None:
-        from spcotmhp.learning.questions import questions
+        from spcotmhp.teaching.questions import questions
 
         asked = {"questions": questions(self.planner.model)}
         self.questions_pub.publish(String(data=json.dumps(asked, ensure_ascii=False)))

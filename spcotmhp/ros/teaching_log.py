@@ -1,7 +1,7 @@
 """Teaching while driving: utterances taught at the robot's pose, appended to a dataset folder in the project's
 layout (``spcotmhp/data/README.md``) that ``spcotmhp learn`` and :func:`spcotmhp.datasets.load_dataset` read.
 
-The folder gets ``recorded.json`` naming the model folder (:mod:`spcotmhp.learning.recorded`: ``spcotmhp teach
+The folder gets ``recorded.json`` naming the model folder (:mod:`spcotmhp.teaching.recorded`: ``spcotmhp teach
 MODEL --from DIR`` applies the recording to that model; ``spcotmhp learn DIR`` refuses it), the model's map
 (``map.yaml`` + ``map.pgm``, as Nav2's map_saver writes it) when it is created,
 and ``teaching.csv`` (``event,x,y,words_ja,words_en``) from the first utterance on; each utterance goes into the
@@ -36,7 +36,7 @@ class TeachingLog:
     def __init__(self, folder: str | Path, occ: OccupancyMap, model_dir: str | Path | None = None) -> None:
         """``model_dir``: the model folder the teaching is said against, named in ``recorded.json`` (so that
         ``spcotmhp learn`` refuses the folder and ``spcotmhp teach MODEL --from`` applies it to that model)."""
-        from spcotmhp.learning.recorded import write_marker
+        from spcotmhp.teaching.recorded import write_marker
 
         self.folder = Path(folder)
         self.teaching = self.folder / "teaching.csv"

@@ -177,14 +177,14 @@ class ServedModel:
         )
 
     def teach(self, utterance: str, x: float, y: float, floor: object = None) -> dict:
-        """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.learning.teach`), update
+        """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.teaching.teach`), update
         the planning graph off the planning lanes (``PlanningGraph.update``: only the fields of new or moved nodes),
         then swap model, planner and labels in at once under the light lane's lock, so that every later plan uses
         the update and no plan sees half of it; the map picture is drawn again on its next request. Teaches of
         one model run one at a time; the served model stays as it was on a TeachingError. The update lives in
         memory (the model folder is not rewritten). A building's model is taught on ``floor`` ((x, y) in that
         floor's map frame: :func:`~spcotmhp.building.learn.teach_building`) and its building planner made again."""
-        from spcotmhp.learning.teach import planner_for, teach
+        from spcotmhp.teaching.teach import planner_for, teach
 
         if (floor is None) != (self.building is None):
             why = "give 'floor', the floor taught on" if floor is None else "'floor' is for a building's model"
@@ -211,9 +211,9 @@ class ServedModel:
         }
 
     def questions(self, max_questions: int = 5) -> dict:
-        """``{"questions": [...]}`` where an answer would help the model most (:mod:`spcotmhp.learning.questions`);
+        """``{"questions": [...]}`` where an answer would help the model most (:mod:`spcotmhp.teaching.questions`);
         answer one with ``POST /teach`` at its (x, y)."""
-        from spcotmhp.learning.questions import questions
+        from spcotmhp.teaching.questions import questions
 
         return {"model": self.name, "questions": questions(self.model, max_questions)}
 

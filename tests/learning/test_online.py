@@ -20,9 +20,9 @@ from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent
-from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.learning.truncation import TruncationWarning
 from spcotmhp.metric.costmap import inflate
+from spcotmhp.teaching.teach import planner_for, teach
 from tests.helpers.server import start_near, supervised_model_dir, wall_point
 
 ALICE = "this is alice's room"

@@ -307,7 +307,7 @@ def test_an_update_after_a_teach_keeps_the_fields_of_nodes_that_did_not_move(tmp
 
     from spcotmhp.datasets import load_bundled
     from spcotmhp.learning.supervised import fit_supervised
-    from spcotmhp.learning.teach import teach
+    from spcotmhp.teaching.teach import teach
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

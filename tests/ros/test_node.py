@@ -363,7 +363,7 @@ def test_recorded_teaching_lands_in_the_model_it_was_said_against(setup, tmp_pat
     import shutil
 
     client, model, record = setup["client"], setup["model"], setup["record"]
-    client.set_pose(3.0, 3.0)  # free, outside every place's 2-sigma ellipse: a new place (tests/learning/test_teach)
+    client.set_pose(3.0, 3.0)  # free, outside every place's 2-sigma ellipse: a new place (tests/teaching/test_teach)
     assert client.ask(client.teach_pub, "this is the observatory", 30)["outcome"] == "new place"
     target = tmp_path / "model"
     shutil.copytree(setup["folder"], target)

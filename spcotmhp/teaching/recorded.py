@@ -4,7 +4,7 @@
 (:mod:`spcotmhp.ros.teaching_log`) and writes ``DIR/recorded.json`` naming MODEL. Those utterances were said to a
 robot that already had a map and places: learning DIR alone (``spcotmhp learn DIR``) would give a model of the
 recorded utterances only, so ``learn`` refuses such a folder and points to ``spcotmhp teach MODEL --from DIR``,
-which applies each recorded row to MODEL as the node did (:func:`spcotmhp.learning.teach.teach`: naming events
+which applies each recorded row to MODEL as the node did (:func:`spcotmhp.teaching.teach.teach`: naming events
 on MODEL's learner state, its map and earlier data kept).
 
 Applying is idempotent: the model keeps, per recording folder (resolved path), how many of its rows it has
@@ -85,7 +85,7 @@ def apply_recording(model: SpatialConceptModel, folder: Path):
     """(the taught result or None when nothing is new, rows applied now, rows in the recording): the rows of
     ``folder`` that ``model`` has not learned yet, taught in order (module docstring). Nothing is learned when a
     row is refused (TeachingError naming the row)."""
-    from spcotmhp.learning.teach import naming_event, teach
+    from spcotmhp.teaching.teach import naming_event, teach
 
     rows = recorded_utterances(folder, model)
     key = str(Path(folder).resolve())

@@ -1,4 +1,4 @@
-"""Questions where the map is unsure (spcotmhp/learning/questions.py): the measure, the order, and an answer."""
+"""Questions where the map is unsure (spcotmhp/teaching/questions.py): the measure, the order, and an answer."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from spcotmhp.datasets import load_bundled
-from spcotmhp.learning.questions import SPACING_M, questions
 from spcotmhp.learning.supervised import fit_supervised
-from spcotmhp.learning.teach import teach
+from spcotmhp.teaching.questions import SPACING_M, questions
+from spcotmhp.teaching.teach import teach
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +74,7 @@ def test_the_spot_where_two_names_meet_is_asked_first(blurred):
 def test_an_answer_is_a_teach_and_moves_the_name_toward_it(blurred):
     """An answer is an ordinary teach at the asked spot: the model updates at once and the name it expects there
     moves toward the answer (one teach against the place's 15 events moves it a little: p(dining) 0.45 -> 0.47)."""
-    from spcotmhp.learning.questions import name_distribution
+    from spcotmhp.teaching.questions import name_distribution
 
     model, _ = blurred
     first = questions(model, 1)[0]

@@ -1,4 +1,4 @@
-"""Teaching at run time (issue 15, ``spcotmhp.learning.teach``): what one teach means, bad teaching refused with
+"""Teaching at run time (issue 15, ``spcotmhp.teaching.teach``): what one teach means, bad teaching refused with
 the model unchanged, new places' labels, the language of an utterance."""
 
 from __future__ import annotations
@@ -8,8 +8,8 @@ import pytest
 
 from spcotmhp.errors import NotANaming, TeachingError
 from spcotmhp.learning.io import load_model
-from spcotmhp.learning.teach import planner_for, teach
 from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.teaching.teach import planner_for, teach
 from tests.helpers.server import start_near, supervised_model_dir
 
 STUDY = (5.5, -4.0)  # a free spot of 3LDK_06 in a bedroom's territory (the audit's)
