@@ -19,6 +19,7 @@ from spcotmhp.building.synthetic import generate_building
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model_folder import MANIFEST, manifest_of
+from tests.helpers.strategies import document_paths
 
 
 @pytest.fixture(scope="module")
@@ -100,16 +101,6 @@ LEAVES = st.one_of(
 )
 
 
-def _paths(node, prefix=()):
-    yield prefix
-    if isinstance(node, dict):
-        for k, v in node.items():
-            yield from _paths(v, (*prefix, k))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield from _paths(v, (*prefix, i))
-
-
 @given(data=st.data())
 @settings(max_examples=80, deadline=None, suppress_health_check=list(HealthCheck))
 def test_fuzzed_building_json(saved, tmp_path_factory, data):
@@ -118,7 +109,7 @@ def test_fuzzed_building_json(saved, tmp_path_factory, data):
 
     shutil.copytree(saved[1], out)
     doc = json.loads((out / BUILDING_JSON).read_text())
-    paths = list(_paths(doc))[1:]
+    paths = list(document_paths(doc))[1:]
     edited = copy.deepcopy(doc)
     for path in data.draw(st.lists(st.sampled_from(paths), min_size=1, max_size=3)):
         node = edited

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from spcotmhp.building.spec import MAX_CONNECTORS, MAX_FLOORS, BuildingSpec, Connector, Stop, parse_spec, read_spec
 from spcotmhp.errors import BuildingError
+from tests.helpers.strategies import document_paths
 
 GOOD = {
     "name": "office",
@@ -146,18 +147,7 @@ VALUES = st.one_of(
 )
 
 
-def _paths(node, prefix=()):
-    """Every (path) to a value of the document."""
-    yield prefix
-    if isinstance(node, dict):
-        for k, v in node.items():
-            yield from _paths(v, (*prefix, k))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield from _paths(v, (*prefix, i))
-
-
-ALL_PATHS = list(_paths(GOOD))[1:]
+ALL_PATHS = list(document_paths(GOOD))[1:]
 
 
 @given(edits=st.lists(st.tuples(st.sampled_from(ALL_PATHS), VALUES, st.booleans()), min_size=1, max_size=4))

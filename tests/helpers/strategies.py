@@ -158,3 +158,14 @@ def pnm_files(draw) -> bytes:
         n = {"exact": pixels, "short": pixels // 2, "double": 2 * pixels}[body_kind]
         body = bytes([draw(st.sampled_from([0, 205, 254, 255]))]) * n
     return header + body
+
+
+def document_paths(node: object, prefix: tuple = ()):
+    """Every path (a tuple of keys and indices) to a value of a JSON/YAML document, the root's () first."""
+    yield prefix
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from document_paths(v, (*prefix, k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from document_paths(v, (*prefix, i))
