@@ -9,10 +9,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 
 import numpy as np
+from numba import njit
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model_values import HYPER_RANGES, check_hyper, check_model, check_truncation, in_range, refuse
-from spcotmhp.logspace import log_gaussian, logsumexp
+from spcotmhp.logspace import log_gaussian, logsumexp, logsumexp_vector
 from spcotmhp.metric.maps import OccupancyMap
 
 # Total concentrations of the weak-limit Dirichlet priors (the authors' code: alpha = 10 / L, gamma = 1 / K,
@@ -212,8 +213,8 @@ class SpatialConceptModel:
         return log_gaussian(np.asarray(x, dtype=float), self.mu, self.Sigma)
 
     def log_place_prior(self) -> np.ndarray:
-        """log p(i = k) = log sum_l pi_l phi_l(k), the marginal place prior; -inf on inactive places."""
-        lp = logsumexp(np.log(self.pi)[:, None] + np.log(self.phi), axis=0)
+        """log p(i = k) = log sum_l pi_l phi_l(k), the marginal place prior (Eqs. 9, 14); -inf on inactive places."""
+        lp = logsumexp(log_concept_place(self.pi, self.phi), axis=0)
         return np.where(self.active_places, lp, -np.inf)
 
     def place_posterior(self, x: np.ndarray) -> np.ndarray:
@@ -228,7 +229,8 @@ class SpatialConceptModel:
 
     def log_unigram_rescaling(self) -> np.ndarray:
         """log sum_c Mult(i | phi_c), the denominator of the unigram rescaling in Eqs. 9 and 28: (K,)."""
-        return logsumexp(np.log(self.phi), axis=0)
+        with np.errstate(divide="ignore"):
+            return logsumexp(np.log(self.phi), axis=0)
 
     # ---- semantic terms ----------------------------------------------------------------------------------
     def bag_vector(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
@@ -243,35 +245,49 @@ class SpatialConceptModel:
             return log_multinomial(np.log(self.W), self.bag_vector(bag))
 
     def log_concept_given_place(self) -> np.ndarray:
-        """log p(C = l | i = k) proportional to pi_l phi_l(k), normalised over l: (L, K)."""
+        """log p(C = l | i = k), (L, K): :func:`log_concept_given_place` of this model's pi and phi."""
+        return log_concept_given_place(self.pi, self.phi)
+
+    def word_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(log W with 0 where W = 0, where W > 0, log pi, log phi): the arguments :func:`log_word_term` takes
+        after the bag (the planner's terms compute them once per model)."""
         with np.errstate(divide="ignore"):
-            lp_lk = np.log(self.pi)[:, None] + np.log(self.phi)
-        return lp_lk - logsumexp(lp_lk, axis=0, keepdims=True)
+            log_W, log_pi, log_phi = np.log(self.W), np.log(self.pi), np.log(self.phi)
+        finite = np.isfinite(log_W)
+        return np.ascontiguousarray(np.where(finite, log_W, 0.0)), finite, log_pi, log_phi
 
     def log_semantic(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
-        """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place i: (K,) (Eq. 28, last factor)."""
-        lw = self.log_word_likelihood(bag) + np.log(self.pi)
-        return logsumexp(lw[:, None] + np.log(self.phi), axis=0)
+        """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place i: (K,) (Eq. 28, last factor;
+        :func:`log_word_term`)."""
+        return log_word_term(*bag_indices(bag, self.word_index), *self.word_arrays())
 
     def log_place_given_words(self, bag: Mapping[str, float] | list[str]) -> np.ndarray:
-        """log p(i | S) over active places (normalised), used by the goal-sampling baselines: (K,)."""
-        ls = np.where(self.active_places, self.log_semantic(bag), -np.inf)
-        return ls - logsumexp(ls)
+        """log p(i | S) over active places (normalised), used by the goal-sampling baselines: (K,)
+        (:func:`normalise_places` of :meth:`log_semantic`)."""
+        return normalise_places(self.log_semantic(bag), np.asarray(self.active_places, dtype=np.bool_))
 
     def unigram_rescaled_W(self) -> np.ndarray:
-        """W_l(w) / sum_c W_c(w), (L, V): how much of word w's use concept l has; 0 for a word no concept uses
-        (a column of zeros is a valid W: such a word is never said)."""
+        """W_l(w) / sum_c W_c(w), (L, V): how much of word w's use concept l has (Eq. 17's unigram rescaling);
+        0 for a word no concept uses (a column of zeros is a valid W: such a word is never said)."""
         total = self.W.sum(axis=0, keepdims=True)
         return np.divide(self.W, total, out=np.zeros_like(self.W), where=total > 0)
 
+    def word_given_place(self) -> np.ndarray:
+        """p(w | k) = sum_l p(l | k) W_l(w), (K, V): how often word w is said at place k (Eqs. 13, 14 and 9)."""
+        return np.exp(self.log_concept_given_place()).T @ self.W
+
+    def label_scores(self) -> np.ndarray:
+        """The label score of word w for place k, (K, V): sum_l p(l | k) W_l(w) / sum_c W_c(w), i.e.
+        :meth:`word_given_place` with W unigram-rescaled as in Eq. 17 (rescaling suppresses function words such
+        as "this", said with every concept). The one score that names a place (:meth:`place_names`,
+        :func:`~spcotmhp.planning.vocabulary.place_vocabulary`)."""
+        return np.exp(self.log_concept_given_place()).T @ self.unigram_rescaled_W()
+
     def place_names(self) -> list[str]:
-        """A readable name per place: the word with the highest rescaled probability
-        sum_l p(l | k) W_l(w) / sum_c W_c(w) (unigram rescaling suppresses function words such as "this")."""
-        p_l_given_k = np.exp(self.log_concept_given_place())  # (L, K)
-        score = p_l_given_k.T @ self.unigram_rescaled_W()  # (K, V)
+        """A readable name per place: the word with the highest :meth:`label_scores`."""
         return [
             self.vocabulary[int(j)] if len(self.vocabulary) else f"place {k}"
-            for k, j in enumerate(np.argmax(score, axis=1))
+            for k, j in enumerate(np.argmax(self.label_scores(), axis=1))
         ]
 
 
@@ -297,3 +313,66 @@ def bag_counts(bag: Mapping[str, float] | list[str], index: Mapping[str, int], s
         if w in index:
             vec[index[w]] += float(c)
     return vec
+
+
+def bag_indices(bag: Mapping[str, float] | list[str], index: Mapping[str, int]) -> tuple[np.ndarray, np.ndarray]:
+    """A weighted bag of words (word -> weight, or a token list, each token weighing 1) as (column indices,
+    weights) of its words in ``index``, the sparse form of :func:`bag_counts` that :func:`log_word_term` takes;
+    words outside ``index`` are dropped."""
+    items = bag.items() if isinstance(bag, Mapping) else ((w, 1.0) for w in bag)
+    known = [(index[w], float(c)) for w, c in items if w in index]
+    return np.array([i for i, _ in known], dtype=np.int64), np.array([c for _, c in known], dtype=np.float64)
+
+
+def log_concept_place(pi: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """log p(C = l, i = k) = log pi_l + log phi_l(k), (L, K): Eq. 14's Mult(C | pi) times Eq. 9's category term
+    Mult(i | phi_C) (before its unigram rescaling); log 0 = -inf. Its sum over l is the place prior
+    (:meth:`SpatialConceptModel.log_place_prior`), over l with the words Eq. 28's word term."""
+    with np.errstate(divide="ignore"):
+        return np.log(pi)[:, None] + np.log(phi)
+
+
+def log_concept_given_place(pi: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """log p(C = l | i = k) = log pi_l phi_l(k) - log sum_c pi_c phi_c(k), (L, K): Bayes' rule on
+    :func:`log_concept_place` (Eqs. 14 and 9), normalised over l; the concepts a place's words come from.
+
+    >>> np.exp(log_concept_given_place(np.array([0.5, 0.5]), np.array([[0.9, 0.1], [0.3, 0.7]]))).round(3)
+    array([[0.75 , 0.125],
+           [0.25 , 0.875]])
+    """
+    joint = log_concept_place(pi, phi)
+    return joint - logsumexp(joint, axis=0, keepdims=True)
+
+
+@njit(cache=True)
+def log_word_term(idx, weight, log_W0, finite_W, log_pi, log_phi):  # pragma: no cover - numba
+    """Eq. 28's word term for every place i, (K,): log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi), with
+    log Mult(S | W_C) = sum_w n_w log W_C(w) up to the multinomial coefficient (:func:`log_multinomial`'s
+    arithmetic on the sparse bag ``idx``, ``weight`` of :func:`bag_indices`: a word of S with W_C(w) = 0 makes
+    C impossible, an absent word adds nothing). ``log_W0, finite_W, log_pi, log_phi``: as
+    :meth:`SpatialConceptModel.word_arrays` gives them. The one implementation, for the model's numpy callers
+    (:meth:`SpatialConceptModel.log_semantic`) and the planner's kernels (:mod:`spcotmhp.planning.terms`)."""
+    L, K = log_phi.shape
+    lw = np.empty(L)
+    for c in range(L):
+        total = 0.0
+        for j in range(idx.shape[0]):
+            if weight[j] > 0 and not finite_W[c, idx[j]]:
+                total = -np.inf
+                break
+            total += weight[j] * log_W0[c, idx[j]]
+        lw[c] = total + log_pi[c]
+    out = np.empty(K)
+    col = np.empty(L)
+    for i in range(K):
+        for c in range(L):
+            col[c] = lw[c] + log_phi[c, i]
+        out[i] = logsumexp_vector(col)
+    return out
+
+
+@njit(cache=True)
+def normalise_places(log_semantic, active):  # pragma: no cover - numba
+    """log p(i | S) = Eq. 28's word term normalised over the active places (-inf elsewhere), (K,)."""
+    ls = np.where(active, log_semantic, -np.inf)
+    return ls - logsumexp_vector(ls)

@@ -1,11 +1,10 @@
 """The model terms that online planning evaluates per query, with their logarithms taken once.
 
-The same quantities as :class:`~spcotmhp.learning.model.SpatialConceptModel`'s methods (``place_posterior``,
-``log_semantic``, ``log_place_given_words``; tests check they agree), with log pi, log phi, log W, the place
-prior and the Gaussians' closed-form 2 x 2 inverses precomputed, and the per-query arithmetic in compiled
-kernels (the same formulas as :func:`~spcotmhp.logspace.log_gaussian`,
-:func:`~spcotmhp.learning.model.log_multinomial` and the package's ``logsumexp``), so that a query costs a few
-microseconds.
+The model's own terms (:mod:`spcotmhp.learning.model`: Eq. 28's word term :func:`~spcotmhp.learning.model.
+log_word_term` and its normalisation, the place prior and the unigram-rescaling denominator), with log pi,
+log phi, log W, the place prior and the Gaussians' closed-form 2 x 2 inverses computed once per model, and the
+per-query arithmetic in compiled kernels (the Gaussian of :func:`~spcotmhp.logspace.gaussian_log_density`, the
+package's ``logsumexp``), so that a query costs a few microseconds.
 """
 
 from __future__ import annotations
@@ -15,9 +14,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numba import njit
 
-from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.model import SpatialConceptModel, bag_indices, log_word_term, normalise_places
 from spcotmhp.logspace import gaussian_log_density, logsumexp_vector
-from spcotmhp.logspace import logsumexp as _lse
 
 
 class ModelTerms:
@@ -25,17 +23,13 @@ class ModelTerms:
 
     def __init__(self, model: SpatialConceptModel) -> None:
         self.model = model
+        self._log_W0, self._finite_W, self.log_pi, self.log_phi = model.word_arrays()
         with np.errstate(divide="ignore"):
-            self.log_pi = np.log(model.pi)
-            self.log_phi = np.log(model.phi)
-            self.log_W = np.log(model.W)
             self.log_psi = np.log(model.psi)
         self.active = np.asarray(model.active_places, dtype=bool)
-        self.log_prior = np.where(self.active, _lse(self.log_pi[:, None] + self.log_phi, axis=0), -np.inf)
-        self.log_ur = _lse(self.log_phi, axis=0)
+        self.log_prior = model.log_place_prior()
+        self.log_ur = model.log_unigram_rescaling()
         self.word_index = model.word_index
-        self._finite_W = np.isfinite(self.log_W)
-        self._log_W0 = np.ascontiguousarray(np.where(self._finite_W, self.log_W, 0.0))
         self._mu = np.ascontiguousarray(model.mu, dtype=np.float64)
         self._Sigma = np.ascontiguousarray(model.Sigma, dtype=np.float64)
         self._psi = np.ascontiguousarray(model.psi, dtype=np.float64)
@@ -46,20 +40,19 @@ class ModelTerms:
         return _posterior(float(x[0]), float(x[1]), self._mu, self._Sigma, self.log_prior)
 
     def bag_indices(self, bag: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
-        """The bag as (vocabulary indices, weights) of its known words (the model's ``bag_vector`` without the
-        zeros; words outside the vocabulary are dropped)."""
-        index = self.word_index
-        known = [(index[w], float(c)) for w, c in bag.items() if w in index]
-        return np.array([i for i, _ in known], dtype=np.int64), np.array([c for _, c in known], dtype=np.float64)
+        """The bag as (vocabulary indices, weights) of its known words (:func:`~spcotmhp.learning.model.
+        bag_indices`; words outside the vocabulary are dropped)."""
+        return bag_indices(bag, self.word_index)
 
     def log_semantic(self, bag: Mapping[str, float]) -> np.ndarray:
-        """log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place (K,) (Eq. 28, last factor)."""
+        """Eq. 28's word term log sum_C Mult(i | phi_C) Mult(S | W_C) Mult(C | pi) for every place (K,)
+        (:func:`~spcotmhp.learning.model.log_word_term`)."""
         idx, weight = self.bag_indices(bag)
-        return _semantic(idx, weight, self._log_W0, self._finite_W, self.log_pi, self.log_phi)
+        return log_word_term(idx, weight, self._log_W0, self._finite_W, self.log_pi, self.log_phi)
 
     def normalise(self, log_semantic: np.ndarray) -> np.ndarray:
         """log p(i | S) over active places from :meth:`log_semantic`'s output (K,)."""
-        return _normalise(log_semantic, self.active)
+        return normalise_places(log_semantic, self.active)
 
     def log_place_given_words(self, bag: Mapping[str, float]) -> np.ndarray:
         """log p(i | S) over active places, normalised (K,)."""
@@ -115,35 +108,6 @@ def _posterior(x, y, mu, Sigma, log_prior):  # pragma: no cover - numba
 
 
 @njit(cache=True)
-def _semantic(idx, weight, log_W0, finite_W, log_pi, log_phi):  # pragma: no cover - numba
-    """log sum_C phi_C(i) W_C(S) pi_C for every place i: log Mult(S | W_C) as sum_w n_w log W_C(w) (-inf when a
-    word of S has W_C(w) = 0), plus log pi_C, then log-sum-exp over C with log phi_C(i)."""
-    L, K = log_phi.shape
-    lw = np.empty(L)
-    for c in range(L):
-        total = 0.0
-        for j in range(idx.shape[0]):
-            if weight[j] > 0 and not finite_W[c, idx[j]]:
-                total = -np.inf
-                break
-            total += weight[j] * log_W0[c, idx[j]]
-        lw[c] = total + log_pi[c]
-    out = np.empty(K)
-    col = np.empty(L)
-    for i in range(K):
-        for c in range(L):
-            col[c] = lw[c] + log_phi[c, i]
-        out[i] = logsumexp_vector(col)
-    return out
-
-
-@njit(cache=True)
-def _normalise(log_semantic, active):  # pragma: no cover - numba
-    ls = np.where(active, log_semantic, -np.inf)
-    return ls - logsumexp_vector(ls)
-
-
-@njit(cache=True)
 def _start_terms(posterior, psi, places, log_ur, plus):  # pragma: no cover - numba
     out = np.empty(places.shape[0])
     for j in range(places.shape[0]):
@@ -164,8 +128,8 @@ def _stage_terms(idx, weight, offsets, log_W0, finite_W, log_pi, log_phi, active
     inst = np.zeros((n, K), np.bool_)
     for s in range(n):
         a, b = offsets[s], offsets[s + 1]
-        semantic[s] = _semantic(idx[a:b], weight[a:b], log_W0, finite_W, log_pi, log_phi)
-        lp = _normalise(semantic[s], active)
+        semantic[s] = log_word_term(idx[a:b], weight[a:b], log_W0, finite_W, log_pi, log_phi)
+        lp = normalise_places(semantic[s], active)
         best = lp.max()
         for k in range(K):
             inst[s, k] = np.isfinite(lp[k]) and lp[k] >= best - log_ratio

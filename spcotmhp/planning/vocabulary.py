@@ -28,21 +28,13 @@ _FUNCTION_WORDS = frozenset().union(*(word_table(lang).function_words for lang i
 not among them, so that "alice's room" keeps its "room"."""
 
 
-def _word_scores(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(p(w | k) = sum_l p(l | k) W_l(w), its unigram-rescaled form, log p(l, k)) for every place k."""
-    with np.errstate(divide="ignore"):
-        lp_lk = np.log(model.pi)[:, None] + np.log(model.phi)
-    p_l_given_k = np.exp(model.log_concept_given_place())
-    said = p_l_given_k.T @ model.W
-    rescaled = p_l_given_k.T @ model.unigram_rescaled_W()
-    return said, rescaled, lp_lk
-
-
 def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio: float = INSTANCE_RATIO) -> list[str]:
     """The words of ``model.vocabulary`` that name places, sorted.
 
-    Two scores of word w for place k: how often it is said there, p(w | k) = sum_l p(l | k) W_l(w), and the
-    unigram-rescaled p(w | k) / sum_c W_c(w) that :meth:`SpatialConceptModel.place_names` ranks by. Rescaling
+    Two scores of word w for place k: how often it is said there, p(w | k) = sum_l p(l | k) W_l(w)
+    (:meth:`SpatialConceptModel.word_given_place`), and the label score, its unigram-rescaled form
+    sum_l p(l | k) W_l(w) / sum_c W_c(w) that :meth:`SpatialConceptModel.place_names` ranks by
+    (:meth:`SpatialConceptModel.label_scores`). Rescaling
     singles out the words said at few places: a function word spread over the concepts ("this", です) scores
     about 1/(number of concepts using it), a name of its own near 1. A word is kept when
 
@@ -72,7 +64,7 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     if not len(model.vocabulary):
         return []
     act = np.asarray(model.active_places, dtype=bool)
-    said, rescaled, _ = _word_scores(model)
+    said, rescaled = model.word_given_place(), model.label_scores()
     said, rescaled = said[act], rescaled[act]
     grammar = np.array([w in _FUNCTION_WORDS for w in model.vocabulary], dtype=bool)
     best = np.where(grammar, 0.0, rescaled).max(axis=1, keepdims=True)  # rule 3's words set no bar
@@ -127,7 +119,7 @@ def place_labels(
     if not place_words:
         return fallback
     idx = [model.word_index[w] for w in place_words]
-    said = _word_scores(model)[0][:, idx]  # (K, |place_words|)
+    said = model.word_given_place()[:, idx]  # (K, |place_words|)
     act = np.asarray(model.active_places, dtype=bool)
     chance = 1.0 / len(model.vocabulary)  # p(w | k) where the place's concepts hold no words (uniform W)
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)

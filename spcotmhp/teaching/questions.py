@@ -34,9 +34,7 @@ def name_distribution(model: SpatialConceptModel, xy: np.ndarray, names: list[st
     """(N, len(names)) p(n | x) at the positions ``xy`` (module docstring), over the places' names ``names`` (their
     labels, each one or more of the place words ``words``): a name is said with all its words, so p(n | k) is the
     geometric mean of its words' p(w | k), normalised over the names."""
-    from spcotmhp.planning.vocabulary import _word_scores
-
-    said = _word_scores(model)[0][:, [model.word_index[w] for w in words]]  # (K, words) p(w | k)
+    said = model.word_given_place()[:, [model.word_index[w] for w in words]]  # (K, words) p(w | k)
     with np.errstate(divide="ignore"):
         log_said = np.log(said)
     index = {w: j for j, w in enumerate(words)}

@@ -187,3 +187,20 @@ def folder_without_hyper_key(model, folder: Path, key: str) -> Path:
     path.write_text(json.dumps(meta))
     reseal(folder)
     return path
+
+
+def brute_word_term(pi: np.ndarray, phi: np.ndarray, W: np.ndarray, counts) -> np.ndarray:
+    """Eq. 28's word term by brute force, the oracle of learning/model.log_word_term: for every place i,
+    log sum_C phi_C(i) pi_C prod_w W_C(w)^n_w in plain floats (-inf where the sum is 0)."""
+    L, K = phi.shape
+    out = []
+    for i in range(K):
+        total = 0.0
+        for c in range(L):
+            words = 1.0
+            for w, n in enumerate(counts):
+                if n > 0:
+                    words *= float(W[c, w]) ** float(n)
+            total += float(phi[c, i]) * float(pi[c]) * words
+        out.append(np.log(total) if total > 0 else -np.inf)
+    return np.array(out)

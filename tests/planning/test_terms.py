@@ -1,5 +1,6 @@
-"""The per-query model terms of the planner (planning/terms.py): the compiled kernels give the model's own
-quantities (Eq. 3's place posterior, Eq. 28's word term and first-step transition, the instance sets)."""
+"""The per-query model terms of the planner (planning/terms.py): the compiled kernels give the model's
+quantities (Eq. 3's place posterior, Eq. 28's word term per stage, checked against its brute-force sum over the
+concepts, the first-step transition, the instance sets)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import pytest
 
 from spcotmhp.planning.places import instance_places
 from spcotmhp.planning.terms import ModelTerms
+from tests.helpers.learning import brute_word_term
 from tests.helpers.planning import home_model
 
 
@@ -25,7 +27,7 @@ def test_stage_terms_are_the_word_terms_and_the_instances(model, ratio):
     semantic, inst = terms.stage_terms(BAGS, ratio)
     assert semantic.shape == inst.shape == (len(BAGS), model.K)
     for s, bag in enumerate(BAGS):
-        assert semantic[s] == pytest.approx(model.log_semantic(bag))
+        assert semantic[s] == pytest.approx(brute_word_term(model.pi, model.phi, model.W, model.bag_vector(bag)))
         assert (inst[s] == instance_places(model.log_place_given_words(bag), ratio)).all()
     with pytest.raises(ValueError, match="instance_ratio"):
         terms.stage_terms(BAGS, 0.5)
@@ -38,8 +40,9 @@ def test_stage_terms_when_w_holds_a_zero(model):
     W[0] = [1.0, 0.0, 0.0]
     model.W = W
     semantic, _ = ModelTerms(model).stage_terms([{"bedroom": 1.0}, {"kitchen": 1.0}], 4.0)
-    assert semantic[0] == pytest.approx(model.log_semantic({"bedroom": 1.0}))
-    assert semantic[1] == pytest.approx(model.log_semantic({"kitchen": 1.0}))
+    assert semantic[0] == pytest.approx(brute_word_term(model.pi, model.phi, W, [1, 0, 0]))
+    assert semantic[1] == pytest.approx(brute_word_term(model.pi, model.phi, W, [0, 0, 1]))  # words sorted
+    assert np.isfinite(semantic).all()
 
 
 def test_posterior_and_start_terms_match_the_model(model):
