@@ -147,7 +147,9 @@ def blocked_at(clearance, r0, c0, r1, c1):  # pragma: no cover - numba
 
 @njit(cache=True)
 def _line(r0, c0, r1, c1, out, k):  # pragma: no cover - numba
-    """Write the Bresenham cells after (r0, c0) up to (r1, c1) into out[k:], return the new k."""
+    """Write the Bresenham cells after (r0, c0) up to (r1, c1) into out[k:], return the new k. Kept: no
+    dependency draws lines (scipy has none; skimage.draw.line would be a new dependency), and it runs inside the
+    compiled :func:`shortcut`, where a library call cannot."""
     dr, dc = r1 - r0, c1 - c0
     n = max(abs(dr), abs(dc))
     for t in range(1, n + 1):

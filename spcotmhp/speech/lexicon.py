@@ -11,7 +11,8 @@
 The letter-to-sound rules are a deliberately small, documented approximation of English spelling (greedy
 longest match over the table :data:`RULES`; a silent final "e" lengthening the vowel of a one-syllable word;
 "c" before e/i/y and a final "-ge" read soft; doubled consonants read once); they are a fallback, not a
-grapheme-to-phoneme model.
+grapheme-to-phoneme model. Kept rather than a registry package: g2p-en (last release December 2019) fetches NLTK
+data at first use, which a robot without network cannot, and gruut gives IPA, not the acoustic model's ARPAbet.
 """
 
 from __future__ import annotations
