@@ -226,7 +226,9 @@ def inv_2d(S: np.ndarray) -> np.ndarray:
 
 
 def sample_inverse_wishart_2d(rng: np.random.Generator, V: np.ndarray, nu: np.ndarray) -> np.ndarray:
-    """Sigma_k ~ IW(V_k, nu_k) for (K, 2, 2) scales, by the Bartlett decomposition of Sigma^-1 ~ W(V^-1, nu)."""
+    """Sigma_k ~ IW(V_k, nu_k) for (K, 2, 2) scales, by the Bartlett decomposition of Sigma^-1 ~ W(V^-1, nu)
+    (Eq. 6's posterior draw). Kept: scipy.stats.invwishart.rvs takes one scale per call, 1.5-3.3 ms for the
+    sampler's K = 20 draws against 54-91 us here, a 100-sweep Gibbs fit 2.2-2.3x slower (benchmarks/wellkept.py)."""
     K = V.shape[0]
     chol = cholesky_2d(inv_2d(V))  # of the Wishart scale V^-1
     A = np.zeros((K, POSITION_DIM, POSITION_DIM))
