@@ -42,6 +42,7 @@ def warm_up() -> float:
         data = generate_environment("flat", seed=0, events_per_room=4)
         learned = MultiRunSelector(SpCoTMHP(iterations=3, seed=0), runs=1).fit(data).model_
         for model in (fit_supervised(data), learned):
+            model.log_place_given_words(model.vocabulary[:1])  # Eq. 28's word term from numpy (the baselines)
             # Eq. 28 on all pairs; the reference graph; the portal graph of building-scale maps
             for settings in ({}, {"adjacent_only": True}, {"max_dense_bytes": 0}):
                 planner = HierarchicalPlanner(model, **settings)  # a cache of its own, dropped after
