@@ -6,6 +6,7 @@ Shared by the Gibbs sampler (final estimate, run selection) and the supervised f
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,7 +15,6 @@ from numba import njit
 from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
-from spcotmhp.learning.off_name import log_off_name
 from spcotmhp.logspace import logsumexp
 
 
@@ -94,7 +94,6 @@ class Priors:
     background: DirichletCategoricals
     switch: DirichletCategoricals
     place_concepts: DirichletCategoricals | None = None  # eta_i, K rows over L concepts (opt-in, not the paper's)
-    off_name: float | None = None  # lambda of the off-name factor g (opt-in, not the paper's; off_name.py)
 
     @classmethod
     def build(cls, hyper: Hyperparameters, K: int, L: int, V: int, D: int | None) -> Priors:
@@ -109,7 +108,6 @@ class Priors:
             background=DirichletCategoricals(1, V, hyper.beta),
             switch=DirichletCategoricals(1, 2, 1.0),
             place_concepts=None if eta is None else DirichletCategoricals(K, L, eta / L),
-            off_name=hyper.off_name,
         )
 
 
@@ -160,22 +158,29 @@ def log_place_prior(priors: Priors, stats: SufficientStats) -> np.ndarray:
     return np.where(stats.gauss.n > 0, lp, -np.inf)
 
 
-def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> float:
+ExtraTerms = Callable[[SufficientStats], dict[str, float]]
+"""A research variant's terms of the log joint, by name, given the counts (spcotmhp.experimental)."""
+
+
+def log_joint(
+    priors: Priors, stats: SufficientStats, transitions: np.ndarray | None, extra: ExtraTerms | None = None
+) -> float:
     """Collapsed log joint log p(x, S, f, i, C | h) with every parameter integrated out: the sum of
     ``log_joint_terms``.  Deterministic given an assignment, so it ranks runs without the noise of the last
     parameter draw."""
-    return float(sum(log_joint_terms(priors, stats, transitions).values()))
+    return float(sum(log_joint_terms(priors, stats, transitions, extra).values()))
 
 
-def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> dict[str, float]:
+def log_joint_terms(
+    priors: Priors, stats: SufficientStats, transitions: np.ndarray | None, extra: ExtraTerms | None = None
+) -> dict[str, float]:
     """The terms of the collapsed log joint, by the parameter integrated out: "positions" (the NIW marginal of
     the positions per place, Eqs. 5-6), "pi" (C), "phi" (i given C), "W" (the concept words), "theta" (f, when
     there are features), "psi" (the place transitions, unless ``transitions`` is None), "background" (the
     background words and the switches, when kept), "place_concepts" (with ``Hyperparameters.place_concepts``
     = eta: sum_i log DirMult(n_{i,.} | eta / L) over the concepts of each place's events, a term the paper's
-    model does not have), "off_name" (with ``Hyperparameters.off_name`` = lambda: log g = -lambda times the
-    events off their place's majority concept, off_name.py, not the paper's either); Dirichlet-multinomial
-    marginals but the first and the last.
+    model does not have); Dirichlet-multinomial marginals but the first; then ``extra(stats)``, a research
+    variant's terms (e.g. "off_name", spcotmhp.experimental.off_name).
 
     Eq. 9 combines psi and phi as a product of experts; here both enter as their own multinomial terms (the
     normaliser of the product is not part of the comparison)."""
@@ -195,8 +200,8 @@ def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndar
         )
     if priors.place_concepts is not None:
         terms["place_concepts"] = priors.place_concepts.log_marginal(stats.place_given_concept.T)
-    if priors.off_name is not None:
-        terms["off_name"] = log_off_name(priors.off_name, stats.place_given_concept)
+    if extra is not None:
+        terms.update(extra(stats))
     return terms
 
 
