@@ -189,7 +189,7 @@ def learn(
     --out must be a new or empty folder, or with --overwrite a model folder; it is written whole or not at all
     (the previous model stays loadable until the new one is complete), never onto the dataset itself. A folder
     recorded by ``spcotmhp ros2 --record`` is refused: its teaching goes into its model (``teach --from``)."""
-    from spcotmhp.learning.io import prepare_model_folder, save_model
+    from spcotmhp.persistence.io import prepare_model_folder, save_model
     from spcotmhp.teaching.recorded import refuse_learning_alone
 
     if Path(dataset).is_dir():

@@ -105,7 +105,7 @@ class HierarchicalPlanner:
             given = type(model).__name__ + (f" {str(model)[:60]!r}" if isinstance(model, (str, os.PathLike)) else "")
             raise ModelError(
                 f"HierarchicalPlanner takes a SpatialConceptModel, got a {given}; load a model folder with "
-                "spcotmhp.learning.io.load_model(folder)"
+                "spcotmhp.persistence.io.load_model(folder)"
             )
         unknown = set(overrides) - {f.name for f in fields(PlannerSettings)}
         if unknown:

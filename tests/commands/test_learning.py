@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner
 
 from spcotmhp.cli import app
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
 DATA = Path(__file__).resolve().parents[2] / "spcotmhp" / "data"

@@ -9,8 +9,8 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.learning.concepts import _concept_sweep
-from spcotmhp.learning.model_folder import MANIFEST, manifest_of
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.persistence.folder import MANIFEST, manifest_of
 
 PLANTED_MU = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 6.0], [0.0, 6.0]])
 PLANTED_SIGMA = np.array(
@@ -177,8 +177,8 @@ def folder_without_hyper_key(model, folder: Path, key: str) -> Path:
     ``hyper[key]``, as a folder written before that hyper-parameter existed; returns the model.json path."""
     from dataclasses import replace
 
-    from spcotmhp.learning.io import save_model
     from spcotmhp.learning.model import Hyperparameters
+    from spcotmhp.persistence.io import save_model
 
     save_model(replace(model, hyper=Hyperparameters()), folder)
     path = folder / "model.json"

@@ -430,7 +430,7 @@ def test_the_planner_takes_a_model(given, shown):
         HierarchicalPlanner(given)
     assert str(info.value) == (
         f"HierarchicalPlanner takes a SpatialConceptModel, got a {shown}; load a model folder with "
-        "spcotmhp.learning.io.load_model(folder)"
+        "spcotmhp.persistence.io.load_model(folder)"
     )
 
 

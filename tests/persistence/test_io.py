@@ -10,8 +10,8 @@ import pytest
 
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.learning import reseal
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
@@ -404,7 +404,7 @@ def test_psi_learned_round_trip_and_checks(model, tmp_path):
 
 
 def test_unwritable_model_folder_is_a_model_error(model, tmp_path):
-    from spcotmhp.learning.io import prepare_model_folder
+    from spcotmhp.persistence.io import prepare_model_folder
 
     with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
         prepare_model_folder("/proc/nope/m")
