@@ -57,7 +57,7 @@ def evaluate_online(
 ) -> dict:
     """{"dataset", "events", "seeds", "online": {scores, "std", "update_ms": {median, p95, max}}, "batch": {...},
     "difference": online - batch}; seed s of ``seeds`` is ``seed + s``; ``hyper`` (the priors) goes to both
-    learners, ``params`` to OnlineSpCoTMHP only and ``batch_params`` (e.g. ``split_merge``) to SpCoTMHP only."""
+    learners, ``params`` to OnlineSpCoTMHP only and ``batch_params`` (e.g. a research ``variant``) to SpCoTMHP only."""
     concept_truth(dataset)
     events = dataset_events(dataset, use_features)
     scores, times, samples = [], [], []
