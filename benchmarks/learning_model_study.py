@@ -47,7 +47,7 @@ from spcotmhp.evaluation.context import place_adjacency
 from spcotmhp.evaluation.online_eval import evaluate_online
 from spcotmhp.evaluation.table6 import concept_truth, evaluate_seeds, score_run
 from spcotmhp.experimental import fit_runs, variant_for
-from spcotmhp.experimental.selection import CRITERIA, criterion, scores
+from spcotmhp.experimental.selection import CRITERIA, criterion
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.hmm import transition_counts

@@ -17,17 +17,17 @@ This module is the term's one home:
 
 * :func:`off_name_events` and :func:`log_off_name` — the count and log g of an assignment, which the collapsed
   log joint carries (the ``extra`` terms of ``posterior.log_joint_terms``, so run selection sees it);
-* :func:`add_off_name_gain` — step 5 (the ``ConceptTerm`` of learning/concepts.py, compiled): the conditional of C_e = l gains the change of
-  log g when e's concept is set to l, counts without e.  With M = max_l' n_{i_e,l'} (without e), setting C_e = l
-  gives n_{i_e} + 1 - max(M, n_{i_e,l} + 1) off-name events at place i_e, so l gains lambda exactly when
-  n_{i_e,l} = M (a concept tied for the majority; every concept when the place holds no other event) and 0
+* :func:`add_off_name_gain` — step 5 (a ``ConceptTerm``, learning/concepts.py, compiled): the conditional of C_e = l
+  gains the change of log g when e's concept is set to l, counts without e. With M = max_l' n_{i_e,l'} (without e),
+  setting C_e = l gives n_{i_e} + 1 - max(M, n_{i_e,l} + 1) off-name events at place i_e, so l gains lambda exactly
+  when n_{i_e,l} = M (a concept tied for the majority; every concept when the place holds no other event) and 0
   otherwise; the other places do not change;
-* :class:`OffNamePlaces` — step 4 (the ``VariantRun.places`` hook of learning/gibbs.py): g couples the events of a place, so the FFBS of Eq. 9 is no longer
-  the exact conditional of the place sequence.  The FFBS (the paper's exact conditional without g) becomes the
-  proposal of an independence Metropolis-Hastings step for the target conditional x g: the proposed sequence
-  i' is accepted with probability min(1, g(i', C) / g(i, C)), the proposal's own density cancelling against the
-  target's (one block: the FFBS draws the whole event sequence at once).  One uniform from the run's stream
-  per step; the acceptance rate is kept.
+* :class:`OffNamePlaces` — step 4 (``VariantRun.places``, learning/gibbs.py): g couples the events of a place, so
+  the FFBS of Eq. 9 is no longer the exact conditional of the place sequence. The FFBS (the paper's exact
+  conditional without g) becomes the proposal of an independence Metropolis-Hastings step for the target conditional
+  x g: the proposed sequence i' is accepted with probability min(1, g(i', C) / g(i, C)), the proposal's own density
+  cancelling against the target's (one block: the FFBS draws the whole event sequence at once). One uniform from the
+  run's stream per step; the acceptance rate is kept.
 """
 
 from __future__ import annotations

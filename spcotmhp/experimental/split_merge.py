@@ -41,7 +41,6 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.errors import ModelError
-
 from spcotmhp.learning.collapsed_terms import (
     digamma_series,
     feature_term,

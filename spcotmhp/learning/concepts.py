@@ -8,8 +8,9 @@ theta and W integrated out under their Dirichlet priors (Johnson and Willsky's d
 with every count taken without event e.  (The unigram-rescaling denominator of Eq. 17, sum_c' W_c'(S_e,b), does
 not depend on C_e and cancels here.)  With the opt-in ``Hyperparameters.place_concepts`` = eta (not the paper's)
 the product gains (eta / L + n_{l,i_e}) / (eta + n_{i_e}): place i_e's concept distribution integrated out
-(gibbs.py); a research variant may add its own term (``ConceptTerm``, e.g. spcotmhp.experimental.off_name).  Drawing theta from its posterior instead adds so much noise to a
-365-dimensional feature likelihood that small concepts lose to large ones and everything merges.
+(gibbs.py); a research variant may add its own term (``ConceptTerm``, e.g. spcotmhp.experimental.off_name).
+Drawing theta from its posterior instead adds so much noise to a 365-dimensional feature likelihood that small
+concepts lose to large ones and everything merges.
 
 Background words: each token b of S_e carries a switch z_eb ~ Bernoulli(lambda), lambda ~ Beta(1, 1); a concept
 token is drawn from W_{C_e}, a background token from one shared W_0 ~ Dir(beta).  Phrases that every concept

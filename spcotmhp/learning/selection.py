@@ -49,7 +49,8 @@ class RunScore(Protocol):
     """A run-selection criterion beyond ``CRITERIA``: ``name`` (kept as ``criterion_`` and in model.info) and the
     score of a fitted run, higher is better (spcotmhp.experimental.selection has the research ones)."""
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     def __call__(self, run: SpCoTMHP, /) -> float: ...
 
@@ -58,7 +59,9 @@ def check_criterion(criterion: str | RunScore, allowed: tuple[str, ...] = CRITER
     """ModelError for a criterion that is neither one of ``allowed`` nor a RunScore."""
     if isinstance(criterion, str) and criterion not in allowed:
         raise ModelError(f"criterion must be one of {allowed}, got {criterion!r}")
-    if not isinstance(criterion, str) and not (callable(criterion) and isinstance(getattr(criterion, "name", None), str)):
+    if not isinstance(criterion, str) and not (
+        callable(criterion) and isinstance(getattr(criterion, "name", None), str)
+    ):
         raise ModelError(f"criterion must be one of {allowed} or a named run score, got {criterion!r}")
 
 

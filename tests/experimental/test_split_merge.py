@@ -7,9 +7,8 @@ import dataclasses
 import itertools
 
 import numpy as np
-from scipy.special import gammaln
-
 import pytest
+from scipy.special import gammaln
 
 from spcotmhp.errors import ModelError
 from spcotmhp.experimental import research_learner
