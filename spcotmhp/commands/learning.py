@@ -292,8 +292,8 @@ def _fit_gibbs(
 ):
     """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
     from spcotmhp.learning.gibbs import SpCoTMHP
+    from spcotmhp.learning.posterior import TruncationWarning, truncation_messages
     from spcotmhp.learning.selection import CRITERIA, MultiRunSelector
-    from spcotmhp.learning.truncation import TruncationWarning, truncation_messages
 
     chosen: Any = criterion
     if criterion not in CRITERIA:  # a research criterion (or an unknown name: a one-line ModelError)
@@ -358,7 +358,7 @@ def evaluate_learning(
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
     from spcotmhp.evaluation import table6
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     data = load_dataset_reporting(dataset, lang)
     if online:
@@ -412,7 +412,7 @@ def _evaluate_online(
 ) -> None:
     """evaluate-learning --online (``evaluation.online_eval``): JSON with an "online" key, or a short table."""
     from spcotmhp.evaluation.online_eval import evaluate_online, format_report
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)

@@ -26,8 +26,8 @@ from spcotmhp.learning.learner_state import state_of_member
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, log_new_place_density
 from spcotmhp.learning.online_split_merge import log_target
+from spcotmhp.learning.posterior import TruncationWarning
 from spcotmhp.learning.selection import MultiRunSelector
-from spcotmhp.learning.truncation import TruncationWarning
 
 SCORES = ("nmi_c", "nmi_i", "ari_c", "ari_i")
 

@@ -22,7 +22,8 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.experimental.off_name import OffName
 from spcotmhp.experimental.selection import criterion as named_criterion
 from spcotmhp.experimental.split_merge import SplitMergeMoves
-from spcotmhp.learning.gibbs import SpCoTMHP, SweepVariant
+from spcotmhp.learning.gibbs import SpCoTMHP
+from spcotmhp.learning.init import SweepVariant
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.selection import MultiRunSelector
 

@@ -39,7 +39,7 @@ from numba import njit
 
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.concepts import CollapsedConceptSampler, ConceptTerm
-from spcotmhp.learning.gibbs import VariantRun
+from spcotmhp.learning.init import VariantRun
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.posterior import SufficientStats
 

@@ -51,7 +51,7 @@ from spcotmhp.learning.collapsed_terms import (
 )
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.distributions import DirichletCategoricals
-from spcotmhp.learning.gibbs import VariantRun
+from spcotmhp.learning.init import VariantRun
 from spcotmhp.learning.model import Hyperparameters
 
 

@@ -22,9 +22,8 @@ carries it (posterior.py); the sampler after the first ``term_from`` of the swee
 number is drawn for it and every step is the paper's, bit for bit.
 
 Research variants the model study measured and did not adopt (docs/experimental.md) plug in from
-:mod:`spcotmhp.experimental` through ``variant`` (:class:`SweepVariant`): a step-4 correction of the FFBS draw, a
-step-5 term of the concept conditional, moves after step 5, and terms of the log joint.  None (the default) is
-the paper's sampler.
+:mod:`spcotmhp.experimental` through ``variant`` (``init.SweepVariant``): a step-4 correction of the FFBS draw, a
+step-5 term of the concept conditional, moves after step 5, terms of the log joint; None is the paper's sampler.
 
 Steps 1-3 come before step 4 so that psi is drawn with the trajectory labelled by the very Gaussians that step 4
 uses (in the first sweep, by Gaussians drawn from the initial assignment rather than all at the prior mode).
@@ -74,18 +73,17 @@ import inspect
 import time
 from collections.abc import Callable
 from dataclasses import replace
-from typing import Protocol
 
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.concepts import CollapsedConceptSampler, ConceptTerm
+from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.distributions import sample_categorical_log
 from spcotmhp.learning.hmm import trajectory_places, transition_counts
-from spcotmhp.learning.init import INITS, initial_assignments
+from spcotmhp.learning.init import INITS, SweepVariant, VariantRun, initial_assignments, make_rng, seed_repr
 from spcotmhp.learning.learner_state import from_batch
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
@@ -97,48 +95,12 @@ from spcotmhp.learning.posterior import (
     log_place_prior,
     mutual_information,
     posterior_mean_model,
+    record_truncation,
 )
-from spcotmhp.learning.seeding import make_rng, seed_repr
-from spcotmhp.learning.truncation import record_truncation
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count, check_event_places
 
 TRANSITIONS = ("hmm", "none")
 PLACE_CONCEPTS_FROM = 0.5  # place_concepts enters after half the sweeps (docs/learning-model-study.md, section 8)
-
-
-class VariantRun:
-    """The hooks of one fit of a research variant (``SweepVariant.start``); these defaults leave every step the
-    paper's and draw nothing, a variant overrides the ones it changes.  ``term_from``: the fraction of the sweeps
-    before its term enters (``SpCoTMHP(term_from=None)``; None: half); ``concept_term``, ``places``: step 5's
-    extra log-term and step 4's places kept given the FFBS draw, while the term is on; ``concepts``: after
-    step 5's Gibbs pass, every sweep; ``log_terms``: added to the collapsed log joint; ``info``: to model.info."""
-
-    term_from: float | None = None
-    concept_term: ConceptTerm | None = None
-
-    def places(
-        self, old: np.ndarray, proposal: np.ndarray, concepts: np.ndarray, rng: np.random.Generator
-    ) -> np.ndarray:
-        return proposal
-
-    def concepts(self, concepts: np.ndarray, places: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-        return concepts
-
-    def log_terms(self, stats: SufficientStats) -> dict[str, float]:
-        return {}
-
-    def info(self) -> dict:
-        return {}
-
-
-class SweepVariant(Protocol):
-    """A research variant of the sampler (spcotmhp.experimental).  A setting like any other: copied to every run
-    of ``MultiRunSelector`` and pickled to its workers, so it keeps no state; ``start`` gives one fit's hooks
-    (raising ModelError for settings it cannot price)."""
-
-    def start(
-        self, sampler: CollapsedConceptSampler, hyper: Hyperparameters, K: int, L: int, features: bool
-    ) -> VariantRun: ...
 
 
 class SpCoTMHP:
@@ -248,9 +210,8 @@ class SpCoTMHP:
         priors = Priors.build(hyper, self.K, self.L, len(obs.vocabulary), D)
         sampler = CollapsedConceptSampler(obs.words, obs.features, self.background_words, rng)
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
-        run = self._start_variant(sampler, hyper, D is not None)
+        run, start = self._start_variant(sampler, hyper, D is not None)
         extra = None if run is None else run.log_terms
-        start = self._term_from(run)
         trace = []
         for sweep in range(self.iterations):
             stats = self._stats(obs, places, concepts, sampler)
@@ -296,22 +257,18 @@ class SpCoTMHP:
 
     def _start_variant(
         self, sampler: CollapsedConceptSampler, hyper: Hyperparameters, features: bool
-    ) -> VariantRun | None:
-        """The hooks of ``variant`` for this fit (None: the paper's sampler, which refuses a variant's term)."""
-        if self.variant is not None:
-            return self.variant.start(sampler, hyper, self.K, self.L, features)
-        if hyper.off_name is not None:
+    ) -> tuple[VariantRun | None, float]:
+        """The hooks of ``variant`` for this fit (None: the paper's sampler, which refuses a variant's term) and the
+        fraction of the sweeps before an opt-in term enters the sampler (``term_from``, else the term's own)."""
+        if self.variant is None and hyper.off_name is not None:
             raise ModelError(
                 "hyper.off_name is a research variant's term: fit with variant=spcotmhp.experimental.OffName() "
                 "(or spcotmhp.experimental.research_learner; docs/experimental.md)"
             )
-        return None
-
-    def _term_from(self, run: VariantRun | None) -> float:
-        """The fraction of the sweeps before an opt-in term enters the sampler (``term_from``)."""
-        if self.term_from is not None:
-            return self.term_from
-        return PLACE_CONCEPTS_FROM if run is None or run.term_from is None else run.term_from
+        run = None if self.variant is None else self.variant.start(sampler, hyper, self.K, self.L, features)
+        own = None if run is None else run.term_from
+        start = self.term_from if self.term_from is not None else own if own is not None else PLACE_CONCEPTS_FROM
+        return run, start
 
     def _run_info(self, dataset: Dataset, obs: Observations) -> dict:
         """The settings of this run and what the data held, for ``model.info``."""
