@@ -47,7 +47,7 @@ from spcotmhp.evaluation.context import place_adjacency
 from spcotmhp.evaluation.online_eval import evaluate_online
 from spcotmhp.evaluation.table6 import concept_truth, evaluate_seeds, score_run
 from spcotmhp.experimental import fit_runs, variant_for
-from spcotmhp.experimental.selection import CRITERIA, criterion
+from spcotmhp.experimental import selection as research
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.hmm import transition_counts
@@ -221,12 +221,12 @@ def criteria(home: str, hyper: Hyperparameters, fit: dict, cache: str | None) ->
             path.write_bytes(pickle.dumps(sel))
     scores = [score_run(data, e.places_, e.concepts_) for e in sel.estimators_]
     out: dict = {"home": data.name, "ari_c": [s["ari_c"] for s in scores], "ari_i": [s["ari_i"] for s in scores]}
-    out["scores"] = {c: [float(v) for v in scores(sel, c)] for c in CRITERIA[1:]}
+    out["scores"] = {c: [float(v) for v in research.scores(sel, c)] for c in research.CRITERIA[1:]}
     out["kept"] = {c: int(np.argmax(v)) for c, v in out["scores"].items()}
     out["battery"] = {}
     for c, r in out["kept"].items():
         if str(r) not in out["battery"]:
-            sel.choose(criterion(c))
+            sel.choose(research.criterion(c))
             out["battery"][str(r)] = evaluate_home(data, "learned", seed, model=sel.model_).to_dict()
     return out
 
