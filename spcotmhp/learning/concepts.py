@@ -315,8 +315,7 @@ class CollapsedConceptSampler:
         place_concepts: float | None = None,
         term: ConceptTerm | None = None,
     ) -> np.ndarray:
-        """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,).
-        The opt-in terms, not the paper's (module docstring): ``place_concepts`` = eta, ``term`` a variant's."""
+        """One collapsed Gibbs pass in random order: the new concepts (E,); not the paper's: ``place_concepts``, ``term``."""
         E = len(concepts)
         eta_each = 0.0 if place_concepts is None else float(place_concepts) / L
         C = concepts.astype(np.int64).copy()
