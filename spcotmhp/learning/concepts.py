@@ -315,7 +315,7 @@ class CollapsedConceptSampler:
         place_concepts: float | None = None,
         term: ConceptTerm | None = None,
     ) -> np.ndarray:
-        """One collapsed Gibbs pass in random order: the new concepts (E,); not the paper's: ``place_concepts``, ``term``."""
+        """One collapsed Gibbs pass in random order: the new concepts (E,); opt-in: ``place_concepts``, ``term``."""
         E = len(concepts)
         eta_each = 0.0 if place_concepts is None else float(place_concepts) / L
         C = concepts.astype(np.int64).copy()
