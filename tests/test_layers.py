@@ -61,4 +61,3 @@ def test_the_check_sees_an_upward_arrow(low, high, monkeypatch):
     monkeypatch.setattr("tests.test_layers.import_graph", lambda: graph)
     with pytest.raises(AssertionError):
         test_no_import_arrow_runs_up_the_layers()
-
