@@ -38,7 +38,7 @@ RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}
 def test_every_package_has_a_layer():
     found = {layer_of(m) for m in import_graph()}
     assert found - RANK.keys() == set(), "give each new package or top-level module its layer in LAYERS"
-    assert RANK.keys() - found <= {"experimental"}, "LAYERS names a package that no longer exists"
+    assert RANK.keys() - found == set(), "LAYERS names a package that no longer exists"
 
 
 def test_no_import_arrow_runs_up_the_layers():
@@ -61,4 +61,3 @@ def test_the_check_sees_an_upward_arrow(low, high, monkeypatch):
     monkeypatch.setattr("tests.test_layers.import_graph", lambda: graph)
     with pytest.raises(AssertionError):
         test_no_import_arrow_runs_up_the_layers()
-

@@ -8,18 +8,18 @@ import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from spcotmhp.errors import DatasetError, ModelError
+from spcotmhp.commands.datasets import load_dataset_reporting
+from spcotmhp.errors import ModelError
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, MAX_RUNS, MAX_SEEDS
 
 if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
     from spcotmhp.datasets.dataset import Dataset
     from spcotmhp.learning.model import Hyperparameters
 
-SHOWN_WARNINGS = 3
 # learn --connectivity -> the adjacency source of the supervised fit ("hmm": the truth's transition counts)
 SUPERVISED_CONNECTIVITY = {
     "auto": "auto",
@@ -28,58 +28,6 @@ SUPERVISED_CONNECTIVITY = {
     "map": "map",
     "given": "given",
 }
-
-
-def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
-    """A dataset folder, or the name of a bundled dataset ("3LDK_01", "albert-b"); ``lang`` None picks "en"
-    when the teaching file has English words, else "ja"."""
-    from spcotmhp.datasets.bundled import bundled_path
-    from spcotmhp.datasets.loader import available_languages, load_dataset
-
-    path = Path(dataset)
-    if not path.exists():
-        try:
-            path = bundled_path(dataset)
-        except DatasetError:
-            from spcotmhp.datasets.bundled import list_bundled
-
-            raise DatasetError(
-                f"{dataset} is neither a dataset folder nor a bundled dataset name (bundled: "
-                f"{', '.join(list_bundled())}; `spcotmhp datasets` describes them)"
-            ) from None
-    if lang is None:
-        langs = available_languages(path) if (path / "teaching.csv").is_file() else []
-        lang = langs[0] if langs else "en"
-    return load_dataset(path, lang=lang)
-
-
-def load_dataset_reporting(dataset: str, lang: str | None) -> Dataset:
-    """``load_dataset_arg``, printing its DatasetWarnings to stderr as a count and the first few (as
-    ``check-dataset`` lists them); other warnings pass through unchanged."""
-    from spcotmhp.datasets.loader import DatasetWarning
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", DatasetWarning)
-        data = load_dataset_arg(dataset, lang)
-    messages = []
-    for w in caught:
-        if issubclass(w.category, DatasetWarning):
-            messages.append(str(w.message))
-        else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if messages and not Path(dataset).exists():  # a bundled dataset: its known warnings in one line
-        from spcotmhp.datasets.bundled import known_warnings_note
-
-        typer.echo(f"warning: {known_warnings_note(data.name, len(messages))}", err=True)
-    elif messages:
-        lines = [f"{data.name}: {len(messages)} dataset warning(s)"]
-        lines += [f"  warning: {m}" for m in messages[:SHOWN_WARNINGS]]
-        if len(messages) > SHOWN_WARNINGS:
-            lines.append(
-                f"  ... {len(messages) - SHOWN_WARNINGS} more (`spcotmhp check-dataset {dataset}` lists them all)"
-            )
-        typer.echo("\n".join(lines), err=True)
-    return data
 
 
 def parse_feature_weight(text: str) -> float | None:
@@ -149,7 +97,7 @@ def learn(
             help="Run selection: auto (default: mutual_information with image features, else log_joint), "
             "mutual_information, log_joint, or one of the criteria that handle the background-word switches: "
             "log_joint_switch_mode, log_joint_switch_marginal, log_joint_switch_plugin, log_joint_tail_mean, "
-            "held_out_words (spcotmhp/learning/run_scores.py; docs/learning-model-study.md, section 6)."
+            "held_out_words (research variants, spcotmhp/experimental/selection.py; docs/experimental.md)."
         ),
     ] = None,
     connectivity: Annotated[
@@ -292,9 +240,14 @@ def _fit_gibbs(
 ):
     """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
     from spcotmhp.learning.gibbs import SpCoTMHP
-    from spcotmhp.learning.selection import MultiRunSelector
-    from spcotmhp.learning.truncation import TruncationWarning, truncation_messages
+    from spcotmhp.learning.posterior import TruncationWarning, truncation_messages
+    from spcotmhp.learning.selection import CRITERIA, MultiRunSelector
 
+    chosen: Any = criterion
+    if criterion not in CRITERIA:  # a research criterion (or an unknown name: a one-line ModelError)
+        from spcotmhp.experimental.selection import criterion as research_criterion
+
+        chosen = research_criterion(criterion)
     est = SpCoTMHP(
         K=K,
         L=L,
@@ -309,7 +262,7 @@ def _fit_gibbs(
     )
     with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run
-        sel = MultiRunSelector(est, runs=runs, criterion=criterion, n_jobs=jobs).fit(data, progress=progress)
+        sel = MultiRunSelector(est, runs=runs, criterion=chosen, n_jobs=jobs).fit(data, progress=progress)
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
@@ -353,7 +306,7 @@ def evaluate_learning(
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
     from spcotmhp.evaluation import table6
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     data = load_dataset_reporting(dataset, lang)
     if online:
@@ -407,7 +360,7 @@ def _evaluate_online(
 ) -> None:
     """evaluate-learning --online (``evaluation.online_eval``): JSON with an "online" key, or a short table."""
     from spcotmhp.evaluation.online_eval import evaluate_online, format_report
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)

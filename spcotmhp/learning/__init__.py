@@ -14,7 +14,7 @@ _EXPORTS = {
     "SpatialConceptModel": "model",
     "SpCoTMHP": "gibbs",
     "make_rng": "gibbs",
-    "TruncationWarning": "truncation",
+    "TruncationWarning": "posterior",
     "MultiRunSelector": "selection",
     "fit_runs": "selection",
     "fit_supervised": "supervised",

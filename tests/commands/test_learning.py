@@ -174,7 +174,7 @@ def test_bad_criterion_is_a_one_line_error(tmp_path):
         "1",
     )
     assert res.returncode == 2
-    from spcotmhp.learning.selection import CRITERIA
+    from spcotmhp.experimental.selection import CRITERIA
 
     assert "log_joint_switch_marginal" in CRITERIA and "held_out_words" in CRITERIA
     assert f"error: criterion must be one of {CRITERIA}, got 'vibes'" in res.stderr

@@ -19,7 +19,7 @@ from spcotmhp.learning.distributions import GaussianStats, NIWGaussians
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent
-from spcotmhp.learning.truncation import TruncationWarning
+from spcotmhp.learning.posterior import TruncationWarning
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.teaching.teach import planner_for, teach

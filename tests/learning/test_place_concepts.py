@@ -121,8 +121,6 @@ def test_bad_values_are_refused(kwargs, match):
 
 
 def test_settings_that_cannot_combine_are_refused(tiny_dataset):
-    with pytest.raises(ModelError, match="split_merge"):
-        _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), split_merge=True)
     for start in (1.5, "half", True):
         with pytest.raises(ModelError, match="term_from"):
             _fit(tiny_dataset, term_from=start)
