@@ -44,3 +44,19 @@ def test_the_newcomers_question_has_one_answer():
     # "find where the place assignments i_e are sampled": one row says so, with one home
     rows = [r for _, r in ROWS if "place assignments" in r[1]]
     assert len(rows) == 1 and HOME.findall(rows[0][2]) == [("learning/place_ffbs", "sample_places")]
+
+
+def test_every_qualified_name_in_the_tables_exists():
+    # the "See also" column too: `planning/graph.PlanningGraph.for_start` must still be there after a move
+    text = DOC.read_text(encoding="utf-8").split("## Equations (Sections 3-4)", 1)[1].split("## State and", 1)[0]
+    missing = []
+    for path, name in set(re.findall(r"`([a-z_]+/[a-z_]+)[.:]([A-Za-z_][A-Za-z0-9_.]*)`", text)):
+        if name == "py":  # a file, not a function
+            continue
+        try:
+            obj = importlib.import_module("spcotmhp." + path.replace("/", "."))
+            for part in name.split("."):
+                obj = getattr(obj, part)
+        except (ImportError, AttributeError):
+            missing.append(f"{path}.{name}")
+    assert not missing
