@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
-from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel, log_concept_place
 from spcotmhp.learning.observations import Observations
 from spcotmhp.logspace import logsumexp
 
@@ -158,9 +158,8 @@ def posterior_mean_model(
 def log_place_prior(priors: Priors, stats: SufficientStats) -> np.ndarray:
     """log p(k) = log sum_l pi_l phi_l(k) with pi and phi the posterior means given ``stats``, -inf on places
     without events: (K,).  Equal to ``log_place_prior()`` of the ``posterior_mean_model`` of the same stats."""
-    log_pi = np.log(priors.pi.posterior_mean(stats.concepts[None, :])[0])
-    log_phi = np.log(priors.phi.posterior_mean(stats.place_given_concept))
-    lp = logsumexp(log_pi[:, None] + log_phi, axis=0)
+    pi = priors.pi.posterior_mean(stats.concepts[None, :])[0]
+    lp = logsumexp(log_concept_place(pi, priors.phi.posterior_mean(stats.place_given_concept)), axis=0)
     return np.where(stats.gauss.n > 0, lp, -np.inf)
 
 
