@@ -83,8 +83,9 @@ def parse_text(
     max_waypoints: int | None = None,
     max_avoided: int | None = None,
 ) -> Instruction:
-    """Understand one instruction sentence (the rules of :mod:`spcotmhp.planning.sentence` and
-    :mod:`spcotmhp.planning.sequence`); limits default to the module constants.
+    """Understand one instruction sentence into its stages (goal, waypoints in order, places to avoid): read by
+    the grammar of its language (:func:`spcotmhp.language.reading.read`), its roles and order by
+    :mod:`spcotmhp.language.walk_en` / :mod:`spcotmhp.language.walk_ja`; limits default to the module constants.
 
     Raises:
         EmptyInstruction: empty text, or only places to avoid / not to end in.
