@@ -46,6 +46,10 @@ def member_of(st: CollapsedState) -> dict:
     arrays["tok_z"] = np.concatenate(st.z).astype(bool) if st.z else np.zeros(0, bool)
     if any(st.named):
         arrays["named"] = np.array([st.is_named(e) for e in range(st.E)], dtype=bool)
+    if any(st.alone):
+        arrays["alone"] = np.array([st.is_alone(e) for e in range(st.E)], dtype=bool)
+    if any(w != 1.0 for w in st.weight):
+        arrays["weight"] = np.array([st.weight_of(e) for e in range(st.E)], dtype=float)
     if st.F_ld is not None and st.D is not None:
         arrays["F_ld"] = st.F_ld.copy()
         arrays["has_features"] = np.array([f is not None for f in st.features], dtype=bool)
@@ -66,6 +70,8 @@ def state_of_member(member: dict, model: SpatialConceptModel) -> CollapsedState:
     st.z = [np.array(a["tok_z"][ptr[e] : ptr[e + 1]], dtype=bool) for e in range(len(st.place))]
     st.features = [None] * len(st.place)
     st.named = [bool(v) for v in a["named"]] if "named" in a else [False] * len(st.place)
+    st.alone = [bool(v) for v in a["alone"]] if "alone" in a else [False] * len(st.place)
+    st.weight = [float(v) for v in a["weight"]] if "weight" in a else [1.0] * len(st.place)
     if D is not None:
         st.F_ld = np.array(a["F_ld"], dtype=float)
         st.features = [
@@ -102,7 +108,7 @@ def from_batch(
     st.tokens = [tok_word[tok_ptr[e] : tok_ptr[e + 1]].astype(np.int64) for e in range(obs.E)]
     st.z = [z[tok_ptr[e] : tok_ptr[e + 1]].astype(bool) for e in range(obs.E)]
     st.features = [None] * obs.E if D is None else [row.copy() for row in obs.features]
-    st.named = [False] * obs.E
+    st.named, st.alone, st.weight = [False] * obs.E, [False] * obs.E, [1.0] * obs.E
     g = GaussianStats.from_assignments(st.X, st.place, K)
     st.n_k, st.sx, st.sxx = g.n, g.sx, g.sxx
     st.n_l = np.bincount(st.concept, minlength=L).astype(float)
@@ -217,6 +223,8 @@ def check_member(member: dict, K: int, L: int, V: int, D: int | None, where: str
     )
     if bad:
         raise ModelError(f"{where}: {bad} must hold finite non-negative numbers")
+    if "weight" in a and not (np.isfinite(a["weight"]).all() and (a["weight"] > 0).all()):
+        raise ModelError(f"{where}: weight must hold finite positive numbers (the evidence weight of each event)")
     ptr = a["tok_ptr"]
     ok = (
         ptr[0] == 0
@@ -313,13 +321,21 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_word": (T,),
         "tok_z": (T,),
     }
-    specs["named"] = (E,)
-    kinds = {"place": "iu", "concept": "iu", "tok_ptr": "iu", "tok_word": "iu", "tok_z": "b", "named": "b"}
-    optional: tuple[str, ...] = ("named",)
+    specs.update(named=(E,), alone=(E,), weight=(E,))
+    kinds = {
+        "place": "iu",
+        "concept": "iu",
+        "tok_ptr": "iu",
+        "tok_word": "iu",
+        "tok_z": "b",
+        "named": "b",
+        "alone": "b",
+    }
+    optional: tuple[str, ...] = ("named", "alone", "weight")
     if D is not None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"
-        optional = ("named", "F_ld", "features", "has_features")
+        optional = (*optional, "F_ld", "features", "has_features")
     return {n: (shape, kinds.get(n, "f")) for n, shape in specs.items()}, optional
 
 
