@@ -81,16 +81,18 @@ def run_home(
 ) -> dict:
     from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.learning.online import TeachingEvent
+    from spcotmhp.teaching.answers import attach_walk
     from spcotmhp.teaching.questions import questions
     from spcotmhp.teaching.teach import teach
 
     t0 = time.perf_counter()
     model, before = learned(data, params, cache)
+    attach_walk(model, data.trajectory, data.event_steps)
     row = {"home": data.name, "before": before, "after": before, "asked": 0, "answers": []}
     for _ in range(questions_max):
         if row["after"] >= target:
             break
-        asked = questions(model, 1)
+        asked = questions(model, 1, answers=answers)
         if not asked:
             break
         q = asked[0]

@@ -48,6 +48,8 @@ def member_of(st: CollapsedState) -> dict:
         arrays["named"] = np.array([st.is_named(e) for e in range(st.E)], dtype=bool)
     if any(st.alone):
         arrays["alone"] = np.array([st.is_alone(e) for e in range(st.E)], dtype=bool)
+    if st.walk_X is not None and st.walk_event is not None:
+        arrays["walk_X"], arrays["walk_event"] = np.array(st.walk_X, dtype=float), np.array(st.walk_event, np.int64)
     if any(w != 1.0 for w in st.weight):
         arrays["weight"] = np.array([st.weight_of(e) for e in range(st.E)], dtype=float)
     if st.F_ld is not None and st.D is not None:
@@ -72,6 +74,8 @@ def state_of_member(member: dict, model: SpatialConceptModel) -> CollapsedState:
     st.named = [bool(v) for v in a["named"]] if "named" in a else [False] * len(st.place)
     st.alone = [bool(v) for v in a["alone"]] if "alone" in a else [False] * len(st.place)
     st.weight = [float(v) for v in a["weight"]] if "weight" in a else [1.0] * len(st.place)
+    if "walk_X" in a and "walk_event" in a:
+        st.walk_X, st.walk_event = np.array(a["walk_X"], dtype=float), np.array(a["walk_event"], dtype=np.int64)
     if D is not None:
         st.F_ld = np.array(a["F_ld"], dtype=float)
         st.features = [
@@ -223,6 +227,10 @@ def check_member(member: dict, K: int, L: int, V: int, D: int | None, where: str
     )
     if bad:
         raise ModelError(f"{where}: {bad} must hold finite non-negative numbers")
+    if "walk_event" in a and not (
+        ((a["walk_event"] >= 0) & (a["walk_event"] < E)).all() and np.isfinite(a["walk_X"]).all()
+    ):
+        raise ModelError(f"{where}: the walk's poses must be finite and each name an event of the learner state")
     if "weight" in a and not (np.isfinite(a["weight"]).all() and (a["weight"] > 0).all()):
         raise ModelError(f"{where}: weight must hold finite positive numbers (the evidence weight of each event)")
     ptr = a["tok_ptr"]
@@ -245,6 +253,7 @@ LEARNER_FORMAT = "spcotmhp-learner"
 LEARNER_VERSION = 1
 MAX_EVENTS = 1_000_000
 MAX_TOKENS = 50_000_000
+MAX_WALK = 10_000_000
 LEARNER_JSON_BYTES = 4096
 
 
@@ -261,6 +270,8 @@ def learner_writers(member: dict) -> dict:
         "replay": member["replay"],
         "background": member["background"],
     }
+    if "walk_X" in a:
+        meta["P"] = len(a["walk_X"])
     L, K = a["n_lk"].shape
     D = a["F_ld"].shape[1] if "F_ld" in a else None
     if meta["E"] > MAX_EVENTS or meta["T"] > MAX_TOKENS:
@@ -292,6 +303,8 @@ def read_learner_meta(root) -> dict | None:
         and all(isinstance(meta.get(k), int) and not isinstance(meta.get(k), bool) for k in ("E", "T"))
         and all(isinstance(meta.get(k), bool) for k in ("replay", "background"))
     )
+    P = meta.get("P", 0) if ok else 0  # walk poses (teaching.answers.walk_poses), absent in most folders
+    ok = ok and isinstance(P, int) and not isinstance(P, bool) and 0 <= P <= MAX_WALK
     if not ok or not (0 <= meta["E"] <= MAX_EVENTS and 0 <= meta["T"] <= MAX_TOKENS):
         raise ModelError(
             f"{path} is not a spcotmhp learner state of format version {LEARNER_VERSION} (format, "
@@ -321,7 +334,7 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_word": (T,),
         "tok_z": (T,),
     }
-    specs.update(named=(E,), alone=(E,), weight=(E,))
+    specs.update(named=(E,), alone=(E,), weight=(E,), walk_X=(meta.get("P", 0), 2), walk_event=(meta.get("P", 0),))
     kinds = {
         "place": "iu",
         "concept": "iu",
@@ -330,8 +343,9 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_z": "b",
         "named": "b",
         "alone": "b",
+        "walk_event": "iu",
     }
-    optional: tuple[str, ...] = ("named", "alone", "weight")
+    optional: tuple[str, ...] = ("named", "alone", "weight", "walk_X", "walk_event")
     if D is not None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"

@@ -23,12 +23,24 @@ and online learning of what the robot records, is the paper's model:
   as ``online_split_merge.settle_name``. Reason: a question is asked where the model is unsure, and single-site
   steps cannot move a room's events at once.
 
+* ``walk``: a split at an answer is judged with the robot's walk as position evidence too: the poses between
+  teaching events (the dataset's trajectory, one pose per ``WALK_SPACING_M`` travelled, each in the segment of the
+  event nearest it in time) are points of the place of that event, in every place's NIW marginal (Eqs. 5-6). The
+  paper's HSMM has the robot's position at every step, x_{t_e .. t'_e} in event e's segment (Eq. 3); the event
+  model the paper's code and ours learn with keeps only x at the events, so two adjoining rooms of one name, 15
+  events each, gain 6-17 nats of positions from a split and pay about 26 of phi (the name on two places); with
+  their walk they gain 25-60 (``benchmarks/questions_why.py``). Only this move uses it (the Gibbs steps and the
+  split-merge moves of the online learner, and batch learning, do not), and only where the model was learned
+  from a dataset with a trajectory (``attach_walk``); elsewhere the split is judged by the events alone. With it
+  the robot also asks first where its walk says a place is two (``split_gain``, ``teaching.questions``).
+
 ``ANSWER_MODELS`` names the combinations measured; ``DEFAULT_ANSWERS`` is the one chosen (docs/teaching.md: on
 which homes, and the paper's variant beside it); ``"paper"`` learns an answer as any teach.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +49,9 @@ from spcotmhp.errors import TeachingError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.online_split_merge import _label, _member, _pure, _restore, _save, allocate, log_target
 
+WALK_SPACING_M = 0.5
+"""One pose of the walk per this much travel (metres): poses closer than the robot's footprint (0.5 m across) are
+the same position seen twice, not more evidence of it."""
 SPLIT_TRIES = 4
 DEBUG = False
 """Allocations drawn per kind of split; the best is compared with the merge (a few: each costs one conditional
@@ -50,13 +65,14 @@ class AnswerModel:
     alone: bool = False
     weight: float = 1.0
     split: bool = False
+    walk: bool = False
 
     def learner_settings(self) -> dict:
         """Keyword settings of ``OnlineSpCoTMHP`` for this answer model."""
         return {
             "answer_alone": self.alone,
             "answer_weight": self.weight,
-            "after_answer": split_at_answer if self.split else None,
+            "after_answer": (walk_split_at_answer if self.walk else split_at_answer) if self.split else None,
         }
 
 
@@ -67,6 +83,8 @@ ANSWER_MODELS = {
     "alone+split": AnswerModel(alone=True, split=True),
     "alone+split+w3": AnswerModel(alone=True, weight=3.0, split=True),
     "alone+split+w10": AnswerModel(alone=True, weight=10.0, split=True),
+    "split+walk": AnswerModel(split=True, walk=True),
+    "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
 }
 DEFAULT_ANSWERS = "paper"
 
@@ -79,8 +97,61 @@ def answer_model(name: str | None) -> AnswerModel:
     return ANSWER_MODELS[name]
 
 
-def split_at_answer(st: CollapsedState, e: int, rng: np.random.Generator) -> bool:
-    """The ``split`` block move at answer e (module docstring); returns whether the place was split."""
+def walk_poses(trajectory: np.ndarray, event_steps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(poses (P, 2), the event whose segment holds each (P,)): the trajectory thinned to one pose per
+    ``WALK_SPACING_M`` travelled, each given to the event nearest it in steps (module docstring, ``walk``)."""
+    traj = np.asarray(trajectory, dtype=float)
+    steps = np.asarray(event_steps, dtype=np.int64)
+    if not len(steps) or len(traj) < 2:
+        return np.zeros((0, 2)), np.zeros(0, np.int64)
+    travelled = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(traj, axis=0).T))])
+    keep = np.flatnonzero(np.diff(np.floor(travelled / WALK_SPACING_M), prepend=-1.0) > 0)
+    bounds = (steps[:-1] + steps[1:]) / 2.0  # a pose belongs to the event nearest it in steps
+    owner = np.searchsorted(bounds, keep, side="right")
+    return traj[keep], owner.astype(np.int64)
+
+
+def attach_walk(model, trajectory: np.ndarray | None, event_steps: np.ndarray | None) -> bool:
+    """Keep the walk's poses (``walk_poses``) in ``model``'s learner member, whose first events are the dataset's
+    (a model learned from it); returns whether it could (a trajectory, event steps, a learner member)."""
+    member = getattr(model, "learner", None)
+    if member is None or trajectory is None or event_steps is None:
+        return False
+    if len(event_steps) > len(member["arrays"]["place"]):
+        return False
+    member["arrays"]["walk_X"], member["arrays"]["walk_event"] = walk_poses(trajectory, event_steps)
+    return True
+
+
+def walk_gain(st: CollapsedState) -> float:
+    """log p(events and walk poses of each place) - log p(events of each place), NIW marginals (Eqs. 5-6): what
+    the walk adds to ``log_target``'s positions term (0 without a walk)."""
+    if st.walk_X is None or st.walk_event is None or not len(st.walk_X):
+        return 0.0
+    from spcotmhp.learning.distributions import GaussianStats
+    from spcotmhp.learning.posterior import Priors
+
+    gauss = Priors.build(st.hyper, st.K, st.L, st.V, st.D).gauss
+    walk = GaussianStats.from_assignments(st.walk_X, st.place[st.walk_event], st.K)
+    both = GaussianStats(st.n_k + walk.n, st.sx + walk.sx, st.sxx + walk.sxx)
+    return gauss.log_marginal(both) - gauss.log_marginal(GaussianStats(st.n_k, st.sx, st.sxx))
+
+
+def walk_target(st: CollapsedState) -> float:
+    """``log_target`` with the walk's poses as position evidence (module docstring, ``walk``)."""
+    return log_target(st) + walk_gain(st)
+
+
+def walk_split_at_answer(st: CollapsedState, e: int, rng: np.random.Generator) -> bool:
+    """``split_at_answer`` judged by ``walk_target``."""
+    return split_at_answer(st, e, rng, walk_target)
+
+
+def split_at_answer(
+    st: CollapsedState, e: int, rng: np.random.Generator, target: Callable[[CollapsedState], float] = log_target
+) -> bool:
+    """The ``split`` block move at answer e (module docstring), judged by ``target``; returns whether the place
+    was split."""
     kept = False
     for kind in ("both", "place"):
         label = _label(st, kind, e)
@@ -95,17 +166,49 @@ def split_at_answer(st: CollapsedState, e: int, rng: np.random.Generator) -> boo
         near = np.minimum(*(np.linalg.norm(st.X[rest] - st.X[x], axis=1) for x in (e, far)))
         order = rest[np.argsort(near, kind="stable")]
         new = int(empties[0][0]) if kind == "place" else (int(empties[0][0]), int(empties[1][0]))
-        saved, best, best_state = _save(st), log_target(st), None
+        saved, best, best_state = _save(st), target(st), None
         for _ in range(SPLIT_TRIES):
             allocate(st, kind, e, int(far), new, order, rng)
-            score = log_target(st)
+            score = target(st)
             if score > best:
                 best, best_state = score, _save(st)
             _restore(st, saved)
             if DEBUG:
-                print(f"    {kind} try: {score - log_target(st):.1f}")
+                print(f"    {kind} try: {score - target(st):.1f}")
         if best_state is not None:
             _restore(st, best_state)
             kept = True
             break
     return kept
+
+
+def split_gain(model) -> list[tuple[float, np.ndarray]]:
+    """Where the walk says a place is two: for each active place of ``model``'s learner state with a walk, the
+    gain of ``walk_target`` when the place is split as an answer at its event farthest from its mean would split
+    it (``split_at_answer``), and that event's position; the places with a positive gain, largest first."""
+    from spcotmhp.learning.gibbs import make_rng
+    from spcotmhp.learning.learner_state import state_of_member
+    from spcotmhp.teaching.questions import on_free_cells
+
+    if model.learner is None or "walk_X" not in model.learner["arrays"]:
+        return []
+    st = state_of_member(model.learner, model)
+    if model.map is not None:
+        from spcotmhp.learning.online import log_new_place_density
+
+        st.log_new_place = log_new_place_density(model.map)
+    out = []
+    base = walk_target(st)
+    for k in np.flatnonzero(st.n_k > 0):
+        members = np.flatnonzero(st.place == k)
+        if len(members) < 4:
+            continue
+        askable = members[on_free_cells(model, st.X[members])]  # a question is asked where the robot can stand
+        if not len(askable):
+            continue
+        end = int(askable[np.argmax(np.linalg.norm(st.X[askable] - st.sx[k] / st.n_k[k], axis=1))])
+        saved = _save(st)
+        if split_at_answer(st, end, make_rng(0, int(k)), walk_target):
+            out.append((walk_target(st) - base, st.X[end].copy()))
+        _restore(st, saved)
+    return sorted(out, key=lambda g: -g[0])
