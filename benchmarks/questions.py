@@ -87,7 +87,7 @@ def run_home(
 
     t0 = time.perf_counter()
     model, before = learned(data, params, cache)
-    attach_walk(model, data.trajectory, data.event_steps)
+    attach_walk(model, data.trajectory)
     row = {"home": data.name, "before": before, "after": before, "asked": 0, "answers": []}
     for _ in range(questions_max):
         if row["after"] >= target:

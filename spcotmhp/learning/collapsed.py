@@ -75,8 +75,7 @@ class CollapsedState:
         self.features: list[np.ndarray | None] = []
         self.named: list[bool] = []  # naming events (module docstring)
         self.alone: list[bool] = []  # events that are a segment of their own (answers; module docstring)
-        self.walk_X: np.ndarray | None = None  # the robot's poses between events (teaching.answers.walk_poses)
-        self.walk_event: np.ndarray | None = None  # the event whose segment holds each pose
+        self.walk_X: np.ndarray | None = None  # the robot's poses along its walk (teaching.answers.walk_poses)
         self.weight: list[float] = []  # evidence weight of each event (1: the paper's; module docstring)
 
     # ---- sizes ---------------------------------------------------------------------------------------------

@@ -48,8 +48,8 @@ def member_of(st: CollapsedState) -> dict:
         arrays["named"] = np.array([st.is_named(e) for e in range(st.E)], dtype=bool)
     if any(st.alone):
         arrays["alone"] = np.array([st.is_alone(e) for e in range(st.E)], dtype=bool)
-    if st.walk_X is not None and st.walk_event is not None:
-        arrays["walk_X"], arrays["walk_event"] = np.array(st.walk_X, dtype=float), np.array(st.walk_event, np.int64)
+    if st.walk_X is not None:
+        arrays["walk_X"] = np.array(st.walk_X, dtype=float)
     if any(w != 1.0 for w in st.weight):
         arrays["weight"] = np.array([st.weight_of(e) for e in range(st.E)], dtype=float)
     if st.F_ld is not None and st.D is not None:
@@ -74,8 +74,8 @@ def state_of_member(member: dict, model: SpatialConceptModel) -> CollapsedState:
     st.named = [bool(v) for v in a["named"]] if "named" in a else [False] * len(st.place)
     st.alone = [bool(v) for v in a["alone"]] if "alone" in a else [False] * len(st.place)
     st.weight = [float(v) for v in a["weight"]] if "weight" in a else [1.0] * len(st.place)
-    if "walk_X" in a and "walk_event" in a:
-        st.walk_X, st.walk_event = np.array(a["walk_X"], dtype=float), np.array(a["walk_event"], dtype=np.int64)
+    if "walk_X" in a:
+        st.walk_X = np.array(a["walk_X"], dtype=float)
     if D is not None:
         st.F_ld = np.array(a["F_ld"], dtype=float)
         st.features = [
@@ -227,10 +227,8 @@ def check_member(member: dict, K: int, L: int, V: int, D: int | None, where: str
     )
     if bad:
         raise ModelError(f"{where}: {bad} must hold finite non-negative numbers")
-    if "walk_event" in a and not (
-        ((a["walk_event"] >= 0) & (a["walk_event"] < E)).all() and np.isfinite(a["walk_X"]).all()
-    ):
-        raise ModelError(f"{where}: the walk's poses must be finite and each name an event of the learner state")
+    if "walk_X" in a and not np.isfinite(a["walk_X"]).all():
+        raise ModelError(f"{where}: the walk's poses (walk_X) must be finite")
     if "weight" in a and not (np.isfinite(a["weight"]).all() and (a["weight"] > 0).all()):
         raise ModelError(f"{where}: weight must hold finite positive numbers (the evidence weight of each event)")
     ptr = a["tok_ptr"]
@@ -334,7 +332,7 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_word": (T,),
         "tok_z": (T,),
     }
-    specs.update(named=(E,), alone=(E,), weight=(E,), walk_X=(meta.get("P", 0), 2), walk_event=(meta.get("P", 0),))
+    specs.update(named=(E,), alone=(E,), weight=(E,), walk_X=(meta.get("P", 0), 2))
     kinds = {
         "place": "iu",
         "concept": "iu",
@@ -343,9 +341,8 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_z": "b",
         "named": "b",
         "alone": "b",
-        "walk_event": "iu",
     }
-    optional: tuple[str, ...] = ("named", "alone", "weight", "walk_X", "walk_event")
+    optional: tuple[str, ...] = ("named", "alone", "weight", "walk_X")
     if D is not None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"

@@ -53,7 +53,6 @@ WALK_SPACING_M = 0.5
 """One pose of the walk per this much travel (metres): poses closer than the robot's footprint (0.5 m across) are
 the same position seen twice, not more evidence of it."""
 SPLIT_TRIES = 4
-DEBUG = False
 """Allocations drawn per kind of split; the best is compared with the merge (a few: each costs one conditional
 per event of the place)."""
 
@@ -97,44 +96,47 @@ def answer_model(name: str | None) -> AnswerModel:
     return ANSWER_MODELS[name]
 
 
-def walk_poses(trajectory: np.ndarray, event_steps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(poses (P, 2), the event whose segment holds each (P,)): the trajectory thinned to one pose per
-    ``WALK_SPACING_M`` travelled, each given to the event nearest it in steps (module docstring, ``walk``)."""
-    traj = np.asarray(trajectory, dtype=float)
-    steps = np.asarray(event_steps, dtype=np.int64)
-    if not len(steps) or len(traj) < 2:
-        return np.zeros((0, 2)), np.zeros(0, np.int64)
+def walk_poses(trajectory: np.ndarray) -> np.ndarray:
+    """(P, 2) the trajectory thinned to one pose per ``WALK_SPACING_M`` travelled (module docstring, ``walk``)."""
+    traj = np.asarray(trajectory, dtype=float).reshape(-1, 2)
+    if len(traj) < 2:
+        return traj.copy()
     travelled = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(traj, axis=0).T))])
     keep = np.flatnonzero(np.diff(np.floor(travelled / WALK_SPACING_M), prepend=-1.0) > 0)
-    bounds = (steps[:-1] + steps[1:]) / 2.0  # a pose belongs to the event nearest it in steps
-    owner = np.searchsorted(bounds, keep, side="right")
-    return traj[keep], owner.astype(np.int64)
+    return traj[keep]
 
 
-def attach_walk(model, trajectory: np.ndarray | None, event_steps: np.ndarray | None) -> bool:
-    """Keep the walk's poses (``walk_poses``) in ``model``'s learner member, whose first events are the dataset's
-    (a model learned from it); returns whether it could (a trajectory, event steps, a learner member)."""
+def attach_walk(model, trajectory: np.ndarray | None) -> bool:
+    """Keep the walk's poses (``walk_poses``) in ``model``'s learner member; returns whether it could (a
+    trajectory and a learner member)."""
     member = getattr(model, "learner", None)
-    if member is None or trajectory is None or event_steps is None:
+    if member is None or trajectory is None:
         return False
-    if len(event_steps) > len(member["arrays"]["place"]):
-        return False
-    member["arrays"]["walk_X"], member["arrays"]["walk_event"] = walk_poses(trajectory, event_steps)
+    member["arrays"]["walk_X"] = walk_poses(trajectory)
     return True
 
 
 def walk_gain(st: CollapsedState) -> float:
     """log p(events and walk poses of each place) - log p(events of each place), NIW marginals (Eqs. 5-6): what
     the walk adds to ``log_target``'s positions term (0 without a walk)."""
-    if st.walk_X is None or st.walk_event is None or not len(st.walk_X):
+    if st.walk_X is None or not len(st.walk_X):
         return 0.0
     from spcotmhp.learning.distributions import GaussianStats
     from spcotmhp.learning.posterior import Priors
 
     gauss = Priors.build(st.hyper, st.K, st.L, st.V, st.D).gauss
-    walk = GaussianStats.from_assignments(st.walk_X, st.place[st.walk_event], st.K)
+    owner = walk_owner(st)
+    walk = GaussianStats.from_assignments(st.walk_X, owner, st.K)
     both = GaussianStats(st.n_k + walk.n, st.sx + walk.sx, st.sxx + walk.sxx)
     return gauss.log_marginal(both) - gauss.log_marginal(GaussianStats(st.n_k, st.sx, st.sxx))
+
+
+def walk_owner(st: CollapsedState) -> np.ndarray:
+    """The place of each walk pose as unlabelled evidence: the active place under which it is most probable,
+    argmax_k n_k t(x | place k) (the events' NIW predictives)."""
+    used = np.flatnonzero(st.n_k > 0)
+    scores = np.stack([st.log_predictive(x)[used] for x in st.walk_X]) + np.log(st.n_k[used])[None, :]
+    return used[np.argmax(scores, axis=1)]
 
 
 def walk_target(st: CollapsedState) -> float:
@@ -173,8 +175,6 @@ def split_at_answer(
             if score > best:
                 best, best_state = score, _save(st)
             _restore(st, saved)
-            if DEBUG:
-                print(f"    {kind} try: {score - target(st):.1f}")
         if best_state is not None:
             _restore(st, best_state)
             kept = True
