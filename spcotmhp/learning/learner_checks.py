@@ -51,21 +51,26 @@ def check_counts_cover_events(a: Mapping[str, np.ndarray], K: int, L: int, V: in
     words, z = a["tok_word"].astype(np.int64), a["tok_z"].astype(bool)
     lengths: np.ndarray = np.diff(a["tok_ptr"].astype(np.int64)).astype(np.int64)
     of_token = np.repeat(concept, lengths)
+    # an answer may weigh w events and be a segment of its own (``collapsed.py``): w in every count but trans,
+    # and the walk's transitions skip it
+    w = np.asarray(a["weight"], dtype=float) if "weight" in a else np.ones(len(place))
+    alone = np.asarray(a["alone"], dtype=bool) if "alone" in a else np.zeros(len(place), dtype=bool)
+    w_token = np.repeat(w, lengths)
     need = {
-        "n_k": np.bincount(place, minlength=K).astype(float),
-        "n_l": np.bincount(concept, minlength=L).astype(float),
+        "n_k": np.bincount(place, weights=w, minlength=K).astype(float),
+        "n_l": np.bincount(concept, weights=w, minlength=L).astype(float),
         "n_lk": np.zeros((L, K)),
         "W_lv": np.zeros((L, V)),
-        "bg_v": np.bincount(words[~z], minlength=V).astype(float),
-        "z_tot": np.array([float((~z).sum()), float(z.sum())]),
-        "trans": transition_counts(place, K, False),
+        "bg_v": np.bincount(words[~z], weights=w_token[~z], minlength=V).astype(float),
+        "z_tot": np.array([float(w_token[~z].sum()), float(w_token[z].sum())]),
+        "trans": transition_counts(place[~alone], K, False),
     }
-    np.add.at(need["n_lk"], (concept, place), 1.0)
-    np.add.at(need["W_lv"], (of_token[z], words[z]), 1.0)
+    np.add.at(need["n_lk"], (concept, place), w)
+    np.add.at(need["W_lv"], (of_token[z], words[z]), w_token[z])
     if "F_ld" in a and "features" in a and "has_features" in a:
         has = a["has_features"].astype(bool)
         need["F_ld"] = np.zeros(a["F_ld"].shape)
-        np.add.at(need["F_ld"], concept[has], a["features"][has])
+        np.add.at(need["F_ld"], concept[has], a["features"][has] * w[has, None])
     for name, n in need.items():
         short = a[name] < n - COUNT_TOL * (1.0 + n)
         if short.any():

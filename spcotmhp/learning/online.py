@@ -269,6 +269,8 @@ class OnlineSpCoTMHP:
                 f"K={self.K}, L={self.L}, max_K={self.max_K}, max_L={self.max_L}, lag={self.lag}, "
                 f"rejuvenation={self.rejuvenation}"
             )
+        if not (isinstance(self.answer_weight, (int, float)) and 0 < self.answer_weight < math.inf):
+            raise TeachingError(f"answer_weight must be a positive number, got {self.answer_weight!r}")
         model = self.init_model
         given = self.hyper if model is None else model.hyper
         for term in ("place_concepts", "off_name"):
