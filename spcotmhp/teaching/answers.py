@@ -135,7 +135,10 @@ def walk_owner(st: CollapsedState) -> np.ndarray:
     """The place of each walk pose as unlabelled evidence: the active place under which it is most probable,
     argmax_k n_k t(x | place k) (the events' NIW predictives)."""
     used = np.flatnonzero(st.n_k > 0)
-    scores = np.stack([st.log_predictive(x)[used] for x in st.walk_X]) + np.log(st.n_k[used])[None, :]
+    poses = np.zeros((0, 2)) if st.walk_X is None else st.walk_X
+    if not len(poses) or not len(used):
+        return np.zeros(len(poses), dtype=np.int64)
+    scores = np.stack([st.log_predictive(x)[used] for x in poses]) + np.log(st.n_k[used])[None, :]
     return used[np.argmax(scores, axis=1)]
 
 

@@ -143,7 +143,9 @@ def test_the_paper_model_is_unchanged_where_nothing_is_an_answer():
         batch = SpCoTMHP(K=10, L=10, iterations=10, seed=1).fit(data)
         x, y = (float(v) for v in data.positions[3])
         taught = teach(batch.model_, [{"x": x, "y": y, "utterance": "this is the study"}])
-        marked = OnlineSpCoTMHP(K=10, L=10, map=data.map, check_map=False, seed=3, **ANSWER_MODELS["paper"].learner_settings())
+        marked = OnlineSpCoTMHP(
+            K=10, L=10, map=data.map, check_map=False, seed=3, **ANSWER_MODELS["paper"].learner_settings()
+        )
         marked.partial_fit([TeachingEvent(e.x, e.y, e.words, e.features, e.named, answer=True) for e in events])
     assert _digest(f"online {online.places_.tolist()} {online.concepts_.tolist()}") == "be8beef9c822b500"
     line = f"batch {batch.places_.tolist()} {batch.concepts_.tolist()} {round(float(batch.log_joint_), 6)!r}"
@@ -161,9 +163,11 @@ def test_answers_and_the_walk_survive_a_model_folder(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         data = load_bundled("3LDK_01")
-        model = OnlineSpCoTMHP(K=10, L=10, map=data.map, check_map=False, seed=0).partial_fit(
-            dataset_events(data)[:30]
-        ).model_
+        model = (
+            OnlineSpCoTMHP(K=10, L=10, map=data.map, check_map=False, seed=0)
+            .partial_fit(dataset_events(data)[:30])
+            .model_
+        )
     assert attach_walk(model, np.asarray(data.positions[:30]))
     x, y = (float(v) for v in data.positions[0])
     model = teach(model, [{"x": x, "y": y, "utterance": "this is the study", "answer": True}], "alone+split+w3").model
