@@ -61,7 +61,7 @@ t0 = time.perf_counter()
 if sys.argv[3] == "paused":
     from spcotmhp.collector import pause_for_startup
     pause_for_startup()
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 t1 = time.perf_counter()
 model = load_model(sys.argv[1])

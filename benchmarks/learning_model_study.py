@@ -17,10 +17,10 @@ priors do to the battery (issue 9) and to online against batch learning (issue 1
 * ``battery``: learned advanced WN-SPL (via) per home (one JSON line each): a number is the seed of a generated
   home, a name a dataset (the bundled homes, seed 0 as ``spcotmhp battery 3LDK_01`` uses).
 * ``learning``: ``online_eval.evaluate_online`` (5 seeds, online and batch) per home (one JSON line each).
-* ``runs``: the learned fit of the battery (10 runs, ``selection.fit_runs``) per home: each run's ARI of
+* ``runs``: the learned fit of the battery (10 runs, ``experimental.fit_runs``) per home: each run's ARI of
   concepts and places and collapsed log joint, and the run kept, to tell a better sampler from a luckier choice.
 * ``criteria``: the learned fit of the battery per home, once, and every run-selection criterion of
-  ``selection.CRITERIA`` applied to its runs (docs/learning-model-study.md, section 6): each run's ARI and
+  ``experimental.selection.CRITERIA`` applied to its runs (docs/learning-model-study.md, section 6): each run's ARI and
   scores, the run each criterion keeps, and the battery's counts of every kept run (one JSON line per home;
   ``--cache DIR`` keeps the fitted runs, so that a second pass only scores and plans).
 * ``table6``: Table 6's SpCoTMHP row (reverse replay; ``table6.evaluate_seeds``: 5 seeds x 10 runs x 100 sweeps,
@@ -46,6 +46,8 @@ from spcotmhp.evaluation.battery import evaluate_home
 from spcotmhp.evaluation.context import place_adjacency
 from spcotmhp.evaluation.online_eval import evaluate_online
 from spcotmhp.evaluation.table6 import concept_truth, evaluate_seeds, score_run
+from spcotmhp.experimental import fit_runs, variant_for
+from spcotmhp.experimental import selection as research
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.hmm import transition_counts
@@ -54,9 +56,10 @@ from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.online import log_new_place_density
 from spcotmhp.learning.online_split_merge import log_target_terms
-from spcotmhp.learning.selection import CRITERIA, MultiRunSelector, fit_runs
+from spcotmhp.learning.selection import MultiRunSelector
 
-# name: (priors, settings of the batch learner's fit); the online learner has its moves in every variant
+# name: (priors, settings of the batch learner's fit, research ones by name: spcotmhp.experimental.fit_runs); the
+# online learner has its moves in every variant
 SWITCH_MODE = {"criterion": "log_joint_switch_mode"}
 VARIANTS: dict[str, tuple[dict, dict]] = {
     "paper": ({}, {}),
@@ -198,7 +201,7 @@ def run_rows(data: Dataset, sel: MultiRunSelector) -> dict:
         "ari_c": [s["ari_c"] for s in scores],
         "ari_i": [s["ari_i"] for s in scores],
         "log_joint": [float(e.log_joint_) for e in sel.estimators_],
-        "acceptance": [getattr(e, "off_name_acceptance_", None) for e in sel.estimators_],
+        "acceptance": [e.model_.info.get("off_name_acceptance") for e in sel.estimators_],
     }
 
 
@@ -218,12 +221,12 @@ def criteria(home: str, hyper: Hyperparameters, fit: dict, cache: str | None) ->
             path.write_bytes(pickle.dumps(sel))
     scores = [score_run(data, e.places_, e.concepts_) for e in sel.estimators_]
     out: dict = {"home": data.name, "ari_c": [s["ari_c"] for s in scores], "ari_i": [s["ari_i"] for s in scores]}
-    out["scores"] = {c: [float(v) for v in sel.scores(c)] for c in CRITERIA[1:]}
+    out["scores"] = {c: [float(v) for v in research.scores(sel, c)] for c in research.CRITERIA[1:]}
     out["kept"] = {c: int(np.argmax(v)) for c, v in out["scores"].items()}
     out["battery"] = {}
     for c, r in out["kept"].items():
         if str(r) not in out["battery"]:
-            sel.choose(c)
+            sel.choose(research.criterion(c))
             out["battery"][str(r)] = evaluate_home(data, "learned", seed, model=sel.model_).to_dict()
     return out
 
@@ -236,8 +239,8 @@ def main() -> None:
     ap.add_argument("--cache", default=None, help="criteria: folder of the fitted runs (pickles)")
     args = ap.parse_args()
     priors, fit = VARIANTS[args.variant]
-    moves = bool(fit.get("split_merge", False))
     hyper = Hyperparameters(**priors)
+    variant = variant_for(hyper, fit.get("split_merge", False))  # the sampler variant, spcotmhp.experimental
     warnings.simplefilter("ignore")
     for home in args.homes:
         t0 = time.perf_counter()
@@ -253,10 +256,10 @@ def main() -> None:
             row = criteria(home, hyper, fit, args.cache)
         elif args.what == "table6":
             start = {"term_from": fit["term_from"]} if "term_from" in fit else {}
-            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, split_merge=moves, **start)
+            row = evaluate_seeds(load(home), methods=("tmhp_replay",), hyper=hyper, variant=variant, **start)
             row = row["tmhp_replay"]
         else:
-            row = evaluate_online(load(home), seeds=5, hyper=hyper, batch_params={"split_merge": moves})
+            row = evaluate_online(load(home), seeds=5, hyper=hyper, batch_params={"variant": variant})
         row.update(variant=args.variant, seconds=time.perf_counter() - t0)
         sys.stdout.write(json.dumps(row) + "\n")
         sys.stdout.flush()

@@ -28,7 +28,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root: tests/helpers
 from spcotmhp.commands.demo import demo_start
 from spcotmhp.errors import SpcotmhpError
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.viz.labels import place_display_labels
 from tests.helpers.server import ServerProcess, supervised_model_dir

@@ -209,7 +209,7 @@ def main() -> None:
     ap.add_argument("--plans", type=int, default=100)
     ap.add_argument("--ros", action="store_true")
     args = ap.parse_args()
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore")

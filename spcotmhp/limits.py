@@ -41,7 +41,7 @@ MAX_SYNTH_EVENTS = 200_000
 MAX_CANDIDATES = 100
 MAX_STEPS = 1_000
 MODEL_MAX_SIZES = {"K": 10_000, "L": 10_000, "V": 1_000_000, "D": 100_000}
-"""Largest sizes of a model file the loader accepts (``spcotmhp.learning.model_checks``)."""
+"""Largest sizes of a model file the loader accepts (``spcotmhp.persistence.model_checks``)."""
 MODEL_MAX_ELEMENTS = 32 * 1024 * 1024
 """Numbers in all arrays of arrays.npz together, and in learner.npz (256 MiB of float64 each): a model folder
 holds at most this many numbers in each, checked from model.json and learner.json before either is hashed."""

@@ -8,7 +8,7 @@ the planning graph and plans with a waypoint, a place to avoid and the metric fa
 ``make demo`` runs it right after installing (``spcotmhp warmup``), so the demo itself starts warm.
 
 Where the cache lives: numba writes it next to the package's sources when they are writable and otherwise in
-the user's cache folder; :func:`cache_dir_default` (run when the package is imported) points
+the user's cache folder; :func:`spcotmhp.numba_cache.cache_dir_default` (run when the package is imported) points
 ``NUMBA_CACHE_DIR`` at ``$XDG_CACHE_HOME/spcotmhp/numba`` (default ``~/.cache``) when the package folder is not
 writable and the variable is unset, so the cache is shared by every environment of the user.
 """
@@ -16,30 +16,10 @@ writable and the variable is unset, so the cache is shared by every environment 
 from __future__ import annotations
 
 import contextlib
-import os
 import time
 import warnings
-from pathlib import Path
 
-__all__ = ["cache_dir_default", "warm_up"]
-
-
-def cache_dir_default() -> str | None:
-    """Set ``NUMBA_CACHE_DIR`` to a user cache folder when the package folder is not writable and the variable
-    is unset (call before numba is imported); returns the folder numba will use, None for its default."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return os.environ["NUMBA_CACHE_DIR"]
-    package = Path(__file__).resolve().parent
-    if os.access(package, os.W_OK):
-        return None
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    folder = base / "spcotmhp" / "numba"
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return None
-    os.environ["NUMBA_CACHE_DIR"] = str(folder)
-    return str(folder)
+__all__ = ["warm_up"]
 
 
 def warm_up() -> float:

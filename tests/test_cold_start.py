@@ -13,7 +13,7 @@ NOT_ON_THE_PATH = ("scipy.ndimage", "scipy.sparse", "scipy.special", "rapidfuzz"
 
 CHILD = """
 import json, sys
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 model = load_model(sys.argv[1])
 plan = HierarchicalPlanner(model).plan(sys.argv[2], start=tuple(model.mu[0]))

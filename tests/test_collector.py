@@ -10,7 +10,7 @@ import threading
 from pathlib import Path
 
 from spcotmhp.collector import paused
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from tests.helpers.server import INSTRUCTION, supervised_model_dir
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -16,9 +16,9 @@ from hypothesis import strategies as st
 from spcotmhp.datasets.loader import load_dataset
 from spcotmhp.datasets.synthetic import generate_environment, write_dataset
 from spcotmhp.errors import DatasetError, MapError, ModelError
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.map_io import load_map
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.hardening_corpus import dataset_case, map_case, model_case, run_case
 from tests.helpers.strategies import apply_edits, apply_learner_edits, learner_edits, model_edits, pnm_files
 
@@ -185,7 +185,7 @@ def test_issue_model_cases(templates, tmp_path):
 def _reseal(folder: Path) -> None:
     import json
 
-    from spcotmhp.learning.model_folder import MANIFEST, manifest_of
+    from spcotmhp.persistence.folder import MANIFEST, manifest_of
 
     names = sorted(p.name for p in folder.iterdir() if p.is_file() and p.name != MANIFEST)
     (folder / MANIFEST).write_text(json.dumps(manifest_of(folder, names)), encoding="utf-8")

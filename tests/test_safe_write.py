@@ -33,7 +33,7 @@ def test_files_and_folders_follow_the_umask(tmp_path, umask):
 
 
 def test_a_model_folder_follows_the_umask(tmp_path):
-    from spcotmhp.learning.io import save_model
+    from spcotmhp.persistence.io import save_model
     from tests.helpers.planning import home_model
 
     old = os.umask(0o022)

@@ -1,4 +1,4 @@
-"""Saving and loading a building's model: an ordinary model folder (:mod:`spcotmhp.learning.io`: the joint model,
+"""Saving and loading a building's model: an ordinary model folder (:mod:`spcotmhp.persistence.io`: the joint model,
 its joint grid as map.yaml, the learner state, the manifest) plus ``building.json``::
 
     {"format": "spcotmhp-building-model", "format_version": 1,
@@ -9,7 +9,7 @@ building.json is listed in the folder's manifest (its size and SHA-256 checked b
 model folder's JSON bound); ``spec`` is checked as building.yaml is (:func:`~spcotmhp.building.spec.parse_spec`),
 the layout field by field, then against the model: the joint grid is the layout's, and every connector stop lies
 on a free cell of its floor's map. Any problem is one ModelError line. Nothing is unpickled; a building model
-folder also loads as a plain model (:func:`~spcotmhp.learning.io.load_model` ignores building.json).
+folder also loads as a plain model (:func:`~spcotmhp.persistence.io.load_model` ignores building.json).
 """
 
 from __future__ import annotations
@@ -22,9 +22,9 @@ from spcotmhp.building.loader import check_stops
 from spcotmhp.building.model import BuildingModel
 from spcotmhp.building.spec import parse_spec
 from spcotmhp.errors import BuildingError, ModelError
-from spcotmhp.learning.io import load_model, save_model
-from spcotmhp.learning.model_checks import MAX_JSON_BYTES
-from spcotmhp.learning.model_folder import read_manifest
+from spcotmhp.persistence.folder import read_manifest
+from spcotmhp.persistence.io import load_model, save_model
+from spcotmhp.persistence.model_checks import MAX_JSON_BYTES
 from spcotmhp.safe_read import excerpt, load_json
 
 BUILDING_JSON = "building.json"

@@ -1,7 +1,7 @@
 """Which places of which floor complete each stage of an instruction in a building, and which are avoided.
 
 Each floor's planner reads the instruction's places as on one floor (:meth:`~spcotmhp.planning.planner.
-HierarchicalPlanner._instances`: p(i | S) within ``instance_ratio`` of the best, narrowed to the places whose
+HierarchicalPlanner.instances`: p(i | S) within ``instance_ratio`` of the best, narrowed to the places whose
 label carries the words; a relation picks its instance on that floor, measured in that floor's graph). Across
 floors (:func:`joint_instances`):
 
@@ -67,8 +67,8 @@ def floor_queries(
         if wanted is not None and wanted != floor:
             return Read(np.zeros(planner.model.K, dtype=bool), named)
         try:
-            mask = planner._instances(q, row, stage=stage) & active
-            return Read(planner._related(q, mask, chosen, region), named)
+            mask = planner.instances(q, row, stage=stage) & active
+            return Read(planner.related(q, mask, chosen, region), named)
         except SpcotmhpError as exc:
             return Read(np.zeros(planner.model.K, dtype=bool), named, exc)
 

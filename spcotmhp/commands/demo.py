@@ -168,7 +168,7 @@ def demo(
 ) -> None:
     """Learn a bundled home's map, plan "go to the bedroom via the corridor", print the explanation, draw it."""
     from spcotmhp.commands.learning import load_dataset_arg
-    from spcotmhp.learning.io import check_target, save_model
+    from spcotmhp.persistence.io import check_target, save_model
     from spcotmhp.planning.graph_cache import GraphCache
     from spcotmhp.planning.planner import HierarchicalPlanner
     from spcotmhp.viz.draw import render
@@ -267,7 +267,7 @@ def show(
     overwrite: Annotated[bool, typer.Option("--overwrite", help="Replace an existing --png file.")] = False,
 ) -> None:
     """List a learned model's places (label, mean, spread) and topological edges; --png draws the map."""
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
     from spcotmhp.viz.labels import place_display_labels
 
     if png is not None:

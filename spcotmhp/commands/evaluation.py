@@ -264,7 +264,7 @@ def register(app: typer.Typer) -> None:
             )
         given = None
         if model is not None:
-            from spcotmhp.learning.io import load_model
+            from spcotmhp.persistence.io import load_model
 
             given = load_model(model)
         homes = [load_home(d, lang) for d in datasets]

@@ -8,7 +8,7 @@ import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -149,7 +149,7 @@ def learn(
             help="Run selection: auto (default: mutual_information with image features, else log_joint), "
             "mutual_information, log_joint, or one of the criteria that handle the background-word switches: "
             "log_joint_switch_mode, log_joint_switch_marginal, log_joint_switch_plugin, log_joint_tail_mean, "
-            "held_out_words (spcotmhp/learning/run_scores.py; docs/learning-model-study.md, section 6)."
+            "held_out_words (research variants, spcotmhp/experimental/selection.py; docs/experimental.md)."
         ),
     ] = None,
     connectivity: Annotated[
@@ -189,7 +189,7 @@ def learn(
     --out must be a new or empty folder, or with --overwrite a model folder; it is written whole or not at all
     (the previous model stays loadable until the new one is complete), never onto the dataset itself. A folder
     recorded by ``spcotmhp ros2 --record`` is refused: its teaching goes into its model (``teach --from``)."""
-    from spcotmhp.learning.io import prepare_model_folder, save_model
+    from spcotmhp.persistence.io import prepare_model_folder, save_model
     from spcotmhp.teaching.recorded import refuse_learning_alone
 
     if Path(dataset).is_dir():
@@ -295,9 +295,14 @@ def _fit_gibbs(
 ):
     """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
     from spcotmhp.learning.gibbs import SpCoTMHP
-    from spcotmhp.learning.selection import MultiRunSelector
-    from spcotmhp.learning.truncation import TruncationWarning, truncation_messages
+    from spcotmhp.learning.posterior import TruncationWarning, truncation_messages
+    from spcotmhp.learning.selection import CRITERIA, MultiRunSelector
 
+    chosen: Any = criterion
+    if criterion not in CRITERIA:  # a research criterion (or an unknown name: a one-line ModelError)
+        from spcotmhp.experimental.selection import criterion as research_criterion
+
+        chosen = research_criterion(criterion)
     est = SpCoTMHP(
         K=K,
         L=L,
@@ -312,7 +317,7 @@ def _fit_gibbs(
     )
     with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run
-        sel = MultiRunSelector(est, runs=runs, criterion=criterion, n_jobs=jobs).fit(data, progress=progress)
+        sel = MultiRunSelector(est, runs=runs, criterion=chosen, n_jobs=jobs).fit(data, progress=progress)
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
@@ -356,7 +361,7 @@ def evaluate_learning(
     """Table 6: NMI and ARI of concepts and places against the truth for SpCoTMHP with and without reverse
     replay and the SpCoSLAM baseline (means over runs, then mean ± sd over seeds), beside the paper's numbers."""
     from spcotmhp.evaluation import table6
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     data = load_dataset_reporting(dataset, lang)
     if online:
@@ -410,7 +415,7 @@ def _evaluate_online(
 ) -> None:
     """evaluate-learning --online (``evaluation.online_eval``): JSON with an "online" key, or a short table."""
     from spcotmhp.evaluation.online_eval import evaluate_online, format_report
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)

@@ -79,7 +79,7 @@ def plan_command(
     ] = None,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
     from spcotmhp.planning.planner import HierarchicalPlanner
 
     given = [

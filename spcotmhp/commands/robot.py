@@ -134,7 +134,7 @@ def export_nav2(
     from spcotmhp.ros.nav2_export import export_nav2 as run_export
 
     if is_building_model(model_dir):
-        from spcotmhp.building.nav2 import export_building
+        from spcotmhp.ros.nav2_building import export_building
 
         run_export = export_building
     summary = run_export(model_dir, out, avoid=avoid or [], frame=frame, overwrite=overwrite)

@@ -121,7 +121,7 @@ def serve(
     except ImportError:
         raise SpcotmhpError(missing_extra("serving (uvicorn)", "server")) from None
     from spcotmhp.building.io import is_building_model, load_building_model
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
     mapping = model_mapping(models)

@@ -39,7 +39,7 @@ def teach(
     it, and print what happened (a new place, or the place it joined). The folder is replaced whole or not at all;
     it must hold a model (nothing else is ever overwritten)."""
     from spcotmhp.errors import TeachingError
-    from spcotmhp.learning.io import check_target, load_model, save_model
+    from spcotmhp.persistence.io import check_target, load_model, save_model
     from spcotmhp.teaching.recorded import apply_recording
     from spcotmhp.teaching.teach import teach as teach_model
 
@@ -84,7 +84,7 @@ def questions(
     'spcotmhp teach MODEL_DIR "this is the NAME" --at X Y --answer'."""
     import json
 
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
     from spcotmhp.teaching.questions import questions as ask
 
     asked = ask(load_model(model_dir), max_questions, answers=answers)

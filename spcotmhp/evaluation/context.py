@@ -112,7 +112,7 @@ def fit_params(
     """Supervised ("ideal", the paper's Experiment I: truth labels and the given adjacency) or learned (fully
     unsupervised Gibbs sampling: the learner's default number of runs and selection criterion; ``connectivity``
     is where its psi comes from, see :class:`~spcotmhp.learning.gibbs.SpCoTMHP`; ``learner``: other settings of
-    the learner, e.g. ``hyper`` or ``split_merge``) parameters. Learned parameters say how close the kept run's
+    the learner, e.g. ``hyper`` or a research ``variant``) parameters. Learned parameters say how close the kept run's
     partition is to the truth: ``model.info["vs_truth"]``, NMI and ARI of its places and concepts
     (:func:`~spcotmhp.evaluation.table6.score_run`)."""
     if params == "supervised":

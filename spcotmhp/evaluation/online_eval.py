@@ -26,8 +26,8 @@ from spcotmhp.learning.learner_state import state_of_member
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, log_new_place_density
 from spcotmhp.learning.online_split_merge import log_target
+from spcotmhp.learning.posterior import TruncationWarning
 from spcotmhp.learning.selection import MultiRunSelector
-from spcotmhp.learning.truncation import TruncationWarning
 
 SCORES = ("nmi_c", "nmi_i", "ari_c", "ari_i")
 
@@ -57,7 +57,7 @@ def evaluate_online(
 ) -> dict:
     """{"dataset", "events", "seeds", "online": {scores, "std", "update_ms": {median, p95, max}}, "batch": {...},
     "difference": online - batch}; seed s of ``seeds`` is ``seed + s``; ``hyper`` (the priors) goes to both
-    learners, ``params`` to OnlineSpCoTMHP only and ``batch_params`` (e.g. ``split_merge``) to SpCoTMHP only."""
+    learners, ``params`` to OnlineSpCoTMHP only and ``batch_params`` (e.g. a research ``variant``) to SpCoTMHP only."""
     concept_truth(dataset)
     events = dataset_events(dataset, use_features)
     scores, times, samples = [], [], []

@@ -85,7 +85,7 @@ def table6_section(plan: Plan, say: Callable[[str], None]) -> str:
 
     from spcotmhp.datasets import load_bundled
     from spcotmhp.evaluation import table6
-    from spcotmhp.learning.truncation import TruncationWarning
+    from spcotmhp.learning.posterior import TruncationWarning
 
     out = []
     with warnings.catch_warnings():

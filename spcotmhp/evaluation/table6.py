@@ -46,7 +46,7 @@ PAPER = {
 @dataclass
 class MethodScores:
     """Means over ``runs`` runs (and their standard deviations) and the wall time of all runs; ``saturated``
-    counts the runs whose place / concept truncation was saturated (``truncation.TruncationWarning``)."""
+    counts the runs whose place / concept truncation was saturated (``posterior.TruncationWarning``)."""
 
     nmi_c: float
     nmi_i: float

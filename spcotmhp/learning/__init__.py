@@ -1,5 +1,5 @@
 """Spatial concept learning (paper Sections 3.1-3.2): the model, the Gibbs sampler, the supervised fit,
-connectivity, model files and the Table 6 evaluation.
+connectivity and the online learner (model folders on disk: :mod:`spcotmhp.persistence`).
 
 Public names are imported lazily, so that ``import spcotmhp.learning.model`` stays light.
 """
@@ -14,7 +14,7 @@ _EXPORTS = {
     "SpatialConceptModel": "model",
     "SpCoTMHP": "gibbs",
     "make_rng": "gibbs",
-    "TruncationWarning": "truncation",
+    "TruncationWarning": "posterior",
     "MultiRunSelector": "selection",
     "fit_runs": "selection",
     "fit_supervised": "supervised",
@@ -22,10 +22,6 @@ _EXPORTS = {
     "map_adjacency": "connectivity",
     "walk_adjacency": "connectivity",
     "psi_from_adjacency": "connectivity",
-    "save_model": "io",
-    "load_model": "io",
-    "prepare_model_folder": "io",
-    "evaluate_learning": "table6",
 }
 __all__ = [
     "Hyperparameters",
@@ -34,15 +30,11 @@ __all__ = [
     "SpatialConceptModel",
     "TruncationWarning",
     "apply_connectivity",
-    "evaluate_learning",
     "fit_runs",
     "fit_supervised",
-    "load_model",
     "make_rng",
     "map_adjacency",
-    "prepare_model_folder",
     "psi_from_adjacency",
-    "save_model",
     "walk_adjacency",
 ]
 

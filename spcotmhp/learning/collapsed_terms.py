@@ -1,5 +1,5 @@
 """The collapsed per-event terms of Eq. 17 and their count bookkeeping (numba kernels), shared by the concept
-sweep (:mod:`spcotmhp.learning.concepts`) and the split-merge proposals (:mod:`spcotmhp.learning.split_merge`).
+sweep (:mod:`spcotmhp.learning.concepts`) and the split-merge proposals (:mod:`spcotmhp.experimental.split_merge`).
 
 With the Dirichlet priors integrated out, an event's features and words enter p(C_e = l | ...) as Dirichlet-
 multinomial predictive terms of concept l's counts without event e: DirMult(f_e | chi + F_l) (:func:`feature_term`)

@@ -8,9 +8,9 @@ theta and W integrated out under their Dirichlet priors (Johnson and Willsky's d
 with every count taken without event e.  (The unigram-rescaling denominator of Eq. 17, sum_c' W_c'(S_e,b), does
 not depend on C_e and cancels here.)  With the opt-in ``Hyperparameters.place_concepts`` = eta (not the paper's)
 the product gains (eta / L + n_{l,i_e}) / (eta + n_{i_e}): place i_e's concept distribution integrated out
-(gibbs.py); with the opt-in ``Hyperparameters.off_name`` = lambda it gains exp(lambda) for the concepts tied for
-place i_e's majority (off_name.py).  Drawing theta from its posterior instead adds so much noise to a
-365-dimensional feature likelihood that small concepts lose to large ones and everything merges.
+(gibbs.py); a research variant may add its own term (``ConceptTerm``, e.g. spcotmhp.experimental.off_name).
+Drawing theta from its posterior instead adds so much noise to a 365-dimensional feature likelihood that small
+concepts lose to large ones and everything merges.
 
 Background words: each token b of S_e carries a switch z_eb ~ Bernoulli(lambda), lambda ~ Beta(1, 1); a concept
 token is drawn from W_{C_e}, a background token from one shared W_0 ~ Dir(beta).  Phrases that every concept
@@ -23,8 +23,11 @@ The per-event terms and count moves are the kernels of :mod:`spcotmhp.learning.c
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from math import log
+from types import FunctionType
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -40,9 +43,24 @@ from spcotmhp.learning.collapsed_terms import (
     total_logs,
     word_logs,
 )
-from spcotmhp.learning.off_name import add_off_name_gain
 
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch
+
+
+@dataclass(frozen=True)
+class ConceptTerm:
+    """An extra log-term of the concept conditional, a research variant's (spcotmhp.experimental; the paper's step
+    has none): ``add(param, n_lk, k, logp)``, a numba function that adds to ``logp[l]`` the term of concept l for
+    an event at place k, ``n_lk`` (L, K) the concept-place counts without that event; it must neither allocate nor
+    draw.  The pass is compiled with it once per process (``_sweep_with``)."""
+
+    add: Any  # a numba dispatcher
+    param: float
+
+
+@njit(cache=True)
+def _variant_term(param, n_lk, k, logp):  # pragma: no cover - numba
+    """The paper's conditional has no term beyond Eq. 17's: nothing added (``ConceptTerm`` for a variant's)."""
 
 
 @njit(cache=True)
@@ -148,12 +166,12 @@ def _concept_sweep(
     digamma_ld,
     use_features,
     eta_each,
-    off_name,
+    term_param,
 ):
     """One pass over the events in ``order``: C_e, then (with ``background``) the switch of each token.
     ``eta_each`` > 0 (eta / L of ``Hyperparameters.place_concepts``) adds log(eta / L + n_{l, i_e}) to concept
-    l's score, eta_i integrated out; ``off_name`` = lambda > 0 (``Hyperparameters.off_name``) adds the change of
-    log g (off_name.py); 0 leaves the paper's conditional.
+    l's score, eta_i integrated out; 0 leaves the paper's conditional.  ``_variant_term(term_param, ...)`` adds a
+    research variant's term (nothing in this compiled pass; ``_sweep_with`` compiles it with another).
     Every count array is updated in place. The logs of the concept, concept-place and token counts are kept in
     tables refreshed where the counts change (the same values as computing them for every event and concept), and
     the word terms of all concepts are summed at once (``tokens_terms``)."""
@@ -200,8 +218,7 @@ def _concept_sweep(
         if eta_each > 0.0:
             for l in range(L):
                 logp[l] += log(eta_each + n_lk[l, k])
-        if off_name > 0.0:
-            add_off_name_gain(off_name, n_lk, k, logp)
+        _variant_term(term_param, n_lk, k, logp)
         new = _draw(logp, uniforms[u], scratch)
         u += 1
         C[e] = new
@@ -221,6 +238,16 @@ def _concept_sweep(
         word_logs(new, e, beta, W_lv, log_wt, t_ptr, t_word)
         total_logs(new, beta, V, W_l, log_tot)
     return C
+
+
+@functools.cache
+def _sweep_with(add: Any) -> Any:
+    """``_concept_sweep`` compiled with ``add`` in place of ``_variant_term`` (``ConceptTerm``).  Compiled without
+    numba's disk cache, which keeps no entry for a kernel whose callee is chosen at run time (measured: every
+    process compiled it again), so once per process and variant; the paper's pass keeps its cached kernel."""
+    body = _concept_sweep.py_func
+    names = dict(body.__globals__, _variant_term=add)
+    return njit(FunctionType(body.__code__, names, body.__name__, body.__defaults__, body.__closure__))
 
 
 def _csr(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -286,10 +313,9 @@ class CollapsedConceptSampler:
         chi: float,
         rng: np.random.Generator,
         place_concepts: float | None = None,
-        off_name: float | None = None,
+        term: ConceptTerm | None = None,
     ) -> np.ndarray:
-        """One collapsed Gibbs pass over the events in random order; returns the new concepts (E,).
-        The opt-in terms, not the paper's (module docstring): ``place_concepts`` = eta, ``off_name`` = lambda."""
+        """One collapsed Gibbs pass in random order: the new concepts (E,); opt-in: ``place_concepts``, ``term``."""
         E = len(concepts)
         eta_each = 0.0 if place_concepts is None else float(place_concepts) / L
         C = concepts.astype(np.int64).copy()
@@ -297,7 +323,8 @@ class CollapsedConceptSampler:
         use_features = self.features is not None
         order = rng.permutation(E).astype(np.int64)
         uniforms = rng.random(E + len(self.t_word))
-        return _concept_sweep(
+        kernel = _concept_sweep if term is None else _sweep_with(term.add)
+        return kernel(
             C,
             places.astype(np.int64),
             order,
@@ -332,7 +359,7 @@ class CollapsedConceptSampler:
             digamma_ld,
             use_features,
             eta_each,
-            0.0 if off_name is None else float(off_name),
+            0.0 if term is None else float(term.param),
         )
 
     def _counts(self, C: np.ndarray, places: np.ndarray, L: int, K: int, chi: float) -> tuple[np.ndarray, ...]:

@@ -15,14 +15,15 @@ current value of everything else:
    integrated out (direct assignment, Eqs. 10-13; see concepts.py, which also resamples the background-word
    switches).
 
-Two opt-in terms depart from the paper (docs/learning-model-study.md, sections 8-9). ``Hyperparameters.place_concepts``
+One opt-in term departs from the paper (docs/learning-model-study.md, section 8): ``Hyperparameters.place_concepts``
 = eta: step 1 also draws eta_i ~ Dir(eta / L + n_{i,.}), step 4's emission at k gains log eta_{k, C_e} (the FFBS stays
-exact), step 5 integrates eta_i out (C_e = l gains log(eta / L + n_{l, i_e}), counts without e).
-``Hyperparameters.off_name`` = lambda: step 4's FFBS draw is the proposal of an independence Metropolis-Hastings
-step and step 5 gains the change of log g (off_name.py).  The log joint carries either term (posterior.py); the
-sampler after the first ``term_from`` of the sweeps (None: half for eta, ``off_name.OFF_NAME_FROM`` for lambda).
-Off, no random number is drawn for either and every step is the paper's, bit for bit.  Split-merge moves price
-neither.
+exact), step 5 integrates eta_i out (C_e = l gains log(eta / L + n_{l, i_e}), counts without e).  The log joint
+carries it (posterior.py); the sampler after the first ``term_from`` of the sweeps (None: half).  Off, no random
+number is drawn for it and every step is the paper's, bit for bit.
+
+Research variants the model study measured and did not adopt (docs/experimental.md) plug in from
+:mod:`spcotmhp.experimental` through ``variant`` (``init.SweepVariant``): a step-4 correction of the FFBS draw, a
+step-5 term of the concept conditional, moves after step 5, terms of the log joint; None is the paper's sampler.
 
 Steps 1-3 come before step 4 so that psi is drawn with the trajectory labelled by the very Gaussians that step 4
 uses (in the first sweep, by Gaussians drawn from the initial assignment rather than all at the prior mode).
@@ -82,11 +83,10 @@ from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.distributions import sample_categorical_log
 from spcotmhp.learning.hmm import trajectory_places, transition_counts
-from spcotmhp.learning.init import INITS, initial_assignments
+from spcotmhp.learning.init import INITS, SweepVariant, VariantRun, initial_assignments, make_rng, seed_repr
 from spcotmhp.learning.learner_state import from_batch
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
-from spcotmhp.learning.off_name import OFF_NAME_FROM, OffNamePlaces
 from spcotmhp.learning.place_ffbs import sample_places
 from spcotmhp.learning.posterior import (
     Priors,
@@ -95,10 +95,8 @@ from spcotmhp.learning.posterior import (
     log_place_prior,
     mutual_information,
     posterior_mean_model,
+    record_truncation,
 )
-from spcotmhp.learning.seeding import make_rng, seed_repr
-from spcotmhp.learning.split_merge import SplitMerge
-from spcotmhp.learning.truncation import record_truncation
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count, check_event_places
 
 TRANSITIONS = ("hmm", "none")
@@ -118,21 +116,16 @@ class SpCoTMHP:
             count of one image (None: the authors' p * 10 + 1 counts; see ``Observations.from_dataset``).
         background_words: shared background word distribution for function words (concepts.py); False is the
             paper's plain bag of words.
-        split_merge: after each Gibbs pass over the concepts, sequentially-allocated split-merge moves (Dahl
-            2005) that can split a concept holding two differently named rooms (split_merge.py); "auto" uses
-            them when the run has no image features (with features the collapsed joint they follow prefers
-            merged concepts, the reason the run selection's "auto" keeps the mutual information there).  Off by
-            default: on words-only homes they fix merged concepts, but the joint they then reach prefers one
-            place for two adjacent rooms of the same name, which costs more plans than it saves (README, "Plans
-            you can trust").
         connectivity: psi of the exported model, "auto", "hmm", "walk" or "map" (module docstring).
         init: initial assignment, "kmeans" (over-segmented places, random concepts), "keyword" or "random"
             (init.py).
         trajectory_weight, min_dwell: weight of one place change along the trajectory, and the shortest stay
             (in poses) that counts as a visit.
-        term_from: with ``hyper.place_concepts`` or ``hyper.off_name`` (module docstring), the fraction of the
+        term_from: with ``hyper.place_concepts`` or a variant's term (module docstring), the fraction of the
             sweeps run on the paper's conditionals before the term enters steps 1, 4 and 5 (the log joint carries
-            it throughout); None: the term's own (0.5 for place_concepts, ``OFF_NAME_FROM`` for off_name).
+            it throughout); None: the term's own (0.5 for place_concepts, ``VariantRun.term_from``).
+        variant: a research variant (:class:`SweepVariant`, spcotmhp.experimental, docs/experimental.md), e.g.
+            split-merge moves of the concepts or the off-name term; None: the paper's sampler.
         hyper: prior hyper-parameters (default: paper Section 5.1); its L and K are replaced by these L and K,
             and its alpha, gamma, omega follow them unless given (``Hyperparameters.resized``: 10 / L, 1 / K,
             10 / K, the paper's 0.5, 0.05, 0.5 at L = K = 20).
@@ -155,12 +148,12 @@ class SpCoTMHP:
         use_features: bool = True,
         feature_weight: float | None = 1.0,
         background_words: bool = True,
-        split_merge: bool | str = False,
         connectivity: str = "auto",
         init: str = "kmeans",
         trajectory_weight: float = 1.0,
         min_dwell: int = 3,
         term_from: float | None = None,
+        variant: SweepVariant | None = None,
         hyper: Hyperparameters | None = None,
         seed: int | np.random.SeedSequence = 0,
         run: int | None = None,
@@ -174,12 +167,12 @@ class SpCoTMHP:
         self.use_features = use_features
         self.feature_weight = feature_weight
         self.background_words = background_words
-        self.split_merge = split_merge
         self.connectivity = connectivity
         self.init = init
         self.trajectory_weight = trajectory_weight
         self.min_dwell = min_dwell
         self.term_from = term_from
+        self.variant = variant
         self.hyper = hyper
         self.seed = seed
         self.run = run
@@ -217,22 +210,21 @@ class SpCoTMHP:
         priors = Priors.build(hyper, self.K, self.L, len(obs.vocabulary), D)
         sampler = CollapsedConceptSampler(obs.words, obs.features, self.background_words, rng)
         places, concepts = initial_assignments(obs, self.K, self.L, self.init, rng)
-        moves_on, moves, off_name, start = self._moves_and_terms(obs, hyper, sampler)
+        run, start = self._start_variant(sampler, hyper, D is not None)
+        extra = None if run is None else run.log_terms
         trace = []
         for sweep in range(self.iterations):
             stats = self._stats(obs, places, concepts, sampler)
             if sweep:
-                trace.append(log_joint(priors, stats, self._event_transitions(places)))
+                trace.append(log_joint(priors, stats, self._event_transitions(places), extra))
             on = sweep >= start * self.iterations
-            places, concepts = self._sweep(
-                obs, priors, stats, hyper, sampler, moves, places, concepts, rng, on, off_name
-            )
+            places, concepts = self._sweep(obs, priors, stats, hyper, sampler, run, places, concepts, rng, on)
             if progress is not None:
                 progress(sweep + 1)
         stats = self._stats(obs, places, concepts, sampler)
-        self.log_joint_ = log_joint(priors, stats, self._event_transitions(places))
+        self.log_joint_ = log_joint(priors, stats, self._event_transitions(places), extra)
         trace.append(self.log_joint_)
-        info = self._run_info(dataset, obs, moves_on)
+        info = self._run_info(dataset, obs)
         model = posterior_mean_model(priors, stats, None, obs.vocabulary, hyper, info)
         model.map = dataset.map
         model.learner = from_batch(
@@ -253,33 +245,32 @@ class SpCoTMHP:
         self.concepts_ = concepts
         self.log_joint_trace_ = np.asarray(trace)
         self.mutual_information_ = mutual_information(model.pi, model.W)
-        self.off_name_acceptance_ = None if off_name is None else off_name.acceptance
+        self.variant_run_ = run
         model.info.update(log_joint=self.log_joint_, mutual_information=self.mutual_information_)
-        if off_name is not None:
-            model.info["off_name_acceptance"] = self.off_name_acceptance_
+        if run is not None:
+            model.info.update(run.info())
         record_truncation(model, self.K, self.L)
         self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
         self.fit_cpu_time_ = time.process_time() - c0
         return self
 
-    def _moves_and_terms(
-        self, obs: Observations, hyper: Hyperparameters, sampler: CollapsedConceptSampler
-    ) -> tuple[bool, SplitMerge | None, OffNamePlaces | None, float]:
-        """Whether split-merge moves run and their sampler, the off-name step (``hyper.off_name``) and the fraction
-        of the sweeps before an opt-in term enters; neither term is combined with the moves (they do not price it)."""
-        moves_on = obs.features is None if self.split_merge == "auto" else bool(self.split_merge)
-        for name in ("place_concepts", "off_name"):
-            if moves_on and getattr(hyper, name) is not None:
-                raise ModelError(f"split_merge moves do not price {name}: use one or the other")
-        moves = (
-            SplitMerge(sampler, self.K, self.L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi) if moves_on else None
-        )
-        off_name = None if hyper.off_name is None else OffNamePlaces(hyper.off_name, self.K, self.L)
-        start = self.term_from if self.term_from is not None else OFF_NAME_FROM if off_name else PLACE_CONCEPTS_FROM
-        return moves_on, moves, off_name, start
+    def _start_variant(
+        self, sampler: CollapsedConceptSampler, hyper: Hyperparameters, features: bool
+    ) -> tuple[VariantRun | None, float]:
+        """The hooks of ``variant`` for this fit (None: the paper's sampler, which refuses a variant's term) and the
+        fraction of the sweeps before an opt-in term enters the sampler (``term_from``, else the term's own)."""
+        if self.variant is None and hyper.off_name is not None:
+            raise ModelError(
+                "hyper.off_name is a research variant's term: fit with variant=spcotmhp.experimental.OffName() "
+                "(or spcotmhp.experimental.research_learner; docs/experimental.md)"
+            )
+        run = None if self.variant is None else self.variant.start(sampler, hyper, self.K, self.L, features)
+        own = None if run is None else run.term_from
+        start = self.term_from if self.term_from is not None else own if own is not None else PLACE_CONCEPTS_FROM
+        return run, start
 
-    def _run_info(self, dataset: Dataset, obs: Observations, moves_on: bool) -> dict:
+    def _run_info(self, dataset: Dataset, obs: Observations) -> dict:
         """The settings of this run and what the data held, for ``model.info``."""
         return {
             "method": "SpCoTMHP" if self.transitions == "hmm" else "SpCoSLAM (GMM)",
@@ -290,7 +281,7 @@ class SpCoTMHP:
             "reverse_replay": bool(self.replay),
             "transitions": self.transitions,
             "background_words": bool(self.background_words),
-            "split_merge": moves_on,
+            "split_merge": False,  # spcotmhp.experimental.split_merge's moves; a variant's info() says when on
             "trajectory": obs.trajectory is not None,
             "features": obs.features is not None,
             "feature_weight": self.feature_weight,
@@ -318,16 +309,16 @@ class SpCoTMHP:
         stats: SufficientStats,
         hyper: Hyperparameters,
         sampler: CollapsedConceptSampler,
-        moves: SplitMerge | None,
+        run: VariantRun | None,
         places: np.ndarray,
         concepts: np.ndarray,
         rng: np.random.Generator,
         term: bool = True,
-        off_name: OffNamePlaces | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """One Gibbs sweep, steps 1-5 of the module docstring, from the current assignments and their ``stats``:
         the parameters in ``priors`` are redrawn in place; returns the new places and concepts.  ``term``: whether
-        the opt-in term (place_concepts, or off_name with its Metropolis-Hastings step) enters this sweep."""
+        the opt-in term (place_concepts, or the variant's step-4 and step-5 hooks) enters this sweep; ``run``: a
+        research variant's hooks (None: the paper's sweep)."""
         h, place_concepts = hyper, priors.place_concepts if term else None
         priors.gauss.resample(stats.gauss, rng)  # step 1
         priors.phi.resample(stats.place_given_concept, rng)
@@ -340,13 +331,13 @@ class SpCoTMHP:
             priors.psi.resample(counts, rng)
         log_eta = None if place_concepts is None else place_concepts.log_probs
         proposal = self._sample_places(priors, obs, concepts, rng, log_eta)  # step 4
-        off_name = off_name if term else None
-        places = proposal if off_name is None else off_name.step(places, proposal, concepts, rng)
+        on = run if term else None
+        places = proposal if on is None else on.places(places, proposal, concepts, rng)
         eta = None if place_concepts is None else h.place_concepts  # step 5
-        lam = None if off_name is None else off_name.lam
-        concepts = sampler.sweep(concepts, places, self.L, self.K, h.alpha, h.gamma, h.beta, h.chi, rng, eta, lam)
-        if moves is not None:  # step 5, whole groups (split_merge.py)
-            concepts = moves.sweep(concepts, places, rng)
+        extra = None if on is None else on.concept_term
+        concepts = sampler.sweep(concepts, places, self.L, self.K, h.alpha, h.gamma, h.beta, h.chi, rng, eta, extra)
+        if run is not None:  # a variant's moves after step 5
+            concepts = run.concepts(concepts, places, rng)
         return places, concepts
 
     def _check_settings(self, n_events: int) -> None:
@@ -358,8 +349,6 @@ class SpCoTMHP:
         ):
             if value not in allowed:
                 raise ModelError(f"{name} must be one of {allowed}, got {value!r}")
-        if self.split_merge not in (True, False, "auto"):
-            raise ModelError(f"split_merge must be True, False or 'auto', got {self.split_merge!r}")
         start = self.term_from
         if start is not None and (
             isinstance(start, bool) or not isinstance(start, (int, float)) or not 0 <= start <= 1

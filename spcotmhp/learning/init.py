@@ -1,11 +1,19 @@
-"""Initial assignments for the Gibbs sampler."""
+"""How a Gibbs run starts: its random stream (``make_rng``, shared by the batch and online learners), its
+initial assignments, and the hooks a research variant starts it with (:class:`SweepVariant`, gibbs.py)."""
 
 from __future__ import annotations
+
+from typing import Protocol
 
 import numpy as np
 from numba import njit
 
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.concepts import CollapsedConceptSampler, ConceptTerm
+from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.observations import Observations
+from spcotmhp.learning.posterior import SufficientStats
+from spcotmhp.limits import is_count
 
 INITS = ("kmeans", "keyword", "random")
 
@@ -89,3 +97,56 @@ def initial_assignments(
     if how == "keyword":
         return kmeans_places(obs.X, K, rng), keyword_concepts(obs.words, L, rng)
     raise ValueError(f"init must be one of {INITS}, got {how!r}")
+
+
+def make_rng(seed: int | np.random.SeedSequence, run: int | None = None) -> np.random.Generator:
+    """The generator of one run: run r of seed s uses the r-th child of SeedSequence(s) (what
+    ``SeedSequence(s).spawn`` would give), independent of the others; ``run=None`` uses the seed itself.
+    Raises ModelError for a seed or run that is not a non-negative integer."""
+    if not isinstance(seed, np.random.SeedSequence) and not (is_count(seed) and seed >= 0):
+        raise ModelError(f"seed must be a non-negative integer (or a numpy SeedSequence), got {seed!r}")
+    if run is not None and not (is_count(run) and run >= 0):
+        raise ModelError(f"run must be a non-negative integer or None, got {run!r}")
+    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(int(seed))
+    if run is not None:
+        ss = np.random.SeedSequence(ss.entropy, spawn_key=tuple(ss.spawn_key) + (int(run),))
+    return np.random.default_rng(ss)
+
+
+def seed_repr(seed: int | np.random.SeedSequence) -> int | str:
+    return int(seed) if not isinstance(seed, np.random.SeedSequence) else str(seed.entropy)
+
+
+class VariantRun:
+    """The hooks of one fit of a research variant (``SweepVariant.start``); these defaults leave every step the
+    paper's and draw nothing, a variant overrides the ones it changes.  ``term_from``: the fraction of the sweeps
+    before its term enters (``SpCoTMHP(term_from=None)``; None: half); ``concept_term``, ``places``: step 5's
+    extra log-term and step 4's places kept given the FFBS draw, while the term is on; ``concepts``: after
+    step 5's Gibbs pass, every sweep; ``log_terms``: added to the collapsed log joint; ``info``: to model.info."""
+
+    term_from: float | None = None
+    concept_term: ConceptTerm | None = None
+
+    def places(
+        self, old: np.ndarray, proposal: np.ndarray, concepts: np.ndarray, rng: np.random.Generator
+    ) -> np.ndarray:
+        return proposal
+
+    def concepts(self, concepts: np.ndarray, places: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        return concepts
+
+    def log_terms(self, stats: SufficientStats) -> dict[str, float]:
+        return {}
+
+    def info(self) -> dict:
+        return {}
+
+
+class SweepVariant(Protocol):
+    """A research variant of the sampler (spcotmhp.experimental).  A setting like any other: copied to every run
+    of ``MultiRunSelector`` and pickled to its workers, so it keeps no state; ``start`` gives one fit's hooks
+    (raising ModelError for settings it cannot price)."""
+
+    def start(
+        self, sampler: CollapsedConceptSampler, hyper: Hyperparameters, K: int, L: int, features: bool
+    ) -> VariantRun: ...

@@ -47,7 +47,8 @@ class Hyperparameters:
     infinite in 2-D): the expected standard deviation s of one place's teaching positions along each axis.  Given,
     it sets nu0 = 5 and V0 = 2 s^2 I, so that E[Sigma_k] = s^2 I (Eq. 6 with a finite prior mean; the prior
     weighs like two observations of that spread).  nu0 and V0 must then be left at the paper's values (or equal
-    the derived ones, as a saved model gives them back).
+    the derived ones, as a saved model gives them back).  A research setting (docs/experimental.md), kept here
+    because a model folder records it.
 
     place_concepts (default None: off, the paper's model): eta, the total concentration of an opt-in prior that a
     place holds one name, a DEPARTURE from the paper.  Each place i draws its own concept distribution
@@ -59,7 +60,8 @@ class Hyperparameters:
     off_name (default None: off, the paper's model): lambda, the cost in nats of every event whose concept is not
     its place's majority concept, another opt-in DEPARTURE from the paper: the joint gains the energy factor
     log g(i, C) = -lambda sum_i (n_i - max_l n_{i,l}), which charges a second name in a place without charging
-    a place for its first (off_name.py).  Batch learner only; not combined with place_concepts.
+    a place for its first.  A research variant (spcotmhp/experimental/off_name.py; the batch learner fits with it
+    given ``variant=OffName()`` and refuses it otherwise); not combined with place_concepts.
 
     alpha, gamma and omega left unset (``DERIVED``; None is accepted too) follow the truncation: alpha = 10 / L,
     gamma = 1 / K, omega = 10 / K (the authors' code), which gives the paper's 0.5, 0.05 and 0.5 at L = K = 20

@@ -1,5 +1,5 @@
 """The range of every value a model can use, checked in one place: when a model folder is loaded
-(:mod:`spcotmhp.learning.model_checks`) and when a :class:`~spcotmhp.learning.model.SpatialConceptModel` or its
+(:mod:`spcotmhp.persistence.model_checks`) and when a :class:`~spcotmhp.learning.model.SpatialConceptModel` or its
 :class:`~spcotmhp.learning.model.Hyperparameters` is constructed. A value outside its range raises one
 :class:`~spcotmhp.errors.ModelValueError` naming the key (``exc.key``: "Sigma", "hyper.place_size",
 "costmap.inflation_radius", ...) and the accepted range; a checksum cannot judge these, a plan would crash on them.

@@ -59,7 +59,7 @@ from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.gibbs import make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.online_split_merge import KINDS, propose, settle_name
-from spcotmhp.learning.truncation import TruncationWarning
+from spcotmhp.learning.posterior import TruncationWarning
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count
 from spcotmhp.metric.maps import OccupancyMap
 

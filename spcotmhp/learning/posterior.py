@@ -1,11 +1,18 @@
 """Sufficient statistics of an assignment (i_{1:E}, C_{1:E}), the posterior-mean model they imply, and the
 collapsed log joint probability used to compare runs.
 
+Saturated weak-limit truncations: when every place (or concept) component of a learned model holds events, K (or
+L) may be too small for the home (Johnson and Willsky 2013's truncation is then no longer loose).
+:func:`record_truncation` lists them in ``model.info["truncation_saturated"]`` and warns
+(:class:`TruncationWarning`); :func:`truncation_messages` words them for the command line.
+
 Shared by the Gibbs sampler (final estimate, run selection) and the supervised fit (truth assignments).
 """
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,7 +21,6 @@ from numba import njit
 from spcotmhp.learning.distributions import DirichletCategoricals, GaussianStats, NIWGaussians
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.observations import Observations
-from spcotmhp.learning.off_name import log_off_name
 from spcotmhp.logspace import logsumexp
 
 
@@ -94,7 +100,6 @@ class Priors:
     background: DirichletCategoricals
     switch: DirichletCategoricals
     place_concepts: DirichletCategoricals | None = None  # eta_i, K rows over L concepts (opt-in, not the paper's)
-    off_name: float | None = None  # lambda of the off-name factor g (opt-in, not the paper's; off_name.py)
 
     @classmethod
     def build(cls, hyper: Hyperparameters, K: int, L: int, V: int, D: int | None) -> Priors:
@@ -109,7 +114,6 @@ class Priors:
             background=DirichletCategoricals(1, V, hyper.beta),
             switch=DirichletCategoricals(1, 2, 1.0),
             place_concepts=None if eta is None else DirichletCategoricals(K, L, eta / L),
-            off_name=hyper.off_name,
         )
 
 
@@ -160,22 +164,29 @@ def log_place_prior(priors: Priors, stats: SufficientStats) -> np.ndarray:
     return np.where(stats.gauss.n > 0, lp, -np.inf)
 
 
-def log_joint(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> float:
+ExtraTerms = Callable[[SufficientStats], dict[str, float]]
+"""A research variant's terms of the log joint, by name, given the counts (spcotmhp.experimental)."""
+
+
+def log_joint(
+    priors: Priors, stats: SufficientStats, transitions: np.ndarray | None, extra: ExtraTerms | None = None
+) -> float:
     """Collapsed log joint log p(x, S, f, i, C | h) with every parameter integrated out: the sum of
     ``log_joint_terms``.  Deterministic given an assignment, so it ranks runs without the noise of the last
     parameter draw."""
-    return float(sum(log_joint_terms(priors, stats, transitions).values()))
+    return float(sum(log_joint_terms(priors, stats, transitions, extra).values()))
 
 
-def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndarray | None) -> dict[str, float]:
+def log_joint_terms(
+    priors: Priors, stats: SufficientStats, transitions: np.ndarray | None, extra: ExtraTerms | None = None
+) -> dict[str, float]:
     """The terms of the collapsed log joint, by the parameter integrated out: "positions" (the NIW marginal of
     the positions per place, Eqs. 5-6), "pi" (C), "phi" (i given C), "W" (the concept words), "theta" (f, when
     there are features), "psi" (the place transitions, unless ``transitions`` is None), "background" (the
     background words and the switches, when kept), "place_concepts" (with ``Hyperparameters.place_concepts``
     = eta: sum_i log DirMult(n_{i,.} | eta / L) over the concepts of each place's events, a term the paper's
-    model does not have), "off_name" (with ``Hyperparameters.off_name`` = lambda: log g = -lambda times the
-    events off their place's majority concept, off_name.py, not the paper's either); Dirichlet-multinomial
-    marginals but the first and the last.
+    model does not have); Dirichlet-multinomial marginals but the first; then ``extra(stats)``, a research
+    variant's terms (e.g. "off_name", spcotmhp.experimental.off_name).
 
     Eq. 9 combines psi and phi as a product of experts; here both enter as their own multinomial terms (the
     normaliser of the product is not part of the comparison)."""
@@ -195,8 +206,8 @@ def log_joint_terms(priors: Priors, stats: SufficientStats, transitions: np.ndar
         )
     if priors.place_concepts is not None:
         terms["place_concepts"] = priors.place_concepts.log_marginal(stats.place_given_concept.T)
-    if priors.off_name is not None:
-        terms["off_name"] = log_off_name(priors.off_name, stats.place_given_concept)
+    if extra is not None:
+        terms.update(extra(stats))
     return terms
 
 
@@ -207,3 +218,40 @@ def mutual_information(pi: np.ndarray, W: np.ndarray) -> float:
     with np.errstate(divide="ignore", invalid="ignore"):
         terms = pi[:, None] * W * (np.log(W) - np.log(pw)[None, :])
     return float(np.nansum(terms))
+
+
+class TruncationWarning(UserWarning):
+    """Every place (or concept) component of the weak-limit truncation holds events: K (or L) may be too small."""
+
+
+def record_truncation(model: SpatialConceptModel, K: int, L: int) -> None:
+    """List the saturated truncations ("places" when all K place components hold events, "concepts" when all L
+    concept components do) in ``model.info["truncation_saturated"]`` and warn about each (TruncationWarning,
+    attributed to the caller's caller: the code that called ``fit``)."""
+    full = [
+        what
+        for what, used, cap in (
+            ("places", model.active_places.sum(), K),
+            ("concepts", model.active_concepts.sum(), L),
+        )
+        if used >= cap
+    ]
+    model.info["truncation_saturated"] = full
+    for message in truncation_messages(model):
+        warnings.warn(message, TruncationWarning, stacklevel=3)
+
+
+def truncation_messages(model: SpatialConceptModel) -> list[str]:
+    """One sentence per saturated truncation listed in ``model.info["truncation_saturated"]``."""
+    hint = {
+        "places": ("place", "K", model.K, "--max-places", "SpCoTMHP(K=...)"),
+        "concepts": ("concept", "L", model.L, "--max-concepts", "SpCoTMHP(L=...)"),
+    }
+    out = []
+    for what in model.info.get("truncation_saturated", []):
+        noun, symbol, size, option, api = hint[what]
+        out.append(
+            f"all {symbol} = {size} {noun} components hold events (the weak-limit truncation is "
+            f"saturated, so {what} may have been merged): learn again with a larger {option} ({api})"
+        )
+    return out

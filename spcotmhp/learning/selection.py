@@ -7,14 +7,10 @@ Criteria:
   highest, i.e. whose concepts are most clearly told apart by their words.
 * ``"log_joint"``: the run with the highest collapsed log joint probability log p(x, S, f, i, C | h), the
   model's own posterior.
-* ``"log_joint_switch_mode"``, ``"log_joint_switch_marginal"``, ``"log_joint_switch_plugin"``,
-  ``"log_joint_tail_mean"``, ``"held_out_words"``: the joint with the background-word switches z at a local
-  mode, summed out (Chib's estimate), summed per token at the posterior means, averaged over the last quarter of
-  the sweeps, and the leave-one-out predictive of each event's words from its position (run_scores.py gives
-  each one's reason and bias).  The last draw of the switches moves a run's joint by tens of nats (on generated
-  homes, resampling the switches of the true assignment lowered it by about 90), which is noise when runs are
-  compared by their places and concepts.  None is the default: each keeps runs the log joint does not, and on
-  the generated battery none both passes every home and keeps the held-out homes' figures
+* a :class:`RunScore`: any score of a fitted run, higher is better.  The research criteria that handle the
+  background-word switches (``"log_joint_switch_mode"``, ...) are such scores, in
+  :mod:`spcotmhp.experimental.selection` (docs/experimental.md): none is the default, each keeps runs the log
+  joint does not, and on the generated battery none both passes every home and keeps the held-out homes' figures
   (docs/learning-model-study.md, sections 4 and 6).
 
 Why ``"auto"``: the log joint is the principled choice (the most probable run under the model), and it picks the
@@ -35,6 +31,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
+from typing import Protocol
 
 import numpy as np
 
@@ -43,23 +40,29 @@ from spcotmhp.errors import ModelError
 from spcotmhp.learning.connectivity import apply_connectivity
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.run_scores import (
-    held_out_words,
-    switch_marginal_log_joint,
-    switch_mode_log_joint,
-    switch_plugin_log_joint,
-    tail_mean_log_joint,
-)
 from spcotmhp.limits import MAX_JOBS, MAX_RUNS, check_count
 
-SCORES: dict[str, Callable[[SpCoTMHP], float]] = {
-    "log_joint_switch_mode": switch_mode_log_joint,
-    "log_joint_switch_marginal": switch_marginal_log_joint,
-    "log_joint_switch_plugin": switch_plugin_log_joint,
-    "log_joint_tail_mean": tail_mean_log_joint,
-    "held_out_words": held_out_words,
-}
-CRITERIA = ("auto", "mutual_information", "log_joint", *SCORES)
+CRITERIA = ("auto", "mutual_information", "log_joint")
+
+
+class RunScore(Protocol):
+    """A run-selection criterion beyond ``CRITERIA``: ``name`` (kept as ``criterion_`` and in model.info) and the
+    score of a fitted run, higher is better (spcotmhp.experimental.selection has the research ones)."""
+
+    @property
+    def name(self) -> str: ...
+
+    def __call__(self, run: SpCoTMHP, /) -> float: ...
+
+
+def check_criterion(criterion: str | RunScore, allowed: tuple[str, ...] = CRITERIA) -> None:
+    """ModelError for a criterion that is neither one of ``allowed`` nor a RunScore."""
+    if isinstance(criterion, str) and criterion not in allowed:
+        raise ModelError(f"criterion must be one of {allowed}, got {criterion!r}")
+    if not isinstance(criterion, str) and not (
+        callable(criterion) and isinstance(getattr(criterion, "name", None), str)
+    ):
+        raise ModelError(f"criterion must be one of {allowed} or a named run score, got {criterion!r}")
 
 
 @dataclass
@@ -84,7 +87,11 @@ class MultiRunSelector:
     """
 
     def __init__(
-        self, estimator: SpCoTMHP | None = None, runs: int = 10, criterion: str = "auto", n_jobs: int = 1
+        self,
+        estimator: SpCoTMHP | None = None,
+        runs: int = 10,
+        criterion: str | RunScore = "auto",
+        n_jobs: int = 1,
     ) -> None:
         self.estimator = estimator
         self.runs = runs
@@ -93,8 +100,7 @@ class MultiRunSelector:
 
     def fit(self, dataset: Dataset, progress: Callable[[int], None] | None = None) -> MultiRunSelector:
         """Run everything; ``progress(n)`` is called with the number of sweeps just completed."""
-        if self.criterion not in CRITERIA:
-            raise ModelError(f"criterion must be one of {CRITERIA}, got {self.criterion!r}")
+        check_criterion(self.criterion)
         check_count(self.runs, "runs", 1, MAX_RUNS, ModelError)
         check_count(self.n_jobs, "n_jobs", 1, MAX_JOBS, ModelError)
         t0 = time.perf_counter()
@@ -127,28 +133,26 @@ class MultiRunSelector:
         self.fit_time_ = time.perf_counter() - t0
         return self
 
-    def scores(self, criterion: str) -> list[float]:
+    def scores(self, criterion: str | RunScore) -> list[float]:
         """Every fitted run's score under ``criterion`` (not "auto"; higher is better)."""
+        check_criterion(criterion, CRITERIA[1:])
         if criterion == "mutual_information":
             return [s.mutual_information for s in self.summaries_]
-        if criterion == "log_joint":
+        if isinstance(criterion, str):  # "log_joint"
             return [s.log_joint for s in self.summaries_]
-        if criterion not in SCORES:
-            raise ModelError(f"criterion must be one of {CRITERIA[1:]}, got {criterion!r}")
-        return [SCORES[criterion](e) for e in self.estimators_]
+        return [criterion(e) for e in self.estimators_]
 
-    def choose(self, criterion: str) -> MultiRunSelector:
+    def choose(self, criterion: str | RunScore) -> MultiRunSelector:
         """Keep the fitted run of highest score under ``criterion`` ("auto": module docstring): sets
-        ``criterion_``, ``best_index_``, ``best_`` and ``model_`` (with the connectivity applied)."""
-        if criterion not in CRITERIA:
-            raise ModelError(f"criterion must be one of {CRITERIA}, got {criterion!r}")
+        ``criterion_`` (its name), ``best_index_``, ``best_`` and ``model_`` (with the connectivity applied)."""
+        check_criterion(criterion)
         if criterion == "auto":
             criterion = "mutual_information" if self.estimators_[0].model_.info.get("features") else "log_joint"
-        self.criterion_ = criterion
+        self.criterion_ = criterion if isinstance(criterion, str) else criterion.name
         self.best_index_ = int(np.argmax(self.scores(criterion)))
         self.best_ = self.estimators_[self.best_index_]
         self.model_: SpatialConceptModel = self.best_.model_
-        self.model_.info.update(selected_run=self.best_index_, runs=self.runs, criterion=criterion)
+        self.model_.info.update(selected_run=self.best_index_, runs=self.runs, criterion=self.criterion_)
         if self.best_.transitions == "hmm":
             data = self._dataset
             seen = data if self._use_trajectory else replace(data, trajectory=None, event_steps=None)
@@ -159,7 +163,7 @@ class MultiRunSelector:
 def fit_runs(
     dataset: Dataset,
     runs: int = 10,
-    criterion: str = "auto",
+    criterion: str | RunScore = "auto",
     n_jobs: int = 1,
     progress: Callable[[int], None] | None = None,
     **params,

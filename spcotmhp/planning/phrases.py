@@ -3,7 +3,7 @@
 Both are functions of the model, the planner's settings and the phrase's bags of words alone (not of the start,
 the other phrases of the instruction or the free region), and a robot hears the same few place names again and
 again, so a planner keeps them per phrase instead of recomputing them for every instruction
-(:meth:`~spcotmhp.planning.planner.HierarchicalPlanner._phrase_terms`). The memo is bounded (emptied when full)
+(:meth:`~spcotmhp.planning.planner.HierarchicalPlanner.phrase_terms`). The memo is bounded (emptied when full)
 and keeps read-only arrays, so a caller cannot change what a later instruction reads.
 """
 

@@ -18,7 +18,7 @@ for "avoid the kitchen": :func:`~spcotmhp.planning.avoid.avoided_view`) and free
 map_server with costmap_filter_info_server type 0 (keepout), base 0, multiplier 1 (README.md beside it).
 
 A building's model exports one route graph per floor and the connectors between them
-(:func:`spcotmhp.building.nav2.export_building`).
+(:func:`spcotmhp.ros.nav2_building.export_building`).
 """
 
 from __future__ import annotations
@@ -130,7 +130,7 @@ def export_nav2(
     """Write ``out``/route_graph.geojson, README.md and, with ``avoid``, keepout.yaml + keepout.pgm; the folder
     is built beside ``out`` and swapped in. ``out`` must be absent, an empty folder or (with ``overwrite``) an
     earlier export. Returns a one-line summary."""
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     out = Path(out)
     check_target(out, Path(model_dir), overwrite)

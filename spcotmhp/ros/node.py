@@ -319,7 +319,7 @@ def run_node(
     progress: Callable[[str], None] = print,
 ) -> None:
     """Load the model, precompute its planner, and serve until interrupted (Ctrl-C or SIGTERM)."""
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     t0 = time.perf_counter()
     model = load_model(model_dir)

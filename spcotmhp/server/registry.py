@@ -272,7 +272,7 @@ def load_served(
 ) -> dict[str, ServedModel]:
     """Build every served model (name -> model folder or model), in order; the first is the default."""
     from spcotmhp.building.io import is_building_model, load_building_model
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     if not models:
         raise ModelError("no model to serve: give at least one model folder")

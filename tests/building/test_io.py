@@ -17,8 +17,8 @@ from spcotmhp.building.io import BUILDING_JSON, is_building_model, load_building
 from spcotmhp.building.learn import learn_building
 from spcotmhp.building.synthetic import generate_building
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.io import load_model, save_model
-from spcotmhp.learning.model_folder import MANIFEST, manifest_of
+from spcotmhp.persistence.folder import MANIFEST, manifest_of
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.strategies import document_paths
 
 

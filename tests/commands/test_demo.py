@@ -22,8 +22,8 @@ from spcotmhp.cli import app
 from spcotmhp.commands.demo import _progress, demo_start, learn_demo_model, next_command, serve_port
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import InstructionError
-from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import save_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 
 SPCOTMHP = [sys.executable, "-m", "spcotmhp.cli"]

@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner
 
 from spcotmhp.cli import app
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
 DATA = Path(__file__).resolve().parents[2] / "spcotmhp" / "data"
@@ -174,7 +174,7 @@ def test_bad_criterion_is_a_one_line_error(tmp_path):
         "1",
     )
     assert res.returncode == 2
-    from spcotmhp.learning.selection import CRITERIA
+    from spcotmhp.experimental.selection import CRITERIA
 
     assert "log_joint_switch_marginal" in CRITERIA and "held_out_words" in CRITERIA
     assert f"error: criterion must be one of {CRITERIA}, got 'vibes'" in res.stderr

@@ -13,8 +13,8 @@ from typer.testing import CliRunner
 
 from spcotmhp.cli import app
 from spcotmhp.datasets.synthetic import generate_environment, write_dataset
-from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import save_model
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -83,7 +83,7 @@ def test_costmap_refuses_its_own_map_and_existing_files(dataset, tmp_path):
 
 
 def test_plan_png_never_onto_the_model(model, tmp_path):
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     m = load_model(model)
     x, y = (float(v) for v in m.mu[int(m.active_places.argmax())])
@@ -102,7 +102,7 @@ def test_plan_png_never_onto_the_model(model, tmp_path):
 
 def test_no_output_inside_the_model_folder(model, tmp_path):
     """A PNG, a Nav2 export or a demo written into a model folder made the next `teach` refuse it (audit 2)."""
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     m = load_model(model)
     x, y = (float(v) for v in m.mu[int(m.active_places.argmax())])

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from spcotmhp.datasets.bundled import load_bundled
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import load_model, save_model
 
 EXE = str(Path(sys.executable).with_name("spcotmhp"))
 

@@ -8,7 +8,7 @@ import sys
 import httpx
 import pytest
 
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from tests.helpers.server import INSTRUCTION, ServerProcess, start_near
 
 

@@ -417,8 +417,8 @@ def test_scale_benchmark_runs_on_a_small_office(capsys):
 def test_evaluate_a_given_model_folder(tmp_path):
     """Issue 24 item 5: `evaluate DATASET --model MODEL_DIR` scores a model folder as it is: the supervised fit
     saved and evaluated gives the same figures as --params supervised; a model of another map is refused."""
-    from spcotmhp.learning.io import save_model
     from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.persistence.io import save_model
 
     ds = load_bundled("3LDK_05")
     save_model(fit_supervised(ds), tmp_path / "m05")

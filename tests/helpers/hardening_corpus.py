@@ -193,7 +193,7 @@ def model_case(rng: random.Random, folder: Path, template: Path) -> str:
     """A copy of the model folder ``template``, damaged: flipped bytes (sealed again or not), hostile JSON
     values, nesting, symlinks out, zip bombs, a bare .npy, a non-symmetric Sigma; hostile values resealed and
     files grown sparse to gigabytes (issue 26)."""
-    from spcotmhp.learning.model_folder import MANIFEST, manifest_of
+    from spcotmhp.persistence.folder import MANIFEST, manifest_of
 
     shutil.copytree(template, folder, dirs_exist_ok=True, symlinks=True)
     reseal = rng.random() < 0.7
@@ -359,9 +359,9 @@ def main(n: int) -> None:  # pragma: no cover - a command-line report
 
     from spcotmhp.datasets.loader import load_dataset
     from spcotmhp.datasets.synthetic import generate_environment, write_dataset
-    from spcotmhp.learning.io import load_model, save_model
     from spcotmhp.learning.supervised import fit_supervised
     from spcotmhp.metric.map_io import load_map
+    from spcotmhp.persistence.io import load_model, save_model
 
     warnings.simplefilter("ignore")
     root = Path(tempfile.mkdtemp())

@@ -186,7 +186,7 @@ def lib(name: str) -> Callable[[Path], list[str]]:
 
 def library_case(name: str, root: Path) -> str:
     """Run the library case ``name`` (module docstring) and return what it found (a SpcotmhpError escapes)."""
-    from spcotmhp.learning.io import load_model, save_model
+    from spcotmhp.persistence.io import load_model, save_model
     from spcotmhp.planning import HierarchicalPlanner
 
     model_dir = template_model(root)
@@ -253,8 +253,8 @@ def staging_after_kill(root: Path, model_dir: Path) -> str:
         shutil.rmtree(old, ignore_errors=True)
     script = (
         "import sys, time, numpy as np\n"
-        "import spcotmhp.learning.model_folder as mf\n"
-        "from spcotmhp.learning.io import load_model, save_model\n"
+        "import spcotmhp.persistence.folder as mf\n"
+        "from spcotmhp.persistence.io import load_model, save_model\n"
         "real = mf.manifest_of\n"
         "def slow(*a):\n"
         "    print('writing', flush=True); time.sleep(60); return real(*a)\n"
@@ -272,7 +272,7 @@ def staging_after_kill(root: Path, model_dir: Path) -> str:
     left = sorted(p.name for p in root.glob(".killed-save.*"))
     if not left:
         raise AssertionError("the killed save left no staging folder (the case did not interrupt it)")
-    again = f"from spcotmhp.learning.io import *; save_model(load_model({str(model_dir)!r}), {str(target)!r})"
+    again = f"from spcotmhp.persistence.io import *; save_model(load_model({str(model_dir)!r}), {str(target)!r})"
     subprocess.run([sys.executable, "-c", again], check=True, env=child_env(), capture_output=True)
     after = sorted(p.name for p in root.glob(".killed-save.*"))
     if after:

@@ -33,8 +33,8 @@ def template_model(root: Path) -> Path:
     if not (folder / "manifest.json").is_file():
         from spcotmhp.datasets.loader import load_dataset
         from spcotmhp.datasets.synthetic import generate_environment, write_dataset
-        from spcotmhp.learning.io import save_model
         from spcotmhp.learning.supervised import fit_supervised
+        from spcotmhp.persistence.io import save_model
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -49,7 +49,7 @@ def learner_model(root: Path) -> Path:
     if not (folder / "manifest.json").is_file():
         from spcotmhp.datasets.loader import load_dataset
         from spcotmhp.learning.gibbs import SpCoTMHP
-        from spcotmhp.learning.io import save_model
+        from spcotmhp.persistence.io import save_model
 
         template_model(root)
         with warnings.catch_warnings():
@@ -101,7 +101,7 @@ def door_model(root: Path) -> Path:
     alone (the smaller region) | corridor, kitchen, bedroom #2."""
     folder = root / "door-model"
     if not (folder / "manifest.json").is_file():
-        from spcotmhp.learning.io import save_model
+        from spcotmhp.persistence.io import save_model
         from tests.helpers.planning import DOORS, EDGES, NAMES, ROOMS, SHAPE, make_home
 
         save_model(make_home(ROOMS, DOORS[1:], NAMES, EDGES, SHAPE), folder)
@@ -112,7 +112,7 @@ def door_plan(instruction: str, row: int, col: int) -> Callable[[Path], list[str
     """`plan` on the closed-door home from the cell (row, col)."""
 
     def build(root: Path) -> list[str]:
-        from spcotmhp.learning.io import load_model
+        from spcotmhp.persistence.io import load_model
 
         x, y = load_model(door_model(root)).require_map().cell_to_world(np.array([row, col]))
         return ["plan", str(door_model(root)), instruction, "--start", f"{x:.3f}", f"{y:.3f}"]
@@ -139,7 +139,7 @@ def plan_args(folder: Path) -> list[str]:
 def template_start(root: Path) -> tuple[float, float]:
     cache = root / "template-start.json"
     if not cache.is_file():
-        from spcotmhp.learning.io import load_model
+        from spcotmhp.persistence.io import load_model
 
         model = load_model(template_model(root))
         occ = model.require_map()
@@ -214,8 +214,8 @@ def grown(name: str, size: int, list_size: bool) -> Callable[[Path], list[str]]:
 def learner_grown(root: Path) -> list[str]:
     """learner.json raised to its largest E and T (resealed), learner.npz grown to what they allow (sparse) and
     listed so: the bound the learner state allows, hashed."""
-    from spcotmhp.learning.learner_state import MAX_EVENTS, MAX_TOKENS
-    from spcotmhp.learning.model_checks import file_bound
+    from spcotmhp.persistence.learner import MAX_EVENTS, MAX_TOKENS
+    from spcotmhp.persistence.model_checks import file_bound
     from tests.helpers.learning import reseal
 
     folder = copy_model(root, "m-learner-grown")

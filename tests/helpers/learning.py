@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
-from spcotmhp.learning.concepts import _concept_sweep
-from spcotmhp.learning.model_folder import MANIFEST, manifest_of
+from spcotmhp.learning.concepts import _concept_sweep, _sweep_with
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.persistence.folder import MANIFEST, manifest_of
 
 PLANTED_MU = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 6.0], [0.0, 6.0]])
 PLANTED_SIGMA = np.array(
@@ -46,16 +46,15 @@ def planted_dataset(E: int = 300, seed: int = 7) -> Dataset:
     return Dataset(name="planted", map=grid, positions=X, tokens=tokens, truth_place=places, truth_concept=concepts)
 
 
-def sweep_kernel(
-    sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0, off_name=0.0
-) -> np.ndarray:
+def sweep_kernel(sampler, C, places, order, uniforms, L, K, hyper, counts, digamma_ld, eta_each=0.0, term=None):
     """One call of the concept-sweep kernel on hand-built ``counts`` = (n_l, n_lk, W_lv, F_ld, F_l) (updated in
     place) and ``hyper`` = (alpha, gamma, beta, chi), over the events ``order`` with ``uniforms``: the sampler's
     tokens, a copy of its switches, its background words with the background model off, and its features. The
-    concepts it returns are a new array (``C`` is not changed)."""
+    concepts it returns are a new array (``C`` is not changed); ``term``: a research variant's ``ConceptTerm``."""
     n_l, n_lk, W_lv, F_ld, F_l = counts
     bg = sampler.background_words()
-    return _concept_sweep(
+    kernel = _concept_sweep if term is None else _sweep_with(term.add)
+    return kernel(
         C.copy(),
         places,
         order,
@@ -87,11 +86,11 @@ def sweep_kernel(
         digamma_ld,
         True,
         eta_each,
-        off_name,
+        0.0 if term is None else term.param,
     )
 
 
-def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0, off_name=0.0):
+def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=20001, eta_each=0.0, term=None):
     """Probabilities p(C_e = l | rest) read off the kernel: it draws by inverse CDF of one uniform (``eta_each``:
     eta / L of the place_concepts term, 0 off)."""
     counts = np.zeros(L)
@@ -115,7 +114,7 @@ def concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, hyper, grid=
             (n_l, n_lk, W_lv, F_ld, F_l),
             np.zeros_like(F_ld),
             eta_each,
-            off_name,
+            term,
         )
         counts[out[e]] += 1
     return counts / grid
@@ -157,9 +156,9 @@ def stats_of(places, concepts, words, K: int, L: int):
     return SufficientStats(gauss, np.bincount(concepts, minlength=L).astype(float), pgc, None, W)
 
 
-def conditional_by_joints(priors, places, C, words, e: int, K: int, L: int) -> np.ndarray:
+def conditional_by_joints(priors, places, C, words, e: int, K: int, L: int, extra=None) -> np.ndarray:
     """p(C_e = l | rest) for every l as the normalised collapsed joints of the L assignments that differ in C_e only
-    (brute force, no transitions)."""
+    (brute force, no transitions; ``extra``: a research variant's terms of the joint)."""
     from scipy.special import logsumexp
 
     from spcotmhp.learning.posterior import log_joint
@@ -168,7 +167,7 @@ def conditional_by_joints(priors, places, C, words, e: int, K: int, L: int) -> n
     for l in range(L):
         C_l = C.copy()
         C_l[e] = l
-        lp.append(log_joint(priors, stats_of(places, C_l, words, K, L), None))
+        lp.append(log_joint(priors, stats_of(places, C_l, words, K, L), None, extra))
     return np.exp(np.array(lp) - logsumexp(lp))
 
 
@@ -177,8 +176,8 @@ def folder_without_hyper_key(model, folder: Path, key: str) -> Path:
     ``hyper[key]``, as a folder written before that hyper-parameter existed; returns the model.json path."""
     from dataclasses import replace
 
-    from spcotmhp.learning.io import save_model
     from spcotmhp.learning.model import Hyperparameters
+    from spcotmhp.persistence.io import save_model
 
     save_model(replace(model, hyper=Hyperparameters()), folder)
     path = folder / "model.json"

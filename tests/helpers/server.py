@@ -17,8 +17,8 @@ import httpx
 import numpy as np
 
 from spcotmhp.datasets import load_bundled
-from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import save_model
 from tests.helpers.graphs import GRAPHS
 
 INSTRUCTION = "go to the bedroom via the corridor"

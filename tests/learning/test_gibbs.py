@@ -178,7 +178,6 @@ def test_bad_datasets_get_clear_errors(changes, message):
         ({"K": 10**8}, r"K \(the place truncation\) must be an integer in \[1, 1000\], got 100000000"),
         ({"L": 10**8}, r"L \(the concept truncation\) must be an integer in \[1, 1000\], got 100000000"),
         ({"iterations": 10**9}, r"iterations must be an integer in \[1, 100000\], got 1000000000"),
-        ({"split_merge": "yes"}, "split_merge must be True, False or 'auto'"),
     ],
 )
 def test_bad_settings_get_clear_errors(kwargs, message):

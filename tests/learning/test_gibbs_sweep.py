@@ -15,8 +15,13 @@ from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.hmm import runs, trajectory_places, transition_counts
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.observations import Observations
-from spcotmhp.learning.posterior import Priors, SufficientStats, log_place_prior, posterior_mean_model
-from spcotmhp.learning.truncation import TruncationWarning
+from spcotmhp.learning.posterior import (
+    Priors,
+    SufficientStats,
+    TruncationWarning,
+    log_place_prior,
+    posterior_mean_model,
+)
 from tests.helpers.learning import planted_dataset
 
 

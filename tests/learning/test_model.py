@@ -12,10 +12,10 @@ from spcotmhp.evaluation.online_eval import dataset_events
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats
 from spcotmhp.learning.gibbs import SpCoTMHP
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters, place_size_prior
 from spcotmhp.learning.online import OnlineSpCoTMHP
 from spcotmhp.learning.posterior import Priors
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.learning import planted_dataset
 
 

@@ -17,11 +17,11 @@ from spcotmhp.evaluation.table6 import score_run
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats, NIWGaussians
 from spcotmhp.learning.gibbs import SpCoTMHP
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent
-from spcotmhp.learning.truncation import TruncationWarning
+from spcotmhp.learning.posterior import TruncationWarning
 from spcotmhp.metric.costmap import inflate
+from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.teaching.teach import planner_for, teach
 from tests.helpers.server import start_near, supervised_model_dir, wall_point
 

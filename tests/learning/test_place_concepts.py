@@ -12,11 +12,11 @@ from spcotmhp.errors import ModelError, TeachingError
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.hmm import ffbs
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP
 from spcotmhp.learning.place_ffbs import place_emissions, sample_places
 from spcotmhp.learning.posterior import Priors, log_joint_terms
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.learning import (
     assert_same_fit,
     concept_conditional_by_inverse_cdf,
@@ -121,8 +121,6 @@ def test_bad_values_are_refused(kwargs, match):
 
 
 def test_settings_that_cannot_combine_are_refused(tiny_dataset):
-    with pytest.raises(ModelError, match="split_merge"):
-        _fit(tiny_dataset, hyper=Hyperparameters(place_concepts=1.0), split_merge=True)
     for start in (1.5, "half", True):
         with pytest.raises(ModelError, match="term_from"):
             _fit(tiny_dataset, term_from=start)

@@ -143,26 +143,6 @@ def test_switch_mode_is_a_local_maximum_of_the_joint(data):
     assert _state_joint(st) == pytest.approx(mode, rel=1e-12)
 
 
-def test_the_switch_mode_criterion_keeps_the_run_of_highest_switch_mode_joint(data):
-    from spcotmhp.learning.selection import switch_mode_log_joint
-
-    sel = fit_runs(data, runs=3, iterations=10, criterion="log_joint_switch_mode", connectivity="hmm")
-    scores = [switch_mode_log_joint(e) for e in sel.estimators_]
-    assert sel.criterion_ == "log_joint_switch_mode" and sel.best_index_ == int(np.argmax(scores))
-    assert all(s >= e.log_joint_ for s, e in zip(scores, sel.estimators_, strict=True))
-
-
-@pytest.mark.parametrize("criterion", ["log_joint_switch_marginal", "log_joint_switch_plugin", "log_joint_tail_mean"])
-def test_each_switch_criterion_keeps_the_run_of_highest_score(data, criterion):
-    from spcotmhp.learning.selection import SCORES
-
-    sel = fit_runs(data, runs=3, iterations=10, criterion=criterion, connectivity="hmm")
-    scores = [SCORES[criterion](e) for e in sel.estimators_]
-    assert sel.scores(criterion) == scores
-    assert sel.criterion_ == criterion and sel.best_index_ == int(np.argmax(scores))
-    assert sel.model_.info["criterion"] == criterion
-
-
 def test_choose_keeps_another_run_among_the_fitted_ones(data):
     sel = fit_runs(data, runs=3, iterations=10, connectivity="map")
     mi = [s.mutual_information for s in sel.summaries_]

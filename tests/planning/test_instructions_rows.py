@@ -13,8 +13,8 @@ import pytest
 
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.errors import InstructionError, PlanningError
-from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import save_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 
 EXE = str(Path(sys.executable).with_name("spcotmhp"))

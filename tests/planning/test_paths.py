@@ -4,13 +4,11 @@ compiled path measures agree with numpy, and the numba cache folder falls back t
 from __future__ import annotations
 
 import math
-import os
 import warnings
 
 import numpy as np
 import pytest
 
-from spcotmhp import warmup
 from spcotmhp.datasets.bundled import load_bundled
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning._paths import cells_cost, is_better, octile_length
@@ -25,20 +23,6 @@ def test_octile_length_and_cost_by_hand():
     assert octile_length(cells) == pytest.approx(1 + 2 * math.sqrt(2))
     assert cells_cost(cells, cost) == pytest.approx(5 * math.sqrt(2) + 6 + 11 * math.sqrt(2))
     assert is_better(cells[:2], cells, cost) and not is_better(cells, cells[:2], cost)
-
-
-def test_cache_dir_falls_back_to_user_cache(monkeypatch, tmp_path):
-    # cache_dir_default sets os.environ itself: setenv first, so that monkeypatch restores the variable even when
-    # it was unset (delenv of an unset variable records nothing, and the folder set below outlived this test:
-    # every `spcotmhp serve` the later tests started compiled its kernels into an empty cache)
-    monkeypatch.setenv("NUMBA_CACHE_DIR", "")
-    monkeypatch.delenv("NUMBA_CACHE_DIR")
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    monkeypatch.setattr(os, "access", lambda *a, **k: False)
-    assert warmup.cache_dir_default() == str(tmp_path / "spcotmhp" / "numba")
-    assert (tmp_path / "spcotmhp" / "numba").is_dir()
-    monkeypatch.setenv("NUMBA_CACHE_DIR", "/somewhere")
-    assert warmup.cache_dir_default() == "/somewhere"
 
 
 @pytest.mark.parametrize("home", ["3LDK_01", "3LDK_06"])

@@ -28,9 +28,9 @@ def test_kept_terms_equal_fresh_ones(planner, words, stage):
     query = PlaceQuery(words, " ".join(words))
     semantic, likely = planner.terms.stage_terms([words], planner.settings.instance_ratio)
     for _ in range(2):  # computed, then read from the memo
-        got_semantic, got_places = planner._phrase_terms(query, stage)
+        got_semantic, got_places = planner.phrase_terms(query, stage)
         assert np.array_equal(got_semantic, semantic[0])
-        assert np.array_equal(got_places, planner._instances(query, likely[0], stage))
+        assert np.array_equal(got_places, planner.instances(query, likely[0], stage))
         assert not got_semantic.flags.writeable and not got_places.flags.writeable
 
 
@@ -48,7 +48,7 @@ def test_refusals_are_not_kept(planner):
     query = PlaceQuery({"bedroom": 1.0, "kitchen": 1.0}, "bedroom kitchen")
     for _ in range(2):
         with pytest.raises(UnknownPlaceWord):
-            planner._phrase_terms(query, True)
+            planner.phrase_terms(query, True)
     assert phrase_key(query, True) not in planner._phrases._kept
 
 

@@ -392,7 +392,7 @@ def test_goal_option_bounds_are_lower_bounds_of_the_final_paths():
                 ins = p.instruction
                 _, cell, _ = start_cell(model, pl.graph, x0)
                 S = len(ins.stages)
-                semantic, inst = pl._stage_instances(ins)
+                semantic, inst = pl.stage_instances(ins)
                 result = search(pl._problem(pl.graph, pl.terms.place_posterior(x0), cell, semantic, inst, S))
                 ks = np.flatnonzero(pl.graph.node_place == o.id)
                 alt = result.ending_at(int(ks[np.argmax(result.terminal[ks])]))
@@ -430,7 +430,7 @@ def test_the_planner_takes_a_model(given, shown):
         HierarchicalPlanner(given)
     assert str(info.value) == (
         f"HierarchicalPlanner takes a SpatialConceptModel, got a {shown}; load a model folder with "
-        "spcotmhp.learning.io.load_model(folder)"
+        "spcotmhp.persistence.io.load_model(folder)"
     )
 
 

@@ -165,6 +165,6 @@ def test_ros2_without_the_extra_is_one_line(model_dir):
 
 
 def load_model_dir(folder: Path):
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     return load_model(folder)

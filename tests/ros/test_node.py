@@ -32,9 +32,9 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from spcotmhp.datasets import load_dataset
 from spcotmhp.datasets.bundled import load_bundled
-from spcotmhp.learning.io import save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric.grid_search import geodesic_distance
+from spcotmhp.persistence.io import save_model
 from spcotmhp.planning import HierarchicalPlanner
 from spcotmhp.ros.teaching_log import TeachingLog
 
@@ -380,7 +380,7 @@ def test_recorded_teaching_lands_in_the_model_it_was_said_against(setup, tmp_pat
         [EXE, "teach", str(target), "--from", str(record)], capture_output=True, text=True, timeout=300, check=False
     )
     assert out.returncode == 0, out.stderr
-    from spcotmhp.learning.io import load_model
+    from spcotmhp.persistence.io import load_model
 
     taught = load_model(target)
     rows = len(load_dataset(record, lang="en").positions)

@@ -16,7 +16,7 @@ from PIL import Image
 
 from spcotmhp.commands.service import model_mapping
 from spcotmhp.errors import ModelError, PlanningError
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.server import create_app
 from spcotmhp.server.limits import AUDIO_LIMIT, JSON_LIMIT, BodySizeLimit

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from spcotmhp.server import create_app
 from spcotmhp.server.limits import BodySizeLimit, host_name
 from spcotmhp.server.scheduling import Budget, Lane, estimate_cost

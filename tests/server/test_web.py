@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from tests.helpers.server import INSTRUCTION, ServerProcess, start_near, supervised_model_dir, wall_point
 
 sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (extra 'dev')")

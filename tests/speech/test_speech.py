@@ -365,8 +365,8 @@ def test_missing_pocketsphinx_is_a_clear_error(monkeypatch):
 @pytest.fixture(scope="module")
 def model_folder(tmp_path_factory):
     from spcotmhp.datasets import load_bundled
-    from spcotmhp.learning.io import save_model
     from spcotmhp.learning.supervised import fit_supervised
+    from spcotmhp.persistence.io import save_model
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

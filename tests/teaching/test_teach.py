@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from spcotmhp.errors import NotANaming, TeachingError
-from spcotmhp.learning.io import load_model
+from spcotmhp.persistence.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.teaching.teach import planner_for, teach
 from tests.helpers.server import start_near, supervised_model_dir
@@ -79,7 +79,7 @@ def test_an_utterance_that_names_nothing_is_refused(model6, utterance):
 def test_a_naming_event_survives_later_teaches_and_a_saved_folder(model6, tmp_path):
     """The naming flag is kept in the learner state (learner.npz ``named``): a later teach elsewhere revisits the
     first event (fixed-lag) with the same rule, so the new place stays; loading the folder keeps it too."""
-    from spcotmhp.learning.io import save_model
+    from spcotmhp.persistence.io import save_model
 
     first = teach(model6, [{"x": FAR[0], "y": FAR[1], "utterance": "this is the study"}]).model
     folder = save_model(first, tmp_path / "m")

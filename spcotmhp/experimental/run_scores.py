@@ -1,4 +1,5 @@
-"""Scores of one fitted Gibbs run by which selection.py compares runs, each with the background-word switches z
+"""Scores of one fitted Gibbs run by which the research run-selection criteria (experimental/selection.py)
+compare runs, each with the background-word switches z
 handled in its own way (a run is judged by its places and concepts (i, C); the switches are a nuisance).
 
 The collapsed log joint of a run (``posterior.log_joint``) is log p(x, S, f, i, C, z | h) at the run's last
@@ -31,11 +32,12 @@ from __future__ import annotations
 import numpy as np
 
 from spcotmhp.errors import ModelError
+from spcotmhp.experimental.off_name import OffNamePlaces
+from spcotmhp.experimental.switch_marginal import log_words_given_concepts
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.learner_state import state_of_member
 from spcotmhp.learning.online_split_merge import state_stats
-from spcotmhp.learning.posterior import Priors, log_joint, log_joint_terms
-from spcotmhp.learning.switch_marginal import log_words_given_concepts
+from spcotmhp.learning.posterior import ExtraTerms, Priors, log_joint, log_joint_terms
 from spcotmhp.logspace import logsumexp
 
 SWITCH_PRIOR = 1.0  # Beta(1, 1) prior of the concept / background switch (as concepts.py)
@@ -48,7 +50,7 @@ def switch_mode_log_joint(estimator) -> float:
     background-word switches at a local mode (``CollapsedState.switch_mode``) instead of their last draw."""
     st, priors, trans = _final_state(estimator)
     st.switch_mode()
-    return log_joint(priors, state_stats(st), trans)
+    return log_joint(priors, state_stats(st), trans, _extra(st))
 
 
 def switch_marginal_log_joint(estimator, seed: int = 0) -> float:
@@ -57,7 +59,7 @@ def switch_marginal_log_joint(estimator, seed: int = 0) -> float:
     final switches and seeded with ``seed``."""
     st, priors, trans = _final_state(estimator)
     if not st.background:
-        return log_joint(priors, state_stats(st), trans)
+        return log_joint(priors, state_stats(st), trans, _extra(st))
     words, concepts = _tokens(st)
     z = np.concatenate(st.z) if st.z else np.zeros(0, dtype=bool)
     rng = np.random.default_rng(seed)
@@ -125,8 +127,13 @@ def _final_state(estimator) -> tuple[CollapsedState, Priors, np.ndarray | None]:
 
 def _non_word_terms(st: CollapsedState, priors: Priors, trans: np.ndarray | None) -> float:
     """The collapsed log joint's terms but the words' (positions, pi, phi, theta, psi)."""
-    terms = log_joint_terms(priors, state_stats(st), trans)
+    terms = log_joint_terms(priors, state_stats(st), trans, _extra(st))
     return float(sum(v for k, v in terms.items() if k not in WORD_TERMS))
+
+
+def _extra(st: CollapsedState) -> ExtraTerms | None:
+    """The off-name term of a run fitted with it (the log joint its sampler reported carries it)."""
+    return None if st.hyper.off_name is None else OffNamePlaces(st.hyper.off_name, st.K, st.L).log_terms
 
 
 def _tokens(st: CollapsedState) -> tuple[np.ndarray, np.ndarray]:

@@ -11,10 +11,10 @@ import pytest
 
 from spcotmhp.building.io import save_building_model
 from spcotmhp.building.learn import learn_building
-from spcotmhp.building.nav2 import building_route_graphs, export_building
 from spcotmhp.building.planner import BuildingPlanner
 from spcotmhp.building.synthetic import generate_building
 from spcotmhp.errors import SpcotmhpError
+from spcotmhp.ros.nav2_building import building_route_graphs, export_building
 
 
 @pytest.fixture(scope="module")

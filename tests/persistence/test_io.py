@@ -10,8 +10,8 @@ import pytest
 
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.learning import reseal
 
 pytestmark = pytest.mark.filterwarnings("ignore::spcotmhp.datasets.loader.DatasetWarning")
@@ -208,7 +208,7 @@ def test_save_onto_a_file(model, tmp_path):
 def test_saved_model_predicts_the_events_it_was_fitted_on(model, saved):
     from sklearn.metrics import normalized_mutual_info_score
 
-    from spcotmhp.learning.predict import predict_assignments
+    from spcotmhp.learning.supervised import predict_assignments
 
     data = load_bundled("albert-b", lang="ja")
     places, concepts = predict_assignments(load_model(saved), data)
@@ -217,7 +217,7 @@ def test_saved_model_predicts_the_events_it_was_fitted_on(model, saved):
 
 
 def test_features_of_another_dimension_are_refused(saved):
-    from spcotmhp.learning.predict import predict_assignments
+    from spcotmhp.learning.supervised import predict_assignments
 
     data = load_bundled("albert-b", lang="ja")
     data.features = data.features[:, :100]
@@ -404,7 +404,7 @@ def test_psi_learned_round_trip_and_checks(model, tmp_path):
 
 
 def test_unwritable_model_folder_is_a_model_error(model, tmp_path):
-    from spcotmhp.learning.io import prepare_model_folder
+    from spcotmhp.persistence.io import prepare_model_folder
 
     with pytest.raises(ModelError, match=r"cannot save the model to /proc/nope/m: "):
         prepare_model_folder("/proc/nope/m")
@@ -421,7 +421,7 @@ def test_predict_assignments_with_a_zero_in_w_and_the_one_word_likelihood():
 
     from spcotmhp.datasets.dataset import Dataset
     from spcotmhp.learning.model import SpatialConceptModel, log_multinomial
-    from spcotmhp.learning.predict import predict_assignments
+    from spcotmhp.learning.supervised import predict_assignments
     from spcotmhp.metric.maps import OccupancyMap
 
     W = np.array([[1.0, 0.0], [0.0, 1.0]])  # concept 0 says only "a", concept 1 only "b"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning import run_scores
+from spcotmhp.experimental import run_scores
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.learner_state import state_of_member
 from spcotmhp.learning.online_split_merge import state_stats

@@ -1,4 +1,4 @@
-"""What loading a model folder checks (:func:`spcotmhp.learning.io.load_model`): model.json's format, version and
+"""What loading a model folder checks (:func:`spcotmhp.persistence.io.load_model`): model.json's format, version and
 sizes (within the limits below), the JSON types of its fields, then the model's values through the checks that
 constructing a model runs (:mod:`spcotmhp.learning.model_values`: finite values, distributions whose rows sum
 to 1, means and covariances within their ranges, every Sigma symmetric positive definite and well-conditioned,
@@ -20,7 +20,7 @@ from spcotmhp.limits import MODEL_MAX_ELEMENTS, MODEL_MAX_SIZES
 from spcotmhp.safe_read import excerpt, finite_number, load_json
 
 FORMAT = "spcotmhp-model"
-READABLE_VERSIONS = (1, 2)  # 1: before the manifest (still loaded; see spcotmhp.learning.io)
+READABLE_VERSIONS = (1, 2)  # 1: before the manifest (still loaded; see spcotmhp.persistence.io)
 REQUIRED_HYPER = ("alpha", "gamma", "beta", "chi", "omega")  # null in a file is refused (not "derive it")
 MAX_JSON_BYTES = 16 * 1024 * 1024
 MAX_SIZES = MODEL_MAX_SIZES
@@ -57,9 +57,9 @@ def file_bound(name: str, meta: dict | None = None, learner: dict | None = None)
     their arrays need at model.json's K, L, V, D (and learner.json's E, T) (``model_folder.npz_bound``); any
     other file ``MAX_JSON_BYTES``. ``meta`` / ``learner`` (model.json, learner.json) are needed for the .npz
     files only."""
-    from spcotmhp.learning.learner_state import LEARNER_JSON_BYTES, learner_specs
-    from spcotmhp.learning.model_folder import npz_bound
     from spcotmhp.metric.map_io import MAX_YAML_BYTES
+    from spcotmhp.persistence.folder import npz_bound
+    from spcotmhp.persistence.learner import LEARNER_JSON_BYTES, learner_specs
     from spcotmhp.safe_read import max_image_bytes, max_map_pixels
 
     if name == "learner.json":

@@ -3,13 +3,13 @@
 * ``model.json``: format name and version, sizes, vocabulary, hyper-parameters, cost map settings, info.
 * ``arrays.npz``: mu, Sigma, psi, pi, phi, W, active_places, active_concepts and (when present) theta and
   psi_learned, written with ``np.savez`` and read member by member without numpy's loader (sizes, dtypes and
-  shapes checked before any data is read; :func:`spcotmhp.learning.model_folder.read_npz`): loading a model
+  shapes checked before any data is read; :func:`spcotmhp.persistence.folder.read_npz`): loading a model
   executes nothing and unpickles nothing.
 * ``map.yaml`` + ``map.pgm``: the occupancy map in the ROS map_server format (``metric.map_io``).
 * ``learner.json`` + ``learner.npz`` (optional): the state an online learner continues from
   (:mod:`spcotmhp.learning.learner_state`); folders without them load as before; spcotmhp versions that do not
   know them load the model (ignoring them) but refuse to overwrite the folder.
-* ``manifest.json``: the format version and each file's size and SHA-256 (:mod:`spcotmhp.learning.model_folder`).
+* ``manifest.json``: the format version and each file's size and SHA-256 (:mod:`spcotmhp.persistence.folder`).
 
 Saving builds the whole folder beside the target and swaps it into place, so the previous model stays loadable
 until the new one is complete; a folder holding anything but a model's files is never replaced.
@@ -22,7 +22,7 @@ disagree with each other or with the vocabulary, probabilities that are not dist
 not symmetric positive definite, means or covariances beyond the limits, a repeated word, hyper-parameters or
 cost map settings that are unknown, not numbers, out of range or not finite, an ``info.feature_weight`` that is
 not a positive number or null) raises ``ModelError`` naming the file, the field and what is wrong
-(:mod:`spcotmhp.learning.model_checks`).
+(:mod:`spcotmhp.persistence.model_checks`).
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ import numpy as np
 
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.learning.model import SpatialConceptModel
-from spcotmhp.learning.model_checks import FORMAT, array_specs, assemble, file_bound, read_meta
-from spcotmhp.learning.model_folder import (
+from spcotmhp.metric.map_io import load_map, read_map_yaml, save_map
+from spcotmhp.persistence.folder import (
     check_replaceable,
     check_sizes,
     inside,
@@ -47,7 +47,7 @@ from spcotmhp.learning.model_folder import (
     verify_digests,
     write_folder,
 )
-from spcotmhp.metric.map_io import load_map, read_map_yaml, save_map
+from spcotmhp.persistence.model_checks import FORMAT, array_specs, assemble, file_bound, read_meta
 from spcotmhp.safe_write import fresh_sibling
 
 FORMAT_VERSION = 2
@@ -103,7 +103,7 @@ def save_model(
         "model.json": lambda path: path.write_text(text, encoding="utf-8"),
     }
     if model.learner is not None:
-        from spcotmhp.learning.learner_state import learner_writers
+        from spcotmhp.persistence.learner import learner_writers
 
         writers.update(learner_writers(model.learner))
     for name, content in (extra or {}).items():
@@ -155,7 +155,7 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
     meta = _verified_meta(root)
     arrays = read_npz(inside(root, "arrays.npz", "arrays.npz"), array_specs(meta), ("psi_learned",))
     model = assemble(root, meta, arrays)
-    from spcotmhp.learning.learner_state import read_learner
+    from spcotmhp.persistence.learner import read_learner
 
     model.learner = read_learner(root, model)
     if meta.get("map") is not None:
@@ -169,11 +169,11 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
 
 
 def _verified_meta(root: Path) -> dict:
-    """model.json of ``root`` after the manifest's checks, sizes first (:mod:`~spcotmhp.learning.model_folder`):
+    """model.json of ``root`` after the manifest's checks, sizes first (:mod:`~spcotmhp.persistence.folder`):
     every listed file's size against the manifest (a stat), the small files' sizes against their bounds, their
     checksums, model.json read; then the other files' sizes against what model.json's sizes allow, and their
     checksums. Nothing large is read before its size is known to fit."""
-    from spcotmhp.learning.learner_state import read_learner_meta
+    from spcotmhp.persistence.learner import read_learner_meta
 
     entries = read_manifest(root)
     names = sorted(entries) if entries is not None else [n for n in MODEL_FILES if (root / n).is_file()]
@@ -189,8 +189,7 @@ def _verified_meta(root: Path) -> dict:
         )
     learner = read_learner_meta(root)
     if learner is not None:
-        from spcotmhp.learning.learner_checks import check_learner_size
-        from spcotmhp.learning.learner_state import learner_specs
+        from spcotmhp.persistence.learner import check_learner_size, learner_specs
 
         specs, _ = learner_specs(learner, meta["K"], meta["L"], meta["V"], meta.get("D"))
         check_learner_size(specs, learner["E"], learner["T"], str(root / "learner.json"))

@@ -19,10 +19,10 @@ import pytest
 from spcotmhp import safe_write
 from spcotmhp.datasets import load_bundled
 from spcotmhp.errors import ModelError
-from spcotmhp.learning import model_folder
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.metric import map_io
+from spcotmhp.persistence import folder as model_folder
+from spcotmhp.persistence.io import load_model, save_model
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -104,7 +104,7 @@ def test_a_save_interrupted_at_every_step_leaves_the_old_or_the_new_model(old_an
 SAVER = """
 import sys, warnings, pickle
 warnings.simplefilter("ignore")
-from spcotmhp.learning.io import save_model
+from spcotmhp.persistence.io import save_model
 old, new = pickle.load(open(sys.argv[2], "rb"))
 print("ready", flush=True)
 while True:
@@ -149,7 +149,7 @@ def test_a_saving_process_killed_at_random_times(old_and_new, tmp_path):
         for path in [*hidden.iterdir(), hidden]:
             os.utime(path, (long_ago, long_ago))
     resave = (
-        "import sys, pickle\nfrom spcotmhp.learning.io import save_model\n"
+        "import sys, pickle\nfrom spcotmhp.persistence.io import save_model\n"
         "old, _ = pickle.load(open(sys.argv[1], 'rb'))\nfor f in sys.argv[2:]: save_model(old, f, overwrite=True)"
     )
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}

@@ -1,4 +1,4 @@
-"""Split-merge moves of the concepts (learning/split_merge.py): exact detailed balance by enumeration, and a
+"""Split-merge moves of the concepts (experimental/split_merge.py): exact detailed balance by enumeration, and a
 merged concept that single-site Gibbs cannot split but split-merge does."""
 
 from __future__ import annotations
@@ -7,11 +7,15 @@ import dataclasses
 import itertools
 
 import numpy as np
+import pytest
 from scipy.special import gammaln
 
+from spcotmhp.errors import ModelError
+from spcotmhp.experimental import research_learner
+from spcotmhp.experimental.split_merge import SplitMerge, SplitMergeMoves
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.gibbs import SpCoTMHP
-from spcotmhp.learning.split_merge import SplitMerge
+from spcotmhp.learning.model import Hyperparameters
 from tests.helpers.learning import planted_dataset
 
 ALPHA, GAMMA, BETA, CHI = 0.5, 0.3, 0.2, 0.7
@@ -152,6 +156,14 @@ def test_auto_uses_the_moves_only_without_image_features():
     feats = np.random.default_rng(0).random((data.n_events, 4))
     with_features = dataclasses.replace(data, features=feats)
     assert SpCoTMHP(iterations=2).fit(data).model_.info["split_merge"] is False  # off by default
-    assert SpCoTMHP(iterations=2, split_merge="auto").fit(data).model_.info["split_merge"] is True
-    assert SpCoTMHP(iterations=2, split_merge="auto").fit(with_features).model_.info["split_merge"] is False
-    assert SpCoTMHP(iterations=2, split_merge=True).fit(with_features).model_.info["split_merge"] is True
+    assert research_learner("auto", iterations=2).fit(data).model_.info["split_merge"] is True
+    assert research_learner("auto", iterations=2).fit(with_features).model_.info["split_merge"] is False
+    assert SpCoTMHP(iterations=2, variant=SplitMergeMoves()).fit(with_features).model_.info["split_merge"] is True
+
+
+def test_settings_that_cannot_combine_are_refused():
+    data = planted_dataset(E=20)
+    with pytest.raises(ModelError, match="split_merge must be True, False or 'auto', got 'yes'"):
+        research_learner("yes")
+    with pytest.raises(ModelError, match="split_merge moves do not price place_concepts"):
+        research_learner(True, iterations=2, hyper=Hyperparameters(place_concepts=1.0)).fit(data)

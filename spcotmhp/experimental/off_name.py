@@ -1,5 +1,7 @@
-"""The opt-in "off-name" term (``Hyperparameters.off_name`` = lambda), a DEPARTURE from the paper: a place is
+"""The opt-in "off-name" term (``Hyperparameters.off_name`` = lambda), a DEPARTURE from the paper and a research
+variant (docs/experimental.md; measured in docs/learning-model-study.md, section 9, and not adopted): a place is
 expected to hold one name, and every event whose concept is not its place's majority concept costs lambda nats.
+``SpCoTMHP(hyper=Hyperparameters(off_name=lam), variant=OffName())`` fits with it.
 
 The joint of Eqs. 5-17 gains the energy factor g(i, C) with
 
@@ -14,24 +16,32 @@ does not matter: the value is the same whichever concept is called the majority.
 This module is the term's one home:
 
 * :func:`off_name_events` and :func:`log_off_name` — the count and log g of an assignment, which the collapsed
-  log joint carries (``posterior.log_joint_terms``, so run selection sees it);
-* :func:`add_off_name_gain` — step 5 (concepts.py, compiled): the conditional of C_e = l gains the change of
-  log g when e's concept is set to l, counts without e.  With M = max_l' n_{i_e,l'} (without e), setting C_e = l
-  gives n_{i_e} + 1 - max(M, n_{i_e,l} + 1) off-name events at place i_e, so l gains lambda exactly when
-  n_{i_e,l} = M (a concept tied for the majority; every concept when the place holds no other event) and 0
+  log joint carries (the ``extra`` terms of ``posterior.log_joint_terms``, so run selection sees it);
+* :func:`add_off_name_gain` — step 5 (a ``ConceptTerm``, learning/concepts.py, compiled): the conditional of C_e = l
+  gains the change of log g when e's concept is set to l, counts without e. With M = max_l' n_{i_e,l'} (without e),
+  setting C_e = l gives n_{i_e} + 1 - max(M, n_{i_e,l} + 1) off-name events at place i_e, so l gains lambda exactly
+  when n_{i_e,l} = M (a concept tied for the majority; every concept when the place holds no other event) and 0
   otherwise; the other places do not change;
-* :class:`OffNamePlaces` — step 4 (gibbs.py): g couples the events of a place, so the FFBS of Eq. 9 is no longer
-  the exact conditional of the place sequence.  The FFBS (the paper's exact conditional without g) becomes the
-  proposal of an independence Metropolis-Hastings step for the target conditional x g: the proposed sequence
-  i' is accepted with probability min(1, g(i', C) / g(i, C)), the proposal's own density cancelling against the
-  target's (one block: the FFBS draws the whole event sequence at once).  One uniform from the run's stream
-  per step; the acceptance rate is kept.
+* :class:`OffNamePlaces` — step 4 (``VariantRun.places``, learning/gibbs.py): g couples the events of a place, so
+  the FFBS of Eq. 9 is no longer the exact conditional of the place sequence. The FFBS (the paper's exact
+  conditional without g) becomes the proposal of an independence Metropolis-Hastings step for the target conditional
+  x g: the proposed sequence i' is accepted with probability min(1, g(i', C) / g(i, C)), the proposal's own density
+  cancelling against the target's (one block: the FFBS draws the whole event sequence at once). One uniform from the
+  run's stream per step; the acceptance rate is kept.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numba import njit
+
+from spcotmhp.errors import ModelError
+from spcotmhp.learning.concepts import CollapsedConceptSampler, ConceptTerm
+from spcotmhp.learning.init import VariantRun
+from spcotmhp.learning.model import Hyperparameters
+from spcotmhp.learning.posterior import SufficientStats
 
 # The fraction of the sweeps before the term enters the sampler (``SpCoTMHP(term_from=None)``): none.  Chosen on
 # four development homes of the battery (21, 42, 0, 5) before the rest were run: from the first sweep they planned
@@ -71,14 +81,43 @@ def add_off_name_gain(lam, n_lk, k, logp):  # pragma: no cover - numba
             logp[l] += lam
 
 
-class OffNamePlaces:
-    """Step 4 with the term: the independence Metropolis-Hastings correction of the FFBS proposal (module
-    docstring), with its acceptance counts."""
+@dataclass(frozen=True)
+class OffName:
+    """The off-name term as a variant of the batch sampler (``gibbs.SweepVariant``): lambda is
+    ``hyper.off_name`` (kept with the model's priors)."""
+
+    def start(
+        self, sampler: CollapsedConceptSampler, hyper: Hyperparameters, K: int, L: int, features: bool
+    ) -> OffNamePlaces:
+        if hyper.off_name is None:
+            raise ModelError("the off-name variant needs hyper.off_name (lambda, nats per off-name event)")
+        return OffNamePlaces(hyper.off_name, K, L)
+
+
+class OffNamePlaces(VariantRun):
+    """One fit's hooks (``gibbs.VariantRun``): step 4 with the term, the independence Metropolis-Hastings
+    correction of the FFBS proposal (module docstring), with its acceptance counts; step 5's gain; log g in the
+    log joint."""
+
+    term_from = OFF_NAME_FROM
 
     def __init__(self, lam: float, K: int, L: int) -> None:
         self.lam, self.K, self.L = float(lam), K, L
         self.proposed = 0
         self.accepted = 0
+        self.concept_term = ConceptTerm(add_off_name_gain, self.lam)
+
+    def places(
+        self, old: np.ndarray, proposal: np.ndarray, concepts: np.ndarray, rng: np.random.Generator
+    ) -> np.ndarray:
+        return self.step(old, proposal, concepts, rng)
+
+    def log_terms(self, stats: SufficientStats) -> dict[str, float]:
+        """log g of the counts (``posterior.log_joint``'s ``extra``)."""
+        return {"off_name": log_off_name(self.lam, stats.place_given_concept)}
+
+    def info(self) -> dict:
+        return {"off_name_acceptance": self.acceptance}
 
     def log_ratio(self, old: np.ndarray, new: np.ndarray, concepts: np.ndarray) -> float:
         """log g(new, C) - log g(old, C)."""

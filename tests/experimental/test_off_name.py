@@ -1,4 +1,4 @@
-"""The opt-in off-name term (``Hyperparameters.off_name`` = lambda, not the paper's; learning/off_name.py): log g
+"""The opt-in off-name term (``Hyperparameters.off_name`` = lambda, not the paper's; experimental/off_name.py): log g
 by hand, the concept step's conditional against the ratio of collapsed joints, the place step's
 Metropolis-Hastings acceptance against brute force (and the target it leaves invariant), the off path unchanged,
 model folders with and without the key, and the refusals."""
@@ -12,13 +12,14 @@ import numpy as np
 import pytest
 
 from spcotmhp.errors import ModelError, TeachingError
-from spcotmhp.learning.concepts import CollapsedConceptSampler
+from spcotmhp.experimental import OffName, research_learner
+from spcotmhp.experimental.off_name import OffNamePlaces, add_off_name_gain, log_off_name, off_name_events
+from spcotmhp.learning.concepts import CollapsedConceptSampler, ConceptTerm
 from spcotmhp.learning.gibbs import SpCoTMHP
-from spcotmhp.learning.io import load_model, save_model
 from spcotmhp.learning.model import Hyperparameters
-from spcotmhp.learning.off_name import OffNamePlaces, log_off_name, off_name_events
 from spcotmhp.learning.online import OnlineSpCoTMHP
 from spcotmhp.learning.posterior import Priors, log_joint_terms
+from spcotmhp.persistence.io import load_model, save_model
 from tests.helpers.learning import (
     assert_same_fit,
     concept_conditional_by_inverse_cdf,
@@ -26,7 +27,6 @@ from tests.helpers.learning import (
     folder_without_hyper_key,
     planted_dataset,
     reseal,
-    short_fit,
     stats_of,
 )
 
@@ -53,7 +53,8 @@ def test_log_g_by_hand():
     assert off_name_events(places, concepts, 4, 3) == 2 == _by_hand(places, concepts)
     words = np.ones((8, 2))
     priors = Priors.build(Hyperparameters(L=3, K=4, off_name=1.5), 4, 3, 2, None)
-    terms = log_joint_terms(priors, stats_of(places, concepts, words, 4, 3), None)
+    extra = OffNamePlaces(1.5, 4, 3).log_terms
+    terms = log_joint_terms(priors, stats_of(places, concepts, words, 4, 3), None, extra)
     assert terms["off_name"] == -3.0
     off = log_joint_terms(
         Priors.build(Hyperparameters(L=3, K=4), 4, 3, 2, None), stats_of(places, concepts, words, 4, 3), None
@@ -76,9 +77,10 @@ def test_concept_conditional_is_the_ratio_of_collapsed_joints(lam, e):
     L, K = 3, 3
     hyper = Hyperparameters(L=L, K=K, alpha=0.5, gamma=1.0, beta=0.1, off_name=lam)
     sampler = CollapsedConceptSampler(words, None, background=False, rng=np.random.default_rng(0))
-    got = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0), off_name=lam)
+    term = ConceptTerm(add_off_name_gain, lam)
+    got = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0), term=term)
     priors = Priors.build(hyper, K, L, 3, None)
-    want = conditional_by_joints(priors, places, C, words, e, K, L)
+    want = conditional_by_joints(priors, places, C, words, e, K, L, OffNamePlaces(lam, K, L).log_terms)
     np.testing.assert_allclose(got, want, atol=2e-4)
     paper = concept_conditional_by_inverse_cdf(sampler, C, places, e, L, K, (0.5, 1.0, 0.1, 1.0))
     changed = np.abs(paper - got).max() > 0.01
@@ -119,14 +121,20 @@ def test_the_step_leaves_the_conditional_times_g_invariant():
     np.testing.assert_allclose(target @ T, target, atol=1e-12)
 
 
-_fit = short_fit
+def _fit(data, split_merge=False, **kwargs):
+    """An 8-sweep batch fit (seed 4) through the research entry point (the variant of ``hyper.off_name``)."""
+    return research_learner(split_merge, iterations=8, seed=4, **kwargs).fit(data)
+
+
+def _acceptance(est):
+    return est.model_.info.get("off_name_acceptance")
 
 
 def test_off_path_is_the_papers_fit_bit_for_bit(tiny_dataset):
     paper = _fit(tiny_dataset)
     off = _fit(tiny_dataset, hyper=Hyperparameters(off_name=None), term_from=0.0)
     assert_same_fit(off, paper)
-    assert off.off_name_acceptance_ is None and "off_name_acceptance" not in off.model_.info
+    assert "off_name_acceptance" not in off.model_.info
 
 
 def test_the_term_enters_the_log_joint_and_the_sampler(tiny_dataset):
@@ -137,13 +145,13 @@ def test_the_term_enters_the_log_joint_and_the_sampler(tiny_dataset):
     np.testing.assert_array_equal(late.concepts_, paper.concepts_)
     extra = -1.0 * off_name_events(paper.places_, paper.concepts_, 20, 20)
     assert late.log_joint_ == pytest.approx(paper.log_joint_ + extra, rel=1e-12)
-    assert late.off_name_acceptance_ is None
+    assert _acceptance(late) is None
     on = _fit(tiny_dataset, hyper=Hyperparameters(off_name=1.0), term_from=0.0)
     default = _fit(tiny_dataset, hyper=Hyperparameters(off_name=1.0))  # term_from None: off_name.OFF_NAME_FROM = 0
     np.testing.assert_array_equal(default.places_, on.places_)
     np.testing.assert_array_equal(default.concepts_, on.concepts_)
-    assert 0.0 <= on.off_name_acceptance_ <= 1.0
-    assert on.model_.info["off_name_acceptance"] == on.off_name_acceptance_
+    assert 0.0 <= _acceptance(on) <= 1.0
+    assert on.model_.info["off_name_acceptance"] == on.variant_run_.acceptance
     assert not (np.array_equal(on.places_, paper.places_) and np.array_equal(on.concepts_, paper.concepts_))
 
 
@@ -153,10 +161,10 @@ def test_the_planted_places_and_concepts_are_still_recovered_with_the_term_after
     from sklearn.metrics import normalized_mutual_info_score
 
     data = planted_dataset()
-    est = SpCoTMHP(seed=0, connectivity="hmm", hyper=Hyperparameters(off_name=1.0), term_from=0.5).fit(data)
+    est = research_learner(seed=0, connectivity="hmm", hyper=Hyperparameters(off_name=1.0), term_from=0.5).fit(data)
     assert normalized_mutual_info_score(data.truth_place, est.places_) > 0.97
     assert normalized_mutual_info_score(data.truth_concept, est.concepts_) > 0.97
-    assert est.off_name_acceptance_ > 0.5
+    assert _acceptance(est) > 0.5
 
 
 @pytest.mark.parametrize("value", [0.0, -1.0, float("inf"), float("nan"), True, "1"])
@@ -170,6 +178,10 @@ def test_settings_that_cannot_combine_are_refused(tiny_dataset):
         Hyperparameters(place_concepts=1.0, off_name=1.0)
     with pytest.raises(ModelError, match="split_merge moves do not price off_name"):
         _fit(tiny_dataset, hyper=Hyperparameters(off_name=1.0), split_merge=True)
+    with pytest.raises(ModelError, match="hyper.off_name is a research variant's term: fit with variant="):
+        SpCoTMHP(iterations=2, hyper=Hyperparameters(off_name=1.0)).fit(tiny_dataset)  # the core alone
+    with pytest.raises(ModelError, match="the off-name variant needs hyper.off_name"):
+        SpCoTMHP(iterations=2, variant=OffName()).fit(tiny_dataset)
     with pytest.raises(TeachingError, match="off_name is a term of the batch learner only"):
         OnlineSpCoTMHP(hyper=Hyperparameters(off_name=1.0)).partial_fit([])
 

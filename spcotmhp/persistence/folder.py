@@ -1,6 +1,6 @@
 """The model folder as a unit on disk: confined files, a checksum manifest, bounded arrays, atomic replacement.
 
-A model folder (written by :func:`spcotmhp.learning.io.save_model`) holds model.json, arrays.npz, usually
+A model folder (written by :func:`spcotmhp.persistence.io.save_model`) holds model.json, arrays.npz, usually
 map.yaml + map.pgm, and ``manifest.json``::
 
     {"format": "spcotmhp-model-manifest", "format_version": 2,
@@ -12,7 +12,7 @@ map.yaml + map.pgm, and ``manifest.json``::
   hidden ``.NAME.new-*`` folder beside it, never a mixture.
 * Reading: each listed file must be a regular file inside the folder (a symlink out of the folder is refused)
   with the listed size (:func:`read_manifest`, a stat), at most as large as a model of its sizes can need
-  (:func:`check_sizes`; the bounds: ``spcotmhp.learning.model_checks.file_bound``), and only then is it hashed
+  (:func:`check_sizes`; the bounds: ``spcotmhp.persistence.model_checks.file_bound``), and only then is it hashed
   against the listed SHA-256 (:func:`verify_digests`), so a torn, altered or inflated folder is a ModelError
   naming the file, and an 8 GiB sparse file is refused without reading it.
 * Arrays (:func:`read_npz`): arrays.npz is opened as a zip archive without numpy's loader: each member must be

@@ -1,4 +1,5 @@
-"""Split-merge moves for the spatial concepts C_{1:E}: Dahl's (2005) sequentially-allocated merge-split (SAMS).
+"""Split-merge moves for the spatial concepts C_{1:E}: Dahl's (2005) sequentially-allocated merge-split (SAMS), a
+research variant of the batch sampler (docs/experimental.md; ``SpCoTMHP(variant=SplitMergeMoves())``).
 
 The direct-assignment sampler of concepts.py moves one event at a time.  A concept that has taken in two
 differently named rooms cannot split that way: the first event moved out would form a concept of one event,
@@ -10,8 +11,10 @@ exact collapsed conditional of the concepts,
                                        DirMult(concept tokens of C=l | beta)            (Eqs. 14-17, collapsed)
 
 (the counts of concepts.py; the token switches z and every other variable are held fixed, so the background
-and switch terms cancel), so it is a valid move of the same chain: with ``SpCoTMHP(split_merge=True)`` each
-sweep of step 5 is the Gibbs pass followed by these moves.
+and switch terms cancel), so it is a valid move of the same chain: with ``SpCoTMHP(variant=SplitMergeMoves())``
+each sweep of step 5 is the Gibbs pass followed by these moves.  Not adopted: on words-only homes they fix
+merged concepts, but the joint they then reach prefers one place for two adjacent rooms of the same name, which
+costs more plans than it saves (docs/results.md, "Split-merge moves for the concepts").
 
 One move (pair and labels chosen with the sampler's generator):
 
@@ -31,11 +34,13 @@ number of proposals per sweep whatever the number of concepts.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from math import log
 
 import numpy as np
 from numba import njit
 
+from spcotmhp.errors import ModelError
 from spcotmhp.learning.collapsed_terms import (
     digamma_series,
     feature_term,
@@ -46,6 +51,8 @@ from spcotmhp.learning.collapsed_terms import (
 )
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.distributions import DirichletCategoricals
+from spcotmhp.learning.init import VariantRun
+from spcotmhp.learning.model import Hyperparameters
 
 
 @njit(cache=True)
@@ -96,8 +103,39 @@ def _allocate(
     return side, logq
 
 
-class SplitMerge:
-    """SAMS moves (module docstring) over the state of one :class:`CollapsedConceptSampler`."""
+@dataclass(frozen=True)
+class SplitMergeMoves:
+    """The moves as a variant of the batch sampler (``gibbs.SweepVariant``): ``mode`` True (every fit) or "auto"
+    (fits without image features: with features the collapsed joint they follow prefers merged concepts, the
+    reason the run selection's "auto" keeps the mutual information there).  They price neither opt-in term."""
+
+    mode: bool | str = True
+
+    def __post_init__(self) -> None:
+        if self.mode not in (True, False, "auto"):
+            raise ModelError(f"split_merge must be True, False or 'auto', got {self.mode!r}")
+
+    def start(
+        self, sampler: CollapsedConceptSampler, hyper: Hyperparameters, K: int, L: int, features: bool
+    ) -> SplitMerge | NoMoves:
+        if not (not features if self.mode == "auto" else bool(self.mode)):
+            return NoMoves()
+        for name in ("place_concepts", "off_name"):
+            if getattr(hyper, name) is not None:
+                raise ModelError(f"split_merge moves do not price {name}: use one or the other")
+        return SplitMerge(sampler, K, L, hyper.alpha, hyper.gamma, hyper.beta, hyper.chi)
+
+
+class NoMoves(VariantRun):
+    """``mode="auto"`` on a fit with image features: the paper's sweep."""
+
+    def info(self) -> dict:
+        return {"split_merge": False}
+
+
+class SplitMerge(VariantRun):
+    """SAMS moves (module docstring) over the state of one :class:`CollapsedConceptSampler`; as a fit's hooks
+    (``gibbs.VariantRun``), one ``sweep`` after each Gibbs pass over the concepts."""
 
     def __init__(self, sampler: CollapsedConceptSampler, K: int, L: int, alpha, gamma, beta, chi) -> None:
         self.s = sampler
@@ -109,6 +147,12 @@ class SplitMerge:
         self.full_features = sampler.features
         self.theta = None if sampler.features is None else DirichletCategoricals(1, sampler.D, chi)
         self.event_of_token = sampler.t_event
+
+    def concepts(self, concepts: np.ndarray, places: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        return self.sweep(concepts, places, rng)
+
+    def info(self) -> dict:
+        return {"split_merge": True}
 
     # ---- the exact target --------------------------------------------------------------------------------
     def log_group(self, members: np.ndarray, places: np.ndarray) -> float:

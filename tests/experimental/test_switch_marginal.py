@@ -9,7 +9,7 @@ import pytest
 from scipy.special import gammaln
 
 from spcotmhp.errors import ModelError
-from spcotmhp.learning.switch_marginal import log_words_given_background, log_words_given_concepts
+from spcotmhp.experimental.switch_marginal import log_words_given_background, log_words_given_concepts
 
 WORDS = np.array([0, 1, 0, 2, 1, 0, 3, 0, 1, 2, 3, 3])
 CONCEPTS = np.array([0, 0, 0, 1, 1, 1, 2, 2, 0, 1, 2, 0])

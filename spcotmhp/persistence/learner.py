@@ -1,6 +1,7 @@
-"""What loading a model folder checks in its learner state (learner.json, learner.npz) beyond shapes, indices and
-finite non-negative counts (:func:`spcotmhp.learning.learner_state.check_member`): the values a checksum cannot
-judge and that teaching would otherwise crash or warn on.
+"""The online learner's state in a model folder (learner.json, learner.npz): its format, the writers
+(:func:`learner_writers`), the reader (:func:`read_learner`), and what loading checks beyond shapes and indices
+(:func:`check_member`): the values a checksum cannot judge and that teaching would otherwise crash or warn on.
+The state itself and the model it implies live in :mod:`spcotmhp.learning.learner_state`.
 
 * Size (:func:`check_learner_size`, before learner.npz is hashed): the numbers learner.json's E events and T
   tokens ask for, at the model's K, L, V, D, at most ``MAX_ELEMENTS`` (32 Mi numbers, 256 MiB, the bound of
@@ -26,7 +27,8 @@ import numpy as np
 
 from spcotmhp.errors import ModelError, ModelValueError
 from spcotmhp.learning.hmm import transition_counts
-from spcotmhp.learning.model import Hyperparameters
+from spcotmhp.learning.learner_state import COUNTS
+from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
 from spcotmhp.learning.model_values import MAX_MEAN_M, check_covariances
 from spcotmhp.limits import MODEL_MAX_ELEMENTS
 
@@ -126,3 +128,146 @@ def _check_posterior(n: np.ndarray, sx: np.ndarray, sxx: np.ndarray, hyper: Hype
             f"{where} do not give every place a usable posterior (Sigma_n, the scale of its Student-t "
             f"predictive): {exc}"
         ) from None
+
+
+def check_member(member: dict, K: int, L: int, V: int, D: int | None, where: str) -> None:
+    """ModelError unless a learner member read from a folder fits the model's sizes and holds valid counts."""
+    a = member["arrays"]
+    E, T = len(a["place"]), len(a["tok_word"])
+    bad = next(
+        (
+            n
+            for n in COUNTS + ("X",) + (("F_ld", "features") if D is not None else ())
+            if not (np.isfinite(a[n]).all() and (n in ("sx", "sxx", "X") or (a[n] >= 0).all()))
+        ),
+        None,
+    )
+    if bad:
+        raise ModelError(f"{where}: {bad} must hold finite non-negative numbers")
+    ptr = a["tok_ptr"]
+    ok = (
+        ptr[0] == 0
+        and ptr[-1] == T
+        and (np.diff(ptr) >= 0).all()
+        and (a["tok_word"] < V).all()
+        and (a["tok_word"] >= 0).all()
+        and ((a["place"] >= 0) & (a["place"] < K)).all()
+        and ((a["concept"] >= 0) & (a["concept"] < L)).all()
+        and len(a["concept"]) == E
+    )
+    if not ok:
+        raise ModelError(f"{where}: the events' places, concepts or tokens do not fit the model (K={K}, L={L}, V={V})")
+
+
+# ---- in the model folder -------------------------------------------------------------------------------------
+LEARNER_FORMAT = "spcotmhp-learner"
+LEARNER_VERSION = 1
+MAX_EVENTS = 1_000_000
+MAX_TOKENS = 50_000_000
+LEARNER_JSON_BYTES = 4096
+
+
+def learner_writers(member: dict) -> dict:
+    """Writers of learner.json and learner.npz for :func:`spcotmhp.persistence.io.save_model`."""
+    import json
+
+    a = member["arrays"]
+    meta = {
+        "format": LEARNER_FORMAT,
+        "format_version": LEARNER_VERSION,
+        "E": len(a["place"]),
+        "T": len(a["tok_word"]),
+        "replay": member["replay"],
+        "background": member["background"],
+    }
+    L, K = a["n_lk"].shape
+    D = a["F_ld"].shape[1] if "F_ld" in a else None
+    if meta["E"] > MAX_EVENTS or meta["T"] > MAX_TOKENS:
+        raise ModelError(
+            f"the learner state holds {meta['E']} events and {meta['T']} tokens; a model folder holds at most "
+            f"{MAX_EVENTS} and {MAX_TOKENS} (learn from fewer events)"
+        )
+    check_learner_size(learner_specs(meta, K, L, a["W_lv"].shape[1], D)[0], meta["E"], meta["T"], "the model")
+    return {
+        "learner.json": lambda path: path.write_text(json.dumps(meta), encoding="utf-8"),
+        "learner.npz": lambda path: np.savez(path, **a),
+    }
+
+
+def read_learner_meta(root) -> dict | None:
+    """learner.json of the model folder ``root`` (None when it has none): format, version, E events and T tokens
+    within MAX_EVENTS / MAX_TOKENS, replay and background flags; ModelError otherwise."""
+    from spcotmhp.persistence.folder import inside
+    from spcotmhp.safe_read import load_json
+
+    if not (root / "learner.json").exists():
+        return None
+    path = inside(root, "learner.json", "learner.json")
+    meta = load_json(path, LEARNER_JSON_BYTES, "learner state", ModelError)
+    ok = (
+        isinstance(meta, dict)
+        and meta.get("format") == LEARNER_FORMAT
+        and meta.get("format_version") == LEARNER_VERSION
+        and all(isinstance(meta.get(k), int) and not isinstance(meta.get(k), bool) for k in ("E", "T"))
+        and all(isinstance(meta.get(k), bool) for k in ("replay", "background"))
+    )
+    if not ok or not (0 <= meta["E"] <= MAX_EVENTS and 0 <= meta["T"] <= MAX_TOKENS):
+        raise ModelError(
+            f"{path} is not a spcotmhp learner state of format version {LEARNER_VERSION} (format, "
+            "format_version, E, T, replay, background)"
+        )
+    return meta
+
+
+def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[dict, tuple[str, ...]]:
+    """The arrays of learner.npz (name -> (shape, dtype kinds)) for a learner state ``meta`` of a model of sizes
+    K, L, V, D, and the names that may be absent."""
+    E, T = meta["E"], meta["T"]
+    specs = {
+        "n_k": (K,),
+        "sx": (K, 2),
+        "sxx": (K, 2, 2),
+        "n_l": (L,),
+        "n_lk": (L, K),
+        "W_lv": (L, V),
+        "bg_v": (V,),
+        "z_tot": (2,),
+        "trans": (K, K),
+        "X": (E, 2),
+        "place": (E,),
+        "concept": (E,),
+        "tok_ptr": (E + 1,),
+        "tok_word": (T,),
+        "tok_z": (T,),
+    }
+    specs["named"] = (E,)
+    kinds = {"place": "iu", "concept": "iu", "tok_ptr": "iu", "tok_word": "iu", "tok_z": "b", "named": "b"}
+    optional: tuple[str, ...] = ("named",)
+    if D is not None:
+        specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
+        kinds["has_features"] = "b"
+        optional = ("named", "F_ld", "features", "has_features")
+    return {n: (shape, kinds.get(n, "f")) for n, shape in specs.items()}, optional
+
+
+def read_learner(root, model: SpatialConceptModel) -> dict | None:
+    """The learner member of the model folder ``root`` (None when it has none); ModelError on any problem."""
+    from spcotmhp.persistence.folder import inside, read_npz
+
+    meta = read_learner_meta(root)
+    if meta is None:
+        return None
+    D = None if model.theta is None else int(model.theta.shape[1])
+    specs, optional = learner_specs(meta, model.K, model.L, len(model.vocabulary), D)
+    arrays = read_npz(inside(root, "learner.npz", "learner.npz"), specs, optional)
+    features = ("F_ld", "features", "has_features")
+    if D is not None and not all(n in arrays for n in features):
+        for n in features:
+            arrays.pop(n, None)
+    member = {"replay": meta["replay"], "background": meta["background"], "arrays": arrays}
+    V, found_D = len(model.vocabulary), D if "F_ld" in arrays else None
+    where = str(root / "learner.npz")
+    check_member(member, model.K, model.L, V, found_D, where)
+    check_counts_cover_events(arrays, model.K, model.L, V, where)
+    check_place_posteriors(arrays, model.hyper, where)
+    return member

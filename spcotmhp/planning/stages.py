@@ -1,0 +1,180 @@
+"""The places of each stage of an instruction: which places may complete it, its word term, and what the
+instruction's relations and avoided places leave of them (Algorithm 1, lines 9-11; the planner's half that reads
+the model's names, :class:`~spcotmhp.planning.planner.HierarchicalPlanner` the other).
+
+Every stage ends at one of its instances (:meth:`StagePlaces.instances`): the stage constraint, a departure from
+Eq. 28 stated in the planner's module docstring. Relations ("the bedroom closest to the bath") narrow a stage to
+the instance they pick (:mod:`spcotmhp.planning.relations`), measured in the start's free region; avoided places
+leave every stage and block their territories (:mod:`spcotmhp.planning.avoid`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from spcotmhp.errors import ConflictingInstruction, PlaceCutOff, StartInAvoidedPlace
+from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.planning.avoid import avoided_view
+from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.graph_settings import PlannerSettings
+from spcotmhp.planning.instructions import Instruction, PlaceQuery
+from spcotmhp.planning.phrases import PhraseMemo, phrase_key
+from spcotmhp.planning.places import LabelIndex, by_label
+from spcotmhp.planning.relations import PlaceGeometry, place_geometry, resolve
+from spcotmhp.planning.terms import ModelTerms
+
+
+class StagePlaces:
+    """The stage-reading half of :class:`~spcotmhp.planning.planner.HierarchicalPlanner`, which sets the
+    attributes below in its constructor."""
+
+    model: SpatialConceptModel
+    settings: PlannerSettings
+    graph: PlanningGraph
+    terms: ModelTerms
+    names: list[str]
+    label_index: LabelIndex
+    numbering: dict[int, tuple[int, int]]
+    planned: np.ndarray  # (K,) places with a candidate point in some free region
+    resolution: float
+    diameter_cells: float
+    _main_has_all: bool
+    _geometries: dict[int, PlaceGeometry]
+    _phrases: PhraseMemo
+
+    def geometry_of(self, region: PlanningGraph) -> PlaceGeometry:
+        """What relations measure in a free region's graph (:mod:`spcotmhp.planning.relations`), built on first use
+        (a plan naming no relation never pays for it) and kept per region (a dict assignment: a race between
+        threads at worst builds one twice)."""
+        key = id(region)
+        if key not in self._geometries:
+            self._geometries[key] = place_geometry(region, self.resolution, self.diameter_cells * self.resolution)
+        return self._geometries[key]
+
+    def instance_label(self, k: int) -> str:
+        """How place k is called in plans and messages: "bedroom #2" among three bedrooms, else its name."""
+        number, count = self.numbering.get(int(k), (1, 1))
+        return f"{self.names[k]} #{number}" if count > 1 else self.names[k]
+
+    # ---- the places of each stage -------------------------------------------------------------------
+    def instances(self, query: PlaceQuery, likely: np.ndarray | None = None, stage: bool = False) -> np.ndarray:
+        """(K,) the places a query names: p(i | S) within ``instance_ratio`` of the best
+        (:func:`~spcotmhp.planning.places.instance_places`; ``likely``, when already computed) and, when some
+        place's name carries all the words of the query (or of one of its N-best alternatives), only such places
+        (:func:`~spcotmhp.planning.places.named_places`; names of active places only). Two or more words that
+        each belong to some place's name but name no place together ("the kitchen bedroom") are refused;
+        otherwise, when some word is in no name (a learned model's labels may leave a word out), p(i | S) alone
+        decides."""
+        if not self.settings.stage_constraint:  # Eq. 28 as written: any place may complete any stage
+            return np.asarray(self.model.active_places, dtype=bool).copy()
+        if likely is None:  # instance_places of log p(i | S), in the kernel of the stages' terms
+            likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)[1][0]
+        named = by_label(self.label_index, query, stage)
+        if named.any():
+            if query.every:
+                return named
+            both = named & likely
+            return both if both.any() else named
+        return likely
+
+    def phrase_terms(self, query: PlaceQuery, stage: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """(K,) the word term of Eq. 28 of a place query (:meth:`~spcotmhp.planning.terms.ModelTerms.stage_terms`)
+        and (K,) the places it names (:meth:`instances`, before its relation), read-only, kept per phrase
+        (:mod:`spcotmhp.planning.phrases`)."""
+
+        def compute() -> tuple[np.ndarray, np.ndarray]:
+            semantic, likely = self.terms.stage_terms([query.words], self.settings.instance_ratio)
+            return semantic[0], self.instances(query, likely[0], stage)
+
+        return self._phrases.get(phrase_key(query, stage), self.settings, compute)
+
+    def stage_instances(
+        self, ins: Instruction, chosen: dict[int, str] | None = None, region: PlanningGraph | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(S, K) the word term of Eq. 28 for each stage and (S, K) the instances that may complete it
+        (:meth:`instances` of its words), without, for the goal, the places the instruction says not to end
+        in ("instead of the kitchen": they may be passed); a relation narrows a stage to the instance it picks
+        (:meth:`related`)."""
+        stages = ins.stages
+        chosen = {} if chosen is None else chosen
+        terms = [self.phrase_terms(q, stage=True) for q in stages]
+        semantic = np.array([t[0] for t in terms])
+        inst = np.array([t[1] for t in terms])
+        for s, q in enumerate(stages):
+            if q.relation is not None:
+                inst[s] = self.related(q, inst[s], chosen, region)
+        for q in ins.not_goal:
+            inst[-1] &= ~self.related(q, self.phrase_terms(q)[1], chosen, region)
+            if not inst[-1].any():
+                raise ConflictingInstruction(
+                    f"every place named '{ins.goal.label}' is one the instruction says not to end in ('{q.label}')"
+                )
+        return semantic, inst
+
+    def related(
+        self, query: PlaceQuery, candidates: np.ndarray, chosen: dict[int, str], region: PlanningGraph | None = None
+    ) -> np.ndarray:
+        """The instances among ``candidates`` that the query's relation picks (all of them without one), measured
+        in the start's free ``region``; what the explanation says of the one picked goes into ``chosen`` (place ->
+        "the one closest to the bath")."""
+        if query.relation is None or not candidates.any():
+            return candidates
+        others = [self.instances(PlaceQuery.of(arg)) for arg in query.relation.args]
+        geometry = self.geometry_of(region if region is not None else self.graph)
+        mask, said = resolve(query.relation, candidates, others, geometry, self.instance_label)
+        chosen[int(np.flatnonzero(mask)[0])] = said
+        return mask
+
+    def _check_region(self, region: PlanningGraph, ins: Instruction, inst: np.ndarray, x0: np.ndarray) -> None:
+        """:class:`~spcotmhp.errors.PlaceCutOff` when a stage's instances all lie in free regions other than the
+        start's ``region`` (each has candidate points, none in this region: :mod:`spcotmhp.planning.regions`).
+        A stage whose instances have no candidate point anywhere is left to the search's reason
+        (:func:`~spcotmhp.planning.search.why_no_plan`)."""
+        if region is self.graph and self._main_has_all:
+            return  # every place with a candidate point has one in the start's (main) region
+        here = np.zeros(self.model.K, dtype=bool)
+        here[region.node_place] = True
+        for s, q in enumerate(ins.stages):
+            if not (inst[s] & here).any() and (inst[s] & self.planned).any():
+                raise PlaceCutOff(
+                    f"the {q.label} is not reachable from here ({x0[0]:.2f}, {x0[1]:.2f}): the free space is cut "
+                    "(a closed door or a gap in the map) between the start and every place of that name"
+                )
+
+    def _avoid(
+        self,
+        region: PlanningGraph,
+        ins: Instruction,
+        inst: np.ndarray,
+        x0: np.ndarray,
+        cell: np.ndarray,
+        escape: np.ndarray,
+        chosen: dict[int, str],
+    ) -> tuple[PlanningGraph, np.ndarray]:
+        """The graph to search (the start's free ``region``'s) and the (K,) avoided places: the avoided places leave
+        ``inst`` (in place) and the graph becomes its avoidance view (their nodes removed, their territories
+        blocked). Raises when a stage has only avoided instances or the start (or its escape run) lies inside an
+        avoided place, or a stage's places all lie in other free regions (:meth:`_check_region`)."""
+        self._check_region(region, ins, inst, x0)
+        avoided = np.zeros(self.model.K, dtype=bool)
+        if not ins.avoid:
+            return region, avoided
+        for q in ins.avoid:
+            avoided |= self.related(q, self.phrase_terms(q)[1], chosen, region)
+        if not avoided.any():
+            return region, avoided
+        inst &= ~avoided
+        for s, q in enumerate(ins.stages):
+            if not inst[s].any():
+                raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
+        graph = avoided_view(region, tuple(np.flatnonzero(avoided).tolist()))
+        blocked = graph.blocked
+        assert blocked is not None  # an avoidance view has its blocked cells
+        esc = graph.to_crop(escape) if len(escape) else escape
+        esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)] if len(esc) else esc
+        if blocked[cell[0], cell[1]] or (len(esc) and blocked[esc[:, 0], esc[:, 1]].any()):
+            inside = [self.names[k] for k in np.flatnonzero(avoided)]
+            raise StartInAvoidedPlace(
+                f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))})"
+            )
+        return graph, avoided
