@@ -56,7 +56,7 @@ def learned(data, params: str = "learned", cache: str | None = None):
 
     from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.evaluation.context import build_context
-    from spcotmhp.learning.io import load_model, save_model
+    from spcotmhp.persistence.io import load_model, save_model
 
     folder = None if cache is None else Path(cache) / data.name
     if folder is not None and (folder / "before.json").is_file():

@@ -85,7 +85,7 @@ ANSWER_MODELS = {
     "split+walk": AnswerModel(split=True, walk=True),
     "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
 }
-DEFAULT_ANSWERS = "paper"
+DEFAULT_ANSWERS = "alone+split+walk"
 
 
 def answer_model(name: str | None) -> AnswerModel:
