@@ -16,12 +16,12 @@ from spcotmhp.evaluation.online_eval import dataset_events
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.distributions import GaussianStats
 from spcotmhp.learning.gibbs import SpCoTMHP
-from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.learning.learner_state import member_of, state_of_member
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, as_event
 from spcotmhp.learning.online_split_merge import log_target
 from spcotmhp.learning.posterior import Priors
+from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.teaching.answers import (
     ANSWER_MODELS,
     answer_model,
