@@ -366,16 +366,9 @@ class OnlineSpCoTMHP:
             if self.feature_weight is not None and total > 0:
                 feats = feats * (self.feature_weight / total)
         tokens = np.array([self.word_index_[w] for w in event.words])
-        asked = event.answer
-        e = st.append(
-            np.array([event.x, event.y]),
-            tokens,
-            feats,
-            rng,
-            event.named,
-            asked and self.answer_alone,
-            self.answer_weight if asked else 1.0,
-        )
+        asked, x = event.answer, np.array([event.x, event.y])
+        alone, weight = asked and self.answer_alone, self.answer_weight if asked else 1.0
+        e = st.append(x, tokens, feats, rng, event.named, alone, weight)
         for j in range(max(0, e - self.lag), e):
             st.step(j, rng)
         older = max(0, e - self.lag)

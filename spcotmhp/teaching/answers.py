@@ -191,7 +191,6 @@ def split_gain(model) -> list[tuple[float, np.ndarray]]:
     it (``split_at_answer``), and that event's position; the places with a positive gain, largest first."""
     from spcotmhp.learning.gibbs import make_rng
     from spcotmhp.learning.learner_state import state_of_member
-    from spcotmhp.teaching.questions import on_free_cells
 
     if model.learner is None or "walk_X" not in model.learner["arrays"]:
         return []
@@ -215,3 +214,16 @@ def split_gain(model) -> list[tuple[float, np.ndarray]]:
             out.append((walk_target(st) - base, st.X[end].copy()))
         _restore(st, saved)
     return sorted(out, key=lambda g: -g[0])
+
+
+def on_free_cells(model, xy: np.ndarray) -> np.ndarray:
+    """Mask of the positions ``xy`` on known free cells of the model's map (all of them without a map)."""
+    occ = model.map
+    if occ is None or not len(xy):
+        return np.ones(len(xy), dtype=bool)
+    cells = occ.world_to_cell(xy)
+    inside = np.array([occ.in_bounds(c) for c in cells], dtype=bool)
+    ok = np.zeros(len(xy), dtype=bool)
+    rows, cols = cells[inside, 0], cells[inside, 1]
+    ok[inside] = ~occ.unknown[rows, cols] & ~occ.occupied[rows, cols]
+    return ok

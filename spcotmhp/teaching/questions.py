@@ -57,7 +57,7 @@ def questions(
     model that judges splits by the robot's walk (``teaching.answers``, ``answers``: its name, None the default),
     the places the walk says are two are asked about first (``answers.split_gain``: information is that gain)."""
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
-    from spcotmhp.teaching.answers import answer_model, split_gain
+    from spcotmhp.teaching.answers import answer_model, on_free_cells, split_gain
 
     words = place_vocabulary(model)
     if not words or max_questions < 1:
@@ -112,22 +112,11 @@ def _candidate_positions(model: SpatialConceptModel) -> np.ndarray:
     xy = np.asarray(learner["arrays"]["X"], dtype=float) if learner is not None else np.empty((0, 2))
     if not len(xy):
         xy = model.mu[np.asarray(model.active_places, dtype=bool)]
+    from spcotmhp.teaching.answers import on_free_cells
+
     xy = xy[on_free_cells(model, xy)]
     _, first = np.unique(np.floor(xy / 0.5).astype(np.int64), axis=0, return_index=True)
     return xy[np.sort(first)]
-
-
-def on_free_cells(model: SpatialConceptModel, xy: np.ndarray) -> np.ndarray:
-    """Mask of the positions ``xy`` on known free cells of the model's map (all of them without a map)."""
-    occ = model.map
-    if occ is None or not len(xy):
-        return np.ones(len(xy), dtype=bool)
-    cells = occ.world_to_cell(xy)
-    inside = np.array([occ.in_bounds(c) for c in cells], dtype=bool)
-    ok = np.zeros(len(xy), dtype=bool)
-    rows, cols = cells[inside, 0], cells[inside, 1]
-    ok[inside] = ~occ.unknown[rows, cols] & ~occ.occupied[rows, cols]
-    return ok
 
 
 def _why(model: SpatialConceptModel, post: np.ndarray, labels: list[str], candidates: list[str], names) -> str:
