@@ -15,24 +15,23 @@ and online learning of what the robot records, is the paper's model:
 * ``weight``: an answer enters every count as ``weight`` events (its position, its name, its place and concept
   counts) and its conditional to that power. Reason: a reply to a question is said on purpose, about the spot the
   robot stands on, where an overheard utterance may be about somewhere else; ``weight`` is how many overheard
-  teaches one answer is worth.
+  teaches one answer is worth. Measured, not chosen (docs/teaching.md).
 * ``split``: after an answer, a block move splits the answer's place in two (and its concept with it when the two
   are one room), the answer in one half and the place's event farthest from it in the other, the rest allocated
   by the collapsed conditional (``online_split_merge.allocate``), and the split is kept when the collapsed joint
   (``online_split_merge.log_target``, with the two departures above in its counts) is higher: the mode of the two,
   as ``online_split_merge.settle_name``. Reason: a question is asked where the model is unsure, and single-site
   steps cannot move a room's events at once.
-
-* ``walk``: a split at an answer is judged with the robot's walk as position evidence too: the poses between
-  teaching events (the dataset's trajectory, one pose per ``WALK_SPACING_M`` travelled, each in the segment of the
-  event nearest it in time) are points of the place of that event, in every place's NIW marginal (Eqs. 5-6). The
-  paper's HSMM has the robot's position at every step, x_{t_e .. t'_e} in event e's segment (Eq. 3); the event
-  model the paper's code and ours learn with keeps only x at the events, so two adjoining rooms of one name, 15
-  events each, gain 6-17 nats of positions from a split and pay about 26 of phi (the name on two places); with
-  their walk they gain 25-60 (``benchmarks/questions_why.py``). Only this move uses it (the Gibbs steps and the
-  split-merge moves of the online learner, and batch learning, do not), and only where the model was learned
-  from a dataset with a trajectory (``attach_walk``); elsewhere the split is judged by the events alone. With it
-  the robot also asks first where its walk says a place is two (``split_gain``, ``teaching.questions``).
+* ``walk``: a split at an answer is judged with the robot's walk as unlabelled position evidence too: the
+  dataset's trajectory, one pose per ``WALK_SPACING_M`` travelled, each pose in the place under which it is most
+  probable (``walk_owner``), enters every place's NIW marginal (Eqs. 5-6; ``walk_gain``). The paper's HSMM has the
+  robot's position at every step of a segment, x_{t_e .. t'_e} (Eq. 3); the event model the paper's code and ours
+  learn keeps only x at the events, so two adjoining rooms of one name, 15 events each, gain 6-17 nats of
+  positions from a split and pay about 26 of phi (the name on two places); with their walk they gain 25-60 (a
+  diagnostic on battery-9, -10, -32, -36). Only this move uses the walk (the online learner's Gibbs steps and
+  split-merge moves, and batch learning, do not), and only where the model keeps one (``attach_walk``: ``learn``
+  on a dataset with a trajectory); elsewhere the split is judged by the events alone. With it the robot asks
+  first where its walk says a place is two (``split_gain``, ``teaching.questions``).
 
 ``ANSWER_MODELS`` names the combinations measured; ``DEFAULT_ANSWERS`` is the one chosen (docs/teaching.md: on
 which homes, and the paper's variant beside it); ``"paper"`` learns an answer as any teach.

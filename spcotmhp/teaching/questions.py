@@ -12,9 +12,10 @@ model's own p(n | x) as the distribution of answers; the names are the active pl
 the geometric mean of its words' p(w | k)). It is high where a place's words belong to two names, where two places
 with different names share the position, and where a place's few events leave its words spread over concepts; it
 is zero where one name is certain. It does not see two rooms of one name merged into one place (both answers
-would be the same name). The candidate positions are the teaching events' positions (the
-learner state's; else the places' means), on known free cells, best first, each at least ``SPACING_M`` from the
-ones before (one question per spot). ``why`` says which of those causes applies, read off the same quantities.
+would be the same name); with an answer model that judges a split by the robot's walk (``teaching.answers``,
+the default), the places the walk says are two are asked about first (``answers.split_gain``). The candidate
+positions are the teaching events' positions (the learner state's; else the places' means), on known free
+cells, best first, each at least ``SPACING_M`` from the ones before (one question per spot). ``why`` says which of those causes applies, read off the same quantities.
 """
 
 from __future__ import annotations
