@@ -15,7 +15,8 @@ is zero where one name is certain. It does not see two rooms of one name merged 
 would be the same name); with an answer model that judges a split by the robot's walk (``teaching.answers``,
 the default), the places the walk says are two are asked about first (``answers.split_gain``). The candidate
 positions are the teaching events' positions (the learner state's; else the places' means), on known free
-cells, best first, each at least ``SPACING_M`` from the ones before (one question per spot). ``why`` says which of those causes applies, read off the same quantities.
+cells, best first, each at least ``SPACING_M`` from the ones before (one question per spot). ``why`` says which
+of those causes applies, read off the same quantities.
 """
 
 from __future__ import annotations
