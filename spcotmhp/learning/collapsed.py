@@ -207,7 +207,7 @@ class CollapsedState:
 
     def log_predictive(self, x: np.ndarray) -> np.ndarray:
         """log t(x | NIW posterior of place k) for every place (the Student-t posterior predictive; Murphy 2007,
-        Eq. 258): (K,)."""
+        Eq. 258): (K,), or (P, K) for P positions x (P, 2)."""
         h = self.hyper
         m0, V0 = np.asarray(h.m0, dtype=float), np.asarray(h.V0, dtype=float)
         kn, nun = h.kappa0 + self.n_k, h.nu0 + self.n_k
@@ -217,7 +217,7 @@ class CollapsedState:
         S = Vn * ((kn + 1.0) / (kn * dof))[:, None, None]
         a, b, d = S[:, 0, 0], 0.5 * (S[:, 0, 1] + S[:, 1, 0]), S[:, 1, 1]
         det = np.maximum(a * d - b * b, 1e-300)
-        dx, dy = x[0] - mn[:, 0], x[1] - mn[:, 1]
+        dx, dy = x[..., 0, None] - mn[:, 0], x[..., 1, None] - mn[:, 1]
         maha = (d * dx * dx - 2.0 * b * dx * dy + a * dy * dy) / det
         from scipy.special import gammaln  # here, not at import: loading a model for planning reads this module
 
@@ -229,7 +229,7 @@ class CollapsedState:
             - (dof + 2.0) / 2.0 * np.log1p(maha / dof)
         )
         if self.log_new_place is not None:
-            out[self.n_k <= 0] = self.log_new_place
+            out[..., self.n_k <= 0] = self.log_new_place
         return out
 
     def _log_words(self, e: int, cols: np.ndarray) -> np.ndarray:

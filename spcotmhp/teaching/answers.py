@@ -137,7 +137,7 @@ def walk_owner(st: CollapsedState) -> np.ndarray:
     poses = np.zeros((0, 2)) if st.walk_X is None else st.walk_X
     if not len(poses) or not len(used):
         return np.zeros(len(poses), dtype=np.int64)
-    scores = np.stack([st.log_predictive(x)[used] for x in poses]) + np.log(st.n_k[used])[None, :]
+    scores = st.log_predictive(poses)[:, used] + np.log(st.n_k[used])[None, :]
     return used[np.argmax(scores, axis=1)]
 
 

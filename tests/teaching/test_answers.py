@@ -179,3 +179,13 @@ def test_answers_and_the_walk_survive_a_model_folder(tmp_path):
     np.testing.assert_array_equal(again.walk_X, st.walk_X)
     for name, value in member_of(st)["arrays"].items():
         np.testing.assert_array_equal(back.learner["arrays"][name], value)
+
+
+def test_the_predictive_of_many_positions_is_that_of_each():
+    """``log_predictive`` of (P, 2) positions (walk_owner's) equals P single calls, to the bit, with an empty
+    place at the map's density."""
+    st = _state([(0, 0), (0.5, 0.2), (6, 6), (6.5, 5.8)], [0, 0, 1, 1], [0, 0, 1, 1])
+    st.log_new_place = -3.0
+    xy = np.array([[0.1, 0.3], [5.0, 6.0], [-2.0, 1.0]])
+    np.testing.assert_array_equal(st.log_predictive(xy), np.stack([st.log_predictive(x) for x in xy]))
+    assert (st.log_predictive(xy)[:, 2:] == -3.0).all()
