@@ -39,7 +39,7 @@ import warnings
 import numpy as np
 from scipy.special import gammaln
 
-from spcotmhp.commands.learning import load_dataset_arg
+from spcotmhp.commands.datasets import load_dataset_arg
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_battery import battery_home
 from spcotmhp.evaluation.battery import evaluate_home

@@ -1,4 +1,5 @@
-"""CLI commands for datasets: list the bundled ones, check any folder."""
+"""CLI commands for datasets: list the bundled ones, check any folder; and how every command reads a dataset argument
+(a folder or a bundled name, its warnings summarised: :func:`load_dataset_reporting`)."""
 
 from __future__ import annotations
 
@@ -9,10 +10,66 @@ from typing import TYPE_CHECKING, Annotated
 import numpy as np
 import typer
 
+from spcotmhp.errors import DatasetError
 from spcotmhp.limits import MAX_SYNTH_EVENTS, MAX_SYNTH_ROOMS
 
 if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
     from spcotmhp.datasets.dataset import Dataset
+
+
+SHOWN_WARNINGS = 3
+
+
+def load_dataset_arg(dataset: str, lang: str | None) -> Dataset:
+    """A dataset folder, or the name of a bundled dataset ("3LDK_01", "albert-b"); ``lang`` None picks "en"
+    when the teaching file has English words, else "ja"."""
+    from spcotmhp.datasets.bundled import bundled_path
+    from spcotmhp.datasets.loader import available_languages, load_dataset
+
+    path = Path(dataset)
+    if not path.exists():
+        try:
+            path = bundled_path(dataset)
+        except DatasetError:
+            from spcotmhp.datasets.bundled import list_bundled
+
+            raise DatasetError(
+                f"{dataset} is neither a dataset folder nor a bundled dataset name (bundled: "
+                f"{', '.join(list_bundled())}; `spcotmhp datasets` describes them)"
+            ) from None
+    if lang is None:
+        langs = available_languages(path) if (path / "teaching.csv").is_file() else []
+        lang = langs[0] if langs else "en"
+    return load_dataset(path, lang=lang)
+
+
+def load_dataset_reporting(dataset: str, lang: str | None) -> Dataset:
+    """``load_dataset_arg``, printing its DatasetWarnings to stderr as a count and the first few (as
+    ``check-dataset`` lists them); other warnings pass through unchanged."""
+    from spcotmhp.datasets.loader import DatasetWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DatasetWarning)
+        data = load_dataset_arg(dataset, lang)
+    messages = []
+    for w in caught:
+        if issubclass(w.category, DatasetWarning):
+            messages.append(str(w.message))
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if messages and not Path(dataset).exists():  # a bundled dataset: its known warnings in one line
+        from spcotmhp.datasets.bundled import known_warnings_note
+
+        typer.echo(f"warning: {known_warnings_note(data.name, len(messages))}", err=True)
+    elif messages:
+        lines = [f"{data.name}: {len(messages)} dataset warning(s)"]
+        lines += [f"  warning: {m}" for m in messages[:SHOWN_WARNINGS]]
+        if len(messages) > SHOWN_WARNINGS:
+            lines.append(
+                f"  ... {len(messages) - SHOWN_WARNINGS} more (`spcotmhp check-dataset {dataset}` lists them all)"
+            )
+        typer.echo("\n".join(lines), err=True)
+    return data
 
 
 def _n_places(d: Dataset) -> int | None:

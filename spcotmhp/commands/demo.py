@@ -167,7 +167,7 @@ def demo(
     ] = False,
 ) -> None:
     """Learn a bundled home's map, plan "go to the bedroom via the corridor", print the explanation, draw it."""
-    from spcotmhp.commands.learning import load_dataset_arg
+    from spcotmhp.commands.datasets import load_dataset_arg
     from spcotmhp.persistence.io import check_target, save_model
     from spcotmhp.planning.graph_cache import GraphCache
     from spcotmhp.planning.planner import HierarchicalPlanner

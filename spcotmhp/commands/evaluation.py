@@ -38,7 +38,7 @@ class _OptionalRayAddress(TyperCommand):
 
 def load_home(name_or_path: str, lang: str):
     """A dataset folder, or a bundled dataset by name; its dataset warnings as a count and the first few."""
-    from spcotmhp.commands.learning import load_dataset_reporting
+    from spcotmhp.commands.datasets import load_dataset_reporting
 
     return load_dataset_reporting(name_or_path, lang)
 
