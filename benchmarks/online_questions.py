@@ -30,23 +30,32 @@ from spcotmhp.datasets.bundled import load_bundled  # noqa: E402
 from spcotmhp.evaluation.online_eval import SCORES, dataset_events, evaluate_batch  # noqa: E402
 from spcotmhp.evaluation.table6 import score_run  # noqa: E402
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent  # noqa: E402
+from spcotmhp.teaching.answers import answer_model, walk_poses  # noqa: E402
 from spcotmhp.teaching.questions import questions  # noqa: E402
 
 
-def run_seed(data, seed: int, n_questions: int) -> list[dict]:
-    """Scores after the stream and after each answer (index = answers so far)."""
-    learner = OnlineSpCoTMHP(K=20, L=20, use_features=True, map=data.map, check_map=False, seed=seed)
+def run_seed(data, seed: int, n_questions: int, answers: str = "paper") -> list[dict]:
+    """Scores after the stream and after each answer (index = answers so far); ``answers``: how answers enter
+    the model (``teaching.answers.ANSWER_MODELS``)."""
+    how = answer_model(answers)
+    learner = OnlineSpCoTMHP(
+        K=20, L=20, use_features=True, map=data.map, check_map=False, seed=seed, **how.learner_settings()
+    )
+    if data.trajectory is not None and how.walk:
+        learner.partial_fit([])
+        learner.state_.walk_X = walk_poses(data.trajectory)
     events = dataset_events(data)
     for event in events:
         learner.partial_fit([event])
     n = len(events)
     out = [score_run(data, learner.places_[:n], learner.concepts_[:n])]
     for _ in range(n_questions):
-        offered = questions(learner.model_, 1)  # answered spots are not asked again (``questions``)
+        offered = questions(learner.model_, 1, answers=answers)
         if not offered:
             break
         q = offered[0]
-        learner.partial_fit([TeachingEvent(q["x"], q["y"], (answer(data, q["x"], q["y"]),), named=True)])
+        said = (answer(data, q["x"], q["y"]),)
+        learner.partial_fit([TeachingEvent(q["x"], q["y"], said, named=True, answer=True)])
         out.append(score_run(data, learner.places_[:n], learner.concepts_[:n]))
     return out
 
@@ -56,11 +65,12 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--questions", type=int, default=5)
     ap.add_argument("--no-batch", action="store_true")
+    ap.add_argument("--answers", default="paper", help="how answers enter the model (teaching.answers)")
     args = ap.parse_args()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         data = load_bundled("albert-b", lang="ja")
-        runs = [run_seed(data, s, args.questions) for s in range(args.seeds)]
+        runs = [run_seed(data, s, args.questions, args.answers) for s in range(args.seeds)]
         batch = None if args.no_batch else evaluate_batch(data, args.seeds, 0, 100, 1, True, 20, 20)
     steps = max(len(r) for r in runs)
     table = []

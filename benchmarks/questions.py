@@ -48,30 +48,60 @@ def answer(data, x: float, y: float) -> str:
     return said.most_common(1)[0][0]
 
 
-def run_home(data, lang: str, questions_max: int, target: float, params: str = "learned") -> dict:
+def learned(data, params: str = "learned", cache: str | None = None):
+    """(the model learned without labels, its advanced WN-SPL via): from ``cache``/<home> when that folder holds
+    them (written by an earlier run: the learned model does not depend on how answers are taught), else learned
+    and scored (and written there when ``cache`` is given)."""
+    from pathlib import Path
+
     from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.evaluation.context import build_context
+    from spcotmhp.persistence.io import load_model, save_model
+
+    folder = None if cache is None else Path(cache) / data.name
+    if folder is not None and (folder / "before.json").is_file():
+        return load_model(folder / "model"), json.loads((folder / "before.json").read_text())["before"]
+    model = build_context(data, params, 0).model
+    before = evaluate_home(data, params, 0, model=model).wn_spl_via
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
+        save_model(model, folder / "model", overwrite=True)
+        (folder / "before.json").write_text(json.dumps({"before": before}))
+    return model, before
+
+
+def run_home(
+    data,
+    lang: str,
+    questions_max: int,
+    target: float,
+    params: str = "learned",
+    cache: str | None = None,
+    answers: str = "paper",
+) -> dict:
+    from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.learning.online import TeachingEvent
+    from spcotmhp.teaching.answers import attach_walk
     from spcotmhp.teaching.questions import questions
     from spcotmhp.teaching.teach import teach
 
     t0 = time.perf_counter()
-    model = build_context(data, params, 0).model
-    before = evaluate_home(data, params, 0, model=model).wn_spl_via
+    model, before = learned(data, params, cache)
+    attach_walk(model, data.trajectory)
     row = {"home": data.name, "before": before, "after": before, "asked": 0, "answers": []}
     for _ in range(questions_max):
         if row["after"] >= target:
             break
-        asked = questions(model, 1)
+        asked = questions(model, 1, answers=answers)
         if not asked:
             break
         q = asked[0]
         name = answer(data, q["x"], q["y"])
         if lang == "ja":  # albert-b's names are its own words (hiragana, which janome may cut): taught as that word
-            event: object = TeachingEvent(q["x"], q["y"], (name,), named=True)
+            event: object = TeachingEvent(q["x"], q["y"], (name,), named=True, answer=True)
         else:
-            event = {"x": q["x"], "y": q["y"], "utterance": f"this is the {name}"}
-        model = teach(model, [event]).model
+            event = {"x": q["x"], "y": q["y"], "utterance": f"this is the {name}", "answer": True}
+        model = teach(model, [event], answers=answers).model
         row["asked"] += 1
         row["answers"].append({"x": q["x"], "y": q["y"], "candidates": q["candidates"], "answer": name})
         row["after"] = evaluate_home(data, params, 0, model=model).wn_spl_via
@@ -87,6 +117,9 @@ def main() -> None:
     ap.add_argument("--albert", action="store_true", help="also albert-b (Japanese)")
     ap.add_argument("--all", action="store_true", help="ask on homes already at the target too")
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--cache", help="folder of learned models and their scores before any question (reused)")
+    ap.add_argument("--only-learn", action="store_true", help="fill --cache and stop (no question asked)")
+    ap.add_argument("--answers", default="paper", help="how answers enter the model (online.ANSWER_MODELS)")
     args = ap.parse_args()
     from spcotmhp.datasets.bundled import load_bundled
     from spcotmhp.datasets.synthetic_battery import battery_home
@@ -100,7 +133,10 @@ def main() -> None:
     for data, lang in homes:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            row = run_home(data, lang, args.questions if args.all else args.questions, args.target)
+            if args.only_learn:
+                learned(data, cache=args.cache)
+                continue
+            row = run_home(data, lang, args.questions, args.target, cache=args.cache, answers=args.answers)
         row["failing"] = row["before"] < args.target
         rows.append(row)
         if not args.json:

@@ -197,6 +197,9 @@ def learn(
             jobs or 1,
             None if building is None else building.hyper(supervised=False),
         )
+    from spcotmhp.teaching.answers import attach_walk
+
+    attach_walk(model, data.trajectory)  # the walk judges the split at an answer (teaching/answers.py)
     if building is not None:
         building.save(model, out, overwrite)
     else:

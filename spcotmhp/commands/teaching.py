@@ -25,6 +25,15 @@ def teach(
             "applied yet) to this model.",
         ),
     ] = None,
+    answer: Annotated[
+        bool, typer.Option("--answer", help="The utterance answers one of the model's questions ('questions').")
+    ] = False,
+    answers: Annotated[
+        str | None,
+        typer.Option(
+            "--answers", help="How an answer enters the model (spcotmhp/teaching/answers.py; default: the chosen one)."
+        ),
+    ] = None,
 ) -> None:
     """Teach the model in MODEL_DIR that UTTERANCE was said at X Y (or the utterances recorded in --from DIR), save
     it, and print what happened (a new place, or the place it joined). The folder is replaced whole or not at all;
@@ -52,7 +61,7 @@ def teach(
         )
         return
     assert at is not None and utterance is not None
-    taught = teach_model(model, [{"x": at[0], "y": at[1], "utterance": utterance}])
+    taught = teach_model(model, [{"x": at[0], "y": at[1], "utterance": utterance, "answer": answer}], answers)
     save_model(taught.model, model_dir, overwrite=True)
     s = taught.summary()
     typer.echo(
@@ -65,16 +74,20 @@ def questions(
     model_dir: Annotated[Path, typer.Argument(help="Model folder.")],
     max_questions: Annotated[int, typer.Option("--max", min=1, max=100, help="Questions to list.")] = 5,
     as_json: Annotated[bool, typer.Option("--json", help='Print {"questions": [...]} as JSON.')] = False,
+    answers: Annotated[
+        str | None,
+        typer.Option("--answers", help="How answers enter the model (spcotmhp/teaching/answers.py; default: chosen)."),
+    ] = None,
 ) -> None:
     """List where an answer would tell the model most about what a place is called, best first
     (spcotmhp/teaching/questions.py: the entropy of the name the model expects there). Answer one with
-    'spcotmhp teach MODEL_DIR "this is the NAME" --at X Y'."""
+    'spcotmhp teach MODEL_DIR "this is the NAME" --at X Y --answer'."""
     import json
 
     from spcotmhp.persistence.io import load_model
     from spcotmhp.teaching.questions import questions as ask
 
-    asked = ask(load_model(model_dir), max_questions)
+    asked = ask(load_model(model_dir), max_questions, answers=answers)
     if as_json:
         typer.echo(json.dumps({"questions": asked}, ensure_ascii=False))
         return

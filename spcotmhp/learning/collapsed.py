@@ -19,7 +19,14 @@ background word), and its concept is one that already holds one of its words or 
 so that the name is a name of the concept it joins, not a stray token of an unrelated one; among those (i_e, C_e)
 is set to the mode of the conditional above (``log_conditional(..., concepts=...)``), which makes a teach's
 outcome a function of the model and the position (``teach`` says which it was) rather than of a draw. R holds the
-transition counts of the event sequence plus, with reverse replay (Section 3.2), their transpose. This is the
+transition counts of the event sequence plus, with reverse replay (Section 3.2), their transpose.
+
+Answers (a departure from the paper, taken only for teaches given in reply to the robot's question;
+:mod:`spcotmhp.teaching.answers` says which and why): an event may be *alone*, a segment of its own, so that no
+transition into or out of it is counted (the events before and after it are linked as if it were not there: it
+is not a step of the robot's walk), and may carry a *weight* w, entering every count as w events and its
+conditional to the power w. Events the robot records as it goes are neither (alone False, weight 1): the paper's
+model. This is the
 batch sampler's step 4 (Eq. 9's place term) and step 5 (the collapsed concept step) drawn as one block, with
 mu, Sigma and psi integrated out instead of drawn: a single-site collapsed Gibbs step. Counts may be fractional
 (pseudo-counts of a model loaded without its events; ``online_init``).
@@ -67,6 +74,9 @@ class CollapsedState:
         self.z: list[np.ndarray] = []  # True: concept token, False: background token
         self.features: list[np.ndarray | None] = []
         self.named: list[bool] = []  # naming events (module docstring)
+        self.alone: list[bool] = []  # events that are a segment of their own (answers; module docstring)
+        self.walk_X: np.ndarray | None = None  # the robot's poses along its walk (teaching.answers.walk_poses)
+        self.weight: list[float] = []  # evidence weight of each event (1: the paper's; module docstring)
 
     # ---- sizes ---------------------------------------------------------------------------------------------
     @property
@@ -94,6 +104,8 @@ class CollapsedState:
         features: np.ndarray | None,
         rng: np.random.Generator,
         named: bool = False,
+        alone: bool = False,
+        weight: float = 1.0,
     ) -> int:
         """Add a new event and draw its place, concept and switches (a naming event: set to the mode, module
         docstring); returns its index.
@@ -113,6 +125,8 @@ class CollapsedState:
         self.z.append(np.ones(len(tokens), dtype=bool))  # concept tokens first; switches resampled after C_e
         self.features.append(features)
         self.named.append(bool(named))
+        self.alone.append(bool(alone))
+        self.weight.append(float(weight))
         e = self.E - 1
         self.draw(e, rng, transitions=False)
         return e
@@ -142,6 +156,24 @@ class CollapsedState:
     def is_named(self, e: int) -> bool:
         return e < len(self.named) and self.named[e]
 
+    def is_alone(self, e: int) -> bool:
+        return e < len(self.alone) and self.alone[e]
+
+    def weight_of(self, e: int) -> float:
+        return self.weight[e] if e < len(self.weight) else 1.0
+
+    def neighbours(self, e: int) -> tuple[int, int]:
+        """The events before and after e in the robot's walk (-1: none): the nearest that are not alone; an alone
+        event has none (module docstring)."""
+        if self.is_alone(e):
+            return -1, -1
+        prev, nxt = e - 1, e + 1
+        while prev >= 0 and self.is_alone(prev):
+            prev -= 1
+        while nxt < self.E and self.is_alone(nxt):
+            nxt += 1
+        return prev, (nxt if nxt < self.E else -1)
+
     def naming_concepts(self, e: int) -> np.ndarray:
         """The concepts a naming event may join (event e out of the counts): those whose concept tokens hold one
         of its words, and the first concept with no events (all empty ones are alike)."""
@@ -159,7 +191,8 @@ class CollapsedState:
         place = self.log_predictive(self.X[e])
         R = self.trans + self.trans.T if self.replay else self.trans
         row = R.sum(axis=1) + self.K * h.omega
-        prev, nxt = (self.place[e - 1] if e > 0 else -1), (self.place[e + 1] if e + 1 < self.E else -1)
+        before, after = self.neighbours(e)
+        prev, nxt = (self.place[before] if before >= 0 else -1), (self.place[after] if after >= 0 else -1)
         if prev >= 0 and transitions:
             place = place + np.log(R[prev] + h.omega) - np.log(row[prev])
         if nxt >= 0 and transitions:
@@ -169,11 +202,12 @@ class CollapsedState:
         cols = np.arange(self.L) if concepts is None else np.asarray(concepts)
         concept = np.log(self.n_l[cols] + h.alpha) + self._log_words(e, cols) + self._log_features(e, cols)
         joint = np.log(phi.T[:, cols]) + concept[None, :]  # (K, L)
-        return joint + place[:, None]
+        w = self.weight_of(e)
+        return joint + place[:, None] if w == 1.0 else w * (joint + place[:, None])
 
     def log_predictive(self, x: np.ndarray) -> np.ndarray:
         """log t(x | NIW posterior of place k) for every place (the Student-t posterior predictive; Murphy 2007,
-        Eq. 258): (K,)."""
+        Eq. 258): (K,), or (P, K) for P positions x (P, 2)."""
         h = self.hyper
         m0, V0 = np.asarray(h.m0, dtype=float), np.asarray(h.V0, dtype=float)
         kn, nun = h.kappa0 + self.n_k, h.nu0 + self.n_k
@@ -183,7 +217,7 @@ class CollapsedState:
         S = Vn * ((kn + 1.0) / (kn * dof))[:, None, None]
         a, b, d = S[:, 0, 0], 0.5 * (S[:, 0, 1] + S[:, 1, 0]), S[:, 1, 1]
         det = np.maximum(a * d - b * b, 1e-300)
-        dx, dy = x[0] - mn[:, 0], x[1] - mn[:, 1]
+        dx, dy = x[..., 0, None] - mn[:, 0], x[..., 1, None] - mn[:, 1]
         maha = (d * dx * dx - 2.0 * b * dx * dy + a * dy * dy) / det
         from scipy.special import gammaln  # here, not at import: loading a model for planning reads this module
 
@@ -195,7 +229,7 @@ class CollapsedState:
             - (dof + 2.0) / 2.0 * np.log1p(maha / dof)
         )
         if self.log_new_place is not None:
-            out[self.n_k <= 0] = self.log_new_place
+            out[..., self.n_k <= 0] = self.log_new_place
         return out
 
     def _log_words(self, e: int, cols: np.ndarray) -> np.ndarray:
@@ -227,6 +261,8 @@ class CollapsedState:
         """Add (sign 1) or remove (-1) event e's contribution to every count (its place and concept set; a removed
         event gets place and concept -1)."""
         k, l, x = self.place[e], self.concept[e], self.X[e]
+        before, after = self.neighbours(e)
+        sign *= self.weight_of(e)
         self.n_k[k] += sign
         self.sx[k] += sign * x
         self.sxx[k] += sign * np.outer(x, x)
@@ -239,10 +275,11 @@ class CollapsedState:
         f = self.features[e]
         if self.F_ld is not None and f is not None:
             self.F_ld[l] += sign * f
-        if e > 0 and self.place[e - 1] >= 0:
-            self.trans[self.place[e - 1], k] += sign
-        if e + 1 < self.E and self.place[e + 1] >= 0:
-            self.trans[k, self.place[e + 1]] += sign
+        step = 1.0 if sign > 0 else -1.0  # a transition is one step of the walk, whatever the weight
+        if before >= 0 and self.place[before] >= 0:
+            self.trans[self.place[before], k] += step
+        if after >= 0 and self.place[after] >= 0:
+            self.trans[k, self.place[after]] += step
         if sign < 0:
             self.place[e] = self.concept[e] = -1
 

@@ -45,6 +45,12 @@ def member_of(st: CollapsedState) -> dict:
     arrays["tok_z"] = np.concatenate(st.z).astype(bool) if st.z else np.zeros(0, bool)
     if any(st.named):
         arrays["named"] = np.array([st.is_named(e) for e in range(st.E)], dtype=bool)
+    if any(st.alone):
+        arrays["alone"] = np.array([st.is_alone(e) for e in range(st.E)], dtype=bool)
+    if st.walk_X is not None:
+        arrays["walk_X"] = np.array(st.walk_X, dtype=float)
+    if any(w != 1.0 for w in st.weight):
+        arrays["weight"] = np.array([st.weight_of(e) for e in range(st.E)], dtype=float)
     if st.F_ld is not None and st.D is not None:
         arrays["F_ld"] = st.F_ld.copy()
         arrays["has_features"] = np.array([f is not None for f in st.features], dtype=bool)
@@ -65,6 +71,10 @@ def state_of_member(member: dict, model: SpatialConceptModel) -> CollapsedState:
     st.z = [np.array(a["tok_z"][ptr[e] : ptr[e + 1]], dtype=bool) for e in range(len(st.place))]
     st.features = [None] * len(st.place)
     st.named = [bool(v) for v in a["named"]] if "named" in a else [False] * len(st.place)
+    st.alone = [bool(v) for v in a["alone"]] if "alone" in a else [False] * len(st.place)
+    st.weight = [float(v) for v in a["weight"]] if "weight" in a else [1.0] * len(st.place)
+    if "walk_X" in a:
+        st.walk_X = np.array(a["walk_X"], dtype=float)
     if D is not None:
         st.F_ld = np.array(a["F_ld"], dtype=float)
         st.features = [
@@ -101,7 +111,7 @@ def from_batch(
     st.tokens = [tok_word[tok_ptr[e] : tok_ptr[e + 1]].astype(np.int64) for e in range(obs.E)]
     st.z = [z[tok_ptr[e] : tok_ptr[e + 1]].astype(bool) for e in range(obs.E)]
     st.features = [None] * obs.E if D is None else [row.copy() for row in obs.features]
-    st.named = [False] * obs.E
+    st.named, st.alone, st.weight = [False] * obs.E, [False] * obs.E, [1.0] * obs.E
     g = GaussianStats.from_assignments(st.X, st.place, K)
     st.n_k, st.sx, st.sxx = g.n, g.sx, g.sxx
     st.n_l = np.bincount(st.concept, minlength=L).astype(float)

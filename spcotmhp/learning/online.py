@@ -42,10 +42,11 @@ revise.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import TypeGuard
 
@@ -69,13 +70,16 @@ MAX_WORDS = 50
 @dataclass(frozen=True)
 class TeachingEvent:
     """One teaching event: a position (map frame, metres), the words of the utterance, optional image features;
-    ``named``: the words are a name said for the place (a teach, ``collapsed.py``'s naming events)."""
+    ``named``: the words are a name said for the place (a teach, ``collapsed.py``'s naming events); ``answer``: a
+    teach given in reply to the robot's question (``teaching.questions``), learned as the learner's
+    ``answer_alone`` / ``answer_weight`` say."""
 
     x: float
     y: float
     words: tuple[str, ...]
     features: np.ndarray | None = None
     named: bool = False
+    answer: bool = False
 
     @classmethod
     def from_utterance(cls, utterance: str, x: float, y: float, features: np.ndarray | None = None) -> TeachingEvent:
@@ -132,13 +136,16 @@ def as_event(item: object) -> TeachingEvent:
         )
     if not (_is_number(x) and _is_number(y)):
         raise TeachingError(f"a teaching position must be two numbers (metres), got {x!r}, {y!r}")
+    if isinstance(item, Mapping) and item.get("answer", False) not in (True, False):
+        raise TeachingError(f"'answer' must be true or false, got {item.get('answer')!r}")
+    answer = isinstance(item, Mapping) and item.get("answer", False) is True
     if isinstance(said, str):
-        return TeachingEvent.from_utterance(said, float(x), float(y), feats)
+        return dataclasses.replace(TeachingEvent.from_utterance(said, float(x), float(y), feats), answer=answer)
     if not isinstance(said, (list, tuple)) or not said or not all(isinstance(w, str) and w for w in said):
         raise TeachingError("a teaching event needs an utterance (text) or a non-empty list of words")
     if len(said) > MAX_WORDS or sum(len(w) for w in said) > MAX_UTTERANCE_CHARS:
         raise TeachingError(f"a teaching event has more than {MAX_WORDS} words or {MAX_UTTERANCE_CHARS} characters")
-    return TeachingEvent(float(x), float(y), tuple(said), feats)
+    return TeachingEvent(float(x), float(y), tuple(said), feats, answer=answer)
 
 
 class OnlineSpCoTMHP:
@@ -165,6 +172,10 @@ class OnlineSpCoTMHP:
         seed: the random stream; the update by event n (counting every event of the state) uses
             ``make_rng(seed, n)``, so a sequence of updates is reproducible however it is split into calls (and
             processes).
+        answer_alone, answer_weight, after_answer: how an event marked ``answer`` is learned (the defaults: as
+            any teach, the paper's model): a segment of its own (no psi transition in or out), entering the
+            counts as ``answer_weight`` events (``collapsed.py``), and ``after_answer(state, e, rng)`` called
+            once it is learned (a block move at the answer; :mod:`spcotmhp.teaching.answers`).
 
     Learned attributes: ``state_`` (``collapsed.CollapsedState``), ``vocabulary_``, ``places_`` / ``concepts_``
     (E,) the current i and C of every event taught, ``update_times_`` (seconds per event), ``last_places_``
@@ -192,6 +203,9 @@ class OnlineSpCoTMHP:
         map: OccupancyMap | None = None,
         check_map: bool = True,
         seed: int = 0,
+        answer_alone: bool = False,
+        answer_weight: float = 1.0,
+        after_answer: Callable[[CollapsedState, int, np.random.Generator], object] | None = None,
     ) -> None:
         self.K, self.L, self.max_K, self.max_L = K, L, max_K, max_L
         self.lag, self.rejuvenation = lag, rejuvenation
@@ -200,6 +214,7 @@ class OnlineSpCoTMHP:
         self.use_features, self.feature_weight = use_features, feature_weight
         self.connectivity, self.hyper = connectivity, hyper
         self.init_model, self.map, self.check_map, self.seed = init_model, map, check_map, seed
+        self.answer_alone, self.answer_weight, self.after_answer = answer_alone, answer_weight, after_answer
 
     # ---- public API ----------------------------------------------------------------------------------------
     def partial_fit(self, events: Iterable[object]) -> OnlineSpCoTMHP:
@@ -254,6 +269,8 @@ class OnlineSpCoTMHP:
                 f"K={self.K}, L={self.L}, max_K={self.max_K}, max_L={self.max_L}, lag={self.lag}, "
                 f"rejuvenation={self.rejuvenation}"
             )
+        if not (isinstance(self.answer_weight, (int, float)) and 0 < self.answer_weight < math.inf):
+            raise TeachingError(f"answer_weight must be a positive number, got {self.answer_weight!r}")
         model = self.init_model
         given = self.hyper if model is None else model.hyper
         for term in ("place_concepts", "off_name"):
@@ -349,7 +366,9 @@ class OnlineSpCoTMHP:
             if self.feature_weight is not None and total > 0:
                 feats = feats * (self.feature_weight / total)
         tokens = np.array([self.word_index_[w] for w in event.words])
-        e = st.append(np.array([event.x, event.y]), tokens, feats, rng, event.named)
+        asked, x = event.answer, np.array([event.x, event.y])
+        alone, weight = asked and self.answer_alone, self.answer_weight if asked else 1.0
+        e = st.append(x, tokens, feats, rng, event.named, alone, weight)
         for j in range(max(0, e - self.lag), e):
             st.step(j, rng)
         older = max(0, e - self.lag)
@@ -359,6 +378,9 @@ class OnlineSpCoTMHP:
         self._split_merge(e, rng)
         if event.named:
             settle_name(st, e)
+        if asked and self.after_answer is not None:
+            self._grow_if_saturated()  # room for the move's new place
+            self.after_answer(st, e, rng)
         self._grow_if_saturated()
 
     def _split_merge(self, e: int, rng: np.random.Generator) -> None:

@@ -237,9 +237,10 @@ def _restore(st: CollapsedState, saved: dict) -> None:
 
 def _pseudo(st: CollapsedState) -> bool:
     """Whether the counts hold more than the events (pseudo-counts of a model loaded without its events)."""
-    tokens = sum(len(t) for t in st.tokens)
+    events = sum(st.weight_of(e) for e in range(st.E))  # an event of weight w counts as w (``collapsed.py``)
+    tokens = sum(len(t) * st.weight_of(e) for e, t in enumerate(st.tokens))
     return not (
-        np.isclose(st.n_k.sum(), st.E) and np.isclose(st.n_l.sum(), st.E) and np.isclose(st.z_tot.sum(), tokens)
+        np.isclose(st.n_k.sum(), events) and np.isclose(st.n_l.sum(), events) and np.isclose(st.z_tot.sum(), tokens)
     )
 
 

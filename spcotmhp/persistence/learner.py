@@ -53,21 +53,26 @@ def check_counts_cover_events(a: Mapping[str, np.ndarray], K: int, L: int, V: in
     words, z = a["tok_word"].astype(np.int64), a["tok_z"].astype(bool)
     lengths: np.ndarray = np.diff(a["tok_ptr"].astype(np.int64)).astype(np.int64)
     of_token = np.repeat(concept, lengths)
+    # an answer may weigh w events and be a segment of its own (``collapsed.py``): w in every count but trans,
+    # and the walk's transitions skip it
+    w = np.asarray(a["weight"], dtype=float) if "weight" in a else np.ones(len(place))
+    alone = np.asarray(a["alone"], dtype=bool) if "alone" in a else np.zeros(len(place), dtype=bool)
+    w_token = np.repeat(w, lengths)
     need = {
-        "n_k": np.bincount(place, minlength=K).astype(float),
-        "n_l": np.bincount(concept, minlength=L).astype(float),
+        "n_k": np.bincount(place, weights=w, minlength=K).astype(float),
+        "n_l": np.bincount(concept, weights=w, minlength=L).astype(float),
         "n_lk": np.zeros((L, K)),
         "W_lv": np.zeros((L, V)),
-        "bg_v": np.bincount(words[~z], minlength=V).astype(float),
-        "z_tot": np.array([float((~z).sum()), float(z.sum())]),
-        "trans": transition_counts(place, K, False),
+        "bg_v": np.bincount(words[~z], weights=w_token[~z], minlength=V).astype(float),
+        "z_tot": np.array([float(w_token[~z].sum()), float(w_token[z].sum())]),
+        "trans": transition_counts(place[~alone], K, False),
     }
-    np.add.at(need["n_lk"], (concept, place), 1.0)
-    np.add.at(need["W_lv"], (of_token[z], words[z]), 1.0)
+    np.add.at(need["n_lk"], (concept, place), w)
+    np.add.at(need["W_lv"], (of_token[z], words[z]), w_token[z])
     if "F_ld" in a and "features" in a and "has_features" in a:
         has = a["has_features"].astype(bool)
         need["F_ld"] = np.zeros(a["F_ld"].shape)
-        np.add.at(need["F_ld"], concept[has], a["features"][has])
+        np.add.at(need["F_ld"], concept[has], a["features"][has] * w[has, None])
     for name, n in need.items():
         short = a[name] < n - COUNT_TOL * (1.0 + n)
         if short.any():
@@ -139,6 +144,10 @@ def check_member(member: dict, K: int, L: int, V: int, D: int | None, where: str
     )
     if bad:
         raise ModelError(f"{where}: {bad} must hold finite non-negative numbers")
+    if "walk_X" in a and not np.isfinite(a["walk_X"]).all():
+        raise ModelError(f"{where}: the walk's poses (walk_X) must be finite")
+    if "weight" in a and not (np.isfinite(a["weight"]).all() and (a["weight"] > 0).all()):
+        raise ModelError(f"{where}: weight must hold finite positive numbers (the evidence weight of each event)")
     ptr = a["tok_ptr"]
     ok = (
         ptr[0] == 0
@@ -159,6 +168,7 @@ LEARNER_FORMAT = "spcotmhp-learner"
 LEARNER_VERSION = 1
 MAX_EVENTS = 1_000_000
 MAX_TOKENS = 50_000_000
+MAX_WALK = 10_000_000
 LEARNER_JSON_BYTES = 4096
 
 
@@ -175,6 +185,8 @@ def learner_writers(member: dict) -> dict:
         "replay": member["replay"],
         "background": member["background"],
     }
+    if "walk_X" in a:
+        meta["P"] = len(a["walk_X"])
     L, K = a["n_lk"].shape
     D = a["F_ld"].shape[1] if "F_ld" in a else None
     if meta["E"] > MAX_EVENTS or meta["T"] > MAX_TOKENS:
@@ -206,6 +218,8 @@ def read_learner_meta(root) -> dict | None:
         and all(isinstance(meta.get(k), int) and not isinstance(meta.get(k), bool) for k in ("E", "T"))
         and all(isinstance(meta.get(k), bool) for k in ("replay", "background"))
     )
+    P = meta.get("P", 0) if ok else 0  # walk poses (teaching.answers.walk_poses), absent in most folders
+    ok = ok and isinstance(P, int) and not isinstance(P, bool) and 0 <= P <= MAX_WALK
     if not ok or not (0 <= meta["E"] <= MAX_EVENTS and 0 <= meta["T"] <= MAX_TOKENS):
         raise ModelError(
             f"{path} is not a spcotmhp learner state of format version {LEARNER_VERSION} (format, "
@@ -235,13 +249,21 @@ def learner_specs(meta: dict, K: int, L: int, V: int, D: int | None) -> tuple[di
         "tok_word": (T,),
         "tok_z": (T,),
     }
-    specs["named"] = (E,)
-    kinds = {"place": "iu", "concept": "iu", "tok_ptr": "iu", "tok_word": "iu", "tok_z": "b", "named": "b"}
-    optional: tuple[str, ...] = ("named",)
+    specs.update(named=(E,), alone=(E,), weight=(E,), walk_X=(meta.get("P", 0), 2))  # answers: teaching/answers.py
+    kinds = {
+        "place": "iu",
+        "concept": "iu",
+        "tok_ptr": "iu",
+        "tok_word": "iu",
+        "tok_z": "b",
+        "named": "b",
+        "alone": "b",
+    }
+    optional: tuple[str, ...] = ("named", "alone", "weight", "walk_X")
     if D is not None:
         specs.update(F_ld=(L, D), features=(E, D), has_features=(E,))
         kinds["has_features"] = "b"
-        optional = ("named", "F_ld", "features", "has_features")
+        optional = (*optional, "F_ld", "features", "has_features")
     return {n: (shape, kinds.get(n, "f")) for n, shape in specs.items()}, optional
 
 

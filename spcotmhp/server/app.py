@@ -222,7 +222,7 @@ def create_app(
         one exceeds the time budget."""
         sm = pick(_one_model(model, body.model))
         try:
-            return await sm.teach_async(body.utterance, body.x, body.y, _client(request), body.floor)
+            return await sm.teach_async(body.utterance, body.x, body.y, _client(request), body.floor, body.answer)
         except TeachingError as exc:
             raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
 

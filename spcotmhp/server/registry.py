@@ -166,24 +166,27 @@ class ServedModel:
         never waits for a second precomputation."""
         return self.planner
 
-    async def teach_async(self, utterance: str, x: float, y: float, client: str = "", floor: object = None) -> dict:
+    async def teach_async(
+        self, utterance: str, x: float, y: float, client: str = "", floor: object = None, answer: bool = False
+    ) -> dict:
         """:meth:`teach` on the teaching lane, within its admission limits and time budget (TeachingBusy)."""
         return await run_in_lane(
             self.teach_lane,
             client,
             self.budget.teach_budget,
-            lambda: self.teach(utterance, x, y, floor),
+            lambda: self.teach(utterance, x, y, floor, answer),
             lambda why: TeachingBusy(f"the teach was {why}; it is applied when it finishes"),
         )
 
-    def teach(self, utterance: str, x: float, y: float, floor: object = None) -> dict:
+    def teach(self, utterance: str, x: float, y: float, floor: object = None, answer: bool = False) -> dict:
         """Learn that ``utterance`` was said at (x, y) (online learning, :mod:`spcotmhp.teaching.teach`), update
         the planning graph off the planning lanes (``PlanningGraph.update``: only the fields of new or moved nodes),
         then swap model, planner and labels in at once under the light lane's lock, so that every later plan uses
         the update and no plan sees half of it; the map picture is drawn again on its next request. Teaches of
         one model run one at a time; the served model stays as it was on a TeachingError. The update lives in
         memory (the model folder is not rewritten). A building's model is taught on ``floor`` ((x, y) in that
-        floor's map frame: :func:`~spcotmhp.building.learn.teach_building`) and its building planner made again."""
+        floor's map frame: :func:`~spcotmhp.building.learn.teach_building`) and its building planner made again.
+        ``answer``: the utterance answers one of the model's questions (:mod:`spcotmhp.teaching.answers`)."""
         from spcotmhp.teaching.teach import planner_for, teach
 
         if (floor is None) != (self.building is None):
@@ -195,7 +198,7 @@ class ServedModel:
                 updated, taught = _teach_building(building, utterance, x, y, floor)
                 building = _building_planner(updated, self.cache, warm=False)
             else:
-                taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance}])
+                taught = teach(self.model, [{"x": x, "y": y, "utterance": utterance, "answer": answer}])
             planner, seconds = planner_for(taught.model, self.planner.settings, self.planner, self.cache)
             labels = place_display_labels(taught.model, planner.place_words)
             with self.lock:

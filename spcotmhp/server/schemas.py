@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, StrictBool, model_validator
 
 from spcotmhp.planning.instructions import MAX_CHARS, MAX_HYPOTHESES
 
@@ -124,6 +124,9 @@ class TeachRequest(BaseModel):
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
     floor: int | Annotated[str, Field(min_length=1, max_length=64)] | None = Field(
         None, description="A building's model only (required there): the floor taught on; x, y in its map frame."
+    )
+    answer: StrictBool = Field(
+        False, description="The utterance answers one of GET /questions (learned as docs/teaching.md says)."
     )
 
 

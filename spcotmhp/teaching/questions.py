@@ -12,9 +12,11 @@ model's own p(n | x) as the distribution of answers; the names are the active pl
 the geometric mean of its words' p(w | k)). It is high where a place's words belong to two names, where two places
 with different names share the position, and where a place's few events leave its words spread over concepts; it
 is zero where one name is certain. It does not see two rooms of one name merged into one place (both answers
-would be the same name). The candidate positions are the teaching events' positions (the
-learner state's; else the places' means), on known free cells, best first, each at least ``SPACING_M`` from the
-ones before (one question per spot). ``why`` says which of those causes applies, read off the same quantities.
+would be the same name); with an answer model that judges a split by the robot's walk (``teaching.answers``,
+the default), the places the walk says are two are asked about first (``answers.split_gain``). The candidate
+positions are the teaching events' positions (the learner state's; else the places' means), on known free
+cells, best first, each at least ``SPACING_M`` from the ones before (one question per spot). ``why`` says which
+of those causes applies, read off the same quantities.
 """
 
 from __future__ import annotations
@@ -48,9 +50,14 @@ def name_distribution(model: SpatialConceptModel, xy: np.ndarray, names: list[st
     return p / np.maximum(p.sum(axis=1, keepdims=True), 1e-300)
 
 
-def questions(model: SpatialConceptModel, max_questions: int = 5, lang: str | None = None) -> list[dict]:
-    """The questions, best first (module docstring): {x, y, ask, candidates, why, information}."""
+def questions(
+    model: SpatialConceptModel, max_questions: int = 5, lang: str | None = None, answers: str | None = None
+) -> list[dict]:
+    """The questions, best first (module docstring): {x, y, ask, candidates, why, information}. With an answer
+    model that judges splits by the robot's walk (``teaching.answers``, ``answers``: its name, None the default),
+    the places the walk says are two are asked about first (``answers.split_gain``: information is that gain)."""
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+    from spcotmhp.teaching.answers import answer_model, on_free_cells, split_gain
 
     words = place_vocabulary(model)
     if not words or max_questions < 1:
@@ -66,6 +73,19 @@ def questions(model: SpatialConceptModel, max_questions: int = 5, lang: str | No
     post = model.place_posterior(np.asarray(xy, dtype=float))
     lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
     out: list[dict] = []
+    for gain, spot in split_gain(model) if answer_model(answers).walk else []:
+        if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
+            k = int(np.argmax(model.place_posterior(spot[None])[0]))
+            out.append(
+                {
+                    "x": round(float(spot[0]), 3),
+                    "y": round(float(spot[1]), 3),
+                    "ask": ASK.get(lang, ASK["en"]),
+                    "candidates": [labels[k]],
+                    "why": f"the robot's walk says the place here ('{labels[k]}') may be two",
+                    "information": round(float(gain), 4),
+                }
+            )
     for i in np.argsort(-entropy, kind="stable"):
         if entropy[i] < MIN_ENTROPY or len(out) >= max_questions:
             break
@@ -92,14 +112,9 @@ def _candidate_positions(model: SpatialConceptModel) -> np.ndarray:
     xy = np.asarray(learner["arrays"]["X"], dtype=float) if learner is not None else np.empty((0, 2))
     if not len(xy):
         xy = model.mu[np.asarray(model.active_places, dtype=bool)]
-    occ = model.map
-    if occ is not None and len(xy):
-        cells = occ.world_to_cell(xy)
-        inside = np.array([occ.in_bounds(c) for c in cells], dtype=bool)
-        ok = np.zeros(len(xy), dtype=bool)
-        rows, cols = cells[inside, 0], cells[inside, 1]
-        ok[inside] = ~occ.unknown[rows, cols] & ~occ.occupied[rows, cols]
-        xy = xy[ok]
+    from spcotmhp.teaching.answers import on_free_cells
+
+    xy = xy[on_free_cells(model, xy)]
     _, first = np.unique(np.floor(xy / 0.5).astype(np.int64), axis=0, return_index=True)
     return xy[np.sort(first)]
 

@@ -98,14 +98,18 @@ class Taught:
         }
 
 
-def teach(model: SpatialConceptModel, events: Iterable[object]) -> Taught:
+def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | None = None) -> Taught:
     """Learn ``events`` (``online.as_event`` forms) into ``model``; the model given is not modified. Raises
     TeachingError (nothing learned) for a bad event. The random stream is the model's online seed (0 unless an
-    online learner set one) at the model's event count, so teaching is reproducible."""
+    online learner set one) at the model's event count, so teaching is reproducible. Events marked as answers
+    to the robot's questions are learned as the answer model ``answers`` says (``teaching.answers``; None: its
+    default)."""
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+    from spcotmhp.teaching.answers import answer_model
 
+    how = answer_model(answers)
     seed = (model.info.get("online") or {}).get("seed", 0) if isinstance(model.info, dict) else 0
-    learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0)
+    learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0, **how.learner_settings())
     before = {int(k) for k in model.active_places.nonzero()[0]}
     t0 = time.perf_counter()
     read = [naming_event(item) for item in events]

@@ -567,3 +567,19 @@ def test_an_instruction_over_the_planners_limit_is_413_with_its_cause(client, st
     r = plan(client, instruction="go to the bedroom " + "and then the kitchen " * 40, start=start)
     assert r.status_code == 413 and r.json()["cause"] == "InstructionTooLarge"
     assert "more than the 500 accepted" in r.json()["detail"]
+
+
+def test_a_teach_marked_as_an_answer_is_learned_as_one(dirs, model6, tmp_path):
+    """POST /teach with "answer": true learns the utterance as an answer to a question (teaching/answers.py:
+    a segment of its own under the default answer model); without it, as an ordinary teach; "answer": "yes" is
+    422."""
+    model_dir = tmp_path / "m"
+    shutil.copytree(dirs["home6"], model_dir)
+    client = TestClient(create_app({"home": model_dir}), base_url="http://localhost")
+    x, y = start_near(model6)
+    body = {"utterance": "this is the study", "x": x, "y": y}
+    assert client.post("/teach", json={**body, "answer": "yes"}).status_code == 422
+    assert client.post("/teach", json=body).status_code == 200
+    assert client.post("/teach", json={**body, "answer": True}).status_code == 200
+    alone = client.app.state.served["home"].model.learner["arrays"].get("alone")
+    assert alone is not None and list(alone[-2:]) == [False, True]
