@@ -108,13 +108,16 @@ class BuildingNode(SpcotmhpNode):
         """Teach on the current floor, make the building's planner again, swap it in (module docstring)."""
         t0 = time.perf_counter()
         floor = self.floor
-        updated, taught = teach_building(self.bp.bm, [{"x": job.x, "y": job.y, "utterance": job.data}], floor)
+        updated, taught = teach_building(
+            self.bp.bm, [{"x": job.x, "y": job.y, "utterance": job.data, "answer": job.answer}], floor
+        )
         bp = BuildingPlanner(updated, self.bp.settings)
         self.bp, self.planner = bp, bp.floors[self.floor]
         self.places_pub.publish(self.markers())
         self.publish_questions()
-        self.status({"kind": "taught", "ok": True, "utterance": job.data, "floor": floor, "x": round(job.x, 4),
-                     "y": round(job.y, 4), **taught.summary(), "time_planner_s": time.perf_counter() - t0})  # fmt: skip
+        self.status({"kind": "taught", "ok": True, "utterance": job.data, "answer": job.answer, "floor": floor,
+                     "x": round(job.x, 4), "y": round(job.y, 4), **taught.summary(),
+                     "time_planner_s": time.perf_counter() - t0})  # fmt: skip
 
 
 def route_status(plan: BuildingPlan, instruction: str, start, n_poses: int, frame: str, next_floor: int | None) -> dict:

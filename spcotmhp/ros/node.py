@@ -25,7 +25,10 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   on the status topic). The ``taught`` status says whether it made a new place or joined one.
 * ``spcotmhp/questions`` (std_msgs/String, out, transient local): ``{"questions": [...]}`` where an answer would
   help the model most (:mod:`spcotmhp.teaching.questions`), published at start and after every teach; answer one
-  by teaching at its (x, y).
+  at its (x, y) on ``spcotmhp/answer``.
+* ``spcotmhp/answer`` (std_msgs/String, in): the answer to a question, said at the latest pose: a teach as on
+  ``spcotmhp/teach``, learned as an answer (:mod:`spcotmhp.teaching.answers`: its own segment, and a split of
+  its place when the robot's walk says the place is two); the ``taught`` status has ``"answer": true``.
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
 
@@ -88,6 +91,7 @@ class TeachJob:
     data: str
     x: float
     y: float
+    answer: bool = False  # said on spcotmhp/answer: it answers one of the questions (teaching.answers)
 
 
 def answered(kind: str) -> Callable:
@@ -134,6 +138,7 @@ class SpcotmhpNode(Node):
         self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
         self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
         self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
+        self.create_subscription(String, "spcotmhp/answer", self.on_answer, EVENTS)
         self.create_subscription(OccupancyGrid, "map", self.on_map, MATCH_PUBLISHER)
         self.places_pub.publish(self.markers())
         self.publish_questions()
@@ -247,6 +252,15 @@ class SpcotmhpNode(Node):
     @answered("taught")
     def on_teach(self, msg: String) -> None:
         """Queue the teach for the teaching thread (module docstring); TeachingBusy when too many wait."""
+        self.queue_teach(msg, answer=False)
+
+    @answered("taught")
+    def on_answer(self, msg: String) -> None:
+        """Queue an answer to one of the questions, a teach learned as :mod:`spcotmhp.teaching.answers` says."""
+        self.queue_teach(msg, answer=True)
+
+    def queue_teach(self, msg: String, answer: bool) -> None:
+        """Queue a teach at the latest pose for the teaching thread; TeachingBusy when too many wait."""
         x, y, _ = self.current_pose("teaching (an utterance is learned at the robot's pose)")
         with self._pending_lock:
             if self._pending >= MAX_PENDING_TEACHES:
@@ -255,7 +269,7 @@ class SpcotmhpNode(Node):
                 )
             self._pending += 1
         try:
-            self.teacher.submit(self.apply_teach, TeachJob(msg.data, x, y))
+            self.teacher.submit(self.apply_teach, TeachJob(msg.data, x, y, answer))
         except RuntimeError:  # shutting down
             with self._pending_lock:
                 self._pending -= 1
@@ -271,7 +285,7 @@ class SpcotmhpNode(Node):
     def _apply_teach(self, job: TeachJob) -> None:
         """Learn the teach and update the graph on this (the teaching) thread, then swap the planner in."""
         x, y = job.x, job.y
-        taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": job.data}])
+        taught = teach(self.planner.model, [{"x": x, "y": y, "utterance": job.data, "answer": job.answer}])
         planner, seconds = planner_for(taught.model, self.planner.settings, self.planner)
         event = self.log.append(x, y, job.data) if self.log is not None else None
         self.planner = planner  # one assignment: an instruction uses the old planner or the new one, whole
@@ -282,6 +296,7 @@ class SpcotmhpNode(Node):
                 "kind": "taught",
                 "ok": True,
                 "utterance": job.data,
+                "answer": job.answer,
                 "event": event,
                 "x": round(x, 4),
                 "y": round(y, 4),

@@ -109,6 +109,7 @@ class Client:
         self.pose_pub = self.node.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", LATCHED)  # as AMCL
         self.instruction_pub = self.node.create_publisher(String, "/spcotmhp/instruction", 10)
         self.teach_pub = self.node.create_publisher(String, "/spcotmhp/teach", 10)
+        self.answer_pub = self.node.create_publisher(String, "/spcotmhp/answer", 10)
         self.map_pub = self.node.create_publisher(OccupancyGrid, "/map", LATCHED)  # as map_server
 
     def spin_until(self, done, timeout: float) -> bool:
@@ -403,6 +404,19 @@ def test_questions_are_published_latched(setup):
     assert client.spin_until(lambda: bool(got), 20)
     asked = got[-1]["questions"]
     assert asked and set(asked[0]) == {"x", "y", "ask", "candidates", "why", "information"}
+
+
+def test_an_answer_is_taught_as_an_answer(setup):
+    """Issue 24: an answer to a question, said on spcotmhp/answer at the robot's pose, is learned as an answer
+    (teaching.answers); the taught status says so, and a teach on spcotmhp/teach is not one."""
+    client, planner = setup["client"], setup["planner"]
+    client.set_pose(*place_point(planner, "kitchen"))
+    answered = client.ask(client.answer_pub, "this is the kitchen", 60)
+    assert answered["kind"] == "taught" and answered["ok"] and answered["answer"] is True, answered
+    taught = client.ask(client.teach_pub, "this is the kitchen", 60)
+    assert taught["kind"] == "taught" and taught["ok"] and taught["answer"] is False, taught
+    refused = client.ask(client.answer_pub, "   ", 30)
+    assert refused["kind"] == "taught" and refused["ok"] is False and refused["type"] == "TeachingError"
 
 
 def test_sigint_stops_the_node_cleanly(setup):
