@@ -73,7 +73,8 @@ def questions(
     post = model.place_posterior(np.asarray(xy, dtype=float))
     lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
     out: list[dict] = []
-    for gain, spot in split_gain(model) if answer_model(answers).walk else []:
+    how = answer_model(answers)
+    for gain, spot in split_gain(model, how.gate) if how.walk else []:
         if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
             out.append(
