@@ -74,6 +74,7 @@ class AnswerModel:
     split: bool = False
     walk: bool = False
     gate: bool = False
+    turns: bool = False
 
     def learner_settings(self, model=None) -> dict:
         """Keyword settings of ``OnlineSpCoTMHP`` for this answer model, answers taught to ``model`` (its map and
@@ -98,6 +99,8 @@ ANSWER_MODELS = {
     "split+walk": AnswerModel(split=True, walk=True),
     "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
     "alone+split+gated-walk": AnswerModel(alone=True, split=True, walk=True, gate=True),
+    "alone+split+walk+turns": AnswerModel(alone=True, split=True, walk=True, turns=True),
+    "alone+split+gated-walk+turns": AnswerModel(alone=True, split=True, walk=True, gate=True, turns=True),
 }
 DEFAULT_ANSWERS = "alone+split+walk"
 
