@@ -74,6 +74,7 @@ class AnswerModel:
     split: bool = False
     walk: bool = False
     gate: bool = False
+    gate_questions: bool = False
     turns: bool = False
 
     def learner_settings(self, model=None) -> dict:
@@ -99,6 +100,7 @@ ANSWER_MODELS = {
     "split+walk": AnswerModel(split=True, walk=True),
     "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
     "alone+split+gated-walk": AnswerModel(alone=True, split=True, walk=True, gate=True),
+    "alone+split+walk+gated-questions": AnswerModel(alone=True, split=True, walk=True, gate_questions=True),
     "alone+split+walk+turns": AnswerModel(alone=True, split=True, walk=True, turns=True),
     "alone+split+gated-walk+turns": AnswerModel(alone=True, split=True, walk=True, gate=True, turns=True),
 }
