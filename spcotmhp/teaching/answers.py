@@ -73,7 +73,7 @@ class AnswerModel:
     weight: float = 1.0
     split: bool = False
     walk: bool = False
-    gate: bool = False
+    gate_judge: bool = False
     gate_questions: bool = False
     turns: bool = False
 
@@ -85,7 +85,9 @@ class AnswerModel:
             after = split_at_answer
             if self.walk:
                 after = (
-                    partial(gated_split_at_answer, evidence=evidence_of(model)) if self.gate else walk_split_at_answer
+                    partial(gated_split_at_answer, evidence=evidence_of(model))
+                    if self.gate_judge
+                    else walk_split_at_answer
                 )
         return {"answer_alone": self.alone, "answer_weight": self.weight, "after_answer": after}
 
@@ -99,10 +101,13 @@ ANSWER_MODELS = {
     "alone+split+w10": AnswerModel(alone=True, weight=10.0, split=True),
     "split+walk": AnswerModel(split=True, walk=True),
     "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
-    "alone+split+gated-walk": AnswerModel(alone=True, split=True, walk=True, gate=True),
+    "alone+split+gated-walk": AnswerModel(alone=True, split=True, walk=True, gate_judge=True, gate_questions=True),
+    "alone+split+walk+gated-judge": AnswerModel(alone=True, split=True, walk=True, gate_judge=True),
     "alone+split+walk+gated-questions": AnswerModel(alone=True, split=True, walk=True, gate_questions=True),
     "alone+split+walk+turns": AnswerModel(alone=True, split=True, walk=True, turns=True),
-    "alone+split+gated-walk+turns": AnswerModel(alone=True, split=True, walk=True, gate=True, turns=True),
+    "alone+split+gated-walk+turns": AnswerModel(
+        alone=True, split=True, walk=True, gate_judge=True, gate_questions=True, turns=True
+    ),
 }
 DEFAULT_ANSWERS = "alone+split+walk"
 

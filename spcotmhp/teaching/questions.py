@@ -74,7 +74,7 @@ def questions(
     lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
     how = answer_model(answers)
     split: list[dict] = []
-    for gain, spot in split_gain(model, how.gate or how.gate_questions) if how.walk else []:
+    for gain, spot in split_gain(model, how.gate_questions) if how.walk else []:
         if len(split) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
             split.append(
