@@ -56,6 +56,7 @@ import numpy as np
 from spcotmhp.errors import TeachingError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.online_split_merge import _label, _member, _pure, _restore, _save, allocate, log_target
+from spcotmhp.metric.maps import OccupancyMap
 
 WALK_SPACING_M = 0.5
 """One pose of the walk per this much travel (metres): poses closer than the robot's footprint (0.5 m across) are
@@ -270,7 +271,7 @@ class SplitEvidence:
     not its rule 1, which leaves out "west" and "east" of a place the learner merged, labelled "corridor")."""
 
     clearance: np.ndarray | None
-    occ: object | None
+    occ: OccupancyMap | None
     place_words: frozenset[int]
 
 
@@ -293,9 +294,11 @@ def evidence_of(model) -> SplitEvidence:
 
 
 def two_names(st: CollapsedState, members: np.ndarray, place_words: frozenset[int]) -> bool:
-    """Whether the events ``members`` carry two names or more: two different non-empty sets of place words."""
-    names = {frozenset(int(w) for w in st.tokens[e] if int(w) in place_words) for e in members}
-    return len(names - {frozenset()}) >= 2
+    """Whether the events ``members`` carry two names: two sets of name words, each with a word the other lacks
+    ("west corridor", "east corridor"). One set within the other is one name said with an extra word ("bedroom",
+    "place bedroom": a filler said at some places more than others passes ``evidence_of``'s test)."""
+    names = {frozenset(int(w) for w in st.tokens[e] if int(w) in place_words) for e in members} - {frozenset()}
+    return any(not (a <= b or b <= a) for a in names for b in names)
 
 
 NARROW = 0.5

@@ -73,12 +73,14 @@ def test_without_a_map_or_an_event_on_free_space_the_map_cannot_tell():
 
 
 def test_two_names_are_two_different_sets_of_name_words():
-    """Words 0 "west", 1 "east", 2 "corridor", 3 "place" (not a name word): {west, corridor} and {east, corridor}
-    are two names; {corridor} and {place, corridor} are one; events without a name word do not count."""
+    """Words 0 "west", 1 "east", 2 "corridor", 3 "place" (a name word here), 4 "the" (not one): {west, corridor}
+    and {east, corridor} are two names; {corridor} and {place, corridor} are one (one within the other); events
+    without a name word do not count."""
     st = _state([(0, 0)] * 4, [0] * 4, [0] * 4)
-    words = frozenset({0, 1, 2})
-    st.tokens = [np.array([0, 2]), np.array([1, 2]), np.array([3]), np.array([2, 3])]
+    words = frozenset({0, 1, 2, 3})
+    st.tokens = [np.array([0, 2]), np.array([1, 2]), np.array([4]), np.array([2, 3])]
     assert two_names(st, np.array([0, 1]), words)
+    assert two_names(st, np.array([0, 3]), words)  # {west, corridor} and {corridor, place}
     assert not two_names(st, np.array([0, 2]), words)
     st.tokens[0] = np.array([2])
     assert not two_names(st, np.array([0, 2, 3]), words)
