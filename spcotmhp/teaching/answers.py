@@ -32,14 +32,14 @@ and online learning of what the robot records, is the paper's model:
   split-merge moves, and batch learning, do not), and only where the model keeps one (``attach_walk``: ``learn``
   on a dataset with a trajectory); elsewhere the split is judged by the events alone. With it the robot asks
   first where its walk says a place is two (``split_gain``, ``teaching.questions``).
-* ``gate``: the walk is evidence for a split only where the words or the map say the place may be two
-  (``walk_admitted``): the place's events carry two names (``two_names``: "west corridor" and "east corridor"
-  merged; the walk then says where the border lies), or the two halves are joined only through a narrow passage
-  (``narrow_passage``: a door between two rooms of one name). Elsewhere the split is judged by the events alone,
-  and the robot does not ask there first. Reason: a single room whose walk is not one Gaussian (an L-shaped
-  room, a corridor walked end to end) also gains from a split of its walk, and one room and two rooms of one name
-  get the same answer, so nothing in an answer refutes that split (docs/teaching.md: the questions were spent
-  there and planning to such rooms lost).
+* ``gate`` (measured, not chosen: docs/teaching.md): the walk is evidence for a split only where the words or the
+  map say the place may be two (``admitted``): the place's events carry two names (``two_names``: "west corridor"
+  and "east corridor" merged; the walk then says where the border lies), or the two halves are joined only through a
+  narrow passage (``narrow_passage``: a door between two rooms of one name). Elsewhere the split is judged by the
+  events alone, and the robot does not ask there first. Reason: a single room whose walk is not one Gaussian (an
+  L-shaped room, a corridor walked end to end) also gains from a split of its walk, and one room and two rooms of
+  one name get the same answer, so nothing in an answer refutes that split (docs/teaching.md: the questions were
+  spent there and planning to such rooms lost).
 
 ``ANSWER_MODELS`` names the combinations measured; ``DEFAULT_ANSWERS`` is the one chosen (docs/teaching.md: on
 which homes, and the paper's variant beside it); ``"paper"`` learns an answer as any teach.
@@ -229,12 +229,6 @@ def split_gain(model, gate: bool = False) -> list[tuple[float, np.ndarray]]:
     base = walk_target(st)
     evidence = evidence_of(model) if gate else None
 
-    def _admitted(st: CollapsedState, members: np.ndarray, e: int) -> bool:
-        assert evidence is not None
-        a = int(st.place[e])
-        b = next((int(k) for k in np.unique(st.place[members]) if k != a), a)
-        return two_names(st, members, evidence.place_words) or narrow_passage(evidence, st, a, b)
-
     for k in np.flatnonzero(st.n_k > 0):
         members = np.flatnonzero(st.place == k)
         if len(members) < 4:
@@ -244,7 +238,8 @@ def split_gain(model, gate: bool = False) -> list[tuple[float, np.ndarray]]:
             continue
         end = int(askable[np.argmax(np.linalg.norm(st.X[askable] - st.sx[k] / st.n_k[k], axis=1))])
         saved = _save(st)
-        if split_at_answer(st, end, make_rng(0, int(k)), walk_target) and (not gate or _admitted(st, members, end)):
+        split = split_at_answer(st, end, make_rng(0, int(k)), walk_target)
+        if split and (evidence is None or admitted(evidence, st, members, end)):
             out.append((walk_target(st) - base, st.X[end].copy()))
         _restore(st, saved)
     return sorted(out, key=lambda g: -g[0])
@@ -336,12 +331,17 @@ def gated_split_at_answer(st: CollapsedState, e: int, rng: np.random.Generator, 
     events carry two names, or the walk's split leaves halves joined by a narrow passage), else by
     ``log_target`` (the events alone); returns whether the place was split."""
     members = np.flatnonzero(st.place == st.place[e])
-    names = two_names(st, members, evidence.place_words)
     saved = _save(st)
     if split_at_answer(st, e, rng, walk_target):
-        a = int(st.place[e])
-        b = next((int(k) for k in np.unique(st.place[members]) if k != a), a)
-        if names or narrow_passage(evidence, st, a, b):
+        if admitted(evidence, st, members, e):
             return True
         _restore(st, saved)
     return split_at_answer(st, e, rng, log_target)
+
+
+def admitted(evidence: SplitEvidence, st: CollapsedState, members: np.ndarray, e: int) -> bool:
+    """The ``gate`` on a split of the events ``members`` (one place before it) that put event e's half apart:
+    they carry two names (``two_names``) or the halves meet through a narrow passage (``narrow_passage``)."""
+    a = int(st.place[e])
+    b = next((int(k) for k in np.unique(st.place[members]) if k != a), a)
+    return two_names(st, members, evidence.place_words) or (a != b and narrow_passage(evidence, st, a, b))
