@@ -54,9 +54,9 @@ from spcotmhp.language.text import is_japanese
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.gibbs import make_rng
 from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+from spcotmhp.learning.observations import TeachingEvent, as_event
 from spcotmhp.learning.online_split_merge import KINDS, propose, settle_name
 from spcotmhp.learning.posterior import TruncationWarning
-from spcotmhp.learning.teaching_events import TeachingEvent, as_event
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_PLACES, check_count
 from spcotmhp.metric.maps import OccupancyMap
 

@@ -32,14 +32,6 @@ and online learning of what the robot records, is the paper's model:
   split-merge moves, and batch learning, do not), and only where the model keeps one (``attach_walk``: ``learn``
   on a dataset with a trajectory); elsewhere the split is judged by the events alone. With it the robot asks
   first where its walk says a place is two (``split_gain``, ``teaching.questions``).
-* ``gate`` (measured, not chosen: docs/teaching.md): the walk is evidence for a split only where the words or the
-  map say the place may be two (``admitted``): the place's events carry two names (``two_names``: "west corridor"
-  and "east corridor" merged; the walk then says where the border lies), or the two halves are joined only through a
-  narrow passage (``narrow_passage``: a door between two rooms of one name). Elsewhere the split is judged by the
-  events alone, and the robot does not ask there first. Reason: a single room whose walk is not one Gaussian (an
-  L-shaped room, a corridor walked end to end) also gains from a split of its walk, and one room and two rooms of
-  one name get the same answer, so nothing in an answer refutes that split (docs/teaching.md: the questions were
-  spent there and planning to such rooms lost).
 
 ``ANSWER_MODELS`` names the combinations measured; ``DEFAULT_ANSWERS`` is the one chosen (docs/teaching.md: on
 which homes, and the paper's variant beside it); ``"paper"`` learns an answer as any teach.
@@ -49,14 +41,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
 
 import numpy as np
 
 from spcotmhp.errors import TeachingError
 from spcotmhp.learning.collapsed import CollapsedState
 from spcotmhp.learning.online_split_merge import _label, _member, _pure, _restore, _save, allocate, log_target
-from spcotmhp.metric.maps import OccupancyMap
 
 WALK_SPACING_M = 0.5
 """One pose of the walk per this much travel (metres): poses closer than the robot's footprint (0.5 m across) are
@@ -74,23 +64,14 @@ class AnswerModel:
     weight: float = 1.0
     split: bool = False
     walk: bool = False
-    gate_judge: bool = False
-    gate_questions: bool = False
-    turns: bool = False
 
-    def learner_settings(self, model=None) -> dict:
-        """Keyword settings of ``OnlineSpCoTMHP`` for this answer model, answers taught to ``model`` (its map and
-        place words are the ``gate``'s evidence; without a model the gate admits no walk)."""
-        after: Callable | None = None
-        if self.split:
-            after = split_at_answer
-            if self.walk:
-                after = (
-                    partial(gated_split_at_answer, evidence=evidence_of(model))
-                    if self.gate_judge
-                    else walk_split_at_answer
-                )
-        return {"answer_alone": self.alone, "answer_weight": self.weight, "after_answer": after}
+    def learner_settings(self) -> dict:
+        """Keyword settings of ``OnlineSpCoTMHP`` for this answer model."""
+        return {
+            "answer_alone": self.alone,
+            "answer_weight": self.weight,
+            "after_answer": (walk_split_at_answer if self.walk else split_at_answer) if self.split else None,
+        }
 
 
 ANSWER_MODELS = {
@@ -102,13 +83,6 @@ ANSWER_MODELS = {
     "alone+split+w10": AnswerModel(alone=True, weight=10.0, split=True),
     "split+walk": AnswerModel(split=True, walk=True),
     "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
-    "alone+split+gated-walk": AnswerModel(alone=True, split=True, walk=True, gate_judge=True, gate_questions=True),
-    "alone+split+walk+gated-judge": AnswerModel(alone=True, split=True, walk=True, gate_judge=True),
-    "alone+split+walk+gated-questions": AnswerModel(alone=True, split=True, walk=True, gate_questions=True),
-    "alone+split+walk+turns": AnswerModel(alone=True, split=True, walk=True, turns=True),
-    "alone+split+gated-walk+turns": AnswerModel(
-        alone=True, split=True, walk=True, gate_judge=True, gate_questions=True, turns=True
-    ),
 }
 DEFAULT_ANSWERS = "alone+split+walk"
 
@@ -210,11 +184,10 @@ def split_at_answer(
     return kept
 
 
-def split_gain(model, gate: bool = False) -> list[tuple[float, np.ndarray]]:
+def split_gain(model) -> list[tuple[float, np.ndarray]]:
     """Where the walk says a place is two: for each active place of ``model``'s learner state with a walk, the
     gain of ``walk_target`` when the place is split as an answer at its event farthest from its mean would split
-    it (``split_at_answer``), and that event's position; the places with a positive gain, largest first. With
-    ``gate``, only the splits the gate admits (``gated_split_at_answer``)."""
+    it (``split_at_answer``), and that event's position; the places with a positive gain, largest first."""
     from spcotmhp.learning.gibbs import make_rng
     from spcotmhp.learning.learner_state import state_of_member
 
@@ -227,8 +200,6 @@ def split_gain(model, gate: bool = False) -> list[tuple[float, np.ndarray]]:
         st.log_new_place = log_new_place_density(model.map)
     out = []
     base = walk_target(st)
-    evidence = evidence_of(model) if gate else None
-
     for k in np.flatnonzero(st.n_k > 0):
         members = np.flatnonzero(st.place == k)
         if len(members) < 4:
@@ -238,8 +209,7 @@ def split_gain(model, gate: bool = False) -> list[tuple[float, np.ndarray]]:
             continue
         end = int(askable[np.argmax(np.linalg.norm(st.X[askable] - st.sx[k] / st.n_k[k], axis=1))])
         saved = _save(st)
-        split = split_at_answer(st, end, make_rng(0, int(k)), walk_target)
-        if split and (evidence is None or admitted(evidence, st, members, end)):
+        if split_at_answer(st, end, make_rng(0, int(k)), walk_target):
             out.append((walk_target(st) - base, st.X[end].copy()))
         _restore(st, saved)
     return sorted(out, key=lambda g: -g[0])
@@ -256,92 +226,3 @@ def on_free_cells(model, xy: np.ndarray) -> np.ndarray:
     rows, cols = cells[inside, 0], cells[inside, 1]
     ok[inside] = ~occ.unknown[rows, cols] & ~occ.occupied[rows, cols]
     return ok
-
-
-@dataclass(frozen=True)
-class SplitEvidence:
-    """What the ``gate`` reads off a model: its map's clearance (metres from each cell to the nearest cell that is
-    not known free; None without a map), the map, and the indices of its name words: the words that are not
-    grammar words and not said at every active place (``planning.vocabulary.place_vocabulary``'s rules 2 and 3;
-    not its rule 1, which leaves out "west" and "east" of a place the learner merged, labelled "corridor")."""
-
-    clearance: np.ndarray | None
-    occ: OccupancyMap | None
-    place_words: frozenset[int]
-
-
-def evidence_of(model) -> SplitEvidence:
-    """``SplitEvidence`` of ``model`` (None: no map, no place words)."""
-    if model is None:
-        return SplitEvidence(None, None, frozenset())
-    from scipy.ndimage import distance_transform_edt
-
-    from spcotmhp.planning.vocabulary import _FUNCTION_WORDS, INSTANCE_RATIO
-
-    said = model.word_given_place()[np.asarray(model.active_places, dtype=bool)]  # (active K, V) p(w | k)
-    everywhere = (said >= said.max(axis=0) / INSTANCE_RATIO).all(axis=0) if len(said) > 1 else np.zeros(0, bool)
-    words = frozenset(
-        j for j, w in enumerate(model.vocabulary) if w not in _FUNCTION_WORDS and not (len(said) > 1 and everywhere[j])
-    )
-    occ = model.map
-    clearance = None if occ is None else distance_transform_edt(occ.free) * occ.resolution
-    return SplitEvidence(clearance, occ, words)
-
-
-def two_names(st: CollapsedState, members: np.ndarray, place_words: frozenset[int]) -> bool:
-    """Whether the events ``members`` carry two names: two sets of name words, each with a word the other lacks
-    ("west corridor", "east corridor"). One set within the other is one name said with an extra word ("bedroom",
-    "place bedroom": a filler said at some places more than others passes ``evidence_of``'s test)."""
-    names = {frozenset(int(w) for w in st.tokens[e] if int(w) in place_words) for e in members} - {frozenset()}
-    return any(not (a <= b or b <= a) for a in names for b in names)
-
-
-NARROW = 0.5
-"""A passage is narrow when its clearance is at most this share of the narrower half's (``narrow_passage``): a
-door, 0.6-1 m wide, into a room at least 2 m across, is at most half as wide; one room's own shape (an L, a
-corridor's length) keeps about its width along the way (0.9-1.0 of it on generated homes of seeds 0-199)."""
-
-
-def narrow_passage(evidence: SplitEvidence, st: CollapsedState, a: int, b: int) -> bool:
-    """Whether places ``a`` and ``b`` (the halves of a split) are joined only through a narrow passage: every path
-    of the map's free space from a cell of a's events to one of b's passes a spot whose clearance is at most
-    ``NARROW`` times the smaller of the halves' widths (each half's width: the largest clearance at its events'
-    cells, the widest spot where it was taught). False without a map or when a half has no event on a known
-    free cell (the map cannot tell)."""
-    from spcotmhp.metric.grid_ops import label4
-
-    clear, occ = evidence.clearance, evidence.occ
-    if clear is None or occ is None:
-        return False
-    cells = []
-    for k in (a, b):
-        c = occ.world_to_cell(st.X[st.place == k])
-        c = c[(c[:, 0] >= 0) & (c[:, 0] < clear.shape[0]) & (c[:, 1] >= 0) & (c[:, 1] < clear.shape[1])]
-        cells.append(c[clear[c[:, 0], c[:, 1]] > 0])
-    if not all(len(c) for c in cells):
-        return False
-    t = NARROW * min(float(clear[c[:, 0], c[:, 1]].max()) for c in cells)
-    labels, _ = label4(clear > t)
-    ends = [set(labels[c[:, 0], c[:, 1]].tolist()) - {0} for c in cells]
-    return not (ends[0] & ends[1])
-
-
-def gated_split_at_answer(st: CollapsedState, e: int, rng: np.random.Generator, evidence: SplitEvidence) -> bool:
-    """The ``split`` move at answer e judged by ``walk_target`` where the ``gate`` admits the walk (the place's
-    events carry two names, or the walk's split leaves halves joined by a narrow passage), else by
-    ``log_target`` (the events alone); returns whether the place was split."""
-    members = np.flatnonzero(st.place == st.place[e])
-    saved = _save(st)
-    if split_at_answer(st, e, rng, walk_target):
-        if admitted(evidence, st, members, e):
-            return True
-        _restore(st, saved)
-    return split_at_answer(st, e, rng, log_target)
-
-
-def admitted(evidence: SplitEvidence, st: CollapsedState, members: np.ndarray, e: int) -> bool:
-    """The ``gate`` on a split of the events ``members`` (one place before it) that put event e's half apart:
-    they carry two names (``two_names``) or the halves meet through a narrow passage (``narrow_passage``)."""
-    a = int(st.place[e])
-    b = next((int(k) for k in np.unique(st.place[members]) if k != a), a)
-    return two_names(st, members, evidence.place_words) or (a != b and narrow_passage(evidence, st, a, b))

@@ -72,12 +72,11 @@ def questions(
         entropy = -np.nansum(np.where(p > 0, p * np.log(p), 0.0), axis=1)
     post = model.place_posterior(np.asarray(xy, dtype=float))
     lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
-    how = answer_model(answers)
-    split: list[dict] = []
-    for gain, spot in split_gain(model, how.gate_questions) if how.walk else []:
-        if len(split) < max_questions and on_free_cells(model, spot[None])[0]:
+    out: list[dict] = []
+    for gain, spot in split_gain(model) if answer_model(answers).walk else []:
+        if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
-            split.append(
+            out.append(
                 {
                     "x": round(float(spot[0]), 3),
                     "y": round(float(spot[1]), 3),
@@ -87,15 +86,14 @@ def questions(
                     "information": round(float(gain), 4),
                 }
             )
-    named: list[dict] = []
     for i in np.argsort(-entropy, kind="stable"):
-        if entropy[i] < MIN_ENTROPY or len(named) >= max_questions:
+        if entropy[i] < MIN_ENTROPY or len(out) >= max_questions:
             break
-        if any(np.hypot(q["x"] - xy[i, 0], q["y"] - xy[i, 1]) < SPACING_M for q in split + named):
+        if any(np.hypot(q["x"] - xy[i, 0], q["y"] - xy[i, 1]) < SPACING_M for q in out):
             continue
         order = np.argsort(-p[i])
         candidates = [names[j] for j in order if p[i, j] >= 0.1][:4]
-        named.append(
+        out.append(
             {
                 "x": round(float(xy[i, 0]), 3),
                 "y": round(float(xy[i, 1]), 3),
@@ -105,24 +103,7 @@ def questions(
                 "information": round(float(entropy[i]), 4),
             }
         )
-    if not how.turns:
-        return (split + named)[:max_questions]
-    return _in_turns(split, named, _answers_held(model))[:max_questions]
-
-
-def _answers_held(model: SpatialConceptModel) -> int:
-    """How many answers the model's learner holds (its events learned alone, ``teaching.answers``)."""
-    learner = model.learner
-    return 0 if learner is None or "alone" not in learner["arrays"] else int(np.sum(learner["arrays"]["alone"]))
-
-
-def _in_turns(split: list[dict], named: list[dict], held: int) -> list[dict]:
-    """The walk's split questions and the name-entropy questions in turns, the split's first when the model holds
-    an even number of answers (each list's own order kept; the rest of the longer list at the end)."""
-    first, second = (split, named) if held % 2 == 0 else (named, split)
-    out = [q for pair in zip(first, second, strict=False) for q in pair]
-    n = min(len(first), len(second))
-    return out + first[n:] + second[n:]
+    return out
 
 
 def _candidate_positions(model: SpatialConceptModel) -> np.ndarray:

@@ -109,9 +109,7 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
 
     how = answer_model(answers)
     seed = (model.info.get("online") or {}).get("seed", 0) if isinstance(model.info, dict) else 0
-    learner = OnlineSpCoTMHP(
-        init_model=model, seed=int(seed) if isinstance(seed, int) else 0, **how.learner_settings(model)
-    )
+    learner = OnlineSpCoTMHP(init_model=model, seed=int(seed) if isinstance(seed, int) else 0, **how.learner_settings())
     before = {int(k) for k in model.active_places.nonzero()[0]}
     t0 = time.perf_counter()
     read = [naming_event(item) for item in events]
