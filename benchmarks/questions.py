@@ -17,18 +17,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
-
-def parse_seeds(text: str) -> list[int]:
-    out: list[int] = []
-    for part in text.split(","):
-        lo, _, hi = part.partition("-")
-        out.extend(range(int(lo), int(hi or lo) + 1))
-    return out
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _args import parse_seeds  # noqa: E402
 
 
 def answer(data, x: float, y: float) -> str:
@@ -52,7 +49,6 @@ def learned(data, params: str = "learned", cache: str | None = None):
     """(the model learned without labels, its advanced WN-SPL via): from ``cache``/<home> when that folder holds
     them (written by an earlier run: the learned model does not depend on how answers are taught), else learned
     and scored (and written there when ``cache`` is given)."""
-    from pathlib import Path
 
     from spcotmhp.evaluation.battery import evaluate_home
     from spcotmhp.evaluation.context import build_context

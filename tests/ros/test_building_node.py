@@ -25,7 +25,7 @@ from spcotmhp.building.io import save_building_model  # noqa: E402
 from spcotmhp.building.learn import learn_building  # noqa: E402
 from spcotmhp.building.loader import load_building  # noqa: E402
 from spcotmhp.building.synthetic import example_path  # noqa: E402
-from tests.ros.test_node import LATCHED, Client  # noqa: E402
+from tests.ros.test_node import LATCHED, Client, ros_environment, stop_node  # noqa: E402
 
 EXE = str(Path(sys.executable).with_name("spcotmhp"))
 DOMAIN = str(90 + os.getpid() % 10)  # not test_node's domains (30..89)
@@ -45,9 +45,11 @@ class FloorClient(Client):
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     root = tmp_path_factory.mktemp("ros2b")
-    env = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_DOMAIN_ID": DOMAIN, "ROS_LOG_DIR": str(root / "log")}
-    saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)
+    with ros_environment(root, DOMAIN) as env:
+        yield from _building_setup(root, env)
+
+
+def _building_setup(root: Path, env: dict[str, str]):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         building = load_building(example_path())
@@ -65,13 +67,7 @@ def setup(tmp_path_factory):
         assert ready and proc.poll() is None, proc.communicate(timeout=5)
         yield {"client": client, "bm": bm, "building": building}
     finally:
-        client.node.destroy_node()
-        context.try_shutdown()
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait(10)
-        for k, v in saved.items():
-            os.environ.pop(k) if v is None else os.environ.__setitem__(k, v)
+        stop_node(client, context, proc)
 
 
 def xy_of(msg) -> np.ndarray:

@@ -4,6 +4,7 @@ own. Skipped only when the `ros2` extra is not installed."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -12,6 +13,7 @@ import subprocess
 import sys
 import time
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -43,16 +45,37 @@ DOMAIN = str(30 + os.getpid() % 60)  # a domain of this test run (0..101 are saf
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
+@contextlib.contextmanager
+def ros_environment(root: Path, domain: str) -> Iterator[dict[str, str]]:
+    """A test module's ROS 2 environment: discovery on this machine only, its own ``domain``, logs under ``root``;
+    set in os.environ for this process too (before rclpy.init) and restored afterwards, whatever happens."""
+    env = {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_DOMAIN_ID": domain, "ROS_LOG_DIR": str(root / "log")}
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        yield env
+    finally:
+        for k, v in saved.items():
+            os.environ.pop(k) if v is None else os.environ.__setitem__(k, v)
+
+
+def stop_node(client: Client, context, proc: subprocess.Popen) -> None:
+    """Tear down a test client, its rclpy context and the node's process (killed if it still runs)."""
+    client.node.destroy_node()
+    context.try_shutdown()
+    if proc.poll() is None:
+        proc.kill()
+        proc.wait(10)
+
+
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     root = tmp_path_factory.mktemp("ros2")
-    env = {
-        "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
-        "ROS_DOMAIN_ID": DOMAIN,
-        "ROS_LOG_DIR": str(root / "log"),
-    }
-    saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)  # before rclpy.init, for this process too
+    with ros_environment(root, DOMAIN) as env:
+        yield from _node_setup(root, env)
+
+
+def _node_setup(root: Path, env: dict[str, str]):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         dataset = load_bundled("3LDK_06")
@@ -82,13 +105,7 @@ def setup(tmp_path_factory):
             "planner": HierarchicalPlanner(model),
         }
     finally:
-        client.node.destroy_node()
-        context.try_shutdown()
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait(10)
-        for k, v in saved.items():
-            os.environ.pop(k) if v is None else os.environ.__setitem__(k, v)
+        stop_node(client, context, proc)
 
 
 class Client:
