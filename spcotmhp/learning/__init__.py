@@ -6,8 +6,7 @@ Public names are imported lazily, so that ``import spcotmhp.learning.model`` sta
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from spcotmhp.lazy import lazy_exports
 
 _EXPORTS = {
     "Hyperparameters": "model",
@@ -23,23 +22,5 @@ _EXPORTS = {
     "walk_adjacency": "connectivity",
     "psi_from_adjacency": "connectivity",
 }
-__all__ = [
-    "Hyperparameters",
-    "MultiRunSelector",
-    "SpCoTMHP",
-    "SpatialConceptModel",
-    "TruncationWarning",
-    "apply_connectivity",
-    "fit_runs",
-    "fit_supervised",
-    "make_rng",
-    "map_adjacency",
-    "psi_from_adjacency",
-    "walk_adjacency",
-]
-
-
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(f"spcotmhp.learning.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module 'spcotmhp.learning' has no attribute {name!r}")
+__all__ = sorted(_EXPORTS)
+__getattr__ = lazy_exports(__name__, _EXPORTS)

@@ -9,14 +9,8 @@ ends' loaders; nothing in ``learning`` imports it. Public names are imported laz
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from spcotmhp.lazy import lazy_exports
 
 _EXPORTS = {"save_model": "io", "load_model": "io", "prepare_model_folder": "io"}
-__all__ = ["load_model", "prepare_model_folder", "save_model"]
-
-
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(f"spcotmhp.persistence.{_EXPORTS[name]}"), name)
-    raise AttributeError(f"module 'spcotmhp.persistence' has no attribute {name!r}")
+__all__ = sorted(_EXPORTS)
+__getattr__ = lazy_exports(__name__, _EXPORTS)
