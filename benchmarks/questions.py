@@ -33,14 +33,14 @@ def answer(data, x: float, y: float) -> str:
     names, albert-b: the word said most often in that place's events, grammar words left out)."""
     from collections import Counter
 
-    from spcotmhp.planning.vocabulary import _FUNCTION_WORDS
+    from spcotmhp.planning.vocabulary import FUNCTION_WORDS
 
     j = int(np.argmin(np.hypot(data.positions[:, 0] - x, data.positions[:, 1] - y)))
     place = int(data.truth_place[j])
     if data.place_names is not None:
         return str(data.place_names[place])
     said = Counter(
-        w for e in np.flatnonzero(data.truth_place == place) for w in data.tokens[e] if w not in _FUNCTION_WORDS
+        w for e in np.flatnonzero(data.truth_place == place) for w in data.tokens[e] if w not in FUNCTION_WORDS
     )
     return said.most_common(1)[0][0]
 

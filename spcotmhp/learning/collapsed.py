@@ -77,6 +77,7 @@ class CollapsedState:
         self.alone: list[bool] = []  # events that are a segment of their own (answers; module docstring)
         self.walk_X: np.ndarray | None = None  # the robot's poses along its walk (teaching.answers.walk_poses)
         self.weight: list[float] = []  # evidence weight of each event (1: the paper's; module docstring)
+        self.words: list[str] | None = None  # the vocabulary, word j of the tokens' index j (set by the learner)
 
     # ---- sizes ---------------------------------------------------------------------------------------------
     @property
@@ -304,14 +305,16 @@ class CollapsedState:
             self.z_tot[int(on)] += 1.0
         return changed
 
-    def switch_mode(self, sweeps: int = 50) -> None:
-        """Iterated conditional modes on the token switches, the places and concepts held: every switch set to its
-        more probable value given the others, in event order, until a sweep changes none (at most ``sweeps``).
-        A deterministic function of the state, which raises the collapsed joint at every change."""
+    def switch_mode(self, sweeps: int = 50, events: np.ndarray | None = None) -> None:
+        """Iterated conditional modes on the token switches (of ``events`` only, when given), the places and
+        concepts held: every switch set to its more probable value given the others, in event order, until a sweep
+        changes none (at most ``sweeps``). A deterministic function of the state, which raises the collapsed joint
+        at every change."""
         if not self.background:
             return
+        order = range(self.E) if events is None else [int(e) for e in events]
         for _ in range(sweeps):
-            if not sum(self._switches(e, None) for e in range(self.E)):
+            if not sum(self._switches(e, None) for e in order):
                 return
 
 

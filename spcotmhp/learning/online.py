@@ -305,6 +305,7 @@ class OnlineSpCoTMHP:
             settle_name(st, e)
         if asked and self.after_answer is not None:
             self._grow_if_saturated()  # room for the move's new place
+            st.words = self.vocabulary_
             self.after_answer(st, e, rng)
         self._grow_if_saturated()
 

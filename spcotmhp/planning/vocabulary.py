@@ -23,7 +23,7 @@ PLACE_WORD_RATIO = 0.75
 word's score (see :func:`place_vocabulary`); the words of a place's label are chosen the same way."""
 
 
-_FUNCTION_WORDS = frozenset().union(*(word_table(lang).function_words for lang in LANGUAGES))
+FUNCTION_WORDS = frozenset().union(*(word_table(lang).function_words for lang in LANGUAGES))
 """Grammar and filler words of every supported language (never place words); generic nouns such as "room" are
 not among them, so that "alice's room" keeps its "room"."""
 
@@ -66,14 +66,14 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     act = np.asarray(model.active_places, dtype=bool)
     said, rescaled = model.word_given_place(), model.label_scores()
     said, rescaled = said[act], rescaled[act]
-    grammar = np.array([w in _FUNCTION_WORDS for w in model.vocabulary], dtype=bool)
+    grammar = np.array([w in FUNCTION_WORDS for w in model.vocabulary], dtype=bool)
     best = np.where(grammar, 0.0, rescaled).max(axis=1, keepdims=True)  # rule 3's words set no bar
     core = (rescaled >= ratio * best) & ~grammar
     core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
     keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
         keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
-    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in _FUNCTION_WORDS)
+    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in FUNCTION_WORDS)
     taught = taught_counts(model)
     if any(w in taught for w in words):  # rule 4: a word taught at run time names a place once a label carries it
         labels = place_labels(model, words)

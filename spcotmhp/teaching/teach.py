@@ -163,12 +163,12 @@ def count_taught(model: SpatialConceptModel, batch: list[TeachingEvent]) -> dict
     >>> count_taught(m, [TeachingEvent.from_utterance("this is the study", 0, 0)])
     {'study': 2}
     """
-    from spcotmhp.planning.vocabulary import _FUNCTION_WORDS, taught_counts
+    from spcotmhp.planning.vocabulary import FUNCTION_WORDS, taught_counts
 
     counts = taught_counts(model)
     for event in batch:
         for w in dict.fromkeys(event.words):
-            if w not in _FUNCTION_WORDS:
+            if w not in FUNCTION_WORDS:
                 counts[w] = counts.get(w, 0) + 1
     return counts
 

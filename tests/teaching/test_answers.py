@@ -19,13 +19,16 @@ from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.learner_state import member_of, state_of_member
 from spcotmhp.learning.model import Hyperparameters
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, as_event
-from spcotmhp.learning.online_split_merge import log_target
+from spcotmhp.learning.online_split_merge import _relabel, log_target
 from spcotmhp.learning.posterior import Priors
 from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.teaching.answers import (
     ANSWER_MODELS,
     answer_model,
     attach_walk,
+    concepts_from_places,
+    own_concept,
+    own_concepts,
     split_at_answer,
     walk_gain,
     walk_owner,
@@ -111,6 +114,85 @@ def test_the_split_at_an_answer_separates_two_rooms_and_not_one():
     one = _state(rng.normal((0, 0), 0.3, (20, 2)), [0] * 20, [0] * 20, K=6, L=4)
     assert not split_at_answer(one, 0, np.random.default_rng(0))
     assert set(one.place) == {0}
+
+
+FRAMES = (("we", "are", "in", "the"), ("this", "place", "is", "called"), ("here", "is", "the"), ("this", "is", "the"),
+          ("you", "are", "in", "the"), ())  # fmt: skip
+NAMES = ("kitchen", "bath", "toilet", "dining", "living", "study", "hall", "office", "garage")
+WORDS = sorted({w for f in FRAMES for w in f}) + list(NAMES)
+
+
+def _framed(concept_of, n=10) -> CollapsedState:
+    """Nine rooms 4 m apart on a line, ``n`` events each, said in six frames in turn ("we are in the kitchen",
+    "this place is called kitchen", ..., "kitchen"), with background words, every token a concept token
+    (collapsed switches), and the concept of an event in room r said in frame f ``concept_of(r, f)``."""
+    rng = np.random.default_rng(3)
+    st = CollapsedState(12, 12, len(WORDS), None, Hyperparameters(), replay=False, background=True)
+    st.words = list(WORDS)
+    rooms = []
+    for r, name in enumerate(NAMES):
+        for j in range(n):
+            tokens = np.array([WORDS.index(w) for w in [*FRAMES[j % len(FRAMES)], name]])
+            st.append(rng.normal((4.0 * r, 0.0), 0.3), tokens, None, rng)
+            rooms.append((r, j % len(FRAMES)))
+    for j in range(st.E):
+        st.move(j, -1.0)
+    for j, (r, f) in enumerate(rooms):
+        st.z[j][:] = True
+        st.place[j], st.concept[j] = r, concept_of(r, f)
+        st.move(j, 1.0)
+    return st
+
+
+def _snapshot(st: CollapsedState) -> list[np.ndarray]:
+    return [np.copy(getattr(st, n)) for n in ("n_k", "n_l", "n_lk", "W_lv", "bg_v", "z_tot", "place", "concept")] + [
+        np.concatenate(st.z)
+    ]
+
+
+def test_concepts_from_places_gathers_concepts_by_place_and_frames_into_the_background():
+    """Concepts learned by the sentence's frame (one per frame, both rooms in each) with every token a concept
+    token: the move is kept, the joint rises above the old state's at its switch mode, each room ends with one
+    concept of its own, and the names stay concept tokens while most frame words go to the background."""
+    st = _framed(lambda r, f: f)
+    at_mode = _framed(lambda r, f: f)
+    at_mode.switch_mode()
+    assert concepts_from_places(st)
+    assert log_target(st) > log_target(at_mode)
+    rooms = st.concept.reshape(len(NAMES), -1)
+    assert (rooms == rooms[:, :1]).all() and len(set(rooms[:, 0])) == len(NAMES)
+    names = np.concatenate([[WORDS[v] in NAMES for v in t] for t in st.tokens])
+    z = np.concatenate(st.z)
+    assert z[names].all() and z.mean() < 0.5  # every name a concept token, most frame words in the background
+
+
+def test_concepts_from_places_leaves_a_state_it_cannot_improve_as_it_was():
+    """Once kept, the move made again is not kept (its proposal is where the state already is) and every count
+    and switch stays as it was, bit for bit; a state without its vocabulary is not touched."""
+    st = _framed(lambda r, f: r)
+    assert concepts_from_places(st)  # by room already, but every frame word a concept token
+    before = _snapshot(st)
+    assert not concepts_from_places(st)
+    assert all(np.array_equal(a, b) for a, b in zip(before, _snapshot(st), strict=True))
+    st.words = None
+    assert not concepts_from_places(st)
+
+
+def test_own_concept_separates_two_rooms_of_two_names_sharing_a_concept():
+    """Two rooms of different names in one concept: a concept of its own for one room is kept (each name then
+    in one concept); a room that already has a concept of its own is left alone."""
+    st = _framed(lambda r, f: r)
+    concepts_from_places(st)  # frame words in the background
+    kitchen = np.flatnonzero(st.place == 0)
+    _relabel(st, "concept", np.flatnonzero(st.place == 1), int(st.concept[kitchen[0]]))  # bath in kitchen's concept
+    st.switch_mode()
+    before = log_target(st)
+    assert own_concept(st, 0)
+    assert log_target(st) > before
+    assert len(set(st.concept[:10])) == 1 and st.concept[0] != st.concept[10]
+    snapshot = _snapshot(st)
+    assert own_concepts(st, 0) == 0
+    assert all(np.array_equal(a, b) for a, b in zip(snapshot, _snapshot(st), strict=True))
 
 
 def test_answer_flags_are_read_and_bad_ones_refused():
