@@ -5,7 +5,7 @@ For each generated home (``synthetic_battery.battery_home``, learned without lab
 parameters, as ``benchmarks/questions.py``; ``--cache`` reuses its folders): the share of tokens that are concept
 tokens, and the collapsed log target (``online_split_merge.log_target``, switches at their mode) of the true
 concepts with the grammar words in the background, the learned places kept, minus that of the learned state. With
-``--evaluate``: advanced WN-SPL via before and after the answer model's concept moves
+``--evaluate``: advanced WN-SPL via before and after the default answer model's concept moves
 (``answers.concepts_from_places`` then ``answers.own_concepts``) applied with no answer at all.
 
     python benchmarks/concepts_why.py --seeds 52,124,131,197 --cache DIR --evaluate
@@ -50,7 +50,7 @@ def main() -> None:
     from spcotmhp.learning.online import OnlineSpCoTMHP, log_new_place_density
     from spcotmhp.learning.online_split_merge import log_target
     from spcotmhp.planning.vocabulary import FUNCTION_WORDS
-    from spcotmhp.teaching.answers import concepts_from_places, own_concepts
+    from spcotmhp.teaching.answers import answer_model, concepts_from_places, own_concepts
 
     for seed in parse_seeds(args.seeds):
         with warnings.catch_warnings():
@@ -74,7 +74,7 @@ def main() -> None:
                 learner = OnlineSpCoTMHP(init_model=model).partial_fit([])
                 state = learner.state_
                 state.words = learner.vocabulary_
-                again = concepts_from_places(state)
+                again = concepts_from_places(state, joint=answer_model(None).joint)
                 own = own_concepts(state, int(np.flatnonzero(state.n_k > 0)[0]))
                 after = evaluate_home(data, "learned", 0, model=learner.model_).wn_spl_via
                 line += f"; WN-SPL via {before:.3f} -> {after:.3f} (concepts again: {again}, own concepts: {own})"

@@ -42,7 +42,8 @@ and online learning of what the robot records, is the paper's model:
   prefers the true concepts, with the frame words in the background, by 9-58 nats on the generated homes where
   this happened (docs/teaching.md), but single-site Gibbs steps cannot leave the collapsed switches, and an
   answer taught as one more event cannot either. These moves use no word of the answer: the answer is when the
-  learner looks again. Measured without any answer as well (docs/teaching.md).
+  learner looks again. Measured without any answer as well (docs/teaching.md). ``joint``: the iterated
+  conditional modes of the first move choose each event's place as well as its concept (the default).
 
 ``ANSWER_MODELS`` names the combinations measured; ``DEFAULT_ANSWERS`` is the one chosen (docs/teaching.md: on
 which homes, and the paper's variant beside it); ``"paper"`` learns an answer as any teach.
@@ -89,15 +90,17 @@ class AnswerModel:
     split: bool = False
     walk: bool = False
     concepts: bool = False
+    joint: bool = False
 
     def learner_settings(self) -> dict:
         """Keyword settings of ``OnlineSpCoTMHP`` for this answer model."""
         split = (walk_split_at_answer if self.walk else split_at_answer) if self.split else None
         concepts = self.concepts
+        joint = self.joint
 
         def after(st: CollapsedState, e: int, rng: np.random.Generator) -> None:
             if concepts:
-                concepts_from_places(st)
+                concepts_from_places(st, joint=joint)
                 own_concepts(st, e)
             if split is not None:
                 split(st, e, rng)
@@ -119,8 +122,9 @@ ANSWER_MODELS = {
     "split+walk": AnswerModel(split=True, walk=True),
     "alone+split+walk": AnswerModel(alone=True, split=True, walk=True),
     "alone+split+walk+concepts": AnswerModel(alone=True, split=True, walk=True, concepts=True),
+    "alone+split+walk+joint": AnswerModel(alone=True, split=True, walk=True, concepts=True, joint=True),
 }
-DEFAULT_ANSWERS = "alone+split+walk+concepts"
+DEFAULT_ANSWERS = "alone+split+walk+joint"
 
 
 def answer_model(name: str | None) -> AnswerModel:
@@ -220,13 +224,16 @@ def split_at_answer(
     return kept
 
 
-def concepts_from_places(st: CollapsedState, target: Callable[[CollapsedState], float] = log_target) -> bool:
+def concepts_from_places(
+    st: CollapsedState, target: Callable[[CollapsedState], float] = log_target, joint: bool = False
+) -> bool:
     """The ``concepts`` block move (module docstring): the concepts derived again from the places, kept when
     ``target`` is higher than the current state's with its word switches at their mode (the mode of the two). The
     proposal: every grammar word a background token and every other word a concept token (the ``language`` tables'
     function words: a closed class that names no place), one concept per active place, then iterated conditional
-    modes over each event's concept (the collapsed conditional of Eqs. 5-17, its place held) and the switches,
-    until a sweep changes no concept. Returns whether it was kept."""
+    modes over each event's concept (the collapsed conditional of Eqs. 5-17, its place held; with ``joint``, its
+    place and concept together, so that an event whose words say another place can move there) and the switches,
+    until a sweep changes nothing. Returns whether it was kept."""
     from spcotmhp.planning.vocabulary import FUNCTION_WORDS
 
     used = np.flatnonzero(st.n_k > 0)
@@ -250,11 +257,16 @@ def concepts_from_places(st: CollapsedState, target: Callable[[CollapsedState], 
         st.switch_mode()
         changed = 0
         for e in range(st.E):
-            k, was = int(places[e]), int(st.concept[e])
+            k, was = int(st.place[e]), (int(st.place[e]), int(st.concept[e]))
             st.move(e, -1.0)
-            st.place[e], st.concept[e] = k, int(np.argmax(st.log_conditional(e)[k]))
+            if joint:
+                logp = st.log_conditional(e)
+                best = int(np.argmax(logp))
+                st.place[e], st.concept[e] = best // logp.shape[1], best % logp.shape[1]
+            else:
+                st.place[e], st.concept[e] = k, int(np.argmax(st.log_conditional(e)[k]))
             st.move(e, 1.0)
-            changed += int(st.concept[e] != was)
+            changed += int((int(st.place[e]), int(st.concept[e])) != was)
         if not changed:
             break
     st.switch_mode()

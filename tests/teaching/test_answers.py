@@ -178,6 +178,19 @@ def test_concepts_from_places_leaves_a_state_it_cannot_improve_as_it_was():
     assert not concepts_from_places(st)
 
 
+def test_with_joint_an_event_put_in_a_far_place_goes_back_to_its_room():
+    """One kitchen event learned in the garage's place (32 m away): concepts derived again with ``joint`` move it
+    back to the kitchen's place; without ``joint`` places are held and it stays."""
+    for joint in (False, True):
+        st = _framed(lambda r, f: f)
+        garage = int(st.place[-1])
+        st.move(0, -1.0)
+        st.place[0], st.concept[0] = garage, 0
+        st.move(0, 1.0)
+        assert concepts_from_places(st, joint=joint)
+        assert (st.place[0] == st.place[1]) == joint and (st.place[0] == garage) != joint
+
+
 def test_own_concept_separates_two_rooms_of_two_names_sharing_a_concept():
     """Two rooms of different names in one concept: a concept of its own for one room is kept (each name then
     in one concept); a room that already has a concept of its own is left alone."""
