@@ -75,7 +75,7 @@ WALK_SPACING_M = 0.5
 the same position seen twice, not more evidence of it."""
 ICM_SWEEPS = 20
 """At most this many sweeps of iterated conditional modes in ``concepts_from_places`` (each raises the joint; it
-stops at the first sweep that changes no concept)."""
+stops at the first sweep that changes no assignment)."""
 SPLIT_TRIES = 4
 """Allocations drawn per kind of split; the best is compared with the merge (a few: each costs one conditional
 per event of the place)."""
