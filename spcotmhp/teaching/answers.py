@@ -241,9 +241,11 @@ def concepts_from_places(
         return False
     grammar = np.zeros(st.V, dtype=bool)
     grammar[: len(st.words)] = [w in FUNCTION_WORDS for w in st.words]
-    saved, z = _save(st), [a.copy() for a in st.z]
-    st.switch_mode()
-    before = target(st)
+    return _mode_of_two(st, lambda: _rederive(st, used, grammar, joint), target)
+
+
+def _rederive(st: CollapsedState, used: np.ndarray, grammar: np.ndarray, joint: bool) -> None:
+    """``concepts_from_places``' proposal, made in ``st``."""
     places, own = st.place.copy(), np.full(st.K, -1, dtype=np.int64)
     own[used] = np.arange(len(used))
     for e in range(st.E):
@@ -269,12 +271,6 @@ def concepts_from_places(
             changed += int((int(st.place[e]), int(st.concept[e])) != was)
         if not changed:
             break
-    st.switch_mode()
-    if target(st) > before:
-        return True
-    _restore(st, saved)
-    st.z = z
-    return False
 
 
 def own_concept(st: CollapsedState, k: int, target: Callable[[CollapsedState], float] = log_target) -> bool:
@@ -287,11 +283,23 @@ def own_concept(st: CollapsedState, k: int, target: Callable[[CollapsedState], f
     if not len(members) or not len(empty) or (len(concepts) == 1 and st.n_l[concepts[0]] <= len(members) + 1e-9):
         return False
     touched = np.flatnonzero(np.isin(st.concept, concepts))
+    return _mode_of_two(st, lambda: _relabel(st, "concept", members, int(empty[0])), target, touched)
+
+
+def _mode_of_two(
+    st: CollapsedState,
+    propose: Callable[[], object],
+    target: Callable[[CollapsedState], float],
+    switches: np.ndarray | None = None,
+) -> bool:
+    """Keep the proposal ``propose()`` makes in ``st`` when ``target`` is higher there than in the current state,
+    each with the word switches (of the events ``switches``, all when None) at their mode; otherwise put the state,
+    counts and switches, back as it was. Returns whether the proposal was kept."""
     saved, z = _save(st), [a.copy() for a in st.z]
-    st.switch_mode(events=touched)
+    st.switch_mode(events=switches)
     before = target(st)
-    _relabel(st, "concept", members, int(empty[0]))
-    st.switch_mode(events=touched)
+    propose()
+    st.switch_mode(events=switches)
     if target(st) > before:
         return True
     _restore(st, saved)
