@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from spcotmhp.datasets.bundled import load_bundled
-from spcotmhp.errors import ConflictingInstruction
+from spcotmhp.errors import ConflictingInstruction, InstructionError
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.supervised import fit_supervised
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, parse_text
@@ -148,3 +148,20 @@ def expected(row: dict) -> tuple[str, ...]:
 def normalised(text: str) -> str:
     """Width-folded and case-folded, as the readers normalise what they quote."""
     return unicodedata.normalize("NFKC", text).casefold()
+
+
+def verdict(row: dict) -> tuple[str, str]:
+    """A corpus row read as its label says ("right"), refused although the label reads it, or refused naming
+    another word than the label's ("refused"), or read otherwise than labelled, or read where the label refuses
+    ("wrong"); with what came out. A refusal is right only when it names the word the label names (compared
+    width- and case-folded)."""
+    try:
+        got = written(read(row["text"], row["vocabulary"]), row["vocabulary"])
+    except (InstructionError, ConflictingInstruction) as exc:
+        if not row["refused"]:
+            return "refused", f"{type(exc).__name__}: {exc}"
+        named = not row["names"] or normalised(row["names"]) in normalised(str(exc))
+        return ("right" if named else "refused"), str(exc)
+    if row["refused"]:
+        return "wrong", f"read {got}, but the label refuses"
+    return ("right" if got == expected(row) else "wrong"), f"read {got}, labelled {expected(row)}"

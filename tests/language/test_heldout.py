@@ -10,26 +10,11 @@ from collections import Counter
 
 import pytest
 
-from spcotmhp.errors import ConflictingInstruction, InstructionError
 from spcotmhp.language.text import words
-from tests.helpers.corpus import DATA, expected, normalised, read, rows, written
+from tests.helpers.corpus import DATA, rows, verdict
 
 HELDOUT = rows(DATA / "heldout" / "instructions.csv")
 TEACHING = rows(DATA / "heldout" / "teaching.csv")
-
-
-def verdict(row: dict) -> tuple[str, str]:
-    """("right" | "refused" | "wrong", what came out)."""
-    try:
-        got = written(read(row["text"], row["vocabulary"]), row["vocabulary"])
-    except (InstructionError, ConflictingInstruction) as exc:
-        if not row["refused"]:
-            return "refused", f"{type(exc).__name__}: {exc}"
-        named = not row["names"] or normalised(row["names"]) in normalised(str(exc))
-        return ("right" if named else "refused"), str(exc)
-    if row["refused"]:
-        return "wrong", f"read {got}, but the label refuses"
-    return ("right" if got == expected(row) else "wrong"), f"read {got}, labelled {expected(row)}"
 
 
 @pytest.fixture(scope="module")
