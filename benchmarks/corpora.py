@@ -5,8 +5,9 @@ after reading it, gives the first-sight figure (docs/instructions.md); run again
 
     .venv/bin/python benchmarks/corpora.py [CORPUS_DIR ...] [--list refused,wrong]
 
-CORPUS_DIR: a folder with an instructions.csv in the corpus format (tests/helpers/corpus.py); default: every
-corpus under tests/data/.
+CORPUS_DIR: a folder with an instructions.csv in the corpus format (tests/helpers/corpus.py), maybe with a
+relabelled.csv (rows whose label a later issue's rule changed, read instead of the frozen row and counted in the
+last column); default: every corpus under tests/data/.
 """
 
 from __future__ import annotations
@@ -27,29 +28,30 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("corpora", nargs="*", type=Path, help="folders with an instructions.csv")
     parser.add_argument("--list", default="", help="comma-separated verdicts to list row by row (refused,wrong)")
     args = parser.parse_args(argv)
-    from tests.helpers.corpus import DATA, rows, verdict
+    from tests.helpers.corpus import DATA, corpus_rows, verdict
 
     folders = args.corpora or sorted(p.parent for p in DATA.glob("*/instructions.csv"))
     listed = {v for v in args.list.split(",") if v}
     print(f"machine: {platform.machine()}, Python {platform.python_version()}")
-    print("| corpus | language | sentences | right | refused | silently wrong |")
-    print("|---|---|---|---|---|---|")
+    print("| corpus | language | sentences | right | refused | silently wrong | relabelled |")
+    print("|---|---|---|---|---|---|---|")
     lines: list[str] = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for folder in folders:
             by_lang: dict[str, Counter] = {}
-            for row in rows(folder / "instructions.csv"):
+            for row in corpus_rows(folder):
                 kind, what = verdict(row)
                 lang = row["vocabulary"].rsplit("_", 1)[1]
                 by_lang.setdefault(lang, Counter())[kind] += 1
+                by_lang[lang]["relabelled"] += bool(row.get("relabelled"))
                 if kind in listed:
                     lines.append(f"{folder.name} {kind}: {row['text']!r}: {what}")
             for lang, c in sorted(by_lang.items()):
-                n = sum(c.values())
+                n = c["right"] + c["refused"] + c["wrong"]
                 print(
                     f"| {folder.name} | {lang} | {n} | {c['right']} ({100 * c['right'] / n:.1f} %) | {c['refused']} | "
-                    f"{c['wrong']} ({100 * c['wrong'] / n:.1f} %) |"
+                    f"{c['wrong']} ({100 * c['wrong'] / n:.1f} %) | {c['relabelled']} |"
                 )
     for line in lines:
         print(line)

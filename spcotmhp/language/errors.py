@@ -113,14 +113,10 @@ def _misplaced(toks: Sequence[Token], at: int, table: WordTable, text: str) -> I
 
 
 def _first_refused(toks: Sequence[Token], table: WordTable) -> int | None:
-    """The first word of a refusal class that the sentence cannot accept: not a correction word opening the
-    instruction ("Actually, ..."), not a modifier of an unknown word ("the front door": the unknown word is what
+    """The first word of a refusal class that the sentence cannot accept: not a modifier of an unknown word ("the front door": the unknown word is what
     is not understood)."""
     for k, tok in enumerate(toks):
         if tok.kind not in table.reasons:
-            continue
-        opening = all(t.kind in ("COMMA", "_STOP") for t in toks[:k])
-        if tok.kind == "CORRECTION" and opening:
             continue
         if tok.kind == "MODIFIER" and k + 1 < len(toks) and toks[k + 1].kind == "WORD":
             continue

@@ -75,10 +75,11 @@ def qualified(label: str, relation: Relation | None, floor: FloorValue | None) -
 class Reading:
     """The meaning of an instruction: ``visit`` in order (the last is the goal), ``avoid``, ``not_goal``, the
     speed ("slow", "fast" or None) and the waits, each (index into ``visit``, seconds or None: until the next
-    instruction)."""
+    instruction); ``heard``: what the reading did beyond the grammar, said in the plan's explanation."""
 
     visit: tuple[PlaceRef, ...]
     avoid: tuple[PlaceRef, ...] = ()
     not_goal: tuple[PlaceRef, ...] = ()
     speed: str | None = None
     waits: tuple[tuple[int, float | None], ...] = ()
+    heard: tuple[str, ...] = ()  # what the reading did beyond the grammar: corrections, talk passed over

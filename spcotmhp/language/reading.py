@@ -17,6 +17,7 @@ import functools
 import hashlib
 import json
 from collections.abc import Sequence
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 from typing import Any, cast
@@ -26,9 +27,11 @@ from lark import Token as LarkToken
 
 from spcotmhp.errors import EmptyInstruction
 from spcotmhp.language.errors import refusal
-from spcotmhp.language.lexicon import tokens
+from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
 from spcotmhp.language.table import word_table
+from spcotmhp.language.talk import pass_over
+from spcotmhp.language.wording import excerpt
 from spcotmhp.language.walk_en import EnglishWalk
 from spcotmhp.language.walk_ja import JapaneseWalk
 
@@ -51,12 +54,24 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     table = word_table(lang)
     toks = tokens(text, table, place_words)
+    heard: list[str] = []
     try:
         root = _shape(lang, tuple(t.kind for t in toks))  # read-only: the walks take each leaf's words from toks
     except _NoDerivation as exc:
-        bad = LarkToken(toks[exc.at].kind, toks[exc.at].surface, start_pos=exc.at) if exc.at < len(toks) else None
-        raise refusal(toks, bad, table, place_words, text) from None
-    return _WALKS[lang](toks, text, table).read(root)
+        passed = pass_over(toks, table, english_units(text) if lang == "en" else ())  # talk around the instruction (talk.py), only when it has no derivation
+        try:
+            if passed is None:
+                raise
+            toks, said = passed
+            root = _shape(lang, tuple(t.kind for t in toks))
+            heard = [f"passed over {excerpt(s)} (no navigation meaning)" for s in said]
+        except _NoDerivation as again:
+            failed = again if passed is not None else exc
+            at = failed.at
+            bad = LarkToken(toks[at].kind, toks[at].surface, start_pos=at) if at < len(toks) else None
+            raise refusal(toks, bad, table, place_words, text) from None
+    reading = _WALKS[lang](toks, text, table).read(root)
+    return replace(reading, heard=(*heard, *reading.heard)) if heard else reading
 
 
 class _NoDerivation(Exception):

@@ -41,6 +41,7 @@ class WordTable:
     phrase_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest phrase
     filler_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest filler phrase
     synonyms: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # place word -> other names of it
+    talk: Mapping[str, Any] = field(default_factory=dict)  # what talk around an instruction may hold (talk.py)
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -116,6 +117,7 @@ def read_table(text: str, source: str) -> WordTable:
         phrase_from=MappingProxyType(longest_from(phrases)),
         filler_from=MappingProxyType(longest_from(filler_keys)),
         synonyms=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("synonyms", {}).items()}),
+        talk=MappingProxyType({str(k): v for k, v in table.get("talk", {}).items()}),
     )
 
 

@@ -21,6 +21,8 @@ from spcotmhp.language.wording import excerpt
 
 VISIT_ROLES = ("goal", "via", "stop", "visit")
 """Roles of places to visit: to go to, to pass, to stop at, ordered by an order word only."""
+_ROLE_WORDS = {"goal": "to go to", "via": "to pass", "stop": "to stop at", "visit": "to visit", "avoid": "to avoid",
+               "not_goal": "not to end in"}  # fmt: skip
 
 
 @dataclass
@@ -39,6 +41,7 @@ class Mention:
     order_kind: str = ""  # "before" / "after" when an order word introduced it
     wait_word: str = "wait"  # the word that asked for the wait
     clause: int = 0  # the clause it was said in (order.py rule 4)
+    dropped: bool = False  # replaced by a later self-correction ("the kitchen, no wait, the bath")
 
 
 def tree(node: object) -> Tree:
@@ -75,6 +78,8 @@ class Walk:
     sentence: int = 0
     step: int = 0
     clause: int = 0
+    heard: list[str] = field(default_factory=list)  # what the reading did beyond the grammar (corrections)
+    correction: tuple[str, int, int] | None = None  # a correction word said, the mentions and speeds before it
 
     # ---- mentions ----------------------------------------------------------------------------------------
     def mention(self, ref: PlaceRef, role: str) -> Mention:
@@ -175,17 +180,62 @@ class Walk:
         m.wait = self.seconds(toks)
         m.wait_word = next((self.word(t) for t in toks if t.type == "WAIT"), m.wait_word)
 
-    def refuse_lead(self, word: str) -> None:
-        """A correction word ("actually", やっぱり) only opens the instruction, before any place is said."""
-        if self.mentions:
-            raise UnsupportedPhrase(f"{excerpt(word)} {self.table.reasons['CORRECTION']}")
+    def correcting(self, word: str) -> None:
+        """A correction word was said: it applies to what is said next (:meth:`corrected`)."""
+        if self.correction is None:
+            self.correction = (word, len(self.mentions), len(self.speeds))
+
+    def corrected(self, end: bool = False) -> None:
+        """Apply a pending correction once something it may replace was said after it (a place to visit, avoid or
+        not end in, or a speed; a negated name alone waits for the place meant instead), or at the ``end`` (then
+        refused when something was said before it but nothing after)."""
+        if self.correction is None:
+            return
+        word, start, speeds = self.correction
+        new = any(not m.contrast for m in self.mentions[start:]) or len(self.speeds) > speeds
+        if new or end:
+            self.correction = None
+            self.correct(word, start, speeds)
+
+    def correct(self, word: str, start: int, speeds: int) -> None:
+        """A self-correction ("X, no wait, Y", "X sorry I meant Y", X、いや、Y), applied once the phrase after it is
+        read (its mentions from index ``start``, its speeds from ``speeds``). The rule: the first place the phrase
+        names to visit, avoid or not end in (a negated name, "not the bedroom", only says what is not meant)
+        replaces the nearest place of the same role said before the correction; a bare place after it takes the
+        role of the place said just before it (walk_en.py, walk_ja.py), so "go to the kitchen via the hall, sorry,
+        the corridor" passes the corridor. A phrase naming no place but a speed replaces the speed said before. With
+        nothing before it to correct (it opens the instruction: "Actually, go to the kitchen") it corrects nothing;
+        refused when the phrase after it names nothing, or no place of that role was said before."""
+        before = [m for m in self.mentions[:start] if not m.dropped]
+        if not before and speeds == 0:
+            return
+        new = [m for m in self.mentions[start:] if not m.contrast]
+        if new:
+            y = new[0]
+            x = next((m for m in reversed(before) if m.role == y.role), None)
+            if x is None:
+                raise UnsupportedPhrase(
+                    f"{excerpt(word)} corrects what was said before it, but no place {_ROLE_WORDS[y.role]} was said "
+                    f"before {excerpt(y.ref.label)}; say the instruction again as meant"
+                )
+            x.dropped = True
+            self.heard.append(f"{y.ref.describe()} said instead of {x.ref.describe()}")
+            return
+        if len(self.speeds) > speeds:
+            del self.speeds[:speeds]
+            self.heard.append(f"{self.speeds[-1]} said instead of the speed before")
+            return
+        raise UnsupportedPhrase(
+            f"{excerpt(word)} corrects what was said before it, but names nothing after it; say the instruction again "
+            "as meant"
+        )
 
     # ---- the reading ---------------------------------------------------------------------------------------
     def result(self) -> Reading:
         """The :class:`Reading` of the mentions, or the refusal of what cannot be honoured."""
-        visits = [k for k, m in enumerate(self.mentions) if m.role in VISIT_ROLES]
-        avoid = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "avoid"))
-        not_goal = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "not_goal"))
+        visits = [k for k, m in enumerate(self.mentions) if m.role in VISIT_ROLES and not m.dropped]
+        avoid = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "avoid" and not m.dropped))
+        not_goal = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "not_goal" and not m.dropped))
         if not visits:
             what = "places to avoid or not to end in" if avoid or not_goal else "no place"
             raise EmptyInstruction(f"{excerpt(self.text)} names no place to go to, only {what}; say where to go")
@@ -221,6 +271,7 @@ class Walk:
             tuple(not_goal),
             speeds[0] if speeds else None,
             tuple((i, w if isinstance(w, float) else None) for i, w in waits),
+            tuple(self.heard),
         )
 
     def _check(self, ordered: list[Mention], avoid: list[PlaceRef], not_goal: list[PlaceRef]) -> None:

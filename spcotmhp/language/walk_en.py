@@ -55,14 +55,19 @@ class EnglishWalk(Walk):
                 self.sentence += 1
                 continue
             for child in subtrees(sentence):
-                if child.data == "lead":
-                    self.refuse_lead(self.word(child.children[0]))
-                elif child.data == "joint":
-                    self.joint = {t.type for t in tokens_of(child)}
+                if child.data == "joint":
+                    joint = tokens_of(child)
+                    self.joint = {t.type for t in joint}
+                    said = [self.word(t) for t in joint if t.type in ("CORRECTION", "NO")]
+                    if joint[-1].type == "NO" and not self.mentions:  # "no kitchen, ...": not a correction
+                        raise UnsupportedPhrase(f"{excerpt(said[-1])} {self.table.misplaced['NO'].split(' ', 1)[1]}")
+                    if said:
+                        self.correcting(" ".join(said))
                 elif child.data == "clause":
                     self._clause(child)
                     self.joint = set()
             self.sentence += 1
+        self.corrected(end=True)
         self._resolve_later()
         return self.result()
 
@@ -79,7 +84,7 @@ class EnglishWalk(Walk):
         self.clause += 1
         items = subtrees(clause)
         first = items[0]
-        if "OR" in self.joint:
+        if "OR" in self.joint and self.correction is None:
             self._or(first)
         if "THEN" in self.joint and first.data != "bare":
             self.step += 1
@@ -100,6 +105,7 @@ class EnglishWalk(Walk):
             self.pending = []
         else:
             self.pending += orders
+        self.corrected()
 
     def _or(self, first: Tree) -> None:
         """ "or" joins places to avoid ("without going through the dining room or the kitchen": neither); anywhere
@@ -174,6 +180,9 @@ class EnglishWalk(Walk):
     def _inherited_role(self, first_item: bool) -> str:
         if not (first_item and self.joint):
             return "goal"
+        if {"CORRECTION", "NO"} & self.joint:  # "the kitchen, no, the bath": the role of the place corrected
+            said = [m for m in self.mentions if not m.dropped]
+            return said[-1].role if said else "goal"
         if self.waited and "THEN" not in self.joint:
             raise UnsupportedPhrase(
                 f"{excerpt(self.waited)} between two places could correct the place before or be a stop on the way: "

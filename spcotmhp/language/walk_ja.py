@@ -43,23 +43,25 @@ class JapaneseWalk(Walk):
     def read(self, root: Tree) -> Reading:
         for sentence in subtrees(root):
             for item in subtrees(sentence):
-                if item.data == "lead":
-                    self.refuse_lead(self.word(item.children[0]))
-                else:
-                    self._item(item)
+                self._item(item)
             self.sentence += 1
+        self.corrected(end=True)
         self._resolve_backward()
         self._refuse_lists()
         return self.result()
 
     def _item(self, item: Tree) -> None:
         kind, kids, toks = item.data, subtrees(item), tokens_of(item)
+        if kind == "correction":
+            self.correcting(self.word(toks[0]))
+            return
         if kind in _FORWARD:
             self.pending.append(kind)
         elif kind == "then":
             self.step += 1
         elif kind in ("slow", "fast"):
             self.speeds.append(kind)
+            self.corrected()
         elif kind == "wait":
             k = self.destination()
             if k is None:
@@ -67,7 +69,7 @@ class JapaneseWalk(Walk):
                 raise UnsupportedPhrase(f"{said} says no place to wait at: say where (寝室で待って)")
             self.wait_at(self.mentions[k], toks)
         elif kind == "bare":
-            self._group(tree(kids[0]), "goal")
+            self._group(tree(kids[0]), "goal", bare=True)
         elif kind in _ROLES:
             mentions = self._group(tree(kids[0]), _ROLES[kind])
             marker = self.word(toks[-1]) if toks else ""
@@ -89,12 +91,17 @@ class JapaneseWalk(Walk):
             for m in waiting:
                 self.wait_at(m, toks)
 
-    def _group(self, group: Tree, role: str) -> list[Mention]:
-        """The mentions of a group's places, with the forward order words said before it."""
+    def _group(self, group: Tree, role: str, bare: bool = False) -> list[Mention]:
+        """The mentions of a group's places, with the forward order words said before it; a bare group right after a
+        correction word takes the role of the place said before it (リビングを通って、いや、廊下)."""
+        if bare and self.correction is not None:
+            said = [m for m in self.mentions if not m.dropped]
+            role = said[-1].role if said else role
         out = [self.mention(ref, role) for ref in self._refs(group)]
         start = self.mentions.index(out[0]) if out else len(self.mentions)
         self.apply_orders(self.pending, out, start)
         self.pending = []
+        self.corrected()
         return out
 
     def _refs(self, group: Tree) -> list[PlaceRef]:

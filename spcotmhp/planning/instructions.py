@@ -131,6 +131,7 @@ def parse_text(
         not_goal=tuple(PlaceQuery.of(r) for r in reading.not_goal),
         speed=reading.speed,
         waits=reading.waits,
+        heard=reading.heard,
     )
     return within_limits(ins, max_waypoints, max_avoided)
 
@@ -187,6 +188,7 @@ def parse_nbest(
         not_goal=tuple(merged("not_goal", j) for j in range(len(top.not_goal))),
         speed=top.speed,
         waits=top.waits,
+        heard=top.heard,
     )
 
 

@@ -123,6 +123,8 @@ class Plan:
             text += "; " + {"slow": "slowly", "fast": "quickly"}[self.instruction.speed]
         for note in self.notes:
             text += f"; {note}"
+        if self.instruction.heard:
+            text += "; heard: " + "; ".join(self.instruction.heard)
         return text
 
     def _goal_note(self, goal: PlanPlace) -> str:
@@ -199,4 +201,5 @@ def instruction_dict(ins: Instruction) -> dict:
         "not_goal": [dict(a.words) for a in ins.not_goal],
         "relations": {q.label: q.relation.describe() for q in (*ins.stages, *ins.avoid, *ins.not_goal) if q.relation},
         "understood": ins.describe(),
+        "heard": list(ins.heard),
     }

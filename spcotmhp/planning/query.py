@@ -73,7 +73,9 @@ class Instruction:
     stage being pursued at each step); ``avoid`` places get zero probability; ``not_goal`` places may be passed
     but never end the plan ("instead of the kitchen"). ``speed`` ("slow", "fast" or None) and ``waits`` ((stage,
     seconds or None: until the next instruction), ...) are for whoever drives the path: the planner carries them
-    in the plan (its JSON, the ROS 2 status) and says them in the explanation; the path is the same."""
+    in the plan (its JSON, the ROS 2 status) and says them in the explanation; the path is the same. ``heard``:
+    what reading the sentence did beyond its grammar (a self-correction applied, talk passed over), said in the
+    explanation."""
 
     goal: PlaceQuery
     waypoints: tuple[PlaceQuery, ...] = ()
@@ -83,6 +85,7 @@ class Instruction:
     not_goal: tuple[PlaceQuery, ...] = ()
     speed: str | None = None
     waits: tuple[tuple[int, float | None], ...] = ()
+    heard: tuple[str, ...] = ()
 
     @property
     def stages(self) -> tuple[PlaceQuery, ...]:

@@ -182,6 +182,9 @@ class InstructionOut(BaseModel):
     not_goal: list[dict[str, float]] = []
     relations: dict[str, str] = {}
     understood: str = Field("", description="What was understood, in words.")
+    heard: list[str] = Field(
+        [], description="What reading the sentence did beyond its grammar: a self-correction, talk passed over."
+    )
 
 
 class WaitOut(BaseModel):

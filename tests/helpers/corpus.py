@@ -38,6 +38,15 @@ def rows(path: Path) -> list[dict]:
         return list(csv.DictReader(line for line in fh if not line.startswith("#")))
 
 
+def corpus_rows(folder: Path) -> list[dict]:
+    """The rows of a frozen corpus (``folder/instructions.csv``), each row that ``folder/relabelled.csv`` holds (by
+    its text) replaced by that file's row, marked ``relabelled``: a label an issue's later rule changed, the frozen
+    row left as written."""
+    relabelled = {r["text"]: r for r in rows(folder / "relabelled.csv")} if (folder / "relabelled.csv").exists() else {}
+    return [{**relabelled[r["text"]], "relabelled": "yes"} if r["text"] in relabelled else r
+            for r in rows(folder / "instructions.csv")]  # fmt: skip
+
+
 def synthetic_model() -> SpatialConceptModel:
     """Five places taught as "this is the <name>": east corridor, south corridor, alice's room, bob's room,
     kitchen (one concept each)."""

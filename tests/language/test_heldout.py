@@ -11,9 +11,9 @@ from collections import Counter
 import pytest
 
 from spcotmhp.language.text import words
-from tests.helpers.corpus import DATA, rows, verdict
+from tests.helpers.corpus import DATA, corpus_rows, rows, verdict
 
-HELDOUT = rows(DATA / "heldout" / "instructions.csv")
+HELDOUT = corpus_rows(DATA / "heldout")
 TEACHING = rows(DATA / "heldout" / "teaching.csv")
 
 

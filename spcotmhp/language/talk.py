@@ -1,0 +1,150 @@
+"""Talk around an instruction, passed over by a stated rule: what people say with a request that carries no
+navigation meaning ("we're about to eat", "the baby's asleep", "I'm hungry", "mom says"; 宅配来るから, ありがとう).
+
+Only a sentence the grammar has no derivation for is looked at (a sentence it reads is read as it is), and the
+talk is cut out only where every word of it is shown to carry no navigation meaning; what is left is read by the
+grammar, or refused naming its own words. The classes (``talk`` in ``grammars/<lang>.json``, with their sources):
+
+English, a *run* of tokens none of which is a place, a length of time, a floor, or a word class other than the
+table's ``neutral`` ones (those carry meaning only with a place, and talk holds none), each of its other words an
+English word of lemminflect's dictionary (the dictionary its noun lemmas already come from) that is no number and
+none of the table's ``meaning`` words (time, manner, quantity, order, side, position and motion words no class
+holds), is talk when it is a statement: it opens with a subject (a word of ``subjects``, or a noun) and holds a
+verb (lemminflect's VERB or AUX, a contraction of one, or the IS class). A "to" in it must be followed by a verb
+("about to eat": a purpose, not a place), and a motion verb by no "to" or "in" ("we're going to the garage" says
+where someone goes: it stays in the instruction). Connectors and motion words at its edges belong to the instruction
+next to it ("I'm cooking, come to the kitchen": "come to" is the instruction's).
+
+Japanese: :mod:`spcotmhp.language.talk_ja`.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Sequence
+
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.table import WordTable
+
+_EDGE = ("GO", "TO", "AT", "AND", "LINK", "OF", "THAT", "IS", "ONE_OF", "ALL", "IT")
+"""Neutral classes a run may not start or end with where an instruction is next to it: they belong to it."""
+_DETERMINERS = frozenset("the a an my our your his her their this that these those some".split())
+_CONTRACTIONS = ("'s", "'re", "'m", "'ll", "'d", "'ve", "n't")
+_NUMBER_WORDS = frozenset(
+    "zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen seventeen "
+    "eighteen nineteen twenty thirty forty fifty sixty seventy eighty ninety hundred thousand half quarter dozen "
+    "couple".split()
+)
+
+
+def pass_over(
+    toks: Sequence[Token], table: WordTable, units: Sequence[str] = ()
+) -> tuple[list[Token], list[str]] | None:
+    """``toks`` without the talk in them, and the talk as said (for the explanation); None when there is none or
+    nothing would be left to read (module docstring). ``units``: the sentence's units, fillers included (a
+    token's ``start`` indexes them), which show a determiner before a noun ("the baby")."""
+    if not table.talk or table.by_character:
+        return None
+    neutral = frozenset(table.talk.get("neutral", ()))
+    meaning = frozenset(table.talk.get("meaning", ()))
+    subjects = frozenset(table.talk.get("subjects", ()))
+    ok = [_admissible(t, neutral, meaning, subjects) for t in toks]
+    cut: set[int] = set()
+    said: list[str] = []
+    i = 0
+    while i < len(toks):
+        if not ok[i]:
+            i += 1
+            continue
+        j = i
+        while j < len(toks) and ok[j]:
+            j += 1
+        a, b = _trimmed(toks, i, j)
+        if a < b and _statement(
+            toks[a:b], subjects, 0 < toks[a].start <= len(units) and units[toks[a].start - 1] in _DETERMINERS
+        ):
+            cut.update(range(a, b))
+            said.append(" ".join(t.surface for t in toks[a:b]))
+        i = j
+    if not cut:
+        return None
+    kept = [t for k, t in enumerate(toks) if k not in cut]
+    if not any(t.kind == "PLACE" for t in kept):
+        return None
+    return kept, said
+
+
+def _admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], subjects: frozenset[str]) -> bool:
+    """Whether a token may be part of talk: a neutral class, or a word that is a subject or a known word that is no
+    number and carries none of the ``meaning`` (checked on the word and on it without its contraction)."""
+    if tok.kind != "WORD":
+        return tok.kind in neutral
+    word = tok.surface
+    if word in subjects:
+        return True
+    base = _base(word)
+    if {word, base} & meaning or any(w[:1].isdigit() or w in _NUMBER_WORDS for w in (word, base)):
+        return False
+    return _known(base)
+
+
+def _base(word: str) -> str:
+    """A word without its contraction ("baby's" -> "baby", "we're" -> "we")."""
+    for c in _CONTRACTIONS:
+        if word.endswith(c) and len(word) > len(c):
+            return word[: -len(c)]
+    return word
+
+
+def _trimmed(toks: Sequence[Token], i: int, j: int) -> tuple[int, int]:
+    """The run toks[i:j] without the neutral words at its edges that belong to the instruction next to it: at its
+    end when an instruction word follows it (not the end of a sentence or a comma), at its start "and" / "that"."""
+    end_of_clause = j == len(toks) or toks[j].kind in ("_STOP", "COMMA")
+    while not end_of_clause and j > i and toks[j - 1].kind in _EDGE:
+        j -= 1
+    while i < j and toks[i].kind in ("AND", "THAT", "LINK"):
+        i += 1
+    return i, j
+
+
+def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner: bool) -> bool:
+    """Whether a run opens with a subject and holds a verb, with every "to" followed by a verb. A subject: a word
+    of ``subjects``, a word with a contraction ("baby's"), a noun after a determiner ("the baby"), or a noun that
+    is not also a verb's base form ("mom", "kids"; "say" may open an order: "say dinner is ready")."""
+    first = run[0]
+    if first.kind != "WORD":
+        return False
+    word, base = first.surface, _base(first.surface)
+    noun = "NOUN" in _pos(base)
+    opens = word in subjects or word != base or (noun and (after_determiner or not _infinitive(word)))
+    if not opens:
+        return False
+    verb = False
+    for k, t in enumerate(run):
+        if t.kind in ("IS", "GO"):
+            if t.kind == "GO" and k + 1 < len(run) and run[k + 1].kind in ("TO", "AT"):
+                return False  # "we're going to the garage": a motion somewhere stays in the instruction
+            verb = True
+        elif t.kind == "TO":
+            nxt = run[k + 1] if k + 1 < len(run) else None
+            if nxt is None or nxt.kind != "WORD" or not _infinitive(nxt.surface):
+                return False
+        elif t.kind == "WORD" and (t.surface != _base(t.surface) or {"VERB", "AUX"} & set(_pos(t.surface))):
+            verb = verb or k > 0 or t.surface != _base(t.surface)
+    return verb
+
+
+def _infinitive(word: str) -> bool:
+    return word in _pos(word).get("VERB", ())
+
+
+@functools.lru_cache(maxsize=4096)
+def _pos(word: str) -> dict[str, tuple[str, ...]]:
+    import lemminflect
+
+    return dict(lemminflect.getAllLemmas(word))
+
+
+def _known(word: str) -> bool:
+    """A word of lemminflect's dictionary (a misspelt place word is not: "kichen")."""
+    return bool(_pos(word))

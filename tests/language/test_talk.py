@@ -1,0 +1,166 @@
+"""Talk around an instruction (spcotmhp/language/talk.py) and self-corrections (spcotmhp/language/walk.py,
+Walk.correct): issue 34. Talk is passed over only where none of its words carries navigation meaning; inserting a
+passed-over clause into any understood sentence never changes its reading, and a clause that does carry meaning
+(a place, a time, a motion somewhere, an order) is never passed over."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from spcotmhp.errors import InstructionError, UnsupportedPhrase
+from spcotmhp.language.reading import read
+from tests.helpers.corpus import DATA, rows
+from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
+
+EN = PLACE_WORDS_EN
+JA = PLACE_WORDS_JA
+
+TALK_EN = [
+    "we're about to eat",
+    "I'm hungry",
+    "the baby's asleep",
+    "the pizza guy is coming",
+    "that'd be great",
+    "mom says",
+    "I'm cooking",
+    "the kids are eating",
+    "it's getting crowded",
+]
+"""Clauses the rule passes over (each says something about the world, with no place, time, order or motion)."""
+
+NOT_TALK_EN = [
+    "go to the garage",  # an order to an unknown place
+    "we're going to the garage",  # a motion somewhere
+    "at 6",  # a time
+    "later",
+    "I need you in the garage",
+    "say dinner is ready",  # an order (an action the planner does not do)
+    "the garage",  # a bare place phrase
+    "not the kitchen either",
+    "we're in the bath",  # a place
+]
+"""Clauses that carry meaning: appended to an understood sentence they must not be passed over."""
+
+
+def _understood_en() -> list[str]:
+    out = []
+    for row in rows(DATA / "heldout" / "instructions.csv"):
+        if row["vocabulary"] == "3ldk_en" and not row["refused"]:
+            try:
+                read(row["text"], EN, "en")
+            except InstructionError:
+                continue
+            out.append(row["text"])
+    return out
+
+
+UNDERSTOOD_EN = _understood_en()
+
+
+def _meaning(text: str, words: list[str], lang: str):
+    """A reading without what it says it did beyond the grammar (``heard``), or the refusal's class."""
+    try:
+        return replace(read(text, words, lang), heard=())
+    except InstructionError as exc:
+        return type(exc)
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("hey could you come to the dining room we're about to eat", "dining"),
+        ("so um yeah if you could make your way to the kitchen that'd be great", "kitchen"),
+        ("I'm hungry. Take me to the kitchen.", "kitchen"),
+        ("i'm cooking come to the kitchen", "kitchen"),
+        ("mom says go to the dining room", "dining"),
+        ("go to the kitchen, the baby is asleep", "kitchen"),
+    ],
+)
+def test_talk_around_an_instruction_is_passed_over_and_said(text, goal):
+    r = read(text, EN, "en")
+    assert [p.label.split()[0] for p in r.visit] == [goal]
+    assert any(h.startswith("passed over") for h in r.heard), r.heard
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.data())
+def test_inserting_talk_never_changes_a_reading(data):
+    """Any passed-over clause, before or after any understood held-out sentence (as its own sentence or after a
+    comma), leaves its reading as it was."""
+    text = data.draw(st.sampled_from(UNDERSTOOD_EN))
+    talk = data.draw(st.sampled_from(TALK_EN))
+    where = data.draw(st.sampled_from(["before", "after", "after_comma"]))
+    changed = {"before": f"{talk}. {text}", "after": f"{text.rstrip('.!?')}. {talk}.",
+               "after_comma": f"{text.rstrip('.!?')}, {talk}"}[where]  # fmt: skip
+    assert _meaning(changed, EN, "en") == _meaning(text, EN, "en"), changed
+
+
+@pytest.mark.parametrize("talk", NOT_TALK_EN)
+@pytest.mark.parametrize("text", ["go to the kitchen", "take me to the bedroom via the corridor"])
+def test_a_clause_with_navigation_meaning_is_never_passed_over(text, talk):
+    for changed in (f"{text}, {talk}", f"{text}. {talk}.", f"{talk}. {text}"):
+        got = _meaning(changed, EN, "en")
+        if isinstance(got, type):
+            continue  # refused: fine
+        assert got != _meaning(text, EN, "en"), f"{changed!r} was read as {text!r}: {talk!r} dropped"
+
+
+@pytest.mark.parametrize(
+    "text, visit, speed, heard",
+    [
+        ("go to the dining room no wait the living room", ["living"], None, "living room said instead of dining room"),
+        ("uh the washroom um no sorry the toilet", ["toilet"], None, "toilet said instead of washroom"),
+        ("go to the bath sorry i meant the bedroom", ["bedroom"], None, "bedroom said instead of bath"),
+        ("go to the kitchen via the hall, sorry, the corridor", ["corridor", "kitchen"], None, "corridor said instead"),
+        ("go to the kitchen through the hall no through the dining room", ["dining", "kitchen"], None, "dining room said"),
+        ("go fast to the living room actually no go slow", ["living"], "slow", "slow said instead"),
+        ("go to the bath. sorry, I meant the bedroom.", ["bedroom"], None, "bedroom said instead of bath"),
+    ],
+)
+def test_a_correction_replaces_the_place_of_the_same_role_said_before_it(text, visit, speed, heard):
+    r = read(text, EN, "en")
+    assert [p.label.split()[0] for p in r.visit] == visit
+    assert r.speed == speed
+    assert any(h.startswith(heard) for h in r.heard), r.heard
+
+
+def test_a_correction_after_a_negated_name_takes_the_place_meant_instead():
+    r = read("bedroom please, actually scratch that, not the bedroom, the living room", EN, "en")
+    assert [p.label.split()[0] for p in r.visit] == ["living"] and [p.label for p in r.not_goal] == ["bedroom"]
+
+
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("go to the kitchen, no wait", "names nothing after it"),
+        ("go to the kitchen, sorry, via the hall", "no place to pass was said before"),
+        ("no kitchen, go to the bath", "'no' corrects"),
+    ],
+)
+def test_corrections_that_say_nothing_to_replace_are_refused(text, words):
+    with pytest.raises(UnsupportedPhrase) as info:
+        read(text, EN, "en")
+    assert words in str(info.value)
+
+
+def test_a_correction_opening_the_instruction_corrects_nothing():
+    assert [p.label for p in read("Actually, go to the kitchen", EN, "en").visit] == ["kitchen"]
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("リビング、いや、やっぱり台所", ["キッチン"]),
+        ("寝室に、いや、やっぱり物置に行って", ["物置き"]),
+        ("キッチン行って いや違うダイニング", ["ダイニング"]),
+        ("廊下を通って、いや、リビングを通ってキッチンへ", ["リビング", "キッチン"]),
+    ],
+)
+def test_japanese_corrections(text, visit):
+    r = read(text, JA, "ja")
+    assert [p.words[0] for p in r.visit] == visit
+    assert r.heard
