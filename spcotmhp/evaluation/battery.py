@@ -7,8 +7,8 @@ and the map), SpCoTMHP plans
 
 * every **basic** task (each ordered pair of non-adjacent true places; instruction = the goal's name),
 * **shared-word** tasks: "go to the corridor" from every other place: the word is part of two names ("west
-  corridor", "east corridor") and neither whole, so the planner must ask which (``asked``:
-  :class:`~spcotmhp.errors.AmbiguousPlace` naming both), not guess,
+  corridor", "east corridor"), which it names both, as a name several places share (issue 34): the plan must end
+  in the closest of them (counted with the repeated names),
 * a seeded subset of the **advanced** tasks (a waypoint, then the goal; :mod:`~spcotmhp.evaluation.tasks`),
 
 and counts what a robot owner would notice:
@@ -45,7 +45,7 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.synthetic_battery import battery_home
-from spcotmhp.errors import AmbiguousPlace, SpcotmhpError
+from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
 from spcotmhp.evaluation.methods import task_instruction
 from spcotmhp.evaluation.metrics import Outcome, summarise
@@ -70,7 +70,6 @@ class HomeBattery:
     params: str
     tasks: int = 0
     refused: int = 0
-    asked: int = 0  # shared-word tasks answered with the question "which one?" (AmbiguousPlace), as they should be
     unsafe: int = 0
     closest: int = 0
     repeated: int = 0
@@ -214,9 +213,6 @@ def _run(
         plan = ctx.planner.plan(ins, task.start_xy)
     except SpcotmhpError as exc:
         elapsed = time.perf_counter() - t0
-        if task.goal_name == SHARED_WORD and isinstance(exc, AmbiguousPlace):
-            out.asked += 1
-            return failed_task(task, elapsed), elapsed
         out.refused += 1
         if len(out.errors) < 3:
             out.errors.append(f"{task.label()}: {exc}")
@@ -293,7 +289,6 @@ def summary(results: Sequence[HomeBattery]) -> dict[str, dict]:
             "homes": len(rows),
             "tasks": sum(r.tasks for r in rows),
             "refused": sum(r.refused for r in rows),
-            "asked": sum(r.asked for r in rows),
             "unsafe": sum(r.unsafe for r in rows),
             "closest_rate": sum(r.closest for r in rows) / repeated if repeated else float("nan"),
             "repeated": repeated,

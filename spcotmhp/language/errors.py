@@ -113,8 +113,8 @@ def _misplaced(toks: Sequence[Token], at: int, table: WordTable, text: str) -> I
 
 
 def _first_refused(toks: Sequence[Token], table: WordTable) -> int | None:
-    """The first word of a refusal class that the sentence cannot accept: not a modifier of an unknown word ("the front door": the unknown word is what
-    is not understood)."""
+    """The first word of a refusal class that the sentence cannot accept: not a modifier of an unknown word ("the
+    front door": the unknown word is what is not understood)."""
     for k, tok in enumerate(toks):
         if tok.kind not in table.reasons:
             continue

@@ -16,6 +16,8 @@ Rules, in this order (English; Japanese below):
    the plural ("bedrooms", by the noun lemmas of lemminflect): spellings of the same word, not guesses.
 5. A generic noun of the table ("room") right after a place word belongs to its name ("living room"); adjacent
    place words form one name ("east corridor"). Any other unit is a WORD: no rule of the grammar accepts it.
+6. A number with a place word names the instance the robot shows with it ("bedroom 2", "bedroom #2", "bedroom
+   number two", "number two bedroom", 寝室2, 2番の寝室: the plan's "bedroom #2"; :func:`instance_number`).
 
 Japanese: units are characters; the longest match (rule 4) runs on characters over the place words (also in
 hiragana for a katakana name, and after an honorific お/ご) and the table's phrases; fillers are left out after
@@ -28,7 +30,7 @@ import re
 from collections.abc import Sequence
 
 from spcotmhp.language.floors import CUES, floor_en
-from spcotmhp.language.lexicon_ja import glue_ja, join_no, tokens_ja
+from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
@@ -53,8 +55,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     """The tokens of ``text`` (module docstring)."""
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
-        return glue_ja(join_no(_merge(tokens_ja(normalise(text), table, places))))
-    return _merge(_tokens_en(normalise(text), table, places))
+        return glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
+    return _merge(_numbered_en(_tokens_en(normalise(text), table, places)))
 
 
 def english_units(text: str) -> list[str]:
@@ -192,6 +194,55 @@ def _number(unit: str) -> float | None:
         return None
 
 
+MAX_INSTANCE = 99
+"""Largest instance number a place phrase may say ("bedroom 2"); a larger number is no instance of a home's name."""
+
+
+def instance_number(unit: str) -> int | None:
+    """The instance number a unit says: digits ("2", "#2" is cut to "2") or a number word ("two"), 1 to
+    :data:`MAX_INSTANCE`; None otherwise."""
+    if unit.isdigit():
+        n = int(unit)
+    elif unit in _NUMBERS and unit not in ("a", "an"):
+        n = _NUMBERS[unit]
+    else:
+        return None
+    return n if 1 <= n <= MAX_INSTANCE else None
+
+
+def _numbered_en(items: list[Token]) -> list[Token]:
+    """Rule 6: a number said with a place word names the instance the robot shows with it ("bedroom 2", "bedroom
+    #2", "bedroom number two", "number two bedroom", "bedroom one": the plan's "bedroom #2"): the PLACE token
+    carries it, with the words in its surface."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        it = items[i]
+        if it.kind == "PLACE" and it.number is None:
+            j = i + 1 + (i + 1 < len(items) and items[i + 1].kind == "WORD" and items[i + 1].surface == "number")
+            n = _said_number(items[j]) if j < len(items) else None
+            if n is not None and (j == i + 1 or items[i + 1].surface == "number"):
+                said = " ".join(t.surface for t in items[i : j + 1])
+                out.append(it._replace(surface=said, number=n, end=items[j].end))
+                i = j + 1
+                continue
+        before = _said_number(it)
+        after_number = out and out[-1].kind == "WORD" and out[-1].surface == "number"
+        place = items[i + 1] if i + 1 < len(items) else None
+        if after_number and before is not None and place is not None and place.kind == "PLACE" and place.number is None:
+            said = f"number {it.surface} {place.surface}"
+            out[-1] = place._replace(surface=said, number=before, start=out[-1].start)
+            i += 2
+            continue
+        out.append(it)
+        i += 1
+    return out
+
+
+def _said_number(tok: Token) -> int | None:
+    return instance_number(tok.surface) if tok.kind in ("WORD", "ONE") else None
+
+
 def _merge(items: list[Token]) -> list[Token]:
     """Place words side by side (fillers between them left out) form one name (rule 5); a name no place has
     ("the hall please the entrance": "hall entrance") is refused where the planner checks names. Lengths of time
@@ -199,7 +250,7 @@ def _merge(items: list[Token]) -> list[Token]:
     1分30秒 (a longer or equal one after it is not a part of it, and is refused where it stands)."""
     out: list[Token] = []
     for it in _summed(items):
-        if it.kind == "PLACE" and out and out[-1].kind == "PLACE":
+        if it.kind == "PLACE" and out and out[-1].kind == "PLACE" and it.number is None and out[-1].number is None:
             last = out[-1]
             joiner = "" if _is_cjk(last.surface) else " "
             out[-1] = Token(

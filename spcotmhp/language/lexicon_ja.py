@@ -126,3 +126,54 @@ def join_no(items: list[Token]) -> list[Token]:
         else:
             out.append(it)
     return out
+
+
+_JA_NUMBER_AFTER = re.compile(
+    r"^(?:の)?#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
+)
+_JA_NUMBER_BEFORE = re.compile(
+    r"^#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の$"
+)
+_JA_NUMERALS = {"いち": 1, "に": 2, "さん": 3, "よん": 4, "ご": 5}
+
+
+def numbered_ja(items: list[Token]) -> list[Token]:
+    """Rule 6 of :mod:`spcotmhp.language.lexicon`: a number with a place word names the instance the robot shows
+    with it (寝室2, 寝室2番, 寝室#3, 寝室のさんばん, 2番の寝室: the plan's 寝室 #2). Kana numerals only with 番
+    (ばん), which marks them as numbers (a lone に is a particle)."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        it = items[i]
+        nxt = items[i + 1] if i + 1 < len(items) else None
+        if it.kind == "PLACE" and nxt is not None and nxt.kind == "WORD" and nxt.start == it.end:
+            n = _ja_number(_JA_NUMBER_AFTER.match(nxt.surface), nxt.surface)
+            if n is not None:
+                out.append(it._replace(surface=it.surface + nxt.surface, number=n, end=nxt.end))
+                i += 2
+                continue
+        if it.kind == "WORD" and nxt is not None and nxt.kind == "PLACE" and it.end == nxt.start:
+            n = _ja_number(_JA_NUMBER_BEFORE.match(it.surface), it.surface)
+            if n is not None:
+                out.append(nxt._replace(surface=it.surface + nxt.surface, number=n, start=it.start))
+                i += 2
+                continue
+        out.append(it)
+        i += 1
+    return out
+
+
+def _ja_number(match: re.Match | None, surface: str) -> int | None:
+    if match is None:
+        return None
+    said = match.group(1)
+    if said in _JA_NUMERALS:
+        if "番" not in surface and "ばん" not in surface:
+            return None
+        return _JA_NUMERALS[said]
+    if said.isdigit():
+        n = int(said)
+    else:
+        tens, ten, ones = said.partition("十")
+        n = (10 + _KANJI_DIGITS.get(ones, 0)) if ten else _KANJI_DIGITS.get(said, 0)
+    return n if 1 <= n <= 99 else None

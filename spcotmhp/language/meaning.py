@@ -49,8 +49,9 @@ class Relation:
 @dataclass(frozen=True)
 class PlaceRef:
     """A place as said: its place words (a multi-word name has several), how it was said, an optional relation,
-    ``every`` for "all the bedrooms" / "both corridors" (every place of that name), and the floor it is on as said
-    (``floor``: :mod:`spcotmhp.language.floors`; None: any floor) with the words that said it (``floor_said``)."""
+    ``every`` for "all the bedrooms" / "both corridors" (every place of that name), the floor it is on as said
+    (``floor``: :mod:`spcotmhp.language.floors`; None: any floor) with the words that said it (``floor_said``), and
+    the number of the instance meant, as the robot numbers the places of one name (``number``: "bedroom 2")."""
 
     words: tuple[str, ...]
     label: str
@@ -58,6 +59,7 @@ class PlaceRef:
     every: bool = False
     floor: FloorValue | None = None
     floor_said: str = ""
+    number: int | None = None  # "bedroom 2", "2番の寝室": the instance the robot shows as "bedroom #2"
 
     def describe(self) -> str:
         """E.g. "bedroom (closest to the bath)", "every bedroom (on floor 2)"."""

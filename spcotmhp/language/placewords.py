@@ -24,6 +24,7 @@ class Token(NamedTuple):
     start: int = 0  # index of its first unit in the sentence (fillers included)
     end: int = 0  # index after its last unit
     floor: int | str | None = None  # the floor a FLOOR token says (spcotmhp.language.floors)
+    number: int | None = None  # the instance number said with a PLACE ("bedroom 2": the screen's "bedroom #2")
 
 
 class PlaceLexicon:

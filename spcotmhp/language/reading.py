@@ -31,9 +31,9 @@ from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
 from spcotmhp.language.table import word_table
 from spcotmhp.language.talk import pass_over
-from spcotmhp.language.wording import excerpt
 from spcotmhp.language.walk_en import EnglishWalk
 from spcotmhp.language.walk_ja import JapaneseWalk
+from spcotmhp.language.wording import excerpt
 
 LANGUAGES = ("en", "ja")
 """Languages with a grammar (``grammars/<lang>.lark`` and ``grammars/<lang>.json``)."""
@@ -58,7 +58,9 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
     try:
         root = _shape(lang, tuple(t.kind for t in toks))  # read-only: the walks take each leaf's words from toks
     except _NoDerivation as exc:
-        passed = pass_over(toks, table, english_units(text) if lang == "en" else ())  # talk around the instruction (talk.py), only when it has no derivation
+        passed = pass_over(
+            toks, table, english_units(text) if lang == "en" else ()
+        )  # talk around the instruction (talk.py), only when it has no derivation
         try:
             if passed is None:
                 raise

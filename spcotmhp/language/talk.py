@@ -28,12 +28,47 @@ from spcotmhp.language.table import WordTable
 
 _EDGE = ("GO", "TO", "AT", "AND", "LINK", "OF", "THAT", "IS", "ONE_OF", "ALL", "IT")
 """Neutral classes a run may not start or end with where an instruction is next to it: they belong to it."""
-_DETERMINERS = frozenset("the a an my our your his her their this that these those some".split())
+_DETERMINERS = frozenset(
+    ["the", "a", "an", "my", "our", "your", "his", "her", "their", "this", "that", "these", "those", "some"]
+)
 _CONTRACTIONS = ("'s", "'re", "'m", "'ll", "'d", "'ve", "n't")
 _NUMBER_WORDS = frozenset(
-    "zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen seventeen "
-    "eighteen nineteen twenty thirty forty fifty sixty seventy eighty ninety hundred thousand half quarter dozen "
-    "couple".split()
+    [
+        "zero",
+        "one",
+        "two",
+        "three",
+        "four",
+        "five",
+        "six",
+        "seven",
+        "eight",
+        "nine",
+        "ten",
+        "eleven",
+        "twelve",
+        "thirteen",
+        "fourteen",
+        "fifteen",
+        "sixteen",
+        "seventeen",
+        "eighteen",
+        "nineteen",
+        "twenty",
+        "thirty",
+        "forty",
+        "fifty",
+        "sixty",
+        "seventy",
+        "eighty",
+        "ninety",
+        "hundred",
+        "thousand",
+        "half",
+        "quarter",
+        "dozen",
+        "couple",
+    ]
 )
 
 

@@ -144,7 +144,7 @@ class Walk:
     def place(self, node: LarkToken, relation: Relation | None = None, every: bool = False) -> PlaceRef:
         """The :class:`PlaceRef` of a PLACE token."""
         t = self.toks[node.start_pos or 0]
-        ref = PlaceRef(t.words, t.surface, relation, every)
+        ref = PlaceRef(t.words, t.surface, relation, every, number=t.number)
         self.said.append(ref)
         return ref
 

@@ -177,7 +177,7 @@ def parse_nbest(
         place = _role_place(top, role, j)
         bag = _merged_place([(_role_place(ins, role, j), w) for ins, w in rel], place.label)
         return replace(bag, relation=place.relation, every=place.every, floor=place.floor,
-                       floor_said=place.floor_said)  # fmt: skip
+                       floor_said=place.floor_said, number=place.number)  # fmt: skip
 
     return Instruction(
         goal=merged("goal"),
@@ -195,7 +195,9 @@ def parse_nbest(
 def _shape(ins: Instruction) -> tuple:
     """What hypotheses must share to be merged place by place: how many places of each role, and the relation
     kinds and floors of the places (a relation's places are the top hypothesis's)."""
-    kinds = tuple((q.relation.kind if q.relation else "", q.floor) for q in (*ins.stages, *ins.avoid, *ins.not_goal))
+    kinds = tuple(
+        (q.relation.kind if q.relation else "", q.floor, q.number) for q in (*ins.stages, *ins.avoid, *ins.not_goal)
+    )
     return len(ins.waypoints), len(ins.avoid), len(ins.not_goal), kinds
 
 

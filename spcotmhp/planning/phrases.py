@@ -20,13 +20,14 @@ PHRASES_KEPT = 1024
 
 
 def phrase_key(query: PlaceQuery, stage: bool) -> tuple | None:
-    """What a phrase's terms depend on: its bags (in their order), ``every``, its floor and whether it is a stage
-    (a place to visit is checked for naming one place); None when a bag cannot be a key (then nothing is kept).
+    """What a phrase's terms depend on: its bags (in their order), ``every``, its floor, its instance number and
+    whether it is a stage (a place to visit is checked for naming one place); None when a bag cannot be a key (then
+    nothing is kept).
     The label and the relation are not part of it: the label only words refusals, which are never kept, and a
     relation is resolved after (in the start's free region)."""
     try:
         bags = (tuple(query.words.items()), tuple(tuple(a.items()) for a in query.alternatives))
-        key = (*bags, query.every, query.floor, stage)
+        key = (*bags, query.every, query.floor, query.number, stage)
         hash(key)
     except TypeError:
         return None

@@ -43,7 +43,7 @@ from typing import Any
 
 import numpy as np
 
-from spcotmhp.errors import AmbiguousPlace, UnknownPlaceWord
+from spcotmhp.errors import UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.logspace import log_gaussian
@@ -154,16 +154,15 @@ def by_label(index: LabelIndex, query: Any, stage: bool = False) -> np.ndarray:
     """(K,) the places whose label carries all the words of a place query (:class:`~spcotmhp.planning.
     instructions.PlaceQuery`, or one of its N-best alternatives; :func:`named_places`), checked as instructions
     need: two or more words that each belong to some label but name no place together ("the kitchen bedroom") are
-    refused, and so is, for a place to visit, a word that is part of several names but none whole
-    (:func:`one_name`).
+    refused. A word that several names share ("the corridor" beside an east and a south corridor) names the places
+    of all of them, as a name several places share does ("the bedroom"): the closest is meant, and the plan's
+    explanation names the others (issue 34; ``stage`` is kept for callers, the rule is the same for every role).
 
     Raises:
-        UnknownPlaceWord: no place is called so. AmbiguousPlace: which of several names is meant is a guess.
+        UnknownPlaceWord: no place is called so.
     """
     named = named_places(index, query.phrases)
     if named.any():
-        if stage and len(query.phrases) == 1:
-            one_name(index, named, query.words, query.label)
         return named
     masks = index.masks
     if len(query.phrases) == 1 and len(query.words) > 1 and all(w in masks for w in query.words):
@@ -176,23 +175,6 @@ def by_label(index: LabelIndex, query: Any, stage: bool = False) -> np.ndarray:
             + "; name one place"
         )
     return named
-
-
-def one_name(index: LabelIndex, named: np.ndarray, words: Mapping[str, float], label: str) -> None:
-    """Refuse a place phrase that names places of two or more different names, none of which it says whole ("the
-    corridor" with an east and a south corridor): which one is meant is a guess. Several places of one name are
-    instances, and the closest is meant ("the bedroom"); a phrase that is some place's whole name names it and the
-    places whose names hold it ("the bedroom" and "study bedroom").
-
-    Raises:
-        AmbiguousPlace: naming the names to choose from.
-    """
-    names = sorted({index.labels[k] for k in np.flatnonzero(named)})
-    if len(names) < 2:
-        return
-    said = sorted(w for w, c in words.items() if c > 0)
-    if len(names) > 1 and not any(sorted(n.split()) == said for n in names):
-        raise AmbiguousPlace(f"{label!r} is part of {len(names)} names: {', '.join(names)}; say which one")
 
 
 def inside_places(

@@ -131,7 +131,10 @@ class Plan:
         if self.n_goal_instances < 2 or len(self.goal_options) < 2:
             return ""
         names = sorted({o.label.split(" #")[0] for o in self.goal_options} | {goal.name})
-        plural = _plural(goal.name) if len(names) == 1 else "places named " + " or ".join(names)
+        said = [w for w, c in self.instruction.goal.words.items() if c > 0]
+        shared = len(said) == 1 and all(said[0] in n.split() for n in names)  # "corridor": east and south corridor
+        plural = _plural(goal.name if len(names) == 1 else said[0]) if len(names) == 1 or shared else (
+            "places named " + " or ".join(names))  # fmt: skip
         n = self.n_goal_instances
         reachable = len(self.goal_options)
         shortest = min(self.goal_options, key=lambda o: o.length_m)

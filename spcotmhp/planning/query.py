@@ -34,7 +34,8 @@ class PlaceQuery:
     place; empty for a single phrase, whose words all name it). ``relation``: what picks one of the places so named
     ("closest to the bath": :mod:`spcotmhp.planning.relations`); ``every``: every place so named ("both
     corridors", only to avoid); ``floor``: the floor it is on, as the words ``floor_said`` said it ("the bedroom
-    upstairs": :mod:`spcotmhp.language.floors`; a building's planner honours it, a one-floor planner refuses it)."""
+    upstairs": :mod:`spcotmhp.language.floors`; a building's planner honours it, a one-floor planner refuses it);
+    ``number``: the instance meant, as plans number the places of one name ("bedroom 2" is "bedroom #2")."""
 
     words: Mapping[str, float]
     label: str
@@ -43,6 +44,7 @@ class PlaceQuery:
     every: bool = False
     floor: FloorValue | None = None
     floor_said: str = ""
+    number: int | None = None
 
     @property
     def phrases(self) -> tuple[Mapping[str, float], ...]:
@@ -64,7 +66,7 @@ class PlaceQuery:
         for word in ref.words:
             bag[word] = bag.get(word, 0) + 1
         return cls(bag, ref.label, relation=ref.relation, every=ref.every, floor=ref.floor,
-                   floor_said=ref.floor_said)  # fmt: skip
+                   floor_said=ref.floor_said, number=ref.number)  # fmt: skip
 
 
 @dataclass(frozen=True)

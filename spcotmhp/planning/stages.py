@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from spcotmhp.errors import ConflictingInstruction, PlaceCutOff, StartInAvoidedPlace
+from spcotmhp.errors import ConflictingInstruction, PlaceCutOff, StartInAvoidedPlace, UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.avoid import avoided_view
 from spcotmhp.planning.graph import PlanningGraph
@@ -74,8 +74,26 @@ class StagePlaces:
             if query.every:
                 return named
             both = named & likely
-            return both if both.any() else named
-        return likely
+            return self.numbered(query, both if both.any() else named)
+        return self.numbered(query, likely)
+
+    def numbered(self, query: PlaceQuery, places: np.ndarray) -> np.ndarray:
+        """The one of ``places`` that a query's instance number names, as plans number the places of one name
+        ("bedroom 2" is the place shown as "bedroom #2"; :meth:`instance_label`); all of them without a number.
+
+        Raises:
+            UnknownPlaceWord: no place of that name has that number.
+        """
+        if query.number is None:
+            return places
+        hit = [int(k) for k in np.flatnonzero(places) if self.numbering.get(int(k), (1, 1))[0] == query.number]
+        if len(hit) != 1:
+            shown = ", ".join(self.instance_label(int(k)) for k in np.flatnonzero(places)) or "none"
+            raise UnknownPlaceWord(f"no place is shown as {query.label!r} (#{query.number}); the places of that "
+                                   f"name are: {shown}")  # fmt: skip
+        out = np.zeros_like(places)
+        out[hit[0]] = True
+        return out
 
     def phrase_terms(self, query: PlaceQuery, stage: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """(K,) the word term of Eq. 28 of a place query (:meth:`~spcotmhp.planning.terms.ModelTerms.stage_terms`)

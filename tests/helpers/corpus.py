@@ -3,9 +3,10 @@ vocabularies, how a row's expected reading is written, and how an instruction is
 
 A reading is written as (goal, waypoints in order joined by ">", avoid joined by ";", not_goal joined by ";", speed,
 waits joined by ";"): a place as its words, with a relation in braces (``bedroom{closest:bath}``,
-``bedroom{between:kitchen+bath}``, ``bedroom{largest}``); a wait as the place, with "@seconds" when it has a
-length. A phrase naming every place of a name ("both corridors") is written as those places' names, and a phrase whose
-words name places of one name as that name ("alice's" as "alice's room"). Place phrases
+``bedroom{between:kitchen+bath}``, ``bedroom{largest}``), an instance number after "#" (``bedroom#2``); a wait as
+the place, with "@seconds" when it has a length. A phrase naming every place of a name ("both corridors") is
+written as those places' names, and a phrase whose words name places of one name as that name ("alice's" as
+"alice's room"). Place phrases
 are checked against the places' names as the planner checks them (:func:`spcotmhp.planning.places.by_label`), with
 the union of the bundled homes' names standing for one home's.
 """
@@ -31,6 +32,8 @@ from spcotmhp.planning.vocabulary import one_floor, place_labels, place_vocabula
 DATA = Path(__file__).parents[1] / "data"
 HOMES = ("3LDK_01", "3LDK_05", "3LDK_06")
 SYNTHETIC = ["east corridor", "south corridor", "alice's room", "bob's room", "kitchen"]
+REPEATED = ("bedroom", "寝室")
+"""The names several places of the corpora's homes share (the 3LDK homes' three bedrooms)."""
 
 
 def rows(path: Path) -> list[dict]:
@@ -40,10 +43,11 @@ def rows(path: Path) -> list[dict]:
 
 def corpus_rows(folder: Path) -> list[dict]:
     """The rows of a frozen corpus (``folder/instructions.csv``), each row that ``folder/relabelled.csv`` holds (by
-    its text) replaced by that file's row, marked ``relabelled``: a label an issue's later rule changed, the frozen
-    row left as written."""
-    relabelled = {r["text"]: r for r in rows(folder / "relabelled.csv")} if (folder / "relabelled.csv").exists() else {}
-    return [{**relabelled[r["text"]], "relabelled": "yes"} if r["text"] in relabelled else r
+    its vocabulary and text) replaced by that file's row, marked ``relabelled``: a label an issue's later rule
+    changed, the frozen row left as written."""
+    path = folder / "relabelled.csv"
+    relabelled = {(r["vocabulary"], r["text"]): r for r in rows(path)} if path.exists() else {}
+    return [{**relabelled[key], "relabelled": "yes"} if (key := (r["vocabulary"], r["text"])) in relabelled else r
             for r in rows(folder / "instructions.csv")]  # fmt: skip
 
 
@@ -101,11 +105,13 @@ def read(text: str, name: str) -> Instruction:
     # (ConflictingInstruction), for the same place said the same way (a relation may pick another instance)
     for q, named in stages:
         for a, gone in avoided:
-            if a.relation == q.relation and named.any() and not (named & ~gone).any():
+            same = a.relation == q.relation and a.number == q.number  # "avoid bedroom 3, go to bedroom 1": no conflict
+            if same and named.any() and not (named & ~gone).any():
                 raise ConflictingInstruction(f"every place named '{q.label}' is also to be avoided")
     goal, named = stages[-1]
     for a, gone in excluded:
-        if a.relation == goal.relation and named.any() and not (named & ~gone).any():
+        same = a.relation == goal.relation and a.number == goal.number
+        if same and named.any() and not (named & ~gone).any():
             raise ConflictingInstruction(f"every place named '{goal.label}' is one not to end in")
     return ins
 
@@ -121,6 +127,10 @@ def written(ins: Instruction, name: str) -> tuple[str, ...]:
         # the name the words stand for when they name places of one name ("alice's" is "alice's room")
         said = [w for w, c in q.words.items() for _ in range(int(c))]
         text = named[0] if len(named) == 1 and sorted(named[0].split()) != sorted(said) else " ".join(said)
+        # "bedroom 2": the plan's "bedroom #2"; in the corpora's homes only the bedrooms repeat, so "the south one"
+        # (a number 1 said of a name with one place) is that place
+        repeated = any(n.split()[0] in REPEATED for n in named)
+        text += "" if q.number is None or (q.number == 1 and not repeated) else f"#{q.number}"
         if q.relation is not None:
             args = "+".join(" ".join(a.words) for a in q.relation.args)
             text += "{" + q.relation.kind + (f":{args}" if args else "") + "}"

@@ -116,7 +116,12 @@ def test_a_clause_with_navigation_meaning_is_never_passed_over(text, talk):
         ("uh the washroom um no sorry the toilet", ["toilet"], None, "toilet said instead of washroom"),
         ("go to the bath sorry i meant the bedroom", ["bedroom"], None, "bedroom said instead of bath"),
         ("go to the kitchen via the hall, sorry, the corridor", ["corridor", "kitchen"], None, "corridor said instead"),
-        ("go to the kitchen through the hall no through the dining room", ["dining", "kitchen"], None, "dining room said"),
+        (
+            "go to the kitchen through the hall no through the dining room",
+            ["dining", "kitchen"],
+            None,
+            "dining room said",
+        ),
         ("go fast to the living room actually no go slow", ["living"], "slow", "slow said instead"),
         ("go to the bath. sorry, I meant the bedroom.", ["bedroom"], None, "bedroom said instead of bath"),
     ],
