@@ -18,6 +18,8 @@ Rules, in this order (English; Japanese below):
    place words form one name ("east corridor"). Any other unit is a WORD: no rule of the grammar accepts it.
 6. A number with a place word names the instance the robot shows with it ("bedroom 2", "bedroom #2", "bedroom
    number two", "number two bedroom", 寝室2, 2番の寝室: the plan's "bedroom #2"; :func:`instance_number`).
+7. A relation said around the name is the relation after it ("the nearest bedroom to the kitchen", "the farthest
+   bedroom from the bath", "of the three bedrooms, the one nearest the bath": :func:`_relations_en`).
 
 Japanese: units are characters; the longest match (rule 4) runs on characters over the place words (also in
 hiragana for a katakana name, and after an honorific お/ご) and the table's phrases; fillers are left out after
@@ -56,7 +58,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
         return glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
-    return _merge(_numbered_en(_tokens_en(normalise(text), table, places)))
+    return _relations_en(_merge(_numbered_en(_tokens_en(normalise(text), table, places))))
 
 
 def english_units(text: str) -> list[str]:
@@ -237,6 +239,48 @@ def _numbered_en(items: list[Token]) -> list[Token]:
         out.append(it)
         i += 1
     return out
+
+
+def _relations_en(items: list[Token]) -> list[Token]:
+    """Rule 7: a relation said around the name says the same as after it: "the nearest bedroom to the kitchen" is
+    "the bedroom nearest to the kitchen", "the farthest bedroom from the bath" is "the bedroom farthest from the
+    bath"; "of the (three) bedrooms, (go to) the one nearest the bath" is "the bedroom nearest the bath" (the number
+    only says how many there are)."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        it = items[i]
+        place = items[i + 1] if i + 1 < len(items) else None
+        prep = items[i + 2] if i + 2 < len(items) else None
+        if place is not None and prep is not None and place.kind == "PLACE":
+            near = it.kind == "NEAREST" and prep.kind == "TO"
+            far = it.kind == "MODIFIER" and it.surface in ("farthest", "furthest") and prep.kind == "FROM"
+            if near or far:
+                kind = "CLOSEST" if near else "FARTHEST"
+                out += [place, Token(kind, f"{it.surface} .. {prep.surface}", start=prep.start, end=prep.end)]
+                i += 3
+                continue
+        out.append(it)
+        i += 1
+    return _of_the(out)
+
+
+def _of_the(items: list[Token]) -> list[Token]:
+    """Rule 7's "of the bedrooms ... the one R": the place said in the plural after "of" opening a sentence
+    stands for the "one" said after it."""
+    if len(items) < 3 or items[0].kind != "OF":
+        return items
+    k = 1 + (items[1].kind == "WORD" and instance_number(items[1].surface) is not None)
+    if k >= len(items) or items[k].kind != "PLACE" or not items[k].plural:
+        return items
+    ones = [j for j in range(k + 1, len(items)) if items[j].kind == "ONE"]
+    if not ones:
+        return items
+    place = items[k]
+    rest = [t for t in items[k + 1 :]]
+    j = ones[0] - k - 1
+    rest[j] = place._replace(surface=f"{rest[j].surface} of the {place.surface}", start=rest[j].start, end=rest[j].end)
+    return [t for t in rest if t.kind != "COMMA" or rest.index(t) != 0]
 
 
 def _said_number(tok: Token) -> int | None:
