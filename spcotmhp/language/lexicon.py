@@ -20,6 +20,8 @@ Rules, in this order (English; Japanese below):
    number two", "number two bedroom", 寝室2, 2番の寝室: the plan's "bedroom #2"; :func:`instance_number`).
 7. A relation said around the name is the relation after it ("the nearest bedroom to the kitchen", "the farthest
    bedroom from the bath", "of the three bedrooms, the one nearest the bath": :func:`_relations_en`).
+8. Commas that separate nothing are left out; "no, wait," is one correction (:func:`_corrections_en`); a number
+   alone after a negation or a correction names that instance of the place said last (:func:`_said_again`).
 
 Japanese: units are characters; the longest match (rule 4) runs on characters over the place words (also in
 hiragana for a katakana name, and after an honorific お/ご) and the table's phrases; fillers are left out after
@@ -58,7 +60,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
         return glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
-    return _relations_en(_merge(_numbered_en(_tokens_en(normalise(text), table, places))))
+    return _relations_en(_said_again(_merge(_numbered_en(_corrections_en(_tokens_en(normalise(text), table, places))))))
 
 
 def english_units(text: str) -> list[str]:
@@ -92,7 +94,10 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
             continue
         lemma = places.singular(unit)
         last = out[-1] if out else None
-        if lemma is not None:
+        if unit.endswith("'s") and unit[:-2] in places.words:  # "whichever bedroom's nearest": the place, "is"
+            out.append(Token("PLACE", unit[:-2], (unit[:-2],), start=start, end=start + 1))
+            out.append(Token("IS", "'s", start=start, end=start + 1))
+        elif lemma is not None:
             out.append(Token("PLACE", unit, (lemma,), plural=True, start=start, end=start + 1))
         elif unit in table.nouns and last is not None and last.kind == "PLACE":
             out[-1] = Token("PLACE", f"{last.surface} {unit}", last.words, plural=last.plural, start=last.start,
@@ -140,20 +145,26 @@ def _cut(kept: list[tuple[Token | str, int]], match: tuple[int, int]) -> list[tu
 
 
 def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
-    """Rule 2: "(for) <number> <unit>" -> a DURATION token; "half a minute" is 30 s. Each item with the index of
-    its first unit."""
+    """Rule 2: "(for) <number> <unit>" -> a DURATION token; "half a minute" is 30 s, "a quarter of an hour" 900 s,
+    "a couple of minutes" 120 s. Each item with the index of its first unit."""
     if _UNITS.keys().isdisjoint(units):  # no unit of time: no duration
         return [(u, i) for i, u in enumerate(units)]
     out: list[tuple[Token | str, int]] = []
     i = 0
     while i < len(units):
         j = i + (units[i] == "for")
+        j += units[j : j + 1] == ["a"] and units[j + 1 : j + 2] in (["quarter"], ["couple"])
         half = units[j : j + 2] in (["half", "a"], ["half", "an"])
-        k = j + 1 if half else j
-        number = _number(units[k]) if k < len(units) else None
-        unit = _UNITS.get(units[k + 1]) if number is not None and k + 1 < len(units) else None
+        part = {"quarter": 0.25, "couple": 2.0}.get(units[j]) if j < len(units) else None  # a quarter of an hour
+        k = j + 1 if half else j + 2 + (units[j + 2 : j + 3] in (["an"], ["a"])) if part else j
+        number = (1.0 if part else _number(units[k])) if k < len(units) else None
+        if part and units[j + 1 : j + 2] != ["of"]:
+            number = None
+        unit = _UNITS.get(units[k + 1]) if number is not None and k + 1 < len(units) and not part else None
+        unit = _UNITS.get(units[k]) if part and number is not None and k < len(units) else unit
+        k -= 1 if part else 0
         if number is not None and unit is not None:
-            seconds = number * unit * (0.5 if half else 1.0)
+            seconds = number * unit * (0.5 if half else part if part else 1.0)
             out.append((Token("DURATION", " ".join(units[i : k + 2]), seconds=seconds, start=i, end=k + 2), i))
             i = k + 2
         else:
@@ -281,6 +292,54 @@ def _of_the(items: list[Token]) -> list[Token]:
     j = ones[0] - k - 1
     rest[j] = place._replace(surface=f"{rest[j].surface} of the {place.surface}", start=rest[j].start, end=rest[j].end)
     return [t for t in rest if t.kind != "COMMA" or rest.index(t) != 0]
+
+
+def _corrections_en(items: list[Token]) -> list[Token]:
+    """Rule 8: commas that separate nothing are left out (before a full stop, at the end, twice in a row); "no,
+    wait," and "wait, no," are one correction (the "wait" is no wait at a place)."""
+    out: list[Token] = []
+    for it in items:
+        if it.kind == "_STOP" and out and out[-1].kind == "COMMA":
+            out.pop()
+        if it.kind == "COMMA" and out and out[-1].kind == "COMMA":
+            continue
+        out.append(it)
+    if out and out[-1].kind == "COMMA":
+        out.pop()
+    merged: list[Token] = []
+    i = 0
+    while i < len(out):
+        it = out[i]
+        j = i + 1 + (i + 1 < len(out) and out[i + 1].kind == "COMMA")
+        pair = {it.kind, out[j].kind} if j < len(out) else set()
+        if pair == {"NO", "WAIT"} and it.kind != out[j].kind:
+            merged.append(Token("CORRECTION", f"{it.surface} {out[j].surface}", start=it.start, end=out[j].end))
+            i = j + 1
+            continue
+        merged.append(it)
+        i += 1
+    return merged
+
+
+def _said_again(items: list[Token]) -> list[Token]:
+    """Rule 6 again: a number alone after a negation or a correction ("any bedroom except number 1", "bedroom two,
+    no, three") names that instance of the place said last."""
+    out: list[Token] = []
+    for it in items:
+        n = _said_number(it)
+        before = out[-1] if out else None
+        if before is not None and before.kind == "WORD" and before.surface == "number" and n is not None:
+            out.pop()
+            before = out[-1] if out else None
+        elif it.kind == "ONE":  # "not the one next to the toilet": "one" is a number only after "number"
+            n = None
+        cue = before is not None and before.kind in ("NEG", "NO", "CORRECTION")
+        place = next((t for t in reversed(out) if t.kind == "PLACE"), None)
+        if n is not None and cue and place is not None:
+            out.append(place._replace(surface=it.surface, number=n, start=it.start, end=it.end))
+            continue
+        out.append(it)
+    return out
 
 
 def _said_number(tok: Token) -> int | None:
