@@ -353,6 +353,14 @@ def _merge(items: list[Token]) -> list[Token]:
     1分30秒 (a longer or equal one after it is not a part of it, and is refused where it stands)."""
     out: list[Token] = []
     for it in _summed(items):
+        if (
+            it.kind == "PLACE"
+            and out
+            and out[-1].kind == "PLACE"
+            and it.words == out[-1].words
+            and it.number == out[-1].number
+        ):
+            continue  # "the kitchen, the kitchen", 玄関 玄関: the same place said again is one place
         if it.kind == "PLACE" and out and out[-1].kind == "PLACE" and it.number is None and out[-1].number is None:
             last = out[-1]
             joiner = "" if _is_cjk(last.surface) else " "

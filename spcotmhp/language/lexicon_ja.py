@@ -13,6 +13,7 @@ from spcotmhp.language.floors import floor_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
 
+_JA_KANA_NUMBER = re.compile(r"(?:の)?(?:いち|に|さん|よん|ご)(?:ばん|番)")
 _JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
@@ -29,6 +30,12 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         if floor is not None and not _place_within(chars, i, floor[1], table, places):
             out.append(Token("FLOOR", ahead[: floor[1]], floor=floor[0], start=i, end=i + floor[1]))
             i += floor[1]
+            continue
+        numbered = _JA_KANA_NUMBER.match(ahead) if out and out[-1].kind == "PLACE" and out[-1].end == i else None
+        if numbered:  # 寝室にばん: a number with 番 right after a place (rule 6), not the particle に
+            n = len(numbered.group(0))
+            out.append(Token("WORD", ahead[:n], start=i, end=i + n))
+            i += n
             continue
         duration = _JA_DURATION.match(ahead)
         if duration:

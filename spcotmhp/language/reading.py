@@ -31,6 +31,8 @@ from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
 from spcotmhp.language.table import word_table
 from spcotmhp.language.talk import pass_over
+from spcotmhp.language.talk_ja import plain_verbs
+from spcotmhp.language.text import normalise
 from spcotmhp.language.walk_en import EnglishWalk
 from spcotmhp.language.walk_ja import JapaneseWalk
 from spcotmhp.language.wording import excerpt
@@ -54,26 +56,36 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     table = word_table(lang)
     toks = tokens(text, table, place_words)
-    heard: list[str] = []
     try:
         root = _shape(lang, tuple(t.kind for t in toks))  # read-only: the walks take each leaf's words from toks
+        return _WALKS[lang](toks, text, table).read(root)
     except _NoDerivation as exc:
-        passed = pass_over(
-            toks, table, english_units(text) if lang == "en" else ()
-        )  # talk around the instruction (talk.py), only when it has no derivation
+        first, said_as = exc.at, toks
+    # no derivation as said: Japanese verb endings in their plain form, then talk passed over (talk.py, talk_ja.py)
+    if table.by_character:
+        plain = tokens(plain_verbs(normalise(text), table), table, place_words)
+        if [t.kind for t in plain] != [t.kind for t in toks]:
+            try:
+                return _WALKS[lang](plain, text, table).read(_shape(lang, tuple(t.kind for t in plain)))
+            except _NoDerivation:
+                pass
+            toks = plain
+    passed = pass_over(toks, table, english_units(text) if lang == "en" else ())
+    if passed is not None:
+        kept, said = passed
         try:
-            if passed is None:
-                raise
-            toks, said = passed
-            root = _shape(lang, tuple(t.kind for t in toks))
-            heard = [f"passed over {excerpt(s)} (no navigation meaning)" for s in said]
+            root = _shape(lang, tuple(t.kind for t in kept))
         except _NoDerivation as again:
-            failed = again if passed is not None else exc
-            at = failed.at
-            bad = LarkToken(toks[at].kind, toks[at].surface, start_pos=at) if at < len(toks) else None
-            raise refusal(toks, bad, table, place_words, text) from None
-    reading = _WALKS[lang](toks, text, table).read(root)
-    return replace(reading, heard=(*heard, *reading.heard)) if heard else reading
+            raise _refused(kept, again.at, table, place_words, text) from None
+        reading = _WALKS[lang](kept, text, table).read(root)
+        heard = tuple(f"passed over {excerpt(t)} (no navigation meaning)" for t in said)
+        return replace(reading, heard=(*heard, *reading.heard))
+    raise _refused(said_as, first, table, place_words, text) from None  # the words as said, not their plain form
+
+
+def _refused(toks: list, at: int, table: Any, place_words: Sequence[str], text: str) -> Exception:
+    bad = LarkToken(toks[at].kind, toks[at].surface, start_pos=at) if at < len(toks) else None
+    return refusal(toks, bad, table, place_words, text)
 
 
 class _NoDerivation(Exception):

@@ -78,7 +78,11 @@ def pass_over(
     """``toks`` without the talk in them, and the talk as said (for the explanation); None when there is none or
     nothing would be left to read (module docstring). ``units``: the sentence's units, fillers included (a
     token's ``start`` indexes them), which show a determiner before a noun ("the baby")."""
-    if not table.talk or table.by_character:
+    if table.by_character:
+        from spcotmhp.language.talk_ja import pass_over_ja
+
+        return pass_over_ja(toks, table)
+    if not table.talk:
         return None
     neutral = frozenset(table.talk.get("neutral", ()))
     meaning = frozenset(table.talk.get("meaning", ()))

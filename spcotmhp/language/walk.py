@@ -44,6 +44,11 @@ class Mention:
     dropped: bool = False  # replaced by a later self-correction ("the kitchen, no wait, the bath")
 
 
+def _same(a: PlaceRef, b: PlaceRef) -> bool:
+    """Whether two place phrases name the same place, however said ("寝室のいちばん", "一番の寝室")."""
+    return (a.words, a.relation, a.every, a.floor, a.number) == (b.words, b.relation, b.every, b.floor, b.number)
+
+
 def tree(node: object) -> Tree:
     """``node`` as a subtree (the grammar puts one there)."""
     assert isinstance(node, Tree), node
@@ -87,7 +92,7 @@ class Walk:
         again right after it in the same role ("the bedroom near the hall, go there", "the washroom? go to the
         washroom": one visit; "go to the bedroom via the bedroom" is two)."""
         last = self.mentions[-1] if self.mentions else None
-        again = last is not None and (last.ref is ref or (last.ref == ref and last.role == role))
+        again = last is not None and (last.ref is ref or (_same(last.ref, ref) and last.role == role))
         if again and last is not None and last.role in VISIT_ROLES and role in VISIT_ROLES:
             if role == "goal":  # "there" / "it", or a place to go to said twice in a row: one visit
                 last.role = "goal"

@@ -169,3 +169,40 @@ def test_japanese_corrections(text, visit):
     r = read(text, JA, "ja")
     assert [p.words[0] for p in r.visit] == visit
     assert r.heard
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("納戸へ行っとくれ", ["物置き"]),
+        ("台所行ったってや", ["キッチン"]),
+        ("玄関まで行っといでや", ["玄関"]),
+        ("あのさ洗面所行けたりする", ["洗面所"]),
+        ("茶の間へ行きなさい", ["リビング"]),
+        ("リビングにお願いしまーす", ["リビング"]),
+        ("宅配来るっぽいから玄関行っといて", ["玄関"]),
+        ("ゆっくりお風呂まで行ってください、床が濡れているので。", ["風呂"]),
+        ("お腹すいた。キッチンに連れてって", ["キッチン"]),
+    ],
+)
+def test_japanese_verb_endings_and_talk(text, visit):
+    """Endings of a verb with no navigation meaning are read as its plain te-form; a reason or a statement around
+    the instruction is passed over (spcotmhp/language/talk_ja.py)."""
+    assert [p.words[0] for p in read(text, JA, "ja").visit] == visit
+
+
+def test_japanese_negated_endings_avoid_and_waivers_stay_refused():
+    r = read("キッチンには入らんといてな、リビング行って", JA, "ja")
+    assert [p.words[0] for p in r.visit] == ["リビング"] and [p.words[0] for p in r.avoid] == ["キッチン"]
+    for waiver in ("トイレに寄らなくていいから風呂に行って", "廊下は通らなくてもいいので寝室へ"):
+        with pytest.raises(UnsupportedPhrase, match="need not be done"):
+            read(waiver, JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["リビングに行ってテレビをつけて。", "キッチンに行ってお茶を取ってきてくれる？", "寝室に行ってコップ持ってきて"],
+)
+def test_japanese_requests_for_actions_are_not_talk(text):
+    with pytest.raises(InstructionError):
+        read(text, JA, "ja")

@@ -1,0 +1,200 @@
+"""Japanese as people say it, before the grammar reads it (issue 34): the endings of a verb that carry no navigation
+meaning, said in their plain form, and talk around the instruction passed over.
+
+* **Verb endings** (:func:`plain_verbs`): a verb of the table's ``verbs`` (行く, 来る, 向かう, 入る, 通る, 寄る, 待つ,
+  止まる, 移動, 待機; お願い and 頼む) followed by auxiliaries, auxiliary verbs and sentence-final particles, as the
+  morphological analyser janome tags them (the part-of-speech tags that come with the segmenter), is written in
+  its plain te-form (行っとくれ, 行ったってや, 行っといでや, 行けたりする, 行きなさい -> 行って; 待機しといて ->
+  待機して; 頼めるかな -> お願い): aspect, mood, politeness and requests (〜ておく, 〜てくれ, 〜てる, 〜たって,
+  〜なさい, か, な, わ) change nothing of where the robot goes. A negation among the endings (ない, ん, ず) gives the
+  negative te-form (入らんといて -> 入らないで); a condition (ば, たら, なら) or a waiver (寄らなくていい, 通らなくても)
+  leaves the verb as said, for the grammar to read or refuse. A long vowel mark after hiragana is a drawn-out
+  sound (しまーす, 行ってー), left out.
+* **Talk** (:func:`pass_over_ja`): a run of words with no place, length of time, floor or word class but a
+  reason's から / ので, each of its words one janome knows, no number and none of the table's ``talk.meaning``,
+  ending with から / ので or at a sentence's end, and holding a verb or an adjective, is passed over
+  (宅配来るっぽいから, 床が濡れているので, もうすぐご飯だよ); a run that ends as a request (a te-form, an imperative,
+  くれる, ください, ほしい: テレビをつけて, コップ持ってきて) asks for an action and stays, to be refused.
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+from collections.abc import Sequence
+from typing import Any
+
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.table import WordTable
+
+_ELONGATION = re.compile(r"(?<=[\u3041-\u309f])[ー〜～]+")
+_TAIL_PARTICLES = ("接続助詞", "終助詞", "副助詞／並立助詞／終助詞", "並立助詞", "副助詞", "副詞化")
+_NEGATION = frozenset({"ない", "ん", "ぬ", "ず", "まい"})
+_CONDITION = frozenset({"ば", "たら", "なら", "ならば"})
+_CLAUSE_ENDS = frozenset({"から", "ので", "けど", "けれど", "が", "し"})
+_REQUESTS = frozenset({"お願い", "願う", "頼む", "頼める"})
+
+
+def plain_verbs(text: str, table: WordTable) -> str:
+    """``text`` (normalised) with each verb of the table's ``verbs`` and its endings in the plain form (module
+    docstring)."""
+    verbs: dict[str, list[str]] = dict(table.talk.get("verbs", {}))
+    if not verbs:
+        return text
+    text = _ELONGATION.sub("", text)
+    morphemes = _analyse(text)
+    out: list[str] = []
+    i = 0
+    while i < len(morphemes):
+        surface, pos, sub, base = morphemes[i]
+        key = base if base in verbs else surface if surface in verbs else None
+        if key is None or pos not in ("動詞", "名詞"):
+            out.append(surface)
+            i += 1
+            continue
+        start = i + 1
+        if pos == "名詞" and start + 1 < len(morphemes) and morphemes[start][0] == "を":  # 移動をお願い
+            start += 1 if morphemes[start + 1][3] in _REQUESTS else 0
+        j, negative, condition = _tail(morphemes, start)
+        following = morphemes[j] if j < len(morphemes) else None
+        kept = j == i + 1 and (following is None or following[1] == "名詞" or surface == verbs[key][0])
+        if condition or kept:  # 行ったら, 行く前に: as said
+            out.append("".join(m[0] for m in morphemes[i:j]))
+        else:
+            out.append(verbs[key][1 if negative and len(verbs[key]) > 1 else 0])
+        i = j
+    return "".join(out)
+
+
+def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, bool, bool]:
+    """Where the endings after a verb stop, and whether they hold a negation or a condition."""
+    negative = condition = False
+    while j < len(morphemes):
+        surface, pos, sub, base = morphemes[j]
+        if surface in _CLAUSE_ENDS or pos in ("記号",) and surface not in ("ー",):
+            break
+        if surface in _CONDITION or base in _CONDITION or surface == "ら" and j > 0 and morphemes[j - 1][0] == "た":
+            condition = True
+        if negative and (surface in ("も", "いい", "よい", "良い") or base in ("いい", "よい", "良い", "大丈夫")):
+            condition = True  # 寄らなくていい, 通らなくても: what need not be done, left as said (refused)
+        if pos == "助動詞":
+            negative |= base in _NEGATION or surface in _NEGATION
+        elif (
+            pos == "助詞"
+            and (sub in _TAIL_PARTICLES or sub == "格助詞" and surface == "と" and _aux_after(morphemes, j))
+            or pos == "動詞"
+            and (sub in ("非自立", "接尾") or base in _AUX_VERBS)
+            or base in _REQUESTS
+        ):
+            pass
+        elif pos == "形容詞" and (sub in ("非自立", "接尾") or base in ("いい", "良い", "ほしい", "欲しい", "ない")):
+            negative |= base == "ない"
+        elif pos == "名詞" and sub == "非自立" and surface in ("ん", "の", "とき", "よう"):
+            pass
+        else:
+            break
+        j += 1
+    return j, negative, condition
+
+
+_AUX_VERBS = frozenset(
+    "くれる くれ くださる 下さる もらう もらえる いただく いただける 頂く いる おく とく みる しまう あげる やる "
+    "なさる する できる いたす 来る くる いく 行く ちょうだい".split()  # auxiliary verbs after a te-form
+)
+
+
+def _aux_after(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> bool:
+    """と in 入らんといて, 行っとくれ: the contraction of て + おく / いる, followed by an auxiliary verb."""
+    return j + 1 < len(morphemes) and morphemes[j + 1][3] in ("いる", "くれる", "おく", "く")
+
+
+@functools.lru_cache(maxsize=2048)
+def _analyse(text: str) -> list[tuple[str, str, str, str]]:
+    from spcotmhp.language.text import _tokenizer
+
+    return [
+        (m.surface, *m.part_of_speech.split(",")[:2], m.base_form if m.base_form != "*" else m.surface)
+        for m in _tokenizer().tokenize(text)
+    ]
+
+
+def pass_over_ja(toks: Sequence[Token], table: WordTable) -> tuple[list[Token], list[str]] | None:
+    """``toks`` without the talk in them, and the talk as said; None when there is none (module docstring)."""
+    meaning = frozenset(table.talk.get("meaning", ()))
+    cut: set[int] = set()
+    said: list[str] = []
+    i = 0
+    while i < len(toks):
+        if toks[i].kind != "WORD":
+            i += 1
+            continue
+        j = i
+        while j < len(toks) and (toks[j].kind in ("WORD", "NOW") or toks[j].kind in ("FROM", "DE") and j > i):
+            if toks[j].kind in ("FROM", "DE"):
+                j += 1
+                break
+            j += 1
+        ends = toks[j - 1].kind in ("FROM", "DE") or j == len(toks) or toks[j].kind in ("_STOP", "COMMA")
+        starts = i == 0 or toks[i - 1].kind in ("_STOP", "COMMA", "GO", "GOAL", "WAIT")
+        run = toks[i:j]
+        if ends and starts and _reason(run, meaning):
+            cut.update(range(i, j))
+            said.append("".join(t.surface for t in run))
+        i = j
+    if not cut:
+        return None
+    kept = [t for k, t in enumerate(toks) if k not in cut]
+    if not any(t.kind == "PLACE" for t in kept):
+        return None
+    return kept, said
+
+
+def _reason(run: Sequence[Token], meaning: frozenset[str]) -> bool:
+    """Whether a run of words is talk: every word known to janome, no number, none of ``meaning``, and a verb or
+    an adjective among them (a statement, not a name)."""
+    text = "".join(t.surface for t in run)
+    if not any(t.kind == "WORD" for t in run):
+        return False
+    if run[-1].kind == "DE" and not text.endswith("ので"):
+        return False  # で after a word: a place's marker (洗面台で), not "because"
+    morphemes = _known(text)
+    if morphemes is None:
+        return False
+    if any(m[1] == "名詞" and m[2] == "数" or m[0] in meaning or m[3] in meaning for m in morphemes):
+        return False
+    if any(m[3] in _REQUESTING for m in morphemes) or _ordered(morphemes):
+        return False  # テレビをつけて, コップ持ってきて: a request (an action), not a statement
+    return any(m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です") for m in morphemes)
+
+
+_REQUESTING = frozenset(
+    {"くれる", "くださる", "下さる", "もらう", "いただく", "ほしい", "欲しい", "ちょうだい", "なさる"}
+)
+
+
+def _ordered(morphemes: Sequence[tuple[str, str, str, str]]) -> bool:
+    """Whether the words end as a request: a te-form (つけて, 持ってきて) or an imperative."""
+    words = [m for m in morphemes if m[1] != "記号" and not (m[1] == "助詞" and m[2] == "終助詞")]
+    if not words:
+        return False
+    last = words[-1]
+    return last[0] in ("て", "で") and last[1] == "助詞" or _imperative(last[0])
+
+
+def _imperative(surface: str) -> bool:
+    from spcotmhp.language.text import _tokenizer
+
+    m = next(iter(_tokenizer().tokenize(surface)), None)
+    return m is not None and getattr(m, "infl_form", "").startswith("命令")
+
+
+def _known(text: str) -> list[tuple[str, str, str, str]] | None:
+    """janome's morphemes of ``text``, or None when one of them is unknown to its dictionary."""
+    from spcotmhp.language.text import _tokenizer
+
+    out: list[Any] = []
+    for m in _tokenizer().tokenize(text):
+        if getattr(m, "node_type", "") == "UNKNOWN" or m.base_form == "*" and m.part_of_speech.startswith("名詞"):
+            return None
+        out.append((m.surface, *m.part_of_speech.split(",")[:2], m.base_form))
+    return out
