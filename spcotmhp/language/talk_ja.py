@@ -98,8 +98,7 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
 
 
 _AUX_VERBS = frozenset(
-    "くれる くれ くださる 下さる もらう もらえる いただく いただける 頂く いる おく とく みる しまう あげる やる "
-    "なさる する できる いたす 来る くる いく 行く ちょうだい".split()  # auxiliary verbs after a te-form
+    ["くれる", "くれ", "くださる", "下さる", "もらう", "もらえる", "いただく", "いただける", "頂く", "いる", "おく", "とく", "みる", "しまう", "あげる", "やる", "なさる", "する", "できる", "いたす", "来る", "くる", "いく", "行く", "ちょうだい"]  # auxiliary verbs after a te-form
 )
 
 
