@@ -9,12 +9,13 @@ For every name with two or more instances X and every other place Y (Z) of the h
 places' planning points by scipy's Dijkstra over the planner's step costs (Eq. 26's map term, 8-connected,
 diagonals sqrt 2); territory contacts cell by cell; areas from the Gaussians. Each request is
 
-* ``right``: the plan ends at the instance the rule names, and the explanation says the relation;
-* ``none named``: refused (:class:`~spcotmhp.errors.UnresolvedRelation`) where the rule names no instance (a tie
-  within its margin, or no instance next to the other place), as it should be;
-* ``refused``: refused although the rule names one instance;
+* ``right``: the plan ends at an instance the rule names (on a tie within the robot's diameter, or several next to
+  the other place, any of them: issue 34), and the explanation says the relation (and the tie);
+* ``none named``: refused (:class:`~spcotmhp.errors.UnresolvedRelation`) where the rule names no instance (none
+  next to the other place, none connected to it), as it should be;
+* ``refused``: refused although the rule names one;
 * ``wrong``: planned to another instance, or planned where the rule names none, or an explanation that does not
-  say the relation (silently wrong).
+  say the relation or the tie (silently wrong).
 """
 
 from __future__ import annotations
@@ -30,7 +31,6 @@ from scipy.sparse.csgraph import dijkstra
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import SpcotmhpError, UnresolvedRelation
 from spcotmhp.planning.planner import HierarchicalPlanner
-from spcotmhp.planning.relations import TIE_FRACTION
 
 KINDS = ("closest", "farthest", "next_to", "between", "largest", "smallest")
 PHRASES = {
@@ -93,14 +93,13 @@ class Oracle:
             self._lengths[i] = out
         return self._lengths[i]
 
-    def expected(self, kind: str, candidates: list[int], others: list[list[int]]) -> int | None:
-        """The instance the rule names, or None where it names none (a tie, nothing next to the other place)."""
+    def expected(self, kind: str, candidates: list[int], others: list[list[int]]) -> tuple[int, ...]:
+        """The instances the rule names (several on a tie within the robot's diameter, or several next to the other
+        place), or none (nothing next to it, nothing connected)."""
         if kind == "next_to":
-            near = [k for k in candidates if any(self.contacts[k, o] for o in others[0] if o != k)]
-            return near[0] if len(near) == 1 else None
+            return tuple(k for k in candidates if any(self.contacts[k, o] for o in others[0] if o != k))
         if kind in ("largest", "smallest"):
-            measure = {k: float(self.areas[k]) for k in candidates}
-            floor = 0.0
+            measure = {k: 2.0 * math.sqrt(float(self.areas[k]) / math.pi) for k in candidates}  # equal-area circle
         elif kind == "between":
             measure = {
                 k: min(
@@ -110,19 +109,13 @@ class Oracle:
                 )
                 for k in candidates
             }
-            floor = self.diameter
         else:
             measure = {k: min(self.distance(k, o) for o in others[0] if o != k) for k in candidates}
-            floor = self.diameter
         finite = {k: v for k, v in measure.items() if math.isfinite(v)}
         if not finite:
-            return None
-        ranked = sorted(finite, key=lambda k: -finite[k] if kind in ("farthest", "largest") else finite[k])
-        if len(ranked) > 1:
-            a, b = finite[ranked[0]], finite[ranked[1]]
-            if abs(a - b) < max(TIE_FRACTION * max(abs(a), abs(b)), floor):
-                return None
-        return ranked[0]
+            return ()
+        best = (max if kind in ("farthest", "largest") else min)(finite.values())
+        return tuple(k for k, v in finite.items() if abs(v - best) < self.diameter)
 
 
 def evaluate_relations(dataset: Dataset, seed: int = 0, per_kind: int = 6) -> RelationResult:
@@ -156,19 +149,20 @@ def evaluate_relations(dataset: Dataset, seed: int = 0, per_kind: int = 6) -> Re
                 verdict = _verdict(planner, text, tuple(start), want, kind)
                 out.counts[kind, verdict] += 1
                 if verdict == "wrong":
-                    out.wrong.append(f"{dataset.name}: {text!r} (rule: {want})")
+                    out.wrong.append(f"{dataset.name}: {text!r} (rule: {list(want)})")
     return out
 
 
-def _verdict(planner: HierarchicalPlanner, text: str, start: tuple, want: int | None, kind: str) -> str:
+def _verdict(planner: HierarchicalPlanner, text: str, start: tuple, want: tuple[int, ...], kind: str) -> str:
     try:
         plan = planner.plan(text, start)
     except UnresolvedRelation:
-        return "none named" if want is None else "refused"
+        return "none named" if not want else "refused"
     except SpcotmhpError:
         return "refused"
     said = "the largest one" if kind == "largest" else "the smallest one" if kind == "smallest" else "the one "
-    if want is None or plan.goal.id != want or said not in plan.explanation:
+    tie = len(want) == 1 or ("tied with" in plan.explanation or "next to it" in plan.explanation)
+    if plan.goal.id not in want or said not in plan.explanation or not tie:
         return "wrong"
     return "right"
 

@@ -164,18 +164,25 @@ class HierarchicalPlanner(StagePlaces):
         S = len(ins.stages)
         chosen: dict[int, str] = {}  # places a relation picked -> what the explanation says of them
         semantic, inst = self.stage_instances(ins, chosen, region)  # (S, K) word terms of Eq. 28 and instances
-        graph, avoided = self._avoid(region, ins, inst, x0, cell, escape, chosen)
-        posterior = self.terms.place_posterior(x0)
+        graph, avoided, way_out = self._avoid(region, ins, inst, x0, cell, escape, chosen)
         notes = []
         if len(escape):
             notes.append(
                 f"the start is within the robot's radius of an obstacle: the path first moves "
                 f"{path_length(np.vstack([escape, graph.to_map(cell)[None]]), res):.2f} m clear"
             )
+        posterior = here = self.terms.place_posterior(x0)
+        if len(way_out) > 1:  # the start is inside a place to avoid: leave it by the shortest way, never come back
+            left = ", ".join(sorted({self.names[k] for k in np.flatnonzero(avoided)}))
+            notes.append(f"the start is inside {left}, to be avoided: the path leaves it by the shortest way "
+                         f"({path_length(graph.to_map(way_out), res):.1f} m) and does not enter it again")  # fmt: skip
+            escape = np.vstack([escape, graph.to_map(way_out[:-1])]) if len(escape) else graph.to_map(way_out[:-1])
+            cell = way_out[-1]
+            posterior = self.terms.place_posterior(self._world(graph.to_map(cell)[None])[0])
         result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self.metric_path(graph, cell, result)
         node_points = self._world(graph.node_cell[result.nodes], graph.offset)
-        start_place = int(np.argmax(posterior))
+        start_place = int(np.argmax(here))  # where the robot stands, even when it first leaves an avoided place
         places = explain.path_places(self, graph, start_place, x0, result, node_points, cells)
         length = path_length(cells, res)
         options = explain.goal_options(self, graph, cell, result, inst[S - 1], length)

@@ -17,10 +17,14 @@ places). Each rule uses one term of the learned model:
 * ``largest`` / ``smallest``: the instance whose Gaussian N(mu_k, Sigma_k) (Eqs. 5-6) covers the largest / smallest
   area, pi sqrt(det Sigma_k) (its 1-sigma ellipse).
 
-Ties refuse: when the runner-up's measure is within :data:`TIE_FRACTION` of the best's (relative) or within the
-robot's diameter (geodesics), the relation does not single out one place for a person either, so the planner says
-which instances are about equal and asks for another word rather than guessing. A relation whose other place is
-unknown, or which no instance satisfies, is refused the same way (:class:`~spcotmhp.errors.UnresolvedRelation`).
+Ties are said in the robot's own terms (issue 34): two instances whose geodesics (or detours) differ by less than
+the robot's diameter, or whose areas' equal-area circles differ in diameter by less than it, are equally close (or
+large) for a robot, whose place points are estimates it cannot place more finely than its own size. On such a tie
+every tied instance satisfies the relation: the stage keeps them all, the plan ends at the one the Eq. 28 search
+finds best (the one its path reaches at the least cost from the robot's start), and the explanation says they were
+tied, with their measures; "next to" with two or more instances next to the other place is the same. Refused
+(:class:`~spcotmhp.errors.UnresolvedRelation`) only where the map holds no answer: the other place is unknown, no
+instance is connected to it, or none is next to it.
 """
 
 from __future__ import annotations
@@ -37,11 +41,6 @@ from spcotmhp.planning.assemble import path_length
 
 if TYPE_CHECKING:
     from spcotmhp.planning.graph import PlanningGraph
-
-TIE_FRACTION = 0.10
-"""Two instances whose measures differ by less than this fraction of the larger are a tie (refused): place points
-are estimates (Gaussian means snapped to free cells), and a person judging "closest" by walking distance or
-"largest" by eye does not tell apart differences of a tenth."""
 
 
 class PlaceGeometry:
@@ -90,14 +89,13 @@ def resolve(
     others: Sequence[np.ndarray],
     geometry: PlaceGeometry,
     name: Callable[[int], str],
-) -> tuple[np.ndarray, str]:
-    """The (K,) mask of the one instance among ``candidates`` that ``relation`` means, and how the explanation
-    says it ("the one closest to the bath"); ``others``: the (K,) masks of the relation's other places (one per
-    argument); ``name(k)``: how place k is called in messages ("bedroom #2").
+) -> tuple[np.ndarray, dict[int, str]]:
+    """The (K,) mask of the instances among ``candidates`` that ``relation`` means (one, or the tied ones: module
+    docstring), and how the explanation says each was picked ("the one closest to the bath"); ``others``: the (K,)
+    masks of the relation's other places (one per argument); ``name(k)``: how place k is called ("bedroom #2").
 
     Raises:
-        UnresolvedRelation: no instance satisfies the relation, or two or more are about equal (module
-            docstring); the message names the instances and their measures.
+        UnresolvedRelation: no instance satisfies the relation (module docstring).
 
     >>> geo = PlaceGeometry(np.arange(3), lambda i, j: [[0, 4, 9], [4, 0, 5], [9, 5, 0]][i][j], np.eye(3, dtype=bool),
     ...                     np.array([1.0, 2.0, 3.0]), 0.44)
@@ -106,13 +104,25 @@ def resolve(
     >>> mask, said = resolve(Relation("closest", (bath,)), np.array([1, 1, 0], bool), [np.array([0, 0, 1], bool)],
     ...                      geo, lambda k: f"bedroom #{k + 1}")
     >>> np.flatnonzero(mask).tolist(), said
-    ([1], 'the one closest to the bath')
+    ([1], {1: 'the one closest to the bath'})
+    >>> geo = PlaceGeometry(np.arange(3), lambda i, j: [[0, 4, 6.2], [4, 0, 6.0], [6.2, 6.0, 0]][i][j],
+    ...                     np.eye(3, dtype=bool), np.array([1.0, 2.0, 3.0]), 0.44)
+    >>> mask, said = resolve(Relation("closest", (bath,)), np.array([1, 1, 0], bool), [np.array([0, 0, 1], bool)],
+    ...                      geo, lambda k: f"bedroom #{k + 1}")
+    >>> np.flatnonzero(mask).tolist(), said[1]
+    ([0, 1], "the one closest to the bath, tied with bedroom #1 (6.0 and 6.2 m, within the robot's 0.44 m)")
     """
     cand = [int(k) for k in np.flatnonzero(candidates)]
     others = [np.asarray(o, dtype=bool) for o in others]
+    out = np.zeros(len(candidates), dtype=bool)
     if relation.kind == "next_to":
-        return _next_to(relation, cand, others[0], geometry, name), _said(relation)
-    measure, unit, floor = _measure(relation, cand, others, geometry, len(candidates))
+        near = _next_to(relation, cand, others[0], geometry, name)
+        out[near] = True
+        if len(near) == 1:
+            return out, {near[0]: _said(relation)}
+        listed = " and ".join(name(k) for k in near)
+        return out, {k: f"{_said(relation)}, one of {len(near)} next to it ({listed})" for k in near}
+    measure, unit = _measure(relation, cand, others, geometry, len(candidates))
     reachable = {k: v for k, v in measure.items() if math.isfinite(v)}
     if not reachable:
         raise UnresolvedRelation(
@@ -122,28 +132,31 @@ def resolve(
     largest_first = relation.kind in ("farthest", "largest")
     ranked = sorted(reachable, key=lambda k: -reachable[k] if largest_first else reachable[k])
     best = ranked[0]
-    if len(ranked) > 1:
-        runner = ranked[1]
-        gap = abs(reachable[best] - reachable[runner])
-        scale = max(abs(reachable[best]), abs(reachable[runner]))
-        if gap < max(TIE_FRACTION * scale, floor):
-            raise UnresolvedRelation(
-                f"{name(best)} ({reachable[best]:.1f} {unit}) and {name(runner)} ({reachable[runner]:.1f} {unit}) "
-                f"are within {TIE_FRACTION:.0%} (or the robot's size) of each other, so '{relation.describe()}' "
-                "does not single one out: say which, with another word"
-            )
-    out = np.zeros(len(candidates), dtype=bool)
-    out[best] = True
-    return out, _said(relation)
+    scale = _circle_diameter if relation.kind in ("largest", "smallest") else float
+    tied = [k for k in ranked if abs(scale(reachable[k]) - scale(reachable[best])) < geometry.diameter_m]
+    out[tied] = True
+    if len(tied) == 1:
+        return out, {best: _said(relation)}
+    said = {}
+    for k in tied:
+        with_ = [o for o in tied if o != k]
+        values = " and ".join(f"{reachable[o]:.1f}" for o in sorted(tied, key=lambda o: reachable[o]))
+        said[k] = (f"{_said(relation)}, tied with {' and '.join(name(o) for o in with_)} ({values} {unit}, within the "
+                   f"robot's {geometry.diameter_m:.2f} m)")  # fmt: skip
+    return out, said
+
+
+def _circle_diameter(area: float) -> float:
+    """The diameter of the circle of ``area`` (m²): areas compared in the robot's length."""
+    return 2.0 * math.sqrt(max(area, 0.0) / math.pi)
 
 
 def _measure(
     relation: Relation, cand: list[int], others: list[np.ndarray], geometry: PlaceGeometry, n: int
-) -> tuple[dict[int, float], str, float]:
-    """Each candidate's measure under the relation's rule (module docstring), its unit, and the absolute margin
-    under which two measures tie (the robot's diameter for lengths)."""
+) -> tuple[dict[int, float], str]:
+    """Each candidate's measure under the relation's rule (module docstring) and its unit."""
     if relation.kind in ("largest", "smallest"):
-        return {k: float(geometry.areas[k]) for k in cand}, "m²", 0.0
+        return {k: float(geometry.areas[k]) for k in cand}, "m²"
     if relation.kind == "between":
         pairs = [(int(a), int(b)) for a in np.flatnonzero(others[0]) for b in np.flatnonzero(others[1])]
         detour = {
@@ -151,8 +164,8 @@ def _measure(
                    default=math.inf)
             for k in cand
         }  # fmt: skip
-        return detour, "m of detour", geometry.diameter_m
-    return {k: geometry.nearest(k, others[0] & ~_only(k, n)) for k in cand}, "m", geometry.diameter_m
+        return detour, "m of detour"
+    return {k: geometry.nearest(k, others[0] & ~_only(k, n)) for k in cand}, "m"
 
 
 def place_geometry(graph: PlanningGraph, resolution: float, diameter_m: float) -> PlaceGeometry:
@@ -206,18 +219,12 @@ def _label(name: Callable[[int], str], places: Sequence[int]) -> str:
 
 def _next_to(
     relation: Relation, cand: list[int], other: np.ndarray, geometry: PlaceGeometry, name: Callable[[int], str]
-) -> np.ndarray:
-    """The one candidate whose territory touches one of ``other`` or which the place graph connects to one."""
+) -> list[int]:
+    """The candidates whose territory touches one of ``other`` or which the place graph connects to one."""
     near = [k for k in cand if (geometry.touching[k] & other & (np.arange(len(other)) != k)).any()]
     if not near:
         raise UnresolvedRelation(
             f"none of {', '.join(name(k) for k in cand)} is {relation.describe()} (no territory touches it and the "
             "robot never walked straight between them): name the place another way"
         )
-    if len(near) > 1:
-        raise UnresolvedRelation(
-            f"{' and '.join(name(k) for k in near)} are all {relation.describe()}: say which, with another word"
-        )
-    out = np.zeros(len(other), dtype=bool)
-    out[near[0]] = True
-    return out
+    return near

@@ -14,6 +14,7 @@ import numpy as np
 
 from spcotmhp.errors import ConflictingInstruction, PlaceCutOff, StartInAvoidedPlace, UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.grid_search import cost_to_go, path_from_field
 from spcotmhp.planning.avoid import avoided_view
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import PlannerSettings
@@ -132,15 +133,15 @@ class StagePlaces:
     def related(
         self, query: PlaceQuery, candidates: np.ndarray, chosen: dict[int, str], region: PlanningGraph | None = None
     ) -> np.ndarray:
-        """The instances among ``candidates`` that the query's relation picks (all of them without one), measured
-        in the start's free ``region``; what the explanation says of the one picked goes into ``chosen`` (place ->
-        "the one closest to the bath")."""
+        """The instances among ``candidates`` that the query's relation picks (all of them without one; the tied
+        ones on a tie), measured in the start's free ``region``; what the explanation says of each goes into
+        ``chosen`` (place -> "the one closest to the bath")."""
         if query.relation is None or not candidates.any():
             return candidates
         others = [self.instances(PlaceQuery.of(arg)) for arg in query.relation.args]
         geometry = self.geometry_of(region if region is not None else self.graph)
         mask, said = resolve(query.relation, candidates, others, geometry, self.instance_label)
-        chosen[int(np.flatnonzero(mask)[0])] = said
+        chosen.update(said)
         return mask
 
     def _check_region(self, region: PlanningGraph, ins: Instruction, inst: np.ndarray, x0: np.ndarray) -> None:
@@ -168,19 +169,22 @@ class StagePlaces:
         cell: np.ndarray,
         escape: np.ndarray,
         chosen: dict[int, str],
-    ) -> tuple[PlanningGraph, np.ndarray]:
-        """The graph to search (the start's free ``region``'s) and the (K,) avoided places: the avoided places leave
-        ``inst`` (in place) and the graph becomes its avoidance view (their nodes removed, their territories
-        blocked). Raises when a stage has only avoided instances or the start (or its escape run) lies inside an
-        avoided place, or a stage's places all lie in other free regions (:meth:`_check_region`)."""
+    ) -> tuple[PlanningGraph, np.ndarray, np.ndarray]:
+        """The graph to search (the start's free ``region``'s), the (K,) avoided places, and the way out of them:
+        the avoided places leave ``inst`` (in place) and the graph becomes its avoidance view (their nodes removed,
+        their territories blocked). A start inside an avoided place (or whose escape run crosses one) leaves it by
+        the shortest footprint-safe way (:meth:`_leave`: crop cells, the last the cell planning starts from; empty
+        otherwise), and the plan never comes back (issue 34). Raises when a stage has only avoided instances, no way
+        out is free, or a stage's places all lie in other free regions (:meth:`_check_region`)."""
         self._check_region(region, ins, inst, x0)
         avoided = np.zeros(self.model.K, dtype=bool)
+        way_out = np.empty((0, 2), dtype=np.int64)
         if not ins.avoid:
-            return region, avoided
+            return region, avoided, way_out
         for q in ins.avoid:
             avoided |= self.related(q, self.phrase_terms(q)[1], chosen, region)
         if not avoided.any():
-            return region, avoided
+            return region, avoided, way_out
         inst &= ~avoided
         for s, q in enumerate(ins.stages):
             if not inst[s].any():
@@ -191,8 +195,28 @@ class StagePlaces:
         esc = graph.to_crop(escape) if len(escape) else escape
         esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)] if len(esc) else esc
         if blocked[cell[0], cell[1]] or (len(esc) and blocked[esc[:, 0], esc[:, 1]].any()):
-            inside = [self.names[k] for k in np.flatnonzero(avoided)]
-            raise StartInAvoidedPlace(
-                f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))})"
-            )
-        return graph, avoided
+            way_out = self._leave(region, blocked, cell, x0, avoided)
+        return graph, avoided, way_out
+
+    def _leave(
+        self, region: PlanningGraph, blocked: np.ndarray, cell: np.ndarray, x0: np.ndarray, avoided: np.ndarray
+    ) -> np.ndarray:
+        """The shortest way (by the map's step cost, Eq. 26's map term: footprint-safe cells only) from the start's
+        ``cell`` to the nearest cell outside the avoided territories: crop cells from ``cell`` to that cell.
+
+        Raises:
+            StartInAvoidedPlace: no free cell outside them is reachable.
+        """
+        cost = np.where(blocked, region.map_cost, region.map_cost)  # the avoided cells may be crossed, to leave
+        outside = region.traversable & ~blocked
+        sources = np.argwhere(outside)
+        if len(sources):
+            field, step = cost_to_go(cost, sources)
+            path = path_from_field(field, step, (int(cell[0]), int(cell[1])))
+            if path is not None:
+                return np.asarray(path.cells, dtype=np.int64)
+        inside = [self.names[k] for k in np.flatnonzero(avoided)]
+        raise StartInAvoidedPlace(
+            f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))}) "
+            "with no free way out of it"
+        )
