@@ -51,14 +51,22 @@ class UnknownPlaceWord(InstructionError):
     """A word is used as a place but no place of the map carries it (the message suggests near misses)."""
 
 
+class NotUnderstood(UnknownPlaceWord):
+    """A word the grammar has no class for, said where no place is expected ("open the fridge"), and not talk that
+    could be passed over (:mod:`spcotmhp.language.talk`): the message names the words, not as unknown places. A
+    subclass of :class:`UnknownPlaceWord` (what such words were reported as before), so callers that catch that
+    one catch both."""
+
+
 class UnsupportedPhrase(InstructionError):
     """The instruction asks for something the planner cannot honour yet ("the second bedroom", "or",
     "next to", "on the left", "wait"); the message names the words."""
 
 
 class AmbiguousPlace(InstructionError):
-    """A place phrase names places of different names and none exactly ("the corridor" beside "east corridor" and
-    "south corridor"): the message lists the names to choose from."""
+    """A word that may name places of different kinds ("bathroom" beside a bath, a toilet and a washroom): the
+    message lists what it may name. (A word several names share, "the corridor" beside an east and a south
+    corridor, names them all since issue 34: the closest is meant.)"""
 
 
 class UnresolvedRelation(InstructionError):

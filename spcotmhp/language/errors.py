@@ -19,7 +19,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from spcotmhp.errors import InstructionError, MalformedInstruction, UnknownPlaceWord, UnsupportedPhrase
+from spcotmhp.errors import InstructionError, MalformedInstruction, NotUnderstood, UnknownPlaceWord, UnsupportedPhrase
+from spcotmhp.language.lexicon import english_units
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.wording import excerpt, named, not_understood, unknown_tail
@@ -64,9 +65,19 @@ def _refusal(
         tail = f" (not understood: {', '.join(unknown)})" if unknown else ""
         return UnsupportedPhrase(f"{_reason(toks, refused, table.reasons[toks[refused].kind])}{tail}")
     if unknown:
-        placed = [_placed(toks, k, table) for k, t in enumerate(toks) if t.kind == "WORD"]
-        verb = "is not a known place word" if len(unknown) == 1 else "are not known place words"
-        return UnknownPlaceWord(f"{', '.join(placed[:6])} {verb}{unknown_tail(unknown, place_words)}")
+        where = [k for k, t in enumerate(toks) if t.kind == "WORD" and _place_expected(toks, k, table, text)]
+        other = [k for k, t in enumerate(toks) if t.kind == "WORD" and k not in where]
+        if not where:  # words of no class where no place is expected: not understood, not unknown places
+            said = ", ".join(excerpt(toks[k].surface, 30) for k in other[:6])
+            verb = "is" if len(other) == 1 else "are"
+            return NotUnderstood(
+                f"{said} {verb} not understood: no place, way of going or other part of an instruction this robot "
+                "follows (it moves only: say where to go, what to pass and what to avoid)"
+            )
+        placed = [_placed(toks, k, table) for k in where]
+        verb = "is not a known place word" if len(where) == 1 else "are not known place words"
+        rest = f"; {', '.join(excerpt(toks[k].surface, 30) for k in other[:4])} not understood" if other else ""
+        return UnknownPlaceWord(f"{', '.join(placed[:6])} {verb}{rest}{unknown_tail(unknown, place_words)}")
     if at >= len(toks):
         if toks and toks[-1].kind in _BLAME_FIRST and toks[-1].kind in table.misplaced:
             return UnsupportedPhrase(table.misplaced[toks[-1].kind].format(**_around(toks, len(toks) - 1)))
@@ -112,6 +123,51 @@ def _misplaced(toks: Sequence[Token], at: int, table: WordTable, text: str) -> I
     )
 
 
+_PLACE_MARKERS = frozenset(
+    "TO VIA STOP_AT AVOID ENTER NEG END_AT ON_WAY_TO INSTEAD_OF WITHOUT CLOSEST FARTHEST NEXT_TO BETWEEN NEAREST "  # noqa: SIM905
+    "LARGEST SMALLEST WHICHEVER ONE_OF ALL ANY_ONE BACK BEFORE AFTER AT OF".split()
+)
+"""Classes after which a place is expected ("go to the garage", "avoid the loft", "next to the porch")."""
+_JOINS = ("AND", "THEN", "OR", "COMMA", "BUT")
+
+
+def _noun(word: str) -> bool:
+    """A word lemminflect knows as a noun and not as a verb's base form (an order starts with one), or does not
+    know at all (a place's name may be a word of its own)."""
+    from spcotmhp.language.talk import _infinitive, _pos
+
+    pos = _pos(word)
+    return not pos or "NOUN" in pos and not _infinitive(word)
+
+
+def _place_expected(toks: Sequence[Token], k: int, table: WordTable, text: str) -> bool:
+    """Whether an unknown word stands where a place would: after a marker that takes one, before or after a place
+    word (a name of two words), or, in Japanese, before a marker that follows its place (ガレージへ)."""
+    before = toks[k - 1] if k > 0 else None
+    after = toks[k + 1] if k + 1 < len(toks) else None
+    if toks[k].surface[:1].isdigit():
+        return False  # "at 6": a time, not a place
+    if before is not None and (before.kind in _PLACE_MARKERS or before.kind == "PLACE"):
+        return True
+    if before is not None and before.kind in _JOINS and not table.by_character:
+        units = english_units(text)
+        said_the = 0 < toks[k].start <= len(units) and units[toks[k].start - 1] in ("the", "a", "an", "my", "our")
+        if said_the or _noun(toks[k].surface):
+            return True  # "the kitchen and the attic" (a noun), not "and open the fridge" (an order)
+    if after is not None and after.kind == "PLACE":
+        return True
+    if table.by_character and after is not None and after.kind in _JA_MARKERS + ("CLOSEST", "FARTHEST", "NEXT_TO"):
+        return True
+    if table.by_character:  # a noun (or a word janome does not know) names a place where one may stand
+        from spcotmhp.language.talk_ja import _analyse
+
+        first = _analyse(toks[k].surface)[:1]
+        return not first or first[0][1] == "名詞" and first[0][2] not in ("代名詞", "非自立", "数", "接尾")
+    if before is not None and before.kind == "WORD" and _place_expected(toks, k - 1, table, text) and not table.by_character:
+        return before.kind == "WORD" and k >= 2 and toks[k - 2].kind in _PLACE_MARKERS  # "to the laundry room"
+    return False
+
+
 def _first_refused(toks: Sequence[Token], table: WordTable) -> int | None:
     """The first word of a refusal class that the sentence cannot accept: not a modifier of an unknown word ("the
     front door": the unknown word is what is not understood)."""
@@ -146,8 +202,6 @@ def _also(toks: Sequence[Token], refused: int | None, table: WordTable) -> str:
 
 def _between(text: str, a: Token, b: Token) -> list[str]:
     """The words left out between two tokens (fillers) of an English sentence."""
-    from spcotmhp.language.lexicon import english_units
-
     return english_units(text)[a.end : b.start]
 
 
