@@ -163,7 +163,12 @@ def _place_expected(toks: Sequence[Token], k: int, table: WordTable, text: str) 
 
         first = _analyse(toks[k].surface)[:1]
         return not first or first[0][1] == "名詞" and first[0][2] not in ("代名詞", "非自立", "数", "接尾")
-    if before is not None and before.kind == "WORD" and _place_expected(toks, k - 1, table, text) and not table.by_character:
+    if (
+        before is not None
+        and before.kind == "WORD"
+        and _place_expected(toks, k - 1, table, text)
+        and not table.by_character
+    ):
         return before.kind == "WORD" and k >= 2 and toks[k - 2].kind in _PLACE_MARKERS  # "to the laundry room"
     return False
 

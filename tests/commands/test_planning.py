@@ -84,8 +84,8 @@ def test_japanese_instruction(tmp_path):
         (["go to the bath", "--start", "-10.0", "-10.0"], "error: the start (-10.00, -10.00) is in"),
         (["go to the bath", "--start", "50", "0"], "error: the start (50.00, 0.00) is outside the map"),
         (
-            ["go to the bath avoiding the kitchen", "--start", "{x}", "{y}"],
-            "lies inside a place to avoid (kitchen)",
+            ["go to the kitchen avoiding the kitchen", "--start", "{x}", "{y}"],
+            "every place named 'kitchen' is also to be avoided",
         ),
     ],
 )
