@@ -161,7 +161,8 @@ def _verdict(planner: HierarchicalPlanner, text: str, start: tuple, want: tuple[
     except SpcotmhpError:
         return "refused"
     said = "the largest one" if kind == "largest" else "the smallest one" if kind == "smallest" else "the one "
-    tie = len(want) == 1 or ("tied with" in plan.explanation or "next to it" in plan.explanation)
+    said = said if kind != "next_to" or len(want) == 1 else "next to"
+    tie = len(want) == 1 or ("tied with" in plan.explanation or f"one of {len(want)} next to" in plan.explanation)
     if plan.goal.id not in want or said not in plan.explanation or not tie:
         return "wrong"
     return "right"

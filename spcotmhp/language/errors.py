@@ -19,9 +19,16 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from spcotmhp.errors import InstructionError, MalformedInstruction, NotUnderstood, UnknownPlaceWord, UnsupportedPhrase
+from spcotmhp.errors import (
+    AmbiguousPlace,
+    InstructionError,
+    MalformedInstruction,
+    NotUnderstood,
+    UnknownPlaceWord,
+    UnsupportedPhrase,
+)
 from spcotmhp.language.lexicon import english_units
-from spcotmhp.language.placewords import Token
+from spcotmhp.language.placewords import Token, place_lexicon
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.wording import excerpt, named, not_understood, unknown_tail
 
@@ -55,6 +62,9 @@ def _refusal(
     at = bad.start_pos if bad is not None and getattr(bad, "type", "$END") != "$END" else len(toks)
     unknown = [t.surface for t in toks if t.kind == "WORD"]
     refused = _first_refused(toks, table)
+    ambiguous = _ambiguous(toks, table, place_words)
+    if ambiguous and refused is None and not any(t.kind in ("FLOOR", "FLOOR_TO") for t in toks):
+        return AmbiguousPlace(ambiguous)
     if not any(t.kind == "PLACE" for t in toks):
         said = [w for w in unknown if w not in table.nouns]
         return UnknownPlaceWord(
@@ -138,6 +148,19 @@ def _noun(word: str) -> bool:
 
     pos = _pos(word)
     return not pos or "NOUN" in pos and not _infinitive(word)
+
+
+def _ambiguous(toks: Sequence[Token], table: WordTable, place_words: Sequence[str]) -> str:
+    """The message for a word that may name places of several kinds ("bathroom"), or ""."""
+    lexicon = place_lexicon(table, tuple(place_words))
+    for t in toks:
+        if t.kind != "WORD":
+            continue
+        key = table.units(t.surface) if table.by_character else (t.surface,)
+        names = lexicon.ambiguous.get(key)
+        if names:
+            return f"{excerpt(t.surface)} may name the {', the '.join(names[:-1])} or the {names[-1]} here: say which"
+    return ""
 
 
 def _place_expected(toks: Sequence[Token], k: int, table: WordTable, text: str) -> bool:

@@ -45,7 +45,11 @@ class PlaceLexicon:
                 if key and key not in keys:
                     variants.setdefault(key, w)
             glued.update((w + noun,) for noun in table.nouns if not table.by_character)
-        synonyms = {key: w for key, w in _synonyms(table, self.words).items() if key not in keys}
+        named = _synonym_names(table, self.words)
+        synonyms = {key: next(iter(ws)) for key, ws in named.items() if len(ws) == 1 and key not in keys}
+        self.ambiguous: Mapping[tuple[str, ...], tuple[str, ...]] = MappingProxyType(
+            {key: tuple(sorted(ws)) for key, ws in named.items() if len(ws) > 1 and key not in keys}
+        )  # "bathroom" beside a bath, a toilet and a washroom: which one is a guess
         variants.update(synonyms)  # "bathroom" is the table's other name of the bath, not "bath" glued to "room"
         glued -= synonyms.keys()
         self.keys: Mapping[tuple[str, ...], str] = MappingProxyType({**variants, **keys})
@@ -82,10 +86,10 @@ def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
     return out
 
 
-def _synonyms(table: WordTable, words: frozenset[str]) -> dict[tuple[str, ...], str]:
-    """The other names of the table's ``synonyms`` (as units, also after an honorific) -> the one place word of
-    ``words`` they may name; a name that may name several of ``words`` is left out (rule 4: "bathroom" is the bath
-    only in a map without a toilet or a washroom)."""
+def _synonym_names(table: WordTable, words: frozenset[str]) -> dict[tuple[str, ...], set[str]]:
+    """The other names of the table's ``synonyms`` (as units, also after an honorific) -> the place words of
+    ``words`` they may name (rule 4: "bathroom" is the bath only in a map without a toilet or a washroom; with
+    several it names none, and is refused saying which it may be)."""
     named: dict[tuple[str, ...], set[str]] = {}
     for word, others in table.synonyms.items():
         if word not in words:
@@ -96,8 +100,7 @@ def _synonyms(table: WordTable, words: frozenset[str]) -> dict[tuple[str, ...], 
                 key = table.units(spelling) if table.by_character else tuple(EN_UNIT.findall(spelling))
                 if key:
                     named.setdefault(key, set()).add(word)
-    ambiguous = {key for key, ws in named.items() if len(ws) > 1}
-    return {key: next(iter(ws)) for key, ws in named.items() if key not in ambiguous}
+    return named
 
 
 def _hiragana(word: str) -> str:

@@ -110,7 +110,7 @@ def resolve(
     >>> mask, said = resolve(Relation("closest", (bath,)), np.array([1, 1, 0], bool), [np.array([0, 0, 1], bool)],
     ...                      geo, lambda k: f"bedroom #{k + 1}")
     >>> np.flatnonzero(mask).tolist(), said[1]
-    ([0, 1], "the one closest to the bath, tied with bedroom #1 (6.0 and 6.2 m, within the robot's 0.44 m)")
+    ([0, 1], "the one closest to the bath, tied with bedroom #1: 6.0 and 6.2 m, less apart than the robot's 0.44 m")
     """
     cand = [int(k) for k in np.flatnonzero(candidates)]
     others = [np.asarray(o, dtype=bool) for o in others]
@@ -120,8 +120,10 @@ def resolve(
         out[near] = True
         if len(near) == 1:
             return out, {near[0]: _said(relation)}
-        listed = " and ".join(name(k) for k in near)
-        return out, {k: f"{_said(relation)}, one of {len(near)} next to it ({listed})" for k in near}
+        where = relation.describe()
+        return out, {
+            k: f"one of {len(near)} {where}, with {' and '.join(name(o) for o in near if o != k)}" for k in near
+        }
     measure, unit = _measure(relation, cand, others, geometry, len(candidates))
     reachable = {k: v for k, v in measure.items() if math.isfinite(v)}
     if not reachable:
@@ -141,8 +143,8 @@ def resolve(
     for k in tied:
         with_ = [o for o in tied if o != k]
         values = " and ".join(f"{reachable[o]:.1f}" for o in sorted(tied, key=lambda o: reachable[o]))
-        said[k] = (f"{_said(relation)}, tied with {' and '.join(name(o) for o in with_)} ({values} {unit}, within the "
-                   f"robot's {geometry.diameter_m:.2f} m)")  # fmt: skip
+        said[k] = (f"{_said(relation)}, tied with {' and '.join(name(o) for o in with_)}: {values} {unit}, less apart "
+                   f"than the robot's {geometry.diameter_m:.2f} m")  # fmt: skip
     return out, said
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from spcotmhp.errors import UnknownPlaceWord
+from spcotmhp.errors import AmbiguousPlace, UnknownPlaceWord
 from spcotmhp.language.reading import read
 
 
@@ -34,14 +34,15 @@ def test_other_names_read_as_the_one_place_word_they_name(text, words, lang, nam
 
 
 @pytest.mark.parametrize(
-    ("text", "words", "lang"),
+    ("text", "words", "lang", "error", "message"),
     [
-        ("go to the bathroom", ["bath", "toilet", "washroom"], "en"),  # bath, toilet or washroom?
-        ("go to the hallway", ["hall", "corridor"], "en"),
-        ("バスルームに行って", ["風呂", "トイレ", "洗面所"], "ja"),
-        ("go to the loo", ["bath", "kitchen"], "en"),  # no toilet in this map
+        ("go to the bathroom", ["bath", "toilet", "washroom"], "en", AmbiguousPlace,
+         "'bathroom' may name the bath, the toilet or the washroom"),
+        ("go to the hallway", ["hall", "corridor"], "en", AmbiguousPlace, "may name the corridor or the hall"),
+        ("バスルームに行って", ["風呂", "トイレ", "洗面所"], "ja", AmbiguousPlace, "may name the トイレ, the 洗面所 or the 風呂"),
+        ("go to the loo", ["bath", "kitchen"], "en", UnknownPlaceWord, "loo"),  # no toilet in this map
     ],
-)
-def test_an_other_name_that_could_name_several_places_or_none_is_refused(text, words, lang):
-    with pytest.raises(UnknownPlaceWord):
+)  # fmt: skip
+def test_an_other_name_that_could_name_several_places_or_none_is_refused(text, words, lang, error, message):
+    with pytest.raises(error, match=message):
         read(text, words, lang)

@@ -92,8 +92,11 @@ def test_avoided_place_is_never_entered(planner):
     assert str(info.value) == (
         "no free path from (6.25, 1.75) reaches a place named 'kitchen' (goal) without entering the places to avoid"
     )
-    with pytest.raises(PlanningError, match=r"the start \(12.75, 1.75\) lies inside a place to avoid \(bedroom\)"):
-        planner.plan("go to the corridor avoiding the bedroom", world(model.map, 3, 25))
+    # from inside the bedroom: the path leaves it by the shortest way and never comes back (issue 34)
+    p = planner.plan("go to the corridor avoiding the bedroom", world(model.map, 3, 25))
+    assert "the start is inside bedroom, to be avoided: the path leaves it by the shortest way" in p.explanation
+    inside = territory_of(planner, p.cells, [int(k) for k, n in enumerate(planner.names) if n == "bedroom"])
+    assert inside[0] and not inside[int(np.flatnonzero(~inside)[0]) :].any()
     with pytest.raises(PlanningError, match="every place named 'bedroom' is also to be avoided"):
         planner.plan("go to the bedroom avoiding the bedroom", world(model.map, 3, 12))
 
