@@ -78,10 +78,10 @@ def _refusal(
         where = [k for k, t in enumerate(toks) if t.kind == "WORD" and _place_expected(toks, k, table, text)]
         other = [k for k, t in enumerate(toks) if t.kind == "WORD" and k not in where]
         if not where:  # words of no class where no place is expected: not understood, not unknown places
-            said = ", ".join(excerpt(toks[k].surface, 30) for k in other[:6])
+            words = ", ".join(excerpt(toks[k].surface, 30) for k in other[:6])
             verb = "is" if len(other) == 1 else "are"
             return NotUnderstood(
-                f"{said} {verb} not understood: no place, way of going or other part of an instruction this robot "
+                f"{words} {verb} not understood: no place, way of going or other part of an instruction this robot "
                 "follows (it moves only: say where to go, what to pass and what to avoid)"
             )
         placed = [_placed(toks, k, table) for k in where]
