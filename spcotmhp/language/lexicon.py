@@ -17,11 +17,14 @@ Rules, in this order (English; Japanese below):
 5. A generic noun of the table ("room") right after a place word belongs to its name ("living room"); adjacent
    place words form one name ("east corridor"). Any other unit is a WORD: no rule of the grammar accepts it.
 6. A number with a place word names the instance the robot shows with it ("bedroom 2", "bedroom #2", "bedroom
-   number two", "number two bedroom", 寝室2, 2番の寝室: the plan's "bedroom #2"; :func:`instance_number`).
+   number two", "number two bedroom", 寝室2, 2番の寝室: the plan's "bedroom #2";
+   :func:`~spcotmhp.language.rewrite_en.instance_number`).
 7. A relation said around the name is the relation after it ("the nearest bedroom to the kitchen", "the farthest
-   bedroom from the bath", "of the three bedrooms, the one nearest the bath": :func:`_relations_en`).
-8. Commas that separate nothing are left out; "no, wait," is one correction (:func:`_corrections_en`); a number
-   alone after a negation or a correction names that instance of the place said last (:func:`_said_again`).
+   bedroom from the bath", "of the three bedrooms, the one nearest the bath").
+8. Commas that separate nothing are left out; "no, wait," is one correction; a number alone after a negation or
+   a correction names that instance of the place said last.
+
+Rules 6-8 in English: :mod:`spcotmhp.language.rewrite_en`.
 
 Japanese: units are characters; the longest match (rule 4) runs on characters over the place words (also in
 hiragana for a katakana name, and after an honorific お/ご) and the table's phrases; fillers are left out after
@@ -36,6 +39,7 @@ from collections.abc import Sequence
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
+from spcotmhp.language.rewrite_en import corrections_en, numbered_en, relations_en, said_again
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
 
@@ -60,7 +64,18 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
         return glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
-    return _relations_en(_said_again(_merge(_numbered_en(_corrections_en(_tokens_en(normalise(text), table, places))))))
+    out = _tokens_en(normalise(text), table, places)
+    kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
+    if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:
+        out = corrections_en(out)
+    if "WORD" in kinds or "ONE" in kinds:
+        out = numbered_en(out)
+    out = _merge(out)
+    if kinds & {"NEG", "NO", "CORRECTION"} and kinds & {"WORD", "ONE"}:
+        out = said_again(out)
+    if kinds & {"NEAREST", "MODIFIER", "OF"}:
+        out = relations_en(out)
+    return out
 
 
 def english_units(text: str) -> list[str]:
@@ -205,145 +220,6 @@ def _number(unit: str) -> float | None:
         return float(unit)
     except ValueError:
         return None
-
-
-MAX_INSTANCE = 99
-"""Largest instance number a place phrase may say ("bedroom 2"); a larger number is no instance of a home's name."""
-
-
-def instance_number(unit: str) -> int | None:
-    """The instance number a unit says: digits ("2", "#2" is cut to "2") or a number word ("two"), 1 to
-    :data:`MAX_INSTANCE`; None otherwise."""
-    if unit.isdigit():
-        n = int(unit)
-    elif unit in _NUMBERS and unit not in ("a", "an"):
-        n = _NUMBERS[unit]
-    else:
-        return None
-    return n if 1 <= n <= MAX_INSTANCE else None
-
-
-def _numbered_en(items: list[Token]) -> list[Token]:
-    """Rule 6: a number said with a place word names the instance the robot shows with it ("bedroom 2", "bedroom
-    #2", "bedroom number two", "number two bedroom", "bedroom one": the plan's "bedroom #2"): the PLACE token
-    carries it, with the words in its surface."""
-    out: list[Token] = []
-    i = 0
-    while i < len(items):
-        it = items[i]
-        if it.kind == "PLACE" and it.number is None:
-            j = i + 1 + (i + 1 < len(items) and items[i + 1].kind == "WORD" and items[i + 1].surface == "number")
-            n = _said_number(items[j]) if j < len(items) else None
-            if n is not None and (j == i + 1 or items[i + 1].surface == "number"):
-                said = " ".join(t.surface for t in items[i : j + 1])
-                out.append(it._replace(surface=said, number=n, end=items[j].end))
-                i = j + 1
-                continue
-        before = _said_number(it)
-        after_number = out and out[-1].kind == "WORD" and out[-1].surface == "number"
-        place = items[i + 1] if i + 1 < len(items) else None
-        if after_number and before is not None and place is not None and place.kind == "PLACE" and place.number is None:
-            said = f"number {it.surface} {place.surface}"
-            out[-1] = place._replace(surface=said, number=before, start=out[-1].start)
-            i += 2
-            continue
-        out.append(it)
-        i += 1
-    return out
-
-
-def _relations_en(items: list[Token]) -> list[Token]:
-    """Rule 7: a relation said around the name says the same as after it: "the nearest bedroom to the kitchen" is
-    "the bedroom nearest to the kitchen", "the farthest bedroom from the bath" is "the bedroom farthest from the
-    bath"; "of the (three) bedrooms, (go to) the one nearest the bath" is "the bedroom nearest the bath" (the number
-    only says how many there are)."""
-    out: list[Token] = []
-    i = 0
-    while i < len(items):
-        it = items[i]
-        place = items[i + 1] if i + 1 < len(items) else None
-        prep = items[i + 2] if i + 2 < len(items) else None
-        if place is not None and prep is not None and place.kind == "PLACE":
-            near = it.kind == "NEAREST" and prep.kind == "TO"
-            far = it.kind == "MODIFIER" and it.surface in ("farthest", "furthest") and prep.kind == "FROM"
-            if near or far:
-                kind = "CLOSEST" if near else "FARTHEST"
-                out += [place, Token(kind, f"{it.surface} .. {prep.surface}", start=prep.start, end=prep.end)]
-                i += 3
-                continue
-        out.append(it)
-        i += 1
-    return _of_the(out)
-
-
-def _of_the(items: list[Token]) -> list[Token]:
-    """Rule 7's "of the bedrooms ... the one R": the place said in the plural after "of" opening a sentence
-    stands for the "one" said after it."""
-    if len(items) < 3 or items[0].kind != "OF":
-        return items
-    k = 1 + (items[1].kind == "WORD" and instance_number(items[1].surface) is not None)
-    if k >= len(items) or items[k].kind != "PLACE" or not items[k].plural:
-        return items
-    ones = [j for j in range(k + 1, len(items)) if items[j].kind == "ONE"]
-    if not ones:
-        return items
-    place = items[k]
-    rest = [t for t in items[k + 1 :]]
-    j = ones[0] - k - 1
-    rest[j] = place._replace(surface=f"{rest[j].surface} of the {place.surface}", start=rest[j].start, end=rest[j].end)
-    return [t for t in rest if t.kind != "COMMA" or rest.index(t) != 0]
-
-
-def _corrections_en(items: list[Token]) -> list[Token]:
-    """Rule 8: commas that separate nothing are left out (before a full stop, at the end, twice in a row); "no,
-    wait," and "wait, no," are one correction (the "wait" is no wait at a place)."""
-    out: list[Token] = []
-    for it in items:
-        if it.kind == "_STOP" and out and out[-1].kind == "COMMA":
-            out.pop()
-        if it.kind == "COMMA" and out and out[-1].kind == "COMMA":
-            continue
-        out.append(it)
-    if out and out[-1].kind == "COMMA":
-        out.pop()
-    merged: list[Token] = []
-    i = 0
-    while i < len(out):
-        it = out[i]
-        j = i + 1 + (i + 1 < len(out) and out[i + 1].kind == "COMMA")
-        pair = {it.kind, out[j].kind} if j < len(out) else set()
-        if pair == {"NO", "WAIT"} and it.kind != out[j].kind:
-            merged.append(Token("CORRECTION", f"{it.surface} {out[j].surface}", start=it.start, end=out[j].end))
-            i = j + 1
-            continue
-        merged.append(it)
-        i += 1
-    return merged
-
-
-def _said_again(items: list[Token]) -> list[Token]:
-    """Rule 6 again: a number alone after a negation or a correction ("any bedroom except number 1", "bedroom two,
-    no, three") names that instance of the place said last."""
-    out: list[Token] = []
-    for it in items:
-        n = _said_number(it)
-        before = out[-1] if out else None
-        if before is not None and before.kind == "WORD" and before.surface == "number" and n is not None:
-            out.pop()
-            before = out[-1] if out else None
-        elif it.kind == "ONE":  # "not the one next to the toilet": "one" is a number only after "number"
-            n = None
-        cue = before is not None and before.kind in ("NEG", "NO", "CORRECTION")
-        place = next((t for t in reversed(out) if t.kind == "PLACE"), None)
-        if n is not None and cue and place is not None:
-            out.append(place._replace(surface=it.surface, number=n, start=it.start, end=it.end))
-            continue
-        out.append(it)
-    return out
-
-
-def _said_number(tok: Token) -> int | None:
-    return instance_number(tok.surface) if tok.kind in ("WORD", "ONE") else None
 
 
 def _merge(items: list[Token]) -> list[Token]:

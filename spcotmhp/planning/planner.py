@@ -173,12 +173,7 @@ class HierarchicalPlanner(StagePlaces):
             )
         posterior = here = self.terms.place_posterior(x0)
         if len(way_out) > 1:  # the start is inside a place to avoid: leave it by the shortest way, never come back
-            left = ", ".join(sorted({self.names[k] for k in np.flatnonzero(avoided)}))
-            notes.append(f"the start is inside {left}, to be avoided: the path leaves it by the shortest way "
-                         f"({path_length(graph.to_map(way_out), res):.1f} m) and does not enter it again")  # fmt: skip
-            escape = np.vstack([escape, graph.to_map(way_out[:-1])]) if len(escape) else graph.to_map(way_out[:-1])
-            cell = way_out[-1]
-            posterior = self.terms.place_posterior(self._world(graph.to_map(cell)[None])[0])
+            escape, cell, posterior = self._leaving(graph, way_out, escape, avoided, notes)
         result = self._solve(graph, posterior, cell, semantic, inst, ins, x0, avoided, notes)
         cells, smoothed = self.metric_path(graph, cell, result)
         node_points = self._world(graph.node_cell[result.nodes], graph.offset)
@@ -205,6 +200,21 @@ class HierarchicalPlanner(StagePlaces):
         )
         plan.time_online_s = time.perf_counter() - t0
         return plan
+
+    def _leaving(
+        self, graph: PlanningGraph, way_out: np.ndarray, escape: np.ndarray, avoided: np.ndarray, notes: list[str]
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The escape with the way out of an avoided place after it, the cell planning starts from (its end) and
+        p(i | x) there; the note saying so goes into ``notes``."""
+        left = ", ".join(sorted({self.names[k] for k in np.flatnonzero(avoided)}))
+        notes.append(
+            f"the start is inside {left}, to be avoided: the path leaves it by the shortest way "
+            f"({path_length(graph.to_map(way_out), self.resolution):.1f} m) and does not enter it again"
+        )
+        out = graph.to_map(way_out[:-1])
+        escape = np.vstack([escape, out]) if len(escape) else out
+        cell = way_out[-1]
+        return escape, cell, self.terms.place_posterior(self._world(graph.to_map(cell)[None])[0])
 
     def _world(self, cells: np.ndarray, offset: tuple[int, int] | None = None) -> np.ndarray:
         """The map's ``cell_to_world`` of (n, 2) integer map cells (crop cells of a crop whose corner is at map cell

@@ -139,13 +139,19 @@ def resolve(
     out[tied] = True
     if len(tied) == 1:
         return out, {best: _said(relation)}
-    said = {}
-    for k in tied:
-        with_ = [o for o in tied if o != k]
-        values = " and ".join(f"{reachable[o]:.1f}" for o in sorted(tied, key=lambda o: reachable[o]))
-        said[k] = (f"{_said(relation)}, tied with {' and '.join(name(o) for o in with_)}: {values} {unit}, less apart "
-                   f"than the robot's {geometry.diameter_m:.2f} m")  # fmt: skip
-    return out, said
+    return out, _tied(relation, tied, reachable, unit, geometry.diameter_m, name)
+
+
+def _tied(
+    relation: Relation, tied: list[int], measure: dict[int, float], unit: str, diameter: float, name: Callable
+) -> dict[int, str]:
+    """How the explanation says each of several tied instances was picked, with the others and the measures."""
+    values = " and ".join(f"{measure[o]:.1f}" for o in sorted(tied, key=lambda o: measure[o]))
+    return {
+        k: f"{_said(relation)}, tied with {' and '.join(name(o) for o in tied if o != k)}: {values} {unit}, less "
+        f"apart than the robot's {diameter:.2f} m"
+        for k in tied
+    }
 
 
 def _circle_diameter(area: float) -> float:

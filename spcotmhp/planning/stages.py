@@ -11,6 +11,7 @@ leave every stage and block their territories (:mod:`spcotmhp.planning.avoid`).
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage
 
 from spcotmhp.errors import ConflictingInstruction, PlaceCutOff, StartInAvoidedPlace, UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel
@@ -195,23 +196,37 @@ class StagePlaces:
         esc = graph.to_crop(escape) if len(escape) else escape
         esc = esc[(esc >= 0).all(axis=1) & (esc < np.array(blocked.shape)).all(axis=1)] if len(esc) else esc
         if blocked[cell[0], cell[1]] or (len(esc) and blocked[esc[:, 0], esc[:, 1]].any()):
-            way_out = self._leave(region, blocked, cell, x0, avoided)
+            way_out = self._leave(region, blocked, cell, x0, avoided, inst)
         return graph, avoided, way_out
 
     def _leave(
-        self, region: PlanningGraph, blocked: np.ndarray, cell: np.ndarray, x0: np.ndarray, avoided: np.ndarray
+        self,
+        region: PlanningGraph,
+        blocked: np.ndarray,
+        cell: np.ndarray,
+        x0: np.ndarray,
+        avoided: np.ndarray,
+        inst: np.ndarray,
     ) -> np.ndarray:
         """The shortest way (by the map's step cost, Eq. 26's map term: footprint-safe cells only) from the start's
-        ``cell`` to the nearest cell outside the avoided territories: crop cells from ``cell`` to that cell.
+        ``cell`` out of the avoided territories, into the free space outside them from which every stage's places
+        can be reached (``inst``: (S, K); a room with two doors is left by the one that leads on): crop cells from
+        ``cell`` to the first cell outside.
 
         Raises:
-            StartInAvoidedPlace: no free cell outside them is reachable.
+            StartInAvoidedPlace: no such cell is reachable.
         """
-        cost = np.where(blocked, region.map_cost, region.map_cost)  # the avoided cells may be crossed, to leave
         outside = region.traversable & ~blocked
-        sources = np.argwhere(outside)
+        labels, _ = ndimage.label(outside, structure=np.ones((3, 3), dtype=bool))
+        node_label = labels[region.node_cell[:, 0], region.node_cell[:, 1]]
+        leads_on = None
+        for stage in inst:
+            here = set(node_label[np.isin(region.node_place, np.flatnonzero(stage & ~avoided))].tolist()) - {0}
+            leads_on = here if leads_on is None else leads_on & here
+        targets = outside & np.isin(labels, sorted(leads_on)) if leads_on else outside
+        sources = np.argwhere(targets)
         if len(sources):
-            field, step = cost_to_go(cost, sources)
+            field, step = cost_to_go(region.map_cost, sources, region.settings.connectivity)  # may cross avoided cells
             path = path_from_field(field, step, (int(cell[0]), int(cell[1])))
             if path is not None:
                 return np.asarray(path.cells, dtype=np.int64)

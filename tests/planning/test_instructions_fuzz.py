@@ -174,13 +174,18 @@ def test_unsupported_language():
         ("go to the bedrom", "bedroom"),
         ("take me to the dinning room", "dining"),
         ("go to the kitchen via the coridor", "corridor"),
-        ("go to the bathroom", "bath"),
     ],
 )
 def test_near_misses_are_suggested_never_corrected(text, near):
     with pytest.raises(errors.UnknownPlaceWord) as info:
         parse_text(text, EN)
     assert f"did you mean '{near}'?" in str(info.value)
+
+
+def test_a_word_of_several_kinds_of_place_says_which_it_may_name():
+    """ "bathroom" beside a bath, a toilet and a washroom (issue 34: said as what it may name, not a near miss)."""
+    with pytest.raises(errors.AmbiguousPlace, match="'bathroom' may name the bath, the toilet or the washroom"):
+        parse_text("go to the bathroom", EN)
 
 
 @pytest.mark.parametrize(

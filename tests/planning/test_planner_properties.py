@@ -103,18 +103,26 @@ def feasible(model, planner, start, goal: str, waypoints: list[str], avoid: list
     usable = graph.traversable & ~np.isin(graph.territory, np.flatnonzero(avoided))
     labels, _ = ndimage.label(usable, structure=ndimage.generate_binary_structure(2, 1))
     s = graph.to_crop(start)
-    if labels[s[0], s[1]] == 0:
-        return False
+    components = {int(labels[s[0], s[1]])} - {0}
+    if not components and graph.traversable[s[0], s[1]]:
+        # a start inside an avoided place first leaves it (issue 34): into any free component next to the
+        # traversable cells it can cross to get out
+        around, _ = ndimage.label(graph.traversable, structure=ndimage.generate_binary_structure(2, 2))
+        mine = around == around[s[0], s[1]]
+        components = set(np.unique(labels[mine]).tolist()) - {0}
     nodes = graph.node_cell
-    reached = np.zeros(model.K, dtype=bool)
-    reached[graph.node_place[labels[nodes[:, 0], nodes[:, 1]] == labels[s[0], s[1]]]] = True
-    places = reached & ~avoided & np.asarray(model.active_places, dtype=bool)
-    for word in [*waypoints, goal]:
-        inst = np.zeros(model.K, dtype=bool)
-        inst[instances(model, word)] = True
-        if not (inst & places).any():
-            return False
-    return True
+    for component in components:
+        reached = np.zeros(model.K, dtype=bool)
+        reached[graph.node_place[labels[nodes[:, 0], nodes[:, 1]] == component]] = True
+        places = reached & ~avoided & np.asarray(model.active_places, dtype=bool)
+        ok = True
+        for word in [*waypoints, goal]:
+            inst = np.zeros(model.K, dtype=bool)
+            inst[instances(model, word)] = True
+            ok = ok and bool((inst & places).any())
+        if ok:
+            return True
+    return False
 
 
 def check_plan(model, planner, start, plan, goal, waypoints, avoid, raw=None) -> None:
@@ -139,11 +147,13 @@ def check_plan(model, planner, start, plan, goal, waypoints, avoid, raw=None) ->
         t += int(hits[0])
     assert inside_places(model, xy[-1:], instances(model, goal)).all()
     assert plan.places[-1].role == "goal" and plan.places[-1].name == goal
-    # never inside an avoided place's territory
+    # never inside an avoided place's territory (but on the way out of it, when the start is inside: issue 34)
     if avoid:
         avoided = np.unique(np.concatenate([instances(model, a) for a in avoid]))
         crop = planner.graph.to_crop(cells)
-        assert not np.isin(planner.graph.territory[crop[:, 0], crop[:, 1]], avoided).any()
+        inside = np.isin(planner.graph.territory[crop[:, 0], crop[:, 1]], avoided)
+        out = int(np.argmin(inside)) if inside.any() and not inside.all() else 0
+        assert not inside[out:].any() and (out == 0 or "leaves it by the shortest way" in plan.explanation)
     if planner.settings.arrival_quantile is not None:
         assert place_regions(model, xy[-1:], [plan.goal.id], planner.settings.arrival_quantile).all()
     # smoothing and the arrival cut keep Eq. 28's plan and never lengthen the assembled path

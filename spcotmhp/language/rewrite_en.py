@@ -1,0 +1,151 @@
+"""English token rewrites of :mod:`spcotmhp.language.lexicon` (its rules 6-8): what people say that the grammar
+reads in another order or form. Each takes the tokens of a sentence and gives them back rewritten; the lexicon runs
+one only on a sentence that holds what it rewrites."""
+
+from __future__ import annotations
+
+from spcotmhp.language.placewords import Token
+
+_NUMBERS = {
+    "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10,
+    "eleven": 11, "twelve": 12, "fifteen": 15, "twenty": 20,
+}  # fmt: skip
+
+
+MAX_INSTANCE = 99
+"""Largest instance number a place phrase may say ("bedroom 2"); a larger number is no instance of a home's name."""
+
+
+def instance_number(unit: str) -> int | None:
+    """The instance number a unit says: digits ("2", "#2" is cut to "2") or a number word ("two"), 1 to
+    :data:`MAX_INSTANCE`; None otherwise."""
+    if unit.isdigit():
+        n = int(unit)
+    elif unit in _NUMBERS:
+        n = _NUMBERS[unit]
+    else:
+        return None
+    return n if 1 <= n <= MAX_INSTANCE else None
+
+
+def numbered_en(items: list[Token]) -> list[Token]:
+    """Rule 6: a number said with a place word names the instance the robot shows with it ("bedroom 2", "bedroom
+    #2", "bedroom number two", "number two bedroom", "bedroom one": the plan's "bedroom #2"): the PLACE token
+    carries it, with the words in its surface."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        it = items[i]
+        if it.kind == "PLACE" and it.number is None:
+            j = i + 1 + (i + 1 < len(items) and items[i + 1].kind == "WORD" and items[i + 1].surface == "number")
+            n = _said_number(items[j]) if j < len(items) else None
+            if n is not None and (j == i + 1 or items[i + 1].surface == "number"):
+                said = " ".join(t.surface for t in items[i : j + 1])
+                out.append(it._replace(surface=said, number=n, end=items[j].end))
+                i = j + 1
+                continue
+        before = _said_number(it)
+        after_number = out and out[-1].kind == "WORD" and out[-1].surface == "number"
+        place = items[i + 1] if i + 1 < len(items) else None
+        if after_number and before is not None and place is not None and place.kind == "PLACE" and place.number is None:
+            said = f"number {it.surface} {place.surface}"
+            out[-1] = place._replace(surface=said, number=before, start=out[-1].start)
+            i += 2
+            continue
+        out.append(it)
+        i += 1
+    return out
+
+
+def relations_en(items: list[Token]) -> list[Token]:
+    """Rule 7: a relation said around the name says the same as after it: "the nearest bedroom to the kitchen" is
+    "the bedroom nearest to the kitchen", "the farthest bedroom from the bath" is "the bedroom farthest from the
+    bath"; "of the (three) bedrooms, (go to) the one nearest the bath" is "the bedroom nearest the bath" (the number
+    only says how many there are)."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        it = items[i]
+        place = items[i + 1] if i + 1 < len(items) else None
+        prep = items[i + 2] if i + 2 < len(items) else None
+        if place is not None and prep is not None and place.kind == "PLACE":
+            near = it.kind == "NEAREST" and prep.kind == "TO"
+            far = it.kind == "MODIFIER" and it.surface in ("farthest", "furthest") and prep.kind == "FROM"
+            if near or far:
+                kind = "CLOSEST" if near else "FARTHEST"
+                out += [place, Token(kind, f"{it.surface} .. {prep.surface}", start=prep.start, end=prep.end)]
+                i += 3
+                continue
+        out.append(it)
+        i += 1
+    return _of_the(out)
+
+
+def _of_the(items: list[Token]) -> list[Token]:
+    """Rule 7's "of the bedrooms ... the one R": the place said in the plural after "of" opening a sentence
+    stands for the "one" said after it."""
+    if len(items) < 3 or items[0].kind != "OF":
+        return items
+    k = 1 + (items[1].kind == "WORD" and instance_number(items[1].surface) is not None)
+    if k >= len(items) or items[k].kind != "PLACE" or not items[k].plural:
+        return items
+    ones = [j for j in range(k + 1, len(items)) if items[j].kind == "ONE"]
+    if not ones:
+        return items
+    place = items[k]
+    rest = [t for t in items[k + 1 :]]
+    j = ones[0] - k - 1
+    rest[j] = place._replace(surface=f"{rest[j].surface} of the {place.surface}", start=rest[j].start, end=rest[j].end)
+    return [t for t in rest if t.kind != "COMMA" or rest.index(t) != 0]
+
+
+def corrections_en(items: list[Token]) -> list[Token]:
+    """Rule 8: commas that separate nothing are left out (before a full stop, at the end, twice in a row); "no,
+    wait," and "wait, no," are one correction (the "wait" is no wait at a place)."""
+    out: list[Token] = []
+    for it in items:
+        if it.kind == "_STOP" and out and out[-1].kind == "COMMA":
+            out.pop()
+        if it.kind == "COMMA" and out and out[-1].kind == "COMMA":
+            continue
+        out.append(it)
+    if out and out[-1].kind == "COMMA":
+        out.pop()
+    merged: list[Token] = []
+    i = 0
+    while i < len(out):
+        it = out[i]
+        j = i + 1 + (i + 1 < len(out) and out[i + 1].kind == "COMMA")
+        pair = {it.kind, out[j].kind} if j < len(out) else set()
+        if pair == {"NO", "WAIT"} and it.kind != out[j].kind:
+            merged.append(Token("CORRECTION", f"{it.surface} {out[j].surface}", start=it.start, end=out[j].end))
+            i = j + 1
+            continue
+        merged.append(it)
+        i += 1
+    return merged
+
+
+def said_again(items: list[Token]) -> list[Token]:
+    """Rule 6 again: a number alone after a negation or a correction ("any bedroom except number 1", "bedroom two,
+    no, three") names that instance of the place said last."""
+    out: list[Token] = []
+    for it in items:
+        n = _said_number(it)
+        before = out[-1] if out else None
+        if before is not None and before.kind == "WORD" and before.surface == "number" and n is not None:
+            out.pop()
+            before = out[-1] if out else None
+        elif it.kind == "ONE":  # "not the one next to the toilet": "one" is a number only after "number"
+            n = None
+        cue = before is not None and before.kind in ("NEG", "NO", "CORRECTION")
+        place = next((t for t in reversed(out) if t.kind == "PLACE"), None)
+        if n is not None and cue and place is not None:
+            out.append(place._replace(surface=it.surface, number=n, start=it.start, end=it.end))
+            continue
+        out.append(it)
+    return out
+
+
+def _said_number(tok: Token) -> int | None:
+    return instance_number(tok.surface) if tok.kind in ("WORD", "ONE") else None
