@@ -13,7 +13,8 @@ holds), is talk when it is a statement: it opens with a subject (a word of ``sub
 verb (lemminflect's VERB or AUX, a contraction of one, or the IS class). A "to" in it must be followed by a verb
 ("about to eat": a purpose, not a place), and a motion verb by no "to" or "in" ("we're going to the garage" says
 where someone goes: it stays in the instruction). Connectors and motion words at its edges belong to the instruction
-next to it ("I'm cooking, come to the kitchen": "come to" is the instruction's).
+next to it ("I'm cooking, come to the kitchen": "come to" is the instruction's); a run whose verb takes the place
+after it ("I know you just got to the kitchen") is no talk.
 
 Japanese: :mod:`spcotmhp.language.talk_ja`.
 """
@@ -99,6 +100,9 @@ def pass_over(
         while j < len(toks) and ok[j]:
             j += 1
         a, b = _trimmed(toks, i, j)
+        if b < j and toks[b].kind in ("TO", "AT"):
+            i = j  # "I know you just got | to the kitchen": the place is the talk's, not the instruction's: kept
+            continue
         if a < b and _statement(
             toks[a:b], subjects, 0 < toks[a].start <= len(units) and units[toks[a].start - 1] in _DETERMINERS
         ):
@@ -168,6 +172,10 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
             nxt = run[k + 1] if k + 1 < len(run) else None
             if nxt is None or nxt.kind != "WORD" or not _infinitive(nxt.surface):
                 return False
+        elif t.kind == "AT" and k + 1 < len(run) and run[k + 1].kind == "WORD":
+            return False  # "I need you in the garage": a location stays in the instruction
+        elif t.kind == "WORD" and k == 0 and t.surface in ("you", "me", "us"):
+            return False  # "you go to the garage": an order, not a statement
         elif t.kind == "WORD" and (t.surface != _base(t.surface) or {"VERB", "AUX"} & set(_pos(t.surface))):
             verb = verb or k > 0 or t.surface != _base(t.surface)
     return verb

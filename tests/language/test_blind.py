@@ -14,7 +14,7 @@ import pytest
 from tests.helpers.corpus import DATA, corpus_rows, rows, verdict
 
 FLOORS = {
-    "blind": 294, "blind2": 336, "blind3": 251, "blind4": 210, "blind5": 175, "blind6": 161, "blind7": 149,
+    "blind": 294, "blind2": 336, "blind3": 251, "blind4": 213, "blind5": 177, "blind6": 161, "blind7": 149,
 }  # fmt: skip
 """Sentences read as labelled at the commit that wrote this test (English and Japanese together)."""
 

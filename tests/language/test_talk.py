@@ -42,6 +42,8 @@ NOT_TALK_EN = [
     "the garage",  # a bare place phrase
     "not the kitchen either",
     "we're in the bath",  # a place
+    "I know you just got to the bath",  # the talk's verb takes the place after it
+    "I need you in the garage later",
 ]
 """Clauses that carry meaning: appended to an understood sentence they must not be passed over."""
 
