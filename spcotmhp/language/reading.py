@@ -62,15 +62,17 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
     except _NoDerivation as exc:
         first, said_as = exc.at, toks
     # no derivation as said: Japanese verb endings in their plain form, then talk passed over (talk.py, talk_ja.py)
+    source: Sequence[str] = english_units(text) if lang == "en" else normalise(text)  # what the tokens index
     if table.by_character:
-        plain = tokens(plain_verbs(normalise(text), table), table, place_words)
+        plain_text = plain_verbs(normalise(text), table)
+        plain = tokens(plain_text, table, place_words)
         if [t.kind for t in plain] != [t.kind for t in toks]:
             try:
                 return _WALKS[lang](plain, text, table).read(_shape(lang, tuple(t.kind for t in plain)))
             except _NoDerivation:
                 pass
-            toks = plain
-    passed = pass_over(toks, table, english_units(text) if lang == "en" else ())
+            toks, source = plain, plain_text
+    passed = pass_over(toks, table, source)
     if passed is not None:
         kept, said = passed
         try:

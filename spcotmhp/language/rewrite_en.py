@@ -28,10 +28,28 @@ def instance_number(unit: str) -> int | None:
     return n if 1 <= n <= MAX_INSTANCE else None
 
 
+def _apposition(items: list[Token]) -> list[Token]:
+    """ "the corridor, the east one": a place word and "one" after a comma and another place name that place again,
+    said more exactly (the east corridor), not a second place."""
+    out: list[Token] = []
+    for it in items:
+        if (
+            it.kind == "ONE" and len(out) >= 3 and out[-1].kind == "PLACE" and out[-2].kind == "COMMA"
+            and out[-3].kind == "PLACE" and not set(out[-1].words) & set(out[-3].words)
+        ):  # fmt: skip
+            said, _, first = out.pop(), out.pop(), out.pop()
+            out.append(first._replace(surface=f"{first.surface}, {said.surface} {it.surface}",
+                                      words=said.words + first.words, end=it.end))  # fmt: skip
+            continue
+        out.append(it)
+    return out
+
+
 def numbered_en(items: list[Token]) -> list[Token]:
     """Rule 6: a number said with a place word names the instance the robot shows with it ("bedroom 2", "bedroom
     #2", "bedroom number two", "number two bedroom", "bedroom one": the plan's "bedroom #2"): the PLACE token
     carries it, with the words in its surface."""
+    items = _apposition(items)
     out: list[Token] = []
     i = 0
     while i < len(items):
@@ -140,6 +158,8 @@ def said_again(items: list[Token]) -> list[Token]:
             n = None
         cue = before is not None and before.kind in ("NEG", "NO", "CORRECTION")
         place = next((t for t in reversed(out) if t.kind == "PLACE"), None)
+        if place is not None and before is not None and before.kind != "NEG" and place.number is None:
+            place = None  # "wait ten minutes, no, make that five": a correction of a number said before, not a place
         if n is not None and cue and place is not None:
             out.append(place._replace(surface=it.surface, number=n, start=it.start, end=it.end))
             continue

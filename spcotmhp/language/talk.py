@@ -82,7 +82,7 @@ def pass_over(
     if table.by_character:
         from spcotmhp.language.talk_ja import pass_over_ja
 
-        return pass_over_ja(toks, table)
+        return pass_over_ja(toks, table, "".join(units))
     if not table.talk:
         return None
     neutral = frozenset(table.talk.get("neutral", ()))

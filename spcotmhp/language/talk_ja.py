@@ -57,7 +57,11 @@ def plain_verbs(text: str, table: WordTable) -> str:
             start += 1 if morphemes[start + 1][3] in _REQUESTS else 0
         j, negative, condition = _tail(morphemes, start)
         following = morphemes[j] if j < len(morphemes) else None
-        kept = j == i + 1 and (following is None or following[1] == "名詞" or surface == verbs[key][0])
+        kept = (
+            j == i + 1
+            and key not in _REQUESTS
+            and (following is None or following[1] == "名詞" or surface == verbs[key][0])
+        )
         if condition or kept:  # 行ったら, 行く前に: as said
             out.append("".join(m[0] for m in morphemes[i:j]))
         else:
@@ -69,6 +73,7 @@ def plain_verbs(text: str, table: WordTable) -> str:
 def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, bool, bool]:
     """Where the endings after a verb stop, and whether they hold a negation or a condition."""
     negative = condition = False
+    start = j
     while j < len(morphemes):
         surface, pos, sub, base = morphemes[j]
         if surface in _CLAUSE_ENDS or pos in ("記号",) and surface not in ("ー",):
@@ -77,6 +82,8 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
             condition = True
         if negative and (surface in ("も", "いい", "よい", "良い") or base in ("いい", "よい", "良い", "大丈夫")):
             condition = True  # 寄らなくていい, 通らなくても: what need not be done, left as said (refused)
+        if pos == "助詞" and surface == "な" and j == start and sub == "終助詞":
+            negative = True  # 入るな: the dictionary form and な forbid it
         if pos == "助動詞":
             negative |= base in _NEGATION or surface in _NEGATION
         elif (
@@ -143,8 +150,11 @@ def _analyse(text: str) -> list[tuple[str, str, str, str]]:
     ]
 
 
-def pass_over_ja(toks: Sequence[Token], table: WordTable) -> tuple[list[Token], list[str]] | None:
-    """``toks`` without the talk in them, and the talk as said; None when there is none (module docstring)."""
+def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tuple[list[Token], list[str]] | None:
+    """``toks`` without the talk in them, and the talk as said; None when there is none (module docstring).
+    ``text``: the sentence (normalised) whose characters, spaces left out, the tokens index: a run is judged with
+    the fillers said inside and after it (ぐずぐずするな: the な that forbids)."""
+    chars = [ch for ch in text if not ch.isspace()]
     meaning = frozenset(table.talk.get("meaning", ()))
     cut: set[int] = set()
     said: list[str] = []
@@ -160,9 +170,14 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable) -> tuple[list[Token], 
                 break
             j += 1
         ends = toks[j - 1].kind in ("FROM", "DE") or j == len(toks) or toks[j].kind in ("_STOP", "COMMA")
-        starts = i == 0 or toks[i - 1].kind in ("_STOP", "COMMA", "GO", "GOAL", "WAIT")
+        before = (
+            toks[i - 1] if i > 0 else None
+        )  # after a verb, not after a bare particle (玄関に荷物が届いて: the place's)
+        starts = before is None or before.kind in ("_STOP", "COMMA", "GO", "WAIT") or (
+            before.kind == "GOAL" and before.surface not in ("に", "へ", "まで"))  # fmt: skip
         run = toks[i:j]
-        if ends and starts and _reason(run, meaning):
+        said_as = "".join(chars[run[0].start : toks[j].start if j < len(toks) else len(chars)]) if chars else ""
+        if ends and starts and _reason(run, meaning, said_as):
             cut.update(range(i, j))
             said.append("".join(t.surface for t in run))
         i = j
@@ -174,10 +189,10 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable) -> tuple[list[Token], 
     return kept, said
 
 
-def _reason(run: Sequence[Token], meaning: frozenset[str]) -> bool:
+def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") -> bool:
     """Whether a run of words is talk: every word known to janome, no number, none of ``meaning``, and a verb or
-    an adjective among them (a statement, not a name)."""
-    text = "".join(t.surface for t in run)
+    an adjective among them (a statement, not a name); ``said_as``: the run with its fillers, as said."""
+    text = said_as or "".join(t.surface for t in run)
     if not any(t.kind == "WORD" for t in run):
         return False
     if run[-1].kind == "DE" and not text.endswith("ので"):
@@ -203,7 +218,8 @@ def _ordered(morphemes: Sequence[tuple[str, str, str, str]]) -> bool:
     if not words:
         return False
     last = words[-1]
-    return last[0] in ("て", "で") and last[1] == "助詞" or _imperative(last[0])
+    prohibits = any(m[0] == "な" and m[1] == "助詞" and m[2] == "終助詞" for m in morphemes[-2:])  # するな
+    return last[0] in ("て", "で") and last[1] == "助詞" or _imperative(last[0]) or prohibits
 
 
 def _imperative(surface: str) -> bool:

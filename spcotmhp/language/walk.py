@@ -91,7 +91,7 @@ class Walk:
         """A new mention, or the last one again when "there" / "it" points back to it, or the same place is said
         again right after it in the same role ("the bedroom near the hall, go there", "the washroom? go to the
         washroom": one visit; "go to the bedroom via the bedroom" is two)."""
-        last = self.mentions[-1] if self.mentions else None
+        last = next((m for m in reversed(self.mentions) if not m.contrast), None)  # "X. Not Y, X": X once
         again = last is not None and (last.ref is ref or (_same(last.ref, ref) and last.role == role))
         if again and last is not None and last.role in VISIT_ROLES and role in VISIT_ROLES:
             if role == "goal":  # "there" / "it", or a place to go to said twice in a row: one visit
