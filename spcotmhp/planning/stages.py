@@ -11,7 +11,6 @@ leave every stage and block their territories (:mod:`spcotmhp.planning.avoid`).
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from spcotmhp.errors import ConflictingInstruction, PlaceCutOff, StartInAvoidedPlace, UnknownPlaceWord
 from spcotmhp.learning.model import SpatialConceptModel
@@ -216,6 +215,8 @@ class StagePlaces:
         Raises:
             StartInAvoidedPlace: no such cell is reachable.
         """
+        from scipy import ndimage  # only when a start lies inside a place to avoid
+
         outside = region.traversable & ~blocked
         labels, _ = ndimage.label(outside, structure=np.ones((3, 3), dtype=bool))
         node_label = labels[region.node_cell[:, 0], region.node_cell[:, 1]]
