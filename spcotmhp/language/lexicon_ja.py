@@ -153,16 +153,13 @@ def numbered_ja(items: list[Token]) -> list[Token]:
     while i < len(items):
         it = items[i]
         nxt = items[i + 1] if i + 1 < len(items) else None
-        if it.kind == "PLACE" and nxt is not None and nxt.kind == "WORD" and nxt.start == it.end:
-            n = _ja_number(_JA_NUMBER_AFTER.match(nxt.surface), nxt.surface)
+        pair = (it.kind, nxt.kind) if nxt is not None and it.end == nxt.start else ()
+        if nxt is not None and pair in (("PLACE", "WORD"), ("WORD", "PLACE")):
+            place, said = (it, nxt) if pair[0] == "PLACE" else (nxt, it)
+            pattern = _JA_NUMBER_AFTER if pair[0] == "PLACE" else _JA_NUMBER_BEFORE  # 寝室2番 / 2番の寝室
+            n = _ja_number(pattern.match(said.surface), said.surface)
             if n is not None:
-                out.append(it._replace(surface=it.surface + nxt.surface, number=n, end=nxt.end))
-                i += 2
-                continue
-        if it.kind == "WORD" and nxt is not None and nxt.kind == "PLACE" and it.end == nxt.start:
-            n = _ja_number(_JA_NUMBER_BEFORE.match(it.surface), it.surface)
-            if n is not None:
-                out.append(nxt._replace(surface=it.surface + nxt.surface, number=n, start=it.start))
+                out.append(place._replace(surface=it.surface + nxt.surface, number=n, start=it.start, end=nxt.end))
                 i += 2
                 continue
         out.append(it)

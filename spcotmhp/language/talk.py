@@ -26,6 +26,7 @@ from collections.abc import Sequence
 
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.table import WordTable
+from spcotmhp.language.talk_ja import pass_over_ja, without
 
 _EDGE = ("GO", "TO", "AT", "AND", "LINK", "OF", "THAT", "IS", "ONE_OF", "ALL", "IT")
 """Neutral classes a run may not start or end with where an instruction is next to it: they belong to it."""
@@ -80,8 +81,6 @@ def pass_over(
     nothing would be left to read (module docstring). ``units``: the sentence's units, fillers included (a
     token's ``start`` indexes them), which show a determiner before a noun ("the baby")."""
     if table.by_character:
-        from spcotmhp.language.talk_ja import pass_over_ja
-
         return pass_over_ja(toks, table, "".join(units))
     if not table.talk:
         return None
@@ -109,12 +108,7 @@ def pass_over(
             cut.update(range(a, b))
             said.append(" ".join(t.surface for t in toks[a:b]))
         i = j
-    if not cut:
-        return None
-    kept = [t for k, t in enumerate(toks) if k not in cut]
-    if not any(t.kind == "PLACE" for t in kept):
-        return None
-    return kept, said
+    return without(toks, cut, said)
 
 
 def _admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], subjects: frozenset[str]) -> bool:

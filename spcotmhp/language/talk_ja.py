@@ -181,6 +181,12 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
             cut.update(range(i, j))
             said.append("".join(t.surface for t in run))
         i = j
+    return without(toks, cut, said)
+
+
+def without(toks: Sequence[Token], cut: set[int], said: list[str]) -> tuple[list[Token], list[str]] | None:
+    """The tokens but those at ``cut`` (talk), with the talk as said; None when nothing is cut or no place is
+    left to go to (the sentence was talk only: it is refused as it stands)."""
     if not cut:
         return None
     kept = [t for k, t in enumerate(toks) if k not in cut]
