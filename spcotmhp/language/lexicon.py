@@ -39,6 +39,7 @@ from collections.abc import Sequence
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
+from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import corrections_en, numbered_en, relations_en, said_again
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
@@ -50,11 +51,6 @@ MAX_WAIT_S = 3600.0
 
 _INNER_HYPHEN = re.compile(r"(?<=\w)-(?=\w)")
 _DASHES = str.maketrans({"\u2013": "-", "\u2014": "-", "\u2015": "-"})
-_NUMBERS = {
-    "a": 1, "an": 1, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8,
-    "nine": 9, "ten": 10, "eleven": 11, "twelve": 12, "fifteen": 15, "twenty": 20, "thirty": 30, "forty": 40,
-    "forty-five": 45, "fifty": 50, "sixty": 60, "ninety": 90,
-}  # fmt: skip
 _UNITS = {"second": 1, "seconds": 1, "sec": 1, "secs": 1, "minute": 60, "minutes": 60, "min": 60, "mins": 60,
     "hour": 3600, "hours": 3600}  # fmt: skip
 

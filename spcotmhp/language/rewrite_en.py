@@ -6,10 +6,14 @@ from __future__ import annotations
 
 from spcotmhp.language.placewords import Token
 
-_NUMBERS = {
-    "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10,
-    "eleven": 11, "twelve": 12, "fifteen": 15, "twenty": 20,
+NUMBERS = {
+    "a": 1, "an": 1, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8,
+    "nine": 9, "ten": 10, "eleven": 11, "twelve": 12, "fifteen": 15, "twenty": 20, "thirty": 30, "forty": 40,
+    "forty-five": 45, "fifty": 50, "sixty": 60, "ninety": 90,
 }  # fmt: skip
+"""Number words and their values (lengths of time, :mod:`spcotmhp.language.lexicon` rule 2; instance numbers)."""
+_INSTANCE_WORDS = 20
+"""Largest number said in words that names an instance ("bedroom twenty"); "a" and "an" name none."""
 
 
 MAX_INSTANCE = 99
@@ -21,8 +25,8 @@ def instance_number(unit: str) -> int | None:
     :data:`MAX_INSTANCE`; None otherwise."""
     if unit.isdigit():
         n = int(unit)
-    elif unit in _NUMBERS:
-        n = _NUMBERS[unit]
+    elif unit in NUMBERS and unit not in ("a", "an") and NUMBERS[unit] <= _INSTANCE_WORDS:
+        n = NUMBERS[unit]
     else:
         return None
     return n if 1 <= n <= MAX_INSTANCE else None

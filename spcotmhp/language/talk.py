@@ -25,6 +25,7 @@ import functools
 from collections.abc import Sequence
 
 from spcotmhp.language.placewords import Token
+from spcotmhp.language.rewrite_en import NUMBERS
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.talk_ja import pass_over_ja, without
 
@@ -34,44 +35,11 @@ _DETERMINERS = frozenset(
     ["the", "a", "an", "my", "our", "your", "his", "her", "their", "this", "that", "these", "those", "some"]
 )
 _CONTRACTIONS = ("'s", "'re", "'m", "'ll", "'d", "'ve", "n't")
-_NUMBER_WORDS = frozenset(
-    [
-        "zero",
-        "one",
-        "two",
-        "three",
-        "four",
-        "five",
-        "six",
-        "seven",
-        "eight",
-        "nine",
-        "ten",
-        "eleven",
-        "twelve",
-        "thirteen",
-        "fourteen",
-        "fifteen",
-        "sixteen",
-        "seventeen",
-        "eighteen",
-        "nineteen",
-        "twenty",
-        "thirty",
-        "forty",
-        "fifty",
-        "sixty",
-        "seventy",
-        "eighty",
-        "ninety",
-        "hundred",
-        "thousand",
-        "half",
-        "quarter",
-        "dozen",
-        "couple",
-    ]
+_NUMBER_WORDS = (frozenset(NUMBERS) - {"a", "an"}) | frozenset(
+    "zero thirteen fourteen sixteen seventeen eighteen nineteen seventy eighty hundred thousand half quarter dozen "  # noqa: SIM905
+    "couple".split()
 )
+"""Words that say a number or a quantity: they keep a run in the instruction ("at six")."""
 
 
 def pass_over(
