@@ -144,10 +144,10 @@ _JOINS = ("AND", "THEN", "OR", "COMMA", "BUT")
 def _noun(word: str) -> bool:
     """A word lemminflect knows as a noun and not as a verb's base form (an order starts with one), or does not
     know at all (a place's name may be a word of its own)."""
-    from spcotmhp.language.talk import _infinitive, _pos
+    from spcotmhp.language.english_words import infinitive, pos
 
-    pos = _pos(word)
-    return not pos or "NOUN" in pos and not _infinitive(word)
+    pos_ = pos(word)
+    return not pos_ or "NOUN" in pos_ and not infinitive(word)
 
 
 def _ambiguous(toks: Sequence[Token], table: WordTable, place_words: Sequence[str]) -> str:

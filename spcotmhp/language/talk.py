@@ -21,9 +21,10 @@ Japanese: :mod:`spcotmhp.language.talk_ja`.
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Sequence
 
+from spcotmhp.language import english_words as ew
+from spcotmhp.language.english_words import infinitive, known, pos
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.rewrite_en import NUMBERS
 from spcotmhp.language.table import WordTable
@@ -34,7 +35,6 @@ _EDGE = ("GO", "TO", "AT", "AND", "LINK", "OF", "THAT", "IS", "ONE_OF", "ALL", "
 _DETERMINERS = frozenset(
     ["the", "a", "an", "my", "our", "your", "his", "her", "their", "this", "that", "these", "those", "some"]
 )
-_CONTRACTIONS = ("'s", "'re", "'m", "'ll", "'d", "'ve", "n't")
 _NUMBER_WORDS = (frozenset(NUMBERS) - {"a", "an"}) | frozenset(
     "zero thirteen fourteen sixteen seventeen eighteen nineteen seventy eighty hundred thousand half quarter dozen "  # noqa: SIM905
     "couple".split()
@@ -87,18 +87,11 @@ def _admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], su
     word = tok.surface
     if word in subjects:
         return True
-    base = _base(word)
+    base = ew.base(word)
     if {word, base} & meaning or any(w[:1].isdigit() or w in _NUMBER_WORDS for w in (word, base)):
         return False
-    return _known(base)
+    return known(base)
 
-
-def _base(word: str) -> str:
-    """A word without its contraction ("baby's" -> "baby", "we're" -> "we")."""
-    for c in _CONTRACTIONS:
-        if word.endswith(c) and len(word) > len(c):
-            return word[: -len(c)]
-    return word
 
 
 def _trimmed(toks: Sequence[Token], i: int, j: int) -> tuple[int, int]:
@@ -119,9 +112,9 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
     first = run[0]
     if first.kind != "WORD":
         return False
-    word, base = first.surface, _base(first.surface)
-    noun = "NOUN" in _pos(base)
-    opens = word in subjects or word != base or (noun and (after_determiner or not _infinitive(word)))
+    word, base = first.surface, ew.base(first.surface)
+    noun = "NOUN" in pos(base)
+    opens = word in subjects or word != base or (noun and (after_determiner or not infinitive(word)))
     if not opens:
         return False
     verb = False
@@ -132,28 +125,13 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
             verb = True
         elif t.kind == "TO":
             nxt = run[k + 1] if k + 1 < len(run) else None
-            if nxt is None or nxt.kind != "WORD" or not _infinitive(nxt.surface):
+            if nxt is None or nxt.kind != "WORD" or not infinitive(nxt.surface):
                 return False
         elif t.kind == "AT" and k + 1 < len(run) and run[k + 1].kind == "WORD":
             return False  # "I need you in the garage": a location stays in the instruction
         elif t.kind == "WORD" and k == 0 and t.surface in ("you", "me", "us"):
             return False  # "you go to the garage": an order, not a statement
-        elif t.kind == "WORD" and (t.surface != _base(t.surface) or {"VERB", "AUX"} & set(_pos(t.surface))):
-            verb = verb or k > 0 or t.surface != _base(t.surface)
+        elif t.kind == "WORD" and (t.surface != ew.base(t.surface) or {"VERB", "AUX"} & set(pos(t.surface))):
+            verb = verb or k > 0 or t.surface != ew.base(t.surface)
     return verb
 
-
-def _infinitive(word: str) -> bool:
-    return word in _pos(word).get("VERB", ())
-
-
-@functools.lru_cache(maxsize=4096)
-def _pos(word: str) -> dict[str, tuple[str, ...]]:
-    import lemminflect
-
-    return dict(lemminflect.getAllLemmas(word))
-
-
-def _known(word: str) -> bool:
-    """A word of lemminflect's dictionary (a misspelt place word is not: "kichen")."""
-    return bool(_pos(word))
