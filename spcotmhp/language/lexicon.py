@@ -113,6 +113,8 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
         elif unit in table.nouns and last is not None and last.kind == "PLACE":
             out[-1] = Token("PLACE", f"{last.surface} {unit}", last.words, plural=last.plural, start=last.start,
                             end=start + 1)  # fmt: skip
+        elif (fixed := places.misspelt(unit)) is not None:  # "kitchin": the kitchen (PlaceLexicon.misspelt)
+            out.append(Token("PLACE", fixed, (fixed,), start=start, end=start + 1))
         else:
             out.append(Token("WORD", unit, start=start, end=start + 1))
         i += 1

@@ -57,6 +57,21 @@ class PlaceLexicon:
         self.longest = max(map(len, self.keys), default=1)
         self.longest_from: Mapping[str, int] = MappingProxyType(longest_from(self.keys))
 
+    def misspelt(self, unit: str) -> str | None:
+        """The place word an unknown English word is a typing error of, or None: a word
+        that is no word of lemminflect's dictionary, of four letters or more, one edit (an insertion, a deletion, a
+        change or two letters swapped) from exactly one place word of five letters or more ("kitchin", "dinning"), or
+        that keeps its first letter and drops letters of exactly one place word, keeping over half of them
+        ("kitchn", "livng", "bdrm", "washrm")."""
+        from spcotmhp.language.english_words import known
+
+        if len(unit) < 4 or not unit.isalpha() or known(unit):
+            return None
+        near = {w for w in self.words if len(w) >= 5 and w.isalpha() and _one_edit(unit, w)}
+        near |= {w for w in self.words if w.isalpha() and w[:1] == unit[:1] and 2 * len(unit) > len(w) > len(unit)
+                 and _within(unit, w)}  # fmt: skip
+        return near.pop() if len(near) == 1 else None
+
     def singular(self, unit: str) -> str | None:
         """The place word ``unit`` is the plural of ("bedrooms" -> "bedroom"), or None (English)."""
         if not unit.endswith(("s", "i", "a")) or len(unit) <= 2:
@@ -162,3 +177,27 @@ def longest_match(
         if key in table.phrases:
             return table.phrases[key], "", n
     return None
+
+
+def _one_edit(a: str, b: str) -> bool:
+    """Whether ``a`` and ``b`` differ by one insertion, deletion, change or swap of two neighbouring letters."""
+    if a == b or abs(len(a) - len(b)) > 1:
+        return False
+    if len(a) == len(b):
+        diff = [i for i in range(len(a)) if a[i] != b[i]]
+        return (
+            len(diff) == 1
+            or len(diff) == 2
+            and diff[1] == diff[0] + 1
+            and a[diff[0]] == b[diff[1]]
+            and a[diff[1]] == b[diff[0]]
+        )
+    short, long_ = (a, b) if len(a) < len(b) else (b, a)
+    i = next((k for k in range(len(short)) if short[k] != long_[k]), len(short))
+    return short[i:] == long_[i + 1 :]
+
+
+def _within(short: str, word: str) -> bool:
+    """Whether the letters of ``short`` appear in ``word`` in order (a word with letters left out)."""
+    letters = iter(word)
+    return all(c in letters for c in short)

@@ -26,6 +26,7 @@ from lark import Lark, Tree
 from lark import Token as LarkToken
 
 from spcotmhp.errors import EmptyInstruction
+from spcotmhp.language.asides_en import ease_en
 from spcotmhp.language.errors import refusal
 from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
@@ -72,17 +73,30 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
             except _NoDerivation:
                 pass
             toks, source = plain, plain_text
+    eased: list[str] = []
+    if lang == "en" and (asides := ease_en(toks, table, source)) is not None:  # English eased (asides_en.py)
+        toks, eased = asides
+        try:
+            reading = _WALKS[lang](toks, text, table).read(_shape(lang, tuple(t.kind for t in toks)))
+            return _heard(reading, eased)
+        except _NoDerivation:
+            pass
     passed = pass_over(toks, table, source)
     if passed is not None:
         kept, said = passed
+        said = [*eased, *said]
         try:
             root = _shape(lang, tuple(t.kind for t in kept))
         except _NoDerivation as again:
             raise _refused(kept, again.at, table, place_words, text) from None
-        reading = _WALKS[lang](kept, text, table).read(root)
-        heard = tuple(f"passed over {excerpt(t)} (no navigation meaning)" for t in said)
-        return replace(reading, heard=(*heard, *reading.heard))
+        return _heard(_WALKS[lang](kept, text, table).read(root), said)
     raise _refused(said_as, first, table, place_words, text) from None  # the words as said, not their plain form
+
+
+def _heard(reading: Reading, said: Sequence[str]) -> Reading:
+    """``reading`` noting the talk passed over to read it (the plan's explanation says it)."""
+    heard = tuple(f"passed over {excerpt(t)} (no navigation meaning)" for t in said)
+    return replace(reading, heard=(*heard, *reading.heard)) if heard else reading
 
 
 def _refused(toks: list, at: int, table: Any, place_words: Sequence[str], text: str) -> Exception:

@@ -123,7 +123,8 @@ def _of_the(items: list[Token]) -> list[Token]:
 
 def corrections_en(items: list[Token]) -> list[Token]:
     """Rule 8: commas that separate nothing are left out (before a full stop, at the end, twice in a row); "no,
-    wait," and "wait, no," are one correction (the "wait" is no wait at a place)."""
+    wait," and "wait, no," are one correction (the "wait" is no wait at a place); a last "sorry" after a correction
+    apologises for it ("the bath, I mean the toilet, sorry"): no second correction, left out."""
     out: list[Token] = []
     for it in items:
         if it.kind == "_STOP" and out and out[-1].kind == "COMMA":
@@ -133,6 +134,10 @@ def corrections_en(items: list[Token]) -> list[Token]:
         out.append(it)
     if out and out[-1].kind == "COMMA":
         out.pop()
+    end = len(out) - (bool(out) and out[-1].kind == "_STOP")  # "the bath, I mean the toilet, sorry": an apology
+    last = out[end - 1] if end >= 3 else None
+    if last is not None and last.kind == "CORRECTION" and last.surface == "sorry" and out[end - 2].kind == "COMMA":
+        out = out[: end - 2] + out[end:] if any(t.kind == "CORRECTION" for t in out[: end - 2]) else out
     merged: list[Token] = []
     i = 0
     while i < len(out):

@@ -54,8 +54,8 @@ def pass_over(
         return None
     neutral = frozenset(table.talk.get("neutral", ()))
     meaning = frozenset(table.talk.get("meaning", ()))
-    subjects = frozenset(table.talk.get("subjects", ()))
-    ok = [_admissible(t, neutral, meaning, subjects) for t in toks]
+    subjects = frozenset(table.talk.get("subjects", ())) | frozenset(table.talk.get("kin", ()))
+    ok = [admissible(t, neutral, meaning, subjects) for t in toks]
     cut: set[int] = set()
     said: list[str] = []
     i = 0
@@ -79,7 +79,7 @@ def pass_over(
     return without(toks, cut, said)
 
 
-def _admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], subjects: frozenset[str]) -> bool:
+def admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], subjects: frozenset[str]) -> bool:
     """Whether a token may be part of talk: a neutral class, or a word that is a subject or a known word that is no
     number and carries none of the ``meaning`` (checked on the word and on it without its contraction)."""
     if tok.kind != "WORD":
@@ -91,7 +91,6 @@ def _admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], su
     if {word, base} & meaning or any(w[:1].isdigit() or w in _NUMBER_WORDS for w in (word, base)):
         return False
     return known(base)
-
 
 
 def _trimmed(toks: Sequence[Token], i: int, j: int) -> tuple[int, int]:
@@ -134,4 +133,3 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
         elif t.kind == "WORD" and (t.surface != ew.base(t.surface) or {"VERB", "AUX"} & set(pos(t.surface))):
             verb = verb or k > 0 or t.surface != ew.base(t.surface)
     return verb
-

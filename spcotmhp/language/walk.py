@@ -223,6 +223,12 @@ class Walk:
                     f"{excerpt(word)} corrects what was said before it, but no place {_ROLE_WORDS[y.role]} was said "
                     f"before {excerpt(y.ref.label)}; say the instruction again as meant"
                 )
+            rel = x.ref.relation
+            if rel is not None and rel.args and y.ref.relation is None and set(y.ref.words).isdisjoint(x.ref.words):
+                raise UnsupportedPhrase(  # "the bedroom closest to the bath, I mean the toilet": which is replaced?
+                    f"{excerpt(word)} {excerpt(y.ref.label)} may replace {excerpt(x.ref.label)} or the "
+                    f"{excerpt(rel.args[-1].label)} it is picked by; say the place again whole"
+                )
             x.dropped = True
             self.heard.append(f"{y.ref.describe()} said instead of {x.ref.describe()}")
             return

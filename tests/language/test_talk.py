@@ -29,6 +29,12 @@ TALK_EN = [
     "I'm cooking",
     "the kids are eating",
     "it's getting crowded",
+    "thanks a bunch",  # asides (asides_en.py): talk without a statement's form
+    "did you hear me?",
+    "love",  # an address
+    "huh",  # an interjection
+    "gran here",  # a speaker introducing themselves
+    "my dude",
 ]
 """Clauses the rule passes over (each says something about the world, with no place, time, order or motion)."""
 
@@ -44,6 +50,13 @@ NOT_TALK_EN = [
     "we're in the bath",  # a place
     "I know you just got to the bath",  # the talk's verb takes the place after it
     "I need you in the garage later",
+    "faster",  # a speed (by its lemma: fast)
+    "skip it",  # a word referring back to a place, and an order
+    "turn that down",  # an order
+    "don't stop",
+    "come back",
+    "stay there",
+    "the other one",
 ]
 """Clauses that carry meaning: appended to an understood sentence they must not be passed over."""
 

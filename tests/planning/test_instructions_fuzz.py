@@ -169,17 +169,35 @@ def test_unsupported_language():
 
 
 @pytest.mark.parametrize(
-    "text, near",
+    "text, meant",
     [
-        ("go to the bedrom", "bedroom"),
-        ("take me to the dinning room", "dining"),
+        ("go to the bedrom", "bedroom"),  # a letter left out
+        ("take me to the diningg room", "dining"),  # a letter doubled
         ("go to the kitchen via the coridor", "corridor"),
+        ("go to the toliet", "toilet"),  # two letters swapped
+        ("go to the kitchn", "kitchen"),  # letters left out, the first kept
+        ("bdrm pls", "bedroom"),
     ],
 )
-def test_near_misses_are_suggested_never_corrected(text, near):
+def test_typing_errors_of_one_place_word_are_read_as_it(text, meant):
+    """Issue 34: a word that is no English word, one edit from exactly one place word of five letters or more (or
+    that word with letters left out, over half kept), is that place."""
+    read = parse_text(text, EN)
+    assert meant in [w for p in (*read.waypoints, read.goal) for w in p.words]
+
+
+@pytest.mark.parametrize(
+    "text, vocabulary, near",
+    [
+        ("take me to the dinning room", EN, "dining"),  # an English word (to din) is never corrected
+        ("go to the stobe", ["store", "stove"], "store"),  # one edit from two place words: which is not guessed
+        ("go to the bth", EN, "bath"),  # under four letters
+    ],
+)
+def test_near_misses_that_are_words_or_ambiguous_are_suggested_never_corrected(text, vocabulary, near):
     with pytest.raises(errors.UnknownPlaceWord) as info:
-        parse_text(text, EN)
-    assert f"did you mean '{near}'?" in str(info.value)
+        parse_text(text, vocabulary)
+    assert f"did you mean '{near}'" in str(info.value)
 
 
 def test_a_word_of_several_kinds_of_place_says_which_it_may_name():

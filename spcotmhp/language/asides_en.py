@@ -1,0 +1,182 @@
+"""English said around and inside an instruction that the grammar reads once eased (issue 34), tried only on a
+sentence with no derivation as said. Each rule has its reason; the classes are data (``talk`` in ``en.json``):
+
+1. **Verbs of going by their manner** (``talk.motion``: manner-of-motion verbs after Levin 1993, *English Verb
+   Classes and Alternations*, §51.3 roll and run verbs, with verbs of moving oneself; their inflections by
+   lemminflect): such a verb, maybe with "yourself" and particles of direction (over, on, along, down, ...), right
+   before a word of destination or passage ("slide over to the kitchen", "scooting into the hall") says how the robot
+   goes there: it is read as "go". A verb whose manner is a speed says it (``fast``: dash, hustle, sprint; ``slow``:
+   crawl, creep, tiptoe); other manners (a hop, a roll) are nothing a wheeled robot can do differently. "skip",
+   "avoid", "pass", "return" and the like are no such verbs (they are other classes, or refused).
+2. **Addresses and interjections** (``talk.address``, ``talk.interjections``, ``talk.kin``): a part of the sentence
+   between its edges, commas and full stops made only of terms of address ("love", "my dude", "you little rascal"),
+   interjections ("huh", "nah", "g'day") or a name introducing its speaker ("Gran here") names whom the speaker
+   talks to or how they feel, never where to go: passed over.
+3. **Talk without an instruction's form**: a part between such marks with no place, no word of a class that carries
+   navigation meaning (:mod:`spcotmhp.language.talk`'s admissible words, also by their lemmas: "faster"), no word
+   that refers back to a place ("it", "there", "one", "that"), opening with thanks, an interjection or an address
+   ("thanks a bunch") or with an auxiliary verb as a question does ("did you hear me?"), is talk: passed over. A bare
+   noun phrase may name a place the map lacks ("the garage") and an order opens with a verb ("turn that down"):
+   both stay, to be read or refused.
+4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice" after a wait names the
+   event that ends a wait with no length (the next instruction): the wait is until told, as "wait there" alone.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from spcotmhp.language import english_words as ew
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.table import WordTable
+from spcotmhp.language.talk import admissible
+
+_BOUNDS = ("_STOP", "COMMA")
+_DESTINATION = ("TO", "VIA", "ENTER")
+_SEGMENT_NEUTRAL = frozenset({"IS", "AND", "LINK", "OF", "NOW", "ALL"})
+_BACK_REFERENCE = frozenset({"it", "there", "one", "that", "them", "this", "those", "these"})
+_TELLING = frozenset({"say", "says", "said", "tell", "tells", "told", "notice"})
+_UNTIL_TOLD_WORDS = _TELLING | frozenset(
+    "i you someone somebody anyone she he they we you're are so otherwise further go".split()  # noqa: SIM905
+)
+
+
+def ease_en(toks: Sequence[Token], table: WordTable, units: Sequence[str]) -> tuple[list[Token], list[str]] | None:
+    """``toks`` with rules 1-4 applied and what was passed over (for the explanation); None when no rule applies
+    (module docstring). ``units``: the sentence's units, fillers included (a token's ``start`` indexes them)."""
+    talk = table.talk
+    if not talk or table.by_character:
+        return None
+    out = _until_told(_manner(list(toks), talk), units)
+    kept, said = _asides(out, talk, units)
+    if said or kept != list(toks):
+        return kept, said
+    return None
+
+
+def _manner(toks: list[Token], talk: dict) -> list[Token]:
+    """Rule 1: a manner-of-motion verb (and its particles) before a destination, as GO, HURRY or SLOW GO."""
+    motion = talk.get("motion", {})
+    if not motion:
+        return toks
+    particles = frozenset(talk.get("particles", ()))
+    out: list[Token] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        verb = ew.lemma(t.surface, "VERB") if t.kind == "WORD" else None
+        manner = next((m for m in ("go", "fast", "slow") if verb in motion.get(m, ())), None)
+        manner = "go" if t.kind == "GO" else manner  # "mosey on down to": a verb of the GO class, its particles
+        j = i + 1
+        while manner and j < len(toks) and (toks[j].surface in particles or toks[j].surface == "yourself"):
+            j += 1
+        if t.kind == "GO" and j == i + 1:
+            manner = None  # a GO class word with nothing after it to ease: as it is
+        if manner and j < len(toks) and toks[j].kind in _DESTINATION:
+            said = " ".join(x.surface for x in toks[i:j])
+            span = {"start": t.start, "end": toks[j - 1].end}
+            if manner == "fast":
+                out.append(Token("HURRY", said, **span))
+            else:
+                out.append(Token("GO", said, **span))
+                if manner == "slow":
+                    out.append(Token("SLOW", said, **span))
+            i = j
+            continue
+        out.append(t)
+        i += 1
+    return out
+
+
+def _until_told(toks: list[Token], units: Sequence[str]) -> list[Token]:
+    """Rule 4: "till I say" after a wait left out (the wait, with no length, lasts until told). The words after
+    "till" are read from the units, fillers included ("I say" is one)."""
+    out: list[Token] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        if t.kind == "UNBOUNDED_WAIT" and t.surface in ("until", "till", "til") and any(x.kind == "WAIT" for x in out):
+            j = next((k for k in range(i + 1, len(toks)) if toks[k].kind in _BOUNDS), len(toks))
+            words = set(units[t.end : toks[j].start if j < len(toks) else len(units)])
+            if words and words <= _UNTIL_TOLD_WORDS and words & _TELLING:
+                i = j
+                continue
+        out.append(t)
+        i += 1
+    return out
+
+
+def _asides(toks: list[Token], talk: dict, units: Sequence[str]) -> tuple[list[Token], list[str]]:
+    """Rules 2 and 3: the parts between edges, commas and full stops that are addresses, interjections or talk."""
+    neutral = frozenset(talk.get("neutral", ()))
+    meaning = frozenset(talk.get("meaning", ()))
+    subjects = frozenset(talk.get("subjects", ())) | frozenset(talk.get("kin", ()))
+    address = frozenset(talk.get("address", ())) | frozenset(talk.get("kin", ()))
+    interjections = frozenset(talk.get("interjections", ()))
+    kept: list[Token] = []
+    said: list[str] = []
+    start = 0
+    for end in [k for k, t in enumerate(toks) if t.kind in _BOUNDS] + [len(toks)]:
+        part = toks[start:end]
+        aside = bool(part) and (
+            _addressing(part, address, interjections)
+            or _talk(
+                part, neutral, meaning, subjects, interjections | address, units[toks[start - 1].end if start else 0 :]
+            )
+        )
+        if aside:
+            said.append(" ".join(t.surface for t in part))
+            if end < len(toks) and kept and kept[-1].kind in _BOUNDS:
+                kept.pop()  # "kitchen, love." -> "kitchen."; "bro. kitchen." -> "kitchen."
+            elif end < len(toks) and not kept:
+                end += 1  # a leading aside takes its mark with it
+        else:
+            kept += part
+        if end < len(toks):
+            kept.append(toks[end])
+        start = end + 1
+    while kept and kept[0].kind in _BOUNDS:
+        kept.pop(0)
+    return kept, said
+
+
+def _addressing(part: Sequence[Token], address: frozenset[str], interjections: frozenset[str]) -> bool:
+    """Rule 2: only terms of address and interjections ("my dude", "you little rascal", "yeah nah"), or a name
+    introducing its speaker ("gran here", "bob here"), whatever classes their words have elsewhere."""
+    words = [t.surface for t in part]
+    if len(part) == 2 and part[1].kind == "HERE":
+        return part[0].kind == "WORD" and _name(words[0])
+    if words[-1] in address and all(w in ("my", "you", "little", "old", "young", "dear") for w in words[:-1]):
+        return all(t.kind != "PLACE" for t in part)
+    return all(w in interjections for w in words)
+
+
+def _name(word: str) -> bool:
+    """A word that may be a person's name: not a number, and no word of lemminflect's or a noun ("gran", "alice",
+    "bob")."""
+    return not word[:1].isdigit() and (not ew.known(word) or "PROPN" in ew.pos(word) or "NOUN" in ew.pos(word))
+
+
+def _talk(
+    part: Sequence[Token],
+    neutral: frozenset[str],
+    meaning: frozenset[str],
+    subjects: frozenset[str],
+    social: frozenset[str],
+    said: Sequence[str],
+) -> bool:
+    """Rule 3: no place or other class, no word referring back or carrying meaning by its lemma ("faster"), and
+    opening (the first unit ``said``, fillers included) with thanks, an interjection or an address ("thanks a
+    bunch") or an auxiliary verb, as a question does ("did you hear me?"): a bare noun phrase may name a place the
+    map lacks ("the garage"), an order opens with a verb ("turn that down"), and both stay."""
+    if any(t.kind != "WORD" and t.kind not in _SEGMENT_NEUTRAL for t in part):
+        return False
+    words = [t for t in part if t.kind == "WORD"]
+    if not words or any(t.surface in _BACK_REFERENCE for t in words):
+        return False
+    for t in words:
+        lemmas = {lemma for forms in ew.pos(t.surface).values() for lemma in forms}
+        if lemmas & meaning or not (t.surface in social or admissible(t, neutral, meaning, subjects)):
+            return False
+    first = said[0] if said else part[0].surface
+    return first in social or "AUX" in ew.pos(first)

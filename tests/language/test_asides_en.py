@@ -1,0 +1,103 @@
+"""English asides (spcotmhp/language/asides_en.py): verbs of going by their manner, addresses and interjections,
+talk without a statement's form, waits until told, an apology after a correction; and what stays refused."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+
+from spcotmhp.errors import InstructionError
+from spcotmhp.language.reading import read
+from tests.helpers.vocabulary import PLACE_WORDS_EN
+
+EN = PLACE_WORDS_EN
+
+
+def _read(text: str):
+    r = read(text, EN, "en")
+    return [p.describe() for p in r.visit], r.speed, r.waits
+
+
+@pytest.mark.parametrize(
+    "text, visit, speed",
+    [
+        ("yo robot slide over to the kitchen", ["kitchen"], None),
+        ("could you mosey on down to the storeroom", ["storeroom"], None),
+        ("Mind scooting into the hall?", ["hall"], None),
+        ("hop along to the bath", ["bath"], None),
+        ("hustle to the entrance", ["entrance"], "fast"),  # a manner that is a speed says it
+        ("sprint over to the kitchen", ["kitchen"], "fast"),
+        ("tiptoe into the bedroom", ["bedroom"], "slow"),
+        ("creep along to the toilet", ["toilet"], "slow"),
+        ("stroll through the corridor to the kitchen", ["corridor", "kitchen"], None),
+    ],
+)
+def test_verbs_of_going_by_their_manner(text, visit, speed):
+    got = _read(text)
+    assert [v.split()[0] for v in got[0]] == visit and got[1] == speed, got
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("Off you go to the dining room, love.", ["dining"]),
+        ("bro. living room. go.", ["living"]),
+        ("my dude. the storeroom. go.", ["storeroom"]),
+        ("Gran here. Would you go to the kitchen.", ["kitchen"]),
+        ("Head to the storeroom, thanks a bunch.", ["storeroom"]),
+        ("Go to the kitchen please dear. Did you hear me? The kitchen.", ["kitchen"]),
+        ("Nana says go to the kitchen", ["kitchen"]),
+        ("ugh fine, go to the bath, are you happy now?", ["bath"]),
+    ],
+)
+def test_addresses_interjections_and_talk_are_passed_over_and_said(text, visit):
+    r = read(text, EN, "en")
+    assert [p.describe().split()[0] for p in r.visit] == visit
+    assert any(h.startswith("passed over") for h in r.heard), r.heard
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Kitchen. Faster.",  # a speed by its lemma, never dropped
+        "go to the kitchen, turn that down",  # an order the robot cannot do
+        "go to the kitchen, the other one",
+        "go to the kitchen. come back.",
+        "skip the kitchen and go to the bath",  # skip is no verb of going
+        "listen to the kitchen",
+    ],
+)
+def test_words_with_navigation_meaning_are_not_passed_over(text):
+    try:
+        visit = _read(text)[0]
+    except InstructionError:
+        return  # refused: fine
+    assert visit != ["kitchen"] and (not text.startswith("skip") or "kitchen" not in visit), (text, visit)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Go to the entrance and wait there till I say.",
+        "go to the living room and stay there until i say so",
+        "Go to the hall and wait until I tell you otherwise.",
+    ],
+)
+def test_until_told_after_a_wait_is_a_wait_with_no_length(text):
+    plain = read(text.split(" till ")[0].split(" until ")[0], EN, "en")
+    assert replace(read(text, EN, "en"), heard=()) == replace(plain, heard=())
+    assert plain.waits == ((len(plain.visit) - 1, None),)  # a wait with no length: until told
+
+
+@pytest.mark.parametrize("text", ["wait in the hall till the baby wakes up", "go to the kitchen until i say"])
+def test_until_an_event_or_without_a_wait_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, EN, "en")
+
+
+def test_an_apology_after_a_correction_corrects_nothing_more():
+    visit, _, _ = _read("go to the bath, I mean the toilet, sorry")
+    assert visit == ["toilet"]
+    with pytest.raises(InstructionError):
+        read("go to the bath, sorry", EN, "en")  # no correction before it: the "sorry" names nothing
