@@ -24,7 +24,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
@@ -54,7 +55,7 @@ def ease_en(toks: Sequence[Token], table: WordTable, units: Sequence[str]) -> tu
     return None
 
 
-def _manner(toks: list[Token], talk: dict) -> list[Token]:
+def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
     """Rule 1: a manner-of-motion verb (and its particles) before a destination, as GO, HURRY or SLOW GO."""
     motion = talk.get("motion", {})
     if not motion:
@@ -74,13 +75,13 @@ def _manner(toks: list[Token], talk: dict) -> list[Token]:
             manner = None  # a GO class word with nothing after it to ease: as it is
         if manner and j < len(toks) and toks[j].kind in _DESTINATION:
             said = " ".join(x.surface for x in toks[i:j])
-            span = {"start": t.start, "end": toks[j - 1].end}
+            a, b = t.start, toks[j - 1].end
             if manner == "fast":
-                out.append(Token("HURRY", said, **span))
+                out.append(Token("HURRY", said, start=a, end=b))
             else:
-                out.append(Token("GO", said, **span))
+                out.append(Token("GO", said, start=a, end=b))
                 if manner == "slow":
-                    out.append(Token("SLOW", said, **span))
+                    out.append(Token("SLOW", said, start=a, end=b))
             i = j
             continue
         out.append(t)
@@ -106,7 +107,7 @@ def _until_told(toks: list[Token], units: Sequence[str]) -> list[Token]:
     return out
 
 
-def _asides(toks: list[Token], talk: dict, units: Sequence[str]) -> tuple[list[Token], list[str]]:
+def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) -> tuple[list[Token], list[str]]:
     """Rules 2 and 3: the parts between edges, commas and full stops that are addresses, interjections or talk."""
     neutral = frozenset(talk.get("neutral", ()))
     meaning = frozenset(talk.get("meaning", ()))
