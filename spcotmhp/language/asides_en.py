@@ -67,12 +67,13 @@ def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
         t = toks[i]
         verb = ew.lemma(t.surface, "VERB") if t.kind == "WORD" else None
         manner = next((m for m in ("go", "fast", "slow") if verb in motion.get(m, ())), None)
-        manner = "go" if t.kind == "GO" else manner  # "mosey on down to": a verb of the GO class, its particles
+        going = t.kind == "GO" or t.kind == "VIA" and t.surface.split()[0] in ("go", "head", "come", "walk", "get")
+        manner = "go" if going else manner  # "mosey on down to", "go down to": a verb of going and its particles
         j = i + 1
         while manner and j < len(toks) and (toks[j].surface in particles or toks[j].surface == "yourself"):
             j += 1
-        if t.kind == "GO" and j == i + 1:
-            manner = None  # a GO class word with nothing after it to ease: as it is
+        if going and (j == i + 1) == (t.kind == "GO"):
+            manner = None  # a GO word with no particle after it, or "go down" not before "to": as it is
         if manner and j < len(toks) and toks[j].kind in _DESTINATION:
             said = " ".join(x.surface for x in toks[i:j])
             a, b = t.start, toks[j - 1].end

@@ -40,7 +40,7 @@ from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
-from spcotmhp.language.rewrite_en import corrections_en, numbered_en, relations_en, said_again
+from spcotmhp.language.rewrite_en import contents_en, corrections_en, numbered_en, relations_en, said_again
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
 
@@ -64,6 +64,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:
         out = corrections_en(out)
+    if "WORD" in kinds and kinds & {"LINK", "IS", "PLACE", "WORD"}:
+        out = contents_en(out, table, places)
     if "WORD" in kinds or "ONE" in kinds:
         out = numbered_en(out)
     out = _merge(out)

@@ -1,10 +1,16 @@
 """English token rewrites of :mod:`spcotmhp.language.lexicon` (its rules 6-8): what people say that the grammar
 reads in another order or form. Each takes the tokens of a sentence and gives them back rewritten; the lexicon runs
-one only on a sentence that holds what it rewrites."""
+one only on a sentence that holds what it rewrites (rule 9, a room told by what is in it: :func:`contents_en`)."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from spcotmhp.language.placewords import Token
+
+if TYPE_CHECKING:
+    from spcotmhp.language.placewords import PlaceLexicon
+    from spcotmhp.language.table import WordTable
 
 NUMBERS = {
     "a": 1, "an": 1, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8,
@@ -178,3 +184,56 @@ def said_again(items: list[Token]) -> list[Token]:
 
 def _said_number(tok: Token) -> int | None:
     return instance_number(tok.surface) if tok.kind in ("WORD", "ONE") else None
+
+
+_ROOM_HEADS = ("room", "one", "place", "area")
+_CONTENT_LINKS = ("with", "where", "that has", "which has")
+
+
+def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> list[Token]:
+    """Rule 9: a room told by what is in it ("the bathroom with the tub", "the bathroom, the one with the washing
+    machine", "the room where the toilet is", "go where the washing machine is") is the place of the map that holds
+    that thing (``contents`` in ``en.json``), among those the word before may name ("bathroom": bath, toilet or
+    washroom; "room", "one" or nothing: any); where no place or several do, the words stay as said, to be
+    refused."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        head = items[i]
+        ambiguous = head.kind == "WORD" and (head.surface,) in places.ambiguous
+        j = i + 1
+        if ambiguous and j + 1 < len(items) and items[j].kind == "COMMA" and items[j + 1].kind == "ONE":
+            j += 2  # "the bathroom, the one with the tub"
+        if not (ambiguous or head.surface in _ROOM_HEADS or head.surface == "where"):
+            out.append(head)
+            i += 1
+            continue
+        link = j if head.surface == "where" else j + 1
+        linked = head.surface == "where" or (j < len(items) and items[j].surface in _CONTENT_LINKS)
+        found = _content(items, link, table) if linked else None
+        if found is not None:
+            names, k = found
+            allowed = set(places.ambiguous[(head.surface,)]) if ambiguous else set(places.words)
+            meant = sorted(set(names) & allowed & set(places.words))
+            if len(meant) == 1:
+                k += k < len(items) and items[k].kind in ("IS", "WORD") and items[k].surface in ("is", "are", "'s")
+                out.append(Token("PLACE", meant[0], (meant[0],), start=head.start, end=items[k - 1].end))
+                i = k
+                continue
+        out.append(head)
+        i += 1
+    return out
+
+
+def _content(items: list[Token], at: int, table: WordTable) -> tuple[tuple[str, ...], int] | None:
+    """The place words of the thing said from ``items[at]`` (a place word's other name, "tub", or words of the
+    table's ``contents``, "washing machine") and the index after it."""
+    if at >= len(items):
+        return None
+    if items[at].kind == "PLACE" and items[at].surface in table.contents:
+        return table.contents[items[at].surface], at + 1
+    for n in (2, 1):
+        words = " ".join(t.surface for t in items[at : at + n] if t.kind in ("WORD", "PLACE"))
+        if len(items[at : at + n]) == n and words in table.contents:
+            return table.contents[words], at + n
+    return None

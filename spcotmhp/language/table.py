@@ -42,6 +42,7 @@ class WordTable:
     filler_from: Mapping[str, int] = field(default_factory=dict)  # first unit -> units of its longest filler phrase
     synonyms: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # place word -> other names of it
     talk: Mapping[str, Any] = field(default_factory=dict)  # what talk around an instruction may hold (talk.py)
+    contents: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # what is in a place -> its place words
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -118,6 +119,7 @@ def read_table(text: str, source: str) -> WordTable:
         filler_from=MappingProxyType(longest_from(filler_keys)),
         synonyms=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("synonyms", {}).items()}),
         talk=MappingProxyType({str(k): v for k, v in table.get("talk", {}).items()}),
+        contents=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("contents", {}).items()}),
     )
 
 

@@ -101,3 +101,33 @@ def test_an_apology_after_a_correction_corrects_nothing_more():
     assert visit == ["toilet"]
     with pytest.raises(InstructionError):
         read("go to the bath, sorry", EN, "en")  # no correction before it: the "sorry" names nothing
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("I'd like you in the bathroom with the tub, please.", ["bath"]),
+        ("go to the bathroom where the toilet is", ["toilet"]),
+        ("the bathroom with the washing machine", ["washroom"]),
+        ("go down to the bathroom, the one with the tub", ["bath"]),
+        ("Go where the washing machine is.", ["washroom"]),
+        ("go to the room with the bathtub", ["bath"]),
+        ("the bathroom with the sink", ["washroom"]),  # a sink is in a kitchen too, but "bathroom" names no kitchen
+    ],
+)
+def test_a_room_told_by_what_is_in_it(text, visit):
+    """rewrite_en rule 9 (contents in en.json)."""
+    assert _read(text)[0] == visit
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the room with the sink",  # kitchen or washroom
+        "go to the bathroom with the sofa",  # no place "bathroom" names holds a sofa
+        "go to the bathroom",  # bath, toilet or washroom: still which one
+    ],
+)
+def test_a_room_told_by_contents_that_do_not_tell_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, EN, "en")
