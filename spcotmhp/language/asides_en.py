@@ -7,7 +7,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    before a word of destination or passage ("slide over to the kitchen", "scooting into the hall") says how the robot
    goes there: it is read as "go". A verb whose manner is a speed says it (``fast``: dash, hustle, sprint; ``slow``:
    crawl, creep, tiptoe); other manners (a hop, a roll) are nothing a wheeled robot can do differently. "skip",
-   "avoid", "pass", "return" and the like are no such verbs (they are other classes, or refused).
+   "avoid", "pass", "return" and the like are no such verbs (they are other classes, or refused). In texts, "2"
+   between a verb of going and a place is "to" ("go 2 the kitchen").
 2. **Addresses and interjections** (``talk.address``, ``talk.interjections``, ``talk.kin``): a part of the sentence
    between its edges, commas and full stops made only of terms of address ("love", "my dude", "you little rascal"),
    interjections ("huh", "nah", "g'day") or a name introducing its speaker ("Gran here") names whom the speaker
@@ -48,7 +49,7 @@ def ease_en(toks: Sequence[Token], table: WordTable, units: Sequence[str]) -> tu
     talk = table.talk
     if not talk or table.by_character:
         return None
-    out = _until_told(_manner(list(toks), talk), units)
+    out = _until_told(_manner(_text_speak(list(toks)), talk), units)
     kept, said = _asides(out, talk, units)
     if said or kept != list(toks):
         return kept, said
@@ -88,6 +89,17 @@ def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
         out.append(t)
         i += 1
     return out
+
+
+def _text_speak(toks: list[Token]) -> list[Token]:
+    """Rule 1 too: "2" between a verb of going and a place is "to", as texts write it ("go 2 the kitchen"; a number
+    after a place, "bedroom 2", names an instance and is read before this)."""
+    return [
+        Token("TO", t.surface, start=t.start, end=t.end)
+        if t.kind == "WORD" and t.surface == "2" and 0 < k < len(toks) - 1 and toks[k - 1].kind == "GO"
+        and toks[k + 1].kind == "PLACE" else t
+        for k, t in enumerate(toks)
+    ]  # fmt: skip
 
 
 def _until_told(toks: list[Token], units: Sequence[str]) -> list[Token]:

@@ -67,9 +67,10 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     if "WORD" in kinds and kinds & {"LINK", "IS", "PLACE", "WORD"}:
         out = contents_en(out, table, places)
     if "WORD" in kinds or "ONE" in kinds:
-        out = numbered_en(out)
+        out = numbered_en(out, english_units(text))
     out = _merge(out)
-    if kinds & {"NEG", "NO", "CORRECTION"} and kinds & {"WORD", "ONE"}:
+    numbered = kinds & {"NEG", "NO", "CORRECTION"} or any(t.number is not None for t in out)
+    if numbered and kinds & {"WORD", "ONE"}:
         out = said_again(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)

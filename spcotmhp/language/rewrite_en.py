@@ -4,6 +4,7 @@ one only on a sentence that holds what it rewrites (rule 9, a room told by what 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from spcotmhp.language.placewords import Token
@@ -55,7 +56,7 @@ def _apposition(items: list[Token]) -> list[Token]:
     return out
 
 
-def numbered_en(items: list[Token]) -> list[Token]:
+def numbered_en(items: list[Token], units: Sequence[str] = ()) -> list[Token]:
     """Rule 6: a number said with a place word names the instance the robot shows with it ("bedroom 2", "bedroom
     #2", "bedroom number two", "number two bedroom", "bedroom one": the plan's "bedroom #2"): the PLACE token
     carries it, with the words in its surface."""
@@ -65,9 +66,9 @@ def numbered_en(items: list[Token]) -> list[Token]:
     while i < len(items):
         it = items[i]
         if it.kind == "PLACE" and it.number is None:
-            j = i + 1 + (i + 1 < len(items) and items[i + 1].kind == "WORD" and items[i + 1].surface == "number")
+            j = i + 1 + _number_word(items, i + 1)
             n = _said_number(items[j]) if j < len(items) else None
-            if n is not None and (j == i + 1 or items[i + 1].surface == "number"):
+            if n is not None:
                 said = " ".join(t.surface for t in items[i : j + 1])
                 out.append(it._replace(surface=said, number=n, end=items[j].end))
                 i = j + 1
@@ -75,6 +76,12 @@ def numbered_en(items: list[Token]) -> list[Token]:
         before = _said_number(it)
         after_number = out and out[-1].kind == "WORD" and out[-1].surface == "number"
         place = items[i + 1] if i + 1 < len(items) else None
+        the = 0 < it.start <= len(units) and units[it.start - 1] == "the"  # "the #3 bedroom", not "go 2 bedroom"
+        digits = it.kind == "WORD" and it.surface.isdigit() and the and place is not None and place.start == it.end
+        if digits and before is not None and place is not None and place.kind == "PLACE" and not place.plural:
+            out.append(place._replace(surface=f"{it.surface} {place.surface}", number=before, start=it.start))
+            i += 2  # "the #3 bedroom": a screen number before the name
+            continue
         if after_number and before is not None and place is not None and place.kind == "PLACE" and place.number is None:
             said = f"number {it.surface} {place.surface}"
             out[-1] = place._replace(surface=said, number=before, start=out[-1].start)
@@ -83,6 +90,19 @@ def numbered_en(items: list[Token]) -> list[Token]:
         out.append(it)
         i += 1
     return out
+
+
+_NUMBER_WORDS = ("number", "hash", "num", "nr", "no")
+"""Words that say a number follows ("bedroom number 2", "bedroom hash two": "#" said aloud, "bedroom no. 2")."""
+
+
+def _number_word(items: list[Token], j: int) -> int:
+    """How many tokens from ``items[j]`` say that a number follows (0 to 2: "no" and its full stop)."""
+    if j >= len(items) or items[j].surface not in _NUMBER_WORDS or items[j].kind not in ("WORD", "NO"):
+        return 0
+    stop = j + 1 < len(items) and items[j + 1].kind == "_STOP" and items[j].surface == "no"
+    k = j + 1 + stop
+    return 1 + stop if k < len(items) and _said_number(items[k]) is not None else 0
 
 
 def relations_en(items: list[Token]) -> list[Token]:
@@ -161,7 +181,8 @@ def corrections_en(items: list[Token]) -> list[Token]:
 
 def said_again(items: list[Token]) -> list[Token]:
     """Rule 6 again: a number alone after a negation or a correction ("any bedroom except number 1", "bedroom two,
-    no, three") names that instance of the place said last."""
+    no, three") names that instance of the place said last; said again right after it ("bedroom number one number
+    one", "bedroom two. Two.") it is that number repeated."""
     out: list[Token] = []
     for it in items:
         n = _said_number(it)
@@ -171,8 +192,13 @@ def said_again(items: list[Token]) -> list[Token]:
             before = out[-1] if out else None
         elif it.kind == "ONE":  # "not the one next to the toilet": "one" is a number only after "number"
             n = None
+        if before is not None and before.kind == "COMMA" and len(out) >= 2 and out[-2].kind in ("NO", "CORRECTION"):
+            before = out[-2]  # "bedroom 2, no, 3"
         cue = before is not None and before.kind in ("NEG", "NO", "CORRECTION")
         place = next((t for t in reversed(out) if t.kind == "PLACE"), None)
+        said = out[-2:] if out and out[-1].kind == "_STOP" else out[-1:]
+        if n is not None and place is not None and place.number == n and said and said[0] is place:
+            continue  # "bedroom number one number one", "bedroom two. Two.": the number said again
         if place is not None and before is not None and before.kind != "NEG" and place.number is None:
             place = None  # "wait ten minutes, no, make that five": a correction of a number said before, not a place
         if n is not None and cue and place is not None:

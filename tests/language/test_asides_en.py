@@ -131,3 +131,25 @@ def test_a_room_told_by_what_is_in_it(text, visit):
 def test_a_room_told_by_contents_that_do_not_tell_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, number",
+    [
+        ("Go to bedroom no. 2.", 2),
+        ("the #3 bedroom", 3),
+        ("bedroom hash two", 2),
+        ("bedroom 2, no, 3", 3),
+        ("go to um bedroom uh number one number one", 1),  # the number said again
+        ("Go to bedroom two... or, no, three. Three.", 3),
+    ],
+)
+def test_screen_numbers_as_people_say_them(text, number):
+    r = read(text, EN, "en")
+    assert [p.number for p in r.visit] == [number]
+
+
+@pytest.mark.parametrize("text, goal", [("yo go 2 the kitchen", "kitchen"), ("go 2 lounge", "living")])
+def test_text_speak_2_is_to_not_a_number(text, goal):
+    r = read(text, EN, "en")
+    assert [(p.words[0], p.number) for p in r.visit] == [(goal, None)]
