@@ -21,6 +21,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    both stay, to be read or refused.
 4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice" after a wait names the
    event that ends a wait with no length (the next instruction): the wait is until told, as "wait there" alone.
+5. **Whose room** (:func:`_owners`): in a map whose places are named by their owners, "alice's bedroom" is her
+   room, "her / his / my room" that of the one person the sentence names (as its speaker, for "my").
 """
 
 from __future__ import annotations
@@ -43,13 +45,16 @@ _UNTIL_TOLD_WORDS = _TELLING | frozenset(
 )
 
 
-def ease_en(toks: Sequence[Token], table: WordTable, units: Sequence[str]) -> tuple[list[Token], list[str]] | None:
-    """``toks`` with rules 1-4 applied and what was passed over (for the explanation); None when no rule applies
+def ease_en(
+    toks: Sequence[Token], table: WordTable, units: Sequence[str], place_words: Sequence[str] = ()
+) -> tuple[list[Token], list[str]] | None:
+    """``toks`` with rules 1-5 applied and what was passed over (for the explanation); None when no rule applies
     (module docstring). ``units``: the sentence's units, fillers included (a token's ``start`` indexes them)."""
     talk = table.talk
     if not talk or table.by_character:
         return None
-    out = _until_told(_manner(_text_speak(list(toks)), talk), units)
+    out = _owners(list(toks), frozenset(place_words))
+    out = _until_told(_manner(_text_speak(out), talk), units)
     kept, said = _asides(out, talk, units)
     if said or kept != list(toks):
         return kept, said
@@ -88,6 +93,64 @@ def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
             continue
         out.append(t)
         i += 1
+    return out
+
+
+_OWNED = ("bedroom", "bedrooms", "room", "rm")
+_PRONOUNS = ("my", "his", "her", "their")
+_SPEAKER = ("it's", "i'm", "im", "this is")
+
+
+def _owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
+    """Rule 5: whose room. A map whose places are named by their owners ("alice's room"): "alice's bedroom" is her
+    room; "her / his / my room" is the room of the one person the sentence names ("Alice wants you in her room",
+    "Alice here, go to my room": for "my", named as the speaker: "X here", "it's X"); and a name said alone before
+    its owner's room ("alice alice's room") is a false start. With no such person, or several, the words stay."""
+    owners = {w[:-2] for w in words if w.endswith("'s")}
+    if not owners:
+        return toks
+    named = {t.surface for t in toks if t.kind == "WORD" and t.surface in owners}
+    named |= {t.words[0][:-2] for t in toks if t.kind == "PLACE" and t.words and t.words[0][:-2] in owners}
+    speakers = {
+        t.surface for k, t in enumerate(toks) if t.surface in owners and (
+            k + 1 < len(toks) and toks[k + 1].kind == "HERE" or k > 0 and toks[k - 1].surface in _SPEAKER
+        )
+    }  # fmt: skip
+    out: list[Token] = []
+    for k, t in enumerate(toks):
+        nxt = toks[k + 1] if k + 1 < len(toks) else None
+        if t.kind == "WORD" and t.surface in _OWNED and out and out[-1].kind == "PLACE" and "room" in words:
+            owner = out[-1]
+            if owner.words == (f"{owner.words[0]}",) and owner.words[0].endswith("'s"):
+                out[-1] = owner._replace(surface=f"{owner.surface} room", words=(owner.words[0], "room"), end=t.end)
+                continue  # "alice's bedroom": her room
+        if t.kind == "MODIFIER" and t.surface in _PRONOUNS and nxt is not None and nxt.kind == "PLACE":
+            who = speakers if t.surface == "my" else named
+            if nxt.words == ("room",) and len(who) == 1 and f"{next(iter(who))}'s" in words:
+                out.append(Token("MODIFIER_OWNER", t.surface, start=t.start, end=t.end))
+                continue
+        if out and out[-1].kind == "MODIFIER_OWNER":
+            who = speakers if out[-1].surface == "my" else named
+            owner = f"{next(iter(who))}'s"
+            out[-1] = t._replace(surface=f"{owner} room", words=(owner, "room"), start=out[-1].start)
+            continue
+        if (
+            t.kind == "WORD"
+            and t.surface in owners
+            and nxt is not None
+            and nxt.kind == "PLACE"
+            and nxt.words[:1] == (f"{t.surface}'s",)
+        ):
+            continue  # "alice alice's room"
+        if (
+            t.kind == "WORD"
+            and t.surface in owners
+            and nxt is not None
+            and nxt.kind == "TO"
+            and nxt.surface.split()[0] in ("wants", "needs", "would")
+        ):
+            continue  # "Alice wants you in ...": who asks, said with the request
+        out.append(t)
     return out
 
 

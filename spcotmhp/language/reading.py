@@ -74,7 +74,9 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
                 pass
             toks, source = plain, plain_text
     eased: list[str] = []
-    if lang == "en" and (asides := ease_en(toks, table, source)) is not None:  # English eased (asides_en.py)
+    if (
+        lang == "en" and (asides := ease_en(toks, table, source, place_words)) is not None
+    ):  # English eased (asides_en.py)
         toks, eased = asides
         try:
             reading = _WALKS[lang](toks, text, table).read(_shape(lang, tuple(t.kind for t in toks)))

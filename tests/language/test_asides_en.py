@@ -153,3 +153,34 @@ def test_screen_numbers_as_people_say_them(text, number):
 def test_text_speak_2_is_to_not_a_number(text, goal):
     r = read(text, EN, "en")
     assert [(p.words[0], p.number) for p in r.visit] == [(goal, None)]
+
+
+OWNED = ["alice's", "bob's", "corridor", "east", "kitchen", "room", "south"]
+
+
+@pytest.mark.parametrize(
+    "text, owner",
+    [
+        ("Go into Alice's bedroom.", "alice's"),
+        ("Alice wants you in her room", "alice's"),
+        ("Alice here, can you go to my room", "alice's"),
+        ("It's Bob. Can you head to my room?", "bob's"),
+        ("go to alice alice's room uh", "alice's"),
+    ],
+)
+def test_whose_room(text, owner):
+    r = read(text, OWNED, "en")
+    assert [p.words for p in r.visit] == [(owner, "room")]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to his room",  # nobody named
+        "go to my room",  # no speaker named
+        "Alice told Bob to send you to her room",  # two people named
+    ],
+)
+def test_whose_room_stays_refused_when_the_sentence_does_not_say(text):
+    with pytest.raises(InstructionError):
+        read(text, OWNED, "en")
