@@ -131,8 +131,8 @@ def _owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
                 continue
         if out and out[-1].kind == "MODIFIER_OWNER":
             who = speakers if out[-1].surface == "my" else named
-            owner = f"{next(iter(who))}'s"
-            out[-1] = t._replace(surface=f"{owner} room", words=(owner, "room"), start=out[-1].start)
+            whose = f"{next(iter(who))}'s"
+            out[-1] = t._replace(surface=f"{whose} room", words=(whose, "room"), start=out[-1].start)
             continue
         if (
             t.kind == "WORD"
