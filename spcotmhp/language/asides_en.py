@@ -23,6 +23,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    event that ends a wait with no length (the next instruction): the wait is until told, as "wait there" alone.
 5. **Whose room** (:func:`_owners`): in a map whose places are named by their owners, "alice's bedroom" is her
    room, "her / his / my room" that of the one person the sentence names (as its speaker, for "my").
+6. **The place as the answer** (:func:`_answer`): after a place at the end of a clause, "there" (pointing at it),
+   "it is" ("dining room it is") and "is where I need you" say only that it is where to go: left out.
 """
 
 from __future__ import annotations
@@ -53,7 +55,7 @@ def ease_en(
     talk = table.talk
     if not talk or table.by_character:
         return None
-    out = _owners(list(toks), frozenset(place_words))
+    out = _answer(_owners(list(toks), frozenset(place_words)))
     out = _until_told(_manner(_text_speak(out), talk), units)
     kept, said = _asides(out, talk, units)
     if said or kept != list(toks):
@@ -151,6 +153,35 @@ def _owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
         ):
             continue  # "Alice wants you in ...": who asks, said with the request
         out.append(t)
+    return out
+
+
+_WHERE_WANTED = frozenset("i we need want you would like 'd".split())  # noqa: SIM905
+
+
+def _answer(toks: list[Token]) -> list[Token]:
+    """Rule 6: the place said as the answer. After a place at the end of a clause, "there" points at that place
+    ("go on into the kitchen there"), "it is" says it is the one ("dining room it is") and "is where I need you"
+    that it is where to go ("the kitchen's where I need you"): left out, the place stays."""
+    out: list[Token] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        if out and out[-1].kind == "PLACE":
+            j = i
+            if t.kind == "THERE":
+                j = i + 1
+            elif t.kind == "IT" and i + 1 < len(toks) and toks[i + 1].kind == "IS":
+                j = i + 2
+            elif t.kind == "IS" and i + 1 < len(toks) and toks[i + 1].surface == "where":
+                j = i + 2
+                while j < len(toks) and toks[j].kind == "WORD" and toks[j].surface in _WHERE_WANTED:
+                    j += 1
+            if j > i and (j == len(toks) or toks[j].kind in _BOUNDS):
+                i = j
+                continue
+        out.append(t)
+        i += 1
     return out
 
 

@@ -184,3 +184,20 @@ def test_whose_room(text, owner):
 def test_whose_room_stays_refused_when_the_sentence_does_not_say(text):
     with pytest.raises(InstructionError):
         read(text, OWNED, "en")
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("Right so, dining room it is.", ["dining"]),
+        ("The kitchen's where I need you.", ["kitchen"]),
+        ("Go on into the kitchen there", ["kitchen"]),
+        ("the bedroom nearest the front door is where i want you", ["bedroom"]),
+    ],
+)
+def test_the_place_said_as_the_answer(text, visit):
+    assert [v.split()[0] for v in _read(text)[0]] == visit
+
+
+def test_there_after_a_wait_still_waits():
+    assert _read("go to the kitchen and wait there")[2] == ((0, None),)
