@@ -25,6 +25,9 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    room, "her / his / my room" that of the one person the sentence names (as its speaker, for "my").
 6. **The place as the answer** (:func:`_answer`): after a place at the end of a clause, "there" (pointing at it),
    "it is" ("dining room it is") and "is where I need you" say only that it is where to go: left out.
+7. **Repairs** (:func:`_repairs`): the same place's name said again after only a hesitation ("bedroom one er
+   bedroom two") replaces it, "one" after a size is the place said before ("no, the smallest one"), and a length of
+   time or a bare number after a correction replaces the length said before ("five minutes, no, make it ten").
 """
 
 from __future__ import annotations
@@ -34,8 +37,10 @@ from typing import Any
 
 from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
+from spcotmhp.language.rewrite_en import instance_number
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.talk import admissible
+from spcotmhp.language.wording import excerpt
 
 _BOUNDS = ("_STOP", "COMMA")
 _DESTINATION = ("TO", "VIA", "ENTER")
@@ -49,17 +54,19 @@ _UNTIL_TOLD_WORDS = _TELLING | frozenset(
 
 def ease_en(
     toks: Sequence[Token], table: WordTable, units: Sequence[str], place_words: Sequence[str] = ()
-) -> tuple[list[Token], list[str]] | None:
-    """``toks`` with rules 1-5 applied and what was passed over (for the explanation); None when no rule applies
-    (module docstring). ``units``: the sentence's units, fillers included (a token's ``start`` indexes them)."""
+) -> tuple[list[Token], list[str], list[str]] | None:
+    """``toks`` with the rules applied, what was passed over and notes on what else changed (for the explanation);
+    None when no rule applies (module docstring). ``units``: the sentence's units, fillers included (a token's
+    ``start`` indexes them)."""
     talk = table.talk
     if not talk or table.by_character:
         return None
+    notes: list[str] = []
     out = _answer(_owners(list(toks), frozenset(place_words)))
-    out = _until_told(_manner(_text_speak(out), talk), units)
+    out = _repairs(_until_told(_manner(_text_speak(out), talk), units), units, notes)
     kept, said = _asides(out, talk, units)
     if said or kept != list(toks):
-        return kept, said
+        return kept, said, notes
     return None
 
 
@@ -183,6 +190,52 @@ def _answer(toks: list[Token]) -> list[Token]:
         out.append(t)
         i += 1
     return out
+
+
+_HESITATIONS = frozenset({"er", "erm", "um", "uh", "uhm", "ah", "hmm", "hm"})
+_CUES = ("NO", "CORRECTION", "COMMA")
+
+
+def _repairs(toks: list[Token], units: Sequence[str], notes: list[str]) -> list[Token]:
+    """Rule 7, repairs said without a correction word's help: a place said again of the same name after only a
+    hesitation ("bedroom one er bedroom two") replaces it; "one" after a size ("the smallest one") is the place
+    said before; a length of time or a bare number after a correction replaces the length said before ("wait five
+    minutes, no, make it ten": ten minutes)."""
+    out: list[Token] = []
+    for t in toks:
+        last = out[-1] if out else None
+        if t.kind == "ONE" and last is not None and last.kind in ("LARGEST", "SMALLEST"):
+            if len(out) >= 3 and out[-2].kind == "COMMA" and out[-3].kind == "PLACE":
+                out[-3:] = [last, out[-3]]  # "bedroom, the big one": the big bedroom, one place said more exactly
+            continue  # "no, the smallest one": the smallest (of the place said before)
+        gap = set(units[last.end : t.start]) if last is not None else set()
+        again = t.kind == "PLACE" and last is not None and last.kind == "PLACE" and t.words[:1] == last.words[:1]
+        if again and last is not None and gap and gap <= _HESITATIONS:
+            notes.append(f"{excerpt(t.surface)} said instead of {excerpt(last.surface)}")
+            out[-1] = t
+            continue
+        k = len(out)
+        while k > 0 and (out[k - 1].kind in _CUES or out[k - 1].surface in ("make", "it", "that")):
+            k -= 1
+        cued = k < len(out) and any(x.kind in ("NO", "CORRECTION") for x in out[k:])
+        if cued and k > 0 and out[k - 1].kind == "DURATION" and (length := _length(t, out[k - 1])) is not None:
+            notes.append(f"{excerpt(length.surface)} said instead of {excerpt(out[k - 1].surface)}")
+            out[k - 1 :] = [length]
+            continue
+        out.append(t)
+    return out
+
+
+def _length(t: Token, before: Token) -> Token | None:
+    """The length of time ``t`` says, as a DURATION: itself, or a bare number in the unit of ``before``."""
+    if t.kind == "DURATION":
+        return t
+    n = instance_number(t.surface) if t.kind in ("WORD", "ONE") else None
+    said = next((instance_number(w) for w in before.surface.split() if instance_number(w)), None)
+    if n is None or not said:
+        return None
+    unit = before.surface.split()[-1]
+    return Token("DURATION", f"{t.surface} {unit}", seconds=before.seconds / said * n, start=t.start, end=t.end)
 
 
 def _text_speak(toks: list[Token]) -> list[Token]:

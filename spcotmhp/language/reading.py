@@ -74,30 +74,29 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
                 pass
             toks, source = plain, plain_text
     eased: list[str] = []
-    if (
-        lang == "en" and (asides := ease_en(toks, table, source, place_words)) is not None
-    ):  # English eased (asides_en.py)
-        toks, eased = asides
+    notes: list[str] = []
+    if lang == "en" and (asides := ease_en(toks, table, source, place_words)) is not None:  # asides_en.py
+        toks, eased, notes = asides
         try:
             reading = _WALKS[lang](toks, text, table).read(_shape(lang, tuple(t.kind for t in toks)))
-            return _heard(reading, eased)
+            return _heard(reading, eased, notes)
         except _NoDerivation:
             pass
     passed = pass_over(toks, table, source)
     if passed is not None:
         kept, said = passed
-        said = [*eased, *said]
         try:
             root = _shape(lang, tuple(t.kind for t in kept))
         except _NoDerivation as again:
             raise _refused(kept, again.at, table, place_words, text) from None
-        return _heard(_WALKS[lang](kept, text, table).read(root), said)
+        return _heard(_WALKS[lang](kept, text, table).read(root), [*eased, *said], notes)
     raise _refused(said_as, first, table, place_words, text) from None  # the words as said, not their plain form
 
 
-def _heard(reading: Reading, said: Sequence[str]) -> Reading:
-    """``reading`` noting the talk passed over to read it (the plan's explanation says it)."""
-    heard = tuple(f"passed over {excerpt(t)} (no navigation meaning)" for t in said)
+def _heard(reading: Reading, said: Sequence[str], notes: Sequence[str] = ()) -> Reading:
+    """``reading`` noting the talk passed over to read it and what else was eased (the plan's explanation says
+    it)."""
+    heard = (*notes, *(f"passed over {excerpt(t)} (no navigation meaning)" for t in said))
     return replace(reading, heard=(*heard, *reading.heard)) if heard else reading
 
 

@@ -201,3 +201,30 @@ def test_the_place_said_as_the_answer(text, visit):
 
 def test_there_after_a_wait_still_waits():
     assert _read("go to the kitchen and wait there")[2] == ((0, None),)
+
+
+@pytest.mark.parametrize(
+    "text, visit, waits, heard",
+    [
+        ("go to bedroom one er bedroom two", ["bedroom two"], (), "'bedroom two' said instead of 'bedroom one'"),
+        ("go to the biggest bedroom no the smallest one", ["bedroom (smallest)"], (), "said instead"),
+        ("Bedroom, the big one.", ["bedroom (largest)"], (), ""),
+        ("wait in the hall for five minutes no make it ten", ["hall"], ((0, 600.0),), "'ten minutes' said instead"),
+        ("Wait in the kitchen ten minutes, no, make that five.", ["kitchen"], ((0, 300.0),), "'five minutes'"),
+    ],
+)
+def test_repairs(text, visit, waits, heard):
+    r = read(text, EN, "en")
+    assert ([p.describe() for p in r.visit], r.waits) == (visit, waits)
+    assert any(heard in h for h in r.heard) or not heard, r.heard
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("hi robot how are you doing today can you go to the entrance", "entrance"),
+        ("go to the utility room", "washroom"),
+    ],
+)
+def test_greetings_and_everyday_names(text, goal):
+    assert [p.words[0] for p in read(text, EN, "en").visit] == [goal]
