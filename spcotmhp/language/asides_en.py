@@ -12,7 +12,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
 2. **Addresses and interjections** (``talk.address``, ``talk.interjections``, ``talk.kin``): a part of the sentence
    between its edges, commas and full stops made only of terms of address ("love", "my dude", "you little rascal"),
    interjections ("huh", "nah", "g'day") or a name introducing its speaker ("Gran here") names whom the speaker
-   talks to or how they feel, never where to go: passed over.
+   talks to or how they feel, never where to go: passed over; so are such words opening a part ("bro just go
+   kitchen", "yeah nah go to ...") and terms of address closing it ("go to the dining room love").
 3. **Talk without an instruction's form**: a part between such marks with no place, no word of a class that carries
    navigation meaning (:mod:`spcotmhp.language.talk`'s admissible words, also by their lemmas: "faster"), no word
    that refers back to a place ("it", "there", "one", "that"), opening with thanks, an interjection or an address
@@ -21,13 +22,17 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    both stay, to be read or refused.
 4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice" after a wait names the
    event that ends a wait with no length (the next instruction): the wait is until told, as "wait there" alone.
-5. **Whose room** (:func:`_owners`): in a map whose places are named by their owners, "alice's bedroom" is her
-   room, "her / his / my room" that of the one person the sentence names (as its speaker, for "my").
-6. **The place as the answer** (:func:`_answer`): after a place at the end of a clause, "there" (pointing at it),
-   "it is" ("dining room it is") and "is where I need you" say only that it is where to go: left out.
-7. **Repairs** (:func:`_repairs`): the same place's name said again after only a hesitation ("bedroom one er
-   bedroom two") replaces it, "one" after a size is the place said before ("no, the smallest one"), and a length of
-   time or a bare number after a correction replaces the length said before ("five minutes, no, make it ten").
+Rules 5-8 live in :mod:`spcotmhp.language.repairs_en`:
+
+5. **Whose room**: in a map whose places are named by their owners, "alice's bedroom" is her room, "her / his /
+   my room" that of the one person the sentence names (as its speaker, for "my").
+6. **The place as the answer**: after a place at the end of a clause, "there" (pointing at it), "it is" ("dining
+   room it is") and "is where I need you" say only that it is where to go: left out.
+7. **Repairs**: the same place's name said again after only a hesitation ("bedroom one er bedroom two") replaces
+   it, "one" after a size is the place said before ("no, the smallest one"), and a length of time or a bare number
+   after a correction replaces the length said before ("five minutes, no, make it ten").
+8. **A word said in pieces**: letters or syllables spelling a place word ("d-i-n-i-n-g", "kit-chen") are that
+   place; false starts of the place said next ("the st... stor... storeroom") are left out.
 """
 
 from __future__ import annotations
@@ -37,10 +42,9 @@ from typing import Any
 
 from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
-from spcotmhp.language.rewrite_en import instance_number
+from spcotmhp.language.repairs_en import answer, owners, pieces, repairs
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.talk import admissible
-from spcotmhp.language.wording import excerpt
 
 _BOUNDS = ("_STOP", "COMMA")
 _DESTINATION = ("TO", "VIA", "ENTER")
@@ -62,8 +66,8 @@ def ease_en(
     if not talk or table.by_character:
         return None
     notes: list[str] = []
-    out = _answer(_owners(list(toks), frozenset(place_words)))
-    out = _repairs(_until_told(_manner(_text_speak(out), talk), units), units, notes)
+    out = answer(owners(pieces(list(toks), frozenset(place_words), units), frozenset(place_words)))
+    out = repairs(_until_told(_manner(_text_speak(out), talk), units), units, notes)
     kept, said = _asides(out, talk, units)
     if said or kept != list(toks):
         return kept, said, notes
@@ -103,139 +107,6 @@ def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
         out.append(t)
         i += 1
     return out
-
-
-_OWNED = ("bedroom", "bedrooms", "room", "rm")
-_PRONOUNS = ("my", "his", "her", "their")
-_SPEAKER = ("it's", "i'm", "im", "this is")
-
-
-def _owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
-    """Rule 5: whose room. A map whose places are named by their owners ("alice's room"): "alice's bedroom" is her
-    room; "her / his / my room" is the room of the one person the sentence names ("Alice wants you in her room",
-    "Alice here, go to my room": for "my", named as the speaker: "X here", "it's X"); and a name said alone before
-    its owner's room ("alice alice's room") is a false start. With no such person, or several, the words stay."""
-    owners = {w[:-2] for w in words if w.endswith("'s")}
-    if not owners:
-        return toks
-    named = {t.surface for t in toks if t.kind == "WORD" and t.surface in owners}
-    named |= {t.words[0][:-2] for t in toks if t.kind == "PLACE" and t.words and t.words[0][:-2] in owners}
-    speakers = {
-        t.surface for k, t in enumerate(toks) if t.surface in owners and (
-            k + 1 < len(toks) and toks[k + 1].kind == "HERE" or k > 0 and toks[k - 1].surface in _SPEAKER
-        )
-    }  # fmt: skip
-    out: list[Token] = []
-    for k, t in enumerate(toks):
-        nxt = toks[k + 1] if k + 1 < len(toks) else None
-        if t.kind == "WORD" and t.surface in _OWNED and out and out[-1].kind == "PLACE" and "room" in words:
-            owner = out[-1]
-            if owner.words == (f"{owner.words[0]}",) and owner.words[0].endswith("'s"):
-                out[-1] = owner._replace(surface=f"{owner.surface} room", words=(owner.words[0], "room"), end=t.end)
-                continue  # "alice's bedroom": her room
-        if t.kind == "MODIFIER" and t.surface in _PRONOUNS and nxt is not None and nxt.kind == "PLACE":
-            who = speakers if t.surface == "my" else named
-            if nxt.words == ("room",) and len(who) == 1 and f"{next(iter(who))}'s" in words:
-                out.append(Token("MODIFIER_OWNER", t.surface, start=t.start, end=t.end))
-                continue
-        if out and out[-1].kind == "MODIFIER_OWNER":
-            who = speakers if out[-1].surface == "my" else named
-            whose = f"{next(iter(who))}'s"
-            out[-1] = t._replace(surface=f"{whose} room", words=(whose, "room"), start=out[-1].start)
-            continue
-        if (
-            t.kind == "WORD"
-            and t.surface in owners
-            and nxt is not None
-            and nxt.kind == "PLACE"
-            and nxt.words[:1] == (f"{t.surface}'s",)
-        ):
-            continue  # "alice alice's room"
-        if (
-            t.kind == "WORD"
-            and t.surface in owners
-            and nxt is not None
-            and nxt.kind == "TO"
-            and nxt.surface.split()[0] in ("wants", "needs", "would")
-        ):
-            continue  # "Alice wants you in ...": who asks, said with the request
-        out.append(t)
-    return out
-
-
-_WHERE_WANTED = frozenset("i we need want you would like 'd".split())  # noqa: SIM905
-
-
-def _answer(toks: list[Token]) -> list[Token]:
-    """Rule 6: the place said as the answer. After a place at the end of a clause, "there" points at that place
-    ("go on into the kitchen there"), "it is" says it is the one ("dining room it is") and "is where I need you"
-    that it is where to go ("the kitchen's where I need you"): left out, the place stays."""
-    out: list[Token] = []
-    i = 0
-    while i < len(toks):
-        t = toks[i]
-        if out and out[-1].kind == "PLACE":
-            j = i
-            if t.kind == "THERE":
-                j = i + 1
-            elif t.kind == "IT" and i + 1 < len(toks) and toks[i + 1].kind == "IS":
-                j = i + 2
-            elif t.kind == "IS" and i + 1 < len(toks) and toks[i + 1].surface == "where":
-                j = i + 2
-                while j < len(toks) and toks[j].kind == "WORD" and toks[j].surface in _WHERE_WANTED:
-                    j += 1
-            if j > i and (j == len(toks) or toks[j].kind in _BOUNDS):
-                i = j
-                continue
-        out.append(t)
-        i += 1
-    return out
-
-
-_HESITATIONS = frozenset({"er", "erm", "um", "uh", "uhm", "ah", "hmm", "hm"})
-_CUES = ("NO", "CORRECTION", "COMMA")
-
-
-def _repairs(toks: list[Token], units: Sequence[str], notes: list[str]) -> list[Token]:
-    """Rule 7, repairs said without a correction word's help: a place said again of the same name after only a
-    hesitation ("bedroom one er bedroom two") replaces it; "one" after a size ("the smallest one") is the place
-    said before; a length of time or a bare number after a correction replaces the length said before ("wait five
-    minutes, no, make it ten": ten minutes)."""
-    out: list[Token] = []
-    for t in toks:
-        last = out[-1] if out else None
-        if t.kind == "ONE" and last is not None and last.kind in ("LARGEST", "SMALLEST"):
-            if len(out) >= 3 and out[-2].kind == "COMMA" and out[-3].kind == "PLACE":
-                out[-3:] = [last, out[-3]]  # "bedroom, the big one": the big bedroom, one place said more exactly
-            continue  # "no, the smallest one": the smallest (of the place said before)
-        gap = set(units[last.end : t.start]) if last is not None else set()
-        again = t.kind == "PLACE" and last is not None and last.kind == "PLACE" and t.words[:1] == last.words[:1]
-        if again and last is not None and gap and gap <= _HESITATIONS:
-            notes.append(f"{excerpt(t.surface)} said instead of {excerpt(last.surface)}")
-            out[-1] = t
-            continue
-        k = len(out)
-        while k > 0 and (out[k - 1].kind in _CUES or out[k - 1].surface in ("make", "it", "that")):
-            k -= 1
-        cued = k < len(out) and any(x.kind in ("NO", "CORRECTION") for x in out[k:])
-        if cued and k > 0 and out[k - 1].kind == "DURATION" and (length := _length(t, out[k - 1])) is not None:
-            notes.append(f"{excerpt(length.surface)} said instead of {excerpt(out[k - 1].surface)}")
-            out[k - 1 :] = [length]
-            continue
-        out.append(t)
-    return out
-
-
-def _length(t: Token, before: Token) -> Token | None:
-    """The length of time ``t`` says, as a DURATION: itself, or a bare number in the unit of ``before``."""
-    if t.kind == "DURATION":
-        return t
-    n = instance_number(t.surface) if t.kind in ("WORD", "ONE") else None
-    said = next((instance_number(w) for w in before.surface.split() if instance_number(w)), None)
-    if n is None or not said:
-        return None
-    unit = before.surface.split()[-1]
-    return Token("DURATION", f"{t.surface} {unit}", seconds=before.seconds / said * n, start=t.start, end=t.end)
 
 
 def _text_speak(toks: list[Token]) -> list[Token]:
@@ -292,6 +163,14 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
             elif end < len(toks) and not kept:
                 end += 1  # a leading aside takes its mark with it
         else:
+            a, b = 0, len(part)
+            while a < b and part[a].kind == "WORD" and part[a].surface in interjections | address:
+                a += 1  # "bro just go kitchen", "yeah nah go to the dining room"
+            while b > a and part[b - 1].kind == "WORD" and part[b - 1].surface in address:
+                b -= 1  # "go to the dining room love"
+            if 0 < b - a < len(part) and part[a].kind != "WORD" and part[b - 1].kind != "WORD":  # not "mum says"
+                said += [" ".join(t.surface for t in edge) for edge in (part[:a], part[b:]) if edge]
+                part = part[a:b]
             kept += part
         if end < len(toks):
             kept.append(toks[end])

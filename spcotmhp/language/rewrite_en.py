@@ -108,8 +108,8 @@ def _number_word(items: list[Token], j: int) -> int:
 def relations_en(items: list[Token]) -> list[Token]:
     """Rule 7: a relation said around the name says the same as after it: "the nearest bedroom to the kitchen" is
     "the bedroom nearest to the kitchen", "the farthest bedroom from the bath" is "the bedroom farthest from the
-    bath"; "of the (three) bedrooms, (go to) the one nearest the bath" is "the bedroom nearest the bath" (the number
-    only says how many there are)."""
+    bath"; "of the (three) bedrooms, (go to) the one nearest the bath" is "the bedroom nearest the bath", "the
+    smaller of the two corridors" is "the smaller corridor" (the number only says how many there are)."""
     out: list[Token] = []
     i = 0
     while i < len(items):
@@ -126,7 +126,30 @@ def relations_en(items: list[Token]) -> list[Token]:
                 continue
         out.append(it)
         i += 1
-    return _of_the(out)
+    return _of_the(_of_the_n(out))
+
+
+def _of_the_n(items: list[Token]) -> list[Token]:
+    """Rule 7's "the smaller of the two corridors": a size picked among the places of a name said in the plural
+    (the number only says how many there are) is that size of the place."""
+    out: list[Token] = []
+    i = 0
+    while i < len(items):
+        it = items[i]
+        k = (
+            i
+            + 2
+            + (i + 2 < len(items) and items[i + 2].kind == "WORD" and instance_number(items[i + 2].surface) is not None)
+        )
+        if it.kind in ("LARGEST", "SMALLEST") and i + 1 < len(items) and items[i + 1].kind == "OF" and k < len(items):
+            place = items[k]
+            if place.kind == "PLACE" and place.plural:
+                out += [it, place._replace(plural=False, surface=place.words[0] if place.words else place.surface)]
+                i = k + 1
+                continue
+        out.append(it)
+        i += 1
+    return out
 
 
 def _of_the(items: list[Token]) -> list[Token]:
@@ -176,7 +199,12 @@ def corrections_en(items: list[Token]) -> list[Token]:
             continue
         merged.append(it)
         i += 1
-    return merged
+    return [  # "Toilet. No, wait. Washroom.": the stop after a correction, a comma after a stop, mark nothing
+        t
+        for k, t in enumerate(merged)
+        if not (k and (t.kind == "_STOP" and merged[k - 1].kind == "CORRECTION"
+                       or t.kind == "COMMA" and merged[k - 1].kind == "_STOP"))
+    ]  # fmt: skip
 
 
 def said_again(items: list[Token]) -> list[Token]:

@@ -228,3 +228,26 @@ def test_repairs(text, visit, waits, heard):
 )
 def test_greetings_and_everyday_names(text, goal):
     assert [p.words[0] for p in read(text, EN, "en").visit] == [goal]
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("dining room. d-i-n-i-n-g. dining room!", ["dining"]),
+        ("robot... the bath. bath. b-a-t-h.", ["bath"]),
+        ("ro-bot go to the kit-chen", ["kitchen"]),
+        ("go to the st... stor... storeroom", ["storeroom"]),
+        ("go to the bed... bed-room. bedroom number two!", ["bedroom"]),
+        ("bro just go kitchen", ["kitchen"]),
+        ("yeah nah go to the dining room", ["dining"]),
+        ("Dinner's nearly ready, go to the dining room love", ["dining"]),
+        ("Toilet. No, wait. Washroom. Yes, washroom.", ["washroom"]),
+        ("the smaller of the two bedrooms", ["bedroom"]),
+    ],
+)
+def test_words_in_pieces_edges_and_counts(text, visit):
+    assert [p.words[0] for p in read(text, EN, "en").visit] == visit
+
+
+def test_a_function_word_is_no_false_start():
+    assert [p.words[0] for p in read("go to the toilet", EN, "en").visit] == ["toilet"]  # "to" is no "to(ilet)"

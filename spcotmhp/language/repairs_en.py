@@ -1,0 +1,185 @@
+"""English repairs and references eased before the grammar reads a sentence (rules 5-8 of
+:mod:`spcotmhp.language.asides_en`, which runs them only on a sentence with no derivation as said): whose room a
+pronoun names, the place said as the answer, repairs said without a correction word, words said in pieces."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from spcotmhp.language import english_words as ew
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.rewrite_en import instance_number
+from spcotmhp.language.wording import excerpt
+
+_BOUNDS = ("_STOP", "COMMA")
+
+
+_OWNED = ("bedroom", "bedrooms", "room", "rm")
+_PRONOUNS = ("my", "his", "her", "their")
+_SPEAKER = ("it's", "i'm", "im", "this is")
+
+
+def owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
+    """Rule 5: whose room. A map whose places are named by their owners ("alice's room"): "alice's bedroom" is her
+    room; "her / his / my room" is the room of the one person the sentence names ("Alice wants you in her room",
+    "Alice here, go to my room": for "my", named as the speaker: "X here", "it's X"); and a name said alone before
+    its owner's room ("alice alice's room") is a false start. With no such person, or several, the words stay."""
+    owners = {w[:-2] for w in words if w.endswith("'s")}
+    if not owners:
+        return toks
+    named = {t.surface for t in toks if t.kind == "WORD" and t.surface in owners}
+    named |= {t.words[0][:-2] for t in toks if t.kind == "PLACE" and t.words and t.words[0][:-2] in owners}
+    speakers = {
+        t.surface for k, t in enumerate(toks) if t.surface in owners and (
+            k + 1 < len(toks) and toks[k + 1].kind == "HERE" or k > 0 and toks[k - 1].surface in _SPEAKER
+        )
+    }  # fmt: skip
+    out: list[Token] = []
+    for k, t in enumerate(toks):
+        nxt = toks[k + 1] if k + 1 < len(toks) else None
+        if t.kind == "WORD" and t.surface in _OWNED and out and out[-1].kind == "PLACE" and "room" in words:
+            owner = out[-1]
+            if owner.words == (f"{owner.words[0]}",) and owner.words[0].endswith("'s"):
+                out[-1] = owner._replace(surface=f"{owner.surface} room", words=(owner.words[0], "room"), end=t.end)
+                continue  # "alice's bedroom": her room
+        if t.kind == "MODIFIER" and t.surface in _PRONOUNS and nxt is not None and nxt.kind == "PLACE":
+            who = speakers if t.surface == "my" else named
+            if nxt.words == ("room",) and len(who) == 1 and f"{next(iter(who))}'s" in words:
+                out.append(Token("MODIFIER_OWNER", t.surface, start=t.start, end=t.end))
+                continue
+        if out and out[-1].kind == "MODIFIER_OWNER":
+            who = speakers if out[-1].surface == "my" else named
+            whose = f"{next(iter(who))}'s"
+            out[-1] = t._replace(surface=f"{whose} room", words=(whose, "room"), start=out[-1].start)
+            continue
+        if (
+            t.kind == "WORD"
+            and t.surface in owners
+            and nxt is not None
+            and nxt.kind == "PLACE"
+            and nxt.words[:1] == (f"{t.surface}'s",)
+        ):
+            continue  # "alice alice's room"
+        if (
+            t.kind == "WORD"
+            and t.surface in owners
+            and nxt is not None
+            and nxt.kind == "TO"
+            and nxt.surface.split()[0] in ("wants", "needs", "would")
+        ):
+            continue  # "Alice wants you in ...": who asks, said with the request
+        out.append(t)
+    return out
+
+
+def pieces(toks: list[Token], words: frozenset[str], units: Sequence[str]) -> list[Token]:
+    """Rule 8, a word said in pieces: letters or syllables that spell a place word ("d-i-n-i-n-g", "kit-chen",
+    fillers among them: "b-a-t-h") are that place, spelling "robot" a vocative, left out; a false start, the first
+    letters of the place word said next ("go to the st... stor... storeroom", "the b... bed-room"), is left out;
+    a place said again with its number ("bed-room. bedroom number two") is said once, with it."""
+    out: list[Token] = []
+    i = 0
+    while i < len(toks):
+        j = i
+        while j < len(toks) and toks[j].kind == "WORD" and toks[j].surface.isalpha() and len(toks[j].surface) <= 4:
+            j += 1
+        joined = "".join(units[toks[i].start : toks[j - 1].end]) if j > i else ""
+        if j - i >= 2 and (joined in words or joined == "robot"):
+            if joined != "robot":
+                out.append(Token("PLACE", joined, (joined,), start=toks[i].start, end=toks[j - 1].end))
+            i = j
+            continue
+        t = toks[i]
+        nxt = next((x for x in toks[i + 1 :] if not (x.kind == "WORD" and len(x.surface) < 6)), None)
+        starts = nxt is not None and nxt.kind == "PLACE" and bool(nxt.words) and t.kind == "WORD"
+        if starts and nxt is not None and t.surface.isalpha() and _false_start(t.surface, nxt.words[0]):
+            i += 1
+            continue  # "st... stor... storeroom": false starts of the place said next
+        again = len(out) >= 2 and out[-1].kind == "_STOP" and out[-2].kind == "PLACE" and t.kind == "PLACE"
+        if again and out[-2].words == t.words and out[-2].number is None and t.number is not None:
+            out[-2:] = [t]  # "bed-room. bedroom number two": the place said again, more exactly
+            i += 1
+            continue
+        out.append(t)
+        i += 1
+    return out
+
+
+def _false_start(word: str, place: str) -> bool:
+    """``word`` is the first letters of ``place`` and no function word ("st" of "storeroom"; not "to")."""
+    return place.startswith(word) and place != word and ew.pos(word).keys() <= {"NOUN", "VERB", "ADJ"}
+
+
+_WHERE_WANTED = frozenset("i we need want you would like 'd".split())  # noqa: SIM905
+
+
+def answer(toks: list[Token]) -> list[Token]:
+    """Rule 6: the place said as the answer. After a place at the end of a clause, "there" points at that place
+    ("go on into the kitchen there"), "it is" says it is the one ("dining room it is") and "is where I need you"
+    that it is where to go ("the kitchen's where I need you"): left out, the place stays."""
+    out: list[Token] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        if out and out[-1].kind == "PLACE":
+            j = i
+            if t.kind == "THERE":
+                j = i + 1
+            elif t.kind == "IT" and i + 1 < len(toks) and toks[i + 1].kind == "IS":
+                j = i + 2
+            elif t.kind == "IS" and i + 1 < len(toks) and toks[i + 1].surface == "where":
+                j = i + 2
+                while j < len(toks) and toks[j].kind == "WORD" and toks[j].surface in _WHERE_WANTED:
+                    j += 1
+            if j > i and (j == len(toks) or toks[j].kind in _BOUNDS):
+                i = j
+                continue
+        out.append(t)
+        i += 1
+    return out
+
+
+_HESITATIONS = frozenset({"er", "erm", "um", "uh", "uhm", "ah", "hmm", "hm"})
+_CUES = ("NO", "CORRECTION", "COMMA")
+
+
+def repairs(toks: list[Token], units: Sequence[str], notes: list[str]) -> list[Token]:
+    """Rule 7, repairs said without a correction word's help: a place said again of the same name after only a
+    hesitation ("bedroom one er bedroom two") replaces it; "one" after a size ("the smallest one") is the place
+    said before; a length of time or a bare number after a correction replaces the length said before ("wait five
+    minutes, no, make it ten": ten minutes)."""
+    out: list[Token] = []
+    for t in toks:
+        last = out[-1] if out else None
+        if t.kind == "ONE" and last is not None and last.kind in ("LARGEST", "SMALLEST"):
+            if len(out) >= 3 and out[-2].kind == "COMMA" and out[-3].kind == "PLACE":
+                out[-3:] = [last, out[-3]]  # "bedroom, the big one": the big bedroom, one place said more exactly
+            continue  # "no, the smallest one": the smallest (of the place said before)
+        gap = set(units[last.end : t.start]) if last is not None else set()
+        again = t.kind == "PLACE" and last is not None and last.kind == "PLACE" and t.words[:1] == last.words[:1]
+        if again and last is not None and gap and gap <= _HESITATIONS:
+            notes.append(f"{excerpt(t.surface)} said instead of {excerpt(last.surface)}")
+            out[-1] = t
+            continue
+        k = len(out)
+        while k > 0 and (out[k - 1].kind in _CUES or out[k - 1].surface in ("make", "it", "that")):
+            k -= 1
+        cued = k < len(out) and any(x.kind in ("NO", "CORRECTION") for x in out[k:])
+        if cued and k > 0 and out[k - 1].kind == "DURATION" and (length := _length(t, out[k - 1])) is not None:
+            notes.append(f"{excerpt(length.surface)} said instead of {excerpt(out[k - 1].surface)}")
+            out[k - 1 :] = [length]
+            continue
+        out.append(t)
+    return out
+
+
+def _length(t: Token, before: Token) -> Token | None:
+    """The length of time ``t`` says, as a DURATION: itself, or a bare number in the unit of ``before``."""
+    if t.kind == "DURATION":
+        return t
+    n = instance_number(t.surface) if t.kind in ("WORD", "ONE") else None
+    said = next((instance_number(w) for w in before.surface.split() if instance_number(w)), None)
+    if n is None or not said:
+        return None
+    unit = before.surface.split()[-1]
+    return Token("DURATION", f"{t.surface} {unit}", seconds=before.seconds / said * n, start=t.start, end=t.end)
