@@ -48,6 +48,8 @@ from spcotmhp.language.talk import admissible
 
 _BOUNDS = ("_STOP", "COMMA")
 _DESTINATION = ("TO", "VIA", "ENTER")
+_VERBS = ("GO", "TO", "VIA", "AVOID", "WAIT", "ENTER", "HURRY")
+"""Classes that open an instruction: a word of address or interjection before one of them is said to someone."""
 _SEGMENT_NEUTRAL = frozenset({"IS", "AND", "LINK", "OF", "NOW", "ALL"})
 _BACK_REFERENCE = frozenset({"it", "there", "one", "that", "them", "this", "those", "these"})
 _TELLING = frozenset({"say", "says", "said", "tell", "tells", "told", "notice"})
@@ -67,7 +69,7 @@ def ease_en(
         return None
     notes: list[str] = []
     out = answer(owners(pieces(list(toks), frozenset(place_words), units), frozenset(place_words)))
-    out = repairs(_until_told(_manner(_text_speak(out), talk), units), units, notes)
+    out = repairs(_until_told(_manner(_text_speak(_fronted(out)), talk), units), units, notes)
     kept, said = _asides(out, talk, units)
     if said or kept != list(toks):
         return kept, said, notes
@@ -107,6 +109,13 @@ def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
         out.append(t)
         i += 1
     return out
+
+
+def _fronted(toks: list[Token]) -> list[Token]:
+    """Rule 4 too: a place said first and its wait after a comma ("In the living room, wait a quarter of an hour") is
+    the wait at that place."""
+    kinds = [t.kind for t in toks[:4]]
+    return [toks[3], toks[0], toks[1], *toks[4:]] if kinds == ["AT", "PLACE", "COMMA", "WAIT"] else toks
 
 
 def _text_speak(toks: list[Token]) -> list[Token]:
@@ -156,23 +165,28 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
                 part, neutral, meaning, subjects, interjections | address, units[toks[start - 1].end if start else 0 :]
             )
         )
+        mark = end < len(toks)
         if aside:
             said.append(" ".join(t.surface for t in part))
-            if end < len(toks) and kept and kept[-1].kind in _BOUNDS:
+            if mark and kept and kept[-1].kind in _BOUNDS:
                 kept.pop()  # "kitchen, love." -> "kitchen."; "bro. kitchen." -> "kitchen."
-            elif end < len(toks) and not kept:
-                end += 1  # a leading aside takes its mark with it
+            elif mark and not kept:
+                mark = False  # a leading aside takes its mark with it
         else:
             a, b = 0, len(part)
-            while a < b and part[a].kind == "WORD" and part[a].surface in interjections | address:
-                a += 1  # "bro just go kitchen", "yeah nah go to the dining room"
+            while (
+                a < b
+                and part[a].surface in interjections | address
+                and (part[a].kind == "WORD" or a + 1 < b and part[a + 1].kind in _VERBS)
+            ):
+                a += 1  # "bro just go kitchen", "yeah nah go to the dining room", "right erm could you pop to"
             while b > a and part[b - 1].kind == "WORD" and part[b - 1].surface in address:
                 b -= 1  # "go to the dining room love"
             if 0 < b - a < len(part) and part[a].kind != "WORD" and part[b - 1].kind != "WORD":  # not "mum says"
                 said += [" ".join(t.surface for t in edge) for edge in (part[:a], part[b:]) if edge]
                 part = part[a:b]
             kept += part
-        if end < len(toks):
+        if mark:
             kept.append(toks[end])
         start = end + 1
     while kept and kept[0].kind in _BOUNDS:

@@ -251,3 +251,22 @@ def test_words_in_pieces_edges_and_counts(text, visit):
 
 def test_a_function_word_is_no_false_start():
     assert [p.words[0] for p in read("go to the toilet", EN, "en").visit] == ["toilet"]  # "to" is no "to(ilet)"
+
+
+@pytest.mark.parametrize(
+    "text, visit, waits",
+    [
+        ("Right, young man, into the kitchen with you.", ["kitchen"], ()),
+        ("right erm could you pop to the kitchen", ["kitchen"], ()),
+        ("In the living room, wait a quarter of an hour", ["living room"], ((0, 900.0),)),
+        ("Any of the bedrooms apart from the biggest.", ["bedrooms"], ()),
+    ],
+)
+def test_leading_words_fronted_places_and_exceptions(text, visit, waits):
+    got = _read(text)
+    assert (got[0], got[2]) == (visit, waits)
+
+
+def test_right_before_a_place_is_still_a_side():
+    with pytest.raises(InstructionError):
+        read("go to the right bedroom", EN, "en")
