@@ -162,7 +162,8 @@ def _cut(kept: list[tuple[Token | str, int]], match: tuple[int, int]) -> list[tu
 
 def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
     """Rule 2: "(for) <number> <unit>" -> a DURATION token; "half a minute" is 30 s, "a quarter of an hour" 900 s,
-    "a couple of minutes" 120 s. Each item with the index of its first unit."""
+    "a couple of minutes" 120 s, "two and a half minutes" 150 s, "a minute and a half" 90 s. Each item with the
+    index of its first unit."""
     if _UNITS.keys().isdisjoint(units):  # no unit of time: no duration
         return [(u, i) for i, u in enumerate(units)]
     out: list[tuple[Token | str, int]] = []
@@ -176,11 +177,16 @@ def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
         number = (1.0 if part else _number(units[k])) if k < len(units) else None
         if part and units[j + 1 : j + 2] != ["of"]:
             number = None
+        and_half = not (part or half) and number is not None and units[k + 1 : k + 4] == ["and", "a", "half"]
+        if and_half and number is not None:  # "two and a half minutes"
+            number, k = number + 0.5, k + 3
         unit = _UNITS.get(units[k + 1]) if number is not None and k + 1 < len(units) and not part else None
         unit = _UNITS.get(units[k]) if part and number is not None and k < len(units) else unit
         k -= 1 if part else 0
         if number is not None and unit is not None:
             seconds = number * unit * (0.5 if half else part if part else 1.0)
+            if not (part or half or and_half) and units[k + 2 : k + 5] == ["and", "a", "half"]:
+                seconds, k = seconds + unit / 2, k + 3  # "a minute and a half"
             out.append((Token("DURATION", " ".join(units[i : k + 2]), seconds=seconds, start=i, end=k + 2), i))
             i = k + 2
         else:

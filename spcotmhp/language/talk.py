@@ -14,7 +14,10 @@ verb (lemminflect's VERB or AUX, a contraction of one, or the IS class). A "to" 
 ("about to eat": a purpose, not a place), and a motion verb by no "to" or "in" ("we're going to the garage" says
 where someone goes: it stays in the instruction). Connectors and motion words at its edges belong to the instruction
 next to it ("I'm cooking, come to the kitchen": "come to" is the instruction's); a run whose verb takes the place
-after it ("I know you just got to the kitchen") is no talk.
+after it ("I know you just got to the kitchen") is no talk. A time of day (``times_in_statements``: "tonight",
+"earlier") may stand in a statement that is a sentence of its own, closed by a full stop ("It's freezing
+tonight. Go to the bath."): its time is the statement's; said with the instruction ("go to the bath tonight") it
+stays, to be refused.
 
 Japanese: :mod:`spcotmhp.language.talk_ja`.
 """
@@ -56,6 +59,11 @@ def pass_over(
     meaning = frozenset(table.talk.get("meaning", ()))
     subjects = frozenset(table.talk.get("subjects", ())) | frozenset(table.talk.get("kin", ()))
     ok = [admissible(t, neutral, meaning, subjects) for t in toks]
+    times = frozenset(table.talk.get("times_in_statements", ()))
+    for a, b in _sentences(toks):  # "It's freezing tonight.": a time in a statement of its own is the statement's
+        loose = [ok[k] or toks[k].kind == "WORD" and ew.base(toks[k].surface) in times for k in range(a, b)]
+        if not all(ok[a:b]) and all(loose) and _statement(toks[a:b], subjects, False):
+            ok[a:b] = [True] * (b - a)
     cut: set[int] = set()
     said: list[str] = []
     i = 0
@@ -77,6 +85,16 @@ def pass_over(
             said.append(" ".join(t.surface for t in toks[a:b]))
         i = j
     return without(toks, cut, said)
+
+
+def _sentences(toks: Sequence[Token]) -> list[tuple[int, int]]:
+    """The spans of the sentences of ``toks`` (between full stops), all but the last closed by one."""
+    spans, a = [], 0
+    for k, t in enumerate(toks):
+        if t.kind == "_STOP":
+            spans.append((a, k))
+            a = k + 1
+    return spans
 
 
 def admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], subjects: frozenset[str]) -> bool:

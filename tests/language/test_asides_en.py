@@ -270,3 +270,33 @@ def test_leading_words_fronted_places_and_exceptions(text, visit, waits):
 def test_right_before_a_place_is_still_a_side():
     with pytest.raises(InstructionError):
         read("go to the right bedroom", EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, visit, speed, waits",
+    [
+        (
+            "Wait at the storeroom for a minute and a half, then carry on to the kitchen.",
+            ["storeroom", "kitchen"],
+            None,
+            ((0, 90.0),),
+        ),
+        (
+            "Stay in the bath for two and a half minutes, then go to the washroom.",
+            ["bath", "washroom"],
+            None,
+            ((0, 150.0),),
+        ),
+        ("Go to the hall at a crawl.", ["hall"], "slow", ()),
+        ("Move to the hall at maximum speed.", ["hall"], "fast", ()),
+        ("It's freezing tonight. Anyway, go to the bath.", ["bath"], None, ()),
+    ],
+)
+def test_lengths_speeds_and_times_of_statements(text, visit, speed, waits):
+    assert _read(text) == (visit, speed, waits)
+
+
+@pytest.mark.parametrize("text", ["go to the bath tonight", "go to the bath, it's for tonight"])
+def test_a_time_said_with_the_instruction_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, EN, "en")
