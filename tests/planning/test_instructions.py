@@ -150,9 +150,9 @@ UNKNOWN_JA = "is not a known place word; known place words: キッチン, ダイ
         ),
         # words that would modify a place are refused, never dropped (issue 9)
         (
-            "go to the big kitchen",
+            "go to the guest kitchen",
             EN,
-            "'big' picks one kitchen by order, side, floor, owner or a property the map does not hold",
+            "'guest' picks one kitchen by order, side, floor, owner or a property the map does not hold",
         ),
         (
             "go to the cosy kitchen",
