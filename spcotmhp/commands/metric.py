@@ -9,6 +9,14 @@ from typing import Annotated
 import numpy as np
 import typer
 
+from spcotmhp.commands.body_options import (
+    CostScaling,
+    Footprint,
+    InflationRadius,
+    Nav2Params,
+    RobotRadius,
+    body_from_options,
+)
 from spcotmhp.errors import MapError
 from spcotmhp.safe_write import atomic_write, check_output
 
@@ -27,11 +35,11 @@ def costmap(
         float | None,
         typer.Option(help="Inscribed radius in metres (0.22 when neither this nor --robot-radius is given)."),
     ] = None,
-    inflation_radius: Annotated[float, typer.Option(help="Inflation radius in metres.")] = 1.0,
-    cost_scaling_factor: Annotated[float, typer.Option(help="Exponential decay of the inflated cost.")] = 10.0,
-    robot_radius: Annotated[
-        float | None, typer.Option(help="Radius of a circular robot: its inscribed radius.")
-    ] = None,
+    inflation_radius: InflationRadius = None,
+    cost_scaling_factor: CostScaling = None,
+    robot_radius: RobotRadius = None,
+    nav2_params: Nav2Params = None,
+    footprint: Footprint = None,
     track_unknown_space: Annotated[
         bool, typer.Option(help="Keep unknown cells as NO_INFORMATION (-1 in the output) instead of free.")
     ] = False,
@@ -44,7 +52,7 @@ def costmap(
     Existing files are replaced only with --overwrite, the map's own files never; each file is written whole
     or not at all.
     """
-    from spcotmhp.metric.costmap import inflate
+    from spcotmhp.metric.costmap import DEFAULT_COSTMAP, inflate
     from spcotmhp.metric.map_io import load_map, read_map_yaml
 
     for name, value in (
@@ -59,14 +67,24 @@ def costmap(
     check_output(out, overwrite, inputs, MapError, "--out", suffix=".csv")
     if png is not None:
         check_output(png, overwrite, inputs + [out], MapError, "--png", suffix=".png")
-    cost_map = inflate(
-        load_map(map_yaml),
-        inscribed_radius=inscribed_radius,
-        inflation_radius=inflation_radius,
-        cost_scaling_factor=cost_scaling_factor,
-        track_unknown_space=track_unknown_space,
-        robot_radius=robot_radius,
-    )
+    if nav2_params is None and footprint is None:  # the radii and settings as given (costmap_2d's ranges)
+        settings: dict = {
+            "inscribed_radius": inscribed_radius,
+            "robot_radius": robot_radius,
+            "inflation_radius": DEFAULT_COSTMAP.inflation_radius if inflation_radius is None else inflation_radius,
+            "cost_scaling_factor": DEFAULT_COSTMAP.cost_scaling_factor
+            if cost_scaling_factor is None
+            else cost_scaling_factor,
+        }
+    else:  # a body (metric.body): from the Nav2 params file, the options replacing its values
+        if inscribed_radius is not None and robot_radius is not None:
+            raise MapError("give either robot_radius or inscribed_radius, not both")
+        radius = robot_radius if robot_radius is not None else inscribed_radius
+        body = body_from_options(nav2_params, radius, footprint, inflation_radius, cost_scaling_factor)
+        assert body is not None  # a file or a footprint was given
+        settings = body.costmap()
+        typer.echo(f"body: {body.describe()}", err=True)
+    cost_map = inflate(load_map(map_yaml), track_unknown_space=track_unknown_space, **settings)
     grid = cost_map.to_occupancy_grid()
     atomic_write(out, lambda tmp: write_grid_csv(grid, tmp), MapError)
     if png is not None:
