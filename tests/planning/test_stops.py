@@ -1,0 +1,112 @@
+"""Issue 35, item 3: goals, waypoints and Nav2 route nodes where a robot would stop (spcotmhp/planning/stops.py):
+on the bundled and generated homes, every place that has a stop cell gets its points on cells of published cost
+below the threshold, inside its territory and ellipse, in the planned region, the mean's point on the most
+probable such cell; the previous rule (``stop_cost=None``) puts some goal at or above it, so the check measures
+something."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from spcotmhp.metric.costmap import inflate
+from spcotmhp.planning.planner import HierarchicalPlanner
+from spcotmhp.planning.stops import STOP_COST, published_cost, stop_threshold
+from spcotmhp.ros.nav2_export import route_graph
+from tests.planning.test_body_plans import HOMES, learned
+
+pytestmark = pytest.mark.filterwarnings("ignore:.*known warning")
+
+
+def node_costs(planner: HierarchicalPlanner) -> tuple[np.ndarray, np.ndarray]:
+    """(place, published cost) of every candidate node of the main graph."""
+    graph = planner.graph
+    cost = published_cost(graph.log_p)[graph.node_cell[:, 0], graph.node_cell[:, 1]]
+    return graph.node_place, cost
+
+
+def goal_costs(planner: HierarchicalPlanner, published: np.ndarray) -> list[tuple[int, float]]:
+    """(goal place, published cost of the plan's last pose) for a plan to every planned place from its first node."""
+    occ = planner.model.require_map()
+    start = occ.cell_to_world(planner.graph.to_map(planner.graph.node_cell[:1]))[0]
+    out = []
+    for k in np.flatnonzero(planner.planned):
+        plan = planner.plan({"goal": planner.names[k].split()}, tuple(start))
+        r, c = occ.world_to_cell(plan.path[-1:])[0]
+        out.append((int(plan.goal.id), float(published[r, c])))
+    return out
+
+
+@pytest.mark.parametrize("home", HOMES)
+def test_goal_points_stay_below_the_stop_cost(home: str) -> None:
+    model = learned(home)
+    occ = model.require_map()
+    published = published_of(home)
+    threshold = stop_threshold(model.costmap, occ.resolution)
+    assert threshold == STOP_COST  # a circle: no footprint constraint
+    planner = HierarchicalPlanner(model)
+    fallback = set(planner.graph.info["stop_fallback"])
+    places, costs = node_costs(planner)
+    with_stop = ~np.isin(places, list(fallback))
+    assert with_stop.any()
+    assert (costs[with_stop] < threshold).all()  # every node of a place with a stop cell
+    goals = goal_costs(planner, published)
+    assert [c for k, c in goals if k not in fallback and c >= threshold] == []
+    # the Nav2 route nodes are the places' first candidates: the same cells
+    features = route_graph(planner)["features"]
+    for f in features:
+        if f["geometry"]["type"] == "Point" and f["properties"]["metadata"]["place"] not in fallback:
+            r, c = occ.world_to_cell(np.array([f["geometry"]["coordinates"]]))[0]
+            assert published[r, c] < threshold
+
+
+def published_of(home: str) -> np.ndarray:
+    """The published cost of every cell of ``home``'s map (100 off its free cells)."""
+    occ = learned(home).require_map()
+    return np.where(occ.free, inflate(occ, **learned(home).costmap).to_occupancy_grid(), 100).astype(float)
+
+
+def test_the_previous_rule_puts_goals_in_high_cost_cells() -> None:
+    """The check above measures something: under the paper's rule (the nearest traversable cell) some home has
+    a goal point at or above the stop cost."""
+    worst = {
+        home: max(c for _, c in goal_costs(HierarchicalPlanner(learned(home), stop_cost=None), published_of(home)))
+        for home in HOMES
+    }
+    assert max(worst.values()) >= STOP_COST, worst
+
+
+@pytest.mark.parametrize("home", HOMES[:2])
+def test_the_mean_s_point_is_the_most_probable_stop_cell(home: str) -> None:
+    model = learned(home)
+    planner = HierarchicalPlanner(model)
+    graph = planner.graph
+    low = published_cost(graph.log_p) < STOP_COST
+    occ = model.require_map()
+    fallback = set(graph.info["stop_fallback"])
+    for n, k in enumerate(graph.node_place.tolist()):
+        if k in fallback:
+            continue
+        own = low & (graph.territory == k) & graph.traversable
+        rows, cols = np.nonzero(own)
+        xy = occ.cell_to_world(graph.to_map(np.stack([rows, cols], axis=1)))
+        d = xy - model.mu[k]
+        m2 = np.einsum("ni,ij,nj->n", d, np.linalg.inv(model.Sigma[k]), d)
+        here = occ.cell_to_world(graph.to_map(graph.node_cell[n : n + 1]))[0] - model.mu[k]
+        assert here @ np.linalg.inv(model.Sigma[k]) @ here == pytest.approx(m2.min(), abs=1e-9)
+
+
+def test_a_footprint_s_circumscribed_cost_lowers_the_threshold() -> None:
+    costmap = {"inscribed_radius": 0.2, "circumscribed_radius": 0.36, "inflation_radius": 1.0, "cost_scaling_factor": 10.0}
+    # computeCost at 0.36 m: int(252 exp(-10 x 0.16)) = 50, published 1 + 97 x 49 // 251 = 19
+    assert stop_threshold(costmap, 0.05) == 19
+    assert stop_threshold({"inscribed_radius": 0.2, "inflation_radius": 1.0, "cost_scaling_factor": 10.0}, 0.05) == 50
+
+
+def test_published_cost_inverts_log_p() -> None:
+    from spcotmhp.metric.costmap import COST_TRANSLATION_TABLE
+
+    cost = COST_TRANSLATION_TABLE[np.arange(253)].astype(float)
+    log_p = np.log((100.0 - cost) / 100.0)
+    np.testing.assert_array_equal(published_cost(log_p), cost)
+    assert np.isinf(published_cost(np.array([-np.inf])))[0]
