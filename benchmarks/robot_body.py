@@ -103,8 +103,10 @@ def stop_row(name: str, model) -> tuple[str, np.ndarray, np.ndarray, np.ndarray]
     old_place, old_cost, old_d, old_xy = goal_points(HierarchicalPlanner(model, stop_cost=None))
     planner = HierarchicalPlanner(model)
     place, new_cost, new_d, new_xy = goal_points(planner)
-    before = {int(k): xy for k, xy in zip(old_place, old_xy)}
-    moved = np.array([np.linalg.norm(xy - before[int(k)]) for k, xy in zip(place, new_xy) if int(k) in before])
+    before = {int(k): xy for k, xy in zip(old_place, old_xy, strict=True)}
+    moved = np.array(
+        [np.linalg.norm(xy - before[int(k)]) for k, xy in zip(place, new_xy, strict=True) if int(k) in before]
+    )
     fallback = set(planner.graph.info["stop_fallback"])
     kept = ~np.isin(place, list(fallback))
     row = (
@@ -142,13 +144,15 @@ def main() -> None:
     print("\n".join(rows1))
     print()
     print("| home | places | previous rule: max cost | points >= 50 | stop rule: max cost | points >= 50 | "
-          "no stop cell | from the mean, previous (median / max m) | stop rule (median / max m) | moved (points / max m) |")  # fmt: skip
+          "no stop cell | from the mean, previous (median / max m) | stop rule (median / max m) | "
+          "moved (points / max m) |")  # fmt: skip
     print("|---|---|---|---|---|---|---|---|---|---|")
     print("\n".join(rows2))
     old, new, moved = np.concatenate(old_all), np.concatenate(new_all), np.concatenate(moved_all)
     print(f"\nall {len(old)} places: from the mean {np.median(old):.2f} / {old.max():.2f} m (previous), "
           f"{np.median(new):.2f} / {new.max():.2f} m (stop rule); {int((moved > 0).sum())} points moved, "
-          f"by {np.median(moved[moved > 0]) if (moved > 0).any() else 0:.2f} m median, {moved.max():.2f} m at most")  # fmt: skip
+          f"by {np.median(moved[moved > 0]) if (moved > 0).any() else 0:.2f} m median, "
+          f"{moved.max():.2f} m at most")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ from typing import Annotated, Any
 
 import typer
 
+from spcotmhp.collector import end_startup
 from spcotmhp.commands.body_options import (
     CostScaling,
     Footprint,
@@ -17,8 +18,6 @@ from spcotmhp.commands.body_options import (
     body_from_options,
     refuse_for_building,
 )
-
-from spcotmhp.collector import end_startup
 from spcotmhp.errors import InstructionError, SpcotmhpError
 from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS
 from spcotmhp.safe_read import excerpt, parse_json

@@ -13,6 +13,7 @@ from typing import Annotated
 
 import typer
 
+from spcotmhp.collector import end_startup
 from spcotmhp.commands.body_options import (
     CostScaling,
     Footprint,
@@ -22,8 +23,6 @@ from spcotmhp.commands.body_options import (
     body_from_options,
     refuse_for_building,
 )
-
-from spcotmhp.collector import end_startup
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.extras import missing_extra
 

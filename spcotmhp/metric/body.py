@@ -122,7 +122,7 @@ def footprint_points(points: object, source: str) -> tuple[tuple[float, float], 
     """``points`` as a tuple of (x, y) floats: a sequence of 3..MAX_FOOTPRINT_POINTS pairs of finite numbers
     within MAX_BODY_M; RobotBodyError naming what is wrong otherwise."""
     accepted = (
-        f'a list of at least 3 [x, y] points in metres, e.g. "[[0.3, 0.2], [0.3, -0.2], [-0.3, -0.2], [-0.3, 0.2]]"'
+        'a list of at least 3 [x, y] points in metres, e.g. "[[0.3, 0.2], [0.3, -0.2], [-0.3, -0.2], [-0.3, 0.2]]"'
     )
     if not isinstance(points, Sequence) or isinstance(points, (str, bytes)):
         raise RobotBodyError(f"{source}: the footprint must be {accepted}, got {_excerpt(points)}")
@@ -134,9 +134,10 @@ def footprint_points(points: object, source: str) -> tuple[tuple[float, float], 
     for i, point in enumerate(points):
         if not (isinstance(point, Sequence) and not isinstance(point, (str, bytes)) and len(point) == 2):
             raise RobotBodyError(f"{source}: footprint point {i + 1} must be [x, y], got {_excerpt(point)}")
-        if not all(_number(v) and abs(v) <= MAX_BODY_M for v in point):  # type: ignore[operator]  # numbers
+        if not all(_number(v) and abs(v) <= MAX_BODY_M for v in point):
             raise RobotBodyError(
-                f"{source}: footprint point {i + 1} must be two numbers within +-{MAX_BODY_M:g} m, got {_excerpt(point)}"
+                f"{source}: footprint point {i + 1} must be two numbers within +-{MAX_BODY_M:g} m, "
+                f"got {_excerpt(point)}"
             )
         out.append((float(point[0]), float(point[1])))
     return tuple(out)
@@ -196,7 +197,8 @@ def _check_inflation(inflation_radius: object, scaling: object, inscribed: float
         )
     if inflation_radius < inscribed:  # type: ignore[operator]  # a number, checked above
         raise RobotBodyError(
-            f"{source}: inflation_radius {inflation_radius:g} m is below the robot's inscribed radius {inscribed:.3g} m: "
+            f"{source}: inflation_radius {inflation_radius:g} m is below the robot's inscribed radius "
+            f"{inscribed:.3g} m: "
             "cells where the robot overlaps an obstacle would not be inflated (costmap_2d reports this as an error); "
             "set inflation_radius to at least the inscribed radius"
         )

@@ -41,7 +41,7 @@ _PAIR = re.compile(r"\[([^\[\]]*)\]")
 class Nav2Body:
     """What a params file says of the body: a footprint (points) or a radius, the padding, the inflation."""
 
-    footprint: tuple[tuple[float, float], ...] | None
+    footprint: Any  # the points as given (checked by the body), or None: a circle of robot_radius
     robot_radius: object
     padding: object
     inflation_radius: object
@@ -70,12 +70,12 @@ def read_nav2_params(path: str | Path) -> Nav2Body:
     )
 
 
-def parse_footprint(raw: object, where: str) -> tuple[tuple[float, float], ...] | list:
+def parse_footprint(raw: object, where: str) -> Any:
     """A footprint as Nav2 writes it, the string "[[x, y], [x, y], ...]" (numbers as C++ streams read them:
     0.3, .3, -3e-1), or a YAML list of [x, y] pairs: the points (checked by :func:`spcotmhp.metric.body.polygon`);
     RobotBodyError when the string does not parse."""
     if not isinstance(raw, str):
-        return raw  # type: ignore[return-value]  # a list, or refused by the body's checks
+        return raw  # a list, or refused by the body's checks
     text = raw.strip()
     inner = text[1:-1] if text.startswith("[") and text.endswith("]") else None
     pairs = _PAIR.findall(inner) if inner is not None else []
@@ -88,7 +88,7 @@ def parse_footprint(raw: object, where: str) -> tuple[tuple[float, float], ...] 
             points.append([float(v) for v in values])
         except ValueError:
             raise RobotBodyError(f"{where}: [{pair}] is not two numbers [x, y]") from None
-    return points  # type: ignore[return-value]  # pairs of floats, checked by the body
+    return points
 
 
 def resolve_body(

@@ -243,8 +243,8 @@ def snap_into_territories(
         sel = node_place == k
         out[sel] = snap(window, cells[sel] - corner) + corner
         if good is not None and stops is not None:
-            best = stops.best(int(k), box, good)
-            out[sel & stops.is_mean] = best
+            means = sel & stops.is_mean
+            out[means] = stops.best(int(k), box, good, cells[means][0]) if means.any() else out[means]
         ok[sel] = True
     return out, ok, fallback
 
@@ -268,8 +268,12 @@ class Stops:
             good[good] = inside[:, 0] <= self.limit
         return good
 
-    def best(self, k: int, box: tuple[slice, slice], good: np.ndarray) -> np.ndarray:
-        """The (row, col) of place ``k``'s most probable stop cell among ``good`` in ``box``."""
+    def best(self, k: int, box: tuple[slice, slice], good: np.ndarray, mean_cell: np.ndarray) -> np.ndarray:
+        """The (row, col) of place ``k``'s most probable stop cell among ``good`` in ``box``: the cell holding its
+        mean (``mean_cell``) when that is one, else the highest density at a cell's centre."""
+        r, c = int(mean_cell[0]) - box[0].start, int(mean_cell[1]) - box[1].start
+        if 0 <= r < good.shape[0] and 0 <= c < good.shape[1] and good[r, c]:
+            return np.asarray(mean_cell)
         rows, cols = np.nonzero(good)
         i = most_probable(self.centres[box][rows, cols], self.model.mu[k], self.model.Sigma[k])
         return np.array([rows[i] + box[0].start, cols[i] + box[1].start])

@@ -61,13 +61,17 @@ def test_nav2_radius_is_costmap_2d_s_padded_16_gon(tmp_path: Path) -> None:
     assert unpadded.circumscribed_radius == pytest.approx(0.3)
     padded = resolve_body(nav2_file(tmp_path, 0.3))  # Nav2's default footprint_padding, 0.01 m
     assert padded is not None
-    assert padded.circumscribed_radius == pytest.approx(math.hypot(0.3 * math.sqrt(0.5) + 0.01, 0.3 * math.sqrt(0.5) + 0.01))
+    assert padded.circumscribed_radius == pytest.approx(
+        math.hypot(0.3 * math.sqrt(0.5) + 0.01, 0.3 * math.sqrt(0.5) + 0.01)
+    )
     assert 0.30 < padded.inscribed_radius < 0.31
     assert (padded.inflation_radius, padded.cost_scaling_factor) == (0.55, 3.0)
 
 
 def test_nav2_footprint_string_and_option_overrides(tmp_path: Path) -> None:
-    extra = '      footprint: "[[0.35, 0.25], [0.35, -0.25], [-.25, -0.25], [-0.25, 0.25]]"\n      footprint_padding: 0.0\n'
+    extra = (
+        '      footprint: "[[0.35, 0.25], [0.35, -0.25], [-.25, -0.25], [-0.25, 0.25]]"\n      footprint_padding: 0.0\n'
+    )
     body = resolve_body(nav2_file(tmp_path, 0.3, extra), inflation_radius=0.8)
     assert body is not None and body.footprint is not None and len(body.footprint) == 4
     assert body.inscribed_radius == pytest.approx(0.25)
@@ -100,7 +104,10 @@ def test_default_body_has_one_home() -> None:
         ({"footprint": "[[1e9, 1], [-1, 1], [0, -1]]"}, r"footprint point 1 must be two numbers within \+-100 m"),
         ({"robot_radius": 0.0}, r"the robot radius must be a number in \(0, 100\] m, got 0.0"),
         ({"robot_radius": math.nan}, "the robot radius must be a number"),
-        ({"robot_radius": 0.3, "inflation_radius": 0.2}, "inflation_radius 0.2 m is below the robot's inscribed radius"),
+        (
+            {"robot_radius": 0.3, "inflation_radius": 0.2},
+            "inflation_radius 0.2 m is below the robot's inscribed radius",
+        ),
         ({"robot_radius": 0.3, "cost_scaling_factor": -1.0}, r"cost_scaling_factor must be a number in \[0, 1e\+06\]"),
         ({"robot_radius": 0.3, "footprint": "[[1, 1], [-1, 1], [0, -1]]"}, "either --robot-radius or --footprint"),
     ],
@@ -117,12 +124,24 @@ def test_bad_options_are_one_line(kwargs: dict, message: str) -> None:
         ("a: 1\n", "has no global_costmap section"),
         (NAV2.format(radius="wide", extra=""), "robot_radius must be a number > 0"),
         (NAV2.format(radius=0.3, extra='      footprint: "[[0.3, 0.2]"\n'), 'footprint must be a string "\\[\\['),
-        (NAV2.format(radius=0.3, extra="      footprint_padding: -1\n"), r"footprint_padding must be a number in \[0, 1\]"),
-        (NAV2.replace("nav2_costmap_2d::InflationLayer", "nav2_costmap_2d::VoxelLayer").format(radius=0.3, extra=""),
-         "no inflation layer among the plugins static_layer, obstacle_layer, inflation_layer"),
-        (NAV2.replace('        inflation_radius: 0.55\n', '        inflation_radius: 0.55\n        enabled: false\n')
-         .format(radius=0.3, extra=""), "the inflation layer inflation_layer is disabled"),
-        (NAV2.replace("0.55", "-0.5").format(radius=0.3, extra=""), r"inflation_radius must be a number in \[0, 10000\]"),
+        (
+            NAV2.format(radius=0.3, extra="      footprint_padding: -1\n"),
+            r"footprint_padding must be a number in \[0, 1\]",
+        ),
+        (
+            NAV2.replace("nav2_costmap_2d::InflationLayer", "nav2_costmap_2d::VoxelLayer").format(radius=0.3, extra=""),
+            "no inflation layer among the plugins static_layer, obstacle_layer, inflation_layer",
+        ),
+        (
+            NAV2.replace(
+                "        inflation_radius: 0.55\n", "        inflation_radius: 0.55\n        enabled: false\n"
+            ).format(radius=0.3, extra=""),
+            "the inflation layer inflation_layer is disabled",
+        ),
+        (
+            NAV2.replace("0.55", "-0.5").format(radius=0.3, extra=""),
+            r"inflation_radius must be a number in \[0, 10000\]",
+        ),
         ("global_costmap: [1, 2\n", "does not parse"),
     ],
 )

@@ -92,12 +92,22 @@ def test_the_mean_s_point_is_the_most_probable_stop_cell(home: str) -> None:
         xy = occ.cell_to_world(graph.to_map(np.stack([rows, cols], axis=1)))
         d = xy - model.mu[k]
         m2 = np.einsum("ni,ij,nj->n", d, np.linalg.inv(model.Sigma[k]), d)
-        here = occ.cell_to_world(graph.to_map(graph.node_cell[n : n + 1]))[0] - model.mu[k]
+        node = graph.node_cell[n]
+        mean_cell = occ.world_to_cell(model.mu[k : k + 1])[0] - np.array(graph.offset)
+        if own[mean_cell[0], mean_cell[1]]:  # the mean's own cell is a stop cell: the point stays there
+            assert tuple(node) == tuple(mean_cell)
+            continue
+        here = occ.cell_to_world(graph.to_map(node[None]))[0] - model.mu[k]
         assert here @ np.linalg.inv(model.Sigma[k]) @ here == pytest.approx(m2.min(), abs=1e-9)
 
 
 def test_a_footprint_s_circumscribed_cost_lowers_the_threshold() -> None:
-    costmap = {"inscribed_radius": 0.2, "circumscribed_radius": 0.36, "inflation_radius": 1.0, "cost_scaling_factor": 10.0}
+    costmap = {
+        "inscribed_radius": 0.2,
+        "circumscribed_radius": 0.36,
+        "inflation_radius": 1.0,
+        "cost_scaling_factor": 10.0,
+    }
     # computeCost at 0.36 m: int(252 exp(-10 x 0.16)) = 50, published 1 + 97 x 49 // 251 = 19
     assert stop_threshold(costmap, 0.05) == 19
     assert stop_threshold({"inscribed_radius": 0.2, "inflation_radius": 1.0, "cost_scaling_factor": 10.0}, 0.05) == 50
