@@ -67,7 +67,9 @@ class GraphSettings:
         require_int(self.max_dense_bytes, "max_dense_bytes", 0)
         require_range(self.portal_spacing, "portal_spacing", 0.0, math.inf, "> 0 (metres)", open_=True)
         if self.stop_cost is not None:
-            require_range(self.stop_cost, "stop_cost", 0.0, 100.0, "in (0, 100] (published cost; or None)")
+            require_range(
+                self.stop_cost, "stop_cost", 0.0, 100.0, "in (0, 100) (a published cost; or None)", open_=True
+            )
 
 
 def require_int(value: object, name: str, low: int, high: int | None = None) -> None:

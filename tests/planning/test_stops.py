@@ -120,3 +120,26 @@ def test_published_cost_inverts_log_p() -> None:
     log_p = np.log((100.0 - cost) / 100.0)
     np.testing.assert_array_equal(published_cost(log_p), cost)
     assert np.isinf(published_cost(np.array([-np.inf])))[0]
+
+
+def test_a_place_without_a_stop_cell_keeps_the_previous_rule_and_is_listed() -> None:
+    from spcotmhp.metric.body import circle
+    from spcotmhp.planning.body import with_body
+
+    # inflated over the whole map with a slow decay: every free cell costs more than 90 of 100, no place has a stop cell
+    model = with_body(learned("3LDK_01"), circle(0.22, inflation_radius=50.0, cost_scaling_factor=0.01))
+    none = HierarchicalPlanner(model).graph
+    assert (published_cost(none.log_p)[none.traversable] > 90).all()
+    previous = HierarchicalPlanner(model, stop_cost=None).graph
+    np.testing.assert_array_equal(none.node_cell, previous.node_cell)
+    assert sorted(none.info["stop_fallback"]) == sorted(set(previous.node_place.tolist()))
+    assert previous.info["stop_fallback"] == []
+
+
+@pytest.mark.parametrize("bad", [0, 100, -1, float("nan"), "50"])
+def test_stop_cost_range(bad: object) -> None:
+    from spcotmhp.errors import InvalidSettings
+    from spcotmhp.planning.graph_settings import GraphSettings
+
+    with pytest.raises(InvalidSettings, match=r"stop_cost must be in \(0, 100\)"):
+        GraphSettings(stop_cost=bad)  # type: ignore[arg-type]
