@@ -5,7 +5,7 @@ candidate points (:func:`~spcotmhp.planning.places.candidate_nodes`) are put on 
 
 * of low cost: costmap_2d's published cost below ``STOP_COST`` = 50 of 100 (raw cost below 128 of 254, the middle
   of the inflation's 1..252 scale: the cost has halved from its value at the inscribed radius, which puts the
-  robot's centre ln(252 / 127) / cost_scaling_factor beyond the inscribed radius, a margin the robot's own
+  robot's centre ln(252 / 128) / cost_scaling_factor beyond the inscribed radius, a margin the robot's own
   inflation settings set, not a constant of ours) and, for a footprint polygon, below its circumscribed cost
   (:meth:`~spcotmhp.metric.costmap.CostMapSettings.circumscribed_cost`: there the footprint is clear of
   obstacles at every heading, so the robot can turn in place where it stops);
@@ -14,7 +14,7 @@ candidate points (:func:`~spcotmhp.planning.places.candidate_nodes`) are put on 
 * reachable: in the free region planned from (the same 4-connected component as the start).
 
 The first candidate, the paper's mean, becomes the place's most probable stop cell: the cell holding the mean
-when that is a stop cell (the points of 138 of 163 places measured stay where they were), else the stop cell of
+when that is a stop cell (150 of the 163 places measured keep their point), else the stop cell of
 the highest N(x | mu, Sigma) at its centre (the nearest to the mean in Mahalanobis distance); the sampled
 candidates (N > 1) move to their nearest stop cell. A place without a stop cell keeps the previous rule (the
 nearest traversable cell of its territory) and is listed in the graph's ``info["stop_fallback"]``.
