@@ -12,15 +12,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from spcotmhp.commands.body_options import (
-    CostScaling,
-    Footprint,
-    InflationRadius,
-    Nav2Params,
-    RobotRadius,
-    body_from_options,
-    refuse_for_building,
-)
+from spcotmhp.commands import body_options as bo
 from spcotmhp.commands.datasets import load_dataset_reporting
 from spcotmhp.errors import ModelError
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, MAX_RUNS, MAX_SEEDS
@@ -141,11 +133,11 @@ def learn(
             help=("Replace the model already in --out (a folder holding anything else is never replaced)."),
         ),
     ] = False,
-    nav2_params: Nav2Params = None,
-    robot_radius: RobotRadius = None,
-    footprint: Footprint = None,
-    inflation_radius: InflationRadius = None,
-    cost_scaling_factor: CostScaling = None,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Learn spatial concepts and places from a dataset and save the model.
 
@@ -184,9 +176,9 @@ def learn(
     if data.path is not None and _overlaps(out, Path(data.path)):
         raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
     prepare_model_folder(out, overwrite)  # a bad --out fails now, not after the fit
-    body = body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     if building is not None:
-        refuse_for_building(body, Path(dataset))
+        bo.refuse_for_building(body, Path(dataset))
     check_recorded_costmap(data, body)  # a costmap_ros.csv made for another robot fails now
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised

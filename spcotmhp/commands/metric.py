@@ -9,14 +9,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from spcotmhp.commands.body_options import (
-    CostScaling,
-    Footprint,
-    InflationRadius,
-    Nav2Params,
-    RobotRadius,
-    body_from_options,
-)
+from spcotmhp.commands import body_options as bo
 from spcotmhp.errors import MapError
 from spcotmhp.safe_write import atomic_write, check_output
 
@@ -35,11 +28,11 @@ def costmap(
         float | None,
         typer.Option(help="Inscribed radius in metres (0.22 when neither this nor --robot-radius is given)."),
     ] = None,
-    inflation_radius: InflationRadius = None,
-    cost_scaling_factor: CostScaling = None,
-    robot_radius: RobotRadius = None,
-    nav2_params: Nav2Params = None,
-    footprint: Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
+    robot_radius: bo.RobotRadius = None,
+    nav2_params: bo.Nav2Params = None,
+    footprint: bo.Footprint = None,
     track_unknown_space: Annotated[
         bool, typer.Option(help="Keep unknown cells as NO_INFORMATION (-1 in the output) instead of free.")
     ] = False,
@@ -80,7 +73,7 @@ def costmap(
         if inscribed_radius is not None and robot_radius is not None:
             raise MapError("give either robot_radius or inscribed_radius, not both")
         radius = robot_radius if robot_radius is not None else inscribed_radius
-        body = body_from_options(nav2_params, radius, footprint, inflation_radius, cost_scaling_factor)
+        body = bo.body_from_options(nav2_params, radius, footprint, inflation_radius, cost_scaling_factor)
         assert body is not None  # a file or a footprint was given
         settings = body.costmap()
         typer.echo(f"body: {body.describe()}", err=True)

@@ -9,15 +9,7 @@ from typing import Annotated, Any
 import typer
 
 from spcotmhp.collector import end_startup
-from spcotmhp.commands.body_options import (
-    CostScaling,
-    Footprint,
-    InflationRadius,
-    Nav2Params,
-    RobotRadius,
-    body_from_options,
-    refuse_for_building,
-)
+from spcotmhp.commands import body_options as bo
 from spcotmhp.errors import InstructionError, SpcotmhpError
 from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS
 from spcotmhp.safe_read import excerpt, parse_json
@@ -86,11 +78,11 @@ def plan_command(
             "--png writes one picture per floor crossed (NAME-floorF.png) and --json adds segments per floor.",
         ),
     ] = None,
-    nav2_params: Nav2Params = None,
-    robot_radius: RobotRadius = None,
-    footprint: Footprint = None,
-    inflation_radius: InflationRadius = None,
-    cost_scaling_factor: CostScaling = None,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
     from spcotmhp.persistence.io import load_model
@@ -111,9 +103,9 @@ def plan_command(
         outside_model(png, model_dir, "--png")
     source: Any = instruction if nbest is None else read_nbest(nbest)
     settings: dict[str, Any] = {"n_candidates": candidates, "seed": seed, "smooth": smooth, "max_steps": max_steps}
-    body = body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     if plan_in_building(model_dir, floor):
-        refuse_for_building(body, model_dir)
+        bo.refuse_for_building(body, model_dir)
         from spcotmhp.commands.building import plan_building
 
         recognise = None if audio is None else functools.partial(recognise_audio, audio)

@@ -14,15 +14,7 @@ from typing import Annotated
 import typer
 
 from spcotmhp.collector import end_startup
-from spcotmhp.commands.body_options import (
-    CostScaling,
-    Footprint,
-    InflationRadius,
-    Nav2Params,
-    RobotRadius,
-    body_from_options,
-    refuse_for_building,
-)
+from spcotmhp.commands import body_options as bo
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.extras import missing_extra
 
@@ -112,11 +104,11 @@ def serve(
     body_timeout: Annotated[
         float, typer.Option(callback=_seconds, help="Seconds (0.1 to 600) to receive a JSON request body before a 408.")
     ] = 10.0,
-    nav2_params: Nav2Params = None,
-    robot_radius: RobotRadius = None,
-    footprint: Footprint = None,
-    inflation_radius: InflationRadius = None,
-    cost_scaling_factor: CostScaling = None,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Serve planning over HTTP (FastAPI): POST /plan, /plan/audio and /teach; GET /places, /questions, /map.png,
     /map.json, /models and /healthz; the web page at /.
@@ -141,11 +133,11 @@ def serve(
     from spcotmhp.planning.body import with_body
 
     mapping = model_mapping(models)
-    body = body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     with console.status("loading models"):
         for folder in mapping.values():
             if is_building_model(folder):
-                refuse_for_building(body, folder)
+                bo.refuse_for_building(body, folder)
         loaded = {  # a bad model is named first; a building's model is served with its building planner
             name: load_building_model(folder) if is_building_model(folder) else with_body(load_model(folder), body)
             for name, folder in mapping.items()
