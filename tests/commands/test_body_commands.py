@@ -102,3 +102,44 @@ def test_bad_bodies_are_one_line(args: list[str], message: str, tmp_path: Path, 
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
     assert re.search(message, lines[0])
+
+
+@pytest.fixture(scope="module")
+def model_dir(home: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("model") / "m"
+    assert run("learn", str(home), "--supervised", "--out", str(out)).exit_code == 0
+    return out
+
+
+@pytest.mark.parametrize("command", ["plan", "serve", "ros2"])
+def test_every_planning_command_refuses_a_bad_body_in_one_line(command: str, model_dir: Path) -> None:
+    args = {
+        "plan": [str(model_dir), "go to the kitchen", "--start", "0", "0"],
+        "serve": [str(model_dir), "--port", "0"],
+    }
+    res = cli(command, *args.get(command, [str(model_dir)]), "--footprint", "[[0.3, 0.2], [0.3, -0.2]]")
+    if command == "ros2" and "extra" in res.stderr and "ros2" in res.stderr and "install" in res.stderr:
+        pytest.skip("rclpy is not installed")
+    assert res.returncode == 2
+    lines = res.stderr.strip().splitlines()
+    assert lines[-1] == (
+        "error: --footprint: the footprint has 2 points; it must have 3 to 1000 (a list of at least 3 [x, y] points "
+        'in metres, e.g. "[[0.3, 0.2], [0.3, -0.2], [-0.3, -0.2], [-0.3, 0.2]]")'
+    )
+    assert "Traceback" not in res.stderr
+
+
+def test_costmap_from_nav2_params(tmp_path: Path) -> None:
+    from spcotmhp.metric.costmap import inflate
+    from spcotmhp.metric.map_io import load_map
+    from spcotmhp.metric.nav2_params import resolve_body
+
+    params = nav2_file(tmp_path)
+    yaml_path = bundled_path("3LDK_05") / "map.yaml"
+    res = run("costmap", str(yaml_path), "--nav2-params", str(params), "--out", str(tmp_path / "c.csv"))
+    assert res.exit_code == 0, res.output
+    body = resolve_body(params)
+    assert body is not None
+    want = inflate(load_map(yaml_path), **body.costmap()).to_occupancy_grid()
+    got = [[int(v) for v in line.split(",")] for line in (tmp_path / "c.csv").read_text().splitlines()]
+    assert got == want.tolist()
