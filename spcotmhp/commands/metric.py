@@ -45,7 +45,7 @@ def costmap(
     Existing files are replaced only with --overwrite, the map's own files never; each file is written whole
     or not at all.
     """
-    from spcotmhp.metric.costmap import DEFAULT_COSTMAP, inflate
+    from spcotmhp.metric.costmap import inflate
     from spcotmhp.metric.map_io import load_map, read_map_yaml
 
     for name, value in (
@@ -60,8 +60,31 @@ def costmap(
     check_output(out, overwrite, inputs, MapError, "--out", suffix=".csv")
     if png is not None:
         check_output(png, overwrite, inputs + [out], MapError, "--png", suffix=".png")
-    if nav2_params is None and footprint is None:  # the radii and settings as given (costmap_2d's ranges)
-        settings: dict = {
+    settings = cost_map_settings(
+        nav2_params, robot_radius, inscribed_radius, footprint, inflation_radius, cost_scaling_factor
+    )
+    cost_map = inflate(load_map(map_yaml), track_unknown_space=track_unknown_space, **settings)
+    grid = cost_map.to_occupancy_grid()
+    atomic_write(out, lambda tmp: write_grid_csv(grid, tmp), MapError)
+    if png is not None:
+        atomic_write(png, lambda tmp: draw_cost_map(grid, cost_map.map.unknown, tmp), MapError)
+    typer.echo(f"wrote {out} ({grid.shape[0]} rows x {grid.shape[1]} columns)", err=True)
+
+
+def cost_map_settings(
+    nav2_params: Path | None,
+    robot_radius: float | None,
+    inscribed_radius: float | None,
+    footprint: str | None,
+    inflation_radius: float | None,
+    cost_scaling_factor: float | None,
+) -> dict:
+    """``inflate``'s settings of the costmap command: the radii and settings as given (costmap_2d's ranges), or,
+    with --nav2-params or --footprint, the body's (:mod:`spcotmhp.metric.body`; options replace the file's)."""
+    from spcotmhp.metric.costmap import DEFAULT_COSTMAP
+
+    if nav2_params is None and footprint is None:
+        return {
             "inscribed_radius": inscribed_radius,
             "robot_radius": robot_radius,
             "inflation_radius": DEFAULT_COSTMAP.inflation_radius if inflation_radius is None else inflation_radius,
@@ -69,20 +92,13 @@ def costmap(
             if cost_scaling_factor is None
             else cost_scaling_factor,
         }
-    else:  # a body (metric.body): from the Nav2 params file, the options replacing its values
-        if inscribed_radius is not None and robot_radius is not None:
-            raise MapError("give either robot_radius or inscribed_radius, not both")
-        radius = robot_radius if robot_radius is not None else inscribed_radius
-        body = bo.body_from_options(nav2_params, radius, footprint, inflation_radius, cost_scaling_factor)
-        assert body is not None  # a file or a footprint was given
-        settings = body.costmap()
-        typer.echo(f"body: {body.describe()}", err=True)
-    cost_map = inflate(load_map(map_yaml), track_unknown_space=track_unknown_space, **settings)
-    grid = cost_map.to_occupancy_grid()
-    atomic_write(out, lambda tmp: write_grid_csv(grid, tmp), MapError)
-    if png is not None:
-        atomic_write(png, lambda tmp: draw_cost_map(grid, cost_map.map.unknown, tmp), MapError)
-    typer.echo(f"wrote {out} ({grid.shape[0]} rows x {grid.shape[1]} columns)", err=True)
+    if inscribed_radius is not None and robot_radius is not None:
+        raise MapError("give either robot_radius or inscribed_radius, not both")
+    radius = robot_radius if robot_radius is not None else inscribed_radius
+    body = bo.body_from_options(nav2_params, radius, footprint, inflation_radius, cost_scaling_factor)
+    assert body is not None  # a file or a footprint was given
+    typer.echo(f"body: {body.describe()}", err=True)
+    return body.costmap()
 
 
 def write_grid_csv(grid: np.ndarray, path: Path) -> None:

@@ -51,6 +51,16 @@ def stop_cells(log_p: np.ndarray, threshold: float) -> np.ndarray:
     return published_cost(log_p) < threshold
 
 
+def window_stops(
+    costmap: dict, resolution: float, stop_cost: float | None, log_p: np.ndarray, centres: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """(stop cells by cost, cell centres) of a window of log p(x|m) for the candidate nodes, or None when
+    ``stop_cost`` is None (the paper's rule)."""
+    if stop_cost is None:
+        return None
+    return stop_cells(log_p, stop_threshold(costmap, resolution, stop_cost)), centres
+
+
 def most_probable(centres: np.ndarray, mu: np.ndarray, Sigma: np.ndarray) -> int:
     """Index of the point of ``centres`` (n, 2) of highest N(x | mu, Sigma): the smallest Mahalanobis distance
     (the first on ties, so the choice is deterministic)."""
