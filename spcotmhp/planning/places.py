@@ -242,9 +242,10 @@ def snap_into_territories(
         window = target[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
         sel = node_place == k
         out[sel] = snap(window, cells[sel] - corner) + corner
-        if good is not None and stops is not None:
-            means = sel & stops.is_mean
-            out[means] = stops.best(int(k), box, good, cells[means][0]) if means.any() else out[means]
+        means = sel & stops.is_mean if good is not None and stops is not None else np.zeros(0, dtype=bool)
+        if means.any():  # the mean's candidate: the most probable stop cell
+            assert stops is not None and good is not None
+            out[means] = stops.best(int(k), box, good, cells[means][0])
         ok[sel] = True
     return out, ok, fallback
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from spcotmhp.metric.costmap import inflate
 from spcotmhp.planning.planner import HierarchicalPlanner
@@ -143,3 +145,18 @@ def test_stop_cost_range(bad: object) -> None:
 
     with pytest.raises(InvalidSettings, match=r"stop_cost must be in \(0, 100\)"):
         GraphSettings(stop_cost=bad)  # type: ignore[arg-type]
+
+
+@given(st.floats(0.05, 1.0), st.floats(0.0, 1.0), st.floats(0.0, 20.0), st.sampled_from([0.025, 0.05, 0.1]))
+def test_stop_threshold_is_the_lower_of_50_and_the_circumscribed_cost(
+    inscribed: float, extra: float, scaling: float, resolution: float
+) -> None:
+    from spcotmhp.metric.costmap import COST_TRANSLATION_TABLE, CostMapSettings
+
+    costmap = {"inscribed_radius": inscribed, "circumscribed_radius": inscribed + extra, "cost_scaling_factor": scaling}
+    threshold = stop_threshold(costmap, resolution)
+    circumscribed = CostMapSettings(**costmap).circumscribed_cost(resolution)
+    assert threshold == min(STOP_COST, float(COST_TRANSLATION_TABLE[circumscribed]))
+    assert 0 <= threshold <= STOP_COST
+    if extra == 0:  # a circle: its circumscribed cost is the inscribed 253 (published 99), no constraint
+        assert threshold == STOP_COST
