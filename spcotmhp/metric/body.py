@@ -30,7 +30,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from spcotmhp.errors import RobotBodyError
-from spcotmhp.metric.costmap import DEFAULT_COSTMAP, CostMapSettings
+from spcotmhp.metric.costmap import DEFAULT_COSTMAP
 
 MAX_BODY_M = 100.0
 MAX_FOOTPRINT_POINTS = 1000
@@ -204,11 +204,6 @@ def _check_inflation(inflation_radius: object, scaling: object, inscribed: float
         )
     if not (_number(scaling) and 0 <= scaling <= MAX_SCALING):  # type: ignore[operator]
         raise RobotBodyError(f"{source}: cost_scaling_factor must be a number in [0, {MAX_SCALING:g}], got {scaling!r}")
-
-
-def settings_of(costmap: dict) -> CostMapSettings:
-    """The :class:`CostMapSettings` of a model's ``costmap`` dict (its body; old folders: the default body)."""
-    return CostMapSettings(**costmap)
 
 
 def _number(value: object) -> bool:
