@@ -18,6 +18,11 @@ class MapError(SpcotmhpError):
     """A ROS map_server YAML or image is missing, malformed or unsupported."""
 
 
+class RobotBodyError(MapError):
+    """The robot's body (radius, footprint polygon, inflation settings, a Nav2 params file) is malformed or out
+    of range (:mod:`spcotmhp.metric.body`), or a recorded costmap_ros.csv contradicts it."""
+
+
 class DatasetError(SpcotmhpError):
     """A dataset folder is missing a file, or a file has rows that do not parse."""
 

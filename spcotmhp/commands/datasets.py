@@ -182,12 +182,31 @@ def check_dataset(
         edges = int((np.triu(d.adjacency, 1) > 0).sum())
         lines.append(f"adjacency   {len(d.adjacency)} x {len(d.adjacency)}, {edges} edges")
     if d.costmap_ros is not None:
-        lines.append(f"costmap     costmap_ros.csv {d.costmap_ros.shape[0]} x {d.costmap_ros.shape[1]}")
+        lines.append(
+            f"costmap     costmap_ros.csv {d.costmap_ros.shape[0]} x {d.costmap_ros.shape[1]}: {recorded_note(d)}"
+        )
     lines.append(f"warnings    {len(caught)}")
     lines += [f"  warning: {msg}" for msg in caught]
     typer.echo("\n".join(lines))
     if strict and caught:
         raise typer.Exit(1)
+
+
+def recorded_note(d: Dataset) -> str:
+    """What ``learn`` does with the dataset's costmap_ros.csv (:mod:`spcotmhp.metric.recorded`), judged against the
+    default body: used when it is that body's cost map, else learned only with the body it was made for."""
+    from spcotmhp.metric.costmap import default_costmap, inflate
+    from spcotmhp.metric.recorded import compare_recorded
+
+    assert d.costmap_ros is not None
+    comparison = compare_recorded(d.costmap_ros, inflate(d.map, **default_costmap()))
+    if comparison.same:
+        return "the default body's cost map (a 0.22 m circle), used by learn"
+    return (
+        f"not the default body's ({comparison.unsafe} cells inscribed or lethal there are free for a 0.22 m circle, "
+        f"{comparison.stricter} the other way, {comparison.other} of another cost; its inscribed cells reach "
+        f"{comparison.reach_m:.3g} m): learn refuses it unless given the body it was made for"
+    )
 
 
 def synth(

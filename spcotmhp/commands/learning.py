@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from spcotmhp.commands import body_options as bo
 from spcotmhp.commands.datasets import load_dataset_reporting
 from spcotmhp.errors import ModelError
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, MAX_RUNS, MAX_SEEDS
@@ -19,6 +20,7 @@ from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, 
 if TYPE_CHECKING:  # the datasets package is imported by the commands that use it (a quick `spcotmhp plan`)
     from spcotmhp.datasets.dataset import Dataset
     from spcotmhp.learning.model import Hyperparameters
+    from spcotmhp.metric.body import RobotBody
 
 # learn --connectivity -> the adjacency source of the supervised fit ("hmm": the truth's transition counts)
 SUPERVISED_CONNECTIVITY = {
@@ -131,6 +133,11 @@ def learn(
             help=("Replace the model already in --out (a folder holding anything else is never replaced)."),
         ),
     ] = False,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Learn spatial concepts and places from a dataset and save the model.
 
@@ -169,6 +176,10 @@ def learn(
     if data.path is not None and _overlaps(out, Path(data.path)):
         raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
     prepare_model_folder(out, overwrite)  # a bad --out fails now, not after the fit
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
+    if building is not None:
+        bo.refuse_for_building(body, Path(dataset))
+    check_recorded_costmap(data, body)  # a costmap_ros.csv made for another robot fails now
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
 
@@ -200,6 +211,11 @@ def learn(
     from spcotmhp.teaching.answers import attach_walk
 
     attach_walk(model, data.trajectory)  # the walk judges the split at an answer (teaching/answers.py)
+    if body is not None:
+        from spcotmhp.planning.body import with_body
+
+        model = with_body(model, body)
+        summary += f"\nbody: {body.describe()}"
     if building is not None:
         building.save(model, out, overwrite)
     else:
@@ -207,6 +223,26 @@ def learn(
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
+
+
+def check_recorded_costmap(data: Dataset, body: RobotBody | None) -> None:
+    """A dataset's costmap_ros.csv must be the cost map of the model's body (:mod:`spcotmhp.metric.recorded`):
+    used when it is, refused with one line when it is not."""
+    if data.costmap_ros is None:
+        return
+    from spcotmhp.errors import RobotBodyError
+    from spcotmhp.metric.costmap import default_costmap, inflate
+    from spcotmhp.metric.recorded import compare_recorded
+
+    comparison = compare_recorded(
+        data.costmap_ros, inflate(data.map, **(body.costmap() if body else default_costmap()))
+    )
+    if not comparison.same:
+        what = body.describe() if body is not None else "the default body (a 0.22 m circle, inflation 1 m, scaling 10)"
+        raise RobotBodyError(
+            f"{data.path}: {comparison.describe(what)}; give the body it was made for (--nav2-params FILE, "
+            "--robot-radius R or --footprint) or remove costmap_ros.csv"
+        )
 
 
 def _overlaps(out: Path, folder: Path) -> bool:

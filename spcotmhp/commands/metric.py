@@ -9,6 +9,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
+from spcotmhp.commands import body_options as bo
 from spcotmhp.errors import MapError
 from spcotmhp.safe_write import atomic_write, check_output
 
@@ -27,11 +28,11 @@ def costmap(
         float | None,
         typer.Option(help="Inscribed radius in metres (0.22 when neither this nor --robot-radius is given)."),
     ] = None,
-    inflation_radius: Annotated[float, typer.Option(help="Inflation radius in metres.")] = 1.0,
-    cost_scaling_factor: Annotated[float, typer.Option(help="Exponential decay of the inflated cost.")] = 10.0,
-    robot_radius: Annotated[
-        float | None, typer.Option(help="Radius of a circular robot: its inscribed radius.")
-    ] = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
+    robot_radius: bo.RobotRadius = None,
+    nav2_params: bo.Nav2Params = None,
+    footprint: bo.Footprint = None,
     track_unknown_space: Annotated[
         bool, typer.Option(help="Keep unknown cells as NO_INFORMATION (-1 in the output) instead of free.")
     ] = False,
@@ -59,19 +60,45 @@ def costmap(
     check_output(out, overwrite, inputs, MapError, "--out", suffix=".csv")
     if png is not None:
         check_output(png, overwrite, inputs + [out], MapError, "--png", suffix=".png")
-    cost_map = inflate(
-        load_map(map_yaml),
-        inscribed_radius=inscribed_radius,
-        inflation_radius=inflation_radius,
-        cost_scaling_factor=cost_scaling_factor,
-        track_unknown_space=track_unknown_space,
-        robot_radius=robot_radius,
+    settings = cost_map_settings(
+        nav2_params, robot_radius, inscribed_radius, footprint, inflation_radius, cost_scaling_factor
     )
+    cost_map = inflate(load_map(map_yaml), track_unknown_space=track_unknown_space, **settings)
     grid = cost_map.to_occupancy_grid()
     atomic_write(out, lambda tmp: write_grid_csv(grid, tmp), MapError)
     if png is not None:
         atomic_write(png, lambda tmp: draw_cost_map(grid, cost_map.map.unknown, tmp), MapError)
     typer.echo(f"wrote {out} ({grid.shape[0]} rows x {grid.shape[1]} columns)", err=True)
+
+
+def cost_map_settings(
+    nav2_params: Path | None,
+    robot_radius: float | None,
+    inscribed_radius: float | None,
+    footprint: str | None,
+    inflation_radius: float | None,
+    cost_scaling_factor: float | None,
+) -> dict:
+    """``inflate``'s settings of the costmap command: the radii and settings as given (costmap_2d's ranges), or,
+    with --nav2-params or --footprint, the body's (:mod:`spcotmhp.metric.body`; options replace the file's)."""
+    from spcotmhp.metric.costmap import DEFAULT_COSTMAP
+
+    if nav2_params is None and footprint is None:
+        return {
+            "inscribed_radius": inscribed_radius,
+            "robot_radius": robot_radius,
+            "inflation_radius": DEFAULT_COSTMAP.inflation_radius if inflation_radius is None else inflation_radius,
+            "cost_scaling_factor": DEFAULT_COSTMAP.cost_scaling_factor
+            if cost_scaling_factor is None
+            else cost_scaling_factor,
+        }
+    if inscribed_radius is not None and robot_radius is not None:
+        raise MapError("give either robot_radius or inscribed_radius, not both")
+    radius = robot_radius if robot_radius is not None else inscribed_radius
+    body = bo.body_from_options(nav2_params, radius, footprint, inflation_radius, cost_scaling_factor)
+    assert body is not None  # a file or a footprint was given
+    typer.echo(f"body: {body.describe()}", err=True)
+    return body.costmap()
 
 
 def write_grid_csv(grid: np.ndarray, path: Path) -> None:

@@ -9,6 +9,7 @@ from typing import Annotated, Any
 import typer
 
 from spcotmhp.collector import end_startup
+from spcotmhp.commands import body_options as bo
 from spcotmhp.errors import InstructionError, SpcotmhpError
 from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS
 from spcotmhp.safe_read import excerpt, parse_json
@@ -77,6 +78,11 @@ def plan_command(
             "--png writes one picture per floor crossed (NAME-floorF.png) and --json adds segments per floor.",
         ),
     ] = None,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Plan a path from an instruction with SpCoTMHP (Algorithm 1): waypoints in order, the closest goal."""
     from spcotmhp.persistence.io import load_model
@@ -97,14 +103,18 @@ def plan_command(
         outside_model(png, model_dir, "--png")
     source: Any = instruction if nbest is None else read_nbest(nbest)
     settings: dict[str, Any] = {"n_candidates": candidates, "seed": seed, "smooth": smooth, "max_steps": max_steps}
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     if plan_in_building(model_dir, floor):
+        bo.refuse_for_building(body, model_dir)
         from spcotmhp.commands.building import plan_building
 
         recognise = None if audio is None else functools.partial(recognise_audio, audio)
         plan_building(model_dir, source, start, floor, recognise=recognise, as_json=as_json, png=png,
                       overwrite=overwrite, lang=lang, settings=settings)  # fmt: skip
         return
-    model = load_model(model_dir)
+    from spcotmhp.planning.body import with_body
+
+    model = with_body(load_model(model_dir), body)  # another body: its cost map and graph from the stored map
     if audio is not None:
         source = recognise_audio(audio, model)
     planner = HierarchicalPlanner(model, **settings)

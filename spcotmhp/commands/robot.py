@@ -8,6 +8,8 @@ from typing import Annotated
 
 import typer
 
+from spcotmhp.commands import body_options as bo
+
 
 def import_bag(
     bag: Annotated[Path, typer.Argument(help="ROS 1 .bag file, or ROS 2 bag folder (metadata.yaml + .db3/.mcap).")],
@@ -79,6 +81,11 @@ def ros2(
             help="A building's model: the floor the robot starts on (index or name); /spcotmhp/floor switches it.",
         ),
     ] = None,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
     plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
@@ -88,7 +95,9 @@ def ros2(
     from spcotmhp.ros import require_rclpy
 
     require_rclpy()
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     if is_building_model(model_dir):
+        bo.refuse_for_building(body, model_dir)
         from spcotmhp.errors import SpcotmhpError
         from spcotmhp.ros.building_node import run_building_node
 
@@ -108,6 +117,7 @@ def ros2(
         start_topic=start_topic,
         record=record,
         progress=lambda line: typer.echo(line, err=True),
+        body=body,
     )
 
 

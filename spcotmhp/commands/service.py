@@ -14,6 +14,7 @@ from typing import Annotated
 import typer
 
 from spcotmhp.collector import end_startup
+from spcotmhp.commands import body_options as bo
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.extras import missing_extra
 
@@ -103,6 +104,11 @@ def serve(
     body_timeout: Annotated[
         float, typer.Option(callback=_seconds, help="Seconds (0.1 to 600) to receive a JSON request body before a 408.")
     ] = 10.0,
+    nav2_params: bo.Nav2Params = None,
+    robot_radius: bo.RobotRadius = None,
+    footprint: bo.Footprint = None,
+    inflation_radius: bo.InflationRadius = None,
+    cost_scaling_factor: bo.CostScaling = None,
 ) -> None:
     """Serve planning over HTTP (FastAPI): POST /plan, /plan/audio and /teach; GET /places, /questions, /map.png,
     /map.json, /models and /healthz; the web page at /.
@@ -124,10 +130,16 @@ def serve(
     from spcotmhp.persistence.io import load_model
 
     console = Console(stderr=True, soft_wrap=True)  # lines whole: scripts read the address from them
+    from spcotmhp.planning.body import with_body
+
     mapping = model_mapping(models)
+    body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     with console.status("loading models"):
+        for folder in mapping.values():
+            if is_building_model(folder):
+                bo.refuse_for_building(body, folder)
         loaded = {  # a bad model is named first; a building's model is served with its building planner
-            name: load_building_model(folder) if is_building_model(folder) else load_model(folder)
+            name: load_building_model(folder) if is_building_model(folder) else with_body(load_model(folder), body)
             for name, folder in mapping.items()
         }
     sock = listening_socket(host, port)  # before the planners are precomputed: a port in use fails at once

@@ -41,8 +41,9 @@ def aggregate(per_seed: Sequence[Mapping]) -> dict:
             out[key] = first
             continue
         values = np.array([float(d[key]) for d in per_seed if key in d])
-        out[key] = float(values.mean())
-        out[f"{key}_sd"] = float(values.std(ddof=1)) if len(values) > 1 else 0.0
+        same = bool((values == values[0]).all())  # the same value every seed: exactly it, spread exactly 0
+        out[key] = float(values[0]) if same else float(values.mean())  # (a float mean of equal values can miss)
+        out[f"{key}_sd"] = float(values.std(ddof=1)) if len(values) > 1 and not same else 0.0
     out["seeds"] = len(per_seed)
     return out
 

@@ -14,6 +14,7 @@ from numba import njit
 from spcotmhp.errors import ModelError
 from spcotmhp.learning.model_values import HYPER_RANGES, check_hyper, check_model, check_truncation, in_range, refuse
 from spcotmhp.logspace import log_gaussian, logsumexp, logsumexp_vector
+from spcotmhp.metric.costmap import default_costmap
 from spcotmhp.metric.maps import OccupancyMap
 
 # Total concentrations of the weak-limit Dirichlet priors (the authors' code: alpha = 10 / L, gamma = 1 / K,
@@ -152,7 +153,8 @@ class SpatialConceptModel:
             leaves the others at prior draws; planning ignores them).
         hyper: the hyper-parameters used.
         map: the occupancy map the model was learned on (kept with the model for planning).
-        costmap: cost map settings (inscribed_radius, inflation_radius, cost_scaling_factor).
+        costmap: cost map settings (inscribed_radius, inflation_radius, cost_scaling_factor and, for a footprint,
+            circumscribed_radius): the robot's body (:mod:`spcotmhp.metric.body`).
         info: free-form provenance (dataset, seed, iterations, selection criterion, ...), JSON-serialisable.
         psi_learned: (K, K) the transitions the HMM learned (posterior mean), kept when ``psi`` was replaced by
             an adjacency-based psi for planning (connectivity "walk" / "map"); None when nothing was learned.
@@ -172,13 +174,7 @@ class SpatialConceptModel:
     active_concepts: np.ndarray = field(default_factory=lambda: np.ones(0, dtype=bool))  # all L active when unset
     hyper: Hyperparameters = field(default_factory=Hyperparameters)
     map: OccupancyMap | None = None
-    costmap: dict = field(
-        default_factory=lambda: {
-            "inscribed_radius": 0.22,
-            "inflation_radius": 1.0,
-            "cost_scaling_factor": 10.0,
-        }
-    )
+    costmap: dict = field(default_factory=default_costmap)  # the default body (metric.costmap)
     info: dict = field(default_factory=dict)
     psi_learned: np.ndarray | None = None
     learner: dict | None = field(default=None, repr=False, compare=False)

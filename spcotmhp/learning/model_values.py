@@ -49,7 +49,12 @@ MIN_VARIANCE_M2 = 1e-10
 MAX_VARIANCE_M2 = 1e12
 MAX_CONDITION = 1e12
 MAX_WORD_CHARS = 256
-MAX_COSTMAP = {"inscribed_radius": 1e4, "inflation_radius": 1e4, "cost_scaling_factor": 1e6}
+MAX_COSTMAP = {
+    "inscribed_radius": 1e4,
+    "inflation_radius": 1e4,
+    "cost_scaling_factor": 1e6,
+    "circumscribed_radius": 1e4,
+}
 CONCENTRATION = (1e-6, 1e6)
 # name -> (low, high, low excluded, unit): the documented range of each numeric hyper-parameter
 HYPER_RANGES: dict[str, tuple[float, float, bool, str]] = {

@@ -57,24 +57,56 @@ COST_TRANSLATION_TABLE = _translation_table()
 
 @dataclass(frozen=True)
 class CostMapSettings:
-    """costmap_2d parameters (metres). ``inscribed_radius`` is the robot radius for a circular robot."""
+    """costmap_2d parameters (metres). ``inscribed_radius`` is the robot radius for a circular robot;
+    ``circumscribed_radius`` the largest distance from the robot's centre to its footprint (None: a circle, the
+    inscribed radius). The defaults here are the one home of the package's default body (a 0.22 m circular robot,
+    inflation 1.0 m, scaling 10): every model, command and evaluation without a body of its own uses them
+    (:mod:`spcotmhp.metric.body`)."""
 
     inscribed_radius: float = 0.22
     inflation_radius: float = 1.0
     cost_scaling_factor: float = 10.0
     track_unknown_space: bool = False
     inflate_unknown: bool = False
+    circumscribed_radius: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("inscribed_radius", "inflation_radius", "cost_scaling_factor"):
+        if self.circumscribed_radius is None:
+            object.__setattr__(self, "circumscribed_radius", self.inscribed_radius)
+        for name in ("inscribed_radius", "inflation_radius", "cost_scaling_factor", "circumscribed_radius"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise MapError(f"cost map setting {name} must be a finite number, got {value!r}")
             if value < 0:
                 raise MapError(f"cost map setting {name} must be >= 0, got {value!r}")
+        if self.circumscribed_radius < self.inscribed_radius:  # type: ignore[operator]  # set above
+            raise MapError(
+                f"cost map setting circumscribed_radius ({self.circumscribed_radius!r}) must be at least the "
+                f"inscribed radius ({self.inscribed_radius!r}): no point of a footprint is nearer than its nearest edge"
+            )
 
     def as_dict(self) -> dict:
         return asdict(self)
+
+    def circumscribed_cost(self, resolution: float) -> int:
+        """costmap_2d's ``getCircumscribedCost``: the inflation cost at the circumscribed radius
+        (``computeCost(circumscribed_radius / resolution)``). Below it no heading of the footprint touches an
+        obstacle; at or above it some heading may (Nav2's collision checkers test the footprint there)."""
+        return compute_cost(float(self.circumscribed_radius) / resolution, resolution, self)  # type: ignore[arg-type]
+
+
+DEFAULT_COSTMAP = CostMapSettings()
+"""The default body's settings (a 0.22 m circle, inflation 1.0 m, scaling 10; :class:`CostMapSettings`)."""
+
+
+def default_costmap() -> dict:
+    """The cost map settings a model without a body of its own keeps (``SpatialConceptModel.costmap``): the
+    radius, inflation radius and scaling of :data:`DEFAULT_COSTMAP`, as old model folders hold them."""
+    return {
+        "inscribed_radius": DEFAULT_COSTMAP.inscribed_radius,
+        "inflation_radius": DEFAULT_COSTMAP.inflation_radius,
+        "cost_scaling_factor": DEFAULT_COSTMAP.cost_scaling_factor,
+    }
 
 
 @dataclass
@@ -113,17 +145,20 @@ class CostMap:
 def inflate(
     occ_map: OccupancyMap,
     inscribed_radius: float | None = None,
-    inflation_radius: float = 1.0,
-    cost_scaling_factor: float = 10.0,
+    inflation_radius: float = DEFAULT_COSTMAP.inflation_radius,
+    cost_scaling_factor: float = DEFAULT_COSTMAP.cost_scaling_factor,
     track_unknown_space: bool = False,
     inflate_unknown: bool = False,
     robot_radius: float | None = None,
+    circumscribed_radius: float | None = None,
 ) -> CostMap:
     """Build the costmap_2d cost map of ``occ_map`` (static + inflation layers, module docstring).
 
     ``robot_radius`` (a circular robot) is taken as the inscribed radius; give it or ``inscribed_radius``
-    (default 0.22 m), not both. ``track_unknown_space`` defaults to False as in ROS 1 (unknown space is free
-    for the inflation; it is still excluded from p(x|m)).
+    (default 0.22 m, :data:`DEFAULT_COSTMAP`), not both. ``circumscribed_radius`` (a footprint polygon's; default
+    the inscribed radius) changes no cost, as in costmap_2d: it is kept in the settings for
+    :meth:`CostMapSettings.circumscribed_cost`. ``track_unknown_space`` defaults to False as in ROS 1 (unknown
+    space is free for the inflation; it is still excluded from p(x|m)).
     """
     if robot_radius is not None and inscribed_radius is not None:
         raise MapError(
@@ -131,11 +166,12 @@ def inflate(
         )
     radius = inscribed_radius if robot_radius is None else robot_radius
     settings = CostMapSettings(
-        0.22 if radius is None else radius,
+        DEFAULT_COSTMAP.inscribed_radius if radius is None else radius,
         inflation_radius,
         cost_scaling_factor,
         track_unknown_space,
         inflate_unknown,
+        circumscribed_radius,
     )
     costs = static_costs(occ_map, settings.track_unknown_space)
     cap = max_cell_radius(occ_map)  # no two cells are farther apart: a larger radius changes nothing

@@ -13,6 +13,7 @@ import numpy as np
 from spcotmhp.errors import InvalidSettings
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.limits import MAX_CANDIDATES, MAX_STEPS, check_count, is_count
+from spcotmhp.planning.stops import STOP_COST
 from spcotmhp.planning.vocabulary import INSTANCE_RATIO
 
 OPTIMALITY = ("end", "every_step")
@@ -35,6 +36,9 @@ class GraphSettings:
     optimality: where a partial path observes optimality o_t = 1 (Eq. 24): "end" (ours: once, at the leg's end)
         or "every_step" (the paper as written: at every cell of the leg, with the destination's Gaussian; dense
         fields only); :mod:`spcotmhp.planning.graph` gives both.
+    stop_cost: candidate points (goals, waypoints, Nav2 route nodes) go on their place's cells of published cost
+        below this (0..100; default 50, :mod:`spcotmhp.planning.stops` states the rule); None: the nearest
+        traversable cell, as the paper.
     """
 
     n_candidates: int = 1
@@ -46,6 +50,7 @@ class GraphSettings:
     max_dense_bytes: int = 2**28
     portal_spacing: float = 1.0
     optimality: str = "end"
+    stop_cost: float | None = STOP_COST
 
     def __post_init__(self) -> None:
         """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
@@ -61,6 +66,10 @@ class GraphSettings:
         require_range(self.tube_margin, "tube_margin", 0.0, math.inf, ">= 0")
         require_int(self.max_dense_bytes, "max_dense_bytes", 0)
         require_range(self.portal_spacing, "portal_spacing", 0.0, math.inf, "> 0 (metres)", open_=True)
+        if self.stop_cost is not None:
+            require_range(
+                self.stop_cost, "stop_cost", 0.0, 100.0, "in (0, 100) (a published cost; or None)", open_=True
+            )
 
 
 def require_int(value: object, name: str, low: int, high: int | None = None) -> None:

@@ -50,6 +50,7 @@ from spcotmhp.logspace import log_gaussian
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.snap import largest_component as main_component
 from spcotmhp.metric.snap import snap
+from spcotmhp.planning.stops import most_probable
 
 __all__ = [
     "candidate_points",
@@ -210,12 +211,19 @@ def place_regions(model: SpatialConceptModel, xy: np.ndarray, places: np.ndarray
 
 
 def snap_into_territories(
-    node_place: np.ndarray, cells: np.ndarray, main: np.ndarray, territory: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+    node_place: np.ndarray,
+    cells: np.ndarray,
+    main: np.ndarray,
+    territory: np.ndarray,
+    stops: Stops | None = None,
+) -> tuple[np.ndarray, np.ndarray, list[int]]:
     """Each candidate moved to the nearest cell of its own place's territory inside ``main`` (searched in the
-    bounding box of those cells only); ``ok`` is False for places that own no such cell."""
+    bounding box of those cells only); ``ok`` is False for places that own no such cell. With ``stops``, onto the
+    place's stop cells instead (:mod:`spcotmhp.planning.stops`: the mean candidates to the most probable one, the
+    others to the nearest), where it has any; the places without are returned (they keep the nearest cell)."""
     out = np.zeros_like(cells)
     ok = np.zeros(len(cells), dtype=bool)
+    fallback: list[int] = []
     boxes = find_boxes(territory + 1)
     for k in np.unique(node_place):
         if k >= len(boxes) or boxes[k] is None:
@@ -224,13 +232,52 @@ def snap_into_territories(
         own = main[box] & (territory[box] == k)
         if not own.any():
             continue
-        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
+        good = stops.cells_of(int(k), box, own) if stops is not None else None
+        if good is not None and not good.any():
+            fallback.append(int(k))
+            good = None
+        target = own if good is None else good
+        rows, cols = np.flatnonzero(target.any(axis=1)), np.flatnonzero(target.any(axis=0))
         corner = np.array([rows[0] + box[0].start, cols[0] + box[1].start])
-        window = own[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
+        window = target[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
         sel = node_place == k
         out[sel] = snap(window, cells[sel] - corner) + corner
+        means = sel & stops.is_mean if good is not None and stops is not None else np.zeros(0, dtype=bool)
+        if means.any():  # the mean's candidate: the most probable stop cell
+            assert stops is not None and good is not None
+            out[means] = stops.best(int(k), box, good, cells[means][0])
         ok[sel] = True
-    return out, ok
+    return out, ok, fallback
+
+
+class Stops:
+    """The stop cells of a region's window (:mod:`spcotmhp.planning.stops`) for :func:`snap_into_territories`:
+    ``low`` (H, W) the low-cost cells, ``centres`` (H, W, 2) their world points, ``is_mean`` (M,) which candidates
+    are their place's mean."""
+
+    def __init__(
+        self, model: SpatialConceptModel, low: np.ndarray, centres: np.ndarray, is_mean: np.ndarray, quantile: float
+    ) -> None:
+        self.model, self.low, self.centres, self.is_mean = model, low, centres, is_mean
+        self.limit = chi2_2d(quantile)
+
+    def cells_of(self, k: int, box: tuple[slice, slice], own: np.ndarray) -> np.ndarray:
+        """Place ``k``'s stop cells in ``box``: its own cells (``own``) of low cost inside its ellipse."""
+        good = own & self.low[box]
+        if good.any():
+            inside = mahalanobis2(self.centres[box][good], self.model.mu[k : k + 1], self.model.Sigma[k : k + 1])
+            good[good] = inside[:, 0] <= self.limit
+        return good
+
+    def best(self, k: int, box: tuple[slice, slice], good: np.ndarray, mean_cell: np.ndarray) -> np.ndarray:
+        """The (row, col) of place ``k``'s most probable stop cell among ``good`` in ``box``: the cell holding its
+        mean (``mean_cell``) when that is one, else the highest density at a cell's centre."""
+        r, c = int(mean_cell[0]) - box[0].start, int(mean_cell[1]) - box[1].start
+        if 0 <= r < good.shape[0] and 0 <= c < good.shape[1] and good[r, c]:
+            return np.asarray(mean_cell)
+        rows, cols = np.nonzero(good)
+        i = most_probable(self.centres[box][rows, cols], self.model.mu[k], self.model.Sigma[k])
+        return np.array([rows[i] + box[0].start, cols[i] + box[1].start])
 
 
 def candidate_nodes(
@@ -243,18 +290,24 @@ def candidate_nodes(
     territory: np.ndarray,
     fallback: Sequence[tuple[int, tuple[int, int]]] = (),
     points: tuple[np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    stops: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[int]]:
     """The planning graph's nodes (Algorithm 1, line 2): :func:`candidate_points` (``n_candidates`` per place,
     drawn with ``seed``; or ``points``, the same already drawn), snapped into their own territory within the free
     region ``main`` (:func:`snap_into_territories`; crop cells, the crop's corner at map cell ``offset``) and
     without duplicates, then ``fallback``: ``(place, crop cell)`` for places that reach the region but own none of
-    its cells (:mod:`spcotmhp.planning.regions`). Each node's place, crop cell and end term log N(x_j | mu_b,
-    Sigma_b) at its cell's centre."""
+    its cells (:mod:`spcotmhp.planning.regions`). ``stops``: (low-cost cells, cell centres) of the window, to put
+    the candidates on their place's stop cells (:mod:`spcotmhp.planning.stops`). Each node's place, crop cell
+    and end term log N(x_j | mu_b, Sigma_b) at its cell's centre, and the places left without a stop cell."""
     occ = model.require_map()
     if points is None:
         points = candidate_points(model, n_candidates, np.random.default_rng(seed), quantile)
     node_place, node_xy = points
-    cells, ok = snap_into_territories(node_place, occ.world_to_cell(node_xy) - np.array(offset), main, territory)
+    is_mean = np.r_[True, node_place[1:] != node_place[:-1]] if len(node_place) else np.zeros(0, dtype=bool)
+    where = None if stops is None else Stops(model, stops[0], stops[1], is_mean, quantile)
+    cells, ok, no_stop = snap_into_territories(
+        node_place, occ.world_to_cell(node_xy) - np.array(offset), main, territory, where
+    )
     node_place, cells = node_place[ok], cells[ok]
     _, keep = np.unique(np.stack([node_place, cells[:, 0], cells[:, 1]], axis=1), axis=0, return_index=True)
     keep = np.sort(keep)
@@ -268,4 +321,4 @@ def candidate_nodes(
         [log_gaussian(xy[n], model.mu[k : k + 1], model.Sigma[k : k + 1])[0] for n, k in enumerate(node_place)],
         dtype=float,
     ).reshape(-1)
-    return node_place, cells, end_term
+    return node_place, cells, end_term, no_stop

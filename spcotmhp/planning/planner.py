@@ -64,6 +64,7 @@ from spcotmhp.errors import (
     SpcotmhpError,
 )
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.costmap import DEFAULT_COSTMAP
 from spcotmhp.planning import explain
 from spcotmhp.planning._paths import join_field_legs
 from spcotmhp.planning.assemble import arrival, join_legs, path_length, smooth_on_graph
@@ -135,7 +136,9 @@ class HierarchicalPlanner(StagePlaces):
         self._origin = np.array(occ.origin[:2], dtype=float)
         self._half: dict[tuple[int, int], np.ndarray] = {}  # _world's per crop corner
         # the explanation ignores territory stretches shorter than the robot's diameter, in cells
-        self.diameter_cells = 2.0 * float(model.costmap.get("inscribed_radius", 0.22)) / occ.resolution
+        self.diameter_cells = (
+            2.0 * float(model.costmap.get("inscribed_radius", DEFAULT_COSTMAP.inscribed_radius)) / occ.resolution
+        )
         self._geometries: dict[int, PlaceGeometry] = {}
         self._phrases = PhraseMemo()  # phrase_terms's
 

@@ -24,6 +24,7 @@ from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.planning.graph_settings import GraphSettings
 from spcotmhp.planning.places import candidate_nodes, candidate_points, connected_places
 from spcotmhp.planning.regions import FreeRegions, free_regions
+from spcotmhp.planning.stops import window_stops
 from spcotmhp.planning.territory import grown_territories
 
 
@@ -103,7 +104,8 @@ def _region_inputs(
     offset = (crop_offset[0] + r0, crop_offset[1] + c0)
     territory = np.where(mask, regions.territory[r0 : r0 + h, c0 : c0 + w], -1)
     fallback = [(k, (r - r0, c - c0)) for k, (r, c) in regions.fallback.get(label, [])]
-    node_place, cells, end_term = candidate_nodes(
+    stops = window_stops(model.costmap, occ.resolution, settings.stop_cost, log_p, centres)
+    node_place, cells, end_term, no_stop = candidate_nodes(
         model,
         settings.n_candidates,
         settings.seed,
@@ -113,8 +115,10 @@ def _region_inputs(
         territory,
         fallback,
         shared["points"],
+        stops,
     )
     act = np.flatnonzero(model.active_places)
+    crop = [offset[0], offset[0] + h, offset[1], offset[1] + w]
     return {
         "model": model,
         "settings": settings,
@@ -131,11 +135,7 @@ def _region_inputs(
         "log_transition": np.empty(0),
         "connected": shared["connected"],
         "time_precompute_s": 0.0,
-        "info": {
-            "n_nodes": len(cells),
-            "region": int(label),
-            "crop": [offset[0], offset[0] + h, offset[1], offset[1] + w],
-        },
+        "info": {"n_nodes": len(cells), "region": int(label), "crop": crop, "stop_fallback": no_stop},
         "_centres": centres,
         "territory": territory,
         "main": mask,

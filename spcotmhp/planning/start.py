@@ -21,6 +21,7 @@ import numpy as np
 
 from spcotmhp.errors import StartBlocked, StartOutsideMap
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.metric.costmap import DEFAULT_COSTMAP
 from spcotmhp.metric.grid_search import SQRT2, cost_to_go, path_from_field
 from spcotmhp.planning.graph import PlanningGraph
 
@@ -105,7 +106,7 @@ def start_cell(
         raise StartBlocked(
             f"{where} is in {what} cell of the map; start from a free cell{_nearest_start(graph, occ, cell)}"
         )
-    escape = _escape(occ.free, graph, full, model.costmap.get("inscribed_radius", 0.22))
+    escape = _escape(occ.free, graph, full, model.costmap.get("inscribed_radius", DEFAULT_COSTMAP.inscribed_radius))
     if escape is None:
         raise StartBlocked(f"{where} is cut off from the places: no free cell the robot fits in is reachable from it")
     return x0, graph.to_crop(escape[-1]), escape[:-1]

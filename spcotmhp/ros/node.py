@@ -48,6 +48,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path as FilePath
+from typing import Any
 
 import numpy as np
 import rclpy
@@ -332,12 +333,15 @@ def run_node(
     start_topic: str = "amcl_pose",
     record: FilePath | None = None,
     progress: Callable[[str], None] = print,
+    body: Any = None,
 ) -> None:
-    """Load the model, precompute its planner, and serve until interrupted (Ctrl-C or SIGTERM)."""
+    """Load the model, precompute its planner (for ``body``, a :class:`~spcotmhp.metric.body.RobotBody`, when
+    given: :func:`~spcotmhp.planning.body.with_body`), and serve until interrupted (Ctrl-C or SIGTERM)."""
     from spcotmhp.persistence.io import load_model
+    from spcotmhp.planning.body import with_body
 
     t0 = time.perf_counter()
-    model = load_model(model_dir)
+    model = with_body(load_model(model_dir), body)
     log = TeachingLog(record, model.require_map(), model_dir) if record is not None else None
     planner = HierarchicalPlanner(model)
     planner.warm_up()
