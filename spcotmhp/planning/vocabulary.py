@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from spcotmhp.language.reading import LANGUAGES
+from spcotmhp.language.said_names import numbered_labels, said_names, spoken_order, taught_numbers
 from spcotmhp.language.table import word_table
 
 INSTANCE_RATIO = 4.0
@@ -53,7 +54,10 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
        utterances per place a real name is only 5-10 times likelier at its place than elsewhere;
     3. and it is not a grammar or filler word of a supported language ("here", "called", "the", です): said with
        every name ("this is the kitchen"), such words would pass rule 1, and rule 2 removes them only where
-       they are said at every place. A site whose name is such a word cannot be named in instructions.
+       they are said at every place. A site whose name is such a word cannot be named in instructions. A number
+       word ("one", "first") that a taught name holds with another word ("aisle one", "the first aisle";
+       ``model.info["said_names"]``, :mod:`spcotmhp.language.said_names`) is a place word: instructions match it
+       only inside that name.
     4. and, for a word taught at run time (:func:`taught_counts`), the label (:func:`place_labels`) of some active
        place carries it: one teach at a spot whose events a large place's concept explains makes the word
        likely only within that concept (so it passes rule 1) without making it that place's name, and the
@@ -66,14 +70,15 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     act = np.asarray(model.active_places, dtype=bool)
     said, rescaled = model.word_given_place(), model.label_scores()
     said, rescaled = said[act], rescaled[act]
-    grammar = np.array([w in FUNCTION_WORDS for w in model.vocabulary], dtype=bool)
+    grammar_words = FUNCTION_WORDS - taught_numbers(said_names(model))  # rule 3's exception: "aisle one"
+    grammar = np.array([w in grammar_words for w in model.vocabulary], dtype=bool)
     best = np.where(grammar, 0.0, rescaled).max(axis=1, keepdims=True)  # rule 3's words set no bar
     core = (rescaled >= ratio * best) & ~grammar
     core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
     keep = (core | (said >= ratio * core_said)).any(axis=0)
     if act.sum() > 1:
         keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
-    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in FUNCTION_WORDS)
+    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in grammar_words)
     taught = taught_counts(model)
     if any(w in taught for w in words):  # rule 4: a word taught at run time names a place once a label carries it
         labels = place_labels(model, words)
@@ -109,11 +114,13 @@ def place_labels(
     says it more often than chance (:func:`_said_by_own_concepts`): a place of one taught event otherwise carried
     the names of the largest concepts besides its own ("study bedroom"), whose prior mass alone puts them there.
 
-    Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
-    spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
-    holds them) where one of these names holds exactly the label's words; otherwise a word shared by more
-    places comes later (the head of a compound name comes last in English and Japanese: "east corridor",
-    "alice's room"), ties in alphabetical order.
+    Word order. A model keeps bags of words, not their order (Eq. 17). The words are ordered as people taught
+    them (the names kept with the model, :func:`spcotmhp.language.said_names.spoken_order`: "aisle one", "room
+    101", "second bedroom"), else as in ``names`` (names in spoken order, e.g. a dataset's ``place_names``; by
+    default ``model.info["place_names"]`` when the model holds them) where one of these names holds exactly the
+    label's words; otherwise (a model folder written before names were kept) a word shared by more places comes
+    later (the head of a compound name comes last in English and Japanese: "east corridor", "alice's room"), ties
+    in alphabetical order.
     """
     fallback = model.place_names()
     if not place_words:
@@ -132,13 +139,15 @@ def place_labels(
     for name in names or ():
         if isinstance(name, str):
             spoken.setdefault(frozenset(name.split()), name.split())
+    taught = said_names(model)
     labels = []
     for k in range(len(chosen)):
         words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
         if not words:
             labels.append(f"place {k}")
             continue
-        order = spoken.get(frozenset(words))
+        order = spoken_order(words, taught) if taught else None
+        order = order or spoken.get(frozenset(words))
         if order is None or len(order) != len(words):
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
         labels.append(" ".join(order))
@@ -153,6 +162,13 @@ def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarr
     own = phi > phi.min(axis=1, keepdims=True) * (1.0 + 1e-9)  # (L, K)
     says = np.asarray(model.W, dtype=float)[:, idx] > chance  # (L, words)
     return (own.T.astype(np.int64) @ says.astype(np.int64)) > 0
+
+
+def said_words(place_words: Sequence[str], names: Sequence[str], active: Sequence[bool] | np.ndarray) -> list[str]:
+    """The words instructions are read with: ``place_words`` and the labels of active places that hold a number
+    ("aisle one", "room 101"; :func:`~spcotmhp.language.said_names.numbered_labels`), which the lexicon matches
+    whole in their spoken variants ("aisle 1", "aisle number one")."""
+    return [*place_words, *numbered_labels(n for n, a in zip(names, active, strict=True) if a)]
 
 
 def parse_instruction(

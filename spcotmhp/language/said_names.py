@@ -1,0 +1,241 @@
+"""Names as people say them: the word order and the numbers of taught names, kept beside the paper's bag of words.
+
+The model's word term stays the paper's bag of words (Eq. 17: Mult(S | W_C), no order). What a place is *called*
+(explanations, ``show``, the web page, the Nav2 route graph; and what an instruction matches) is its label, the
+place words the place says most (:func:`spcotmhp.planning.vocabulary.place_labels`), written in the order people
+said them. The rules:
+
+1. **The name an event teaches.** English: the name :func:`~spcotmhp.language.naming.read_naming` reads from the
+   utterance (frame words such as "this is the" left out; numbers kept: "aisle one", "room 101", "second
+   bedroom"); an utterance that names nothing teaches no name. Japanese: the utterance's words that are not
+   grammar words, in their order (a dataset row is given phrase-segmented: "東 の 廊下" is 東, 廊下); a name read at
+   run time is its words (a number glued to the word after it: 2号室).
+2. **One order per name** (per word set, not per place: the places "bedroom" share one, and a place learned from
+   two names shows the one its label's words make). For each set of words, the sequence taught most often, ties
+   by the first taught; kept in the model (``model.info["said_names"]``: ``[{"words": [...], "taught": n}]``, the
+   :data:`MAX_SAID_NAMES` most taught), written by ``learn`` and updated by every teach.
+3. **A label in taught order.** A label's words in the order of the name with exactly those words; else of the
+   most taught name holding them all; else today's rule (a word shared by more places later). A model folder
+   without ``said_names`` (written before) keeps today's rule.
+4. **Numbers are part of a taught name.** A number word, digits or an ordinal ("one", "101", "first") is a grammar
+   word of instructions ("the one nearest", "first go to"), so alone it is no place word; it is one where a taught
+   name holds it (:func:`~spcotmhp.planning.vocabulary.place_vocabulary`), and it is matched only inside that name
+   (:func:`said_variants`), so that "bedroom 2" of untaught-numbered bedrooms keeps naming the screen's
+   "bedroom #2".
+5. **Said back in its common variants.** A cardinal of a taught name may be said as a word, in digits, with
+   "number" or "#" before it ("aisle one", "aisle 1", "aisle #1", "aisle number one" for a taught "aisle one");
+   an ordinal as a word or in digits with its suffix ("second bedroom", "2nd bedroom"). A cardinal is never said
+   as an ordinal nor the other way round: "the first aisle" names a taught "first aisle", while beside a taught
+   "aisle one" it keeps its meaning of the instruction grammar.
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+MAX_SAID_NAMES = 1000
+"""Most names kept with a model (the most taught): a home or a warehouse has far fewer; an unbounded list of
+every utterance's name would grow the model folder with the teaching."""
+
+MAX_VARIANTS = 64
+"""Most spellings of one name matched (rule 5): four number words of four spellings each."""
+
+ORDINALS = {
+    "first": 1, "second": 2, "third": 3, "fourth": 4, "fifth": 5, "sixth": 6, "seventh": 7, "eighth": 8,
+    "ninth": 9, "tenth": 10, "eleventh": 11, "twelfth": 12, "thirteenth": 13, "fourteenth": 14, "fifteenth": 15,
+    "sixteenth": 16, "seventeenth": 17, "eighteenth": 18, "nineteenth": 19, "twentieth": 20,
+}  # fmt: skip
+"""English ordinal words and their values (rule 5)."""
+
+_CARDINALS = {
+    "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10,
+    "eleven": 11, "twelve": 12, "thirteen": 13, "fourteen": 14, "fifteen": 15, "sixteen": 16, "seventeen": 17,
+    "eighteen": 18, "nineteen": 19, "twenty": 20,
+}  # fmt: skip
+_CARDINAL_WORDS = {n: w for w, n in _CARDINALS.items()}
+_ORDINAL_WORDS = {n: w for w, n in ORDINALS.items()}
+_SUFFIXES = {1: "st", 2: "nd", 3: "rd"}
+
+
+@dataclass(frozen=True)
+class SaidName:
+    """A taught name: its words in the order said (the most taught order of this word set) and how many events
+    taught this word set."""
+
+    words: tuple[str, ...]
+    taught: int
+
+
+def number_word(word: str) -> tuple[str, int] | None:
+    """("cardinal", n) for digits or a cardinal word ("101", "one"), ("ordinal", n) for an ordinal word or digits
+    with their suffix as one word ("second", "2nd"), None otherwise.
+
+    >>> number_word("one"), number_word("101"), number_word("second"), number_word("2nd"), number_word("aisle")
+    (('cardinal', 1), ('cardinal', 101), ('ordinal', 2), ('ordinal', 2), None)
+    """
+    if word.isascii() and word.isdigit():
+        return "cardinal", int(word)
+    if word in _CARDINALS:
+        return "cardinal", _CARDINALS[word]
+    if word in ORDINALS:
+        return "ordinal", ORDINALS[word]
+    if len(word) > 2 and word[:-2].isascii() and word[:-2].isdigit() and word[-2:] == _suffix(int(word[:-2])):
+        return "ordinal", int(word[:-2])
+    return None
+
+
+def _suffix(n: int) -> str:
+    return "th" if 10 <= n % 100 <= 20 else _SUFFIXES.get(n % 10, "th")
+
+
+def event_name(tokens: Sequence[str], lang: str) -> tuple[str, ...] | None:
+    """The name one teaching event teaches, as words (rule 1), or None."""
+    return _event_name(tuple(tokens), lang)
+
+
+@functools.lru_cache(maxsize=4096)
+def _event_name(tokens: tuple[str, ...], lang: str) -> tuple[str, ...] | None:
+    """:func:`event_name`, read once per distinct utterance (a dataset repeats a few templates; a multi-run
+    ``learn`` reads the same events in every run): a bounded cache of a pure function."""
+    from spcotmhp.errors import NotANaming
+    from spcotmhp.language.naming import read_naming
+
+    if not tokens:
+        return None
+    if lang == "ja":
+        grammar = _grammar_words()
+        kept = tuple(dict.fromkeys(w for w in tokens if w not in grammar and not _ja_grammar(w)))
+        return kept or None
+    try:
+        return read_naming(" ".join(tokens), "en").words or None
+    except NotANaming:
+        return None
+
+
+def _grammar_words() -> frozenset[str]:
+    """The grammar and filler words of every language's instruction table (never a name's words)."""
+    from spcotmhp.language.reading import LANGUAGES
+    from spcotmhp.language.table import word_table
+
+    return frozenset().union(*(word_table(lang).function_words for lang in LANGUAGES))
+
+
+def _ja_grammar(word: str) -> bool:
+    from spcotmhp.language.text import japanese_function_word
+
+    return japanese_function_word(word)
+
+
+def count_names(names: Iterable[tuple[str, ...] | None], earlier: Sequence[SaidName] = ()) -> list[SaidName]:
+    """Rule 2: per word set, the sequence said most often (ties: the first said; ``earlier`` names count first,
+    each as its ``taught`` events), the :data:`MAX_SAID_NAMES` most taught, most taught first."""
+    per_set: dict[frozenset[str], dict[tuple[str, ...], int]] = {}
+    for said in earlier:
+        per_set.setdefault(frozenset(said.words), {})[said.words] = said.taught
+    for name in names:
+        if name:
+            orders = per_set.setdefault(frozenset(name), {})
+            orders[name] = orders.get(name, 0) + 1
+    out = [SaidName(max(orders, key=orders.__getitem__), sum(orders.values())) for orders in per_set.values()]
+    out.sort(key=lambda s: (-s.taught, s.words))
+    return out[:MAX_SAID_NAMES]
+
+
+def said_names(model: Any) -> list[SaidName]:
+    """The names kept with ``model`` (``model.info["said_names"]``), entries of the wrong form left out; empty for
+    a model written before names were kept (rule 3: today's order)."""
+    info = getattr(model, "info", None)
+    raw = info.get("said_names") if isinstance(info, dict) else None
+    if not isinstance(raw, list):
+        return []
+    out = []
+    for entry in raw[:MAX_SAID_NAMES]:
+        words = entry.get("words") if isinstance(entry, Mapping) else None
+        taught = entry.get("taught") if isinstance(entry, Mapping) else None
+        if (
+            isinstance(words, list)
+            and words
+            and all(isinstance(w, str) and w for w in words)
+            and isinstance(taught, int)
+            and not isinstance(taught, bool)
+            and taught > 0
+        ):
+            out.append(SaidName(tuple(words), taught))
+    return out
+
+
+def keep_said_names(model: Any, names: Iterable[tuple[str, ...] | None]) -> None:
+    """Count ``names`` (one per event, None for an event that teaches none) into ``model.info["said_names"]``."""
+    counted = count_names(names, said_names(model))
+    model.info["said_names"] = [{"words": list(s.words), "taught": s.taught} for s in counted]
+
+
+def record_dataset_names(model: Any, tokens: Sequence[Sequence[str]], lang: str) -> None:
+    """``learn``'s part of rule 2: the names a dataset's events teach, kept with the model it learned."""
+    model.info["said_names"] = []
+    keep_said_names(model, (event_name(t, lang) for t in tokens))
+
+
+def spoken_order(words: Sequence[str], names: Sequence[SaidName]) -> list[str] | None:
+    """Rule 3: ``words`` in the order of the taught name with exactly these words, else of the most taught name
+    holding them all; None when no name holds them all."""
+    wanted = set(words)
+    exact = [s for s in names if set(s.words) == wanted]
+    holding = exact or [s for s in names if wanted <= set(s.words)]
+    if not holding:
+        return None
+    best = max(holding, key=lambda s: s.taught)
+    return list(dict.fromkeys(w for w in best.words if w in wanted))
+
+
+def taught_numbers(names: Sequence[SaidName]) -> frozenset[str]:
+    """The number words that taught names hold (rule 4), only in names with another word: a number alone is no
+    name."""
+    return frozenset(
+        w for s in names if any(number_word(v) is None for v in s.words) for w in s.words if number_word(w) is not None
+    )
+
+
+def numbered_labels(labels: Iterable[str]) -> list[str]:
+    """The labels (space-separated words) that hold a number word and another word (rule 4: the names the
+    instruction lexicon matches whole, :func:`said_variants`)."""
+    out = []
+    for label in labels:
+        words = label.split()
+        kinds = [number_word(w) for w in words]
+        if len(words) > 1 and any(kinds) and not all(kinds):
+            out.append(label)
+    return list(dict.fromkeys(out))
+
+
+def said_variants(words: Sequence[str]) -> list[tuple[str, ...]]:
+    """Rule 5: the units an English name may be said in (the name itself first), at most :data:`MAX_VARIANTS`.
+
+    >>> said_variants(["aisle", "one"])
+    [('aisle', 'one'), ('aisle', '1'), ('aisle', 'number', 'one'), ('aisle', 'number', '1')]
+    >>> said_variants(["second", "bedroom"])
+    [('second', 'bedroom'), ('2', 'nd', 'bedroom')]
+    """
+    options = []
+    for w in words:
+        said = number_word(w)
+        if said is None:
+            options.append([(w,)])
+        elif said[0] == "cardinal":
+            forms = [(w,), (str(said[1]),)]
+            if said[1] in _CARDINAL_WORDS:
+                forms.append((_CARDINAL_WORDS[said[1]],))
+            forms = list(dict.fromkeys(forms))
+            options.append(forms + [("number", *f) for f in forms])
+        else:
+            options.append(
+                list(dict.fromkeys([(w,), (_ORDINAL_WORDS.get(said[1], w),), (str(said[1]), _suffix(said[1]))]))
+            )
+    out: list[tuple[str, ...]] = []
+    for combo in itertools.islice(itertools.product(*options), MAX_VARIANTS):
+        out.append(tuple(u for part in combo for u in part))
+    return list(dict.fromkeys(out))
