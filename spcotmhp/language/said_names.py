@@ -14,9 +14,14 @@ said them. The rules:
    two names shows the one its label's words make). For each set of words, the sequence taught most often, ties
    by the first taught; kept in the model (``model.info["said_names"]``: ``[{"words": [...], "taught": n}]``, the
    :data:`MAX_SAID_NAMES` most taught), written by ``learn`` and updated by every teach.
-3. **A label in taught order.** A label's words in the order of the name with exactly those words; else of the
-   most taught name holding them all; else today's rule (a word shared by more places later). A model folder
-   without ``said_names`` (written before) keeps today's rule.
+3. **A label in taught order.** A place's label is the name taught most often at it (by the events the learner
+   assigned there) where that name holds every word the bag rule chose and every word of it is a place word: "the
+   east corridor" taught where the concept of "corridor" explains the words, or "the second bedroom" where the
+   learner shares one concept among the bedrooms, is that place's name, not "corridor" or "bedroom". Otherwise the
+   label's words are in the order of the name with exactly those words; else of the most taught name holding them
+   all; else of the taught names that together hold them (a place the learner made of two rooms: "room 101
+   loading dock"); else today's rule (a word shared by more places later). A model folder without ``said_names``
+   (written before) keeps today's rule.
 4. **Numbers are part of a taught name.** A number word, digits or an ordinal ("one", "101", "first") is a grammar
    word of instructions ("the one nearest", "first go to"), so alone it is no place word; it is one where a taught
    name holds it (:func:`~spcotmhp.planning.vocabulary.place_vocabulary`), and it is matched only inside that name
@@ -36,6 +41,8 @@ import itertools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 MAX_SAID_NAMES = 1000
 """Most names kept with a model (the most taught): a home or a warehouse has far fewer; an unbounded list of
@@ -63,11 +70,12 @@ _SUFFIXES = {1: "st", 2: "nd", 3: "rd"}
 
 @dataclass(frozen=True)
 class SaidName:
-    """A taught name: its words in the order said (the most taught order of this word set) and how many events
-    taught this word set."""
+    """A taught name: its words in the order said (the most taught order of this word set), how many events
+    taught this word set, and at which places ((place, events), most first) as the learner assigned them."""
 
     words: tuple[str, ...]
     taught: int
+    places: tuple[tuple[int, int], ...] = ()
 
 
 def number_word(word: str) -> tuple[str, int] | None:
@@ -130,17 +138,31 @@ def _ja_grammar(word: str) -> bool:
     return japanese_function_word(word)
 
 
-def count_names(names: Iterable[tuple[str, ...] | None], earlier: Sequence[SaidName] = ()) -> list[SaidName]:
+def count_names(
+    names: Iterable[tuple[str, ...] | None],
+    earlier: Sequence[SaidName] = (),
+    places: Iterable[int | None] | None = None,
+) -> list[SaidName]:
     """Rule 2: per word set, the sequence said most often (ties: the first said; ``earlier`` names count first,
-    each as its ``taught`` events), the :data:`MAX_SAID_NAMES` most taught, most taught first."""
+    each as its ``taught`` events), with the events per place when ``places`` gives each event's place, the
+    :data:`MAX_SAID_NAMES` most taught, most taught first."""
     per_set: dict[frozenset[str], dict[tuple[str, ...], int]] = {}
+    at: dict[frozenset[str], dict[int, int]] = {}
     for said in earlier:
         per_set.setdefault(frozenset(said.words), {})[said.words] = said.taught
-    for name in names:
+        at.setdefault(frozenset(said.words), {}).update(dict(said.places))
+    for name, place in zip(names, places if places is not None else itertools.repeat(None), strict=False):
         if name:
-            orders = per_set.setdefault(frozenset(name), {})
+            key = frozenset(name)
+            orders = per_set.setdefault(key, {})
             orders[name] = orders.get(name, 0) + 1
-    out = [SaidName(max(orders, key=orders.__getitem__), sum(orders.values())) for orders in per_set.values()]
+            if place is not None and place >= 0:
+                counts = at.setdefault(key, {})
+                counts[int(place)] = counts.get(int(place), 0) + 1
+    out = []
+    for key, orders in per_set.items():
+        where = sorted(at.get(key, {}).items(), key=lambda kv: (-kv[1], kv[0]))
+        out.append(SaidName(max(orders, key=orders.__getitem__), sum(orders.values()), tuple(where)))
     out.sort(key=lambda s: (-s.taught, s.words))
     return out[:MAX_SAID_NAMES]
 
@@ -156,40 +178,74 @@ def said_names(model: Any) -> list[SaidName]:
     for entry in raw[:MAX_SAID_NAMES]:
         words = entry.get("words") if isinstance(entry, Mapping) else None
         taught = entry.get("taught") if isinstance(entry, Mapping) else None
-        if (
-            isinstance(words, list)
-            and words
-            and all(isinstance(w, str) and w for w in words)
-            and isinstance(taught, int)
-            and not isinstance(taught, bool)
-            and taught > 0
-        ):
-            out.append(SaidName(tuple(words), taught))
+        said = bool(words) and all(isinstance(w, str) and w for w in words) if isinstance(words, list) else False
+        if isinstance(words, list) and said and isinstance(taught, int) and _count(taught):
+            out.append(SaidName(tuple(words), taught, _places(entry.get("places"))))
     return out
 
 
-def keep_said_names(model: Any, names: Iterable[tuple[str, ...] | None]) -> None:
-    """Count ``names`` (one per event, None for an event that teaches none) into ``model.info["said_names"]``."""
-    counted = count_names(names, said_names(model))
-    model.info["said_names"] = [{"words": list(s.words), "taught": s.taught} for s in counted]
+def _count(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value > 0
 
 
-def record_dataset_names(model: Any, tokens: Sequence[Sequence[str]], lang: str) -> None:
-    """``learn``'s part of rule 2: the names a dataset's events teach, kept with the model it learned."""
+def _places(raw: object) -> tuple[tuple[int, int], ...]:
+    """The ``[[place, events], ...]`` of a kept name, entries of the wrong form left out."""
+    if not isinstance(raw, list):
+        return ()
+    pairs = [p for p in raw if isinstance(p, list) and len(p) == 2 and _count(p[1])]
+    return tuple((p[0], p[1]) for p in pairs if isinstance(p[0], int) and not isinstance(p[0], bool) and p[0] >= 0)
+
+
+def keep_said_names(
+    model: Any, names: Iterable[tuple[str, ...] | None], places: Iterable[int | None] | None = None
+) -> None:
+    """Count ``names`` (one per event, None for an event that teaches none; ``places``: each event's place) into
+    ``model.info["said_names"]``."""
+    counted = count_names(names, said_names(model), places)
+    model.info["said_names"] = [
+        {"words": list(s.words), "taught": s.taught, "places": [list(p) for p in s.places]} for s in counted
+    ]
+
+
+def record_dataset_names(
+    model: Any, tokens: Sequence[Sequence[str]], lang: str, places: Sequence[int] | np.ndarray | None = None
+) -> None:
+    """``learn``'s part of rule 2: the names a dataset's events teach (``places``: the place each event was learned
+    at), kept with the model it learned."""
     model.info["said_names"] = []
-    keep_said_names(model, (event_name(t, lang) for t in tokens))
+    keep_said_names(model, (event_name(t, lang) for t in tokens), None if places is None else [int(k) for k in places])
+
+
+def place_name(k: int, names: Sequence[SaidName]) -> SaidName | None:
+    """Rule 3's name of place ``k``: the name taught most often at it (ties: more words, then the most taught
+    overall), or None when no event there taught one."""
+    here = [(dict(s.places).get(k, 0), len(s.words), s.taught, s) for s in names]
+    best = max(here, key=lambda h: h[:3], default=None)
+    return best[3] if best is not None and best[0] > 0 else None
 
 
 def spoken_order(words: Sequence[str], names: Sequence[SaidName]) -> list[str] | None:
     """Rule 3: ``words`` in the order of the taught name with exactly these words, else of the most taught name
-    holding them all; None when no name holds them all."""
+    holding them all, else as taught names cover them (a place learned from two names, "room 101" and "loading
+    dock": each name in its order, the most taught first, longer names before the names inside them); None when
+    some word is in no taught name that fits."""
     wanted = set(words)
     exact = [s for s in names if set(s.words) == wanted]
     holding = exact or [s for s in names if wanted <= set(s.words)]
-    if not holding:
+    if holding:
+        best = max(holding, key=lambda s: s.taught)
+        return list(dict.fromkeys(w for w in best.words if w in wanted))
+    left, groups = set(wanted), []
+    for said in sorted(names, key=lambda s: (-len(s.words), -s.taught)):
+        if len(said.words) > 1 and set(said.words) <= left:
+            groups.append(said)
+            left -= set(said.words)
+    if not groups:
         return None
-    best = max(holding, key=lambda s: s.taught)
-    return list(dict.fromkeys(w for w in best.words if w in wanted))
+    groups += [s for s in names if len(s.words) == 1 and s.words[0] in left]
+    if sum(len(g.words) for g in groups) != len(wanted):
+        return None
+    return [w for g in sorted(groups, key=lambda s: -s.taught) for w in g.words]
 
 
 def taught_numbers(names: Sequence[SaidName]) -> frozenset[str]:
@@ -220,13 +276,13 @@ def said_variants(words: Sequence[str]) -> list[tuple[str, ...]]:
     >>> said_variants(["second", "bedroom"])
     [('second', 'bedroom'), ('2', 'nd', 'bedroom')]
     """
-    options = []
+    options: list[list[tuple[str, ...]]] = []
     for w in words:
         said = number_word(w)
         if said is None:
             options.append([(w,)])
         elif said[0] == "cardinal":
-            forms = [(w,), (str(said[1]),)]
+            forms: list[tuple[str, ...]] = [(w,), (str(said[1]),)]
             if said[1] in _CARDINAL_WORDS:
                 forms.append((_CARDINAL_WORDS[said[1]],))
             forms = list(dict.fromkeys(forms))

@@ -251,7 +251,7 @@ class SpCoTMHP:
         if run is not None:
             model.info.update(run.info())
         record_truncation(model, self.K, self.L)
-        record_dataset_names(model, dataset.tokens, dataset.lang)  # names in taught order (said_names.py)
+        record_dataset_names(model, dataset.tokens, dataset.lang, places)  # taught names (said_names.py)
         self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
         self.fit_cpu_time_ = time.process_time() - c0

@@ -91,7 +91,7 @@ def fit_supervised(
         model.info["psi_from"] = "transitions"
     else:
         apply_connectivity(model, dataset, source, places)
-    record_dataset_names(model, dataset.tokens, dataset.lang)  # names in taught order (said_names.py)
+    record_dataset_names(model, dataset.tokens, dataset.lang, places)  # taught names (said_names.py)
     return model
 
 

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from spcotmhp.language.reading import LANGUAGES
-from spcotmhp.language.said_names import numbered_labels, said_names, spoken_order, taught_numbers
+from spcotmhp.language.said_names import numbered_labels, place_name, said_names, spoken_order, taught_numbers
 from spcotmhp.language.table import word_table
 
 INSTANCE_RATIO = 4.0
@@ -58,6 +58,10 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
        word ("one", "first") that a taught name holds with another word ("aisle one", "the first aisle";
        ``model.info["said_names"]``, :mod:`spcotmhp.language.said_names`) is a place word: instructions match it
        only inside that name.
+
+    A word of the name taught most often at an active place (:func:`~spcotmhp.language.said_names.place_name`)
+    passes rule 1 (rules 2 and 3 still apply): "the east corridor" taught at a new place whose events the concept
+    of "corridor" explains says "east" far less than "corridor", and yet "east" is what names that place.
     4. and, for a word taught at run time (:func:`taught_counts`), the label (:func:`place_labels`) of some active
        place carries it: one teach at a spot whose events a large place's concept explains makes the word
        likely only within that concept (so it passes rule 1) without making it that place's name, and the
@@ -76,6 +80,7 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     core = (rescaled >= ratio * best) & ~grammar
     core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
     keep = (core | (said >= ratio * core_said)).any(axis=0)
+    keep |= np.isin(model.vocabulary, sorted(own_name_words(model, act)))  # rule 1's exception: "east corridor"
     if act.sum() > 1:
         keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
     words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in grammar_words)
@@ -85,6 +90,15 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
         carried = {w for k in np.flatnonzero(act) for w in labels[k].split()}
         words = [w for w in words if w not in taught or w in carried]
     return words
+
+
+def own_name_words(model: Any, active: np.ndarray) -> set[str]:
+    """The words of the names taught most at the ``active`` places (:func:`place_vocabulary`'s exception)."""
+    names = said_names(model)
+    if not names:
+        return set()
+    own = (place_name(int(k), names) for k in np.flatnonzero(active))
+    return {w for name in own if name is not None for w in name.words}
 
 
 def taught_counts(model: Any) -> dict[str, int]:
@@ -114,6 +128,10 @@ def place_labels(
     says it more often than chance (:func:`_said_by_own_concepts`): a place of one taught event otherwise carried
     the names of the largest concepts besides its own ("study bedroom"), whose prior mass alone puts them there.
 
+    The name taught most at a place (by the events the learner assigned there, ``model.info["said_names"]``)
+    is its label where it holds every word so chosen and only place words: "east corridor" taught at a place whose
+    events a "corridor" concept explains (:func:`spcotmhp.language.said_names.place_name`).
+
     Word order. A model keeps bags of words, not their order (Eq. 17). The words are ordered as people taught
     them (the names kept with the model, :func:`spcotmhp.language.said_names.spoken_order`: "aisle one", "room
     101", "second bedroom"), else as in ``names`` (names in spoken order, e.g. a dataset's ``place_names``; by
@@ -139,13 +157,16 @@ def place_labels(
     for name in names or ():
         if isinstance(name, str):
             spoken.setdefault(frozenset(name.split()), name.split())
-    taught = said_names(model)
+    taught, known = said_names(model), set(place_words)
     labels = []
     for k in range(len(chosen)):
         words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
         if not words:
             labels.append(f"place {k}")
             continue
+        own = place_name(k, taught) if taught and act[k] else None
+        if own is not None and set(words) <= set(own.words) <= known:
+            words = list(own.words)  # the name taught most at the place (said_names.py, rule 3)
         order = spoken_order(words, taught) if taught else None
         order = order or spoken.get(frozenset(words))
         if order is None or len(order) != len(words):

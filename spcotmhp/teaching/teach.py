@@ -119,7 +119,8 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
     t1 = time.perf_counter()
     updated = learner.model_
     updated.info["taught"] = count_taught(model, batch)
-    keep_said_names(updated, (tuple(naming.words) if naming else None for _, naming in read))  # taught order
+    namings = [tuple(naming.words) if naming else None for _, naming in read]
+    keep_said_names(updated, namings, [int(k) for k in learner.last_places_])  # names as taught (said_names.py)
     t2 = time.perf_counter()
     words = place_vocabulary(updated)
     labels = place_labels(updated, words)
