@@ -24,25 +24,39 @@ JA_FRAMES = ("ここ は {} です", "{}", "{} だ よ")
 def warehouse_names(names: Sequence[str]) -> list[str]:
     """The generated office's rooms renamed as a warehouse and office would call them: corridors "aisle one", "aisle
     two", ...; offices "room 101", "room 102", ...; meeting rooms "loading dock", "south corridor", "storage hall",
-    "second bedroom", "bay 3" (the rest keep their one-word names: two labs, a kitchen, ...)."""
+    "second bedroom", ...; the printer room "bay 3" (the rest keep their one-word names: two labs, a kitchen, a
+    toilet). Numbers run against the places' order (the last corridor is "aisle one"), so that a number read as the
+    screen's instance number ("aisle #1": the first corridor) is not the taught one by chance."""
     aisles = iter(f"aisle {w}" for w in ("one", "two", "three", "four", "five", "six", "seven", "eight"))
     rooms = iter(f"room {n}" for n in range(101, 200))
     others = iter(("loading dock", "south corridor", "storage hall", "second bedroom", "print shop", "tool crib"))
-    out = []
-    for name in names:
-        out.append(
-            next(aisles) if name == "corridor" else next(rooms) if name == "office" else next(others)
-            if name == "meeting" else "bay 3" if name == "printer" else name
-        )  # fmt: skip
+    out = list(names)
+    for k in reversed(range(len(names))):
+        if names[k] == "corridor":
+            out[k] = next(aisles)
+        elif names[k] == "office":
+            out[k] = next(rooms)
+    for k, name in enumerate(names):
+        if name == "meeting":
+            out[k] = next(others)
+        elif name == "printer":
+            out[k] = "bay 3"
     return out
 
 
 def japanese_names(names: Sequence[str]) -> list[str]:
-    """The office in Japanese: corridors 東 の 廊下, 西 の 廊下, ... (phrase-segmented), offices 2号室, 3号室, ..."""
+    """The office in Japanese: corridors 東 の 廊下, 西 の 廊下, ... (phrase-segmented), offices 2号室, 3号室, ...
+    (numbered against the places' order, as :func:`warehouse_names`)."""
     sides = iter(f"{s} の 廊下" for s in ("東", "西", "南", "北", "中央", "奥", "表", "裏"))
     rooms = iter(f"{n}号室" for n in range(2, 100))
     plain = {"kitchen": "台所", "toilet": "トイレ", "lab": "実験室", "printer": "印刷室", "meeting": "会議室"}
-    return [next(sides) if n == "corridor" else next(rooms) if n == "office" else plain.get(n, n) for n in names]
+    out = [plain.get(n, n) for n in names]
+    for k in reversed(range(len(names))):
+        if names[k] == "corridor":
+            out[k] = next(sides)
+        elif names[k] == "office":
+            out[k] = next(rooms)
+    return out
 
 
 def named_office(
