@@ -54,7 +54,7 @@ import re
 from dataclasses import dataclass
 
 from spcotmhp.errors import NotANaming
-from spcotmhp.language.said_names import number_word
+from spcotmhp.language.numbers import number_word
 from spcotmhp.language.text import is_japanese, normalise
 
 MAX_NAME_WORDS = 4

@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 from types import MappingProxyType
 from typing import Any, NamedTuple
 
-from spcotmhp.language.said_names import number_word, said_variants
+from spcotmhp.language.numbers import number_word, said_variants
 from spcotmhp.language.table import EN_UNIT, WordTable, longest_from
 
 
@@ -32,7 +32,7 @@ class PlaceLexicon:
     """The place words of one vocabulary as the units they match, with their spelling variants (module docstring,
     rule 4), built once per table and vocabulary (:func:`place_lexicon`). An English entry of several words is a
     taught name holding a number ("aisle one", "room 101"): it matches whole, in the variants it may be said in
-    (:func:`~spcotmhp.language.said_names.said_variants`: "aisle 1", "aisle number one"), and a number word is no
+    (:func:`~spcotmhp.language.numbers.said_variants`: "aisle 1", "aisle number one"), and a number word is no
     place word alone ("bedroom 2" of bedrooms taught without numbers keeps naming the screen's "bedroom #2")."""
 
     def __init__(self, table: WordTable, place_words: Sequence[str]) -> None:

@@ -25,8 +25,8 @@ said them. The rules:
 4. **Numbers are part of a taught name.** A number word, digits or an ordinal ("one", "101", "first") is a grammar
    word of instructions ("the one nearest", "first go to"), so alone it is no place word; it is one where a taught
    name holds it (:func:`~spcotmhp.planning.vocabulary.place_vocabulary`), and it is matched only inside that name
-   (:func:`said_variants`), so that "bedroom 2" of untaught-numbered bedrooms keeps naming the screen's
-   "bedroom #2".
+   (:func:`~spcotmhp.language.numbers.said_variants`), so that "bedroom 2" of untaught-numbered bedrooms keeps
+   naming the screen's "bedroom #2".
 5. **Said back in its common variants.** A cardinal of a taught name may be said as a word, in digits, with
    "number" or "#" before it ("aisle one", "aisle 1", "aisle #1", "aisle number one" for a taught "aisle one");
    an ordinal as a word or in digits with its suffix ("second bedroom", "2nd bedroom"). A cardinal is never said
@@ -44,28 +44,11 @@ from typing import Any
 
 import numpy as np
 
+from spcotmhp.language.numbers import number_word
+
 MAX_SAID_NAMES = 1000
 """Most names kept with a model (the most taught): a home or a warehouse has far fewer; an unbounded list of
 every utterance's name would grow the model folder with the teaching."""
-
-MAX_VARIANTS = 64
-"""Most spellings of one name matched (rule 5): four number words of four spellings each."""
-
-ORDINALS = {
-    "first": 1, "second": 2, "third": 3, "fourth": 4, "fifth": 5, "sixth": 6, "seventh": 7, "eighth": 8,
-    "ninth": 9, "tenth": 10, "eleventh": 11, "twelfth": 12, "thirteenth": 13, "fourteenth": 14, "fifteenth": 15,
-    "sixteenth": 16, "seventeenth": 17, "eighteenth": 18, "nineteenth": 19, "twentieth": 20,
-}  # fmt: skip
-"""English ordinal words and their values (rule 5)."""
-
-_CARDINALS = {
-    "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10,
-    "eleven": 11, "twelve": 12, "thirteen": 13, "fourteen": 14, "fifteen": 15, "sixteen": 16, "seventeen": 17,
-    "eighteen": 18, "nineteen": 19, "twenty": 20,
-}  # fmt: skip
-_CARDINAL_WORDS = {n: w for w, n in _CARDINALS.items()}
-_ORDINAL_WORDS = {n: w for w, n in ORDINALS.items()}
-_SUFFIXES = {1: "st", 2: "nd", 3: "rd"}
 
 
 @dataclass(frozen=True)
@@ -76,28 +59,6 @@ class SaidName:
     words: tuple[str, ...]
     taught: int
     places: tuple[tuple[int, int], ...] = ()
-
-
-def number_word(word: str) -> tuple[str, int] | None:
-    """("cardinal", n) for digits or a cardinal word ("101", "one"), ("ordinal", n) for an ordinal word or digits
-    with their suffix as one word ("second", "2nd"), None otherwise.
-
-    >>> number_word("one"), number_word("101"), number_word("second"), number_word("2nd"), number_word("aisle")
-    (('cardinal', 1), ('cardinal', 101), ('ordinal', 2), ('ordinal', 2), None)
-    """
-    if word.isascii() and word.isdigit():
-        return "cardinal", int(word)
-    if word in _CARDINALS:
-        return "cardinal", _CARDINALS[word]
-    if word in ORDINALS:
-        return "ordinal", ORDINALS[word]
-    if len(word) > 2 and word[:-2].isascii() and word[:-2].isdigit() and word[-2:] == _suffix(int(word[:-2])):
-        return "ordinal", int(word[:-2])
-    return None
-
-
-def _suffix(n: int) -> str:
-    return "th" if 10 <= n % 100 <= 20 else _SUFFIXES.get(n % 10, "th")
 
 
 def event_name(tokens: Sequence[str], lang: str) -> tuple[str, ...] | None:
@@ -254,44 +215,3 @@ def taught_numbers(names: Sequence[SaidName]) -> frozenset[str]:
     return frozenset(
         w for s in names if any(number_word(v) is None for v in s.words) for w in s.words if number_word(w) is not None
     )
-
-
-def numbered_labels(labels: Iterable[str]) -> list[str]:
-    """The labels (space-separated words) that hold a number word and another word (rule 4: the names the
-    instruction lexicon matches whole, :func:`said_variants`)."""
-    out = []
-    for label in labels:
-        words = label.split()
-        kinds = [number_word(w) for w in words]
-        if len(words) > 1 and any(kinds) and not all(kinds):
-            out.append(label)
-    return list(dict.fromkeys(out))
-
-
-def said_variants(words: Sequence[str]) -> list[tuple[str, ...]]:
-    """Rule 5: the units an English name may be said in (the name itself first), at most :data:`MAX_VARIANTS`.
-
-    >>> said_variants(["aisle", "one"])
-    [('aisle', 'one'), ('aisle', '1'), ('aisle', 'number', 'one'), ('aisle', 'number', '1')]
-    >>> said_variants(["second", "bedroom"])
-    [('second', 'bedroom'), ('2', 'nd', 'bedroom')]
-    """
-    options: list[list[tuple[str, ...]]] = []
-    for w in words:
-        said = number_word(w)
-        if said is None:
-            options.append([(w,)])
-        elif said[0] == "cardinal":
-            forms: list[tuple[str, ...]] = [(w,), (str(said[1]),)]
-            if said[1] in _CARDINAL_WORDS:
-                forms.append((_CARDINAL_WORDS[said[1]],))
-            forms = list(dict.fromkeys(forms))
-            options.append(forms + [("number", *f) for f in forms])
-        else:
-            options.append(
-                list(dict.fromkeys([(w,), (_ORDINAL_WORDS.get(said[1], w),), (str(said[1]), _suffix(said[1]))]))
-            )
-    out: list[tuple[str, ...]] = []
-    for combo in itertools.islice(itertools.product(*options), MAX_VARIANTS):
-        out.append(tuple(u for part in combo for u in part))
-    return list(dict.fromkeys(out))

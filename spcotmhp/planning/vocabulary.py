@@ -12,8 +12,9 @@ from typing import Any
 
 import numpy as np
 
+from spcotmhp.language.numbers import numbered_labels
 from spcotmhp.language.reading import LANGUAGES
-from spcotmhp.language.said_names import numbered_labels, place_name, said_names, spoken_order, taught_numbers
+from spcotmhp.language.said_names import SaidName, place_name, said_names, spoken_order, taught_numbers
 from spcotmhp.language.table import word_table
 
 INSTANCE_RATIO = 4.0
@@ -72,8 +73,7 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     if not len(model.vocabulary):
         return []
     act = np.asarray(model.active_places, dtype=bool)
-    said, rescaled = model.word_given_place(), model.label_scores()
-    said, rescaled = said[act], rescaled[act]
+    said, rescaled = model.word_given_place()[act], model.label_scores()[act]
     grammar_words = FUNCTION_WORDS - taught_numbers(said_names(model))  # rule 3's exception: "aisle one"
     grammar = np.array([w in grammar_words for w in model.vocabulary], dtype=bool)
     best = np.where(grammar, 0.0, rescaled).max(axis=1, keepdims=True)  # rule 3's words set no bar
@@ -150,13 +150,7 @@ def place_labels(
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
     chosen &= _said_by_own_concepts(model, idx, chance) | ~act[:, None]
     shared = chosen[act].sum(axis=0)
-    if names is None:
-        info = getattr(model, "info", None) or {}
-        names = info.get("place_names") if isinstance(info.get("place_names"), list) else None
-    spoken: dict[frozenset[str], list[str]] = {}
-    for name in names or ():
-        if isinstance(name, str):
-            spoken.setdefault(frozenset(name.split()), name.split())
+    spoken = _given_orders(model, names)
     taught, known = said_names(model), set(place_words)
     labels = []
     for k in range(len(chosen)):
@@ -164,15 +158,35 @@ def place_labels(
         if not words:
             labels.append(f"place {k}")
             continue
-        own = place_name(k, taught) if taught and act[k] else None
-        if own is not None and set(words) <= set(own.words) <= known:
-            words = list(own.words)  # the name taught most at the place (said_names.py, rule 3)
-        order = spoken_order(words, taught) if taught else None
-        order = order or spoken.get(frozenset(words))
-        if order is None or len(order) != len(words):
+        order = _taught_order(k, words, taught, known) if taught and act[k] else None
+        if order is None:
+            order = spoken.get(frozenset(words))
+        if order is None or len(order) < len(words):
             order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
         labels.append(" ".join(order))
     return labels
+
+
+def _given_orders(model: Any, names: Sequence[str] | None) -> dict[frozenset[str], list[str]]:
+    """{word set: words in order} of ``names`` (default ``model.info["place_names"]``; :func:`place_labels`)."""
+    if names is None:
+        info = getattr(model, "info", None) or {}
+        names = info.get("place_names") if isinstance(info.get("place_names"), list) else None
+    spoken: dict[frozenset[str], list[str]] = {}
+    for name in names or ():
+        if isinstance(name, str):
+            spoken.setdefault(frozenset(name.split()), name.split())
+    return spoken
+
+
+def _taught_order(k: int, words: list[str], taught: Sequence[SaidName], known: set[str]) -> list[str] | None:
+    """Place ``k``'s label from the taught names (:mod:`spcotmhp.language.said_names`, rule 3): the name taught most
+    there when it holds ``words`` and only ``known`` words, else ``words`` in taught order; None: no taught name
+    orders them."""
+    own = place_name(k, taught)
+    if own is not None and set(words) <= set(own.words) <= known:
+        return list(own.words)
+    return spoken_order(words, taught)
 
 
 def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarray:
@@ -187,7 +201,7 @@ def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarr
 
 def said_words(place_words: Sequence[str], names: Sequence[str], active: Sequence[bool] | np.ndarray) -> list[str]:
     """The words instructions are read with: ``place_words`` and the labels of active places that hold a number
-    ("aisle one", "room 101"; :func:`~spcotmhp.language.said_names.numbered_labels`), which the lexicon matches
+    ("aisle one", "room 101"; :func:`~spcotmhp.language.numbers.numbered_labels`), which the lexicon matches
     whole in their spoken variants ("aisle 1", "aisle number one")."""
     return [*place_words, *numbered_labels(n for n, a in zip(names, active, strict=True) if a)]
 

@@ -13,15 +13,13 @@ from hypothesis import strategies as st
 from spcotmhp.errors import NotANaming
 from spcotmhp.language.lexicon import tokens
 from spcotmhp.language.naming import read_naming
+from spcotmhp.language.numbers import number_word, numbered_labels, said_variants
 from spcotmhp.language.said_names import (
     MAX_SAID_NAMES,
     SaidName,
     count_names,
     event_name,
-    number_word,
-    numbered_labels,
     said_names,
-    said_variants,
     spoken_order,
     taught_numbers,
 )
