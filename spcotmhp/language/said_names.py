@@ -60,6 +60,11 @@ class SaidName:
     taught: int
     places: tuple[tuple[int, int], ...] = ()
 
+    @functools.cached_property
+    def word_set(self) -> frozenset[str]:
+        """The name's words as a set (rule 2's key), made once."""
+        return frozenset(self.words)
+
 
 def event_name(tokens: Sequence[str], lang: str) -> tuple[str, ...] | None:
     """The name one teaching event teaches, as words (rule 1), or None."""
@@ -177,12 +182,16 @@ def record_dataset_names(
     keep_said_names(model, (event_name(t, lang) for t in tokens), None if places is None else [int(k) for k in places])
 
 
-def place_name(k: int, names: Sequence[SaidName]) -> SaidName | None:
-    """Rule 3's name of place ``k``: the name taught most often at it (ties: more words, then the most taught
-    overall), or None when no event there taught one."""
-    here = [(dict(s.places).get(k, 0), len(s.words), s.taught, s) for s in names]
-    best = max(here, key=lambda h: h[:3], default=None)
-    return best[3] if best is not None and best[0] > 0 else None
+def place_names(names: Sequence[SaidName]) -> dict[int, SaidName]:
+    """Rule 3's name of each place: the name taught most often at it (ties: more words, then the most taught
+    overall); a place where no event taught a name has none. One pass over the names' places."""
+    best: dict[int, tuple[tuple[int, int, int], SaidName]] = {}
+    for said in names:
+        for k, events in said.places:
+            rank = (events, len(said.words), said.taught)
+            if k not in best or rank > best[k][0]:
+                best[k] = (rank, said)
+    return {k: said for k, (_, said) in best.items()}
 
 
 def spoken_order(words: Sequence[str], names: Sequence[SaidName]) -> list[str] | None:
@@ -191,16 +200,16 @@ def spoken_order(words: Sequence[str], names: Sequence[SaidName]) -> list[str] |
     dock": each name in its order, the most taught first, longer names before the names inside them); None when
     some word is in no taught name that fits."""
     wanted = set(words)
-    exact = [s for s in names if set(s.words) == wanted]
-    holding = exact or [s for s in names if wanted <= set(s.words)]
+    exact = [s for s in names if s.word_set == wanted]
+    holding = exact or [s for s in names if wanted <= s.word_set]
     if holding:
         best = max(holding, key=lambda s: s.taught)
         return list(dict.fromkeys(w for w in best.words if w in wanted))
     left, groups = set(wanted), []
     for said in sorted(names, key=lambda s: (-len(s.words), -s.taught)):
-        if len(said.words) > 1 and set(said.words) <= left:
+        if len(said.words) > 1 and said.word_set <= left:
             groups.append(said)
-            left -= set(said.words)
+            left -= said.word_set
     if not groups:
         return None
     groups += [s for s in names if len(s.words) == 1 and s.words[0] in left]

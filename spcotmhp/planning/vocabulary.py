@@ -14,7 +14,7 @@ import numpy as np
 
 from spcotmhp.language.numbers import numbered_labels
 from spcotmhp.language.reading import LANGUAGES
-from spcotmhp.language.said_names import SaidName, place_name, said_names, spoken_order, taught_numbers
+from spcotmhp.language.said_names import SaidName, place_names, said_names, spoken_order, taught_numbers
 from spcotmhp.language.table import word_table
 
 INSTANCE_RATIO = 4.0
@@ -60,7 +60,7 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
        ``model.info["said_names"]``, :mod:`spcotmhp.language.said_names`) is a place word: instructions match it
        only inside that name.
 
-    A word of the name taught most often at an active place (:func:`~spcotmhp.language.said_names.place_name`)
+    A word of the name taught most often at an active place (:func:`~spcotmhp.language.said_names.place_names`)
     passes rule 1 (rules 2 and 3 still apply): "the east corridor" taught at a new place whose events the concept
     of "corridor" explains says "east" far less than "corridor", and yet "east" is what names that place.
     4. and, for a word taught at run time (:func:`taught_counts`), the label (:func:`place_labels`) of some active
@@ -97,8 +97,8 @@ def own_name_words(model: Any, active: np.ndarray) -> set[str]:
     names = said_names(model)
     if not names:
         return set()
-    own = (place_name(int(k), names) for k in np.flatnonzero(active))
-    return {w for name in own if name is not None for w in name.words}
+    own = place_names(names)
+    return {w for k in np.flatnonzero(active) if int(k) in own for w in own[int(k)].words}
 
 
 def taught_counts(model: Any) -> dict[str, int]:
@@ -130,7 +130,7 @@ def place_labels(
 
     The name taught most at a place (by the events the learner assigned there, ``model.info["said_names"]``)
     is its label where it holds every word so chosen and only place words: "east corridor" taught at a place whose
-    events a "corridor" concept explains (:func:`spcotmhp.language.said_names.place_name`).
+    events a "corridor" concept explains (:func:`spcotmhp.language.said_names.place_names`).
 
     Word order. A model keeps bags of words, not their order (Eq. 17). The words are ordered as people taught
     them (the names kept with the model, :func:`spcotmhp.language.said_names.spoken_order`: "aisle one", "room
@@ -152,13 +152,14 @@ def place_labels(
     shared = chosen[act].sum(axis=0)
     spoken = _given_orders(model, names)
     taught, known = said_names(model), set(place_words)
+    own = place_names(taught)
     labels = []
     for k in range(len(chosen)):
         words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
         if not words:
             labels.append(f"place {k}")
             continue
-        order = _taught_order(k, words, taught, known) if taught and act[k] else None
+        order = _taught_order(words, own.get(k), taught, known) if taught and act[k] else None
         if order is None:
             order = spoken.get(frozenset(words))
         if order is None or len(order) < len(words):
@@ -179,11 +180,12 @@ def _given_orders(model: Any, names: Sequence[str] | None) -> dict[frozenset[str
     return spoken
 
 
-def _taught_order(k: int, words: list[str], taught: Sequence[SaidName], known: set[str]) -> list[str] | None:
-    """Place ``k``'s label from the taught names (:mod:`spcotmhp.language.said_names`, rule 3): the name taught most
-    there when it holds ``words`` and only ``known`` words, else ``words`` in taught order; None: no taught name
-    orders them."""
-    own = place_name(k, taught)
+def _taught_order(
+    words: list[str], own: SaidName | None, taught: Sequence[SaidName], known: set[str]
+) -> list[str] | None:
+    """A place's label from the taught names (:mod:`spcotmhp.language.said_names`, rule 3): ``own``, the name taught
+    most there, when it holds ``words`` and only ``known`` words, else ``words`` in taught order; None: no taught
+    name orders them."""
     if own is not None and set(words) <= set(own.words) <= known:
         return list(own.words)
     return spoken_order(words, taught)
