@@ -15,14 +15,15 @@ ORDINALS = {
     "ninth": 9, "tenth": 10, "eleventh": 11, "twelfth": 12, "thirteenth": 13, "fourteenth": 14, "fifteenth": 15,
     "sixteenth": 16, "seventeenth": 17, "eighteenth": 18, "nineteenth": 19, "twentieth": 20,
 }  # fmt: skip
-"""English ordinal words and their values (rule 5)."""
+"""English ordinal words and their values (rule 5; floor ordinals, :mod:`spcotmhp.language.floors`)."""
 
-_CARDINALS = {
+CARDINALS = {
     "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10,
     "eleven": 11, "twelve": 12, "thirteen": 13, "fourteen": 14, "fifteen": 15, "sixteen": 16, "seventeen": 17,
     "eighteen": 18, "nineteen": 19, "twenty": 20,
 }  # fmt: skip
-_CARDINAL_WORDS = {n: w for w, n in _CARDINALS.items()}
+"""English cardinal words and their values (rule 5; floor numbers, :mod:`spcotmhp.language.floors`)."""
+_CARDINAL_WORDS = {n: w for w, n in CARDINALS.items()}
 _ORDINAL_WORDS = {n: w for w, n in ORDINALS.items()}
 _SUFFIXES = {1: "st", 2: "nd", 3: "rd"}
 
@@ -36,8 +37,8 @@ def number_word(word: str) -> tuple[str, int] | None:
     """
     if word.isascii() and word.isdigit():
         return "cardinal", int(word)
-    if word in _CARDINALS:
-        return "cardinal", _CARDINALS[word]
+    if word in CARDINALS:
+        return "cardinal", CARDINALS[word]
     if word in ORDINALS:
         return "ordinal", ORDINALS[word]
     if len(word) > 2 and word[:-2].isascii() and word[:-2].isdigit() and word[-2:] == _suffix(int(word[:-2])):
