@@ -178,3 +178,21 @@ def test_numbers_in_the_said_names_only_where_taught(office):
     assert ("aisle", "one") in taught and ("room", "101") in taught and ("bay", "3") in taught
     assert not any(len(w) == 1 and w[0] in ("one", "101") for w in taught)
     assert all(isinstance(e["taught"], int) and e["taught"] > 0 for e in planner.model.info["said_names"])
+
+
+@pytest.mark.parametrize(("lang", "name"), [("en", "entrance corridor"), ("ja", "玄関 廊下")])
+def test_the_bundled_two_word_name_is_shown_as_taught(lang, name):
+    """3LDK_05's entrance corridor, taught "entrance corridor" / 玄関 廊下 15 times, was shown reversed ("corridor
+    entrance": "corridor" is the word more places share)."""
+    import warnings
+
+    from spcotmhp.datasets.bundled import load_bundled
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        planner = HierarchicalPlanner(named_model(load_bundled("3LDK_05", lang=lang)))
+    assert name in planner.names
+    assert (
+        planner.plan({"en": "go to the entrance corridor", "ja": "玄関廊下へ行って"}[lang], (0.0, -3.0)).goal.name
+        == name
+    )
