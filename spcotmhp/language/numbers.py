@@ -63,13 +63,26 @@ def numbered_labels(labels: Iterable[str]) -> list[str]:
 
 
 def said_variants(words: Sequence[str]) -> list[tuple[str, ...]]:
-    """Rule 5: the units an English name may be said in (the name itself first), at most :data:`MAX_VARIANTS`.
+    """Rule 5: the units an English name may be said in (the name itself first), at most :data:`MAX_VARIANTS`. A
+    name that opens with a cardinal ("101 room", "two aisle": how a model folder written before names were kept
+    labels "room 101" and "aisle two") is said with it last too.
 
     >>> said_variants(["aisle", "one"])
     [('aisle', 'one'), ('aisle', '1'), ('aisle', 'number', 'one'), ('aisle', 'number', '1')]
     >>> said_variants(["second", "bedroom"])
     [('second', 'bedroom'), ('2', 'nd', 'bedroom')]
+    >>> said_variants(["101", "room"])[:3]
+    [('101', 'room'), ('number', '101', 'room'), ('room', '101')]
     """
+    out = _spellings(words)
+    first = number_word(words[0]) if words else None
+    if first is not None and first[0] == "cardinal" and len(words) > 1:
+        out += _spellings([*words[1:], words[0]])
+    return list(dict.fromkeys(out))[:MAX_VARIANTS]
+
+
+def _spellings(words: Sequence[str]) -> list[tuple[str, ...]]:
+    """The units of ``words`` with each number in each of its spellings (:func:`said_variants`)."""
     options: list[list[tuple[str, ...]]] = []
     for w in words:
         said = number_word(w)
@@ -85,7 +98,7 @@ def said_variants(words: Sequence[str]) -> list[tuple[str, ...]]:
             options.append(
                 list(dict.fromkeys([(w,), (_ORDINAL_WORDS.get(said[1], w),), (str(said[1]), _suffix(said[1]))]))
             )
-    out: list[tuple[str, ...]] = []
-    for combo in itertools.islice(itertools.product(*options), MAX_VARIANTS):
-        out.append(tuple(u for part in combo for u in part))
-    return list(dict.fromkeys(out))
+    return [
+        tuple(u for part in combo for u in part)
+        for combo in itertools.islice(itertools.product(*options), MAX_VARIANTS)
+    ]

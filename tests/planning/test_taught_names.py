@@ -146,9 +146,16 @@ def test_an_old_model_folder_loads_and_plans(office, tmp_path):
     save_model(old, tmp_path / "m")
     again = load_model(tmp_path / "m")
     assert "said_names" not in again.info
-    names = HierarchicalPlanner(again).names
+    old_planner = HierarchicalPlanner(again)
+    names = old_planner.names
     assert names[planner.names.index("aisle three")] == "three aisle"
     assert names[planner.names.index("room 101")] == "101 room"
+    for said, name in (
+        ("go to room 101", "room 101"),
+        ("go to aisle three", "aisle three"),
+        ("go to aisle 3", "aisle three"),
+    ):
+        assert old_planner.plan(said, _start(planner)).goal.id == planner.names.index(name), said
 
 
 @pytest.fixture(scope="module")
