@@ -36,6 +36,7 @@ from spcotmhp.building.layout import Layout
 from spcotmhp.building.loader import Building
 from spcotmhp.building.model import BuildingModel
 from spcotmhp.errors import TeachingError
+from spcotmhp.language.said_names import record_dataset_names
 from spcotmhp.learning.model import DERIVED, Hyperparameters
 from spcotmhp.learning.online import TeachingEvent
 from spcotmhp.limits import MAX_PLACES
@@ -112,6 +113,7 @@ def learn_building_online(building: Building, seed: int = 0, **params: object) -
         for (x, y), t, f in zip(data.positions, data.tokens, feats, strict=True)
     ]
     model = learner.partial_fit(events).model_
+    record_dataset_names(model, data.tokens, data.lang, learner.state_.place)  # taught names (said_names.py)
     model.info["building"] = building.name
     return BuildingModel(model, layout, building.spec)
 

@@ -65,6 +65,7 @@ class BuildingPlanner:
         }
         self.settings = next(iter(self.floors.values())).settings
         self.place_words = sorted({w for p in self.floors.values() for w in p.place_words})
+        self.said_words = sorted({w for p in self.floors.values() for w in p.said_words})
         self.stops = self._endpoints()
         by_connector: dict[int, list[Endpoint]] = {}
         for e in self.stops:
@@ -122,7 +123,7 @@ class BuildingPlanner:
         t0 = time.perf_counter()
         f0 = self.bm.check_floor(floor)
         raw, given = split_floors(instruction, goal_floor)
-        ins = parse_instruction(raw, self.bm.model, self.place_words, lang, floors=True)
+        ins = parse_instruction(raw, self.bm.model, self.said_words, lang, floors=True)
         resolved = self._resolve(PlaceFloors.of(ins, given), f0)
         home = self.floors[f0]
         x0, cell, escape = start_cell(home.model, home.graph, start)

@@ -220,7 +220,9 @@ def learn(
         building.save(model, out, overwrite)
     else:
         save_model(model, out, overwrite=overwrite)
-    names = model.place_names()
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+
+    names = place_labels(model, place_vocabulary(model))  # as plans name them, in taught order
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
 

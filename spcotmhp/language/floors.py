@@ -27,6 +27,8 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
+from spcotmhp.language.numbers import CARDINALS, ORDINALS
+
 FloorValue = int | str
 """A floor as said: its index, "upstairs" / "downstairs", or a name (module docstring)."""
 
@@ -34,14 +36,8 @@ MAX_FLOOR_INDEX = 200
 """Highest floor number a phrase may say (a larger one is no floor of a building)."""
 
 _NOUNS = frozenset({"floor", "level", "storey", "story"})
-_ORDINALS = {
-    "first": 1, "second": 2, "third": 3, "fourth": 4, "fifth": 5, "sixth": 6, "seventh": 7, "eighth": 8,
-    "ninth": 9, "tenth": 10,
-}  # fmt: skip
 _SUFFIXES = frozenset({"st", "nd", "rd", "th"})
 _NAMES = frozenset({"ground", "top", "basement", "bottom"})
-_CARDINALS = {"one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9,
-              "ten": 10}  # fmt: skip
 _UP = {"up": "upstairs", "above": "upstairs", "down": "downstairs", "below": "downstairs"}
 _RELATIVE = frozenset({"upstairs", "downstairs"})
 CUES = _NOUNS | _RELATIVE
@@ -59,8 +55,8 @@ def floor_en(units: Sequence[object], i: int) -> tuple[FloorValue, int] | None:
         return None if number is None else (number, k + 3 - i)
     if j == i and k == i and word in _RELATIVE:
         return word, 1
-    if word in _ORDINALS and nxt in _NOUNS:
-        return _ORDINALS[word], k + 2 - i
+    if word in ORDINALS and nxt in _NOUNS:
+        return ORDINALS[word], k + 2 - i
     if word in _NAMES and nxt in _NOUNS:
         return word, k + 2 - i
     if word in _NOUNS and k > j and nxt in _UP and nxt in ("above", "below"):
@@ -79,8 +75,8 @@ def _at(units: Sequence[object], i: int) -> str:
 
 
 def _number(unit: str) -> int | None:
-    if unit in _CARDINALS:
-        return _CARDINALS[unit]
+    if unit in CARDINALS:
+        return CARDINALS[unit]
     if unit.isdigit() and len(unit) <= 3 and 0 <= int(unit) <= MAX_FLOOR_INDEX:
         return int(unit)
     return None

@@ -102,7 +102,7 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
             end = kept[i + n - 1][1] + 1
             surface = " ".join(units[start:end]) if kind != "PLACE" else " ".join(str(u) for u in seq[i : i + n])
             if kind:
-                words = (value,) if kind == "PLACE" else ()
+                words = tuple(value.split()) if kind == "PLACE" else ()  # a taught name: its words
                 out.append(Token(kind, surface, words, start=start, end=end))
             i += n
             continue

@@ -19,10 +19,12 @@ expanded: "it's" -> "it is", "you're" -> "you are", "isn't" -> "is not", "let's"
    and the inverted "NAME, this is").
 3. The name is the run of words after the frame, past a determiner ("the", "a", "my", ...), up to punctuation or a
    grammar word of the instruction word table (``grammars/en.json``: "now", "and", "please", ...), at most
-   ``MAX_NAME_WORDS`` words. After a plain copula the complement must start with a determiner or a possessive
-   ("this is the study", "this is Bob's room"): an English predicate that names a room takes one, and a bare
-   complement is an adjective ("this is nice", "it's cold in here"). A frame followed by "not" names nothing
-   ("this isn't the study"); the first frame with a name wins ("this isn't the bath, it's the washroom").
+   ``MAX_NAME_WORDS`` words; a number word, digits or an ordinal stays in the name ("aisle one", "room 101", "the
+   first aisle": :mod:`spcotmhp.language.said_names`), and a number alone is no name. After a plain copula the
+   complement must start with a determiner or a possessive ("this is the study", "this is Bob's room"): an English
+   predicate that names a room takes one, and a bare complement is an adjective ("this is nice", "it's cold in
+   here"), unless it ends in a number ("this is aisle one", "this is room 101"). A frame followed by "not" names
+   nothing ("this isn't the study"); the first frame with a name wins ("this isn't the bath, it's the washroom").
 4. With no frame, an utterance that is one noun phrase of at most ``MAX_NAME_WORDS`` words, none of them a grammar
    or greeting word, is a bare name ("Study.").
 
@@ -35,6 +37,8 @@ Japanese (words by janome, :mod:`spcotmhp.language.text`):
    物+置き) that is not the subject ("ここ", "この部屋": a pronoun or a noun after この/その/あの) and is followed by
    a copula or a naming ending (です, だ, でございます, な, よ, ね, って/と + 呼ぶ/言う/名付ける, に + なる, a full
    stop, or the end): "キッチンに行って" has none.
+3. The model's words of the name are its words without particles (東の廊下: 東, 廊下); a number (digits, kanji
+   numerals, 第 with one) belongs to the word after it (2号室, 第二会議室: one word each).
 
 >>> read_naming("Here's the laundry room.").name, read_naming("ここは書斎です").name
 ('laundry room', '書斎')
@@ -50,6 +54,7 @@ import re
 from dataclasses import dataclass
 
 from spcotmhp.errors import NotANaming
+from spcotmhp.language.numbers import number_word
 from spcotmhp.language.text import is_japanese, normalise
 
 MAX_NAME_WORDS = 4
@@ -175,14 +180,32 @@ def _name_after(words: list[str], start: int, plain: bool) -> list[str] | None:
     determiner = bool(rest) and rest[0] in _DETERMINERS
     if determiner:
         rest = rest[1:]
-    if plain and not determiner and not (rest and rest[0].endswith("'s") and rest[0] not in _CONTRACTIONS):
-        return None
+    possessive = bool(rest) and rest[0].endswith("'s") and rest[0] not in _CONTRACTIONS
     name: list[str] = []
     for w in rest:
-        if w in _PUNCT or w in grammar or w in _DETERMINERS or len(name) == MAX_NAME_WORDS:
+        if w in _PUNCT or _grammar(w, grammar) or w in _DETERMINERS or len(name) == MAX_NAME_WORDS:
             break
         name.append(w)
-    return name or None
+    if plain and not determiner and not possessive and not _numbered(name):
+        return None
+    return name if _names(name) else None
+
+
+def _grammar(word: str, grammar: frozenset[str]) -> bool:
+    """Whether ``word`` ends a name: a grammar word of instructions that is not a number (rule 3: "aisle one",
+    "the first aisle" keep their numbers, :mod:`spcotmhp.language.said_names`)."""
+    return word in grammar and number_word(word) is None
+
+
+def _names(words: list[str]) -> bool:
+    """Whether ``words`` can be a name: some word is not a number ("one" alone, "the first", names nothing)."""
+    return any(number_word(w) is None for w in words)
+
+
+def _numbered(words: list[str]) -> bool:
+    """A complement without a determiner that is a name ending in a number ("this is aisle one", "room 101", "bay
+    3"): an adjective ("this is nice") is never followed by one."""
+    return len(words) >= 2 and number_word(words[-1]) is not None and _names(words)
 
 
 def _frame_names(sentence: list[str]) -> list[tuple[int, list[str]]]:
@@ -204,7 +227,7 @@ def _frame_names(sentence: list[str]) -> list[tuple[int, list[str]]]:
     if inverted:
         words = inverted.group(1).split()
         grammar = _grammar_words()
-        if not any(w in grammar for w in words):
+        if not any(_grammar(w, grammar) for w in words) and _names(words):
             found.append((0, words))
     return sorted(found, key=lambda item: item[0])
 
@@ -231,7 +254,8 @@ def _read_en(text: str) -> Naming:
         and len(sentences) == 1
         and "," not in tokens
         and 1 <= len(bare) <= MAX_NAME_WORDS
-        and not any(w in grammar or w in _GREETINGS for w in bare)
+        and not any(_grammar(w, grammar) or w in _GREETINGS for w in bare)
+        and _names(bare)
     ):
         return _naming(bare, "en")
     if questions:
@@ -338,4 +362,19 @@ def _ja_words(name: str) -> tuple[str, ...]:
     from spcotmhp.language.text import japanese_function_word, words
 
     parts = [w for w in words(name, "ja") if not japanese_function_word(w)]
-    return tuple(parts) or (name,)
+    glued: list[str] = []
+    for w in parts:  # a number and a 第 belong to the word after them: 2号室, 101号室, 第二会議室
+        if glued and _ja_number(glued[-1]):
+            glued[-1] += w
+        else:
+            glued.append(w)
+    return tuple(glued) or (name,)
+
+
+_KANJI_DIGITS = frozenset("〇一二三四五六七八九十百千")
+
+
+def _ja_number(word: str) -> bool:
+    """Whether ``word`` is a number (digits, kanji numerals) or 第 / a number after 第, which glue to the next."""
+    body = word[1:] if word.startswith("第") else word
+    return not body or body.isdigit() or all(ch in _KANJI_DIGITS for ch in body)

@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 from types import MappingProxyType
 from typing import Any, NamedTuple
 
+from spcotmhp.language.numbers import number_word, said_variants
 from spcotmhp.language.table import EN_UNIT, WordTable, longest_from
 
 
@@ -29,15 +30,23 @@ class Token(NamedTuple):
 
 class PlaceLexicon:
     """The place words of one vocabulary as the units they match, with their spelling variants (module docstring,
-    rule 4), built once per table and vocabulary (:func:`place_lexicon`)."""
+    rule 4), built once per table and vocabulary (:func:`place_lexicon`). An English entry of several words is a
+    taught name holding a number ("aisle one", "room 101"): it matches whole, in the variants it may be said in
+    (:func:`~spcotmhp.language.numbers.said_variants`: "aisle 1", "aisle number one"), and a number word is no
+    place word alone ("bedroom 2" of bedrooms taught without numbers keeps naming the screen's "bedroom #2")."""
 
     def __init__(self, table: WordTable, place_words: Sequence[str]) -> None:
+        names = [w for w in place_words if " " in w and not table.by_character]
+        place_words = [w for w in place_words if " " not in w and (table.by_character or number_word(w) is None)]
         self.words = frozenset(place_words)
         keys: dict[tuple[str, ...], str] = {}
         for w in place_words:
             key = table.units(w) if table.by_character else tuple(EN_UNIT.findall(w))
             if key:
                 keys[key] = w
+        for name in names:  # a taught name holding a number, matched whole in its variants (said_names.py)
+            for key in said_variants(name.split()):
+                keys.setdefault(key, name)
         variants: dict[tuple[str, ...], str] = {}
         glued: set[tuple[str, ...]] = set()
         for w in place_words:

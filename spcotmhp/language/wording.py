@@ -12,6 +12,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from itertools import pairwise
 
+from spcotmhp.language.numbers import number_word
+
 EXCERPT_CHARS = 60
 """Longest excerpt of an instruction quoted in an error message (longer inputs end in "…")."""
 WORD_CHARS = 30
@@ -59,8 +61,9 @@ def not_understood(words: Sequence[str]) -> str:
 
 
 def known_words(place_words: Sequence[str]) -> str:
-    """ "known place words: a, b, ..." (at most :data:`MAX_LISTED` shown) for error messages."""
-    words = sorted(set(place_words))
+    """ "known place words: a, b, ..." (at most :data:`MAX_LISTED` shown) for error messages; a number word or
+    digits alone are left out (said only inside a taught name, "aisle one": :mod:`spcotmhp.language.numbers`)."""
+    words = sorted({w for w in place_words if number_word(w) is None})
     if not words:
         return "the model knows no place words"
     shown = ", ".join(words[:MAX_LISTED]) + (f", ... ({len(words)} in all)" if len(words) > MAX_LISTED else "")

@@ -78,6 +78,7 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import ModelError
+from spcotmhp.language.said_names import record_dataset_names
 from spcotmhp.learning.concepts import CollapsedConceptSampler
 from spcotmhp.learning.connectivity import SOURCES as CONNECTIVITY
 from spcotmhp.learning.connectivity import apply_connectivity
@@ -250,6 +251,7 @@ class SpCoTMHP:
         if run is not None:
             model.info.update(run.info())
         record_truncation(model, self.K, self.L)
+        record_dataset_names(model, dataset.tokens, dataset.lang, places)  # taught names (said_names.py)
         self._export_psi(model, priors, dataset, obs, places)
         self.fit_time_ = time.perf_counter() - t0
         self.fit_cpu_time_ = time.process_time() - c0

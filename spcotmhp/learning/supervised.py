@@ -21,6 +21,7 @@ import numpy as np
 
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.errors import DatasetError, ModelError
+from spcotmhp.language.said_names import record_dataset_names
 from spcotmhp.learning.connectivity import (
     ADJACENCY_CONCENTRATION,
     apply_connectivity,
@@ -90,6 +91,7 @@ def fit_supervised(
         model.info["psi_from"] = "transitions"
     else:
         apply_connectivity(model, dataset, source, places)
+    record_dataset_names(model, dataset.tokens, dataset.lang, places)  # taught names (said_names.py)
     return model
 
 

@@ -80,7 +80,7 @@ from spcotmhp.planning.search import SearchProblem, SearchResult, search, solve,
 from spcotmhp.planning.stages import StagePlaces
 from spcotmhp.planning.start import start_cell
 from spcotmhp.planning.terms import ModelTerms
-from spcotmhp.planning.vocabulary import parse_instruction, place_labels, place_vocabulary
+from spcotmhp.planning.vocabulary import parse_instruction, place_labels, place_vocabulary, said_words
 
 
 class HierarchicalPlanner(StagePlaces):
@@ -114,6 +114,7 @@ class HierarchicalPlanner(StagePlaces):
         self.graph = PlanningGraph.build(model, self.settings.graph_settings(), log_p, self.cache)
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
+        self.said_words = said_words(self.place_words, self.names, model.active_places)  # + "aisle one"
         self.terms = ModelTerms(model)
         # inactive places hold no data, and their labels carry every word: they name nothing
         self.label_index = LabelIndex([n if a else "" for n, a in zip(self.names, model.active_places, strict=True)])
@@ -161,7 +162,7 @@ class HierarchicalPlanner(StagePlaces):
                 the instruction (the message says which stage cannot be reached).
         """
         t0, model, res = time.perf_counter(), self.model, self.resolution
-        ins = parse_instruction(instruction, model, self.place_words, lang)
+        ins = parse_instruction(instruction, model, self.said_words, lang)
         x0, cell, escape = start_cell(model, self.graph, start)
         region, cell = self.graph.for_start(cell)  # plan within the start's free region
         S = len(ins.stages)
@@ -251,7 +252,7 @@ class HierarchicalPlanner(StagePlaces):
     def places_named(self, words: str | Sequence[str]) -> np.ndarray:
         """(K,) the places a place phrase names ("kitchen", ["east", "corridor"]): as a stage or an avoided place of
         an instruction would (every word must be a place word: :class:`~spcotmhp.errors.UnknownPlaceWord`)."""
-        return self.instances(to_instruction({"goal": words}, self.place_words).goal)
+        return self.instances(to_instruction({"goal": words}, self.said_words).goal)
 
     # ---- Algorithm 1, line 11 ------------------------------------------------------------------------
     def _solve(

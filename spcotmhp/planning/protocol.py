@@ -38,7 +38,7 @@ from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.instructions import Instruction, PlaceQuery, to_instruction
 from spcotmhp.planning.places import most_probable_place
 from spcotmhp.planning.plan import Plan, PlanPlace
-from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+from spcotmhp.planning.vocabulary import place_labels, place_vocabulary, said_words
 
 __all__ = ["Planner", "PlanVocabulary", "StartPose", "bag_words", "merged_bag", "path_plan"]
 
@@ -63,11 +63,12 @@ class PlanVocabulary:
         self.model = model
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
+        self.said_words = said_words(self.place_words, self.names, model.active_places)
 
     def instruction(self, instruction: Any) -> Instruction:
         """``instruction`` understood as SpCoTMHP understands it
         (:func:`~spcotmhp.planning.instructions.to_instruction`)."""
-        return to_instruction(instruction, self.place_words)
+        return to_instruction(instruction, self.said_words)
 
 
 def bag_words(query: PlaceQuery) -> dict[str, float]:

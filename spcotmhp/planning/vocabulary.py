@@ -12,7 +12,9 @@ from typing import Any
 
 import numpy as np
 
+from spcotmhp.language.numbers import numbered_labels
 from spcotmhp.language.reading import LANGUAGES
+from spcotmhp.language.said_names import SaidName, place_names, said_names, spoken_order, taught_numbers
 from spcotmhp.language.table import word_table
 
 INSTANCE_RATIO = 4.0
@@ -53,7 +55,14 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
        utterances per place a real name is only 5-10 times likelier at its place than elsewhere;
     3. and it is not a grammar or filler word of a supported language ("here", "called", "the", です): said with
        every name ("this is the kitchen"), such words would pass rule 1, and rule 2 removes them only where
-       they are said at every place. A site whose name is such a word cannot be named in instructions.
+       they are said at every place. A site whose name is such a word cannot be named in instructions. A number
+       word ("one", "first") that a taught name holds with another word ("aisle one", "the first aisle";
+       ``model.info["said_names"]``, :mod:`spcotmhp.language.said_names`) is a place word: instructions match it
+       only inside that name.
+
+    A word of the name taught most often at an active place (:func:`~spcotmhp.language.said_names.place_names`)
+    passes rule 1 (rules 2 and 3 still apply): "the east corridor" taught at a new place whose events the concept
+    of "corridor" explains says "east" far less than "corridor", and yet "east" is what names that place.
     4. and, for a word taught at run time (:func:`taught_counts`), the label (:func:`place_labels`) of some active
        place carries it: one teach at a spot whose events a large place's concept explains makes the word
        likely only within that concept (so it passes rule 1) without making it that place's name, and the
@@ -64,22 +73,32 @@ def place_vocabulary(model: Any, ratio: float = PLACE_WORD_RATIO, instance_ratio
     if not len(model.vocabulary):
         return []
     act = np.asarray(model.active_places, dtype=bool)
-    said, rescaled = model.word_given_place(), model.label_scores()
-    said, rescaled = said[act], rescaled[act]
-    grammar = np.array([w in FUNCTION_WORDS for w in model.vocabulary], dtype=bool)
+    said, rescaled = model.word_given_place()[act], model.label_scores()[act]
+    grammar_words = FUNCTION_WORDS - taught_numbers(said_names(model))  # rule 3's exception: "aisle one"
+    grammar = np.array([w in grammar_words for w in model.vocabulary], dtype=bool)
     best = np.where(grammar, 0.0, rescaled).max(axis=1, keepdims=True)  # rule 3's words set no bar
     core = (rescaled >= ratio * best) & ~grammar
     core_said = np.where(core, said, np.inf).min(axis=1, keepdims=True)
     keep = (core | (said >= ratio * core_said)).any(axis=0)
+    keep |= np.isin(model.vocabulary, sorted(own_name_words(model, act)))  # rule 1's exception: "east corridor"
     if act.sum() > 1:
         keep &= ~(said >= said.max(axis=0) / instance_ratio).all(axis=0)
-    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in FUNCTION_WORDS)
+    words = sorted(w for w, k in zip(model.vocabulary, keep, strict=False) if k and w not in grammar_words)
     taught = taught_counts(model)
     if any(w in taught for w in words):  # rule 4: a word taught at run time names a place once a label carries it
         labels = place_labels(model, words)
         carried = {w for k in np.flatnonzero(act) for w in labels[k].split()}
         words = [w for w in words if w not in taught or w in carried]
     return words
+
+
+def own_name_words(model: Any, active: np.ndarray) -> set[str]:
+    """The words of the names taught most at the ``active`` places (:func:`place_vocabulary`'s exception)."""
+    names = said_names(model)
+    if not names:
+        return set()
+    own = place_names(names)
+    return {w for k in np.flatnonzero(active) if int(k) in own for w in own[int(k)].words}
 
 
 def taught_counts(model: Any) -> dict[str, int]:
@@ -109,11 +128,17 @@ def place_labels(
     says it more often than chance (:func:`_said_by_own_concepts`): a place of one taught event otherwise carried
     the names of the largest concepts besides its own ("study bedroom"), whose prior mass alone puts them there.
 
-    Word order. A model keeps bags of words, not their order. The words are ordered as in ``names`` (names in
-    spoken order, e.g. a dataset's ``place_names``; by default ``model.info["place_names"]`` when the model
-    holds them) where one of these names holds exactly the label's words; otherwise a word shared by more
-    places comes later (the head of a compound name comes last in English and Japanese: "east corridor",
-    "alice's room"), ties in alphabetical order.
+    The name taught most at a place (by the events the learner assigned there, ``model.info["said_names"]``)
+    is its label where it holds every word so chosen and only place words: "east corridor" taught at a place whose
+    events a "corridor" concept explains (:func:`spcotmhp.language.said_names.place_names`).
+
+    Word order. A model keeps bags of words, not their order (Eq. 17). The words are ordered as people taught
+    them (the names kept with the model, :func:`spcotmhp.language.said_names.spoken_order`: "aisle one", "room
+    101", "second bedroom"), else as in ``names`` (names in spoken order, e.g. a dataset's ``place_names``; by
+    default ``model.info["place_names"]`` when the model holds them) where one of these names holds exactly the
+    label's words; otherwise (a model folder written before names were kept) a word shared by more places comes
+    later (the head of a compound name comes last in English and Japanese: "east corridor", "alice's room"), ties
+    in alphabetical order.
     """
     fallback = model.place_names()
     if not place_words:
@@ -125,6 +150,26 @@ def place_labels(
     chosen = (said >= ratio * said.max(axis=1, keepdims=True)) & (said > chance)
     chosen &= _said_by_own_concepts(model, idx, chance) | ~act[:, None]
     shared = chosen[act].sum(axis=0)
+    spoken = _given_orders(model, names)
+    taught, known = said_names(model), set(place_words)
+    own = place_names(taught)
+    labels = []
+    for k in range(len(chosen)):
+        words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
+        if not words:
+            labels.append(f"place {k}")
+            continue
+        order = _taught_order(words, own.get(k), taught, known) if taught and act[k] else None
+        if order is None:
+            order = spoken.get(frozenset(words))
+        if order is None or len(order) < len(words):
+            order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
+        labels.append(" ".join(order))
+    return labels
+
+
+def _given_orders(model: Any, names: Sequence[str] | None) -> dict[frozenset[str], list[str]]:
+    """{word set: words in order} of ``names`` (default ``model.info["place_names"]``; :func:`place_labels`)."""
     if names is None:
         info = getattr(model, "info", None) or {}
         names = info.get("place_names") if isinstance(info.get("place_names"), list) else None
@@ -132,17 +177,18 @@ def place_labels(
     for name in names or ():
         if isinstance(name, str):
             spoken.setdefault(frozenset(name.split()), name.split())
-    labels = []
-    for k in range(len(chosen)):
-        words = [place_words[int(j)] for j in np.flatnonzero(chosen[k])]
-        if not words:
-            labels.append(f"place {k}")
-            continue
-        order = spoken.get(frozenset(words))
-        if order is None or len(order) != len(words):
-            order = sorted(words, key=lambda w: (shared[place_words.index(w)], w))
-        labels.append(" ".join(order))
-    return labels
+    return spoken
+
+
+def _taught_order(
+    words: list[str], own: SaidName | None, taught: Sequence[SaidName], known: set[str]
+) -> list[str] | None:
+    """A place's label from the taught names (:mod:`spcotmhp.language.said_names`, rule 3): ``own``, the name taught
+    most there, when it holds ``words`` and only ``known`` words, else ``words`` in taught order; None: no taught
+    name orders them."""
+    if own is not None and set(words) <= set(own.words) <= known:
+        return list(own.words)
+    return spoken_order(words, taught)
 
 
 def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarray:
@@ -153,6 +199,13 @@ def _said_by_own_concepts(model: Any, idx: list[int], chance: float) -> np.ndarr
     own = phi > phi.min(axis=1, keepdims=True) * (1.0 + 1e-9)  # (L, K)
     says = np.asarray(model.W, dtype=float)[:, idx] > chance  # (L, words)
     return (own.T.astype(np.int64) @ says.astype(np.int64)) > 0
+
+
+def said_words(place_words: Sequence[str], names: Sequence[str], active: Sequence[bool] | np.ndarray) -> list[str]:
+    """The words instructions are read with: ``place_words`` and the labels of active places that hold a number
+    ("aisle one", "room 101"; :func:`~spcotmhp.language.numbers.numbered_labels`), which the lexicon matches
+    whole in their spoken variants ("aisle 1", "aisle number one")."""
+    return [*place_words, *numbered_labels(n for n, a in zip(names, active, strict=True) if a)]
 
 
 def parse_instruction(

@@ -104,6 +104,7 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
     online learner set one) at the model's event count, so teaching is reproducible. Events marked as answers
     to the robot's questions are learned as the answer model ``answers`` says (``teaching.answers``; None: its
     default)."""
+    from spcotmhp.language.said_names import keep_said_names
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
     from spcotmhp.teaching.answers import answer_model
 
@@ -118,6 +119,8 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
     t1 = time.perf_counter()
     updated = learner.model_
     updated.info["taught"] = count_taught(model, batch)
+    namings = [tuple(naming.words) if naming else None for _, naming in read]
+    keep_said_names(updated, namings, [int(k) for k in learner.last_places_])  # names as taught (said_names.py)
     t2 = time.perf_counter()
     words = place_vocabulary(updated)
     labels = place_labels(updated, words)
