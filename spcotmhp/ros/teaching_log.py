@@ -21,13 +21,13 @@ from pathlib import Path
 from spcotmhp.datasets.tables import read_table
 from spcotmhp.errors import DatasetError
 from spcotmhp.language.text import is_japanese, words
+from spcotmhp.learning.observations import MAX_UTTERANCE_CHARS
 from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.ros.shapes import map_mismatches
 from spcotmhp.safe_write import atomic_write_text, build_folder
 
 HEADER = ("event", "x", "y", "words_ja", "words_en")
-MAX_UTTERANCE_CHARS = 1000
 
 
 class TeachingLog:

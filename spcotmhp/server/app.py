@@ -326,6 +326,12 @@ def _add_error_handlers(app: FastAPI) -> None:
         headers = {"Retry-After": str(RETRY_AFTER_S)} if exc.status == 503 else None
         return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status, headers=headers)
 
+    @app.exception_handler(SpcotmhpError)
+    async def refused(_: Request, exc: SpcotmhpError) -> JSONResponse:
+        """A library error no endpoint turned into an answer (a ModelValueError from inside a teach, say): its
+        own 4xx (or 503) with its one-line message, never a 500, since it says what was wrong with the input."""
+        return await api_error(_, APIError(exc.http_status, str(exc), cause=type(exc).__name__))
+
     @app.exception_handler(RequestValidationError)
     async def invalid(_: Request, exc: RequestValidationError) -> JSONResponse:
         errors = [_validation_error(e) for e in exc.errors()]
