@@ -68,7 +68,8 @@ ERROR_CAUSES = {
     415: "A JSON body sent with another Content-Type.",
     422: "An invalid field, an instruction not understood, a start in a wall or off the map.",
     501: "Speech input is not installed (extra 'speech').",
-    503: "The planner (or the teaching lane) is busy, or the request exceeded its time budget.",
+    503: "The planner (or the teaching lane) is busy or overloaded (the plans ahead are expected to take longer "
+    "than --max-wait), or the request exceeded its time budget; Retry-After says when to try again.",
 }
 
 
@@ -87,9 +88,9 @@ AUDIO_ERRORS = errors(404, 408, 409, 413, 422, 501, 503)
 class APIError(Exception):
     """An error answer: HTTP status, one-line message and extra JSON fields."""
 
-    def __init__(self, status: int, detail: str, **extra: Any) -> None:
+    def __init__(self, status: int, detail: str, *, retry_after: int = RETRY_AFTER_S, **extra: Any) -> None:
         super().__init__(detail)
-        self.status, self.detail, self.extra = status, detail, extra
+        self.status, self.detail, self.extra, self.retry_after = status, detail, extra, retry_after
 
 
 def create_app(
@@ -303,7 +304,8 @@ async def _plan(
     except InstructionError as exc:
         raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:
-        raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
+        wait = getattr(exc, "retry_after", RETRY_AFTER_S)
+        raise APIError(exc.http_status, str(exc), retry_after=wait, cause=type(exc).__name__) from None
     return {"model": sm.name, **result.to_dict()}
 
 
@@ -323,7 +325,7 @@ def _parse_start(text: str) -> tuple[float, float]:
 def _add_error_handlers(app: FastAPI) -> None:
     @app.exception_handler(APIError)
     async def api_error(_: Request, exc: APIError) -> JSONResponse:
-        headers = {"Retry-After": str(RETRY_AFTER_S)} if exc.status == 503 else None
+        headers = {"Retry-After": str(exc.retry_after)} if exc.status == 503 else None
         return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status, headers=headers)
 
     @app.exception_handler(SpcotmhpError)
