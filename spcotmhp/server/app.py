@@ -8,7 +8,8 @@ Host header naming a host that is not allowed (localhost only by default), 404 f
 JSON endpoint's body sent with another Content-Type, 422 for invalid fields, an instruction naming no known
 place (with the known ``place_words``), a start in a wall or off the map, or audio that is not a usable WAV
 file; 409 when no free path reaches the place named; 501 for audio without the speech extra; 503 when the
-planner is busy or a plan exceeds the time budget (:mod:`spcotmhp.server.scheduling`), with ``Retry-After``.
+planner is busy or overloaded (:mod:`spcotmhp.server.overload`) or a plan exceeds the time budget
+(:mod:`spcotmhp.server.scheduling`), with ``Retry-After``.
 ``POST /teach`` learns a place name at run time. ``/docs`` is a self-contained page describing the API from
 ``/openapi.json`` (no CDN, works offline).
 """
@@ -38,6 +39,7 @@ from spcotmhp.server.limits import (
     BodySizeLimit,
     TrustedHosts,
 )
+from spcotmhp.server.overload import OverloadGuard
 from spcotmhp.server.registry import ServedModel, load_served
 from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
@@ -68,8 +70,8 @@ ERROR_CAUSES = {
     415: "A JSON body sent with another Content-Type.",
     422: "An invalid field, an instruction not understood, a start in a wall or off the map.",
     501: "Speech input is not installed (extra 'speech').",
-    503: "The planner (or the teaching lane) is busy or overloaded (the plans ahead are expected to take longer "
-    "than --max-wait), or the request exceeded its time budget; Retry-After says when to try again.",
+    503: "The planner (or the teaching lane) is busy, the service is overloaded (the requests ahead are expected "
+    "to take longer than --max-wait), or the request exceeded its time budget; Retry-After says when to retry.",
 }
 
 
@@ -88,9 +90,9 @@ AUDIO_ERRORS = errors(404, 408, 409, 413, 422, 501, 503)
 class APIError(Exception):
     """An error answer: HTTP status, one-line message and extra JSON fields."""
 
-    def __init__(self, status: int, detail: str, *, retry_after: int = RETRY_AFTER_S, **extra: Any) -> None:
+    def __init__(self, status: int, detail: str, **extra: Any) -> None:
         super().__init__(detail)
-        self.status, self.detail, self.extra, self.retry_after = status, detail, extra, retry_after
+        self.status, self.detail, self.extra = status, detail, extra
 
 
 def create_app(
@@ -126,6 +128,8 @@ def create_app(
         timeout=body_timeout,
         timeouts={"/plan/audio": audio_timeout},
     )
+    # shed before a body is read (runs after the host check, before the body limits)
+    app.add_middleware(OverloadGuard, max_wait=(budget or Budget()).max_wait)
     app.add_middleware(TrustedHosts, allowed=allowed_hosts)  # added last: runs first
     _add_error_handlers(app)
 
@@ -304,8 +308,7 @@ async def _plan(
     except InstructionError as exc:
         raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:
-        wait = getattr(exc, "retry_after", RETRY_AFTER_S)
-        raise APIError(exc.http_status, str(exc), retry_after=wait, cause=type(exc).__name__) from None
+        raise APIError(exc.http_status, str(exc), cause=type(exc).__name__) from None
     return {"model": sm.name, **result.to_dict()}
 
 
@@ -325,7 +328,7 @@ def _parse_start(text: str) -> tuple[float, float]:
 def _add_error_handlers(app: FastAPI) -> None:
     @app.exception_handler(APIError)
     async def api_error(_: Request, exc: APIError) -> JSONResponse:
-        headers = {"Retry-After": str(exc.retry_after)} if exc.status == 503 else None
+        headers = {"Retry-After": str(RETRY_AFTER_S)} if exc.status == 503 else None
         return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status, headers=headers)
 
     @app.exception_handler(SpcotmhpError)

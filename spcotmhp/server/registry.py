@@ -59,9 +59,7 @@ class ServedModel:
     planner: HierarchicalPlanner
     labels: list[str]
     _image: MapImage | None
-    light: Lane = field(
-        default_factory=lambda: Lane("light", Budget.max_light, max_wait=Budget.max_wait), repr=False
-    )
+    light: Lane = field(default_factory=lambda: Lane("light", Budget.max_light), repr=False)
     heavy: Lane = field(
         default_factory=lambda: Lane("heavy", Budget.max_heavy, Budget.max_heavy_per_client), repr=False
     )
@@ -104,7 +102,7 @@ class ServedModel:
         cache = GraphCache()
         planner = HierarchicalPlanner(model, cache=cache)
         planner.warm_up()
-        light = Lane(f"{name}-light", budget.max_light, max_wait=budget.max_wait)
+        light = Lane(f"{name}-light", budget.max_light)
         heavy = Lane(f"{name}-heavy", budget.max_heavy, budget.max_heavy_per_client)
         teach_lane = Lane(f"{name}-teach", budget.max_teach, budget.max_teach_per_client, TeachingBusy)
         return cls(

@@ -15,26 +15,19 @@ the planner cannot be interrupted. So that such requests cannot starve the other
 * **Teaching.** ``POST /teach`` has a lane of its own (``max_teach`` queued or running, ``max_teach_per_client``
   per client, ``teach_budget`` seconds; past them ``TeachingBusy``, 503): a teach is applied off the planning
   lanes and swapped in whole, and a flood of teaches is refused rather than queued without bound.
-* **Overload.** The light lane also sheds load early: a request is refused at once with ``Overloaded`` (503,
-  ``Retry-After`` the expected wait in whole seconds) when the plans ahead of it (queued or running) are expected
-  to take longer than ``Budget.max_wait`` seconds, their count times the lane's recent mean plan time (an
-  exponential average over about the last ``1 / WAIT_SMOOTHING`` = 10 plans). So an admitted plan is expected to
-  start within ``max_wait``, well inside its time budget, and a client past that learns it at once instead of
-  after ``time_budget`` seconds in a queue (docs/speed.md, "Under overload"). The heavy lane is bounded by its
-  count (``max_heavy``) and per client instead: its plans take seconds, so a wait bound would admit one.
 * **Time budget.** A request waits at most ``time_budget`` seconds for its plan, then gets ``PlanningTimeout``
   (503). A request still queued then is dropped from the queue; one already running finishes in the
   background and keeps its lane slot until it does, so a client cannot pile up work by timing out.
-  Every 503 carries ``Retry-After``: 1 (``RETRY_AFTER_S``), or an overload's expected wait.
+  Every 503 carries ``Retry-After: 1`` (``RETRY_AFTER_S``).
+* **Overload.** Before any of this, a plan request expected to wait longer than ``max_wait`` for the requests
+  ahead of it is refused at once (:mod:`spcotmhp.server.overload`).
 """
 
 from __future__ import annotations
 
 import asyncio
 import json
-import math
 import threading
-import time
 from collections import Counter
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -49,21 +42,10 @@ T = TypeVar("T")
 RETRY_AFTER_S = 1
 
 
-# the weight of the latest plan in a lane's mean plan time: about the last ten plans count, so the estimate
-# follows a change of load within a few dozen milliseconds of plans and one slow plan moves it by a tenth
-WAIT_SMOOTHING = 0.1
-
-
 class ServiceBusy(PlanningError):
     """Too many plans are queued for this model (or for this client); try again shortly."""
 
     http_status = 503
-    retry_after: int = RETRY_AFTER_S
-
-
-class Overloaded(ServiceBusy):
-    """The plans ahead are expected to take longer than ``Budget.max_wait``: refused at once (module docstring);
-    ``retry_after`` is that expected wait in whole seconds (at least 1)."""
 
 
 @dataclass(frozen=True)
@@ -71,8 +53,8 @@ class Budget:
     """Limits of the planning service (module docstring); ``create_app(budget=Budget(...))`` changes them."""
 
     time_budget: float = 5.0  # seconds a request waits for its plan
-    # seconds the plans ahead of a light request may be expected to take before it is shed (Overloaded): a fifth
-    # of the time budget, so that an admitted plan finishes within its budget even when the estimate is 4x low
+    # seconds a plan request may expect to wait for those ahead before it is refused (spcotmhp.server.overload):
+    # a fifth of the time budget, so that an admitted plan finishes within it even when the estimate is 4x low
     max_wait: float = 1.0
     light_cost: int = 200  # instructions up to this many characters run on the light lane
     max_cost: int = 8192  # instructions beyond this are refused (413)
@@ -103,44 +85,20 @@ class Lane:
     raised past them."""
 
     def __init__(
-        self,
-        name: str,
-        limit: int,
-        per_client: int | None = None,
-        busy: type[SpcotmhpError] | None = None,
-        max_wait: float | None = None,
+        self, name: str, limit: int, per_client: int | None = None, busy: type[SpcotmhpError] | None = None
     ) -> None:
         self.busy: type[SpcotmhpError] = busy or ServiceBusy
         self.lock = threading.Lock()
         self.worker = ThreadPoolExecutor(1, thread_name_prefix=f"plan-{name}")
-        self.limit, self.per_client, self.max_wait = limit, per_client, max_wait
+        self.limit, self.per_client = limit, per_client
         self._guard = threading.Lock()
         self._total = 0
         self._clients: Counter[str] = Counter()
-        self.mean_s: float | None = None  # the recent mean time of one call (WAIT_SMOOTHING); None before any
-
-    def expected_wait(self) -> float:
-        """Seconds the calls queued or running are expected to take: their count x the recent mean call time."""
-        return self._total * (self.mean_s or 0.0)
-
-    def record(self, seconds: float) -> None:
-        """Fold the time of one finished call into ``mean_s``."""
-        with self._guard:
-            old = self.mean_s
-            self.mean_s = seconds if old is None else old + WAIT_SMOOTHING * (seconds - old)
 
     def admit(self, client: str) -> None:
-        """Count a request in, or raise ``busy`` (the message says which limit was reached) or Overloaded."""
+        """Count a request in, or raise ``busy`` (the message says which limit was reached)."""
         what = "teach" if self.busy is not ServiceBusy else "plan"
         with self._guard:
-            wait = self.expected_wait()
-            if self.max_wait is not None and wait > self.max_wait:
-                exc = Overloaded(
-                    f"the planner is overloaded: the {self._total} plans ahead are expected to take {wait:.1f} s, "
-                    f"more than the {self.max_wait:g} s a plan may wait; try again in {math.ceil(wait)} s"
-                )
-                exc.retry_after = max(RETRY_AFTER_S, math.ceil(wait))
-                raise exc
             if self._total >= self.limit:
                 raise self.busy(
                     f"the {'model' if what == 'teach' else 'planner'} is busy ({self._total} {what}s queued or "
@@ -176,11 +134,7 @@ async def run_in_lane(
 
     def locked() -> T:
         with lane.lock:
-            t0 = time.perf_counter()
-            try:
-                return call()
-            finally:
-                lane.record(time.perf_counter() - t0)
+            return call()
 
     try:
         future: Future = lane.worker.submit(locked)
