@@ -121,16 +121,7 @@ def create_app(
         "topometric semantic maps (SpCoTMHP).",
     )
     app.state.served = served
-    app.add_middleware(
-        BodySizeLimit,
-        default=json_limit,
-        limits={"/plan/audio": audio_limit},
-        timeout=body_timeout,
-        timeouts={"/plan/audio": audio_timeout},
-    )
-    # shed before a body is read (runs after the host check, before the body limits)
-    app.add_middleware(OverloadGuard, max_wait=(budget or Budget()).max_wait)
-    app.add_middleware(TrustedHosts, allowed=allowed_hosts)  # added last: runs first
+    _add_guards(app, json_limit, audio_limit, body_timeout, audio_timeout, allowed_hosts, budget or Budget())
     _add_error_handlers(app)
 
     def pick(name: str | None) -> ServedModel:
@@ -270,6 +261,28 @@ def create_app(
         return {**out, "hypotheses": heard}
 
     return app
+
+
+def _add_guards(
+    app: FastAPI,
+    json_limit: int,
+    audio_limit: int,
+    body_timeout: float,
+    audio_timeout: float,
+    allowed_hosts: Sequence[str],
+    budget: Budget,
+) -> None:
+    """The ASGI middleware, in the order a request meets them: the host check, the overload guard (it sheds before
+    a body is read), the body size and time limits."""
+    app.add_middleware(
+        BodySizeLimit,
+        default=json_limit,
+        limits={"/plan/audio": audio_limit},
+        timeout=body_timeout,
+        timeouts={"/plan/audio": audio_timeout},
+    )
+    app.add_middleware(OverloadGuard, max_wait=budget.max_wait)
+    app.add_middleware(TrustedHosts, allowed=allowed_hosts)  # added last: runs first
 
 
 def require_json(request: Request) -> None:
