@@ -28,6 +28,7 @@ import json
 import math
 import os
 import re
+import stat
 import warnings
 from pathlib import Path
 from typing import Any, TypeGuard
@@ -99,8 +100,6 @@ def file_kind(path: Path) -> str | None:
     character device", "a named pipe (FIFO)", "a folder", "a broken symlink to x"); None for a regular file (or
     a symlink to one) and for a path that does not exist. Only ``lstat``/``stat`` are called: a device or a pipe
     is never opened (reading /dev/zero never ends, opening a FIFO blocks)."""
-    import stat
-
     try:
         link = path.lstat()
     except OSError:
@@ -270,12 +269,9 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
     cap = max_map_pixels() if max_pixels is None else max_pixels
     accepted = ", ".join(dict.fromkeys(IMAGE_FORMATS.values()))
     try:
+        require_regular_file(path, "map image", error)
         if not path.is_file():
-            raise error(
-                f"map image {path} is not a regular file (a named pipe, a device or a folder)"
-                if path.exists()
-                else f"map image {path} does not exist"
-            )
+            raise error(f"map image {path} does not exist")
         check_pnm_header(path, error)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
