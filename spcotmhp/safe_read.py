@@ -28,6 +28,7 @@ import json
 import math
 import os
 import re
+import stat
 import warnings
 from pathlib import Path
 from typing import Any, TypeGuard
@@ -94,12 +95,49 @@ def check_file_name(name: Any, where: str, error: ErrorType) -> str:
     return name
 
 
+def file_kind(path: Path) -> str | None:
+    """What ``path`` is when it is not a regular file, in words for a message ("a symlink to /dev/zero, a
+    character device", "a named pipe (FIFO)", "a folder", "a broken symlink to x"); None for a regular file (or
+    a symlink to one) and for a path that does not exist. Only ``lstat``/``stat`` are called: a device or a pipe
+    is never opened (reading /dev/zero never ends, opening a FIFO blocks)."""
+    try:
+        link = path.lstat()
+    except OSError:
+        return None
+    target = ""
+    if stat.S_ISLNK(link.st_mode):
+        try:
+            target = f"a symlink to {os.readlink(path)}"
+            mode = path.stat().st_mode
+        except OSError:
+            return f"a broken symlink{target.removeprefix('a symlink')}"
+    else:
+        mode = link.st_mode
+    kinds = (
+        (stat.S_ISDIR, "a folder"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a named pipe (FIFO)"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    if stat.S_ISREG(mode):
+        return None
+    kind = next((name for test, name in kinds if test(mode)), "not a regular file")
+    return f"{target}, {kind}" if target else kind
+
+
+def require_regular_file(path: Path, what: str, error: ErrorType) -> None:
+    """``error`` saying what ``path`` is (:func:`file_kind`) when it exists but is not a regular file."""
+    kind = file_kind(path)
+    if kind is not None:
+        raise error(f"{what} {path} is {kind}, not a regular file")
+
+
 def read_text(path: Path, max_bytes: int, what: str, error: ErrorType) -> str:
     """The UTF-8 text of ``path`` (a regular file of at most ``max_bytes``)."""
     try:
         size = path.stat().st_size
-        if not path.is_file():
-            raise error(f"{what} {path} is not a regular file")
+        require_regular_file(path, what, error)
         if size > max_bytes:
             raise error(f"{what} {path} is {size} bytes; at most {max_bytes} are accepted")
         with path.open("rb") as handle:
@@ -231,12 +269,9 @@ def open_image(path: Path, error: ErrorType, max_pixels: int | None = None) -> A
     cap = max_map_pixels() if max_pixels is None else max_pixels
     accepted = ", ".join(dict.fromkeys(IMAGE_FORMATS.values()))
     try:
+        require_regular_file(path, "map image", error)
         if not path.is_file():
-            raise error(
-                f"map image {path} is not a regular file (a named pipe, a device or a folder)"
-                if path.exists()
-                else f"map image {path} does not exist"
-            )
+            raise error(f"map image {path} does not exist")
         check_pnm_header(path, error)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)

@@ -69,14 +69,24 @@ def listening_socket(host: str, port: int) -> socket.socket:
     return sock
 
 
-def _seconds(value: float) -> float:
-    """A --time-budget or --body-timeout: a finite number of seconds in [0.1, 600] (a usage error names it)."""
-    if not (math.isfinite(value) and 0.1 <= value <= 600):
-        raise typer.BadParameter(f"must be a finite number of seconds in [0.1, 600], got {value:g}")
+def _in_seconds(value: float, low: float) -> float:
+    """A finite number of seconds in [low, 600], else a usage error naming the range."""
+    if not (math.isfinite(value) and low <= value <= 600):
+        raise typer.BadParameter(f"must be a finite number of seconds in [{low:g}, 600], got {value:g}")
     return value
 
 
-# long: a CLI command: 32 lines of typer options and help, a 33-line body
+def _seconds(value: float) -> float:
+    """A --time-budget or --body-timeout: seconds in [0.1, 600]."""
+    return _in_seconds(value, 0.1)
+
+
+def _wait_seconds(value: float) -> float:
+    """A --max-wait: seconds in [0.001, 600] (a millisecond: about one light plan)."""
+    return _in_seconds(value, 0.001)
+
+
+# long: a CLI command: 40 lines of typer options and help, a 33-line body
 def serve(
     models: Annotated[
         list[str],
@@ -109,6 +119,14 @@ def serve(
     footprint: bo.Footprint = None,
     inflation_radius: bo.InflationRadius = None,
     cost_scaling_factor: bo.CostScaling = None,
+    max_wait: Annotated[
+        float,
+        typer.Option(
+            callback=_wait_seconds,
+            help="Seconds (0.001 to 600) the plans ahead of a request may be expected to take; past that it is "
+            "refused at once with 503 and Retry-After (docs/speed.md, 'Under overload').",
+        ),
+    ] = 1.0,
 ) -> None:
     """Serve planning over HTTP (FastAPI): POST /plan, /plan/audio and /teach; GET /places, /questions, /map.png,
     /map.json, /models and /healthz; the web page at /.
@@ -152,7 +170,7 @@ def serve(
             progress=lambda name: status.update(f"precomputing the planner of model {name!r}"),
             allowed_hosts=hosts,
             body_timeout=body_timeout,
-            budget=Budget(time_budget=time_budget),
+            budget=Budget(time_budget=time_budget, max_wait=max_wait),
         )
     for name, folder in mapping.items():
         console.print(f"model {name!r}: {folder}")

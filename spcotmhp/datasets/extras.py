@@ -10,8 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from spcotmhp.datasets.tables import Table, read_matrix, read_table
+from spcotmhp.datasets.tables import Table, present, read_matrix, read_table
 from spcotmhp.errors import DatasetError
+from spcotmhp.limits import MODEL_MAX_SIZES
 from spcotmhp.metric.maps import OccupancyMap
 
 FEATURES_FILE = "image_features_places365.csv"
@@ -23,7 +24,7 @@ def read_truth(folder: Path, teaching: Table, n_places: int | None) -> tuple[np.
     """truth.csv (event,place[,concept]), one row per teaching event in any order, returned in event order;
     places must be below ``n_places`` (places.csv's count) when given."""
     path = folder / "truth.csv"
-    if not path.is_file():
+    if not present(path):
         return None, None
     table = read_table(path, "a header event,place[,concept] and one row per teaching event")
     table.require(["event", "place"], ["concept"])
@@ -58,7 +59,7 @@ def read_truth(folder: Path, teaching: Table, n_places: int | None) -> tuple[np.
 def read_places(folder: Path, lang: str) -> list[str] | None:
     """places.csv (place,name_ja,name_en): the place names in ``lang``, index = place id."""
     path = folder / "places.csv"
-    if not path.is_file():
+    if not present(path):
         return None
     column = f"name_{lang}"
     table = read_table(path, "a header place,name_ja,name_en and one row per place")
@@ -76,9 +77,9 @@ def read_places(folder: Path, lang: str) -> list[str] | None:
 def read_adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
     """adjacency.csv: a square, symmetric 0/1 matrix over the places with 1 on the diagonal (no header)."""
     path = folder / "adjacency.csv"
-    if not path.is_file():
+    if not present(path):
         return None
-    values, lines = read_matrix(path)
+    values, lines = read_matrix(path, MODEL_MAX_SIZES["K"])  # a row per place: at most a model's places
     rows, cols = values.shape
     if rows != cols:
         raise DatasetError(f"adjacency.csv is {rows}x{cols}; it must be square (one row and column per place)")
@@ -108,9 +109,9 @@ def read_adjacency(folder: Path, n_places: int | None) -> np.ndarray | None:
 def read_features(folder: Path, teaching: Table) -> np.ndarray | None:
     """image_features_places365.csv: one row of non-negative numbers per event (raw values kept)."""
     path = folder / FEATURES_FILE
-    if not path.is_file():
+    if not present(path):
         return None
-    values, lines = read_matrix(path, allow_header=True)
+    values, lines = read_matrix(path, MODEL_MAX_SIZES["D"], allow_header=True)  # a model's feature dimensions
     if len(values) != len(teaching.rows):
         raise DatasetError(
             f"{FEATURES_FILE} has {len(values)} rows but teaching.csv has {len(teaching.rows)} "
@@ -135,9 +136,9 @@ def read_features(folder: Path, teaching: Table) -> np.ndarray | None:
 def read_costmap(folder: Path, occupancy: OccupancyMap, image: str) -> np.ndarray | None:
     """costmap_ros.csv: integers -1..100 in OccupancyGrid row order, the map's size."""
     path = folder / "costmap_ros.csv"
-    if not path.is_file():
+    if not present(path):
         return None
-    values, lines = read_matrix(path)
+    values, lines = read_matrix(path, occupancy.width)  # a row of the map
     if values.shape != occupancy.shape:
         raise DatasetError(
             f"costmap_ros.csv is {values.shape[0]}x{values.shape[1]} (rows x columns) but "

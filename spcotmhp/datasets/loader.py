@@ -20,11 +20,12 @@ import numpy as np
 from spcotmhp.datasets.alignment import align_events
 from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.datasets.extras import read_adjacency, read_costmap, read_features, read_places, read_truth
-from spcotmhp.datasets.tables import Table, read_table
+from spcotmhp.datasets.tables import Table, present, read_table
 from spcotmhp.errors import DatasetError
 from spcotmhp.language.text import words
 from spcotmhp.metric.map_io import load_map, read_map_yaml
 from spcotmhp.metric.maps import OCCUPIED, OccupancyMap
+from spcotmhp.safe_read import require_regular_file
 
 LANGS = ("en", "ja")
 TRAJECTORY_TOLERANCE_M = 1.0  # an event further than this from its trajectory pose gets a warning
@@ -79,6 +80,7 @@ def _check_folder(folder: Path) -> Path:
     if not folder.is_dir():
         raise DatasetError(f"{folder} is not a folder (a dataset is a folder with map.yaml and teaching.csv)")
     for required, what in (("map.yaml", "the ROS map_server YAML"), ("teaching.csv", "the teaching events")):
+        require_regular_file(folder / required, f"{what} file", DatasetError)
         if not (folder / required).is_file():
             raise DatasetError(f"dataset folder {folder} has no {required} ({what})")
     return folder
@@ -212,7 +214,7 @@ def _trajectory(
     """trajectory.csv (step,x,y) and each event's step: teaching.csv's step column, else the nearest poses
     in walking order (:func:`align_events`)."""
     path = folder / "trajectory.csv"
-    if not path.is_file():
+    if not present(path):
         if teaching.has("step"):
             raise DatasetError("teaching.csv has a step column but the folder has no trajectory.csv")
         return None, None

@@ -1,25 +1,39 @@
 """Strict CSV reading for dataset folders: every problem becomes a DatasetError naming the file and the
 1-based line number in that file (the line a record starts on), never a traceback.
 
-Bounds: a CSV file holds at most ``MAX_CSV_BYTES`` (checked before reading), a field at most Python's csv
-field limit (128 KiB), an integer lies within +-``MAX_INT`` (2**53: exact as a float, no int64 overflow) and
-a number is finite; messages quote at most a short excerpt of an offending cell."""
+Bounds: a CSV file is a regular file (a symlink to /dev/zero or a FIFO is named as what it is, never read) of at
+most ``MAX_CSV_BYTES`` (checked before reading), a field at most Python's csv field limit (128 KiB), an integer
+lies within +-``MAX_INT`` (2**53: exact as a float, no int64 overflow) and a number is finite; messages quote at
+most a short excerpt of an offending cell.
+
+Columns are bounded before the file is parsed: the first record's line is read with a bound of
+``max_columns * MAX_CELL_CHARS`` characters (at least ``MAX_HEADER_CHARS``) and its fields counted against
+``max_columns``, so a header of a million columns is refused after reading its first 64 KiB, not parsed (and
+every later row must have the header's width). A table with a header (:func:`read_table`) has at most
+``MAX_TABLE_COLUMNS`` = 1,000 columns: its columns are named fields, and the loaders know fewer than twenty. A
+matrix (:func:`read_matrix`) has at most the columns its reader gives: the map's width for costmap_ros.csv, the
+model's largest place and feature counts (``limits.MODEL_MAX_SIZES``) for adjacency.csv and the image features."""
 
 from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Sequence
+from collections import Counter
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from spcotmhp.errors import DatasetError
-from spcotmhp.safe_read import excerpt
+from spcotmhp.safe_read import excerpt, require_regular_file
 
 MAX_CSV_BYTES = 64 * 1024 * 1024
 MAX_INT = 2**53
+MAX_TABLE_COLUMNS = 1_000
+MAX_HEADER_CHARS = 64 * 1024  # a header of 1,000 column names of 64 characters
+MAX_CELL_CHARS = 32  # a number of a matrix row, with its comma: "-1.2345678901234567e-308," is 25
 
 
 @dataclass
@@ -127,22 +141,35 @@ def parse_int(text: str, where: str) -> int:
     return number
 
 
-def _records(path: Path) -> list[tuple[int, list[str]]]:
-    """(first line number, fields) of every non-blank record of a UTF-8 CSV file (BOM allowed)."""
+def present(path: Path) -> bool:
+    """Whether an optional CSV file is there: False when nothing is, True for a regular file, DatasetError for
+    anything else (a symlink to /dev/zero, a FIFO, a folder: named as what it is, not taken as absent)."""
+    require_regular_file(path, "dataset file", DatasetError)
+    return path.is_file()
+
+
+def _records(path: Path, max_columns: int = MAX_TABLE_COLUMNS) -> list[tuple[int, list[str]]]:
+    """(first line number, fields) of every non-blank record of a UTF-8 CSV file (BOM allowed); the first
+    record's line and width bounded before parsing (module docstring)."""
     try:
         size = path.stat().st_size
     except OSError as exc:
         raise DatasetError(f"cannot read {path}: {exc.strerror or exc}") from None
+    require_regular_file(path, "dataset file", DatasetError)
     if size > MAX_CSV_BYTES:
         raise DatasetError(f"{path.name} is {size} bytes; at most {MAX_CSV_BYTES} are accepted")
     reader = None
     try:
         with path.open(newline="", encoding="utf-8-sig") as fh:
-            reader = csv.reader(fh)
+            first: list[int] = []  # the first record's line, once parsed
+            reader = csv.reader(_bounded_first_record(fh, path.name, max_columns, first))
             out: list[tuple[int, list[str]]] = []
             start = 1
             for fields in reader:
                 if fields and any(f.strip() for f in fields):
+                    if not out:
+                        _check_width(path.name, start, len(fields), max_columns)
+                        first.append(start)
                     out.append((start, [f.strip() for f in fields]))
                 start = reader.line_num + 1
     except UnicodeDecodeError as exc:
@@ -155,6 +182,31 @@ def _records(path: Path) -> list[tuple[int, list[str]]]:
     return out
 
 
+def _bounded_first_record(fh: Any, name: str, max_columns: int, first: list[int]) -> Iterator[str]:
+    """The lines of ``fh``; until the first non-blank record is parsed (``first`` is then non-empty) at most
+    ``max_columns * MAX_CELL_CHARS`` characters in all (at least MAX_HEADER_CHARS) are read, each line with that
+    bound: DatasetError past it (such a record holds more than ``max_columns`` fields or is not a header)."""
+    limit = max(MAX_HEADER_CHARS, max_columns * MAX_CELL_CHARS)
+    used, line_number = 0, 0
+    while not first:
+        line = fh.readline(limit - used + 1)
+        if not line:
+            return
+        used, line_number = used + len(line), line_number + 1
+        if used > limit:
+            raise DatasetError(
+                f"{name}: the header (or first row) runs past {limit} characters (line {line_number}); at most "
+                f"{max_columns} columns are accepted"
+            )
+        yield line
+    yield from fh
+
+
+def _check_width(name: str, line: int, width: int, max_columns: int) -> None:
+    if width > max_columns:
+        raise DatasetError(f"{name} line {line} has {width} columns; at most {max_columns} are accepted")
+
+
 def read_table(path: Path, what: str) -> Table:
     """Read a CSV file with a header row; rows must have as many fields as the header.
 
@@ -165,7 +217,7 @@ def read_table(path: Path, what: str) -> Table:
         raise DatasetError(f"{path.name} is empty (expected {what})")
     _, header = records[0]
     header = [h.lower() for h in header]
-    dupes = sorted({h for h in header if header.count(h) > 1})
+    dupes = sorted(h for h, n in Counter(header).items() if n > 1)
     if dupes:
         raise DatasetError(f"{path.name} line {records[0][0]}: column(s) {_short(', '.join(dupes))} appear twice")
     table = Table(path, header, [], [])
@@ -179,12 +231,13 @@ def read_table(path: Path, what: str) -> Table:
     return table
 
 
-def read_matrix(path: Path, allow_header: bool = False) -> tuple[np.ndarray, list[int]]:
-    """A rectangular CSV of finite numbers as a float (R, C) array, with the line number of each row.
+def read_matrix(path: Path, max_columns: int, allow_header: bool = False) -> tuple[np.ndarray, list[int]]:
+    """A rectangular CSV of finite numbers, at most ``max_columns`` wide, as a float (R, C) array, with the line
+    number of each row.
 
     With ``allow_header`` a first row that does not start with a number (column names) is skipped.
     """
-    records = _records(path)
+    records = _records(path, max_columns)
     if allow_header and records:
         try:
             float(records[0][1][0])

@@ -15,6 +15,7 @@ from spcotmhp.errors import DatasetError, TeachingError
 from spcotmhp.language.text import is_japanese
 from spcotmhp.language.text import words as text_words
 from spcotmhp.learning.model import bag_counts
+from spcotmhp.learning.model_values import MAX_WORD_CHARS
 
 if TYPE_CHECKING:  # not at run time: loading a model for planning reads this module and needs no dataset
     from spcotmhp.datasets.dataset import Dataset
@@ -147,7 +148,9 @@ def scale_features(features: np.ndarray, weight: float | None) -> np.ndarray:
 
 # ---- teaching events (the online learner) --------------------------------------------------------------------
 MAX_UTTERANCE_CHARS = 1000
+"""Longest utterance (characters) a teach accepts (the CLI, the HTTP service, the ROS 2 node and its log)."""
 MAX_WORDS = 50
+"""Most words of one teaching event."""
 
 
 @dataclass(frozen=True)
@@ -169,17 +172,43 @@ class TeachingEvent:
         """An event from a sentence: its words (:func:`spcotmhp.language.text.words`: lower-cased, widths folded,
         punctuation dropped, "This is Alice's room!" -> this, is, alice's, room; Japanese without spaces cut into
         words, "ここは書斎です" -> ここ, は, 書斎, です). Raises TeachingError for an empty or over-long utterance."""
-        if not isinstance(utterance, str):
-            raise TeachingError(f"the utterance must be text, got {type(utterance).__name__}")
-        if len(utterance) > MAX_UTTERANCE_CHARS:
+        return cls(float(x), float(y), utterance_words(utterance), features)
+
+
+def utterance_words(utterance: object) -> tuple[str, ...]:
+    """The words of a taught utterance (:meth:`TeachingEvent.from_utterance`), checked against the limits a model
+    holds them to: at most ``MAX_UTTERANCE_CHARS`` characters, at least one word, each of at most
+    ``model_values.MAX_WORD_CHARS`` (a word becomes one of the model's vocabulary, which refuses longer ones).
+    TeachingError naming the limit otherwise; the HTTP service's ``TeachRequest`` checks its field with this too.
+
+    >>> utterance_words("This is Alice's room!")
+    ('this', 'is', "alice's", 'room')
+    >>> utterance_words("this is " + "x" * 300)
+    Traceback (most recent call last):
+    ...
+    spcotmhp.errors.TeachingError: word 3 of the utterance has 300 characters, more than the 256 a word may have
+    """
+    if not isinstance(utterance, str):
+        raise TeachingError(f"the utterance must be text, got {type(utterance).__name__}")
+    if len(utterance) > MAX_UTTERANCE_CHARS:
+        raise TeachingError(
+            f"the utterance has {len(utterance)} characters, more than the "
+            f"{MAX_UTTERANCE_CHARS} accepted; say the place's name, e.g. 'this is the kitchen'"
+        )
+    words = tuple(text_words(utterance, "ja" if is_japanese(utterance) else "en"))
+    if not words:
+        raise TeachingError("the utterance is empty (no words); say the place's name, e.g. 'this is the kitchen'")
+    check_word_lengths(words, "the utterance")
+    return words
+
+
+def check_word_lengths(words: tuple[str, ...] | list[str], what: str) -> None:
+    """TeachingError when a word of ``words`` (of ``what``) is longer than MAX_WORD_CHARS."""
+    for j, word in enumerate(words):
+        if len(word) > MAX_WORD_CHARS:
             raise TeachingError(
-                f"the utterance has {len(utterance)} characters, more than the "
-                f"{MAX_UTTERANCE_CHARS} accepted; say the place's name, e.g. 'this is the kitchen'"
+                f"word {j + 1} of {what} has {len(word)} characters, more than the {MAX_WORD_CHARS} a word may have"
             )
-        words = tuple(text_words(utterance, "ja" if is_japanese(utterance) else "en"))
-        if not words:
-            raise TeachingError("the utterance is empty (no words); say the place's name, e.g. 'this is the kitchen'")
-        return cls(float(x), float(y), words, features)
 
 
 def _is_number(value: object) -> TypeGuard[int | float | np.integer | np.floating]:
@@ -216,4 +245,5 @@ def as_event(item: object) -> TeachingEvent:
         raise TeachingError("a teaching event needs an utterance (text) or a non-empty list of words")
     if len(said) > MAX_WORDS or sum(len(w) for w in said) > MAX_UTTERANCE_CHARS:
         raise TeachingError(f"a teaching event has more than {MAX_WORDS} words or {MAX_UTTERANCE_CHARS} characters")
+    check_word_lengths(said, "the teaching event")
     return TeachingEvent(float(x), float(y), tuple(said), feats, answer=answer)

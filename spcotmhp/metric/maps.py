@@ -14,6 +14,7 @@ import numpy as np
 FREE = 0
 OCCUPIED = 100
 UNKNOWN = -1
+FAR_CELL = 2.0**62  # the cell index given to a point too far to index (world_to_cell): off any map
 
 
 @dataclass(eq=False)
@@ -88,9 +89,12 @@ class OccupancyMap:
         ([3, 2], [-0.75, -0.75])
         """
         xy = np.asarray(xy, dtype=float)
-        col = np.floor((xy[..., 0] - self.origin[0]) / self.resolution).astype(np.int64)
-        row = np.floor((xy[..., 1] - self.origin[1]) / self.resolution).astype(np.int64)
-        return np.stack([row, col], axis=-1)
+        # a coordinate past ~1e300 m divides to inf (and a NaN stays NaN), which no int64 holds: such a point lies
+        # off every map, so it becomes a cell far off the map (+-2**62), the answer in_bounds and every caller
+        # needs; the overflow is then expected, not a warning for the user
+        with np.errstate(over="ignore", invalid="ignore"):
+            cells = np.floor((xy[..., ::-1] - np.array(self.origin[1::-1], dtype=float)) / self.resolution)
+        return np.clip(np.nan_to_num(cells, nan=-FAR_CELL), -FAR_CELL, FAR_CELL).astype(np.int64)
 
     def cell_to_world(self, rc: np.ndarray) -> np.ndarray:
         """Cells (..., 2) as (row, col) -> the map-frame coordinates (x, y) of their centres."""

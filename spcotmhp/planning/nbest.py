@@ -30,6 +30,8 @@ def nbest_weights(hypotheses: Any, most: int) -> tuple[list[str], np.ndarray]:
 
     >>> nbest_weights([("go to the kitchen", 3), ("go to the kitten", 1)], 50)
     (['go to the kitchen', 'go to the kitten'], array([0.75, 0.25]))
+    >>> nbest_weights([("go to the kitchen", 1.5e308), ("go to the kitten", 1.5e308)], 50)[1]
+    array([0.5, 0.5])
     """
     if not isinstance(hypotheses, (list, tuple)):
         raise MalformedInstruction(f"an N-best list must be a list of [text, score] pairs, got {excerpt(hypotheses)}")
@@ -58,8 +60,13 @@ def normalise_scores(scores: np.ndarray) -> np.ndarray:
     """Weights summing to 1: confidences (all >= 0) divided by their sum (uniform when all are 0), or
     log-probabilities (all <= 0) soft-maxed; MalformedInstruction for a mix of signs."""
     if (scores >= 0).all():
-        total = scores.sum()
-        return scores / total if total > 0 else np.full(len(scores), 1.0 / len(scores))
+        # scaled by the largest first: the weights are the same, and confidences of 1e308 cannot overflow the sum
+        # (it is then at most the number of hypotheses)
+        top = scores.max()
+        if not top > 0:
+            return np.full(len(scores), 1.0 / len(scores))
+        scaled = scores / top
+        return scaled / scaled.sum()
     if (scores <= 0).all():
         return np.exp(scores - logsumexp(scores))
     raise MalformedInstruction(

@@ -18,16 +18,16 @@ import io
 import math
 from pathlib import Path
 
-from spcotmhp.datasets.tables import read_table
+from spcotmhp.datasets.tables import present, read_table
 from spcotmhp.errors import DatasetError
 from spcotmhp.language.text import is_japanese, words
+from spcotmhp.learning.observations import MAX_UTTERANCE_CHARS
 from spcotmhp.metric.map_io import load_map, save_map
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.ros.shapes import map_mismatches
 from spcotmhp.safe_write import atomic_write_text, build_folder
 
 HEADER = ("event", "x", "y", "words_ja", "words_en")
-MAX_UTTERANCE_CHARS = 1000
 
 
 class TeachingLog:
@@ -71,7 +71,7 @@ class TeachingLog:
         differ = map_mismatches(theirs.width, theirs.height, theirs.resolution, theirs.origin, occ)
         if differ:
             raise DatasetError(f"--record {self.folder}: its map differs from the model's ({'; '.join(differ)})")
-        if not self.teaching.is_file():
+        if not present(self.teaching):  # a symlink to /dev/zero is named as what it is, not taken as absent
             return
         table = read_table(self.teaching, "a header event,x,y,words_ja,words_en")
         table.require(["event", "x", "y", ("words_ja", "words_en")])

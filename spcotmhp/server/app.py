@@ -8,7 +8,8 @@ Host header naming a host that is not allowed (localhost only by default), 404 f
 JSON endpoint's body sent with another Content-Type, 422 for invalid fields, an instruction naming no known
 place (with the known ``place_words``), a start in a wall or off the map, or audio that is not a usable WAV
 file; 409 when no free path reaches the place named; 501 for audio without the speech extra; 503 when the
-planner is busy or a plan exceeds the time budget (:mod:`spcotmhp.server.scheduling`), with ``Retry-After``.
+planner is busy or overloaded (:mod:`spcotmhp.server.overload`) or a plan exceeds the time budget
+(:mod:`spcotmhp.server.scheduling`), with ``Retry-After``.
 ``POST /teach`` learns a place name at run time. ``/docs`` is a self-contained page describing the API from
 ``/openapi.json`` (no CDN, works offline).
 """
@@ -38,6 +39,7 @@ from spcotmhp.server.limits import (
     BodySizeLimit,
     TrustedHosts,
 )
+from spcotmhp.server.overload import OverloadGuard
 from spcotmhp.server.registry import ServedModel, load_served
 from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
@@ -68,7 +70,8 @@ ERROR_CAUSES = {
     415: "A JSON body sent with another Content-Type.",
     422: "An invalid field, an instruction not understood, a start in a wall or off the map.",
     501: "Speech input is not installed (extra 'speech').",
-    503: "The planner (or the teaching lane) is busy, or the request exceeded its time budget.",
+    503: "The planner (or the teaching lane) is busy, the service is overloaded (the requests ahead are expected "
+    "to take longer than --max-wait), or the request exceeded its time budget; Retry-After says when to retry.",
 }
 
 
@@ -118,14 +121,7 @@ def create_app(
         "topometric semantic maps (SpCoTMHP).",
     )
     app.state.served = served
-    app.add_middleware(
-        BodySizeLimit,
-        default=json_limit,
-        limits={"/plan/audio": audio_limit},
-        timeout=body_timeout,
-        timeouts={"/plan/audio": audio_timeout},
-    )
-    app.add_middleware(TrustedHosts, allowed=allowed_hosts)  # added last: runs first
+    _add_guards(app, json_limit, audio_limit, body_timeout, audio_timeout, allowed_hosts, budget or Budget())
     _add_error_handlers(app)
 
     def pick(name: str | None) -> ServedModel:
@@ -267,6 +263,28 @@ def create_app(
     return app
 
 
+def _add_guards(
+    app: FastAPI,
+    json_limit: int,
+    audio_limit: int,
+    body_timeout: float,
+    audio_timeout: float,
+    allowed_hosts: Sequence[str],
+    budget: Budget,
+) -> None:
+    """The ASGI middleware, in the order a request meets them: the host check, the overload guard (it sheds before
+    a body is read), the body size and time limits."""
+    app.add_middleware(
+        BodySizeLimit,
+        default=json_limit,
+        limits={"/plan/audio": audio_limit},
+        timeout=body_timeout,
+        timeouts={"/plan/audio": audio_timeout},
+    )
+    app.add_middleware(OverloadGuard, max_wait=budget.max_wait)
+    app.add_middleware(TrustedHosts, allowed=allowed_hosts)  # added last: runs first
+
+
 def require_json(request: Request) -> None:
     """415 for a body sent without a JSON Content-Type (``application/json`` or ``application/*+json``, the
     ones FastAPI reads as JSON): a form or text body would otherwise be a 422 about the body's fields."""
@@ -325,6 +343,12 @@ def _add_error_handlers(app: FastAPI) -> None:
     async def api_error(_: Request, exc: APIError) -> JSONResponse:
         headers = {"Retry-After": str(RETRY_AFTER_S)} if exc.status == 503 else None
         return JSONResponse({"detail": exc.detail, **exc.extra}, status_code=exc.status, headers=headers)
+
+    @app.exception_handler(SpcotmhpError)
+    async def refused(_: Request, exc: SpcotmhpError) -> JSONResponse:
+        """A library error no endpoint turned into an answer (a ModelValueError from inside a teach, say): its
+        own 4xx (or 503) with its one-line message, never a 500, since it says what was wrong with the input."""
+        return await api_error(_, APIError(exc.http_status, str(exc), cause=type(exc).__name__))
 
     @app.exception_handler(RequestValidationError)
     async def invalid(_: Request, exc: RequestValidationError) -> JSONResponse:

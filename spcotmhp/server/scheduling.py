@@ -19,6 +19,8 @@ the planner cannot be interrupted. So that such requests cannot starve the other
   (503). A request still queued then is dropped from the queue; one already running finishes in the
   background and keeps its lane slot until it does, so a client cannot pile up work by timing out.
   Every 503 carries ``Retry-After: 1`` (``RETRY_AFTER_S``).
+* **Overload.** Before any of this, a plan request expected to wait longer than ``max_wait`` for the requests
+  ahead of it is refused at once (:mod:`spcotmhp.server.overload`).
 """
 
 from __future__ import annotations
@@ -51,6 +53,9 @@ class Budget:
     """Limits of the planning service (module docstring); ``create_app(budget=Budget(...))`` changes them."""
 
     time_budget: float = 5.0  # seconds a request waits for its plan
+    # seconds a plan request may expect to wait for those ahead before it is refused (spcotmhp.server.overload):
+    # a fifth of the time budget, so that an admitted plan finishes within it even when the estimate is 4x low
+    max_wait: float = 1.0
     light_cost: int = 200  # instructions up to this many characters run on the light lane
     max_cost: int = 8192  # instructions beyond this are refused (413)
     max_light: int = 512  # requests queued or running on a light lane

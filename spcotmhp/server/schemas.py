@@ -4,14 +4,18 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StrictBool, model_validator
+from pydantic import BaseModel, ConfigDict, Field, StrictBool, field_validator, model_validator
 
+from spcotmhp.errors import TeachingError
+from spcotmhp.learning.model_values import MAX_WORD_CHARS
+from spcotmhp.learning.observations import MAX_UTTERANCE_CHARS, utterance_words
 from spcotmhp.planning.instructions import MAX_CHARS, MAX_HYPOTHESES
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 # a number a client sends: a JSON number, never true/false (read as 1/0) nor a string of digits
 Number = Annotated[float, Field(allow_inf_nan=False, strict=True)]
-Word = Annotated[str, Field(min_length=1, max_length=100)]
+# a place word of a structured instruction: as long as a model's vocabulary word may be (model_values)
+Word = Annotated[str, Field(min_length=1, max_length=MAX_WORD_CHARS)]
 Point = tuple[Finite, Finite]
 
 # a size guard only: the planner's own limits (spcotmhp.planning.instructions.MAX_CHARS, MAX_WAYPOINTS, ...)
@@ -118,7 +122,7 @@ class TeachRequest(BaseModel):
         extra="forbid",
         json_schema_extra={"examples": [{"utterance": "this is alice's room", "x": -3.45, "y": 5.65}]},
     )
-    utterance: str = Field(min_length=1, max_length=MAX_TEXT, description='e.g. "this is alice\'s room".')
+    utterance: str = Field(min_length=1, max_length=MAX_UTTERANCE_CHARS, description='e.g. "this is alice\'s room".')
     x: Number
     y: Number
     model: str | None = Field(None, max_length=200, description="Served model name (default: the first).")
@@ -128,6 +132,17 @@ class TeachRequest(BaseModel):
     answer: StrictBool = Field(
         False, description="The utterance answers one of GET /questions (learned as docs/teaching.md says)."
     )
+
+    @field_validator("utterance")
+    @classmethod
+    def _learnable(cls, utterance: str) -> str:
+        """The learner's own limits (``observations.utterance_words``: its words' lengths), a 422 naming the field
+        rather than a ModelValueError from the model's vocabulary check."""
+        try:
+            utterance_words(utterance)
+        except TeachingError as exc:
+            raise ValueError(str(exc)) from None
+        return utterance
 
 
 class TeachResponse(BaseModel):

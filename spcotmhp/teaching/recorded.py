@@ -33,10 +33,11 @@ def write_marker(folder: Path, model_dir: Path | None) -> None:
 
 def read_marker(folder: Path) -> dict | None:
     """``recorded.json`` of a folder (None when it has none); DatasetError when it is not one of ours."""
+    from spcotmhp.datasets.tables import present
     from spcotmhp.safe_read import load_json
 
     path = Path(folder) / MARKER
-    if not path.is_file():
+    if not present(path):
         return None
     meta = load_json(path, 4096, "recording marker", DatasetError)
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
@@ -60,11 +61,11 @@ def refuse_learning_alone(folder: Path) -> None:
 def recorded_utterances(folder: Path, model: SpatialConceptModel) -> list[dict]:
     """Every row of ``folder/teaching.csv`` as a teach {"x", "y", "utterance"}, in order; DatasetError when the
     folder's map is not the model's (the teaching was said on another map) or a row has no utterance."""
-    from spcotmhp.datasets.tables import read_table
+    from spcotmhp.datasets.tables import present, read_table
     from spcotmhp.metric.map_io import load_map
 
     folder = Path(folder)
-    if not (folder / "teaching.csv").is_file():
+    if not present(folder / "teaching.csv"):
         raise DatasetError(f"{folder} has no teaching.csv: record one with 'spcotmhp ros2 MODEL --record {folder}'")
     if not (folder / "map.yaml").is_file() or load_map(folder / "map.yaml") != model.require_map():
         raise DatasetError(f"{folder}: its map is not the model's; teaching recorded on another map cannot be applied")

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from spcotmhp.learning.model import SpatialConceptModel
+from spcotmhp.learning.observations import check_word_lengths
 from spcotmhp.learning.online import OnlineSpCoTMHP, TeachingEvent, as_event
 
 if TYPE_CHECKING:
@@ -152,6 +153,7 @@ def naming_event(item: object) -> tuple[TeachingEvent, Naming | None]:
     if not isinstance(said, str):
         return event, None
     naming = read_naming(said)
+    check_word_lengths(naming.words, "the name taught")  # a name's words may join the utterance's (Japanese)
     return dataclasses.replace(event, words=naming.words, named=True), naming
 
 

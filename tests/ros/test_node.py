@@ -436,6 +436,37 @@ def test_an_answer_is_taught_as_an_answer(setup):
     assert refused["kind"] == "taught" and refused["ok"] is False and refused["type"] == "TeachingError"
 
 
+def test_inputs_past_the_model_limits_get_an_error_status_and_the_node_keeps_serving(setup):
+    """Issue 37: every limit a model holds its input to, through the node's teach, answer and instruction topics:
+    a refusal with a status error naming it, and the node plans afterwards."""
+    from spcotmhp.learning.model_values import MAX_WORD_CHARS
+    from spcotmhp.learning.observations import MAX_UTTERANCE_CHARS
+    from spcotmhp.planning.instructions import MAX_CHARS
+
+    client, planner = setup["client"], setup["planner"]
+    client.set_pose(*place_point(planner, "living"))
+    too_long = "this is the " + "k" * (MAX_WORD_CHARS + 1)
+    for publisher, text, expect in (
+        (client.teach_pub, too_long, f"more than the {MAX_WORD_CHARS} a word may have"),
+        (client.answer_pub, too_long, f"more than the {MAX_WORD_CHARS} a word may have"),
+        (client.teach_pub, "this is the study " * 60, f"the {MAX_UTTERANCE_CHARS} accepted"),
+        (client.instruction_pub, "go to the " + "k" * (MAX_WORD_CHARS + 1), "k" * 20),
+        (client.instruction_pub, "go to the bedroom " * 40, str(MAX_CHARS)),
+    ):
+        n = len(client.status)
+        client.publish(publisher, String(data=text))
+
+        def answer(n=n, text=text):  # its own status: earlier tests' teaches may still be answered meanwhile
+            return next((s for s in client.status[n:] if text in (s.get("utterance"), s.get("instruction"))), None)
+
+        assert client.spin_until(lambda answer=answer: answer() is not None, 60), f"no status for {text[:40]!r}"
+        status = answer()
+        assert status["ok"] is False and expect in status["error"] and "\n" not in status["error"], status
+        assert status["type"] != "RuntimeError", status  # a typed refusal, not an internal error
+    status = client.ask(client.instruction_pub, '{"goal": ["kitchen"]}')
+    assert status["ok"] and setup["proc"].poll() is None
+
+
 def test_sigint_stops_the_node_cleanly(setup):
     proc = setup["proc"]
     assert proc.poll() is None
