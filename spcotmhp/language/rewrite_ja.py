@@ -7,6 +7,12 @@
   written as the correction word 、じゃなくて、 (Y replaces X). Said straight after the place (Xじゃなくて Y) it
   is a contrast, X not the goal, as before. じゃない glued to the word after it is adnominal (寝室 #3 じゃない寝室:
   a bedroom that is not #3) and stays as said.
+* **さ of direction** (:func:`pauses_ja`): in 東北 and 北海道 speech さ after a noun marks where one goes, as へ
+  does (台所さ行って, 玄関さ来て); it is read as へ where it stands between a noun written in kanji or katakana
+  and a verb of going or coming (行, い[っくけこ], 来, き[てた], 向か, 戻). Elsewhere さ is left as said (だからさ、).
+* **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西) right after a place and
+  before the end, a 。/、, another place or a correction say "it is X" (台所だ, 居間だ。, リビングじゃ,
+  キッチンだキッチンに行って): the place is what was asked for, as a bare place is, and the copula is left out.
 * **Repetitions** (:func:`said_once`): the same place said twice in a row, with nothing but a space or a filler
   between (トイレ トイレまで, 風呂場 風呂場行って: a speaker restarting the phrase), is said once.
 
@@ -28,9 +34,16 @@ _AFTER_PAUSE = re.compile(
 _PUNCTUATION = frozenset("、。,.!?！？「」")
 
 
+_DIRECTION_SA = re.compile(r"(?<=[\u4e00-\u9fff\u30a1-\u30ff])さ(?=行|い[っくけこ]|来|き[てた]|向か|戻|もど)")
+_COPULAS = frozenset({"だ", "じゃ", "や"})
+_AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
+
+
 def pauses_ja(text: str) -> str:
-    """``text`` (normalised) with its pauses written as 、 and negations after a pause as corrections (module
-    docstring)."""
+    """``text`` (normalised) with its pauses written as 、, negations after a pause as corrections and the さ of
+    direction as へ (module docstring)."""
+    if "さ" in text:
+        text = _DIRECTION_SA.sub("へ", text)
     if "." in text or "…" in text or "‥" in text:
         text = _ELLIPSIS.sub("、", text)
     if not any(n in text for n in _NEGATIONS):
@@ -51,10 +64,17 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
 
 
 def said_once(items: list[Token]) -> list[Token]:
-    """The same place said twice in a row said once (module docstring): the first saying is left out."""
+    """A copula after a place left out, and the same place said twice in a row said once (module docstring): the
+    first saying is left out."""
     out: list[Token] = []
-    for it in items:
+    for k, it in enumerate(items):
         last = out[-1] if out else None
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        if (
+            it.kind == "WORD" and it.surface in _COPULAS and last is not None and last.kind == "PLACE"
+            and last.end == it.start and (nxt is None or nxt.kind in _AFTER_COPULA)
+        ):  # fmt: skip
+            continue
         if (
             last is not None and it.kind == last.kind == "PLACE" and it.words == last.words
             and it.number == last.number and it.floor == last.floor

@@ -33,6 +33,10 @@ _NEGATION = frozenset({"ない", "ん", "ぬ", "ず", "まい"})
 _CONDITION = frozenset({"ば", "たら", "なら", "ならば"})
 _CLAUSE_ENDS = frozenset({"から", "ので", "けど", "けれど", "が", "し"})
 _REQUESTS = frozenset({"お願い", "願う", "頼む", "頼める"})
+_BEING = frozenset({"いる", "おる"})
+_ASKING = frozenset({"くれる", "くださる", "下さる", "もらえる", "いただける", "頂ける"})
+"""Verbs asking a favour after a te-form: a negation after one makes a question (くれない？ will you?), while one
+before it negates the verb (行かないでくれる); ほしくない and the like stay negations."""
 
 
 def plain_verbs(text: str, table: WordTable) -> str:
@@ -42,6 +46,8 @@ def plain_verbs(text: str, table: WordTable) -> str:
     if not verbs:
         return text
     text = _ELONGATION.sub("", text)
+    for said, standard in dict(table.talk.get("dialect", {})).items():
+        text = re.sub(f"(?<=[\u3041-\u309f]){said}", standard, text) if said in text else text
     morphemes = _analyse(text)
     out: list[str] = []
     i = 0
@@ -62,20 +68,25 @@ def plain_verbs(text: str, table: WordTable) -> str:
             and key not in _REQUESTS
             and (following is None or following[1] == "名詞" or surface == verbs[key][0])
         )
-        if condition or kept:  # 行ったら, 行く前に: as said
+        if key in _BEING and (i == 0 or morphemes[i - 1][0] != "に"):
+            kept = True  # 赤ちゃんおるけえ: someone is somewhere; only "Xにいて" asks the robot to be at X
+        if kept and j == i + 1 and following is None and _imperative(surface):
+            kept = False  # 来い, 行け: the imperative asks for the motion, as the te-form does
+        if condition or kept or negative and len(verbs[key]) < 2:  # 行ったら, 行く前に, 待たないで: as said
             out.append("".join(m[0] for m in morphemes[i:j]))
         else:
-            out.append(verbs[key][1 if negative and len(verbs[key]) > 1 else 0])
+            out.append(verbs[key][1 if negative else 0])
         i = j
     return "".join(out)
 
 
 def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, bool, bool]:
     """Where the endings after a verb stop, and whether they hold a negation or a condition."""
-    negative = condition = False
+    negative = condition = asked = False
     start = j
     while j < len(morphemes):
         surface, pos, sub, base = morphemes[j]
+        asked |= base in _ASKING  # 行ってくれん(ね), 行ってもらえない？: a negative question asks, negating nothing
         if surface in _CLAUSE_ENDS or pos in ("記号",) and surface not in ("ー",):
             break
         if surface in _CONDITION or base in _CONDITION or surface == "ら" and j > 0 and morphemes[j - 1][0] == "た":
@@ -85,7 +96,7 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
         if pos == "助詞" and surface == "な" and j == start and sub == "終助詞":
             negative = True  # 入るな: the dictionary form and な forbid it
         if pos == "助動詞":
-            negative |= base in _NEGATION or surface in _NEGATION
+            negative |= not asked and (base in _NEGATION or surface in _NEGATION)
         elif (
             pos == "助詞"
             and (sub in _TAIL_PARTICLES or sub == "格助詞" and surface == "と" and _aux_after(morphemes, j))
@@ -95,7 +106,7 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
         ):
             pass
         elif pos == "形容詞" and (sub in ("非自立", "接尾") or base in ("いい", "良い", "ほしい", "欲しい", "ない")):
-            negative |= base == "ない"
+            negative |= base == "ない" and not asked
         elif pos == "名詞" and sub == "非自立" and surface in ("ん", "の", "とき", "よう"):
             pass
         else:
@@ -118,6 +129,7 @@ _AUX_VERBS = frozenset(
         "いる",
         "おく",
         "とく",
+        "とる",
         "みる",
         "しまう",
         "あげる",
