@@ -70,6 +70,8 @@ def plain_verbs(text: str, table: WordTable) -> str:
         )
         if key in _BEING and (i == 0 or morphemes[i - 1][0] != "に"):
             kept = True  # 赤ちゃんおるけえ: someone is somewhere; only "Xにいて" asks the robot to be at X
+        if i > 0 and morphemes[i - 1][0] == "が" or _reported(morphemes, i + 1, j):
+            kept = True  # 救急隊が来るから, 誰か来た: what someone else does or did, no request
         if kept and j == i + 1 and following is None and _imperative(surface):
             kept = False  # 来い, 行け: the imperative asks for the motion, as the te-form does
         if condition or kept or negative and len(verbs[key]) < 2:  # 行ったら, 行く前に, 待たないで: as said
@@ -80,6 +82,15 @@ def plain_verbs(text: str, table: WordTable) -> str:
     return "".join(out)
 
 
+def _reported(morphemes: Sequence[tuple[str, str, str, str]], start: int, j: int) -> bool:
+    """Whether a verb's endings ``morphemes[start:j]`` end a statement: the past た last (来た), or nothing but a
+    reason's から / ので after the plain form (来るから)."""
+    said = [m for m in morphemes[start:j] if not (m[1] == "助詞" and m[2] == "終助詞")]
+    if said:
+        return said[-1][1] == "助動詞" and said[-1][3] == "た"
+    return j < len(morphemes) and morphemes[j][0] in ("から", "ので")
+
+
 def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, bool, bool]:
     """Where the endings after a verb stop, and whether they hold a negation or a condition."""
     negative = condition = asked = False
@@ -87,7 +98,7 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
     while j < len(morphemes):
         surface, pos, sub, base = morphemes[j]
         asked |= base in _ASKING  # 行ってくれん(ね), 行ってもらえない？: a negative question asks, negating nothing
-        if surface in _CLAUSE_ENDS or pos in ("記号",) and surface not in ("ー",):
+        if surface in _CLAUSE_ENDS and pos == "助詞" or pos in ("記号",) and surface not in ("ー",):
             break
         if surface in _CONDITION or base in _CONDITION or surface == "ら" and j > 0 and morphemes[j - 1][0] == "た":
             condition = True
@@ -157,9 +168,17 @@ def _analyse(text: str) -> list[tuple[str, str, str, str]]:
     from spcotmhp.language.text import _tokenizer
 
     return [
-        (m.surface, *m.part_of_speech.split(",")[:2], m.base_form if m.base_form != "*" else m.surface)
-        for m in _tokenizer().tokenize(text)
+        (m.surface, *_pos(m), m.base_form if m.base_form != "*" else m.surface) for m in _tokenizer().tokenize(text)
     ]
+
+
+def _pos(m: Any) -> tuple[str, str]:
+    """janome's part of speech and its first subclass; ASCII punctuation (what NFKC makes of ？ and ！), which
+    janome's dictionary tags as a noun, as the symbol it is."""
+    if not m.surface.strip("?!.,"):
+        return "記号", "一般"
+    pos = m.part_of_speech.split(",")
+    return pos[0], pos[1]
 
 
 def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tuple[list[Token], list[str]] | None:
