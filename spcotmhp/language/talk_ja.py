@@ -83,12 +83,13 @@ def plain_verbs(text: str, table: WordTable) -> str:
 
 
 def _reported(morphemes: Sequence[tuple[str, str, str, str]], start: int, j: int) -> bool:
-    """Whether a verb's endings ``morphemes[start:j]`` end a statement: the past た last (来た), or nothing but a
-    reason's から / ので after the plain form (来るから)."""
+    """Whether a verb's endings ``morphemes[start:j]`` end a statement: the past た last (来た), or a reason's
+    から / ので after them that follows no te-form (来るから, 来るっぽいから; 行ってから says "after")."""
     said = [m for m in morphemes[start:j] if not (m[1] == "助詞" and m[2] == "終助詞")]
-    if said:
-        return said[-1][1] == "助動詞" and said[-1][3] == "た"
-    return j < len(morphemes) and morphemes[j][0] in ("から", "ので")
+    if said and said[-1][1] == "助動詞" and said[-1][3] == "た":
+        return True
+    te = bool(said) and said[-1][0] in ("て", "で") and said[-1][1] == "助詞"
+    return not te and j < len(morphemes) and morphemes[j][0] in ("から", "ので")
 
 
 def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, bool, bool]:
