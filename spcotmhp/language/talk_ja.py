@@ -46,8 +46,8 @@ def plain_verbs(text: str, table: WordTable) -> str:
     if not verbs:
         return text
     text = _ELONGATION.sub("", text)
-    for said, standard in dict(table.talk.get("dialect", {})).items():
-        text = re.sub(f"(?<=[\u3041-\u309f]){said}", standard, text) if said in text else text
+    for said, standard in _dialect(table):
+        text = said.sub(standard, text)
     morphemes = _analyse(text)
     out: list[str] = []
     i = 0
@@ -80,6 +80,16 @@ def plain_verbs(text: str, table: WordTable) -> str:
             out.append(verbs[key][1 if negative else 0])
         i = j
     return "".join(out)
+
+
+@functools.cache
+def _dialect_of(items: tuple[tuple[str, str], ...]) -> tuple[tuple[re.Pattern, str], ...]:
+    return tuple((re.compile(said), standard) for said, standard in items)
+
+
+def _dialect(table: WordTable) -> tuple[tuple[re.Pattern, str], ...]:
+    """The table's regional endings (``talk.dialect``), compiled once."""
+    return _dialect_of(tuple(dict(table.talk.get("dialect", {})).items()))
 
 
 def _reported(morphemes: Sequence[tuple[str, str, str, str]], start: int, j: int) -> bool:
@@ -197,10 +207,12 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
             continue
         j = i
         while j < len(toks) and (toks[j].kind in ("WORD", "NOW") or toks[j].kind in ("FROM", "DE") and j > i):
-            if toks[j].kind in ("FROM", "DE"):
+            if toks[j].kind in ("FROM", "DE") and not _inner(toks, j):
                 j += 1
                 break
             j += 1
+            while j < len(toks) and _inner(toks, j):
+                j += 1  # お茶にするから, もうご飯やから: a particle between two words of a clause with no place
         ends = toks[j - 1].kind in ("FROM", "DE") or j == len(toks) or toks[j].kind in ("_STOP", "COMMA")
         before = (
             toks[i - 1] if i > 0 else None
@@ -214,6 +226,13 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
             said.append("".join(t.surface for t in run))
         i = j
     return without(toks, cut, said)
+
+
+def _inner(toks: Sequence[Token], j: int) -> bool:
+    """Whether ``toks[j]`` is a bare particle between two words (に, へ, で, と, や), marking no place: with no
+    place in the clause it carries no navigation meaning."""
+    bare = toks[j].kind in ("AND", "DE") or toks[j].kind == "GOAL" and toks[j].surface in ("に", "へ")
+    return bare and j + 1 < len(toks) and toks[j + 1].kind == "WORD" and toks[j - 1].kind == "WORD"
 
 
 def without(toks: Sequence[Token], cut: set[int], said: list[str]) -> tuple[list[Token], list[str]] | None:
@@ -238,13 +257,22 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
     morphemes = _known(text)
     if morphemes is None:
         return False
-    if any(m[1] == "名詞" and m[2] == "数" or m[0] in meaning or m[3] in meaning for m in morphemes):
+    if any(m[1] == "名詞" and m[2] == "数" or _means(m, meaning) for m in morphemes):
         return False
     if any(m[3] in _REQUESTING for m in morphemes) or _ordered(morphemes):
         return False  # テレビをつけて, コップ持ってきて: a request (an action), not a statement
+    if any(m[3] in _ACCEPTED and k > 0 and morphemes[k - 1][0] in ("で", "も") for k, m in enumerate(morphemes)):
+        return False  # のんびりでいいから, どこでもいい: what way of doing it will do, a part of the instruction
     return any(m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です") for m in morphemes)
 
 
+def _means(m: tuple[str, str, str, str], meaning: frozenset[str]) -> bool:
+    """Whether a morpheme is one of the ``meaning`` words; ん and の that explain (来るんだから: janome's
+    dependent noun) are not the negation ん."""
+    return (m[0] in meaning or m[3] in meaning) and not (m[1] == "名詞" and m[2] == "非自立" and m[0] == "ん")
+
+
+_ACCEPTED = frozenset({"いい", "よい", "良い", "結構", "構う", "大丈夫"})
 _REQUESTING = frozenset(
     {"くれる", "くださる", "下さる", "もらう", "いただく", "ほしい", "欲しい", "ちょうだい", "なさる"}
 )
