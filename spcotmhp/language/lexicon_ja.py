@@ -14,6 +14,7 @@ from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
 
 _JA_KANA_NUMBER = re.compile(r"(?:の)?(?:いち|に|さん|よん|ご)(?:ばん|番)")
+_JA_KANA_BEFORE = re.compile(r"(?:いち|さん|よん|ご)(?:ばん|番)の")
 _JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
@@ -31,8 +32,9 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("FLOOR", ahead[: floor[1]], floor=floor[0], start=i, end=i + floor[1]))
             i += floor[1]
             continue
-        numbered = _JA_KANA_NUMBER.match(ahead) if out and out[-1].kind == "PLACE" and out[-1].end == i else None
-        if numbered:  # 寝室にばん: a number with 番 right after a place (rule 6), not the particle に
+        after_place = bool(out) and out[-1].kind == "PLACE" and out[-1].end == i
+        numbered = (_JA_KANA_NUMBER if after_place else _JA_KANA_BEFORE).match(ahead)
+        if numbered:  # 寝室にばん, さんばんの寝室: a number with 番 (rule 6), not the particle に or the さん of a name
             n = len(numbered.group(0))
             out.append(Token("WORD", ahead[:n], start=i, end=i + n))
             i += n
@@ -136,8 +138,15 @@ def join_no(items: list[Token]) -> list[Token]:
 
 
 _JA_NUMBER_AFTER = re.compile(
-    r"^(?:の)?#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
+    r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
 )
+"""A number after a place word: 寝室2, 寝室#2, 寝室の2番; ナンバー (number) and シャープ (the name of '#', as a speech
+recogniser spells it out) say the sign the robot shows."""
+_JA_NUMBER_AGAIN = re.compile(
+    r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:番|ばん)?(?:だ|じゃ|や|です)?$"
+)
+"""A number alone after a correction (寝室 #1 いや #2 だ, 寝室の3番 いや 1番): the instance of the place just
+corrected (rule 8); a copula after it says "it is #2"."""
 _JA_NUMBER_BEFORE = re.compile(
     r"^#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の$"
 )
@@ -164,6 +173,23 @@ def numbered_ja(items: list[Token]) -> list[Token]:
                 continue
         out.append(it)
         i += 1
+    return out
+
+
+def said_again_ja(items: list[Token]) -> list[Token]:
+    """Rule 8 in Japanese: a number alone right after a correction word names that instance of the numbered place
+    said just before the correction (寝室 #1 いや #2: 寝室 #2). Only a place said with a number is so corrected:
+    "キッチン いや 2番" names nothing and stays refused."""
+    out: list[Token] = []
+    for k, it in enumerate(items):
+        before = out[-2] if len(out) >= 2 else None
+        if it.kind == "WORD" and before is not None and out[-1].kind == "CORRECTION" and before.kind == "PLACE":
+            n = _ja_number(_JA_NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None
+            if n is not None:
+                said = f"{before.words[-1]} #{n}"  # the label the robot shows
+                out.append(before._replace(surface=said, number=n, start=it.start, end=it.end))
+                continue
+        out.append(it)
     return out
 
 
