@@ -37,7 +37,7 @@ import re
 from collections.abc import Sequence
 
 from spcotmhp.language.floors import CUES, floor_en
-from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, said_again_ja, tokens_ja
+from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, of_the_places_ja, said_again_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_ja import said_once
@@ -60,7 +60,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     """The tokens of ``text`` (module docstring)."""
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
-        return said_once(said_again_ja(glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))))
+        out = glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
+        return of_the_places_ja(said_once(said_again_ja(out)))
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:

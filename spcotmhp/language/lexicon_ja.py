@@ -193,6 +193,40 @@ def said_again_ja(items: list[Token]) -> list[Token]:
     return out
 
 
+_OF = frozenset({"の", "のうち", "のうちで", "の中で", "のなかで", "の中の"})
+_SUPERLATIVE = frozenset({"一番", "いちばん", "最も"})
+_PRO_FORMS = frozenset({"ところ", "とこ", "の", "やつ", "ほう", "方", "部屋"})
+_RELATIONS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO"})
+
+
+def of_the_places_ja(items: list[Token]) -> list[Token]:
+    """A relation said after the place it picks (rule 7 in Japanese): "X の(うち)、Y から一番遠いところ" (of the
+    Xs, the one farthest from Y; ところ, とこ, の, やつ, ほう stand for the X) is "Y から一番遠い X"; 一番 said
+    before Y (寝室の 一番 トイレに近いとこ) belongs to the relation after Y. Anything else between them stays."""
+    if not any(t.kind in _RELATIONS for t in items):
+        return items
+    out = list(items)
+    for k in range(len(out) - 3):
+        x, of = out[k], out[k + 1]
+        if x.kind != "PLACE" or of.kind != "WORD" or of.surface not in _OF:
+            continue
+        m = k + 2 + (out[k + 2].kind == "COMMA")
+        m += m < len(out) and out[m].kind == "WORD" and out[m].surface in _SUPERLATIVE
+        if m + 1 >= len(out) or out[m].kind != "PLACE" or out[m + 1].kind not in _RELATIONS:
+            continue
+        end, said = m + 2, ""
+        while end < len(out) and out[end].kind in ("WORD", "AND") and said + out[end].surface in _PREFIXES:
+            said += out[end].surface
+            end += 1
+        if said in _PRO_FORMS:
+            head = x._replace(start=out[end - 1].start, end=out[end - 1].end)
+            return [*out[:k], out[m], out[m + 1], head, *out[end:]]
+    return out
+
+
+_PREFIXES = frozenset(p[:n] for p in _PRO_FORMS for n in range(1, len(p) + 1))
+
+
 def _ja_number(match: re.Match | None, surface: str) -> int | None:
     if match is None:
         return None

@@ -9,7 +9,7 @@ meaning, said in their plain form, and talk around the instruction passed over.
   〜なさい, か, な, わ) change nothing of where the robot goes. A negation among the endings (ない, ん, ず) gives the
   negative te-form (入らんといて -> 入らないで); a condition (ば, たら, なら) or a waiver (寄らなくていい, 通らなくても)
   leaves the verb as said, for the grammar to read or refuse. A long vowel mark after hiragana is a drawn-out
-  sound (しまーす, 行ってー), left out.
+  sound (しまーす, 行ってー), left out, but for a filler's (えー).
 * **Talk** (:func:`pass_over_ja`): a run of words with no place, length of time, floor or word class but a
   reason's から / ので, each of its words one janome knows, no number and none of the table's ``talk.meaning``,
   ending with から / ので or at a sentence's end, and holding a verb or an adjective, is passed over
@@ -27,7 +27,8 @@ from typing import Any
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.table import WordTable
 
-_ELONGATION = re.compile(r"(?<=[\u3041-\u309f])[ー〜～]+")
+_ELONGATION = re.compile(r"(?<=[\u3041-\u30fb\u4e00-\u9fff][\u3041-\u309f])[ー〜～]+")
+"""A drawn-out sound inside a word (しまーす, 行ってー); not after a word's first kana (えー, あー: fillers)."""
 _TAIL_PARTICLES = ("接続助詞", "終助詞", "副助詞／並立助詞／終助詞", "並立助詞", "副助詞", "副詞化")
 _NEGATION = frozenset({"ない", "ん", "ぬ", "ず", "まい"})
 _CONDITION = frozenset({"ば", "たら", "なら", "ならば"})
