@@ -10,6 +10,8 @@ The rules a reader needs besides the grammar:
   before X and "Rの前に X" (寝室に行く前に) puts R after X, X being the next place said (chains:
   トイレの後でキッチンの後で寝室: toilet, kitchen, bedroom; mixing 前に and 後で is refused).
 * Waits: "そこで待って", "待ってて" wait at the place the robot is going to at that point; "洗面所で2分待って" names it.
+* Choosing: "Xにして" (make it X) says which place is chosen; said after a place to go to, it replaces it, as a
+  correction does (寝間へ行くんだが、風呂場に近いほうの寝間にしてくれ: the bedroom closest to the bath).
 * Stopping: 止まって with no length at the place the robot ends at says where it stops, which is where it ends
   (そこで止まって, ホールのところで止まっておいて: no wait until the next instruction; 止まってて, 待って and
   待機して ask for one). On the way it stays refused, as any wait with no length is there.
@@ -85,8 +87,10 @@ class JapaneseWalk(Walk):
         elif kind == "bare":
             self._group(tree(kids[0]), "goal", bare=True)
         elif kind in _ROLES:
-            mentions = self._group(tree(kids[0]), _ROLES[kind])
             marker = self.word(toks[-1]) if toks else ""
+            if kind == "goal" and marker.startswith("にし") and any(m.role == "goal" for m in self.mentions):
+                self.correcting(marker)  # 寝間へ行くんだが、風呂場に近いほうの寝間にして: the choice made again
+            mentions = self._group(tree(kids[0]), _ROLES[kind])
             if any(t.type == "COMMA" for t in tokens_of(tree(kids[0]))) and _ROLES[kind] in ("via", "stop"):
                 self.lists.append((mentions, "、", marker))
             if kind.endswith("_then"):
