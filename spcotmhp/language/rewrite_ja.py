@@ -13,6 +13,13 @@
 * **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西) right after a place and
   before the end, a 。/、, another place or a correction say "it is X" (台所だ, 居間だ。, リビングじゃ,
   キッチンだキッチンに行って): the place is what was asked for, as a bare place is, and the copula is left out.
+* **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, のよ, わよ, わね, よね before the end, a 。 or a 、
+  (お手洗いじゃなかったわ。, 掃除当番だからさ、) say the speaker's mood; は right after a place's marker (物置きには
+  そーっと行って, トイレまではゆっくり) sets it off as a topic without changing its role; both are left out. A 、
+  right after another (洗面所、あ、違った: the filler between them left out) or opening the sentence separates
+  nothing and is left out.
+* **"Xでいい"** (:func:`said_once`): a place followed by でいい(よ / から) says the place will do (一番近い寝室でいいよ,
+  廊下でいいから行って): the place is the one asked for, as a bare place is.
 * **Repetitions** (:func:`said_once`): the same place said twice in a row, with nothing but a space or a filler
   between (トイレ トイレまで, 風呂場 風呂場行って: a speaker restarting the phrase), is said once.
 
@@ -37,6 +44,8 @@ _PUNCTUATION = frozenset("、。,.!?！？「」")
 _DIRECTION_SA = re.compile(r"(?<=[\u4e00-\u9fff\u30a1-\u30ff])さ(?=行|い[っくけこ]|来|き[てた]|向か|戻|もど)")
 _COPULAS = frozenset({"だ", "じゃ", "や"})
 _AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
+_MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "のよ", "わよ", "わね", "よね"})
+_BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})
 
 
 def pauses_ja(text: str) -> str:
@@ -67,9 +76,22 @@ def said_once(items: list[Token]) -> list[Token]:
     """A copula after a place left out, and the same place said twice in a row said once (module docstring): the
     first saying is left out."""
     out: list[Token] = []
+    skip = 0
     for k, it in enumerate(items):
+        if skip:
+            skip -= 1
+            continue
         last = out[-1] if out else None
         nxt = items[k + 1] if k + 1 < len(items) else None
+        ends = nxt is None or nxt.kind in ("_STOP", "COMMA")
+        if it.kind == "COMMA" and (last is None or last.kind == "COMMA"):
+            continue
+        if it.kind == "WORD" and (it.surface in _MOOD and ends or it.surface == "は" and _marked(last)):
+            continue
+        if it.kind == "DE" and last is not None and last.kind == "PLACE" and nxt is not None and nxt.kind == "WORD":
+            if nxt.surface == "いい":  # 一番近い寝室でいいよ, 廊下でいいから
+                skip = 1 + (k + 2 < len(items) and items[k + 2].kind == "FROM")
+                continue
         if (
             it.kind == "WORD" and it.surface in _COPULAS and last is not None and last.kind == "PLACE"
             and last.end == it.start and (nxt is None or nxt.kind in _AFTER_COPULA)
@@ -83,3 +105,8 @@ def said_once(items: list[Token]) -> list[Token]:
         else:
             out.append(it)
     return out
+
+
+def _marked(last: Token | None) -> bool:
+    """Whether ``last`` is a place's bare marker (に, へ, まで, で), which a topic は may follow."""
+    return last is not None and last.kind in ("GOAL", "DE") and last.surface in _BARE_MARKERS
