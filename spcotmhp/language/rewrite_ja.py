@@ -13,7 +13,7 @@
 * **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西) right after a place and
   before the end, a 。/、, another place or a correction say "it is X" (台所だ, 居間だ。, リビングじゃ,
   キッチンだキッチンに行って): the place is what was asked for, as a bare place is, and the copula is left out.
-* **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, のよ, わよ, わね, よね before the end, a 。 or a 、
+* **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, や (関西: 行ってや), のよ, わよ, わね, よね before the end, a 。 or a 、
   (お手洗いじゃなかったわ。, 掃除当番だからさ、) say the speaker's mood; は right after a place's marker (物置きには
   そーっと行って, トイレまではゆっくり) sets it off as a topic without changing its role; both are left out. A 、
   right after another (洗面所、あ、違った: the filler between them left out) or opening the sentence separates
@@ -44,7 +44,7 @@ _PUNCTUATION = frozenset("、。,.!?！？「」")
 _DIRECTION_SA = re.compile(r"(?<=[\u4e00-\u9fff\u30a1-\u30ff])さ(?=行|い[っくけこ]|来|き[てた]|向か|戻|もど)")
 _COPULAS = frozenset({"だ", "じゃ", "や"})
 _AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
-_MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "のよ", "わよ", "わね", "よね"})
+_MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "や", "のよ", "わよ", "わね", "よね"})
 _BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})
 
 
@@ -86,7 +86,14 @@ def said_once(items: list[Token]) -> list[Token]:
         ends = nxt is None or nxt.kind in ("_STOP", "COMMA")
         if it.kind == "COMMA" and (last is None or last.kind == "COMMA"):
             continue
-        if it.kind == "WORD" and (it.surface in _MOOD and ends or it.surface == "は" and _marked(last)):
+        if (
+            it.kind in ("WORD", "AND")
+            and it.surface in _MOOD
+            and ends
+            or it.kind == "WORD"
+            and it.surface == "は"
+            and _marked(last)
+        ):
             continue
         if it.kind == "DE" and last is not None and last.kind == "PLACE" and nxt is not None and nxt.kind == "WORD":
             if nxt.surface == "いい":  # 一番近い寝室でいいよ, 廊下でいいから

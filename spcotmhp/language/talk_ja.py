@@ -78,6 +78,8 @@ def plain_verbs(text: str, table: WordTable) -> str:
         if condition or kept or negative and len(verbs[key]) < 2:  # 行ったら, 行く前に, 待たないで: as said
             out.append("".join(m[0] for m in morphemes[i:j]))
         else:
+            if out and i > 0 and morphemes[i - 1][1] == "接頭詞" and pos == "動詞":
+                out.pop()  # お行きなさい: the honorific お of the verb goes with its ending
             out.append(verbs[key][1 if negative else 0])
         i = j
     return "".join(out)
