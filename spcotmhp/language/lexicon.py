@@ -40,8 +40,8 @@ from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, of_the_places_ja, said_again_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
-from spcotmhp.language.rewrite_ja import said_once
 from spcotmhp.language.rewrite_en import corrections_en, numbered_en, relations_en, said_again
+from spcotmhp.language.rewrite_ja import said_once
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
 

@@ -181,7 +181,7 @@ def said_again_ja(items: list[Token]) -> list[Token]:
     said just before the correction (寝室 #1 いや #2: 寝室 #2). Only a place said with a number is so corrected:
     "キッチン いや 2番" names nothing and stays refused."""
     out: list[Token] = []
-    for k, it in enumerate(items):
+    for it in items:
         before = out[-2] if len(out) >= 2 else None
         if it.kind == "WORD" and before is not None and out[-1].kind == "CORRECTION" and before.kind == "PLACE":
             n = _ja_number(_JA_NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None

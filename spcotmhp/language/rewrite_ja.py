@@ -13,11 +13,12 @@
 * **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西) right after a place and
   before the end, a 。/、, another place or a correction say "it is X" (台所だ, 居間だ。, リビングじゃ,
   キッチンだキッチンに行って): the place is what was asked for, as a bare place is, and the copula is left out.
-* **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, や (関西: 行ってや), のよ, わよ, わね, よね before the end, a 。 or a 、
-  (お手洗いじゃなかったわ。, 掃除当番だからさ、) say the speaker's mood; は right after a place's marker (物置きには
-  そーっと行って, トイレまではゆっくり) sets it off as a topic without changing its role; both are left out. A 、
-  right after another (洗面所、あ、違った: the filler between them left out) or opening the sentence separates
-  nothing and is left out.
+* **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, や (関西: 行ってや), のよ, わよ,
+  わね, よね before the end, a 。 or a 、 (お手洗いじゃなかったわ。, 掃除当番だからさ、) say the
+  speaker's mood; は right after a place's marker (物置きにはそーっと行って, トイレまではゆっくり)
+  sets it off as a topic without changing its role; both are left out. A 、 right after another
+  (洗面所、あ、違った: the filler between them left out) or opening the sentence separates nothing
+  and is left out.
 * **"Xでいい"** (:func:`said_once`): a place followed by でいい(よ / から) says the place will do (一番近い寝室でいいよ,
   廊下でいいから行って): the place is the one asked for, as a bare place is.
 * **Repetitions** (:func:`said_once`): the same place said twice in a row, with nothing but a space or a filler
@@ -95,10 +96,10 @@ def said_once(items: list[Token]) -> list[Token]:
             and _marked(last)
         ):
             continue
-        if it.kind == "DE" and last is not None and last.kind == "PLACE" and nxt is not None and nxt.kind == "WORD":
-            if nxt.surface == "いい":  # 一番近い寝室でいいよ, 廊下でいいから
-                skip = 1 + (k + 2 < len(items) and items[k + 2].kind == "FROM")
-                continue
+        place_will_do = last is not None and last.kind == "PLACE" and nxt is not None and nxt.kind == "WORD"
+        if it.kind == "DE" and place_will_do and nxt is not None and nxt.surface == "いい":  # 寝室でいいよ
+            skip = 1 + (k + 2 < len(items) and items[k + 2].kind == "FROM")
+            continue
         if (
             it.kind == "WORD" and it.surface in _COPULAS and last is not None and last.kind == "PLACE"
             and last.end == it.start and (nxt is None or nxt.kind in _AFTER_COPULA)

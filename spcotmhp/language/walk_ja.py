@@ -12,6 +12,8 @@ The rules a reader needs besides the grammar:
 * Waits: "そこで待って", "待ってて" wait at the place the robot is going to at that point; "洗面所で2分待って" names it.
 * Choosing: "Xにして" (make it X) says which place is chosen; said after a place to go to, it replaces it, as a
   correction does (寝間へ行くんだが、風呂場に近いほうの寝間にしてくれ: the bedroom closest to the bath).
+* Waiting at a place said right after a correction (玄関、じゃなくて、廊下で待ってて) takes the role of the place
+  corrected, as a bare place does: the robot goes to the corridor instead, and waits there.
 * Stopping: 止まって with no length at the place the robot ends at says where it stops, which is where it ends
   (そこで止まって, ホールのところで止まっておいて: no wait until the next instruction; 止まってて, 待って and
   待機して ask for one). On the way it stays refused, as any wait with no length is there.
@@ -105,7 +107,10 @@ class JapaneseWalk(Walk):
         elif kind == "wait_at":
             refs = self._refs(tree(kids[0]))
             alone = len(refs) == 1 and not self.pending  # an order word makes it a place of its own
-            waiting = [self.waiting_place(refs[0])] if alone else self._group(tree(kids[0]), "stop")
+            if alone and self.correction is not None:  # 玄関、じゃなくて、廊下で待って: the place corrected, waited at
+                waiting = self._group(tree(kids[0]), "goal", bare=True)
+            else:
+                waiting = [self.waiting_place(refs[0])] if alone else self._group(tree(kids[0]), "stop")
             for m in waiting:
                 self.wait_at(m, toks)
 
