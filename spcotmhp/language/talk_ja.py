@@ -35,6 +35,7 @@ _CONDITION = frozenset({"ば", "たら", "なら", "ならば"})
 _CLAUSE_ENDS = frozenset({"から", "ので", "けど", "けれど", "が", "し"})
 _REQUESTS = frozenset({"お願い", "願う", "頼む", "頼める"})
 _BEING = frozenset({"いる", "おる"})
+_CONJECTURE = frozenset({"です", "だ", "らしい", "っぽい", "みたい", "そう"})
 _ASKING = frozenset({"くれる", "くださる", "下さる", "もらえる", "いただける", "頂ける"})
 """Verbs asking a favour after a te-form: a negation after one makes a question (くれない？ will you?), while one
 before it negates the verb (行かないでくれる); ほしくない and the like stay negations."""
@@ -96,10 +97,15 @@ def _dialect(table: WordTable) -> tuple[tuple[re.Pattern, str], ...]:
 
 
 def _reported(morphemes: Sequence[tuple[str, str, str, str]], start: int, j: int) -> bool:
-    """Whether a verb's endings ``morphemes[start:j]`` end a statement: the past た last (来た), or a reason's
+    """Whether a verb's endings ``morphemes[start:j]`` end a statement: the past た last (来た), a conjecture
+    or hearsay among them (来るでしょう, 来るっぽい, 来るらしい, 来るそう), or a reason's
     から / ので after them that follows no te-form (来るから, 来るっぽいから; 行ってから says "after")."""
     said = [m for m in morphemes[start:j] if not (m[1] == "助詞" and m[2] == "終助詞")]
-    if said and said[-1][1] == "助動詞" and said[-1][3] == "た":
+    guessed = any(
+        m[3] in _CONJECTURE and (m[1] != "助動詞" or k + 1 < len(said) and said[k + 1][3] == "う")
+        for k, m in enumerate(said)
+    )  # 来るでしょう, 来るだろう (です / だ before う), 来るっぽい; 行くんだが is said as going
+    if said and said[-1][1] == "助動詞" and said[-1][3] == "た" or guessed:
         return True
     te = bool(said) and said[-1][0] in ("て", "で") and said[-1][1] == "助詞"
     return not te and j < len(morphemes) and morphemes[j][0] in ("から", "ので")
@@ -120,6 +126,9 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
             condition = True  # 寄らなくていい, 通らなくても: what need not be done, left as said (refused)
         if pos == "助詞" and surface == "な" and j == start and sub == "終助詞":
             negative = True  # 入るな: the dictionary form and な forbid it
+        if surface == "に" and pos == "助詞" and j > start and morphemes[j - 1][0] == "ず":
+            j += 1  # 通らずに: ずに is the negative te-form, its に no place's marker
+            continue
         if pos == "助動詞":
             negative |= not asked and (base in _NEGATION or surface in _NEGATION)
         elif (
@@ -134,6 +143,8 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
             negative |= base == "ない" and not asked
         elif pos == "名詞" and sub == "非自立" and surface in ("ん", "の", "とき", "よう"):
             pass
+        elif surface == "も" and pos == "助詞" and j + 1 < len(morphemes) and morphemes[j + 1][3] in _ACCEPTED:
+            pass  # 行ってもらってもいい？: asking leave is asking (after a negation it is a waiver, above)
         else:
             break
         j += 1
@@ -232,10 +243,10 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
 
 
 def _inner(toks: Sequence[Token], j: int) -> bool:
-    """Whether ``toks[j]`` is a bare particle between two words (に, へ, で, と, や), marking no place: with no
-    place in the clause it carries no navigation meaning."""
+    """Whether ``toks[j]`` is a bare particle between two words (に, へ, で, と, や) or a word and the reason's から
+    (ご飯やから: や the copula), marking no place: with no place in the clause it carries no navigation meaning."""
     bare = toks[j].kind in ("AND", "DE") or toks[j].kind == "GOAL" and toks[j].surface in ("に", "へ")
-    return bare and j + 1 < len(toks) and toks[j + 1].kind == "WORD" and toks[j - 1].kind == "WORD"
+    return bare and j + 1 < len(toks) and toks[j + 1].kind in ("WORD", "FROM") and toks[j - 1].kind == "WORD"
 
 
 def without(toks: Sequence[Token], cut: set[int], said: list[str]) -> tuple[list[Token], list[str]] | None:
@@ -266,7 +277,9 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
         return False  # テレビをつけて, コップ持ってきて: a request (an action), not a statement
     if any(m[3] in _ACCEPTED and k > 0 and morphemes[k - 1][0] in ("で", "も") for k, m in enumerate(morphemes)):
         return False  # のんびりでいいから, どこでもいい: what way of doing it will do, a part of the instruction
-    return any(m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です") for m in morphemes)
+    return any(
+        m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です", "や", "じゃ") for m in morphemes
+    )
 
 
 def _means(m: tuple[str, str, str, str], meaning: frozenset[str]) -> bool:

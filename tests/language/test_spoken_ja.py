@@ -4,11 +4,16 @@ lexicon_ja.py, walk_ja.py). Each rule has cases it reads and cases that must sta
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from spcotmhp.errors import InstructionError
 from spcotmhp.language.meaning import Reading
 from spcotmhp.language.reading import read
+from tests.helpers.corpus import DATA, rows
 from tests.helpers.vocabulary import PLACE_WORDS_JA
 
 JA = PLACE_WORDS_JA
@@ -181,3 +186,40 @@ def test_a_stop_with_no_length_on_the_way_stays_refused():
 )
 def test_speed_as_people_say_it(text, speed):
     assert read(text, JA, "ja").speed == speed
+
+
+TALK_JA = ["今からお茶にするけえ", "宅配が来るんじゃけん", "もうご飯やけん", "赤ちゃんおるけえ", "お客さん来るっしょ"]
+"""Regional reasons (広島, 九州, 北海道 endings) the talk rule passes over."""
+
+
+def _understood_ja() -> list[str]:
+    out = []
+    for row in rows(DATA / "heldout" / "instructions.csv"):
+        if row["vocabulary"] == "3ldk_ja" and not row["refused"]:
+            try:
+                read(row["text"], JA, "ja")
+            except InstructionError:
+                continue
+            out.append(row["text"])
+    return out
+
+
+UNDERSTOOD_JA = _understood_ja()
+
+
+def _meaning(text: str):
+    try:
+        return replace(read(text, JA, "ja"), heard=())
+    except InstructionError as exc:
+        return type(exc)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.data())
+def test_inserting_regional_talk_never_changes_a_reading(data):
+    """A passed-over regional reason, before or after any understood held-out Japanese sentence, leaves its
+    reading as it was."""
+    text = data.draw(st.sampled_from(UNDERSTOOD_JA))
+    talk = data.draw(st.sampled_from(TALK_JA))
+    changed = data.draw(st.sampled_from([f"{talk}、{text}", f"{text.rstrip('。！？')}。{talk}。"]))
+    assert _meaning(changed) == _meaning(text), changed
