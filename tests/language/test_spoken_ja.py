@@ -63,6 +63,7 @@ def test_the_corrected_place_is_said_in_the_plan():
         ("あら、お手洗いじゃなかったわ。お風呂場のほうよ。", ["風呂"]),
         ("うーん キッチン あ いや やっぱり いいや リビング", ["リビング"]),
         ("洗面所、あ、違った、お風呂だ。お風呂にお願い。", ["風呂"]),
+        ("物置き、わかる？行ってください", ["物置き"]),  # a question is a sentence of its own
     ],
 )
 def test_pauses_repetitions_copulas_and_particles(text, visit):
@@ -223,3 +224,8 @@ def test_inserting_regional_talk_never_changes_a_reading(data):
     talk = data.draw(st.sampled_from(TALK_JA))
     changed = data.draw(st.sampled_from([f"{talk}、{text}", f"{text.rstrip('。！？')}。{talk}。"]))
     assert _meaning(changed) == _meaning(text), changed
+
+
+def test_a_polite_negation_says_not_the_goal():
+    r = read("ダイニングへお願いします。キッチンではございません。", JA, "ja")
+    assert [p.words[0] for p in r.visit] == ["ダイニング"] and [p.words[0] for p in r.not_goal] == ["キッチン"]
