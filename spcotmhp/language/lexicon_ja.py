@@ -13,7 +13,10 @@ from spcotmhp.language.floors import floor_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
 
-_JA_KANA_NUMBER = re.compile(r"(?:の)?(?:いち|に|さん|よん|ご)(?:ばん|番)")
+_JA_KANA_NUMBER = re.compile(
+    r"(?:の)?(?:いち|に|さん|よん|ご)(?:ばん|番)(?!近|遠|大|小|広|狭|ちか|とお|おお|ちい|ひろ|せま|でか|でっか|こま|離|はな)"
+)
+"""A kana number right after a place (寝室にばん); not いちばん before an adjective (寝室 いちばん ちいさい: "most")."""
 _JA_KANA_BEFORE = re.compile(r"(?:いち|さん|よん|ご)(?:ばん|番)の")
 _JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
@@ -203,6 +206,8 @@ def of_the_places_ja(items: list[Token]) -> list[Token]:
     """A relation said after the place it picks (rule 7 in Japanese): "X の(うち)、Y から一番遠いところ" (of the
     Xs, the one farthest from Y; ところ, とこ, の, やつ, ほう stand for the X) is "Y から一番遠い X"; 一番 said
     before Y (寝室の 一番 トイレに近いとこ) belongs to the relation after Y. Anything else between them stays."""
+    if any(t.kind in _SIZES for t in items):
+        items = _size_after(items)
     if not any(t.kind in _RELATIONS for t in items):
         return items
     out = list(items)
@@ -225,6 +230,21 @@ def of_the_places_ja(items: list[Token]) -> list[Token]:
 
 
 _PREFIXES = frozenset(p[:n] for p in _PRO_FORMS for n in range(1, len(p) + 1))
+_SIZES = frozenset({"LARGEST", "SMALLEST"})
+
+
+def _size_after(items: list[Token]) -> list[Token]:
+    """ "X(の) 一番小さいの" (寝室 いちばん ちいさい の: of the Xs the smallest one) is "一番小さい X": the size said
+    after the place, with a pro-form standing for it."""
+    for k in range(len(items) - 2):
+        x = items[k]
+        m = k + 1 + (items[k + 1].kind == "WORD" and items[k + 1].surface in _OF)
+        if x.kind != "PLACE" or m + 1 >= len(items) or items[m].kind not in _SIZES:
+            continue
+        pro, after = items[m + 1], items[m + 2] if m + 2 < len(items) else None
+        if pro.kind in ("WORD", "AND") and pro.surface in _PRO_FORMS and (after is None or after.kind != "PLACE"):
+            return [*items[:k], items[m], x._replace(start=pro.start, end=pro.end), *items[m + 2 :]]
+    return items
 
 
 def _ja_number(match: re.Match | None, surface: str) -> int | None:

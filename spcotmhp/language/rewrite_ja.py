@@ -21,6 +21,10 @@
   and is left out.
 * **"Xでいい"** (:func:`said_once`): a place followed by でいい(よ / から) says the place will do (一番近い寝室でいいよ,
   廊下でいいから行って): the place is the one asked for, as a bare place is.
+* **"There" for the place just named** (:func:`there_ja`): そこ(へ / に) before a verb of going, when the last
+  place said before it was said bare (no marker: 物置きの隣の寝室、わかる？そこ行って; 寝室の2番、…、そこへ行け)
+  and nothing but talk and pauses came between, is that place, already the goal: そこ is left out and the verb
+  goes with it. After a place with a role (キッチンを通って、そこへ) it stays as said.
 * **Repetitions** (:func:`said_once`): the same place said twice in a row, with nothing but a space or a filler
   between (トイレ トイレまで, 風呂場 風呂場行って: a speaker restarting the phrase), is said once.
 
@@ -118,3 +122,23 @@ def said_once(items: list[Token]) -> list[Token]:
 def _marked(last: Token | None) -> bool:
     """Whether ``last`` is a place's bare marker (に, へ, まで, で), which a topic は may follow."""
     return last is not None and last.kind in ("GOAL", "DE") and last.surface in _BARE_MARKERS
+
+
+_BETWEEN_THERE = frozenset({"COMMA", "_STOP", "WORD"})
+
+
+def there_ja(items: list[Token]) -> list[Token]:
+    """そこ(へ) before a verb of going as the bare place said last (module docstring)."""
+    for k, it in enumerate(items):
+        if it.kind != "THERE" or it.surface not in ("そこ", "そこに") or k + 1 >= len(items):
+            continue
+        verb = items[k + 1]
+        going = verb.kind == "GO" or verb.kind == "GOAL" and verb.surface[:1] in "へに" and len(verb.surface) > 1
+        last = next((j for j in range(k - 1, -1, -1) if items[j].kind == "PLACE"), None)
+        if not going or last is None or any(t.kind not in _BETWEEN_THERE for t in items[last + 1 : k]):
+            continue
+        if last + 1 == k or items[last + 1].kind not in _BETWEEN_THERE:
+            continue  # the place is right before そこ, or said with a marker (a role of its own)
+        said = verb._replace(kind="GO", surface=verb.surface.lstrip("へに") if verb.kind == "GOAL" else verb.surface)
+        return [*items[:k], said, *items[k + 2 :]]
+    return items

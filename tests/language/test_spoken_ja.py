@@ -229,3 +229,22 @@ def test_inserting_regional_talk_never_changes_a_reading(data):
 def test_a_polite_negation_says_not_the_goal():
     r = read("ダイニングへお願いします。キッチンではございません。", JA, "ja")
     assert [p.words[0] for p in r.visit] == ["ダイニング"] and [p.words[0] for p in r.not_goal] == ["キッチン"]
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("物置きの隣の寝室、わかる？そこ行って", ["寝室"]),  # そこ: the bare place said just before
+        ("寝室の2番、ね、そこへ行け", ["寝室#2"]),
+        ("寝室 いちばん ちいさい の、いって", ["寝室"]),  # the size said after the place
+        ("谢谢！玄関で 待ってて ね", ["玄関"]),  # thanks in the speaker's own language
+    ],
+)
+def test_there_sizes_after_the_place_and_thanks(text, visit):
+    assert _visit(read(text, JA, "ja")) == visit
+
+
+@pytest.mark.parametrize("text", ["キッチンを通って、そこへ行って", "キッチンで待って、そこに行って"])
+def test_there_after_a_place_with_a_role_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, JA, "ja")
