@@ -16,7 +16,9 @@
 * **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, や (関西: 行ってや), のよ, わよ,
   わね, よね before the end, a 。 or a 、 (お手洗いじゃなかったわ。, 掃除当番だからさ、) say the
   speaker's mood; は right after a place's marker (物置きにはそーっと行って, トイレまではゆっくり)
-  sets it off as a topic without changing its role; both are left out. A 、 right after another
+  sets it off as a topic without changing its role, and so does は between a place and a verb of passing,
+  stopping or avoiding said apart from it (トイレは えー 通らないで); both are left out. A bare marker cut off by a
+  correction (キッチンで、違う、リビングで) goes with what the correction takes back. A 、 right after another
   (洗面所、あ、違った: the filler between them left out) or opening the sentence separates nothing
   and is left out.
 * **"Xでいい"** (:func:`said_once`): a place followed by でいい(よ / から) says the place will do (一番近い寝室でいいよ,
@@ -51,6 +53,7 @@ _COPULAS = frozenset({"だ", "じゃ", "や"})
 _AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
 _MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "や", "のよ", "わよ", "わね", "よね"})
 _BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})
+_ROLE_AFTER_TOPIC = frozenset({"AVOID", "VIA", "STOP"})
 
 
 def pauses_ja(text: str) -> str:
@@ -78,8 +81,8 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
 
 
 def said_once(items: list[Token]) -> list[Token]:
-    """A copula after a place left out, and the same place said twice in a row said once (module docstring): the
-    first saying is left out."""
+    """Copulas, mood and topic particles, empty pauses and cut-off markers left out, "Xでいい" read as X, and the
+    same place said twice in a row said once (module docstring)."""
     out: list[Token] = []
     skip = 0
     for k, it in enumerate(items):
@@ -88,26 +91,10 @@ def said_once(items: list[Token]) -> list[Token]:
             continue
         last = out[-1] if out else None
         nxt = items[k + 1] if k + 1 < len(items) else None
-        ends = nxt is None or nxt.kind in ("_STOP", "COMMA")
-        if it.kind == "COMMA" and (last is None or last.kind == "COMMA"):
+        if _left_out(last, it, nxt):
             continue
-        if (
-            it.kind in ("WORD", "AND")
-            and it.surface in _MOOD
-            and ends
-            or it.kind == "WORD"
-            and it.surface == "は"
-            and _marked(last)
-        ):
-            continue
-        place_will_do = last is not None and last.kind == "PLACE" and nxt is not None and nxt.kind == "WORD"
-        if it.kind == "DE" and place_will_do and nxt is not None and nxt.surface == "いい":  # 寝室でいいよ
+        if it.kind == "DE" and _will_do(last, nxt):  # 一番近い寝室でいいよ, 廊下でいいから
             skip = 1 + (k + 2 < len(items) and items[k + 2].kind == "FROM")
-            continue
-        if (
-            it.kind == "WORD" and it.surface in _COPULAS and last is not None and last.kind == "PLACE"
-            and last.end == it.start and (nxt is None or nxt.kind in _AFTER_COPULA)
-        ):  # fmt: skip
             continue
         if (
             last is not None and it.kind == last.kind == "PLACE" and it.words == last.words
@@ -117,6 +104,33 @@ def said_once(items: list[Token]) -> list[Token]:
         else:
             out.append(it)
     return out
+
+
+def _left_out(last: Token | None, it: Token, nxt: Token | None) -> bool:
+    """Whether ``it`` (after ``last`` as kept, before ``nxt``) carries nothing the grammar needs (module
+    docstring): a pause after a pause, a marker cut off by a correction, a topic は, a mood particle, a copula."""
+    ends = nxt is None or nxt.kind in ("_STOP", "COMMA")
+    after_place = last is not None and last.kind == "PLACE"
+    if it.kind == "COMMA":
+        return last is None or last.kind == "COMMA"
+    if it.kind in ("DE", "GOAL"):  # キッチンで、違う、リビングで
+        return it.surface in _BARE_MARKERS and nxt is not None and nxt.kind == "CORRECTION"
+    if it.kind not in ("WORD", "AND"):
+        return False
+    if it.surface in _MOOD and ends:
+        return True
+    if it.kind == "WORD" and it.surface == "は":  # 物置きには, トイレは えー 通らないで
+        return _marked(last) or after_place and nxt is not None and nxt.kind in _ROLE_AFTER_TOPIC
+    glued = last is not None and last.end == it.start
+    return it.kind == "WORD" and it.surface in _COPULAS and after_place and glued and (
+        nxt is None or nxt.kind in _AFTER_COPULA)  # fmt: skip
+
+
+def _will_do(last: Token | None, nxt: Token | None) -> bool:
+    """Whether で after ``last`` and before ``nxt`` says "Xでいい": the place X will do."""
+    return (
+        last is not None and last.kind == "PLACE" and nxt is not None and nxt.kind == "WORD" and nxt.surface == "いい"
+    )
 
 
 def _marked(last: Token | None) -> bool:

@@ -238,6 +238,8 @@ def test_a_polite_negation_says_not_the_goal():
         ("寝室の2番、ね、そこへ行け", ["寝室#2"]),
         ("寝室 いちばん ちいさい の、いって", ["寝室"]),  # the size said after the place
         ("谢谢！玄関で 待ってて ね", ["玄関"]),  # thanks in the speaker's own language
+        ("トイレ となり の 寝室 行ってください", ["寝室"]),  # の left out before 隣の
+        ("キッチンでえーと違うリビングで3分待ってから玄関", ["リビング", "玄関"]),  # a marker cut off by a correction
     ],
 )
 def test_there_sizes_after_the_place_and_thanks(text, visit):
@@ -248,3 +250,8 @@ def test_there_sizes_after_the_place_and_thanks(text, visit):
 def test_there_after_a_place_with_a_role_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, JA, "ja")
+
+
+def test_a_topic_said_apart_from_its_verb_keeps_the_verbs_role():
+    r = read("えー トイレは えー 通らないで 洗面所に あ ゆっくりね", JA, "ja")
+    assert _visit(r) == ["洗面所"] and [p.words[0] for p in r.avoid] == ["トイレ"] and r.speed == "slow"
