@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from spcotmhp.errors import InstructionError
 from spcotmhp.language.meaning import Reading
 from spcotmhp.language.reading import read
-from tests.helpers.corpus import DATA, rows
+from tests.helpers.corpus import understood_heldout
 from tests.helpers.vocabulary import PLACE_WORDS_JA
 
 JA = PLACE_WORDS_JA
@@ -193,19 +193,7 @@ TALK_JA = ["今からお茶にするけえ", "宅配が来るんじゃけん", "
 """Regional reasons (広島, 九州, 北海道 endings) the talk rule passes over."""
 
 
-def _understood_ja() -> list[str]:
-    out = []
-    for row in rows(DATA / "heldout" / "instructions.csv"):
-        if row["vocabulary"] == "3ldk_ja" and not row["refused"]:
-            try:
-                read(row["text"], JA, "ja")
-            except InstructionError:
-                continue
-            out.append(row["text"])
-    return out
-
-
-UNDERSTOOD_JA = _understood_ja()
+UNDERSTOOD_JA = understood_heldout("3ldk_ja", JA, "ja")
 
 
 def _meaning(text: str):
