@@ -21,6 +21,8 @@
   correction (キッチンで、違う、リビングで) goes with what the correction takes back. A 、 right after another
   (洗面所、あ、違った: the filler between them left out) or opening the sentence separates nothing
   and is left out.
+* **Back to a place named** (:func:`said_once`): 戻って / 帰って right after a place (リビング もどって) says where to
+  go back to, as に戻って does; only with no place before it does it ask for the start, and stays refused.
 * **"Xでいい"** (:func:`said_once`): a place followed by でいい(よ / から) says the place will do (一番近い寝室でいいよ,
   廊下でいいから行って): the place is the one asked for, as a bare place is.
 * **"There" for the place just named** (:func:`there_ja`): そこ(へ / に) before a verb of going, when the last
@@ -95,6 +97,9 @@ def said_once(items: list[Token]) -> list[Token]:
             continue
         if it.kind == "DE" and _will_do(last, nxt):  # 一番近い寝室でいいよ, 廊下でいいから
             skip = 1 + (k + 2 < len(items) and items[k + 2].kind == "FROM")
+            continue
+        if it.kind == "BACK" and last is not None and last.kind == "PLACE" and last.end == it.start:
+            out.append(it._replace(kind="GOAL"))  # リビング もどって: back to the place named, not to the start
             continue
         if (
             last is not None and it.kind == last.kind == "PLACE" and it.words == last.words

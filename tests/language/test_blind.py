@@ -15,7 +15,7 @@ from tests.helpers.corpus import DATA, corpus_rows, rows, verdict
 
 FLOORS = {
     "blind": 294, "blind2": 342, "blind3": 258, "blind4": 213, "blind5": 177, "blind6": 170, "blind7": 163,
-    "blind8": 155, "blind9": 141, "blind10": 158, "blind11": 140,
+    "blind8": 155, "blind9": 141, "blind10": 158, "blind11": 142,
 }  # fmt: skip
 """Sentences read as labelled at the commit that wrote this test (English and Japanese together)."""
 

@@ -113,6 +113,7 @@ def test_a_negation_before_the_asking_verb_still_negates():
         "キッチン いや 2番",  # a number corrects only a numbered place
         "キッチンだけ通って",  # だけ is no copula
         "キッチンに行って10分そこにいて",  # a length of time before そこ: not a form the grammar holds
+        "リビング行って、戻ってきて",  # back with no place named: to the start
         "子供が寝てるから寝室に来て、テレビをつけて",  # a request for an action is no talk
     ],
 )
@@ -227,6 +228,8 @@ def test_a_polite_negation_says_not_the_goal():
         ("寝室 いちばん ちいさい の、いって", ["寝室"]),  # the size said after the place
         ("谢谢！玄関で 待ってて ね", ["玄関"]),  # thanks in the speaker's own language
         ("トイレ となり の 寝室 行ってください", ["寝室"]),  # の left out before 隣の
+        ("リビング もどって", ["リビング"]),  # back to the place named
+        ("玄関 いく まえ に、キッチン よって", ["キッチン", "玄関"]),
         ("キッチンでえーと違うリビングで3分待ってから玄関", ["リビング", "玄関"]),  # a marker cut off by a correction
     ],
 )
