@@ -37,11 +37,11 @@ import re
 from collections.abc import Sequence
 
 from spcotmhp.language.floors import CUES, floor_en
-from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, of_the_places_ja, said_again_ja, tokens_ja
+from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import corrections_en, numbered_en, relations_en, said_again
-from spcotmhp.language.rewrite_ja import said_once, there_ja
+from spcotmhp.language.rewrite_ja import spoken_tokens
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
 
@@ -61,8 +61,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
         out = glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
-        out = of_the_places_ja(said_once(said_again_ja(out)))
-        return there_ja(out) if any(t.kind == "THERE" for t in out) else out
+        return spoken_tokens(out)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:

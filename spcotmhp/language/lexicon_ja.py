@@ -183,6 +183,8 @@ def said_again_ja(items: list[Token]) -> list[Token]:
     """Rule 8 in Japanese: a number alone right after a correction word names that instance of the numbered place
     said just before the correction (寝室 #1 いや #2: 寝室 #2). Only a place said with a number is so corrected:
     "キッチン いや 2番" names nothing and stays refused."""
+    if not any(t.kind == "CORRECTION" for t in items):
+        return items
     out: list[Token] = []
     for it in items:
         before = out[-2] if len(out) >= 2 else None
@@ -208,7 +210,7 @@ def of_the_places_ja(items: list[Token]) -> list[Token]:
     before Y (寝室の 一番 トイレに近いとこ) belongs to the relation after Y. Anything else between them stays."""
     if any(t.kind in _SIZES for t in items):
         items = _size_after(items)
-    if not any(t.kind in _RELATIONS for t in items):
+    if not any(t.kind in _RELATIONS for t in items) or not any(t.surface in _OF for t in items):
         return items
     out = list(items)
     for k in range(len(out) - 3):

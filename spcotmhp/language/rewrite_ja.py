@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import re
 
+from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
@@ -56,6 +57,15 @@ _AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
 _MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "や", "のよ", "わよ", "わね", "よね"})
 _BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})
 _ROLE_AFTER_TOPIC = frozenset({"AVOID", "VIA", "STOP"})
+
+
+_MAY_PAUSE = re.compile(r"[…‥]|[.．]{2}|じゃな|ではな|さ")
+"""What :func:`pauses_ja` may rewrite, looked for in the text as said (before NFKC: full-width dots included)."""
+
+
+def may_pause(text: str) -> bool:
+    """Whether ``text`` (as said) holds anything :func:`pauses_ja` rewrites: only then is it normalised for it."""
+    return _MAY_PAUSE.search(text) is not None
 
 
 def pauses_ja(text: str) -> str:
@@ -80,6 +90,24 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
     if m.group("neg").endswith("ない") and glued:
         return m.group(0)  # じゃない寝室: the bedroom that is not X
     return f"、{m.group('neg')}、"
+
+
+_SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND"})
+_RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
+
+
+def spoken_tokens(items: list[Token]) -> list[Token]:
+    """The token rewrites of this module and of :mod:`spcotmhp.language.lexicon_ja` (numbers said again after a
+    correction, relations said after the place), each run only on tokens holding what it looks for: an ordinary
+    instruction pays one look at its kinds."""
+    kinds = {t.kind for t in items}
+    if "CORRECTION" in kinds:
+        items = said_again_ja(items)
+    if kinds & _SAID_AGAIN or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False)):
+        items = said_once(items)
+    if kinds & _RELATION_KINDS and "WORD" in kinds:
+        items = of_the_places_ja(items)
+    return there_ja(items) if "THERE" in kinds else items
 
 
 def said_once(items: list[Token]) -> list[Token]:
