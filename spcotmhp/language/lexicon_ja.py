@@ -36,7 +36,9 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             i += floor[1]
             continue
         after_place = bool(out) and out[-1].kind == "PLACE" and out[-1].end == i
-        numbered = (_JA_KANA_NUMBER if after_place else _JA_KANA_BEFORE).match(ahead)
+        numbered = _JA_KANA_NUMBER.match(ahead) if after_place else None
+        if not after_place and chars[i] in "いさよご":  # the first kana of a number before its place
+            numbered = _JA_KANA_BEFORE.match(ahead)
         if numbered:  # 寝室にばん, さんばんの寝室: a number with 番 (rule 6), not the particle に or the さん of a name
             n = len(numbered.group(0))
             out.append(Token("WORD", ahead[:n], start=i, end=i + n))
