@@ -41,6 +41,7 @@ from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_j
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import contents_en, corrections_en, numbered_en, relations_en, said_again
+from spcotmhp.language.rewrite_ja import spoken_tokens
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
 
@@ -59,7 +60,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     """The tokens of ``text`` (module docstring)."""
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
-        return glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
+        out = glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
+        return spoken_tokens(out)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:

@@ -13,7 +13,11 @@ from spcotmhp.language.floors import floor_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
 
-_JA_KANA_NUMBER = re.compile(r"(?:の)?(?:いち|に|さん|よん|ご)(?:ばん|番)")
+_JA_KANA_NUMBER = re.compile(
+    r"(?:の)?(?:いち|に|さん|よん|ご)(?:ばん|番)(?!近|遠|大|小|広|狭|ちか|とお|おお|ちい|ひろ|せま|でか|でっか|こま|離|はな)"
+)
+"""A kana number right after a place (寝室にばん); not いちばん before an adjective (寝室 いちばん ちいさい: "most")."""
+_JA_KANA_BEFORE = re.compile(r"(?:いち|さん|よん|ご)(?:ばん|番)の")
 _JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
@@ -31,8 +35,11 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("FLOOR", ahead[: floor[1]], floor=floor[0], start=i, end=i + floor[1]))
             i += floor[1]
             continue
-        numbered = _JA_KANA_NUMBER.match(ahead) if out and out[-1].kind == "PLACE" and out[-1].end == i else None
-        if numbered:  # 寝室にばん: a number with 番 right after a place (rule 6), not the particle に
+        after_place = bool(out) and out[-1].kind == "PLACE" and out[-1].end == i
+        numbered = _JA_KANA_NUMBER.match(ahead) if after_place else None
+        if not after_place and chars[i] in "いさよご":  # the first kana of a number before its place
+            numbered = _JA_KANA_BEFORE.match(ahead)
+        if numbered:  # 寝室にばん, さんばんの寝室: a number with 番 (rule 6), not the particle に or the さん of a name
             n = len(numbered.group(0))
             out.append(Token("WORD", ahead[:n], start=i, end=i + n))
             i += n
@@ -136,8 +143,15 @@ def join_no(items: list[Token]) -> list[Token]:
 
 
 _JA_NUMBER_AFTER = re.compile(
-    r"^(?:の)?#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
+    r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
 )
+"""A number after a place word: 寝室2, 寝室#2, 寝室の2番; ナンバー (number) and シャープ (the name of '#', as a speech
+recogniser spells it out) say the sign the robot shows."""
+_JA_NUMBER_AGAIN = re.compile(
+    r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:番|ばん)?(?:だ|じゃ|や|です)?$"
+)
+"""A number alone after a correction (寝室 #1 いや #2 だ, 寝室の3番 いや 1番): the instance of the place just
+corrected (rule 8); a copula after it says "it is #2"."""
 _JA_NUMBER_BEFORE = re.compile(
     r"^#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の$"
 )
@@ -165,6 +179,76 @@ def numbered_ja(items: list[Token]) -> list[Token]:
         out.append(it)
         i += 1
     return out
+
+
+def said_again_ja(items: list[Token]) -> list[Token]:
+    """Rule 8 in Japanese: a number alone right after a correction word names that instance of the numbered place
+    said just before the correction (寝室 #1 いや #2: 寝室 #2). Only a place said with a number is so corrected:
+    "キッチン いや 2番" names nothing and stays refused."""
+    if not any(t.kind == "CORRECTION" for t in items):
+        return items
+    out: list[Token] = []
+    for it in items:
+        before = out[-2] if len(out) >= 2 else None
+        if it.kind == "WORD" and before is not None and out[-1].kind == "CORRECTION" and before.kind == "PLACE":
+            n = _ja_number(_JA_NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None
+            if n is not None:
+                said = f"{before.words[-1]} #{n}"  # the label the robot shows
+                out.append(before._replace(surface=said, number=n, start=it.start, end=it.end))
+                continue
+        out.append(it)
+    return out
+
+
+_OF = frozenset({"の", "のうち", "のうちで", "の中で", "のなかで", "の中の"})
+_SUPERLATIVE = frozenset({"一番", "いちばん", "最も"})
+_PRO_FORMS = frozenset({"ところ", "とこ", "の", "やつ", "ほう", "方", "部屋"})
+_RELATIONS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO"})
+
+
+def of_the_places_ja(items: list[Token]) -> list[Token]:
+    """A relation said after the place it picks (rule 7 in Japanese): "X の(うち)、Y から一番遠いところ" (of the
+    Xs, the one farthest from Y; ところ, とこ, の, やつ, ほう stand for the X) is "Y から一番遠い X"; 一番 said
+    before Y (寝室の 一番 トイレに近いとこ) belongs to the relation after Y. Anything else between them stays."""
+    if any(t.kind in _SIZES for t in items):
+        items = _size_after(items)
+    if not any(t.kind in _RELATIONS for t in items) or not any(t.surface in _OF for t in items):
+        return items
+    out = list(items)
+    for k in range(len(out) - 3):
+        x, of = out[k], out[k + 1]
+        if x.kind != "PLACE" or of.kind != "WORD" or of.surface not in _OF:
+            continue
+        m = k + 2 + (out[k + 2].kind == "COMMA")
+        m += m < len(out) and out[m].kind == "WORD" and out[m].surface in _SUPERLATIVE
+        if m + 1 >= len(out) or out[m].kind != "PLACE" or out[m + 1].kind not in _RELATIONS:
+            continue
+        end, said = m + 2, ""
+        while end < len(out) and out[end].kind in ("WORD", "AND") and said + out[end].surface in _PREFIXES:
+            said += out[end].surface
+            end += 1
+        if said in _PRO_FORMS:
+            head = x._replace(start=out[end - 1].start, end=out[end - 1].end)
+            return [*out[:k], out[m], out[m + 1], head, *out[end:]]
+    return out
+
+
+_PREFIXES = frozenset(p[:n] for p in _PRO_FORMS for n in range(1, len(p) + 1))
+_SIZES = frozenset({"LARGEST", "SMALLEST"})
+
+
+def _size_after(items: list[Token]) -> list[Token]:
+    """ "X(の) 一番小さいの" (寝室 いちばん ちいさい の: of the Xs the smallest one) is "一番小さい X": the size said
+    after the place, with a pro-form standing for it."""
+    for k in range(len(items) - 2):
+        x = items[k]
+        m = k + 1 + (items[k + 1].kind == "WORD" and items[k + 1].surface in _OF)
+        if x.kind != "PLACE" or m + 1 >= len(items) or items[m].kind not in _SIZES:
+            continue
+        pro, after = items[m + 1], items[m + 2] if m + 2 < len(items) else None
+        if pro.kind in ("WORD", "AND") and pro.surface in _PRO_FORMS and (after is None or after.kind != "PLACE"):
+            return [*items[:k], items[m], x._replace(start=pro.start, end=pro.end), *items[m + 2 :]]
+    return items
 
 
 def _ja_number(match: re.Match | None, surface: str) -> int | None:

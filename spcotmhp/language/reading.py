@@ -30,6 +30,7 @@ from spcotmhp.language.asides_en import ease_en
 from spcotmhp.language.errors import refusal
 from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
+from spcotmhp.language.rewrite_ja import may_pause, pauses_ja
 from spcotmhp.language.table import word_table
 from spcotmhp.language.talk import pass_over
 from spcotmhp.language.talk_ja import plain_verbs
@@ -56,16 +57,17 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
     if not text.strip():
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     table = word_table(lang)
-    toks = tokens(text, table, place_words)
+    spoken = pauses_ja(normalise(text)) if table.by_character and may_pause(text) else text  # rewrite_ja
+    toks = tokens(spoken, table, place_words)
     try:
         root = _shape(lang, tuple(t.kind for t in toks))  # read-only: the walks take each leaf's words from toks
         return _WALKS[lang](toks, text, table).read(root)
     except _NoDerivation as exc:
         first, said_as = exc.at, toks
     # no derivation as said: Japanese verb endings in their plain form, then talk passed over (talk.py, talk_ja.py)
-    source: Sequence[str] = english_units(text) if lang == "en" else normalise(text)  # what the tokens index
+    source: Sequence[str] = english_units(text) if lang == "en" else normalise(spoken)  # what the tokens index
     if table.by_character:
-        plain_text = plain_verbs(normalise(text), table)
+        plain_text = plain_verbs(normalise(spoken), table)
         plain = tokens(plain_text, table, place_words)
         if [t.kind for t in plain] != [t.kind for t in toks]:
             try:

@@ -9,7 +9,7 @@ meaning, said in their plain form, and talk around the instruction passed over.
   〜なさい, か, な, わ) change nothing of where the robot goes. A negation among the endings (ない, ん, ず) gives the
   negative te-form (入らんといて -> 入らないで); a condition (ば, たら, なら) or a waiver (寄らなくていい, 通らなくても)
   leaves the verb as said, for the grammar to read or refuse. A long vowel mark after hiragana is a drawn-out
-  sound (しまーす, 行ってー), left out.
+  sound (しまーす, 行ってー), left out, but for a filler's (えー).
 * **Talk** (:func:`pass_over_ja`): a run of words with no place, length of time, floor or word class but a
   reason's から / ので, each of its words one janome knows, no number and none of the table's ``talk.meaning``,
   ending with から / ので or at a sentence's end, and holding a verb or an adjective, is passed over
@@ -27,12 +27,18 @@ from typing import Any
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.table import WordTable
 
-_ELONGATION = re.compile(r"(?<=[\u3041-\u309f])[ー〜～]+")
+_ELONGATION = re.compile(r"(?<=[\u3041-\u30fb\u4e00-\u9fff][\u3041-\u309f])[ー〜～]+")
+"""A drawn-out sound inside a word (しまーす, 行ってー); not after a word's first kana (えー, あー: fillers)."""
 _TAIL_PARTICLES = ("接続助詞", "終助詞", "副助詞／並立助詞／終助詞", "並立助詞", "副助詞", "副詞化")
 _NEGATION = frozenset({"ない", "ん", "ぬ", "ず", "まい"})
 _CONDITION = frozenset({"ば", "たら", "なら", "ならば"})
 _CLAUSE_ENDS = frozenset({"から", "ので", "けど", "けれど", "が", "し"})
 _REQUESTS = frozenset({"お願い", "願う", "頼む", "頼める"})
+_BEING = frozenset({"いる", "おる"})
+_CONJECTURE = frozenset({"です", "だ", "らしい", "っぽい", "みたい", "そう"})
+_ASKING = frozenset({"くれる", "くださる", "下さる", "もらえる", "いただける", "頂ける"})
+"""Verbs asking a favour after a te-form: a negation after one makes a question (くれない？ will you?), while one
+before it negates the verb (行かないでくれる); ほしくない and the like stay negations."""
 
 
 def plain_verbs(text: str, table: WordTable) -> str:
@@ -42,6 +48,8 @@ def plain_verbs(text: str, table: WordTable) -> str:
     if not verbs:
         return text
     text = _ELONGATION.sub("", text)
+    for said, standard in _dialect(table):
+        text = said.sub(standard, text)
     morphemes = _analyse(text)
     out: list[str] = []
     i = 0
@@ -62,21 +70,55 @@ def plain_verbs(text: str, table: WordTable) -> str:
             and key not in _REQUESTS
             and (following is None or following[1] == "名詞" or surface == verbs[key][0])
         )
-        if condition or kept:  # 行ったら, 行く前に: as said
+        if key in _BEING and (i == 0 or morphemes[i - 1][0] != "に"):
+            kept = True  # 赤ちゃんおるけえ: someone is somewhere; only "Xにいて" asks the robot to be at X
+        if i > 0 and morphemes[i - 1][0] == "が" or _reported(morphemes, i + 1, j):
+            kept = True  # 救急隊が来るから, 誰か来た: what someone else does or did, no request
+        if kept and j == i + 1 and following is None and _imperative(surface):
+            kept = False  # 来い, 行け: the imperative asks for the motion, as the te-form does
+        if condition or kept or negative and len(verbs[key]) < 2:  # 行ったら, 行く前に, 待たないで: as said
             out.append("".join(m[0] for m in morphemes[i:j]))
         else:
-            out.append(verbs[key][1 if negative and len(verbs[key]) > 1 else 0])
+            if out and i > 0 and morphemes[i - 1][1] == "接頭詞" and pos == "動詞":
+                out.pop()  # お行きなさい: the honorific お of the verb goes with its ending
+            out.append(verbs[key][1 if negative else 0])
         i = j
     return "".join(out)
 
 
+@functools.cache
+def _dialect_of(items: tuple[tuple[str, str], ...]) -> tuple[tuple[re.Pattern, str], ...]:
+    return tuple((re.compile(said), standard) for said, standard in items)
+
+
+def _dialect(table: WordTable) -> tuple[tuple[re.Pattern, str], ...]:
+    """The table's regional endings (``talk.dialect``), compiled once."""
+    return _dialect_of(tuple(dict(table.talk.get("dialect", {})).items()))
+
+
+def _reported(morphemes: Sequence[tuple[str, str, str, str]], start: int, j: int) -> bool:
+    """Whether a verb's endings ``morphemes[start:j]`` end a statement: the past た last (来た), a conjecture
+    or hearsay among them (来るでしょう, 来るっぽい, 来るらしい, 来るそう), or a reason's
+    から / ので after them that follows no te-form (来るから, 来るっぽいから; 行ってから says "after")."""
+    said = [m for m in morphemes[start:j] if not (m[1] == "助詞" and m[2] == "終助詞")]
+    guessed = any(
+        m[3] in _CONJECTURE and (m[1] != "助動詞" or k + 1 < len(said) and said[k + 1][3] == "う")
+        for k, m in enumerate(said)
+    )  # 来るでしょう, 来るだろう (です / だ before う), 来るっぽい; 行くんだが is said as going
+    if said and said[-1][1] == "助動詞" and said[-1][3] == "た" or guessed:
+        return True
+    te = bool(said) and said[-1][0] in ("て", "で") and said[-1][1] == "助詞"
+    return not te and j < len(morphemes) and morphemes[j][0] in ("から", "ので")
+
+
 def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, bool, bool]:
     """Where the endings after a verb stop, and whether they hold a negation or a condition."""
-    negative = condition = False
+    negative = condition = asked = False
     start = j
     while j < len(morphemes):
         surface, pos, sub, base = morphemes[j]
-        if surface in _CLAUSE_ENDS or pos in ("記号",) and surface not in ("ー",):
+        asked |= base in _ASKING  # 行ってくれん(ね), 行ってもらえない？: a negative question asks, negating nothing
+        if surface in _CLAUSE_ENDS and pos == "助詞" or pos in ("記号",) and surface not in ("ー",):
             break
         if surface in _CONDITION or base in _CONDITION or surface == "ら" and j > 0 and morphemes[j - 1][0] == "た":
             condition = True
@@ -84,8 +126,11 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
             condition = True  # 寄らなくていい, 通らなくても: what need not be done, left as said (refused)
         if pos == "助詞" and surface == "な" and j == start and sub == "終助詞":
             negative = True  # 入るな: the dictionary form and な forbid it
+        if surface == "に" and pos == "助詞" and j > start and morphemes[j - 1][0] == "ず":
+            j += 1  # 通らずに: ずに is the negative te-form, its に no place's marker
+            continue
         if pos == "助動詞":
-            negative |= base in _NEGATION or surface in _NEGATION
+            negative |= not asked and (base in _NEGATION or surface in _NEGATION)
         elif (
             pos == "助詞"
             and (sub in _TAIL_PARTICLES or sub == "格助詞" and surface == "と" and _aux_after(morphemes, j))
@@ -95,9 +140,11 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
         ):
             pass
         elif pos == "形容詞" and (sub in ("非自立", "接尾") or base in ("いい", "良い", "ほしい", "欲しい", "ない")):
-            negative |= base == "ない"
+            negative |= base == "ない" and not asked
         elif pos == "名詞" and sub == "非自立" and surface in ("ん", "の", "とき", "よう"):
             pass
+        elif surface == "も" and pos == "助詞" and j + 1 < len(morphemes) and morphemes[j + 1][3] in _ACCEPTED:
+            pass  # 行ってもらってもいい？: asking leave is asking (after a negation it is a waiver, above)
         else:
             break
         j += 1
@@ -118,6 +165,7 @@ _AUX_VERBS = frozenset(
         "いる",
         "おく",
         "とく",
+        "とる",
         "みる",
         "しまう",
         "あげる",
@@ -145,9 +193,17 @@ def _analyse(text: str) -> list[tuple[str, str, str, str]]:
     from spcotmhp.language.text import _tokenizer
 
     return [
-        (m.surface, *m.part_of_speech.split(",")[:2], m.base_form if m.base_form != "*" else m.surface)
-        for m in _tokenizer().tokenize(text)
+        (m.surface, *_pos(m), m.base_form if m.base_form != "*" else m.surface) for m in _tokenizer().tokenize(text)
     ]
+
+
+def _pos(m: Any) -> tuple[str, str]:
+    """janome's part of speech and its first subclass; ASCII punctuation (what NFKC makes of ？ and ！), which
+    janome's dictionary tags as a noun, as the symbol it is."""
+    if not m.surface.strip("?!.,"):
+        return "記号", "一般"
+    pos = m.part_of_speech.split(",")
+    return pos[0], pos[1]
 
 
 def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tuple[list[Token], list[str]] | None:
@@ -165,10 +221,12 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
             continue
         j = i
         while j < len(toks) and (toks[j].kind in ("WORD", "NOW") or toks[j].kind in ("FROM", "DE") and j > i):
-            if toks[j].kind in ("FROM", "DE"):
+            if toks[j].kind in ("FROM", "DE") and not _inner(toks, j):
                 j += 1
                 break
             j += 1
+            while j < len(toks) and _inner(toks, j):
+                j += 1  # お茶にするから, もうご飯やから: a particle between two words of a clause with no place
         ends = toks[j - 1].kind in ("FROM", "DE") or j == len(toks) or toks[j].kind in ("_STOP", "COMMA")
         before = (
             toks[i - 1] if i > 0 else None
@@ -182,6 +240,13 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
             said.append("".join(t.surface for t in run))
         i = j
     return without(toks, cut, said)
+
+
+def _inner(toks: Sequence[Token], j: int) -> bool:
+    """Whether ``toks[j]`` is a bare particle between two words (に, へ, で, と, や) or a word and the reason's から
+    (ご飯やから: や the copula), marking no place: with no place in the clause it carries no navigation meaning."""
+    bare = toks[j].kind in ("AND", "DE") or toks[j].kind == "GOAL" and toks[j].surface in ("に", "へ")
+    return bare and j + 1 < len(toks) and toks[j + 1].kind in ("WORD", "FROM") and toks[j - 1].kind == "WORD"
 
 
 def without(toks: Sequence[Token], cut: set[int], said: list[str]) -> tuple[list[Token], list[str]] | None:
@@ -206,13 +271,24 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
     morphemes = _known(text)
     if morphemes is None:
         return False
-    if any(m[1] == "名詞" and m[2] == "数" or m[0] in meaning or m[3] in meaning for m in morphemes):
+    if any(m[1] == "名詞" and m[2] == "数" or _means(m, meaning) for m in morphemes):
         return False
     if any(m[3] in _REQUESTING for m in morphemes) or _ordered(morphemes):
         return False  # テレビをつけて, コップ持ってきて: a request (an action), not a statement
-    return any(m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です") for m in morphemes)
+    if any(m[3] in _ACCEPTED and k > 0 and morphemes[k - 1][0] in ("で", "も") for k, m in enumerate(morphemes)):
+        return False  # のんびりでいいから, どこでもいい: what way of doing it will do, a part of the instruction
+    return any(
+        m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です", "や", "じゃ") for m in morphemes
+    )
 
 
+def _means(m: tuple[str, str, str, str], meaning: frozenset[str]) -> bool:
+    """Whether a morpheme is one of the ``meaning`` words; ん and の that explain (来るんだから: janome's
+    dependent noun) are not the negation ん."""
+    return (m[0] in meaning or m[3] in meaning) and not (m[1] == "名詞" and m[2] == "非自立" and m[0] == "ん")
+
+
+_ACCEPTED = frozenset({"いい", "よい", "良い", "結構", "構う", "大丈夫"})
 _REQUESTING = frozenset(
     {"くれる", "くださる", "下さる", "もらう", "いただく", "ほしい", "欲しい", "ちょうだい", "なさる"}
 )

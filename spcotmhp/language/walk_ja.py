@@ -10,13 +10,20 @@ The rules a reader needs besides the grammar:
   before X and "Rの前に X" (寝室に行く前に) puts R after X, X being the next place said (chains:
   トイレの後でキッチンの後で寝室: toilet, kitchen, bedroom; mixing 前に and 後で is refused).
 * Waits: "そこで待って", "待ってて" wait at the place the robot is going to at that point; "洗面所で2分待って" names it.
+* Choosing: "Xにして" (make it X) says which place is chosen; said after a place to go to, it replaces it, as a
+  correction does (寝間へ行くんだが、風呂場に近いほうの寝間にしてくれ: the bedroom closest to the bath).
+* Waiting at a place said right after a correction (玄関、じゃなくて、廊下で待ってて) takes the role of the place
+  corrected, as a bare place does: the robot goes to the corridor instead, and waits there.
+* Stopping: 止まって with no length at the place the robot ends at says where it stops, which is where it ends
+  (そこで止まって, ホールのところで止まっておいて: no wait until the next instruction; 止まってて, 待って and
+  待機して ask for one). On the way it stays refused, as any wait with no length is there.
 * Refused: places listed with 、 under a marker to pass or stop at when no place is the goal (風呂、キッチン経由:
   which is the goal?).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from lark import Tree
 
@@ -30,6 +37,8 @@ _ROLES = {
     "via_then": "via", "stop": "stop", "stop_then": "stop", "avoid": "avoid", "not_goal": "not_goal",
 }  # fmt: skip
 _FORWARD = ("first", "last", "on_the_way", "before_that")
+_STOPS = frozenset({"止まって", "とまって"})
+"""WAIT words that say stopping, not staying (止まってて, 待って: staying)."""
 
 
 @dataclass
@@ -48,7 +57,16 @@ class JapaneseWalk(Walk):
         self.corrected(end=True)
         self._resolve_backward()
         self._refuse_lists()
-        return self.result()
+        reading = self.result()
+        goal = len(reading.visit) - 1
+        if reading.waits and reading.waits[-1] == (goal, None) and self._stopped(reading.visit[goal]):
+            return replace(reading, waits=reading.waits[:-1])
+        return reading
+
+    def _stopped(self, goal: PlaceRef) -> bool:
+        """Whether the wait at the goal was said as a stop with no length (module docstring)."""
+        at = [m for m in self.mentions if m.ref == goal and not m.dropped and m.wait is None]
+        return bool(at) and all(m.wait_word in _STOPS for m in at)
 
     def _item(self, item: Tree) -> None:
         kind, kids, toks = item.data, subtrees(item), tokens_of(item)
@@ -71,8 +89,10 @@ class JapaneseWalk(Walk):
         elif kind == "bare":
             self._group(tree(kids[0]), "goal", bare=True)
         elif kind in _ROLES:
-            mentions = self._group(tree(kids[0]), _ROLES[kind])
             marker = self.word(toks[-1]) if toks else ""
+            if kind == "goal" and marker.startswith("にし") and any(m.role == "goal" for m in self.mentions):
+                self.correcting(marker)  # 寝間へ行くんだが、風呂場に近いほうの寝間にして: the choice made again
+            mentions = self._group(tree(kids[0]), _ROLES[kind])
             if any(t.type == "COMMA" for t in tokens_of(tree(kids[0]))) and _ROLES[kind] in ("via", "stop"):
                 self.lists.append((mentions, "、", marker))
             if kind.endswith("_then"):
@@ -87,7 +107,10 @@ class JapaneseWalk(Walk):
         elif kind == "wait_at":
             refs = self._refs(tree(kids[0]))
             alone = len(refs) == 1 and not self.pending  # an order word makes it a place of its own
-            waiting = [self.waiting_place(refs[0])] if alone else self._group(tree(kids[0]), "stop")
+            if alone and self.correction is not None:  # 玄関、じゃなくて、廊下で待って: the place corrected, waited at
+                waiting = self._group(tree(kids[0]), "goal", bare=True)
+            else:
+                waiting = [self.waiting_place(refs[0])] if alone else self._group(tree(kids[0]), "stop")
             for m in waiting:
                 self.wait_at(m, toks)
 

@@ -41,6 +41,22 @@ def rows(path: Path) -> list[dict]:
         return list(csv.DictReader(line for line in fh if not line.startswith("#")))
 
 
+def understood_heldout(vocabulary: str, words: list[str], lang: str) -> list[str]:
+    """The held-out sentences of ``vocabulary`` that are labelled understood and that the reader reads (for
+    property tests that insert words into understood sentences)."""
+    from spcotmhp.language.reading import read as read_language
+
+    out = []
+    for row in rows(DATA / "heldout" / "instructions.csv"):
+        if row["vocabulary"] == vocabulary and not row["refused"]:
+            try:
+                read_language(row["text"], words, lang)
+            except InstructionError:
+                continue
+            out.append(row["text"])
+    return out
+
+
 def corpus_rows(folder: Path) -> list[dict]:
     """The rows of a frozen corpus (``folder/instructions.csv``), each row that ``folder/relabelled.csv`` holds (by
     its vocabulary and text) replaced by that file's row, marked ``relabelled``: a label an issue's later rule

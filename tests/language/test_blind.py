@@ -14,8 +14,8 @@ import pytest
 from tests.helpers.corpus import DATA, corpus_rows, rows, verdict
 
 FLOORS = {
-    "blind": 295, "blind2": 347, "blind3": 260, "blind4": 239, "blind5": 205, "blind6": 161, "blind7": 151,
-    "blind8": 203, "blind9": 231, "blind10": 93, "blind11": 83,
+    "blind": 296, "blind2": 353, "blind3": 267, "blind4": 239, "blind5": 205, "blind6": 170, "blind7": 163,
+    "blind8": 203, "blind9": 231, "blind10": 158, "blind11": 142,
 }  # fmt: skip
 """Sentences read as labelled at the commit that wrote this test (English and Japanese together)."""
 

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from spcotmhp.errors import InstructionError, UnsupportedPhrase
 from spcotmhp.language.reading import read
-from tests.helpers.corpus import DATA, rows
+from tests.helpers.corpus import understood_heldout
 from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
 
 EN = PLACE_WORDS_EN
@@ -61,19 +61,7 @@ NOT_TALK_EN = [
 """Clauses that carry meaning: appended to an understood sentence they must not be passed over."""
 
 
-def _understood_en() -> list[str]:
-    out = []
-    for row in rows(DATA / "heldout" / "instructions.csv"):
-        if row["vocabulary"] == "3ldk_en" and not row["refused"]:
-            try:
-                read(row["text"], EN, "en")
-            except InstructionError:
-                continue
-            out.append(row["text"])
-    return out
-
-
-UNDERSTOOD_EN = _understood_en()
+UNDERSTOOD_EN = understood_heldout("3ldk_en", EN, "en")
 
 
 def _meaning(text: str, words: list[str], lang: str):
