@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from spcotmhp.errors import MalformedInstruction, ModelError, TeachingBusy, TeachingError, UnknownFloor
+from spcotmhp.learning.merges import merges
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.plan import Plan
@@ -256,6 +257,7 @@ class ServedModel:
             ],
             "edges": topological_edges(m),
             "place_words": self.place_words,
+            "merges": [found.as_dict() for found in merges(m, self.place_words)],
         }
 
     def summary(self) -> dict:

@@ -13,7 +13,9 @@ the geometric mean of its words' p(w | k)). It is high where a place's words bel
 with different names share the position, and where a place's few events leave its words spread over concepts; it
 is zero where one name is certain. It does not see two rooms of one name merged into one place (both answers
 would be the same name); with an answer model that judges a split by the robot's walk (``teaching.answers``,
-the default), the places the walk says are two are asked about first (``answers.split_gain``). The candidate
+the default), the places the walk says are two are asked about first (``answers.split_gain``). Before all of
+these come the taught names that no longer name a place of their own (``learning.merges``, issue 35): one
+question per such name, at its teaching point nearest the mean of its points at the shared place. The candidate
 positions are the teaching events' positions (the learner state's; else the places' means), on known free
 cells, best first, each at least ``SPACING_M`` from the ones before (one question per spot). ``why`` says which
 of those causes applies, read off the same quantities.
@@ -36,13 +38,9 @@ def name_distribution(model: SpatialConceptModel, xy: np.ndarray, names: list[st
     """(N, len(names)) p(n | x) at the positions ``xy`` (module docstring), over the places' names ``names`` (their
     labels, each one or more of the place words ``words``): a name is said with all its words, so p(n | k) is the
     geometric mean of its words' p(w | k), normalised over the names."""
-    said = model.word_given_place()[:, [model.word_index[w] for w in words]]  # (K, words) p(w | k)
-    with np.errstate(divide="ignore"):
-        log_said = np.log(said)
-    index = {w: j for j, w in enumerate(words)}
-    log_name = np.stack([log_said[:, [index[w] for w in n.split()]].mean(axis=1) for n in names], axis=1)
-    p_name = np.exp(log_name - log_name.max(axis=1, keepdims=True))
-    p_name /= p_name.sum(axis=1, keepdims=True)  # (K, names) p(n | k)
+    from spcotmhp.learning.merges import name_given_place
+
+    p_name = name_given_place(model, [tuple(n.split()) for n in names])  # (K, names) p(n | k)
     act = np.asarray(model.active_places, dtype=bool)
     post = model.place_posterior(np.asarray(xy, dtype=float)) * act[None, :]
     post /= np.maximum(post.sum(axis=1, keepdims=True), 1e-300)
@@ -72,7 +70,7 @@ def questions(
         entropy = -np.nansum(np.where(p > 0, p * np.log(p), 0.0), axis=1)
     post = model.place_posterior(np.asarray(xy, dtype=float))
     lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
-    out: list[dict] = []
+    out: list[dict] = merge_questions(model, words, lang)[:max_questions]
     for gain, spot in split_gain(model) if answer_model(answers).walk else []:
         if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
@@ -101,6 +99,38 @@ def questions(
                 "candidates": candidates,
                 "why": _why(model, post[i], labels, candidates, names),
                 "information": round(float(entropy[i]), 4),
+            }
+        )
+    return out
+
+
+def merge_questions(model: SpatialConceptModel, words: list[str], lang: str) -> list[dict]:
+    """One question per taught name without a place of its own (``learning.merges``), the first questions: at
+    that name's teaching point nearest the mean of its teaching points at the shared place (on a known free cell;
+    the mean itself when none is), with the two names as candidates; ``information`` is the entropy of p(n | x)
+    over the two names there."""
+    from spcotmhp.learning.merges import merges, taught_names
+    from spcotmhp.teaching.answers import on_free_cells
+
+    out = []
+    names = {n.text: n for n in taught_names(model, words)}
+    X = np.asarray(model.learner["arrays"]["X"], dtype=float) if model.learner is not None else np.empty((0, 2))
+    for m in merges(model, words):
+        mean = np.array([m.x, m.y])
+        points = X[names[m.name].events] if m.name in names else mean[None]
+        points = points[on_free_cells(model, points)] if len(points) else points
+        spot = points[np.argmin(np.linalg.norm(points - mean, axis=1))] if len(points) else mean
+        p = name_distribution(model, spot[None], [m.name, m.other], words)[0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            entropy = float(-np.nansum(np.where(p > 0, p * np.log(p), 0.0)))
+        out.append(
+            {
+                "x": round(float(spot[0]), 3),
+                "y": round(float(spot[1]), 3),
+                "ask": ASK.get(lang, ASK["en"]),
+                "candidates": [m.name, m.other],
+                "why": f"{m.sentence}: '{m.name}' names no place of its own",
+                "information": round(entropy, 4),
             }
         )
     return out
