@@ -294,9 +294,10 @@ def show(
                 title=f"learned map ({model_dir}): {len(act)} places",
             ),
         )
-    from spcotmhp.learning.merges import merge_lines, merges
+    from spcotmhp.learning.merges import merge_lines
+    from spcotmhp.teaching.questions import said_merges
 
-    merged = merges(model)
+    merged = said_merges(model)
     if as_json:
         places = [
             {

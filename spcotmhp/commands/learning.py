@@ -189,9 +189,10 @@ def learn(
             hyper=None if building is None else building.hyper(supervised=True),
         )
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
-        from spcotmhp.learning.merges import merge_lines, merges
+        from spcotmhp.learning.merges import merge_lines
+        from spcotmhp.teaching.questions import said_merges
 
-        merged = merge_lines(merges(model))
+        merged = merge_lines(said_merges(model))
     else:
         model, summary, merged = _fit_gibbs(
             data,
@@ -283,8 +284,11 @@ def _fit_gibbs(
         warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run
         sel = MultiRunSelector(est, runs=runs, criterion=chosen, n_jobs=jobs).fit(data, progress=progress)
     from spcotmhp.learning.taught_split import SplitOutcome, split_selected
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+    from spcotmhp.teaching.questions import name_vocabulary, said_merges
 
-    outcome = split_selected(sel, data) if split else SplitOutcome()
+    words, labels = name_vocabulary(sel.model_), place_labels(sel.model_, place_vocabulary(sel.model_))
+    outcome = split_selected(sel, data, words, labels) if split else SplitOutcome()
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
@@ -296,7 +300,7 @@ def _fit_gibbs(
         f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
         f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s"
     )
-    return model, summary, outcome.lines(model)
+    return model, summary, outcome.lines(said_merges(model))
 
 
 # long: a CLI command: 27 lines of typer options and help, a 40-line body

@@ -2,7 +2,8 @@
 a place with another name (issue 35, item 5: "merges said out loud").
 
 **Taught names.** A teaching event's name is the set of place words among its words (``place_vocabulary``: the
-words the planner can be asked for; grammar and filler words are never place words), read from the learner
+words the planner can be asked for; grammar and filler words are never place words; the callers, in the layers
+above, give them: ``teaching.questions.said_merges``), read from the learner
 state the model keeps (``model.learner``: every event, its position, words and place, batch or taught at run
 time). A name's words are shown in the order of the first place label that holds them all (``place_labels``,
 the one rule of how names are shown), else in vocabulary order.
@@ -66,20 +67,19 @@ class Merge:
         return {**asdict(self), "apart_m": round(self.apart_m, 3), "sentence": self.sentence}
 
 
-def taught_names(model: SpatialConceptModel, place_words: list[str] | None = None) -> list[TaughtName]:
+def taught_names(
+    model: SpatialConceptModel, place_words: list[str], labels: list[str] | None = None
+) -> list[TaughtName]:
     """The distinct names of the learner state's events (module docstring), most taught first; empty for a
-    model without a learner state (a supervised fit) or without place words."""
-    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
-
+    model without a learner state (a supervised fit) or without place words. ``place_words``: the model's
+    place vocabulary (``planning.vocabulary.place_vocabulary``, a layer above this one: callers give it);
+    ``labels``: the places' labels (``place_labels``), whose word order a name's words are shown in."""
     learner = model.learner
-    if learner is None:
-        return []
-    words = place_vocabulary(model) if place_words is None else list(place_words)
-    if not words:
+    if learner is None or not place_words:
         return []
     a = learner["arrays"]
     is_place = np.zeros(len(model.vocabulary), dtype=bool)
-    is_place[[model.word_index[w] for w in words]] = True
+    is_place[[model.word_index[w] for w in place_words]] = True
     ptr, tok = np.asarray(a["tok_ptr"]), np.asarray(a["tok_word"])
     by_name: dict[tuple[int, ...], list[int]] = {}
     for e in range(len(ptr) - 1):
@@ -87,11 +87,11 @@ def taught_names(model: SpatialConceptModel, place_words: list[str] | None = Non
         key = tuple(sorted({int(w) for w in said if is_place[w]}))
         if key:
             by_name.setdefault(key, []).append(e)
-    labels = [label.split() for label in place_labels(model, words)]
+    split_labels = [label.split() for label in labels or ()]
     out = []
     for key, events in by_name.items():
         plain = [model.vocabulary[w] for w in key]
-        shown = next((label for label in labels if set(plain) <= set(label)), plain)
+        shown = next((label for label in split_labels if set(plain) <= set(label)), plain)
         order = tuple(sorted(plain, key=lambda w: shown.index(w) if w in shown else len(shown)))
         out.append(TaughtName(order, np.array(events, dtype=np.int64)))
     return sorted(out, key=lambda n: (-len(n.events), n.text))
@@ -114,9 +114,10 @@ def name_given_place(model: SpatialConceptModel, names: list[tuple[str, ...]]) -
     return p / p.sum(axis=1, keepdims=True)
 
 
-def merges(model: SpatialConceptModel, place_words: list[str] | None = None) -> list[Merge]:
-    """Every taught name without a place of its own (module docstring), the most taught first."""
-    names = taught_names(model, place_words)
+def merges(model: SpatialConceptModel, place_words: list[str], labels: list[str] | None = None) -> list[Merge]:
+    """Every taught name without a place of its own (module docstring), the most taught first (``place_words``,
+    ``labels``: as :func:`taught_names` takes them)."""
+    names = taught_names(model, place_words, labels)
     act = np.flatnonzero(model.active_places)
     if len(names) < 2 or not len(act):
         return []

@@ -39,7 +39,6 @@ from spcotmhp.datasets.dataset import Dataset
 from spcotmhp.learning.gibbs import SpCoTMHP
 from spcotmhp.learning.learner_state import from_batch
 from spcotmhp.learning.merges import Merge, TaughtName, merges, taught_names
-from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.observations import Observations
 from spcotmhp.learning.posterior import (
     Priors,
@@ -90,12 +89,12 @@ class SplitOutcome:
     splits: list[Split] = field(default_factory=list)
     kept: list[tuple[Merge, str]] = field(default_factory=list)
 
-    def lines(self, model: SpatialConceptModel) -> list[str]:
-        """The lines of ``learn``'s summary: the splits made, then every merge ``model`` still has (``merges``),
-        with the reason it was kept where the post-step gave one."""
+    def lines(self, found: list[Merge]) -> list[str]:
+        """The lines of ``learn``'s summary: the splits made, then every merge the split model still has
+        (``found``), with the reason it was kept where the post-step gave one."""
         why = {m.name: reason for m, reason in self.kept}
         out = [f"split: {s.sentence} (a departure from the paper: docs/learning.md)" for s in self.splits]
-        for m in merges(model):
+        for m in found:
             out.append(f"merged: {m.sentence}" + (f" (kept: {why[m.name]})" if m.name in why else ""))
         return out
 
@@ -116,16 +115,23 @@ class _Group:
     between: str = ""
 
 
-def split_taught_merges(est: SpCoTMHP, dataset: Dataset, min_teaches: int = MIN_TEACHES) -> SplitOutcome:
+def split_taught_merges(
+    est: SpCoTMHP,
+    dataset: Dataset,
+    place_words: list[str],
+    labels: list[str] | None = None,
+    min_teaches: int = MIN_TEACHES,
+) -> SplitOutcome:
     """Apply the post-step (module docstring) to a fitted SpCoTMHP ``est`` learned on ``dataset``: its
-    ``places_``, ``concepts_``, ``model_`` and log joint are replaced when a place is split. Returns what it did;
+    ``places_``, ``concepts_``, ``model_`` and log joint are replaced when a place is split. ``place_words``,
+    ``labels``: the model's place vocabulary and labels (``merges.taught_names``). Returns what it did;
     ``est.model_.info["taught_split"]`` records it."""
     model = est.model_
-    found = merges(model)
+    found = merges(model, place_words, labels)
     outcome = SplitOutcome()
     if not found or model.learner is None:
         return _record(est, outcome)
-    names = {n.text: n for n in taught_names(model)}
+    names = {n.text: n for n in taught_names(model, place_words, labels)}
     places, concepts = est.places_.astype(np.int64).copy(), est.concepts_.astype(np.int64).copy()
     sep = Separation(dataset.map)
     moves: list[tuple[int, _Group, Merge]] = []
@@ -253,10 +259,16 @@ def refit(est: SpCoTMHP, dataset: Dataset, places: np.ndarray, concepts: np.ndar
     return est
 
 
-def split_selected(sel: MultiRunSelector, dataset: Dataset, min_teaches: int = MIN_TEACHES) -> SplitOutcome:
+def split_selected(
+    sel: MultiRunSelector,
+    dataset: Dataset,
+    place_words: list[str],
+    labels: list[str] | None = None,
+    min_teaches: int = MIN_TEACHES,
+) -> SplitOutcome:
     """The post-step on the run a :class:`MultiRunSelector` kept (the runs and their selection are the paper's):
     ``sel.model_`` becomes the split model, with the selector's connectivity applied again."""
-    outcome = split_taught_merges(sel.best_, dataset, min_teaches)
+    outcome = split_taught_merges(sel.best_, dataset, place_words, labels, min_teaches)
     if outcome.splits:
         sel.keep(sel.best_index_)
     return outcome

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from spcotmhp.learning.merges import Merge, merges, taught_names
 from spcotmhp.learning.model import SpatialConceptModel
 
 SPACING_M = 2.0
@@ -70,7 +71,7 @@ def questions(
         entropy = -np.nansum(np.where(p > 0, p * np.log(p), 0.0), axis=1)
     post = model.place_posterior(np.asarray(xy, dtype=float))
     lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
-    out: list[dict] = merge_questions(model, words, lang)[:max_questions]
+    out: list[dict] = merge_questions(model, name_vocabulary(model), lang)[:max_questions]
     for gain, spot in split_gain(model) if answer_model(answers).walk else []:
         if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
@@ -104,18 +105,45 @@ def questions(
     return out
 
 
+def name_vocabulary(model: SpatialConceptModel) -> list[str]:
+    """The words a taught name is made of (``learning.merges``), sorted: the place words (``place_vocabulary``)
+    and every other word the model's concepts say more often than its background does (the word switches of
+    the learner state, concepts.py), grammar and filler words never. The second part keeps a name the place
+    vocabulary drops: in a concept that took in two rooms, a name taught less than 3/4 as often as the other is
+    no place word (rule 1 there), so it could be neither asked for nor reported."""
+    from spcotmhp.planning.vocabulary import FUNCTION_WORDS, place_vocabulary
+
+    words = set(place_vocabulary(model))
+    if model.learner is not None:
+        a, V = model.learner["arrays"], len(model.vocabulary)
+        tok, z = np.asarray(a["tok_word"], dtype=np.int64), np.asarray(a["tok_z"], dtype=bool)
+        said = np.bincount(tok[z], minlength=V) > np.bincount(tok[~z], minlength=V)
+        words |= {w for w, yes in zip(model.vocabulary, said, strict=True) if yes and w not in FUNCTION_WORDS}
+    return sorted(words)
+
+
+def said_merges(model: SpatialConceptModel, words: list[str] | None = None) -> list[Merge]:
+    """The taught names without a place of their own (``learning.merges.merges``) with the name words
+    (``words``, default :func:`name_vocabulary`) and the places' labels: what ``learn``, ``show``, ``/places``
+    and the questions report."""
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+
+    words = name_vocabulary(model) if words is None else words
+    return merges(model, words, place_labels(model, place_vocabulary(model)))
+
+
 def merge_questions(model: SpatialConceptModel, words: list[str], lang: str) -> list[dict]:
-    """One question per taught name without a place of its own (``learning.merges``), the first questions: at
-    that name's teaching point nearest the mean of its teaching points at the shared place (on a known free cell;
-    the mean itself when none is), with the two names as candidates; ``information`` is the entropy of p(n | x)
-    over the two names there."""
-    from spcotmhp.learning.merges import merges, taught_names
+    """One question per taught name without a place of its own (``learning.merges``; ``words``: the name words,
+    :func:`name_vocabulary`), the first questions: at that name's teaching point nearest the mean of its teaching
+    points at the shared place (on a known free cell; the mean itself when none is), with the two names as
+    candidates; ``information`` is the entropy of p(n | x) over the two names there."""
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
     from spcotmhp.teaching.answers import on_free_cells
 
     out = []
-    names = {n.text: n for n in taught_names(model, words)}
+    names = {n.text: n for n in taught_names(model, words, place_labels(model, place_vocabulary(model)))}
     X = np.asarray(model.learner["arrays"]["X"], dtype=float) if model.learner is not None else np.empty((0, 2))
-    for m in merges(model, words):
+    for m in said_merges(model, words):
         mean = np.array([m.x, m.y])
         points = X[names[m.name].events] if m.name in names else mean[None]
         points = points[on_free_cells(model, points)] if len(points) else points
