@@ -58,20 +58,21 @@ def questions(
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
     from spcotmhp.teaching.answers import answer_model, on_free_cells, split_gain
 
-    words = place_vocabulary(model)
-    if not words or max_questions < 1:
+    if max_questions < 1:
         return []
+    said = name_vocabulary(model)
+    lang = lang or ("ja" if any(not w.isascii() for w in said) else "en")
+    out: list[dict] = merge_questions(model, said, lang)[:max_questions]
+    words = place_vocabulary(model)
     labels = place_labels(model, words)
     names = sorted({labels[k] for k in np.flatnonzero(model.active_places) if not labels[k].startswith("place ")})
     xy = _candidate_positions(model)
-    if not len(xy) or not names:
-        return []
+    if not words or not len(xy) or not names:
+        return out
     p = name_distribution(model, xy, names, words)
     with np.errstate(divide="ignore", invalid="ignore"):
         entropy = -np.nansum(np.where(p > 0, p * np.log(p), 0.0), axis=1)
     post = model.place_posterior(np.asarray(xy, dtype=float))
-    lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
-    out: list[dict] = merge_questions(model, name_vocabulary(model), lang)[:max_questions]
     for gain, spot in split_gain(model) if answer_model(answers).walk else []:
         if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
