@@ -283,12 +283,7 @@ def _fit_gibbs(
     with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run
         sel = MultiRunSelector(est, runs=runs, criterion=chosen, n_jobs=jobs).fit(data, progress=progress)
-    from spcotmhp.learning.taught_split import SplitOutcome, split_selected
-    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
-    from spcotmhp.teaching.questions import name_vocabulary, said_merges
-
-    words, labels = name_vocabulary(sel.model_), place_labels(sel.model_, place_vocabulary(sel.model_))
-    outcome = split_selected(sel, data, words, labels) if split else SplitOutcome()
+    merged = _split_kept(sel, data, split)
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
@@ -300,7 +295,19 @@ def _fit_gibbs(
         f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
         f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s"
     )
-    return model, summary, outcome.lines(said_merges(model))
+    return model, summary, merged
+
+
+def _split_kept(sel: Any, data: Dataset, split: bool) -> list[str]:
+    """``learn``'s taught-merge split of the run ``sel`` kept (``split``: else the paper's places), and the lines
+    that say what it split and which merges remain (``taught_split.SplitOutcome.lines``)."""
+    from spcotmhp.learning.taught_split import SplitOutcome, split_selected
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+    from spcotmhp.teaching.questions import name_vocabulary, said_merges
+
+    words, labels = name_vocabulary(sel.model_), place_labels(sel.model_, place_vocabulary(sel.model_))
+    outcome = split_selected(sel, data, words, labels) if split else SplitOutcome()
+    return outcome.lines(said_merges(sel.model_))
 
 
 # long: a CLI command: 27 lines of typer options and help, a 40-line body
