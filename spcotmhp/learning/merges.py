@@ -6,7 +6,8 @@ words the planner can be asked for; grammar and filler words are never place wor
 above, give them: ``teaching.questions.said_merges``), read from the learner
 state the model keeps (``model.learner``: every event, its position, words and place, batch or taught at run
 time). A name's words are shown in the order of the first place label that holds them all (``place_labels``,
-the one rule of how names are shown), else in vocabulary order.
+the one rule of how names are shown), else as that rule orders a label it has no spoken order for: a word in
+more names later (the head of a compound name comes last: "east corridor", "west corridor").
 
 **p(n | k)**, the one term by which a place says a name: a name is said with all its words, so p(n | k) is the
 geometric mean of its words' p(w | k) = sum_l p(l | k) W_l(w) (Eqs. 10-17, ``word_given_place``), normalised
@@ -88,9 +89,10 @@ def taught_names(
         if key:
             by_name.setdefault(key, []).append(e)
     split_labels = [label.split() for label in labels or ()]
+    shared = {w: sum(w in key for key in by_name) for w in {w for key in by_name for w in key}}
     out = []
     for key, events in by_name.items():
-        plain = [model.vocabulary[w] for w in key]
+        plain = [model.vocabulary[w] for w in sorted(key, key=lambda w: (shared[w], model.vocabulary[w]))]
         shown = next((label for label in split_labels if set(plain) <= set(label)), plain)
         order = tuple(sorted(plain, key=lambda w: shown.index(w) if w in shown else len(shown)))
         out.append(TaughtName(order, np.array(events, dtype=np.int64)))
