@@ -68,6 +68,11 @@ def teach(
         f"taught {utterance!r} at ({at[0]:g}, {at[1]:g}): {s['message']}; {s['places']} places; update "
         f"{1000 * s['time_update_s']:.0f} ms, model {1000 * s['time_export_s']:.0f} ms; saved to {model_dir}"
     )
+    from spcotmhp.learning.merges import merge_lines
+    from spcotmhp.teaching.questions import said_merges
+
+    for line in merge_lines(said_merges(taught.model)):  # a teach that renamed a shared place says so
+        typer.echo(line)
 
 
 def questions(

@@ -72,3 +72,14 @@ def test_learn_splits_where_the_wall_says_two(close_rooms, tmp_path):
     assert not any(line.startswith("merged: ") for line in lines)
     model = load_model(tmp_path / "split")
     assert int(model.active_places.sum()) == 2 and len(model.info["taught_split"]["splits"]) == 1
+
+
+def test_teach_says_the_merge_it_leaves(merged_dir, tmp_path):
+    import shutil
+
+    folder = shutil.copytree(merged_dir, tmp_path / "model")
+    out = CliRunner().invoke(app, ["teach", str(folder), "this is the bedroom", "--at", "1.5", "2.0"])
+    assert out.exit_code == 0, out.output
+    assert (
+        out.output.splitlines()[-1] == "merged: playroom and bedroom share place 0; taught 5 and 6 times, 3.0 m apart"
+    )
