@@ -7,15 +7,20 @@ Two clusters A and B (their means a and b) are *separated* when either holds:
   the map), sampled every half cell. An obstacle on the straight line between two rooms' teaching points is a
   wall (or furniture the map cannot tell from one); unknown space counts because the map does not know it is
   open.
-* **a door**: A and B lie in different components of the *open* space, the free cells with at least
-  ``OPEN_CLEARANCE_M`` of clearance (the distance from the cell's centre to the nearest cell that is not free).
-  An opening narrower than 2 x 0.7 m = 1.4 m (less one cell) closes in the open space: every single interior
-  door and most double doors (0.6-1.2 m), while a room with a free disc 1.4 m across stays open around its
-  furniture. This catches the door that lies on the straight line between the rooms, where the segment crosses
-  nothing. A cluster's open component is the one holding most of its points; a cluster none of whose points has
-  that clearance stands in space narrower than a door (a corridor, a closet) and is separated from every other.
+* **a door**: the free space narrows between them to an opening much narrower than the space the clusters stand
+  in. Take c_A, c_B, the largest clearance among each cluster's points (clearance: the distance from a cell's
+  centre to the nearest cell that is not free), and the threshold t = min(``OPEN_CLEARANCE_M``, ``NARROWING`` x
+  min(c_A, c_B)); A and B are separated when their best points lie in different components of the free cells of
+  clearance >= t. Rooms with a free disc 1.4 m across are cut at t = 0.7 m, which closes every opening narrower
+  than 2 x 0.7 m = 1.4 m (less one cell): single interior doors and most double ones (0.6-1.2 m), while such a
+  room stays connected around its furniture. Two clusters in one narrow space (a corridor, a 1.2 m bathroom) are
+  cut at 3/4 of their own clearance, so the space itself does not separate them; an opening narrower than 3/4 of
+  the narrower side still does. This catches the door on the straight line between two rooms, where the
+  segment crosses nothing. A cluster none of whose points is on a free cell has c = 0: only the wall test
+  applies to it.
 
-The open space is computed once per map (``Separation``): one distance transform and one labelling, O(cells).
+The clearance is computed once per map (``Separation``: one distance transform), then one labelling per pair of
+clusters, O(cells).
 """
 
 from __future__ import annotations
@@ -28,7 +33,10 @@ from spcotmhp.metric.grid_ops import label4, nearest_feature
 from spcotmhp.metric.maps import OccupancyMap
 
 OPEN_CLEARANCE_M = 0.7
-"""Clearance of an open cell (metres; module docstring): doors up to about 1.3 m wide close."""
+"""The door test's threshold between rooms (metres; module docstring): openings up to about 1.3 m wide close."""
+NARROWING = 0.75
+"""The door test's threshold in narrow spaces, as a fraction of the narrower cluster's clearance (module
+docstring): an opening must be a quarter narrower than the space on both sides to count as a door."""
 
 
 @dataclass
@@ -37,21 +45,22 @@ class Separation:
 
     map: OccupancyMap
     open_clearance_m: float = OPEN_CLEARANCE_M
-    _open: np.ndarray | None = field(default=None, init=False, repr=False)
+    narrowing: float = NARROWING
+    _clearance: np.ndarray | None = field(default=None, init=False, repr=False)
 
-    def open_labels(self) -> np.ndarray:
-        """(H, W) int32 component of every open cell (0 elsewhere), computed on first use."""
-        if self._open is None:
+    def clearance(self) -> np.ndarray:
+        """(H, W) metres from every free cell's centre to the nearest cell that is not free (0 on those), computed
+        on first use; inf everywhere on a map with no such cell."""
+        if self._clearance is None:
             occ = self.map
             blocked = ~occ.free
-            if not blocked.any():  # no obstacle at all: the whole map is one open space
-                self._open = np.ones(occ.shape, dtype=np.int32)
+            if not blocked.any():
+                self._clearance = np.full(occ.shape, np.inf)
             else:
                 near = nearest_feature(blocked)
                 rows, cols = np.indices(occ.shape)
-                clearance = np.hypot(near[0] - rows, near[1] - cols) * occ.resolution
-                self._open = label4(occ.free & (clearance >= self.open_clearance_m))[0]
-        return self._open
+                self._clearance = np.hypot(near[0] - rows, near[1] - cols) * occ.resolution
+        return self._clearance
 
     def wall(self, a: np.ndarray, b: np.ndarray) -> bool:
         """Whether the segment from a to b (metres) crosses a cell that is not known free."""
@@ -63,19 +72,29 @@ class Separation:
             return True
         return bool(~occ.free[cells[:, 0], cells[:, 1]].all())
 
-    def component(self, points: np.ndarray) -> int:
-        """The open component holding most of ``points`` (ties: the lowest label); 0 when none is open."""
+    def best_cell(self, points: np.ndarray) -> tuple[np.ndarray | None, float]:
+        """The cell of ``points`` with the largest clearance and that clearance (None, 0 when none is free)."""
         occ = self.map
         cells = occ.world_to_cell(np.asarray(points, dtype=float))
         cells = cells[occ.in_bounds(cells)]
-        labels = self.open_labels()[cells[:, 0], cells[:, 1]] if len(cells) else np.zeros(0, dtype=np.int32)
-        labels = labels[labels > 0]
-        return int(np.argmax(np.bincount(labels))) if len(labels) else 0
+        if not len(cells):
+            return None, 0.0
+        c = self.clearance()[cells[:, 0], cells[:, 1]]
+        i = int(np.argmax(c))
+        return (cells[i], float(c[i])) if c[i] > 0 else (None, 0.0)
+
+    def door(self, A: np.ndarray, B: np.ndarray) -> bool:
+        """The door test (module docstring) for the clusters A, B (n, 2)."""
+        (ca, clear_a), (cb, clear_b) = self.best_cell(A), self.best_cell(B)
+        if ca is None or cb is None:
+            return False
+        t = min(self.open_clearance_m, self.narrowing * min(clear_a, clear_b))
+        labels = label4(self.clearance() >= t)[0]
+        return bool(labels[ca[0], ca[1]] != labels[cb[0], cb[1]])
 
     def between(self, A: np.ndarray, B: np.ndarray) -> str | None:
-        """ "wall", "door" (module docstring) or None when the clusters A, B (n, 2) share one open space."""
+        """ "wall", "door" (module docstring) or None when no wall or door separates the clusters A, B (n, 2)."""
         a, b = np.asarray(A, dtype=float).mean(axis=0), np.asarray(B, dtype=float).mean(axis=0)
         if self.wall(a, b):
             return "wall"
-        ca, cb = self.component(A), self.component(B)
-        return "door" if ca == 0 or cb == 0 or ca != cb else None
+        return "door" if self.door(A, B) else None

@@ -108,19 +108,36 @@ def questions(
 
 def name_vocabulary(model: SpatialConceptModel) -> list[str]:
     """The words a taught name is made of (``learning.merges``), sorted: the place words (``place_vocabulary``)
-    and every other word the model's concepts say more often than its background does (the word switches of
-    the learner state, concepts.py), grammar and filler words never. The second part keeps a name the place
-    vocabulary drops: in a concept that took in two rooms, a name taught less than 3/4 as often as the other is
-    no place word (rule 1 there), so it could be neither asked for nor reported."""
+    and every other word that the model's concepts say more often than its background does (the word switches
+    of the learner state, concepts.py) and that is said with at most one place word; grammar and filler words
+    never. The second part keeps a name the place vocabulary drops: in a concept that took in two rooms, a name
+    taught less than 3/4 as often as the other is no place word (rule 1 there), so it could be neither asked for
+    nor reported ("east" of "east corridor" where both corridors are one place). The last condition keeps out
+    the frame words a template says with every name ("the name of this place is ..."): said with several names,
+    they are no part of one."""
     from spcotmhp.planning.vocabulary import FUNCTION_WORDS, place_vocabulary
 
-    words = set(place_vocabulary(model))
-    if model.learner is not None:
-        a, V = model.learner["arrays"], len(model.vocabulary)
-        tok, z = np.asarray(a["tok_word"], dtype=np.int64), np.asarray(a["tok_z"], dtype=bool)
-        said = np.bincount(tok[z], minlength=V) > np.bincount(tok[~z], minlength=V)
-        words |= {w for w, yes in zip(model.vocabulary, said, strict=True) if yes and w not in FUNCTION_WORDS}
-    return sorted(words)
+    words = place_vocabulary(model)
+    if model.learner is None:
+        return words
+    a, V = model.learner["arrays"], len(model.vocabulary)
+    tok, z = np.asarray(a["tok_word"], dtype=np.int64), np.asarray(a["tok_z"], dtype=bool)
+    said = np.bincount(tok[z], minlength=V) > np.bincount(tok[~z], minlength=V)
+    place = np.zeros(V, dtype=bool)
+    place[[model.word_index[w] for w in words]] = True
+    ptr = np.asarray(a["tok_ptr"], dtype=np.int64)
+    with_names: dict[int, set[int]] = {}
+    for e in range(len(ptr) - 1):
+        event = set(tok[ptr[e] : ptr[e + 1]].tolist())
+        names = {w for w in event if place[w]}
+        for w in event:
+            with_names.setdefault(w, set()).update(names)
+    extra = {
+        model.vocabulary[w]
+        for w in np.flatnonzero(said & ~place)
+        if model.vocabulary[w] not in FUNCTION_WORDS and len(with_names.get(int(w), ())) <= 1
+    }
+    return sorted(set(words) | extra)
 
 
 def said_merges(model: SpatialConceptModel, words: list[str] | None = None) -> list[Merge]:

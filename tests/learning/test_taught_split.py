@@ -129,3 +129,15 @@ def test_separation_rules_on_the_hand_built_maps():
     assert not door.wall(a[0], b[0]) and door.between(a, b) == "door"
     assert Separation(rooms_map("none")).between(a, b) is None
     assert Separation(rooms_map("none")).between(a, np.array([[6.5, 2.0]])) == "wall"  # off the map
+
+
+def test_two_names_in_one_narrow_corridor_are_not_separated():
+    """A 1.2 m corridor (clearance at most 0.6 m, below the rooms' 0.7 m): cut at 3/4 of its own clearance, the
+    corridor itself does not separate two names taught along it."""
+    data = np.full((40, 60), 100, dtype=np.int8)
+    data[14:26, 1:59] = 0
+    from spcotmhp.metric.maps import OccupancyMap
+
+    sep = Separation(OccupancyMap(data, resolution=0.1))
+    a = np.array([[1.3, 2.0], [1.5, 1.8], [1.7, 2.2]])
+    assert sep.between(a, a + [3.0, 0.0]) is None
