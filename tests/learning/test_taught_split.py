@@ -4,8 +4,10 @@ as one place (the merge the issue saw), with a wall, a door on the line between 
 
 from __future__ import annotations
 
+import hypothesis.strategies as st
 import numpy as np
 import pytest
+from hypothesis import given, settings
 
 from spcotmhp.learning.merges import merges, taught_names
 from spcotmhp.learning.separation import Separation
@@ -141,3 +143,17 @@ def test_two_names_in_one_narrow_corridor_are_not_separated():
     sep = Separation(OccupancyMap(data, resolution=0.1))
     a = np.array([[1.3, 2.0], [1.5, 1.8], [1.7, 2.2]])
     assert sep.between(a, a + [3.0, 0.0]) is None
+
+
+_points = st.lists(st.tuples(st.floats(0.3, 5.7), st.floats(0.3, 3.7)), min_size=1, max_size=6).map(
+    lambda p: np.array(p, dtype=float)
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(A=_points, B=_points, between=st.sampled_from(["wall", "door", "none"]))
+def test_separation_is_symmetric_and_nothing_separates_in_an_empty_room(A, B, between):
+    sep = Separation(rooms_map(between))
+    assert sep.between(A, B) == sep.between(B, A)
+    if between == "none":
+        assert sep.between(A, B) is None  # the room's inside is free: no wall, no narrowing
