@@ -294,6 +294,10 @@ def show(
                 title=f"learned map ({model_dir}): {len(act)} places",
             ),
         )
+    from spcotmhp.learning.merges import merge_lines
+    from spcotmhp.teaching.questions import said_merges
+
+    merged = said_merges(model)
     if as_json:
         places = [
             {
@@ -304,7 +308,8 @@ def show(
             }
             for k in act
         ]
-        typer.echo(json.dumps({"places": places, "edges": edges}, ensure_ascii=False))
+        found = [m.as_dict() for m in merged]
+        typer.echo(json.dumps({"places": places, "edges": edges, "merges": found}, ensure_ascii=False))
         return
     typer.echo(f"{len(act)} places, {len(edges)} edges ((psi_ab + psi_ba) / 2 >= 1/K = {1 / model.K:.3f})")
     if model.psi_learned is not None and not np.allclose(model.psi_learned, model.psi):
@@ -319,6 +324,8 @@ def show(
             f"{k:3d}  {labels[k]:<16} mean ({model.mu[k][0]:6.2f}, {model.mu[k][1]:6.2f})  "
             f"sd {sd[1]:.2f} x {sd[0]:.2f} m  -> {nbrs or '(no edge)'}"
         )
+    for line in merge_lines(merged):
+        typer.echo(line)
     if png is not None:
         typer.echo(f"wrote {png}")
 

@@ -126,6 +126,14 @@ def learn(
     jobs: Annotated[
         int | None, typer.Option(min=1, max=MAX_JOBS, help="Worker processes for the runs (default 1).")
     ] = None,
+    split: Annotated[
+        bool,
+        typer.Option(
+            "--split/--no-split",
+            help="Split a place where two names taught >= 3 times each have a wall or door between them (a "
+            "departure from the paper, spcotmhp/learning/taught_split.py); --no-split keeps the paper's places.",
+        ),
+    ] = True,
     overwrite: Annotated[
         bool,
         typer.Option(
@@ -162,6 +170,7 @@ def learn(
                 "--max-places": max_places is not None,
                 "--max-concepts": max_concepts is not None,
                 "--jobs": jobs is not None,
+                "--no-split": not split,
             }
         )
         if connectivity not in SUPERVISED_CONNECTIVITY:
@@ -191,8 +200,12 @@ def learn(
             hyper=None if building is None else building.hyper(supervised=True),
         )
         summary = f"supervised fit: {int(model.active_places.sum())} places, psi from {model.info['psi_from']}"
+        from spcotmhp.learning.merges import merge_lines
+        from spcotmhp.teaching.questions import said_merges
+
+        merged = merge_lines(said_merges(model))
     else:
-        model, summary = _fit_gibbs(
+        model, summary, merged = _fit_gibbs(
             data,
             runs or 10,
             iterations or 100,
@@ -207,6 +220,7 @@ def learn(
             max_concepts or 20,
             jobs or 1,
             None if building is None else building.hyper(supervised=False),
+            split,
         )
     from spcotmhp.teaching.answers import attach_walk
 
@@ -224,7 +238,7 @@ def learn(
 
     names = place_labels(model, place_vocabulary(model))  # as plans name them, in taught order
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
-    typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
+    typer.echo("\n".join([summary, f"places: {places}", *merged, f"model written to {out}"]))
 
 
 def check_recorded_costmap(data: Dataset, body: RobotBody | None) -> None:
@@ -278,8 +292,11 @@ def _fit_gibbs(
     L: int,
     jobs: int,
     hyper: Hyperparameters | None = None,
+    split: bool = True,
 ):
-    """The multi-run Gibbs fit of ``learn``; a saturated truncation of the kept run is reported on stderr."""
+    """The multi-run Gibbs fit of ``learn``, then (``split``) the taught-merge split of the kept run
+    (``taught_split``); a saturated truncation of the kept run is reported on stderr. Returns the model, the
+    summary line and the lines on splits and merges."""
     from spcotmhp.learning.gibbs import SpCoTMHP
     from spcotmhp.learning.posterior import TruncationWarning, truncation_messages
     from spcotmhp.learning.selection import CRITERIA, MultiRunSelector
@@ -304,6 +321,7 @@ def _fit_gibbs(
     with sweep_progress(runs * iterations, f"learning {data.name}") as progress, warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)  # reported once below, for the kept run
         sel = MultiRunSelector(est, runs=runs, criterion=chosen, n_jobs=jobs).fit(data, progress=progress)
+    merged = _split_kept(sel, data, split)
     model = sel.model_
     for message in truncation_messages(model):
         typer.echo(f"warning: {message}", err=True)
@@ -315,7 +333,19 @@ def _fit_gibbs(
         f"{int(model.active_places.sum())} places, {int(model.active_concepts.sum())} concepts, "
         f"psi from {model.info['psi_from']}, {sel.fit_time_:.2f} s"
     )
-    return model, summary
+    return model, summary, merged
+
+
+def _split_kept(sel: Any, data: Dataset, split: bool) -> list[str]:
+    """``learn``'s taught-merge split of the run ``sel`` kept (``split``: else the paper's places), and the lines
+    that say what it split and which merges remain (``taught_split.SplitOutcome.lines``)."""
+    from spcotmhp.learning.taught_split import SplitOutcome, split_selected
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+    from spcotmhp.teaching.questions import name_vocabulary, said_merges
+
+    words, labels = name_vocabulary(sel.model_), place_labels(sel.model_, place_vocabulary(sel.model_))
+    outcome = split_selected(sel, data, words, labels) if split else SplitOutcome()
+    return outcome.lines(said_merges(sel.model_))
 
 
 # long: a CLI command: 27 lines of typer options and help, a 40-line body

@@ -68,6 +68,16 @@ def teach(
         f"taught {utterance!r} at ({at[0]:g}, {at[1]:g}): {s['message']}; {s['places']} places; update "
         f"{1000 * s['time_update_s']:.0f} ms, model {1000 * s['time_export_s']:.0f} ms; saved to {model_dir}"
     )
+    _say_merges(taught.model)
+
+
+def _say_merges(model) -> None:
+    """Echo the merges a teach leaves (``learning.merges``): a teach that renamed a shared place says so."""
+    from spcotmhp.learning.merges import merge_lines
+    from spcotmhp.teaching.questions import said_merges
+
+    for line in merge_lines(said_merges(model)):
+        typer.echo(line)
 
 
 def questions(

@@ -149,7 +149,13 @@ class MultiRunSelector:
         if criterion == "auto":
             criterion = "mutual_information" if self.estimators_[0].model_.info.get("features") else "log_joint"
         self.criterion_ = criterion if isinstance(criterion, str) else criterion.name
-        self.best_index_ = int(np.argmax(self.scores(criterion)))
+        return self.keep(int(np.argmax(self.scores(criterion))))
+
+    def keep(self, index: int) -> MultiRunSelector:
+        """Keep fitted run ``index``: sets ``best_index_``, ``best_`` and ``model_`` (its model, with the
+        connectivity applied). ``choose`` calls it; a post-step that changed the kept run's model calls it again
+        (``taught_split.split_selected``)."""
+        self.best_index_ = index
         self.best_ = self.estimators_[self.best_index_]
         self.model_: SpatialConceptModel = self.best_.model_
         self.model_.info.update(selected_run=self.best_index_, runs=self.runs, criterion=self.criterion_)

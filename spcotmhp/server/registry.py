@@ -37,6 +37,7 @@ from spcotmhp.planning.graph_cache import GraphCache
 from spcotmhp.planning.plan import Plan
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.server.scheduling import Budget, Lane, check_cost, estimate_cost, run_in_lane
+from spcotmhp.teaching.questions import said_merges
 from spcotmhp.viz.draw import MapImage, map_image, place_colours, render, topological_edges
 from spcotmhp.viz.labels import place_display_labels
 
@@ -256,6 +257,7 @@ class ServedModel:
             ],
             "edges": topological_edges(m),
             "place_words": self.place_words,
+            "merges": [found.as_dict() for found in said_merges(m)],
         }
 
     def summary(self) -> dict:

@@ -305,11 +305,30 @@ class PlaceOut(BaseModel):
     colour: str
 
 
+class MergeOut(BaseModel):
+    """A taught name without a place of its own (spcotmhp/learning/merges.py)."""
+
+    name: str
+    other: str = Field(description="The name the shared place is called by.")
+    place: int
+    taught: int = Field(description="Teaches of `name` at the place.")
+    other_taught: int = Field(description="Teaches of `other` at the place.")
+    apart_m: float = Field(description="Distance between the means of the two names' teaching points there.")
+    x: float = Field(description="Mean of `name`'s teaching points there (where the first question asks).")
+    y: float
+    sentence: str
+
+
 class PlacesResponse(BaseModel):
     model: str
     places: list[PlaceOut]
     edges: list[tuple[int, int]] = Field(description="Place pairs with (psi_ab + psi_ba) / 2 >= 1/K (Fig. 3).")
     place_words: list[str]
+    merges: list[MergeOut] = Field(
+        default_factory=list,
+        description="Every taught name that no longer names a place of its own, e.g. 'playroom and bedroom share "
+        "place 3; taught 5 and 6 times, 4.1 m apart'.",
+    )
 
 
 class MapInfo(BaseModel):

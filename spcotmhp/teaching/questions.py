@@ -13,7 +13,9 @@ the geometric mean of its words' p(w | k)). It is high where a place's words bel
 with different names share the position, and where a place's few events leave its words spread over concepts; it
 is zero where one name is certain. It does not see two rooms of one name merged into one place (both answers
 would be the same name); with an answer model that judges a split by the robot's walk (``teaching.answers``,
-the default), the places the walk says are two are asked about first (``answers.split_gain``). The candidate
+the default), the places the walk says are two are asked about first (``answers.split_gain``). Before all of
+these come the taught names that no longer name a place of their own (``learning.merges``, issue 35): one
+question per such name, at its teaching point nearest the mean of its points at the shared place. The candidate
 positions are the teaching events' positions (the learner state's; else the places' means), on known free
 cells, best first, each at least ``SPACING_M`` from the ones before (one question per spot). ``why`` says which
 of those causes applies, read off the same quantities.
@@ -23,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from spcotmhp.learning.merges import Merge, merges, taught_names
 from spcotmhp.learning.model import SpatialConceptModel
 
 SPACING_M = 2.0
@@ -36,13 +39,9 @@ def name_distribution(model: SpatialConceptModel, xy: np.ndarray, names: list[st
     """(N, len(names)) p(n | x) at the positions ``xy`` (module docstring), over the places' names ``names`` (their
     labels, each one or more of the place words ``words``): a name is said with all its words, so p(n | k) is the
     geometric mean of its words' p(w | k), normalised over the names."""
-    said = model.word_given_place()[:, [model.word_index[w] for w in words]]  # (K, words) p(w | k)
-    with np.errstate(divide="ignore"):
-        log_said = np.log(said)
-    index = {w: j for j, w in enumerate(words)}
-    log_name = np.stack([log_said[:, [index[w] for w in n.split()]].mean(axis=1) for n in names], axis=1)
-    p_name = np.exp(log_name - log_name.max(axis=1, keepdims=True))
-    p_name /= p_name.sum(axis=1, keepdims=True)  # (K, names) p(n | k)
+    from spcotmhp.learning.merges import name_given_place
+
+    p_name = name_given_place(model, [tuple(n.split()) for n in names])  # (K, names) p(n | k)
     act = np.asarray(model.active_places, dtype=bool)
     post = model.place_posterior(np.asarray(xy, dtype=float)) * act[None, :]
     post /= np.maximum(post.sum(axis=1, keepdims=True), 1e-300)
@@ -59,20 +58,21 @@ def questions(
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
     from spcotmhp.teaching.answers import answer_model, on_free_cells, split_gain
 
-    words = place_vocabulary(model)
-    if not words or max_questions < 1:
+    if max_questions < 1:
         return []
+    said = name_vocabulary(model)
+    lang = lang or ("ja" if any(not w.isascii() for w in said) else "en")
+    out: list[dict] = merge_questions(model, said, lang)[:max_questions]
+    words = place_vocabulary(model)
     labels = place_labels(model, words)
     names = sorted({labels[k] for k in np.flatnonzero(model.active_places) if not labels[k].startswith("place ")})
     xy = _candidate_positions(model)
-    if not len(xy) or not names:
-        return []
+    if not words or not len(xy) or not names:
+        return out
     p = name_distribution(model, xy, names, words)
     with np.errstate(divide="ignore", invalid="ignore"):
         entropy = -np.nansum(np.where(p > 0, p * np.log(p), 0.0), axis=1)
     post = model.place_posterior(np.asarray(xy, dtype=float))
-    lang = lang or ("ja" if any(not w.isascii() for w in names) else "en")
-    out: list[dict] = []
     for gain, spot in split_gain(model) if answer_model(answers).walk else []:
         if len(out) < max_questions and on_free_cells(model, spot[None])[0]:
             k = int(np.argmax(model.place_posterior(spot[None])[0]))
@@ -101,6 +101,82 @@ def questions(
                 "candidates": candidates,
                 "why": _why(model, post[i], labels, candidates, names),
                 "information": round(float(entropy[i]), 4),
+            }
+        )
+    return out
+
+
+def name_vocabulary(model: SpatialConceptModel) -> list[str]:
+    """The words a taught name is made of (``learning.merges``), sorted: the place words (``place_vocabulary``)
+    and every other word that the model's concepts say more often than its background does (the word switches
+    of the learner state, concepts.py) and that is said with at most one place word; grammar and filler words
+    never. The second part keeps a name the place vocabulary drops: in a concept that took in two rooms, a name
+    taught less than 3/4 as often as the other is no place word (rule 1 there), so it could be neither asked for
+    nor reported ("east" of "east corridor" where both corridors are one place). The last condition keeps out
+    the frame words a template says with every name ("the name of this place is ..."): said with several names,
+    they are no part of one."""
+    from spcotmhp.planning.vocabulary import FUNCTION_WORDS, place_vocabulary
+
+    words = place_vocabulary(model)
+    if model.learner is None:
+        return words
+    a, V = model.learner["arrays"], len(model.vocabulary)
+    tok, z = np.asarray(a["tok_word"], dtype=np.int64), np.asarray(a["tok_z"], dtype=bool)
+    said = np.bincount(tok[z], minlength=V) > np.bincount(tok[~z], minlength=V)
+    place = np.zeros(V, dtype=bool)
+    place[[model.word_index[w] for w in words]] = True
+    ptr = np.asarray(a["tok_ptr"], dtype=np.int64)
+    with_names: dict[int, set[int]] = {}
+    for e in range(len(ptr) - 1):
+        event = set(tok[ptr[e] : ptr[e + 1]].tolist())
+        names = {w for w in event if place[w]}
+        for w in event:
+            with_names.setdefault(w, set()).update(names)
+    extra = {
+        model.vocabulary[w]
+        for w in np.flatnonzero(said & ~place)
+        if model.vocabulary[w] not in FUNCTION_WORDS and len(with_names.get(int(w), ())) <= 1
+    }
+    return sorted(set(words) | extra)
+
+
+def said_merges(model: SpatialConceptModel, words: list[str] | None = None) -> list[Merge]:
+    """The taught names without a place of their own (``learning.merges.merges``) with the name words
+    (``words``, default :func:`name_vocabulary`) and the places' labels: what ``learn``, ``show``, ``/places``
+    and the questions report."""
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+
+    words = name_vocabulary(model) if words is None else words
+    return merges(model, words, place_labels(model, place_vocabulary(model)))
+
+
+def merge_questions(model: SpatialConceptModel, words: list[str], lang: str) -> list[dict]:
+    """One question per taught name without a place of its own (``learning.merges``; ``words``: the name words,
+    :func:`name_vocabulary`), the first questions: at that name's teaching point nearest the mean of its teaching
+    points at the shared place (on a known free cell; the mean itself when none is), with the two names as
+    candidates; ``information`` is the entropy of p(n | x) over the two names there."""
+    from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
+    from spcotmhp.teaching.answers import on_free_cells
+
+    out = []
+    names = {n.text: n for n in taught_names(model, words, place_labels(model, place_vocabulary(model)))}
+    X = np.asarray(model.learner["arrays"]["X"], dtype=float) if model.learner is not None else np.empty((0, 2))
+    for m in said_merges(model, words):
+        mean = np.array([m.x, m.y])
+        points = X[names[m.name].events] if m.name in names else mean[None]
+        points = points[on_free_cells(model, points)] if len(points) else points
+        spot = points[np.argmin(np.linalg.norm(points - mean, axis=1))] if len(points) else mean
+        p = name_distribution(model, spot[None], [m.name, m.other], words)[0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            entropy = float(-np.nansum(np.where(p > 0, p * np.log(p), 0.0)))
+        out.append(
+            {
+                "x": round(float(spot[0]), 3),
+                "y": round(float(spot[1]), 3),
+                "ask": ASK.get(lang, ASK["en"]),
+                "candidates": [m.name, m.other],
+                "why": f"{m.sentence}: '{m.name}' names no place of its own",
+                "information": round(entropy, 4),
             }
         )
     return out
