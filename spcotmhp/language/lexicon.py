@@ -40,7 +40,14 @@ from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
-from spcotmhp.language.rewrite_en import contents_en, corrections_en, numbered_en, relations_en, said_again
+from spcotmhp.language.rewrite_en import (
+    contents_en,
+    corrections_en,
+    numbered_en,
+    relations_en,
+    said_again,
+    sizes_en,
+)
 from spcotmhp.language.rewrite_ja import spoken_tokens
 from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
 from spcotmhp.language.text import normalise
@@ -74,6 +81,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     numbered = kinds & {"NEG", "NO", "CORRECTION"} or any(t.number is not None for t in out)
     if numbered and kinds & {"WORD", "ONE"}:
         out = said_again(out)
+    if kinds & {"LARGEST", "SMALLEST"}:
+        out = sizes_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

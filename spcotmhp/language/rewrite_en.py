@@ -68,7 +68,8 @@ def numbered_en(items: list[Token], units: Sequence[str] = ()) -> list[Token]:
         if it.kind == "PLACE" and it.number is None:
             j = i + 1 + _number_word(items, i + 1)
             n = _said_number(items[j]) if j < len(items) else None
-            if n is not None:
+            the = j < len(items) and "the" in units[it.end : items[j].start]  # "the bedroom, the one nearest ..."
+            if n is not None and not the:
                 said = " ".join(t.surface for t in items[i : j + 1])
                 out.append(it._replace(surface=said, number=n, end=items[j].end))
                 i = j + 1
@@ -204,6 +205,23 @@ def corrections_en(items: list[Token]) -> list[Token]:
         for k, t in enumerate(merged)
         if not (k and (t.kind == "_STOP" and merged[k - 1].kind == "CORRECTION"
                        or t.kind == "COMMA" and merged[k - 1].kind == "_STOP"))
+    ]  # fmt: skip
+
+
+_SIZED = ("PLACE", "ONE", "OF")
+_POSITIVE_SIZES = frozenset({"big", "large", "small", "little", "wee", "tiny", "bigger", "larger", "smaller"})
+
+
+def sizes_en(items: list[Token]) -> list[Token]:
+    """A size said in the positive degree ("the big bedroom", "little") picks by size only right before a place's
+    name, "one" or "of" ("the smaller of the two"); elsewhere ("off to the kitchen, little robot") it names no
+    place and is a modifier, refused."""
+    return [
+        t._replace(kind="MODIFIER")
+        if t.kind in ("LARGEST", "SMALLEST") and t.surface in _POSITIVE_SIZES
+        and not (k + 1 < len(items) and items[k + 1].kind in _SIZED and items[k + 1].start == t.end)
+        else t
+        for k, t in enumerate(items)
     ]  # fmt: skip
 
 

@@ -300,3 +300,14 @@ def test_lengths_speeds_and_times_of_statements(text, visit, speed, waits):
 def test_a_time_said_with_the_instruction_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, EN, "en")
+
+
+@pytest.mark.parametrize("text", ["Off to the kitchen, little robot.", "uh the bedroom the one nearest the front door"])
+def test_wave_3_misreadings_are_no_longer_silent(text):
+    """Found by wave 3 (blind12, blind13) after its first-sight measurement: a size word before no place, and
+    "the one" after a place, are no instance; refused rather than misread."""
+    try:
+        r = read(text, EN, "en")
+    except InstructionError:
+        return
+    assert all(p.relation is None and p.number is None for p in r.visit), r.visit
