@@ -42,11 +42,11 @@ from typing import Any
 
 from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
+from spcotmhp.language.repairs_en import BOUNDS as _BOUNDS
 from spcotmhp.language.repairs_en import answer, owners, pieces, repairs
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.talk import admissible
 
-_BOUNDS = ("_STOP", "COMMA")
 _DESTINATION = ("TO", "VIA", "ENTER")
 _VERBS = ("GO", "TO", "VIA", "AVOID", "WAIT", "ENTER", "HURRY")
 """Classes that open an instruction: a word of address or interjection before one of them is said to someone."""

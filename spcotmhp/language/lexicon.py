@@ -73,7 +73,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:
         out = corrections_en(out)
-    if "WORD" in kinds and kinds & {"LINK", "IS", "PLACE", "WORD"}:
+    if "WORD" in kinds:  # a room told by what is in it (rule 9) always holds a word of no class
         out = contents_en(out, table, places)
     if "WORD" in kinds or "ONE" in kinds:
         out = numbered_en(out, english_units(text))

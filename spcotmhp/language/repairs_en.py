@@ -11,7 +11,8 @@ from spcotmhp.language.placewords import Token
 from spcotmhp.language.rewrite_en import instance_number
 from spcotmhp.language.wording import excerpt
 
-_BOUNDS = ("_STOP", "COMMA")
+BOUNDS = ("_STOP", "COMMA")
+"""Tokens that end a clause (a full stop, a comma): one home for the English asides and repairs."""
 
 
 _OWNED = ("bedroom", "bedrooms", "room", "rm")
@@ -131,7 +132,7 @@ def answer(toks: list[Token]) -> list[Token]:
                 j = i + 2
                 while j < len(toks) and toks[j].kind == "WORD" and toks[j].surface in _WHERE_WANTED:
                     j += 1
-            if j > i and (j == len(toks) or toks[j].kind in _BOUNDS):
+            if j > i and (j == len(toks) or toks[j].kind in BOUNDS):
                 i = j
                 continue
         out.append(t)
