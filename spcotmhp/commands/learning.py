@@ -131,6 +131,13 @@ def learn(
             help=("Replace the model already in --out (a folder holding anything else is never replaced)."),
         ),
     ] = False,
+    precompute: Annotated[
+        bool,
+        typer.Option(
+            help="Save the planning graph (default settings) with the model, so that plan / serve / ros2 load it "
+            "instead of building it (`spcotmhp precompute MODEL` adds it later)."
+        ),
+    ] = True,
 ) -> None:
     """Learn spatial concepts and places from a dataset and save the model.
 
@@ -203,10 +210,25 @@ def learn(
     if building is not None:
         building.save(model, out, overwrite)
     else:
-        save_model(model, out, overwrite=overwrite)
+        graph, note = _graph_for(model) if precompute else (None, "")
+        save_model(model, out, overwrite=overwrite, graph=graph)
+        summary += note
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo(f"{summary}\nplaces: {places}\nmodel written to {out}")
+
+
+def _graph_for(model: Any) -> tuple[Any, str]:
+    """``(graph, note)``: the planning graph of ``model`` under the default settings, saved with it, or None and
+    why not (a model that cannot be planned with is still saved)."""
+    from spcotmhp.errors import SpcotmhpError
+    from spcotmhp.planning.graph import PlanningGraph
+
+    try:
+        graph = PlanningGraph.build(model)
+    except SpcotmhpError as exc:
+        return None, f"\nplanning graph not saved: {exc}"
+    return graph, f"\nplanning graph precomputed in {graph.time_precompute_s:.1f} s and saved with the model"
 
 
 def _overlaps(out: Path, folder: Path) -> bool:
