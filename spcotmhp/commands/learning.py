@@ -210,8 +210,8 @@ def learn(
     if building is not None:
         building.save(model, out, overwrite)
     else:
-        graph, note = _graph_for(model) if precompute else (None, "")
-        save_model(model, out, overwrite=overwrite, graph=graph)
+        files, note = _graph_for(model) if precompute else (None, "")
+        save_model(model, out, overwrite=overwrite, files=files)
         summary += note
     names = model.place_names()
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
@@ -219,16 +219,18 @@ def learn(
 
 
 def _graph_for(model: Any) -> tuple[Any, str]:
-    """``(graph, note)``: the planning graph of ``model`` under the default settings, saved with it, or None and
-    why not (a model that cannot be planned with is still saved)."""
+    """``(writers, note)``: the files of the planning graph of ``model`` under the default settings, saved with
+    it, or None and why not (a model that cannot be planned with is still saved)."""
     from spcotmhp.errors import SpcotmhpError
     from spcotmhp.planning.graph import PlanningGraph
+    from spcotmhp.planning.graph_store import graph_writers
 
     try:
         graph = PlanningGraph.build(model)
     except SpcotmhpError as exc:
         return None, f"\nplanning graph not saved: {exc}"
-    return graph, f"\nplanning graph precomputed in {graph.time_precompute_s:.1f} s and saved with the model"
+    note = f"\nplanning graph precomputed in {graph.time_precompute_s:.1f} s and saved with the model"
+    return graph_writers(graph), note
 
 
 def _overlaps(out: Path, folder: Path) -> bool:

@@ -30,6 +30,7 @@ from __future__ import annotations
 import functools
 import json
 import os
+from collections.abc import Callable, Mapping
 from dataclasses import asdict
 from pathlib import Path
 
@@ -80,11 +81,11 @@ def save_model(
     *,
     overwrite: bool = False,
     extra: dict[str, str] | None = None,
-    graph: object | None = None,
+    files: Mapping[str, Callable[[Path], object]] | None = None,
 ) -> Path:
     """Write ``model`` to ``folder`` atomically (module docstring) and return the folder; ``extra``: the texts of
-    further files of :data:`EXTRA_FILES` to write with it (listed in the manifest); ``graph``: the model's
-    planning graph (:class:`~spcotmhp.planning.graph.PlanningGraph`), saved with it (graph.json, graph.npz).
+    further files of :data:`EXTRA_FILES` to write with it (listed in the manifest); ``files``: the writers of the
+    model's planning graph (:data:`GRAPH_FILES`: :func:`spcotmhp.planning.graph_store.graph_writers`).
 
     An existing model folder is replaced only with ``overwrite=True`` (else a ModelError, as the CLI refuses
     without --overwrite); a folder that holds files other than a model's is never replaced. Raises ModelError
@@ -121,10 +122,10 @@ def save_model(
         if name not in EXTRA_FILES:
             raise ModelError(f"save_model: {name!r} is not a file a model folder holds beside the model")
         writers[name] = functools.partial(_write_text, text=content)
-    if graph is not None:
-        from spcotmhp.planning.graph_store import graph_writers
-
-        writers.update(graph_writers(graph))  # type: ignore[arg-type]
+    for name, write in (files or {}).items():
+        if name not in GRAPH_FILES:
+            raise ModelError(f"save_model: {name!r} is not a planning graph's file ({', '.join(GRAPH_FILES)})")
+        writers[name] = write
     occ = model.map
     if occ is not None:
         mode = "trinary" if np.isin(np.unique(occ.data), (-1, 0, 100)).all() else "raw"

@@ -179,7 +179,7 @@ class PlanningGraph:
             if log_p is None and reuse is None and model.folder is not None:
                 from spcotmhp.planning.graph_store import load_saved
 
-                saved, note = load_saved(model, settings, key)
+                saved, note = load_saved(model, settings, key, cls)
                 if saved is not None:
                     saved.info["graph_source"] = note
                     return saved

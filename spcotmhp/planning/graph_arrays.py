@@ -26,7 +26,8 @@ from spcotmhp.planning import hierarchy
 
 if TYPE_CHECKING:
     from spcotmhp.learning.model import SpatialConceptModel
-    from spcotmhp.planning.graph import PlanningGraph
+
+PlanningGraph = Any  # spcotmhp.planning.graph's (which imports the store, so the store cannot import it)
 
 NODE_ARRAYS = {"node_place": "i", "node_cell": "i", "end_term": "f", "usable": "b"}
 PAIR_ARRAYS = ("w_hat", "w_hat_metric", "log_transition", "log_transition_all")
@@ -83,7 +84,7 @@ def to_arrays(graph: PlanningGraph) -> tuple[dict[str, np.ndarray], list[dict[st
             h = g.hier
             src, dst, weight = h.links
             hier = dict(cells=h.cells, terr=h.terr, win=h.win, off=h.off, fcode=h.fcode, src=src, dst=dst)
-            hier.update(weight=weight, portal_cost=h.portal_cost, hop=_narrow(h.hop))
+            hier.update(weight=weight, portal_cost=h.portal_cost, hop=_narrow(h.hop), sums=block_sums(h))
             for name, value in hier.items():
                 arrays[p + "hier." + name] = np.asarray(value)
             meta["hier"] = {"A": len(h.cells), "E": len(src), "codes": int(h.off[-1]), "info": h.info}
@@ -150,6 +151,7 @@ def expected_arrays(metas: list[dict[str, Any]], model: SpatialConceptModel) -> 
             hier.update({"src": (E,), "dst": (E,), "weight": (E,), "portal_cost": (A, M), "hop": (A, M)})
             for name, dims in hier.items():
                 specs[p + "hier." + name] = (dims, "f" if name in ("weight", "portal_cost") else "i")
+            specs[p + "hier.sums"] = ((A, 4), "u")
     total = sum(8 * int(np.prod([max(d, 0) for d in s])) for s, _ in specs.values())
     if total > MAX_GRAPH_BYTES:
         raise ModelError(
@@ -224,5 +226,19 @@ def hier_from_arrays(arrays: dict, q: str, meta: dict, cost: np.ndarray, territo
         portal_cost=arrays[q + "portal_cost"].astype(float),
         hop=arrays[q + "hop"].astype(np.int64),
         info=dict(meta["hier"]["info"]),
+        sums=arrays[q + "sums"],
+        checked=np.zeros(len(terr), dtype=bool),
     )
+    return out
+
+
+def block_sums(h: hierarchy.TerritoryFields) -> np.ndarray:
+    """(A, 4) uint64: the checksum of each abstract node's block of tree codes (:data:`~spcotmhp.planning.
+    graph_file.BLOCKS`)."""
+    from spcotmhp.planning.graph_file import checksum_words
+
+    out = np.empty((len(h.cells), 4), dtype=np.uint64)
+    for a in range(len(h.cells)):
+        block = np.ascontiguousarray(h.fcode[h.off[a] : h.off[a + 1]]).view(np.uint8)
+        out[a] = checksum_words(block, block.size)
     return out

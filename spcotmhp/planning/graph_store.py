@@ -45,13 +45,14 @@ from spcotmhp.errors import ModelError
 from spcotmhp.persistence.folder import MANIFEST, file_digest, read_manifest, write_folder
 from spcotmhp.persistence.io import GRAPH_FILES, json_default
 from spcotmhp.planning import graph_arrays as ga
-from spcotmhp.planning.graph_file import array_checksum, read_mapped
+from spcotmhp.planning.graph_file import BLOCKS, array_checksum, read_mapped
 from spcotmhp.planning.graph_settings import GraphSettings
 from spcotmhp.safe_read import excerpt, parse_json
 
 if TYPE_CHECKING:
     from spcotmhp.learning.model import SpatialConceptModel
-    from spcotmhp.planning.graph import PlanningGraph
+
+PlanningGraph = Any  # spcotmhp.planning.graph's class, passed in (it imports this module: no import back)
 
 GRAPH_JSON, GRAPH_NPZ = GRAPH_FILES
 FORMAT = "spcotmhp-planning-graph"
@@ -73,7 +74,7 @@ def graph_writers(graph: PlanningGraph) -> dict[str, Any]:
         "format_version": FORMAT_VERSION,
         "key": graph.key,
         "settings": asdict(graph.settings),
-        "checksums": {name: array_checksum(a) for name, a in arrays.items()},
+        "checksums": {name: BLOCKS if name.endswith("hier.fcode") else array_checksum(a) for name, a in arrays.items()},
         "graphs": metas,
     }
     text = json.dumps(doc, indent=1, default=json_default)
@@ -114,9 +115,10 @@ def save_graph(folder: Path | str, graph: PlanningGraph, overwrite: bool = False
     return write_folder(root, writers, MODEL_FILES)
 
 
-def load_saved(model: SpatialConceptModel, settings: GraphSettings, key: str) -> tuple[PlanningGraph | None, str]:
-    """``(graph, note)``: the graph saved in the folder ``model.folder`` when it was made for this model, map and
-    settings (``key``), else ``(None, why)`` (no folder, no graph, a stale or damaged one: module docstring)."""
+def load_saved(model: SpatialConceptModel, settings: GraphSettings, key: str, cls: type) -> tuple[Any, str]:
+    """``(graph, note)``: the graph (a ``cls``, :class:`~spcotmhp.planning.graph.PlanningGraph`) saved in the
+    folder ``model.folder`` when it was made for this model, map and settings (``key``), else ``(None, why)`` (no
+    folder, no graph, a stale or damaged one: module docstring)."""
     root = getattr(model, "folder", None)
     if root is None:
         return None, "built (the model was not loaded from a folder)"
@@ -129,7 +131,7 @@ def load_saved(model: SpatialConceptModel, settings: GraphSettings, key: str) ->
         if doc["key"] != key:
             what = "other graph settings" if doc.get("settings") != asdict(settings) else "another model or map"
             return None, f"rebuilt: the planning graph saved in {root} was made for {what}; {save_hint(root, True)}"
-        graph = _from_file(root, doc, model, settings, key)
+        graph = _from_file(root, doc, model, settings, key, cls)
     except ModelError as exc:
         return None, f"rebuilt: the planning graph saved in {root} cannot be used ({exc}); {save_hint(root, True)}"
     graph.info["load_s"] = time.perf_counter() - t0
@@ -162,13 +164,15 @@ def _read_checked(root: Path) -> dict:
     return doc
 
 
-def _from_file(root: Path, doc: dict, model: SpatialConceptModel, settings: GraphSettings, key: str) -> PlanningGraph:
+def _from_file(
+    root: Path, doc: dict, model: SpatialConceptModel, settings: GraphSettings, key: str, cls: type
+) -> PlanningGraph:
     """The graph of a checked graph.json + graph.npz (module docstring)."""
     metas = ga.check_meta(doc.get("graphs"), model)
     specs = ga.expected_arrays(metas, model)
     arrays = read_mapped(root / GRAPH_NPZ, specs, doc["checksums"], ())
     ga.check_values(arrays, metas, model)
-    graphs = [_one(arrays, i, meta, model, settings, key) for i, meta in enumerate(metas)]
+    graphs = [_one(cls, arrays, i, meta, model, settings, key) for i, meta in enumerate(metas)]
     main = graphs[0]
     for meta, sub in zip(metas[1:], graphs[1:], strict=True):
         if not isinstance(meta.get("region"), int):
@@ -178,11 +182,9 @@ def _from_file(root: Path, doc: dict, model: SpatialConceptModel, settings: Grap
 
 
 def _one(
-    arrays: dict, i: int, meta: dict, model: SpatialConceptModel, settings: GraphSettings, key: str
+    cls: type, arrays: dict, i: int, meta: dict, model: SpatialConceptModel, settings: GraphSettings, key: str
 ) -> PlanningGraph:
     """Graph ``i`` (the main one, or another free region's) of the arrays."""
-    from spcotmhp.planning.graph import PlanningGraph
-
     p = f"g{i}."
     log_p = arrays[p + "log_p"]
     boxes, masks = arrays[p + "grown_boxes"], arrays[p + "grown_masks"]
@@ -192,7 +194,7 @@ def _one(
         for n, (k, (r, c, h, w)) in enumerate(zip(arrays[p + "grown_keys"], boxes, strict=True))
     }
     label = meta.get("region")
-    graph = PlanningGraph(
+    graph = cls(
         model=model,
         settings=settings,
         key=key if i == 0 else f"{key}/region-{label}",

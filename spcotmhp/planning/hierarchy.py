@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit, prange
 
+from spcotmhp.errors import ModelError
 from spcotmhp.metric import _grid_kernels as _k
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
@@ -72,6 +73,26 @@ class TerritoryFields:
     portal_cost: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))  # (A, n_nodes) see solve()
     hop: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=np.int64))
     info: dict = field(default_factory=dict)
+    sums: np.ndarray | None = None  # (A, 4) uint64: each node's block's checksum, for codes read from a file
+    checked: np.ndarray | None = None  # (A,) blocks already checked against ``sums`` (shared by views)
+
+    def verify(self, nodes: np.ndarray) -> None:
+        """Check the tree codes of ``nodes`` against their checksums the first time they are read (codes loaded
+        from a file, :data:`spcotmhp.planning.graph_file.BLOCKS`); ModelError on a damaged block."""
+        if self.sums is None or self.checked is None:
+            return
+        from spcotmhp.planning.graph_file import checksum_words
+
+        for a in np.asarray(nodes, dtype=np.int64):
+            if self.checked[a]:
+                continue
+            block = self.fcode[self.off[a] : self.off[a + 1]].view(np.uint8)
+            if not np.array_equal(checksum_words(block, block.size), self.sums[a]):
+                raise ModelError(
+                    f"graph.npz: the local field of abstract node {int(a)} does not match its checksum (a damaged "
+                    "file); save the graph again: spcotmhp precompute MODEL --overwrite"
+                )
+            self.checked[a] = True
 
     @property
     def nbytes(self) -> int:
@@ -99,6 +120,7 @@ class TerritoryFields:
         return float(self._costs(np.array([a], dtype=np.int64), cell)[0])
 
     def _costs(self, nodes: np.ndarray, cell: np.ndarray) -> np.ndarray:
+        self.verify(nodes)
         return _tc.costs_at(
             self.fcode, self.off, nodes, self.win, self.terr, self.cells, int(cell[0]), int(cell[1]), self.cost, SQRT2
         )
@@ -137,6 +159,7 @@ class TerritoryFields:
         return np.concatenate(pieces)
 
     def _follow(self, a: int, cell: np.ndarray) -> np.ndarray:
+        self.verify(np.array([a]))
         r0, c0, r1, c1 = self.win[self.terr[a]]
         codes = self.fcode[self.off[a] : self.off[a + 1]]
         cells = _tc.follow_codes(codes, r1 - r0, c1 - c0, int(cell[0]) - r0, int(cell[1]) - c0)
@@ -158,6 +181,8 @@ class TerritoryFields:
             self.links,
             removed,
             info=dict(self.info),
+            sums=self.sums,
+            checked=self.checked,
         )
         view.solve()
         return view
@@ -333,6 +358,7 @@ def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode) -> np.nd
             same[t] = ok
         old = old_at.get((t, int(cells[a, 0]), int(cells[a, 1])))
         if same[t] and old is not None:
+            reuse.verify(np.array([old]))
             fcode[off[a] : off[a + 1]] = reuse.fcode[reuse.off[old] : reuse.off[old + 1]]
             todo[a] = False
     return np.flatnonzero(todo)

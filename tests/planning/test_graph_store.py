@@ -20,7 +20,7 @@ from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.planning import _tree_codes, graph_store
 from spcotmhp.planning.graph import PlanningGraph
 from spcotmhp.planning.graph_settings import GraphSettings
-from spcotmhp.planning.graph_store import save_graph
+from spcotmhp.planning.graph_store import graph_writers, save_graph
 from spcotmhp.planning.planner import HierarchicalPlanner
 
 PORTAL = {"max_dense_bytes": 0}  # the portal graph (building scale) on a small map
@@ -33,7 +33,7 @@ def saved(tmp_path_factory):
     ds = generate_environment("office", seed=1, n_rooms=14, size=240)
     model = fit_supervised(ds, adjacency="given")
     root = tmp_path_factory.mktemp("store") / "model"
-    save_model(model, root, graph=PlanningGraph.build(model, GraphSettings(**PORTAL)))
+    save_model(model, root, files=graph_writers(PlanningGraph.build(model, GraphSettings(**PORTAL))))
     return root, model
 
 
@@ -139,15 +139,32 @@ def test_a_truncated_graph_is_rebuilt_with_the_reason(saved, tmp_path):
     assert note.startswith("rebuilt") and "graph.npz" in note and "--overwrite" in note
 
 
-def test_a_damaged_array_is_found_by_its_checksum(saved, tmp_path):
-    root = _copy(saved, tmp_path)
+def _damage(root: Path, member: str, from_end: int) -> None:
+    """Flip a byte of ``member``'s data, ``from_end`` bytes before its end."""
     data = bytearray((root / "graph.npz").read_bytes())
     with zipfile.ZipFile(root / "graph.npz") as archive:
-        info = archive.getinfo("g0.hier.fcode.npy")
-    data[info.header_offset + 30 + len(info.filename) + 200] ^= 0x5A  # a byte of the trees' codes
+        info = archive.getinfo(member)
+    data[info.header_offset + 30 + len(info.filename) + info.file_size - 1 - from_end] ^= 0x5A
     _rewrite(root, "graph.npz", bytes(data))
+
+
+def test_a_damaged_array_is_found_by_its_checksum(saved, tmp_path):
+    root = _copy(saved, tmp_path)
+    _damage(root, "g0.territory.npy", 1000)
     note = _source(root)
-    assert "checksum" in note and "g0.hier.fcode" in note
+    assert note.startswith("rebuilt") and "checksum" in note and "g0.territory" in note
+
+
+def test_damaged_tree_codes_are_found_when_first_read(saved, tmp_path):
+    # the codes are checked node by node as plans read them: the damaged node's block is refused, others serve
+    root = _copy(saved, tmp_path)
+    _damage(root, "g0.hier.fcode.npy", 10)  # in the last abstract node's block
+    graph = HierarchicalPlanner(load_model(root), **PORTAL).graph
+    assert graph.info["graph_source"].startswith("loaded")
+    h, last = graph.hier, len(graph.hier.cells) - 1
+    assert h.local(0, h.cells[0]) == 0.0  # another node's block: checked, served
+    with pytest.raises(graph_store.ModelError, match=f"abstract node {last} does not match its checksum"):
+        h.local(last, h.cells[last])
 
 
 def test_a_graph_json_describing_huge_arrays_is_refused_before_reading(saved, tmp_path):
