@@ -18,7 +18,9 @@ fresh process of its own command line (``python -m spcotmhp``):
 
 Every process runs under an address-space limit of ``--memory-limit`` GiB (``RLIMIT_AS``), so that a version
 needing more fails alone, with its row saying so, instead of taking the machine's memory from everything else.
-An untimed learn and plan per checkout on a small office first fill numba's cache. Prints a markdown table (progress on stderr).
+An untimed learn and plan per checkout on a small office first fill numba's cache. ``--this``: the checkout
+measured as this version (default: the one holding this script; a separate worktree keeps edits made during a
+long run out of it). Prints a markdown table (progress on stderr).
 """
 
 from __future__ import annotations
@@ -109,13 +111,14 @@ def row(side: int, version: str, m: dict) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--previous", type=Path, required=True, help="checkout of the previous version")
+    ap.add_argument("--this", type=Path, default=HERE, help="checkout of this version (default: this script's)")
     ap.add_argument("--sides", type=int, nargs="+", default=[1300, 2600, 4000])
     ap.add_argument("--rooms", type=int, default=200)
     ap.add_argument("--work", type=Path, default=Path("/tmp/big_maps"))
     ap.add_argument("--memory-limit", type=float, default=12.0, help="GiB of address space per process")
     args = ap.parse_args(argv)
     args.work.mkdir(parents=True, exist_ok=True)
-    versions = {"this": HERE, "previous": args.previous.resolve()}
+    versions = {"this": args.this.resolve(), "previous": args.previous.resolve()}
     rows = []
     for side in [600, *args.sides]:
         dataset = args.work / f"office{side}"
