@@ -109,7 +109,6 @@ def plan_command(
     if audio is not None:
         source = recognise_audio(audio, model)
     planner = HierarchicalPlanner(model, **settings)
-    graph_note(planner.graph.info)
     plan = planner.plan(source, start, lang=lang)
     # the first plan of a process loads the compiled kernels: the text output says so, and what the same plan
     # takes warm (planned again, still with the collector paused)
@@ -135,6 +134,7 @@ def plan_command(
             f"{plan.time_online_s * 1e3:.0f} ms: it loads the compiled kernels; {setup})",
             err=True,
         )
+    graph_note(planner.graph.info)  # after the plan: a refused plan's stderr is its one error line
 
 
 def graph_note(info: dict) -> None:

@@ -422,6 +422,13 @@ class PlanningGraph:
         territories of ``places`` grown by ``tube_margin``, and their union in it."""
         return tube_window(self._territories, places)
 
+    def centres_at(self, cells: np.ndarray) -> np.ndarray:
+        """(n, 2) map-frame centres of the crop cells ``cells`` (the values of :attr:`centres` there, without the
+        whole crop's: 16 bytes a cell)."""
+        if self._centres is not None:
+            return self._centres[cells[:, 0], cells[:, 1]]
+        return self.model.require_map().cell_to_world(np.asarray(cells) + self.offset)
+
     @property
     def centres(self) -> np.ndarray:
         """(h, w, 2) map-frame centres of the crop's cells."""

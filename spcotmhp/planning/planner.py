@@ -368,7 +368,7 @@ class HierarchicalPlanner(StagePlaces):
             first = max(anchors[:-1], default=0)
             rest = cells[first:]
             inside = (graph.territory[rest[:, 0], rest[:, 1]] == goal) & inside_places(
-                self.model, graph.centres[rest[:, 0], rest[:, 1]], [goal], settings.arrival_quantile
+                self.model, graph.centres_at(rest), [goal], settings.arrival_quantile
             )
             cells = cells[: first + arrival(rest, inside) + 1]
         return cells, smoothed
