@@ -87,7 +87,9 @@ def measure(code: Path, dataset: Path, model: Path, limit: float) -> dict:
 def parse_plan(out: str) -> tuple[float | None, float | None]:
     """(setup s, warm plan s) from the plan command's last line."""
     warm = re.search(r"planned in ([0-9.]+) ms warm", out)
-    setup = re.search(r"planning graph loaded in ([0-9.]+) s", out) or re.search(r"precomputation ([0-9.]+) s", out)
+    setup = re.search(r"loaded from the model folder in ([0-9.]+) s", out) or re.search(
+        r"precomputation ([0-9.]+) s", out
+    )
     return (float(setup.group(1)) if setup else None), (float(warm.group(1)) / 1e3 if warm else None)
 
 

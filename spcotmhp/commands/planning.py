@@ -124,10 +124,8 @@ def plan_command(
         typer.echo(plan.explanation)
         assert warm is not None  # planned again above for the text output
         loaded = planner.graph.info.get("load_s")
-        setup = (
-            f"planning graph loaded in {loaded:.2f} s (precomputed in {plan.time_precompute_s:.2f} s)"
-            if loaded is not None
-            else f"precomputation {plan.time_precompute_s:.2f} s"
+        setup = f"precomputation {plan.time_precompute_s:.2f} s" + (
+            f", loaded from the model folder in {loaded:.2f} s" if loaded is not None else ""
         )
         typer.echo(
             f"log p = {plan.log_prob:.2f}; planned in {warm * 1e3:.2f} ms warm (the first plan of this process took "

@@ -128,8 +128,8 @@ def check_meta(metas: object, model: SpatialConceptModel) -> list[dict[str, Any]
 
 def expected_arrays(metas: list[dict[str, Any]], model: SpatialConceptModel) -> dict[str, tuple[tuple, str]]:
     """name -> (shape, dtype kinds) of every array of the graphs described by ``metas`` (checked by
-    :func:`check_meta`); the total is refused beyond ``MAX_GRAPH_BYTES`` (8 bytes a number) before anything is
-    read."""
+    :func:`check_meta`); the total is refused beyond ``MAX_GRAPH_BYTES`` (8 bytes a number, 1 a tree code)
+    before anything is read."""
     K = model.K
     specs: dict[str, tuple[tuple, str]] = {"connected": ((K, K), "b")}
     for i, meta in enumerate(metas):
@@ -152,7 +152,10 @@ def expected_arrays(metas: list[dict[str, Any]], model: SpatialConceptModel) -> 
             for name, dims in hier.items():
                 specs[p + "hier." + name] = (dims, "f" if name in ("weight", "portal_cost") else "i")
             specs[p + "hier.sums"] = ((A, 4), "u")
-    total = sum(8 * int(np.prod([max(d, 0) for d in s])) for s, _ in specs.values())
+    total = sum(  # the tree codes one byte a cell (int8, checked when read), every other number 8
+        (1 if name.endswith("hier.fcode") else 8) * int(np.prod([max(d, 0) for d in s]))
+        for name, (s, _) in specs.items()
+    )
     if total > MAX_GRAPH_BYTES:
         raise ModelError(
             f"graph.json describes {total} bytes of arrays; a planning graph holds at most {MAX_GRAPH_BYTES}"

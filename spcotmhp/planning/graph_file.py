@@ -132,6 +132,8 @@ def _member(
         read_header = fmt.read_array_header_1_0 if version == (1, 0) else fmt.read_array_header_2_0
         got, fortran, dtype = read_header(member, max_header_size=MAX_HEADER_BYTES)
         header_bytes = member.tell()
+    if info.filename.endswith("hier.fcode.npy") and dtype != np.int8:
+        raise ModelError(f"{where} has dtype {dtype}; the tree codes are int8")
     if dtype.hasobject or dtype.kind not in kinds or dtype.itemsize > 8:
         raise ModelError(f"{where} has dtype {dtype}; expected numbers of kind {kinds}")
     if tuple(got) != tuple(shape):

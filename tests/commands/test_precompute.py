@@ -53,7 +53,7 @@ def test_precompute_saves_then_plan_loads(bare, tmp_path):
     assert "up to date" in run("precompute", str(copy)).stdout
     planned = run("plan", str(copy), "go to the bedroom", "--start", x, y)
     assert planned.returncode == 0, planned.stderr
-    assert "planning graph loaded in" in planned.stderr and "planning graph built" not in planned.stderr
+    assert "loaded from the model folder in" in planned.stderr and "planning graph built" not in planned.stderr
     other = run("precompute", str(copy), "--candidates", "2")  # a graph of other settings replaces it only when told
     assert other.returncode != 0 and "--overwrite" in other.stderr and "Traceback" not in other.stderr
     assert run("precompute", str(copy), "--candidates", "2", "--overwrite").returncode == 0
