@@ -259,3 +259,17 @@ def test_precompute_refuses_to_replace_a_graph_without_overwrite(saved, tmp_path
         .graph.info["graph_source"]
         .startswith("loaded")
     )
+
+
+def test_the_size_bound_counts_tree_codes_at_one_byte(saved):
+    # a 16-megapixel office's 2 GB of one-byte codes fit MAX_GRAPH_BYTES; counted at 8 bytes they did not
+    from spcotmhp.limits import MAX_GRAPH_BYTES
+    from spcotmhp.planning import graph_arrays
+
+    root, model = saved
+    metas = json.loads((root / "graph.json").read_text())["graphs"]
+    metas[0]["hier"]["codes"] = MAX_GRAPH_BYTES // 2
+    assert graph_arrays.expected_arrays(metas, model)["g0.hier.fcode"][0] == (MAX_GRAPH_BYTES // 2,)
+    metas[0]["hier"]["codes"] = MAX_GRAPH_BYTES + 1
+    with pytest.raises(graph_store.ModelError, match="at most"):
+        graph_arrays.expected_arrays(metas, model)
