@@ -40,6 +40,11 @@ MAX_SYNTH_ROOMS = 1_000
 MAX_SYNTH_EVENTS = 200_000
 MAX_CANDIDATES = 100
 MAX_STEPS = 1_000
+MAX_GRAPH_BYTES = 8 * 2**30
+"""Bytes of arrays a saved planning graph (graph.npz beside a model, :mod:`spcotmhp.planning.graph_store`) may
+describe, counted at 8 bytes a number (1 a tree code) before anything is read: a 16-megapixel office's graph
+with 200 places (the largest map the loader takes) describes 2.1 GiB at that count, so a file asking for four
+times more is damaged or hostile."""
 MODEL_MAX_SIZES = {"K": 10_000, "L": 10_000, "V": 1_000_000, "D": 100_000}
 """Largest sizes of a model file the loader accepts (``spcotmhp.persistence.model_checks``)."""
 MODEL_MAX_ELEMENTS = 32 * 1024 * 1024

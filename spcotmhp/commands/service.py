@@ -173,7 +173,8 @@ def serve(
             budget=Budget(time_budget=time_budget, max_wait=max_wait),
         )
     for name, folder in mapping.items():
-        console.print(f"model {name!r}: {folder}")
+        graph = app.state.served[name].planner.graph
+        console.print(f"model {name!r}: {folder} (planning graph {graph.info.get('graph_source', 'built')})")
     if host not in LOCAL_HOSTS:
         console.print(
             f"[yellow]warning: listening on {host}, reachable from other machines; the service has no "

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -160,6 +161,8 @@ class SpatialConceptModel:
             an adjacency-based psi for planning (connectivity "walk" / "map"); None when nothing was learned.
         learner: the state an online learner continues from (the events, their assignments and the counts;
             :mod:`spcotmhp.learning.learner_state`), or None.
+        folder: the model folder it was loaded from (set by ``load_model``), where a planner looks for the saved
+            planning graph (:mod:`spcotmhp.planning.graph_store`); None for a model made in memory.
     """
 
     mu: np.ndarray
@@ -178,6 +181,7 @@ class SpatialConceptModel:
     info: dict = field(default_factory=dict)
     psi_learned: np.ndarray | None = None
     learner: dict | None = field(default=None, repr=False, compare=False)
+    folder: Path | None = field(default=None, repr=False, compare=False)  # the folder it was loaded from
 
     def __post_init__(self) -> None:
         if self.active_places is None or np.size(self.active_places) == 0:

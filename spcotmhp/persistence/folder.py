@@ -85,10 +85,11 @@ def manifest_of(folder: Path, names: list[str]) -> dict:
     return {"format": MANIFEST_FORMAT, "format_version": MANIFEST_VERSION, "files": files}
 
 
-def read_manifest(root: Path) -> dict[str, tuple[int, str]] | None:
+def read_manifest(root: Path, skip: tuple[str, ...] = ()) -> dict[str, tuple[int, str]] | None:
     """name -> (bytes, SHA-256) of ``root``'s manifest.json (None without one), after checking that every
     listed file is a regular file inside the folder whose size is the listed one: a stat, nothing is read, so a
-    file grown by gigabytes is refused at once."""
+    file grown by gigabytes is refused at once. Files named in ``skip`` (checked by their own reader: the saved
+    planning graph, :mod:`spcotmhp.planning.graph_store`) are confined but may be missing or of another size."""
     path = root / MANIFEST
     if not path.exists() and not path.is_symlink():
         return None
@@ -108,6 +109,9 @@ def read_manifest(root: Path) -> dict[str, tuple[int, str]] | None:
         ok = isinstance(entry, dict) and isinstance(entry.get("bytes"), int) and isinstance(entry.get("sha256"), str)
         if not ok:
             raise ModelError(f'{path}: the entry of {excerpt(name)} must be {{"bytes": int, "sha256": hex}}')
+        if name in skip:
+            entries[name] = (entry["bytes"], entry["sha256"])
+            continue
         if not target.is_file():
             raise ModelError(
                 f"{root}: {name} is listed in {MANIFEST} but missing (a torn or altered model "

@@ -30,6 +30,7 @@ from __future__ import annotations
 import functools
 import json
 import os
+from collections.abc import Callable, Mapping
 from dataclasses import asdict
 from pathlib import Path
 
@@ -63,17 +64,28 @@ MODEL_FILES = (
     "learner.json",
     "learner.npz",
     "building.json",
+    "graph.json",
+    "graph.npz",
 )
+GRAPH_FILES = ("graph.json", "graph.npz")
+"""The saved planning graph (:mod:`spcotmhp.planning.graph_store`): checked when a planner loads it, not by
+``load_model`` (a damaged graph is rebuilt with a note; the model still loads)."""
 EXTRA_FILES = ("building.json",)
 """JSON files a caller may save beside the model (``save_model(extra=...)``): a building model's floors and
 connectors (:mod:`spcotmhp.building.io`). ``load_model`` checks them against the manifest and ignores them."""
 
 
 def save_model(
-    model: SpatialConceptModel, folder: str | Path, *, overwrite: bool = False, extra: dict[str, str] | None = None
+    model: SpatialConceptModel,
+    folder: str | Path,
+    *,
+    overwrite: bool = False,
+    extra: dict[str, str] | None = None,
+    files: Mapping[str, Callable[[Path], object]] | None = None,
 ) -> Path:
     """Write ``model`` to ``folder`` atomically (module docstring) and return the folder; ``extra``: the texts of
-    further files of :data:`EXTRA_FILES` to write with it (listed in the manifest).
+    further files of :data:`EXTRA_FILES` to write with it (listed in the manifest); ``files``: the writers of the
+    model's planning graph (:data:`GRAPH_FILES`: :func:`spcotmhp.planning.graph_store.graph_writers`).
 
     An existing model folder is replaced only with ``overwrite=True`` (else a ModelError, as the CLI refuses
     without --overwrite); a folder that holds files other than a model's is never replaced. Raises ModelError
@@ -97,7 +109,7 @@ def save_model(
         "map": None if model.map is None else "map.yaml",
         "info": model.info,
     }
-    text = json.dumps(meta, indent=1, ensure_ascii=False, default=_json_default)
+    text = json.dumps(meta, indent=1, ensure_ascii=False, default=json_default)
     writers = {
         "arrays.npz": lambda path: np.savez(path, allow_pickle=False, **arrays),
         "model.json": lambda path: path.write_text(text, encoding="utf-8"),
@@ -110,6 +122,10 @@ def save_model(
         if name not in EXTRA_FILES:
             raise ModelError(f"save_model: {name!r} is not a file a model folder holds beside the model")
         writers[name] = functools.partial(_write_text, text=content)
+    for name, write in (files or {}).items():
+        if name not in GRAPH_FILES:
+            raise ModelError(f"save_model: {name!r} is not a planning graph's file ({', '.join(GRAPH_FILES)})")
+        writers[name] = write
     occ = model.map
     if occ is not None:
         mode = "trinary" if np.isin(np.unique(occ.data), (-1, 0, 100)).all() else "raw"
@@ -165,6 +181,7 @@ def load_model(folder: str | Path) -> SpatialConceptModel:
             model.map = load_map(yaml_path)
         except SpcotmhpError as exc:
             raise ModelError(f"{root}: the model's map cannot be loaded: {exc}") from None
+    model.folder = root  # where a saved planning graph is looked up (spcotmhp.planning.graph_store)
     return model
 
 
@@ -175,8 +192,9 @@ def _verified_meta(root: Path) -> dict:
     checksums. Nothing large is read before its size is known to fit."""
     from spcotmhp.persistence.learner import read_learner_meta
 
-    entries = read_manifest(root)
+    entries = read_manifest(root, skip=GRAPH_FILES)
     names = sorted(entries) if entries is not None else [n for n in MODEL_FILES if (root / n).is_file()]
+    names = [n for n in names if n not in GRAPH_FILES]  # checked when a planner loads the graph
     small = [n for n in names if n.endswith((".json", ".yaml", ".yml"))]
     check_sizes(root, small, file_bound)
     if entries is not None:
@@ -218,7 +236,7 @@ def _write_text(path: Path, text: str) -> None:
     path.write_text(text, encoding="utf-8")
 
 
-def _json_default(obj: object) -> object:
+def json_default(obj: object) -> object:
     if isinstance(obj, np.generic):
         return obj.item()
     if isinstance(obj, np.ndarray):

@@ -118,7 +118,7 @@ def _view(graph: PlanningGraph, key: tuple, blocked: np.ndarray, usable: np.ndar
         info={**graph.info, "avoided": key},
         blocked=blocked,
         usable=usable,
-        _centres=graph.centres,
+        _centres=graph._centres,  # computed by the view itself if ever needed (16 bytes a cell)
         territory=graph.territory,
         main=graph.main,
         _territories=graph._territories,

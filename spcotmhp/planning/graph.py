@@ -160,7 +160,9 @@ class PlanningGraph:
         cache: GraphCache | None = None,
         reuse: PlanningGraph | None = None,
     ) -> PlanningGraph:
-        """Precompute (or fetch from ``cache``, when one is given) the graph of ``model`` on its map. ``log_p``
+        """Precompute (or fetch from ``cache``, when one is given, or load the one saved with a model loaded from a
+        folder: :mod:`spcotmhp.planning.graph_store`; ``info["graph_source"]`` says which) the graph of ``model``
+        on its map. ``log_p``
         overrides the cost map log p(x|m) (default: costmap_2d inflation of ``model.map`` with ``model.costmap``
         settings).
         ``reuse``: an earlier graph (same map size) whose territory-local fields are kept wherever a territory's
@@ -171,9 +173,21 @@ class PlanningGraph:
         if not np.any(model.active_places):
             raise ModelError("the model has no active place to plan with")
         key = fingerprint(model, settings, log_p)
-        if cache is None:
-            return cls._compute(model, settings, key, log_p, reuse)
-        return cache.get_or_build(key, lambda: cls._compute(model, settings, key, log_p, reuse))
+
+        def make() -> PlanningGraph:
+            note = "built"
+            if log_p is None and reuse is None and model.folder is not None:
+                from spcotmhp.planning.graph_store import load_saved
+
+                saved, note = load_saved(model, settings, key, cls)
+                if saved is not None:
+                    saved.info["graph_source"] = note
+                    return saved
+            graph = cls._compute(model, settings, key, log_p, reuse)
+            graph.info["graph_source"] = note
+            return graph
+
+        return make() if cache is None else cache.get_or_build(key, make)
 
     @classmethod
     def _compute(cls, model, settings, key, log_p_full, reuse=None) -> PlanningGraph:
@@ -407,6 +421,13 @@ class PlanningGraph:
         """``(origin, mask)``: the smallest window of the crop (corner at crop cell ``origin``) that holds the
         territories of ``places`` grown by ``tube_margin``, and their union in it."""
         return tube_window(self._territories, places)
+
+    def centres_at(self, cells: np.ndarray) -> np.ndarray:
+        """(n, 2) map-frame centres of the crop cells ``cells`` (the values of :attr:`centres` there, without the
+        whole crop's: 16 bytes a cell)."""
+        if self._centres is not None:
+            return self._centres[cells[:, 0], cells[:, 1]]
+        return self.model.require_map().cell_to_world(np.asarray(cells) + self.offset)
 
     @property
     def centres(self) -> np.ndarray:

@@ -44,17 +44,20 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit, prange
 
+from spcotmhp.errors import ModelError
 from spcotmhp.metric import _grid_kernels as _k
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
+from spcotmhp.planning import _tree_codes as _tc
 
 
 @dataclass
 class TerritoryFields:
     """The abstraction of the module docstring. Abstract node ``a`` sits at crop cell ``cells[a]`` in territory
     ``terr[a]``; the first ``n_nodes`` are the planning graph's nodes (same order). Fields are stored flat: node
-    ``a``'s field covers its territory's window ``win[terr[a]]`` (r0, c0, r1, c1) at ``fdist[off[a]:off[a + 1]]``
-    (cost to go, float64) and ``fnext`` (next cell, window-flat int32, -1 at ``a`` and off the territory)."""
+    ``a``'s field covers its territory's window ``win[terr[a]]`` (r0, c0, r1, c1) at ``fcode[off[a]:off[a + 1]]``:
+    the shortest-path tree into ``a``, one int8 direction code a cell (:mod:`spcotmhp.planning._tree_codes`; the
+    cost to go is summed along it, bit for bit the search's)."""
 
     cost: np.ndarray
     territory: np.ndarray
@@ -63,19 +66,38 @@ class TerritoryFields:
     terr: np.ndarray
     win: np.ndarray
     off: np.ndarray
-    fdist: np.ndarray
-    fnext: np.ndarray
+    fcode: np.ndarray
     members: list  # territory -> abstract nodes in it (int64 array)
     links: tuple  # (src, dst, weight) of the abstract graph's edges
     removed: np.ndarray  # (A,) abstract nodes of avoided territories
     portal_cost: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))  # (A, n_nodes) see solve()
     hop: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=np.int64))
     info: dict = field(default_factory=dict)
+    sums: np.ndarray | None = None  # (A, 4) uint64: each node's block's checksum, for codes read from a file
+    checked: np.ndarray | None = None  # (A,) blocks already checked against ``sums`` (shared by views)
+
+    def verify(self, nodes: np.ndarray) -> None:
+        """Check the tree codes of ``nodes`` against their checksums the first time they are read (codes loaded
+        from a file, :data:`spcotmhp.planning.graph_file.BLOCKS`); ModelError on a damaged block."""
+        if self.sums is None or self.checked is None:
+            return
+        from spcotmhp.planning.graph_file import checksum_words
+
+        for a in np.asarray(nodes, dtype=np.int64):
+            if self.checked[a]:
+                continue
+            block = self.fcode[self.off[a] : self.off[a + 1]].view(np.uint8)
+            if not np.array_equal(checksum_words(block, block.size), self.sums[a]):
+                raise ModelError(
+                    f"graph.npz: the local field of abstract node {int(a)} does not match its checksum (a damaged "
+                    "file); save the graph again: spcotmhp precompute MODEL --overwrite"
+                )
+            self.checked[a] = True
 
     @property
     def nbytes(self) -> int:
         """Bytes held by the fields and the abstract distance tables."""
-        return int(self.fdist.nbytes + self.fnext.nbytes + self.portal_cost.nbytes + self.hop.nbytes)
+        return int(self.fcode.nbytes + self.portal_cost.nbytes + self.hop.nbytes)
 
     def solve(self) -> None:
         """``portal_cost[a, j]`` (the cost from abstract node a into node j over the abstract graph) and ``hop[a, j]``
@@ -95,11 +117,13 @@ class TerritoryFields:
 
     def local(self, a: int, cell: np.ndarray) -> float:
         """Node a's field at crop cell ``cell`` (inf outside a's territory window)."""
-        r0, c0, r1, c1 = self.win[self.terr[a]]
-        r, c = int(cell[0]) - r0, int(cell[1]) - c0
-        if not (0 <= r < r1 - r0 and 0 <= c < c1 - c0):
-            return math.inf
-        return float(self.fdist[self.off[a] + r * (c1 - c0) + c])
+        return float(self._costs(np.array([a], dtype=np.int64), cell)[0])
+
+    def _costs(self, nodes: np.ndarray, cell: np.ndarray) -> np.ndarray:
+        self.verify(nodes)
+        return _tc.costs_at(
+            self.fcode, self.off, nodes, self.win, self.terr, self.cells, int(cell[0]), int(cell[1]), self.cost, SQRT2
+        )
 
     def entries(self, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(nodes, costs)``: the abstract nodes of ``cell``'s territory and the local cost from ``cell`` into
@@ -108,9 +132,7 @@ class TerritoryFields:
         if t < 0:
             return np.empty(0, dtype=np.int64), np.empty(0)
         nodes = self.members[t][~self.removed[self.members[t]]]
-        r0, c0, _, c1 = self.win[t]
-        at = (int(cell[0]) - r0) * (c1 - c0) + int(cell[1]) - c0
-        return nodes, self.fdist[self.off[nodes] + at]
+        return nodes, self._costs(nodes, cell)
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
         """(n_nodes,) the cost of the best path from crop cell ``cell`` into each node (inf: none)."""
@@ -137,10 +159,10 @@ class TerritoryFields:
         return np.concatenate(pieces)
 
     def _follow(self, a: int, cell: np.ndarray) -> np.ndarray:
-        r0, c0, _, c1 = self.win[self.terr[a]]
-        width = c1 - c0
-        links = self.fnext[self.off[a] : self.off[a + 1]]
-        cells, _ = _k.follow_links(links, (int(cell[0]) - r0) * width + int(cell[1]) - c0, width, False)
+        self.verify(np.array([a]))
+        r0, c0, r1, c1 = self.win[self.terr[a]]
+        codes = self.fcode[self.off[a] : self.off[a + 1]]
+        cells = _tc.follow_codes(codes, r1 - r0, c1 - c0, int(cell[0]) - r0, int(cell[1]) - c0)
         return cells + np.array([r0, c0])
 
     def without(self, places: tuple[int, ...]) -> TerritoryFields:
@@ -154,12 +176,13 @@ class TerritoryFields:
             self.terr,
             self.win,
             self.off,
-            self.fdist,
-            self.fnext,
+            self.fcode,
             self.members,
             self.links,
             removed,
             info=dict(self.info),
+            sums=self.sums,
+            checked=self.checked,
         )
         view.solve()
         return view
@@ -184,13 +207,14 @@ def build(
     terr = territory[cells[:, 0], cells[:, 1]]
     sizes = (win[terr, 2] - win[terr, 0]) * (win[terr, 3] - win[terr, 1])
     off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-    fdist = np.empty(int(off[-1]))
-    fnext = np.empty(int(off[-1]), dtype=np.int32)
-    todo = _reuse_fields(reuse, cost, territory, cells, terr, win, off, fdist, fnext)
-    _local_fields(np.ascontiguousarray(cost), territory, cells, terr, win, off, todo, fdist, fnext, connectivity, SQRT2)
-    order = np.argsort(terr, kind="stable")
-    bounds = np.searchsorted(terr[order], np.arange(n_places + 1))
-    members = [order[bounds[t] : bounds[t + 1]].astype(np.int64) for t in range(n_places)]
+    fcode = np.empty(int(off[-1]), dtype=np.int8)
+    todo = _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode)
+    cost = np.ascontiguousarray(cost)
+    _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity, SQRT2)
+    order = np.argsort(terr, kind="stable").astype(np.int64)
+    bounds = np.searchsorted(terr[order], np.arange(n_places + 1)).astype(np.int64)
+    members = [order[bounds[t] : bounds[t + 1]] for t in range(n_places)]
+    pairs = _tc.pair_costs(fcode, off, order, bounds, win, cells, cost, SQRT2)
     out = TerritoryFields(
         cost,
         territory,
@@ -199,10 +223,9 @@ def build(
         terr,
         win,
         off,
-        fdist,
-        fnext,
+        fcode,
         members,
-        _abstract_links(cost, cells, win, off, fdist, members, inter),
+        _abstract_links(cost, cells, pairs, members, inter),
         np.zeros(len(cells), dtype=bool),
         info={
             "abstract_nodes": len(cells),
@@ -246,25 +269,20 @@ def _abstract_nodes(
 
 
 def _abstract_links(
-    cost: np.ndarray,
-    cells: np.ndarray,
-    win: np.ndarray,
-    off: np.ndarray,
-    fdist: np.ndarray,
-    members: list,
-    inter: list[tuple[int, int]],
+    cost: np.ndarray, cells: np.ndarray, pairs: np.ndarray, members: list, inter: list[tuple[int, int]]
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(src, dst, weight)`` of the abstract graph's edges: within a territory, a -> b for every two of its
-    nodes that b's local field reaches (weight ``field_b[cell_a]``); across, both ways along every crossing
-    (weight ``c(v)`` of the cell entered)."""
+    nodes that b's local field reaches (weight ``field_b[cell_a]``: ``pairs``, :func:`~spcotmhp.planning.
+    _tree_codes.pair_costs`); across, both ways along every crossing (weight ``c(v)`` of the cell entered)."""
     src, dst, w = [], [], []
-    for t, m in enumerate(members):
-        if len(m) < 2:
+    at = 0
+    for m in members:
+        n = len(m)
+        vals = pairs[at : at + n * n].reshape(n, n)  # [a, b]: from a into b
+        at += n * n
+        if n < 2:
             continue
-        r0, c0, _, c1 = win[t]
-        at = (cells[m, 0] - r0) * (c1 - c0) + cells[m, 1] - c0
-        vals = fdist[off[m][None, :] + at[:, None]]  # [a, b]: from a into b
-        a_idx, b_idx = np.nonzero(np.isfinite(vals) & ~np.eye(len(m), dtype=bool))
+        a_idx, b_idx = np.nonzero(np.isfinite(vals) & ~np.eye(n, dtype=bool))
         src.append(m[a_idx])
         dst.append(m[b_idx])
         w.append(vals[a_idx, b_idx])
@@ -319,7 +337,7 @@ def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int,
     return out
 
 
-def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fdist, fnext) -> np.ndarray:
+def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode) -> np.ndarray:
     """Copy the fields of ``reuse`` for nodes at the same cell of a territory whose window, cells and costs are
     unchanged; return the nodes still to compute."""
     todo = np.ones(len(cells), dtype=bool)
@@ -340,15 +358,16 @@ def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fdist, fnext) -
             same[t] = ok
         old = old_at.get((t, int(cells[a, 0]), int(cells[a, 1])))
         if same[t] and old is not None:
-            fdist[off[a] : off[a + 1]] = reuse.fdist[reuse.off[old] : reuse.off[old + 1]]
-            fnext[off[a] : off[a + 1]] = reuse.fnext[reuse.off[old] : reuse.off[old + 1]]
+            reuse.verify(np.array([old]))
+            fcode[off[a] : off[a + 1]] = reuse.fcode[reuse.off[old] : reuse.off[old + 1]]
             todo[a] = False
     return np.flatnonzero(todo)
 
 
 @njit(cache=True, parallel=True)
-def _local_fields(cost, territory, cells, terr, win, off, todo, fdist, fnext, connectivity, diag):  # pragma: no cover
-    """The exact field into each abstract node of ``todo`` over its own territory (module docstring)."""
+def _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity, diag):  # pragma: no cover
+    """The exact field into each abstract node of ``todo`` over its own territory (module docstring), as its
+    tree's direction codes."""
     for n in prange(todo.shape[0]):
         a = todo[n]
         t = terr[a]
@@ -361,7 +380,7 @@ def _local_fields(cost, territory, cells, terr, win, off, todo, fdist, fnext, co
         src = np.empty((1, 2), np.int64)
         src[0, 0] = cells[a, 0] - r0
         src[0, 1] = cells[a, 1] - c0
-        dist, parent, _ = _k.grid_search(
+        _, parent, _ = _k.grid_search(
             sub,
             src,
             np.empty((0, 2), np.int64),
@@ -372,5 +391,4 @@ def _local_fields(cost, territory, cells, terr, win, off, todo, fdist, fnext, co
             _k.MODE_FIELD,
             0.0,
         )
-        fdist[off[a] : off[a] + h * w] = dist
-        fnext[off[a] : off[a] + h * w] = parent
+        _tc.encode_links(parent, w, fcode[off[a] : off[a] + h * w])

@@ -352,6 +352,7 @@ def run_node(
             f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
             f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
             + (f", teaching recorded in {record}" if record is not None else "")
+            + f"; planning graph {planner.graph.info.get('graph_source', 'built')}"
         )
         serve(node)
     finally:

@@ -95,7 +95,7 @@ def test_rebuild_reuses_unchanged_territories_and_equals_a_fresh_build(office):
     assert 0 < moved.info["fields_computed"] < fresh.info["fields_computed"]
     assert np.array_equal(moved.territory, fresh.territory)
     assert np.array_equal(moved.w_hat_metric, fresh.w_hat_metric)
-    assert np.array_equal(moved.hier.fdist, fresh.hier.fdist)
+    assert np.array_equal(moved.hier.fcode, fresh.hier.fcode)
     assert model.mu[k].tolist() != moved.model.mu[k].tolist()  # the base model is left alone
     with pytest.raises(ModelError, match="place index"):
         base.update_place(len(model.mu), model.mu[0], model.Sigma[0])
