@@ -5,9 +5,12 @@ PY := $(VENV)/bin/python
 PIP := $(VENV)/bin/pip
 STAMP_CORE := $(VENV)/.installed-core
 STAMP_ALL := $(VENV)/.installed-all
+STAMP_NAV2 := $(VENV)/.installed-nav2-msgs
+NAV2_SRC := ros2/nav2_msgs
+NAV2_BUILD := $(VENV)/build/nav2_msgs
 DEBIAN_PKGS := chromium espeak-ng
 
-.PHONY: demo test venv install install-all system-deps bench clean
+.PHONY: demo test venv install install-all nav2-msgs system-deps bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -29,8 +32,25 @@ $(STAMP_ALL): pyproject.toml | $(PY)
 	$(VENV)/bin/spcotmhp warmup
 	touch $@ $(STAMP_CORE)
 
+# Nav2's FollowPath / NavigateToPose / NavigateThroughPoses actions and SpeedLimit message (ros2/nav2_msgs/README.md),
+# generated and compiled with the rosidl and ament_cmake wheels of the extra ros2 (no ROS installation; needs cmake,
+# a C/C++ compiler and Python's headers) and installed into the venv like the message wheels: the Python package
+# nav2_msgs in its site-packages, the libraries in $(VENV)/lib (which the wheels' bootstrap puts on LD_LIBRARY_PATH).
+# The build is checked by importing it and comparing its type hashes with Nav2 Jazzy's (spcotmhp/ros/nav2_types.py).
+NAV2_CMAKE := -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DPython3_EXECUTABLE=$(abspath $(PY)) \
+	-DCMAKE_PREFIX_PATH=$(abspath $(VENV)) -DCMAKE_INSTALL_PREFIX=$(abspath $(VENV))
+$(STAMP_NAV2): $(STAMP_ALL) $(NAV2_SRC)/CMakeLists.txt $(NAV2_SRC)/package.xml $(wildcard $(NAV2_SRC)/*/*.*)
+	@echo "building nav2_msgs from $(NAV2_SRC) (1-2 minutes; log: $(NAV2_BUILD).log)"
+	@rm -rf $(NAV2_BUILD) && mkdir -p $(NAV2_BUILD)
+	@(export AMENT_PREFIX_PATH=$(abspath $(VENV)) && cmake -S $(NAV2_SRC) -B $(NAV2_BUILD) $(NAV2_CMAKE) \
+	  && cmake --build $(NAV2_BUILD) -j 2 && cmake --install $(NAV2_BUILD)) >$(NAV2_BUILD).log 2>&1 \
+	  || (tail -30 $(NAV2_BUILD).log; echo "nav2_msgs failed to build (log: $(NAV2_BUILD).log)"; exit 1)
+	$(PY) -m spcotmhp.ros.nav2_types
+	touch $@
+
 install: $(STAMP_CORE)
-install-all: $(STAMP_ALL) system-deps
+nav2-msgs: $(STAMP_NAV2)
+install-all: $(STAMP_ALL) $(STAMP_NAV2) system-deps
 
 # Debian packages the browser and speech tests need (installed only when missing and apt is usable).
 system-deps:
