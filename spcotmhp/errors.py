@@ -174,3 +174,19 @@ class TeachingBusy(TeachingError):
     budget; try again shortly (HTTP 503 with Retry-After)."""
 
     http_status = 503
+
+
+class DriveError(SpcotmhpError):
+    """The ROS 2 node could not have Nav2 drive a plan (spcotmhp.ros.drive); the plan itself was made."""
+
+
+class Nav2Unavailable(DriveError):
+    """No Nav2 action server answers (FollowPath on controller_server, NavigateThroughPoses on bt_navigator)."""
+
+
+class Nav2Rejected(DriveError):
+    """Nav2 rejected the goal (for example, not yet active, or the goal's frame unknown to it)."""
+
+
+class Nav2Failed(DriveError):
+    """Nav2 aborted the goal (its error code and message say why: no progress, no valid control, a tf error...)."""

@@ -79,6 +79,15 @@ def ros2(
             help="A building's model: the floor the robot starts on (index or name); /spcotmhp/floor switches it.",
         ),
     ] = None,
+    drive: Annotated[
+        str | None,
+        typer.Option(
+            "--drive",
+            metavar="HOW",
+            help="Drive the plans with Nav2: follow_path (its controller follows the plan) or through_poses "
+            "(NavigateThroughPoses through the waypoints and goal); needs nav2_msgs (make nav2-msgs).",
+        ),
+    ] = None,
 ) -> None:
     """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
     plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
@@ -94,8 +103,15 @@ def ros2(
 
         if record is not None:
             raise SpcotmhpError("--record is for a single floor's model; a building's node teaches without recording")
+        if drive is not None:
+            raise SpcotmhpError("--drive is for a single floor's model; a building's node publishes plans only")
         run_building_node(model_dir, floor, frame, start_topic, progress=lambda line: typer.echo(line, err=True))
         return
+    if drive is not None:
+        from spcotmhp.ros.drive import MODES
+
+        if drive not in MODES:
+            raise typer.BadParameter(f"--drive must be one of {', '.join(MODES)}, got {drive!r}")
     if floor is not None:
         raise typer.BadParameter(
             f"--floor is for a building's model (learned from a building folder); {model_dir} is not one"
@@ -108,6 +124,7 @@ def ros2(
         start_topic=start_topic,
         record=record,
         progress=lambda line: typer.echo(line, err=True),
+        drive=drive,
     )
 
 

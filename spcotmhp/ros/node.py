@@ -32,6 +32,9 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
 
+With ``drive`` (``--drive follow_path|through_poses``), every plan also becomes Nav2 goals, its progress
+``drive`` statuses, "stop" a cancel (:mod:`spcotmhp.ros.drive`).
+
 No message can stop the node: every callback answers a failure on the status topic (bad input as the library's
 one-line typed error; anything else as an internal error, also logged).
 """
@@ -123,9 +126,16 @@ class SpcotmhpNode(Node):
         frame: str = "map",
         start_topic: str = "amcl_pose",
         log: TeachingLog | None = None,
+        drive: str | None = None,
     ) -> None:
         super().__init__("spcotmhp")
         self.planner, self.frame, self.log = planner, frame, log
+        self.driver = None  # with ``drive``, plans become Nav2 goals (spcotmhp.ros.drive)
+        self._centres: tuple[object, dict] = (None, {})
+        if drive is not None:
+            from spcotmhp.ros.drive import Driver
+
+            self.driver = Driver(self, drive, frame, report=self.status, where=lambda: self.pose)
         self.pose: tuple[float, float, float] | None = None  # the latest pose, None once one is rejected
         self.teacher = ThreadPoolExecutor(1, thread_name_prefix="spcotmhp-teach")
         self._pending = 0
@@ -242,12 +252,18 @@ class SpcotmhpNode(Node):
 
     @answered("error")
     def on_instruction(self, msg: String) -> None:
+        if self.driver is not None and self.driver.stopping(msg.data):
+            return
         x, y, yaw = self.current_pose("an instruction")
         planner = self.planner  # the one in place now (a teach may swap in another meanwhile)
         plan = planner.plan(msg.data, (x, y))
         points = path_poses(plan.path, plan.cells, (x, y), planner.model.require_map())
         self.plan_pub.publish(self.path_message(points, yaw))
         self.status(plan_status(plan, msg.data, (x, y), points, self.frame))
+        if self.driver is not None:
+            if self._centres[0] is not planner:  # the places' centres, once per planner (a teach swaps it)
+                self._centres = (planner, {p["id"]: p["centre"] for p in place_shapes(planner)[0]})
+            self.driver.drive(plan, points, msg.data, self._centres[1])
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
@@ -332,6 +348,7 @@ def run_node(
     start_topic: str = "amcl_pose",
     record: FilePath | None = None,
     progress: Callable[[str], None] = print,
+    drive: str | None = None,
 ) -> None:
     """Load the model, precompute its planner, and serve until interrupted (Ctrl-C or SIGTERM)."""
     from spcotmhp.persistence.io import load_model
@@ -343,11 +360,12 @@ def run_node(
     planner.warm_up()
     rclpy.init()
     try:
-        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log)
+        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log, drive=drive)
         progress(
             f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
             f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
             + (f", teaching recorded in {record}" if record is not None else "")
+            + (f", driving Nav2 ({drive})" if drive is not None else "")
         )
         serve(node)
     finally:

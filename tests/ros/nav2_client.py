@@ -117,8 +117,9 @@ def through_goal(points):
 
 
 @contextlib.contextmanager
-def standin(root: Path, domain: str, *args: str) -> Iterator[Nav2Client]:
-    """Run the stand-in (``args`` on its command line) in a subprocess on ``domain``; a ready client beside it."""
+def standin(root: Path, domain: str, *args: str, client_class: type = Nav2Client) -> Iterator:
+    """Run the stand-in (``args`` on its command line) in a subprocess on ``domain``; a ready client beside it
+    (``client_class``, a Nav2Client)."""
     import rclpy
 
     with ros_environment(root, domain) as env:
@@ -127,7 +128,7 @@ def standin(root: Path, domain: str, *args: str) -> Iterator[Nav2Client]:
                                 text=True)  # fmt: skip
         context = rclpy.Context()
         rclpy.init(context=context)
-        client = Nav2Client(context)
+        client = client_class(context)
         try:
             assert client.ready() and proc.poll() is None, proc.communicate(timeout=10) if proc.poll() else "no server"
             yield client

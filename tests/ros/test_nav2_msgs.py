@@ -19,7 +19,7 @@ from spcotmhp.ros.nav2_types import EXPECTED_HASHES, Nav2MsgsMismatch, check_nav
 from spcotmhp.ros.type_hash import TypeHashUnavailable, compiled_type_hash  # noqa: E402
 from tests.ros.nav2_client import ACTION, MSG, SUCCEEDED, follow_goal, standin  # noqa: E402
 
-DOMAIN = str(10 + os.getpid() % 10)  # 10..19: not the other ROS tests' domains
+DOMAIN = str(10 + os.getpid() % 5)  # 10..14: not the other ROS tests' domains
 INTERFACES = Path(__file__).resolve().parents[2] / "ros2" / "nav2_msgs"
 
 
