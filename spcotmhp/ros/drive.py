@@ -37,6 +37,7 @@ FOLLOW_PATH, THROUGH_POSES = "follow_path", "through_poses"
 MODES = (FOLLOW_PATH, THROUGH_POSES)
 SERVERS = {FOLLOW_PATH: "follow_path", THROUGH_POSES: "navigate_through_poses"}  # Nav2's default action names
 SLOW_PERCENT = 50.0  # "slowly": half the controller's maximum speed (a parameter: robots differ)
+SERVER_WAIT_S = 2.0  # Nav2 found within this of the node's start is waited for, not an error (discovery lags)
 PROGRESS_EVERY_S = 1.0  # a status a second is what a listener (speech, a screen) can follow
 STOP_WORDS = frozenset(
     {"stop", "halt", "cancel", "never mind", "nevermind", "stop there", "stop now", "止まって", "止まれ", "とまって",
@@ -170,7 +171,7 @@ class Driver:
     ) -> None:
         """Drive ``plan`` (its path poses ``points``; ``centres`` of the places by id, for the places passed):
         pre-empt what runs, set the speed limit, send the first leg."""
-        if not self.client.server_is_ready():
+        if not self.client.wait_for_server(timeout_sec=SERVER_WAIT_S):
             raise Nav2Unavailable(
                 f"no Nav2 action server on {self.node.resolve_topic_name(SERVERS[self.mode])} "
                 f"(is Nav2 up and active? --drive {self.mode})"

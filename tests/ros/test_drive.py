@@ -99,15 +99,16 @@ class DriveClient(Nav2Client):
 
     def until_drive(self, after: int, event: str) -> dict:
         assert self.spin_until(lambda: bool(self.drive_events(after, event)) or self.errors(after)), event
-        assert not self.errors(after), self.errors(after)
+        seen = [(e["event"], e.get("t")) for e in self.events[-8:]]  # the stand-in's side, should it fail
+        assert not self.errors(after), (self.errors(after), seen)
         return self.drive_events(after, event)[0]
 
     def errors(self, after: int) -> list[dict]:
         return [s for s in self.status[after:] if s.get("ok") is False]
 
 
-def _start_node(folder: Path, env: dict) -> subprocess.Popen:
-    return subprocess.Popen([EXE, "ros2", str(folder), "--drive", "follow_path"], env={**os.environ, **env},
+def _start_node(folder: Path, env: dict, drive: str = "follow_path") -> subprocess.Popen:
+    return subprocess.Popen([EXE, "ros2", str(folder), "--drive", drive], env={**os.environ, **env},
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
 
 
@@ -127,6 +128,13 @@ def _ready(client: DriveClient, proc: subprocess.Popen, seen: int = 0) -> None:
     up = lambda: (len(client.places) > seen and client.say.get_subscription_count() > 0) or proc.poll() is not None  # noqa: E731
     assert client.spin_until(up, 300)
     assert proc.poll() is None, proc.communicate(timeout=10)
+    for _ in range(100):  # and it holds the stand-in's pose: an empty instruction's error then is not NoValidPose
+        mark = client.tell("")[0]
+        assert client.spin_until(lambda: bool(client.errors(mark)))  # noqa: B023 - called here, in this turn
+        if client.errors(mark)[0]["type"] != "NoValidPose":
+            return
+        client.spin_until(lambda: False, 0.2)
+    raise AssertionError("the node never got the stand-in's pose")
 
 
 @pytest.fixture(scope="module")
@@ -138,12 +146,12 @@ def robot(tmp_path_factory):
     args = ("--speed", str(SPEED), "--x", str(START[0]), "--y", str(START[1]))
     with standin(root, DOMAIN, *args, client_class=DriveClient) as client:
         env = {k: os.environ[k] for k in ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_DOMAIN_ID", "ROS_LOG_DIR")}
-        proc = _start_node(folder, env)
+        robot = SimpleNamespace(client=client, proc=_start_node(folder, env), folder=folder, env=env)
         try:
-            _ready(client, proc)
-            yield SimpleNamespace(client=client, proc=proc, folder=folder, env=env)
+            _ready(client, robot.proc)
+            yield robot
         finally:
-            _stop(proc)
+            _stop(robot.proc)  # the node running now (a test restarts it)
 
 
 def _arrive(client: DriveClient, text: str) -> tuple[int, int]:
@@ -235,3 +243,19 @@ def test_a_restarted_node_takes_over_mid_goal(robot):
     status0, events0 = _arrive(c, "go to the kitchen")
     assert [s["place"] for s in c.drive_events(status0, "arrived")] == ["kitchen"]
     assert any(e["event"] in ("preempted", "canceled", "succeeded") for e in c.events[events0:])
+
+
+def test_through_poses_mode_sends_the_stops(robot):
+    """``--drive through_poses``: one NavigateThroughPoses goal through the plan's waypoint and goal points."""
+    c = robot.client
+    _stop(robot.proc)
+    seen = len(c.places)
+    robot.proc = _start_node(robot.folder, robot.env, "through_poses")
+    _ready(c, robot.proc, seen)
+    status0, events0 = _arrive(c, "go to the bath via the corridor")
+    goal = c.event("goal", events0)
+    assert goal["action"] == "navigate_through_poses" and len(goal["poses"]) == 2
+    plan = c.plans[-1]
+    end = plan.poses[-1].pose.position
+    assert goal["poses"][-1] == pytest.approx([end.x, end.y])
+    assert [s["place"] for s in c.drive_events(status0, "arrived")] == ["bath"]
