@@ -19,10 +19,12 @@ from pathlib import Path
 import pytest
 from action_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
+from nav_msgs.msg import Path as PathMsg
 from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from std_msgs.msg import Empty, String
+from visualization_msgs.msg import MarkerArray
 
 from spcotmhp.ros.nav2_types import Nav2MsgsMissing, import_nav2_msgs
 from spcotmhp.ros.node import EVENTS, LATCHED
@@ -33,6 +35,7 @@ try:
 except Nav2MsgsMissing as e:  # the extra ros2 is installed (rclpy imported) but `make nav2-msgs` was not run
     pytest.fail(str(e), pytrace=False)
 
+EXE = str(Path(sys.executable).with_name("spcotmhp"))
 WAIT = 60.0  # seconds any one step may take on a loaded machine before the test gives up (not a timing check)
 
 
@@ -141,6 +144,71 @@ def standin(root: Path, domain: str, *args: str, client_class: type = Nav2Client
             except subprocess.TimeoutExpired:
                 proc.kill()
                 proc.wait(10)
+
+
+class DriveClient(Nav2Client):
+    """The stand-in's side (Nav2Client) and the node's topics."""
+
+    def __init__(self, context) -> None:
+        super().__init__(context)
+        self.status: list[dict] = []
+        self.plans: list[PathMsg] = []
+        self.node.create_subscription(String, "/spcotmhp/status", lambda m: self.status.append(json.loads(m.data)),
+                                      EVENTS)  # fmt: skip
+        self.node.create_subscription(PathMsg, "/spcotmhp/plan", self.plans.append, LATCHED)
+        self.places: list[MarkerArray] = []  # the node publishes its places (latched) once it is up
+        self.node.create_subscription(MarkerArray, "/spcotmhp/places", self.places.append, LATCHED)
+        self.say = self.node.create_publisher(String, "/spcotmhp/instruction", EVENTS)
+
+    def drive_events(self, after: int, event: str) -> list[dict]:
+        return [s for s in self.status[after:] if s.get("kind") == "drive" and s["event"] == event]
+
+    def tell(self, text: str) -> tuple[int, int]:
+        """Publish an instruction; the status and stand-in event counts before it."""
+        marks = len(self.status), len(self.events)
+        self.say.publish(String(data=text))
+        return marks
+
+    def until_drive(self, after: int, event: str) -> dict:
+        assert self.spin_until(lambda: bool(self.drive_events(after, event)) or self.errors(after)), event
+        seen = [(e["event"], e.get("t")) for e in self.events[-8:]]  # the stand-in's side, should it fail
+        assert not self.errors(after), (self.errors(after), seen)
+        return self.drive_events(after, event)[0]
+
+    def errors(self, after: int) -> list[dict]:
+        return [s for s in self.status[after:] if s.get("ok") is False]
+
+
+def start_node(folder: Path, env: dict, drive: str = "follow_path") -> subprocess.Popen:
+    """`spcotmhp ros2 FOLDER --drive DRIVE` in a subprocess with ``env`` added to this environment."""
+    return subprocess.Popen([EXE, "ros2", str(folder), "--drive", drive], env={**os.environ, **env},
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+
+
+def stop_node(proc: subprocess.Popen) -> None:
+    """SIGINT (the node's clean stop), then a kill if it is still there after 20 s."""
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(10)
+
+
+def node_ready(client: DriveClient, proc: subprocess.Popen, seen: int = 0) -> None:
+    """Wait until the node is up: its places arrive (after ``seen`` earlier ones: a killed node's subscriptions
+    stay in the graph for a while, so counting subscribers would not tell)."""
+    up = lambda: (len(client.places) > seen and client.say.get_subscription_count() > 0) or proc.poll() is not None  # noqa: E731
+    assert client.spin_until(up, 300)
+    assert proc.poll() is None, proc.communicate(timeout=10)
+    for _ in range(100):  # and it holds the stand-in's pose: an empty instruction's error then is not NoValidPose
+        mark = client.tell("")[0]
+        assert client.spin_until(lambda: bool(client.errors(mark)))  # noqa: B023 - called here, in this turn
+        if client.errors(mark)[0]["type"] != "NoValidPose":
+            return
+        client.spin_until(lambda: False, 0.2)
+    raise AssertionError("the node never got the stand-in's pose")
 
 
 SUCCEEDED, CANCELED, ABORTED = GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED

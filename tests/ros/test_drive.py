@@ -7,14 +7,9 @@ extra ros2; with it, fails (naming `make nav2-msgs`) when nav2_msgs was not buil
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import signal
-import subprocess
-import sys
 import warnings
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -22,19 +17,15 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from nav_msgs.msg import Path as PathMsg  # noqa: E402
-from std_msgs.msg import Empty, String  # noqa: E402
-from visualization_msgs.msg import MarkerArray  # noqa: E402
+from std_msgs.msg import Empty  # noqa: E402
 
 from spcotmhp.datasets.bundled import load_bundled  # noqa: E402
 from spcotmhp.learning.supervised import fit_supervised  # noqa: E402
 from spcotmhp.persistence.io import save_model  # noqa: E402
 from spcotmhp.planning.plan import PlanPlace  # noqa: E402
 from spcotmhp.ros.drive import Leg, is_stop, plan_legs  # noqa: E402
-from spcotmhp.ros.node import EVENTS, LATCHED  # noqa: E402
-from tests.ros.nav2_client import Nav2Client, standin  # noqa: E402
+from tests.ros.nav2_client import DriveClient, node_ready, standin, start_node, stop_node  # noqa: E402
 
-EXE = str(Path(sys.executable).with_name("spcotmhp"))
 DOMAIN = str(15 + os.getpid() % 5)  # 15..19: not the other ROS tests' domains
 START = (-3.9, -3.5)  # the README's start in 3LDK_06 (the entrance)
 SPEED = 3.0
@@ -74,69 +65,6 @@ def test_legs_cut_at_the_waits():
     assert legs == [Leg(0, 4, "bath", (2, 4), None)]
 
 
-class DriveClient(Nav2Client):
-    """The stand-in's side (Nav2Client) and the node's topics."""
-
-    def __init__(self, context) -> None:
-        super().__init__(context)
-        self.status: list[dict] = []
-        self.plans: list[PathMsg] = []
-        self.node.create_subscription(String, "/spcotmhp/status", lambda m: self.status.append(json.loads(m.data)),
-                                      EVENTS)  # fmt: skip
-        self.node.create_subscription(PathMsg, "/spcotmhp/plan", self.plans.append, LATCHED)
-        self.places: list[MarkerArray] = []  # the node publishes its places (latched) once it is up
-        self.node.create_subscription(MarkerArray, "/spcotmhp/places", self.places.append, LATCHED)
-        self.say = self.node.create_publisher(String, "/spcotmhp/instruction", EVENTS)
-
-    def drive_events(self, after: int, event: str) -> list[dict]:
-        return [s for s in self.status[after:] if s.get("kind") == "drive" and s["event"] == event]
-
-    def tell(self, text: str) -> tuple[int, int]:
-        """Publish an instruction; the status and stand-in event counts before it."""
-        marks = len(self.status), len(self.events)
-        self.say.publish(String(data=text))
-        return marks
-
-    def until_drive(self, after: int, event: str) -> dict:
-        assert self.spin_until(lambda: bool(self.drive_events(after, event)) or self.errors(after)), event
-        seen = [(e["event"], e.get("t")) for e in self.events[-8:]]  # the stand-in's side, should it fail
-        assert not self.errors(after), (self.errors(after), seen)
-        return self.drive_events(after, event)[0]
-
-    def errors(self, after: int) -> list[dict]:
-        return [s for s in self.status[after:] if s.get("ok") is False]
-
-
-def _start_node(folder: Path, env: dict, drive: str = "follow_path") -> subprocess.Popen:
-    return subprocess.Popen([EXE, "ros2", str(folder), "--drive", drive], env={**os.environ, **env},
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
-
-
-def _stop(proc: subprocess.Popen) -> None:
-    if proc.poll() is None:
-        proc.send_signal(signal.SIGINT)
-        try:
-            proc.wait(20)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait(10)
-
-
-def _ready(client: DriveClient, proc: subprocess.Popen, seen: int = 0) -> None:
-    """Wait until the node is up: its places arrive (after ``seen`` earlier ones: a killed node's subscriptions
-    stay in the graph for a while, so counting subscribers would not tell)."""
-    up = lambda: (len(client.places) > seen and client.say.get_subscription_count() > 0) or proc.poll() is not None  # noqa: E731
-    assert client.spin_until(up, 300)
-    assert proc.poll() is None, proc.communicate(timeout=10)
-    for _ in range(100):  # and it holds the stand-in's pose: an empty instruction's error then is not NoValidPose
-        mark = client.tell("")[0]
-        assert client.spin_until(lambda: bool(client.errors(mark)))  # noqa: B023 - called here, in this turn
-        if client.errors(mark)[0]["type"] != "NoValidPose":
-            return
-        client.spin_until(lambda: False, 0.2)
-    raise AssertionError("the node never got the stand-in's pose")
-
-
 @pytest.fixture(scope="module")
 def robot(tmp_path_factory):
     root = tmp_path_factory.mktemp("drive")
@@ -146,12 +74,12 @@ def robot(tmp_path_factory):
     args = ("--speed", str(SPEED), "--x", str(START[0]), "--y", str(START[1]))
     with standin(root, DOMAIN, *args, client_class=DriveClient) as client:
         env = {k: os.environ[k] for k in ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_DOMAIN_ID", "ROS_LOG_DIR")}
-        robot = SimpleNamespace(client=client, proc=_start_node(folder, env), folder=folder, env=env)
+        robot = SimpleNamespace(client=client, proc=start_node(folder, env), folder=folder, env=env)
         try:
-            _ready(client, robot.proc)
+            node_ready(client, robot.proc)
             yield robot
         finally:
-            _stop(robot.proc)  # the node running now (a test restarts it)
+            stop_node(robot.proc)  # the node running now (a test restarts it)
 
 
 def _arrive(client: DriveClient, text: str) -> tuple[int, int]:
@@ -238,8 +166,8 @@ def test_a_restarted_node_takes_over_mid_goal(robot):
     robot.proc.kill()  # the node dies mid-goal; the stand-in drives on
     robot.proc.wait(10)
     seen = len(c.places)
-    robot.proc = _start_node(robot.folder, robot.env)
-    _ready(c, robot.proc, seen)
+    robot.proc = start_node(robot.folder, robot.env)
+    node_ready(c, robot.proc, seen)
     status0, events0 = _arrive(c, "go to the kitchen")
     assert [s["place"] for s in c.drive_events(status0, "arrived")] == ["kitchen"]
     assert any(e["event"] in ("preempted", "canceled", "succeeded") for e in c.events[events0:])
@@ -248,10 +176,10 @@ def test_a_restarted_node_takes_over_mid_goal(robot):
 def test_through_poses_mode_sends_the_stops(robot):
     """``--drive through_poses``: one NavigateThroughPoses goal through the plan's waypoint and goal points."""
     c = robot.client
-    _stop(robot.proc)
+    stop_node(robot.proc)
     seen = len(c.places)
-    robot.proc = _start_node(robot.folder, robot.env, "through_poses")
-    _ready(c, robot.proc, seen)
+    robot.proc = start_node(robot.folder, robot.env, "through_poses")
+    node_ready(c, robot.proc, seen)
     status0, events0 = _arrive(c, "go to the bath via the corridor")
     goal = c.event("goal", events0)
     assert goal["action"] == "navigate_through_poses" and len(goal["poses"]) == 2
