@@ -113,6 +113,7 @@ class StandInNav2(Node):
         self.lock = threading.Lock()
         self.current: Any = None  # the goal handle running (one robot: a goal on either action pre-empts it)
         self.aborting = threading.Event()
+        self.received = 0.0
         group = ReentrantCallbackGroup()
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "amcl_pose", LATCHED)
         self.events = self.create_publisher(String, "standin_nav2/events", EVENTS)
@@ -145,6 +146,7 @@ class StandInNav2(Node):
         self.event(event="speed_limit", limit=msg.speed_limit, percentage=msg.percentage, speed=speed)
 
     def on_goal(self, request: Any) -> GoalResponse:
+        self.received = time.time()  # when the goal request reached the server (the "goal" event's received_t)
         if self.reject:
             self.event(event="rejected", poses=len(_goal_poses(request)))
             return GoalResponse.REJECT
@@ -156,8 +158,9 @@ class StandInNav2(Node):
         with self.lock:
             self.current = handle
         poses = _goal_poses(handle.request)
-        self.event(event="goal", action=name, poses=[[p.pose.position.x, p.pose.position.y] for p in poses],
-                   frame=poses[0].header.frame_id if poses else "", t=time.time())  # fmt: skip
+        points = [[p.pose.position.x, p.pose.position.y] for p in poses]
+        frame = poses[0].header.frame_id if poses else ""
+        self.event(event="goal", action=name, poses=points, frame=frame, t=time.time(), received_t=self.received)
         handle.execute()
 
     def execute(self, handle: Any) -> Any:
