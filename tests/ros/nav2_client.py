@@ -12,7 +12,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -28,7 +27,7 @@ from visualization_msgs.msg import MarkerArray
 
 from spcotmhp.ros.nav2_types import Nav2MsgsMissing, import_nav2_msgs
 from spcotmhp.ros.node import EVENTS, LATCHED
-from tests.ros.test_node import ros_environment
+from tests.ros.test_node import Client, ros_environment
 
 try:
     ACTION, MSG = import_nav2_msgs()
@@ -57,12 +56,7 @@ class Nav2Client:
         self.abort = self.node.create_publisher(Empty, "standin_nav2/abort", 10)
 
     def spin_until(self, done, timeout: float = WAIT) -> bool:
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            if done():
-                return True
-            self.executor.spin_once(timeout_sec=0.01)
-        return bool(done())
+        return Client.spin_until(self, done, timeout)  # the node tests' loop, on this client's executor
 
     def ready(self) -> bool:
         """Both servers, the topics and the first pose are there."""
@@ -138,12 +132,7 @@ def standin(root: Path, domain: str, *args: str, client_class: type = Nav2Client
         finally:
             client.node.destroy_node()
             context.try_shutdown()
-            proc.send_signal(signal.SIGINT)
-            try:
-                proc.wait(10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait(10)
+            stop_node(proc)
 
 
 class DriveClient(Nav2Client):
@@ -186,7 +175,7 @@ def start_node(folder: Path, env: dict, drive: str = "follow_path") -> subproces
 
 
 def stop_node(proc: subprocess.Popen) -> None:
-    """SIGINT (the node's clean stop), then a kill if it is still there after 20 s."""
+    """SIGINT (a node's or the stand-in's clean stop), then a kill if it is still there after 20 s."""
     if proc.poll() is None:
         proc.send_signal(signal.SIGINT)
         try:
