@@ -120,6 +120,11 @@ class PoseRejected(PlanningError):
     node; the pose is dropped and instructions wait for a valid one)."""
 
 
+class TransformUnavailable(PoseRejected):
+    """A pose's frame has no chain of transforms to the map frame (spcotmhp.ros.tf_tree): no frame of that name
+    was heard on /tf or /tf_static, or it is in another tree, within the lookup's timeout."""
+
+
 class NoValidPose(PlanningError):
     """No robot pose to plan from: none has arrived yet, or the latest was rejected (:class:`PoseRejected`);
     an earlier pose is never used in its place."""
