@@ -58,6 +58,7 @@ def import_bag(
     )
 
 
+# long: a CLI command: its typer options and help (the drive mode's among them), then a short body
 def ros2(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
     frame: Annotated[str, typer.Option(help="Frame of the model's map, of the plans and of the start poses.")] = "map",
