@@ -77,6 +77,7 @@ from spcotmhp.ros.shapes import (
     yaw_quaternion,
 )
 from spcotmhp.ros.teaching_log import TeachingLog
+from spcotmhp.ros.tf_tree import TransformTree, listen
 from spcotmhp.teaching.teach import planner_for, teach
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -145,6 +146,9 @@ class SpcotmhpNode(Node):
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
         self.questions_pub = self.create_publisher(String, "spcotmhp/questions", LATCHED)
+        self.tf: TransformTree | None = TransformTree()  # poses in other frames, through /tf and /tf_static
+        if not listen(self, self.tf):
+            self.tf = None
         self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
         self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
         self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
@@ -221,20 +225,22 @@ class SpcotmhpNode(Node):
     def checked_pose(self, msg: PoseWithCovarianceStamped) -> tuple[float, float, float]:
         """(x, y, yaw) of a pose message in ``frame``, finite and on the model's map; else PoseRejected."""
         frame = msg.header.frame_id.lstrip("/")
-        if frame and frame != self.frame:
-            raise PoseRejected(
-                f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: "
-                f"publish the pose in '{self.frame}' or start the node with --frame {frame})"
-            )
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        yaw = quaternion_yaw(q.x, q.y, q.z, q.w)
-        if not all(math.isfinite(v) for v in (p.x, p.y, yaw)):
-            raise PoseRejected(f"the pose ({p.x}, {p.y}, yaw {yaw}) is not finite")
+        x, y, yaw = p.x, p.y, quaternion_yaw(q.x, q.y, q.z, q.w)
+        if frame and frame != self.frame:
+            if self.tf is None:
+                raise PoseRejected(
+                    f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: tf2_msgs is not "
+                    f"built; publish the pose in '{self.frame}' or start the node with --frame {frame})"
+                )
+            x, y, yaw = self.tf.pose_in(self.frame, frame, x, y, yaw)  # TransformUnavailable: no chain heard
+        if not all(math.isfinite(v) for v in (x, y, yaw)):
+            raise PoseRejected(f"the pose ({x}, {y}, yaw {yaw}) is not finite")
         try:
-            locate_start(self.planner.model.require_map(), (p.x, p.y))
+            locate_start(self.planner.model.require_map(), (x, y))
         except StartOutsideMap as exc:
             raise PoseRejected(f"the pose is off the model's map: {exc}") from None
-        return float(p.x), float(p.y), float(yaw)
+        return float(x), float(y), float(yaw)
 
     def current_pose(self, use: str) -> tuple[float, float, float]:
         """The pose to plan or teach from; NoValidPose when none has arrived or the latest was rejected."""

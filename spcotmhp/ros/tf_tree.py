@@ -82,11 +82,13 @@ class TransformTree:
         if target == source:
             return IDENTITY
         known = self.frames()
-        for name in (target, source):
+        for name in (source, target):
             if name not in known:
                 heard = ", ".join(sorted(known)[:20]) or "none"
-                raise TransformUnavailable(f"no transform to frame {name!r} was heard on /tf or /tf_static "
-                                           f"(frames known: {heard})")  # fmt: skip
+                raise TransformUnavailable(
+                    f"no transform from frame {source!r} to {target!r}: {name!r} was not heard on /tf or "
+                    f"/tf_static (frames known: {heard})"
+                )
         s_names, s_root = self._chain(source)
         t_names, t_root = self._chain(target)
         if s_names[-1] != t_names[-1]:
@@ -115,3 +117,26 @@ def feed(tree: TransformTree, message: object) -> list[str]:
         except TransformUnavailable as e:
             refused.append(str(e))
     return refused
+
+
+def listen(node: object, tree: TransformTree) -> bool:
+    """Subscribe ``node`` (an rclpy Node) to /tf and /tf_static (latched, as tf2's static broadcaster publishes),
+    feeding ``tree``; a refused transform is logged. False (nothing subscribed) when tf2_msgs is not built."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    from spcotmhp.ros.tf_types import Tf2MsgsMissing, import_tf_message
+
+    try:
+        tf_message = import_tf_message()
+    except Tf2MsgsMissing as e:
+        node.get_logger().warning(f"no tf: {e}")  # type: ignore[attr-defined]
+        return False
+
+    def heard(message: object) -> None:
+        for line in feed(tree, message):
+            node.get_logger().warning(f"tf: {line}")  # type: ignore[attr-defined]
+
+    static = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    node.create_subscription(tf_message, "/tf", heard, 100)  # type: ignore[attr-defined]
+    node.create_subscription(tf_message, "/tf_static", heard, static)  # type: ignore[attr-defined]
+    return True
