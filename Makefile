@@ -41,7 +41,7 @@ ROS2_CMAKE := -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DPython3_EXECUTABL
 CHECK_nav2_msgs := spcotmhp.ros.nav2_types
 CHECK_tf2_msgs := spcotmhp.ros.tf_types
 .SECONDEXPANSION:
-$(VENV)/.installed-ros2-%: $(STAMP_ALL) ros2/%/CMakeLists.txt ros2/%/package.xml $$(wildcard ros2/$$*/*/*.*)
+$(VENV)/.installed-ros2-%: $(STAMP_ALL) ros2/%/CMakeLists.txt ros2/%/package.xml ros2/wheel_includes.cmake $$(wildcard ros2/$$*/*/*.*)
 	@echo "building $* from ros2/$* (1-2 minutes; log: $(VENV)/build/$*.log)"
 	@rm -rf $(VENV)/build/$* && mkdir -p $(VENV)/build/$*
 	@(export AMENT_PREFIX_PATH=$(abspath $(VENV)) && cmake -S ros2/$* -B $(VENV)/build/$* $(ROS2_CMAKE) \

@@ -7,8 +7,10 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   Algorithm 1 from the latest pose on the start topic.
 * ``amcl_pose`` (geometry_msgs/PoseWithCovarianceStamped, in; ``start_topic``): the robot's pose, as AMCL
   publishes it (QoS "best available": transient local when the publisher is, so a node started after AMCL still
-  gets its last pose). A pose in another frame, not finite or off the model's map is rejected (an error status
-  of type ``PoseRejected``) and drops the pose held: instructions and teaching are then refused
+  gets its last pose). A pose in another frame is put in ``frame`` through ``/tf`` and ``/tf_static``
+  (:mod:`spcotmhp.ros.tf_tree`). A pose with no transform, not finite or off the model's map is rejected (an
+  error status of type ``PoseRejected`` or its ``TransformUnavailable``) and drops the pose held: instructions
+  and teaching are then refused
   (``NoValidPose``, naming why) until a valid pose arrives; an earlier pose is never used in its place.
 * ``spcotmhp/plan`` (nav_msgs/Path, out, reliable, transient local depth 1): the plan in ``frame``, every pose
   stamped and facing the next, the last keeping the last segment's heading (:mod:`spcotmhp.ros.shapes`).
