@@ -5,9 +5,10 @@ PY := $(VENV)/bin/python
 PIP := $(VENV)/bin/pip
 STAMP_CORE := $(VENV)/.installed-core
 STAMP_ALL := $(VENV)/.installed-all
+STAMP_ROS2_MSGS := $(VENV)/.installed-ros2-nav2_msgs $(VENV)/.installed-ros2-tf2_msgs
 DEBIAN_PKGS := chromium espeak-ng
 
-.PHONY: demo test venv install install-all system-deps bench clean
+.PHONY: demo test venv install install-all nav2-msgs system-deps bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -29,8 +30,29 @@ $(STAMP_ALL): pyproject.toml | $(PY)
 	$(VENV)/bin/spcotmhp warmup
 	touch $@ $(STAMP_CORE)
 
+# Nav2's FollowPath / NavigateToPose / NavigateThroughPoses actions and SpeedLimit message (ros2/nav2_msgs/README.md)
+# and tf2_msgs' TFMessage, the message of /tf and /tf_static (ros2/tf2_msgs/README.md): none has a wheel. Each is
+# generated and compiled with the rosidl and ament_cmake wheels of the extra ros2 (no ROS installation; needs cmake,
+# a C/C++ compiler and Python's headers) and installed into the venv like the message wheels: the Python package
+# in its site-packages, the libraries in $(VENV)/lib (which the wheels' bootstrap puts on LD_LIBRARY_PATH).
+# Each build is checked by importing it and comparing its type hashes with ROS 2 Jazzy's (the module CHECK_<pkg>).
+ROS2_CMAKE := -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DPython3_EXECUTABLE=$(abspath $(PY)) \
+	-DCMAKE_PREFIX_PATH=$(abspath $(VENV)) -DCMAKE_INSTALL_PREFIX=$(abspath $(VENV))
+CHECK_nav2_msgs := spcotmhp.ros.nav2_types
+CHECK_tf2_msgs := spcotmhp.ros.tf_types
+.SECONDEXPANSION:
+$(VENV)/.installed-ros2-%: $(STAMP_ALL) ros2/%/CMakeLists.txt ros2/%/package.xml ros2/wheel_includes.cmake $$(wildcard ros2/$$*/*/*.*)
+	@echo "building $* from ros2/$* (1-2 minutes; log: $(VENV)/build/$*.log)"
+	@rm -rf $(VENV)/build/$* && mkdir -p $(VENV)/build/$*
+	@(export AMENT_PREFIX_PATH=$(abspath $(VENV)) && cmake -S ros2/$* -B $(VENV)/build/$* $(ROS2_CMAKE) \
+	  && cmake --build $(VENV)/build/$* -j 2 && cmake --install $(VENV)/build/$*) >$(VENV)/build/$*.log 2>&1 \
+	  || (tail -30 $(VENV)/build/$*.log; echo "$* failed to build (log: $(VENV)/build/$*.log)"; exit 1)
+	$(PY) -m $(CHECK_$*)
+	touch $@
+
 install: $(STAMP_CORE)
-install-all: $(STAMP_ALL) system-deps
+nav2-msgs: $(STAMP_ROS2_MSGS)
+install-all: $(STAMP_ALL) $(STAMP_ROS2_MSGS) system-deps
 
 # Debian packages the browser and speech tests need (installed only when missing and apt is usable).
 system-deps:

@@ -125,6 +125,11 @@ class PoseRejected(PlanningError):
     node; the pose is dropped and instructions wait for a valid one)."""
 
 
+class TransformUnavailable(PoseRejected):
+    """A pose's frame has no chain of transforms to the map frame (spcotmhp.ros.tf_tree): no frame of that name
+    was heard on /tf or /tf_static, or it is in another tree, within the lookup's timeout."""
+
+
 class NoValidPose(PlanningError):
     """No robot pose to plan from: none has arrived yet, or the latest was rejected (:class:`PoseRejected`);
     an earlier pose is never used in its place."""
@@ -179,3 +184,19 @@ class TeachingBusy(TeachingError):
     budget; try again shortly (HTTP 503 with Retry-After)."""
 
     http_status = 503
+
+
+class DriveError(SpcotmhpError):
+    """The ROS 2 node could not have Nav2 drive a plan (spcotmhp.ros.drive); the plan itself was made."""
+
+
+class Nav2Unavailable(DriveError):
+    """No Nav2 action server answers (FollowPath on controller_server, NavigateThroughPoses on bt_navigator)."""
+
+
+class Nav2Rejected(DriveError):
+    """Nav2 rejected the goal (for example, not yet active, or the goal's frame unknown to it)."""
+
+
+class Nav2Failed(DriveError):
+    """Nav2 aborted the goal (its error code and message say why: no progress, no valid control, a tf error...)."""

@@ -127,10 +127,12 @@ def free_port() -> int:
 
 
 class Workspace:
-    """One clean folder where the blocks run in README order; a block first runs the blocks before it."""
+    """One clean folder where the blocks run in document order; a block first runs the blocks before it. The
+    README's blocks by default; another document's (docs/ros2.md's, tests/ros/test_ros2_doc.py) with ``blocks``."""
 
-    def __init__(self, folder: Path) -> None:
+    def __init__(self, folder: Path, blocks: list[Block] | None = None) -> None:
         self.folder = folder
+        self.blocks = BLOCKS if blocks is None else blocks
         self.done: dict[int, str] = {}  # block index -> its output
         self.failed: dict[int, str] = {}
         bin_dir = str(Path(sys.executable).parent)
@@ -145,13 +147,13 @@ class Workspace:
     def run_through(self, index: int) -> str:
         for k in range(index + 1):
             if k in self.failed:
-                raise AssertionError(f"block {BLOCKS[k].name} failed earlier:\n{self.failed[k]}")
+                raise AssertionError(f"block {self.blocks[k].name} failed earlier:\n{self.failed[k]}")
             if k not in self.done:
                 self.run(k)
         return self.done.get(index, "")
 
     def run(self, k: int) -> None:
-        block = BLOCKS[k]
+        block = self.blocks[k]
         if (name := block.directive("file")) is not None:
             (self.folder / name).write_text(block.text, encoding="utf-8")
             self.done[k] = ""
@@ -161,8 +163,8 @@ class Workspace:
             self.check(block, self.done[k])
             return
         if block.lang == "text":
-            previous = next((j for j in range(k - 1, -1, -1) if BLOCKS[j].runnable), None)
-            if previous is not None and previous in self.done and not self.skip_reason(BLOCKS[previous]):
+            previous = next((j for j in range(k - 1, -1, -1) if self.blocks[j].runnable), None)
+            if previous is not None and previous in self.done and not self.skip_reason(self.blocks[previous]):
                 self.check(block, self.done[previous])
             self.done[k] = ""
             return
@@ -178,7 +180,7 @@ class Workspace:
         return missing_extra(block)
 
     def execute(self, text: str, lang: str, k: int) -> str:
-        if "port" in BLOCKS[k].directives:
+        if "port" in self.blocks[k].directives:
             text = text.replace("8000", str(free_port()))
         text = re.sub(r"ROS_DOMAIN_ID=\d+", f"ROS_DOMAIN_ID={90 + os.getpid() % 11}", text)
         if lang == "python":
@@ -208,13 +210,13 @@ class Workspace:
                 os.killpg(proc.pid, signal.SIGKILL)
         if proc.returncode != 0:
             self.failed[k] = f"exit status {proc.returncode}:\n{out[-3000:]}"
-            raise AssertionError(f"README block {BLOCKS[k].name} failed with " + self.failed[k])
+            raise AssertionError(f"block {self.blocks[k].name} failed with " + self.failed[k])
         return out
 
     def check(self, block: Block, output: str) -> None:
         any_port = "port" in block.directives
         missing = [line for line in expected_lines(block) if not matches(line, output, any_port)]
-        assert not missing, f"README {block.name}: the output lacks {missing}\n--- output ---\n{output[-3000:]}"
+        assert not missing, f"{block.name}: the output lacks {missing}\n--- output ---\n{output[-3000:]}"
 
 
 @pytest.fixture(scope="module")
@@ -227,11 +229,18 @@ CHECKED = [k for k, b in enumerate(BLOCKS) if b.runnable or b.lang == "text" or 
 
 @pytest.mark.parametrize("k", CHECKED, ids=[BLOCKS[k].name for k in CHECKED])
 def test_block_runs_as_typed(k: int, workspace: Workspace):
-    block = BLOCKS[k]
+    run_block(workspace, k)
+
+
+def run_block(workspace: Workspace, k: int) -> None:
+    """Run block ``k`` of the workspace's document (and those before it); a text block checks its block's output.
+    Skips (pytest) a block left out, or needing an extra that is not installed."""
+    blocks = workspace.blocks
+    block = blocks[k]
     if block.lang == "text" and block.directive("output of") is None:
-        source = next((j for j in range(k - 1, -1, -1) if BLOCKS[j].runnable), None)
+        source = next((j for j in range(k - 1, -1, -1) if blocks[j].runnable), None)
         assert source is not None, f"{block.name}: an output with no block before it"
-        block = BLOCKS[source]
+        block = blocks[source]
     if block.runnable and (reason := Workspace.skip_reason(block)):
         pytest.skip(reason)
     workspace.run_through(k)

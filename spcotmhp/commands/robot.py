@@ -60,6 +60,7 @@ def import_bag(
     )
 
 
+# long: a CLI command: its typer options and help (the drive mode's among them), then a short body
 def ros2(
     model_dir: Annotated[Path, typer.Argument(help="Model folder (as written by `spcotmhp learn`).")],
     frame: Annotated[str, typer.Option(help="Frame of the model's map, of the plans and of the start poses.")] = "map",
@@ -86,6 +87,15 @@ def ros2(
     footprint: bo.Footprint = None,
     inflation_radius: bo.InflationRadius = None,
     cost_scaling_factor: bo.CostScaling = None,
+    drive: Annotated[
+        str | None,
+        typer.Option(
+            "--drive",
+            metavar="HOW",
+            help="Drive the plans with Nav2: follow_path (its controller follows the plan) or through_poses "
+            "(NavigateThroughPoses through the waypoints and goal); needs nav2_msgs (make nav2-msgs).",
+        ),
+    ] = None,
 ) -> None:
     """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
     plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
@@ -103,8 +113,15 @@ def ros2(
 
         if record is not None:
             raise SpcotmhpError("--record is for a single floor's model; a building's node teaches without recording")
+        if drive is not None:
+            raise SpcotmhpError("--drive is for a single floor's model; a building's node publishes plans only")
         run_building_node(model_dir, floor, frame, start_topic, progress=lambda line: typer.echo(line, err=True))
         return
+    if drive is not None:
+        from spcotmhp.ros.drive import MODES
+
+        if drive not in MODES:
+            raise typer.BadParameter(f"--drive must be one of {', '.join(MODES)}, got {drive!r}")
     if floor is not None:
         raise typer.BadParameter(
             f"--floor is for a building's model (learned from a building folder); {model_dir} is not one"
@@ -118,6 +135,7 @@ def ros2(
         record=record,
         progress=lambda line: typer.echo(line, err=True),
         body=body,
+        drive=drive,
     )
 
 

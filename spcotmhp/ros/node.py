@@ -7,8 +7,10 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   Algorithm 1 from the latest pose on the start topic.
 * ``amcl_pose`` (geometry_msgs/PoseWithCovarianceStamped, in; ``start_topic``): the robot's pose, as AMCL
   publishes it (QoS "best available": transient local when the publisher is, so a node started after AMCL still
-  gets its last pose). A pose in another frame, not finite or off the model's map is rejected (an error status
-  of type ``PoseRejected``) and drops the pose held: instructions and teaching are then refused
+  gets its last pose). A pose in another frame is put in ``frame`` through ``/tf`` and ``/tf_static``
+  (:mod:`spcotmhp.ros.tf_tree`). A pose with no transform, not finite or off the model's map is rejected (an
+  error status of type ``PoseRejected`` or its ``TransformUnavailable``) and drops the pose held: instructions
+  and teaching are then refused
   (``NoValidPose``, naming why) until a valid pose arrives; an earlier pose is never used in its place.
 * ``spcotmhp/plan`` (nav_msgs/Path, out, reliable, transient local depth 1): the plan in ``frame``, every pose
   stamped and facing the next, the last keeping the last segment's heading (:mod:`spcotmhp.ros.shapes`).
@@ -31,6 +33,9 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
   its place when the robot's walk says the place is two); the ``taught`` status has ``"answer": true``.
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
+
+With ``drive`` (``--drive follow_path|through_poses``), every plan also becomes Nav2 goals, its progress
+``drive`` statuses, "stop" a cancel (:mod:`spcotmhp.ros.drive`).
 
 No message can stop the node: every callback answers a failure on the status topic (bad input as the library's
 one-line typed error; anything else as an internal error, also logged).
@@ -75,6 +80,7 @@ from spcotmhp.ros.shapes import (
     yaw_quaternion,
 )
 from spcotmhp.ros.teaching_log import TeachingLog
+from spcotmhp.ros.tf_tree import TransformTree, listen
 from spcotmhp.teaching.teach import planner_for, teach
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -124,9 +130,16 @@ class SpcotmhpNode(Node):
         frame: str = "map",
         start_topic: str = "amcl_pose",
         log: TeachingLog | None = None,
+        drive: str | None = None,
     ) -> None:
         super().__init__("spcotmhp")
         self.planner, self.frame, self.log = planner, frame, log
+        self.driver = None  # with ``drive``, plans become Nav2 goals (spcotmhp.ros.drive)
+        self._centres: tuple[object, dict] = (None, {})
+        if drive is not None:
+            from spcotmhp.ros.drive import Driver
+
+            self.driver = Driver(self, drive, frame, report=self.status, where=lambda: self.pose)
         self.pose: tuple[float, float, float] | None = None  # the latest pose, None once one is rejected
         self.teacher = ThreadPoolExecutor(1, thread_name_prefix="spcotmhp-teach")
         self._pending = 0
@@ -136,6 +149,9 @@ class SpcotmhpNode(Node):
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
         self.questions_pub = self.create_publisher(String, "spcotmhp/questions", LATCHED)
+        self.tf: TransformTree | None = TransformTree()  # poses in other frames, through /tf and /tf_static
+        if not listen(self, self.tf):
+            self.tf = None
         self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
         self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
         self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
@@ -212,20 +228,22 @@ class SpcotmhpNode(Node):
     def checked_pose(self, msg: PoseWithCovarianceStamped) -> tuple[float, float, float]:
         """(x, y, yaw) of a pose message in ``frame``, finite and on the model's map; else PoseRejected."""
         frame = msg.header.frame_id.lstrip("/")
-        if frame and frame != self.frame:
-            raise PoseRejected(
-                f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: "
-                f"publish the pose in '{self.frame}' or start the node with --frame {frame})"
-            )
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        yaw = quaternion_yaw(q.x, q.y, q.z, q.w)
-        if not all(math.isfinite(v) for v in (p.x, p.y, yaw)):
-            raise PoseRejected(f"the pose ({p.x}, {p.y}, yaw {yaw}) is not finite")
+        x, y, yaw = p.x, p.y, quaternion_yaw(q.x, q.y, q.z, q.w)
+        if frame and frame != self.frame:
+            if self.tf is None:
+                raise PoseRejected(
+                    f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: tf2_msgs is not "
+                    f"built; publish the pose in '{self.frame}' or start the node with --frame {frame})"
+                )
+            x, y, yaw = self.tf.pose_in(self.frame, frame, x, y, yaw)  # TransformUnavailable: no chain heard
+        if not all(math.isfinite(v) for v in (x, y, yaw)):
+            raise PoseRejected(f"the pose ({x}, {y}, yaw {yaw}) is not finite")
         try:
-            locate_start(self.planner.model.require_map(), (p.x, p.y))
+            locate_start(self.planner.model.require_map(), (x, y))
         except StartOutsideMap as exc:
             raise PoseRejected(f"the pose is off the model's map: {exc}") from None
-        return float(p.x), float(p.y), float(yaw)
+        return float(x), float(y), float(yaw)
 
     def current_pose(self, use: str) -> tuple[float, float, float]:
         """The pose to plan or teach from; NoValidPose when none has arrived or the latest was rejected."""
@@ -243,12 +261,18 @@ class SpcotmhpNode(Node):
 
     @answered("error")
     def on_instruction(self, msg: String) -> None:
+        if self.driver is not None and self.driver.stopping(msg.data):
+            return
         x, y, yaw = self.current_pose("an instruction")
         planner = self.planner  # the one in place now (a teach may swap in another meanwhile)
         plan = planner.plan(msg.data, (x, y))
         points = path_poses(plan.path, plan.cells, (x, y), planner.model.require_map())
         self.plan_pub.publish(self.path_message(points, yaw))
         self.status(plan_status(plan, msg.data, (x, y), points, self.frame))
+        if self.driver is not None:
+            if self._centres[0] is not planner:  # the places' centres, once per planner (a teach swaps it)
+                self._centres = (planner, {p["id"]: p["centre"] for p in place_shapes(planner)[0]})
+            self.driver.drive(plan, points, msg.data, self._centres[1])
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
@@ -334,6 +358,7 @@ def run_node(
     record: FilePath | None = None,
     progress: Callable[[str], None] = print,
     body: Any = None,
+    drive: str | None = None,
 ) -> None:
     """Load the model, precompute its planner (for ``body``, a :class:`~spcotmhp.metric.body.RobotBody`, when
     given: :func:`~spcotmhp.planning.body.with_body`), and serve until interrupted (Ctrl-C or SIGTERM)."""
@@ -347,12 +372,13 @@ def run_node(
     planner.warm_up()
     rclpy.init()
     try:
-        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log)
+        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log, drive=drive)
         progress(
             f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
             f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
             + (f", teaching recorded in {record}" if record is not None else "")
             + f"; planning graph {planner.graph.info.get('graph_source', 'built')}"
+            + (f", driving Nav2 ({drive})" if drive is not None else "")
         )
         serve(node)
     finally:
