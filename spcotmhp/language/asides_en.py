@@ -20,8 +20,9 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    ("thanks a bunch") or with an auxiliary verb as a question does ("did you hear me?"), is talk: passed over. A bare
    noun phrase may name a place the map lacks ("the garage") and an order opens with a verb ("turn that down"):
    both stay, to be read or refused.
-4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice" after a wait names the
-   event that ends a wait with no length (the next instruction): the wait is until told, as "wait there" alone.
+4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice / call you / come and
+   get you / need you / I'm back" after a wait names the event that ends a wait with no length, the speaker's next
+   word to the robot (its next instruction): the wait is until told, as "wait there" alone.
 Rules 5-8 live in :mod:`spcotmhp.language.repairs_en`:
 
 5. **Whose room**: in a map whose places are named by their owners, "alice's bedroom" is her room, "her / his /
@@ -52,9 +53,60 @@ _VERBS = ("GO", "TO", "VIA", "AVOID", "WAIT", "ENTER", "HURRY")
 """Classes that open an instruction: a word of address or interjection before one of them is said to someone."""
 _SEGMENT_NEUTRAL = frozenset({"IS", "AND", "LINK", "OF", "NOW", "ALL"})
 _BACK_REFERENCE = frozenset({"it", "there", "one", "that", "them", "this", "those", "these"})
-_TELLING = frozenset({"say", "says", "said", "tell", "tells", "told", "notice"})
+_TELLING = frozenset(
+    [
+        "say",
+        "says",
+        "said",
+        "tell",
+        "tells",
+        "told",
+        "notice",
+        "call",
+        "calls",
+        "called",
+        "come",
+        "comes",
+        "back",
+        "get",
+        "fetch",
+        "collect",
+        "need",
+        "needs",
+        "want",
+        "wants",
+        "hear",
+        "shout",
+    ]  # noqa: SIM905
+)
+"""What ends a wait with no length: the speaker telling, calling, coming for or needing the robot, which reaches it as
+its next instruction (the robot cannot observe the act itself, and does not need to)."""
 _UNTIL_TOLD_WORDS = _TELLING | frozenset(
-    "i you someone somebody anyone she he they we you're are so otherwise further go".split()  # noqa: SIM905
+    [
+        "i",
+        "i'm",
+        "im",
+        "you",
+        "someone",
+        "somebody",
+        "anyone",
+        "she",
+        "he",
+        "they",
+        "we",
+        "you're",
+        "are",
+        "so",
+        "otherwise",
+        "further",
+        "go",
+        "and",
+        "to",
+        "move",
+        "me",
+        "from",
+        "again",
+    ]  # noqa: SIM905
 )
 
 
@@ -136,9 +188,10 @@ def _until_told(toks: list[Token], units: Sequence[str]) -> list[Token]:
     i = 0
     while i < len(toks):
         t = toks[i]
-        if t.kind == "UNBOUNDED_WAIT" and t.surface in ("until", "till", "til") and any(x.kind == "WAIT" for x in out):
+        first, *rest = t.surface.split()
+        if t.kind == "UNBOUNDED_WAIT" and first in ("until", "till", "til") and any(x.kind == "WAIT" for x in out):
             j = next((k for k in range(i + 1, len(toks)) if toks[k].kind in _BOUNDS), len(toks))
-            words = set(units[t.end : toks[j].start if j < len(toks) else len(units)])
+            words = set(rest) | set(units[t.end : toks[j].start if j < len(toks) else len(units)])
             if words and words <= _UNTIL_TOLD_WORDS and words & _TELLING:
                 i = j
                 continue

@@ -43,13 +43,14 @@ from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
     contents_en,
     corrections_en,
+    master_en,
     numbered_en,
     relations_en,
     said_again,
     sizes_en,
 )
 from spcotmhp.language.rewrite_ja import spoken_tokens
-from spcotmhp.language.table import EN_UNIT, WordTable, filler_at, word_table
+from spcotmhp.language.table import WordTable, en_units, filler_at, word_table
 from spcotmhp.language.text import normalise
 
 __all__ = ["MAX_WAIT_S", "PlaceLexicon", "Token", "WordTable", "english_units", "place_lexicon", "tokens", "word_table"]
@@ -83,14 +84,16 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = said_again(out)
     if kinds & {"LARGEST", "SMALLEST"}:
         out = sizes_en(out)
+    if "MODIFIER" in kinds:
+        out = master_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out
 
 
 def english_units(text: str) -> list[str]:
-    """Rule 1: the units of a normalised English sentence."""
-    units = EN_UNIT.findall(_INNER_HYPHEN.sub(" ", normalise(text).translate(_DASHES)))
+    """Rule 1: the units of a normalised English sentence (:func:`~spcotmhp.language.table.en_units`)."""
+    units = en_units(_INNER_HYPHEN.sub(" ", normalise(text).translate(_DASHES)))
     return [u for u in units if u != "..."]  # an ellipsis is a hesitation ("go to the... the bedroom")
 
 

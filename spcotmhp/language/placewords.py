@@ -9,7 +9,7 @@ from types import MappingProxyType
 from typing import Any, NamedTuple
 
 from spcotmhp.language.numbers import number_word, said_variants
-from spcotmhp.language.table import EN_UNIT, WordTable, longest_from
+from spcotmhp.language.table import WordTable, en_units, longest_from
 
 
 class Token(NamedTuple):
@@ -41,7 +41,7 @@ class PlaceLexicon:
         self.words = frozenset(place_words)
         keys: dict[tuple[str, ...], str] = {}
         for w in place_words:
-            key = table.units(w) if table.by_character else tuple(EN_UNIT.findall(w))
+            key = table.units(w) if table.by_character else tuple(en_units(w))
             if key:
                 keys[key] = w
         for name in names:  # a taught name holding a number, matched whole in its variants (said_names.py)
@@ -55,6 +55,10 @@ class PlaceLexicon:
                     variants.setdefault(key, w)
             glued.update((w + noun,) for noun in table.nouns if not table.by_character)
         named = _synonym_names(table, self.words)
+        for other, order in table.senses.items():  # "hallway" beside a corridor and a hall: the corridor
+            key = table.units(other) if table.by_character else tuple(en_units(other))
+            if len(named.get(key, ())) > 1:
+                named[key] = {next(w for w in order if w in named[key])} if set(order) & named[key] else named[key]
         synonyms = {key: next(iter(ws)) for key, ws in named.items() if len(ws) == 1 and key not in keys}
         self.ambiguous: Mapping[tuple[str, ...], tuple[str, ...]] = MappingProxyType(
             {key: tuple(sorted(ws)) for key, ws in named.items() if len(ws) > 1 and key not in keys}
@@ -88,6 +92,9 @@ class PlaceLexicon:
         return next((lemma for lemma in _noun_lemmas(unit) if lemma in self.words and lemma != unit), None)
 
 
+_COMPASS = frozenset({"east", "west", "north", "south"})
+
+
 def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
     """Other spellings of a place word (module docstring, rule 4)."""
     if table.by_character:
@@ -104,6 +111,10 @@ def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
         return [tuple(p + w) for w in spellings for p in ("", *table.honorifics) if (p + w) != word]
     bare = word.replace("'", "")
     out: list[tuple[str, ...]] = [(bare,)] if bare != word and " " not in word else []
+    if word.endswith("'s") and " " not in word:
+        out += [(word[:-2], noun) for noun in table.nouns]  # "alice room": the possessive's 's not said or written
+    if word in _COMPASS:
+        out.append((word + "ern",))  # "the eastern corridor": the adjective of the compass point
     if " " not in word and "'" not in word:
         out += [(word + noun,) for noun in table.nouns]
         out += [(word[:i], word[i:]) for i in range(3, len(word) - 2)]
@@ -121,7 +132,7 @@ def _synonym_names(table: WordTable, words: frozenset[str]) -> dict[tuple[str, .
         for other in others:
             spellings = [other, *(p + other for p in table.honorifics)] if table.by_character else [other]
             for spelling in spellings:
-                key = table.units(spelling) if table.by_character else tuple(EN_UNIT.findall(spelling))
+                key = table.units(spelling) if table.by_character else tuple(en_units(spelling))
                 if key:
                     named.setdefault(key, set()).add(word)
     return named

@@ -19,6 +19,17 @@ from types import MappingProxyType
 from typing import Any
 
 EN_UNIT = re.compile(r"\d+(?:\.\d+)?|[^\W_]+(?:'[^\W_]+)*|'s\b|\.\.\.|[,;:.!?&\-]")
+_TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you")}
+"""Spellings of texts and chats for the words they stand for (as dictionaries of text abbreviations give them:
+"u" you, "ty" thank you; "da" the, as some speak and write it; "goto" typed without its space)."""
+
+
+def en_units(text: str) -> list[str]:
+    """The English units of ``text`` (:data:`EN_UNIT`), the words of :data:`_TEXT_SPEAK` written out: one
+    splitter for sentences, phrases of the table and place words alike."""
+    return [w for u in EN_UNIT.findall(text) for w in _TEXT_SPEAK.get(u, (u,))]
+
+
 """English units: numbers, words (inner apostrophes kept), an ellipsis and the punctuation that separates
 clauses."""
 
@@ -43,6 +54,7 @@ class WordTable:
     synonyms: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # place word -> other names of it
     talk: Mapping[str, Any] = field(default_factory=dict)  # what talk around an instruction may hold (talk.py)
     contents: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # what is in a place -> its place words
+    senses: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # other name -> place words, first sense first
 
     @property
     def function_words(self) -> frozenset[str]:
@@ -58,7 +70,7 @@ class WordTable:
         rule 3, so that a phrase matches whatever fillers are said inside it), or its characters (Japanese)."""
         if self.by_character:
             return tuple(ch for ch in phrase if not ch.isspace())
-        return strip_fillers(tuple(EN_UNIT.findall(phrase)), self.fillers, self.filler_keys)
+        return strip_fillers(tuple(en_units(phrase)), self.fillers, self.filler_keys)
 
 
 def read_table(text: str, source: str) -> WordTable:
@@ -72,9 +84,7 @@ def read_table(text: str, source: str) -> WordTable:
     filler_phrases = [*table.get("filler_phrases", ()), *(table.get("fillers", ()) if by_char else ())]
     fillers_written = [p for item in filler_phrases for p in expand(item)]
     filler_keys = frozenset(
-        key
-        for p in fillers_written
-        if not by_char and (key := tuple(u for u in EN_UNIT.findall(p) if u not in fillers))
+        key for p in fillers_written if not by_char and (key := tuple(u for u in en_units(p) if u not in fillers))
     )
     draft = WordTable(table["lang"], by_char, fillers, {}, {}, {}, frozenset(), filler_keys=filler_keys)
     phrases: dict[tuple[str, ...], str] = {}
@@ -98,7 +108,7 @@ def read_table(text: str, source: str) -> WordTable:
         key = (
             tuple(ch for ch in phrase if not ch.isspace())
             if by_char
-            else tuple(u for u in EN_UNIT.findall(phrase) if u not in fillers)
+            else tuple(u for u in en_units(phrase) if u not in fillers)
         )
         if key:
             phrases.setdefault(key, "")
@@ -120,6 +130,7 @@ def read_table(text: str, source: str) -> WordTable:
         synonyms=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("synonyms", {}).items()}),
         talk=MappingProxyType({str(k): v for k, v in table.get("talk", {}).items()}),
         contents=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("contents", {}).items()}),
+        senses=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("senses", {}).items()}),
     )
 
 

@@ -82,6 +82,10 @@ def test_words_with_navigation_meaning_are_not_passed_over(text):
         "Go to the entrance and wait there till I say.",
         "go to the living room and stay there until i say so",
         "Go to the hall and wait until I tell you otherwise.",
+        "go to the washroom and stay there until i come and get you",
+        "Wait in the kitchen until I call you.",
+        "wait in the kitchen until i'm back",
+        "Go to the entrance and wait there until I tell you to move.",
     ],
 )
 def test_until_told_after_a_wait_is_a_wait_with_no_length(text):
@@ -90,7 +94,16 @@ def test_until_told_after_a_wait_is_a_wait_with_no_length(text):
     assert plain.waits == ((len(plain.visit) - 1, None),)  # a wait with no length: until told
 
 
-@pytest.mark.parametrize("text", ["wait in the hall till the baby wakes up", "go to the kitchen until i say"])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "wait in the hall till the baby wakes up",
+        "go to the kitchen until i say",
+        "wait in the kitchen until dinner",
+        "wait in the kitchen until the kettle boils",
+        "wait in the hall until i come home from work",
+    ],
+)
 def test_until_an_event_or_without_a_wait_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, EN, "en")
@@ -311,3 +324,27 @@ def test_wave_3_misreadings_are_no_longer_silent(text):
     except InstructionError:
         return
     assert all(p.relation is None and p.number is None for p in r.visit), r.visit
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("go to the master bedroom", ["bedroom (largest)"]),
+        ("the main bedroom please", ["bedroom (largest)"]),
+        ("go to the largest bedroom", ["bedroom (largest)"]),
+    ],
+)
+def test_the_master_bedroom_is_the_largest(text, visit):
+    assert _read(text)[0] == visit
+
+
+@pytest.mark.parametrize("text", ["go to the main hall", "go to the master kitchen"])
+def test_master_before_another_place_stays_refused(text):
+    with pytest.raises(InstructionError, match="main|master"):
+        read(text, EN, "en")
+
+
+def test_right_by_is_next_to_and_by_is_closest():
+    assert _read("go to the bedroom right by the bath")[0] == _read("go to the bedroom next to the bath")[0]
+    assert _read("go to the bedroom by the bath")[0] == _read("go to the bedroom closest to the bath")[0]
+    assert _read("go to the bedroom by the bath")[0] != _read("go to the bedroom next to the bath")[0]

@@ -187,7 +187,7 @@ def test_japanese_readings_without_spaces(text, visit, avoid, speed, waits):
         ("go to the bedroom at the end of the corridor", UnsupportedPhrase, "'at the end of'"),
         ("go to the bedroom closest to the kitchen and the bath", UnsupportedPhrase, "'and' after"),
         ("go slowly to the kitchen, then hurry to the bath", UnsupportedPhrase, "two speeds"),
-        ("go to the entrance and wait there until I come", UnsupportedPhrase, "'until i come'"),
+        ("go to the entrance and wait there until the baby sleeps", UnsupportedPhrase, "'until'"),
         ("go to the toilet and wait, then go to the bedroom", UnsupportedPhrase, "'wait' between two places"),
         ("go to the kitchen, no wait", UnsupportedPhrase, "names nothing after it"),
         ("go to the kitchen, sorry, via the hall", UnsupportedPhrase, "no place to pass was said before"),
