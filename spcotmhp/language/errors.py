@@ -78,8 +78,9 @@ def _refusal(
         where = [k for k, t in enumerate(toks) if t.kind == "WORD" and _place_expected(toks, k, table, text)]
         other = [k for k, t in enumerate(toks) if t.kind == "WORD" and k not in where]
         if not where:  # words of no class where no place is expected: not understood, not unknown places
-            words = ", ".join(excerpt(toks[k].surface, 30) for k in other[:6])
-            verb = "is" if len(other) == 1 else "are"
+            said = _phrases(toks, other, text, table.by_character)
+            words = ", ".join(excerpt(p, 30) for p in said[:6])
+            verb = "is" if len(said) == 1 else "are"
             return NotUnderstood(
                 f"{words} {verb} not understood: no place, way of going or other part of an instruction this robot "
                 "follows (it moves only: say where to go, what to pass and what to avoid)"
@@ -104,8 +105,9 @@ def _misplaced(toks: Sequence[Token], at: int, table: WordTable, text: str) -> I
     nxt = toks[at + 1] if at + 1 < len(toks) else None
     if tok.kind in _MODIFIER_BEFORE_PLACE and nxt is not None and nxt.kind == "PLACE":
         return UnsupportedPhrase(_reason(toks, at, table.reasons["MODIFIER"]))
-    if tok.kind == "AT" and nxt is not None and nxt.kind == "DURATION":
-        return UnsupportedPhrase(table.misplaced["AT_DURATION"].format(**_around(toks, at)))
+    if tok.kind == "AT" and nxt is not None and nxt.kind == "DURATION":  # "in ten minutes": quoted whole
+        said = {"word": excerpt(f"{tok.surface} {nxt.surface}")}
+        return UnsupportedPhrase(table.misplaced["AT_DURATION"].format(**{**_around(toks, at), **said}))
     if table.by_character and tok.kind in _JA_MARKERS and (at == 0 or toks[at - 1].kind != "PLACE"):
         where = "say which place (廊下を通って)"
         return MalformedInstruction(f"{excerpt(tok.surface)} follows no known place word; {where}")
@@ -226,6 +228,32 @@ def _reason(toks: Sequence[Token], k: int, reason: str) -> str:
 
 def _also(toks: Sequence[Token], refused: int | None, table: WordTable) -> str:
     return f"; and {_reason(toks, refused, table.reasons[toks[refused].kind])}" if refused is not None else ""
+
+
+def _phrases(toks: Sequence[Token], ks: Sequence[int], text: str, by_character: bool) -> list[str]:
+    """The words at token indices ``ks`` as the phrases they were said in: next to each other, or with only
+    fillers between them, they are one ("'follow me'", "'open the door'", the fillers quoted as said)."""
+    runs: list[list[int]] = []
+    for k in ks:
+        if runs and runs[-1][-1] == k - 1:
+            runs[-1].append(k)
+        else:
+            runs.append([k])
+    if by_character:
+        return ["".join(toks[k].surface for k in run) for run in runs]
+    units = english_units(text)
+    return [
+        " ".join(units[toks[_with(toks, run[0])].start : toks[run[-1]].end]) or toks[run[0]].surface for run in runs
+    ]
+
+
+def _with(toks: Sequence[Token], k: int) -> int:
+    """The start of "with the (big) window" for the word at ``k``: a thing a place is told by is quoted with its
+    "with" and its sizes."""
+    j = k
+    while j > 0 and toks[j - 1].kind in ("MODIFIER", "LARGEST", "SMALLEST"):
+        j -= 1
+    return j - 1 if j > 0 and toks[j - 1].kind == "LINK" and toks[j - 1].surface == "with" else k
 
 
 def _between(text: str, a: Token, b: Token) -> list[str]:

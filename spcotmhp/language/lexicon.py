@@ -99,7 +99,7 @@ def english_units(text: str) -> list[str]:
 
 def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     units = english_units(text)
-    kept = _without_fillers(_floors_en(_durations_en(units)), table, places)
+    kept = _without_fillers(_floors_en(_durations_en(units, table.fillers)), table, places)
     seq = [u for u, _ in kept]
     plain = all(type(u) is str for u in seq)  # no DURATION token among the units
     out: list[Token] = []
@@ -174,39 +174,54 @@ def _cut(kept: list[tuple[Token | str, int]], match: tuple[int, int]) -> list[tu
     return kept[: match[0]] + kept[match[0] + match[1] :]
 
 
-def _durations_en(units: list[str]) -> list[tuple[Token | str, int]]:
+def _durations_en(units: list[str], fillers: frozenset[str] = frozenset()) -> list[tuple[Token | str, int]]:
     """Rule 2: "(for) <number> <unit>" -> a DURATION token; "half a minute" is 30 s, "a quarter of an hour" 900 s,
-    "a couple of minutes" 120 s, "two and a half minutes" 150 s, "a minute and a half" 90 s. Each item with the
-    index of its first unit."""
+    "a couple of minutes" 120 s, "two and a half minutes" 150 s, "a minute and a half" 90 s; fillers between "for"
+    and the length are the length's ("for like two minutes", "for um a minute"). Each item with the index of its
+    first unit."""
     if _UNITS.keys().isdisjoint(units):  # no unit of time: no duration
         return [(u, i) for i, u in enumerate(units)]
     out: list[tuple[Token | str, int]] = []
     i = 0
     while i < len(units):
         j = i + (units[i] == "for")
-        j += units[j : j + 1] == ["a"] and units[j + 1 : j + 2] in (["quarter"], ["couple"])
-        half = units[j : j + 2] in (["half", "a"], ["half", "an"])
-        part = {"quarter": 0.25, "couple": 2.0}.get(units[j]) if j < len(units) else None  # a quarter of an hour
-        k = j + 1 if half else j + 2 + (units[j + 2 : j + 3] in (["an"], ["a"])) if part else j
-        number = (1.0 if part else _number(units[k])) if k < len(units) else None
-        if part and units[j + 1 : j + 2] != ["of"]:
-            number = None
-        and_half = not (part or half) and number is not None and units[k + 1 : k + 4] == ["and", "a", "half"]
-        if and_half and number is not None:  # "two and a half minutes"
-            number, k = number + 0.5, k + 3
-        unit = _UNITS.get(units[k + 1]) if number is not None and k + 1 < len(units) and not part else None
-        unit = _UNITS.get(units[k]) if part and number is not None and k < len(units) else unit
-        k -= 1 if part else 0
-        if number is not None and unit is not None:
-            seconds = number * unit * (0.5 if half else part if part else 1.0)
-            if not (part or half or and_half) and units[k + 2 : k + 5] == ["and", "a", "half"]:
-                seconds, k = seconds + unit / 2, k + 3  # "a minute and a half"
-            out.append((Token("DURATION", " ".join(units[i : k + 2]), seconds=seconds, start=i, end=k + 2), i))
-            i = k + 2
+        found = _duration(units, j)
+        while found is None and j > i and j < min(len(units), i + 4) and units[j] in fillers:
+            j += 1  # "for like two minutes": the filler is skipped, the duration holds it
+            found = _duration(units, j)
+        if found is not None:
+            seconds, end = found
+            out.append((Token("DURATION", " ".join(units[i:end]), seconds=seconds, start=i, end=end), i))
+            i = end
         else:
             out.append((units[i], i))
             i += 1
     return out
+
+
+def _duration(units: list[str], j: int) -> tuple[float, int] | None:
+    """(seconds, index after it) of a length of time said from ``units[j]`` (:func:`_durations_en`), or None."""
+    if j >= len(units):
+        return None
+    j += units[j : j + 1] == ["a"] and units[j + 1 : j + 2] in (["quarter"], ["couple"])
+    half = units[j : j + 2] in (["half", "a"], ["half", "an"])
+    part = {"quarter": 0.25, "couple": 2.0}.get(units[j]) if j < len(units) else None  # a quarter of an hour
+    k = j + 1 if half else j + 2 + (units[j + 2 : j + 3] in (["an"], ["a"])) if part else j
+    number = (1.0 if part else _number(units[k])) if k < len(units) else None
+    if part and units[j + 1 : j + 2] != ["of"]:
+        number = None
+    and_half = not (part or half) and number is not None and units[k + 1 : k + 4] == ["and", "a", "half"]
+    if and_half and number is not None:  # "two and a half minutes"
+        number, k = number + 0.5, k + 3
+    unit = _UNITS.get(units[k + 1]) if number is not None and k + 1 < len(units) and not part else None
+    unit = _UNITS.get(units[k]) if part and number is not None and k < len(units) else unit
+    k -= 1 if part else 0
+    if number is None or unit is None:
+        return None
+    seconds = number * unit * (0.5 if half else part if part else 1.0)
+    if not (part or half or and_half) and units[k + 2 : k + 5] == ["and", "a", "half"]:
+        seconds, k = seconds + unit / 2, k + 3  # "a minute and a half"
+    return seconds, k + 2
 
 
 def _floors_en(items: list[tuple[Token | str, int]]) -> list[tuple[Token | str, int]]:

@@ -24,6 +24,22 @@ _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ"
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
 
 
+def _filler_fitting(
+    chars: list[str], i: int, table: WordTable, places: PlaceLexicon, hit: tuple[str, str, int] | None
+) -> tuple[str, str, int] | None:
+    """The longest match, or a shorter filler when the longest filler strands the character after it and the
+    shorter one lets a match reach past it (えっと + ねえ, not えっとね + a stray え): two fillers said one after the
+    other are both left out, whichever way their characters could be cut."""
+    if hit is None or hit[0] or i + hit[2] >= len(chars) or longest_match(chars, i + hit[2], table, places):
+        return hit
+    for k in range(hit[2] - 1, 0, -1):
+        if table.phrases.get(tuple(chars[i : i + k])) == "":
+            after = longest_match(chars, i + k, table, places)
+            if after is not None and k + after[2] > hit[2]:
+                return "", "", k
+    return hit
+
+
 def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     chars = [ch for ch in text if not ch.isspace()]
     out: list[Token] = []
@@ -50,7 +66,7 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
             i += n
             continue
-        hit = longest_match(chars, i, table, places)
+        hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places))
         if hit is not None:
             kind, value, n = hit
             if kind:

@@ -44,6 +44,12 @@ class Mention:
     dropped: bool = False  # replaced by a later self-correction ("the kitchen, no wait, the bath")
 
 
+def _too_long(seconds: float, said: str = "") -> InstructionTooLarge:
+    """A wait longer than :data:`MAX_WAIT_S`, quoting the length as said when known ("'two hours': ...")."""
+    where = f"{excerpt(said)}: " if said else ""
+    return InstructionTooLarge(f"{where}a wait of {seconds:.0f} s is longer than the {MAX_WAIT_S:.0f} s accepted")
+
+
 def _same(a: PlaceRef, b: PlaceRef) -> bool:
     """Whether two place phrases name the same place, however said ("寝室のいちばん", "一番の寝室")."""
     return (a.words, a.relation, a.every, a.floor, a.number) == (b.words, b.relation, b.every, b.floor, b.number)
@@ -178,6 +184,8 @@ class Walk:
         if len(said) > 1:
             lengths = " and ".join(excerpt(t.surface) for t in said)
             raise UnsupportedPhrase(f"{lengths} are two lengths for one wait; say one ('wait 1 minute 30 seconds')")
+        if said and said[0].seconds > MAX_WAIT_S:
+            raise _too_long(said[0].seconds, said[0].surface)
         return said[0].seconds if said else None
 
     def wait_at(self, m: Mention, toks: list[LarkToken]) -> None:
@@ -272,7 +280,7 @@ class Walk:
                     "way) is a correction or a stop with no length; say how long ('wait there for 2 minutes, then ...')"
                 )
             if isinstance(wait, float) and wait > MAX_WAIT_S:
-                raise InstructionTooLarge(f"a wait of {wait:.0f} s is longer than the {MAX_WAIT_S:.0f} s accepted")
+                raise _too_long(wait)
         speeds = sorted(set(self.speeds))
         if len(speeds) > 1:
             raise UnsupportedPhrase(f"{excerpt(self.text)} asks for two speeds ({' and '.join(speeds)}): say one")

@@ -17,6 +17,7 @@ from spcotmhp.errors import (
     InstructionError,
     InstructionTooLarge,
     MalformedInstruction,
+    NotUnderstood,
     UnknownPlaceWord,
     UnsupportedPhrase,
 )
@@ -195,11 +196,16 @@ def test_japanese_readings_without_spaces(text, visit, avoid, speed, waits):
         ("actually, go to the bath", None, "bath"),
         ("go to all the bedrooms", UnsupportedPhrase, "'all bedrooms' asks for every place"),
         ("go to my bedroom", UnsupportedPhrase, "'my'"),
-        ("go to the bedroom with the big window", UnknownPlaceWord, "'window'"),
+        ("go to the bedroom with the big window", UnknownPlaceWord, "'with the big window'"),
         ("go to the kitchen when dinner is ready", UnsupportedPhrase, "'when' makes"),
         ("go to the bedroom avoiding", MalformedInstruction, "'avoiding' is followed by no known place word"),
         ("avoid the kitchen", EmptyInstruction, "names no place to go to"),
         ("go to the kitchen and wait there for 2 hours", InstructionTooLarge, "longer than"),
+        ("Wait in the hall for two hours.", InstructionTooLarge, "'for two hours': a wait of 7200 s"),
+        ("in ten minutes go to the living room", UnsupportedPhrase, "'in ten minutes' asks to start later"),
+        ("follow me to the kitchen", NotUnderstood, "'follow me' is not understood"),
+        ("go to the entrance and open the door", NotUnderstood, "'open the door' is not understood"),
+        ("go to the bedroom with the window", NotUnderstood, "'with the window' is not understood"),
     ],
 )
 def test_refusals_name_what_cannot_be_honoured(text, error, words):
@@ -316,3 +322,16 @@ def test_waiting_at_the_place_just_named_is_one_visit(text, lang, visit, waits):
 def test_a_filler_phrase_said_inside_another_leaves_both_out(text):
     """Found by the filler property below: the phrase said inside another is left out first, whichever it is."""
     assert [p.label for p in read(text, ["kitchen"], "en").visit] == ["kitchen"]
+
+
+@pytest.mark.parametrize(
+    "text, seconds",
+    [
+        ("wait in the bath for like two minutes", 120.0),
+        ("wait in the bath for um two minutes", 120.0),
+        ("wait in the bath for a a minute", 60.0),  # a filler "a" before "a minute"
+        ("wait in the bath for uh half a minute", 30.0),
+    ],
+)
+def test_fillers_between_for_and_a_length_belong_to_the_length(text, seconds):
+    assert read(text, EN, "en").waits == ((0, seconds),)

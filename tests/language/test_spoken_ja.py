@@ -246,3 +246,14 @@ def test_there_after_a_place_with_a_role_stays_refused(text):
 def test_a_topic_said_apart_from_its_verb_keeps_the_verbs_role():
     r = read("えー トイレは えー 通らないで 洗面所に あ ゆっくりね", JA, "ja")
     assert _visit(r) == ["洗面所"] and [p.words[0] for p in r.avoid] == ["トイレ"] and r.speed == "slow"
+
+
+@pytest.mark.parametrize(
+    "text", ["えっとねえ、ダイニングに行って", "えっとね、ダイニングに行って", "ねえ、ダイニングに行って"]
+)
+def test_two_fillers_said_together_are_both_left_out(text):
+    """えっと + ねえ: the longest filler (えっとね) would strand え; the cut that leaves out both is taken."""
+    from spcotmhp.language.reading import read
+
+    words = ["玄関", "リビング", "ダイニング", "キッチン", "風呂", "洗面所", "トイレ", "寝室", "物置き", "廊下", "広場"]
+    assert [p.label for p in read(text, words, "ja").visit] == ["ダイニング"]
