@@ -20,6 +20,9 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    ("thanks a bunch") or with an auxiliary verb as a question does ("did you hear me?"), is talk: passed over. A bare
    noun phrase may name a place the map lacks ("the garage") and an order opens with a verb ("turn that down"):
    both stay, to be read or refused.
+3b. **Statements of someone else** (:mod:`spcotmhp.language.statements_en`): a part opening with a subject other
+   than the robot and holding a verb, with no place and no class of the instruction ("my grandson is coming over",
+   "I'll join you in a minute", "you are blocking the door") says how things are: passed over.
 4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice / call you / come and
    get you / need you / I'm back" after a wait names the event that ends a wait with no length, the speaker's next
    word to the robot (its next instruction): the wait is until told, as "wait there" alone.
@@ -45,6 +48,7 @@ from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.repairs_en import BOUNDS as _BOUNDS
 from spcotmhp.language.repairs_en import answer, owners, pieces, repairs
+from spcotmhp.language.statements_en import CLOCK, stated
 from spcotmhp.language.table import WordTable
 from spcotmhp.language.talk import admissible
 
@@ -207,15 +211,25 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
     subjects = frozenset(talk.get("subjects", ())) | frozenset(talk.get("kin", ()))
     address = frozenset(talk.get("address", ())) | frozenset(talk.get("kin", ()))
     interjections = frozenset(talk.get("interjections", ()))
+    times = frozenset(talk.get("times_in_statements", ())) | CLOCK
     kept: list[Token] = []
     said: list[str] = []
     start = 0
     for end in [k for k, t in enumerate(toks) if t.kind in _BOUNDS] + [len(toks)]:
         part = toks[start:end]
-        aside = bool(part) and (
-            _addressing(part, address, interjections)
-            or _talk(
-                part, neutral, meaning, subjects, interjections | address, units[toks[start - 1].end if start else 0 :]
+        aside = (
+            bool(part)
+            and (
+                _addressing(part, address, interjections)
+                or stated(part, subjects, toks, times)  # rule 3b
+                or _talk(
+                    part,
+                    neutral,
+                    meaning,
+                    subjects,
+                    interjections | address,
+                    units[toks[start - 1].end if start else 0 :],
+                )
             )
         )
         mark = end < len(toks)

@@ -1,0 +1,93 @@
+"""Rule 3b of :mod:`spcotmhp.language.asides_en`: a clause that states something of someone other than the robot.
+
+A part of a sentence between its edges, commas and full stops that opens with a subject other than "you" ("I'll
+join you in a minute", "my grandson is coming over", "my taxi is here", "it's quieter there", "the kids left a
+mess there"; "you are" only before what the robot is doing now: "you are blocking the door") and holds a verb says
+how things are, or why the speaker asks: it names no place and none of the classes that make an instruction, so it
+asks nothing of the robot, and its words of position and time ("over", "here", "in a minute") are its subject's,
+not the robot's. It is passed over, and said. What keeps a part in the instruction, to be read or refused there:
+
+* a place, a floor, or a class of the instruction (a way to go, a waypoint, an avoidance, a negation, a speed, a
+  wait, a correction, a relation, a size; ``_ALLOWED`` lists the classes a statement may hold);
+* "to" or "in" before anything but a length of time ("we're going to the garage", "I need you in the garage");
+* a length of time where the instruction waits without one ("wait in the kitchen, I'll be back in ten minutes":
+  the length may be the wait's);
+* words referring back to a place as the clause's object ("one"): "the big one is mine";
+* a time of day or an order in time ("go to the bath, it's for tonight": when to go).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from spcotmhp.language import english_words as ew
+from spcotmhp.language.placewords import Token
+
+_ALLOWED = frozenset({"WORD", "IS", "GO", "AND", "LINK", "OF", "THAT", "IT", "THERE", "HERE", "NOW", "ALL", "TO", "AT"})
+"""Classes a statement may hold: none carries navigation meaning without a place (and a statement has none)."""
+_POSSESSIVES = frozenset({"my", "our", "his", "her", "their", "your"})
+_OBJECTS = frozenset({"one", "ones"})
+CLOCK = frozenset(
+    {"noon", "midnight", "o'clock", "am", "pm", "till", "til", "while", "during", "after", "before", "until"}
+)
+"""Time words a statement may not hold besides the table's ``talk.times_in_statements``."""
+
+
+def stated(part: Sequence[Token], subjects: frozenset[str], sentence: Sequence[Token], times: frozenset[str]) -> bool:
+    """Whether ``part`` (a clause of ``sentence``) is a statement of someone other than the robot (module
+    docstring); ``subjects``: the table's subject words (``talk.subjects`` and ``talk.kin``); ``times``: words of a
+    time of day or of an order in time ("tonight", "after"), which keep it ("go to the bath, it's for tonight")."""
+    toks = [t for t in part if not (t.kind == "MODIFIER" and t.surface in _POSSESSIVES)]  # "my grandson"
+    owned = part[0].kind == "MODIFIER" and part[0].surface in _POSSESSIVES
+    if len(toks) < 2 or not _opens(toks, subjects, owned):
+        return False
+    durations = sum(t.kind == "DURATION" for t in sentence) - sum(t.kind == "DURATION" for t in part)
+    waits_without_length = any(t.kind == "WAIT" for t in sentence) and not durations
+    verb = False
+    for k, t in enumerate(toks):
+        nxt = toks[k + 1] if k + 1 < len(toks) else None
+        if t.kind == "DURATION":
+            if waits_without_length or k == 0 or toks[k - 1].kind not in ("TO", "AT"):
+                return False  # "for ten minutes" is a wait's; "in ten minutes" after a verb is the subject's time
+            continue
+        if t.kind not in _ALLOWED or t.kind == "WORD" and (t.surface in _OBJECTS or ew.base(t.surface) in times):
+            return False
+        if t.kind in ("TO", "AT") and (nxt is None or nxt.kind != "DURATION"):
+            return False  # "going to the garage", "I need you in": a place follows or is left out
+        if t.kind == "GO" and nxt is not None and nxt.kind in ("TO", "AT"):
+            return False
+        if (k > 0 or "'" in t.surface) and (t.kind in ("IS", "GO") or t.kind == "WORD" and _verb(t.surface)):
+            verb = True
+    return verb
+
+
+def _opens(toks: Sequence[Token], subjects: frozenset[str], owned: bool) -> bool:
+    """A subject first: a subject word but "you" ("you are" before a verb's -ing form), or a noun after a
+    possessive (``owned``: "my taxi"), before a finite verb ("lunch is") or that is no verb's base form ("kids")."""
+    first = toks[0]
+    if first.kind == "IT":
+        return True  # "it's quieter there"
+    if first.kind != "WORD":
+        return False
+    word = first.surface
+    if word == "you":
+        return toks[1].kind == "IS" and len(toks) > 2 and toks[2].kind == "WORD" and toks[2].surface.endswith("ing")
+    if word in subjects:
+        return True
+    pos = ew.pos(word)
+    noun = "NOUN" in pos or "PROPN" in pos or word.endswith("'s") and ew.known(word[:-2])
+    return noun and (owned or _finite(toks[1]) or not ew.infinitive(word))  # not "speed it up", "park there"
+
+
+def _finite(tok: Token) -> bool:
+    """A verb right after a noun that makes the noun its subject: "is", an auxiliary, an inflected form ("left")."""
+    if tok.kind == "IS":
+        return True
+    pos = ew.pos(tok.surface) if tok.kind in ("WORD", "GO") else {}
+    return "AUX" in pos or any(lemma != tok.surface for lemma in pos.get("VERB", ()))
+
+
+def _verb(word: str) -> bool:
+    """A verb or an auxiliary ("left", "coming", "want"), or a word with a verb's contraction ("i'll", "footy's")."""
+    pos = ew.pos(word)
+    return "AUX" in pos or "VERB" in pos or "'" in word and word.rsplit("'", 1)[1] in ("ll", "re", "ve", "d", "m", "s")
