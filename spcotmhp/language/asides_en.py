@@ -25,7 +25,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    "I'll join you in a minute", "you are blocking the door") says how things are: passed over.
 4. **Until told**: "until / till I say (so) / tell you (otherwise) / told / further notice / call you / come and
    get you / need you / I'm back" after a wait names the event that ends a wait with no length, the speaker's next
-   word to the robot (its next instruction): the wait is until told, as "wait there" alone.
+   word to the robot (its next instruction): the wait is until told, as "wait there" alone; so is a wait "for a
+   bit", "for a while" or "for now", which says no length.
 Rules 5-8 live in :mod:`spcotmhp.language.repairs_en`:
 
 5. **Whose room**: in a map whose places are named by their owners, "alice's bedroom" is her room, "her / his /
@@ -85,6 +86,8 @@ _TELLING = frozenset(
 )
 """What ends a wait with no length: the speaker telling, calling, coming for or needing the robot, which reaches it as
 its next instruction (the robot cannot observe the act itself, and does not need to)."""
+_AWHILE = frozenset({"bit", "while"})
+"""A length not said ("for a bit", "for a while"): the wait lasts until the speaker says otherwise."""
 _UNTIL_TOLD_WORDS = _TELLING | frozenset(
     [
         "i",
@@ -192,6 +195,14 @@ def _until_told(toks: list[Token], units: Sequence[str]) -> list[Token]:
     i = 0
     while i < len(toks):
         t = toks[i]
+        nxt = toks[i + 1] if i + 1 < len(toks) else None
+        if (
+            t.kind == "LINK" and t.surface == "for" and nxt is not None and any(x.kind == "WAIT" for x in out)
+            and (nxt.kind == "WORD" and nxt.surface in _AWHILE or nxt.kind == "NOW")
+            and (i + 2 == len(toks) or toks[i + 2].kind in _BOUNDS)
+        ):  # fmt: skip
+            i += 2  # "wait there for a bit / for a while / for now": a wait of no length said, until told
+            continue
         first, *rest = t.surface.split()
         if t.kind == "UNBOUNDED_WAIT" and first in ("until", "till", "til") and any(x.kind == "WAIT" for x in out):
             j = next((k for k in range(i + 1, len(toks)) if toks[k].kind in _BOUNDS), len(toks))

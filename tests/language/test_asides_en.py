@@ -348,3 +348,29 @@ def test_right_by_is_next_to_and_by_is_closest():
     assert _read("go to the bedroom right by the bath")[0] == _read("go to the bedroom next to the bath")[0]
     assert _read("go to the bedroom by the bath")[0] == _read("go to the bedroom closest to the bath")[0]
     assert _read("go to the bedroom by the bath")[0] != _read("go to the bedroom next to the bath")[0]
+
+
+@pytest.mark.parametrize(
+    "text, visit, waits",
+    [
+        ("straight to the bath please", ["bath"], ()),
+        ("could ya get over to the storeroom", ["storeroom"], ()),
+        ("you know what just go to the kitchen", ["kitchen"], ()),
+        ("WHAT? oh. yes. go to the dining room.", ["dining room"], ()),
+        ("go to the toilet and wait til i tell you", ["toilet"], ((0, None),)),
+        ("go to the biggest bedroom and wait there for a bit", ["bedroom (largest)"], ((0, None),)),
+        ("wait in the hall for now", ["hall"], ((0, None),)),
+        ("go to the bedroom that sits between the living room and the dining room",
+         ["bedroom (between the living room and the dining room)"], ()),
+        ("go to the bedroom most far from the kitchen", ["bedroom (farthest from the kitchen)"], ()),
+    ],
+)  # fmt: skip
+def test_everyday_forms_of_the_classes(text, visit, waits):
+    got = _read(text)
+    assert (got[0], got[2]) == (visit, waits), got
+
+
+@pytest.mark.parametrize("text", ["go hang out in the living room for a bit", "go to the kitchen for a while"])
+def test_a_bit_or_a_while_without_a_wait_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, EN, "en")
