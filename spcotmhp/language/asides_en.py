@@ -13,7 +13,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    between its edges, commas and full stops made only of terms of address ("love", "my dude", "you little rascal"),
    interjections ("huh", "nah", "g'day") or a name introducing its speaker ("Gran here") names whom the speaker
    talks to or how they feel, never where to go: passed over; so are such words opening a part ("bro just go
-   kitchen", "yeah nah go to ...") and terms of address closing it ("go to the dining room love").
+   kitchen", "yeah nah go to ...") and terms of address closing it ("go to the dining room love"), and a word of no
+   dictionary alone at the sentence's edge before a comma, the robot's name ("Robbie, the front door").
 3. **Talk without an instruction's form**: a part between such marks with no place, no word of a class that carries
    navigation meaning (:mod:`spcotmhp.language.talk`'s admissible words, also by their lemmas: "faster"), no word
    that refers back to a place ("it", "there", "one", "that"), opening with thanks, an interjection or an address
@@ -232,6 +233,7 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
             bool(part)
             and (
                 _addressing(part, address, interjections)
+                or _calling(part, toks, start, end)
                 or stated(part, subjects, toks, times)  # rule 3b
                 or _talk(
                     part,
@@ -281,6 +283,17 @@ def _addressing(part: Sequence[Token], address: frozenset[str], interjections: f
     if words[-1] in address and all(w in ("my", "you", "little", "old", "young", "dear") for w in words[:-1]):
         return all(t.kind != "PLACE" for t in part)
     return all(w in interjections for w in words)
+
+
+def _calling(part: Sequence[Token], toks: Sequence[Token], start: int, end: int) -> bool:
+    """Rule 2 too: one word of no dictionary, alone between a sentence's edge and a comma or full stop ("Robbie, the
+    front door", "Hall, please, Robbie."), with a place elsewhere in the sentence, is the name the robot is called by
+    (a place the map lacks is a dictionary word: "garage, please" stays)."""
+    edge = all(t.kind in _BOUNDS for t in toks[:start]) or all(t.kind in _BOUNDS for t in toks[end:])
+    if len(part) != 1 or part[0].kind != "WORD" or not edge:
+        return False
+    word = part[0].surface
+    return word.isalpha() and not ew.known(word) and any(t.kind == "PLACE" for t in toks)
 
 
 def _name(word: str) -> bool:

@@ -19,15 +19,28 @@ from types import MappingProxyType
 from typing import Any
 
 EN_UNIT = re.compile(r"\d+(?:\.\d+)?|[^\W_]+(?:'[^\W_]+)*|'s\b|\.\.\.|[,;:.!?&\-]")
-_TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you")}
+_TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you"), "n": ("and",)}
 """Spellings of texts and chats for the words they stand for (as dictionaries of text abbreviations give them:
-"u" you, "ty" thank you; "da" the, as some speak and write it; "goto" typed without its space)."""
+"u" you, "ty" thank you, "n" and; "da" the, as some speak and write it; "goto" typed without its space)."""
+_DRAWN_OUT = re.compile(r"([a-z])\1{2,}")
+"""A letter written three times or more ("pleeease", "kitchennn"): no English word has one, so it is drawn out."""
 
 
 def en_units(text: str) -> list[str]:
-    """The English units of ``text`` (:data:`EN_UNIT`), the words of :data:`_TEXT_SPEAK` written out: one
-    splitter for sentences, phrases of the table and place words alike."""
-    return [w for u in EN_UNIT.findall(text) for w in _TEXT_SPEAK.get(u, (u,))]
+    """The English units of ``text`` (:data:`EN_UNIT`), the words of :data:`_TEXT_SPEAK` written out, and a letter
+    drawn out ("pleeease") written once: one splitter for sentences, phrases of the table and place words alike."""
+    units = [_DRAWN_OUT.sub(r"\1", u) for u in EN_UNIT.findall(text)]
+    return [
+        w
+        for k, u in enumerate(units)
+        for w in (_TEXT_SPEAK.get(u, (u,)) if u != "n" or _between_words(units, k) else (u,))
+    ]
+
+
+def _between_words(units: list[str], k: int) -> bool:
+    """Whether ``units[k]`` stands between two words of more than one letter ("bath n toilet", not the letters of
+    "d-i-n-i-n-g")."""
+    return 0 < k < len(units) - 1 and len(units[k - 1]) > 1 and len(units[k + 1]) > 1
 
 
 """English units: numbers, words (inner apostrophes kept), an ellipsis and the punctuation that separates

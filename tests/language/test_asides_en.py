@@ -374,3 +374,28 @@ def test_everyday_forms_of_the_classes(text, visit, waits):
 def test_a_bit_or_a_while_without_a_wait_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("Robbie, the front door, please.", ["front door"]),
+        ("Hall, please, Robbie.", ["hall"]),
+        ("go to the kitchen pleeease", ["kitchen"]),
+        ("go to the lounge innit", ["lounge"]),
+        ("Please go in the kitchen po.", ["kitchen"]),
+        ("Take yourself off to the corridor, there's a good robot.", ["corridor"]),
+        ("the bedroom handiest to the kitchen", ["bedroom (closest to the kitchen)"]),
+        ("Go to the bedroom sitting between the kitchen and the bath.", ["bedroom (between the kitchen and the bath)"]),
+        ("wander over to the dining room n wait like 10 sec", ["dining room"]),
+        ("dining room. d-i-n-i-n-g. dining room!", ["dining room"]),  # "n" a letter there, not "and"
+    ],
+)
+def test_names_text_forms_and_other_everyday_words(text, visit):
+    assert _read(text)[0] == visit
+
+
+@pytest.mark.parametrize("text", ["Garage, please.", "Lanai, please.", "Robbie, please."])
+def test_a_name_with_no_place_in_the_sentence_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, EN, "en")
