@@ -47,6 +47,7 @@ from spcotmhp.language.rewrite_en import (
     numbered_en,
     relations_en,
     said_again,
+    shared_head_en,
     sizes_en,
 )
 from spcotmhp.language.rewrite_ja import spoken_tokens
@@ -86,6 +87,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = sizes_en(out)
     if "MODIFIER" in kinds:
         out = master_en(out)
+    if "AND" in kinds:
+        out = shared_head_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

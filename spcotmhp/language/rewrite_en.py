@@ -225,6 +225,21 @@ def sizes_en(items: list[Token]) -> list[Token]:
     ]  # fmt: skip
 
 
+def shared_head_en(items: list[Token]) -> list[Token]:
+    """"Alice's and Bob's rooms": two owners joined by "and" before one noun in the plural share it (the plural
+    names both rooms), so the first owner's place is "alice's room" and the second is one room, not several."""
+    out = list(items)
+    for k in range(len(out) - 2):
+        a, joint, b = out[k], out[k + 1], out[k + 2]
+        if (
+            a.kind == "PLACE" and joint.kind == "AND" and b.kind == "PLACE" and b.plural and not a.plural
+            and a.words and a.words[-1].endswith("'s") and len(b.words) == 2 and b.words[0].endswith("'s")
+        ):  # fmt: skip
+            out[k] = a._replace(words=(*a.words, b.words[1]))
+            out[k + 2] = b._replace(plural=False)
+    return out
+
+
 _MASTER = frozenset({"master", "main"})
 
 

@@ -120,9 +120,15 @@ class Walk:
 
     def destination(self) -> int | None:
         """Index of the place the robot is going to at this point ("wait there"): the last place to go to of the
-        current step, else the last place to visit."""
-        goals = [k for k, m in enumerate(self.mentions) if m.role == "goal" and m.step == self.step]
-        return goals[-1] if goals else self.last_visit()
+        current step, else of the step before it (where that step ends: "go to the washroom via the bath, and then
+        wait there" waits at the washroom, passed after the bath), else the last place to visit."""
+        for step in (self.step, self.step - 1):
+            goals = [k for k, m in enumerate(self.mentions) if m.role == "goal" and m.step == step]
+            if goals:
+                return goals[-1]
+            if any(m.step == step for m in self.mentions):
+                break  # "then go through the hall and wait there": the place of this step
+        return self.last_visit()
 
     def apply_orders(self, orders: list[str], mine: list[Mention], start: int) -> None:
         """Order words on the mentions they apply to: "first" / まず rank them first, "finally" / 最後に last, "on

@@ -335,3 +335,25 @@ def test_a_filler_phrase_said_inside_another_leaves_both_out(text):
 )
 def test_fillers_between_for_and_a_length_belong_to_the_length(text, seconds):
     assert read(text, EN, "en").waits == ((0, seconds),)
+
+
+@pytest.mark.parametrize(
+    "text, waits_at",
+    [
+        ("Could you go to the washroom via the bath, and then wait there for half a minute?", "washroom"),
+        ("go through the hall to the kitchen then wait there 2 minutes", "kitchen"),
+        ("go to the kitchen, then go through the hall and wait there for a minute", "hall"),  # this step's place
+        ("go to the kitchen via the hall and wait there for a minute", "kitchen"),
+    ],
+)
+def test_wait_there_after_then_is_where_the_step_before_ends(text, waits_at):
+    r = read(text, EN, "en")
+    ((i, _),) = r.waits
+    assert r.visit[i].words[0] == waits_at
+
+
+def test_two_owners_share_the_plural_noun_after_them():
+    words = ["alice's", "bob's", "corridor", "east", "kitchen", "room", "south"]
+    r = read("go to the corridor between alice's and bob's rooms", words, "en")
+    between = r.visit[-1].relation
+    assert between is not None and [p.words for p in between.args] == [("alice's", "room"), ("bob's", "room")]
