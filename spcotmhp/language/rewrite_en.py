@@ -226,7 +226,7 @@ def sizes_en(items: list[Token]) -> list[Token]:
 
 
 def shared_head_en(items: list[Token]) -> list[Token]:
-    """"Alice's and Bob's rooms": two owners joined by "and" before one noun in the plural share it (the plural
+    """ "Alice's and Bob's rooms": two owners joined by "and" before one noun in the plural share it (the plural
     names both rooms), so the first owner's place is "alice's room" and the second is one room, not several."""
     out = list(items)
     for k in range(len(out) - 2):
