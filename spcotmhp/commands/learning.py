@@ -5,14 +5,13 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from spcotmhp.commands import body_options as bo
+from spcotmhp.commands.conventions import sweep_progress
 from spcotmhp.commands.datasets import load_dataset_reporting
 from spcotmhp.errors import ModelError
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, MAX_RUNS
@@ -46,24 +45,6 @@ def parse_feature_weight(text: str) -> float | None:
             f"--feature-weight must be a number > 0 or 'authors' (the authors' p * 10 + 1 counts), got {text!r}"
         )
     return value
-
-
-@contextmanager
-def sweep_progress(total: int, label: str) -> Iterator:
-    """A rich progress bar on stderr counting Gibbs sweeps; yields the ``progress(n)`` callback."""
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        transient=False,
-    ) as bar:
-        task = bar.add_task(label, total=total)
-        yield lambda n: bar.advance(task, n)
 
 
 def _not_for_supervised(given: dict[str, bool]) -> None:

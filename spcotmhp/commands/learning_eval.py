@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from spcotmhp.commands.conventions import sweep_progress
 from spcotmhp.commands.datasets import load_dataset_reporting
-from spcotmhp.commands.learning import sweep_progress
 from spcotmhp.limits import MAX_CONCEPTS, MAX_ITERATIONS, MAX_JOBS, MAX_PLACES, MAX_RUNS, MAX_SEEDS
 
 if TYPE_CHECKING:
