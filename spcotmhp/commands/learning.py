@@ -243,9 +243,10 @@ def learn(
         files, note = _graph_for(model) if precompute else (None, "")
         save_model(model, out, overwrite=overwrite, files=files)
         summary += note
+    from spcotmhp.language.said_names import shown_names
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
-    names = place_labels(model, place_vocabulary(model))  # as plans name them, in taught order
+    names = shown_names(place_labels(model, place_vocabulary(model)), model)  # as plans name them, as taught
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo("\n".join([summary, f"places: {places}", *merged, f"model written to {out}"]))
 

@@ -28,6 +28,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from spcotmhp.language.said_names import said_names
 from spcotmhp.learning.model import SpatialConceptModel
 
 
@@ -37,10 +38,13 @@ class TaughtName:
 
     words: tuple[str, ...]
     events: np.ndarray
+    written: str = ""
 
     @property
     def text(self) -> str:
-        return " ".join(self.words)
+        """The name as shown: as taught where it was written otherwise (said_names rule 6: 東の廊下), else its
+        words joined by spaces."""
+        return self.written or " ".join(self.words)
 
 
 @dataclass(frozen=True)
@@ -89,13 +93,14 @@ def taught_names(
         if key:
             by_name.setdefault(key, []).append(e)
     split_labels = [label.split() for label in labels or ()]
+    written = {s.words: s.text for s in said_names(model) if s.text}
     shared = {w: sum(w in key for key in by_name) for w in {w for key in by_name for w in key}}
     out = []
     for key, events in by_name.items():
         plain = [model.vocabulary[w] for w in sorted(key, key=lambda w: (shared[w], model.vocabulary[w]))]
         shown = next((label for label in split_labels if set(plain) <= set(label)), plain)
         order = tuple(sorted(plain, key=lambda w: shown.index(w) if w in shown else len(shown)))
-        out.append(TaughtName(order, np.array(events, dtype=np.int64)))
+        out.append(TaughtName(order, np.array(events, dtype=np.int64), written.get(order, "")))
     return sorted(out, key=lambda n: (-len(n.events), n.text))
 
 
