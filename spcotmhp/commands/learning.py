@@ -193,8 +193,6 @@ def learn(
         raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
     prepare_model_folder(out, overwrite)  # a bad --out fails now, not after the fit
     body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
-    if building is not None:
-        bo.refuse_for_building(body, Path(dataset))
     check_recorded_costmap(data, body)  # a costmap_ros.csv made for another robot fails now
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
