@@ -10,7 +10,7 @@ import pytest
 from spcotmhp.language.said_names import said_names
 from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.teaching.teach import planner_for, teach
-from tests.helpers.server import start_near, supervised_model_dir
+from tests.helpers.server import farthest_spot, start_near, supervised_model_dir
 
 FAR = (3.0, 3.0)  # a free spot of 3LDK_06 outside every place's 2-sigma ellipse (test_teach.py)
 
@@ -109,15 +109,3 @@ def test_the_second_bedroom_taught_apart_is_its_own_place_and_asked_for(model6):
         assert np.linalg.norm(plan.path[-1] - apart) <= 1.0
     numbered = planner.plan("go to bedroom 2", start).goal
     assert numbered.id != reply["place"] and numbered.label == "bedroom #2"
-
-
-def farthest_spot(model) -> np.ndarray:
-    """The free cell centre (x, y) of ``model``'s map farthest, by the Mahalanobis distance of each active place's
-    Gaussian, from its nearest place: where a teach is apart from every place."""
-    occ = model.require_map()
-    xy = occ.cell_to_world(np.argwhere(occ.free))
-    far = np.full(len(xy), np.inf)
-    for k in np.flatnonzero(model.active_places):
-        d = xy - model.mu[k]
-        far = np.minimum(far, np.einsum("ni,ij,nj->n", d, np.linalg.inv(model.Sigma[k]), d))
-    return xy[int(np.argmax(far))]
