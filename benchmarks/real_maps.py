@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import copy
 import sys
-import tempfile
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,11 +36,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # the repository's benchmarks, from any folder
 from benchmarks._args import parse_seeds  # noqa: E402
 from benchmarks.merges import silent_merges  # noqa: E402
-from benchmarks.robot_body import NAV2, goal_points, poses_in  # noqa: E402
+from benchmarks.robot_body import goal_points, nav2_body, poses_in  # noqa: E402
 from spcotmhp.datasets.loader import load_dataset  # noqa: E402
 from spcotmhp.errors import SpcotmhpError  # noqa: E402
 from spcotmhp.metric.costmap import INSCRIBED_INFLATED_OBSTACLE, inflate  # noqa: E402
-from spcotmhp.metric.nav2_params import resolve_body  # noqa: E402
 from spcotmhp.planning.body import with_body  # noqa: E402
 from spcotmhp.planning.planner import HierarchicalPlanner  # noqa: E402
 from spcotmhp.planning.stops import STOP_COST  # noqa: E402
@@ -151,10 +149,7 @@ def main() -> None:
     parser.add_argument("--only", default=None, help="measure only the maps whose folder name contains this text")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "nav2_params.yaml"
-        path.write_text(NAV2, encoding="utf-8")
-        body = resolve_body(path)
+    body = nav2_body()
     print("| map | seed | rooms | own place | merges reported | silent | asked: there | plans | poses | "
           "in the 0.30 m body's inscribed cells | goals | paper's rule: max cost / points >= 50 | "
           "stop rule: cost >= 50 | no stop cell | from the mean (median / max m) | labels as taught |")  # fmt: skip

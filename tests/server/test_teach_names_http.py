@@ -24,11 +24,16 @@ def folders(tmp_path_factory):
     return supervised_model_dir("3LDK_06", root / "en"), supervised_model_dir("3LDK_06", root / "ja", lang="ja")
 
 
-def test_the_second_bedroom_taught_over_http_is_planned_to(folders):
-    folder, _ = folders
+def served(folder):
+    """(the model, a client of the service serving it, the free spot farthest from every place)."""
     model = load_model(folder)
     client = TestClient(create_app({"home": folder}), base_url="http://localhost")
     x, y = (float(v) for v in farthest_spot(model))
+    return model, client, x, y
+
+
+def test_the_second_bedroom_taught_over_http_is_planned_to(folders):
+    model, client, x, y = served(folders[0])
     taught = client.post("/teach", json={"utterance": "this is the second bedroom", "x": x, "y": y})
     assert taught.status_code == 200, taught.text
     assert (taught.json()["label"], taught.json()["new_place"]) == ("second bedroom", True), taught.text
@@ -39,10 +44,7 @@ def test_the_second_bedroom_taught_over_http_is_planned_to(folders):
 
 
 def test_a_japanese_name_is_shown_as_taught_over_http(folders):
-    _, folder = folders
-    model = load_model(folder)
-    client = TestClient(create_app({"home": folder}), base_url="http://localhost")
-    x, y = (float(v) for v in farthest_spot(model))
+    model, client, x, y = served(folders[1])
     taught = client.post("/teach", json={"utterance": "ここは東の廊下です", "x": x, "y": y})
     assert taught.status_code == 200 and taught.json()["label"] == "東の廊下", taught.text
     places = client.get("/places").json()["places"]
