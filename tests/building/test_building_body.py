@@ -97,3 +97,15 @@ def test_a_served_building_plans_for_the_body_it_was_loaded_with(folders):
     res = client.post("/plan?model=house", json={**GOAL, "start": start_of(bm), "floor": "ground"})
     assert res.status_code == 200, res.text
     assert clear_on_every_floor(bm, res.json()["segments"]) == 0
+
+
+def test_a_body_too_big_for_the_goal_is_one_line_naming_it(folders):
+    """A 0.6 m robot on the generated building: no bedroom of floor 2 keeps a point in its free space. Before, the
+    line named no floor ("reaches floor , where the 'bedroom' (goal) is")."""
+    plain, _, _ = folders
+    res = run("plan", str(plain), "go to the bedroom on the second floor", "--start", "1.95", "5.55", "--floor",
+              "ground", "--robot-radius", "0.6")  # fmt: skip
+    assert res.exit_code != 0 and type(res.exception).__name__ == "NoReachablePlace"
+    assert "no place named 'bedroom' (goal) has a point in the free space planned from on any floor" in str(
+        res.exception
+    )
