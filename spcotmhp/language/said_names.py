@@ -161,7 +161,7 @@ def count_names(
             if place is not None and place >= 0:
                 counts = at.setdefault(key, {})
                 counts[int(place)] = counts.get(int(place), 0) + 1
-            if text:
+            if text and len(text) <= MAX_TEXT:
                 forms = written.setdefault(name, {})
                 forms[text] = forms.get(text, 0) + 1
     out = []

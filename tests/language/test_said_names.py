@@ -208,3 +208,14 @@ def test_shown_labels_and_the_folder_round_trip():
     ]
     kept[("東", "廊下")]["text"] = "長" * (MAX_TEXT + 1)  # longer than any name: read without it
     assert all(not n.text for n in said_names(model)) and shown_names(["東 廊下"], model) == ["東 廊下"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.sampled_from(["東 廊下", "東 廊下 #2", "台所", "place 3", "廊下", ""]), max_size=8))
+def test_shown_labels_replace_only_whole_taught_names(labels):
+    model = SimpleNamespace(info={})
+    keep_said_names(model, [("東", "廊下"), ("廊下",)], texts=["東の廊下", "長" * (MAX_TEXT + 1)])
+    shown = shown_names(labels, model)
+    assert len(shown) == len(labels)
+    for label, out in zip(labels, shown, strict=True):
+        assert out == (label.replace("東 廊下", "東の廊下") if label.startswith("東 廊下") else label)
