@@ -69,10 +69,17 @@ def test_learn_stores_the_body_and_every_floor_plans_for_it(folders):
     assert bm.model.info["body"]["source"].endswith("nav2_params.yaml (global_costmap)")
     for i in bm.indices:
         assert bm.floor_model(i).costmap == bm.model.costmap
-    plan = BuildingPlanner(bm).plan(GOAL["structured"], start_of(bm), "ground")
-    segments = [{"floor": s.floor, "path": s.path.tolist()} for s in plan.segments]
+    segments = route(bm)
     assert [s["floor"] for s in segments] == [1, 2]
     assert clear_on_every_floor(bm, segments) == 0
+    plain = load_building_model(folders[0])  # the default body's route: 2 of its 70 poses in this body's cells
+    assert clear_on_every_floor(bm, route(plain)) > 0
+
+
+def route(bm) -> list[dict]:
+    """The segments (floor, path) of the route to floor 2's bedroom from beside floor 1's stairs."""
+    plan = BuildingPlanner(bm).plan(GOAL["structured"], start_of(bm), "ground")
+    return [{"floor": s.floor, "path": s.path.tolist()} for s in plan.segments]
 
 
 def test_plan_takes_a_body_for_a_building_and_leaves_the_stored_one(folders):
