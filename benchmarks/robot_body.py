@@ -50,6 +50,14 @@ NAV2 = """global_costmap:
 FOOTPRINT = "[[0.34, 0.26], [0.34, -0.26], [-0.26, -0.26], [-0.26, 0.26]]"
 
 
+def nav2_body():
+    """The 0.30 m robot of :data:`NAV2`, read as ``--nav2-params`` reads a params file."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "nav2_params.yaml"
+        path.write_text(NAV2, encoding="utf-8")
+        return resolve_body(path)
+
+
 def homes(seeds: list[int]):
     """(name, dataset) of every home measured."""
     for name in ("3LDK_01", "3LDK_05", "3LDK_06", "albert-b"):
@@ -124,11 +132,7 @@ def main() -> None:
     parser.add_argument("--starts", type=int, default=3, help="start points per home and body (default 3)")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "nav2_params.yaml"
-        path.write_text(NAV2, encoding="utf-8")
-        nav2 = resolve_body(path)
-    bodies = [(nav2, "0.30 m Nav2"), (resolve_body(footprint=FOOTPRINT, inflation_radius=0.8), "footprint")]
+    bodies = [(nav2_body(), "0.30 m Nav2"), (resolve_body(footprint=FOOTPRINT, inflation_radius=0.8), "footprint")]
     rows1, rows2, old_all, new_all, moved_all = [], [], [], [], []
     for name, data in homes(parse_seeds(args.seeds)):
         model = fit_supervised(data)

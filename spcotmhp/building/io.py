@@ -10,6 +10,11 @@ model folder's JSON bound); ``spec`` is checked as building.yaml is (:func:`~spc
 the layout field by field, then against the model: the joint grid is the layout's, and every connector stop lies
 on a free cell of its floor's map. Any problem is one ModelError line. Nothing is unpickled; a building model
 folder also loads as a plain model (:func:`~spcotmhp.persistence.io.load_model` ignores building.json).
+
+The robot's body (``learn``'s ``--nav2-params``, ``--robot-radius``, ...) is the joint model's cost map settings
+and ``info["body"]``, saved with it as for one floor; every floor's view (:meth:`~spcotmhp.building.model.
+BuildingModel.floor_model`) keeps them, so every floor plans for that body. ``plan``, ``serve`` and ``ros2`` given a
+body load the folder with it (:func:`load_building_model`'s ``body``).
 """
 
 from __future__ import annotations
@@ -22,9 +27,11 @@ from spcotmhp.building.loader import check_stops
 from spcotmhp.building.model import BuildingModel
 from spcotmhp.building.spec import parse_spec
 from spcotmhp.errors import BuildingError, ModelError
+from spcotmhp.metric.body import RobotBody
 from spcotmhp.persistence.folder import read_manifest
 from spcotmhp.persistence.io import load_model, save_model
 from spcotmhp.persistence.model_checks import MAX_JSON_BYTES
+from spcotmhp.planning.body import with_body
 from spcotmhp.safe_read import excerpt, load_json
 
 BUILDING_JSON = "building.json"
@@ -49,10 +56,12 @@ def save_building_model(bm: BuildingModel, folder: str | Path, *, overwrite: boo
     return save_model(bm.model, folder, overwrite=overwrite, extra={BUILDING_JSON: text})
 
 
-def load_building_model(folder: str | Path) -> BuildingModel:
-    """Read a building model folder (module docstring); ModelError naming the file and field on any problem."""
+def load_building_model(folder: str | Path, body: RobotBody | None = None) -> BuildingModel:
+    """Read a building model folder (module docstring); ModelError naming the file and field on any problem.
+    ``body``: plan every floor for that robot body instead of the one stored (:func:`~spcotmhp.planning.body.
+    with_body` on the joint model, whose cost map settings every floor's view keeps), nothing learned again."""
     root = Path(folder)
-    model = load_model(root)
+    model = with_body(load_model(root), body)
     path = root / BUILDING_JSON
     if not path.is_file():
         raise ModelError(f"{root} holds a model but no {BUILDING_JSON}: it is a single-floor model, not a building's")

@@ -36,6 +36,11 @@ def why_not(st: Stitched, ins: Instruction, x0: np.ndarray, f0: int, avoiding: b
             continue
         role = "goal" if s == len(ins.stages) - 1 else f"waypoint {s + 1}"
         on = sorted(set(st.floor_of[completes].tolist()))
+        if not on:  # no node of any floor ends the stage: its places have no point in the free space planned from
+            return NoReachablePlace(
+                f"no place named '{q.label}' ({role}) has a point in the free space planned from on any floor "
+                "(for a robot this size its places' free cells are cut off or too narrow)"
+            )
         if not floors_reached & set(on):
             listed = ", ".join(map(str, on))
             return FloorUnreachable(

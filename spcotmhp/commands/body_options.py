@@ -52,16 +52,3 @@ def body_from_options(
     from spcotmhp.metric.nav2_params import resolve_body
 
     return resolve_body(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
-
-
-def refuse_for_building(body: RobotBody | None, folder: Path) -> None:
-    """A building (its dataset or its model) keeps the default body on every floor: a body option for it is
-    refused, in one line."""
-    if body is not None:
-        from spcotmhp.errors import RobotBodyError
-
-        raise RobotBodyError(
-            f"{folder} is a building: its floors plan for the default body; the robot-body options (--nav2-params, "
-            "--robot-radius, --footprint, --inflation-radius, --cost-scaling-factor) are for a single floor's "
-            "dataset or model"
-        )

@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from spcotmhp.building.loader import Building
     from spcotmhp.datasets.dataset import Dataset
     from spcotmhp.learning.model import Hyperparameters, SpatialConceptModel
+    from spcotmhp.metric.body import RobotBody
 
 SHOWN_WARNINGS = 3
 
@@ -126,17 +127,19 @@ def plan_building(
     overwrite: bool,
     lang: str | None,
     settings: dict,
+    body: RobotBody | None = None,
 ) -> None:
     """``plan``'s building branch: plan from ``start`` on ``floor`` (the start's floor, index or name) in the
     building model ``model_dir`` (:class:`~spcotmhp.building.planner.BuildingPlanner`); print the explanation or
-    the JSON (with ``segments``); ``--png`` writes one picture per floor crossed (:mod:`spcotmhp.viz.building`)."""
+    the JSON (with ``segments``); ``--png`` writes one picture per floor crossed (:mod:`spcotmhp.viz.building`);
+    ``body``: every floor planned for that robot body (:func:`~spcotmhp.building.io.load_building_model`)."""
     from spcotmhp.building.io import load_building_model
     from spcotmhp.building.planner import BuildingPlanner
     from spcotmhp.collector import end_startup
     from spcotmhp.errors import SpcotmhpError
     from spcotmhp.safe_write import atomic_write, check_output, outside_model
 
-    bm = load_building_model(model_dir)
+    bm = load_building_model(model_dir, body)
     if floor is None:
         if len(bm.indices) > 1:
             raise typer.BadParameter(

@@ -174,8 +174,6 @@ def learn(
         raise ModelError(f"--out {out} is the dataset folder {data.path} or contains it; write the model elsewhere")
     prepare_model_folder(out, overwrite)  # a bad --out fails now, not after the fit
     body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
-    if building is not None:
-        bo.refuse_for_building(body, Path(dataset))
     check_recorded_costmap(data, body)  # a costmap_ros.csv made for another robot fails now
     if supervised:
         from spcotmhp.learning.supervised import fit_supervised
@@ -224,9 +222,10 @@ def learn(
         files, note = _graph_for(model) if precompute else (None, "")
         save_model(model, out, overwrite=overwrite, files=files)
         summary += note
+    from spcotmhp.language.said_names import shown_names
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
-    names = place_labels(model, place_vocabulary(model))  # as plans name them, in taught order
+    names = shown_names(place_labels(model, place_vocabulary(model)), model)  # as plans name them, as taught
     places = ", ".join(names[k] for k in range(model.K) if model.active_places[k])
     typer.echo("\n".join([summary, f"places: {places}", *merged, f"model written to {out}"]))
 

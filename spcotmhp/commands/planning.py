@@ -106,12 +106,11 @@ def plan_command(
     settings: dict[str, Any] = {"n_candidates": candidates, "seed": seed, "smooth": smooth, "max_steps": max_steps}
     body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     if plan_in_building(model_dir, floor):
-        bo.refuse_for_building(body, model_dir)
         from spcotmhp.commands.building import plan_building
 
         recognise = None if audio is None else functools.partial(recognise_audio, audio)
         plan_building(model_dir, source, start, floor, recognise=recognise, as_json=as_json, png=png,
-                      overwrite=overwrite, lang=lang, settings=settings)  # fmt: skip
+                      overwrite=overwrite, lang=lang, settings=settings, body=body)  # fmt: skip
         return
     from spcotmhp.planning.body import with_body
 

@@ -107,7 +107,6 @@ def ros2(
     require_rclpy()
     body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     if is_building_model(model_dir):
-        bo.refuse_for_building(body, model_dir)
         from spcotmhp.errors import SpcotmhpError
         from spcotmhp.ros.building_node import run_building_node
 
@@ -115,7 +114,9 @@ def ros2(
             raise SpcotmhpError("--record is for a single floor's model; a building's node teaches without recording")
         if drive is not None:
             raise SpcotmhpError("--drive is for a single floor's model; a building's node publishes plans only")
-        run_building_node(model_dir, floor, frame, start_topic, progress=lambda line: typer.echo(line, err=True))
+        run_building_node(
+            model_dir, floor, frame, start_topic, progress=lambda line: typer.echo(line, err=True), body=body
+        )
         return
     if drive is not None:
         from spcotmhp.ros.drive import MODES

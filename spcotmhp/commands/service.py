@@ -153,11 +153,10 @@ def serve(
     mapping = model_mapping(models)
     body = bo.body_from_options(nav2_params, robot_radius, footprint, inflation_radius, cost_scaling_factor)
     with console.status("loading models"):
-        for folder in mapping.values():
-            if is_building_model(folder):
-                bo.refuse_for_building(body, folder)
         loaded = {  # a bad model is named first; a building's model is served with its building planner
-            name: load_building_model(folder) if is_building_model(folder) else with_body(load_model(folder), body)
+            name: load_building_model(folder, body)
+            if is_building_model(folder)
+            else with_body(load_model(folder), body)
             for name, folder in mapping.items()
         }
     sock = listening_socket(host, port)  # before the planners are precomputed: a port in use fails at once

@@ -32,6 +32,13 @@ said them. The rules:
    an ordinal as a word or in digits with its suffix ("second bedroom", "2nd bedroom"). A cardinal is never said
    as an ordinal nor the other way round: "the first aisle" names a taught "first aisle", while beside a taught
    "aisle one" it keeps its meaning of the instruction grammar.
+6. **Written as taught.** A Japanese name is written as it was said: the event's tokens from the name's first word
+   to its last, particles kept, without spaces ("東 の 廊下" -> 東の廊下, "2 号室" -> 2号室; a name read at run time,
+   :func:`~spcotmhp.language.naming.read_naming`'s ``name``); per word order, the text said most often (kept as
+   the name's ``text``). The label a place's plans and explanations, ``show``, the web page and the Nav2 graph
+   show is that text where the label's words are exactly that name's words in its order (:func:`shown_names`);
+   instructions are still matched by the words ("東の廊下に行って" says 東 and 廊下). An English name is its words
+   joined by spaces.
 """
 
 from __future__ import annotations
@@ -46,6 +53,10 @@ import numpy as np
 
 from spcotmhp.language.numbers import number_word
 
+MAX_TEXT = 200
+"""Longest kept text of a name (rule 6), in characters: a name longer than this is no name people say; an entry of
+a model folder longer than this is read as written without it."""
+
 MAX_SAID_NAMES = 1000
 """Most names kept with a model (the most taught): a home or a warehouse has far fewer; an unbounded list of
 every utterance's name would grow the model folder with the teaching."""
@@ -54,11 +65,19 @@ every utterance's name would grow the model folder with the teaching."""
 @dataclass(frozen=True)
 class SaidName:
     """A taught name: its words in the order said (the most taught order of this word set), how many events
-    taught this word set, and at which places ((place, events), most first) as the learner assigned them."""
+    taught this word set, at which places ((place, events), most first) as the learner assigned them, and the
+    name as written when it differs from its words joined by spaces (rule 6: a Japanese name's particles)."""
 
     words: tuple[str, ...]
     taught: int
     places: tuple[tuple[int, int], ...] = ()
+    text: str = ""
+
+    @property
+    def said(self) -> str:
+        """The name written as taught (rule 6): its ``text`` where one was kept ("東の廊下", "2号室"), else its
+        words joined by spaces ("aisle one")."""
+        return self.text or " ".join(self.words)
 
     @functools.cached_property
     def word_set(self) -> frozenset[str]:
@@ -90,6 +109,18 @@ def _event_name(tokens: tuple[str, ...], lang: str) -> tuple[str, ...] | None:
         return None
 
 
+def event_text(tokens: Sequence[str], lang: str) -> str | None:
+    """How one teaching event writes its name (rule 6): Japanese, the tokens from the name's first word to its last,
+    particles kept, without spaces ("ここ は 東 の 廊下 です" -> 東の廊下); None where the name is its words joined by
+    spaces (English) or the event names nothing."""
+    name = event_name(tokens, lang)
+    if lang != "ja" or not name:
+        return None
+    at = [i for i, w in enumerate(tokens) if w in name]
+    text = "".join(tokens[at[0] : at[-1] + 1])
+    return None if text == " ".join(name) else text
+
+
 def _grammar_words() -> frozenset[str]:
     """The grammar and filler words of every language's instruction table (never a name's words)."""
     from spcotmhp.language.reading import LANGUAGES
@@ -108,16 +139,21 @@ def count_names(
     names: Iterable[tuple[str, ...] | None],
     earlier: Sequence[SaidName] = (),
     places: Iterable[int | None] | None = None,
+    texts: Iterable[str | None] | None = None,
 ) -> list[SaidName]:
     """Rule 2: per word set, the sequence said most often (ties: the first said; ``earlier`` names count first,
-    each as its ``taught`` events), with the events per place when ``places`` gives each event's place, the
+    each as its ``taught`` events), with the events per place when ``places`` gives each event's place and (rule
+    6) the text that order was written with most often when ``texts`` gives each event's (:func:`event_text`), the
     :data:`MAX_SAID_NAMES` most taught, most taught first."""
     per_set: dict[frozenset[str], dict[tuple[str, ...], int]] = {}
     at: dict[frozenset[str], dict[int, int]] = {}
+    written: dict[tuple[str, ...], dict[str, int]] = {}
     for said in earlier:
         per_set.setdefault(frozenset(said.words), {})[said.words] = said.taught
         at.setdefault(frozenset(said.words), {}).update(dict(said.places))
-    for name, place in zip(names, places if places is not None else itertools.repeat(None), strict=False):
+        if said.text:
+            written.setdefault(said.words, {})[said.text] = said.taught
+    for name, place, text in zip(names, _each(places), _each(texts), strict=False):
         if name:
             key = frozenset(name)
             orders = per_set.setdefault(key, {})
@@ -125,12 +161,23 @@ def count_names(
             if place is not None and place >= 0:
                 counts = at.setdefault(key, {})
                 counts[int(place)] = counts.get(int(place), 0) + 1
+            if text and len(text) <= MAX_TEXT:
+                forms = written.setdefault(name, {})
+                forms[text] = forms.get(text, 0) + 1
     out = []
     for key, orders in per_set.items():
         where = sorted(at.get(key, {}).items(), key=lambda kv: (-kv[1], kv[0]))
-        out.append(SaidName(max(orders, key=orders.__getitem__), sum(orders.values()), tuple(where)))
+        words = max(orders, key=orders.__getitem__)
+        forms = written.get(words, {})
+        text = max(forms, key=forms.__getitem__) if forms else ""
+        out.append(SaidName(words, sum(orders.values()), tuple(where), text))
     out.sort(key=lambda s: (-s.taught, s.words))
     return out[:MAX_SAID_NAMES]
+
+
+def _each(values: Iterable[Any] | None) -> Iterable[Any]:
+    """``values``, or None for every event when not given."""
+    return itertools.repeat(None) if values is None else values
 
 
 def said_names(model: Any) -> list[SaidName]:
@@ -146,7 +193,9 @@ def said_names(model: Any) -> list[SaidName]:
         taught = entry.get("taught") if isinstance(entry, Mapping) else None
         said = bool(words) and all(isinstance(w, str) and w for w in words) if isinstance(words, list) else False
         if isinstance(words, list) and said and isinstance(taught, int) and _count(taught):
-            out.append(SaidName(tuple(words), taught, _places(entry.get("places"))))
+            text = entry.get("text")
+            written = text if isinstance(text, str) and len(text) <= MAX_TEXT else ""
+            out.append(SaidName(tuple(words), taught, _places(entry.get("places")), written))
     return out
 
 
@@ -163,13 +212,18 @@ def _places(raw: object) -> tuple[tuple[int, int], ...]:
 
 
 def keep_said_names(
-    model: Any, names: Iterable[tuple[str, ...] | None], places: Iterable[int | None] | None = None
+    model: Any,
+    names: Iterable[tuple[str, ...] | None],
+    places: Iterable[int | None] | None = None,
+    texts: Iterable[str | None] | None = None,
 ) -> None:
-    """Count ``names`` (one per event, None for an event that teaches none; ``places``: each event's place) into
-    ``model.info["said_names"]``."""
-    counted = count_names(names, said_names(model), places)
+    """Count ``names`` (one per event, None for an event that teaches none; ``places``: each event's place;
+    ``texts``: how each event wrote its name, rule 6) into ``model.info["said_names"]``."""
+    counted = count_names(names, said_names(model), places, texts)
     model.info["said_names"] = [
-        {"words": list(s.words), "taught": s.taught, "places": [list(p) for p in s.places]} for s in counted
+        {"words": list(s.words), "taught": s.taught, "places": [list(p) for p in s.places]}
+        | ({"text": s.text} if s.text else {})
+        for s in counted
     ]
 
 
@@ -179,7 +233,28 @@ def record_dataset_names(
     """``learn``'s part of rule 2: the names a dataset's events teach (``places``: the place each event was learned
     at), kept with the model it learned."""
     model.info["said_names"] = []
-    keep_said_names(model, (event_name(t, lang) for t in tokens), None if places is None else [int(k) for k in places])
+    keep_said_names(
+        model,
+        (event_name(t, lang) for t in tokens),
+        None if places is None else [int(k) for k in places],
+        (event_text(t, lang) for t in tokens),
+    )
+
+
+def shown_names(labels: Sequence[str], model: Any) -> list[str]:
+    """Rule 6 for places' labels (:func:`~spcotmhp.planning.vocabulary.place_labels`, words joined by spaces, the
+    form instructions are matched with): each label as written by the taught name with exactly its words in its
+    order ("東 廊下" shown 東の廊下), a numbered instance's " #2" kept; the label itself where no such name
+    was written otherwise."""
+    written = {s.words: s.text for s in said_names(model) if s.text}
+    if not written:
+        return list(labels)
+    out = []
+    for label in labels:
+        base, mark, number = label.partition(" #")
+        text = written.get(tuple(base.split()))
+        out.append(f"{text}{mark}{number}" if text else label)
+    return out
 
 
 def place_names(names: Sequence[SaidName]) -> dict[int, SaidName]:

@@ -28,6 +28,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from spcotmhp.language.said_names import said_names
 from spcotmhp.learning.model import SpatialConceptModel
 
 
@@ -37,10 +38,13 @@ class TaughtName:
 
     words: tuple[str, ...]
     events: np.ndarray
+    written: str = ""
 
     @property
     def text(self) -> str:
-        return " ".join(self.words)
+        """The name as shown: as taught where it was written otherwise (said_names rule 6: 東の廊下), else its
+        words joined by spaces."""
+        return self.written or " ".join(self.words)
 
 
 @dataclass(frozen=True)
@@ -89,13 +93,14 @@ def taught_names(
         if key:
             by_name.setdefault(key, []).append(e)
     split_labels = [label.split() for label in labels or ()]
+    written = {s.words: s.text for s in said_names(model) if s.text}
     shared = {w: sum(w in key for key in by_name) for w in {w for key in by_name for w in key}}
     out = []
     for key, events in by_name.items():
         plain = [model.vocabulary[w] for w in sorted(key, key=lambda w: (shared[w], model.vocabulary[w]))]
         shown = next((label for label in split_labels if set(plain) <= set(label)), plain)
         order = tuple(sorted(plain, key=lambda w: shown.index(w) if w in shown else len(shown)))
-        out.append(TaughtName(order, np.array(events, dtype=np.int64)))
+        out.append(TaughtName(order, np.array(events, dtype=np.int64), written.get(order, "")))
     return sorted(out, key=lambda n: (-len(n.events), n.text))
 
 
@@ -124,10 +129,10 @@ def merges(model: SpatialConceptModel, place_words: list[str], labels: list[str]
     if len(names) < 2 or not len(act):
         return []
     log_p = log_name_given_place(model, [n.words for n in names])[act]  # (active K, N)
-    top = np.argmax(log_p, axis=1)  # the name each active place is called by
-    owned = set(int(j) for j in top)
     X = np.asarray(model.learner["arrays"]["X"], dtype=float) if model.learner is not None else np.empty((0, 2))
     place = np.asarray(model.learner["arrays"]["place"], dtype=np.int64) if model.learner is not None else None
+    top = _called_by(log_p, names, place, act)  # the name each active place is called by
+    owned = set(int(j) for j in top)
     out = []
     for j, name in enumerate(names):
         if j in owned:
@@ -140,6 +145,24 @@ def merges(model: SpatialConceptModel, place_words: list[str], labels: list[str]
             Merge(name.text, other.text, k, len(mine), len(theirs), float(np.hypot(*(a - b))), float(a[0]), float(a[1]))
         )
     return sorted(out, key=lambda m: (-min(m.taught, m.other_taught), m.name))
+
+
+TIE_LOG = 1e-6
+"""Two names' log p(n | k) closer than this are a tie (floating-point noise of one number): two places whose events
+one concept explains say that concept's names equally, so the word term cannot tell them apart."""
+
+
+def _called_by(log_p: np.ndarray, names: list[TaughtName], place: np.ndarray | None, act: np.ndarray) -> np.ndarray:
+    """(active K,) the name each active place is called by: the most probable by p(n | k), a tie (:data:`TIE_LOG`)
+    broken by the events of each name the learner assigned to that place, then by the first name. Without the
+    tie-break, two places sharing one concept ("first bay" and "bay 3" each a place, their words one concept's)
+    were both called by the same name and the other reported as merged."""
+    best = log_p.max(axis=1, keepdims=True)
+    tied = log_p >= best - TIE_LOG
+    if place is None:
+        return np.argmax(log_p, axis=1)
+    counts = np.array([[np.count_nonzero(place[n.events] == k) for n in names] for k in act], dtype=float)
+    return np.argmax(np.where(tied, counts + 1.0, 0.0), axis=1)
 
 
 def _at(events: np.ndarray, place: np.ndarray | None, k: int) -> np.ndarray:

@@ -33,6 +33,7 @@ class PlannerView(Protocol):
     model: SpatialConceptModel
     settings: PlannerSettings
     names: list[str]
+    shown: list[str]
     numbering: dict[int, tuple[int, int]]
     diameter_cells: float
 
@@ -85,7 +86,7 @@ def place(planner: PlannerView, k: int, role: str, xy: Sequence[float] | np.ndar
     """Place ``k`` in the role ``role``, numbered among the places of its name ("bedroom #2" of 3)."""
     number, count = planner.numbering[k]
     point = None if xy is None else (float(xy[0]), float(xy[1]))
-    return PlanPlace(k, planner.names[k], role, number, count, point)
+    return PlanPlace(k, planner.shown[k], role, number, count, point)
 
 
 def goal_options(

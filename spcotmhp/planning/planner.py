@@ -64,6 +64,7 @@ from spcotmhp.errors import (
     ModelError,
     SpcotmhpError,
 )
+from spcotmhp.language.said_names import shown_names
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.costmap import DEFAULT_COSTMAP
 from spcotmhp.planning import explain
@@ -128,6 +129,7 @@ class HierarchicalPlanner(StagePlaces):
         self.graph = PlanningGraph.build(model, self.settings.graph_settings(), log_p, self.cache)
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
+        self.shown = shown_names(self.names, model)  # as taught: 東の廊下 (said_names rule 6)
         self.said_words = said_words(self.place_words, self.names, model.active_places)  # + "aisle one"
         self.terms = ModelTerms(model)
         # inactive places hold no data, and their labels carry every word: they name nothing
@@ -217,7 +219,7 @@ class HierarchicalPlanner(StagePlaces):
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The escape with the way out of an avoided place after it, the cell planning starts from (its end) and
         p(i | x) there; the note saying so goes into ``notes``."""
-        left = ", ".join(sorted({self.names[k] for k in np.flatnonzero(avoided)}))
+        left = ", ".join(sorted({self.shown[k] for k in np.flatnonzero(avoided)}))
         notes.append(
             f"the start is inside {left}, to be avoided: the path leaves it by the shortest way "
             f"({path_length(graph.to_map(way_out), self.resolution):.1f} m) and does not enter it again"
@@ -300,7 +302,7 @@ class HierarchicalPlanner(StagePlaces):
         metric = problem_for(metric=True)
         result = search(metric)
         if result is None:
-            cut = [self.names[k] for k in graph.info.get("unreachable_places", [])]
+            cut = [self.shown[k] for k in graph.info.get("unreachable_places", [])]
             raise why_no_plan(metric, ins, x0, bool(avoided.any()), cut)
         notes.append("the place graph has no route for this instruction: metric route over the free space")
         return result

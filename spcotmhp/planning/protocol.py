@@ -32,6 +32,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from spcotmhp.language.said_names import shown_names
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.planning.assemble import path_length
@@ -63,6 +64,7 @@ class PlanVocabulary:
         self.model = model
         self.place_words = place_vocabulary(model)
         self.names = place_labels(model, self.place_words)
+        self.shown = shown_names(self.names, model)  # as taught: 東の廊下 (said_names rule 6)
         self.said_words = said_words(self.place_words, self.names, model.active_places)
 
     def instruction(self, instruction: Any) -> Instruction:
@@ -104,7 +106,7 @@ def path_plan(
     path = occ_map.cell_to_world(cells)
     ends = most_probable_place(vocabulary.model, path[[0, -1]])
     places = [
-        PlanPlace(int(k), vocabulary.names[int(k)], role, point=(float(xy[0]), float(xy[1])))
+        PlanPlace(int(k), vocabulary.shown[int(k)], role, point=(float(xy[0]), float(xy[1])))
         for k, role, xy in zip(ends, ("start", "goal"), path[[0, -1]], strict=True)
     ]
     return Plan(

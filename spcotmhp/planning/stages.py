@@ -34,6 +34,7 @@ class StagePlaces:
     graph: PlanningGraph
     terms: ModelTerms
     names: list[str]
+    shown: list[str]
     label_index: LabelIndex
     numbering: dict[int, tuple[int, int]]
     planned: np.ndarray  # (K,) places with a candidate point in some free region
@@ -55,7 +56,7 @@ class StagePlaces:
     def instance_label(self, k: int) -> str:
         """How place k is called in plans and messages: "bedroom #2" among three bedrooms, else its name."""
         number, count = self.numbering.get(int(k), (1, 1))
-        return f"{self.names[k]} #{number}" if count > 1 else self.names[k]
+        return f"{self.shown[k]} #{number}" if count > 1 else self.shown[k]
 
     # ---- the places of each stage -------------------------------------------------------------------
     def instances(self, query: PlaceQuery, likely: np.ndarray | None = None, stage: bool = False) -> np.ndarray:
@@ -231,7 +232,7 @@ class StagePlaces:
             path = path_from_field(field, step, (int(cell[0]), int(cell[1])))
             if path is not None:
                 return np.asarray(path.cells, dtype=np.int64)
-        inside = [self.names[k] for k in np.flatnonzero(avoided)]
+        inside = [self.shown[k] for k in np.flatnonzero(avoided)]
         raise StartInAvoidedPlace(
             f"the start ({x0[0]:.2f}, {x0[1]:.2f}) lies inside a place to avoid ({', '.join(sorted(set(inside)))}) "
             "with no free way out of it"

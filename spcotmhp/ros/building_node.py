@@ -35,6 +35,7 @@ from std_msgs.msg import String
 from spcotmhp.building.learn import teach_building
 from spcotmhp.building.plan import BuildingPlan
 from spcotmhp.building.planner import BuildingPlanner
+from spcotmhp.metric.body import RobotBody
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.ros.node import EVENTS, LATCHED, SpcotmhpNode, TeachJob, answered, serve
 from spcotmhp.ros.shapes import path_poses
@@ -165,13 +166,15 @@ def run_building_node(
     frame: str = "map",
     start_topic: str = "amcl_pose",
     progress: Callable[[str], None] = print,
+    body: RobotBody | None = None,
 ) -> None:
-    """Load the building's model, precompute every floor's planner, and serve until interrupted."""
+    """Load the building's model (``body``: every floor planned for that robot body), precompute every floor's
+    planner, and serve until interrupted."""
     from spcotmhp.building.io import load_building_model
     from spcotmhp.errors import UnknownFloor
 
     t0 = time.perf_counter()
-    bm = load_building_model(model_dir)
+    bm = load_building_model(model_dir, body)
     if floor is None:
         if len(bm.indices) > 1:
             raise UnknownFloor(

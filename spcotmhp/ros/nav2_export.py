@@ -54,7 +54,7 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
     for k in places:
         x, y = model.require_map().cell_to_world(graph.to_map(graph.node_cell[node_of[k]]))
         fid[k] = len(features)
-        name = planner.names[k]
+        name = planner.shown[k]
         features.append(
             {
                 "type": "Feature",
@@ -62,7 +62,7 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
                 "properties": {
                     "id": fid[k],
                     "frame": frame,
-                    "metadata": {"name": name, "words": name.split(), "place": k},
+                    "metadata": {"name": name, "words": planner.names[k].split(), "place": k},
                 },
             }
         )
@@ -83,7 +83,7 @@ def route_graph(planner: HierarchicalPlanner, frame: str = "map") -> dict:
                         "endid": fid[b],
                         "cost": _m(path_length(cells, model.require_map().resolution)),
                         "overridable": False,
-                        "metadata": {"from": planner.names[a], "to": planner.names[b]},
+                        "metadata": {"from": planner.shown[a], "to": planner.shown[b]},
                     },
                 }
             )
@@ -142,14 +142,14 @@ def export_nav2(
         (folder / ROUTE_GRAPH).write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
         if mask is not None:
             save_map(mask, folder / KEEPOUT)
-        (folder / "README.md").write_text(readme(frame, [planner.names[k] for k in avoided]), encoding="utf-8")
+        (folder / "README.md").write_text(readme(frame, [planner.shown[k] for k in avoided]), encoding="utf-8")
 
     build_folder(out, fill)
     n_nodes = sum(f["geometry"]["type"] == "Point" for f in doc["features"])
     text = f"wrote {out}: route graph of {n_nodes} places and {len(doc['features']) - n_nodes} directed edges"
     if mask is not None:
         text += (
-            f"; keepout mask of {', '.join(sorted({planner.names[k] for k in avoided}))} "
+            f"; keepout mask of {', '.join(sorted({planner.shown[k] for k in avoided}))} "
             f"({int((mask.data == 100).sum())} cells)"
         )
     return text

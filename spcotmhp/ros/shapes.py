@@ -80,7 +80,7 @@ def place_shapes(planner: Any) -> tuple[list[dict], list[tuple[int, int]]]:
         places.append(
             {
                 "id": int(k),
-                "name": planner.names[k],
+                "name": planner.shown[k],
                 "centre": [float(v) for v in model.mu[k]],
                 "length": length,
                 "width": width,

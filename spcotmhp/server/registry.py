@@ -241,7 +241,7 @@ class ServedModel:
         m = self.model
         act = [int(k) for k in np.flatnonzero(m.active_places)]
         colours = dict(zip(act, place_colours(len(act)), strict=False))
-        names = self.planner.names
+        names = self.planner.shown
         return {
             "model": self.name,
             "places": [

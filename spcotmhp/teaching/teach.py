@@ -54,16 +54,21 @@ class Taught:
     time_update_s: float
     time_export_s: float
     names: list[Naming | None] = dataclasses.field(default_factory=list)
+    shown: list[str] = dataclasses.field(default_factory=list)  # the labels as taught (said_names rule 6)
+
+    def label(self, k: int = -1) -> str:
+        """Event ``k``'s place label as shown: written as taught ("東の廊下"), else the label."""
+        return self.shown[k] if self.shown else self.labels[k]
 
     def outcome(self, k: int = -1) -> tuple[str, bool, str]:
         """(what happened to event ``k``: "new place" or "joined place", whether its name now names that place,
         a one-line message) (module docstring)."""
-        label, place = self.labels[k], self.places[k]
+        label, place = self.label(k), self.places[k]
         naming = self.names[k] if self.names else None
         kind = "new place" if self.new_places[k] else "joined place"
         if naming is None:
             return kind, False, f"learned at place {place} '{label}'"
-        names = all(w in label.split() for w in naming.words)
+        names = all(w in self.labels[k].split() for w in naming.words)
         said = f"'{naming.name}'"
         if self.new_places[k]:
             return kind, names, f"{said} is a new place (place {place}, '{label}')"
@@ -81,13 +86,12 @@ class Taught:
     def summary(self, k: int = -1) -> dict:
         """JSON-ready: the place of event ``k`` (default the last), its label and words, and what happened
         (:meth:`outcome`)."""
-        label = self.labels[k]
         kind, named, message = self.outcome(k)
         naming = self.names[k] if self.names else None
         return {
             "place": self.places[k],
-            "label": label,
-            "names": [w for w in label.split() if w in self.place_words],
+            "label": self.label(k),
+            "names": [w for w in self.labels[k].split() if w in self.place_words],
             "new_place": self.new_places[k],
             "name": None if naming is None else naming.name,
             "outcome": kind,
@@ -105,7 +109,7 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
     online learner set one) at the model's event count, so teaching is reproducible. Events marked as answers
     to the robot's questions are learned as the answer model ``answers`` says (``teaching.answers``; None: its
     default)."""
-    from spcotmhp.language.said_names import keep_said_names
+    from spcotmhp.language.said_names import keep_said_names, shown_names
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
     from spcotmhp.teaching.answers import answer_model
 
@@ -121,7 +125,8 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
     updated = learner.model_
     updated.info["taught"] = count_taught(model, batch)
     namings = [tuple(naming.words) if naming else None for _, naming in read]
-    keep_said_names(updated, namings, [int(k) for k in learner.last_places_])  # names as taught (said_names.py)
+    texts = [n.name if n and n.name != " ".join(n.words) else None for _, n in read]  # 東の廊下 (said_names rule 6)
+    keep_said_names(updated, namings, [int(k) for k in learner.last_places_], texts)  # names as taught
     t2 = time.perf_counter()
     words = place_vocabulary(updated)
     labels = place_labels(updated, words)
@@ -135,6 +140,7 @@ def teach(model: SpatialConceptModel, events: Iterable[object], answers: str | N
         t1 - t0,
         t2 - t1,
         [naming for _, naming in read],
+        shown_names([labels[k] for k in places], updated),
     )
 
 

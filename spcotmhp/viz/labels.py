@@ -33,16 +33,18 @@ def place_display_labels(
 ) -> list[str]:
     """One label per place (K,): the planner's name, "#n" when several active places share it, "" for an
     inactive place; ``ids`` appends the place id ("bedroom #2 (9)")."""
+    from spcotmhp.language.said_names import shown_names
     from spcotmhp.planning.plan import PlanPlace
     from spcotmhp.planning.vocabulary import place_labels, place_vocabulary
 
     words = place_vocabulary(model) if place_words is None else list(place_words)
     names = place_labels(model, words)
+    shown = shown_names(names, model)  # as taught (said_names rule 6)
     act = [int(k) for k in np.flatnonzero(model.active_places)]
     out = [""] * model.K
     for k in act:
         same = [j for j in act if names[j] == names[k]]
-        label = PlanPlace(k, names[k], "", same.index(k) + 1, len(same)).label
+        label = PlanPlace(k, shown[k], "", same.index(k) + 1, len(same)).label
         out[k] = f"{label} ({k})" if ids else label
     return out
 

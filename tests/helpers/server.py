@@ -115,3 +115,15 @@ class ServerProcess:
                 self.proc.kill()
                 self.proc.wait()
         self.log.unlink(missing_ok=True)
+
+
+def farthest_spot(model) -> np.ndarray:
+    """The free cell centre (x, y) of ``model``'s map farthest, by the Mahalanobis distance of each active place's
+    Gaussian, from its nearest place: where a teach is apart from every place."""
+    occ = model.require_map()
+    xy = occ.cell_to_world(np.argwhere(occ.free))
+    far = np.full(len(xy), np.inf)
+    for k in np.flatnonzero(model.active_places):
+        d = xy - model.mu[k]
+        far = np.minimum(far, np.einsum("ni,ij,nj->n", d, np.linalg.inv(model.Sigma[k]), d))
+    return xy[int(np.argmax(far))]

@@ -16,10 +16,14 @@ from spcotmhp.language.naming import read_naming
 from spcotmhp.language.numbers import number_word, numbered_labels, said_variants
 from spcotmhp.language.said_names import (
     MAX_SAID_NAMES,
+    MAX_TEXT,
     SaidName,
     count_names,
     event_name,
+    event_text,
+    keep_said_names,
     said_names,
+    shown_names,
     spoken_order,
     taught_numbers,
 )
@@ -169,3 +173,49 @@ def test_every_variant_reads_back_as_the_name(head, n):
     for units in said_variants(name.split()):
         got = [t.words for t in tokens("go to " + " ".join(units), EN, [head, word, name]) if t.kind == "PLACE"]
         assert got == [(head, word)], units
+
+
+def test_japanese_names_are_written_as_taught():
+    """Rule 6, hand-made: a dataset row's name written from its first name word to its last, particles kept; an
+    English name has no text of its own (its words joined)."""
+    assert event_text(["ここ", "は", "東", "の", "廊下", "です"], "ja") == "東の廊下"
+    assert event_text(["ここ", "が", "2", "号室", "です"], "ja") == "2号室"
+    assert event_text(["台所"], "ja") is None
+    assert event_text(["this", "is", "the", "east", "corridor"], "en") is None
+    assert event_text(["です"], "ja") is None
+
+
+def test_the_text_said_most_is_kept_with_its_order():
+    names = [("東", "廊下")] * 3 + [("廊下", "東")]
+    texts = ["東の廊下", "東の廊下", "東廊下", "廊下の東"]
+    (kept,) = count_names(names, texts=texts)
+    assert (kept.words, kept.taught, kept.text, kept.said) == (("東", "廊下"), 4, "東の廊下", "東の廊下")
+    assert count_names([("aisle", "one")])[0].said == "aisle one"
+
+
+def test_shown_labels_and_the_folder_round_trip():
+    model = SimpleNamespace(info={})
+    keep_said_names(model, [("東", "廊下"), ("2号室",), ("台所",)], [3, 4, 5], ["東の廊下", None, None])
+    kept = {tuple(e["words"]): e for e in model.info["said_names"]}
+    assert kept[("東", "廊下")] == {"words": ["東", "廊下"], "taught": 1, "places": [[3, 1]], "text": "東の廊下"}
+    assert "text" not in kept[("2号室",)]
+    assert shown_names(["東 廊下", "東 廊下 #2", "廊下 東", "台所", "place 7"], model) == [
+        "東の廊下",
+        "東の廊下 #2",
+        "廊下 東",
+        "台所",
+        "place 7",
+    ]
+    kept[("東", "廊下")]["text"] = "長" * (MAX_TEXT + 1)  # longer than any name: read without it
+    assert all(not n.text for n in said_names(model)) and shown_names(["東 廊下"], model) == ["東 廊下"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.sampled_from(["東 廊下", "東 廊下 #2", "台所", "place 3", "廊下", ""]), max_size=8))
+def test_shown_labels_replace_only_whole_taught_names(labels):
+    model = SimpleNamespace(info={})
+    keep_said_names(model, [("東", "廊下"), ("廊下",)], texts=["東の廊下", "長" * (MAX_TEXT + 1)])
+    shown = shown_names(labels, model)
+    assert len(shown) == len(labels)
+    for label, out in zip(labels, shown, strict=True):
+        assert out == (label.replace("東 廊下", "東の廊下") if label.startswith("東 廊下") else label)

@@ -12,7 +12,9 @@ def _explain(territory_row: list[int], goal: int, diameter: float = 4.0) -> list
     territory = np.array([territory_row], dtype=np.int64)
     cells = np.column_stack([np.zeros(len(territory_row)), np.arange(len(territory_row))]).astype(np.int64)
     names = ["entrance", "corridor", "dining", "study", "bath"]
-    planner = SimpleNamespace(names=names, numbering={k: (1, 1) for k in range(5)}, diameter_cells=diameter)
+    planner = SimpleNamespace(
+        names=names, shown=names, numbering={k: (1, 1) for k in range(5)}, diameter_cells=diameter
+    )
     graph = SimpleNamespace(territory=territory, node_place=np.array([0, goal], dtype=np.int64))
     result = SimpleNamespace(nodes=np.array([0, 1]), completed=((), (0,)), completes_last=0)
     points = np.array([[0.0, 0.0], [1.0, 0.0]])

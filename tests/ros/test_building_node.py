@@ -49,13 +49,14 @@ def setup(tmp_path_factory):
         yield from _building_setup(root, env)
 
 
-def _building_setup(root: Path, env: dict[str, str]):
+def _building_setup(root: Path, env: dict[str, str], options: tuple[str, ...] = ()):
+    """The node on the generated building's model (``options``: more ``ros2`` options, e.g. a robot body)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         building = load_building(example_path())
         bm = learn_building(building)
     folder = save_building_model(bm, root / "model")
-    proc = subprocess.Popen([EXE, "ros2", str(folder), "--floor", "ground"], env={**os.environ, **env},
+    proc = subprocess.Popen([EXE, "ros2", str(folder), "--floor", "ground", *options], env={**os.environ, **env},
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
     context = rclpy.Context()
     rclpy.init(context=context)
