@@ -179,27 +179,31 @@ def _cut(kept: list[tuple[Token | str, int]], match: tuple[int, int]) -> list[tu
 
 def _durations_en(units: list[str], fillers: frozenset[str] = frozenset()) -> list[tuple[Token | str, int]]:
     """Rule 2: "(for) <number> <unit>" -> a DURATION token; "half a minute" is 30 s, "a quarter of an hour" 900 s,
-    "a couple of minutes" 120 s, "two and a half minutes" 150 s, "a minute and a half" 90 s; fillers between "for"
-    and the length are the length's ("for like two minutes", "for um a minute"). Each item with the index of its
-    first unit."""
+    "a couple of minutes" 120 s, "two and a half minutes" 150 s, "a minute and a half" 90 s; fillers inside it are
+    its own ("for like two minutes", "for a, um, minute": rule 3, a filler anywhere changes nothing). Each item
+    with the index of its first unit."""
     if _UNITS.keys().isdisjoint(units):  # no unit of time: no duration
         return [(u, i) for i, u in enumerate(units)]
+    view = [u for u in units if u not in fillers or u in ("a", "an")]  # "a" is a number here
+    at = [i for i, u in enumerate(units) if u not in fillers or u in ("a", "an")]
     out: list[tuple[Token | str, int]] = []
-    i = 0
-    while i < len(units):
-        j = i + (units[i] == "for")
-        found = _duration(units, j)
-        while found is None and j > i and j < min(len(units), i + 4) and units[j] in fillers:
-            j += 1  # "for like two minutes": the filler is skipped, the duration holds it
-            found = _duration(units, j)
-        if found is not None:
-            seconds, end = found
-            out.append((Token("DURATION", " ".join(units[i:end]), seconds=seconds, start=i, end=end), i))
-            i = end
-        else:
-            out.append((units[i], i))
-            i += 1
-    return out
+    done = 0  # units before this are in ``out``
+    p = 0
+    while p < len(view):
+        j = p + (view[p] == "for")
+        found = _duration(view, j)
+        while found is None and j > p and j < min(len(view), p + 4) and view[j] in fillers:
+            j += 1  # "for a a minute": the filler "a" before the length
+            found = _duration(view, j)
+        if found is None:
+            p += 1
+            continue
+        seconds, q = found
+        start, end = at[p], at[q - 1] + 1
+        out += [(units[i], i) for i in range(done, start)]
+        out.append((Token("DURATION", " ".join(units[start:end]), seconds=seconds, start=start, end=end), start))
+        done, p = end, q
+    return out + [(units[i], i) for i in range(done, len(units))]
 
 
 def _duration(units: list[str], j: int) -> tuple[float, int] | None:

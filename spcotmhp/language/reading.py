@@ -25,7 +25,7 @@ from typing import Any, cast
 from lark import Lark, Tree
 from lark import Token as LarkToken
 
-from spcotmhp.errors import EmptyInstruction
+from spcotmhp.errors import EmptyInstruction, InstructionError
 from spcotmhp.language.asides_en import ease_en
 from spcotmhp.language.errors import refusal
 from spcotmhp.language.lexicon import english_units, tokens
@@ -64,6 +64,10 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
         return _WALKS[lang](toks, text, table).read(root)
     except _NoDerivation as exc:
         first, said_as = exc.at, toks
+    except InstructionError:
+        if lang == "en" and (again := _restarted(toks, english_units(text), place_words)) is not None:
+            return again
+        raise
     # no derivation as said: Japanese verb endings in their plain form, then talk passed over (talk.py, talk_ja.py)
     source: Sequence[str] = english_units(text) if lang == "en" else normalise(spoken)  # what the tokens index
     if table.by_character:
@@ -77,6 +81,8 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
             toks, source = plain, plain_text
     eased: list[str] = []
     notes: list[str] = []
+    if lang == "en" and (again := _restarted(toks, source, place_words)) is not None:
+        return again
     if lang == "en" and (asides := ease_en(toks, table, source, place_words)) is not None:  # asides_en.py
         toks, eased, notes = asides
         try:
@@ -93,6 +99,51 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
             raise _refused(kept, again.at, table, place_words, text) from None
         return _heard(_WALKS[lang](kept, text, table).read(root), [*eased, *said], notes)
     raise _refused(said_as, first, table, place_words, text) from None  # the words as said, not their plain form
+
+
+_RESTARTS = frozenset({"scratch that", "change of plan", "let me rephrase", "on second thought", "on second thoughts",
+                       "hang on", "hold on", "no hang on", "hang on no", "no hold on", "hold on no"})  # fmt: skip
+"""Corrections that take back all that was said before them (with the CANCEL class: "never mind", "forget that")."""
+
+
+def _restarted(toks: Sequence[Any], units: Sequence[str], place_words: Sequence[str]) -> Reading | None:
+    """A sentence said again after taking all of it back: "go to the kitchen, oh never mind, go to the living room",
+    "Head to the toilet. Oh, hang on, the storeroom instead", "kitchen. no. living room.": after the last word that
+    cancels (or a "no" said alone between full stops), a part that reads on its own with a place to go to is the
+    instruction, and what came before it is taken back (said in the explanation). "forget the kitchen, ..." takes
+    back its place too. Anything else (nothing to go to after it: "never mind, the kitchen's fine") stays refused."""
+    marks = [
+        k for k, t in enumerate(toks)
+        if t.kind == "CANCEL" or t.surface in _RESTARTS
+        or t.kind in ("NO", "CORRECTION") and _alone(toks, k)
+    ]  # fmt: skip
+    if not marks or not any(t.kind == "PLACE" for t in toks[: marks[-1]]):
+        return None
+    k = marks[-1] + 1
+    while k < len(toks) and toks[k].kind in ("COMMA", "_STOP", "IT", "THAT", "CORRECTION", "NO"):
+        k += 1  # "never mind that,", "hang on, no,"
+    j = marks[-1] + 1  # "forget the kitchen, go to the washroom": the place right after it is taken back too
+    taken = toks[marks[-1]].kind == "CANCEL" and j + 1 < len(toks) and toks[j].kind == "PLACE"
+    if taken and toks[j + 1].kind in ("COMMA", "_STOP") and any(t.kind == "PLACE" for t in toks[j + 2 :]):
+        k = j + 2
+    if k >= len(toks) or not any(t.kind == "PLACE" for t in toks[k:]):
+        return None
+    rest = " ".join(units[toks[k].start :])
+    try:
+        reading = read(rest, place_words, "en")
+    except InstructionError:
+        return None
+    if not reading.visit:
+        return None
+    said = " ".join(t.surface for t in toks[: marks[-1] + 1])  # the tokens as read: fillers change nothing
+    return replace(reading, heard=(f"took back {excerpt(said)}", *reading.heard))
+
+
+def _alone(toks: Sequence[Any], k: int) -> bool:
+    """Whether ``toks[k]`` is a part of its own: between full stops or the sentence's edges ("kitchen. no. ...")."""
+    before = k == 0 or toks[k - 1].kind == "_STOP"
+    after = k + 1 == len(toks) or toks[k + 1].kind == "_STOP"
+    return before and after
 
 
 def _heard(reading: Reading, said: Sequence[str], notes: Sequence[str] = ()) -> Reading:

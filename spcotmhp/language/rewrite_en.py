@@ -219,7 +219,7 @@ def sizes_en(items: list[Token]) -> list[Token]:
     return [
         t._replace(kind="MODIFIER")
         if t.kind in ("LARGEST", "SMALLEST") and t.surface in _POSITIVE_SIZES
-        and not (k + 1 < len(items) and items[k + 1].kind in _SIZED and items[k + 1].start == t.end)
+        and not (k + 1 < len(items) and items[k + 1].kind in _SIZED)
         else t
         for k, t in enumerate(items)
     ]  # fmt: skip
@@ -251,7 +251,7 @@ def master_en(items: list[Token]) -> list[Token]:
     return [
         t._replace(kind="LARGEST")
         if t.kind == "MODIFIER" and t.surface in _MASTER and k + 1 < len(items) and items[k + 1].kind == "PLACE"
-        and "bedroom" in items[k + 1].words and items[k + 1].start == t.end
+        and "bedroom" in items[k + 1].words
         else t
         for k, t in enumerate(items)
     ]  # fmt: skip

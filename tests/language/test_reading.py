@@ -357,3 +357,37 @@ def test_two_owners_share_the_plural_noun_after_them():
     r = read("go to the corridor between alice's and bob's rooms", words, "en")
     between = r.visit[-1].relation
     assert between is not None and [p.words for p in between.args] == [("alice's", "room"), ("bob's", "room")]
+
+
+@pytest.mark.parametrize(
+    "text, visit, avoid",
+    [
+        ("Go to the front door, oh never mind, go to the living room.", ["living room"], []),
+        ("Could you go to the washroom? Actually, never mind that, the bath.", ["bath"], []),
+        ("Go to the kitchen. Actually, forget the kitchen, go to the washroom.", ["washroom"], []),
+        ("Head to the toilet. Oh, hang on, the storeroom instead.", ["storeroom"], []),
+        ("kitchen. no. living room.", ["living room"], []),
+        ("Go to the entrance. No, scratch that, stay out of the entrance and go to the corridor.", ["corridor"],
+         ["entrance"]),
+    ],
+)  # fmt: skip
+def test_a_cancel_followed_by_a_whole_instruction_takes_back_all_before_it(text, visit, avoid):
+    r = read(text, EN, "en")
+    assert [p.label for p in r.visit] == visit and [p.label for p in r.avoid] == avoid
+    assert any(h.startswith("took back") for h in r.heard)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the kitchen, never mind",  # nothing after it
+        "Go to the dining room and avoid the kitchen... actually never mind, the kitchen's fine",  # no place to go
+        "never mind, go to the kitchen",  # nothing before it to take back: read as said, or refused
+    ],
+)
+def test_a_cancel_with_nothing_to_go_to_after_it_is_not_a_restart(text):
+    try:
+        r = read(text, EN, "en")
+    except InstructionError:
+        return
+    assert not any(h.startswith("took back") for h in r.heard)
