@@ -28,6 +28,7 @@ import numpy as np
 
 from spcotmhp.errors import InstructionTooLarge, MalformedInstruction
 from spcotmhp.language.wording import excerpt
+from spcotmhp.planning.nbest import nbest_weights
 from spcotmhp.planning.query import MAX_CHARS, MAX_HYPOTHESES
 from spcotmhp.speech.audio import MAX_SECONDS, AudioError, to_16k_mono
 
@@ -111,7 +112,8 @@ class Utterance:
 
 def parse_hypotheses(text: str) -> list[tuple[str, float]]:
     """An N-best JSON text (module docstring) as [(text, score)] for the planner. MalformedInstruction for a
-    text that is not such a list (naming the entry), InstructionTooLarge for one past the limits."""
+    text that is not such a list (naming the entry) or a score that is not a finite number, EmptyInstruction for
+    an empty list, InstructionTooLarge for one past the limits."""
     if len(text) > MAX_HYPOTHESES_JSON:
         raise InstructionTooLarge(
             f"the N-best JSON has {len(text)} characters, more than the {MAX_HYPOTHESES_JSON} accepted"
@@ -139,5 +141,6 @@ def parse_hypotheses(text: str) -> list[tuple[str, float]]:
                 f'N-best entry {i} must be {{"text": ..., "score": ...}} ("confidence" for "score"), got '
                 f"{excerpt(entry)}"
             )
-        out.append((entry["text"], entry[keys[0]]))  # types checked where every N-best list is: nbest_weights
+        out.append((entry["text"], entry[keys[0]]))
+    nbest_weights(out, MAX_HYPOTHESES)  # text and score types checked where every N-best list's are
     return out

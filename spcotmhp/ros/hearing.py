@@ -28,12 +28,16 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String, UInt8MultiArray
 
 from spcotmhp.errors import SpcotmhpError, SpeechBusy
 from spcotmhp.ros.audio_input import Utterance, check_rate, parse_hypotheses
 from spcotmhp.ros.shapes import error_status
 
+# reliable, and deep enough for a burst: with KEEP_LAST a reader that falls behind loses the oldest chunks (the
+# middle of an utterance); 600 chunks are a minute at 0.1 s each, a few MB at most
+AUDIO_QOS = QoSProfile(depth=600, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 MAX_PENDING = 2  # utterances being recognised or waiting: one said while the last is recognised is kept, no more
 NBEST = 5  # hypotheses kept, as the CLI's and POST /plan/audio's default
 AUDIO_GAP_S = 1.0  # no message for this long ends an utterance: audio drivers send a chunk every 10-100 ms
@@ -79,7 +83,7 @@ class Hearing:
         self.wake = node.create_guard_condition(self.on_results)  # the worker's results, on the executor's thread
         self.gap = node.create_timer(settings.audio_gap_s, self.on_gap)
         self.gap.cancel()
-        node.create_subscription(UInt8MultiArray, "spcotmhp/audio", self.on_audio, qos)
+        node.create_subscription(UInt8MultiArray, "spcotmhp/audio", self.on_audio, AUDIO_QOS)
         node.create_subscription(String, "spcotmhp/hypotheses", self.on_hypotheses, qos)
 
     # ---- topics (executor's thread) ----------------------------------------------------------------------------

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from spcotmhp.errors import InstructionTooLarge, MalformedInstruction
+from spcotmhp.errors import EmptyInstruction, InstructionTooLarge, MalformedInstruction
 from spcotmhp.planning.nbest import nbest_weights
 from spcotmhp.planning.query import MAX_HYPOTHESES
 from spcotmhp.ros.audio_input import MAX_HYPOTHESES_JSON, RATES, Utterance, check_rate, parse_hypotheses
@@ -163,10 +163,13 @@ def test_hostile_hypotheses_are_refused_with_one_line(text, error, match):
 
 
 @pytest.mark.parametrize("score", ['"0.9"', "true", "null", "1e999", "NaN"])
-def test_bad_scores_are_refused_where_every_n_best_is(score):
-    pairs = parse_hypotheses(f'[{{"text": "go to the kitchen", "score": {score}}}]')
+def test_bad_scores_and_texts_are_refused_as_every_n_best_is(score):
     with pytest.raises(MalformedInstruction, match="score"):
-        nbest_weights(pairs, MAX_HYPOTHESES)
+        parse_hypotheses(f'[{{"text": "go to the kitchen", "score": {score}}}]')
+    with pytest.raises(MalformedInstruction, match="entry 0 must be"):
+        parse_hypotheses('[{"text": 3, "score": 1}]')
+    with pytest.raises(EmptyInstruction):
+        parse_hypotheses("[]")
 
 
 JSON = st.recursive(
@@ -182,17 +185,11 @@ JSON = st.recursive(
 @settings(max_examples=300, deadline=None)
 @given(st.one_of(JSON.map(json.dumps), st.text(max_size=200)))
 def test_any_text_gives_pairs_or_a_typed_error(text):
-    """Property: any JSON value or text gives [(text, score)] pairs or MalformedInstruction / InstructionTooLarge,
-    and the pairs go through nbest_weights with those errors (or EmptyInstruction) only."""
+    """Property: any JSON value or text gives valid [(text, score)] pairs (weights summing to 1) or one of
+    MalformedInstruction, InstructionTooLarge, EmptyInstruction: never another exception."""
     try:
         pairs = parse_hypotheses(text)
-    except (MalformedInstruction, InstructionTooLarge):
-        return
-    assert isinstance(pairs, list) and all(len(p) == 2 for p in pairs)
-    from spcotmhp.errors import EmptyInstruction
-
-    try:
-        texts, weights = nbest_weights(pairs, MAX_HYPOTHESES)
     except (MalformedInstruction, InstructionTooLarge, EmptyInstruction):
         return
+    texts, weights = nbest_weights(pairs, MAX_HYPOTHESES)
     assert np.isclose(weights.sum(), 1.0) and all(isinstance(t, str) for t in texts)
