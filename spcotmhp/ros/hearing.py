@@ -21,9 +21,7 @@ from __future__ import annotations
 
 import collections
 import functools
-import threading
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,6 +32,7 @@ from std_msgs.msg import String, UInt8MultiArray
 from spcotmhp.errors import SpcotmhpError, SpeechBusy
 from spcotmhp.ros.audio_input import Utterance, check_rate, parse_hypotheses
 from spcotmhp.ros.shapes import error_status
+from spcotmhp.ros.worker import BoundedWorker
 
 # reliable, and deep enough for a burst: with KEEP_LAST a reader that falls behind loses the oldest chunks (the
 # middle of an utterance); 600 chunks are a minute at 0.1 s each, a few MB at most
@@ -76,9 +75,8 @@ class Hearing:
     ) -> None:
         self.node, self.settings, self.place_words, self.act, self.report = node, settings, place_words, act, report
         self.utterance = Utterance(settings.audio_rate)
-        self.worker = ThreadPoolExecutor(1, thread_name_prefix="spcotmhp-speech")
-        self.pending = 0
-        self.lock = threading.Lock()
+        self.worker = BoundedWorker("spcotmhp-speech", MAX_PENDING, lambda n: SpeechBusy(
+            f"{n} utterances are being recognised or waiting (the limit); say it again shortly"))  # fmt: skip
         self.results: collections.deque[tuple[Hypotheses | None, BaseException | None]] = collections.deque()
         self.wake = node.create_guard_condition(self.on_results)  # the worker's results, on the executor's thread
         self.gap = node.create_timer(settings.audio_gap_s, self.on_gap)
@@ -140,17 +138,7 @@ class Hearing:
     # ---- recognition (the worker's thread) ---------------------------------------------------------------------
     def recognise(self, samples: np.ndarray) -> None:
         """Queue ``samples`` (16 kHz int16) for the recogniser; SpeechBusy when MAX_PENDING wait or run."""
-        with self.lock:
-            if self.pending >= MAX_PENDING:
-                raise SpeechBusy(
-                    f"{self.pending} utterances are being recognised or waiting (the limit); say it again shortly"
-                )
-            self.pending += 1
-        try:
-            self.worker.submit(self._recognise, samples, self.place_words())
-        except RuntimeError:  # shutting down
-            with self.lock:
-                self.pending -= 1
+        self.worker.submit(self._recognise, samples, self.place_words())
 
     def _recognise(self, samples: np.ndarray, words: tuple[str, ...]) -> None:
         try:
@@ -162,9 +150,6 @@ class Hearing:
             )
         except Exception as exc:  # noqa: BLE001 - answered on the status topic by the executor's thread
             result = (None, exc)
-        finally:
-            with self.lock:
-                self.pending -= 1
         self.results.append(result)
         self.wake.trigger()
 
@@ -175,10 +160,10 @@ class Hearing:
         if importlib.util.find_spec("pocketsphinx") is not None:
             from spcotmhp.speech import cached_recogniser
 
-            self.worker.submit(cached_recogniser, self.place_words())
+            self.worker.pool.submit(cached_recogniser, self.place_words())  # not counted: nothing waits for it
 
     def shutdown(self) -> None:
-        self.worker.shutdown(wait=True, cancel_futures=True)
+        self.worker.shutdown()
 
 
 def _error(exc: BaseException, source: str) -> dict:

@@ -16,7 +16,8 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
 * ``spcotmhp/plan`` (nav_msgs/Path, out, reliable, transient local depth 1): the plan in ``frame``, every pose
   stamped and facing the next, the last keeping the last segment's heading (:mod:`spcotmhp.ros.shapes`).
 * ``spcotmhp/status`` (std_msgs/String, out): one JSON object per event: ``kind`` plan (explanation, places with
-  roles, length, planning time), error (the one-line error and its type), taught, map (the check of ``/map``).
+  roles, length, planning time), error (the one-line error and its type), taught, map (the check of ``/map``),
+  heard (what the speech topics heard), drive (with ``drive``).
 * ``spcotmhp/places`` (visualization_msgs/MarkerArray, out, transient local): place ellipses, names and
   topological edges, for RViz (late subscribers get it too).
 * ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose: learned at once (online
@@ -50,10 +51,8 @@ from __future__ import annotations
 import colorsys
 import functools
 import json
-import threading
 import time
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path as FilePath
 from typing import Any
@@ -84,6 +83,7 @@ from spcotmhp.ros.shapes import (
     yaw_quaternion,
 )
 from spcotmhp.ros.teaching_log import TeachingLog
+from spcotmhp.ros.worker import BoundedWorker
 from spcotmhp.teaching.teach import planner_for, teach
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -146,9 +146,8 @@ class SpcotmhpNode(Node):
             from spcotmhp.ros.drive import Driver
 
             self.driver = Driver(self, drive, frame, report=self.status, where=lambda: self.poses.pose)
-        self.teacher = ThreadPoolExecutor(1, thread_name_prefix="spcotmhp-teach")
-        self._pending = 0
-        self._pending_lock = threading.Lock()
+        self.teacher = BoundedWorker("spcotmhp-teach", MAX_PENDING_TEACHES, lambda n: TeachingBusy(
+            f"{n} teaches are waiting or being applied (the limit); teach again shortly"))  # fmt: skip
         self.plan_pub = self.create_publisher(Path, "spcotmhp/plan", LATCHED)
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
@@ -248,12 +247,13 @@ class SpcotmhpNode(Node):
         planner = self.planner  # the one in place now (a teach may swap in another meanwhile)
         plan = planner.plan(instruction, (x, y))
         points = path_poses(plan.path, plan.cells, (x, y), planner.model.require_map())
-        self.plan_pub.publish(self.path_message(points, yaw))
+        path = self.path_message(points, yaw)
+        self.plan_pub.publish(path)
         self.status(plan_status(plan, text, (x, y), points, self.frame))
         if self.driver is not None:
             if self._centres[0] is not planner:  # the places' centres, once per planner (a teach swaps it)
                 self._centres = (planner, {p["id"]: p["centre"] for p in place_shapes(planner)[0]})
-            self.driver.drive(plan, points, text, self._centres[1])
+            self.driver.drive(plan, points, text, self._centres[1], path.poses)
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
@@ -268,24 +268,7 @@ class SpcotmhpNode(Node):
     def queue_teach(self, msg: String, answer: bool) -> None:
         """Queue a teach at the latest pose for the teaching thread; TeachingBusy when too many wait."""
         x, y, _ = self.current_pose("teaching (an utterance is learned at the robot's pose)")
-        with self._pending_lock:
-            if self._pending >= MAX_PENDING_TEACHES:
-                raise TeachingBusy(
-                    f"{self._pending} teaches are waiting or being applied (the limit); teach again shortly"
-                )
-            self._pending += 1
-        try:
-            self.teacher.submit(self.apply_teach, TeachJob(msg.data, x, y, answer))
-        except RuntimeError:  # shutting down
-            with self._pending_lock:
-                self._pending -= 1
-
-    def apply_teach(self, job: TeachJob) -> None:
-        try:
-            self._apply_teach(job)
-        finally:
-            with self._pending_lock:
-                self._pending -= 1
+        self.teacher.submit(self._apply_teach, TeachJob(msg.data, x, y, answer))
 
     @answered("taught")
     def _apply_teach(self, job: TeachJob) -> None:
@@ -378,7 +361,7 @@ def serve(node: SpcotmhpNode) -> None:
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        node.teacher.shutdown(wait=True, cancel_futures=True)
+        node.teacher.shutdown()
         if node.hearing is not None:
             node.hearing.shutdown()
         node.destroy_node()
