@@ -89,7 +89,7 @@ def robot(tmp_path_factory):
         proc = start_node(folder, env, "follow_path", "--tf-timeout", "30")
         try:
             node_ready(client, proc)
-            yield SimpleNamespace(client=client, proc=proc, model=model)
+            yield SimpleNamespace(client=client, proc=proc, model=model, folder=folder)
         finally:
             stop_node(proc)
 
@@ -224,6 +224,19 @@ def test_a_pose_in_another_frame_waits_for_its_transform(robot):
     assert math.dist(START, (x0, y0)) > 0.5  # (the robot stands elsewhere: at the bath, the test before's goal)
     _arrived(c, marks[0])
     c.node.destroy_publisher(static)
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "said"),
+    [("--audio-rate", "12345", "one of 8000"), ("--audio-gap", "0", "0.05"), ("--tf-timeout", "-1", "--tf-timeout")],
+)
+def test_bad_speech_and_tf_options_are_refused_in_one_line(robot, option, value, said):
+    import subprocess
+
+    from tests.ros.nav2_client import EXE
+
+    done = subprocess.run([EXE, "ros2", str(robot.folder), option, value], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and said in done.stderr and "Traceback" not in done.stderr, done.stderr
 
 
 def _bases(name: str) -> tuple[str, ...]:
