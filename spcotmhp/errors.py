@@ -200,3 +200,10 @@ class Nav2Rejected(DriveError):
 
 class Nav2Failed(DriveError):
     """Nav2 aborted the goal (its error code and message say why: no progress, no valid control, a tf error...)."""
+
+
+class SpeechBusy(InstructionError):
+    """The ROS 2 node's recogniser has as many utterances waiting or being recognised as it takes
+    (spcotmhp.ros.hearing); say it again shortly."""
+
+    http_status = 503

@@ -96,6 +96,23 @@ def ros2(
             "(NavigateThroughPoses through the waypoints and goal); needs nav2_msgs (make nav2-msgs).",
         ),
     ] = None,
+    tf_timeout: Annotated[
+        float,
+        typer.Option(
+            min=0.0, max=60.0, help="Seconds a pose in another frame waits for its transform to --frame (0: none)."
+        ),
+    ] = 1.0,
+    audio_rate: Annotated[
+        int,
+        typer.Option(
+            help="Sample rate (Hz) of the PCM on /spcotmhp/audio (signed 16-bit little-endian mono): 8000, 11025, "
+            "16000, 22050, 24000, 32000, 44100 or 48000 (resampled to 16 kHz)."
+        ),
+    ] = 16000,
+    audio_gap: Annotated[
+        float,
+        typer.Option(min=0.05, max=60.0, help="Seconds with no audio message that end an utterance (/spcotmhp/audio)."),
+    ] = 1.0,
 ) -> None:
     """Run the ROS 2 node `spcotmhp` (extra ros2): instructions on /spcotmhp/instruction become nav_msgs/Path
     plans on /spcotmhp/plan from the robot's pose; status JSON on /spcotmhp/status, places for RViz on
@@ -127,8 +144,14 @@ def ros2(
         raise typer.BadParameter(
             f"--floor is for a building's model (learned from a building folder); {model_dir} is not one"
         )
+    from spcotmhp.errors import SpcotmhpError
+    from spcotmhp.ros.hearing import HearingSettings
     from spcotmhp.ros.node import run_node
 
+    try:
+        hearing = HearingSettings(audio_rate=audio_rate, audio_gap_s=audio_gap)
+    except SpcotmhpError as exc:
+        raise typer.BadParameter(str(exc)) from None
     run_node(
         model_dir,
         frame=frame,
@@ -137,6 +160,8 @@ def ros2(
         progress=lambda line: typer.echo(line, err=True),
         body=body,
         drive=drive,
+        tf_timeout_s=tf_timeout,
+        hearing=hearing,
     )
 
 

@@ -69,7 +69,7 @@ class BuildingNode(SpcotmhpNode):
         changed = floor != self.floor
         self.floor, self.planner = floor, self.bp.floors[floor]
         if changed:
-            self.pose, self.rejected = None, f"the robot changed to floor {floor}: the pose held was on another map"
+            self.poses.forget(f"the robot changed to floor {floor}: the pose held was on another map")
         self.places_pub.publish(self.markers())
         self.publish_floor()
         status: dict = {"kind": "floor", "ok": True, "floor": floor, "name": self.bp.bm.spec.floor(floor).name}

@@ -128,6 +128,7 @@ class Run:
     handle: Any = None
     timer: Any = None
     said: tuple[str, float] = ("", 0.0)  # the last place said passing, and when
+    poses: list | None = None  # the published Path's PoseStamped list (Driver.goal)
 
     def __post_init__(self) -> None:
         steps = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
@@ -167,20 +168,29 @@ class Driver:
 
     # ---- commands ----------------------------------------------------------------------------------------------
     def drive(
-        self, plan: Any, points: np.ndarray, instruction: str, centres: Mapping[int, tuple[float, float]]
+        self,
+        plan: Any,
+        points: np.ndarray,
+        instruction: str,
+        centres: Mapping[int, tuple[float, float]],
+        poses: list | None = None,
     ) -> None:
-        """Drive ``plan`` (its path poses ``points``; ``centres`` of the places by id, for the places passed):
-        pre-empt what runs, set the speed limit, send the first leg."""
-        if not self.client.wait_for_server(timeout_sec=SERVER_WAIT_S):
+        """Drive ``plan`` (its path poses ``points``; ``centres`` of the places by id, for the places passed;
+        ``poses``: the published Path's PoseStamped list, reused for the first FollowPath leg): set the speed
+        limit, send the first leg, then cancel what ran before (after: the new goal is on its way sooner, and
+        Nav2's servers pre-empt a running goal with a new one anyway)."""
+        if not self.client.server_is_ready() and not self.client.wait_for_server(timeout_sec=SERVER_WAIT_S):
             raise Nav2Unavailable(
                 f"no Nav2 action server on {self.node.resolve_topic_name(SERVERS[self.mode])} "
                 f"(is Nav2 up and active? --drive {self.mode})"
             )
-        self.stop("a new instruction")
-        legs, marks = plan_legs(plan, np.asarray(points, dtype=float), centres)
-        self.run = Run(legs, marks, np.asarray(points, dtype=float), instruction)
+        points = np.asarray(points, dtype=float)
+        legs, marks = plan_legs(plan, points, centres)
+        before, self.run = self.run, Run(legs, marks, points, instruction, poses=poses)
         self.set_speed(plan.instruction.speed)
         self.start_leg(self.run)
+        if before is not None:
+            self._end(before, "a new instruction")
 
     def stopping(self, instruction: str) -> bool:
         """Whether ``instruction`` is a stop word (:func:`is_stop`): then the goal is canceled (a ``canceled``
@@ -196,13 +206,17 @@ class Driver:
         run, self.run = self.run, None
         if run is None:
             return False
+        self._end(run, reason)
+        return True
+
+    def _end(self, run: Run, reason: str) -> None:
+        """Cancel ``run``'s goal and wait (no longer ``self.run``), and say so."""
         if run.timer is not None:
             run.timer.cancel()
             self.node.destroy_timer(run.timer)
         if run.handle is not None:
             run.handle.cancel_goal_async()
         self.say(run, "canceled", reason=reason, where=self._where())
-        return True
 
     def set_speed(self, speed: str | None) -> None:
         limit = self.SpeedLimit(percentage=True, speed_limit=self.slow_percent if speed == "slow" else 0.0)
@@ -217,13 +231,20 @@ class Driver:
             self.arrived(run, leg)
             return
         goal = self.goal(run, leg)
-        self.say(run, "goal", action=SERVERS[self.mode], leg=run.next, legs=len(run.legs), to=leg.to,
-                 length_m=round(float(run.cum[leg.end] - run.cum[leg.start]), 3))  # fmt: skip
         sent = self.client.send_goal_async(goal, feedback_callback=functools.partial(self.on_feedback, run, leg))
         sent.add_done_callback(functools.partial(self.on_sent, run, leg))
+        self.say(run, "goal", action=SERVERS[self.mode], leg=run.next, legs=len(run.legs), to=leg.to,
+                 length_m=round(float(run.cum[leg.end] - run.cum[leg.start]), 3))  # fmt: skip
 
     def goal(self, run: Run, leg: Leg) -> Any:
-        """FollowPath with the leg's path, or NavigateThroughPoses through its stops (headings along the path)."""
+        """FollowPath with the leg's path, or NavigateThroughPoses through its stops (headings along the path).
+        The first leg, sent at once, reuses the Path's poses (the same points, headings and stamp)."""
+        if self.mode == FOLLOW_PATH and run.poses is not None and run.next == 1:
+            goal = self.action.FollowPath.Goal()
+            goal.path.header.frame_id = self.frame
+            goal.path.header.stamp = run.poses[0].header.stamp
+            goal.path.poses = run.poses[leg.start : leg.end + 1]
+            return goal
         pose = self.where()
         yaws = path_yaws(run.points, pose[2] if pose else 0.0)
         indices = range(leg.start, leg.end + 1) if self.mode == FOLLOW_PATH else leg.stops

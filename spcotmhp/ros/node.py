@@ -8,14 +8,16 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
 * ``amcl_pose`` (geometry_msgs/PoseWithCovarianceStamped, in; ``start_topic``): the robot's pose, as AMCL
   publishes it (QoS "best available": transient local when the publisher is, so a node started after AMCL still
   gets its last pose). A pose in another frame is put in ``frame`` through ``/tf`` and ``/tf_static``
-  (:mod:`spcotmhp.ros.tf_tree`). A pose with no transform, not finite or off the model's map is rejected (an
+  (:mod:`spcotmhp.ros.tf_tree`), waiting up to ``tf_timeout_s`` for its transform (:mod:`spcotmhp.ros.poses`).
+  A pose with no transform, not finite or off the model's map is rejected (an
   error status of type ``PoseRejected`` or its ``TransformUnavailable``) and drops the pose held: instructions
   and teaching are then refused
   (``NoValidPose``, naming why) until a valid pose arrives; an earlier pose is never used in its place.
 * ``spcotmhp/plan`` (nav_msgs/Path, out, reliable, transient local depth 1): the plan in ``frame``, every pose
   stamped and facing the next, the last keeping the last segment's heading (:mod:`spcotmhp.ros.shapes`).
 * ``spcotmhp/status`` (std_msgs/String, out): one JSON object per event: ``kind`` plan (explanation, places with
-  roles, length, planning time), error (the one-line error and its type), taught, map (the check of ``/map``).
+  roles, length, planning time), error (the one-line error and its type), taught, map (the check of ``/map``),
+  heard (what the speech topics heard), drive (with ``drive``).
 * ``spcotmhp/places`` (visualization_msgs/MarkerArray, out, transient local): place ellipses, names and
   topological edges, for RViz (late subscribers get it too).
 * ``spcotmhp/teach`` (std_msgs/String, in): an utterance taught at the latest pose: learned at once (online
@@ -31,6 +33,9 @@ Topics (names relative to the node's namespace; with none, ``/spcotmhp/plan`` an
 * ``spcotmhp/answer`` (std_msgs/String, in): the answer to a question, said at the latest pose: a teach as on
   ``spcotmhp/teach``, learned as an answer (:mod:`spcotmhp.teaching.answers`: its own segment, and a split of
   its place when the robot's walk says the place is two); the ``taught`` status has ``"answer": true``.
+* ``spcotmhp/audio`` (std_msgs/UInt8MultiArray, in) and ``spcotmhp/hypotheses`` (std_msgs/String, in): a spoken
+  instruction as PCM chunks, recognised as the CLI's, or an external recogniser's N-best JSON; then served as an
+  instruction (:mod:`spcotmhp.ros.hearing`, formats in :mod:`spcotmhp.ros.audio_input`).
 * ``map`` (nav_msgs/OccupancyGrid, in): compared with the model's map; a differing size, resolution or origin
   is logged as a warning and reported on the status topic.
 
@@ -46,11 +51,8 @@ from __future__ import annotations
 import colorsys
 import functools
 import json
-import math
-import threading
 import time
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path as FilePath
 from typing import Any
@@ -66,9 +68,10 @@ from std_msgs.msg import String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from spcotmhp.collector import end_startup
-from spcotmhp.errors import NoValidPose, PoseRejected, SpcotmhpError, StartOutsideMap, TeachingBusy
+from spcotmhp.errors import SpcotmhpError, TeachingBusy
 from spcotmhp.planning.planner import HierarchicalPlanner
-from spcotmhp.planning.start import locate_start
+from spcotmhp.ros.hearing import Hearing, HearingSettings
+from spcotmhp.ros.poses import TF_TIMEOUT_S, PoseKeeper
 from spcotmhp.ros.shapes import (
     error_status,
     map_mismatches,
@@ -80,7 +83,7 @@ from spcotmhp.ros.shapes import (
     yaw_quaternion,
 )
 from spcotmhp.ros.teaching_log import TeachingLog
-from spcotmhp.ros.tf_tree import TransformTree, listen
+from spcotmhp.ros.worker import BoundedWorker
 from spcotmhp.teaching.teach import planner_for, teach
 
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -131,32 +134,34 @@ class SpcotmhpNode(Node):
         start_topic: str = "amcl_pose",
         log: TeachingLog | None = None,
         drive: str | None = None,
+        tf_timeout_s: float = TF_TIMEOUT_S,
+        hearing: HearingSettings | None = None,
     ) -> None:
         super().__init__("spcotmhp")
         self.planner, self.frame, self.log = planner, frame, log
+        self.poses = PoseKeeper(self, frame, lambda: self.planner.model.require_map(), self.status, tf_timeout_s)
         self.driver = None  # with ``drive``, plans become Nav2 goals (spcotmhp.ros.drive)
         self._centres: tuple[object, dict] = (None, {})
         if drive is not None:
             from spcotmhp.ros.drive import Driver
 
-            self.driver = Driver(self, drive, frame, report=self.status, where=lambda: self.pose)
-        self.pose: tuple[float, float, float] | None = None  # the latest pose, None once one is rejected
-        self.teacher = ThreadPoolExecutor(1, thread_name_prefix="spcotmhp-teach")
-        self._pending = 0
-        self._pending_lock = threading.Lock()
-        self.rejected: str | None = None  # why the latest pose was rejected
+            self.driver = Driver(self, drive, frame, report=self.status, where=lambda: self.poses.pose)
+        self.teacher = BoundedWorker("spcotmhp-teach", MAX_PENDING_TEACHES, lambda n: TeachingBusy(
+            f"{n} teaches are waiting or being applied (the limit); teach again shortly"))  # fmt: skip
         self.plan_pub = self.create_publisher(Path, "spcotmhp/plan", LATCHED)
         self.status_pub = self.create_publisher(String, "spcotmhp/status", EVENTS)
         self.places_pub = self.create_publisher(MarkerArray, "spcotmhp/places", LATCHED)
         self.questions_pub = self.create_publisher(String, "spcotmhp/questions", LATCHED)
-        self.tf: TransformTree | None = TransformTree()  # poses in other frames, through /tf and /tf_static
-        if not listen(self, self.tf):
-            self.tf = None
         self.create_subscription(PoseWithCovarianceStamped, start_topic, self.on_pose, MATCH_PUBLISHER)
         self.create_subscription(String, "spcotmhp/instruction", self.on_instruction, EVENTS)
         self.create_subscription(String, "spcotmhp/teach", self.on_teach, EVENTS)
         self.create_subscription(String, "spcotmhp/answer", self.on_answer, EVENTS)
         self.create_subscription(OccupancyGrid, "map", self.on_map, MATCH_PUBLISHER)
+        self.hearing: Hearing | None = None  # spcotmhp/audio and spcotmhp/hypotheses (spcotmhp.ros.hearing)
+        if hearing is not None:
+            self.hearing = Hearing(self, hearing, lambda: tuple(self.planner.place_words), self.on_heard, self.status,
+                                   EVENTS)  # fmt: skip
+            self.hearing.warm_up()
         self.places_pub.publish(self.markers())
         self.publish_questions()
 
@@ -217,62 +222,38 @@ class SpcotmhpNode(Node):
     # ---- input -----------------------------------------------------------------------------------------
     @answered("error")
     def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
-        """Keep the pose, or drop the one held and say why (PoseRejected): no later message plans from it."""
-        self.pose, self.rejected = None, None
-        try:
-            self.pose = self.checked_pose(msg)
-        except PoseRejected as exc:
-            self.rejected = str(exc)
-            raise
-
-    def checked_pose(self, msg: PoseWithCovarianceStamped) -> tuple[float, float, float]:
-        """(x, y, yaw) of a pose message in ``frame``, finite and on the model's map; else PoseRejected."""
-        frame = msg.header.frame_id.lstrip("/")
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        x, y, yaw = p.x, p.y, quaternion_yaw(q.x, q.y, q.z, q.w)
-        if frame and frame != self.frame:
-            if self.tf is None:
-                raise PoseRejected(
-                    f"the pose is in frame '{frame}', plans are in '{self.frame}' (no tf here: tf2_msgs is not "
-                    f"built; publish the pose in '{self.frame}' or start the node with --frame {frame})"
-                )
-            x, y, yaw = self.tf.pose_in(self.frame, frame, x, y, yaw)  # TransformUnavailable: no chain heard
-        if not all(math.isfinite(v) for v in (x, y, yaw)):
-            raise PoseRejected(f"the pose ({x}, {y}, yaw {yaw}) is not finite")
-        try:
-            locate_start(self.planner.model.require_map(), (x, y))
-        except StartOutsideMap as exc:
-            raise PoseRejected(f"the pose is off the model's map: {exc}") from None
-        return float(x), float(y), float(yaw)
+        """Keep the pose, wait for its transform, or drop the one held and say why (spcotmhp.ros.poses)."""
+        self.poses.take(msg)
 
     def current_pose(self, use: str) -> tuple[float, float, float]:
-        """The pose to plan or teach from; NoValidPose when none has arrived or the latest was rejected."""
-        if self.pose is not None:
-            return self.pose
-        if self.rejected is not None:
-            raise NoValidPose(
-                f"the latest robot pose was rejected ({self.rejected}); {use} waits for a valid pose on the "
-                "start topic (an earlier pose is not used)"
-            )
-        raise NoValidPose(
-            "no robot pose yet: publish one on the start topic (AMCL's /amcl_pose, PoseWithCovarianceStamped) "
-            f"before {use}"
-        )
+        """The pose to plan or teach from; NoValidPose when there is none (:meth:`PoseKeeper.current`)."""
+        return self.poses.current(use)
 
     @answered("error")
     def on_instruction(self, msg: String) -> None:
-        if self.driver is not None and self.driver.stopping(msg.data):
+        self.instruct(msg.data, msg.data)
+
+    def on_heard(self, hypotheses: list[tuple[str, float]], source: str) -> None:
+        """Serve what was heard on a speech topic (spcotmhp.ros.hearing): as an instruction, its best hypothesis
+        naming it in the statuses."""
+        self.instruct(hypotheses, hypotheses[0][0])
+
+    def instruct(self, instruction: str | list[tuple[str, float]], text: str) -> None:
+        """Plan ``instruction`` (a sentence, the structured JSON or an N-best list; ``text`` says it in the
+        statuses) from the robot's pose, publish it, and drive it with ``drive``; "stop" stops the robot."""
+        if self.driver is not None and self.driver.stopping(text):
             return
         x, y, yaw = self.current_pose("an instruction")
         planner = self.planner  # the one in place now (a teach may swap in another meanwhile)
-        plan = planner.plan(msg.data, (x, y))
+        plan = planner.plan(instruction, (x, y))
         points = path_poses(plan.path, plan.cells, (x, y), planner.model.require_map())
-        self.plan_pub.publish(self.path_message(points, yaw))
-        self.status(plan_status(plan, msg.data, (x, y), points, self.frame))
+        path = self.path_message(points, yaw)
+        self.plan_pub.publish(path)
+        self.status(plan_status(plan, text, (x, y), points, self.frame))
         if self.driver is not None:
             if self._centres[0] is not planner:  # the places' centres, once per planner (a teach swaps it)
                 self._centres = (planner, {p["id"]: p["centre"] for p in place_shapes(planner)[0]})
-            self.driver.drive(plan, points, msg.data, self._centres[1])
+            self.driver.drive(plan, points, text, self._centres[1], path.poses)
 
     @answered("taught")
     def on_teach(self, msg: String) -> None:
@@ -287,24 +268,7 @@ class SpcotmhpNode(Node):
     def queue_teach(self, msg: String, answer: bool) -> None:
         """Queue a teach at the latest pose for the teaching thread; TeachingBusy when too many wait."""
         x, y, _ = self.current_pose("teaching (an utterance is learned at the robot's pose)")
-        with self._pending_lock:
-            if self._pending >= MAX_PENDING_TEACHES:
-                raise TeachingBusy(
-                    f"{self._pending} teaches are waiting or being applied (the limit); teach again shortly"
-                )
-            self._pending += 1
-        try:
-            self.teacher.submit(self.apply_teach, TeachJob(msg.data, x, y, answer))
-        except RuntimeError:  # shutting down
-            with self._pending_lock:
-                self._pending -= 1
-
-    def apply_teach(self, job: TeachJob) -> None:
-        try:
-            self._apply_teach(job)
-        finally:
-            with self._pending_lock:
-                self._pending -= 1
+        self.teacher.submit(self._apply_teach, TeachJob(msg.data, x, y, answer))
 
     @answered("taught")
     def _apply_teach(self, job: TeachJob) -> None:
@@ -359,9 +323,12 @@ def run_node(
     progress: Callable[[str], None] = print,
     body: Any = None,
     drive: str | None = None,
+    tf_timeout_s: float = TF_TIMEOUT_S,
+    hearing: HearingSettings | None = None,
 ) -> None:
     """Load the model, precompute its planner (for ``body``, a :class:`~spcotmhp.metric.body.RobotBody`, when
-    given: :func:`~spcotmhp.planning.body.with_body`), and serve until interrupted (Ctrl-C or SIGTERM)."""
+    given: :func:`~spcotmhp.planning.body.with_body`), and serve until interrupted (Ctrl-C or SIGTERM); speech
+    with ``hearing`` (default settings when None)."""
     from spcotmhp.persistence.io import load_model
     from spcotmhp.planning.body import with_body
 
@@ -372,7 +339,8 @@ def run_node(
     planner.warm_up()
     rclpy.init()
     try:
-        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log, drive=drive)
+        node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log, drive=drive,
+                            tf_timeout_s=tf_timeout_s, hearing=hearing or HearingSettings())  # fmt: skip
         progress(
             f"spcotmhp node ready in {time.perf_counter() - t0:.1f} s: {len(place_shapes(planner)[0])} "
             f"places, plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
@@ -393,5 +361,7 @@ def serve(node: SpcotmhpNode) -> None:
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        node.teacher.shutdown(wait=True, cancel_futures=True)
+        node.teacher.shutdown()
+        if node.hearing is not None:
+            node.hearing.shutdown()
         node.destroy_node()

@@ -10,6 +10,7 @@ known; the tree holds at most MAX_FRAMES frames and refuses edges that would clo
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -119,9 +120,10 @@ def feed(tree: TransformTree, message: object) -> list[str]:
     return refused
 
 
-def listen(node: object, tree: TransformTree) -> bool:
+def listen(node: object, tree: TransformTree, heard: Callable[[], None] | None = None) -> bool:
     """Subscribe ``node`` (an rclpy Node) to /tf and /tf_static (latched, as tf2's static broadcaster publishes),
-    feeding ``tree``; a refused transform is logged. False (nothing subscribed) when tf2_msgs is not built."""
+    feeding ``tree`` and then calling ``heard`` (a pose waiting for its transform retries); a refused transform is
+    logged. False (nothing subscribed) when tf2_msgs is not built."""
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     from spcotmhp.ros.tf_types import Tf2MsgsMissing, import_tf_message
@@ -132,11 +134,13 @@ def listen(node: object, tree: TransformTree) -> bool:
         node.get_logger().warning(f"no tf: {e}")  # type: ignore[attr-defined]
         return False
 
-    def heard(message: object) -> None:
+    def on_message(message: object) -> None:
         for line in feed(tree, message):
             node.get_logger().warning(f"tf: {line}")  # type: ignore[attr-defined]
+        if heard is not None:
+            heard()
 
     static = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    node.create_subscription(tf_message, "/tf", heard, 100)  # type: ignore[attr-defined]
-    node.create_subscription(tf_message, "/tf_static", heard, static)  # type: ignore[attr-defined]
+    node.create_subscription(tf_message, "/tf", on_message, 100)  # type: ignore[attr-defined]
+    node.create_subscription(tf_message, "/tf_static", on_message, static)  # type: ignore[attr-defined]
     return True

@@ -168,9 +168,9 @@ class DriveClient(Nav2Client):
         return [s for s in self.status[after:] if s.get("ok") is False]
 
 
-def start_node(folder: Path, env: dict, drive: str = "follow_path") -> subprocess.Popen:
-    """`spcotmhp ros2 FOLDER --drive DRIVE` in a subprocess with ``env`` added to this environment."""
-    return subprocess.Popen([EXE, "ros2", str(folder), "--drive", drive], env={**os.environ, **env},
+def start_node(folder: Path, env: dict, drive: str = "follow_path", *options: str) -> subprocess.Popen:
+    """`spcotmhp ros2 FOLDER --drive DRIVE [OPTIONS]` in a subprocess with ``env`` added to this environment."""
+    return subprocess.Popen([EXE, "ros2", str(folder), "--drive", drive, *options], env={**os.environ, **env},
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
 
 

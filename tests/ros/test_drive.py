@@ -106,9 +106,16 @@ def test_plan_becomes_a_follow_path_goal_with_progress(robot):
     assert math.dist(final["where"], (end.x, end.y)) < 1e-3
 
 
-def test_a_wait_makes_two_legs_that_long_apart(robot):
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the kitchen via the corridor, wait in the corridor for 3 seconds",
+        "go to the corridor and wait there for 3 seconds, then go to the kitchen",  # the "wait there"
+    ],
+)
+def test_a_wait_makes_two_legs_that_long_apart(robot, text):
     c = robot.client
-    _, events0 = _arrive(c, "go to the kitchen via the corridor, wait in the corridor for 3 seconds")
+    _, events0 = _arrive(c, text)
     goals = [e for e in c.events[events0:] if e["event"] == "goal"]
     ends = [e for e in c.events[events0:] if e["event"] == "succeeded"]
     assert len(goals) == 2 and len(ends) == 2

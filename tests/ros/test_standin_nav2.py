@@ -65,7 +65,8 @@ def test_route_pose_stays_on_the_polyline(points, steps):
     gaps = [0.0] if len(points) == 1 else []
     for a, b in zip(route.points[:-1], route.points[1:], strict=True):
         d = b - a
-        t = 0.0 if not d.any() else float(np.clip(np.dot(p - a, d) / np.dot(d, d), 0.0, 1.0))
+        dd = float(np.dot(d, d))  # 0 for a segment of length 0, or so short that its square underflows
+        t = 0.0 if dd == 0.0 else float(np.clip(np.dot(p - a, d) / dd, 0.0, 1.0))
         gaps.append(float(np.linalg.norm(a + t * d - p)))
     assert min(gaps) < 1e-6
 
