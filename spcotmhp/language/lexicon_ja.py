@@ -18,7 +18,11 @@ _JA_KANA_NUMBER = re.compile(
 )
 """A kana number right after a place (寝室にばん); not いちばん before an adjective (寝室 いちばん ちいさい: "most")."""
 _JA_KANA_BEFORE = re.compile(r"(?:いち|さん|よん|ご)(?:ばん|番)の")
-_JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
+_JA_DURATION = re.compile(
+    r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+|半(?=時間))(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい|程度|だけ)?(?:だけ)?"
+)
+"""A length of time: 2分, 十五秒, 1分半, 半時間 (half an hour); ほど, くらい, 程度 (about) and だけ (only) say nothing
+more of its length."""
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
@@ -51,6 +55,8 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             i += n
             continue
         hit = longest_match(chars, i, table, places)
+        if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _NO_WORD_START:
+            hit = _shorter_filler(chars, i, hit, table, places)
         if hit is not None:
             kind, value, n = hit
             if kind:
@@ -70,6 +76,18 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
     return out
+
+
+def _shorter_filler(
+    chars: list[str], i: int, hit: tuple[str, str, int], table: WordTable, places: PlaceLexicon
+) -> tuple[str, str, int]:
+    """A filler that would leave a character no word starts with (ねえ|っと, said ね + えっと) gives way to a
+    shorter filler there, so the word after it keeps its first character; else the longest stays."""
+    for m in range(hit[2] - 1, 0, -1):
+        short = longest_match(chars[: i + m], i, table, places)
+        if short is not None and not short[0] and chars[i + short[2]] not in _NO_WORD_START:
+            return short
+    return hit
 
 
 def _place_within(chars: list[str], i: int, n: int, table: WordTable, places: PlaceLexicon) -> bool:
@@ -114,6 +132,8 @@ def glue_ja(items: list[Token]) -> list[Token]:
 def _ja_seconds(match: re.Match) -> float:
     """Seconds of a Japanese duration: digits or kanji numerals up to 九十九 (二十, 三十五), then 秒 / 分 / 時間."""
     number, unit = match.group(1), match.group(2)
+    if number == "半":  # 半時間: half an hour
+        return 0.5 * _JA_UNITS[unit]
     half = 0.5 * _JA_UNITS[unit] if match.group(3) else 0.0  # 1分半: a minute and a half
     if number[0].isdigit():
         return float(number) * _JA_UNITS[unit] + half

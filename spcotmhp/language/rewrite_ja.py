@@ -42,6 +42,7 @@ import re
 
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
+from spcotmhp.language.spoken_ja import avoid_marker, waits_ja
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
 _NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
@@ -92,8 +93,9 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
     return f"、{m.group('neg')}、"
 
 
-_SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND"})
+_SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND", "DE"})
 _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
+_WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
 
 def spoken_tokens(items: list[Token]) -> list[Token]:
@@ -107,6 +109,10 @@ def spoken_tokens(items: list[Token]) -> list[Token]:
         items = said_once(items)
     if kinds & _RELATION_KINDS and "WORD" in kinds:
         items = of_the_places_ja(items)
+    if "AVOID" in kinds and "GOAL" in kinds:
+        items = avoid_marker(items)
+    if kinds & _WAITS:
+        items = waits_ja(items)  # spoken_ja: lengths said after or corrected, いて, until told
     return there_ja(items) if "THERE" in kinds else items
 
 
@@ -146,6 +152,8 @@ def _left_out(last: Token | None, it: Token, nxt: Token | None) -> bool:
     after_place = last is not None and last.kind == "PLACE"
     if it.kind == "COMMA":
         return last is None or last.kind == "COMMA"
+    if it.kind == "DE" and it.surface == "で" and after_place and (nxt is None or nxt.kind == "_STOP"):
+        return True  # 行き先はトイレで, やっぱり洗面所で: "X, please" (でお願い), the request left unsaid
     if it.kind in ("DE", "GOAL"):  # キッチンで、違う、リビングで
         return it.surface in _BARE_MARKERS and nxt is not None and nxt.kind == "CORRECTION"
     if it.kind not in ("WORD", "AND"):
