@@ -23,6 +23,8 @@ _JA_DURATION = re.compile(
 )
 """A length of time: 2分, 十五秒, 1分半, 半時間 (half an hour); ほど, くらい, 程度 (about) and だけ (only) say nothing
 more of its length."""
+_JA_LATER = re.compile(r"(?:後|あと)(?:に|で|から)?")
+"""After a length of time: a delay (10分後に, 5分あとで), which the planner cannot honour."""
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
@@ -51,11 +53,17 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         duration = _JA_DURATION.match(ahead)
         if duration:
             n = len(duration.group(0))
+            later = _JA_LATER.match(ahead, n)
+            if later:  # 10分後に: a delay, refused whole (not a length of a wait)
+                n = later.end()
+                out.append(Token("DELAY", ahead[:n], start=i, end=i + n))
+                i += n
+                continue
             out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
             i += n
             continue
         hit = longest_match(chars, i, table, places)
-        if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _NO_WORD_START:
+        if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _SMALL_KANA:
             hit = _shorter_filler(chars, i, hit, table, places)
         if hit is not None:
             kind, value, n = hit
@@ -85,7 +93,7 @@ def _shorter_filler(
     shorter filler there, so the word after it keeps its first character; else the longest stays."""
     for m in range(hit[2] - 1, 0, -1):
         short = longest_match(chars[: i + m], i, table, places)
-        if short is not None and not short[0] and chars[i + short[2]] not in _NO_WORD_START:
+        if short is not None and not short[0] and chars[i + short[2]] not in _SMALL_KANA:
             return short
     return hit
 
@@ -99,6 +107,8 @@ def _place_within(chars: list[str], i: int, n: int, table: WordTable, places: Pl
 _NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
 """Characters no Japanese word starts with (small kana, the long-vowel mark, ん): an unknown run starting with one
 is glued to the one-character word before it, so that a message names the word as written (や+っばり: やっばり)."""
+_SMALL_KANA = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮ")
+"""Small kana: characters no word starts with and no filler is followed by (ね|えっと may be matched ねえ|っと)."""
 
 
 def glue_ja(items: list[Token]) -> list[Token]:

@@ -42,7 +42,7 @@ import re
 
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
-from spcotmhp.language.spoken_ja import avoid_marker, waits_ja
+from spcotmhp.language.spoken_ja import avoid_marker, quoted_whole, waits_ja
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
 _NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
@@ -98,10 +98,10 @@ _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALL
 _WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
 
-def spoken_tokens(items: list[Token]) -> list[Token]:
+def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     """The token rewrites of this module and of :mod:`spcotmhp.language.lexicon_ja` (numbers said again after a
     correction, relations said after the place), each run only on tokens holding what it looks for: an ordinary
-    instruction pays one look at its kinds."""
+    instruction pays one look at its kinds. ``text``: the sentence the tokens index (spaces left out)."""
     kinds = {t.kind for t in items}
     if "CORRECTION" in kinds:
         items = said_again_ja(items)
@@ -109,6 +109,8 @@ def spoken_tokens(items: list[Token]) -> list[Token]:
         items = said_once(items)
     if kinds & _RELATION_KINDS and "WORD" in kinds:
         items = of_the_places_ja(items)
+    if kinds & {"CONDITION", "PROPERTY"} and "WORD" in kinds:
+        items = quoted_whole(items, text)
     if "AVOID" in kinds and "GOAL" in kinds:
         items = avoid_marker(items)
     if kinds & _WAITS:

@@ -114,6 +114,32 @@ def avoid_marker(items: list[Token]) -> list[Token]:
     return out
 
 
+_CLAUSE_CONDITIONS = frozenset({"たら", "なら", "ならば", "ば", "だったら"})
+
+
+def quoted_whole(items: list[Token], text: str = "") -> list[Token]:
+    """A condition ending a clause (雨降ってたら, 6時になったら) or a property said of a place (窓のある) takes the
+    words said before it in its clause (fillers between them included, as said in ``text``) into its token: a
+    refusal quotes the whole phrase, not its ending (風呂が空いてたら: with the place it is said of, which stays a
+    token of its own)."""
+    chars = [ch for ch in text if not ch.isspace()]
+    out: list[Token] = []
+    for it in items:
+        whole = it.kind == "PROPERTY" or it.kind == "CONDITION" and it.surface.lstrip("っ") in _CLAUSE_CONDITIONS
+        k = len(out)
+        while whole and k > 0 and (
+            out[k - 1].kind == "WORD" or out[k - 1].kind == "GOAL" and out[k - 1].surface in ("に", "へ") and k > 1
+        ):  # fmt: skip
+            k -= 1
+        if k < len(out) and out[k].kind == "WORD":
+            first = out[k - 1] if k > 0 and out[k - 1].kind == "PLACE" and out[k].surface[0] in "がはの" else out[k]
+            said = "".join(chars[first.start : it.end]) if chars else "".join(t.surface for t in [*out[k:], it])
+            it = it._replace(surface=said, start=out[k].start)
+            del out[k:]
+        out.append(it)
+    return out
+
+
 def _stay(items: list[Token], k: int) -> Token:
     """いて after a length or そこ(に) as a wait."""
     it = items[k]

@@ -40,6 +40,7 @@ class Mention:
     inherited: bool = False  # a bare name after a connector, with the role of the place before it
     order_kind: str = ""  # "before" / "after" when an order word introduced it
     wait_word: str = "wait"  # the word that asked for the wait
+    wait_said: str = ""  # the length as said ("2 hours", 2時間), quoted when it is too long
     clause: int = 0  # the clause it was said in (order.py rule 4)
     dropped: bool = False  # replaced by a later self-correction ("the kitchen, no wait, the bath")
 
@@ -184,6 +185,7 @@ class Walk:
         """``m`` waits for the DURATION among ``toks`` (or until the next instruction), as the WAIT token said."""
         m.wait = self.seconds(toks)
         m.wait_word = next((self.word(t) for t in toks if t.type == "WAIT"), m.wait_word)
+        m.wait_said = next((self.word(t) for t in toks if t.type == "DURATION"), m.wait_said)
 
     def correcting(self, word: str) -> None:
         """A correction word was said: it applies to what is said next (:meth:`corrected`)."""
@@ -272,7 +274,8 @@ class Walk:
                     "way) is a correction or a stop with no length; say how long ('wait there for 2 minutes, then ...')"
                 )
             if isinstance(wait, float) and wait > MAX_WAIT_S:
-                raise InstructionTooLarge(f"a wait of {wait:.0f} s is longer than the {MAX_WAIT_S:.0f} s accepted")
+                said = f"{excerpt(ordered[i].wait_said)} asks for " if ordered[i].wait_said else ""
+                raise InstructionTooLarge(f"{said}a wait of {wait:.0f} s, longer than the {MAX_WAIT_S:.0f} s accepted")
         speeds = sorted(set(self.speeds))
         if len(speeds) > 1:
             raise UnsupportedPhrase(f"{excerpt(self.text)} asks for two speeds ({' and '.join(speeds)}): say one")

@@ -159,3 +159,21 @@ def test_right_next_to_is_next_to():
 def test_never_entering_is_avoiding():
     r = read("台所には絶対入らないでね、リビングに行って", JA, "ja")
     assert _visit(r) == ["リビング"] and [a.words[0] for a in r.avoid] == ["キッチン"]
+
+
+@pytest.mark.parametrize(
+    "text, quoted",
+    [
+        ("窓のある寝室に行って", "'窓のある'"),
+        ("10分後にキッチンへ", "'10分後に'"),
+        ("玄関で2時間待っててね", "'2時間'"),
+        ("6時になったらリビングに行って", "'6時になったら'"),
+        ("雨降ってたら洗面所に行って", "'雨降ってたら'"),
+        ("リビング行って帰ってきて", "帰ってきて"),
+        ("もし雨が降ってたら玄関に行って", "'もし'"),
+    ],
+)
+def test_a_refusal_quotes_the_whole_phrase(text, quoted):
+    with pytest.raises(InstructionError) as info:
+        read(text, JA, "ja")
+    assert quoted in str(info.value)
