@@ -295,3 +295,8 @@ def _ja_number(match: re.Match | None, surface: str) -> int | None:
         tens, ten, ones = said.partition("十")
         n = (10 + _KANJI_DIGITS.get(ones, 0)) if ten else _KANJI_DIGITS.get(said, 0)
     return n if 1 <= n <= 99 else None
+
+
+def number_said_ja(surface: str) -> int | None:
+    """The instance number a word says alone (2番, #3, 三番だ), or None (rule 8's reading of a number)."""
+    return _ja_number(_JA_NUMBER_AGAIN.match(surface), surface)
