@@ -219,8 +219,9 @@ def said_again_ja(items: list[Token]) -> list[Token]:
         return items
     out: list[Token] = []
     for it in items:
-        before = out[-2] if len(out) >= 2 else None
-        if it.kind == "WORD" and before is not None and out[-1].kind == "CORRECTION" and before.kind == "PLACE":
+        kept = [t for t in out if t.kind != "COMMA"]  # 寝室1番、いや2番: the pause before the correction
+        before = kept[-2] if len(kept) >= 2 else None
+        if it.kind == "WORD" and before is not None and kept[-1].kind == "CORRECTION" and before.kind == "PLACE":
             n = _ja_number(_JA_NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None
             if n is not None:
                 said = f"{before.words[-1]} #{n}"  # the label the robot shows

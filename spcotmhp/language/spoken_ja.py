@@ -79,6 +79,8 @@ def _holder(m: re.Match, table: WordTable, words: set[str]) -> str:
 _TOLD = re.compile(r"(?:呼ぶ|よぶ|声を?かける|言う|いう|来る|くる|戻る|もどる|指示.*)まで$")
 _STAY = frozenset({"いて", "いてね", "いてて", "いといて", "いておいて", "いてください"})
 _SEPARATORS = frozenset({"_STOP", "COMMA"})
+_WILL_DO = frozenset({"いい", "いいよ", "ええ", "よい", "結構"})
+"""What "Xでいい" says after a length (3分でいい): that length will do."""
 
 
 def waits_ja(items: list[Token]) -> list[Token]:
@@ -198,9 +200,14 @@ def _length_before_there(items: list[Token]) -> list[Token]:
 
 
 def _length_corrected(items: list[Token]) -> list[Token]:
-    """DURATION WAIT (、) CORRECTION DURATION (で | WAIT): the second length in place of the first."""
+    """DURATION (WAIT) (、) CORRECTION DURATION (で(いい) | WAIT): the second length in place of the first."""
     for k in range(len(items) - 3):
-        if items[k].kind != "DURATION" or items[k + 1].kind != "WAIT":
+        if items[k].kind != "DURATION":
+            continue
+        if items[k + 1].kind != "WAIT":  # 物置きで5分、じゃなくて10分待って
+            c = k + 1 + (items[k + 1].kind == "COMMA")
+            if c + 2 < len(items) and items[c].kind == "CORRECTION" and items[c + 1].kind == "DURATION":
+                return [*items[:k], *items[c + 1 :]]
             continue
         c = k + 2 + (items[k + 2].kind == "COMMA")
         if c + 1 >= len(items) or items[c].kind != "CORRECTION" or items[c + 1].kind != "DURATION":
@@ -210,6 +217,7 @@ def _length_corrected(items: list[Token]) -> list[Token]:
             return [*items[:k], *items[c + 1 :]]  # 5分待って、いや10分待って
         if after < len(items) and items[after].kind == "DE" and items[after].surface == "で":
             after += 1  # 10分で: "with ten minutes"
+            after += after < len(items) and items[after].kind == "WORD" and items[after].surface in _WILL_DO
         if after < len(items) and items[after].kind not in (*_SEPARATORS, "THEN"):
             continue
         return [*items[:k], items[c + 1], items[k + 1], *items[after:]]

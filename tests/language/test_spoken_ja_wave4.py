@@ -177,3 +177,42 @@ def test_a_refusal_quotes_the_whole_phrase(text, quoted):
     with pytest.raises(InstructionError) as info:
         read(text, JA, "ja")
     assert quoted in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("バスルーム行って", ["風呂"]),  # senses: the bath first where the map has a bath
+        ("茶の間さ行げ", ["リビング"]),  # 東北: 行げ is 行け
+        ("風呂場さ行ってけれ", ["風呂"]),
+        ("リビングに…あ、ごめん、寝室やった", ["寝室"]),  # a past copula after a correction
+        ("寝室1番、いや2番だった", ["寝室#2"]),  # a pause before the correction
+        ("ダイニング、あ、ちがいます、キッチン、ください", ["キッチン"]),
+        ("ほな台所行っといて", ["キッチン"]),
+    ],
+)
+def test_senses_dialect_and_corrections(text, visit):
+    assert _visit(read(text, JA, "ja")) == visit
+
+
+def test_bathroom_without_a_bath_is_the_next_sense():
+    assert _visit(read("バスルーム行って", [w for w in JA if w != "風呂"], "ja")) == ["洗面所"]
+
+
+@pytest.mark.parametrize(
+    "text, waits",
+    [("玄関で5分待って、いや3分でいい", ((0, 180.0),)), ("物置きで5分、じゃなくて10分待って", ((0, 600.0),))],
+)
+def test_a_length_corrected_in_other_words(text, waits):
+    assert read(text, JA, "ja").waits == waits
+
+
+@pytest.mark.parametrize("text", ["急ぎで頼む、玄関に行ってくれ、リビングは通るなよ", "玄関に行って、リビングは通るな"])
+def test_the_dictionary_form_and_na_forbid(text):
+    r = read(text, JA, "ja")
+    assert not r.visit[:-1] and [a.words[0] for a in r.avoid] == ["リビング"]
+
+
+def test_mo_marks_a_place_avoided_as_the_one_before():
+    r = read("トイレには入らないで、お風呂にも入らないで、寝室に行って", JA, "ja")
+    assert sorted(a.words[0] for a in r.avoid) == ["トイレ", "風呂"]
