@@ -44,7 +44,7 @@ import re
 from spcotmhp.language.excluded_ja import asked_there_ja, excluded_ja
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
-from spcotmhp.language.spoken_ja import avoid_marker, quoted_whole, waits_ja
+from spcotmhp.language.spoken_ja import avoid_marker, cancel_corrects, quoted_whole, waits_ja
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
 _NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
@@ -97,7 +97,7 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
 
 _SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND", "DE"})
 _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
-_WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
+_WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE", "DE"})
 
 
 def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
@@ -105,6 +105,9 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     correction, relations said after the place), each run only on tokens holding what it looks for: an ordinary
     instruction pays one look at its kinds. ``text``: the sentence the tokens index (spaces left out)."""
     kinds = {t.kind for t in items}
+    if "CANCEL" in kinds:
+        items = cancel_corrects(items)
+        kinds = {t.kind for t in items}
     if "CORRECTION" in kinds:
         items = said_again_ja(items)
     if kinds & _SAID_AGAIN or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False)):

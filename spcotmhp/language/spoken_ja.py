@@ -24,6 +24,8 @@ Token rewrites (:func:`waits_ja`):
 * **いて after a length or そこに** (1時間いて, そこにいて): "stay", a wait.
 * **A marker parted from its avoiding verb** (台所には絶対入らないで: an adverb between に and 入らないで): に / へ go
   with the verb, as 台所に入らないで.
+* **いて / おって after a place's で** (廊下でおって): staying there, a wait with no length.
+* **A cancel between two places** (:func:`cancel_corrects`: 取り消し、リビングにして): a correction.
 * **Until told** (呼ぶまで, 次の指示まで, 私が来るまで) said in the clause of a wait: the wait lasts until the next
   instruction, as a wait with no length does (the speaker's call or return is how that instruction comes); said
   anywhere else it stays, refused.
@@ -77,7 +79,21 @@ def _holder(m: re.Match, table: WordTable, words: set[str]) -> str:
 
 
 _TOLD = re.compile(r"(?:呼ぶ|よぶ|声を?かける|言う|いう|来る|くる|戻る|もどる|指示.*)まで$")
-_STAY = frozenset({"いて", "いてね", "いてて", "いといて", "いておいて", "いてください"})
+_STAY = frozenset(
+    {
+        "いて",
+        "いてね",
+        "いてて",
+        "いといて",
+        "いておいて",
+        "いてください",
+        "おって",
+        "おってね",
+        "おってや",
+        "おっといて",
+    }
+)
+"""いる and (西日本) おる, "be, stay", in the te-form."""
 _SEPARATORS = frozenset({"_STOP", "COMMA"})
 _WILL_DO = frozenset({"いい", "いいよ", "ええ", "よい", "結構"})
 """What "Xでいい" says after a length (3分でいい): that length will do."""
@@ -148,7 +164,26 @@ def _stay(items: list[Token], k: int) -> Token:
     before = items[k - 1] if k else None
     if it.kind == "WORD" and it.surface in _STAY and before is not None and before.kind in ("DURATION", "THERE"):
         return it._replace(kind="WAIT")
+    at_place = before is not None and before.kind == "DE" and k > 1 and items[k - 2].kind == "PLACE"
+    if it.kind == "WORD" and it.surface in _STAY and at_place:
+        return it._replace(kind="WAIT")  # 廊下でおって: staying at the corridor
     return it
+
+
+_CANCELS = frozenset({"取り消し", "とりけし", "キャンセル", "取り消して"})
+
+
+def cancel_corrects(items: list[Token]) -> list[Token]:
+    """A cancel said between two places (寝室に行って、えっと、取り消し、リビングにして) takes back what was said
+    before it, as a correction word does: the place said after it replaces the one before. With no place after it
+    (or none before), it stays a cancel, refused."""
+    out = list(items)
+    for k, it in enumerate(out):
+        if it.kind != "CANCEL" or it.surface not in _CANCELS:
+            continue
+        if any(t.kind == "PLACE" for t in out[:k]) and any(t.kind == "PLACE" for t in out[k + 1 :]):
+            out[k] = it._replace(kind="CORRECTION")
+    return out
 
 
 def _stay_at(items: list[Token]) -> list[Token]:

@@ -216,3 +216,26 @@ def test_the_dictionary_form_and_na_forbid(text):
 def test_mo_marks_a_place_avoided_as_the_one_before():
     r = read("トイレには入らないで、お風呂にも入らないで、寝室に行って", JA, "ja")
     assert sorted(a.words[0] for a in r.avoid) == ["トイレ", "風呂"]
+
+
+@pytest.mark.parametrize(
+    "text, visit, not_goal",
+    [
+        ("ダイニングね、キッチンじゃなくて", ["ダイニング"], ["キッチン"]),  # ね、closes the bare place
+        ("寝室に行って、えっと、取り消し、リビングにして", ["リビング"], []),  # a cancel between two places
+        ("おつかれ～、リビングに戻っといて", ["リビング"], []),
+    ],
+)
+def test_closing_particles_pauses_and_cancels(text, visit, not_goal):
+    r = read(text, JA, "ja")
+    assert _visit(r) == visit and [p.words[0] for p in r.not_goal] == not_goal
+
+
+def test_staying_at_a_place_is_a_wait_until_told():
+    assert read("廊下でおってくれへん？", JA, "ja").waits == ((0, None),)
+
+
+@pytest.mark.parametrize("text", ["リビングに行って、やっぱり取り消し", "取り消し、リビング"])
+def test_a_cancel_with_no_place_on_one_side_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, JA, "ja")
