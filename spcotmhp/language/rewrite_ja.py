@@ -44,7 +44,14 @@ import re
 from spcotmhp.language.excluded_ja import asked_there_ja, excluded_ja
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
-from spcotmhp.language.spoken_ja import avoid_marker, cancel_corrects, quoted_whole, waits_ja
+from spcotmhp.language.spoken_ja import (
+    any_first,
+    avoid_marker,
+    cancel_corrects,
+    in_order_verb,
+    quoted_whole,
+    waits_ja,
+)
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
 _NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
@@ -116,6 +123,10 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
         items = of_the_places_ja(items)
     if kinds & {"CONDITION", "PROPERTY"} and "WORD" in kinds:
         items = quoted_whole(items, text)
+    if "IN_ORDER" in kinds:
+        items = in_order_verb(items)
+    if "ANY_AFTER" in kinds:
+        items = any_first(items)
     if "AVOID" in kinds and "GOAL" in kinds:
         items = avoid_marker(items)
     if kinds & _WAITS:

@@ -26,6 +26,8 @@ Token rewrites (:func:`waits_ja`):
   with the verb, as 台所に入らないで.
 * **いて / おって after a place's で** (廊下でおって): staying there, a wait with no length.
 * **A cancel between two places** (:func:`cancel_corrects`: 取り消し、リビングにして): a correction.
+* **An order word before a bare verb of passing** (:func:`in_order_verb`: 廊下、広場の順に通って): the list's order.
+* **"Anywhere" before the place** (:func:`any_first`: どこでもいいから寝室): the place's name alone.
 * **Until told** (呼ぶまで, 次の指示まで, 私が来るまで) said in the clause of a wait: the wait lasts until the next
   instruction, as a wait with no length does (the speaker's call or return is how that instruction comes); said
   anywhere else it stays, refused.
@@ -156,6 +158,34 @@ def quoted_whole(items: list[Token], text: str = "") -> list[Token]:
             del out[k:]
         out.append(it)
     return out
+
+
+def in_order_verb(items: list[Token]) -> list[Token]:
+    """ "A、Bの順に通って / 寄って" (廊下、広場の順に通って): the order word before a verb of passing or stopping said
+    without を is that verb's list in the order said, as "A、Bを通って" is (a list's order is the order said)."""
+    out: list[Token] = []
+    for k, it in enumerate(items):
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        if it.kind == "IN_ORDER" and nxt is not None and nxt.kind in ("VIA", "STOP") and nxt.surface[0] not in "をにへ":
+            continue
+        out.append(it)
+    return out
+
+
+def any_first(items: list[Token]) -> list[Token]:
+    """ "どこでもいいから寝室" (anywhere will do, a bedroom): said before the place it is about, "any" adds nothing
+    to the place's name, which goes to the closest of its places: left out."""
+    return [
+        t
+        for k, t in enumerate(items)
+        if not (
+            t.kind == "ANY_AFTER"
+            and t.surface.startswith("どこでも")
+            and (k == 0 or items[k - 1].kind in _SEPARATORS)
+            and k + 1 < len(items)
+            and items[k + 1].kind == "PLACE"
+        )
+    ]
 
 
 def _stay(items: list[Token], k: int) -> Token:

@@ -239,3 +239,27 @@ def test_staying_at_a_place_is_a_wait_until_told():
 def test_a_cancel_with_no_place_on_one_side_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, visit, speed",
+    [
+        ("キッチン（訂正）ダイニング", ["ダイニング"], None),  # a bracketed aside is a pause
+        ("廊下、広場の順に通ってキッチンまで", ["廊下", "広場", "キッチン"], None),
+        ("洗面所、トイレの順に寄ってリビングまで", ["洗面所", "トイレ", "リビング"], None),
+        ("納戸に入っといて", ["物置き"], None),
+        ("ダイニングまで急いで、あーいいや、ゆっくりで", ["ダイニング"], "slow"),
+        ("広場でいいので行ってください", ["広場"], None),
+        ("寝室ならどこでもいいので行ってください", ["寝室"], None),
+        ("えっとどこでもいいから寝室 寝室に行って", ["寝室"], None),
+    ],
+)
+def test_orders_anywhere_and_will_do(text, visit, speed):
+    r = read(text, JA, "ja")
+    assert _visit(r) == visit and r.speed == speed
+
+
+@pytest.mark.parametrize("text", ["の順に通ってキッチンまで", "どこでもいいから"])
+def test_an_order_or_anywhere_with_nothing_to_go_with_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, JA, "ja")
