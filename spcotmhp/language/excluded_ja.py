@@ -8,6 +8,7 @@
   A place said and turned down (キッチンはやめて, 便所の近くの寝室はやめて) is that place not to end in. A number
   before 以外 (2番以外で, 1番以外の寝室) is likewise that instance not to end in. With no X said, the words
   stay as said, to be refused.
+* **A number beside じゃなくて** (:func:`contrasted_numbers`): another instance of the numbered place before it.
 * **"Which is X? Go there"** (:func:`asked_there_ja`): a question asking which place X is (ってどれ, はどこ, どれだっけ,
   ってあるじゃん: ``WHICH`` in ja.json) followed by そこ(に / へ) and a verb of going asks to go to X: the question is
   left out (a pause in its place) and そこ is read as X by :func:`~spcotmhp.language.rewrite_ja.there_ja`. A
@@ -44,6 +45,31 @@ def excluded_ja(items: list[Token]) -> list[Token]:
                 continue
         k += 1
     return out
+
+
+def contrasted_numbers(items: list[Token]) -> list[Token]:
+    """A number said alone beside じゃなくて and a numbered place names another instance of that place, as after a
+    correction (rule 8): 寝室#3のほうね、#2じゃなくて (寝室 #2 not the goal), 寝室の1番じゃなくて2番 (寝室 #2, the
+    goal; said twice, 2番 2番, it is said once). With no numbered place before it, it stays as said."""
+    out = list(items)
+    for k, it in enumerate(out):
+        if it.kind != "WORD" or (n := _alone(it.surface)) is None:
+            continue
+        nxt = out[k + 1] if k + 1 < len(out) else None
+        before = out[k - 1] if k else None
+        contrast = nxt is not None and nxt.kind == "NOT_GOAL" or before is not None and before.kind == "NOT_GOAL"
+        head = next((t for t in reversed(out[:k]) if t.kind == "PLACE"), None)
+        if contrast and head is not None and head.number is not None and head.words:
+            out[k] = head._replace(number=n, surface=f"{head.words[-1]} #{n}", start=it.start, end=it.end)
+    return out
+
+
+def _alone(surface: str) -> int | None:
+    """The number a word says alone, said once or twice in a row (2番2番)."""
+    half = len(surface) // 2
+    if len(surface) % 2 == 0 and surface[:half] == surface[half:]:
+        surface = surface[:half]
+    return number_said_ja(surface)
 
 
 def _head(items: list[Token], before: int) -> Token | None:

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import re
 
-from spcotmhp.language.excluded_ja import asked_there_ja, excluded_ja
+from spcotmhp.language.excluded_ja import asked_there_ja, contrasted_numbers, excluded_ja
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.spoken_ja import (
@@ -131,6 +131,8 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
         items = avoid_marker(items)
     if kinds & _WAITS:
         items = waits_ja(items)  # spoken_ja: lengths said after or corrected, いて, until told
+    if "NOT_GOAL" in kinds and "WORD" in kinds:
+        items = contrasted_numbers(items)
     if kinds & {"EXCLUDED", "CANCEL"} or any(t.surface.startswith("以外") for t in items):
         items = excluded_ja(items)  # excluded_ja: 風呂に一番近いのはやめて, 2番以外で
     if "WHICH" in kinds and "THERE" in kinds:

@@ -58,3 +58,20 @@ def test_which_is_it_go_there(text, kind):
 def test_a_question_alone_stays_refused():
     with pytest.raises(InstructionError, match="ってどれ"):
         read("ダイニングに一番近い寝室ってどれ", JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, goal, not_goal",
+    [
+        ("寝室#3のほうね、#2じゃなくて", "寝室#3", ["寝室#2"]),
+        ("寝室の1番じゃなくて2番 2番に行って", "寝室#2", ["寝室#1"]),
+    ],
+)
+def test_a_number_beside_janakute_is_another_instance(text, goal, not_goal):
+    r = read(text, JA, "ja")
+    assert _said(r.visit[-1]) == goal and [_said(p) for p in r.not_goal] == not_goal
+
+
+def test_a_number_beside_janakute_with_no_numbered_place_stays_refused():
+    with pytest.raises(InstructionError):
+        read("キッチンじゃなくて2番に行って", JA, "ja")
