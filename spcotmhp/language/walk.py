@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
+from typing import ClassVar
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -77,6 +78,8 @@ class Walk:
     toks: list[Token]
     text: str
     table: WordTable
+    again_replaces: ClassVar[bool] = False
+    """Whether a correction saying a place again with another role replaces its first mention (walk_ja.py)."""
     mentions: list[Mention] = field(default_factory=list)
     pairs: list[tuple[int, int]] = field(default_factory=list)  # (a, b): mention a before mention b
     speeds: list[str] = field(default_factory=list)
@@ -212,6 +215,7 @@ class Walk:
         role of the place said just before it (walk_en.py, walk_ja.py), so "go to the kitchen via the hall, sorry,
         the corridor" passes the corridor. A phrase naming no place but a speed replaces the speed said before. With
         nothing before it to correct (it opens the instruction: "Actually, go to the kitchen") it corrects nothing;
+        in Japanese (:attr:`again_replaces`) a place said again with another role replaces its first mention;
         refused when the phrase after it names nothing, or no place of that role was said before."""
         before = [m for m in self.mentions[:start] if not m.dropped]
         if not before and speeds == 0:
@@ -220,6 +224,8 @@ class Walk:
         if new:
             y = new[0]
             x = next((m for m in reversed(before) if m.role == y.role), None)
+            if x is None and y.role != "not_goal" and self.again_replaces:  # キッチン通って、いや、キッチンは通らないで
+                x = next((m for m in reversed(before) if m.ref == y.ref), None)
             if x is None:
                 raise UnsupportedPhrase(
                     f"{excerpt(word)} corrects what was said before it, but no place {_ROLE_WORDS[y.role]} was said "
@@ -232,7 +238,11 @@ class Walk:
                     f"{excerpt(rel.args[-1].label)} it is picked by; say the place again whole"
                 )
             x.dropped = True
-            self.heard.append(f"{y.ref.describe()} said instead of {x.ref.describe()}")
+            if x.role != y.role:  # the same place, another role
+                said = f"{y.ref.describe()} {_ROLE_WORDS[y.role]} said instead of {_ROLE_WORDS[x.role]}"
+                self.heard.append(said)
+            else:
+                self.heard.append(f"{y.ref.describe()} said instead of {x.ref.describe()}")
             return
         if len(self.speeds) > speeds:
             del self.speeds[:speeds]

@@ -263,3 +263,16 @@ def test_orders_anywhere_and_will_do(text, visit, speed):
 def test_an_order_or_anywhere_with_nothing_to_go_with_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("キッチン通ってリビングに、いや、キッチンは通らないで", ["リビング"]),
+        ("キッチン通って、あ、違う、キッチンは通らないで寝室", ["寝室"]),
+    ],
+)
+def test_a_place_corrected_to_another_role(text, visit):
+    r = read(text, JA, "ja")
+    assert _visit(r) == visit and [a.words[0] for a in r.avoid] == ["キッチン"]
+    assert any("said instead of" in h for h in r.heard)
