@@ -102,9 +102,9 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
     return f"、{m.group('neg')}、"
 
 
-_SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND", "DE"})
+_SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND"})
 _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
-_WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE", "DE"})
+_WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
 
 def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
@@ -117,7 +117,12 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
         kinds = {t.kind for t in items}
     if "CORRECTION" in kinds:
         items = said_again_ja(items)
-    if kinds & _SAID_AGAIN or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False)):
+    closing = "DE" in kinds and (items[-1].kind == "DE" or "_STOP" in kinds)  # 行き先はトイレで
+    if (
+        kinds & _SAID_AGAIN
+        or closing
+        or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False))
+    ):
         items = said_once(items)
     if kinds & _RELATION_KINDS and "WORD" in kinds:
         items = of_the_places_ja(items)
@@ -129,11 +134,12 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
         items = any_first(items)
     if "AVOID" in kinds and "GOAL" in kinds:
         items = avoid_marker(items)
-    if kinds & _WAITS:
+    if kinds & _WAITS or "DE" in kinds and "WORD" in kinds:
         items = waits_ja(items)  # spoken_ja: lengths said after or corrected, いて, until told
     if "NOT_GOAL" in kinds and "WORD" in kinds:
         items = contrasted_numbers(items)
-    if kinds & {"EXCLUDED", "CANCEL"} or any(t.surface.startswith("以外") for t in items):
+    other_than = kinds & {"AVOID", "NOT_GOAL"} and any(t.surface.startswith("以外") for t in items)
+    if kinds & {"EXCLUDED", "CANCEL"} or other_than:
         items = excluded_ja(items)  # excluded_ja: 風呂に一番近いのはやめて, 2番以外で
     if "WHICH" in kinds and "THERE" in kinds:
         items = asked_there_ja(items)
