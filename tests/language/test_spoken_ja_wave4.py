@@ -276,3 +276,14 @@ def test_a_place_corrected_to_another_role(text, visit):
     r = read(text, JA, "ja")
     assert _visit(r) == visit and [a.words[0] for a in r.avoid] == ["キッチン"]
     assert any("said instead of" in h for h in r.heard)
+
+
+@pytest.mark.parametrize("text", ["お風呂沸いたよ、風呂場のほうに行ってて", "お風呂沸いたって。お風呂行っといて"])
+def test_a_statement_about_a_place_said_again_is_talk(text):
+    r = read(text, JA, "ja")
+    assert _visit(r) == ["風呂"] and any("passed over" in h for h in r.heard)
+
+
+def test_a_statement_about_a_place_not_said_again_stays_refused():
+    with pytest.raises(InstructionError):
+        read("キッチン汚れてるから、リビング行って", JA, "ja")
