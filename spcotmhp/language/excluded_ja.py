@@ -6,8 +6,8 @@
   風呂に一番近い寝室じゃなくて, 一番狭いのは嫌 is 一番狭い寝室じゃなくて, 3番はやめて is 寝室3番じゃなくて. The pro-form
   stands for X as it does in "寝室の、トイレに一番近いところ" (:func:`~spcotmhp.language.lexicon_ja.of_the_places_ja`).
   A place said and turned down (キッチンはやめて, 便所の近くの寝室はやめて) is that place not to end in. A number
-  before 以外 (2番以外で, 1番以外の寝室) is likewise that instance not to end in. With no X said, the words
-  stay as said, to be refused.
+  before 以外 (2番以外で, 1番以外の寝室, 1番以外ならどれでも) is likewise that instance not to end in. With no X
+  said, the words stay as said, to be refused.
 * **A number beside じゃなくて** (:func:`contrasted_numbers`): another instance of the numbered place before it.
 * **"Which is X? Go there"** (:func:`asked_there_ja`): a question asking which place X is (ってどれ, はどこ, どれだっけ,
   ってあるじゃん: ``WHICH`` in ja.json) followed by そこ(に / へ) and a verb of going asks to go to X: the question is
@@ -124,7 +124,7 @@ def _other_than(out: list[Token], k: int) -> tuple[list[Token], int] | None:
         return None
     said = out[k - 1]
     x = head._replace(number=n, surface=f"{head.words[-1]} #{n}", start=said.start, end=said.end)
-    end = k + 1 + (after is not None and after.kind == "DE" and out[k].kind == "AVOID")  # 2番以外で
+    end = k + 1 + (after is not None and after.kind in ("DE", "ANY_AFTER") and out[k].kind == "AVOID")  # 2番以外で
     return [*out[: k - 1], x, _not_goal(out[k]), *out[end:]], k + 1
 
 

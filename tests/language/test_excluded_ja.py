@@ -75,3 +75,8 @@ def test_a_number_beside_janakute_is_another_instance(text, goal, not_goal):
 def test_a_number_beside_janakute_with_no_numbered_place_stays_refused():
     with pytest.raises(InstructionError):
         read("キッチンじゃなくて2番に行って", JA, "ja")
+
+
+def test_any_other_than_a_number():
+    r = read("寝室に行って。1番以外ならどれでも", JA, "ja")
+    assert [_said(p) for p in r.not_goal] == ["寝室#1"]

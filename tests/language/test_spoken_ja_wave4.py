@@ -287,3 +287,7 @@ def test_a_statement_about_a_place_said_again_is_talk(text):
 def test_a_statement_about_a_place_not_said_again_stays_refused():
     with pytest.raises(InstructionError):
         read("キッチン汚れてるから、リビング行って", JA, "ja")
+
+
+def test_a_statement_about_a_marked_place_said_again_is_talk():
+    assert _visit(read("玄関にお客さん来るから玄関まで行っておいて", JA, "ja")) == ["玄関"]
