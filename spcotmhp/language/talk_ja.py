@@ -29,8 +29,12 @@ from typing import Any
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.table import WordTable
 
-_ELONGATION = re.compile(r"(?<=[\u3041-\u30fb\u4e00-\u9fff][\u3041-\u309f])[ー〜～]+")
-"""A drawn-out sound inside a word (しまーす, 行ってー); not after a word's first kana (えー, あー: fillers)."""
+_ELONGATION = re.compile(
+    r"(?<=[\u3041-\u30fb\u4e00-\u9fff][\u3041-\u309f])(?:ー+|[〜～~]+(?=(?![おご][\u30a0-\u30ff\u4e00-\u9fff])[\u3041-\u309f]|[、。,.!?！？\s]|$))"
+)
+"""A drawn-out sound inside a word (しまーす, 行ってー); not after a word's first kana (えー, あー: fillers); a wave
+dash before a word in katakana or kanji, or one with an honorific お / ご, stays (できたよ〜ダイニング, 沸いたよ〜
+お風呂場: there it is a pause, read as 、)."""
 _TAIL_PARTICLES = ("接続助詞", "終助詞", "副助詞／並立助詞／終助詞", "並立助詞", "副助詞", "副詞化")
 _NEGATION = frozenset({"ない", "ん", "ぬ", "ず", "まい"})
 _CONDITION = frozenset({"ば", "たら", "なら", "ならば"})

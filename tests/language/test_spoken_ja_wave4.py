@@ -291,3 +291,10 @@ def test_a_statement_about_a_place_not_said_again_stays_refused():
 
 def test_a_statement_about_a_marked_place_said_again_is_talk():
     assert _visit(read("玄関にお客さん来るから玄関まで行っておいて", JA, "ja")) == ["玄関"]
+
+
+@pytest.mark.parametrize(
+    "text, visit", [("ご飯できたよ〜ダイニングおいで", ["ダイニング"]), ("洗面所お願いしま〜す", ["洗面所"])]
+)
+def test_a_wave_dash_before_a_word_is_a_pause_and_inside_one_a_drawn_out_sound(text, visit):
+    assert _visit(read(text, JA, "ja")) == visit
