@@ -69,8 +69,9 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     """The tokens of ``text`` (module docstring)."""
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
-        out = glue_ja(join_no(_merge(numbered_ja(tokens_ja(normalise(text), table, places)))))
-        return spoken_tokens(out)  # rewrite_ja: what people say again, pauses and particles
+        said = normalise(text)
+        out = glue_ja(join_no(_merge(numbered_ja(tokens_ja(said, table, places)))))
+        return spoken_tokens(out, said)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if "COMMA" in kinds or "NO" in kinds and "WAIT" in kinds:

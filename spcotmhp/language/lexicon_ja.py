@@ -18,7 +18,13 @@ _JA_KANA_NUMBER = re.compile(
 )
 """A kana number right after a place (寝室にばん); not いちばん before an adjective (寝室 いちばん ちいさい: "most")."""
 _JA_KANA_BEFORE = re.compile(r"(?:いち|さん|よん|ご)(?:ばん|番)の")
-_JA_DURATION = re.compile(r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+)(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい)?")
+_JA_DURATION = re.compile(
+    r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+|半(?=時間))(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい|程度|だけ)?(?:だけ)?"
+)
+"""A length of time: 2分, 十五秒, 1分半, 半時間 (half an hour); ほど, くらい, 程度 (about) and だけ (only) say nothing
+more of its length."""
+_JA_LATER = re.compile(r"(?:後|あと)(?:に|で|から)?")
+"""After a length of time: a delay (10分後に, 5分あとで), which the planner cannot honour."""
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
 _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
@@ -63,10 +69,18 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         duration = _JA_DURATION.match(ahead)
         if duration:
             n = len(duration.group(0))
+            later = _JA_LATER.match(ahead, n)
+            if later:  # 10分後に: a delay, refused whole (not a length of a wait)
+                n = later.end()
+                out.append(Token("DELAY", ahead[:n], start=i, end=i + n))
+                i += n
+                continue
             out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
             i += n
             continue
         hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places))
+        if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _SMALL_KANA:
+            hit = _shorter_filler(chars, i, hit, table, places)
         if hit is not None:
             kind, value, n = hit
             if kind:
@@ -88,6 +102,18 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     return out
 
 
+def _shorter_filler(
+    chars: list[str], i: int, hit: tuple[str, str, int], table: WordTable, places: PlaceLexicon
+) -> tuple[str, str, int]:
+    """A filler that would leave a character no word starts with (ねえ|っと, said ね + えっと) gives way to a
+    shorter filler there, so the word after it keeps its first character; else the longest stays."""
+    for m in range(hit[2] - 1, 0, -1):
+        short = longest_match(chars[: i + m], i, table, places)
+        if short is not None and not short[0] and chars[i + short[2]] not in _SMALL_KANA:
+            return short
+    return hit
+
+
 def _place_within(chars: list[str], i: int, n: int, table: WordTable, places: PlaceLexicon) -> bool:
     """Whether a place word at least ``n`` characters long starts at ``chars[i]`` (地下室 is a room, not 地下)."""
     hit = longest_match(chars, i, table, places)
@@ -97,6 +123,8 @@ def _place_within(chars: list[str], i: int, n: int, table: WordTable, places: Pl
 _NO_WORD_START = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮーんン")
 """Characters no Japanese word starts with (small kana, the long-vowel mark, ん): an unknown run starting with one
 is glued to the one-character word before it, so that a message names the word as written (や+っばり: やっばり)."""
+_SMALL_KANA = frozenset("っゃゅょぁぃぅぇぉゎッャュョァィゥェォヮ")
+"""Small kana: characters no word starts with and no filler is followed by (ね|えっと may be matched ねえ|っと)."""
 
 
 def glue_ja(items: list[Token]) -> list[Token]:
@@ -130,6 +158,8 @@ def glue_ja(items: list[Token]) -> list[Token]:
 def _ja_seconds(match: re.Match) -> float:
     """Seconds of a Japanese duration: digits or kanji numerals up to 九十九 (二十, 三十五), then 秒 / 分 / 時間."""
     number, unit = match.group(1), match.group(2)
+    if number == "半":  # 半時間: half an hour
+        return 0.5 * _JA_UNITS[unit]
     half = 0.5 * _JA_UNITS[unit] if match.group(3) else 0.0  # 1分半: a minute and a half
     if number[0].isdigit():
         return float(number) * _JA_UNITS[unit] + half
@@ -205,8 +235,9 @@ def said_again_ja(items: list[Token]) -> list[Token]:
         return items
     out: list[Token] = []
     for it in items:
-        before = out[-2] if len(out) >= 2 else None
-        if it.kind == "WORD" and before is not None and out[-1].kind == "CORRECTION" and before.kind == "PLACE":
+        kept = [t for t in out if t.kind != "COMMA"]  # 寝室1番、いや2番: the pause before the correction
+        before = kept[-2] if len(kept) >= 2 else None
+        if it.kind == "WORD" and before is not None and kept[-1].kind == "CORRECTION" and before.kind == "PLACE":
             n = _ja_number(_JA_NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None
             if n is not None:
                 said = f"{before.words[-1]} #{n}"  # the label the robot shows
@@ -281,3 +312,8 @@ def _ja_number(match: re.Match | None, surface: str) -> int | None:
         tens, ten, ones = said.partition("十")
         n = (10 + _KANJI_DIGITS.get(ones, 0)) if ten else _KANJI_DIGITS.get(said, 0)
     return n if 1 <= n <= 99 else None
+
+
+def number_said_ja(surface: str) -> int | None:
+    """The instance number a word says alone (2番, #3, 三番だ), or None (rule 8's reading of a number)."""
+    return _ja_number(_JA_NUMBER_AGAIN.match(surface), surface)

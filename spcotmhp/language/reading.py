@@ -31,6 +31,7 @@ from spcotmhp.language.errors import refusal
 from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
 from spcotmhp.language.rewrite_ja import may_pause, pauses_ja
+from spcotmhp.language.spoken_ja import spoken_text
 from spcotmhp.language.table import word_table
 from spcotmhp.language.talk import pass_over
 from spcotmhp.language.talk_ja import plain_verbs
@@ -58,6 +59,8 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
         raise EmptyInstruction("the instruction is empty; say where to go, e.g. 'go to the kitchen'")
     table = word_table(lang)
     spoken = pauses_ja(normalise(text)) if table.by_character and may_pause(text) else text  # rewrite_ja
+    if table.by_character:
+        spoken = spoken_text(spoken, table, place_words)  # spoken_ja: rooms by contents, requests said as thanks
     toks = tokens(spoken, table, place_words)
     try:
         root = _shape(lang, tuple(t.kind for t in toks))  # read-only: the walks take each leaf's words from toks

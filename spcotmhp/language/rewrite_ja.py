@@ -10,7 +10,8 @@
 * **さ of direction** (:func:`pauses_ja`): in 東北 and 北海道 speech さ after a noun marks where one goes, as へ
   does (台所さ行って, 玄関さ来て); it is read as へ where it stands between a noun written in kanji or katakana
   and a verb of going or coming (行, い[っくけこ], 来, き[てた], 向か, 戻). Elsewhere さ is left as said (だからさ、).
-* **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西) right after a place and
+* **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西), and their past forms だった,
+  じゃった, やった (a correction: 寝室やった, "it was the bedroom"), right after a place and
   before the end, a 。/、, another place or a correction say "it is X" (台所だ, 居間だ。, リビングじゃ,
   キッチンだキッチンに行って): the place is what was asked for, as a bare place is, and the copula is left out.
 * **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, や (関西: 行ってや), のよ, わよ,
@@ -40,8 +41,17 @@ from __future__ import annotations
 
 import re
 
+from spcotmhp.language.excluded_ja import asked_there_ja, contrasted_numbers, excluded_ja
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
 from spcotmhp.language.placewords import Token
+from spcotmhp.language.spoken_ja import (
+    any_first,
+    avoid_marker,
+    cancel_corrects,
+    in_order_verb,
+    quoted_whole,
+    waits_ja,
+)
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
 _NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
@@ -52,7 +62,7 @@ _PUNCTUATION = frozenset("、。,.!?！？「」")
 
 
 _DIRECTION_SA = re.compile(r"(?<=[\u4e00-\u9fff\u30a1-\u30ff])さ(?=行|い[っくけこ]|来|き[てた]|向か|戻|もど)")
-_COPULAS = frozenset({"だ", "じゃ", "や"})
+_COPULAS = frozenset({"だ", "じゃ", "や", "だった", "じゃった", "やった"})
 _AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
 _MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "や", "のよ", "わよ", "わね", "よね"})
 _BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})
@@ -94,19 +104,45 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
 
 _SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND"})
 _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
+_WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
 
-def spoken_tokens(items: list[Token]) -> list[Token]:
+def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     """The token rewrites of this module and of :mod:`spcotmhp.language.lexicon_ja` (numbers said again after a
     correction, relations said after the place), each run only on tokens holding what it looks for: an ordinary
-    instruction pays one look at its kinds."""
+    instruction pays one look at its kinds. ``text``: the sentence the tokens index (spaces left out)."""
     kinds = {t.kind for t in items}
+    if "CANCEL" in kinds:
+        items = cancel_corrects(items)
+        kinds = {t.kind for t in items}
     if "CORRECTION" in kinds:
         items = said_again_ja(items)
-    if kinds & _SAID_AGAIN or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False)):
+    closing = "DE" in kinds and (items[-1].kind == "DE" or "_STOP" in kinds)  # 行き先はトイレで
+    if (
+        kinds & _SAID_AGAIN
+        or closing
+        or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False))
+    ):
         items = said_once(items)
     if kinds & _RELATION_KINDS and "WORD" in kinds:
         items = of_the_places_ja(items)
+    if kinds & {"CONDITION", "PROPERTY"} and "WORD" in kinds:
+        items = quoted_whole(items, text)
+    if "IN_ORDER" in kinds:
+        items = in_order_verb(items)
+    if "ANY_AFTER" in kinds:
+        items = any_first(items)
+    if "AVOID" in kinds and "GOAL" in kinds:
+        items = avoid_marker(items)
+    if kinds & _WAITS or "DE" in kinds and "WORD" in kinds:
+        items = waits_ja(items)  # spoken_ja: lengths said after or corrected, いて, until told
+    if "NOT_GOAL" in kinds and "WORD" in kinds:
+        items = contrasted_numbers(items)
+    other_than = kinds & {"AVOID", "NOT_GOAL"} and any(t.surface.startswith("以外") for t in items)
+    if kinds & {"EXCLUDED", "CANCEL"} or other_than:
+        items = excluded_ja(items)  # excluded_ja: 風呂に一番近いのはやめて, 2番以外で
+    if "WHICH" in kinds and "THERE" in kinds:
+        items = asked_there_ja(items)
     return there_ja(items) if "THERE" in kinds else items
 
 
@@ -146,6 +182,8 @@ def _left_out(last: Token | None, it: Token, nxt: Token | None) -> bool:
     after_place = last is not None and last.kind == "PLACE"
     if it.kind == "COMMA":
         return last is None or last.kind == "COMMA"
+    if it.kind == "DE" and it.surface == "で" and after_place and (nxt is None or nxt.kind == "_STOP"):
+        return True  # 行き先はトイレで, やっぱり洗面所で: "X, please" (でお願い), the request left unsaid
     if it.kind in ("DE", "GOAL"):  # キッチンで、違う、リビングで
         return it.surface in _BARE_MARKERS and nxt is not None and nxt.kind == "CORRECTION"
     if it.kind not in ("WORD", "AND"):

@@ -13,8 +13,10 @@ meaning, said in their plain form, and talk around the instruction passed over.
 * **Talk** (:func:`pass_over_ja`): a run of words with no place, length of time, floor or word class but a
   reason's から / ので, each of its words one janome knows, no number and none of the table's ``talk.meaning``,
   ending with から / ので or at a sentence's end, and holding a verb or an adjective, is passed over
-  (宅配来るっぽいから, 床が濡れているので, もうすぐご飯だよ); a run that ends as a request (a te-form, an imperative,
-  くれる, ください, ほしい: テレビをつけて, コップ持ってきて) asks for an action and stays, to be refused.
+  (宅配来るっぽいから, 床が濡れているので, もうすぐご飯だよ), with the place it is said of when that place opens the
+  clause and is said again after it (お風呂沸いたよ、風呂場に行って, 玄関にお客さん来るから玄関まで:
+  :func:`_subject`); a run that ends as a request (a te-form, an imperative, くれる, ください, ほしい: テレビを
+  つけて, コップ持ってきて) asks for an action and stays, to be refused.
 """
 
 from __future__ import annotations
@@ -27,8 +29,12 @@ from typing import Any
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.table import WordTable
 
-_ELONGATION = re.compile(r"(?<=[\u3041-\u30fb\u4e00-\u9fff][\u3041-\u309f])[ー〜～]+")
-"""A drawn-out sound inside a word (しまーす, 行ってー); not after a word's first kana (えー, あー: fillers)."""
+_ELONGATION = re.compile(
+    r"(?<=[\u3041-\u30fb\u4e00-\u9fff][\u3041-\u309f])(?:ー+|[〜～~]+(?=(?![おご][\u30a0-\u30ff\u4e00-\u9fff])[\u3041-\u309f]|[、。,.!?！？\s]|$))"
+)
+"""A drawn-out sound inside a word (しまーす, 行ってー); not after a word's first kana (えー, あー: fillers); a wave
+dash before a word in katakana or kanji, or one with an honorific お / ご, stays (できたよ〜ダイニング, 沸いたよ〜
+お風呂場: there it is a pause, read as 、)."""
 _TAIL_PARTICLES = ("接続助詞", "終助詞", "副助詞／並立助詞／終助詞", "並立助詞", "副助詞", "副詞化")
 _NEGATION = frozenset({"ない", "ん", "ぬ", "ず", "まい"})
 _CONDITION = frozenset({"ば", "たら", "なら", "ならば"})
@@ -233,13 +239,27 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
         )  # after a verb, not after a bare particle (玄関に荷物が届いて: the place's)
         starts = before is None or before.kind in ("_STOP", "COMMA", "GO", "WAIT") or (
             before.kind == "GOAL" and before.surface not in ("に", "へ", "まで"))  # fmt: skip
+        subject = 0 if starts else _subject(toks, i, j)  # お風呂沸いたよ、風呂場に行って
         run = toks[i:j]
         said_as = "".join(chars[run[0].start : toks[j].start if j < len(toks) else len(chars)]) if chars else ""
-        if ends and starts and _reason(run, meaning, said_as):
-            cut.update(range(i, j))
-            said.append("".join(t.surface for t in run))
+        if ends and (starts or subject) and _reason(run, meaning, said_as):
+            cut.update(range(i - subject, j))
+            said.append("".join(t.surface for t in toks[i - subject : j]))
         i = j
     return without(toks, cut, said)
+
+
+def _subject(toks: Sequence[Token], i: int, j: int) -> int:
+    """How many tokens before the run ``toks[i:j]`` (a place, and a bare に / で after it) belong to its statement:
+    the place opens the clause and is said again after it. "X + a verb said of it" (お風呂沸いたよ: the bath is
+    ready, が left out; 玄関にお客さん来るから: a guest comes to the entrance) is a statement about X, and X said
+    again after it carries the instruction, so passing the statement over loses no place. 0: none."""
+    marked = i > 1 and toks[i - 1].kind in ("GOAL", "DE") and toks[i - 1].surface in ("に", "で")
+    k = i - 1 - marked
+    x = toks[k] if k >= 0 else None
+    if x is None or x.kind != "PLACE" or k > 0 and toks[k - 1].kind not in ("_STOP", "COMMA"):
+        return 0
+    return i - k if any(t.kind == "PLACE" and t.words == x.words for t in toks[j:]) else 0
 
 
 def _inner(toks: Sequence[Token], j: int) -> bool:

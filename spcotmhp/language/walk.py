@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
+from typing import ClassVar
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -40,14 +41,18 @@ class Mention:
     inherited: bool = False  # a bare name after a connector, with the role of the place before it
     order_kind: str = ""  # "before" / "after" when an order word introduced it
     wait_word: str = "wait"  # the word that asked for the wait
+    wait_said: str = ""  # the length as said ("2 hours", 2時間), quoted when it is too long
     clause: int = 0  # the clause it was said in (order.py rule 4)
     dropped: bool = False  # replaced by a later self-correction ("the kitchen, no wait, the bath")
 
 
 def _too_long(seconds: float, said: str = "") -> InstructionTooLarge:
     """A wait longer than :data:`MAX_WAIT_S`, quoting the length as said when known ("'two hours': ...")."""
-    where = f"{excerpt(said)}: " if said else ""
-    return InstructionTooLarge(f"{where}a wait of {seconds:.0f} s is longer than the {MAX_WAIT_S:.0f} s accepted")
+    if said:
+        return InstructionTooLarge(
+            f"{excerpt(said)} asks for a wait of {seconds:.0f} s, longer than the {MAX_WAIT_S:.0f} s accepted"
+        )
+    return InstructionTooLarge(f"a wait of {seconds:.0f} s is longer than the {MAX_WAIT_S:.0f} s accepted")
 
 
 def _same(a: PlaceRef, b: PlaceRef) -> bool:
@@ -82,6 +87,8 @@ class Walk:
     toks: list[Token]
     text: str
     table: WordTable
+    again_replaces: ClassVar[bool] = False
+    """Whether a correction saying a place again with another role replaces its first mention (walk_ja.py)."""
     mentions: list[Mention] = field(default_factory=list)
     pairs: list[tuple[int, int]] = field(default_factory=list)  # (a, b): mention a before mention b
     speeds: list[str] = field(default_factory=list)
@@ -198,6 +205,7 @@ class Walk:
         """``m`` waits for the DURATION among ``toks`` (or until the next instruction), as the WAIT token said."""
         m.wait = self.seconds(toks)
         m.wait_word = next((self.word(t) for t in toks if t.type == "WAIT"), m.wait_word)
+        m.wait_said = next((self.word(t) for t in toks if t.type == "DURATION"), m.wait_said)
 
     def correcting(self, word: str) -> None:
         """A correction word was said: it applies to what is said next (:meth:`corrected`)."""
@@ -224,6 +232,7 @@ class Walk:
         role of the place said just before it (walk_en.py, walk_ja.py), so "go to the kitchen via the hall, sorry,
         the corridor" passes the corridor. A phrase naming no place but a speed replaces the speed said before. With
         nothing before it to correct (it opens the instruction: "Actually, go to the kitchen") it corrects nothing;
+        in Japanese (:attr:`again_replaces`) a place said again with another role replaces its first mention;
         refused when the phrase after it names nothing, or no place of that role was said before."""
         before = [m for m in self.mentions[:start] if not m.dropped]
         if not before and speeds == 0:
@@ -232,6 +241,8 @@ class Walk:
         if new:
             y = new[0]
             x = next((m for m in reversed(before) if m.role == y.role), None)
+            if x is None and y.role != "not_goal" and self.again_replaces:  # キッチン通って、いや、キッチンは通らないで
+                x = next((m for m in reversed(before) if m.ref == y.ref), None)
             if x is None:
                 raise UnsupportedPhrase(
                     f"{excerpt(word)} corrects what was said before it, but no place {_ROLE_WORDS[y.role]} was said "
@@ -244,7 +255,11 @@ class Walk:
                     f"{excerpt(rel.args[-1].label)} it is picked by; say the place again whole"
                 )
             x.dropped = True
-            self.heard.append(f"{y.ref.describe()} said instead of {x.ref.describe()}")
+            if x.role != y.role:  # the same place, another role
+                said = f"{y.ref.describe()} {_ROLE_WORDS[y.role]} said instead of {_ROLE_WORDS[x.role]}"
+                self.heard.append(said)
+            else:
+                self.heard.append(f"{y.ref.describe()} said instead of {x.ref.describe()}")
             return
         if len(self.speeds) > speeds:
             del self.speeds[:speeds]
@@ -286,7 +301,7 @@ class Walk:
                     "way) is a correction or a stop with no length; say how long ('wait there for 2 minutes, then ...')"
                 )
             if isinstance(wait, float) and wait > MAX_WAIT_S:
-                raise _too_long(wait)
+                raise _too_long(wait, ordered[i].wait_said)
         speeds = sorted(set(self.speeds))
         if len(speeds) > 1:
             raise UnsupportedPhrase(f"{excerpt(self.text)} asks for two speeds ({' and '.join(speeds)}): say one")

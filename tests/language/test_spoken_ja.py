@@ -112,7 +112,7 @@ def test_a_negation_before_the_asking_verb_still_negates():
         "キッチンで待たないで",  # a negation with no negative form stays as said: never "wait"
         "キッチン いや 2番",  # a number corrects only a numbered place
         "キッチンだけ通って",  # だけ is no copula
-        "キッチンに行って10分そこにいて",  # a length of time before そこ: not a form the grammar holds
+        "キッチンに行って10分後にそこにいて",  # a delay (10分後に) is no length of a wait
         "リビング行って、戻ってきて",  # back with no place named: to the start
         "子供が寝てるから寝室に来て、テレビをつけて",  # a request for an action is no talk
     ],
