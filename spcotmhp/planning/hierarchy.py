@@ -42,12 +42,11 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit, prange
 
 from spcotmhp.errors import ModelError
-from spcotmhp.metric import _grid_kernels as _k
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
+from spcotmhp.planning import _field_kernel as _fk
 from spcotmhp.planning import _tree_codes as _tc
 
 
@@ -210,7 +209,7 @@ def build(
     fcode = np.empty(int(off[-1]), dtype=np.int8)
     todo = _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode)
     cost = np.ascontiguousarray(cost)
-    _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity, SQRT2)
+    _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity)
     order = np.argsort(terr, kind="stable").astype(np.int64)
     bounds = np.searchsorted(terr[order], np.arange(n_places + 1)).astype(np.int64)
     members = [order[bounds[t] : bounds[t + 1]] for t in range(n_places)]
@@ -364,31 +363,18 @@ def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode) -> np.nd
     return np.flatnonzero(todo)
 
 
-@njit(cache=True, parallel=True)
-def _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity, diag):  # pragma: no cover
+def _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity) -> None:
     """The exact field into each abstract node of ``todo`` over its own territory (module docstring), as its
-    tree's direction codes."""
-    for n in prange(todo.shape[0]):
-        a = todo[n]
-        t = terr[a]
-        r0, c0, r1, c1 = win[t, 0], win[t, 1], win[t, 2], win[t, 3]
-        h, w = r1 - r0, c1 - c0
-        sub = np.empty((h, w))
-        for i in range(h):
-            for j in range(w):
-                sub[i, j] = cost[r0 + i, c0 + j] if territory[r0 + i, c0 + j] == t else np.inf
-        src = np.empty((1, 2), np.int64)
-        src[0, 0] = cells[a, 0] - r0
-        src[0, 1] = cells[a, 1] - c0
-        _, parent, _ = _k.grid_search(
-            sub,
-            src,
-            np.empty((0, 2), np.int64),
-            connectivity,
-            diag,
-            _k.CORNER_NO_SQUEEZE,
-            True,
-            _k.MODE_FIELD,
-            0.0,
-        )
-        _tc.encode_links(parent, w, fcode[off[a] : off[a] + h * w])
+    tree's direction codes, a territory at a time (:mod:`spcotmhp.planning._field_kernel`: its window's costs
+    copied once, its nodes' searches in parallel)."""
+    todo = np.asarray(todo, dtype=np.int64)
+    order = todo[np.argsort(terr[todo], kind="stable")]
+    starts = np.flatnonzero(np.diff(terr[order], prepend=-1))
+    for nodes in np.split(order, starts[1:]):
+        if not len(nodes):
+            continue
+        t = int(terr[nodes[0]])
+        r0, c0, r1, c1 = (int(v) for v in win[t])
+        grid, n_cells = _fk.padded_window(cost, territory, t, r0, c0, r1, c1)
+        sources = np.ascontiguousarray(cells[nodes] - np.array([r0, c0]))
+        _fk.territory_fields(grid, r1 - r0, c1 - c0, n_cells, sources, fcode, off[nodes], connectivity, SQRT2)

@@ -15,8 +15,14 @@ from hypothesis import strategies as st
 from spcotmhp.datasets.synthetic import generate_environment
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.learning.supervised import fit_supervised
+from spcotmhp.metric import _grid_kernels as _k
+from spcotmhp.metric.grid_search import SQRT2
+from spcotmhp.metric.map_io import grid_to_pixels
 from spcotmhp.planning import explain
+from spcotmhp.planning._tree_codes import encode_links
 from spcotmhp.planning.assemble import path_length
+from spcotmhp.planning.graph import PlanningGraph
+from spcotmhp.planning.graph_settings import GraphSettings
 from spcotmhp.planning.plan import GoalOption
 from spcotmhp.planning.planner import HierarchicalPlanner
 from spcotmhp.planning.search import _viterbi
@@ -156,3 +162,44 @@ def test_goal_options_match_the_instance_by_instance_reading(monkeypatch, seed):
             with contextlib.suppress(SpcotmhpError):
                 planner.plan(text, start)
     assert sum(n >= 2 for n in compared) >= 6  # shared names compared, not only empty lists
+
+
+def fields_before(cost, territory, cells, terr, win, off, connectivity):
+    """The portal graph's tree codes as the previous kernel made them: per node, ``grid_search`` (reverse field
+    mode) over a copy of its territory's window, then its links encoded."""
+    fcode = np.full(int(off[-1]), 99, dtype=np.int8)
+    for a in range(len(cells)):
+        r0, c0, r1, c1 = win[terr[a]]
+        sub = np.where(territory[r0:r1, c0:c1] == terr[a], cost[r0:r1, c0:c1], np.inf)
+        src = (cells[a] - np.array([r0, c0]))[None].astype(np.int64)
+        _, parent, _ = _k.grid_search(
+            np.ascontiguousarray(sub), src, np.empty((0, 2), np.int64), connectivity, SQRT2,
+            _k.CORNER_NO_SQUEEZE, True, _k.MODE_FIELD, 0.0,
+        )  # fmt: skip
+        encode_links(parent, c1 - c0, fcode[off[a] : off[a + 1]])
+    return fcode
+
+
+@pytest.mark.parametrize("connectivity, seed", [(8, 1), (4, 2), (8, 3)])
+def test_local_fields_match_the_node_by_node_search(connectivity, seed):
+    """Every abstract node's tree of a generated office's portal graph, computed territory by territory, is the
+    tree of the previous per-node search, code for code (and so every cost summed along it)."""
+    ds = generate_environment("office", seed=seed, n_rooms=14, size=240)
+    model = fit_supervised(ds, adjacency="given")
+    graph = PlanningGraph.build(model, GraphSettings(connectivity=connectivity, max_dense_bytes=0))
+    h = graph.hier
+    assert h is not None and len(h.cells) > 20
+    before = fields_before(h.cost, h.territory, h.cells, h.terr, h.win, h.off, connectivity)
+    np.testing.assert_array_equal(np.asarray(h.fcode), before)
+
+
+@pytest.mark.parametrize("mode", ["trinary", "raw"])
+@pytest.mark.parametrize("thresholds", [(0.65, 0.196), (0.9, 0.1), (0.5, 0.3)])
+def test_map_pixels_by_table_match_the_per_cell_rule(mode, thresholds):
+    """save_map's pixels of an int8 grid (a table of the 256 values) are the per-cell rule's (an int16 grid
+    takes that rule), for every value a cell can hold."""
+    grid = np.random.default_rng(0).integers(-128, 128, size=(300, 200)).astype(np.int8)
+    fast = grid_to_pixels(grid, mode, *thresholds)
+    rule = grid_to_pixels(grid.astype(np.int16), mode, *thresholds)
+    assert fast.dtype == rule.dtype and fast.flags.c_contiguous
+    np.testing.assert_array_equal(fast, rule)
