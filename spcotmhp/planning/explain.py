@@ -18,6 +18,7 @@ from spcotmhp.planning._paths import path_territories
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.plan import GoalOption, PlanPlace
 from spcotmhp.planning.search import SearchResult
+from spcotmhp.planning.search import octile as search_octile
 
 if TYPE_CHECKING:
     from spcotmhp.learning.model import SpatialConceptModel
@@ -135,3 +136,8 @@ def goal_options(
         shortest = min(shortest, length)
         options.append(GoalOption(k, label, length, alt.log_prob))
     return sorted(options, key=lambda o: -o.log_prob)
+
+
+def octile(a: np.ndarray, b: np.ndarray) -> float:
+    """The shortest 8-connected length between two cells, in cells (:func:`spcotmhp.planning.search.octile`)."""
+    return float(search_octile(int(a[0]), int(a[1]), int(b[0]), int(b[1])))

@@ -100,7 +100,7 @@ class SearchResult:
 
     def anchor_octiles(self, ends: np.ndarray, node_cell: np.ndarray, cell: np.ndarray) -> np.ndarray:
         """(len(ends),) for each node of ``ends`` (each with a finite ``terminal``), the octile length in cells
-        (:func:`~spcotmhp.planning.explain.octile`, summed in path order) from crop ``cell`` through the cells
+        (:func:`octile`, summed in path order) from crop ``cell`` through the cells
         ``node_cell`` of the nodes of :meth:`ending_at` where a stage completes: what ``ending_at`` would give,
         read in one compiled pass instead of one :class:`SearchResult` per node."""
         return _anchor_octiles(
@@ -300,7 +300,6 @@ def _anchor_octiles(pred, from_stage, terminal_step, ends, stage, node_cell, r0,
     out = np.empty(ends.shape[0])
     keep = np.empty(from_stage.shape[0] + 1, np.int64)
     pending = np.zeros(S, np.bool_)
-    diag = np.sqrt(2.0) - 1.0
     for q in range(ends.shape[0]):
         n = 0
         pending[:] = False
@@ -321,11 +320,18 @@ def _anchor_octiles(pred, from_stage, terminal_step, ends, stage, node_cell, r0,
         total, ar, ac = 0.0, r0, c0
         for m in range(n - 1, -1, -1):
             br, bc = node_cell[keep[m], 0], node_cell[keep[m], 1]
-            dr, dc = abs(ar - br), abs(ac - bc)
-            total += max(dr, dc) + diag * min(dr, dc)
+            total += octile(ar, ac, br, bc)
             ar, ac = br, bc
         out[q] = total
     return out
+
+
+@njit(cache=True)
+def octile(ar, ac, br, bc):  # pragma: no cover - numba
+    """The shortest 8-connected length between cells (ar, ac) and (br, bc), in cells (a lower bound of any path's
+    length)."""
+    dr, dc = abs(ar - br), abs(ac - bc)
+    return max(dr, dc) + (np.sqrt(2.0) - 1.0) * min(dr, dc)
 
 
 def reachable(problem: SearchProblem) -> np.ndarray:
