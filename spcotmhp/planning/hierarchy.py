@@ -38,7 +38,9 @@ every territory whose cells and costs are unchanged, the field of every abstract
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +50,10 @@ from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
 from spcotmhp.planning import _field_kernel as _fk
 from spcotmhp.planning import _tree_codes as _tc
+
+ENTRY_CELLS = 8
+"""Start cells whose :meth:`TerritoryFields.entries` a portal graph keeps (a plan asks one; a few concurrent
+plans of a server each theirs)."""
 
 
 @dataclass
@@ -74,6 +80,10 @@ class TerritoryFields:
     info: dict = field(default_factory=dict)
     sums: np.ndarray | None = None  # (A, 4) uint64: each node's block's checksum, for codes read from a file
     checked: np.ndarray | None = None  # (A,) blocks already checked against ``sums`` (shared by views)
+    _entries_of: Callable[[int, int], tuple[np.ndarray, np.ndarray]] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self._entries_of = functools.lru_cache(maxsize=ENTRY_CELLS)(self._entries)  # thread-safe, per object
 
     def verify(self, nodes: np.ndarray) -> None:
         """Check the tree codes of ``nodes`` against their checksums the first time they are read (codes loaded
@@ -126,12 +136,20 @@ class TerritoryFields:
 
     def entries(self, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(nodes, costs)``: the abstract nodes of ``cell``'s territory and the local cost from ``cell`` into
-        each (empty off every territory)."""
-        t = int(self.territory[int(cell[0]), int(cell[1])])
+        each (empty off every territory), read-only. A plan asks them for its start cell for the start leg and
+        for each leg read back (a walk along every node's tree each), so the last few cells' are kept."""
+        return self._entries_of(int(cell[0]), int(cell[1]))
+
+    def _entries(self, r: int, c: int) -> tuple[np.ndarray, np.ndarray]:
+        t = int(self.territory[r, c])
         if t < 0:
-            return np.empty(0, dtype=np.int64), np.empty(0)
-        nodes = self.members[t][~self.removed[self.members[t]]]
-        return nodes, self._costs(nodes, cell)
+            nodes, costs = np.empty(0, dtype=np.int64), np.empty(0)
+        else:
+            nodes = self.members[t][~self.removed[self.members[t]]]
+            costs = self._costs(nodes, np.array([r, c]))
+        nodes.setflags(write=False)
+        costs.setflags(write=False)
+        return nodes, costs
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
         """(n_nodes,) the cost of the best path from crop cell ``cell`` into each node (inf: none)."""

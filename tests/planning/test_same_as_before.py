@@ -203,3 +203,23 @@ def test_map_pixels_by_table_match_the_per_cell_rule(mode, thresholds):
     rule = grid_to_pixels(grid.astype(np.int16), mode, *thresholds)
     assert fast.dtype == rule.dtype and fast.flags.c_contiguous
     np.testing.assert_array_equal(fast, rule)
+
+
+def test_kept_start_entries_are_the_computed_ones_and_views_keep_their_own():
+    """TerritoryFields.entries keeps the last cells' answers: asked again they are the same arrays' values as
+    computed afresh (read-only), and a view without a place (other nodes removed) answers for itself."""
+    ds = generate_environment("office", seed=1, n_rooms=14, size=240)
+    graph = PlanningGraph.build(fit_supervised(ds, adjacency="given"), GraphSettings(max_dense_bytes=0))
+    h = graph.hier
+    assert h is not None
+    free = np.argwhere(graph.main)
+    for cell in free[np.random.default_rng(0).choice(len(free), 20, replace=False)]:
+        nodes, costs = h.entries(cell)
+        again = h.entries(cell)
+        t = int(h.territory[cell[0], cell[1]])
+        fresh = h.members[t][~h.removed[h.members[t]]]
+        np.testing.assert_array_equal(again[0], fresh)
+        np.testing.assert_array_equal(again[1], h._costs(fresh, cell))
+        assert not costs.flags.writeable
+        view = h.without((t,))
+        assert len(view.entries(cell)[0]) == 0 and len(h.entries(cell)[0]) == len(nodes)
