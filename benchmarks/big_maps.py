@@ -18,9 +18,14 @@ fresh process of its own command line (``python -m spcotmhp``):
 
 Every process runs under an address-space limit of ``--memory-limit`` GiB (``RLIMIT_AS``), so that a version
 needing more fails alone, with its row saying so, instead of taking the machine's memory from everything else.
-An untimed learn and plan per checkout on a small office first fill numba's cache. ``--this``: the checkout
-measured as this version (default: the one holding this script; a separate worktree keeps edits made during a
-long run out of it). Prints a markdown table (progress on stderr).
+Untimed, per checkout first: ``compileall`` of the package (this machine sets ``PYTHONDONTWRITEBYTECODE``, so
+without it every command compiles the package's sources again), ``spcotmhp warmup`` (every numba kernel,
+the portal graph's too, into the cache: without it the first big map pays tens of seconds of compiling, which
+is what made an earlier run's 1.7-megapixel learn 157 s), and a learn and plan on a small office (the graph's
+saving and loading). ``--reuse-models``: keep a model folder already in ``--work`` (its learn is not
+measured again: "reused"), e.g. for a 16-megapixel row whose previous version was learned in an earlier run.
+``--this``: the checkout measured as this version (default: the one holding this script; a separate worktree
+keeps edits made during a long run out of it). Prints a markdown table (progress on stderr).
 """
 
 from __future__ import annotations
@@ -71,9 +76,18 @@ def first_pose(dataset: Path) -> tuple[str, str]:
     return x, y
 
 
-def measure(code: Path, dataset: Path, model: Path, limit: float) -> dict:
+def warm(code: Path, limit: float) -> None:
+    """The untimed start of each checkout (module docstring)."""
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(code / "spcotmhp")], check=False)
+    run(code, ["warmup"], limit)
+
+
+def measure(code: Path, dataset: Path, model: Path, limit: float, reuse: bool = False) -> dict:
     """learn, then plan twice (module docstring)."""
-    learn = run(code, ["learn", str(dataset), "--supervised", "--out", str(model), "--overwrite"], limit)
+    if reuse and (model / "manifest.json").is_file():
+        learn = {"wall": 0.0, "peak": 0.0, "rc": 0, "out": "", "reused": True}
+    else:
+        learn = run(code, ["learn", str(dataset), "--supervised", "--out", str(model), "--overwrite"], limit)
     if learn["rc"] != 0:
         return {"learn": learn, "plan": None}
     x, y = first_pose(dataset)
@@ -98,7 +112,7 @@ def row(side: int, version: str, m: dict) -> str:
     mp = side * side / 1e6
     if learn["rc"] != 0:
         return f"| {mp:.1f} | {version} | failed (exit {learn['rc']}, {learn['peak']:.2f} GiB) | | | | |"
-    learned = f"{learn['wall']:.1f} s, {learn['peak']:.2f} GiB"
+    learned = "reused" if learn.get("reused") else f"{learn['wall']:.1f} s, {learn['peak']:.2f} GiB"
     if plan is None or plan["rc"] != 0:
         why = "out of memory" if plan and "MemoryError" in plan["out"] else f"exit {plan['rc'] if plan else '?'}"
         wall = f"failed: {why} after {plan['wall']:.0f} s" if plan else "failed"
@@ -118,10 +132,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--rooms", type=int, default=200)
     ap.add_argument("--work", type=Path, default=Path("/tmp/big_maps"))
     ap.add_argument("--memory-limit", type=float, default=12.0, help="GiB of address space per process")
+    ap.add_argument("--reuse-models", action="store_true", help="keep model folders already in --work")
     args = ap.parse_args(argv)
     args.work.mkdir(parents=True, exist_ok=True)
     versions = {"this": args.this.resolve(), "previous": args.previous.resolve()}
     rows = []
+    for version, code in versions.items():
+        print(f"warming up {version}", file=sys.stderr, flush=True)
+        warm(code, args.memory_limit)
     for side in [600, *args.sides]:
         dataset = args.work / f"office{side}"
         if not (dataset / "teaching.csv").is_file():
@@ -130,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
             run(HERE, [*synth, "--overwrite"], args.memory_limit)
         for version, code in versions.items():
             print(f"{side} x {side}: {version}", file=sys.stderr, flush=True)
-            m = measure(code, dataset, args.work / f"model{side}-{version}", args.memory_limit)
+            m = measure(code, dataset, args.work / f"model{side}-{version}", args.memory_limit, args.reuse_models)
             if side == 600 and side not in args.sides:
                 continue  # the warm-up (module docstring)
             rows.append(row(side, version, m))

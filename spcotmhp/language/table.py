@@ -181,7 +181,7 @@ def word_table(lang: str) -> WordTable:
 
 def strip_fillers(units: tuple[str, ...], fillers: frozenset[str], keys: frozenset[tuple[str, ...]]) -> tuple[str, ...]:
     """Rule 3 on a phrase of the table: its fillers left out as they would be from a sentence."""
-    draft = WordTable("", False, fillers, {}, {}, {}, frozenset(), filler_keys=keys, filler_from=longest_from(keys))
+    draft = _filler_table(fillers, keys)
     items: list[Any] = list(units)
     while True:
         kept = [u for u in items if u not in fillers]
@@ -194,6 +194,13 @@ def strip_fillers(units: tuple[str, ...], fillers: frozenset[str], keys: frozens
         if len(out) == len(items):
             return tuple(out)
         items = out
+
+
+@functools.lru_cache(maxsize=8)
+def _filler_table(fillers: frozenset[str], keys: frozenset[tuple[str, ...]]) -> WordTable:
+    """The table :func:`strip_fillers` matches with: made once per table's fillers, not once a phrase (reading
+    the word tables took 0.3-0.4 s of every command, most of it rebuilding this for each of ~900 phrases)."""
+    return WordTable("", False, fillers, {}, {}, {}, frozenset(), filler_keys=keys, filler_from=longest_from(keys))
 
 
 def filler_at(units: Sequence[Any], i: int, table: WordTable, keep: frozenset[str]) -> int:

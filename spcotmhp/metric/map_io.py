@@ -297,9 +297,12 @@ def save_map(
     text = yaml.safe_dump(meta, sort_keys=False, default_flow_style=None)
     atomic_write(yaml_path, lambda tmp: tmp.write_text(text, encoding="utf-8"), MapError)
 
-    ints = pixels.astype(np.int64)
-    rgb = ints[..., :3] if ints.ndim == 3 else np.repeat(ints[:, :, None], 3, axis=2)
-    back = pixels_to_grid(rgb, ints[..., 3] if ints.ndim == 3 else None, 255, mode, False, occupied, free)
+    if pixels.ndim == 3:
+        ints = pixels.astype(np.int64)
+        back = pixels_to_grid(ints[..., :3], ints[..., 3], 255, mode, False, occupied, free)
+    else:  # grey: one channel broadcast, read through pixels_to_grid's table (no image-sized copies)
+        back = pixels_to_grid(np.broadcast_to(pixels[:, :, None], (*pixels.shape, 3)), None, 255, mode, False,
+                              occupied, free)  # fmt: skip
     changed = int(np.count_nonzero(back != occ_map.data))
     if changed:
         warnings.warn(
@@ -312,7 +315,12 @@ def save_map(
 
 def grid_to_pixels(data: np.ndarray, mode: str, occupied_thresh: float, free_thresh: float) -> np.ndarray:
     """Nav2 map_saver's pixels for an OccupancyGrid-order grid: uint8 (H, W) grey, or (H, W, 4) RGBA in scale
-    mode, in image row order (top row first)."""
+    mode, in image row order (top row first). An int8 grid in trinary or raw mode is mapped through a table of
+    this rule's pixel for each of the 256 values (the same pixels, without int64 arrays of the map's size)."""
+    data = np.asarray(data)
+    if data.dtype == np.int8 and data.size > 256 and mode in ("trinary", "raw"):
+        table = grid_to_pixels(np.arange(-128, 128, dtype=np.int8)[None, :], mode, occupied_thresh, free_thresh)[0]
+        return table[data[::-1].view(np.uint8) ^ np.uint8(128)]  # value v at index v + 128
     cells = np.asarray(data, dtype=np.int16)[::-1]
     unknown = (cells < 0) | (cells > 100)
     if mode == "trinary":

@@ -8,7 +8,6 @@ smoothed, cut on arrival) into every instance of the goal's name.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Protocol
@@ -19,6 +18,7 @@ from spcotmhp.planning._paths import path_territories
 from spcotmhp.planning.assemble import path_length
 from spcotmhp.planning.plan import GoalOption, PlanPlace
 from spcotmhp.planning.search import SearchResult
+from spcotmhp.planning.search import octile as search_octile
 
 if TYPE_CHECKING:
     from spcotmhp.learning.model import SpatialConceptModel
@@ -101,39 +101,44 @@ def goal_options(
     same assembly, smoothing and arrival as the chosen plan), so that "closest of 3 bedrooms" is a statement
     about the paths the robot would drive; only when the name is shared. The instances are taken in order of
     a lower bound of that length, the octile distances from the start through the option's anchors (the
-    cells that smoothing keeps); one whose bound already exceeds the shortest path found so far (the chosen
-    one's or a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a
-    building with 90 offices does not smooth 90 paths per plan."""
+    cells that smoothing keeps; :meth:`~spcotmhp.planning.search.SearchResult.anchor_octiles`, all options in
+    one compiled pass); one whose bound already exceeds the shortest path found so far (the chosen one's or
+    a shorter option's) cannot be the closest and gets the bound instead (``exact=False``), so a building
+    with 90 offices does not smooth 90 paths per plan."""
     if np.count_nonzero(goal_places) < 2:
         return []
     options, pending = [], []
     end_place = int(graph.node_place[result.nodes[-1]])
     res = planner.model.require_map().resolution
-    for k in np.flatnonzero(goal_places):
-        ks = np.flatnonzero(graph.node_place == k)
-        if not len(ks) or not np.isfinite(result.terminal[ks]).any():
+    order = np.argsort(graph.node_place, kind="stable")  # each place's nodes, ascending
+    bounds = np.searchsorted(graph.node_place[order], np.arange(len(goal_places) + 1))
+    ends, kept = [], []
+    nodes, terminal, bounds = order.tolist(), result.terminal[order].tolist(), bounds.tolist()  # Python's speed
+    for k in np.flatnonzero(goal_places).tolist():
+        lo, hi = bounds[k], bounds[k + 1]
+        if not any(math.isfinite(v) for v in terminal[lo:hi]):
             continue
-        node = int(ks[np.argmax(result.terminal[ks])])
-        label = place(planner, int(k), "goal").label
+        node = nodes[max(range(lo, hi), key=terminal.__getitem__)]  # the first maximum, as np.argmax
         if k == end_place:
-            options.append(GoalOption(int(k), label, chosen_length, result.log_prob))
+            options.append(GoalOption(k, place(planner, k, "goal").label, chosen_length, result.log_prob))
+            continue
+        ends.append(node)
+        kept.append(k)
+    lengths = result.anchor_octiles(np.array(ends, dtype=np.int64), graph.node_cell, cell)
+    for node, k, length in zip(ends, kept, lengths.tolist(), strict=True):
+        pending.append((res * length, k, place(planner, k, "goal").label, node))
+    shortest = chosen_length
+    for bound, k, label, node in sorted(pending, key=lambda p: p[0]):
+        if planner.settings.arrival_quantile is None and bound > shortest + 1e-9:
+            options.append(GoalOption(k, label, bound, float(result.terminal[node]), exact=False))
             continue
         alt = result.ending_at(node)
-        anchors = [cell] + [graph.node_cell[n] for n, done in zip(alt.nodes, alt.completed, strict=False) if done]
-        bound = res * sum(octile(a, b) for a, b in itertools.pairwise(anchors))
-        pending.append((bound, int(k), label, alt))
-    shortest = chosen_length
-    for bound, kept, label, alt in sorted(pending, key=lambda p: p[0]):
-        if planner.settings.arrival_quantile is None and bound > shortest + 1e-9:
-            options.append(GoalOption(kept, label, bound, alt.log_prob, exact=False))
-            continue
         length = path_length(planner.metric_path(graph, cell, alt)[0], res)
         shortest = min(shortest, length)
-        options.append(GoalOption(kept, label, length, alt.log_prob))
+        options.append(GoalOption(k, label, length, alt.log_prob))
     return sorted(options, key=lambda o: -o.log_prob)
 
 
 def octile(a: np.ndarray, b: np.ndarray) -> float:
-    """The shortest 8-connected length between two cells, in cells (a lower bound of any path's length)."""
-    dr, dc = abs(int(a[0]) - int(b[0])), abs(int(a[1]) - int(b[1]))
-    return float(max(dr, dc) + (math.sqrt(2.0) - 1.0) * min(dr, dc))
+    """The shortest 8-connected length between two cells, in cells (:func:`spcotmhp.planning.search.octile`)."""
+    return float(search_octile(int(a[0]), int(a[1]), int(b[0]), int(b[1])))

@@ -17,6 +17,7 @@ altered model (every index is checked before use: :func:`~spcotmhp.planning.grap
 
 from __future__ import annotations
 
+import mmap
 import struct
 import zipfile
 from collections.abc import Mapping
@@ -64,8 +65,11 @@ def checksum(read: BinaryIO | np.ndarray, size: int) -> str:
 def checksum_words(read: BinaryIO | np.ndarray, size: int) -> np.ndarray:
     """:func:`checksum` as its four 64-bit words."""
     state = np.array([1, 2, 3, 4], dtype=np.uint64) * np.uint64(0x94D049BB133111EB)
-    buffer = np.empty((min(CHUNK, size) + 31) // 32 * 32, dtype=np.uint8)
     done = 0
+    if isinstance(read, np.ndarray):  # its whole 32-byte blocks in place (no copy), then the tail as below
+        done = size // 32 * 32
+        _mix(state, read[:done].view(np.uint64))
+    buffer = np.empty((min(CHUNK, size - done) + 31) // 32 * 32, dtype=np.uint8)
     while done < size:
         n = min(CHUNK, size - done)
         if isinstance(read, np.ndarray):
@@ -78,6 +82,19 @@ def checksum_words(read: BinaryIO | np.ndarray, size: int) -> np.ndarray:
         done += n
     _mix(state, np.array([size, 0, 0, 0], dtype=np.uint64))
     return state
+
+
+def _mapped_checksum(handle: BinaryIO, start: int, nbytes: int) -> str:
+    """:func:`checksum` of the file's ``nbytes`` bytes from ``start``, read through a mapping of its own (no copy
+    into a buffer; the pages leave the process's memory when it is closed)."""
+    if nbytes == 0:
+        return checksum(np.empty(0, dtype=np.uint8), 0)
+    base = start - start % mmap.ALLOCATIONGRANULARITY
+    with mmap.mmap(handle.fileno(), start + nbytes - base, access=mmap.ACCESS_READ, offset=base) as mapped:
+        data = np.frombuffer(mapped, dtype=np.uint8, count=nbytes, offset=start - base)
+        words = checksum(data, nbytes)
+        del data  # no view of the mapping may outlive it
+    return words
 
 
 def array_checksum(array: np.ndarray) -> str:
@@ -149,7 +166,7 @@ def _member(
     handle.seek(start)
     if expected == BLOCKS and not info.filename.endswith("hier.fcode.npy"):
         raise ModelError(f"{where}: only the tree codes are checked block by block")
-    if expected != BLOCKS and checksum(handle, nbytes) != expected:
+    if expected != BLOCKS and _mapped_checksum(handle, start, nbytes) != expected:
         raise ModelError(f"{where} does not match its checksum in graph.json (a torn or damaged file)")
     order = "F" if fortran else "C"
     if nbytes == 0:

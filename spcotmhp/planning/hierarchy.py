@@ -38,17 +38,22 @@ every territory whose cells and costs are unchanged, the field of every abstract
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit, prange
 
 from spcotmhp.errors import ModelError
-from spcotmhp.metric import _grid_kernels as _k
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
+from spcotmhp.planning import _field_kernel as _fk
 from spcotmhp.planning import _tree_codes as _tc
+
+ENTRY_CELLS = 8
+"""Start cells whose :meth:`TerritoryFields.entries` a portal graph keeps (a plan asks one; a few concurrent
+plans of a server each theirs)."""
 
 
 @dataclass
@@ -75,6 +80,10 @@ class TerritoryFields:
     info: dict = field(default_factory=dict)
     sums: np.ndarray | None = None  # (A, 4) uint64: each node's block's checksum, for codes read from a file
     checked: np.ndarray | None = None  # (A,) blocks already checked against ``sums`` (shared by views)
+    _entries_of: Callable[[int, int], tuple[np.ndarray, np.ndarray]] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self._entries_of = functools.lru_cache(maxsize=ENTRY_CELLS)(self._entries)  # thread-safe, per object
 
     def verify(self, nodes: np.ndarray) -> None:
         """Check the tree codes of ``nodes`` against their checksums the first time they are read (codes loaded
@@ -127,12 +136,20 @@ class TerritoryFields:
 
     def entries(self, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(nodes, costs)``: the abstract nodes of ``cell``'s territory and the local cost from ``cell`` into
-        each (empty off every territory)."""
-        t = int(self.territory[int(cell[0]), int(cell[1])])
+        each (empty off every territory), read-only. A plan asks them for its start cell for the start leg and
+        for each leg read back (a walk along every node's tree each), so the last few cells' are kept."""
+        return self._entries_of(int(cell[0]), int(cell[1]))
+
+    def _entries(self, r: int, c: int) -> tuple[np.ndarray, np.ndarray]:
+        t = int(self.territory[r, c])
         if t < 0:
-            return np.empty(0, dtype=np.int64), np.empty(0)
-        nodes = self.members[t][~self.removed[self.members[t]]]
-        return nodes, self._costs(nodes, cell)
+            nodes, costs = np.empty(0, dtype=np.int64), np.empty(0)
+        else:
+            nodes = self.members[t][~self.removed[self.members[t]]]
+            costs = self._costs(nodes, np.array([r, c]))
+        nodes.setflags(write=False)
+        costs.setflags(write=False)
+        return nodes, costs
 
     def cost_to_nodes(self, cell: np.ndarray) -> np.ndarray:
         """(n_nodes,) the cost of the best path from crop cell ``cell`` into each node (inf: none)."""
@@ -210,7 +227,7 @@ def build(
     fcode = np.empty(int(off[-1]), dtype=np.int8)
     todo = _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode)
     cost = np.ascontiguousarray(cost)
-    _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity, SQRT2)
+    _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity)
     order = np.argsort(terr, kind="stable").astype(np.int64)
     bounds = np.searchsorted(terr[order], np.arange(n_places + 1)).astype(np.int64)
     members = [order[bounds[t] : bounds[t + 1]] for t in range(n_places)]
@@ -364,31 +381,18 @@ def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode) -> np.nd
     return np.flatnonzero(todo)
 
 
-@njit(cache=True, parallel=True)
-def _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity, diag):  # pragma: no cover
+def _local_fields(cost, territory, cells, terr, win, off, todo, fcode, connectivity) -> None:
     """The exact field into each abstract node of ``todo`` over its own territory (module docstring), as its
-    tree's direction codes."""
-    for n in prange(todo.shape[0]):
-        a = todo[n]
-        t = terr[a]
-        r0, c0, r1, c1 = win[t, 0], win[t, 1], win[t, 2], win[t, 3]
-        h, w = r1 - r0, c1 - c0
-        sub = np.empty((h, w))
-        for i in range(h):
-            for j in range(w):
-                sub[i, j] = cost[r0 + i, c0 + j] if territory[r0 + i, c0 + j] == t else np.inf
-        src = np.empty((1, 2), np.int64)
-        src[0, 0] = cells[a, 0] - r0
-        src[0, 1] = cells[a, 1] - c0
-        _, parent, _ = _k.grid_search(
-            sub,
-            src,
-            np.empty((0, 2), np.int64),
-            connectivity,
-            diag,
-            _k.CORNER_NO_SQUEEZE,
-            True,
-            _k.MODE_FIELD,
-            0.0,
-        )
-        _tc.encode_links(parent, w, fcode[off[a] : off[a] + h * w])
+    tree's direction codes, a territory at a time (:mod:`spcotmhp.planning._field_kernel`: its window's costs
+    copied once, its nodes' searches in parallel)."""
+    todo = np.asarray(todo, dtype=np.int64)
+    order = todo[np.argsort(terr[todo], kind="stable")]
+    starts = np.flatnonzero(np.diff(terr[order], prepend=-1))
+    for nodes in np.split(order, starts[1:]):
+        if not len(nodes):
+            continue
+        t = int(terr[nodes[0]])
+        r0, c0, r1, c1 = (int(v) for v in win[t])
+        grid, n_cells = _fk.padded_window(cost, territory, t, r0, c0, r1, c1)
+        sources = np.ascontiguousarray(cells[nodes] - np.array([r0, c0]))
+        _fk.territory_fields(grid, r1 - r0, c1 - c0, n_cells, sources, fcode, off[nodes], connectivity, SQRT2)
