@@ -16,6 +16,7 @@ naming the first word it could not place, and why.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from typing import Any
 
@@ -70,6 +71,11 @@ def _refusal(
         return UnknownPlaceWord(
             f"no known place word in {excerpt(text)}{not_understood(said)}{_also(toks, refused, table)}"
             f"{unknown_tail(unknown, place_words)}"
+        )
+    clock = _clock(toks, text) if not table.by_character else None
+    if clock is not None:
+        return UnsupportedPhrase(
+            f"{excerpt(clock)} is a time of day, but a plan is for now: say it when the robot should go"
         )
     if refused is not None:
         tail = f" (not understood: {', '.join(unknown)})" if unknown else ""
@@ -228,6 +234,32 @@ def _reason(toks: Sequence[Token], k: int, reason: str) -> str:
 
 def _also(toks: Sequence[Token], refused: int | None, table: WordTable) -> str:
     return f"; and {_reason(toks, refused, table.reasons[toks[refused].kind])}" if refused is not None else ""
+
+
+_CLOCK_WORDS = frozenset(
+    "one two three four five six seven eight nine ten eleven twelve noon midnight".split()  # noqa: SIM905
+)
+
+
+_CLOCK_AFTER = frozenset({"am", "pm", "o'clock", "oclock", ":"})
+
+
+def _clock(toks: Sequence[Token], text: str) -> str | None:
+    """ "at 6", "at six", "at noon", "at 6pm": a time of day after "at" (never a place), as said, or None."""
+    units = english_units(text)
+    for k, t in enumerate(toks[:-1]):
+        nxt = toks[k + 1]
+        if (
+            t.kind == "AT"
+            and t.surface == "at"
+            and nxt.kind == "WORD"
+            and (nxt.surface in _CLOCK_WORDS or re.fullmatch(r"\d{1,2}(?::\d{2})?(?:am|pm)?", nxt.surface))
+        ):
+            end = nxt.end
+            while end < len(units) and (units[end] in _CLOCK_AFTER or units[end].isdigit() and units[end - 1] == ":"):
+                end += 1  # "at 6 pm", "at 6:30"
+            return " ".join(units[t.start : end])
+    return None
 
 
 def _phrases(toks: Sequence[Token], ks: Sequence[int], text: str, by_character: bool) -> list[str]:

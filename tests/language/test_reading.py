@@ -393,3 +393,40 @@ def test_a_cancel_with_nothing_to_go_to_after_it_is_not_a_restart(text):
     except InstructionError:
         return
     assert not any(h.startswith("took back") for h in r.heard)
+
+
+@pytest.mark.parametrize(
+    "text, said",
+    [
+        ("Go to the kitchen at 6.", "'at 6'"),
+        ("go to the living room at six", "'at six'"),
+        ("at noon go to the hall", "'at noon'"),
+    ],
+)
+def test_a_time_of_day_is_refused_quoting_it(text, said):
+    with pytest.raises(UnsupportedPhrase, match=f"{said} is a time of day"):
+        read(text, EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, speed",
+    [
+        ("Go to the kitchen, not through the dining room, and not too fast please", "slow"),
+        ("go to the kitchen make it snappy", "fast"),
+    ],
+)
+def test_speeds_said_in_other_words(text, speed):
+    assert read(text, EN, "en").speed == speed
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("Go to the storeroom. Hmm no, make it the corridor.", "corridor"),
+        ("which ever bedroom is nearest the toilet go there", "bedroom"),
+        ("Can you move to the hallway so you're out of the way?", "corridor"),
+        ("Next stop, kitchen!", "kitchen"),
+    ],
+)
+def test_more_everyday_forms(text, goal):
+    assert read(text, EN, "en").visit[-1].words[0] == goal
