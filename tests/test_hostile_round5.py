@@ -228,6 +228,12 @@ def test_the_commands_refuse_a_hostile_params_file_in_one_line(tmp_path):
     assert not out.exists() and not (tmp_path / "pwned").exists()
 
 
+def test_serve_refuses_a_hostile_params_file_before_taking_its_port(tmp_path, model_dir):
+    _write(tmp_path / "laughs.yaml", HOSTILE_PARAMS["billion laughs"][0])
+    done = spcotmhp("serve", str(model_dir), "--nav2-params", "laughs.yaml", "--port", "1", cwd=tmp_path)
+    refused(done, "anchors and aliases")
+
+
 def test_the_ros2_node_refuses_a_hostile_params_file_before_starting(tmp_path, model_dir, monkeypatch):
     pytest.importorskip("rclpy")
     _write(tmp_path / "twice.yaml", HOSTILE_PARAMS["duplicate key"][0])
