@@ -33,17 +33,21 @@ from collections import Counter
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from spcotmhp.errors import InstructionTooLarge, PlanningError, PlanningTimeout, SpcotmhpError
-
-if TYPE_CHECKING:
-    from spcotmhp.server.overload import Admission
 
 T = TypeVar("T")
 # the Retry-After (seconds) of every 503: a lane frees its slot when a plan ends (about a millisecond for a light
 # one), and a timed-out plan runs on for at most its own length; one second is the shortest whole value
 RETRY_AFTER_S = 1
+
+
+class Deadline(Protocol):
+    """What a lane asks of a request's deadline (:class:`spcotmhp.server.overload.Admission`) when its turn
+    comes: ``start(ahead)`` raises to shed it, ``ahead`` the calls the lane finished while it waited."""
+
+    def start(self, ahead: int) -> None: ...
 
 
 class ServiceBusy(PlanningError):
@@ -136,7 +140,7 @@ async def run_in_lane(
     budget: float,
     call: Callable[[], T],
     timeout: Callable[[str], Exception] | None = None,
-    admission: Admission | None = None,
+    admission: Deadline | None = None,
 ) -> T:
     """Run ``call`` under ``lane.lock`` on the lane's worker, admitted for ``client``, waiting at most
     ``budget`` seconds (module docstring); with an ``admission``, only if its wait is within its deadline when its
