@@ -172,6 +172,26 @@ class _BoundedLoader(yaml.SafeLoader):
         finally:
             self._depth -= 1
 
+    def construct_mapping(self, node: Any, deep: bool = False) -> Any:
+        """A mapping whose keys are each given once: PyYAML keeps the last of two equal keys silently, other
+        readers (yaml-cpp, ROS 2's parameter parser) the first or an error, so a file that says a value twice
+        is ambiguous, and which one a robot's body or a map took must not depend on the reader."""
+        if isinstance(node, yaml.MappingNode):
+            seen: dict[tuple[str, str], int] = {}
+            for key_node, _ in node.value:
+                if not isinstance(key_node, yaml.ScalarNode) or key_node.tag == "tag:yaml.org,2002:merge":
+                    continue
+                key = (key_node.tag, key_node.value)
+                if key in seen:
+                    first = seen[key]
+                    raise _Refused(
+                        f"the key {excerpt(key_node.value)} is given twice (lines {first + 1} and "
+                        f"{key_node.start_mark.line + 1}); give each key once",
+                        key_node.start_mark,
+                    )
+                seen[key] = key_node.start_mark.line
+        return super().construct_mapping(node, deep)
+
     def construct_yaml_int(self, node: Any) -> int:
         digits = sum(c.isdigit() for c in str(node.value))
         if digits > MAX_INT_DIGITS:
@@ -180,6 +200,13 @@ class _BoundedLoader(yaml.SafeLoader):
 
 
 _BoundedLoader.add_constructor("tag:yaml.org,2002:int", _BoundedLoader.construct_yaml_int)
+# YAML 1.2's floats with an exponent and no dot or no exponent sign (1e-1, 5e2, 1.5e3): PyYAML's YAML 1.1 rule
+# reads them as strings, while yaml-cpp (map_server) and ROS 2's parameter parser read numbers
+_BoundedLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+    list("-+0123456789."),
+)
 
 
 class _Refused(Exception):

@@ -7,6 +7,10 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterable, Sequence
 
+MAX_NUMBER_DIGITS = 18
+"""Most digits of a number in a name (int64 holds 18 whole): "room 101", "aisle 12"; a longer digit string (a
+serial number) is a plain word, and is never converted (Python refuses int() of over 4,300 digits)."""
+
 MAX_VARIANTS = 64
 """Most spellings of one name matched (rule 5): four number words of four spellings each."""
 
@@ -35,8 +39,10 @@ def number_word(word: str) -> tuple[str, int] | None:
     >>> number_word("one"), number_word("101"), number_word("second"), number_word("2nd"), number_word("aisle")
     (('cardinal', 1), ('cardinal', 101), ('ordinal', 2), ('ordinal', 2), None)
     """
+    if len(word) > MAX_NUMBER_DIGITS + 2:  # digits and an ordinal's suffix
+        return None
     if word.isascii() and word.isdigit():
-        return "cardinal", int(word)
+        return ("cardinal", int(word)) if len(word) <= MAX_NUMBER_DIGITS else None
     if word in CARDINALS:
         return "cardinal", CARDINALS[word]
     if word in ORDINALS:

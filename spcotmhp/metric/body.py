@@ -93,10 +93,16 @@ def circle(
     source: str = "options",
 ) -> RobotBody:
     """A circular robot of ``radius`` metres: both radii ``radius``."""
-    if not (_number(radius) and 0 < radius <= MAX_BODY_M):  # type: ignore[operator]  # a number, checked first
-        raise RobotBodyError(f"{source}: the robot radius must be a number in (0, {MAX_BODY_M:g}] m, got {radius!r}")
-    r = float(radius)  # type: ignore[arg-type]  # a number, checked above
+    r = check_radius(radius, source, "the robot radius")
     return RobotBody(r, r, _float(inflation_radius), _float(cost_scaling_factor), None, source)
+
+
+def check_radius(radius: object, source: str, name: str) -> float:
+    """``radius`` as a float when it is a finite number in (0, MAX_BODY_M] metres, else RobotBodyError naming
+    ``name`` (a radius given as an option, or a params file's ``robot_radius``)."""
+    if not (_number(radius) and 0 < radius <= MAX_BODY_M):  # type: ignore[operator]  # a number, checked first
+        raise RobotBodyError(f"{source}: {name} must be a number in (0, {MAX_BODY_M:g}] m, got {radius!r}")
+    return float(radius)  # type: ignore[arg-type]  # a number, checked above
 
 
 def polygon(

@@ -27,7 +27,8 @@ from pathlib import Path
 from typing import Any
 
 from spcotmhp.errors import RobotBodyError
-from spcotmhp.metric.body import RobotBody, circle, polygon, radius_footprint
+from spcotmhp.metric.body import RobotBody, check_radius, circle, polygon, radius_footprint
+from spcotmhp.safe_read import excerpt
 
 MAX_PARAMS_BYTES = 1024 * 1024  # Nav2's full nav2_params.yaml is about 15 KB
 NAV2_ROBOT_RADIUS = 0.1
@@ -35,6 +36,7 @@ NAV2_FOOTPRINT_PADDING = 0.01
 NAV2_INFLATION_RADIUS = 0.55
 NAV2_COST_SCALING = 10.0
 _PAIR = re.compile(r"\[([^\[\]]*)\]")
+_NUMBER = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")  # what a C++ stream reads whole
 
 
 @dataclass(frozen=True)
@@ -84,10 +86,9 @@ def parse_footprint(raw: object, where: str) -> Any:
     points = []
     for pair in pairs:
         values = [v.strip() for v in pair.split(",")]
-        try:
-            points.append([float(v) for v in values])
-        except ValueError:
-            raise RobotBodyError(f"{where}: [{pair}] is not two numbers [x, y]") from None
+        if not all(_NUMBER.fullmatch(v) for v in values):  # float() would also take "1_0", "nan", " inf"
+            raise RobotBodyError(f"{where}: [{pair[:80]}] is not two numbers [x, y]")
+        points.append([float(v) for v in values])
     return points
 
 
@@ -128,10 +129,7 @@ def resolve_body(
     if not (isinstance(base.padding, (int, float)) and not isinstance(base.padding, bool) and 0 <= base.padding <= 1):
         raise RobotBodyError(f"{base.source}: footprint_padding must be a number in [0, 1] m, got {base.padding!r}")
     if base.footprint is None:
-        r = base.robot_radius
-        if not (isinstance(r, (int, float)) and not isinstance(r, bool) and r > 0):
-            raise RobotBodyError(f"{base.source}: robot_radius must be a number > 0 (metres), got {r!r}")
-        points: Any = radius_footprint(float(r))
+        points: Any = radius_footprint(check_radius(base.robot_radius, base.source, "robot_radius"))
     else:
         points = base.footprint
     return polygon(points, inflation, scaling, base.source, padding=float(base.padding))
@@ -154,7 +152,9 @@ def _costmap_section(doc: Any, path: Path) -> dict:
         keys = ", ".join(sorted(str(k) for k in doc)[:8])
         raise RobotBodyError(f"Nav2 params file {path} has no global_costmap section (its top-level keys: {keys})")
     for key in ("global_costmap", "ros__parameters"):
-        if isinstance(section, dict) and isinstance(section.get(key), dict):
+        if isinstance(section, dict) and key in section:
+            if not isinstance(section[key], dict):  # else its keys would be missed and Nav2's defaults taken
+                raise RobotBodyError(f"Nav2 params file {path}: {key} must be a mapping of parameters")
             section = section[key]
     if not isinstance(section, dict):
         raise RobotBodyError(f"Nav2 params file {path}: global_costmap must be a mapping of parameters")
@@ -165,18 +165,19 @@ def _inflation_layer(params: dict, source: str) -> dict:
     """The inflation layer's parameters (module docstring)."""
     plugins = params.get("plugins")
     if plugins is None:
-        layer = params.get("inflation_layer", {})
-        return layer if isinstance(layer, dict) else {}
-    names = [p.get("name") if isinstance(p, dict) else p for p in plugins] if isinstance(plugins, list) else None
-    if names is None:
-        raise RobotBodyError(f"{source}: plugins must be a list of layer names, got {str(plugins)[:80]!r}")
-    kinds = {p.get("name"): p.get("type", "") for p in plugins if isinstance(p, dict)}
+        return _layer(params, "inflation_layer", source)
+    given = [p.get("name") if isinstance(p, dict) else p for p in plugins] if isinstance(plugins, list) else None
+    if given is None or not all(isinstance(n, str) for n in given):
+        shown = excerpt(plugins if given is None else next(n for n in given if not isinstance(n, str)))
+        raise RobotBodyError(f"{source}: plugins must be a list of layer names, got {shown}")
+    names = [str(n) for n in given]
+    kinds = {p["name"]: p.get("type", "") for p in plugins if isinstance(p, dict)}
     found = []
     for name in names:
-        layer = params.get(name) if isinstance(name, str) else None
-        kind = kinds.get(name) or (layer.get("plugin", "") if isinstance(layer, dict) else "")
+        layer = _layer(params, name, source)
+        kind = kinds.get(name) or layer.get("plugin", "")
         if isinstance(kind, str) and kind.endswith("InflationLayer"):
-            found.append((name, layer if isinstance(layer, dict) else {}))
+            found.append((name, layer))
     if len(found) != 1:
         raise RobotBodyError(
             f"{source}: {'no' if not found else 'more than one'} inflation layer among the plugins "
@@ -184,6 +185,18 @@ def _inflation_layer(params: dict, source: str) -> dict:
             "or give --inflation-radius and --cost-scaling-factor with --robot-radius or --footprint"
         )
     name, layer = found[0]
-    if layer.get("enabled", True) is False:
+    enabled = layer.get("enabled", True)
+    if not isinstance(enabled, bool):
+        raise RobotBodyError(f"{source}: {name}.enabled must be true or false, got {excerpt(enabled)}")
+    if not enabled:
         raise RobotBodyError(f"{source}: the inflation layer {name} is disabled (enabled: false)")
+    return layer
+
+
+def _layer(params: dict, name: str, source: str) -> dict:
+    """The parameters of the layer ``name`` ({} when absent: Nav2's defaults); a value that is not a mapping is
+    refused (its inflation_radius would be missed silently)."""
+    layer = params.get(name, {})
+    if not isinstance(layer, dict):
+        raise RobotBodyError(f"{source}: {name} must be a mapping of the layer's parameters, got {excerpt(layer)}")
     return layer

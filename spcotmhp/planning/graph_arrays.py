@@ -10,12 +10,14 @@ direction codes (:mod:`spcotmhp.planning._tree_codes`, one byte a cell); dense f
 
 :func:`expected_arrays` gives, from the JSON alone, the shape and dtype kinds of every array the file must hold,
 after checking its sizes against the model's map (:func:`check_meta`), so nothing larger than the map allows is
-allocated; :func:`check_values` then checks every index an array holds against the sizes, so that a damaged
-file is a ModelError, never an index out of range in a kernel.
+allocated; :func:`check_values` then checks every index an array holds against the sizes (a next hop of the portal
+graph in range or ``NO_HOP``), and that no number is NaN, so that a damaged file is a ModelError, never an index
+out of range in a kernel or a NaN in the search.
 """
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -32,6 +34,7 @@ PlanningGraph = Any  # spcotmhp.planning.graph's (which imports the store, so th
 NODE_ARRAYS = {"node_place": "i", "node_cell": "i", "end_term": "f", "usable": "b"}
 PAIR_ARRAYS = ("w_hat", "w_hat_metric", "log_transition", "log_transition_all")
 HIER_ARRAYS = ("cells", "terr", "win", "off", "fcode", "src", "dst", "weight", "portal_cost", "hop")
+NO_HOP = -9999  # scipy's dijkstra: no predecessor (the node cannot be reached)
 
 
 def _narrow(values: np.ndarray) -> np.ndarray:
@@ -106,6 +109,11 @@ def check_meta(metas: object, model: SpatialConceptModel) -> list[dict[str, Any]
     for i, meta in enumerate(metas):
         if not isinstance(meta, dict) or not isinstance(meta.get("info"), dict):
             raise ModelError(f'graph.json: graph {i} must be an object with "info"')
+        seconds, region = meta.get("time_precompute_s", 0.0), meta.get("region")
+        if not (isinstance(seconds, (int, float)) and not isinstance(seconds, bool) and 0 <= seconds < math.inf):
+            raise ModelError(f"graph.json: graph {i}'s time_precompute_s must be seconds >= 0, got {seconds!r}")
+        if region is not None:
+            _count(region, f"graph {i}'s region", 0, occ.height * occ.width)
         shape, offset = meta.get("shape"), meta.get("offset")
         if not (isinstance(shape, list) and isinstance(offset, list) and len(shape) == len(offset) == 2):
             raise ModelError(f'graph.json: graph {i} needs a 2-element "shape" and "offset"')
@@ -171,6 +179,9 @@ def check_values(arrays: dict[str, np.ndarray], metas: list[dict[str, Any]], mod
         if a.size and (int(a.min()) < low or int(a.max()) >= high):
             raise ModelError(f"graph.npz: {name} holds values outside [{low}, {high}): the file was altered")
 
+    for name, a in arrays.items():  # costs and log weights may be infinite (unreachable), never NaN
+        if a.dtype.kind == "f" and np.isnan(a).any():
+            raise ModelError(f"graph.npz: {name} holds NaN: the file was altered")
     K = model.K
     for i, meta in enumerate(metas):
         p, (h, w), M = f"g{i}.", meta["shape"], meta["n_nodes"]
@@ -196,7 +207,9 @@ def check_values(arrays: dict[str, np.ndarray], metas: list[dict[str, Any]], mod
             within(q + "terr", 0, K)
             for name in ("src", "dst"):
                 within(q + name, 0, A)
-            within(q + "hop", -9999, A)
+            within(q + "hop", NO_HOP, A)
+            if ((arrays[q + "hop"] < 0) & (arrays[q + "hop"] != NO_HOP)).any():
+                raise ModelError(f"graph.npz: {q}hop holds negative hops other than {NO_HOP} (none): altered")
             win, cells = arrays[q + "win"], arrays[q + "cells"]
             if (win < 0).any() or (win[:, 2] > h).any() or (win[:, 3] > w).any() or (win[:, :2] > win[:, 2:]).any():
                 raise ModelError(f"graph.npz: {q}win holds windows outside the graph's {h} x {w} cells")

@@ -7,7 +7,8 @@ loading costs no decompression.
 
 Checks, before any array is mapped (the shapes come from graph.json, already checked against the map and the
 model by :mod:`spcotmhp.planning.graph_arrays`): every member a known, stored ``NAME.npy``; its ``.npy`` header
-(parsed without ``allow_pickle``) of an accepted dtype and exactly the expected shape; its data inside the file
+(parsed without ``allow_pickle``) of an accepted dtype in the machine's byte order, in C order, and exactly the
+expected shape; its data inside the file
 (so a header claiming a huge shape is refused, and nothing is allocated for it); then its 64-bit checksum
 (:func:`checksum`, listed in graph.json, itself checked by SHA-256 against the model folder's manifest) over the
 bytes read in chunks. The checksum runs at memory speed where SHA-256 of the whole file would take seconds per
@@ -151,8 +152,13 @@ def _member(
         header_bytes = member.tell()
     if info.filename.endswith("hier.fcode.npy") and dtype != np.int8:
         raise ModelError(f"{where} has dtype {dtype}; the tree codes are int8")
-    if dtype.hasobject or dtype.kind not in kinds or dtype.itemsize > 8:
+    if dtype.hasobject or dtype.kind not in kinds or dtype.itemsize > 8 or (dtype.kind == "f" and dtype.itemsize < 4):
         raise ModelError(f"{where} has dtype {dtype}; expected numbers of kind {kinds}")
+    if not dtype.isnative or fortran:  # np.savez writes neither; the compiled search takes neither
+        raise ModelError(
+            f"{where} is stored {'in Fortran order' if fortran else f'as {dtype.str}'}; np.savez's "
+            "native byte order and C order are expected"
+        )
     if tuple(got) != tuple(shape):
         raise ModelError(f"{where} has shape {tuple(got)}, but graph.json needs {tuple(shape)}")
     nbytes = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
@@ -168,8 +174,7 @@ def _member(
         raise ModelError(f"{where}: only the tree codes are checked block by block")
     if expected != BLOCKS and _mapped_checksum(handle, start, nbytes) != expected:
         raise ModelError(f"{where} does not match its checksum in graph.json (a torn or damaged file)")
-    order = "F" if fortran else "C"
     if nbytes == 0:
         return np.zeros(shape, dtype=dtype)
-    mapped = np.memmap(handle, dtype=dtype, mode="r", offset=start, shape=shape, order=order)  # type: ignore[call-overload]
+    mapped = np.memmap(handle, dtype=dtype, mode="r", offset=start, shape=shape, order="C")
     return np.array(mapped) if nbytes < MAPPED_BYTES else mapped

@@ -47,7 +47,7 @@ from spcotmhp.persistence.io import GRAPH_FILES, json_default
 from spcotmhp.planning import graph_arrays as ga
 from spcotmhp.planning.graph_file import BLOCKS, array_checksum, read_mapped
 from spcotmhp.planning.graph_settings import GraphSettings
-from spcotmhp.safe_read import excerpt, parse_json
+from spcotmhp.safe_read import excerpt, file_kind, parse_json
 
 if TYPE_CHECKING:
     from spcotmhp.learning.model import SpatialConceptModel
@@ -123,6 +123,10 @@ def load_saved(model: SpatialConceptModel, settings: GraphSettings, key: str, cl
     if root is None:
         return None, "built (the model was not loaded from a folder)"
     root = Path(root)
+    odd = [(name, kind) for name in GRAPH_FILES if (kind := file_kind(root / name)) is not None]
+    if odd:  # a device, a pipe or a folder is never opened (reading /dev/zero never ends, a FIFO blocks)
+        name, kind = odd[0]
+        return None, f"rebuilt: {root / name} is {kind}, not a saved planning graph; {save_hint(root, True)}"
     if not all((root / name).is_file() for name in GRAPH_FILES):
         return None, f"built: {root} holds no saved planning graph; {save_hint(root, False)}"
     try:

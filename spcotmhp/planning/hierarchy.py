@@ -169,10 +169,17 @@ class TerritoryFields:
             return None
         a = int(nodes[best])
         pieces = [self._follow(a, cell)]
-        while a != j:
+        for _ in range(len(self.cells)):  # a way visits each abstract node once; a longer chain is a cycle
+            if a == j:
+                break
             b = int(self.hop[a, j])
+            if b < 0:
+                raise ModelError(f"the portal graph has no next hop from abstract node {a} into node {j}")
             pieces.append(self._follow(b, self.cells[a])[1:] if self.terr[b] == self.terr[a] else self.cells[b][None])
             a = b
+        else:
+            if a != j:
+                raise ModelError(f"the portal graph's next hops from abstract node {a} into node {j} go round a cycle")
         return np.concatenate(pieces)
 
     def _follow(self, a: int, cell: np.ndarray) -> np.ndarray:

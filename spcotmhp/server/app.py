@@ -39,7 +39,7 @@ from spcotmhp.server.limits import (
     BodySizeLimit,
     TrustedHosts,
 )
-from spcotmhp.server.overload import OverloadGuard
+from spcotmhp.server.overload import Admission, OverloadGuard
 from spcotmhp.server.registry import ServedModel, load_served
 from spcotmhp.server.scheduling import RETRY_AFTER_S, Budget
 from spcotmhp.server.schemas import (
@@ -121,7 +121,8 @@ def create_app(
         "topometric semantic maps (SpCoTMHP).",
     )
     app.state.served = served
-    _add_guards(app, json_limit, audio_limit, body_timeout, audio_timeout, allowed_hosts, budget or Budget())
+    limits = budget or Budget()
+    _add_guards(app, json_limit, audio_limit, body_timeout, audio_timeout, allowed_hosts, limits)
     _add_error_handlers(app)
 
     def pick(name: str | None) -> ServedModel:
@@ -203,11 +204,14 @@ def create_app(
         }
 
     @app.post("/plan", response_model=AnyPlanResponse, responses=PLAN_ERRORS, tags=["planning"], dependencies=JSON_BODY)
-    async def plan(body: PlanRequest, request: Request, model: ModelQuery = None) -> dict:
+    async def plan(body: PlanRequest, request: Request, response: Response, model: ModelQuery = None) -> dict:
         """Plan from a sentence, an N-best list or a structured instruction, from ``start`` (Algorithm 1).
-        503 when the planner is busy or the plan exceeds the time budget."""
+        503 when the planner is busy, the service is overloaded or the plan exceeds the time budget."""
         sm = pick(_one_model(model, body.model))
-        return await _plan(sm, body.source(), body.start, body.lang, _client(request), body.floor)
+        admission = Admission.of(request.scope, limits.max_wait)
+        out = await _plan(sm, body.source(), body.start, body.lang, _client(request), body.floor, admission)
+        response.headers["Server-Timing"] = admission.timing()
+        return out
 
     @app.post("/teach", response_model=TeachResponse, responses=TEACH_ERRORS, tags=["learning"], dependencies=JSON_BODY)
     async def teach(body: TeachRequest, request: Request, model: ModelQuery = None) -> dict:
@@ -225,6 +229,7 @@ def create_app(
     @app.post("/plan/audio", response_model=AnyAudioPlanResponse, responses=AUDIO_ERRORS, tags=["planning"])
     async def plan_audio(
         request: Request,
+        response: Response,
         audio: Annotated[UploadFile, File(description="A WAV file (16 kHz mono 16-bit is best).")],
         start: Annotated[str, Form(description='Start pose "x,y" or "[x, y]" in metres.')],
         model: Annotated[str | None, Form(max_length=200)] = None,
@@ -253,11 +258,13 @@ def create_app(
         except SpcotmhpError as exc:
             raise APIError(501, str(exc)) from None
         heard = [{"text": t, "score": s} for t, s in hypotheses]
+        admission = Admission.of(request.scope, limits.max_wait)
         try:
-            out = await _plan(sm, hypotheses, xy, "en", _client(request), floor)
+            out = await _plan(sm, hypotheses, xy, "en", _client(request), floor, admission)
         except APIError as exc:  # what was heard helps with a plan that failed (an unknown word, a bad start)
             exc.extra["hypotheses"] = heard
             raise
+        response.headers["Server-Timing"] = admission.timing()
         return {**out, "hypotheses": heard}
 
     return app
@@ -314,10 +321,16 @@ def _client(request: Request) -> str:
 
 
 async def _plan(
-    sm: ServedModel, source: Any, start: Any, lang: str | None, client: str = "", floor: int | str | None = None
+    sm: ServedModel,
+    source: Any,
+    start: Any,
+    lang: str | None,
+    client: str = "",
+    floor: int | str | None = None,
+    admission: Admission | None = None,
 ) -> dict:
     try:
-        result = await sm.plan_async(source, start, lang, client, floor)
+        result = await sm.plan_async(source, start, lang, client, floor, admission)
     except InstructionError as exc:
         raise APIError(exc.http_status, str(exc), place_words=sm.place_words, cause=type(exc).__name__) from None
     except PlanningError as exc:

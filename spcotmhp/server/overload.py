@@ -15,6 +15,18 @@ So an admitted request is expected to be answered within about ``max_wait`` (1 s
 budget, so that an admitted plan finishes within its budget even when the estimate is 4 x low), whatever the number
 of clients; the others get 503 ``Overloaded`` with ``Retry-After`` the expected wait in whole seconds (at least 1).
 With nothing ahead a request is always admitted, so the service never refuses everyone.
+
+An estimate can be wrong (other processes take the cores, a burst arrives between two answers), so it is backed by
+a deadline on the wait itself (:class:`Admission`): the guard stamps each admitted request with the time it
+entered, and the planning lane, when the request's turn comes, plans it only if it has waited at most
+``max_wait`` since, or if no plan ran ahead of it on the lane (then it waited only for the server to read it,
+and planning it keeps the service from shedding everyone); else it is shed then, with the same 503
+``Overloaded``, before any planning. So **every plan the service answers (200) either started within
+``max_wait`` of the server's reading the request, or had no plan ahead of it**, and is answered within that
+plus its own plan time, whatever the load, inside or outside the service; every other request gets its 503 at
+once (the estimate) or when its turn comes past ``max_wait`` (the deadline), a shed that costs the lane nothing.
+The 200s carry the measured wait and the plans ahead in a ``Server-Timing: queue;dur=<ms>;desc="<n> ahead"``
+header. A shed is no answer to time the service by: it does not enter the estimate's interval.
 """
 
 from __future__ import annotations
@@ -22,13 +34,62 @@ from __future__ import annotations
 import json
 import math
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
-from spcotmhp.server.scheduling import RETRY_AFTER_S
+from spcotmhp.server.scheduling import RETRY_AFTER_S, ServiceBusy
 
 SMOOTHING = 0.1  # weight of the latest answer: about the last ten count, so the estimate follows a change in load
 PLAN_PATHS = ("/plan", "/plan/audio")
+
+
+ENTERED = "spcotmhp.entered"  # the key of the guard's entry time in the ASGI scope's state
+SHED = "spcotmhp.shed"  # ... and of the lane's refusal past the deadline
+
+
+class Overloaded(ServiceBusy):
+    """The request waited, or would wait, longer than ``max_wait`` for the requests ahead of it (503)."""
+
+
+@dataclass
+class Admission:
+    """One plan request's deadline on its wait (module docstring): ``entered`` (``time.perf_counter()``, stamped by
+    the guard), ``max_wait`` seconds; ``waited`` and ``ahead`` (the plans the lane finished while it was queued)
+    are set when the plan starts; ``state`` is the request's ASGI state, where a shed is noted for the
+    guard (a refusal is no answer to time the service by)."""
+
+    entered: float
+    max_wait: float
+    state: dict = field(default_factory=dict)
+    waited: float | None = None
+    ahead: int = 0
+
+    @classmethod
+    def of(cls, scope: Mapping[str, Any], max_wait: float) -> Admission:
+        """The admission of a request the guard stamped (a request it did not see counts from now)."""
+        state = scope.get("state")
+        state = state if isinstance(state, dict) else {}
+        entered = state.get(ENTERED)
+        return cls(time.perf_counter() if entered is None else float(entered), max_wait, state)
+
+    def start(self, ahead: int) -> None:
+        """Called when the plan is about to run (on the lane's worker, holding its lock), ``ahead`` plans having
+        finished on the lane since the request was queued: Overloaded when it has waited longer than ``max_wait`` behind
+        them; else the wait is recorded. A request with nothing planned ahead of it is always planned (as the
+        guard always admits one with nothing ahead), so the service never sheds everyone."""
+        waited = time.perf_counter() - self.entered
+        if waited > self.max_wait and ahead > 0:
+            self.state[SHED] = True
+            raise Overloaded(
+                f"the service is overloaded: this plan request waited {waited:.1f} s for the {ahead} plans ahead of "
+                f"it, more than the {self.max_wait:g} s a request may wait; try again in {RETRY_AFTER_S} s"
+            )
+        self.waited, self.ahead = waited, ahead
+
+    def timing(self) -> str:
+        """The ``Server-Timing`` header of the answer: the measured wait in milliseconds and the plans ahead."""
+        return f'queue;dur={1000 * (self.waited or 0.0):.1f};desc="{self.ahead} ahead"'
 
 
 class LoadEstimate:
@@ -48,8 +109,13 @@ class LoadEstimate:
         self.in_flight += 1
         return time.perf_counter()
 
-    def leave(self, entered: float) -> None:
-        """One answer: the interval since the previous answer when others were waiting, else its own time."""
+    def leave(self, entered: float, timed: bool = True) -> None:
+        """One answer: the interval since the previous answer when others were waiting, else its own time; not
+        ``timed`` (shed past its deadline, unplanned) it only leaves: a refusal's speed says nothing of the
+        plans', and counting it would lower the estimate exactly when the service is overloaded."""
+        if not timed:
+            self.in_flight -= 1
+            return
         now = time.perf_counter()
         busy = self.in_flight > 1 and self._last > entered
         sample = now - self._last if busy else now - entered
@@ -75,10 +141,12 @@ class OverloadGuard:
             await _overloaded(send, wait, self.load.in_flight, self.max_wait)
             return
         entered = self.load.enter()
+        state = scope.setdefault("state", {})
+        state[ENTERED] = entered  # the lane's deadline counts from here (Admission)
         try:
             await self.app(scope, receive, send)
         finally:
-            self.load.leave(entered)
+            self.load.leave(entered, timed=not state.get(SHED, False))
 
 
 async def _overloaded(send: Any, wait: float, ahead: int, max_wait: float) -> None:

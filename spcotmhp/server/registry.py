@@ -45,6 +45,7 @@ if TYPE_CHECKING:
     from spcotmhp.building.model import BuildingModel
     from spcotmhp.building.plan import BuildingPlan
     from spcotmhp.building.planner import BuildingPlanner
+    from spcotmhp.server.overload import Admission
 
 NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 
@@ -149,9 +150,16 @@ class ServedModel:
         return self.building.plan(instruction, start, floor, lang=lang)
 
     async def plan_async(
-        self, instruction: Any, start: Sequence[float], lang: str | None = None, client: str = "", floor: object = None
+        self,
+        instruction: Any,
+        start: Sequence[float],
+        lang: str | None = None,
+        client: str = "",
+        floor: object = None,
+        admission: Admission | None = None,
     ) -> Plan | BuildingPlan:
-        """Plan on the light or heavy lane by the instruction's cost, within the budget (module docstring)."""
+        """Plan on the light or heavy lane by the instruction's cost, within the budget (module docstring), and
+        within ``admission``'s deadline on the wait (:class:`spcotmhp.server.overload.Admission`)."""
         cost = estimate_cost(instruction)
         check_cost(cost, self.budget)
         heavy = cost > self.budget.light_cost
@@ -160,6 +168,7 @@ class ServedModel:
             client,
             self.budget.time_budget,
             lambda: self._planned(instruction, start, lang, floor, heavy),
+            admission=admission,
         )
 
     def _heavy_planner(self) -> HierarchicalPlanner:

@@ -20,7 +20,8 @@ the planner cannot be interrupted. So that such requests cannot starve the other
   background and keeps its lane slot until it does, so a client cannot pile up work by timing out.
   Every 503 carries ``Retry-After: 1`` (``RETRY_AFTER_S``).
 * **Overload.** Before any of this, a plan request expected to wait longer than ``max_wait`` for the requests
-  ahead of it is refused at once (:mod:`spcotmhp.server.overload`).
+  ahead of it is refused at once, and one that has waited longer when its turn comes is refused then, unplanned
+  (:mod:`spcotmhp.server.overload`).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from collections import Counter
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from spcotmhp.errors import InstructionTooLarge, PlanningError, PlanningTimeout, SpcotmhpError
 
@@ -40,6 +41,13 @@ T = TypeVar("T")
 # the Retry-After (seconds) of every 503: a lane frees its slot when a plan ends (about a millisecond for a light
 # one), and a timed-out plan runs on for at most its own length; one second is the shortest whole value
 RETRY_AFTER_S = 1
+
+
+class Deadline(Protocol):
+    """What a lane asks of a request's deadline (:class:`spcotmhp.server.overload.Admission`) when its turn
+    comes: ``start(ahead)`` raises to shed it, ``ahead`` the calls the lane finished while it waited."""
+
+    def start(self, ahead: int) -> None: ...
 
 
 class ServiceBusy(PlanningError):
@@ -94,6 +102,7 @@ class Lane:
         self._guard = threading.Lock()
         self._total = 0
         self._clients: Counter[str] = Counter()
+        self.finished = 0  # calls run (counted under ``lock``): those a queued request waited for
 
     def admit(self, client: str) -> None:
         """Count a request in, or raise ``busy`` (the message says which limit was reached)."""
@@ -126,15 +135,28 @@ class Lane:
 
 
 async def run_in_lane(
-    lane: Lane, client: str, budget: float, call: Callable[[], T], timeout: Callable[[str], Exception] | None = None
+    lane: Lane,
+    client: str,
+    budget: float,
+    call: Callable[[], T],
+    timeout: Callable[[str], Exception] | None = None,
+    admission: Deadline | None = None,
 ) -> T:
     """Run ``call`` under ``lane.lock`` on the lane's worker, admitted for ``client``, waiting at most
-    ``budget`` seconds (module docstring)."""
+    ``budget`` seconds (module docstring); with an ``admission``, only if its wait is within its deadline when its
+    turn comes (:class:`spcotmhp.server.overload.Admission`)."""
     lane.admit(client)
+
+    queued = lane.finished
 
     def locked() -> T:
         with lane.lock:
-            return call()
+            if admission is not None:
+                admission.start(lane.finished - queued)
+            try:
+                return call()
+            finally:
+                lane.finished += 1
 
     try:
         future: Future = lane.worker.submit(locked)

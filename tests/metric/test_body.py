@@ -122,7 +122,7 @@ def test_bad_options_are_one_line(kwargs: dict, message: str) -> None:
     ("text", "message"),
     [
         ("a: 1\n", "has no global_costmap section"),
-        (NAV2.format(radius="wide", extra=""), "robot_radius must be a number > 0"),
+        (NAV2.format(radius="wide", extra=""), "robot_radius must be a number in \\(0, 100\\] m"),
         (NAV2.format(radius=0.3, extra='      footprint: "[[0.3, 0.2]"\n'), 'footprint must be a string "\\[\\['),
         (
             NAV2.format(radius=0.3, extra="      footprint_padding: -1\n"),

@@ -327,7 +327,7 @@ def test_exponent_numbers_as_nav2_reads_them(tmp_path: Path, keys: dict, resolut
     [
         ({"resolution": "1e-9"}, r"resolution' must be a number of metres per cell in 0.0001..1000, got 1e-09"),
         ({"ox": "1e308"}, r"origin x and y must lie within \+-1e\+06 m"),
-        ({"ox": "1e400"}, r"key 'origin' must be a finite number, got '1e400'"),
+        ({"ox": "1e400"}, r"key 'origin' must be a finite number, got inf"),  # YAML 1.2: a float, too large
         ({"resolution": ".nan"}, r"key 'resolution' must be a finite number, got nan"),
         ({"resolution": ".inf"}, r"key 'resolution' must be a finite number, got inf"),
         ({"resolution": "nan"}, r"key 'resolution' must be a finite number, got 'nan'"),
