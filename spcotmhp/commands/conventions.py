@@ -152,17 +152,10 @@ def plain_table(headers: Sequence[str], rows: Sequence[Sequence[Any]], title: st
 
 @contextmanager
 def sweep_progress(total: int, label: str) -> Iterator:
-    """A rich progress bar on stderr counting Gibbs sweeps; yields the ``progress(n)`` callback."""
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    """A progress bar (:func:`spcotmhp.progress.progress_bar`) counting Gibbs sweeps; yields the ``progress(n)``
+    callback."""
+    from spcotmhp.progress import progress_bar
 
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        transient=False,
-    ) as bar:
+    with progress_bar() as bar:
         task = bar.add_task(label, total=total)
         yield lambda n: bar.advance(task, n)

@@ -27,8 +27,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import numpy as np
-from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import Progress
 
 from spcotmhp.errors import SpcotmhpError
 from spcotmhp.evaluation.context import HomeContext, build_context
@@ -39,6 +38,7 @@ from spcotmhp.evaluation.tasks import HomeTasks, Task, TaskKind, make_tasks, sub
 from spcotmhp.evaluation.work import TaskRecord, chunks, evaluate_chunk, warm_up
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.limits import MAX_JOBS, MAX_SEEDS, check_count
+from spcotmhp.progress import progress_bar
 
 
 @dataclass
@@ -135,19 +135,6 @@ def check_methods(methods: Iterable[str]) -> list[str]:
     if bad or not names:
         raise SpcotmhpError(f"unknown method(s) {', '.join(bad) or '(none given)'}; accepted: {', '.join(METHODS)}")
     return list(dict.fromkeys(names))
-
-
-def progress_bar(quiet: bool = False) -> Progress:
-    """A rich progress bar on stderr."""
-    return Progress(
-        TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        disable=quiet,
-        transient=False,
-    )
 
 
 def evaluate_home(
