@@ -51,7 +51,7 @@ from spcotmhp.language.placewords import Token
 from spcotmhp.language.repairs_en import BOUNDS as _BOUNDS
 from spcotmhp.language.repairs_en import answer, owners, pieces, repairs
 from spcotmhp.language.statements_en import CLOCK, stated
-from spcotmhp.language.table import WordTable
+from spcotmhp.language.table import WordTable, filler_at
 from spcotmhp.language.talk import admissible
 
 _DESTINATION = ("TO", "VIA", "ENTER")
@@ -130,7 +130,7 @@ def ease_en(
     notes: list[str] = []
     out = answer(owners(pieces(list(toks), frozenset(place_words), units), frozenset(place_words)))
     out = repairs(_until_told(_manner(_text_speak(_fronted(out)), talk), units), units, notes)
-    kept, said = _asides(out, talk, units)
+    kept, said = _asides(out, talk, units, table)
     if said or kept != list(toks):
         return kept, said, notes
     return None
@@ -216,7 +216,9 @@ def _until_told(toks: list[Token], units: Sequence[str]) -> list[Token]:
     return out
 
 
-def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) -> tuple[list[Token], list[str]]:
+def _asides(
+    toks: list[Token], talk: Mapping[str, Any], units: Sequence[str], table: WordTable | None = None
+) -> tuple[list[Token], list[str]]:
     """Rules 2 and 3: the parts between edges, commas and full stops that are addresses, interjections or talk."""
     neutral = frozenset(talk.get("neutral", ()))
     meaning = frozenset(talk.get("meaning", ()))
@@ -224,6 +226,7 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
     address = frozenset(talk.get("address", ())) | frozenset(talk.get("kin", ()))
     interjections = frozenset(talk.get("interjections", ()))
     times = frozenset(talk.get("times_in_statements", ())) | CLOCK
+    social = interjections | address  # a filler before a part's opener ("please, thanks a bunch") opens nothing
     kept: list[Token] = []
     said: list[str] = []
     start = 0
@@ -241,7 +244,7 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
                     meaning,
                     subjects,
                     interjections | address,
-                    units[toks[start - 1].end if start else 0 :],
+                    _opening(units[toks[start - 1].end if start else 0 :], table, social),
                 )
             )
         )
@@ -272,6 +275,18 @@ def _asides(toks: list[Token], talk: Mapping[str, Any], units: Sequence[str]) ->
     while kept and kept[0].kind in _BOUNDS:
         kept.pop(0)
     return kept, said
+
+
+def _opening(said: Sequence[str], table: WordTable | None, social: frozenset[str]) -> list[str]:
+    """The units of a part from its first word that is not a filler or a comma, unless a social word ("please,
+    thanks a bunch", "if you can, thanks a bunch": the opener is "thanks")."""
+    i = 0
+    while i < len(said) and table is not None and said[i] not in social:
+        n = filler_at(said, i, table, frozenset()) or (said[i] in table.fillers or said[i] == ",")
+        if not n:
+            break
+        i += n
+    return list(said[i:])
 
 
 def _addressing(part: Sequence[Token], address: frozenset[str], interjections: frozenset[str]) -> bool:

@@ -33,16 +33,17 @@ _JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
 def _filler_fitting(
     chars: list[str], i: int, table: WordTable, places: PlaceLexicon, hit: tuple[str, str, int] | None
 ) -> tuple[str, str, int] | None:
-    """The longest match, or a shorter filler when the longest filler strands the character after it and the
-    shorter one lets a match reach past it (えっと + ねえ, not えっとね + a stray え): two fillers said one after the
-    other are both left out, whichever way their characters could be cut."""
+    """The longest match, or a shorter entry when the longest filler strands the character after it and the
+    shorter one lets a match reach past it (えっと + ねえ, not えっとね + a stray え; で + すみません, not です +
+    みません): a filler said next to another word is left out, whichever way their characters could be cut."""
     if hit is None or hit[0] or i + hit[2] >= len(chars) or longest_match(chars, i + hit[2], table, places):
         return hit
     for k in range(hit[2] - 1, 0, -1):
-        if table.phrases.get(tuple(chars[i : i + k])) == "":
+        kind = table.phrases.get(tuple(chars[i : i + k]))
+        if kind is not None:  # a shorter filler, or a word of a class (で + すみません, not です + a stray みません)
             after = longest_match(chars, i + k, table, places)
             if after is not None and k + after[2] > hit[2]:
-                return "", "", k
+                return kind, "", k
     return hit
 
 

@@ -115,9 +115,10 @@ def _restarted(toks: Sequence[Any], units: Sequence[str], place_words: Sequence[
     cancels (or a "no" said alone between full stops), a part that reads on its own with a place to go to is the
     instruction, and what came before it is taken back (said in the explanation). "forget the kitchen, ..." takes
     back its place too. Anything else (nothing to go to after it: "never mind, the kitchen's fine") stays refused."""
+    fillers = word_table("en").fillers
     marks = [
         k for k, t in enumerate(toks)
-        if t.kind == "CANCEL" or t.surface in _RESTARTS
+        if t.kind == "CANCEL" or " ".join(w for w in t.surface.split() if w not in fillers) in _RESTARTS
         or t.kind in ("NO", "CORRECTION") and _alone(toks, k)
     ]  # fmt: skip
     if not marks or not any(t.kind == "PLACE" for t in toks[: marks[-1]]):
@@ -138,7 +139,7 @@ def _restarted(toks: Sequence[Any], units: Sequence[str], place_words: Sequence[
         return None
     if not reading.visit:
         return None
-    said = " ".join(t.surface for t in toks[: marks[-1] + 1])  # the tokens as read: fillers change nothing
+    said = " ".join(w for t in toks[: marks[-1] + 1] for w in t.surface.split() if w not in fillers)  # as read
     return replace(reading, heard=(f"took back {excerpt(said)}", *reading.heard))
 
 
