@@ -12,8 +12,20 @@ import pytest
 from tests.test_import_cycles import import_graph
 
 LAYERS: list[tuple[str, ...]] = [
-    # the package root and what every layer may use: errors, bounds, files, log-space arithmetic
-    ("", "errors", "limits", "logspace", "safe_read", "safe_write", "extras", "collector", "numba_cache", "lazy"),
+    # the package root and what every layer may use: errors, bounds, files, log-space arithmetic, progress bars
+    (
+        "",
+        "errors",
+        "limits",
+        "logspace",
+        "safe_read",
+        "safe_write",
+        "extras",
+        "collector",
+        "numba_cache",
+        "lazy",
+        "progress",
+    ),
     ("metric", "language"),  # the occupancy/cost map; the instruction grammar
     ("datasets",),  # maps + trajectories + utterances on disk
     ("learning",),  # the paper's model and samplers (Sections 3.1-3.2)

@@ -297,6 +297,14 @@ def save_map(
     text = yaml.safe_dump(meta, sort_keys=False, default_flow_style=None)
     atomic_write(yaml_path, lambda tmp: tmp.write_text(text, encoding="utf-8"), MapError)
 
+    _warn_if_changed(occ_map, pixels, yaml_path, mode, occupied, free)
+    return yaml_path
+
+
+def _warn_if_changed(
+    occ_map: OccupancyMap, pixels: np.ndarray, yaml_path: Path, mode: str, occupied: float, free: float
+) -> None:
+    """Warn when the saved pixels would load back as another grid than ``occ_map`` (map_saver's lossy modes)."""
     if pixels.ndim == 3:
         ints = pixels.astype(np.int64)
         back = pixels_to_grid(ints[..., :3], ints[..., 3], 255, mode, False, occupied, free)
@@ -308,9 +316,8 @@ def save_map(
         warnings.warn(
             f"saved map {yaml_path} will load back with {changed} cells changed (map_saver's {mode} mode "
             f"with thresholds {occupied}/{free}); use mode='raw' for an exact copy",
-            stacklevel=2,
+            stacklevel=3,
         )
-    return yaml_path
 
 
 def grid_to_pixels(data: np.ndarray, mode: str, occupied_thresh: float, free_thresh: float) -> np.ndarray:
