@@ -61,7 +61,6 @@ import numpy as np
 import rclpy
 from geometry_msgs.msg import Point, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import OccupancyGrid, Path
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
@@ -82,6 +81,7 @@ from spcotmhp.ros.shapes import (
     quaternion_yaw,
     yaw_quaternion,
 )
+from spcotmhp.ros.spinning import bounded_shutdown, spin_until_shutdown
 from spcotmhp.ros.teaching_log import TeachingLog
 from spcotmhp.ros.worker import BoundedWorker
 from spcotmhp.teaching.teach import planner_for, teach
@@ -354,14 +354,15 @@ def run_node(
 
 
 def serve(node: SpcotmhpNode) -> None:
-    """Spin ``node`` until Ctrl-C or SIGTERM, then stop its teaching thread and destroy it."""
+    """Spin ``node`` until Ctrl-C or SIGTERM, then stop its threads, destroy it and shut rclpy down, within a
+    bounded time (:mod:`spcotmhp.ros.spinning`)."""
     end_startup()
     try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        spin_until_shutdown(node)
     finally:
-        node.teacher.shutdown()
-        if node.hearing is not None:
-            node.hearing.shutdown()
-        node.destroy_node()
+        with bounded_shutdown(f"node {node.get_name()!r}"):
+            node.teacher.shutdown()
+            if node.hearing is not None:
+                node.hearing.shutdown()
+            node.destroy_node()
+            rclpy.try_shutdown()

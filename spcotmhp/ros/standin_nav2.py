@@ -38,13 +38,14 @@ from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from std_msgs.msg import Empty, String
 
 from spcotmhp.ros.nav2_types import import_nav2_msgs
 from spcotmhp.ros.node import EVENTS, LATCHED
 from spcotmhp.ros.shapes import quaternion_yaw, yaw_quaternion
+from spcotmhp.ros.spinning import bounded_shutdown, spin_until_shutdown
 
 FAILED_TO_MAKE_PROGRESS = 105  # FollowPath's result code for a controller that cannot go on (FollowPath.action)
 NO_LIMIT = 0.0  # SpeedLimit.speed_limit meaning "no limit" (SpeedLimit.msg)
@@ -265,12 +266,11 @@ def main(argv: list[str] | None = None) -> None:
     executor = MultiThreadedExecutor(num_threads=4)
     executor.add_node(node)
     try:
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        spin_until_shutdown(node, executor)
     finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+        with bounded_shutdown("the stand-in Nav2"):
+            node.destroy_node()
+            rclpy.try_shutdown()
 
 
 if __name__ == "__main__":
