@@ -190,18 +190,22 @@ def join_no(items: list[Token]) -> list[Token]:
 
 
 _JA_NUMBER_AFTER = re.compile(
-    r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
+    r"^(?:の)?(?:#|ナンバー|シャープ|no\.?)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)?$"
 )
-"""A number after a place word: 寝室2, 寝室#2, 寝室の2番; ナンバー (number) and シャープ (the name of '#', as a speech
-recogniser spells it out) say the sign the robot shows."""
+"""A number after a place word: 寝室2, 寝室#2, 寝室の2番; ナンバー (number), シャープ (the name of '#', as a speech
+recogniser spells it out) and No. say the sign the robot shows."""
 _JA_NUMBER_AGAIN = re.compile(
     r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:番|ばん)?(?:だ|じゃ|や|です)?$"
 )
 """A number alone after a correction (寝室 #1 いや #2 だ, 寝室の3番 いや 1番): the instance of the place just
 corrected (rule 8); a copula after it says "it is #2"."""
 _JA_NUMBER_BEFORE = re.compile(
-    r"^#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の$"
+    r"^(?:#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の"
+    r"|第(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:の)?)$"
 )
+"""A number before a place word: 2番の寝室, and 第3寝室 (第 marks a number in a name, as "No." does: 第3会議室).
+An ordinal (3番目の寝室, "the second bedroom") is no such number: it counts along something the map does not
+hold (the frozen held-out corpora refuse it), so it stays refused."""
 _JA_NUMERALS = {"いち": 1, "に": 2, "さん": 3, "よん": 4, "ご": 5}
 
 
@@ -302,7 +306,7 @@ def _size_after(items: list[Token]) -> list[Token]:
 def _ja_number(match: re.Match | None, surface: str) -> int | None:
     if match is None:
         return None
-    said = match.group(1)
+    said = next(g for g in match.groups() if g is not None)
     if said in _JA_NUMERALS:
         if "番" not in surface and "ばん" not in surface:
             return None

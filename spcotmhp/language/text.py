@@ -33,6 +33,25 @@ _JOINED_NOUNS = ("一般", "サ変接続", "固有名詞", "形容動詞語幹",
 """janome (IPADIC) noun subclasses that continue a compound noun; pronouns (代名詞), dependent nouns (非自立)
 and numbers (数) do not, so ここ, こと and ２ stay words of their own."""
 _lock = threading.Lock()
+_ARROWS = ((0x2190, 0x21FF), (0x27F0, 0x27FF), (0x2900, 0x297F), (0x2B00, 0x2BFF))
+_LAUGH = re.compile(r"(?<=[\u3040-\u30ff\u3400-\u9fff!?。、])w+(?=[\s!?。、]|$)")
+
+
+def without_pictographs(text: str) -> str:
+    """``text`` with pictographs (emoji, dingbats: Unicode symbols "So" and their modifiers, joiners and variation
+    selectors) and texting laughter ("w" after Japanese: 行っといてw) as spaces: they say how the speaker feels,
+    never where to go. Arrows stay ("キッチン→風呂" orders two places). English units already drop them.
+
+    >>> without_pictographs("キッチン行ってもらえる？😊"), without_pictographs("風呂→寝室ww")
+    ('キッチン行ってもらえる？ ', '風呂→寝室 ')
+    """
+    out = []
+    for ch in _LAUGH.sub(" ", text):
+        code = ord(ch)
+        arrow = any(lo <= code <= hi for lo, hi in _ARROWS)
+        mark = unicodedata.category(ch) == "So" and not arrow or 0x1F3FB <= code <= 0x1F3FF or ch in "\u200d\ufe0f"
+        out.append(" " if mark else ch)
+    return "".join(out)
 
 
 def normalise(text: str) -> str:

@@ -219,3 +219,18 @@ def test_shown_labels_replace_only_whole_taught_names(labels):
     assert len(shown) == len(labels)
     for label, out in zip(labels, shown, strict=True):
         assert out == (label.replace("東 廊下", "東の廊下") if label.startswith("東 廊下") else label)
+
+
+@pytest.mark.parametrize("said", ["go to the second bedroom", "go to the 3rd bedroom", "Go to the First bedroom."])
+def test_an_ordinal_is_no_screen_number(said):
+    """Where no taught name holds it, an ordinal counts along something the map does not hold: no instance."""
+    assert [t.number for t in tokens(said, EN, ["bedroom", "kitchen"]) if t.kind == "PLACE"] == [None]
+
+
+@pytest.mark.parametrize(
+    ("said", "number"),
+    [("第3寝室へ", 3), ("第2の寝室", 2), ("寝室No.1", 1), ("三番目の寝室", None), ("3番目の寝室に行って", None)],
+)
+def test_japanese_dai_and_no_name_the_instance_shown(said, number):
+    places = [t for t in tokens(said, word_table("ja"), ["寝室", "キッチン"]) if t.kind == "PLACE"]
+    assert [t.number for t in places] == [number]

@@ -1,0 +1,69 @@
+"""Japanese as people say it, session 7 of issue 34 (the ja.json data and spcotmhp/language/text.py): a size said
+without 一番 (大きい寝室, 小さいほうの寝室, as English "the big bedroom"), 次 for "next", とりあえず as a hedge, 第N and
+No.N as a screen number, pictographs and texting laughter passed over. Each with cases that must stay refused."""
+
+from __future__ import annotations
+
+import pytest
+
+from spcotmhp.errors import InstructionError
+from spcotmhp.language.meaning import Reading
+from spcotmhp.language.reading import read
+from spcotmhp.language.text import without_pictographs
+from tests.helpers.vocabulary import PLACE_WORDS_JA
+
+JA = PLACE_WORDS_JA
+
+
+def _visit(r: Reading) -> list[str]:
+    return [p.words[0] + (f"#{p.number}" if p.number else "") for p in r.visit]
+
+
+@pytest.mark.parametrize(
+    "text, size",
+    [
+        ("大きい寝室行ってて", "largest"),
+        ("小さいほうの寝室へ", "smallest"),
+        ("大きい方の寝室", "largest"),
+        ("広い寝室で待ってて", "largest"),
+        ("せまい寝室に行って", "smallest"),
+    ],
+)
+def test_a_size_without_ichiban_picks_by_size(text, size):
+    r = read(text, JA, "ja")
+    assert len(r.visit) == 1 and r.visit[0].words[0] == "寝室" and r.visit[0].relation.kind == size
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("次物置き", ["物置き"]),
+        ("ダイニング行って次キッチン", ["ダイニング", "キッチン"]),
+        ("とりあえずリビングに行っといて", ["リビング"]),
+        ("第3寝室へ移動してください", ["寝室#3"]),
+        ("寝室No.1", ["寝室#1"]),
+        ("玄関、よろしくね🙏", ["玄関"]),
+        ("キッチン行ってもらえる？😊", ["キッチン"]),
+        ("キッチン行っといてーw", ["キッチン"]),
+    ],
+)
+def test_next_hedges_numbers_and_pictographs(text, visit):
+    assert _visit(read(text, JA, "ja")) == visit
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "3番目の寝室に行って",  # an ordinal counts along something the map does not hold
+        "次の寝室",  # "the next bedroom": next after what?
+    ],
+)
+def test_what_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, JA, "ja")
+
+
+def test_arrows_stay_and_pictographs_go():
+    assert without_pictographs("風呂→寝室") == "風呂→寝室"
+    assert without_pictographs("玄関🙏") == "玄関 " and without_pictographs("玄関👍🏽") == "玄関  "
+    assert without_pictographs("トイレwc") == "トイレwc"  # a w that is part of a word stays
