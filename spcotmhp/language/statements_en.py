@@ -13,7 +13,12 @@ not the robot's. It is passed over, and said. What keeps a part in the instructi
 * a length of time where the instruction waits without one ("wait in the kitchen, I'll be back in ten minutes":
   the length may be the wait's);
 * words referring back to a place as the clause's object ("one"): "the big one is mine";
-* a time of day or an order in time ("go to the bath, it's for tonight": when to go).
+* a time of day or an order in time ("go to the bath, it's for tonight": when to go), where the subject may stand
+  for the instruction ("it", "that") or the robot is in the clause ("I need you there tonight"); after someone
+  else ("my taxi should be here soon", "I'll be there in a moment") the time is theirs.
+
+A noun that also qualifies a room ("guest" of "guest room") is a subject after a possessive and before a verb ("our
+guest is staying there"); "be along" (will come) is no passage when no place follows it.
 """
 
 from __future__ import annotations
@@ -27,6 +32,8 @@ _ALLOWED = frozenset({"WORD", "IS", "GO", "AND", "LINK", "OF", "THAT", "IT", "TH
 """Classes a statement may hold: none carries navigation meaning without a place (and a statement has none)."""
 _POSSESSIVES = frozenset({"my", "our", "his", "her", "their", "your"})
 _OBJECTS = frozenset({"one", "ones"})
+_INSTRUCTION_SUBJECTS = frozenset({"it's", "its", "that's", "that'd", "that'll", "this", "this's"})
+"""Subjects that may stand for the instruction itself ("it's for tonight"): a time word after them keeps the part."""
 CLOCK = frozenset(
     {"noon", "midnight", "o'clock", "am", "pm", "till", "til", "while", "during", "after", "before", "until"}
 )
@@ -43,9 +50,22 @@ def stated(part: Sequence[Token], subjects: frozenset[str], sentence: Sequence[T
         return False
     durations = sum(t.kind == "DURATION" for t in sentence) - sum(t.kind == "DURATION" for t in part)
     waits_without_length = any(t.kind == "WAIT" for t in sentence) and not durations
+    # a time word is the subject's when the subject is someone and the robot is not in the clause ("my taxi should
+    # be here soon"); after "it" or "that", which may stand for the instruction, it may say when to go
+    someone = toks[0].kind != "IT" and toks[0].surface not in _INSTRUCTION_SUBJECTS
+    times = frozenset() if someone and not any(t.surface == "you" for t in toks) else times
     verb = False
     for k, t in enumerate(toks):
         nxt = toks[k + 1] if k + 1 < len(toks) else None
+        prev = toks[k - 1] if k else None
+        if k == 0 and t.kind == "MODIFIER" and owned:
+            continue  # "our guest is staying there": a noun that also qualifies a room ("guest room"), here a subject
+        if t.kind == "MID_CORRECTION" and prev is not None and prev.kind == "AT":
+            continue  # "I'll be there in a moment": the subject's time, not a pause of the instruction
+        if t.kind == "VIA" and t.surface == "along" and prev is not None and prev.surface == "be" and _no_place(nxt):
+            continue  # "we'll be along (shortly)": will come, no place passed
+        if t.kind == "AT" and nxt is not None and nxt.kind == "MID_CORRECTION":
+            continue
         if t.kind == "DURATION":
             if waits_without_length or k == 0 or toks[k - 1].kind not in ("TO", "AT"):
                 return False  # "for ten minutes" is a wait's; "in ten minutes" after a verb is the subject's time
@@ -67,6 +87,8 @@ def _opens(toks: Sequence[Token], subjects: frozenset[str], owned: bool) -> bool
     first = toks[0]
     if first.kind == "IT":
         return True  # "it's quieter there"
+    if first.kind == "MODIFIER" and owned:
+        return _finite(toks[1]) and "NOUN" in ew.pos(first.surface)  # "our guest is"
     if first.kind != "WORD":
         return False
     word = first.surface
@@ -77,6 +99,11 @@ def _opens(toks: Sequence[Token], subjects: frozenset[str], owned: bool) -> bool
     pos = ew.pos(word)
     noun = "NOUN" in pos or "PROPN" in pos or word.endswith("'s") and ew.known(word[:-2])
     return noun and (owned or _finite(toks[1]) or not ew.infinitive(word))  # not "speed it up", "park there"
+
+
+def _no_place(tok: Token | None) -> bool:
+    """Nothing, or an adverb of no class ("shortly"), after a particle: no place follows it."""
+    return tok is None or tok.kind == "WORD" and "ADV" in ew.pos(tok.surface)
 
 
 def _finite(tok: Token) -> bool:

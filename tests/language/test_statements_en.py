@@ -23,6 +23,11 @@ EN = PLACE_WORDS_EN
         ("Go and sit in the living room, I'll join you in a minute", "living"),
         ("Please go to the corridor, you are blocking the door.", "corridor"),
         ("Go to the toilet, I want to show the guests how you move", "toilet"),
+        ("Could you go to the washroom? Our guest is staying there.", "washroom"),  # a noun that also names a room
+        ("Go to the storage room, I'll be there in a moment.", "storeroom"),
+        ("Go to the storage room, I'll be there soon.", "storeroom"),  # the speaker's time, not the robot's
+        ("Please go to the toilet, we'll be along shortly.", "toilet"),
+        ("Hi there! Would you go to the entrance? My taxi should be here soon. Thank you!", "entrance"),
     ],
 )
 def test_a_statement_of_someone_else_is_passed_over(text, goal):
@@ -40,6 +45,9 @@ def test_a_statement_of_someone_else_is_passed_over(text, goal):
         "go to the living room, but like, speed it up",  # an order ("speed" is no subject here)
         "go to the kitchen, park there",
         "go to the kitchen, you are going to the bath",  # "you are" before a motion somewhere
+        "go to the bath, it's for tonight",  # "it" may be the instruction: tonight is when to go
+        "go to the bath, I need you there tonight",  # the robot is in the clause: its time
+        "go to the kitchen, we'll be along to the garage",  # a place after the particle
     ],
 )
 def test_what_a_statement_may_not_hold_keeps_it_in_the_instruction(text):
