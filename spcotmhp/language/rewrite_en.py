@@ -296,10 +296,10 @@ _CONTENT_LINKS = ("with", "where", "that has", "which has")
 
 def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> list[Token]:
     """Rule 9: a room told by what is in it ("the bathroom with the tub", "the bathroom, the one with the washing
-    machine", "the room where the toilet is", "go where the washing machine is") is the place of the map that holds
-    that thing (``contents`` in ``en.json``), among those the word before may name ("bathroom": bath, toilet or
-    washroom; "room", "one" or nothing: any); where no place or several do, the words stay as said, to be
-    refused."""
+    machine", "the room where the toilet is", "go where the washing machine is", "the room with the sink and the
+    washing machine": the one holding both) is the place of the map that holds that thing (``contents`` in
+    ``en.json``), among those the word before may name ("bathroom": bath, toilet or washroom; "room", "one" or
+    nothing: any); where no place or several do, the words stay as said, to be refused."""
     out: list[Token] = []
     i = 0
     while i < len(items):
@@ -308,6 +308,8 @@ def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> l
         j = i + 1
         if ambiguous and j + 1 < len(items) and items[j].kind == "COMMA" and items[j + 1].kind == "ONE":
             j += 2  # "the bathroom, the one with the tub"
+        elif ambiguous and j < len(items) and items[j].kind == "ONE":
+            j += 1  # spoken without the pause: "the bathroom the one with the tub"
         if not (ambiguous or head.surface in _ROOM_HEADS or head.surface == "where"):
             out.append(head)
             i += 1
@@ -315,8 +317,15 @@ def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> l
         link = j if head.surface == "where" else j + 1
         linked = head.surface == "where" or (j < len(items) and items[j].surface in _CONTENT_LINKS)
         found = _content(items, link, table) if linked else None
+        while found is not None and found[1] + 1 < len(items) and items[found[1]].kind == "AND":
+            more = _content(items, found[1] + 1, table)  # "the sink and the washing machine": the room with both
+            if more is None:
+                break
+            found = (tuple(w for w in found[0] if w in more[0]), more[1])
         if found is not None:
             names, k = found
+            if k + 1 < len(items) and items[k].kind == "AT" and items[k + 1].kind == "IT":
+                k += 2  # "with the bath in it"
             allowed = set(places.ambiguous[(head.surface,)]) if ambiguous else set(places.words)
             meant = sorted(set(names) & allowed & set(places.words))
             if len(meant) == 1:
@@ -337,7 +346,8 @@ def _content(items: list[Token], at: int, table: WordTable) -> tuple[tuple[str, 
     if items[at].kind == "PLACE" and items[at].surface in table.contents:
         return table.contents[items[at].surface], at + 1
     for n in (2, 1):
-        words = " ".join(t.surface for t in items[at : at + n] if t.kind in ("WORD", "PLACE"))
-        if len(items[at : at + n]) == n and words in table.contents:
+        said = items[at : at + n]
+        words = " ".join(t.surface for t in said)
+        if len(said) == n and all(t.kind in ("WORD", "PLACE") for t in said) and words in table.contents:
             return table.contents[words], at + n
     return None

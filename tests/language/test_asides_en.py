@@ -126,6 +126,10 @@ def test_an_apology_after_a_correction_corrects_nothing_more():
         ("Go where the washing machine is.", ["washroom"]),
         ("go to the room with the bathtub", ["bath"]),
         ("the bathroom with the sink", ["washroom"]),  # a sink is in a kitchen too, but "bathroom" names no kitchen
+        ("go to the room with the sink and the washing machine", ["washroom"]),  # the room holding both
+        ("go to the room with the sink and the fridge", ["kitchen"]),
+        ("go to the bathroom the one with the tub", ["bath"]),  # the apposition spoken without its pause
+        ("Please go to the bathroom with the bath in it.", ["bath"]),
     ],
 )
 def test_a_room_told_by_what_is_in_it(text, visit):
@@ -139,6 +143,7 @@ def test_a_room_told_by_what_is_in_it(text, visit):
         "go to the room with the sink",  # kitchen or washroom
         "go to the bathroom with the sofa",  # no place "bathroom" names holds a sofa
         "go to the bathroom",  # bath, toilet or washroom: still which one
+        "go to the room with the sink and the bath",  # no room holds both
     ],
 )
 def test_a_room_told_by_contents_that_do_not_tell_stays_refused(text):
