@@ -49,6 +49,7 @@ from spcotmhp.language.rewrite_en import (
     said_again,
     shared_head_en,
     sizes_en,
+    wait_by_en,
 )
 from spcotmhp.language.rewrite_ja import spoken_tokens
 from spcotmhp.language.table import WordTable, en_units, filler_at, word_table
@@ -90,6 +91,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = master_en(out)
     if "AND" in kinds:
         out = shared_head_en(out)
+    if "WAIT" in kinds:
+        out = wait_by_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

@@ -351,3 +351,18 @@ def _content(items: list[Token], at: int, table: WordTable) -> tuple[tuple[str, 
         if len(said) == n and all(t.kind in ("WORD", "PLACE") for t in said) and words in table.contents:
             return table.contents[words], at + n
     return None
+
+
+_BESIDE = frozenset({"by", "near", "next to", "beside", "close to", "near to", "right by", "nearby"})
+
+
+def wait_by_en(items: list[Token]) -> list[Token]:
+    """A wait "by / near / next to" a place ("go wait by the front door", "stay near the kitchen") is a wait at it:
+    after a verb of staying the words say where the robot stands, and the robot stands at a place's goal point,
+    inside it (a person by the front door is in the entrance); no relation picks one place of several there."""
+    out = list(items)
+    for k in range(1, len(out) - 1):
+        beside = out[k].kind in ("CLOSEST", "NEXT_TO") and out[k].surface in _BESIDE
+        if beside and out[k - 1].kind == "WAIT" and out[k + 1].kind == "PLACE":
+            out[k] = out[k]._replace(kind="AT")
+    return out

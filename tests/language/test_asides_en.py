@@ -404,3 +404,23 @@ def test_names_text_forms_and_other_everyday_words(text, visit):
 def test_a_name_with_no_place_in_the_sentence_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("go wait by the kitchen", ["kitchen"]),
+        ("wait near the kitchen", ["kitchen"]),
+        ("can you please go and stand near the entrance", ["entrance"]),
+        ("stay next to the bath for 5 minutes then go to the toilet", ["bath", "toilet"]),
+    ],
+)
+def test_a_wait_by_a_place_is_a_wait_at_it(text, visit):
+    """rewrite_en.wait_by_en: after a verb of staying, "by / near / next to" says where the robot stands."""
+    assert _read(text)[0] == visit
+
+
+def test_by_after_a_place_still_picks_one():
+    """Not after a wait, "by" keeps its relation: "the bedroom by the kitchen" picks one bedroom."""
+    r = read("go to the bedroom by the kitchen", EN, "en")
+    assert r.visit[0].relation is not None and r.visit[0].relation.args[0].words == ("kitchen",)
