@@ -207,6 +207,11 @@ class Walk:
         m.wait_word = next((self.word(t) for t in toks if t.type == "WAIT"), m.wait_word)
         m.wait_said = next((self.word(t) for t in toks if t.type == "DURATION"), m.wait_said)
 
+    def replaces_again(self, x: Mention, y: Mention) -> bool:
+        """Whether ``y``, the place ``x`` said again with another role after a correction, replaces it (Japanese:
+        always; English: :class:`~spcotmhp.language.walk_en.EnglishWalk`)."""
+        return True
+
     def correcting(self, word: str) -> None:
         """A correction word was said: it applies to what is said next (:meth:`corrected`)."""
         if self.correction is None:
@@ -232,7 +237,8 @@ class Walk:
         role of the place said just before it (walk_en.py, walk_ja.py), so "go to the kitchen via the hall, sorry,
         the corridor" passes the corridor. A phrase naming no place but a speed replaces the speed said before. With
         nothing before it to correct (it opens the instruction: "Actually, go to the kitchen") it corrects nothing;
-        in Japanese (:attr:`again_replaces`) a place said again with another role replaces its first mention;
+        a place said again with another role replaces its first mention (:attr:`again_replaces`,
+        :meth:`replaces_again`);
         refused when the phrase after it names nothing, or no place of that role was said before."""
         before = [m for m in self.mentions[:start] if not m.dropped]
         if not before and speeds == 0:
@@ -242,7 +248,7 @@ class Walk:
             y = new[0]
             x = next((m for m in reversed(before) if m.role == y.role), None)
             if x is None and y.role != "not_goal" and self.again_replaces:  # キッチン通って、いや、キッチンは通らないで
-                x = next((m for m in reversed(before) if m.ref == y.ref), None)
+                x = next((m for m in reversed(before) if m.ref == y.ref and self.replaces_again(m, y)), None)
             if x is None:
                 raise UnsupportedPhrase(
                     f"{excerpt(word)} corrects what was said before it, but no place {_ROLE_WORDS[y.role]} was said "

@@ -21,7 +21,9 @@ The rules a reader needs besides the grammar:
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field, replace
+from typing import ClassVar
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -36,9 +38,15 @@ _ROLES = {"goal": "goal", "goal_last": "goal", "goal_on_the_way": "goal", "hurry
 _MARKER_ROLES = {"TO": "goal", "ENTER": "goal", "VIA": "via", "STOP_AT": "stop"}
 
 
+_PERMISSION = re.compile(r"\b(?:you can|you may|feel free to|you're allowed to|it's ok to|it's okay to)\b")
+_SKIP = re.compile(r"\bskip(?:ping)?\b")
+
+
 @dataclass
 class EnglishWalk(Walk):
     """Reads ``start -> sentence -> (lead | joint | clause)`` trees (module docstring)."""
+
+    again_replaces: ClassVar[bool] = True
 
     pending: list[str] = field(default_factory=list)  # first / last / on_the_way / before_that for the next clause
     later: list[tuple[str, int, int, str]] = field(default_factory=list)  # (kind, mention, sentence, word): no X
@@ -46,6 +54,16 @@ class EnglishWalk(Walk):
     related_end: str | None = None  # the clause before ended with a relation of another place
     waited: str = ""  # the clause before holds a wait: its word
     halted: str = ""  # "stop" was said: no place may follow it
+
+    def replaces_again(self, x: Mention, y: Mention) -> bool:
+        """A place said again after a correction with another role replaces it ("via the kitchen, no, avoid the
+        kitchen"; "avoid the bath, actually it's fine, go through it"), but not where the words leave two readings:
+        "you can go through it" lifts an avoidance (a permission, not a place to pass) and "skip the corridor" drops
+        a place to pass (not one to avoid): those stay refused."""
+        text = self.text.lower()
+        if x.role == "avoid" and y.role in VISIT_ROLES:
+            return _PERMISSION.search(text) is None
+        return not (y.role == "avoid" and _SKIP.search(text))
 
     def read(self, root: Tree):
         for sentence in subtrees(root):

@@ -369,8 +369,6 @@ def test_two_owners_share_the_plural_noun_after_them():
         ("Go to the kitchen. Actually, forget the kitchen, go to the washroom.", ["washroom"], []),
         ("Head to the toilet. Oh, hang on, the storeroom instead.", ["storeroom"], []),
         ("kitchen. no. living room.", ["living room"], []),
-        ("Go to the entrance. No, scratch that, stay out of the entrance and go to the corridor.", ["corridor"],
-         ["entrance"]),
     ],
 )  # fmt: skip
 def test_a_cancel_followed_by_a_whole_instruction_takes_back_all_before_it(text, visit, avoid):
@@ -430,3 +428,31 @@ def test_speeds_said_in_other_words(text, speed):
 )
 def test_more_everyday_forms(text, goal):
     assert read(text, EN, "en").visit[-1].words[0] == goal
+
+
+@pytest.mark.parametrize(
+    "text, via, avoid",
+    [
+        ("go to the dining room via the kitchen no actually avoid the kitchen", [], ["kitchen"]),
+        ("Avoid the living room, no actually it's fine, go through it to the dining room.", ["living"], []),
+        ("go to the washroom and avoid the bath. actually it's fine, go through the bath.", ["bath"], []),
+        # the entrance said again to avoid replaces going to it (the cancel's reading would be the same)
+        ("Go to the entrance. No, scratch that, stay out of the entrance and go to the corridor.", [], ["entrance"]),
+    ],
+)
+def test_a_place_said_again_with_another_role_after_a_correction_replaces_it(text, via, avoid):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit[:-1]] == via and [p.words[0] for p in r.avoid] == avoid
+    assert any("instead of" in h for h in r.heard), "the explanation says what was replaced"
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the dining room and avoid the kitchen actually it's fine you can go through the kitchen",  # may pass
+        "take the corridor to the kitchen, oh, actually, skip the corridor and go through the hall",  # drop or avoid?
+    ],
+)
+def test_a_role_change_with_two_readings_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
