@@ -13,7 +13,8 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    between its edges, commas and full stops made only of terms of address ("love", "my dude", "you little rascal"),
    interjections ("huh", "nah", "g'day") or a name introducing its speaker ("Gran here") names whom the speaker
    talks to or how they feel, never where to go: passed over; so are such words opening a part ("bro just go
-   kitchen", "yeah nah go to ...") and terms of address closing it ("go to the dining room love"), and a word of no
+   kitchen", "yeah nah go to ...") and terms of address or interjections closing it ("go to the dining room love",
+   "... eh"), and a word of no
    dictionary alone at the sentence's edge before a comma, the robot's name ("Robbie, the front door").
 3. **Talk without an instruction's form**: a part between such marks with no place, no word of a class that carries
    navigation meaning (:mod:`spcotmhp.language.talk`'s admissible words, also by their lemmas: "faster"), no word
@@ -263,8 +264,8 @@ def _asides(
                 and (part[a].kind == "WORD" or a + 1 < b and part[a + 1].kind in _VERBS)
             ):
                 a += 1  # "bro just go kitchen", "yeah nah go to the dining room", "right erm could you pop to"
-            while b > a and part[b - 1].kind == "WORD" and part[b - 1].surface in address:
-                b -= 1  # "go to the dining room love"
+            while b > a and part[b - 1].kind == "WORD" and part[b - 1].surface in address | interjections:
+                b -= 1  # "go to the dining room love", "go to the dining room eh": a tag closing the request
             if 0 < b - a < len(part) and part[a].kind != "WORD" and part[b - 1].kind != "WORD":  # not "mum says"
                 said += [" ".join(t.surface for t in edge) for edge in (part[:a], part[b:]) if edge]
                 part = part[a:b]
