@@ -291,15 +291,27 @@ _SIZES = frozenset({"LARGEST", "SMALLEST"})
 
 def _size_after(items: list[Token]) -> list[Token]:
     """ "X(の) 一番小さいの" (寝室 いちばん ちいさい の: of the Xs the smallest one) is "一番小さい X": the size said
-    after the place, with a pro-form standing for it."""
-    for k in range(len(items) - 2):
+    after the place, with a pro-form standing for it (の, とこ, ところ, やつ, ほう; also "X のうちで、一番広いとこ",
+    and 一番大きいの with the pro-form in the size's own word)."""
+    for k in range(len(items) - 1):
         x = items[k]
-        m = k + 1 + (items[k + 1].kind == "WORD" and items[k + 1].surface in _OF)
-        if x.kind != "PLACE" or m + 1 >= len(items) or items[m].kind not in _SIZES:
+        m = k + 1
+        if m < len(items) and items[m].kind == "WORD" and items[m].surface in _OF:
+            m += 1 + (items[m].surface == "のうち" and m + 1 < len(items) and items[m + 1].kind == "DE")
+        elif m + 1 < len(items) and items[m].kind == "DE" and items[m + 1].kind in _SIZES:
+            m += 1  # 寝室で一番大きいとこ: で as "among"
+        m += m < len(items) and items[m].kind == "COMMA"
+        if x.kind != "PLACE" or m >= len(items) or items[m].kind not in _SIZES or m == k + 1 and m + 1 >= len(items):
             continue
-        pro, after = items[m + 1], items[m + 2] if m + 2 < len(items) else None
-        if pro.kind in ("WORD", "AND") and pro.surface in _PRO_FORMS and (after is None or after.kind != "PLACE"):
-            return [*items[:k], items[m], x._replace(start=pro.start, end=pro.end), *items[m + 2 :]]
+        end, said = m + 1, ""
+        while end < len(items) and items[end].kind in ("WORD", "AND") and said + items[end].surface in _PREFIXES:
+            said += items[end].surface
+            end += 1
+        own = not said and items[m].surface.endswith("の") and m > k + 1  # 寝室の一番大きいの
+        if not (said in _PRO_FORMS or own) or end < len(items) and items[end].kind == "PLACE":
+            continue
+        last = items[end - 1]
+        return [*items[:k], items[m], x._replace(start=last.start, end=last.end), *items[end:]]
     return items
 
 

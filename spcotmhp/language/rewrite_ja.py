@@ -107,11 +107,25 @@ _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALL
 _WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
 
+def false_starts(items: list[Token]) -> list[Token]:
+    """A place word begun and said again whole (キッキッチン: the start as the word is written, right before it): the
+    broken start is left out, as English rule 8 does ("the st... storeroom")."""
+    return [
+        t for k, t in enumerate(items)
+        if not (
+            t.kind == "WORD" and k + 1 < len(items) and items[k + 1].kind == "PLACE" and t.end == items[k + 1].start
+            and t.surface != items[k + 1].surface and items[k + 1].surface.startswith(t.surface)
+        )
+    ]  # fmt: skip
+
+
 def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     """The token rewrites of this module and of :mod:`spcotmhp.language.lexicon_ja` (numbers said again after a
     correction, relations said after the place), each run only on tokens holding what it looks for: an ordinary
     instruction pays one look at its kinds. ``text``: the sentence the tokens index (spaces left out)."""
     kinds = {t.kind for t in items}
+    if "WORD" in kinds and "PLACE" in kinds:
+        items = false_starts(items)
     if "CANCEL" in kinds:
         items = cancel_corrects(items)
         kinds = {t.kind for t in items}
@@ -124,7 +138,7 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
         or any(a.kind == b.kind == "PLACE" for a, b in zip(items, items[1:], strict=False))
     ):
         items = said_once(items)
-    if kinds & _RELATION_KINDS and "WORD" in kinds:
+    if kinds & _RELATION_KINDS and kinds & {"WORD", "DE"}:  # 寝室の一番大きいとこ, 寝室で一番大きいの
         items = of_the_places_ja(items)
     if kinds & {"CONDITION", "PROPERTY"} and "WORD" in kinds:
         items = quoted_whole(items, text)

@@ -45,10 +45,34 @@ def test_a_size_without_ichiban_picks_by_size(text, size):
         ("玄関、よろしくね🙏", ["玄関"]),
         ("キッチン行ってもらえる？😊", ["キッチン"]),
         ("キッチン行っといてーw", ["キッチン"]),
+        ("洗面所へ行って頂戴", ["洗面所"]),
+        ("お風呂場へどうぞ", ["風呂"]),
+        ("キッキッチン行って", ["キッチン"]),  # a place word begun and said again whole
     ],
 )
 def test_next_hedges_numbers_and_pictographs(text, visit):
     assert _visit(read(text, JA, "ja")) == visit
+
+
+@pytest.mark.parametrize(
+    "text, size",
+    [
+        ("寝室の一番大きいとこ", "largest"),  # the size after the place, とこ standing for it
+        ("寝室のうちで一番広いとこへ", "largest"),
+        ("寝室の、一番広いとこ", "largest"),
+        ("寝室で一番大きいの", "largest"),
+        ("ベッドルームの一番狭いところで待ってて", "smallest"),
+    ],
+)
+def test_a_size_said_after_the_place(text, size):
+    r = read(text, JA, "ja")
+    assert r.visit[-1].words[0] == "寝室" and r.visit[-1].relation.kind == size
+
+
+def test_a_while_is_until_told_and_early_is_fast():
+    r = read("しばらく広場で待ってて", JA, "ja")
+    assert r.waits == ((0, None),)
+    assert read("ダイニングで2分待って、それから玄関まで早めに", JA, "ja").speed == "fast"
 
 
 @pytest.mark.parametrize(
