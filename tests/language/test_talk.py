@@ -209,3 +209,28 @@ def test_japanese_negated_endings_avoid_and_waivers_stay_refused():
 def test_japanese_requests_for_actions_are_not_talk(text):
     with pytest.raises(InstructionError):
         read(text, JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, goal, via",
+    [
+        ("Go to the bedroom nearest the bath, no wait, nearest the toilet", "bedroom (closest to the toilet)", []),
+        (
+            "go to the bedroom closest to the bath oops i meant closest to the toilet",
+            "bedroom closest to the toilet",
+            [],
+        ),
+        ("go to the living room uh make that the dining room sorry", "dining room", []),  # a last apology
+        ("go to the bedroom through the kitchen, er, through the hall I mean", "bedroom", ["hall"]),  # said after
+    ],
+)
+def test_corrections_said_in_other_shapes(text, goal, via):
+    """rewrite_en: a relation said alone after a correction, correction words side by side, one said last."""
+    r = read(text, EN, "en")
+    assert r.visit[-1].describe() == goal and [p.label for p in r.visit[:-1]] == via
+    assert any("instead of" in h for h in r.heard), r.heard
+
+
+def test_a_last_correction_word_with_nothing_to_mark_stays_refused():
+    with pytest.raises(InstructionError):
+        read("go to the kitchen sorry", EN, "en")
