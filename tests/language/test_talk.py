@@ -217,7 +217,7 @@ def test_japanese_requests_for_actions_are_not_talk(text):
         ("Go to the bedroom nearest the bath, no wait, nearest the toilet", "bedroom (closest to the toilet)", []),
         (
             "go to the bedroom closest to the bath oops i meant closest to the toilet",
-            "bedroom closest to the toilet",
+            "bedroom (closest to the toilet)",
             [],
         ),
         ("go to the living room uh make that the dining room sorry", "dining room", []),  # a last apology
