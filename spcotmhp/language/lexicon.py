@@ -37,6 +37,7 @@ import re
 from collections.abc import Sequence
 
 from spcotmhp.language.floors import CUES, floor_en
+from spcotmhp.language.forms_en import any_but_en, new_clause_en, wait_by_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
@@ -49,7 +50,6 @@ from spcotmhp.language.rewrite_en import (
     said_again,
     shared_head_en,
     sizes_en,
-    wait_by_en,
 )
 from spcotmhp.language.rewrite_ja import spoken_tokens
 from spcotmhp.language.table import WordTable, en_units, filler_at, word_table
@@ -75,6 +75,9 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         return spoken_tokens(out, said)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
+    if kinds & {"STOP_AT", "AVOID", "GO"}:
+        out = new_clause_en(out)
+        kinds = {t.kind for t in out}
     if "COMMA" in kinds or "CORRECTION" in kinds or "NO" in kinds and "WAIT" in kinds:
         out = corrections_en(out)
     if "WORD" in kinds:  # a room told by what is in it (rule 9) always holds a word of no class
@@ -93,6 +96,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = shared_head_en(out)
     if "WAIT" in kinds:
         out = wait_by_en(out)
+    if "BUT" in kinds and "ONE_OF" in kinds:
+        out = any_but_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

@@ -78,6 +78,9 @@ def pass_over(
         if b < j and toks[b].kind in ("TO", "AT"):
             i = j  # "I know you just got | to the kitchen": the place is the talk's, not the instruction's: kept
             continue
+        if a < b < len(toks) and toks[b].kind == "PLACE" and _takes_the_place(toks[a:b], toks[b], subjects):
+            i = j  # "Bobby's room", "the cleaner needs the dining room": the place is the run's: kept, to be refused
+            continue
         if a < b and _statement(
             toks[a:b], subjects, 0 < toks[a].start <= len(units) and units[toks[a].start - 1] in _DETERMINERS
         ):
@@ -85,6 +88,21 @@ def pass_over(
             said.append(" ".join(t.surface for t in toks[a:b]))
         i = j
     return without(toks, cut, said)
+
+
+def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str]) -> bool:
+    """Whether the run before a place makes the place its own, so that the run is no talk around it: a possessive
+    ("Bobby's room": whose place), or a statement of someone other than the robot ending in a verb that takes the
+    place, named as such, as its object ("the cleaner needs the dining room")."""
+    last = run[-1]
+    if last.kind != "WORD":
+        return False
+    if last.surface.endswith(("'s", "s'")):
+        return True
+    named = all(w in place.surface for w in place.words)  # not a room told by its contents ("the laundry")
+    someone = run[0].kind == "WORD" and not run[0].surface.startswith(("you", "u"))
+    verb = "VERB" in pos(last.surface) and "AUX" not in pos(last.surface)
+    return named and someone and verb and len(run) > 1 and _statement(run, subjects, True)
 
 
 def _sentences(toks: Sequence[Token]) -> list[tuple[int, int]]:

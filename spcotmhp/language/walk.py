@@ -98,6 +98,7 @@ class Walk:
     clause: int = 0
     heard: list[str] = field(default_factory=list)  # what the reading did beyond the grammar (corrections)
     correction: tuple[str, int, int] | None = None  # a correction word said, the mentions and speeds before it
+    restated: list[int] = field(default_factory=list)  # where an applied correction's phrase begins (mentions)
 
     # ---- mentions ----------------------------------------------------------------------------------------
     def mention(self, ref: PlaceRef, role: str) -> Mention:
@@ -261,6 +262,7 @@ class Walk:
                     f"{excerpt(rel.args[-1].label)} it is picked by; say the place again whole"
                 )
             x.dropped = True
+            self.restated.append(start)
             if x.role != y.role:  # the same place, another role
                 said = f"{y.ref.describe()} {_ROLE_WORDS[y.role]} said instead of {_ROLE_WORDS[x.role]}"
                 self.heard.append(said)
@@ -279,6 +281,11 @@ class Walk:
     # ---- the reading ---------------------------------------------------------------------------------------
     def result(self) -> Reading:
         """The :class:`Reading` of the mentions, or the refusal of what cannot be honoured."""
+        for start in self.restated:  # "A via B, no, C via B": the instruction said again after a correction; its
+            for z in self.mentions[start:]:  # places named before it with the same role are said once, here
+                for m in self.mentions[:start]:
+                    if not z.dropped and not z.contrast and m.role == z.role and _same(m.ref, z.ref):
+                        m.dropped = True
         visits = [k for k, m in enumerate(self.mentions) if m.role in VISIT_ROLES and not m.dropped]
         avoid = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "avoid" and not m.dropped))
         not_goal = list(dict.fromkeys(m.ref for m in self.mentions if m.role == "not_goal" and not m.dropped))

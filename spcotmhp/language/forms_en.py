@@ -1,0 +1,103 @@
+"""English forms the grammar reads once reshaped (issue 34), each with its reason: corrections said in other
+shapes, a wait by a place, "any X but Y", and a new clause begun without a pause. Run by
+:func:`spcotmhp.language.lexicon.tokens` (and :func:`~spcotmhp.language.rewrite_en.corrections_en`) only on
+sentences holding what they rewrite."""
+
+from __future__ import annotations
+
+from spcotmhp.language.placewords import Token
+
+
+def correction_shapes(items: list[Token]) -> list[Token]:
+    """Corrections said in other shapes: words side by side, one said last, a relation said alone."""
+    return _relation_again(_said_after(_one_correction(items)))
+
+
+def _one_correction(items: list[Token]) -> list[Token]:
+    """Correction words side by side ("oops, I meant") are one correction."""
+    out: list[Token] = []
+    for it in items:
+        k = len(out) - (bool(out) and out[-1].kind == "COMMA")
+        if it.kind == "CORRECTION" and k > 0 and out[k - 1].kind == "CORRECTION":
+            del out[k:]
+            out[-1] = out[-1]._replace(surface=f"{out[-1].surface} {it.surface}", end=it.end)
+            continue
+        out.append(it)
+    return out
+
+
+def _said_after(items: list[Token]) -> list[Token]:
+    """A correction word said last, after what replaces: after another correction it only apologises ("make that
+    the dining room, sorry": left out); alone, it marks the phrase after the last pause as the replacement ("through
+    the kitchen, er, through the hall I mean": the correction stands at that pause)."""
+    end = len(items) - (bool(items) and items[-1].kind == "_STOP")
+    if end < 2 or items[end - 1].kind != "CORRECTION" or items[end - 2].kind != "PLACE":
+        return items
+    last, before = items[end - 1], items[: end - 1]
+    if any(t.kind == "CORRECTION" for t in before):
+        return [*before, *items[end:]]
+    pause = next((k for k in range(len(before) - 1, -1, -1) if before[k].kind == "COMMA"), None)
+    if pause is None or not any(t.kind == "PLACE" for t in before[:pause]):
+        return items
+    return [*before[: pause + 1], last, *before[pause + 1 :], *items[end:]]
+
+
+_RELATION_KINDS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"})
+
+
+def _relation_again(items: list[Token]) -> list[Token]:
+    """A relation said alone after a correction ("the bedroom nearest the bath, no wait, nearest the toilet")
+    corrects the relation of the place said with one before it: that place's name is said again with it."""
+    heads: dict[int, Token] = {}
+    for k, it in enumerate(items[:-2]):
+        if it.kind != "CORRECTION":
+            continue
+        j = k + 1 + (items[k + 1].kind == "COMMA")
+        if j + 1 < len(items) and items[j].kind in _RELATION_KINDS and items[j + 1].kind == "PLACE":
+            head = next((items[m] for m in range(k - 1, -1, -1)
+                         if items[m].kind == "PLACE" and items[m + 1].kind in _RELATION_KINDS), None)  # fmt: skip
+            if head is not None:
+                heads[j] = head._replace(start=items[j].start, end=items[j].start)
+    if not heads:
+        return items
+    return [t for k, it in enumerate(items) for t in ((heads[k], it) if k in heads else (it,))]
+
+
+_BESIDE = frozenset({"by", "near", "next to", "beside", "close to", "near to", "right by", "nearby"})
+
+
+def wait_by_en(items: list[Token]) -> list[Token]:
+    """A wait "by / near / next to" a place ("go wait by the front door", "stay near the kitchen") is a wait at it:
+    after a verb of staying the words say where the robot stands, and the robot stands at a place's goal point,
+    inside it (a person by the front door is in the entrance); no relation picks one place of several there."""
+    out = list(items)
+    for k in range(1, len(out) - 1):
+        beside = out[k].kind in ("CLOSEST", "NEXT_TO") and out[k].surface in _BESIDE
+        if beside and out[k - 1].kind == "WAIT" and out[k + 1].kind == "PLACE":
+            out[k] = out[k]._replace(kind="AT")
+    return out
+
+
+def any_but_en(items: list[Token]) -> list[Token]:
+    """ "any corridor but the south one": "but" after "any X" and before a place is "except" (Merriam-Webster's
+    preposition "but": with the exception of), as "any corridor except the south one" reads."""
+    return [
+        t._replace(kind="NEG") if t.kind == "BUT" and 1 < k < len(items) - 1 and items[k - 2].kind == "ONE_OF"
+        and items[k - 1].kind == "PLACE" and items[k + 1].kind == "PLACE" else t
+        for k, t in enumerate(items)
+    ]  # fmt: skip
+
+
+_CLAUSE_VERBS = frozenset({"STOP_AT", "AVOID", "GO"})
+
+
+def new_clause_en(items: list[Token]) -> list[Token]:
+    """A verb that opens a clause right after a place ("go to the living room stop at the kitchen on the way") begins
+    a new clause, as the pause a transcript leaves out would: a comma is put between them, so that what the clause
+    says ("on the way") applies to its own places."""
+    out: list[Token] = []
+    for k, t in enumerate(items):
+        if k and t.kind in _CLAUSE_VERBS and items[k - 1].kind == "PLACE":
+            out.append(Token("COMMA", ",", start=t.start, end=t.start))
+        out.append(t)
+    return out

@@ -1,0 +1,57 @@
+"""spcotmhp/language/forms_en.py and the session-7 safety rules of talk.py and walk.py: what wave 6 misread at first
+sight (issue 34), read as meant or refused, never misread."""
+
+from __future__ import annotations
+
+import pytest
+
+from spcotmhp.errors import InstructionError
+from spcotmhp.language.reading import read
+from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
+
+SYNTHETIC = ["alice's", "bob's", "corridor", "east", "kitchen", "room", "south"]
+
+
+@pytest.mark.parametrize(
+    "text, places",
+    [
+        ("Bobby's room", SYNTHETIC),  # a possessive before a place says whose: never passed over as talk
+        ("go to Carol's room", SYNTHETIC),
+        ("Into the corridor please, the cleaner needs the dining room.", PLACE_WORDS_EN),  # the statement's object
+    ],
+)
+def test_a_place_owned_or_taken_by_the_talk_is_refused_not_dropped(text, places):
+    with pytest.raises(InstructionError):
+        read(text, places, "en")
+
+
+@pytest.mark.parametrize("text", ["Any corridor but the south one, mate.", "go to any corridor except the south one"])
+def test_any_x_but_y_is_except(text):
+    r = read(text, SYNTHETIC, "en")
+    assert [p.words for p in r.visit] == [("corridor",)] and [p.words for p in r.not_goal] == [("south",)]
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["go to the living room stop at the kitchen on the way", "go to the living room stop by the kitchen on the way"],
+)
+def test_a_clause_begun_without_a_pause(text):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == ["kitchen", "living"]
+
+
+@pytest.mark.parametrize(
+    "text, visit, avoid",
+    [
+        ("キッチン通ってリビング、いや、キッチンは通らないでリビングに行って", ["リビング"], ["キッチン"]),
+        ("トイレ通ってキッチン…じゃなくて洗面所通ってキッチン", ["洗面所", "キッチン"], []),
+    ],
+)
+def test_the_instruction_said_again_after_a_correction_names_each_place_once(text, visit, avoid):
+    r = read(text, PLACE_WORDS_JA, "ja")
+    assert [p.words[0] for p in r.visit] == visit and [p.words[0] for p in r.avoid] == avoid
+
+
+def test_the_instruction_said_again_in_english():
+    r = read("go to the kitchen via the toilet, no, via the washroom to the kitchen", PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == ["washroom", "kitchen"]
