@@ -94,10 +94,13 @@ _CLAUSE_VERBS = frozenset({"STOP_AT", "AVOID", "GO"})
 def new_clause_en(items: list[Token]) -> list[Token]:
     """A verb that opens a clause right after a place ("go to the living room stop at the kitchen on the way") begins
     a new clause, as the pause a transcript leaves out would: a comma is put between them, so that what the clause
-    says ("on the way") applies to its own places."""
+    says ("on the way") applies to its own places. Returns ``items`` itself when no clause begins so."""
+    starts = [k for k in range(1, len(items)) if items[k].kind in _CLAUSE_VERBS and items[k - 1].kind == "PLACE"]
+    if not starts:
+        return items  # the same list: nothing to rewrite (most sentences)
     out: list[Token] = []
     for k, t in enumerate(items):
-        if k and t.kind in _CLAUSE_VERBS and items[k - 1].kind == "PLACE":
+        if k in starts:
             out.append(Token("COMMA", ",", start=t.start, end=t.start))
         out.append(t)
     return out

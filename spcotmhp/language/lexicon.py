@@ -75,9 +75,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         return spoken_tokens(out, said)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
-    if kinds & {"STOP_AT", "AVOID", "GO"}:
-        out = new_clause_en(out)
-        kinds = {t.kind for t in out}
+    if kinds & {"STOP_AT", "AVOID", "GO"} and (clauses := new_clause_en(out)) is not out:
+        out, kinds = clauses, kinds | {"COMMA"}
     if "COMMA" in kinds or "CORRECTION" in kinds or "NO" in kinds and "WAIT" in kinds:
         out = corrections_en(out)
     if "WORD" in kinds:  # a room told by what is in it (rule 9) always holds a word of no class

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
-from typing import ClassVar
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -87,8 +86,6 @@ class Walk:
     toks: list[Token]
     text: str
     table: WordTable
-    again_replaces: ClassVar[bool] = False
-    """Whether a correction saying a place again with another role replaces its first mention (walk_ja.py)."""
     mentions: list[Mention] = field(default_factory=list)
     pairs: list[tuple[int, int]] = field(default_factory=list)  # (a, b): mention a before mention b
     speeds: list[str] = field(default_factory=list)
@@ -209,8 +206,9 @@ class Walk:
         m.wait_said = next((self.word(t) for t in toks if t.type == "DURATION"), m.wait_said)
 
     def replaces_again(self, x: Mention, y: Mention) -> bool:
-        """Whether ``y``, the place ``x`` said again with another role after a correction, replaces it (Japanese:
-        always; English: :class:`~spcotmhp.language.walk_en.EnglishWalk`)."""
+        """Whether ``y``, the place ``x`` said again with another role after a correction, replaces it: the later
+        role is what is meant (キッチン通って、いや、キッチンは通らないで; "via the kitchen, no, avoid the kitchen");
+        English keeps two readings refused (:meth:`~spcotmhp.language.walk_en.EnglishWalk.replaces_again`)."""
         return True
 
     def correcting(self, word: str) -> None:
@@ -238,8 +236,7 @@ class Walk:
         role of the place said just before it (walk_en.py, walk_ja.py), so "go to the kitchen via the hall, sorry,
         the corridor" passes the corridor. A phrase naming no place but a speed replaces the speed said before. With
         nothing before it to correct (it opens the instruction: "Actually, go to the kitchen") it corrects nothing;
-        a place said again with another role replaces its first mention (:attr:`again_replaces`,
-        :meth:`replaces_again`);
+        a place said again with another role replaces its first mention (:meth:`replaces_again`);
         refused when the phrase after it names nothing, or no place of that role was said before."""
         before = [m for m in self.mentions[:start] if not m.dropped]
         if not before and speeds == 0:
@@ -248,7 +245,7 @@ class Walk:
         if new:
             y = new[0]
             x = next((m for m in reversed(before) if m.role == y.role), None)
-            if x is None and y.role != "not_goal" and self.again_replaces:  # キッチン通って、いや、キッチンは通らないで
+            if x is None and y.role != "not_goal":  # キッチン通って、いや、キッチンは通らないで
                 x = next((m for m in reversed(before) if m.ref == y.ref and self.replaces_again(m, y)), None)
             if x is None:
                 raise UnsupportedPhrase(

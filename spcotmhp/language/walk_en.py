@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field, replace
-from typing import ClassVar
 
 from lark import Token as LarkToken
 from lark import Tree
@@ -45,8 +44,6 @@ _SKIP = re.compile(r"\bskip(?:ping)?\b")
 @dataclass
 class EnglishWalk(Walk):
     """Reads ``start -> sentence -> (lead | joint | clause)`` trees (module docstring)."""
-
-    again_replaces: ClassVar[bool] = True
 
     pending: list[str] = field(default_factory=list)  # first / last / on_the_way / before_that for the next clause
     later: list[tuple[str, int, int, str]] = field(default_factory=list)  # (kind, mention, sentence, word): no X

@@ -24,7 +24,6 @@ The rules a reader needs besides the grammar:
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import ClassVar
 
 from lark import Tree
 
@@ -46,10 +45,6 @@ _STOPS = frozenset({"止まって", "とまって"})
 class JapaneseWalk(Walk):
     """Reads ``start -> sentence -> items`` trees (module docstring)."""
 
-    again_replaces: ClassVar[bool] = True
-    """A correction saying a place again with another marker (キッチン通って、いや、キッチンは通らないで) changes its
-    role: Japanese says the role by the marker after the place. Not in English, where the same words ("skip the
-    corridor", "it's fine, you can go through the kitchen") may withdraw a constraint rather than set a new one."""
     pending: list[str] = field(default_factory=list)  # forward order words for the next phrase with places
     backward: list[tuple[str, list[int], int, str]] = field(default_factory=list)  # (kind, R, sentence, word)
     lists: list[tuple[list[Mention], str, str]] = field(default_factory=list)  # 、 lists: (mentions, 、, marker)
