@@ -30,7 +30,13 @@ def spin_until_shutdown(node: Node, executor: Executor | None = None) -> None:
     executor.add_node(node)
     try:
         while rclpy.ok(context=node.context):
-            executor.spin_once(timeout_sec=SPIN_PERIOD_S)
+            try:
+                executor.spin_once(timeout_sec=SPIN_PERIOD_S)
+            except RuntimeError:
+                # The signal handler may shut the context down between the look above and the wait set's
+                # creation; rclpy then raises RCLError (a RuntimeError). That is a shutdown, not a failure.
+                if rclpy.ok(context=node.context):
+                    raise
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:

@@ -76,6 +76,34 @@ def test_a_real_executor_returns_on_shutdown(context):
     node.destroy_node()
 
 
+class RacedExecutor(DeafExecutor):
+    """The signal handler shuts the context between the look at it and the wait set's creation (CI, once)."""
+
+    def __init__(self, context, shut: bool) -> None:
+        super().__init__()
+        self.context, self.shut = context, shut
+
+    def spin_once(self, timeout_sec: float | None = None) -> None:
+        if self.shut:
+            self.context.try_shutdown()
+        from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+
+        raise _rclpy.RCLError("failed to initialize wait set: the given context is not valid")
+
+
+def test_a_shutdown_racing_the_wait_set_ends_the_spin_quietly(context):
+    node = Node("spin_test_raced", context=context)
+    spin_until_shutdown(node, RacedExecutor(context, shut=True))  # returns, raises nothing
+    node.destroy_node()
+
+
+def test_an_rcl_error_with_the_context_valid_is_not_swallowed(context):
+    node = Node("spin_test_rcl_error", context=context)
+    with pytest.raises(RuntimeError, match="wait set"):
+        spin_until_shutdown(node, RacedExecutor(context, shut=False))
+    node.destroy_node()
+
+
 def _python(code: str, timeout: float) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout)
 
