@@ -13,7 +13,9 @@ Rules, in this order (English; Japanese below):
 4. Longest match, place words winning ties, against the place words and the table's phrases (each phrase as its
    units with the fillers left out, so "on the way" also matches "on way"). A place word also matches written
    without its apostrophe ("alices"), as its compound written open or glued ("bed room", "livingroom"), and in
-   the plural ("bedrooms", by the noun lemmas of lemminflect): spellings of the same word, not guesses.
+   the plural ("bedrooms", by the noun lemmas of lemminflect), a compass point as its adjective ("eastern") and
+   "east" by its initial as on signs ("the E corridor"; not "n", "s", "w": texting's and, is, with): spellings
+   of the same word, not guesses.
 5. A generic noun of the table ("room") right after a place word belongs to its name ("living room"); adjacent
    place words form one name ("east corridor"). Any other unit is a WORD: no rule of the grammar accepts it.
 6. A number with a place word names the instance the robot shows with it ("bedroom 2", "bedroom #2", "bedroom

@@ -87,6 +87,8 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             if kind:
                 words = (value,) if kind == "PLACE" else ()
                 out.append(Token(kind, "".join(chars[i : i + n]), words, start=i, end=i + n))
+            elif "".join(chars[i : i + n]) in _APOLOGIES and out and _named(out[-1]):
+                out.append(Token("_APOLOGY", "".join(chars[i : i + n]), start=i, end=i + n))
             i += n
             continue
         last = out[-1] if out else None
@@ -100,7 +102,29 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         else:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
-    return out
+    return _apologies(out)
+
+
+_APOLOGIES = frozenset({"ごめん", "ごめんね", "ごめんなさい", "すみません", "すいません", "すまん"})
+"""Apologies, fillers elsewhere (ごめん、キッチン行って), that correct when said with no pause between two places or
+two numbers of one place (寝室の1番ごめん2番, キッチンごめんリビング), as "、ごめん、" does (the table's CORRECTION)."""
+
+
+def _named(tok: Token) -> bool:
+    """A place, or a number said after one (寝室の1番)."""
+    return tok.kind == "PLACE" or tok.kind == "WORD" and _JA_NUMBER_AGAIN.match(tok.surface) is not None
+
+
+def _apologies(out: list[Token]) -> list[Token]:
+    """Each apology kept by :func:`tokens_ja` a correction where a place or a number follows it too, else left out
+    as the filler it is."""
+    if not any(t.kind == "_APOLOGY" for t in out):
+        return out
+    return [
+        t._replace(kind="CORRECTION") if t.kind == "_APOLOGY" else t
+        for k, t in enumerate(out)
+        if t.kind != "_APOLOGY" or k + 1 < len(out) and _named(out[k + 1])
+    ]
 
 
 def _shorter_filler(
@@ -200,7 +224,7 @@ _JA_NUMBER_AGAIN = re.compile(
 """A number alone after a correction (寝室 #1 いや #2 だ, 寝室の3番 いや 1番): the instance of the place just
 corrected (rule 8); a copula after it says "it is #2"."""
 _JA_NUMBER_BEFORE = re.compile(
-    r"^(?:#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の"
+    r"^(?:#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の?"
     r"|第(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:の)?)$"
 )
 """A number before a place word: 2番の寝室, and 第3寝室 (第 marks a number in a name, as "No." does: 第3会議室).

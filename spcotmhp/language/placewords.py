@@ -115,6 +115,8 @@ def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
         out += [(word[:-2], noun) for noun in table.nouns]  # "alice room": the possessive's 's not said or written
     if word in _COMPASS:
         out.append((word + "ern",))  # "the eastern corridor": the adjective of the compass point
+    if word == "east":
+        out.append(("e",))  # "the E corridor", as on signs; "n", "s" and "w" are texting's and, is and with
     if " " not in word and "'" not in word:
         out += [(word + noun,) for noun in table.nouns]
         out += [(word[:i], word[i:]) for i in range(3, len(word) - 2)]

@@ -271,7 +271,8 @@ def _length_before_there(items: list[Token]) -> list[Token]:
 
 
 def _length_corrected(items: list[Token]) -> list[Token]:
-    """DURATION (WAIT) (、) CORRECTION DURATION (で(いい) | WAIT): the second length in place of the first."""
+    """DURATION (WAIT) (、|。) CORRECTION DURATION (で(いい) | WAIT | にして), or DURATION WAIT (、|。) DURATION にして
+    (make it ...): the second length in place of the first."""
     for k in range(len(items) - 3):
         if items[k].kind != "DURATION":
             continue
@@ -280,9 +281,16 @@ def _length_corrected(items: list[Token]) -> list[Token]:
             if c + 2 < len(items) and items[c].kind == "CORRECTION" and items[c + 1].kind == "DURATION":
                 return [*items[:k], *items[c + 1 :]]
             continue
-        c = k + 2 + (items[k + 2].kind == "COMMA")
+        c = k + 2 + (items[k + 2].kind in ("COMMA", "_STOP"))  # 5分待って。いや10分
+        while c + 1 < len(items) and items[c].kind == items[c + 1].kind == "CORRECTION":
+            c += 1  # いや、やっぱ: one correction
+        made = c + 1 < len(items) and items[c].kind == "DURATION" and _make_it(items, c + 1)  # 、10分にして
+        if made:
+            return [*items[:k], items[c], items[k + 1], *items[c + 2 :]]
         if c + 1 >= len(items) or items[c].kind != "CORRECTION" or items[c + 1].kind != "DURATION":
             continue
+        if _make_it(items, c + 2):
+            return [*items[:k], items[c + 1], items[k + 1], *items[c + 3 :]]  # 5分待って、いや10分にして
         after = c + 2
         if after < len(items) and items[after].kind == "WAIT":
             return [*items[:k], *items[c + 1 :]]  # 5分待って、いや10分待って
@@ -293,6 +301,11 @@ def _length_corrected(items: list[Token]) -> list[Token]:
             continue
         return [*items[:k], items[c + 1], items[k + 1], *items[after:]]
     return items
+
+
+def _make_it(items: list[Token], k: int) -> bool:
+    """にして (make it ...) right after a length, closing the sentence: the length said in place of the wait's."""
+    return k < len(items) and items[k].surface == "にして" and all(t.kind in _SEPARATORS for t in items[k + 1 :])
 
 
 def _length_after(items: list[Token]) -> list[Token]:

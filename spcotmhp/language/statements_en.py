@@ -12,7 +12,8 @@ not the robot's. It is passed over, and said. What keeps a part in the instructi
 * "to" or "in" before anything but a length of time ("we're going to the garage", "I need you in the garage");
 * a length of time where the instruction waits without one ("wait in the kitchen, I'll be back in ten minutes":
   the length may be the wait's);
-* words referring back to a place as the clause's object ("one"): "the big one is mine";
+* words referring back to a place or naming one without its name ("one", "room"): "the big one is mine", "he
+  wants his room";
 * a time of day or an order in time ("go to the bath, it's for tonight": when to go), where the subject may stand
   for the instruction ("it", "that") or the robot is in the clause ("I need you there tonight"); after someone
   else ("my taxi should be here soon", "I'll be there in a moment") the time is theirs.
@@ -31,7 +32,8 @@ from spcotmhp.language.placewords import Token
 _ALLOWED = frozenset({"WORD", "IS", "GO", "AND", "LINK", "OF", "THAT", "IT", "THERE", "HERE", "NOW", "ALL", "TO", "AT"})
 """Classes a statement may hold: none carries navigation meaning without a place (and a statement has none)."""
 _POSSESSIVES = frozenset({"my", "our", "his", "her", "their", "your"})
-_OBJECTS = frozenset({"one", "ones"})
+_OBJECTS = frozenset({"one", "ones", "room", "rooms", "place", "spot"})
+"""Words that refer back to a place, or name one of no name ("he wants his room"): a part holding one is kept."""
 _INSTRUCTION_SUBJECTS = frozenset({"it's", "its", "that's", "that'd", "that'll", "this", "this's"})
 """Subjects that may stand for the instruction itself ("it's for tonight"): a time word after them keeps the part."""
 CLOCK = frozenset(

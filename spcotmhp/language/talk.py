@@ -38,6 +38,8 @@ _EDGE = ("GO", "TO", "AT", "AND", "LINK", "OF", "THAT", "IS", "ONE_OF", "ALL", "
 _DETERMINERS = frozenset(
     ["the", "a", "an", "my", "our", "your", "his", "her", "their", "this", "that", "these", "those", "some"]
 )
+_POSSESSIVES = frozenset({"my", "our", "his", "her", "their"})
+"""Possessives a statement may hold before a thing ("he wants to show his mates"); before a place they pick it."""
 _NUMBER_WORDS = (frozenset(NUMBERS) - {"a", "an"}) | frozenset(
     "zero thirteen fourteen sixteen seventeen eighteen nineteen seventy eighty hundred thousand half quarter dozen "  # noqa: SIM905
     "couple".split()
@@ -59,6 +61,9 @@ def pass_over(
     meaning = frozenset(table.talk.get("meaning", ()))
     subjects = frozenset(table.talk.get("subjects", ())) | frozenset(table.talk.get("kin", ()))
     ok = [admissible(t, neutral, meaning, subjects) for t in toks]
+    for k in range(len(toks)):  # "his mates"; "his room": a possessive before a place (or a word of one) picks it
+        if toks[k].kind == "MODIFIER":
+            ok[k] = ok[k] and k + 1 < len(toks) and toks[k + 1].kind == "WORD" and ok[k + 1]
     times = frozenset(table.talk.get("times_in_statements", ()))
     for a, b in _sentences(toks):  # "It's freezing tonight.": a time in a statement of its own is the statement's
         loose = [ok[k] or toks[k].kind == "WORD" and ew.base(toks[k].surface) in times for k in range(a, b)]
@@ -80,6 +85,9 @@ def pass_over(
             continue
         if a < b < len(toks) and toks[b].kind == "PLACE" and _takes_the_place(toks[a:b], toks[b], subjects):
             i = j  # "Bobby's room", "the cleaner needs the dining room": the place is the run's: kept, to be refused
+            continue
+        if any(t.kind == "AT" for t in toks[a:b]) and _referred_back(toks[b:]):
+            i = j
             continue
         if a < b and _statement(
             toks[a:b], subjects, 0 < toks[a].start <= len(units) and units[toks[a].start - 1] in _DETERMINERS
@@ -105,6 +113,27 @@ def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str
     return named and someone and verb and len(run) > 1 and _statement(run, subjects, True)
 
 
+def _referred_back(rest: Sequence[Token]) -> bool:
+    """Whether a "there" or "here" after a statement's location may refer back to it: no place said before it
+    ("dad's in the garage, go there": the garage)."""
+    for t in rest:
+        if t.kind == "PLACE":
+            return False
+        if t.kind in ("THERE", "HERE"):
+            return True
+    return False
+
+
+def _elsewhere(run: Sequence[Token], at: int) -> bool:
+    """Whether the location after ``run[at]`` is where the statement's subject is, not the robot: the subject is
+    someone else and the robot is not in the clause ("grandad's asleep on the couch", "mum is at work"; not "I need
+    you in the garage", "I want it in the garage"). A motion before it makes it a destination (``_statement``)."""
+    robot = {"you", "u", "yourself", "ya", "robot"}
+    if any(t.surface in robot or t.surface.startswith(("you'", "u'")) for t in run):
+        return False
+    return not any(t.kind == "IT" or t.surface in ("it", "this") for t in run[1:at])
+
+
 def _sentences(toks: Sequence[Token]) -> list[tuple[int, int]]:
     """The spans of the sentences of ``toks`` (between full stops), all but the last closed by one."""
     spans, a = [], 0
@@ -119,11 +148,11 @@ def admissible(tok: Token, neutral: frozenset[str], meaning: frozenset[str], sub
     """Whether a token may be part of talk: a neutral class, or a word that is a subject or a known word that is no
     number and carries none of the ``meaning`` (checked on the word and on it without its contraction)."""
     if tok.kind != "WORD":
-        return tok.kind in neutral
+        return tok.kind in neutral or tok.kind == "MODIFIER" and tok.surface in _POSSESSIVES
     word = tok.surface
-    if word in subjects:
-        return True
     base = ew.base(word)
+    if word in subjects or base in subjects:  # "grandad's asleep": a subject with a contraction
+        return True
     if {word, base} & meaning or any(w[:1].isdigit() or w in _NUMBER_WORDS for w in (word, base)):
         return False
     return known(base)
@@ -144,6 +173,8 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
     """Whether a run opens with a subject and holds a verb, with every "to" followed by a verb. A subject: a word
     of ``subjects``, a word with a contraction ("baby's"), a noun after a determiner ("the baby"), or a noun that
     is not also a verb's base form ("mom", "kids"; "say" may open an order: "say dinner is ready")."""
+    if len(run) > 1 and run[0].kind == "MODIFIER" and run[0].surface in _POSSESSIVES:
+        run, after_determiner = run[1:], True  # "my mum is at work"
     first = run[0]
     if first.kind != "WORD":
         return False
@@ -162,7 +193,7 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
             nxt = run[k + 1] if k + 1 < len(run) else None
             if nxt is None or nxt.kind != "WORD" or not infinitive(nxt.surface):
                 return False
-        elif t.kind == "AT" and k + 1 < len(run) and run[k + 1].kind == "WORD":
+        elif t.kind == "AT" and k + 1 < len(run) and run[k + 1].kind == "WORD" and not _elsewhere(run, k):
             return False  # "I need you in the garage": a location stays in the instruction
         elif t.kind == "WORD" and k == 0 and t.surface in ("you", "me", "us"):
             return False  # "you go to the garage": an order, not a statement

@@ -27,6 +27,7 @@ def goal(text: str, words: list[str], lang: str = "en") -> tuple[str, ...]:
         ("go to the hallway", ["hall", "kitchen"], "en", ("hall",)),  # its other sense where there is no corridor
         ("go into alice room", ["alice's", "room", "kitchen"], "en", ("alice's",)),  # the 's not said
         ("go to the eastern corridor", ["east", "corridor", "south"], "en", ("east", "corridor")),
+        ("go to the E corridor", ["east", "corridor", "south"], "en", ("east", "corridor")),  # as on signs
         ("please head to the shower", ["bath", "toilet"], "en", ("bath",)),
         ("go to the front entrance", ["entrance", "kitchen"], "en", ("entrance",)),
         ("台所を通って居間へ", ["キッチン", "リビング"], "ja", ("リビング",)),

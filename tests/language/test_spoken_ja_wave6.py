@@ -91,3 +91,39 @@ def test_arrows_stay_and_pictographs_go():
     assert without_pictographs("風呂→寝室") == "風呂→寝室"
     assert without_pictographs("玄関🙏") == "玄関 " and without_pictographs("玄関👍🏽") == "玄関  "
     assert without_pictographs("トイレwc") == "トイレwc"  # a w that is part of a word stays
+
+
+@pytest.mark.parametrize(
+    "text, visit, waits",
+    [
+        ("リビングで5分待って。いや10分", ["リビング"], [600.0]),  # a correction after a full stop
+        ("リビングで5分待って、いややっぱ10分", ["リビング"], [600.0]),  # two correction words, one correction
+        ("キッチンで5分待って、あー10分にして", ["キッチン"], [600.0]),  # にして: make it ten minutes
+        ("キッチンで5分待って、いや10分にして", ["キッチン"], [600.0]),
+        ("キッチンで5分待って、トイレに行って", ["キッチン", "トイレ"], [300.0]),  # no correction: as said
+    ],
+)
+def test_a_length_corrected_replaces_the_wait_s_length(text, visit, waits):
+    """Session 8: a length said again after a correction, or with にして, is the wait's (spoken_ja)."""
+    r = read(text, JA, "ja")
+    assert _visit(r) == visit and [s for _, s in r.waits] == waits
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("寝室の1番ごめん2番", ["寝室#2"]),  # an apology between two numbers of one place corrects
+        ("キッチンごめんリビング", ["リビング"]),  # between two places
+        ("ごめんキッチン行って", ["キッチン"]),  # elsewhere a filler
+        ("キッチン行ってごめん", ["キッチン"]),
+        ("2番寝室に行って", ["寝室#2"]),  # a screen number before the place without の
+        ("2番寝室へ行くください", ["寝室#2"]),
+    ],
+)
+def test_apologies_between_places_correct_and_numbers_before_a_place(text, visit):
+    assert _visit(read(text, JA, "ja")) == visit
+
+
+def test_an_ordinal_before_a_place_stays_refused():
+    with pytest.raises(InstructionError):
+        read("3番目の寝室に行って", JA, "ja")

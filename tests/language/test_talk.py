@@ -35,6 +35,9 @@ TALK_EN = [
     "huh",  # an interjection
     "gran here",  # a speaker introducing themselves
     "my dude",
+    "grandad's asleep on the couch",  # a location of someone else's (talk.py, _elsewhere)
+    "my mum is at work",
+    "he wants to show his mates",  # a possessive before a thing
 ]
 """Clauses the rule passes over (each says something about the world, with no place, time, order or motion)."""
 
@@ -57,6 +60,8 @@ NOT_TALK_EN = [
     "come back",
     "stay there",
     "the other one",
+    "I want it in the garage",  # "it" may be the robot: its location stays
+    "he wants his room",  # a possessive before a place noun picks it
 ]
 """Clauses that carry meaning: appended to an understood sentence they must not be passed over."""
 
@@ -105,6 +110,7 @@ def test_inserting_talk_never_changes_a_reading(data):
 @pytest.mark.parametrize("talk", NOT_TALK_EN)
 @pytest.mark.parametrize("text", ["go to the kitchen", "take me to the bedroom via the corridor"])
 def test_a_clause_with_navigation_meaning_is_never_passed_over(text, talk):
+    """(The "there" after a location passed over is tested below.)"""
     for changed in (f"{text}, {talk}", f"{text}. {talk}.", f"{talk}. {text}"):
         got = _meaning(changed, EN, "en")
         if isinstance(got, type):
@@ -182,6 +188,12 @@ def test_japanese_corrections(text, visit):
         ("玄関まで行っといでや", ["玄関"]),
         ("あのさ洗面所行けたりする", ["洗面所"]),
         ("茶の間へ行きなさい", ["リビング"]),
+        ("物置き行っとけ", ["物置き"]),  # the contraction of 行っておけ
+        ("廊下に出てろ", ["廊下"]),  # 出ていろ
+        ("キッチン行ってもろて", ["キッチン"]),  # 関西
+        ("トイレ行ってちょう", ["トイレ"]),  # 名古屋
+        ("お風呂場まで行っておくれやす", ["風呂"]),  # 京都
+        ("まっすぐ玄関に行っとけ", ["玄関"]),
         ("リビングにお願いしまーす", ["リビング"]),
         ("宅配来るっぽいから玄関行っといて", ["玄関"]),
         ("ゆっくりお風呂まで行ってください、床が濡れているので。", ["風呂"]),
@@ -234,3 +246,13 @@ def test_corrections_said_in_other_shapes(text, goal, via):
 def test_a_last_correction_word_with_nothing_to_mark_stays_refused():
     with pytest.raises(InstructionError):
         read("go to the kitchen sorry", EN, "en")
+
+
+def test_a_place_referred_back_to_keeps_the_location_of_the_talk():
+    """"there" after a statement's location may be that location: the statement is not passed over."""
+    for text in ("go to the kitchen, dad's in the garage, go there", "dad's in the garage. wait there"):
+        with pytest.raises(InstructionError):
+            read(text, EN, "en")
+    r = read("Slowly to the lounge please, Grandad's asleep on the couch.", EN, "en")
+    assert [p.words[0] for p in r.visit] == ["living"] and r.speed == "slow"
+    assert any("grandad's asleep on couch" in h for h in r.heard), r.heard  # the article is a filler
