@@ -249,7 +249,7 @@ def test_a_last_correction_word_with_nothing_to_mark_stays_refused():
 
 
 def test_a_place_referred_back_to_keeps_the_location_of_the_talk():
-    """"there" after a statement's location may be that location: the statement is not passed over."""
+    """ "there" after a statement's location may be that location: the statement is not passed over."""
     for text in ("go to the kitchen, dad's in the garage, go there", "dad's in the garage. wait there"):
         with pytest.raises(InstructionError):
             read(text, EN, "en")
