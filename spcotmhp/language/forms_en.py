@@ -104,3 +104,45 @@ def new_clause_en(items: list[Token]) -> list[Token]:
             out.append(Token("COMMA", ",", start=t.start, end=t.start))
         out.append(t)
     return out
+
+
+_COMPASS = frozenset({"east", "west", "north", "south"})
+
+
+def owners_and_sides(items: list[Token], words: frozenset[str]) -> list[Token]:
+    """A place's owner or side said after it or apart, put before it, where rule 5 joins place words side by side
+    into one name: "the room of Bob" (the genitive's other form: Bob's room), "alice s room" (a recogniser's
+    "alice's"), "the corridor on the east side" and "the east side corridor" (the east corridor). Only where the
+    possessive or the compass point is a place word of the map (``words``); anything else is left as said."""
+    out: list[Token] = []
+    k = 0
+    while k < len(items):
+        t, rest = items[k], items[k + 1 : k + 4]
+        kinds = [r.kind for r in rest]
+        if t.kind == "PLACE" and kinds[:2] == ["OF", "WORD"] and f"{rest[1].surface}'s" in words:
+            out += [_owner(rest[1]), t]  # "the room of bob"
+            k += 3
+            continue
+        if t.kind == "WORD" and rest and rest[0].surface == "s" and f"{t.surface}'s" in words:
+            out.append(_owner(t, rest[0].end))  # "alice s room"
+            k += 2
+            continue
+        side = kinds == ["AT", "PLACE", "WORD"] and rest[0].surface == "on" and rest[2].surface == "side"
+        if t.kind == "PLACE" and side and rest[1].words[-1] in _COMPASS and rest[1].number is None:
+            out += [rest[1]._replace(end=rest[2].end), t]  # "the corridor on the east side"
+            k += 4
+            continue
+        compass = t.kind == "PLACE" and t.words[-1] in _COMPASS
+        if compass and kinds[:2] == ["WORD", "PLACE"] and rest[0].surface == "side":
+            out += [t._replace(end=rest[0].end), rest[1]]  # "the east side corridor"
+            k += 3
+            continue
+        out.append(t)
+        k += 1
+    return out
+
+
+def _owner(tok: Token, end: int | None = None) -> Token:
+    """The possessive place word of a name said without its 's (or with the 's apart)."""
+    word = f"{tok.surface}'s"
+    return Token("PLACE", word, (word,), start=tok.start, end=tok.end if end is None else end)

@@ -39,7 +39,7 @@ import re
 from collections.abc import Sequence
 
 from spcotmhp.language.floors import CUES, floor_en
-from spcotmhp.language.forms_en import any_but_en, new_clause_en, wait_by_en
+from spcotmhp.language.forms_en import any_but_en, new_clause_en, owners_and_sides, wait_by_en
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
@@ -85,6 +85,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = contents_en(out, table, places)
     if "WORD" in kinds or "ONE" in kinds:
         out = numbered_en(out, english_units(text))
+    if "WORD" in kinds and "PLACE" in kinds:
+        out = owners_and_sides(out, places.words)
     out = _merge(out)
     numbered = kinds & {"NEG", "NO", "CORRECTION"} or any(t.number is not None for t in out)
     if numbered and kinds & {"WORD", "ONE"}:

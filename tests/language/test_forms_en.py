@@ -55,3 +55,47 @@ def test_the_instruction_said_again_after_a_correction_names_each_place_once(tex
 def test_the_instruction_said_again_in_english():
     r = read("go to the kitchen via the toilet, no, via the washroom to the kitchen", PLACE_WORDS_EN, "en")
     assert [p.words[0] for p in r.visit] == ["washroom", "kitchen"]
+
+
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("go to the room of Bob", ("bob's", "room")),  # the genitive's other form
+        ("go into alice s room", ("alice's", "room")),  # a recogniser's "alice's"
+        ("move to the corridor on the east side", ("east", "corridor")),
+        ("hey robot go to the east side corridor", ("east", "corridor")),
+        ("go to the corridor on the south side avoiding bob's room", ("south", "corridor")),
+    ],
+)
+def test_an_owner_or_a_side_said_after_the_place_names_it(text, words):
+    """Session 8 (forms_en.owners_and_sides): put before the place, where the place words form one name."""
+    r = read(text, SYNTHETIC, "en")
+    assert [p.words for p in r.visit] == [words]
+
+
+@pytest.mark.parametrize("text", ["go to the room of carol", "go to the room on the left side"])
+def test_an_owner_or_a_side_the_map_does_not_have_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, SYNTHETIC, "en")
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("Send yourself to the washroom, ta.", "washroom"),  # verbs of placing or sending, said of oneself
+        ("Go put yourself in the store room, you're in the way.", "storeroom"),
+        ("ok robot yeet yourself into the dining room", "dining"),
+        ("go out into the passage", "corridor"),  # out into: into, from where it stands
+        ("get yourself into the storeroom out of the way", "storeroom"),  # the idiom: not obstructing
+        ("go to the kitchen nvm the lounge", "living"),  # texting's "never mind"
+        ("brb robot go to the dining rm", "dining"),
+    ],
+)
+def test_ways_of_saying_go_of_session_8(text, goal):
+    assert [p.words[0] for p in read(text, PLACE_WORDS_EN, "en").visit] == [goal]
+
+
+@pytest.mark.parametrize("text", ["go out of the kitchen", "get out of the kitchen and go to the bath"])
+def test_leaving_a_place_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
