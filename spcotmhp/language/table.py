@@ -19,9 +19,11 @@ from types import MappingProxyType
 from typing import Any
 
 EN_UNIT = re.compile(r"\d+(?:\.\d+)?|[^\W_]+(?:'[^\W_]+)*|'s\b|\.\.\.|[,;:.!?&\-]")
-_TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you"), "n": ("and",)}
+_TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you"), "n": ("and",),
+               "thru": ("through",), "rn": ("right", "now"), "tho": ("though",)}  # fmt: skip
 """Spellings of texts and chats for the words they stand for (as dictionaries of text abbreviations give them:
-"u" you, "ty" thank you, "n" and; "da" the, as some speak and write it; "goto" typed without its space)."""
+"u" you, "ty" thank you, "n" and, "rn" right now; "da" the, as some speak and write it; "goto" typed without its
+space; "thru" and "tho", the informal spellings of through and though in Merriam-Webster)."""
 _DRAWN_OUT = re.compile(r"([a-z])\1{2,}")
 """A letter written three times or more ("pleeease", "kitchennn"): no English word has one, so it is drawn out."""
 
