@@ -62,6 +62,8 @@ def plain_verbs(text: str, table: WordTable) -> str:
     while i < len(morphemes):
         surface, pos, sub, base = morphemes[i]
         key = base if base in verbs else surface if surface in verbs else None
+        if key is None and base == "いう" and i > 0 and morphemes[i - 1][0] in ("まで", "へ"):
+            key = "いく"  # ろうかまでいってみて: 言う takes と or を, a destination before いって marks 行く
         if key is None or pos not in ("動詞", "名詞"):
             out.append(surface)
             i += 1
@@ -111,6 +113,8 @@ def _reported(morphemes: Sequence[tuple[str, str, str, str]], start: int, j: int
         m[3] in _CONJECTURE and (m[1] != "助動詞" or k + 1 < len(said) and said[k + 1][3] == "う")
         for k, m in enumerate(said)
     )  # 来るでしょう, 来るだろう (です / だ before う), 来るっぽい; 行くんだが is said as going
+    if guessed and any(m[3] in _REQUESTS or m[3] in _ASKING or m[3] == "できる" for m in said):
+        guessed = False  # 移動お願いできますでしょうか: a request asked politely, not a guess about it
     if said and said[-1][1] == "助動詞" and said[-1][3] == "た" or guessed:
         return True
     te = bool(said) and said[-1][0] in ("て", "で") and said[-1][1] == "助詞"
