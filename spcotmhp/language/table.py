@@ -142,11 +142,27 @@ def read_table(text: str, source: str) -> WordTable:
         filler_keys=filler_keys,
         phrase_from=MappingProxyType(longest_from(phrases)),
         filler_from=MappingProxyType(longest_from(filler_keys)),
-        synonyms=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("synonyms", {}).items()}),
+        synonyms=MappingProxyType(_with_activities(table)),
         talk=MappingProxyType({str(k): v for k, v in table.get("talk", {}).items()}),
         contents=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("contents", {}).items()}),
         senses=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("senses", {}).items()}),
     )
+
+
+def _with_activities(table: Mapping[str, Any]) -> dict[str, tuple[str, ...]]:
+    """The table's ``synonyms``, and for each place word the rooms told by what people do there (``activities``):
+    each activity followed by each of ``activity_nouns`` ("cooking" + "room", ご飯食べる + とこ) or after each of
+    ``activity_heads`` ("room for" + "bathing"), everyday names of the room as the synonyms are (read only where
+    the map has that place word)."""
+    out = {str(k): tuple(map(str, v)) for k, v in table.get("synonyms", {}).items()}
+    joiner = "" if table.get("by_character") else " "
+    nouns = [str(n) for n in table.get("activity_nouns", ())]
+    heads = [str(h) for h in table.get("activity_heads", ())]
+    for word, activities in table.get("activities", {}).items():
+        named = tuple(f"{a}{joiner}{n}" for a in map(str, activities) for n in nouns)
+        named += tuple(f"{h}{joiner}{a}" for a in map(str, activities) for h in heads)
+        out[str(word)] = (*out.get(str(word), ()), *named)
+    return out
 
 
 def longest_from(keys: Any) -> dict[str, int]:

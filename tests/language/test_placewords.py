@@ -34,6 +34,11 @@ def goal(text: str, words: list[str], lang: str = "en") -> tuple[str, ...]:
         ("お台所へ", ["キッチン", "リビング"], "ja", ("キッチン",)),  # after an honorific
         ("お手洗いへ行っておくれ", ["トイレ", "風呂"], "ja", ("トイレ",)),
         ("浴室に向かって", ["トイレ", "風呂"], "ja", ("風呂",)),
+        ("ご飯食べるとこ行って", ["ダイニング", "キッチン"], "ja", ("ダイニング",)),  # told by what is done there
+        ("料理する部屋に行って", ["ダイニング", "キッチン"], "ja", ("キッチン",)),
+        ("靴脱ぐとこまで行って", ["玄関", "廊下"], "ja", ("玄関",)),
+        ("go to the cooking room", ["kitchen", "dining"], "en", ("kitchen",)),
+        ("go to the room for bathing", ["bath", "toilet"], "en", ("bath",)),
     ],
 )
 def test_other_names_read_as_the_one_place_word_they_name(text, words, lang, named):
@@ -46,6 +51,8 @@ def test_other_names_read_as_the_one_place_word_they_name(text, words, lang, nam
         ("go to the bathroom", ["bath", "toilet", "washroom"], "en", AmbiguousPlace,
          "'bathroom' may name the bath, the toilet or the washroom"),
         ("go to the loo", ["bath", "kitchen"], "en", UnknownPlaceWord, "loo"),  # no toilet in this map
+        ("手を洗うとこに行って", ["洗面所", "トイレ"], "ja", UnknownPlaceWord, "手を洗う"),  # done in two kinds of room
+        ("go to the cooking room", ["dining", "bath"], "en", UnknownPlaceWord, "cooking"),  # no kitchen in this map
     ],
 )  # fmt: skip
 def test_an_other_name_that_could_name_several_places_or_none_is_refused(text, words, lang, error, message):
