@@ -247,6 +247,9 @@ def numbered_ja(items: list[Token]) -> list[Token]:
             place, said = (it, nxt) if pair[0] == "PLACE" else (nxt, it)
             pattern = _JA_NUMBER_AFTER if pair[0] == "PLACE" else _JA_NUMBER_BEFORE  # 寝室2番 / 2番の寝室
             n = _ja_number(pattern.match(said.surface), said.surface)
+            later = items[i + 2 : i + 4]
+            if n == 1 and "一番" in said.surface and any(t.kind in _RELATIONS for t in later):
+                n = None  # 寝室の一番トイレに近いとこ: 一番 is "most", said before the relation's place
             if n is not None:
                 out.append(place._replace(surface=it.surface + nxt.surface, number=n, start=it.start, end=nxt.end))
                 i += 2
@@ -284,18 +287,21 @@ _RELATIONS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO"})
 
 def of_the_places_ja(items: list[Token]) -> list[Token]:
     """A relation said after the place it picks (rule 7 in Japanese): "X の(うち)、Y から一番遠いところ" (of the
-    Xs, the one farthest from Y; ところ, とこ, の, やつ, ほう stand for the X) is "Y から一番遠い X"; 一番 said
-    before Y (寝室の 一番 トイレに近いとこ) belongs to the relation after Y. Anything else between them stays."""
+    Xs, the one farthest from Y; ところ, とこ, の, やつ, ほう stand for the X) is "Y から一番遠い X", also with a
+    pause for の (寝室、トイレに近いとこ) and after the X's own sentence (寝室に行って。キッチンから一番遠いやつね);
+    一番 said before Y (寝室の 一番 トイレに近いとこ) belongs to the relation after Y. Anything else stays."""
     if any(t.kind in _SIZES for t in items):
         items = _size_after(items)
-    if not any(t.kind in _RELATIONS for t in items) or not any(t.surface in _OF for t in items):
+    if not any(t.kind in _RELATIONS for t in items):
         return items
     out = list(items)
     for k in range(len(out) - 3):
         x, of = out[k], out[k + 1]
-        if x.kind != "PLACE" or of.kind != "WORD" or of.surface not in _OF:
+        goal = of if of.kind == "GOAL" and out[k + 2].kind == "_STOP" else None  # 寝室に行って。…遠いやつね
+        of_most = of.kind == "WORD" and of.surface in _OF_MOST  # 寝室の一番トイレに近いとこ
+        if x.kind != "PLACE" or not (of.kind == "WORD" and of.surface in _OF or of_most or of.kind == "COMMA" or goal):
             continue
-        m = k + 2 + (out[k + 2].kind == "COMMA")
+        m = k + 2 + (of.kind == "WORD" and out[k + 2].kind == "COMMA") + (goal is not None)
         m += m < len(out) and out[m].kind == "WORD" and out[m].surface in _SUPERLATIVE
         if m + 1 >= len(out) or out[m].kind != "PLACE" or out[m + 1].kind not in _RELATIONS:
             continue
@@ -303,12 +309,13 @@ def of_the_places_ja(items: list[Token]) -> list[Token]:
         while end < len(out) and out[end].kind in ("WORD", "AND") and said + out[end].surface in _PREFIXES:
             said += out[end].surface
             end += 1
-        if said in _PRO_FORMS:
+        if said in _PRO_FORMS:  # the pro-form stands for the X: it is the X picked
             head = x._replace(start=out[end - 1].start, end=out[end - 1].end)
-            return [*out[:k], out[m], out[m + 1], head, *out[end:]]
+            return [*out[:k], out[m], out[m + 1], head, *([goal] if goal else []), *out[end:]]
     return out
 
 
+_OF_MOST = frozenset("の" + s for s in _SUPERLATIVE)
 _PREFIXES = frozenset(p[:n] for p in _PRO_FORMS for n in range(1, len(p) + 1))
 _SIZES = frozenset({"LARGEST", "SMALLEST"})
 

@@ -127,3 +127,22 @@ def test_apologies_between_places_correct_and_numbers_before_a_place(text, visit
 def test_an_ordinal_before_a_place_stays_refused():
     with pytest.raises(InstructionError):
         read("3番目の寝室に行って", JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, relation",
+    [
+        ("寝室、トイレに近いとこ", "closest"),  # a pause for の before the relation said after the place
+        ("寝室、トイレに近いやつ。", "closest"),
+        ("寝室に行って。キッチンから一番遠いやつね。", "farthest"),  # after the place's own sentence
+        ("寝室の一番トイレに近いとこ", "closest"),  # 一番 before the relation's place is "most", no number
+    ],
+)
+def test_a_relation_said_after_the_place_with_a_pro_form(text, relation):
+    r = read(text, JA, "ja")
+    assert len(r.visit) == 1 and r.visit[0].words[0] == "寝室" and r.visit[0].relation.kind == relation
+    assert r.visit[0].number is None
+
+
+def test_ichiban_alone_after_a_place_is_its_number():
+    assert _visit(read("寝室の一番に行って", JA, "ja")) == ["寝室#1"]
