@@ -146,3 +146,65 @@ def _owner(tok: Token, end: int | None = None) -> Token:
     """The possessive place word of a name said without its 's (or with the 's apart)."""
     word = f"{tok.surface}'s"
     return Token("PLACE", word, (word,), start=tok.start, end=tok.end if end is None else end)
+
+
+_TAKE_BACK = frozenset({"CORRECTION", "NO", "CANCEL"})
+_RESTATED = frozenset({"GO", "THERE", "COMMA", "_STOP", "NOW"})
+_WAIT_PARTS = frozenset({"WAIT", "THERE", "DURATION", "UNBOUNDED_WAIT"})
+
+
+def withdrawals_en(items: list[Token]) -> list[Token]:
+    """A part of the instruction taken back after a correction, leaving the rest as said: a wait ("wait there, oh
+    actually don't wait", "don't bother waiting", "no need to wait"), a waypoint ("through the kitchen. Actually,
+    skip the kitchen", "no need to go through it"), a speed ("slowly, no, never mind the slowly"). A correction
+    replaces what it names with nothing, as it replaces a place with another; a restatement after it ("just go",
+    "go straight there") says the goal again. "not via the hall" after "via the hall" may take it back or forbid
+    it (writers split): left to the grammar, which refuses it. Anything else after the correction is left too."""
+    for c in range(len(items) - 1, 0, -1):
+        if items[c].kind in _TAKE_BACK:
+            break
+    else:
+        return items
+    before, after = items[:c], [t for t in items[c + 1 :] if t.kind not in ("COMMA", "_STOP")]
+    while before and before[-1].kind in (*_TAKE_BACK, "COMMA", "_STOP"):
+        before = before[:-1]  # "no, never mind"
+    rest = _withdrawn(before, [items[c], *after] if items[c].kind == "CANCEL" else after)
+    return items if rest is None else rest
+
+
+def _withdrawn(before: list[Token], after: list[Token]) -> list[Token] | None:
+    """``before`` without the part ``after`` takes back, or None if it takes none back or says more."""
+    kinds = [t.kind for t in after]
+    words = [t.surface for t in after]
+    if kinds[:2] in (["NEG", "WAIT"], ["WAIVER", "WAIT"]):
+        n, kept = 2, _without_wait(before)
+    elif kinds[:1] == ["NEG"] and words[1:3] == ["bother", "waiting"]:
+        n, kept = 3, _without_wait(before)
+    elif kinds[:1] == ["CANCEL"] and kinds[1:2] in (["SLOW"], ["FAST"]):
+        n, kept = 2, [t for t in before if t.kind != kinds[1]]
+        kept = None if len(kept) == len(before) else kept
+    elif kinds[:2] == ["AVOID", "PLACE"] and words[0] in ("skip", "skipping"):
+        n, kept = 2, _without_waypoint(before, after[1])
+    elif kinds[:3] == ["WAIVER", "VIA", "PLACE"]:
+        n, kept = 3, _without_waypoint(before, after[2])
+    else:
+        return None
+    return None if kept is None or any(t.kind not in _RESTATED for t in after[n:]) else kept
+
+
+def _without_wait(before: list[Token]) -> list[Token] | None:
+    """``before`` without its last wait (its verb, "there", its length, and the "and" before it)."""
+    waits = [k for k, t in enumerate(before) if t.kind == "WAIT"]
+    if not waits:
+        return None
+    k = end = waits[-1]
+    while end + 1 < len(before) and before[end + 1].kind in _WAIT_PARTS:
+        end += 1
+    start = k - (k > 0 and before[k - 1].kind in ("AND", "THEN"))
+    return [*before[:start], *before[end + 1 :]]
+
+
+def _without_waypoint(before: list[Token], place: Token) -> list[Token] | None:
+    """``before`` without the last "via ``place``" said in it."""
+    via = [k for k in range(len(before) - 1) if before[k].kind == "VIA" and before[k + 1].words == place.words]
+    return None if not via else [*before[: via[-1]], *before[via[-1] + 2 :]]

@@ -105,3 +105,35 @@ def test_ways_of_saying_go_of_session_8(text, goal):
 def test_leaving_a_place_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, visit, waits, speed",
+    [
+        ("go to the kitchen and wait there oh actually don't wait just go", ["kitchen"], [], None),
+        ("Go to the bath and wait there. Actually, don't bother waiting.", ["bath"], [], None),
+        ("go to the kitchen and wait there for 5 minutes, actually no need to wait", ["kitchen"], [], None),
+        ("Head to the dining room through the kitchen. Actually, skip the kitchen, go straight there.", ["dining"], [],
+         None),
+        ("go to the bath via the corridor, actually no need to go through the corridor", ["bath"], [], None),
+        ("go to the dining room slowly no never mind the slowly just go", ["dining"], [], None),
+        ("go to the bath via the corridor, actually via the hall", ["hall", "bath"], [], None),  # a replacement
+    ],
+)  # fmt: skip
+def test_a_part_taken_back_after_a_correction_is_left_out(text, visit, waits, speed):
+    """Session 8 (forms_en.withdrawals_en): a correction replaces a wait, a waypoint or a speed with nothing."""
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == visit and list(r.waits) == waits and r.speed == speed
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the bath via the corridor, actually no need",  # taken back: which part?
+        "go to the bath, actually don't wait",  # nothing to take back
+        "go to the bath via the corridor, actually skip the hall",
+    ],
+)
+def test_a_withdrawal_that_is_unclear_or_takes_nothing_back_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
