@@ -52,6 +52,7 @@ from spcotmhp.language.spoken_ja import (
     quoted_whole,
     waits_ja,
 )
+from spcotmhp.language.withdrawals_ja import withdrawals_ja
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
 _NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
@@ -126,6 +127,9 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     kinds = {t.kind for t in items}
     if "WORD" in kinds and "PLACE" in kinds:
         items = false_starts(items)
+    if kinds & {"WITHDRAW_WAIT", "WITHDRAW", "ALLOW"}:
+        items = withdrawals_ja(items)  # withdrawals_ja: 待たなくていいや, 洗面所は通らなくていい
+        kinds = {t.kind for t in items}
     if "CANCEL" in kinds:
         items = cancel_corrects(items)
         kinds = {t.kind for t in items}

@@ -146,3 +146,33 @@ def test_a_relation_said_after_the_place_with_a_pro_form(text, relation):
 
 def test_ichiban_alone_after_a_place_is_its_number():
     assert _visit(read("寝室の一番に行って", JA, "ja")) == ["寝室#1"]
+
+
+@pytest.mark.parametrize(
+    "text, visit, avoid",
+    [
+        ("トイレで待ってて、いや待たなくていいや", ["トイレ"], []),  # a wait taken back
+        ("玄関で待っててあやっぱ待たなくていいや行くだけで", ["玄関"], []),  # and "just go"
+        ("リビングで待機してて。あ、待機はいいや、行くだけで", ["リビング"], []),
+        ("洗面所通ってお風呂、いや、やっぱ洗面所は通らなくていい", ["風呂"], []),  # a place to pass taken back
+        ("廊下通ってキッチン、あーやっぱ廊下はいいや、そのままキッチン", ["キッチン"], []),
+        ("リビング避けて…あ、やっぱり通っていいよ、ダイニングまで", ["ダイニング"], []),  # an avoidance taken back
+    ],
+)
+def test_a_part_taken_back_is_left_out(text, visit, avoid):
+    """Session 8 (withdrawals_ja): a correction replaces a wait, a place to pass or an avoidance with nothing."""
+    r = read(text, JA, "ja")
+    assert _visit(r) == visit and [p.words[0] for p in r.avoid] == avoid and not r.waits
+
+
+@pytest.mark.parametrize(
+    "text, reason",
+    [
+        ("キッチンに行って、待たなくていいや", "need not be done"),  # nothing to take back: a waiver
+        ("トイレ行って、廊下はいいや", "not said as a place to pass"),
+        ("キッチン通ってリビング、やっぱり通っていいよ", "no place to avoid"),
+    ],
+)
+def test_a_withdrawal_with_nothing_to_take_back_is_refused(text, reason):
+    with pytest.raises(InstructionError, match=reason):
+        read(text, JA, "ja")
