@@ -156,7 +156,8 @@ _WAIT_PARTS = frozenset({"WAIT", "THERE", "DURATION", "UNBOUNDED_WAIT"})
 def withdrawals_en(items: list[Token]) -> list[Token]:
     """A part of the instruction taken back after a correction, leaving the rest as said: a wait ("wait there, oh
     actually don't wait", "don't bother waiting", "no need to wait"), a waypoint ("through the kitchen. Actually,
-    skip the kitchen", "no need to go through it"), a speed ("slowly, no, never mind the slowly"). A correction
+    skip the kitchen", "no need to go through it"), a speed ("slowly, no, never mind the slowly"), an avoidance
+    ("avoid the hall, actually the hall's fine", then what is said instead). A correction
     replaces what it names with nothing, as it replaces a place with another; a restatement after it ("just go",
     "go straight there") says the goal again. "not via the hall" after "via the hall" may take it back or forbid
     it (writers split): left to the grammar, which refuses it. Anything else after the correction is left too."""
@@ -187,9 +188,25 @@ def _withdrawn(before: list[Token], after: list[Token]) -> list[Token] | None:
         n, kept = 2, _without_waypoint(before, after[1])
     elif kinds[:3] == ["WAIVER", "VIA", "PLACE"]:
         n, kept = 3, _without_waypoint(before, after[2])
+    elif kinds[:2] == ["PLACE", "ANY_OK"] or kinds[:3] == ["PLACE", "IS", "WORD"] and words[2] in _FINE:
+        n = 2 if kinds[1] == "ANY_OK" else 3  # "actually, the hall's fine(, avoid the corridor instead)"
+        kept = _without_avoided(before, after[0])
+        if kept is not None and any(t.kind not in _RESTATED for t in after[n:]):
+            return [*kept, Token("COMMA", ",", start=after[n].start, end=after[n].start),
+                    *(t for t in after[n:] if t.kind != "INSTEAD")]  # fmt: skip
     else:
         return None
     return None if kept is None or any(t.kind not in _RESTATED for t in after[n:]) else kept
+
+
+_FINE = frozenset({"fine", "ok", "okay", "alright", "all right"})
+"""Words saying a place taken back from the avoided will do ("the hall's fine")."""
+
+
+def _without_avoided(before: list[Token], place: Token) -> list[Token] | None:
+    """``before`` without the last "avoid ``place``" said in it."""
+    avoided = [k for k in range(len(before) - 1) if before[k].kind == "AVOID" and before[k + 1].words == place.words]
+    return None if not avoided else [*before[: avoided[-1]], *before[avoided[-1] + 2 :]]
 
 
 def _without_wait(before: list[Token]) -> list[Token] | None:

@@ -79,7 +79,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if kinds & {"STOP_AT", "AVOID", "GO"} and (clauses := new_clause_en(out)) is not out:
         out, kinds = clauses, kinds | {"COMMA"}
-    if kinds & {"CORRECTION", "NO", "CANCEL"} and kinds & {"WAIT", "VIA", "SLOW", "FAST"}:
+    if kinds & {"CORRECTION", "NO", "CANCEL"} and kinds & {"WAIT", "VIA", "SLOW", "FAST", "AVOID"}:
         out = withdrawals_en(out)
     if "COMMA" in kinds or "CORRECTION" in kinds or "NO" in kinds and "WAIT" in kinds:
         out = corrections_en(out)

@@ -118,6 +118,7 @@ def test_leaving_a_place_stays_refused(text):
         ("go to the bath via the corridor, actually no need to go through the corridor", ["bath"], [], None),
         ("go to the dining room slowly no never mind the slowly just go", ["dining"], [], None),
         ("go to the bath via the corridor, actually via the hall", ["hall", "bath"], [], None),  # a replacement
+        ("go to the kitchen avoiding the hall, actually the hall is fine", ["kitchen"], [], None),  # an avoidance
     ],
 )  # fmt: skip
 def test_a_part_taken_back_after_a_correction_is_left_out(text, visit, waits, speed):
@@ -137,3 +138,14 @@ def test_a_part_taken_back_after_a_correction_is_left_out(text, visit, waits, sp
 def test_a_withdrawal_that_is_unclear_or_takes_nothing_back_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, PLACE_WORDS_EN, "en")
+
+
+def test_an_avoidance_taken_back_then_another_said_instead():
+    r = read("Go to the entrance and avoid the hall - actually, the hall's fine, avoid the corridor instead.",
+             PLACE_WORDS_EN, "en")  # fmt: skip
+    assert [p.words[0] for p in r.visit] == ["entrance"] and [p.words[0] for p in r.avoid] == ["corridor"]
+
+
+@pytest.mark.parametrize("text", ["Bob's room. Pretty please.", "Storeroom. Wait, no. Toilet. Sorry, long day."])
+def test_pleas_and_weariness_are_talk(text):
+    assert read(text, [*SYNTHETIC, "storeroom", "toilet"], "en").visit
