@@ -225,3 +225,26 @@ def _without_waypoint(before: list[Token], place: Token) -> list[Token] | None:
     """``before`` without the last "via ``place``" said in it."""
     via = [k for k in range(len(before) - 1) if before[k].kind == "VIA" and before[k + 1].words == place.words]
     return None if not via else [*before[: via[-1]], *before[via[-1] + 2 :]]
+
+
+_MANNER = frozenset({"NOW", "SLOW", "FAST"})
+
+
+def motion_at_en(items: list[Token]) -> list[Token]:
+    """After a verb of motion, "in" or "at" before a place says where the motion ends, as "to" does ("move in the
+    toilet room", "please go now in the kitchen", "go at the living room": colloquial and learners' English), where
+    the verb opens its clause as an order; an
+    infinitive's "to" opening the request before the verb ("please to go to the living room") marks nothing."""
+    out = list(items)
+    for k, t in enumerate(out):
+        if t.kind != "GO" or k > 0 and out[k - 1].kind not in ("COMMA", "_STOP") or t.surface.endswith("ing"):
+            continue  # an order opening its clause: not "I'm going in the kitchen", "walking in the hallway"
+        j = k + 1
+        while j < len(out) and out[j].kind in _MANNER:
+            j += 1
+        at = j + 1 < len(out) and out[j].kind == "AT" and out[j].surface in ("in", "at") and out[j + 1].kind == "PLACE"
+        if at:
+            out[j] = out[j]._replace(kind="TO")
+    if len(out) > 1 and out[0].kind == "TO" and out[1].kind == "GO":
+        out = out[1:]  # "(please) to go ..."
+    return out

@@ -39,7 +39,14 @@ import re
 from collections.abc import Sequence
 
 from spcotmhp.language.floors import CUES, floor_en
-from spcotmhp.language.forms_en import any_but_en, new_clause_en, owners_and_sides, wait_by_en, withdrawals_en
+from spcotmhp.language.forms_en import (
+    any_but_en,
+    motion_at_en,
+    new_clause_en,
+    owners_and_sides,
+    wait_by_en,
+    withdrawals_en,
+)
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
@@ -79,6 +86,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if kinds & {"STOP_AT", "AVOID", "GO"} and (clauses := new_clause_en(out)) is not out:
         out, kinds = clauses, kinds | {"COMMA"}
+    if "GO" in kinds and ("AT" in kinds or out[0].kind == "TO"):
+        out = motion_at_en(out)
     if kinds & {"CORRECTION", "NO", "CANCEL"} and kinds & {"WAIT", "VIA", "SLOW", "FAST", "AVOID"}:
         out = withdrawals_en(out)
     if "COMMA" in kinds or "CORRECTION" in kinds or "NO" in kinds and "WAIT" in kinds:

@@ -149,3 +149,28 @@ def test_an_avoidance_taken_back_then_another_said_instead():
 @pytest.mark.parametrize("text", ["Bob's room. Pretty please.", "Go to the toilet. Long day."])
 def test_pleas_and_weariness_are_talk(text):
     assert read(text, [*SYNTHETIC, "storeroom", "toilet"], "en").visit
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("Please go now in the kitchen.", "kitchen"),  # "in" after a verb of motion: where it ends
+        ("Go at the living room.", "living"),
+        ("Excuse me, please move in the toilet room.", "toilet"),
+        ("Please to go at the dining, thank you.", "dining"),  # the infinitive's "to" before the verb
+    ],
+)
+def test_in_or_at_after_an_order_to_move_is_the_destination(text, goal):
+    assert read(text, PLACE_WORDS_EN, "en").visit[-1].words[0] == goal
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["I'm going in the kitchen, go to the bath", "Go to the bath, Mrs. Lee needs to practise walking in the hall."],
+)
+def test_in_after_someone_else_s_motion_stays_theirs(text):
+    try:
+        r = read(text, PLACE_WORDS_EN, "en")
+    except InstructionError:
+        return
+    assert [p.words[0] for p in r.visit] == ["bath"]
