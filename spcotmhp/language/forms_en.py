@@ -235,7 +235,7 @@ def motion_at_en(items: list[Token]) -> list[Token]:
     toilet room", "please go now in the kitchen", "go at the living room": colloquial and learners' English), where
     the verb opens its clause as an order; an
     infinitive's "to" opening the request before the verb ("please to go to the living room") marks nothing."""
-    out = list(items)
+    out = items[1:] if len(items) > 1 and items[0].kind == "TO" and items[1].kind == "GO" else list(items)
     for k, t in enumerate(out):
         if t.kind != "GO" or k > 0 and out[k - 1].kind not in ("COMMA", "_STOP") or t.surface.endswith("ing"):
             continue  # an order opening its clause: not "I'm going in the kitchen", "walking in the hallway"
@@ -245,6 +245,4 @@ def motion_at_en(items: list[Token]) -> list[Token]:
         at = j + 1 < len(out) and out[j].kind == "AT" and out[j].surface in ("in", "at") and out[j + 1].kind == "PLACE"
         if at:
             out[j] = out[j]._replace(kind="TO")
-    if len(out) > 1 and out[0].kind == "TO" and out[1].kind == "GO":
-        out = out[1:]  # "(please) to go ..."
     return out
