@@ -294,8 +294,8 @@ def _addressing(part: Sequence[Token], address: frozenset[str], interjections: f
     """Rule 2: only terms of address and interjections ("my dude", "you little rascal", "yeah nah"), or a name
     introducing its speaker ("gran here", "bob here"), whatever classes their words have elsewhere."""
     words = [t.surface for t in part]
-    if len(part) == 2 and part[1].kind == "HERE":
-        return part[0].kind == "WORD" and _name(words[0])
+    if len(part) == 2 and part[1].kind == "HERE":  # not "(I need) you here": the robot asked to be here
+        return part[0].kind == "WORD" and _name(words[0]) and words[0] not in ("you", "u", "ya", "ye", "yourself")
     if words[-1] in address and all(w in ("my", "you", "little", "old", "young", "dear") for w in words[:-1]):
         return all(t.kind != "PLACE" for t in part)
     return all(w in interjections for w in words)

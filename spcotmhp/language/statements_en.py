@@ -9,7 +9,8 @@ not the robot's. It is passed over, and said. What keeps a part in the instructi
 
 * a place, a floor, or a class of the instruction (a way to go, a waypoint, an avoidance, a negation, a speed, a
   wait, a correction, a relation, a size; ``_ALLOWED`` lists the classes a statement may hold);
-* "to" or "in" before anything but a length of time ("we're going to the garage", "I need you in the garage");
+* "to" or "in" before anything but a length of time ("we're going to the garage", "I need you in the garage"),
+  and "here" or "there" after the robot ("I need you here");
 * a length of time where the instruction waits without one ("wait in the kitchen, I'll be back in ten minutes":
   the length may be the wait's);
 * words referring back to a place or naming one without its name ("one", "room"): "the big one is mine", "he
@@ -56,6 +57,9 @@ def stated(part: Sequence[Token], subjects: frozenset[str], sentence: Sequence[T
     # be here soon"); after "it" or "that", which may stand for the instruction, it may say when to go
     someone = toks[0].kind != "IT" and toks[0].surface not in _INSTRUCTION_SUBJECTS
     times = frozenset() if someone and not any(t.surface == "you" for t in toks) else times
+    robot = [k for k, t in enumerate(toks) if t.surface in ("you", "u", "yourself")]
+    if robot and any(t.kind in ("HERE", "THERE") for t in toks[robot[0] :]):
+        return False  # "I need you here": where the robot is asked to be
     verb = False
     for k, t in enumerate(toks):
         nxt = toks[k + 1] if k + 1 < len(toks) else None

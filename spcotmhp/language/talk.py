@@ -64,6 +64,8 @@ def pass_over(
     for k in range(len(toks)):  # "his mates"; "his room": a possessive before a place (or a word of one) picks it
         if toks[k].kind == "MODIFIER":
             ok[k] = ok[k] and k + 1 < len(toks) and toks[k + 1].kind == "WORD" and ok[k + 1]
+        elif k and toks[k - 1].kind in ("AT", "IS") and _located(toks[k]):
+            ok[k] = True  # "someone's at the door", "the taxi's here": where someone is (_statement, _elsewhere)
     times = frozenset(table.talk.get("times_in_statements", ()))
     for a, b in _sentences(toks):  # "It's freezing tonight.": a time in a statement of its own is the statement's
         loose = [ok[k] or toks[k].kind == "WORD" and ew.base(toks[k].surface) in times for k in range(a, b)]
@@ -111,6 +113,20 @@ def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str
     someone = run[0].kind == "WORD" and not run[0].surface.startswith(("you", "u"))
     verb = "VERB" in pos(last.surface) and "AUX" not in pos(last.surface)
     return named and someone and verb and len(run) > 1 and _statement(run, subjects, True)
+
+
+_POSITIONS = frozenset({"door", "doorway", "corner", "end", "middle", "front", "back", "side", "window"})
+"""Nouns of a position (the talk table's meaning words) that say where someone is after "at" or "in"."""
+
+
+def _located(tok: Token) -> bool:
+    """A word saying where someone is after "at" / "is": "here", or a position noun ("at the door")."""
+    return tok.kind == "HERE" or tok.kind == "WORD" and tok.surface in _POSITIONS
+
+
+def _place_of(tok: Token, before: Token) -> bool:
+    """Whether ``tok`` after ``before`` ("at", "in"; "is") names a location: a word after "at", or "here"."""
+    return tok.kind == "HERE" or before.kind == "AT" and tok.kind == "WORD"
 
 
 def _referred_back(rest: Sequence[Token]) -> bool:
@@ -193,7 +209,7 @@ def _statement(run: Sequence[Token], subjects: frozenset[str], after_determiner:
             nxt = run[k + 1] if k + 1 < len(run) else None
             if nxt is None or nxt.kind != "WORD" or not infinitive(nxt.surface):
                 return False
-        elif t.kind == "AT" and k + 1 < len(run) and run[k + 1].kind == "WORD" and not _elsewhere(run, k):
+        elif t.kind in ("AT", "IS") and k + 1 < len(run) and _place_of(run[k + 1], t) and not _elsewhere(run, k):
             return False  # "I need you in the garage": a location stays in the instruction
         elif t.kind == "WORD" and k == 0 and t.surface in ("you", "me", "us"):
             return False  # "you go to the garage": an order, not a statement

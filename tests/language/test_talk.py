@@ -38,6 +38,8 @@ TALK_EN = [
     "grandad's asleep on the couch",  # a location of someone else's (talk.py, _elsewhere)
     "my mum is at work",
     "he wants to show his mates",  # a possessive before a thing
+    "someone's at the door",  # a position noun saying where someone is
+    "it's getting crowded in here",
 ]
 """Clauses the rule passes over (each says something about the world, with no place, time, order or motion)."""
 
@@ -62,6 +64,8 @@ NOT_TALK_EN = [
     "the other one",
     "I want it in the garage",  # "it" may be the robot: its location stays
     "he wants his room",  # a possessive before a place noun picks it
+    "I need you here",  # where the robot is asked to be
+    "I need you at the door",
 ]
 """Clauses that carry meaning: appended to an understood sentence they must not be passed over."""
 
