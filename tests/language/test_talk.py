@@ -202,6 +202,8 @@ def test_japanese_corrections(text, visit):
         ("ろうかまでいってみて！", ["廊下"]),  # いって after まで is 行って, not 言って
         ("申し訳ないんですけど、キッチンまで移動お願いできますか？", ["キッチン"]),  # an apology opening it
         ("ご面倒をおかけしますが、洗面所へお願いいたします", ["洗面所"]),
+        ("ほんまにゆっくり寝室行ってくれへん？", ["寝室"]),  # an intensifier
+        ("ちゃうちゃう、リビングやって", ["リビング"]),  # a copula with emphasis
         ("トイレから一番遠い寝室がいいな", ["寝室"]),  # Xがいい: X is what is wanted
         ("玄関、いや、やっぱりリビングのほうがいいや", ["リビング"]),
         ("リビングにお願いしまーす", ["リビング"]),
@@ -214,6 +216,21 @@ def test_japanese_verb_endings_and_talk(text, visit):
     """Endings of a verb with no navigation meaning are read as its plain te-form; a reason or a statement around
     the instruction is passed over (spcotmhp/language/talk_ja.py)."""
     assert [p.words[0] for p in read(text, JA, "ja").visit] == visit
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "トイレ通らんと玄関行って",
+        "トイレ通らんで玄関行って",
+        "トイレには入ったらあかんで、玄関行って",
+        "トイレ通ったらだめ、玄関行って",
+    ],
+)
+def test_western_negative_te_forms_and_must_not_avoid(text):
+    """関西・西日本 〜んと / 〜んで and 〜たらあかん (must not): the place is avoided (ja.json talk.dialect)."""
+    r = read(text, JA, "ja")
+    assert [p.words[0] for p in r.visit] == ["玄関"] and [p.words[0] for p in r.avoid] == ["トイレ"]
 
 
 def test_japanese_negated_endings_avoid_and_waivers_stay_refused():
