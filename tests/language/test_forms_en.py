@@ -95,6 +95,8 @@ def test_an_owner_or_a_side_the_map_does_not_have_stays_refused(text):
         ("u there? go to the dining room", "dining"),  # calling for attention
         ("pass thru the corridor to the living room", "living"),  # thru: through
         ("yo go 2 da kitchen rn", "kitchen"),  # rn: right now
+        ("away ye go to the kitchen", "kitchen"),
+        ("Fancy a trip to the storeroom?", "storeroom"),
     ],
 )
 def test_ways_of_saying_go_of_session_8(text, goal):

@@ -203,6 +203,7 @@ def test_japanese_corrections(text, visit):
         ("申し訳ないんですけど、キッチンまで移動お願いできますか？", ["キッチン"]),  # an apology opening it
         ("ご面倒をおかけしますが、洗面所へお願いいたします", ["洗面所"]),
         ("ほんまにゆっくり寝室行ってくれへん？", ["寝室"]),  # an intensifier
+        ("私、リビング、行ってほしい", ["リビング"]),  # the speaker as the topic (not 私の: whose room)
         ("ちゃうちゃう、リビングやって", ["リビング"]),  # a copula with emphasis
         ("トイレから一番遠い寝室がいいな", ["寝室"]),  # Xがいい: X is what is wanted
         ("玄関、いや、やっぱりリビングのほうがいいや", ["リビング"]),
