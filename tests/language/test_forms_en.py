@@ -96,6 +96,10 @@ def test_an_owner_or_a_side_the_map_does_not_have_stays_refused(text):
         ("pass thru the corridor to the living room", "living"),  # thru: through
         ("yo go 2 da kitchen rn", "kitchen"),  # rn: right now
         ("away ye go to the kitchen", "kitchen"),
+        ("go till the kitchen", "kitchen"),  # Indian English: till, upto as "up to"
+        ("go upto the kitchen", "kitchen"),
+        ("i need that you go to the kitchen por favor", "kitchen"),  # a learner's calque, Spanish please
+        ("alexa no i mean robot go to the living room", "living"),  # another assistant's wake word
         ("Fancy a trip to the storeroom?", "storeroom"),
     ],
 )
