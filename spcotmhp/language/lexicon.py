@@ -48,6 +48,7 @@ from spcotmhp.language.forms_en import (
     withdrawals_en,
 )
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
+from spcotmhp.language.others import other_than_excluded
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
@@ -86,6 +87,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
     if kinds & {"STOP_AT", "AVOID", "GO"} and (clauses := new_clause_en(out)) is not out:
         out, kinds = clauses, kinds | {"COMMA"}
+    if "MODIFIER" in kinds and "NEG" in kinds:
+        out = other_than_excluded(out)  # others.py: "not bedroom 1, one of the other bedrooms"
     if "GO" in kinds and ("AT" in kinds or out[0].kind == "TO"):
         out = motion_at_en(out)
     if kinds & {"CORRECTION", "NO", "CANCEL"} and kinds & {"WAIT", "VIA", "SLOW", "FAST", "AVOID"}:

@@ -44,6 +44,7 @@ import re
 
 from spcotmhp.language.excluded_ja import asked_there_ja, contrasted_numbers, excluded_ja
 from spcotmhp.language.lexicon_ja import of_the_places_ja, said_again_ja
+from spcotmhp.language.others import other_than_excluded
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.spoken_ja import (
     any_first,
@@ -160,6 +161,8 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     other_than = kinds & {"AVOID", "NOT_GOAL"} and any(t.surface.startswith("以外") for t in items)
     if kinds & {"EXCLUDED", "CANCEL"} or other_than:
         items = excluded_ja(items)  # excluded_ja: 風呂に一番近いのはやめて, 2番以外で
+    if any(t.kind == "NOT_GOAL" for t in items) and "WORD" in kinds:
+        items = other_than_excluded(items)  # others.py: 寝室#1じゃなくて、他の寝室
     if "WHICH" in kinds and "THERE" in kinds:
         items = asked_there_ja(items)
     return there_ja(items) if "THERE" in kinds else items

@@ -180,3 +180,25 @@ def test_in_after_someone_else_s_motion_stays_theirs(text):
     except InstructionError:
         return
     assert [p.words[0] for p in r.visit] == ["bath"]
+
+
+@pytest.mark.parametrize(
+    "text, lang, goal, excluded",
+    [
+        ("Not bedroom 1. One of the other bedrooms.", "en", "bedroom", 1),  # "other": less those turned down
+        ("not bedroom 1, go to another bedroom", "en", "bedroom", 1),
+        ("Not bedroom 3, not bedroom 1 - the other one.", "en", "bedroom", 2),
+        ("寝室#1じゃなくて、他の寝室ならどこでも", "ja", "寝室", 1),
+        ("子供が寝てるから一番小さい寝室はやめて、他の寝室に行って", "ja", "寝室", 1),
+    ],
+)
+def test_another_x_after_an_x_turned_down(text, lang, goal, excluded):
+    """spcotmhp/language/others.py: the exclusion says which not to end in; "other" adds nothing to it."""
+    r = read(text, PLACE_WORDS_EN if lang == "en" else PLACE_WORDS_JA, lang)
+    assert [p.words[0] for p in r.visit] == [goal] and r.visit[0].relation is None and len(r.not_goal) == excluded
+
+
+@pytest.mark.parametrize("text, lang", [("go to the other bedroom", "en"), ("他の寝室に行って", "ja")])
+def test_other_with_nothing_turned_down_stays_refused(text, lang):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN if lang == "en" else PLACE_WORDS_JA, lang)
