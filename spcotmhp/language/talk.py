@@ -66,6 +66,8 @@ def pass_over(
             ok[k] = ok[k] and k + 1 < len(toks) and toks[k + 1].kind == "WORD" and ok[k + 1]
         elif k and toks[k - 1].kind in ("AT", "IS") and _located(toks[k]):
             ok[k] = True  # "someone's at the door", "the taxi's here": where someone is (_statement, _elsewhere)
+        elif k and toks[k - 1].surface in _TITLES and toks[k].kind == "WORD" and toks[k].surface.isalpha():
+            ok[k] = True  # "Mr Ortiz is using his walker": a title's name (no dictionary word)
     times = frozenset(table.talk.get("times_in_statements", ()))
     for a, b in _sentences(toks):  # "It's freezing tonight.": a time in a statement of its own is the statement's
         loose = [ok[k] or toks[k].kind == "WORD" and ew.base(toks[k].surface) in times for k in range(a, b)]
@@ -115,6 +117,7 @@ def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str
     return named and someone and verb and len(run) > 1 and _statement(run, subjects, True)
 
 
+_TITLES = frozenset({"mr", "mrs", "ms", "miss", "dr", "mx"})
 _POSITIONS = frozenset({"door", "doorway", "corner", "end", "middle", "front", "back", "side", "window"})
 """Nouns of a position (the talk table's meaning words) that say where someone is after "at" or "in"."""
 

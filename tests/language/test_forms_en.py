@@ -100,11 +100,19 @@ def test_an_owner_or_a_side_the_map_does_not_have_stays_refused(text):
         ("go upto the kitchen", "kitchen"),
         ("i need that you go to the kitchen por favor", "kitchen"),  # a learner's calque, Spanish please
         ("alexa no i mean robot go to the living room", "living"),  # another assistant's wake word
+        ("The corridor would be great, thanks.", "corridor"),  # as "the corridor is fine"
+        ("Go on into the kitchen, sure look it.", "kitchen"),
+        ("Mate, take yourself to the hall, ya legend.", "hall"),
         ("Fancy a trip to the storeroom?", "storeroom"),
     ],
 )
 def test_ways_of_saying_go_of_session_8(text, goal):
     assert read(text, PLACE_WORDS_EN, "en").visit[-1].words[0] == goal
+
+
+def test_nice_and_quick_and_nice_and_slow_are_speeds():
+    assert read("Go to the kitchen, nice and quick.", PLACE_WORDS_EN, "en").speed == "fast"
+    assert read("nice and slowly to the bath", PLACE_WORDS_EN, "en").speed == "slow"
 
 
 @pytest.mark.parametrize("text", ["go out of the kitchen", "get out of the kitchen and go to the bath"])

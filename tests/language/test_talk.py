@@ -40,6 +40,7 @@ TALK_EN = [
     "he wants to show his mates",  # a possessive before a thing
     "someone's at the door",  # a position noun saying where someone is
     "it's getting crowded in here",
+    "Mr Ahmed is waiting",  # a title's name as the subject
 ]
 """Clauses the rule passes over (each says something about the world, with no place, time, order or motion)."""
 
