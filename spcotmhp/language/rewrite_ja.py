@@ -24,7 +24,8 @@
   (洗面所、あ、違った: the filler between them left out) or opening the sentence separates nothing
   and is left out.
 * **Back to a place named** (:func:`said_once`): 戻って / 帰って right after a place (リビング もどって) says where to
-  go back to, as に戻って does; only with no place before it does it ask for the start, and stays refused.
+  go back to, as に戻って does; after a person (パパが帰ってくるから, じいちゃん帰ってきた) someone else comes home, a
+  statement for the talk rule (talk_ja); only with neither before it does it ask for the start, and stays refused.
 * **"Xでいい"** (:func:`said_once`): a place followed by でいい(よ / から) says the place will do (一番近い寝室でいいよ,
   廊下でいいから行って): the place is the one asked for, as a bare place is.
 * **"There" for the place just named** (:func:`there_ja`): そこ(へ / に) before a verb of going, when the last
@@ -106,6 +107,8 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
 
 
 _SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND"})
+_PERSON = re.compile(r"(?:が|さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客)$")
+"""A word naming a person (or ending in が, the subject's marker) before 帰る: the person comes back, not the robot."""
 _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
 _WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
@@ -186,6 +189,9 @@ def said_once(items: list[Token]) -> list[Token]:
             continue
         if it.kind == "BACK" and last is not None and last.kind == "PLACE" and last.end == it.start:
             out.append(it._replace(kind="GOAL"))  # リビング もどって: back to the place named, not to the start
+            continue
+        if it.kind == "BACK" and last is not None and last.kind == "WORD" and _PERSON.search(last.surface):
+            out.append(it._replace(kind="WORD"))  # パパが帰ってくるから: someone else comes home (talk_ja)
             continue
         if (
             last is not None and it.kind == last.kind == "PLACE" and it.words == last.words

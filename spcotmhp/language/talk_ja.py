@@ -246,6 +246,7 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
         subject = 0 if starts else _subject(toks, i, j)  # お風呂沸いたよ、風呂場に行って
         run = toks[i:j]
         said_as = "".join(chars[run[0].start : toks[j].start if j < len(toks) else len(chars)]) if chars else ""
+        ends = ends or said_as.endswith(_FINAL)  # お客さん来たよ玄関行って: a sentence-final particle is a pause
         if ends and (starts or subject) and _reason(run, meaning, said_as):
             cut.update(range(i - subject, j))
             said.append("".join(t.surface for t in toks[i - subject : j]))
@@ -295,7 +296,8 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
     morphemes = _known(text)
     if morphemes is None:
         return False
-    if any(m[1] == "名詞" and m[2] == "数" or _means(m, meaning) for m in morphemes):
+    theirs = _someone_moves(morphemes)
+    if any(m[1] == "名詞" and m[2] == "数" or _means(m, meaning) and k not in theirs for k, m in enumerate(morphemes)):
         return False
     if any(m[3] in _REQUESTING for m in morphemes) or _ordered(morphemes):
         return False  # テレビをつけて, コップ持ってきて: a request (an action), not a statement
@@ -304,6 +306,26 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
     return any(
         m[1] in ("動詞", "形容詞") or m[1] == "助動詞" and m[3] in ("だ", "です", "や", "じゃ") for m in morphemes
     )
+
+
+_FINAL = ("よ", "ね", "わ", "ぞ", "よね", "よー", "ねー")
+"""Sentence-final particles: a clause ending in one is a sentence, though no mark of a pause follows it."""
+_THEIR_MOTIONS = frozenset({"帰る", "戻る", "来る", "出る"})
+_PEOPLE = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客|人)$")
+
+
+def _someone_moves(morphemes: Sequence[tuple[str, str, str, str]]) -> set[int]:
+    """The motion verbs said of someone else (パパが帰ってくる, じいちゃん帰ってきた, お客さん来た): a noun with が, or
+    a word for a person, right before the verb; their motion is theirs, not an instruction to the robot."""
+    out: set[int] = set()
+    for k, m in enumerate(morphemes):
+        if m[1] != "動詞" or m[3] not in _THEIR_MOTIONS or k == 0:
+            continue
+        before = morphemes[k - 1]
+        marked = before[0] == "が" and k > 1 and morphemes[k - 2][1] == "名詞"
+        if marked or before[1] == "名詞" and _PEOPLE.search(before[0]):
+            out.add(k)
+    return out
 
 
 def _means(m: tuple[str, str, str, str], meaning: frozenset[str]) -> bool:

@@ -205,6 +205,9 @@ def test_japanese_corrections(text, visit):
         ("ご面倒をおかけしますが、洗面所へお願いいたします", ["洗面所"]),
         ("ほんまにゆっくり寝室行ってくれへん？", ["寝室"]),  # an intensifier
         ("私、リビング、行ってほしい", ["リビング"]),  # the speaker as the topic (not 私の: whose room)
+        ("パパが帰ってくるから玄関行って", ["玄関"]),  # someone else comes home: their motion, a reason
+        ("ねえねえロボットくん玄関行ってパパ帰ってきたよ", ["玄関"]),
+        ("お客さん来たよ玄関行って", ["玄関"]),  # a sentence-final よ is a pause
         ("ちゃうちゃう、リビングやって", ["リビング"]),  # a copula with emphasis
         ("トイレから一番遠い寝室がいいな", ["寝室"]),  # Xがいい: X is what is wanted
         ("玄関、いや、やっぱりリビングのほうがいいや", ["リビング"]),
@@ -218,6 +221,12 @@ def test_japanese_verb_endings_and_talk(text, visit):
     """Endings of a verb with no navigation meaning are read as its plain te-form; a reason or a statement around
     the instruction is passed over (spcotmhp/language/talk_ja.py)."""
     assert [p.words[0] for p in read(text, JA, "ja").visit] == visit
+
+
+@pytest.mark.parametrize("text", ["帰ってきてから玄関行って", "キッチン行ってから帰って", "お客さん来た玄関行って"])
+def test_the_robot_s_own_coming_back_and_a_relative_clause_stay_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, JA, "ja")
 
 
 @pytest.mark.parametrize(
