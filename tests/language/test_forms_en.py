@@ -210,3 +210,11 @@ def test_another_x_after_an_x_turned_down(text, lang, goal, excluded):
 def test_other_with_nothing_turned_down_stays_refused(text, lang):
     with pytest.raises(InstructionError):
         read(text, PLACE_WORDS_EN if lang == "en" else PLACE_WORDS_JA, lang)
+
+
+@pytest.mark.parametrize(
+    "text, n", [("bedroom two the one it says on the screen", 2), ("Go to bedroom three, the one on the screen.", 3)]
+)
+def test_the_screen_named_as_where_the_number_is_shown(text, n):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [(p.words[0], p.number) for p in r.visit] == [("bedroom", n)]
