@@ -89,13 +89,18 @@ def any_but_en(items: list[Token]) -> list[Token]:
 
 
 _CLAUSE_VERBS = frozenset({"STOP_AT", "AVOID", "GO"})
+_PICKS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", "LARGEST", "SMALLEST"})
 
 
 def new_clause_en(items: list[Token]) -> list[Token]:
     """A verb that opens a clause right after a place ("go to the living room stop at the kitchen on the way") begins
     a new clause, as the pause a transcript leaves out would: a comma is put between them, so that what the clause
-    says ("on the way") applies to its own places. Returns ``items`` itself when no clause begins so."""
-    starts = [k for k in range(1, len(items)) if items[k].kind in _CLAUSE_VERBS and items[k - 1].kind == "PLACE"]
+    says ("on the way") applies to its own places; so does "the one" + a relation right after a place ("the bedroom
+    the one nearest the front door"). Returns ``items`` itself when no clause begins so."""
+    starts = [
+        k for k in range(1, len(items)) if items[k - 1].kind == "PLACE" and (items[k].kind in _CLAUSE_VERBS or
+        items[k].kind == "ONE" and k + 1 < len(items) and items[k + 1].kind in _PICKS)
+    ]  # fmt: skip  # "the bedroom the one nearest the front door": the pause before "the one" left out too
     if not starts:
         return items  # the same list: nothing to rewrite (most sentences)
     out: list[Token] = []

@@ -218,3 +218,8 @@ def test_other_with_nothing_turned_down_stays_refused(text, lang):
 def test_the_screen_named_as_where_the_number_is_shown(text, n):
     r = read(text, PLACE_WORDS_EN, "en")
     assert [(p.words[0], p.number) for p in r.visit] == [("bedroom", n)]
+
+
+def test_the_one_after_a_place_without_a_pause():
+    r = read("go to the bedroom um the one closest to the bathtub", PLACE_WORDS_EN, "en")
+    assert r.visit[0].words == ("bedroom",) and r.visit[0].relation.kind == "closest"
