@@ -320,15 +320,20 @@ def test_a_time_said_with_the_instruction_stays_refused(text):
         read(text, EN, "en")
 
 
-@pytest.mark.parametrize("text", ["Off to the kitchen, little robot.", "uh the bedroom the one nearest the front door"])
-def test_wave_3_misreadings_are_no_longer_silent(text):
-    """Found by wave 3 (blind12, blind13) after its first-sight measurement: a size word before no place, and
-    "the one" after a place, are no instance; refused rather than misread."""
+def test_wave_3_misreadings_are_no_longer_silent():
+    """Found by wave 3 (blind12, blind13) after its first-sight measurement: a size word before no place is no
+    instance; refused rather than misread. ("the bedroom the one nearest the front door", refused then, is read
+    since session 8 as the writer labelled it: the relation of "the one" is the bedroom's, as with a pause.)"""
     try:
-        r = read(text, EN, "en")
+        r = read("Off to the kitchen, little robot.", EN, "en")
     except InstructionError:
-        return
-    assert all(p.relation is None and p.number is None for p in r.visit), r.visit
+        pass
+    else:
+        assert all(p.relation is None and p.number is None for p in r.visit), r.visit
+    r = read("uh the bedroom the one nearest the front door", EN, "en")
+    assert [(p.words, p.relation.kind, p.relation.args[0].words) for p in r.visit] == [
+        (("bedroom",), "closest", ("entrance",))
+    ]
 
 
 @pytest.mark.parametrize(
