@@ -101,6 +101,8 @@ def test_arrows_stay_and_pictographs_go():
         ("キッチンで5分待って、あー10分にして", ["キッチン"], [600.0]),  # にして: make it ten minutes
         ("キッチンで5分待って、いや10分にして", ["キッチン"], [600.0]),
         ("キッチンで5分待って、トイレに行って", ["キッチン", "トイレ"], [300.0]),  # no correction: as said
+        ("寝室で10分ほどお待ちいただけますか", ["寝室"], [600.0]),  # the honorific wait
+        ("恐れ入ります、洗面所にて3分ほど待機された後、寝室＃３へお願いします。", ["洗面所", "寝室#3"], [180.0]),
     ],
 )
 def test_a_length_corrected_replaces_the_wait_s_length(text, visit, waits):

@@ -208,6 +208,8 @@ def test_japanese_corrections(text, visit):
         ("パパが帰ってくるから玄関行って", ["玄関"]),  # someone else comes home: their motion, a reason
         ("ねえねえロボットくん玄関行ってパパ帰ってきたよ", ["玄関"]),
         ("お客さん来たよ玄関行って", ["玄関"]),  # a sentence-final よ is a pause
+        ("差し支えなければ、風呂に最も近い寝室へ移動していただけますでしょうか。", ["寝室"]),  # keigo
+        ("キッチンには立ち寄らず、直接ダイニングへお願いします。", ["ダイニング"]),  # 直接: as まっすぐ
         ("ちゃうちゃう、リビングやって", ["リビング"]),  # a copula with emphasis
         ("トイレから一番遠い寝室がいいな", ["寝室"]),  # Xがいい: X is what is wanted
         ("玄関、いや、やっぱりリビングのほうがいいや", ["リビング"]),
