@@ -118,7 +118,7 @@ def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str
 
 
 _TITLES = frozenset({"mr", "mrs", "ms", "miss", "dr", "mx"})
-_POSITIONS = frozenset({"door", "doorway", "corner", "end", "middle", "front", "back", "side", "window"})
+_POSITIONS = frozenset({"door", "doorway", "corner", "end", "middle", "front", "back", "side", "window", "outside"})
 """Nouns of a position (the talk table's meaning words) that say where someone is after "at" or "in"."""
 
 

@@ -86,6 +86,8 @@ def test_an_owner_or_a_side_the_map_does_not_have_stays_refused(text):
         ("Go put yourself in the store room, you're in the way.", "storeroom"),
         ("ok robot yeet yourself into the dining room", "dining"),
         ("go out into the passage", "corridor"),  # out into: into, from where it stands
+        ("Get yourself out to the porch", "entrance"),
+        ("Into the corridor with ye", "corridor"),
         ("get yourself into the storeroom out of the way", "storeroom"),  # the idiom: not obstructing
         ("go to the kitchen nvm the lounge", "living"),  # texting's "never mind"
         ("brb robot go to the dining rm", "dining"),
