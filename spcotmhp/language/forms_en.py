@@ -251,3 +251,27 @@ def motion_at_en(items: list[Token]) -> list[Token]:
         if at:
             out[j] = out[j]._replace(kind="TO")
     return out
+
+
+def no_stop_en(items: list[Token]) -> list[Token]:
+    """ "Don't stop" at a place passed on the way says what a waypoint is already (the robot stops only where told
+    to wait): "go through the kitchen to the dining room but don't stop in the kitchen" is the waypoint alone;
+    "go to the hall but don't stop there, keep going to the entrance" makes the hall a place passed on the way.
+    Elsewhere "don't stop in X" keeps its reading (X avoided)."""
+    out = list(items)
+    for k in range(len(out) - 2):
+        if out[k].kind != "NEG":
+            continue
+        if out[k + 1].kind == "STOP_AT" and out[k + 2].kind == "PLACE":
+            place = out[k + 2]
+            passed = any(out[j].kind == "VIA" and out[j + 1].words == place.words for j in range(k - 1))
+            if passed:
+                start = k - (k > 0 and out[k - 1].kind in ("BUT", "AND", "COMMA"))
+                return [*out[:start], *out[k + 3 :]]
+        if out[k + 1].kind == "HALT" and out[k + 1].surface.endswith("there") and k >= 2:
+            j = k - 1 - (out[k - 1].kind in ("BUT", "AND", "COMMA"))
+            rest = [t for t in out[k + 2 :] if t.kind != "COMMA"]
+            if out[j].kind == "PLACE" and out[j - 1].kind == "TO" and rest[:1] and rest[0].kind == "TO":
+                via = out[j - 1]._replace(kind="VIA")
+                return [*out[: j - 1], via, out[j], *rest]  # the place passed, then "keep going to" the goal
+    return out

@@ -43,6 +43,7 @@ from spcotmhp.language.forms_en import (
     any_but_en,
     motion_at_en,
     new_clause_en,
+    no_stop_en,
     owners_and_sides,
     wait_by_en,
     withdrawals_en,
@@ -89,6 +90,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out, kinds = clauses, kinds | {"COMMA"}
     if "MODIFIER" in kinds and "NEG" in kinds:
         out = other_than_excluded(out)  # others.py: "not bedroom 1, one of the other bedrooms"
+    if "NEG" in kinds and kinds & {"STOP_AT", "HALT"}:
+        out = no_stop_en(out)
     if "GO" in kinds and ("AT" in kinds or out[0].kind == "TO"):
         out = motion_at_en(out)
     if kinds & {"CORRECTION", "NO", "CANCEL"} and kinds & {"WAIT", "VIA", "SLOW", "FAST", "AVOID"}:

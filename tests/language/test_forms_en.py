@@ -225,3 +225,20 @@ def test_the_screen_named_as_where_the_number_is_shown(text, n):
 def test_the_one_after_a_place_without_a_pause():
     r = read("go to the bedroom um the one closest to the bathtub", PLACE_WORDS_EN, "en")
     assert r.visit[0].words == ("bedroom",) and r.visit[0].relation.kind == "closest"
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("go through the kitchen to the dining room but dont stop in the kitchen", ["kitchen", "dining"]),
+        ("Go to the hall but don't stop there, keep going to the entrance", ["hall", "entrance"]),
+    ],
+)
+def test_dont_stop_at_a_place_passed_is_the_waypoint(text, visit):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == visit and not r.avoid and not r.waits
+
+
+def test_dont_stop_elsewhere_keeps_its_reading():
+    r = read("go to the kitchen, don't stop in the hall", PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.avoid] == ["hall"]
