@@ -132,6 +132,8 @@ def english_units(text: str) -> list[str]:
 def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     units = english_units(text)
     kept = _without_fillers(_floors_en(_durations_en(units, table.fillers)), table, places)
+    if "right" in units:
+        kept = [(u, k) for u, k in kept if not (u == "right" and _opening_right(units, k))]
     seq = [u for u, _ in kept]
     plain = all(type(u) is str for u in seq)  # no DURATION token among the units
     out: list[Token] = []
@@ -168,6 +170,17 @@ def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]
             out.append(Token("WORD", unit, start=start, end=start + 1))
         i += 1
     return out
+
+
+_AFTER_RIGHT = frozenset({",", "so", "then", "off", "ok", "okay", "now", "well", "listen", "let's"})
+
+
+def _opening_right(units: Sequence[str], k: int) -> bool:
+    """ "Right" opening a sentence before a pause or "so", "then", "off" ("Right, could you ...", "right off ye
+    go"): the discourse marker of starting something (Cambridge: used to get attention before saying something),
+    not the side; a side never opens a sentence so ("right, the bedroom" has no noun for it to qualify)."""
+    opens = k == 0 or units[k - 1] in (".", "!", "?")
+    return opens and k + 1 < len(units) and units[k + 1] in _AFTER_RIGHT
 
 
 def _without_fillers(

@@ -88,6 +88,12 @@ def test_an_owner_or_a_side_the_map_does_not_have_stays_refused(text):
         ("go out into the passage", "corridor"),  # out into: into, from where it stands
         ("Get yourself out to the porch", "entrance"),
         ("Into the corridor with ye", "corridor"),
+        ("go too the toilet", "toilet"),  # a homophone typed after "go"
+        ("erm go in to the toilet", "toilet"),
+        ("away tae the bog", "toilet"),  # Scots "tae"
+        ("Would you be a good lad and go through to the kitchen for me, son?", "kitchen"),
+        ("right off ye go to the hall", "hall"),  # "right" opening a sentence: a discourse marker
+        ("go to the toilet, naw, the bath", "bath"),  # Scots "naw": no
         ("get yourself into the storeroom out of the way", "storeroom"),  # the idiom: not obstructing
         ("Can you go to the corridor and just stay out of everyone's way", "corridor"),  # no wait: keep clear
         ("go to the kitchen nvm the lounge", "living"),  # texting's "never mind"
@@ -244,3 +250,16 @@ def test_dont_stop_at_a_place_passed_is_the_waypoint(text, visit):
 def test_dont_stop_elsewhere_keeps_its_reading():
     r = read("go to the kitchen, don't stop in the hall", PLACE_WORDS_EN, "en")
     assert [p.words[0] for p in r.avoid] == ["hall"]
+
+
+@pytest.mark.parametrize(
+    "text, speed",
+    [("leg it to the loo", "fast"), ("get a wriggle on to the kitchen mate", "fast"), ("go canny to the hall", "slow")],
+)
+def test_regional_speeds(text, speed):
+    assert read(text, PLACE_WORDS_EN, "en").speed == speed
+
+
+def test_right_as_a_side_stays_refused():
+    with pytest.raises(InstructionError):
+        read("right bedroom please", PLACE_WORDS_EN, "en")
