@@ -12,7 +12,8 @@
   and a verb of going or coming (行, い[っくけこ], 来, き[てた], 向か, 戻). Elsewhere さ is left as said (だからさ、).
 * **A copula after a place** (:func:`said_once`): だ, じゃ (広島, 九州) and や (関西), and their past forms だった,
   じゃった, やった (a correction: 寝室やった, "it was the bedroom"), with an emphasis (関西 やで, やねん; やって,
-  だって, だってば: "I said it is X"), right after a place and
+  だって, だってば: "I said it is X"), polite でした, and の間違い(でした) ("X, by mistake", a correction's "I
+  meant X"), right after a place and
   before the end, a 。/、, another place or a correction say "it is X" (台所だ, 居間だ。, リビングじゃ,
   キッチンだキッチンに行って): the place is what was asked for, as a bare place is, and the copula is left out.
 * **Mood and topic particles** (:func:`said_once`): わ, ぞ, ぜ, さ, や (関西: 行ってや), のよ, わよ,
@@ -66,7 +67,28 @@ _PUNCTUATION = frozenset("、。,.!?！？「」")
 
 
 _DIRECTION_SA = re.compile(r"(?<=[\u4e00-\u9fff\u30a1-\u30ff])さ(?=行|い[っくけこ]|来|き[てた]|向か|戻|もど)")
-_COPULAS = frozenset({"だ", "じゃ", "や", "だった", "じゃった", "やった", "やで", "やねん", "やって", "だって", "だってば"})  # fmt: skip  # noqa: E501
+_COPULAS = frozenset(
+    {
+        "だ",
+        "じゃ",
+        "や",
+        "だった",
+        "じゃった",
+        "やった",
+        "やで",
+        "やねん",
+        "やって",
+        "だって",
+        "だってば",
+        "でした",
+        "でしたわ",
+        "の間違い",
+        "の間違いでした",
+        "の間違いです",
+        "の間違いだった",
+        "のまちがい",
+    }
+)
 _AFTER_COPULA = frozenset({"_STOP", "COMMA", "PLACE", "CORRECTION"})
 _MOOD = frozenset({"わ", "ぞ", "ぜ", "さ", "や", "のよ", "わよ", "わね", "よね"})
 _BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})

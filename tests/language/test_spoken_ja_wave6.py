@@ -159,6 +159,7 @@ def test_ichiban_alone_after_a_place_is_its_number():
         ("洗面所通ってお風呂、いや、やっぱ洗面所は通らなくていい", ["風呂"], []),  # a place to pass taken back
         ("廊下通ってキッチン、あーやっぱ廊下はいいや、そのままキッチン", ["キッチン"], []),
         ("リビング避けて…あ、やっぱり通っていいよ、ダイニングまで", ["ダイニング"], []),  # an avoidance taken back
+        ("キッチンは避けて…あ、避けなくていいや、リビングに行って", ["リビング"], []),
     ],
 )
 def test_a_part_taken_back_is_left_out(text, visit, avoid):
@@ -178,3 +179,27 @@ def test_a_part_taken_back_is_left_out(text, visit, avoid):
 def test_a_withdrawal_with_nothing_to_take_back_is_refused(text, reason):
     with pytest.raises(InstructionError, match=reason):
         read(text, JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("おはよう！キッチンまで行ってくれる？", ["キッチン"]),  # a greeting
+        ("Hey ロボット 廊下 行って ください", ["廊下"]),
+        ("広場を通って、ダイニングも通って、キッチンへゆっくりお願いします", ["広場", "ダイニング", "キッチン"]),  # も
+        ("ダイニングに寄って、キッチンにも寄って、最後はリビングね", ["ダイニング", "キッチン", "リビング"]),
+        ("リビングに行って。やっぱりやめた、キッチンに行って", ["キッチン"]),  # やめた: taken back
+        ("物置きへお願いします、あら、ごめんなさい、玄関でしたわ", ["玄関"]),  # でした: it was X
+        ("ダイニングに行ってください、すみません、リビングの間違いでした", ["リビング"]),  # Xの間違い: X was meant
+        ("広場って所に行ってくれる？", ["広場"]),
+    ],
+)
+def test_wave_7_forms(text, visit):
+    """Session 8, from blind31 after its measurement."""
+    assert _visit(read(text, JA, "ja")) == visit
+
+
+@pytest.mark.parametrize("text", ["お風呂には入らないようにして洗面所に行ってね", "玄関 行く、でも 風呂 に 入る だめ"])
+def test_wave_7_avoidances(text):
+    r = read(text, JA, "ja")
+    assert [p.words[0] for p in r.avoid] == ["風呂"]
