@@ -275,3 +275,21 @@ def no_stop_en(items: list[Token]) -> list[Token]:
                 via = out[j - 1]._replace(kind="VIA")
                 return [*out[: j - 1], via, out[j], *rest]  # the place passed, then "keep going to" the goal
     return out
+
+
+def loose_ends_en(items: list[Token]) -> list[Token]:
+    """Three shapes of speech around a whole instruction: "a bedroom, any of them, except ..." (the choice left
+    open is the planner's own, so "any of them" between pauses adds nothing to what follows it); a tag question
+    closing it ("go to the kitchen, no?": asking agreement, as "right?" does); and a place said with "in" alone
+    ("In the dining room, please.": where to be, with no verb to take another reading)."""
+    out = list(items)
+    for k in range(1, len(out) - 2):
+        if [t.kind for t in out[k - 1 : k + 3]] == ["PLACE", "COMMA", "ANY_ONE", "COMMA"]:
+            out = [*out[:k], *out[k + 2 :]]
+            break
+    if len(out) > 2 and [t.kind for t in out[-3:]] == ["COMMA", "NO", "_STOP"] and out[-1].surface == "?":
+        out = [*out[:-3], out[-1]]
+    kinds = [t.kind for t in out]
+    if kinds[:2] == ["AT", "PLACE"] and out[0].surface == "in" and not {"GO", "TO", "ENTER", "WAIT"} & set(kinds):
+        out[0] = out[0]._replace(kind="TO")
+    return out

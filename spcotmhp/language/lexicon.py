@@ -41,6 +41,7 @@ from collections.abc import Sequence
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.forms_en import (
     any_but_en,
+    loose_ends_en,
     motion_at_en,
     new_clause_en,
     no_stop_en,
@@ -90,6 +91,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out, kinds = clauses, kinds | {"COMMA"}
     if "MODIFIER" in kinds and "NEG" in kinds:
         out = other_than_excluded(out)  # others.py: "not bedroom 1, one of the other bedrooms"
+    if kinds & {"ANY_ONE", "NO", "AT"}:
+        out = loose_ends_en(out)
     if "NEG" in kinds and kinds & {"STOP_AT", "HALT"}:
         out = no_stop_en(out)
     if "GO" in kinds and ("AT" in kinds or out[0].kind == "TO"):

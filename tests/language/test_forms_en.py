@@ -263,3 +263,21 @@ def test_regional_speeds(text, speed):
 def test_right_as_a_side_stays_refused():
     with pytest.raises(InstructionError):
         read("right bedroom please", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, goal, excluded",
+    [
+        ("Go to a bedroom, any of them, except the smallest one.", "bedroom", 1),  # the open choice: the default
+        ("Kindly go to the kitchen, no?", "kitchen", 0),  # a tag question
+        ("In the dining room please.", "dining", 0),  # "in" alone: where to be
+    ],
+)
+def test_loose_ends_around_a_whole_instruction(text, goal, excluded):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == [goal] and len(r.not_goal) == excluded
+
+
+def test_a_no_closing_without_a_question_stays_a_correction_of_nothing():
+    with pytest.raises(InstructionError):
+        read("go to the kitchen, no", PLACE_WORDS_EN, "en")
