@@ -65,7 +65,7 @@ from spcotmhp.language.rewrite_en import (
 )
 from spcotmhp.language.rewrite_ja import spoken_tokens
 from spcotmhp.language.table import WordTable, en_units, filler_at, word_table
-from spcotmhp.language.text import normalise, without_pictographs
+from spcotmhp.language.text import kana_lengths, normalise, without_pictographs
 
 __all__ = ["MAX_WAIT_S", "PlaceLexicon", "Token", "WordTable", "english_units", "place_lexicon", "tokens", "word_table"]
 
@@ -82,7 +82,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     """The tokens of ``text`` (module docstring)."""
     places = place_lexicon(table, tuple(place_words))
     if table.by_character:
-        said = without_pictographs(normalise(text))
+        said = kana_lengths(without_pictographs(normalise(text)))
         out = glue_ja(join_no(_merge(numbered_ja(tokens_ja(said, table, places)))))
         return spoken_tokens(out, said)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)

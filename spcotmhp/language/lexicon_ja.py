@@ -23,7 +23,7 @@ _JA_DURATION = re.compile(
 )
 """A length of time: 2分, 十五秒, 1分半, 半時間 (half an hour); ほど, くらい, 程度 (about) and だけ (only) say nothing
 more of its length."""
-_JA_LATER = re.compile(r"(?:後|あと)(?:に|で|から)?")
+_JA_LATER = re.compile(r"(?:後|あと|ご(?=に|で|から))(?:に|で|から)?")
 """After a length of time: a delay (10分後に, 5分あとで), which the planner cannot honour."""
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")

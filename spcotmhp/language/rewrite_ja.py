@@ -59,9 +59,19 @@ from spcotmhp.language.spoken_ja import (
 from spcotmhp.language.withdrawals_ja import withdrawals_ja
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
-_NEGATIONS = ("じゃなくて", "じゃなく", "ではなくて", "ではなく", "じゃない", "ではない")
+_NEGATIONS = (
+    "じゃなくて",
+    "じゃなく",
+    "ではなくて",
+    "ではなく",
+    "じゃない",
+    "ではない",
+    "やなくて",
+    "やのうて",
+    "じゃのうて",
+)  # noqa: E501
 _AFTER_PAUSE = re.compile(
-    r"(?:、|(?P<space>\s+))(?P<neg>じゃなくて|じゃなく|ではなくて|ではなく|じゃない|ではない)(?P<after>\s*、?)"
+    r"(?:、|(?P<space>\s+))(?P<neg>じゃなくて|じゃなく|ではなくて|ではなく|じゃない|ではない|やなくて|やのうて|じゃのうて)(?P<after>\s*、?)"
 )
 _PUNCTUATION = frozenset("、。,.!?！？「」")
 
@@ -95,7 +105,7 @@ _BARE_MARKERS = frozenset({"に", "へ", "まで", "で"})
 _ROLE_AFTER_TOPIC = frozenset({"AVOID", "VIA", "STOP"})
 
 
-_MAY_PAUSE = re.compile(r"[…‥]|[.．]{2}|じゃな|ではな|さ")
+_MAY_PAUSE = re.compile(r"[…‥]|[.．]{2}|じゃな|ではな|やな|のうて|さ")
 """What :func:`pauses_ja` may rewrite, looked for in the text as said (before NFKC: full-width dots included)."""
 
 

@@ -62,8 +62,9 @@ def plain_verbs(text: str, table: WordTable) -> str:
     while i < len(morphemes):
         surface, pos, sub, base = morphemes[i]
         key = base if base in verbs else surface if surface in verbs else None
-        if key is None and base == "いう" and i > 0 and morphemes[i - 1][0] in ("まで", "へ"):
-            key = "いく"  # ろうかまでいってみて: 言う takes と or を, a destination before いって marks 行く
+        if key is None and base == "いう" and i > 0 and (morphemes[i - 1][0] in ("まで", "へ", "に") or
+                                                          morphemes[i - 1][1] == "名詞"):  # fmt: skip
+            key = "いく"  # ろうかまでいってみて, げんかんいっといて: 言う takes と or を; after a place it is 行く
         if key is None or pos not in ("動詞", "名詞"):
             out.append(surface)
             i += 1

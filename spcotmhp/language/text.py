@@ -136,3 +136,31 @@ def _tokenizer() -> Any:
 
 
 _TOKENIZER: Any = None
+
+
+_KANA_ONES = {"いち": 1, "いっ": 1, "に": 2, "さん": 3, "よん": 4, "ご": 5, "ろく": 6, "ろっ": 6, "なな": 7, "はち": 8,
+              "はっ": 8, "きゅう": 9}  # fmt: skip
+_KANA_LENGTH = re.compile(
+    r"(?:(に|さん|よん|ご|ろく|なな|はち|きゅう)?(じゅう|じゅっ|じっ))?"
+    r"(いち|いっ|に|さん|よん|ご|ろく|ろっ|なな|はち|はっ|きゅう)?(ぷん|ふん|びょう|じかん)(?!ご|あと|後)"
+)
+_KANA_UNITS = {"ぷん": "分", "ふん": "分", "びょう": "秒", "じかん": "時間"}
+
+
+def kana_lengths(text: str) -> str:
+    """Lengths of time written in kana, as a speech recogniser writes them (ごふん, いっぷん, じゅっぷん, にじゅっぷん,
+    さんじゅうびょう, いちじかん), in digits (5分, 1分, 10分, 20分, 30秒, 1時間), as a number and its unit are read;
+    a delay (じゅっぷんごに: ten minutes later) is left as said, to be refused quoting it.
+
+    >>> kana_lengths("キッチンで ごふん まってて"), kana_lengths("にじゅっぷん"), kana_lengths("ふんいき")
+    ('キッチンで 5分 まってて', '20分', 'ふんいき')
+    """
+
+    def digits(m: re.Match) -> str:
+        tens_of, ten, ones, unit = m.groups()
+        if not ten and not ones:
+            return m.group(0)  # a unit alone: ふんいき is no length
+        value = (_KANA_ONES.get(tens_of or "", 1) * 10 if ten else 0) + _KANA_ONES.get(ones or "", 0)
+        return f"{value}{_KANA_UNITS[unit]}"
+
+    return _KANA_LENGTH.sub(digits, text) if any(u in text for u in _KANA_UNITS) else text

@@ -203,3 +203,27 @@ def test_wave_7_forms(text, visit):
 def test_wave_7_avoidances(text):
     r = read(text, JA, "ja")
     assert [p.words[0] for p in r.avoid] == ["風呂"]
+
+
+@pytest.mark.parametrize(
+    "text, visit, waits",
+    [
+        ("キッチンで ごふん まってて", ["キッチン"], [300.0]),  # a length in kana, as a recogniser writes it
+        ("ろうかで いっぷん まってから げんかんいって", ["廊下", "玄関"], [60.0]),
+        ("ふろで にじゅっぷん まっててや", ["風呂"], [1200.0]),
+        ("げんかんいっといて", ["玄関"], []),  # いって after a place is 行って
+        ("だいどころ いってんか", ["キッチン"], []),  # 関西 〜てんか
+        ("はみがきするとこ いって", ["洗面所"], []),
+        ("ダイニングいって まちごうた キッチンや", ["キッチン"], []),  # 関西 まちごうた: a correction
+        ("おふろ…やなくて せんめんじょやな せんめんじょいって", ["洗面所"], []),  # やなくて after a pause
+    ],
+)
+def test_blind30_forms(text, visit, waits):
+    """Session 8, from blind30 (関西弁, spoken, mostly kana) after its measurement."""
+    r = read(text, JA, "ja")
+    assert _visit(r) == visit and [s for _, s in r.waits] == waits
+
+
+def test_a_delay_in_kana_stays_refused():
+    with pytest.raises(InstructionError, match="じゅっぷんご"):  # quoted as said
+        read("じゅっぷんごに リビングいって", JA, "ja")
