@@ -31,7 +31,8 @@ one); territories are 4-connected and adjacent territories share at least one cr
 the free space joins two cells the abstract graph joins them (never "no path"); an avoided place's territory is
 removed with its abstract nodes and no field enters another territory, so a view's paths never enter it and the
 other fields stay valid unchanged. What is approximate: a leg is the cheapest path through the chosen crossings,
-at least the exact grid optimum (HPA*'s error, about 1% in Botea et al.; the README gives ours).
+at least the exact grid optimum (HPA*'s error, about 1% in Botea et al.; ours on generated offices and
+homes in docs/speed.md, issue 35's crossings section).
 
 Incremental update: the fields of a territory depend only on its cells and their costs, so a rebuild reuses, for
 every territory whose cells and costs are unchanged, the field of every abstract node that is still there
