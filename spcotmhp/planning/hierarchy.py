@@ -225,9 +225,9 @@ def build(
     reuse: TerritoryFields | None = None,
 ) -> TerritoryFields:
     """The abstraction over crop ``cost`` (log|A| - log p(x|m), inf off the traversable cells) and ``territory``
-    (labels 0..n_places-1, -1 elsewhere) with the planning graph's nodes ``node_cell`` first; crossings every
-    ``spacing`` cells along an entrance. ``reuse``: an earlier abstraction whose fields are copied for every
-    territory whose cells and costs are unchanged (module docstring)."""
+    (labels 0..n_places-1, -1 elsewhere) with the planning graph's nodes ``node_cell`` first; an entrance's crossings
+    from ``spacing`` cells (:func:`~spcotmhp.planning._portals.crossings_on`). ``reuse``: an earlier abstraction
+    whose fields are copied for every territory whose cells and costs are unchanged (module docstring)."""
     territory = np.ascontiguousarray(territory, dtype=np.int64)
     win = _windows(territory, n_places)
     crossing = _portals.crossings(territory, max(1, int(spacing)))
