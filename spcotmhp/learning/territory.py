@@ -163,10 +163,9 @@ def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover 
 
     Within a chunk, place n can only win if an upper bound of its score over the chunk's bounding box reaches
     the smallest exact score, over the chunk, of the place with the highest bound (every point's best score is
-    at least that); the others are left out. The bound: Mahalanobis distance >= lambda_min |x - mu|^2 / det,
-    lambda_min the smaller eigenvalue of the quadratic form's matrix [[d, -(b+c)/2], [-(b+c)/2, a]] (whatever
-    the Gaussian's orientation), with |x - mu| the distance from the mean to the box, widened by a margin far
-    above the rounding error, so the answer is the exhaustive one."""
+    at least that); the others are left out. The bound: the least Mahalanobis distance over the chunk's box
+    (:func:`_box_mahalanobis`), widened by a margin far above the rounding error, so the answer is the
+    exhaustive one."""
     out = np.zeros(points.shape[0], dtype=np.int64)
     coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
     for ch in range((points.shape[0] + CHUNK - 1) // CHUNK):
@@ -198,9 +197,7 @@ def _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out):  # pra
     bound = np.empty(n)
     g = 0
     for k in range(n):
-        dx = max(x0 - mu[k, 0], mu[k, 0] - x1, 0.0)
-        dy = max(y0 - mu[k, 1], mu[k, 1] - y1, 0.0)
-        bound[k] = const[k] - 0.5 * coef[k] * (dx * dx + dy * dy)
+        bound[k] = const[k] - 0.5 * _box_mahalanobis(mu, Sigma, det, coef, k, x0, x1, y0, y1)
         if bound[k] > bound[g]:
             g = k
     floor = np.inf  # the lowest score of place g over the chunk
@@ -220,6 +217,32 @@ def _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out):  # pra
             if score > top:
                 top = score
                 out[p] = cand[t]
+
+
+@njit(cache=True)
+def _box_mahalanobis(mu, Sigma, det, coef, k, x0, x1, y0, y1):  # pragma: no cover - numba
+    """A lower bound of place k's Mahalanobis distance over the box [x0, x1] x [y0, y1]: the larger of the
+    isotropic one (``coef``, :func:`_place_bounds`) and the exact minimum of the quadratic form over the box (0
+    with the mean inside, else its least value on the four edges, each a clamped one-dimensional minimum),
+    shrunk by far more than the rounding error. The exact one is what prunes an elongated Gaussian (a
+    corridor's) that the isotropic one, bounded by its long axis, keeps at every chunk."""
+    mx, my = mu[k, 0], mu[k, 1]
+    dx = max(x0 - mx, mx - x1, 0.0)
+    dy = max(y0 - my, my - y1, 0.0)
+    iso = coef[k] * (dx * dx + dy * dy)
+    if dx == 0.0 and dy == 0.0:
+        return 0.0
+    a, h, d = Sigma[k, 0, 0], 0.5 * (Sigma[k, 0, 1] + Sigma[k, 1, 0]), Sigma[k, 1, 1]
+    best = np.inf
+    for e in range(4):  # edges x = x0, x = x1 (dy free), y = y0, y = y1 (dx free)
+        if e < 2:
+            u = (x0 if e == 0 else x1) - mx
+            v = min(max(h * u / a, y0 - my), y1 - my)
+        else:
+            v = (y0 if e == 2 else y1) - my
+            u = min(max(h * v / d, x0 - mx), x1 - mx)
+        best = min(best, (d * u * u - 2.0 * h * u * v + a * v * v) / det[k])
+    return max(iso, best * (1.0 - 1e-9) - 1e-12)
 
 
 @njit(cache=True)

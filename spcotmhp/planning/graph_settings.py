@@ -32,7 +32,8 @@ class GraphSettings:
     max_dense_bytes: the cost-to-go fields cover the whole crop, one per node (exact), when they take at most
         this many bytes (12 per cell and node); beyond, territory-local fields and a portal graph
         (:mod:`spcotmhp.planning.hierarchy`).
-    portal_spacing: metres between the crossings of one entrance of the portal graph.
+    portal_spacing: metres between the crossings of one entrance of the portal graph up to two spacings long;
+        a longer one of length L gets ceil(sqrt(L / spacing)) (:func:`~spcotmhp.planning._portals.crossings_on`).
     optimality: where a partial path observes optimality o_t = 1 (Eq. 24): "end" (ours: once, at the leg's end)
         or "every_step" (the paper as written: at every cell of the leg, with the destination's Gaussian; dense
         fields only); :mod:`spcotmhp.planning.graph` gives both.

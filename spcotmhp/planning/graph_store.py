@@ -56,7 +56,11 @@ PlanningGraph = Any  # spcotmhp.planning.graph's class, passed in (it imports th
 
 GRAPH_JSON, GRAPH_NPZ = GRAPH_FILES
 FORMAT = "spcotmhp-planning-graph"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+"""2: the portal graph's entrances get ``ceil(sqrt(length / spacing))`` crossings
+(:func:`~spcotmhp.planning._portals.crossings_on`); a version-1 graph (one crossing a spacing) is another graph
+under the same key and settings, so it is rebuilt, saying so (:data:`EARLIER`)."""
+EARLIER = {1: "made before the portal graph's crossings changed (one a spacing; now the square root rule)"}
 MAX_GRAPH_JSON_BYTES = 16 * 1024 * 1024  # sizes and info of up to thousands of free regions' graphs
 
 
@@ -159,6 +163,9 @@ def _read_checked(root: Path) -> dict:
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise ModelError(f"{GRAPH_JSON} is not a spcotmhp planning graph (format {FORMAT!r})")
     if doc.get("format_version") != FORMAT_VERSION:
+        version = doc.get("format_version")
+        if type(version) is int and version in EARLIER:  # not a list (unhashable) nor True (== 1)
+            raise ModelError(f"{GRAPH_JSON} has format version {version}, {EARLIER[version]}")
         raise ModelError(
             f"{GRAPH_JSON} has format version {excerpt(doc.get('format_version'))}; this spcotmhp reads "
             f"{FORMAT_VERSION}"

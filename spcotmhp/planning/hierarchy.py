@@ -8,9 +8,11 @@ this is an HPA* abstraction (Botea, Mueller and Schaeffer 2004) whose clusters a
 (:mod:`spcotmhp.learning.territory`):
 
 * **Portals.** Where two territories touch (two 4-neighbouring cells), each connected run of such cells (an
-  *entrance*: a door, an open boundary between corridor places) gets ``ceil(length / portal_spacing)`` crossings
-  evenly spread along it; both cells of a crossing are abstract nodes, joined by the one grid step between them
-  (cost ``c(v)`` of the cell entered). The candidate points (Algorithm 1, line 2) are abstract nodes too.
+  *entrance*: a door, an open boundary) gets ``ceil(sqrt(length / portal_spacing))`` crossings evenly spread
+  along it (:func:`~spcotmhp.planning._portals.crossings_on`: one a spacing up to two spacings, as doors, then
+  spaced by the geometric mean of the length and the spacing; the rule's reason is there); both cells of a
+  crossing are abstract nodes, joined by the one grid step between them (cost ``c(v)`` of the cell entered).
+  The candidate points (Algorithm 1, line 2) are abstract nodes too.
 * **Exact local fields.** For every abstract node, the cost-to-go field into it over its own territory only
   (bounded by the territory's bounding box; every other cell is blocked), computed once, in parallel on every
   core (numba ``prange``). Intra-territory edges of the abstract graph read them: ``a -> b`` costs
@@ -29,7 +31,8 @@ one); territories are 4-connected and adjacent territories share at least one cr
 the free space joins two cells the abstract graph joins them (never "no path"); an avoided place's territory is
 removed with its abstract nodes and no field enters another territory, so a view's paths never enter it and the
 other fields stay valid unchanged. What is approximate: a leg is the cheapest path through the chosen crossings,
-at least the exact grid optimum (HPA*'s error, about 1% in Botea et al.; the README gives ours).
+at least the exact grid optimum (HPA*'s error, about 1% in Botea et al.; ours on generated offices and
+homes in docs/speed.md, issue 35's crossings section).
 
 Incremental update: the fields of a territory depend only on its cells and their costs, so a rebuild reuses, for
 every territory whose cells and costs are unchanged, the field of every abstract node that is still there
@@ -39,7 +42,6 @@ every territory whose cells and costs are unchanged, the field of every abstract
 from __future__ import annotations
 
 import functools
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -49,6 +51,7 @@ from spcotmhp.errors import ModelError
 from spcotmhp.metric.grid_ops import find_boxes
 from spcotmhp.metric.grid_search import SQRT2
 from spcotmhp.planning import _field_kernel as _fk
+from spcotmhp.planning import _portals
 from spcotmhp.planning import _tree_codes as _tc
 
 ENTRY_CELLS = 8
@@ -222,12 +225,13 @@ def build(
     reuse: TerritoryFields | None = None,
 ) -> TerritoryFields:
     """The abstraction over crop ``cost`` (log|A| - log p(x|m), inf off the traversable cells) and ``territory``
-    (labels 0..n_places-1, -1 elsewhere) with the planning graph's nodes ``node_cell`` first; crossings every
-    ``spacing`` cells along an entrance. ``reuse``: an earlier abstraction whose fields are copied for every
-    territory whose cells and costs are unchanged (module docstring)."""
+    (labels 0..n_places-1, -1 elsewhere) with the planning graph's nodes ``node_cell`` first; an entrance's crossings
+    from ``spacing`` cells (:func:`~spcotmhp.planning._portals.crossings_on`). ``reuse``: an earlier abstraction
+    whose fields are copied for every territory whose cells and costs are unchanged (module docstring)."""
     territory = np.ascontiguousarray(territory, dtype=np.int64)
     win = _windows(territory, n_places)
-    cells, inter = _abstract_nodes(node_cell, _crossings(territory, max(1, int(spacing))), territory.shape[1])
+    crossing = _portals.crossings(territory, max(1, int(spacing)))
+    cells, inter = _portals.abstract_nodes(node_cell, crossing, territory.shape[1])
     terr = territory[cells[:, 0], cells[:, 1]]
     sizes = (win[terr, 2] - win[terr, 0]) * (win[terr, 3] - win[terr, 1])
     off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
@@ -271,27 +275,6 @@ def _windows(territory: np.ndarray, n_places: int) -> np.ndarray:
     return win
 
 
-def _abstract_nodes(
-    node_cell: np.ndarray, pairs: list[tuple[int, int, int, int]], width: int
-) -> tuple[np.ndarray, list[tuple[int, int]]]:
-    """``(cells, inter)``: the (A, 2) cells of the abstract nodes, the planning graph's nodes ``node_cell`` first
-    then each new cell of a crossing ``pairs`` (one node per cell), and each crossing as a pair of node indices."""
-    index: dict[int, int] = {}
-    cells = [tuple(c) for c in np.asarray(node_cell, dtype=np.int64)]
-    for n, (r, c) in enumerate(cells):
-        index.setdefault(r * width + c, n)
-
-    def node(r: int, c: int) -> int:
-        key = r * width + c
-        if key not in index:
-            index[key] = len(cells)
-            cells.append((r, c))
-        return index[key]
-
-    inter = [(node(ur, uc), node(vr, vc)) for ur, uc, vr, vc in pairs]
-    return np.array(cells, dtype=np.int64).reshape(-1, 2), inter
-
-
 def _abstract_links(
     cost: np.ndarray, cells: np.ndarray, pairs: np.ndarray, members: list, inter: list[tuple[int, int]]
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -317,48 +300,6 @@ def _abstract_links(
         w += [cost[cells[v, 0], cells[v, 1]], cost[cells[u, 0], cells[u, 1]]]
     links = tuple(np.concatenate(x) if x else np.empty(0) for x in (src, dst, w))
     return links[0].astype(np.int64), links[1].astype(np.int64), links[2].astype(float)
-
-
-def _crossings(territory: np.ndarray, spacing: int) -> list[tuple[int, int, int, int]]:
-    """(u_row, u_col, v_row, v_col) crossings: orthogonal neighbours u, v in different territories. Each
-    entrance (an 8-connected run of the n u-side cells facing one other territory) gets ``ceil(n / spacing)``
-    u cells at the middles of equal parts, each with every v it faces; ``spacing`` 1 keeps every crossing."""
-    groups: dict[tuple[int, int], list] = {}
-    for axis in (0, 1):
-        a = territory[:-1, :] if axis == 0 else territory[:, :-1]
-        b = territory[1:, :] if axis == 0 else territory[:, 1:]
-        rows, cols = np.nonzero((a >= 0) & (b >= 0) & (a != b))
-        for r, c in zip(rows.tolist(), cols.tolist(), strict=True):
-            v = (r + 1, c) if axis == 0 else (r, c + 1)
-            ta, tb = int(a[r, c]), int(b[r, c])
-            u, v = ((r, c), v) if ta < tb else (v, (r, c))
-            groups.setdefault((min(ta, tb), max(ta, tb)), []).append((u, v))
-    out = []
-    for crossing in groups.values():
-        partner: dict = {}  # u -> its neighbours v across
-        for u, v in crossing:
-            partner.setdefault(u, []).append(v)
-        seen: set = set()
-        for start in sorted(partner):
-            if start in seen:
-                continue
-            run, stack = [], [start]
-            seen.add(start)
-            while stack:  # 8-connected run of u cells
-                r, c = stack.pop()
-                run.append((r, c))
-                for dr in (-1, 0, 1):
-                    for dc in (-1, 0, 1):
-                        q = (r + dr, c + dc)
-                        if q in partner and q not in seen:
-                            seen.add(q)
-                            stack.append(q)
-            run.sort()
-            n = math.ceil(len(run) / spacing)
-            for i in range(n):
-                u = run[int((i + 0.5) * len(run) / n)]
-                out += [(*u, *v) for v in partner[u]]
-    return out
 
 
 def _reuse_fields(reuse, cost, territory, cells, terr, win, off, fcode) -> np.ndarray:

@@ -77,3 +77,37 @@ def test_sparse_forward_pass_draws_what_the_dense_recursion_draws(seed, sharpnes
     want = dense_ffbs(log_emit, log_trans, log_init, uniforms)
     # the floor drops states below e^-60 of the best (most examples have some): the draws are still the same
     assert (got == want).all()
+
+
+def _box_bound(mu, Sigma, box):
+    from spcotmhp.learning.territory import _box_mahalanobis, _place_bounds
+
+    det = np.linalg.det(Sigma)
+    coef, _ = _place_bounds(mu, Sigma, det, np.log(det), np.zeros(len(mu)))
+    return _box_mahalanobis(mu, Sigma, det, coef, 0, *box)
+
+
+def test_box_bound_of_an_elongated_gaussian_by_hand():
+    """Mean (0, 0), variance 100 along x and 0.01 across: over x in [1, 2], y in [0.5, 0.6] the least
+    Mahalanobis distance is 1/100 + 0.25/0.01 = 25.01 at (1, 0.5); the isotropic bound (smallest eigenvalue
+    0.01 of the inverse times the squared distance 1.25) was 0.0125, so the corridor's Gaussian was never cut."""
+    mu, Sigma = np.zeros((1, 2)), np.array([[[100.0, 0.0], [0.0, 0.01]]])
+    assert np.isclose(_box_bound(mu, Sigma, (1.0, 2.0, 0.5, 0.6)), 25.01, rtol=1e-8)
+    assert _box_bound(mu, Sigma, (-1.0, 2.0, -0.5, 0.6)) == 0.0  # the mean inside the box
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(st.integers(0, 2**31))
+def test_box_bound_never_exceeds_the_distance_at_any_point_of_the_box(seed):
+    rng = np.random.default_rng(seed)
+    mu = rng.uniform(-5, 5, (1, 2))
+    A = rng.normal(size=(2, 2)) * rng.uniform(0.05, 4.0)
+    Sigma = (A @ A.T + np.eye(2) * rng.uniform(1e-3, 0.5))[None]
+    x0, y0 = rng.uniform(-8, 8, 2)
+    x1, y1 = x0 + rng.uniform(0, 6) * rng.integers(0, 2), y0 + rng.uniform(0, 6)  # a row (x0 == x1) or a box
+    gx, gy = np.meshgrid(np.linspace(x0, x1, 81), np.linspace(y0, y1, 81))
+    d = np.stack([gx.ravel() - mu[0, 0], gy.ravel() - mu[0, 1]], axis=1)
+    q = np.einsum("ni,ij,nj->n", d, np.linalg.inv(Sigma[0]), d)
+    bound = _box_bound(mu, Sigma, (x0, x1, y0, y1))
+    assert bound <= q.min() * (1 + 1e-9) + 1e-12
+    assert bound >= q.min() - 0.05 * (1 + q.min())  # tight: the grid's least value is near the exact one

@@ -153,3 +153,14 @@ def test_a_graph_npz_that_is_a_pipe_is_named_and_never_opened(saved, tmp_path):
     os.mkfifo(root / "graph.npz")  # opening it would block until a writer came
     note, results = _planned(root)
     assert note.startswith("rebuilt") and "graph.npz is a named pipe (FIFO)" in note and set(results) <= {"ok"}
+
+
+@pytest.mark.parametrize("version, expect", [(1, "before the portal graph's crossings changed"), (99, "reads 2")])
+def test_a_graph_of_another_format_version_is_a_rebuild_saying_why(saved, tmp_path, version, expect):
+    """A version-1 graph (one crossing a spacing) has the same key and settings as today's: its version, not its
+    key, makes it a rebuild, and the note says what changed; an unknown version says what is read."""
+    root = _copy(saved, tmp_path)
+    _forge(root, _arrays(root), meta=lambda doc: doc.update(format_version=version))
+    note, results = _planned(root)
+    assert note.startswith("rebuilt") and expect in note and "precompute" in note, note
+    assert set(results) == {"ok"}
