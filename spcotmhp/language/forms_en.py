@@ -190,12 +190,12 @@ def _withdrawn(before: list[Token], after: list[Token]) -> list[Token] | None:
         n, kept = 2, [t for t in before if t.kind != kinds[1]]
         kept = None if len(kept) == len(before) else kept
     elif kinds[:2] == ["AVOID", "PLACE"] and words[0] in ("skip", "skipping"):
-        n, kept = 2, _without_waypoint(before, after[1])
+        n, kept = 2, _without_said(before, "VIA", after[1])
     elif kinds[:3] == ["WAIVER", "VIA", "PLACE"]:
-        n, kept = 3, _without_waypoint(before, after[2])
+        n, kept = 3, _without_said(before, "VIA", after[2])
     elif kinds[:2] == ["PLACE", "ANY_OK"] or kinds[:3] == ["PLACE", "IS", "WORD"] and words[2] in _FINE:
         n = 2 if kinds[1] == "ANY_OK" else 3  # "actually, the hall's fine(, avoid the corridor instead)"
-        kept = _without_avoided(before, after[0])
+        kept = _without_said(before, "AVOID", after[0])
         if kept is not None and any(t.kind not in _RESTATED for t in after[n:]):
             return [*kept, Token("COMMA", ",", start=after[n].start, end=after[n].start),
                     *(t for t in after[n:] if t.kind != "INSTEAD")]  # fmt: skip
@@ -206,12 +206,6 @@ def _withdrawn(before: list[Token], after: list[Token]) -> list[Token] | None:
 
 _FINE = frozenset({"fine", "ok", "okay", "alright", "all right"})
 """Words saying a place taken back from the avoided will do ("the hall's fine")."""
-
-
-def _without_avoided(before: list[Token], place: Token) -> list[Token] | None:
-    """``before`` without the last "avoid ``place``" said in it."""
-    avoided = [k for k in range(len(before) - 1) if before[k].kind == "AVOID" and before[k + 1].words == place.words]
-    return None if not avoided else [*before[: avoided[-1]], *before[avoided[-1] + 2 :]]
 
 
 def _without_wait(before: list[Token]) -> list[Token] | None:
@@ -226,10 +220,10 @@ def _without_wait(before: list[Token]) -> list[Token] | None:
     return [*before[:start], *before[end + 1 :]]
 
 
-def _without_waypoint(before: list[Token], place: Token) -> list[Token] | None:
-    """``before`` without the last "via ``place``" said in it."""
-    via = [k for k in range(len(before) - 1) if before[k].kind == "VIA" and before[k + 1].words == place.words]
-    return None if not via else [*before[: via[-1]], *before[via[-1] + 2 :]]
+def _without_said(before: list[Token], kind: str, place: Token) -> list[Token] | None:
+    """``before`` without the last ``kind`` + ``place`` pair said in it ("via the kitchen", "avoid the hall")."""
+    said = [k for k in range(len(before) - 1) if before[k].kind == kind and before[k + 1].words == place.words]
+    return None if not said else [*before[: said[-1]], *before[said[-1] + 2 :]]
 
 
 _MANNER = frozenset({"NOW", "SLOW", "FAST"})

@@ -56,6 +56,7 @@ from spcotmhp.language.spoken_ja import (
     quoted_whole,
     waits_ja,
 )
+from spcotmhp.language.talk_ja import PEOPLE
 from spcotmhp.language.withdrawals_ja import withdrawals_ja
 
 _ELLIPSIS = re.compile(r"(?:\.{2,}|…+|‥+)[、,]?")
@@ -69,10 +70,8 @@ _NEGATIONS = (
     "やなくて",
     "やのうて",
     "じゃのうて",
-)  # noqa: E501
-_AFTER_PAUSE = re.compile(
-    r"(?:、|(?P<space>\s+))(?P<neg>じゃなくて|じゃなく|ではなくて|ではなく|じゃない|ではない|やなくて|やのうて|じゃのうて)(?P<after>\s*、?)"
-)
+)  # the longer of two forms first: the pattern below tries them in this order
+_AFTER_PAUSE = re.compile(r"(?:、|(?P<space>\s+))(?P<neg>" + "|".join(_NEGATIONS) + r")(?P<after>\s*、?)")
 _PUNCTUATION = frozenset("、。,.!?！？「」")
 
 
@@ -139,8 +138,6 @@ def _corrected(m: re.Match, text: str, transcript: bool) -> str:
 
 
 _SAID_AGAIN = frozenset({"WORD", "CORRECTION", "BACK", "COMMA", "AND"})
-_PERSON = re.compile(r"(?:が|さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客)$")
-"""A word naming a person (or ending in が, the subject's marker) before 帰る: the person comes back, not the robot."""
 _RELATION_KINDS = frozenset({"CLOSEST", "FARTHEST", "NEXT_TO", "LARGEST", "SMALLEST"})
 _WAITS = frozenset({"DURATION", "UNBOUNDED_WAIT", "THERE"})
 
@@ -203,6 +200,11 @@ def spoken_tokens(items: list[Token], text: str = "") -> list[Token]:
     return there_ja(items) if "THERE" in kinds else items
 
 
+def _person(word: str) -> bool:
+    """A word naming a person, or ending in が (the subject's marker): before 帰る someone else comes home."""
+    return word.endswith("が") or PEOPLE.search(word) is not None
+
+
 def said_once(items: list[Token]) -> list[Token]:
     """Copulas, mood and topic particles, empty pauses and cut-off markers left out, "Xでいい" read as X, and the
     same place said twice in a row said once (module docstring)."""
@@ -222,7 +224,7 @@ def said_once(items: list[Token]) -> list[Token]:
         if it.kind == "BACK" and last is not None and last.kind == "PLACE" and last.end == it.start:
             out.append(it._replace(kind="GOAL"))  # リビング もどって: back to the place named, not to the start
             continue
-        if it.kind == "BACK" and last is not None and last.kind == "WORD" and _PERSON.search(last.surface):
+        if it.kind == "BACK" and last is not None and last.kind == "WORD" and _person(last.surface):
             out.append(it._replace(kind="WORD"))  # パパが帰ってくるから: someone else comes home (talk_ja)
             continue
         if (

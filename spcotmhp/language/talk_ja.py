@@ -312,7 +312,8 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
 _FINAL = ("よ", "ね", "わ", "ぞ", "よね", "よー", "ねー")
 """Sentence-final particles: a clause ending in one is a sentence, though no mark of a pause follows it."""
 _THEIR_MOTIONS = frozenset({"帰る", "戻る", "来る", "出る"})
-_PEOPLE = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客|人)$")
+PEOPLE = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客|人)$")
+"""A word naming a person: before 帰る / 来る the person comes or goes home, not the robot (rewrite_ja too)."""
 
 
 def _someone_moves(morphemes: Sequence[tuple[str, str, str, str]]) -> set[int]:
@@ -324,7 +325,7 @@ def _someone_moves(morphemes: Sequence[tuple[str, str, str, str]]) -> set[int]:
             continue
         before = morphemes[k - 1]
         marked = before[0] == "が" and k > 1 and morphemes[k - 2][1] == "名詞"
-        if marked or before[1] == "名詞" and _PEOPLE.search(before[0]):
+        if marked or before[1] == "名詞" and PEOPLE.search(before[0]):
             out.add(k)
     return out
 
