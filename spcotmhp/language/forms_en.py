@@ -272,11 +272,17 @@ def no_stop_en(items: list[Token]) -> list[Token]:
 
 
 def loose_ends_en(items: list[Token]) -> list[Token]:
-    """Three shapes of speech around a whole instruction: "a bedroom, any of them, except ..." (the choice left
+    """Four shapes of speech around a whole instruction: "a bedroom, any of them, except ..." (the choice left
     open is the planner's own, so "any of them" between pauses adds nothing to what follows it); a tag question
     closing it ("go to the kitchen, no?": asking agreement, as "right?" does); and a place said with "in" alone
-    ("In the dining room, please.": where to be, with no verb to take another reading)."""
+    ("In the dining room, please.": where to be, with no verb to take another reading); and "either" closing a
+    clause after a place in a negated clause ("not the kitchen either", "don't go through the bath either": the
+    negative "too", one more place not to go to, where before a place it picks any one: "either corridor")."""
     out = list(items)
+    for k in range(len(out) - 1, 1, -1):
+        closes = k + 1 == len(out) or out[k + 1].kind in ("COMMA", "_STOP")
+        if out[k].surface == "either" and closes and out[k - 1].kind == "PLACE" and _negated(out[:k]):
+            del out[k]
     for k in range(1, len(out) - 2):
         if [t.kind for t in out[k - 1 : k + 3]] == ["PLACE", "COMMA", "ANY_ONE", "COMMA"]:
             out = [*out[:k], *out[k + 2 :]]
@@ -287,3 +293,13 @@ def loose_ends_en(items: list[Token]) -> list[Token]:
     if kinds[:2] == ["AT", "PLACE"] and out[0].surface == "in" and not {"GO", "TO", "ENTER", "WAIT"} & set(kinds):
         out[0] = out[0]._replace(kind="TO")
     return out
+
+
+def _negated(before: list[Token]) -> bool:
+    """Whether the clause ending ``before`` (from the last comma, full stop or "but") holds a negation."""
+    for t in reversed(before):
+        if t.kind in ("COMMA", "_STOP", "BUT"):
+            return False
+        if t.kind == "NEG":
+            return True
+    return False

@@ -91,7 +91,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out, kinds = clauses, kinds | {"COMMA"}
     if "MODIFIER" in kinds and "NEG" in kinds:
         out = other_than_excluded(out)  # others.py: "not bedroom 1, one of the other bedrooms"
-    if kinds & {"ANY_ONE", "NO", "AT"}:
+    if kinds & {"ANY_ONE", "NO", "AT", "ONE_OF"}:
         out = loose_ends_en(out)
     if "NEG" in kinds and kinds & {"STOP_AT", "HALT"}:
         out = no_stop_en(out)

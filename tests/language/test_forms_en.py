@@ -271,6 +271,8 @@ def test_right_as_a_side_stays_refused():
         ("Go to a bedroom, any of them, except the smallest one.", "bedroom", 1),  # the open choice: the default
         ("Kindly go to the kitchen, no?", "kitchen", 0),  # a tag question
         ("In the dining room please.", "dining", 0),  # "in" alone: where to be
+        ("Go to the living room, not the dining room, and not the kitchen either.", "living", 2),  # negative "too"
+        ("go to the living room but not the kitchen either", "living", 1),
     ],
 )
 def test_loose_ends_around_a_whole_instruction(text, goal, excluded):
@@ -281,3 +283,25 @@ def test_loose_ends_around_a_whole_instruction(text, goal, excluded):
 def test_a_no_closing_without_a_question_stays_a_correction_of_nothing():
     with pytest.raises(InstructionError):
         read("go to the kitchen, no", PLACE_WORDS_EN, "en")
+
+
+def test_either_after_an_avoidance_is_too():
+    r = read("go to the living room but don't go through the kitchen either", PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.avoid] == ["kitchen"] and [p.words[0] for p in r.visit] == ["living"]
+
+
+@pytest.mark.parametrize("text", ["go to either bedroom", "Either bedroom is fine.", "the bedroom, I don't care which"])
+def test_either_before_a_place_is_any_one(text):
+    assert read(text, PLACE_WORDS_EN, "en") == read("go to any bedroom", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to either the kitchen or the bath",  # an open choice between two places
+        "go to the kitchen either",  # "either" after no negation
+    ],
+)
+def test_either_elsewhere_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
