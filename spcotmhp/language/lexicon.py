@@ -312,7 +312,8 @@ def _number(unit: str) -> float | None:
 
 def _merge(items: list[Token]) -> list[Token]:
     """Place words side by side (fillers between them left out) form one name (rule 5); a name no place has
-    ("the hall please the entrance": "hall entrance") is refused where the planner checks names. Lengths of time
+    ("the hall please the entrance": "hall entrance") is refused where the planner checks names; a name said twice
+    in a row is one (:func:`_once`). Lengths of time
     side by side, each shorter than the one before (maybe joined by "and"), are one length: "1 minute 30 seconds",
     1分30秒 (a longer or equal one after it is not a part of it, and is refused where it stands)."""
     out: list[Token] = []
@@ -334,7 +335,17 @@ def _merge(items: list[Token]) -> list[Token]:
             )  # fmt: skip
         else:
             out.append(it)
-    return out
+    return [_once(t) if t.kind == "PLACE" else t for t in out]
+
+
+def _once(tok: Token) -> Token:
+    """A name of several words said twice in a row is said once ("alice's room alice's room"), as a one-word name
+    said again is (:func:`_merge`)."""
+    n = len(tok.words) // 2
+    if n < 2 or len(tok.words) != 2 * n or tok.words[:n] != tok.words[n:]:
+        return tok
+    joiner = "" if _is_cjk(tok.surface) else " "
+    return tok._replace(surface=joiner.join(tok.words[:n]), words=tok.words[:n])
 
 
 def _summed(items: list[Token]) -> list[Token]:

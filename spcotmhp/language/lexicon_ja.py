@@ -87,7 +87,7 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             if kind:
                 words = (value,) if kind == "PLACE" else ()
                 out.append(Token(kind, "".join(chars[i : i + n]), words, start=i, end=i + n))
-            elif "".join(chars[i : i + n]) in _APOLOGIES and out and _named(out[-1]):
+            elif "".join(chars[i : i + n]) in _APOLOGIES and _after_a_place(out):
                 out.append(Token("_APOLOGY", "".join(chars[i : i + n]), start=i, end=i + n))
             i += n
             continue
@@ -107,7 +107,8 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
 
 _APOLOGIES = frozenset({"ごめん", "ごめんね", "ごめんなさい", "すみません", "すいません", "すまん"})
 """Apologies, fillers elsewhere (ごめん、キッチン行って), that correct when said with no pause between two places or
-two numbers of one place (寝室の1番ごめん2番, キッチンごめんリビング), as "、ごめん、" does (the table's CORRECTION)."""
+two numbers of one place (寝室の1番ごめん2番, キッチンごめんリビング, お風呂にごめん洗面所に), as "、ごめん、" does (the
+table's CORRECTION)."""
 
 
 def _named(tok: Token) -> bool:
@@ -115,16 +116,41 @@ def _named(tok: Token) -> bool:
     return tok.kind == "PLACE" or tok.kind == "WORD" and _JA_NUMBER_AGAIN.match(tok.surface) is not None
 
 
+_MARKED = {"GOAL": "goal", "GOAL_THEN": "goal", "GO": "goal", "VIA": "via", "VIA_THEN": "via", "STOP": "stop"}
+_MARKED |= {"AVOID": "avoid", "NOT_GOAL": "not_goal"}
+"""Markers a place phrase ends with (お風呂に, 廊下を通って, 洗面所行って), by the role they give the place: an
+apology after one still follows the place."""
+
+
+def _after_a_place(out: list[Token]) -> bool:
+    """Whether the tokens so far end with a place phrase: a place or its number (:func:`_named`), or a place with
+    its marker (お風呂に ごめん 洗面所に: the apology corrects the phrase, its particle with it)."""
+    if not out:
+        return False
+    return _named(out[-1]) or out[-1].kind in _MARKED and len(out) > 1 and _named(out[-2])
+
+
 def _apologies(out: list[Token]) -> list[Token]:
-    """Each apology kept by :func:`tokens_ja` a correction where a place or a number follows it too, else left out
-    as the filler it is."""
+    """Each apology kept by :func:`tokens_ja` a correction where it stands between two place phrases
+    (:func:`_corrects`), else left out as the filler it is."""
     if not any(t.kind == "_APOLOGY" for t in out):
         return out
     return [
         t._replace(kind="CORRECTION") if t.kind == "_APOLOGY" else t
         for k, t in enumerate(out)
-        if t.kind != "_APOLOGY" or k + 1 < len(out) and _named(out[k + 1])
+        if t.kind != "_APOLOGY" or _corrects(out, k)
     ]
+
+
+def _corrects(out: list[Token], k: int) -> bool:
+    """Whether the apology ``out[k]`` stands between two place phrases it corrects: a place (or number) follows it,
+    and where a marker ended the phrase before it, a marker of the same role ends the phrase after it (お風呂にごめん
+    洗面所に, 洗面所行って: the goal said again; リビングを避けてすみません寝室へ says another part: a filler)."""
+    if k + 1 >= len(out) or not _named(out[k + 1]):
+        return False
+    if out[k - 1].kind not in _MARKED:
+        return True
+    return k + 2 < len(out) and _MARKED.get(out[k + 2].kind) == _MARKED[out[k - 1].kind]
 
 
 def _shorter_filler(

@@ -116,8 +116,10 @@ class JapaneseWalk(Walk):
 
     def _group(self, group: Tree, role: str, bare: bool = False) -> list[Mention]:
         """The mentions of a group's places, with the forward order words said before it; a bare group right after a
-        correction word takes the role of the place said before it (リビングを通って、いや、廊下)."""
-        if bare and self.correction is not None:
+        correction word takes the role of the place said before it (リビングを通って、いや、廊下), unless places were
+        said again after the word first (廊下通ってトイレ、いや、廊下通って風呂: the bare place ends the
+        restatement)."""
+        if bare and self.correction is not None and self.correction[1] == len(self.mentions):
             said = [m for m in self.mentions if not m.dropped]
             role = said[-1].role if said else role
         out = [self.mention(ref, role) for ref in self._refs(group)]
