@@ -227,13 +227,17 @@ def _without_said(before: list[Token], kind: str, place: Token) -> list[Token] |
 
 
 _MANNER = frozenset({"NOW", "SLOW", "FAST"})
+_PARTICLES = frozenset({"on", "out"})
+"""Particles of direction said between a verb of going and "in" ("get on in that kitchen", "go on out in the hall",
+"go on in to the toilet"): with "in" after them they say only that the motion goes in."""
 
 
 def motion_at_en(items: list[Token]) -> list[Token]:
     """After a verb of motion, "in" or "at" before a place says where the motion ends, as "to" does ("move in the
     toilet room", "please go now in the kitchen", "go at the living room": colloquial and learners' English), where
-    the verb opens its clause as an order; an
-    infinitive's "to" opening the request before the verb ("please to go to the living room") marks nothing."""
+    the verb opens its clause as an order; particles of direction before "in" go with it (:data:`_PARTICLES`; "in
+    to" is "to", "in that kitchen" "to that kitchen"); an infinitive's "to" opening the request before the verb
+    ("please to go to the living room") marks nothing."""
     out = items[1:] if len(items) > 1 and items[0].kind == "TO" and items[1].kind == "GO" else list(items)
     for k, t in enumerate(out):
         if t.kind != "GO" or k > 0 and out[k - 1].kind not in ("COMMA", "_STOP") or t.surface.endswith("ing"):
@@ -241,6 +245,17 @@ def motion_at_en(items: list[Token]) -> list[Token]:
         j = k + 1
         while j < len(out) and out[j].kind in _MANNER:
             j += 1
+        p = j
+        while p < len(out) and out[p].kind in ("AT", "WORD") and out[p].surface in _PARTICLES:
+            p += 1
+        inward = p + 1 < len(out) and out[p].kind == "AT" and out[p].surface == "in"
+        if inward and (out[p + 1].kind == "TO" or out[p + 1].kind == "THAT" and out[p + 2 : p + 3] != []):
+            if out[p + 1].kind == "TO":
+                return [*out[:j], *out[p + 1 :]]  # "go on in to the toilet"
+            if out[p + 2].kind == "PLACE":  # "get on in that kitchen"
+                return [*out[:j], out[p]._replace(kind="TO"), *out[p + 2 :]]
+        if p > j and inward and out[p + 1].kind == "PLACE":
+            return [*out[:j], out[p]._replace(kind="TO"), *out[p + 1 :]]  # "go on out in the hall"
         at = j + 1 < len(out) and out[j].kind == "AT" and out[j].surface in ("in", "at") and out[j + 1].kind == "PLACE"
         if at:
             out[j] = out[j]._replace(kind="TO")

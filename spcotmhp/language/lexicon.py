@@ -255,6 +255,8 @@ def _duration(units: list[str], j: int) -> tuple[float, int] | None:
     """(seconds, index after it) of a length of time said from ``units[j]`` (:func:`_durations_en`), or None."""
     if j >= len(units):
         return None
+    if (quarters := _quarters(units, j)) is not None:
+        return quarters
     j += units[j : j + 1] == ["a"] and units[j + 1 : j + 2] in (["quarter"], ["couple"])
     half = units[j : j + 2] in (["half", "a"], ["half", "an"])
     part = {"quarter": 0.25, "couple": 2.0}.get(units[j]) if j < len(units) else None  # a quarter of an hour
@@ -274,6 +276,19 @@ def _duration(units: list[str], j: int) -> tuple[float, int] | None:
     if not (part or half or and_half) and units[k + 2 : k + 5] == ["and", "a", "half"]:
         seconds, k = seconds + unit / 2, k + 3  # "a minute and a half"
     return seconds, k + 2
+
+
+def _quarters(units: list[str], j: int) -> tuple[float, int] | None:
+    """Quarters of a unit said from ``units[j]``: "a quarter hour" (Merriam-Webster's quarter hour), "a quarter of an
+    hour", "three quarters of an hour"; (seconds, index after it) or None."""
+    count = 1.0 if units[j] in ("a", "an", "one") else _number(units[j])
+    if count is None or units[j + 1 : j + 2] not in (["quarter"], ["quarters"]):
+        return None
+    k = j + 2
+    k += units[k : k + 1] == ["of"]
+    k += units[k : k + 1] in (["an"], ["a"])
+    unit = _UNITS.get(units[k]) if k < len(units) else None
+    return (count * 0.25 * unit, k + 1) if unit is not None else None
 
 
 def _floors_en(items: list[tuple[Token | str, int]]) -> list[tuple[Token | str, int]]:

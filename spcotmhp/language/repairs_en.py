@@ -16,6 +16,11 @@ BOUNDS = ("_STOP", "COMMA")
 
 
 _OWNED = ("bedroom", "bedrooms", "room", "rm")
+_TITLES = frozenset(
+    "uncle aunt auntie aunty miss mister mr mrs ms dr cousin brother sister grandma grandpa granny nana".split()  # noqa: SIM905
+)
+"""Titles and kin words said before a first name ("Uncle Bob", "Miss Alice", Southern US for an adult): they say who
+the person is to the speaker, not which room; before an owner's room they are left out."""
 _PRONOUNS = ("my", "his", "her", "their")
 _SPEAKER = ("it's", "i'm", "im", "this is")
 
@@ -23,8 +28,9 @@ _SPEAKER = ("it's", "i'm", "im", "this is")
 def owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
     """Rule 5: whose room. A map whose places are named by their owners ("alice's room"): "alice's bedroom" is her
     room; "her / his / my room" is the room of the one person the sentence names ("Alice wants you in her room",
-    "Alice here, go to my room": for "my", named as the speaker: "X here", "it's X"); and a name said alone before
-    its owner's room ("alice alice's room") is a false start. With no such person, or several, the words stay."""
+    "Alice here, go to my room": for "my", named as the speaker: "X here", "it's X"); a name said alone before
+    its owner's room ("alice alice's room") is a false start, a title before it ("uncle bob's room") who the owner
+    is. With no such person, or several, the words stay."""
     owners = {w[:-2] for w in words if w.endswith("'s")}
     if not owners:
         return toks
@@ -61,6 +67,9 @@ def owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
             and nxt.words[:1] == (f"{t.surface}'s",)
         ):
             continue  # "alice alice's room"
+        titled = t.kind == "WORD" and t.surface in _TITLES and nxt is not None and nxt.kind == "PLACE"
+        if titled and nxt is not None and nxt.words[0].endswith("'s") and nxt.words[0][:-2] in owners:
+            continue  # "uncle bob's room"
         if (
             t.kind == "WORD"
             and t.surface in owners

@@ -20,23 +20,38 @@ from typing import Any
 
 EN_UNIT = re.compile(r"\d+(?:\.\d+)?|[^\W_]+(?:'[^\W_]+)*|'s\b|\.\.\.|[,;:.!?&\-]")
 _TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you"), "n": ("and",),
-               "thru": ("through",), "rn": ("right", "now"), "tho": ("though",)}  # fmt: skip
+               "thru": ("through",), "rn": ("right", "now"), "tho": ("though",), "ur": ("your",),
+               "d": ("the",)}  # fmt: skip
 """Spellings of texts and chats for the words they stand for (as dictionaries of text abbreviations give them:
-"u" you, "ty" thank you, "n" and, "rn" right now; "da" the, as some speak and write it; "goto" typed without its
-space; "thru" and "tho", the informal spellings of through and though in Merriam-Webster)."""
+"u" you, "ur" your, "ty" thank you, "n" and, "rn" right now; "da" and "d" the, as some speak and write it (d in
+Nigerian texting); "goto" typed without its space; "thru" and "tho", the informal spellings of through and though
+in Merriam-Webster). The one-letter ones ("n", "d") only between two longer words, not a word spelt out."""
+_G_DROPPED = re.compile(r"[a-z]{2,}in")
+"""A word said with its -ing as -in ("goin", "fixin", "sittin room", "darlin"; the apostrophe of "goin'" is not
+part of the unit): the -ing form, where the dictionary holds it and not the word as said ("robin", "cabin" stay)."""
 _DRAWN_OUT = re.compile(r"([a-z])\1{2,}")
 """A letter written three times or more ("pleeease", "kitchennn"): no English word has one, so it is drawn out."""
 
 
 def en_units(text: str) -> list[str]:
-    """The English units of ``text`` (:data:`EN_UNIT`), the words of :data:`_TEXT_SPEAK` written out, and a letter
-    drawn out ("pleeease") written once: one splitter for sentences, phrases of the table and place words alike."""
-    units = [_DRAWN_OUT.sub(r"\1", u) for u in EN_UNIT.findall(text)]
+    """The English units of ``text`` (:data:`EN_UNIT`), the words of :data:`_TEXT_SPEAK` written out, a letter
+    drawn out ("pleeease") written once and a dropped g put back ("goin"): one splitter for sentences, phrases of
+    the table and place words alike."""
+    units = [_g_restored(_DRAWN_OUT.sub(r"\1", u)) for u in EN_UNIT.findall(text)]
     return [
         w
         for k, u in enumerate(units)
-        for w in (_TEXT_SPEAK.get(u, (u,)) if u != "n" or _between_words(units, k) else (u,))
+        for w in (_TEXT_SPEAK.get(u, (u,)) if u not in ("n", "d") or _between_words(units, k) else (u,))
     ]
+
+
+def _g_restored(unit: str) -> str:
+    """``unit`` with a dropped g put back (:data:`_G_DROPPED`)."""
+    if _G_DROPPED.fullmatch(unit) is None:
+        return unit
+    from spcotmhp.language.english_words import known
+
+    return unit + "g" if not known(unit) and known(unit + "g") else unit
 
 
 def _between_words(units: list[str], k: int) -> bool:

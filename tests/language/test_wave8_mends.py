@@ -1,7 +1,9 @@
-"""What wave 8 (tests/data/blind32-35) misread at first sight (issue 34), read as meant: an apology after a place's
-marker corrects it (lexicon_ja), the polite past 違いました corrects (ja.json), places said again first after a
-correction start a restatement (walk.Walk._fresh, walk_ja), a name of several words said twice is one (lexicon).
-Each with neighbours that must keep their reading."""
+"""What wave 8 (tests/data/blind32-35) misread or refused at first sight (issue 34), read as meant: an apology after
+a place's marker corrects it (lexicon_ja), the polite past 違いました corrects (ja.json), places said again first
+after a correction start a restatement (walk.Walk._fresh, walk_ja), a name of several words said twice is one
+(lexicon); a dropped g put back and "d" / "ur" (table.en_units), particles before "in" (forms_en.motion_at_en),
+titles before an owner's room (repairs_en), quarters of an hour (lexicon._quarters), speed idioms and terms of
+address (en.json). Each with neighbours that must keep their reading."""
 
 from __future__ import annotations
 
@@ -73,3 +75,77 @@ def test_a_name_said_twice_is_one(text, route):
 def test_two_names_side_by_side_stay_two_names():
     # not one said twice: kept whole, for the planner to refuse as no place's name
     assert _route(read("go to the south corridor east corridor", SYNTHETIC, "en")) == ["south corridor east corridor"]
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("would you mind goin to the dining room", ["dining"]),  # -in for -ing
+        ("go to the sittin room darlin", ["living"]),
+        ("go to d kitchen", ["kitchen"]),  # "d": the, between words
+        ("pass by the washroom on ur way to the storeroom", ["washroom", "storeroom"]),
+        ("get on in that kitchen", ["kitchen"]),  # particles before "in"
+        ("go on in to the toilet", ["toilet"]),
+        ("go on out in the hall", ["hall"]),
+        ("you go on in the front room", ["living"]),
+        ("y'all go to the kitchen now", ["kitchen"]),  # address
+        ("go in the kitchen sugar", ["kitchen"]),
+    ],
+)
+def test_spoken_english(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the kitchen robin",  # a word of the dictionary keeps its -in: no such term of address
+        "go to the kitchen and d",  # "d" at the end: no word after it to be "the" of
+        "I'm going on in the kitchen",  # a statement, not an order (as "I'm going in the kitchen")
+    ],
+)
+def test_spoken_english_neighbours_stay_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, speed",
+    [
+        ("go to the kitchen lickety split", "fast"),
+        ("hightail it to the kitchen", "fast"),
+        ("go to the kitchen slow as molasses", "slow"),
+        ("go to the dining room slow and easy", "slow"),
+    ],
+)
+def test_speed_idioms(text, speed):
+    assert read(text, PLACE_WORDS_EN, "en").speed == speed
+
+
+@pytest.mark.parametrize(
+    "text, seconds",
+    [
+        ("go to the entrance and wait a quarter hour", 900.0),
+        ("go to the entrance and wait a quarter of an hour", 900.0),
+        ("go to the entrance and wait three quarters of an hour", 2700.0),
+    ],
+)
+def test_quarters_of_an_hour(text, seconds):
+    assert read(text, PLACE_WORDS_EN, "en").waits == ((0, seconds),)
+
+
+@pytest.mark.parametrize(
+    "text, owner",
+    [
+        ("go to uncle bob's room", "bob's"),
+        ("go on over to miss alice's room", "alice's"),
+        ("aunt alice's room", "alice's"),
+    ],
+)
+def test_a_title_before_an_owners_room(text, owner):
+    assert read(text, SYNTHETIC, "en").visit[0].words == (owner, "room")
+
+
+def test_a_title_before_no_owners_room_stays_refused():
+    with pytest.raises(InstructionError):
+        read("go to uncle carol's room", SYNTHETIC, "en")
