@@ -102,7 +102,24 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         else:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
-    return _apologies(out)
+    return _apologies(_reasons(out))
+
+
+def _reasons(out: list[Token]) -> list[Token]:
+    """A word ending in の before "で、" (then) says a reason with ので (床が濡れてるので、玄関まで): の and で are one
+    connector, the pause after it a pause, as "から、" is."""
+    if not any(t.kind == "THEN" and t.surface == "で、" for t in out):
+        return out
+    kept: list[Token] = []
+    for t in out:
+        after_no = bool(kept) and kept[-1].kind == "WORD" and kept[-1].surface[-1:] == "の"
+        if t.kind == "THEN" and t.surface == "で、" and after_no:
+            last = kept[-1]
+            kept[-1] = last._replace(surface=last.surface + "で", end=t.start + 1)
+            kept.append(Token("COMMA", "、", start=t.start + 1, end=t.end))
+            continue
+        kept.append(t)
+    return kept
 
 
 _APOLOGIES = frozenset({"ごめん", "ごめんね", "ごめんなさい", "すみません", "すいません", "すまん"})

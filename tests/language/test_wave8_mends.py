@@ -149,3 +149,24 @@ def test_a_title_before_an_owners_room(text, owner):
 def test_a_title_before_no_owners_room_stays_refused():
     with pytest.raises(InstructionError):
         read("go to uncle carol's room", SYNTHETIC, "en")
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("床が濡れているので、玄関まで行って", ["玄関"]),  # ので、: a reason, its pause a pause
+        ("お客様がいらっしゃいますので、玄関まで行っていただけますか。", ["玄関"]),
+        ("キッチンで、待ってて", ["キッチン"]),  # で after a place keeps its reading
+        ("お風呂沸いたけん風呂場行って", ["風呂"]),  # けん (Kyushu, Chugoku): から, before the place too
+        ("居間に移ってください", ["リビング"]),  # 移る: to move to
+        ("居間に移っていただけますでしょうか。", ["リビング"]),
+    ],
+)
+def test_japanese_reasons_and_verbs(text, route):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == route
+
+
+@pytest.mark.parametrize("text", ["けんかしないで玄関行って", "居間に移らないで"])
+def test_japanese_neighbours_stay_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_JA, "ja")
