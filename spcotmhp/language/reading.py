@@ -93,7 +93,8 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
             return _heard(reading, eased, notes)
         except _NoDerivation:
             pass
-    passed = pass_over(toks, table, source)
+    people = frozenset(w[:-2] for w in place_words if w.endswith("'s")) if lang == "en" else frozenset()
+    passed = pass_over(toks, table, source, people)
     if passed is not None:
         kept, said = passed
         try:

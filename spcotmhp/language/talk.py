@@ -48,18 +48,19 @@ _NUMBER_WORDS = (frozenset(NUMBERS) - {"a", "an"}) | frozenset(
 
 
 def pass_over(
-    toks: Sequence[Token], table: WordTable, units: Sequence[str] = ()
+    toks: Sequence[Token], table: WordTable, units: Sequence[str] = (), people: frozenset[str] = frozenset()
 ) -> tuple[list[Token], list[str]] | None:
     """``toks`` without the talk in them, and the talk as said (for the explanation); None when there is none or
     nothing would be left to read (module docstring). ``units``: the sentence's units, fillers included (a
-    token's ``start`` indexes them), which show a determiner before a noun ("the baby")."""
+    token's ``start`` indexes them), which show a determiner before a noun ("the baby"); ``people``: the names of
+    the map's owners ("bob" of "bob's room"), subjects as the table's are ("bob says go to his room")."""
     if table.by_character:
         return pass_over_ja(toks, table, "".join(units))
     if not table.talk:
         return None
     neutral = frozenset(table.talk.get("neutral", ()))
     meaning = frozenset(table.talk.get("meaning", ()))
-    subjects = frozenset(table.talk.get("subjects", ())) | frozenset(table.talk.get("kin", ()))
+    subjects = frozenset(table.talk.get("subjects", ())) | frozenset(table.talk.get("kin", ())) | people
     ok = [admissible(t, neutral, meaning, subjects) for t in toks]
     for k in range(len(toks)):  # "his mates"; "his room": a possessive before a place (or a word of one) picks it
         if toks[k].kind == "MODIFIER":

@@ -170,3 +170,21 @@ def test_japanese_reasons_and_verbs(text, route):
 def test_japanese_neighbours_stay_refused(text):
     with pytest.raises(InstructionError):
         read(text, PLACE_WORDS_JA, "ja")
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("bob says go to his room", ("bob's", "room")),  # the map's owner as the talk's subject
+        ("alice says go to her room", ("alice's", "room")),
+        ("okay so bob asked if you could go to his room", ("bob's", "room")),
+        ("bob says go to the kitchen", ("kitchen",)),
+    ],
+)
+def test_the_maps_owners_are_people_who_talk(text, goal):
+    assert read(text, SYNTHETIC, "en").visit[-1].words == goal
+
+
+def test_an_owner_called_stays_refused():
+    with pytest.raises(InstructionError):  # "bob go to the kitchen": said to bob, or bob's name as a place? refused
+        read("bob go to the kitchen", SYNTHETIC, "en")
