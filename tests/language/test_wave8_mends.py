@@ -188,3 +188,20 @@ def test_the_maps_owners_are_people_who_talk(text, goal):
 def test_an_owner_called_stays_refused():
     with pytest.raises(InstructionError):  # "bob go to the kitchen": said to bob, or bob's name as a place? refused
         read("bob go to the kitchen", SYNTHETIC, "en")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "um so could you maybe head to the storeroom",
+        "could you perhaps go to the storeroom",
+        "maybe you could go to the storeroom",
+    ],
+)
+def test_a_hedge_in_a_request_frame(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["storeroom"]
+
+
+def test_maybe_between_two_places_stays_an_open_choice():
+    with pytest.raises(InstructionError):
+        read("go to the kitchen or maybe the bath", PLACE_WORDS_EN, "en")
