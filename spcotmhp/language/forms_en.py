@@ -318,3 +318,18 @@ def _negated(before: list[Token]) -> bool:
         if t.kind == "NEG":
             return True
     return False
+
+
+def timed_stops_en(items: list[Token]) -> list[Token]:
+    """A stop at a place with a length ("then stop at the washroom for thirty seconds") is a wait of that length
+    there, as "wait at the washroom for thirty seconds" is: the robot stops only where it is told to wait. Without a
+    length "stop" between places stays refused (a correction, or a stop the planner cannot time)."""
+    out = list(items)
+    for k in range(len(out) - 3):
+        t = out[k]
+        timed = [x.kind for x in out[k + 1 : k + 4]] == ["AT", "PLACE", "DURATION"]
+        if t.kind == "HALT" and t.surface in ("stop", "then stop") and timed:
+            wait = Token("WAIT", "stop", start=t.start, end=t.end)
+            then = [Token("THEN", "then", start=t.start, end=t.start + 1)] if t.surface == "then stop" else []
+            return [*out[:k], *then, wait, *out[k + 1 :]]
+    return out

@@ -46,6 +46,7 @@ from spcotmhp.language.forms_en import (
     new_clause_en,
     no_stop_en,
     owners_and_sides,
+    timed_stops_en,
     wait_by_en,
     withdrawals_en,
 )
@@ -117,6 +118,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = master_en(out)
     if "AND" in kinds:
         out = shared_head_en(out)
+    if "HALT" in kinds and "DURATION" in kinds:
+        out = timed_stops_en(out)
     if "WAIT" in kinds:
         out = wait_by_en(out)
     if "BUT" in kinds and "ONE_OF" in kinds:

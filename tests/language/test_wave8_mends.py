@@ -205,3 +205,20 @@ def test_a_hedge_in_a_request_frame(text):
 def test_maybe_between_two_places_stays_an_open_choice():
     with pytest.raises(InstructionError):
         read("go to the kitchen or maybe the bath", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, waits",
+    [
+        ("go through the corridor then stop at the washroom for thirty seconds then go to the bath", ((1, 30.0),)),
+        ("could you pause at the toilet for fifteen seconds on the way to the bedroom", ((0, 15.0),)),
+        ("Take the corridor, pause at the storeroom for 30 seconds, and end up in the kitchen.", ((1, 30.0),)),
+    ],
+)
+def test_a_stop_with_a_length_is_a_wait(text, waits):
+    assert read(text, PLACE_WORDS_EN, "en").waits == waits
+
+
+def test_a_stop_without_a_length_between_places_stays_refused():
+    with pytest.raises(InstructionError):
+        read("go to the kitchen then stop at the bath then go to the hall", PLACE_WORDS_EN, "en")
