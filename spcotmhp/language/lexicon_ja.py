@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 
+from spcotmhp.language.apologies_ja import APOLOGIES, NUMBER_AGAIN, after_a_place, apologies, reasons
 from spcotmhp.language.floors import floor_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
@@ -87,7 +88,7 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             if kind:
                 words = (value,) if kind == "PLACE" else ()
                 out.append(Token(kind, "".join(chars[i : i + n]), words, start=i, end=i + n))
-            elif "".join(chars[i : i + n]) in _APOLOGIES and _after_a_place(out):
+            elif "".join(chars[i : i + n]) in APOLOGIES and after_a_place(out):
                 out.append(Token("_APOLOGY", "".join(chars[i : i + n]), start=i, end=i + n))
             i += n
             continue
@@ -102,72 +103,7 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         else:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
-    return _apologies(_reasons(out))
-
-
-def _reasons(out: list[Token]) -> list[Token]:
-    """A word ending in の before "で、" (then) says a reason with ので (床が濡れてるので、玄関まで): の and で are one
-    connector, the pause after it a pause, as "から、" is."""
-    if not any(t.kind == "THEN" and t.surface == "で、" for t in out):
-        return out
-    kept: list[Token] = []
-    for t in out:
-        after_no = bool(kept) and kept[-1].kind == "WORD" and kept[-1].surface[-1:] == "の"
-        if t.kind == "THEN" and t.surface == "で、" and after_no:
-            last = kept[-1]
-            kept[-1] = last._replace(surface=last.surface + "で", end=t.start + 1)
-            kept.append(Token("COMMA", "、", start=t.start + 1, end=t.end))
-            continue
-        kept.append(t)
-    return kept
-
-
-_APOLOGIES = frozenset({"ごめん", "ごめんね", "ごめんなさい", "すみません", "すいません", "すまん"})
-"""Apologies, fillers elsewhere (ごめん、キッチン行って), that correct when said with no pause between two places or
-two numbers of one place (寝室の1番ごめん2番, キッチンごめんリビング, お風呂にごめん洗面所に), as "、ごめん、" does (the
-table's CORRECTION)."""
-
-
-def _named(tok: Token) -> bool:
-    """A place, or a number said after one (寝室の1番)."""
-    return tok.kind == "PLACE" or tok.kind == "WORD" and _JA_NUMBER_AGAIN.match(tok.surface) is not None
-
-
-_MARKED = {"GOAL": "goal", "GOAL_THEN": "goal", "GO": "goal", "VIA": "via", "VIA_THEN": "via", "STOP": "stop"}
-_MARKED |= {"AVOID": "avoid", "NOT_GOAL": "not_goal"}
-"""Markers a place phrase ends with (お風呂に, 廊下を通って, 洗面所行って), by the role they give the place: an
-apology after one still follows the place."""
-
-
-def _after_a_place(out: list[Token]) -> bool:
-    """Whether the tokens so far end with a place phrase: a place or its number (:func:`_named`), or a place with
-    its marker (お風呂に ごめん 洗面所に: the apology corrects the phrase, its particle with it)."""
-    if not out:
-        return False
-    return _named(out[-1]) or out[-1].kind in _MARKED and len(out) > 1 and _named(out[-2])
-
-
-def _apologies(out: list[Token]) -> list[Token]:
-    """Each apology kept by :func:`tokens_ja` a correction where it stands between two place phrases
-    (:func:`_corrects`), else left out as the filler it is."""
-    if not any(t.kind == "_APOLOGY" for t in out):
-        return out
-    return [
-        t._replace(kind="CORRECTION") if t.kind == "_APOLOGY" else t
-        for k, t in enumerate(out)
-        if t.kind != "_APOLOGY" or _corrects(out, k)
-    ]
-
-
-def _corrects(out: list[Token], k: int) -> bool:
-    """Whether the apology ``out[k]`` stands between two place phrases it corrects: a place (or number) follows it,
-    and where a marker ended the phrase before it, a marker of the same role ends the phrase after it (お風呂にごめん
-    洗面所に, 洗面所行って: the goal said again; リビングを避けてすみません寝室へ says another part: a filler)."""
-    if k + 1 >= len(out) or not _named(out[k + 1]):
-        return False
-    if out[k - 1].kind not in _MARKED:
-        return True
-    return k + 2 < len(out) and _MARKED.get(out[k + 2].kind) == _MARKED[out[k - 1].kind]
+    return apologies(reasons(out))
 
 
 def _shorter_filler(
@@ -261,11 +197,6 @@ _JA_NUMBER_AFTER = re.compile(
 )
 """A number after a place word: 寝室2, 寝室#2, 寝室の2番; ナンバー (number), シャープ (the name of '#', as a speech
 recogniser spells it out) and No. say the sign the robot shows."""
-_JA_NUMBER_AGAIN = re.compile(
-    r"^(?:の)?(?:#|ナンバー|シャープ)?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:番|ばん)?(?:だ|じゃ|や|です)?$"
-)
-"""A number alone after a correction (寝室 #1 いや #2 だ, 寝室の3番 いや 1番): the instance of the place just
-corrected (rule 8); a copula after it says "it is #2"."""
 _JA_NUMBER_BEFORE = re.compile(
     r"^(?:#?(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?|いち|に|さん|よん|ご)(?:番|ばん)の?"
     r"|第(\d+|[一二三四五六七八九]|十[一二三四五六七八九]?)(?:の)?)$"
@@ -313,7 +244,7 @@ def said_again_ja(items: list[Token]) -> list[Token]:
         kept = [t for t in out if t.kind != "COMMA"]  # 寝室1番、いや2番: the pause before the correction
         before = kept[-2] if len(kept) >= 2 else None
         if it.kind == "WORD" and before is not None and kept[-1].kind == "CORRECTION" and before.kind == "PLACE":
-            n = _ja_number(_JA_NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None
+            n = _ja_number(NUMBER_AGAIN.match(it.surface), it.surface) if before.number is not None else None
             if n is not None:
                 said = f"{before.words[-1]} #{n}"  # the label the robot shows
                 out.append(before._replace(surface=said, number=n, start=it.start, end=it.end))
@@ -407,4 +338,4 @@ def _ja_number(match: re.Match | None, surface: str) -> int | None:
 
 def number_said_ja(surface: str) -> int | None:
     """The instance number a word says alone (2番, #3, 三番だ), or None (rule 8's reading of a number)."""
-    return _ja_number(_JA_NUMBER_AGAIN.match(surface), surface)
+    return _ja_number(NUMBER_AGAIN.match(surface), surface)
