@@ -84,6 +84,8 @@ _TELLING = frozenset(
         "wants",
         "hear",
         "shout",
+        "holler",
+        "yell",
     ]  # noqa: SIM905
 )
 """What ends a wait with no length: the speaker telling, calling, coming for or needing the robot, which reaches it as
@@ -181,11 +183,12 @@ def _fronted(toks: list[Token]) -> list[Token]:
 
 def _text_speak(toks: list[Token]) -> list[Token]:
     """Rule 1 too: "2" between a verb of going and a place is "to", as texts write it ("go 2 the kitchen"; a number
-    after a place, "bedroom 2", names an instance and is read before this)."""
+    after a place, "bedroom 2", names an instance and is read before this), and so are "two" and "too", as speech
+    recognisers write the homophone ("go two the kitchen")."""
     return [
         Token("TO", t.surface, start=t.start, end=t.end)
-        if t.kind == "WORD" and t.surface == "2" and 0 < k < len(toks) - 1 and toks[k - 1].kind == "GO"
-        and toks[k + 1].kind == "PLACE" else t
+        if t.kind == "WORD" and t.surface in ("2", "two", "too") and 0 < k < len(toks) - 1
+        and toks[k - 1].kind == "GO" and toks[k + 1].kind == "PLACE" else t
         for k, t in enumerate(toks)
     ]  # fmt: skip
 

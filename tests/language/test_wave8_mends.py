@@ -222,3 +222,24 @@ def test_a_stop_with_a_length_is_a_wait(text, waits):
 def test_a_stop_without_a_length_between_places_stays_refused():
     with pytest.raises(InstructionError):
         read("go to the kitchen then stop at the bath then go to the hall", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("go two the kitchen", ["kitchen"]),  # a speech recogniser's homophone between a verb of going and a place
+        ("go to a bedroom any one'll do", ["bedroom"]),
+        ("go to a bedroom, doesnt matter which", ["bedroom"]),
+    ],
+)
+def test_recognised_forms(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+def test_till_i_holler_is_until_told():
+    assert read("go to the entry and wait there till i holler", PLACE_WORDS_EN, "en").waits == ((0, None),)
+
+
+def test_two_before_a_plural_stays_refused():
+    with pytest.raises(InstructionError):
+        read("go to the two bedrooms", PLACE_WORDS_EN, "en")
