@@ -75,7 +75,12 @@ _AFTER_PAUSE = re.compile(r"(?:、|(?P<space>\s+))(?P<neg>" + "|".join(_NEGATION
 _PUNCTUATION = frozenset("、。,.!?！？「」")
 
 
-_DIRECTION_SA = re.compile(r"(?<=[\u4e00-\u9fff\u30a1-\u30ff])さ(?=行|い[っくけこ]|来|き[てた]|向か|戻|もど)")
+_DIRECTION_SA = re.compile(
+    r"(?:(?<=[\u4e00-\u9fff\u30a1-\u30ff])|(?<=ほう)|(?<=とこ))さ"
+    r"(?=(?:ゆっくり|すぐ|はやく|早く|急いで|静かに)?(?:行|い[っくけこ]|来|き[てた]|向か|戻|もど))"
+)
+"""The さ of direction (Tohoku and Hokkaido: へ) after a place, its ほう or とこ, before a verb of going, an adverb of
+manner maybe between (食堂のほうさ行って, 食堂さゆっくり行って)."""
 _COPULAS = frozenset(
     {
         "だ",

@@ -243,3 +243,14 @@ def test_till_i_holler_is_until_told():
 def test_two_before_a_plural_stays_refused():
     with pytest.raises(InstructionError):
         read("go to the two bedrooms", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("お風呂場のほうさ行ってくれるっしょ", ["風呂"]),  # さ (へ) after ほう
+        ("食堂さゆっくり行って", ["ダイニング"]),  # an adverb between さ and the verb
+    ],
+)
+def test_the_sa_of_direction(text, route):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == route
