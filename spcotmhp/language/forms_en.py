@@ -79,17 +79,20 @@ def wait_by_en(items: list[Token]) -> list[Token]:
 
 
 def any_but_en(items: list[Token]) -> list[Token]:
-    """ "any corridor but the south one": "but" after "any X" and before a place is "except" (Merriam-Webster's
-    preposition "but": with the exception of), as "any corridor except the south one" reads."""
+    """ "any corridor but the south one": "but" after "any X" and before a place, a size or a relation is "except"
+    (Merriam-Webster's preposition "but": with the exception of), as "any corridor except the south one" and "any
+    bedroom except the smallest" read."""
     return [
         t._replace(kind="NEG") if t.kind == "BUT" and 1 < k < len(items) - 1 and items[k - 2].kind == "ONE_OF"
-        and items[k - 1].kind == "PLACE" and items[k + 1].kind == "PLACE" else t
+        and items[k - 1].kind == "PLACE" and items[k + 1].kind in _EXCEPTED else t
         for k, t in enumerate(items)
     ]  # fmt: skip
 
 
 _CLAUSE_VERBS = frozenset({"STOP_AT", "AVOID", "GO"})
 _PICKS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", "LARGEST", "SMALLEST"})
+_EXCEPTED = _PICKS | {"PLACE", "ONE"}
+"""What "but" after "any X" may take out: a place, a size or relation, "the one ..." (:func:`any_but_en`)."""
 
 
 def new_clause_en(items: list[Token]) -> list[Token]:

@@ -193,3 +193,32 @@ def _length(t: Token, before: Token) -> Token | None:
         return None
     unit = before.surface.split()[-1]
     return Token("DURATION", f"{t.surface} {unit}", seconds=before.seconds / said * n, start=t.start, end=t.end)
+
+
+_GREETINGS = frozenset({"hey", "hi", "hello", "hiya", "howdy"})
+
+
+def restarts(toks: list[Token], units: Sequence[str]) -> list[Token]:
+    """Phrases said again as a speaker restarts them, said once: "go to the go to the dining room" and "go to the to
+    the hall" (a verb of going or its "to" with no place yet, then said again: the first is a false start); "a
+    bedroom any bedroom" (the place said again with "any": the choice the planner makes anyway); and "hey there"
+    opening the sentence ("there" calls the one spoken to, as "you there" does: no place)."""
+    out = list(toks)
+    opening = bool(out) and out[0].kind == "THERE" and out[0].surface == "there" and 0 < out[0].start <= len(units)
+    if opening and units[out[0].start - 1] in _GREETINGS:
+        out = out[1:]
+    k = 0
+    while k < len(out):
+        kinds = [t.kind for t in out[k : k + 4]]
+        if kinds == ["GO", "TO", "GO", "TO"] or kinds[:2] == ["TO", "TO"]:
+            del out[k : k + (2 if kinds[0] == "GO" else 1)]
+            continue
+        if (
+            kinds[:3] == ["PLACE", "ONE_OF", "PLACE"]
+            and out[k + 1].surface == "any"
+            and out[k].words == out[k + 2].words
+        ):
+            del out[k + 1 : k + 3]
+            continue
+        k += 1
+    return out

@@ -254,3 +254,35 @@ def test_two_before_a_plural_stays_refused():
 )
 def test_the_sa_of_direction(text, route):
     assert _route(read(text, PLACE_WORDS_JA, "ja")) == route
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("hey uh robot could you go to the go to the dining room", ["dining"]),  # a false start said again
+        ("could you go to the to the hall", ["hall"]),
+        ("uh uh go to go to the uh kitchen", ["kitchen"]),
+        ("Hey there, would you go into the bath for me?", ["bath"]),  # "there" of a greeting
+        ("go to a corridor any corridor", ["corridor"]),  # the place said again with "any"
+    ],
+)
+def test_restarts(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+@pytest.mark.parametrize(
+    "text, excluded",
+    [
+        ("go to any bedroom but the smallest", "smallest"),  # "but" after "any X": except (was read "then")
+        ("go to a bedroom any bedroom but the smallest", "smallest"),
+        ("go to any bedroom but the one nearest the kitchen", "closest"),
+    ],
+)
+def test_any_but_excepts(text, excluded):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert _route(r) == ["bedroom"] and [n.relation.kind for n in r.not_goal if n.relation] == [excluded]
+
+
+def test_there_without_a_greeting_stays_refused():
+    with pytest.raises(InstructionError):
+        read("there go into the bath", PLACE_WORDS_EN, "en")
