@@ -108,10 +108,17 @@ class EnglishWalk(Walk):
                 f"'and' after {excerpt(self.related_end)} could add a place to the relation or name another place to "
                 "go to: say 'then' before another place, or name one place in the relation"
             )
+        contrast = "BUT" in self.joint and not self.joint & {"CORRECTION", "NO", "THEN", "AND"}
+        contrast = contrast and len(items) == 1 and first.data == "bare" and bool(self.mentions)
         start = len(self.mentions)
         orders: list[str] = []
         for k, item in enumerate(items):
             self._item(item, orders, first_item=k == 0)
+        if contrast and len(self.mentions) > start:
+            raise UnsupportedPhrase(  # "go to the kitchen but the bath": a contrast, not a second stop
+                f"'but' before {excerpt(self.mentions[start].ref.label)} sets it against what was said before, as "
+                "neither a stop on the way nor a correction: say 'then' to go there next, or 'no, ...' to correct"
+            )
         self.related_end = _ends_with_relation(items[-1])
         self.waited = next((self.word(tokens_of(i)[0]) for i in items if i.data == "wait"), "")
         mine = [m for m in self.mentions[start:] if m.role in VISIT_ROLES]

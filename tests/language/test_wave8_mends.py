@@ -286,3 +286,19 @@ def test_any_but_excepts(text, excluded):
 def test_there_without_a_greeting_stays_refused():
     with pytest.raises(InstructionError):
         read("there go into the bath", PLACE_WORDS_EN, "en")
+
+
+def test_but_before_a_bare_place_is_refused_not_a_second_stop():
+    with pytest.raises(InstructionError, match="'but' before"):
+        read("go to the kitchen but the bath", PLACE_WORDS_EN, "en")  # was read: kitchen, then the bath
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("go to the kitchen but avoid the bath", ["kitchen"]),
+        ("go to the kitchen, but the bath first", ["bath", "kitchen"]),
+    ],
+)
+def test_but_with_more_keeps_its_reading(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
