@@ -302,3 +302,16 @@ def test_but_before_a_bare_place_is_refused_not_a_second_stop():
 )
 def test_but_with_more_keeps_its_reading(text, route):
     assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+@pytest.mark.parametrize(
+    "text, size",
+    [
+        ("ちっちゃいほうの寝室いって", "smallest"),  # every size word with 一番 and ほうの, not a list of pairs
+        ("一番せまい寝室いって", "smallest"),
+        ("いちばん広いほうの寝室", "largest"),
+        ("でっかい方の寝室に行って", "largest"),
+    ],
+)
+def test_japanese_sizes_in_every_combination(text, size):
+    assert read(text, PLACE_WORDS_JA, "ja").visit[0].relation.kind == size
