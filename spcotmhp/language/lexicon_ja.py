@@ -103,7 +103,21 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         else:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
-    return apologies(reasons(out))
+    return apologies(reasons(_nearest_to(out)))
+
+
+def _nearest_to(out: list[Token]) -> list[Token]:
+    """A place with に right before a word of the nearest (風呂に最寄りの寝室, 風呂に近くの寝室) says what the nearest
+    is near, as 風呂に一番近い does (CLOSEST): に there marks the relation's place, not a place to go to."""
+    kept: list[Token] = []
+    for t in out:
+        marked = len(kept) >= 2 and kept[-1].kind == "GOAL" and kept[-1].surface == "に" and kept[-2].kind == "PLACE"
+        if t.kind == "NEAREST" and marked:
+            mark = kept.pop()
+            kept.append(Token("CLOSEST", mark.surface + t.surface, start=mark.start, end=t.end))
+            continue
+        kept.append(t)
+    return kept
 
 
 def _shorter_filler(

@@ -315,3 +315,30 @@ def test_but_with_more_keeps_its_reading(text, route):
 )
 def test_japanese_sizes_in_every_combination(text, size):
     assert read(text, PLACE_WORDS_JA, "ja").visit[0].relation.kind == size
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "ふろに いちばん ちかい しんしつ",  # kana, spaced: the relation, not a stop at the bath
+        "おふろに いちばんちかい しんしつ いって",
+        "風呂に最寄りの寝室",  # were read as the bath, then the nearest bedroom
+        "風呂に近くの寝室",
+    ],
+)
+def test_japanese_nearest_to_a_place(text):
+    r = read(text, PLACE_WORDS_JA, "ja")
+    assert _route(r) == ["寝室"] and r.visit[0].relation.kind == "closest"
+
+
+@pytest.mark.parametrize(
+    "text, route, speed",
+    [("トイレまでダッシュ", ["トイレ"], "fast"), ("そろりそろりと廊下を通って玄関へ", ["廊下", "玄関"], "slow")],
+)
+def test_japanese_speed_words(text, route, speed):
+    r = read(text, PLACE_WORDS_JA, "ja")
+    assert _route(r) == route and r.speed == speed
+
+
+def test_a_stop_then_the_nearest_keeps_two_visits():
+    assert _route(read("風呂に行って最寄りの寝室", PLACE_WORDS_JA, "ja")) == ["風呂", "寝室"]
