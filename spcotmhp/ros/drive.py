@@ -4,7 +4,8 @@
   controller_server's ``follow_path``); ``through_poses``: NavigateThroughPoses on bt_navigator's
   ``navigate_through_poses`` through the plan's waypoints and goal, Nav2's planner re-planning between them.
 * The plan is cut into legs at the places where it waits (:func:`plan_legs`): the next leg is sent after the wait
-  ("until told": nothing more is sent; the next instruction plans from where the robot is).
+  ("until told": nothing more is sent; the next instruction plans from where the robot is; only the goal may wait
+  with no length, the instruction grammar's rule, so no leg is left undriven by it).
 * The instruction's speed sets Nav2's speed limit (nav2_msgs/SpeedLimit on ``speed_limit``, controller_server's
   topic): "slowly" ``slow_percent`` % of the controller's maximum; otherwise no limit (Nav2's limit can only lower
   the configured maximum, so "quickly" is the maximum).
