@@ -112,7 +112,7 @@ def test_plan_becomes_a_follow_path_goal_with_progress(robot):
     "text",
     [
         "go to the kitchen via the corridor, wait in the corridor for 3 seconds",
-        "go to the corridor and wait there for 3 seconds, then go to the kitchen",  # the "wait there"
+        "go to the corridor and wait there for 3 s, then go to the kitchen",  # the "wait there for 3 s"
     ],
 )
 def test_a_wait_makes_two_legs_that_long_apart(robot, text):
