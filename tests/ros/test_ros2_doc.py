@@ -8,7 +8,10 @@ is an unsupervised fit that takes minutes) and ``examples/`` (``spcotmhp example
 
 from __future__ import annotations
 
+import contextlib
+import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -51,3 +54,32 @@ def test_the_page_shows_tell_py_as_spcotmhp_examples_writes_it():
 
     shown = next(b for b in BLOCKS if b.directive("file") == "examples/tell.py")
     assert shown.text == (data_root() / "examples" / "tell.py").read_text(encoding="utf-8")
+
+
+UNTIL_STOPPED = [k for k, b in enumerate(BLOCKS) if "the node runs until stopped" in (b.directive("skip") or "")]
+
+
+@pytest.mark.parametrize("k", UNTIL_STOPPED, ids=[BLOCKS[k].name for k in UNTIL_STOPPED])
+def test_a_node_that_runs_until_stopped_starts_as_typed_and_stops_on_sigint(k: int, workspace: Workspace):
+    """The blocks left out of the run because the node they start runs until stopped (``--drive``, a footprint):
+    each is started as typed in the page's folder (after the blocks before it), must say it is ready, and must
+    stop cleanly (exit 0) on SIGINT, as Ctrl+C stops it."""
+    workspace.run_through(k - 1)
+    env = {**workspace.env, "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_DOMAIN_ID": str(90 + os.getpid() % 11)}
+    proc = subprocess.Popen(["bash", "-e", "-c", BLOCKS[k].text], cwd=workspace.folder, env=env, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+    lines: list[str] = []
+    try:
+        assert proc.stdout is not None
+        for line in proc.stdout:  # until the node says it is ready, or ends
+            lines.append(line)
+            if "spcotmhp node ready" in line:
+                break
+        assert any("spcotmhp node ready" in s for s in lines), "".join(lines)[-3000:]
+        os.killpg(proc.pid, signal.SIGINT)
+        rest, _ = proc.communicate(timeout=60)
+        assert proc.returncode == 0, "".join(lines)[-2000:] + rest[-2000:]
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(10)
