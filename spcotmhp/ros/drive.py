@@ -179,12 +179,15 @@ class Driver:
         """Drive ``plan`` (its path poses ``points``; ``centres`` of the places by id, for the places passed;
         ``poses``: the published Path's PoseStamped list, reused for the first FollowPath leg): set the speed
         limit, send the first leg, then cancel what ran before (after: the new goal is on its way sooner, and
-        Nav2's servers pre-empt a running goal with a new one anyway)."""
+        Nav2's servers pre-empt a running goal with a new one anyway). No action server within SERVER_WAIT_S is a
+        Nav2Unavailable error status with the robot's position, as every Nav2 failure is."""
         if not self.client.server_is_ready() and not self.client.wait_for_server(timeout_sec=SERVER_WAIT_S):
-            raise Nav2Unavailable(
+            unavailable = Nav2Unavailable(
                 f"no Nav2 action server on {self.node.resolve_topic_name(SERVERS[self.mode])} "
                 f"(is Nav2 up and active? --drive {self.mode})"
             )
+            self.report({**error_status(unavailable, instruction), "where": self._where()})
+            return
         points = np.asarray(points, dtype=float)
         legs, marks = plan_legs(plan, points, centres)
         before, self.run = self.run, Run(legs, marks, points, instruction, poses=poses)

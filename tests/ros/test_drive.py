@@ -18,7 +18,7 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from std_msgs.msg import Empty  # noqa: E402
+from std_msgs.msg import Empty, String  # noqa: E402
 
 from spcotmhp.datasets.bundled import load_bundled  # noqa: E402
 from spcotmhp.learning.supervised import fit_supervised  # noqa: E402
@@ -29,6 +29,7 @@ from tests.ros.nav2_client import DriveClient, node_ready, standin, start_node, 
 
 DOMAIN = str(15 + os.getpid() % 5)  # 15..19: not the other ROS tests' domains
 REJECTING_DOMAIN = str(1 + os.getpid() % 9)  # 1..9, for a rejecting stand-in (test_standin_nav2's, not at once)
+NO_NAV2_DOMAIN = str(10 + os.getpid() % 5)  # 10..14, with no Nav2 at all (test_nav2_msgs's, not at once)
 START = (-3.9, -3.5)  # the README's start in 3LDK_06 (the entrance)
 SPEED = 3.0
 
@@ -190,6 +191,35 @@ def test_a_rejected_goal_is_an_error_with_the_cause_and_position(robot, tmp_path
                 assert c.event("rejected", events0)["poses"] > 1
                 assert not c.drive_events(status0, "arrived") and not c.drive_events(status0, "progress")
         finally:
+            stop_node(proc)
+
+
+def test_no_nav2_is_an_error_naming_the_action_with_the_position(robot, tmp_path):
+    """--drive with no Nav2 action server (none within SERVER_WAIT_S): the plan is still published, then a
+    Nav2Unavailable error status names the action and the option, with the robot's position."""
+    import rclpy
+
+    from tests.ros.test_node import Client, ros_environment
+
+    with ros_environment(tmp_path, NO_NAV2_DOMAIN) as env:
+        context = rclpy.Context()
+        rclpy.init(context=context)
+        c = Client(context)
+        proc = start_node(robot.folder, env)
+        try:
+            assert c.spin_until(lambda: bool(c.places) or proc.poll() is not None, 300) and proc.poll() is None
+            c.set_pose(*START)
+            n = len(c.status)
+            c.publish(c.instruction_pub, String(data="go to the bedroom"))
+            assert c.spin_until(lambda: any(s.get("ok") is False for s in c.status[n:]), 60), c.status[n:]
+            plan = next(s for s in c.status[n:] if s["kind"] == "plan")
+            error = next(s for s in c.status[n:] if s.get("ok") is False)
+            assert plan["ok"] and error["type"] == "Nav2Unavailable" and error["instruction"] == "go to the bedroom"
+            assert "/follow_path" in error["error"] and "--drive follow_path" in error["error"]
+            assert error["where"] == pytest.approx(list(START), abs=1e-3)
+        finally:
+            c.node.destroy_node()
+            context.try_shutdown()
             stop_node(proc)
 
 
