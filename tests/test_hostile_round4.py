@@ -144,6 +144,27 @@ def test_every_csv_a_dataset_holds_is_column_bound_before_parsing(tmp_path, name
         load_dataset(past)
 
 
+@pytest.mark.parametrize("length", [MAX_WORD_CHARS + 1, 100_000])
+def test_a_dataset_word_past_the_model_limit_is_refused_before_learning(tmp_path, length):
+    """The /teach case through a dataset: check-dataset passed a teaching.csv holding a word of 300 (or 100,000)
+    characters, printing it, and learn refused it only once the model was made, naming no row ('"vocabulary" word 7
+    has 100000 characters'). Both now refuse it first, naming the event; nothing is written."""
+
+    def make(path: Path) -> None:
+        lines = (HOME / "teaching.csv").read_text(encoding="utf-8").splitlines()
+        lines[2] = lines[2].rsplit(",", 1)[0] + ",this is the " + "x" * length
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+    folder = home_with(tmp_path, "teaching.csv", make)
+    expect = f"word 4 of teaching event 2 of {len(load_dataset(HOME).tokens)} (its words in teaching.csv) has {length}"
+    refused(spcotmhp("check-dataset", str(folder), cwd=tmp_path), expect)
+    out = tmp_path / "model"
+    done = spcotmhp("learn", str(folder), "--out", str(out), "--supervised", cwd=tmp_path)
+    assert done.returncode == 2 and done.stderr.strip().splitlines()[-1].startswith("error: "), done.stderr[-2000:]
+    assert expect in done.stderr and "Traceback" not in done.stderr and "x" * 300 not in done.stderr
+    assert not out.exists()
+
+
 def test_a_recorded_teaching_folder_is_column_bound(tmp_path, model):
     """The other readers of a teaching.csv: ``teach --from`` (a folder the ROS 2 node recorded) and the node's
     ``--record`` folder it appends to."""
