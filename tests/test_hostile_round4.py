@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -22,6 +23,7 @@ from spcotmhp.datasets import load_dataset
 from spcotmhp.datasets.tables import MAX_TABLE_COLUMNS
 from spcotmhp.errors import DatasetError, SpcotmhpError, TeachingError
 from spcotmhp.learning.model_values import MAX_WORD_CHARS
+from spcotmhp.limits import MODEL_MAX_SIZES
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.persistence.io import load_model
 from spcotmhp.planning.planner import HierarchicalPlanner
@@ -115,6 +117,64 @@ def test_a_costmap_wider_than_the_map_is_refused_before_parsing(tmp_path, times,
 
     with pytest.raises(DatasetError, match=expect.format(n=width * times, w=width)):
         load_dataset(home_with(tmp_path, "costmap_ros.csv", make))
+
+
+# every CSV file a dataset folder may hold, with the column bound its reader holds it to (spcotmhp/datasets/tables.py)
+CSV_BOUNDS = {
+    "teaching.csv": MAX_TABLE_COLUMNS,
+    "trajectory.csv": MAX_TABLE_COLUMNS,
+    "truth.csv": MAX_TABLE_COLUMNS,
+    "places.csv": MAX_TABLE_COLUMNS,
+    "adjacency.csv": MODEL_MAX_SIZES["K"],  # a row per place: at most a model's places
+    "image_features_places365.csv": MODEL_MAX_SIZES["D"],  # a model's feature dimensions
+    "costmap_ros.csv": None,  # the map's width
+}
+
+
+@pytest.mark.parametrize("name", CSV_BOUNDS)
+def test_every_csv_a_dataset_holds_is_column_bound_before_parsing(tmp_path, name):
+    """Issue 37: "a column bound for every CSV the project reads": a first line of a million columns (6.9 MB) is
+    refused after its first bytes, and one column past the bound, short enough to be read, by its count."""
+    bound = CSV_BOUNDS[name] or load_dataset(HOME).map.width
+    million = home_with(tmp_path / "a", name, wide_header(1_000_000))
+    with pytest.raises(DatasetError, match=rf"^{re.escape(name)}: the header .* runs past .* at most {bound} columns"):
+        load_dataset(million)
+    past = home_with(tmp_path / "b", name, lambda p: p.write_text(",".join(["0"] * (bound + 1)) + "\n"))
+    with pytest.raises(DatasetError, match=rf"^{re.escape(name)} line 1 has {bound + 1} columns; at most {bound}"):
+        load_dataset(past)
+
+
+@pytest.mark.parametrize("length", [MAX_WORD_CHARS + 1, 100_000])
+def test_a_dataset_word_past_the_model_limit_is_refused_before_learning(tmp_path, length):
+    """The /teach case through a dataset: check-dataset passed a teaching.csv holding a word of 300 (or 100,000)
+    characters, printing it, and learn refused it only once the model was made, naming no row ('"vocabulary" word 7
+    has 100000 characters'). Both now refuse it first, naming the event; nothing is written."""
+
+    def make(path: Path) -> None:
+        lines = (HOME / "teaching.csv").read_text(encoding="utf-8").splitlines()
+        lines[2] = lines[2].rsplit(",", 1)[0] + ",this is the " + "x" * length
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+    folder = home_with(tmp_path, "teaching.csv", make)
+    expect = f"word 4 of teaching event 2 of {len(load_dataset(HOME).tokens)} (its words in teaching.csv) has {length}"
+    refused(spcotmhp("check-dataset", str(folder), cwd=tmp_path), expect)
+    out = tmp_path / "model"
+    done = spcotmhp("learn", str(folder), "--out", str(out), "--supervised", cwd=tmp_path)
+    assert done.returncode == 2 and done.stderr.strip().splitlines()[-1].startswith("error: "), done.stderr[-2000:]
+    assert expect in done.stderr and "Traceback" not in done.stderr and "x" * 300 not in done.stderr
+    assert not out.exists()
+
+
+def test_a_recorded_teaching_folder_is_column_bound(tmp_path, model):
+    """The other readers of a teaching.csv: ``teach --from`` (a folder the ROS 2 node recorded) and the node's
+    ``--record`` folder it appends to."""
+    from spcotmhp.ros.teaching_log import TeachingLog
+    from spcotmhp.teaching.recorded import recorded_utterances
+
+    folder = home_with(tmp_path, "teaching.csv", wide_header(1_000_000))
+    for read in (lambda: recorded_utterances(folder, model), lambda: TeachingLog(folder, model.require_map())):
+        with pytest.raises(DatasetError, match=f"at most {MAX_TABLE_COLUMNS} columns"):
+            read()
 
 
 @pytest.mark.parametrize(

@@ -319,3 +319,38 @@ def test_a_model_folder_with_hostile_names_plans_from_the_command_line(tmp_path,
     assert done.returncode in (0, 2) and "Traceback" not in done.stderr and "Warning" not in done.stderr, done.stderr
     if done.returncode == 2:
         assert len(done.stderr.strip().splitlines()) == 1 and done.stderr.startswith("error: ")
+
+
+# Fuzzing the taught names' order (issue 37: "name orders"): any list of names, of any words in any order, well
+# formed or not, read with a model; instructions saying those words in any order plan or refuse in one line.
+NAME_WORDS = st.sampled_from(
+    ["bedroom", "kitchen", "room", "aisle", "one", "two", "1", "101", "second", "first", "east", "the", "of", "2号室",
+     "東", "廊下", "9" * 40, "", " ", "-", "#1"]
+) | st.text(max_size=6)  # fmt: skip
+NAME = st.fixed_dictionaries(
+    {
+        "words": st.lists(NAME_WORDS, max_size=5) | NAME_WORDS,
+        "taught": st.integers(-2, 10**6) | st.floats() | st.none(),
+        "places": st.lists(st.lists(st.integers(-2, 12) | st.booleans() | st.text(max_size=2), max_size=3), max_size=4),
+    }
+)
+NAMES = st.lists(NAME | st.none() | st.integers() | st.text(max_size=5), max_size=8) | NAME
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(NAMES, st.randoms(use_true_random=False))
+def test_fuzzed_taught_names_in_any_order_plan_or_refuse_in_one_line(model, names, rng):
+    hostile = copy.copy(model)
+    hostile.info = {**model.info, "said_names": names}
+    read = said_names(hostile)
+    assert len(read) <= 1000
+    planner = HierarchicalPlanner(hostile, cache=GRAPHS)
+    start = planner.model.map.cell_to_world(planner.graph.to_map(planner.graph.node_cell[0]))
+    said = [w for n in (names if isinstance(names, list) else [names]) if isinstance(n, dict)
+            for w in (n["words"] if isinstance(n["words"], list) else [n["words"]])]  # fmt: skip
+    rng.shuffle(said)
+    for instruction in ("go to the " + " ".join(said), "go to the bedroom " + " ".join(said[:2]), "go to the bedroom"):
+        try:
+            assert planner.plan(instruction, start).path is not None
+        except SpcotmhpError as exc:
+            assert "\n" not in str(exc)

@@ -154,6 +154,9 @@ def check_dataset(
         langs = available_languages(folder) if (folder / "teaching.csv").is_file() else []
         lang = langs[0] if langs else "en"
     d, caught = _load_quietly(folder, lang)
+    from spcotmhp.learning.observations import Observations
+
+    Observations.from_dataset(d)  # what learning refuses before it starts (a word past the model's limit), here too
     m = d.map
     free, occupied, unknown = (float(np.mean(mask)) for mask in (m.free, m.occupied, m.unknown))
     n_words = sum(len(t) for t in d.tokens)

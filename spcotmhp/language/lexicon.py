@@ -75,8 +75,10 @@ MAX_WAIT_S = 3600.0
 
 _INNER_HYPHEN = re.compile(r"(?<=\w)-(?=\w)")
 _DASHES = str.maketrans({"\u2013": "-", "\u2014": "-", "\u2015": "-"})
-_UNITS = {"second": 1, "seconds": 1, "sec": 1, "secs": 1, "minute": 60, "minutes": 60, "min": 60, "mins": 60,
-    "hour": 3600, "hours": 3600}  # fmt: skip
+_UNITS = {"second": 1, "seconds": 1, "sec": 1, "secs": 1, "s": 1, "minute": 60, "minutes": 60, "min": 60, "mins": 60,
+    "hour": 3600, "hours": 3600, "h": 3600}  # fmt: skip
+# "s" and "h" are the SI symbols, as people write a length ("wait there for 3 s", "3s"); a unit counts only right
+# after a number (_duration), so a lone "s" or "h" elsewhere is not read as one
 
 
 def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Token]:

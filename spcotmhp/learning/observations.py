@@ -66,6 +66,11 @@ class Observations:
         E = X.shape[0]
         if len(dataset.tokens) != E:
             raise DatasetError(f"{name}: {len(dataset.tokens)} token lists for {E} teaching events")
+        for e, toks in enumerate(dataset.tokens):  # before learning: the model's vocabulary would refuse it after
+            try:
+                check_word_lengths(toks, f"teaching event {e + 1} of {E} (its words in teaching.csv)")
+            except TeachingError as exc:
+                raise DatasetError(f"{name}: {exc}") from None
         vocab = sorted({t for toks in dataset.tokens for t in toks}) if vocabulary is None else list(vocabulary)
         if not vocab:
             raise DatasetError(

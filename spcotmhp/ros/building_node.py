@@ -28,7 +28,6 @@ from collections.abc import Callable
 from pathlib import Path as FilePath
 
 import numpy as np
-import rclpy
 from nav_msgs.msg import OccupancyGrid
 from std_msgs.msg import String
 
@@ -39,6 +38,7 @@ from spcotmhp.metric.body import RobotBody
 from spcotmhp.metric.maps import OccupancyMap
 from spcotmhp.ros.node import EVENTS, LATCHED, SpcotmhpNode, TeachJob, answered, serve
 from spcotmhp.ros.shapes import path_poses
+from spcotmhp.ros.spinning import ros_running
 
 
 class BuildingNode(SpcotmhpNode):
@@ -184,13 +184,10 @@ def run_building_node(
     bp = BuildingPlanner(bm)
     for p in bp.floors.values():
         p.warm_up()
-    rclpy.init()
-    try:
+    with ros_running():
         node = BuildingNode(bp, floor, frame=frame, start_topic=start_topic)
         progress(
             f"spcotmhp building node ready in {time.perf_counter() - t0:.1f} s: {len(bm.indices)} floors, on floor "
             f"{node.floor}; plans in frame '{frame}' from {node.resolve_topic_name(start_topic)}"
         )
         serve(node)
-    finally:
-        rclpy.try_shutdown()

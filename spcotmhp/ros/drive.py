@@ -4,7 +4,8 @@
   controller_server's ``follow_path``); ``through_poses``: NavigateThroughPoses on bt_navigator's
   ``navigate_through_poses`` through the plan's waypoints and goal, Nav2's planner re-planning between them.
 * The plan is cut into legs at the places where it waits (:func:`plan_legs`): the next leg is sent after the wait
-  ("until told": nothing more is sent; the next instruction plans from where the robot is).
+  ("until told": nothing more is sent; the next instruction plans from where the robot is; only the goal may wait
+  with no length, the instruction grammar's rule, so no leg is left undriven by it).
 * The instruction's speed sets Nav2's speed limit (nav2_msgs/SpeedLimit on ``speed_limit``, controller_server's
   topic): "slowly" ``slow_percent`` % of the controller's maximum; otherwise no limit (Nav2's limit can only lower
   the configured maximum, so "quickly" is the maximum).
@@ -178,12 +179,15 @@ class Driver:
         """Drive ``plan`` (its path poses ``points``; ``centres`` of the places by id, for the places passed;
         ``poses``: the published Path's PoseStamped list, reused for the first FollowPath leg): set the speed
         limit, send the first leg, then cancel what ran before (after: the new goal is on its way sooner, and
-        Nav2's servers pre-empt a running goal with a new one anyway)."""
+        Nav2's servers pre-empt a running goal with a new one anyway). No action server within SERVER_WAIT_S is a
+        Nav2Unavailable error status with the robot's position, as every Nav2 failure is."""
         if not self.client.server_is_ready() and not self.client.wait_for_server(timeout_sec=SERVER_WAIT_S):
-            raise Nav2Unavailable(
+            unavailable = Nav2Unavailable(
                 f"no Nav2 action server on {self.node.resolve_topic_name(SERVERS[self.mode])} "
                 f"(is Nav2 up and active? --drive {self.mode})"
             )
+            self.report({**error_status(unavailable, instruction), "where": self._where()})
+            return
         points = np.asarray(points, dtype=float)
         legs, marks = plan_legs(plan, points, centres)
         before, self.run = self.run, Run(legs, marks, points, instruction, poses=poses)

@@ -58,7 +58,6 @@ from pathlib import Path as FilePath
 from typing import Any
 
 import numpy as np
-import rclpy
 from geometry_msgs.msg import Point, PoseStamped, PoseWithCovarianceStamped
 from nav_msgs.msg import OccupancyGrid, Path
 from rclpy.node import Node
@@ -81,7 +80,7 @@ from spcotmhp.ros.shapes import (
     quaternion_yaw,
     yaw_quaternion,
 )
-from spcotmhp.ros.spinning import bounded_shutdown, spin_until_shutdown
+from spcotmhp.ros.spinning import bounded_shutdown, quiet_shutdown, ros_running, spin_until_shutdown
 from spcotmhp.ros.teaching_log import TeachingLog
 from spcotmhp.ros.worker import BoundedWorker
 from spcotmhp.teaching.teach import planner_for, teach
@@ -337,8 +336,7 @@ def run_node(
     log = TeachingLog(record, model.require_map(), model_dir) if record is not None else None
     planner = HierarchicalPlanner(model)
     planner.warm_up()
-    rclpy.init()
-    try:
+    with ros_running():
         node = SpcotmhpNode(planner, frame=frame, start_topic=start_topic, log=log, drive=drive,
                             tf_timeout_s=tf_timeout_s, hearing=hearing or HearingSettings())  # fmt: skip
         progress(
@@ -349,8 +347,6 @@ def run_node(
             + (f", driving Nav2 ({drive})" if drive is not None else "")
         )
         serve(node)
-    finally:
-        rclpy.try_shutdown()
 
 
 def serve(node: SpcotmhpNode) -> None:
@@ -365,4 +361,4 @@ def serve(node: SpcotmhpNode) -> None:
             if node.hearing is not None:
                 node.hearing.shutdown()
             node.destroy_node()
-            rclpy.try_shutdown()
+            quiet_shutdown()

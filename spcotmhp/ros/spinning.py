@@ -6,17 +6,23 @@ run in a background shell job is reported to miss SIGINT (ros2/rclpy#527). Where
 both places are bounded: the executor waits at most :data:`SPIN_PERIOD_S` and looks at the context between
 waits, and the clean-up after spinning (threads, node, context) runs under a watchdog that ends the process
 after :data:`SHUTDOWN_GRACE_S`, saying so, as ``ros2 launch`` escalates a process that outlives its SIGINT.
+
+Ctrl-C is a request to stop, never a KeyboardInterrupt (:func:`ros_running`): Python's handler raised one wherever
+the main thread was, so a Ctrl-C just after "ready" (docs/ros2.md's blocks, started then stopped) left a traceback
+from inside rclpy's executor being made, or from the shutdown racing rclpy's own, and exit status 130.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import sys
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 
 import rclpy
+from rclpy.exceptions import NotInitializedException
 from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
@@ -26,7 +32,10 @@ SHUTDOWN_GRACE_S = 10.0  # clean-up longer than this is stuck (threads joined, D
 
 def spin_until_shutdown(node: Node, executor: Executor | None = None) -> None:
     """Spin ``node`` on ``executor`` (single-threaded by default) until the context shuts down or Ctrl-C."""
-    executor = executor if executor is not None else SingleThreadedExecutor(context=node.context)
+    if executor is None:
+        if not rclpy.ok(context=node.context):
+            return  # stopped already (a Ctrl-C at start-up): no executor can be made on a context shut down
+        executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
     try:
         while rclpy.ok(context=node.context):
@@ -61,3 +70,37 @@ def bounded_shutdown(what: str, grace_s: float = SHUTDOWN_GRACE_S) -> Iterator[N
         yield
     finally:
         watchdog.cancel()
+
+
+def quiet_shutdown() -> None:
+    """``rclpy.try_shutdown()``, which can race the signal handler's own shutdown (RCLError "rcl_shutdown already
+    called", a RuntimeError, between its look and its call): that is a shutdown done, not a failure."""
+    try:
+        rclpy.try_shutdown()
+    except RuntimeError:
+        if rclpy.ok():
+            raise
+
+
+@contextmanager
+def ros_running() -> Iterator[None]:
+    """``rclpy.init()`` for the block, and the shutdown after it, with Ctrl-C (SIGINT) a request to stop.
+
+    The no-op Python handler is put in place before ``rclpy.init`` installs rclpy's, which shuts the contexts down
+    (ending :func:`spin_until_shutdown`) and then calls the handler it found: this one, which only notes the stop. A
+    Ctrl-C before rclpy's handler was there shuts down at once; one that shuts the context down under a node being
+    made (rclpy raises a RuntimeError or NotInitializedException) ends the block as a stop. The previous handler
+    is put back afterwards."""
+    interrupted = threading.Event()
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.set())
+    try:
+        rclpy.init()
+        if interrupted.is_set():
+            quiet_shutdown()
+        yield
+    except (RuntimeError, NotInitializedException):  # what rclpy raises on a context shut down
+        if rclpy.ok():
+            raise
+    finally:
+        quiet_shutdown()
+        signal.signal(signal.SIGINT, previous)

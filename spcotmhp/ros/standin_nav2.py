@@ -33,7 +33,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import rclpy
 from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
@@ -45,7 +44,7 @@ from std_msgs.msg import Empty, String
 from spcotmhp.ros.nav2_types import import_nav2_msgs
 from spcotmhp.ros.node import EVENTS, LATCHED
 from spcotmhp.ros.shapes import quaternion_yaw, yaw_quaternion
-from spcotmhp.ros.spinning import bounded_shutdown, spin_until_shutdown
+from spcotmhp.ros.spinning import bounded_shutdown, quiet_shutdown, ros_running, spin_until_shutdown
 
 FAILED_TO_MAKE_PROGRESS = 105  # FollowPath's result code for a controller that cannot go on (FollowPath.action)
 NO_LIMIT = 0.0  # SpeedLimit.speed_limit meaning "no limit" (SpeedLimit.msg)
@@ -261,16 +260,16 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if not (args.speed > 0 and args.rate > 0 and math.isfinite(args.speed) and math.isfinite(args.rate)):
         parser.error("--speed and --rate must be positive numbers")
-    rclpy.init()
-    node = StandInNav2(args.speed, args.rate, (args.x, args.y), args.reject)
-    executor = MultiThreadedExecutor(num_threads=4)
-    executor.add_node(node)
-    try:
-        spin_until_shutdown(node, executor)
-    finally:
-        with bounded_shutdown("the stand-in Nav2"):
-            node.destroy_node()
-            rclpy.try_shutdown()
+    with ros_running():
+        node = StandInNav2(args.speed, args.rate, (args.x, args.y), args.reject)
+        executor = MultiThreadedExecutor(num_threads=4)
+        executor.add_node(node)
+        try:
+            spin_until_shutdown(node, executor)
+        finally:
+            with bounded_shutdown("the stand-in Nav2"):
+                node.destroy_node()
+                quiet_shutdown()
 
 
 if __name__ == "__main__":

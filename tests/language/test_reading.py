@@ -259,6 +259,28 @@ def test_the_stored_tables_are_the_grammars(lang):
 
 
 @pytest.mark.parametrize(
+    ("text", "seconds"),
+    [
+        ("go to the bedroom and wait there for 3 s", 3.0),  # issue 36's acceptance, as it writes the length
+        ("go to the bedroom and wait there for 3s", 3.0),
+        ("go to the bedroom and wait 1.5 s", 1.5),
+        ("go to the bedroom and wait 1 min 30 s", 90.0),
+        ("go to the bedroom and wait for 1 h", 3600.0),
+    ],
+)
+def test_a_length_in_si_symbols_is_read(text, seconds):
+    """ "s" and "h" after a number are seconds and hours, as "sec" and "hours" are."""
+    assert read(text, ["bedroom"], "en").waits == ((0, seconds),)
+
+
+@pytest.mark.parametrize("text", ["go to the bedroom and wait there s", "go to the bedroom, wait h"])
+def test_a_lone_s_or_h_is_no_unit(text):
+    """Only right after a number: a lone "s" or "h" is a word not understood, not a length."""
+    with pytest.raises(NotUnderstood):
+        read(text, ["bedroom"], "en")
+
+
+@pytest.mark.parametrize(
     ("text", "lang", "seconds"),
     [
         ("go to the bedroom, wait 1 minute 30 seconds", "en", 90.0),

@@ -7,11 +7,14 @@ from __future__ import annotations
 import io
 import json
 import os
+import warnings
 import zipfile
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from spcotmhp.errors import ModelError, SpcotmhpError
 from spcotmhp.persistence.io import load_model
@@ -164,3 +167,80 @@ def test_a_graph_of_another_format_version_is_a_rebuild_saying_why(saved, tmp_pa
     note, results = _planned(root)
     assert note.startswith("rebuilt") and expect in note and "precompute" in note, note
     assert set(results) == {"ok"}
+
+
+# Fuzzing (issue 37: "keep fuzzing your own boundaries (hypothesis) for ... the saved planning graph"): any forged
+# graph.npz or graph.json (checksums and manifest fixed, as a careful editor would) plans or refuses in one line.
+ODD_FLOATS = st.sampled_from([np.nan, np.inf, -np.inf, -0.0, 1e308, -1e308, 5e-324, -1.0]) | st.floats(-1e6, 1e6)
+DTYPES = [np.int8, np.int32, np.int64, np.uint64, np.float32, np.float64, np.bool_, np.complex128]
+JSON_VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers(-(2**70), 2**70) | st.floats() | st.text(max_size=8),
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=6), inner, max_size=3),
+    max_leaves=6,
+)
+
+
+def _value(data, a: np.ndarray):
+    """A hostile value for an element of ``a``: odd floats for floats, any integer of its type, a bool."""
+    if a.dtype.kind == "f":
+        return data.draw(ODD_FLOATS)
+    if a.dtype.kind in "iu":
+        info = np.iinfo(a.dtype)
+        values = st.sampled_from([NO_HOP, -1, 0, int(info.max), int(info.min)]) | st.integers(-5, 10**6)
+        return data.draw(values.filter(lambda v: info.min <= v <= info.max))
+    return data.draw(st.booleans())
+
+
+def _mutated(data, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """``arrays`` with one drawn change: elements set to hostile values, a shape cut or flattened, another dtype,
+    an array dropped or one added."""
+    name = data.draw(st.sampled_from(sorted(arrays)))
+    a = arrays[name].copy()
+    kind = data.draw(st.sampled_from(["values", "values", "shape", "dtype", "drop", "extra"]))
+    if kind == "values" and a.size:
+        for i in data.draw(st.lists(st.integers(0, a.size - 1), min_size=1, max_size=12)):
+            with np.errstate(all="ignore"):
+                a.flat[i] = _value(data, a)
+    elif kind == "shape" and a.size:
+        a = a.reshape(-1) if data.draw(st.booleans()) else a[: data.draw(st.integers(0, max(a.shape[0] - 1, 0)))]
+    elif kind == "dtype":
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a cast that loses values is the point
+            a = a.astype(data.draw(st.sampled_from(DTYPES)))
+    elif kind == "drop":
+        return {k: v for k, v in arrays.items() if k != name}
+    elif kind == "extra":
+        return {**arrays, data.draw(st.sampled_from(["g0.extra", "g9.map_cost", name + "x"])): a}
+    return {**arrays, name: a}
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
+                                                                  HealthCheck.too_slow])  # fmt: skip
+@given(data=st.data())
+def test_a_fuzzed_graph_npz_plans_or_refuses_in_one_line(saved, tmp_path_factory, data):
+    root = _copy(saved, tmp_path_factory.mktemp("fuzz"))
+    _forge(root, _mutated(data, _arrays(root)))
+    note, results = _planned(root)  # any other exception, a warning (an error here) or a hang fails
+    assert isinstance(note, str) and len(results) == 4, (note, results)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
+                                                                  HealthCheck.too_slow])  # fmt: skip
+@given(data=st.data())
+def test_a_fuzzed_graph_json_plans_or_refuses_in_one_line(saved, tmp_path_factory, data):
+    root = _copy(saved, tmp_path_factory.mktemp("fuzz"))
+    doc = json.loads((root / "graph.json").read_text())
+    where = data.draw(st.sampled_from(["top", "graph"]))
+    fields = doc if where == "top" else doc["graphs"][0]
+    field = data.draw(st.sampled_from(sorted(fields)) | st.text(min_size=1, max_size=6))
+    value = data.draw(JSON_VALUES)
+
+    def change(d: dict) -> None:
+        (d if where == "top" else d["graphs"][0])[field] = value
+
+    try:
+        _forge(root, _arrays(root), meta=change)
+    except (TypeError, KeyError, AttributeError):
+        return  # the forger itself needs "checksums" as it was: not the loader's case
+    note, results = _planned(root)
+    assert isinstance(note, str) and len(results) == 4, (note, results)

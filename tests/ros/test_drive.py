@@ -2,8 +2,9 @@
 follow_path` in a subprocess beside the stand-in Nav2 (another subprocess, which is also the robot's AMCL pose),
 talked to with real messages: the goal matches the plan, feedback becomes statuses, a wait splits the plan into
 two legs that long apart, a speed word sets the speed limit, "stop" cancels, a new instruction pre-empts, an
-abort becomes an error with the robot's position, and a restarted node takes over. Skipped only without the
-extra ros2; with it, fails (naming `make nav2-msgs`) when nav2_msgs was not built."""
+abort or a rejection becomes an error with the robot's position, a wait "until told" holds the robot where it
+arrived until the next instruction, and a restarted node takes over. Skipped only without the extra ros2; with it,
+fails (naming `make nav2-msgs`) when nav2_msgs was not built."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from std_msgs.msg import Empty  # noqa: E402
+from std_msgs.msg import Empty, String  # noqa: E402
 
 from spcotmhp.datasets.bundled import load_bundled  # noqa: E402
 from spcotmhp.learning.supervised import fit_supervised  # noqa: E402
@@ -27,6 +28,8 @@ from spcotmhp.ros.drive import Leg, is_stop, plan_legs  # noqa: E402
 from tests.ros.nav2_client import DriveClient, node_ready, standin, start_node, stop_node  # noqa: E402
 
 DOMAIN = str(15 + os.getpid() % 5)  # 15..19: not the other ROS tests' domains
+REJECTING_DOMAIN = str(1 + os.getpid() % 9)  # 1..9, for a rejecting stand-in (test_standin_nav2's, not at once)
+NO_NAV2_DOMAIN = str(10 + os.getpid() % 5)  # 10..14, with no Nav2 at all (test_nav2_msgs's, not at once)
 START = (-3.9, -3.5)  # the README's start in 3LDK_06 (the entrance)
 SPEED = 3.0
 
@@ -110,7 +113,7 @@ def test_plan_becomes_a_follow_path_goal_with_progress(robot):
     "text",
     [
         "go to the kitchen via the corridor, wait in the corridor for 3 seconds",
-        "go to the corridor and wait there for 3 seconds, then go to the kitchen",  # the issue's "wait there"
+        "go to the corridor and wait there for 3 s, then go to the kitchen",  # the issue's "wait there for 3 s"
     ],
 )
 def test_a_wait_makes_two_legs_that_long_apart(robot, text):
@@ -165,6 +168,76 @@ def test_an_abort_is_an_error_with_the_position(robot):
     error = c.errors(status0)[0]
     assert error["type"] == "Nav2Failed" and "error code 105" in error["error"]
     assert len(error["where"]) == 2 and all(math.isfinite(v) for v in error["where"])
+
+
+def test_a_rejected_goal_is_an_error_with_the_cause_and_position(robot, tmp_path):
+    """Nav2 rejecting the goal (as a Nav2 that is up but not yet active does): a Nav2Rejected error status naming
+    the goal and the action, with the robot's position; nothing is said to be driven or reached; the node keeps
+    serving."""
+    args = ("--reject", "--x", str(START[0]), "--y", str(START[1]))
+    with standin(tmp_path, REJECTING_DOMAIN, *args, client_class=DriveClient) as c:
+        env = {k: os.environ[k] for k in ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_DOMAIN_ID", "ROS_LOG_DIR")}
+        proc = start_node(robot.folder, env)
+        try:
+            node_ready(c, proc)
+            for text in ("go to the bedroom", "go to the kitchen via the corridor"):  # twice: it keeps serving
+                status0, events0 = c.tell(text)
+                assert c.spin_until(lambda: bool(c.errors(status0)))  # noqa: B023 - called here, in this turn
+                error = c.errors(status0)[0]
+                place = text.split()[3]
+                assert error["type"] == "Nav2Rejected" and error["instruction"] == text
+                assert f"rejected the goal to {place}" in error["error"] and "follow_path" in error["error"]
+                assert error["where"] == pytest.approx(list(START), abs=1e-3)  # the stand-in never moved
+                assert c.event("rejected", events0)["poses"] > 1
+                assert not c.drive_events(status0, "arrived") and not c.drive_events(status0, "progress")
+        finally:
+            stop_node(proc)
+
+
+def test_no_nav2_is_an_error_naming_the_action_with_the_position(robot, tmp_path):
+    """--drive with no Nav2 action server (none within SERVER_WAIT_S): the plan is still published, then a
+    Nav2Unavailable error status names the action and the option, with the robot's position."""
+    import rclpy
+
+    from tests.ros.test_node import Client, ros_environment
+
+    with ros_environment(tmp_path, NO_NAV2_DOMAIN) as env:
+        context = rclpy.Context()
+        rclpy.init(context=context)
+        c = Client(context)
+        proc = start_node(robot.folder, env)
+        try:
+            assert c.spin_until(lambda: bool(c.places) or proc.poll() is not None, 300) and proc.poll() is None
+            c.set_pose(*START)
+            n = len(c.status)
+            c.publish(c.instruction_pub, String(data="go to the bedroom"))
+            assert c.spin_until(lambda: any(s.get("ok") is False for s in c.status[n:]), 60), c.status[n:]
+            plan = next(s for s in c.status[n:] if s["kind"] == "plan")
+            error = next(s for s in c.status[n:] if s.get("ok") is False)
+            assert plan["ok"] and error["type"] == "Nav2Unavailable" and error["instruction"] == "go to the bedroom"
+            assert "/follow_path" in error["error"] and "--drive follow_path" in error["error"]
+            assert error["where"] == pytest.approx(list(START), abs=1e-3)
+        finally:
+            c.node.destroy_node()
+            context.try_shutdown()
+            stop_node(proc)
+
+
+def test_a_wait_until_told_holds_the_robot_until_the_next_instruction(robot):
+    """ "wait there until I tell you" (only the goal may wait with no length: the instruction grammar's rule):
+    the robot arrives, says it waits with no end, nothing more is sent, and the next instruction is planned and
+    driven from where it waits."""
+    c = robot.client
+    status0, events0 = _arrive(c, "go to the kitchen and wait there until I tell you")
+    arrived = c.drive_events(status0, "arrived")
+    assert len(arrived) == 1 and arrived[0]["final"] and arrived[0]["place"] == "kitchen"
+    assert arrived[0]["wait_s"] is None
+    c.spin_until(lambda: False, 1.5)  # while it waits, no goal is sent
+    assert [e["event"] for e in c.events[events0:]].count("goal") == 1
+    status1, events1 = _arrive(c, "go to the bath")
+    assert c.event("goal", events1)["poses"][0] == pytest.approx(arrived[0]["where"], abs=1e-3)
+    assert [s["place"] for s in c.drive_events(status1, "arrived")] == ["bath"]
+    assert not c.drive_events(status0, "canceled")  # a finished wait is not a canceled goal
 
 
 def test_a_restarted_node_takes_over_mid_goal(robot):

@@ -139,3 +139,52 @@ def test_a_model_value_error_inside_a_request_is_a_4xx(served):
         sm.teach = real
     assert res.status_code == 422 and res.json()["cause"] == "ModelValueError", res.text
     assert "at most 256" in res.json()["detail"]
+
+
+def test_a_flood_of_teaches_of_1_to_600_characters_is_never_a_500(tmp_path):
+    """The issue's flood, on a real `spcotmhp serve`: 50 concurrent clients teaching utterances of 1 to 600
+    characters (one word of up to 600 among them, or words of a few letters) got 38 answers 500. Now every answer is
+    a 200, a 4xx naming the utterance or a 503 (the teaching lane is full), the server log holds no traceback and no
+    warning, it keeps serving, and the model folder is as it was (the service writes nothing)."""
+    import asyncio
+    import hashlib
+    import random
+
+    import httpx
+
+    from tests.helpers.server import ServerProcess
+
+    folder = supervised_model_dir("3LDK_06", tmp_path / "3LDK_06")
+    files = lambda: {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir())}  # noqa: E731
+    before = files()
+    x, y = start_near(load_model(folder))
+    rng = random.Random(37)
+
+    def utterance() -> str:
+        n = rng.randint(1, 600)
+        if rng.random() < 0.5:
+            return "this is the " + "x" * max(n - 12, 1)  # one long word
+        return ("this is the study " * 40)[:n].strip() or "x"
+
+    bodies = [{"utterance": utterance(), "x": x, "y": y} for _ in range(100)]
+
+    async def flood(url: str) -> list[tuple[dict, httpx.Response]]:
+        async def client(mine: list[dict]) -> list[tuple[dict, httpx.Response]]:
+            async with httpx.AsyncClient(base_url=url, timeout=120.0) as c:
+                return [(b, await c.post("/teach", json=b)) for b in mine]
+
+        return [r for rs in await asyncio.gather(*(client(bodies[i::50]) for i in range(50))) for r in rs]
+
+    with ServerProcess([str(folder)]) as server:
+        answers = asyncio.run(flood(server.url))
+        alive = httpx.get(server.url + "/healthz", timeout=10)
+        log = server.output_tail(100_000)
+    statuses = sorted({a.status_code for _, a in answers})
+    assert len(answers) == 100 and all(s < 500 or s == 503 for s in statuses), statuses
+    long_words = [a for b, a in answers if len(b["utterance"].split()[-1]) > MAX_WORD_CHARS]
+    assert long_words and all(a.status_code in (422, 503) for a in long_words), [a.text for a in long_words][:3]
+    assert sum(a.status_code == 422 for a in long_words) >= 5  # refused for what they say, not only shed
+    assert all("utterance" in a.json()["detail"] for a in long_words if a.status_code == 422)
+    assert alive.status_code == 200
+    assert "Traceback" not in log and "Warning" not in log, log[-3000:]
+    assert files() == before
