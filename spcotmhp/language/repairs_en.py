@@ -222,3 +222,27 @@ def restarts(toks: list[Token], units: Sequence[str]) -> list[Token]:
             continue
         k += 1
     return out
+
+
+_ASKING = ("wants", "needs", "would")
+_PERSONS = frozenset({"he", "she", "they", "everyone", "everybody", "someone", "somebody"})
+
+
+def requesters(toks: list[Token], people: frozenset[str]) -> list[Token]:
+    """Who asks, said with a relayed request, is left out: "my mom wants you in the dining room", "Nana wants you to
+    go into the sitting room" (a person: ``people``, the table's kin words and the map's owners, a pronoun, or a noun
+    after a possessive) before "wants / needs you in" or "wants / needs you to" and a verb of going: the request
+    is the speaker's to pass on."""
+    k = 1 if toks and toks[0].kind == "MODIFIER" and toks[0].surface in ("my", "our", "your", "his", "her") else 0
+    if k >= len(toks) or toks[k].kind != "WORD":
+        return toks
+    who = toks[k].surface
+    if not (who in people or who in _PERSONS or k == 1 and "NOUN" in ew.pos(who)):
+        return toks
+    rest = toks[k + 1 :]
+    if rest and rest[0].kind == "TO" and rest[0].surface.split()[0] in _ASKING:
+        return rest  # "my mom wants you in the dining room"
+    said = [t.surface for t in rest[:3]]
+    if len(rest) > 3 and said[0] in _ASKING and said[1] == "you" and rest[2].kind == "TO" and rest[3].kind == "GO":
+        return rest[3:]  # "Nana wants you to go into the sitting room"
+    return toks

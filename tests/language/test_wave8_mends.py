@@ -342,3 +342,28 @@ def test_japanese_speed_words(text, route, speed):
 
 def test_a_stop_then_the_nearest_keeps_two_visits():
     assert _route(read("風呂に行って最寄りの寝室", PLACE_WORDS_JA, "ja")) == ["風呂", "寝室"]
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("hey um so my mom wants you in the dining room", ("dining",)),  # who asks, passed on
+        ("Nana wants you to go into the sitting room.", ("living",)),
+        ("he needs you in the kitchen", ("kitchen",)),
+    ],
+)
+def test_who_asks_is_passed_over(text, goal):
+    assert read(text, PLACE_WORDS_EN, "en").visit[-1].words == goal
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [("bob needs you in his room", ("bob's", "room")), ("alice wants you in her room", ("alice's", "room"))],
+)
+def test_who_asks_says_whose_room(text, goal):
+    assert read(text, SYNTHETIC, "en").visit[-1].words == goal
+
+
+def test_who_asks_for_a_thing_stays_refused():
+    with pytest.raises(InstructionError):
+        read("my mom wants you to fetch the kettle", PLACE_WORDS_EN, "en")
