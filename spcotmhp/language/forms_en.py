@@ -90,6 +90,9 @@ def any_but_en(items: list[Token]) -> list[Token]:
 
 
 _CLAUSE_VERBS = frozenset({"STOP_AT", "AVOID", "GO"})
+_LOCATING = frozenset({"off", "just off", "towards", "toward"})
+"""Words of going that, between two places with no pause, say where the first lies ("the bedroom off the kitchen",
+"the bedroom towards the kitchen"): a relation the map does not answer, refused, never a second stop."""
 _PICKS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", "LARGEST", "SMALLEST"})
 _EXCEPTED = _PICKS | {"PLACE", "ONE"}
 """What "but" after "any X" may take out: a place, a size or relation, "the one ..." (:func:`any_but_en`)."""
@@ -104,6 +107,12 @@ def new_clause_en(items: list[Token]) -> list[Token]:
         k for k in range(1, len(items)) if items[k - 1].kind == "PLACE" and (items[k].kind in _CLAUSE_VERBS or
         items[k].kind == "ONE" and k + 1 < len(items) and items[k + 1].kind in _PICKS)
     ]  # fmt: skip  # "the bedroom the one nearest the front door": the pause before "the one" left out too
+    located = [
+        k for k in range(1, len(items) - 1) if items[k - 1].kind == "PLACE" and items[k].kind in ("GO", "TO")
+        and items[k].surface in _LOCATING and items[k + 1].kind == "PLACE"
+    ]  # fmt: skip
+    if located:  # "the bedroom off the kitchen": where the bedroom is, a relation the map does not answer
+        return [t._replace(kind="UNSUPPORTED_RELATION") if k in located else t for k, t in enumerate(items)]
     if not starts:
         return items  # the same list: nothing to rewrite (most sentences)
     out: list[Token] = []

@@ -367,3 +367,24 @@ def test_who_asks_says_whose_room(text, goal):
 def test_who_asks_for_a_thing_stays_refused():
     with pytest.raises(InstructionError):
         read("my mom wants you to fetch the kettle", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the bedroom off the kitchen",  # was read: the bedroom, then the kitchen as the goal
+        "the bedroom just off the kitchen please",
+        "go to the bedroom towards the kitchen",
+        "the bedroom towards the kitchen please",
+    ],
+)
+def test_where_a_place_lies_by_a_word_of_going_is_refused(text):
+    with pytest.raises(InstructionError, match="relation the map cannot answer"):
+        read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text", ["go to the bedroom, then off to the kitchen", "go to the bedroom then towards the kitchen"]
+)
+def test_a_word_of_going_after_then_keeps_two_visits(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["bedroom", "kitchen"]
