@@ -388,3 +388,16 @@ def test_where_a_place_lies_by_a_word_of_going_is_refused(text):
 )
 def test_a_word_of_going_after_then_keeps_two_visits(text):
     assert _route(read(text, PLACE_WORDS_EN, "en")) == ["bedroom", "kitchen"]
+
+
+@pytest.mark.parametrize(
+    "text, goal, avoid",
+    [
+        ("すみません、ダイニングは行ってくれますか", "ダイニング", []),  # the topic は with a verb of going: the goal
+        ("げんかん は 行けますか？", "玄関", []),
+        ("キッチンは行って、リビングは行かないで", "キッチン", ["リビング"]),  # the contrast: one to go to, one not
+    ],
+)
+def test_japanese_topic_before_a_verb_of_going(text, goal, avoid):
+    r = read(text, PLACE_WORDS_JA, "ja")
+    assert _route(r) == [goal] and [" ".join(a.words) for a in r.avoid] == avoid
