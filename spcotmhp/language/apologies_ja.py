@@ -1,6 +1,7 @@
 """Apologies and reasons in Japanese tokens (:func:`spcotmhp.language.lexicon_ja.tokens_ja`): an apology between two
 place phrases of the same role corrects the first (キッチンごめんリビング, お風呂にごめん洗面所に), elsewhere it is a
-filler; ので before a pause is a reason's connector, not the particle で of "then"."""
+filler; ので before a pause is a reason's connector, not the particle で of "then"; ちょっと待って opening a sentence or
+after a correction word holds nothing to correct or stop at (:func:`held`)."""
 
 from __future__ import annotations
 
@@ -78,3 +79,22 @@ def corrects(out: list[Token], k: int) -> bool:
     if out[k - 1].kind not in _MARKED:
         return True
     return k + 2 < len(out) and _MARKED.get(out[k + 2].kind) == _MARKED[out[k - 1].kind]
+
+
+def held(out: list[Token]) -> list[Token]:
+    """ちょっと待って (MID_CORRECTION: "hold on") opening a sentence (ちょっと待って、玄関じゃなくて廊下に行って) or
+    said right after a correction word (いやちょっと待って、居間にして) is the speaker holding on before saying what
+    they mean: left out, with its pause; between two places it stays, a correction or a stop (refused)."""
+    if not any(t.kind == "MID_CORRECTION" for t in out):
+        return out
+    kept: list[Token] = []
+    k = 0
+    while k < len(out):
+        t = out[k]
+        opening = not kept or kept[-1].kind in ("_STOP", "CORRECTION")
+        if t.kind == "MID_CORRECTION" and opening:
+            k += 2 if k + 1 < len(out) and out[k + 1].kind == "COMMA" else 1
+            continue
+        kept.append(t)
+        k += 1
+    return kept

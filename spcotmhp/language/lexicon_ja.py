@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 
-from spcotmhp.language.apologies_ja import APOLOGIES, NUMBER_AGAIN, after_a_place, apologies, reasons
+from spcotmhp.language.apologies_ja import APOLOGIES, NUMBER_AGAIN, after_a_place, apologies, held, reasons
 from spcotmhp.language.floors import floor_ja
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match
 from spcotmhp.language.table import WordTable
@@ -103,7 +103,7 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         else:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
-    return apologies(reasons(_nearest_to(out)))
+    return held(apologies(reasons(_nearest_to(out))))
 
 
 def _nearest_to(out: list[Token]) -> list[Token]:

@@ -401,3 +401,19 @@ def test_a_word_of_going_after_then_keeps_two_visits(text):
 def test_japanese_topic_before_a_verb_of_going(text, goal, avoid):
     r = read(text, PLACE_WORDS_JA, "ja")
     assert _route(r) == [goal] and [" ".join(a.words) for a in r.avoid] == avoid
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("ちょっと待って、玄関じゃなくて廊下に行って。", ["廊下"]),
+        ("台所へ行って、いやちょっと待って、居間にして", ["リビング"]),
+    ],
+)
+def test_hold_on_before_what_is_meant(text, route):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == route
+
+
+def test_hold_on_between_two_places_stays_refused():
+    with pytest.raises(InstructionError):
+        read("キッチン、ちょっと待って、リビング", PLACE_WORDS_JA, "ja")
