@@ -115,7 +115,9 @@ def _restarted(toks: Sequence[Any], units: Sequence[str], place_words: Sequence[
     "Head to the toilet. Oh, hang on, the storeroom instead", "kitchen. no. living room.": after the last word that
     cancels (or a "no" said alone between full stops), a part that reads on its own with a place to go to is the
     instruction, and what came before it is taken back (said in the explanation). "forget the kitchen, ..." takes
-    back its place too. Anything else (nothing to go to after it: "never mind, the kitchen's fine") stays refused."""
+    back its place too; a place said right after "forget" with nothing after it ("go to the bath and forget the
+    kitchen") is what is taken back, so no restart ("go to the kitchen nvm the lounge" restarts: writers say so).
+    Anything else (nothing to go to after it: "never mind, the kitchen's fine") stays refused."""
     fillers = word_table("en").fillers
     marks = [
         k for k, t in enumerate(toks)
@@ -128,9 +130,16 @@ def _restarted(toks: Sequence[Any], units: Sequence[str], place_words: Sequence[
     while k < len(toks) and toks[k].kind in ("COMMA", "_STOP", "IT", "THAT", "CORRECTION", "NO"):
         k += 1  # "never mind that,", "hang on, no,"
     j = marks[-1] + 1  # "forget the kitchen, go to the washroom": the place right after it is taken back too
-    taken = toks[marks[-1]].kind == "CANCEL" and j + 1 < len(toks) and toks[j].kind == "PLACE"
-    if taken and toks[j + 1].kind in ("COMMA", "_STOP") and any(t.kind == "PLACE" for t in toks[j + 2 :]):
+    taken = toks[marks[-1]].kind == "CANCEL" and j < len(toks) and toks[j].kind == "PLACE"
+    if (
+        taken
+        and j + 1 < len(toks)
+        and toks[j + 1].kind in ("COMMA", "_STOP")
+        and any(t.kind == "PLACE" for t in toks[j + 2 :])
+    ):
         k = j + 2
+    elif taken and toks[marks[-1]].surface.startswith("forget"):
+        return None  # "go to the bath and forget the kitchen": the place is taken back, not the one to go to
     if k >= len(toks) or not any(t.kind == "PLACE" for t in toks[k:]):
         return None
     rest = " ".join(units[toks[k].start :])

@@ -417,3 +417,17 @@ def test_hold_on_before_what_is_meant(text, route):
 def test_hold_on_between_two_places_stays_refused():
     with pytest.raises(InstructionError):
         read("キッチン、ちょっと待って、リビング", PLACE_WORDS_JA, "ja")
+
+
+@pytest.mark.parametrize("text", ["go to the bath and forget the kitchen", "go to the bath, forget about the kitchen"])
+def test_forget_before_a_place_takes_it_back_and_is_refused(text):
+    with pytest.raises(InstructionError):  # was read: go to the kitchen
+        read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [("go to the kitchen nvm the lounge", "living"), ("go to the bath, forget it, the kitchen", "kitchen")],
+)
+def test_a_cancel_then_a_place_still_restarts(text, goal):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == [goal]
