@@ -431,3 +431,15 @@ def test_forget_before_a_place_takes_it_back_and_is_refused(text):
 )
 def test_a_cancel_then_a_place_still_restarts(text, goal):
     assert _route(read(text, PLACE_WORDS_EN, "en")) == [goal]
+
+
+@pytest.mark.parametrize(
+    "text, lang, route",
+    [
+        ("キッチン行ったあと風呂", "ja", ["キッチン", "風呂"]),  # after: the order said
+        ("キッチンのあと風呂", "ja", ["キッチン", "風呂"]),
+        ("go to the kitchen followed by the bath", "en", ["kitchen", "bath"]),
+    ],
+)
+def test_order_words(text, lang, route):
+    assert _route(read(text, PLACE_WORDS_JA if lang == "ja" else PLACE_WORDS_EN, lang)) == route
