@@ -40,8 +40,7 @@ def graph_inputs(
         occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
     )
     traversable = np.isfinite(log_p)
-    rr, cc = np.indices(log_p.shape)
-    centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
+    centres = occ.window_centres(int(r0), int(c0), *log_p.shape)
     offset = (int(r0), int(c0))
     regions = free_regions(model, traversable, centres, offset)
     main = regions.labels == regions.main
