@@ -6,7 +6,7 @@ the order x-1, y-1, x+1, y+1 to the bin of their distance to that entry's source
 entries are stored: in blocks of :data:`BLOCK` consecutive entries (a bin a chain of blocks) holding rows and
 columns, instead of one linked list through every entry holding flat indices. Reading a bin is then a walk
 through memory rather than a jump per entry, and no division per entry; 16-megapixel maps took 3.2 s. The
-previous kernel is kept in tests/metric/test_costmap_speed.py, and the costs are compared with it.
+previous kernel is kept in tests/metric/test_learn_path_as_before.py, and the costs are compared with it.
 """
 
 from __future__ import annotations

@@ -254,7 +254,7 @@ def compute_cost(distance_cells: float, resolution: float, settings: CostMapSett
 def log_probability(costs: np.ndarray, occ_map: OccupancyMap) -> np.ndarray:
     """log p(x|m) with p = (100 - cost_ros) / 100 on the map's free cells below the inscribed cost, -inf elsewhere
     (module docstring). Read from :data:`LOG_P_OF_COST`, the same formula for each of the 256 costs (a lookup,
-    not a log of every cell: 1.7 s at 16 megapixels; equal, tests/metric/test_costmap_speed.py)."""
+    not a log of every cell: 1.7 s at 16 megapixels; equal, tests/metric/test_learn_path_as_before.py)."""
     return np.where(occ_map.free, LOG_P_OF_COST[costs], -np.inf)
 
 

@@ -127,6 +127,23 @@ def label4(mask: np.ndarray) -> tuple[np.ndarray, int]:
     return _label4(np.ascontiguousarray(mask, dtype=np.bool_))
 
 
+def label_sizes(labels: np.ndarray, n: int) -> np.ndarray:
+    """``np.bincount(labels.ravel(), minlength=n + 1)`` of :func:`label4`'s labels (0..n), as int64 counts, in one
+    compiled pass (bincount's cast of the labels alone took 0.4 s at 16 megapixels)."""
+    return _label_sizes(np.ascontiguousarray(labels, dtype=np.int32), int(n))
+
+
+@njit(cache=True)
+def _label_sizes(labels, n):  # pragma: no cover - numba
+    """Cells of each label 0..n (a label outside 0..n, which label4 never gives: ValueError)."""
+    out = np.zeros(n + 1, dtype=np.int64)
+    for v in labels.ravel():
+        if v < 0 or v > n:
+            raise ValueError("a label outside 0..n")
+        out[v] += 1
+    return out
+
+
 def find_boxes(labels: np.ndarray, max_label: int | None = None) -> list[tuple[slice, slice] | None]:
     """For each label 1..``max_label`` (default, or below 1: the largest) of the 2-D int array ``labels``, the smallest
     (rows, cols) slices holding its cells, or None if it has none (scipy.ndimage.find_objects). One compiled pass

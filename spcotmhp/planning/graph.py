@@ -218,7 +218,7 @@ class PlanningGraph:
         ``max_dense_bytes``, else territory-local ones joined by a portal graph (module docstring), keeping those
         of ``reuse`` whose territory did not change."""
         cells, occ = self.node_cell, self.model.require_map()
-        dense = 12 * len(cells) * self.log_p.size <= self.settings.max_dense_bytes
+        dense = self.settings.dense(len(cells), self.log_p.size)
         if not dense and self.settings.optimality == "every_step":
             raise InvalidSettings(
                 f"optimality 'every_step' needs one dense field per node ({12 * len(cells) * self.log_p.size} "

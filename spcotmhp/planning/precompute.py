@@ -42,7 +42,9 @@ def graph_inputs(
     traversable = np.isfinite(log_p)
     centres = occ.window_centres(int(r0), int(c0), *log_p.shape)
     offset = (int(r0), int(c0))
-    regions = free_regions(model, traversable, centres, offset)
+    # numba's threads for the most probable place only where the fields will start them (the portal graph, for
+    # any two nodes or more), so that a small map's build, before worker processes fork, starts no thread
+    regions = free_regions(model, traversable, centres, offset, parallel=not settings.dense(2, log_p.size))
     main = regions.labels == regions.main
     shared = {  # the same for every region: Figure 3's edges, the candidate points (Alg. 1, line 2)
         "connected": connected_places(model, settings.edge_threshold),

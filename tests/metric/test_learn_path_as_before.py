@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
+from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric._wavefront import wavefront
 from spcotmhp.metric.costmap import (
     COST_TRANSLATION_TABLE,
@@ -22,8 +23,9 @@ from spcotmhp.metric.costmap import (
     log_probability,
     static_costs,
 )
-from spcotmhp.metric.grid_ops import dilate_square
+from spcotmhp.metric.grid_ops import dilate_square, label4, label_sizes
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.planning.regions import _set_homes
 from spcotmhp.planning.territory import grown_territories
 
 
@@ -246,3 +248,32 @@ def _grow_before(cell, source, nxt, capacity):  # pragma: no cover - numba
     n = cell.shape[0]
     out[0][:n], out[1][:n], out[2][:n] = cell, source, nxt
     return out
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 40), st.integers(1, 40))
+def test_label_sizes_and_homes_as_numpy(seed, h, w):
+    rng = np.random.default_rng(seed)
+    labels, n = label4(rng.random((h, w)) < 0.6)
+    assert np.array_equal(label_sizes(labels, n), np.bincount(labels.ravel(), minlength=n + 1))
+    act = np.sort(rng.choice(12, size=5, replace=False))
+    base = rng.integers(-1, 5, size=(h, w))  # not one region a place: the last cell in raster order wins
+    held = base >= 0
+    before = np.zeros(12, dtype=np.int64)
+    before[act[base[held]]] = labels[held]
+    now = np.zeros(12, dtype=np.int64)
+    _set_homes(now, act, base, labels.astype(np.int32))
+    assert np.array_equal(now, before)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 400), st.integers(1, 9))
+def test_most_probable_place_on_threads_is_the_one_thread_answer(seed, n, k):
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(-5, 5, size=(n, 2))
+    mu = rng.uniform(-5, 5, size=(k, 2))
+    a = rng.uniform(0.05, 3, size=(k, 2, 2))
+    Sigma = a @ a.transpose(0, 2, 1) + 0.01 * np.eye(2)
+    prior = np.log(rng.dirichlet(np.ones(k)))
+    one = posterior_arg_max(points, mu, Sigma, prior)
+    assert np.array_equal(posterior_arg_max(points, mu, Sigma, prior, parallel=True), one)
