@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
+from spcotmhp.errors import MapError
 from spcotmhp.learning.territory import posterior_arg_max
 from spcotmhp.metric._wavefront import wavefront
 from spcotmhp.metric.costmap import (
@@ -23,8 +24,9 @@ from spcotmhp.metric.costmap import (
     log_probability,
     static_costs,
 )
-from spcotmhp.metric.grid_ops import dilate_square, label4, label_sizes
+from spcotmhp.metric.grid_ops import dilate_square, label4, label_sizes, nearest_feature
 from spcotmhp.metric.maps import OccupancyMap
+from spcotmhp.metric.snap import snap
 from spcotmhp.planning.regions import _set_homes
 from spcotmhp.planning.territory import grown_territories
 
@@ -277,3 +279,25 @@ def test_most_probable_place_on_threads_is_the_one_thread_answer(seed, n, k):
     prior = np.log(rng.dirichlet(np.ones(k)))
     one = posterior_arg_max(points, mu, Sigma, prior)
     assert np.array_equal(posterior_arg_max(points, mu, Sigma, prior, parallel=True), one)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 25), st.integers(1, 25), st.integers(0, 6), st.booleans())
+def test_snap_of_cells_in_the_mask_is_the_transform_answer(seed, h, w, n, inside):
+    """Cells already in the mask are returned without the feature transform: the same as reading it."""
+    rng = np.random.default_rng(seed)
+    mask = rng.random((h, w)) < 0.5
+    if not mask.any():
+        mask[h // 2, w // 2] = True
+    pool = np.argwhere(mask) if inside else np.argwhere(np.ones((h, w), bool))
+    cells = pool[rng.integers(0, len(pool), size=n)] + (0 if inside else rng.integers(-2, 3, size=(n, 2)))
+    idx = nearest_feature(mask)
+    rc = np.clip(cells, 0, np.array(mask.shape) - 1)
+    before = np.stack([idx[0][rc[:, 0], rc[:, 1]], idx[1][rc[:, 0], rc[:, 1]]], axis=-1).astype(np.int64)
+    got = snap(mask, cells)
+    assert got.dtype == np.int64 and got.shape == (n, 2) and np.array_equal(got, before)
+
+
+def test_snap_of_no_cell_onto_an_empty_mask_is_still_refused():
+    with pytest.raises(MapError):
+        snap(np.zeros((3, 3), bool), np.empty((0, 2), dtype=np.int64))
