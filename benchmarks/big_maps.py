@@ -16,6 +16,9 @@ fresh process of its own command line (``python -m spcotmhp``):
   setup (the precomputation, or the graph's loading, as the command prints it) and its warm plan (the same plan
   again in the same process, as the command prints it). A plan command taking over a minute runs once.
 
+Each command's CPU time (user + system, ``os.wait4``'s rusage) is printed beside its wall time: on a machine
+shared with other jobs the wall time grows with their load, the CPU time far less.
+
 Every process runs under an address-space limit of ``--memory-limit`` GiB (``RLIMIT_AS``), so that a version
 needing more fails alone, with its row saying so, instead of taking the machine's memory from everything else.
 Untimed, per checkout first: ``compileall`` of the package (this machine sets ``PYTHONDONTWRITEBYTECODE``, so
@@ -45,7 +48,8 @@ TARGETS = {"learn": (60.0, 4.0), "plan": (1.5, 1.0), "warm": 0.005}  # issue 35:
 
 
 def run(code: Path, args: list[str], limit_gib: float) -> dict:
-    """Run ``python -m spcotmhp ARGS`` from checkout ``code``; wall time, peak RSS (GiB), exit status, output."""
+    """Run ``python -m spcotmhp ARGS`` from checkout ``code``; wall time, CPU time (user + system, which other
+    jobs on the machine inflate far less than the wall time), peak RSS (GiB), exit status, output."""
 
     def limit() -> None:
         cap = int(limit_gib * 2**30)
@@ -67,7 +71,8 @@ def run(code: Path, args: list[str], limit_gib: float) -> dict:
         proc.returncode = os.waitstatus_to_exitcode(status)
         log.seek(0)
         out = log.read().decode(errors="replace")
-    return {"wall": wall, "peak": usage.ru_maxrss / 2**20, "rc": proc.returncode, "out": out}
+    cpu = usage.ru_utime + usage.ru_stime
+    return {"wall": wall, "cpu": cpu, "peak": usage.ru_maxrss / 2**20, "rc": proc.returncode, "out": out}
 
 
 def first_pose(dataset: Path) -> tuple[str, str]:
@@ -85,7 +90,7 @@ def warm(code: Path, limit: float) -> None:
 def measure(code: Path, dataset: Path, model: Path, limit: float, reuse: bool = False) -> dict:
     """learn, then plan twice (module docstring)."""
     if reuse and (model / "manifest.json").is_file():
-        learn = {"wall": 0.0, "peak": 0.0, "rc": 0, "out": "", "reused": True}
+        learn = {"wall": 0.0, "cpu": 0.0, "peak": 0.0, "rc": 0, "out": "", "reused": True}
     else:
         learn = run(code, ["learn", str(dataset), "--supervised", "--out", str(model), "--overwrite"], limit)
     if learn["rc"] != 0:
@@ -112,7 +117,11 @@ def row(side: int, version: str, m: dict) -> str:
     mp = side * side / 1e6
     if learn["rc"] != 0:
         return f"| {mp:.1f} | {version} | failed (exit {learn['rc']}, {learn['peak']:.2f} GiB) | | | | |"
-    learned = "reused" if learn.get("reused") else f"{learn['wall']:.1f} s, {learn['peak']:.2f} GiB"
+    learned = (
+        "reused"
+        if learn.get("reused")
+        else f"{learn['wall']:.1f} s ({learn['cpu']:.1f} CPU s), {learn['peak']:.2f} GiB"
+    )
     if plan is None or plan["rc"] != 0:
         why = "out of memory" if plan and "MemoryError" in plan["out"] else f"exit {plan['rc'] if plan else '?'}"
         wall = f"failed: {why} after {plan['wall']:.0f} s" if plan else "failed"
@@ -120,7 +129,7 @@ def row(side: int, version: str, m: dict) -> str:
     setup, warm = parse_plan(plan["out"])
     setup_text = f"{setup:.2f} s" if setup is not None else "?"
     warm_text = f"{warm * 1e3:.2f} ms" if warm is not None else "?"
-    planned = f"{plan['wall']:.2f} s | {plan['peak']:.2f} GiB"
+    planned = f"{plan['wall']:.2f} s ({plan['cpu']:.2f} CPU s) | {plan['peak']:.2f} GiB"
     return f"| {mp:.1f} | {version} | {learned} | {planned} | {setup_text} | {warm_text} |"
 
 
@@ -156,7 +165,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"Synthetic offices, {args.rooms} places, 0.1 m cells; each process limited to {args.memory_limit:g} GiB.")
     print()
     print(
-        "| megapixels | version | learn (+ precompute): wall, peak RSS | plan command: wall | peak RSS | setup "
+        "| megapixels | version | learn (+ precompute): wall (CPU), peak RSS | plan command: wall (CPU) | peak RSS "
+        "| setup "
         "| warm plan |"
     )
     print("|---|---|---|---|---|---|---|")

@@ -3,6 +3,7 @@ themselves here (one file per area keeps modules short and lets the areas grow i
 
 from __future__ import annotations
 
+import copy
 import importlib
 import sys
 from typing import Annotated
@@ -83,11 +84,33 @@ for _name in COMMAND_MODULES:
     _mod.register(app)
 
 
+def app_for(args: list[str]) -> typer.Typer:
+    """The app to run for the command line ``args``: when the first names a command, a copy of :data:`app` that
+    holds that command alone (its options, help and errors the same); else :data:`app` itself (the group's help,
+    ``--version``, a misspelt command). Typer builds the click command of every registered command, their
+    parameters' annotations evaluated, before it runs one: 0.06 s of every `plan` process for 22 commands."""
+    if not args:
+        return app
+    chosen = [c for c in app.registered_commands if _command_name(c) == args[0]]
+    if len(chosen) != 1:
+        return app
+    alone = copy.copy(app)
+    alone.registered_commands = chosen
+    return alone
+
+
+def _command_name(info: typer.models.CommandInfo) -> str:
+    """A registered command's name as typer gives it (the function's name, dashed, when none is given)."""
+    from typer.main import get_command_name
+
+    return info.name or get_command_name(info.callback.__name__)  # type: ignore[union-attr]
+
+
 def main() -> None:
     """Entry point: library errors become one line on stderr and exit status 2 (usage errors too:
     :class:`~spcotmhp.commands.conventions.ConventionalGroup`)."""
     try:
-        app()
+        app_for(sys.argv[1:])()
     except SpcotmhpError as exc:
         typer.echo(f"error: {exc}", err=True)
         sys.exit(2)

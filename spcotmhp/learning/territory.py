@@ -25,7 +25,7 @@ can drive from one place to another, the place graph connects them, directly or 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.logspace import LOG_2PI, gaussian_log_density, log_gaussian
@@ -66,10 +66,15 @@ def place_territories(
 
 
 def most_probable_labels(
-    model: SpatialConceptModel, mask: np.ndarray, centres: np.ndarray, log_density: np.ndarray | None = None
+    model: SpatialConceptModel,
+    mask: np.ndarray,
+    centres: np.ndarray,
+    log_density: np.ndarray | None = None,
+    parallel: bool = False,
 ) -> np.ndarray:
     """(H, W) int64: on ``mask`` the index (into the active places) of arg max_i N(x | mu_i, Sigma_i) p(i) (step 1
-    of the module docstring), -1 elsewhere; ``log_density`` as in :func:`place_territories`."""
+    of the module docstring), -1 elsewhere; ``log_density`` as in :func:`place_territories`, ``parallel`` as in
+    :func:`posterior_arg_max`."""
     mask = np.asarray(mask, dtype=bool)
     act = np.flatnonzero(model.active_places)
     labels = np.full(mask.shape, -1, dtype=np.int64)
@@ -77,7 +82,7 @@ def most_probable_labels(
         return labels
     prior = model.log_place_prior()[act]
     if log_density is None:  # compiled, chunk-bounded; memory O(H W), not O(H W K)
-        best = posterior_arg_max(centres, model.mu[act], model.Sigma[act], prior)
+        best = posterior_arg_max(centres, model.mu[act], model.Sigma[act], prior, parallel)
     else:
         best = np.zeros(mask.shape, dtype=np.int64)
         top = np.full(mask.shape, -np.inf)
@@ -137,19 +142,23 @@ def territory_adjacency(territory: np.ndarray, K: int) -> np.ndarray:
     return A
 
 
-def posterior_arg_max(points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray) -> np.ndarray:
+def posterior_arg_max(
+    points: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, log_prior: np.ndarray, parallel: bool = False
+) -> np.ndarray:
     """arg max_n log N(x | mu_n, Sigma_n) + log_prior_n for every point x of ``points`` (..., 2), first maximum on
     ties: the posterior of Eq. 3 up to its normaliser. Compiled, one thread (no OpenMP: the Gibbs runs fork
     worker processes after using it), memory O(points) (not O(points K));
     the same numbers as :func:`~spcotmhp.logspace.log_gaussian` plus ``log_prior``, and the same answer as
     trying every place at every point (:func:`_most_probable`). Raises ValueError for a covariance that is not
-    positive definite."""
+    positive definite. ``parallel``: the chunks shared between threads (the same answer chunk by chunk), for
+    the planning graph's build only, which starts numba's threads for its fields anyway and forks nothing after."""
     points = np.asarray(points, dtype=float)
     log_gaussian(points.reshape(-1, 2)[:1], mu, Sigma)  # checks the covariances
     S = np.asarray(Sigma, dtype=float)
     det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
     flat = np.ascontiguousarray(points.reshape(-1, 2))
-    best = _most_probable(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
+    kernel = _most_probable_threads if parallel else _most_probable
+    best = kernel(flat, np.asarray(mu, dtype=float), S, det, np.log(det), np.asarray(log_prior, dtype=float))
     return best.reshape(points.shape[:-1])
 
 
@@ -169,6 +178,16 @@ def _most_probable(points, mu, Sigma, det, log_det, prior):  # pragma: no cover 
     out = np.zeros(points.shape[0], dtype=np.int64)
     coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
     for ch in range((points.shape[0] + CHUNK - 1) // CHUNK):
+        _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def _most_probable_threads(points, mu, Sigma, det, log_det, prior):  # pragma: no cover - numba
+    """:func:`_most_probable` with its chunks shared between threads (each chunk's answer its own)."""
+    out = np.zeros(points.shape[0], dtype=np.int64)
+    coef, const = _place_bounds(mu, Sigma, det, log_det, prior)
+    for ch in prange((points.shape[0] + CHUNK - 1) // CHUNK):
         _chunk(points, ch, mu, Sigma, det, log_det, prior, coef, const, out)
     return out
 

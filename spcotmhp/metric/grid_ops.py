@@ -127,27 +127,57 @@ def label4(mask: np.ndarray) -> tuple[np.ndarray, int]:
     return _label4(np.ascontiguousarray(mask, dtype=np.bool_))
 
 
+def label_sizes(labels: np.ndarray, n: int) -> np.ndarray:
+    """``np.bincount(labels.ravel(), minlength=n + 1)`` of :func:`label4`'s labels (0..n), as int64 counts, in one
+    compiled pass (bincount's cast of the labels alone took 0.4 s at 16 megapixels)."""
+    return _label_sizes(np.ascontiguousarray(labels, dtype=np.int32), int(n))
+
+
+@njit(cache=True)
+def _label_sizes(labels, n):  # pragma: no cover - numba
+    """Cells of each label 0..n (a label outside 0..n, which label4 never gives: ValueError)."""
+    out = np.zeros(n + 1, dtype=np.int64)
+    for v in labels.ravel():
+        if v < 0 or v > n:
+            raise ValueError("a label outside 0..n")
+        out[v] += 1
+    return out
+
+
 def find_boxes(labels: np.ndarray, max_label: int | None = None) -> list[tuple[slice, slice] | None]:
     """For each label 1..``max_label`` (default, or below 1: the largest) of the 2-D int array ``labels``, the smallest
-    (rows, cols) slices holding its cells, or None if it has none (scipy.ndimage.find_objects)."""
+    (rows, cols) slices holding its cells, or None if it has none (scipy.ndimage.find_objects). One compiled pass
+    over the cells (:func:`_box_bounds`; it was four ``ufunc.at`` passes, 1.3 s a call at 16 megapixels)."""
     labels = np.asarray(labels)
     n = int(labels.max(initial=0)) if max_label is None or max_label < 1 else int(max_label)
     if n < 1:
         return []
-    flat = labels.ravel()
-    at = np.flatnonzero((flat >= 1) & (flat <= n))
-    lab = flat[at].astype(np.int64)
-    rows, cols = np.divmod(at, labels.shape[1])
-    lo_r, lo_c = np.full(n + 1, labels.size), np.full(n + 1, labels.size)
-    hi_r, hi_c = np.full(n + 1, -1), np.full(n + 1, -1)
-    np.minimum.at(lo_r, lab, rows)
-    np.minimum.at(lo_c, lab, cols)
-    np.maximum.at(hi_r, lab, rows)
-    np.maximum.at(hi_c, lab, cols)
+    lo_r, hi_r, lo_c, hi_c = _box_bounds(np.ascontiguousarray(labels, dtype=np.int64), n)
     return [
         (slice(int(lo_r[k]), int(hi_r[k]) + 1), slice(int(lo_c[k]), int(hi_c[k]) + 1)) if hi_r[k] >= 0 else None
         for k in range(1, n + 1)
     ]
+
+
+@njit(cache=True)
+def _box_bounds(labels, n):  # pragma: no cover - numba
+    """Per label 1..n of the int64 ``labels``: its least row, greatest row, least column and greatest column
+    (arrays of n + 1; -1 as greatest: no cell)."""
+    h, w = labels.shape
+    lo_r, lo_c = np.full(n + 1, h * w), np.full(n + 1, h * w)
+    hi_r, hi_c = np.full(n + 1, -1), np.full(n + 1, -1)
+    for r in range(h):
+        for c in range(w):
+            k = labels[r, c]
+            if 1 <= k <= n:
+                if r < lo_r[k]:
+                    lo_r[k] = r
+                hi_r[k] = r  # rows ascend
+                if c < lo_c[k]:
+                    lo_c[k] = c
+                if c > hi_c[k]:
+                    hi_c[k] = c
+    return lo_r, hi_r, lo_c, hi_c
 
 
 def _dilate_axis(mask: np.ndarray, m: int, axis: int) -> np.ndarray:

@@ -159,7 +159,8 @@ def resolve_image_path(yaml_path: Path, image: str) -> Path:
 def read_image(path: Path) -> tuple[np.ndarray, np.ndarray | None, int]:
     """Read a map image as (channels, alpha, maxval) in image row order: ``channels`` int (H, W, 3) with
     R, G, B (a grey image repeats its grey value: a read-only view, not a copy), ``alpha`` int (H, W) or None
-    without alpha, both in 0..maxval (255, or 65535 for 16-bit images).
+    without alpha, both in 0..maxval (255, or 65535 for 16-bit images); int32, but an 8-bit grey image's
+    channels are its own uint8 bytes.
 
     Only PGM/PPM, PNG and BMP files are decoded, with at most ``safe_read.max_map_pixels()`` pixels, an aspect
     ratio of at most ``safe_read.MAX_MAP_ASPECT`` and a PGM/PPM header of at most 64 KiB, all checked before
@@ -181,13 +182,14 @@ def _image_channels(path: Path, img: Image.Image) -> tuple[np.ndarray, np.ndarra
     elif mode in ("La", "RGBa"):
         img = img.convert(mode.upper()[:-1] + "A")
         mode = img.mode
+    if mode == "L":  # 8-bit grey: its own bytes (pixels_to_grid reads them through a table; no int32 copy)
+        a = np.asarray(img)
+        return np.broadcast_to(a[:, :, None], a.shape + (3,)), None, 255
     a = np.asarray(img).astype(np.int32)  # int32 holds four 16-bit channels' sum; a quarter of int64's memory
     if mode.startswith("I;16") or mode == "I":
         if a.size and (a.min() < 0 or a.max() > 65535):
             raise MapError(f"map image {path}: 32-bit images are not supported (values beyond 16 bits)")
         return np.broadcast_to(a[:, :, None], a.shape + (3,)), None, 65535
-    if mode == "L":
-        return np.broadcast_to(a[:, :, None], a.shape + (3,)), None, 255
     if mode == "LA":
         return np.broadcast_to(a[:, :, :1], a.shape[:2] + (3,)), a[:, :, 1], 255
     if mode == "RGB":

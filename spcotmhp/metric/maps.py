@@ -107,5 +107,15 @@ class OccupancyMap:
 
     def cell_centres(self) -> np.ndarray:
         """World coordinates of every cell centre, shape (height, width, 2)."""
-        rows, cols = np.indices(self.shape)
-        return self.cell_to_world(np.stack([rows, cols], axis=-1))
+        return self.window_centres(0, 0, *self.shape)
+
+    def window_centres(self, r0: int, c0: int, h: int, w: int) -> np.ndarray:
+        """:meth:`cell_to_world` of every cell of the window of ``h`` x ``w`` cells whose corner is cell (r0, c0),
+        shape (h, w, 2): the same arithmetic on each row's and column's number, written out over the window
+        (no (h, w, 2) array of cell numbers first: 0.5 GB and 2 s at 16 megapixels)."""
+        x = (np.arange(c0, c0 + w, dtype=float) + 0.5) * self.resolution + float(self.origin[0])
+        y = (np.arange(r0, r0 + h, dtype=float) + 0.5) * self.resolution + float(self.origin[1])
+        out = np.empty((h, w, 2))
+        out[..., 0] = x[None, :]
+        out[..., 1] = y[:, None]
+        return out

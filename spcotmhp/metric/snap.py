@@ -32,6 +32,8 @@ def snap(mask: np.ndarray, cells: np.ndarray) -> np.ndarray:
     (..., 2) int64."""
     mask = np.asarray(mask, dtype=bool)
     rc = np.clip(np.asarray(cells, dtype=np.int64), 0, np.array(mask.shape) - 1)
+    if rc.size and mask[rc[..., 0], rc[..., 1]].all():  # each its own nearest (distance 0: no tie), no transform
+        return rc.copy()
     idx = nearest_index(mask)
     return np.stack([idx[0][rc[..., 0], rc[..., 1]], idx[1][rc[..., 0], rc[..., 1]]], axis=-1).astype(np.int64)
 

@@ -218,7 +218,7 @@ class PlanningGraph:
         ``max_dense_bytes``, else territory-local ones joined by a portal graph (module docstring), keeping those
         of ``reuse`` whose territory did not change."""
         cells, occ = self.node_cell, self.model.require_map()
-        dense = 12 * len(cells) * self.log_p.size <= self.settings.max_dense_bytes
+        dense = self.settings.dense(len(cells), self.log_p.size)
         if not dense and self.settings.optimality == "every_step":
             raise InvalidSettings(
                 f"optimality 'every_step' needs one dense field per node ({12 * len(cells) * self.log_p.size} "
@@ -433,8 +433,8 @@ class PlanningGraph:
     def centres(self) -> np.ndarray:
         """(h, w, 2) map-frame centres of the crop's cells."""
         if self._centres is None:
-            rr, cc = np.indices(self.log_p.shape)
-            self._centres = self.model.require_map().cell_to_world(np.stack([rr, cc], axis=-1) + self.offset)
+            r0, c0 = (int(v) for v in self.offset)
+            self._centres = self.model.require_map().window_centres(r0, c0, *self.log_p.shape)
         return self._centres
 
     # ---- incremental update (online learning) -----------------------------------------------------------

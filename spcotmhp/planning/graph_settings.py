@@ -53,6 +53,11 @@ class GraphSettings:
     optimality: str = "end"
     stop_cost: float | None = STOP_COST
 
+    def dense(self, n_nodes: int, n_cells: int) -> bool:
+        """Whether ``n_nodes`` fields over a crop of ``n_cells`` cells are dense (``max_dense_bytes``: 12 bytes a
+        cell and node), else the portal graph's (whose fields kernel runs on numba's threads)."""
+        return 12 * n_nodes * n_cells <= self.max_dense_bytes
+
     def __post_init__(self) -> None:
         """Range checks: a bad setting is a :class:`PlanningError` naming it, its value and what is accepted."""
         if self.optimality not in OPTIMALITY:

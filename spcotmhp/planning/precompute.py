@@ -40,10 +40,11 @@ def graph_inputs(
         occ, log_p_full if log_p_full is not None else inflate(occ, **model.costmap).log_p
     )
     traversable = np.isfinite(log_p)
-    rr, cc = np.indices(log_p.shape)
-    centres = occ.cell_to_world(np.stack([rr + r0, cc + c0], axis=-1))
+    centres = occ.window_centres(int(r0), int(c0), *log_p.shape)
     offset = (int(r0), int(c0))
-    regions = free_regions(model, traversable, centres, offset)
+    # numba's threads for the most probable place only where the fields will start them (the portal graph, for
+    # any two nodes or more), so that a small map's build, before worker processes fork, starts no thread
+    regions = free_regions(model, traversable, centres, offset, parallel=not settings.dense(2, log_p.size))
     main = regions.labels == regions.main
     shared = {  # the same for every region: Figure 3's edges, the candidate points (Alg. 1, line 2)
         "connected": connected_places(model, settings.edge_threshold),

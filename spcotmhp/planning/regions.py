@@ -30,11 +30,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from spcotmhp.learning.model import SpatialConceptModel
 from spcotmhp.learning.territory import most_probable_labels, partition, place_anchors
 from spcotmhp.logspace import log_gaussian, logsumexp
-from spcotmhp.metric.grid_ops import label4
+from spcotmhp.metric.grid_ops import label4, label_sizes
 
 REACH_SIGMAS = 2.0
 """A place reaches a region whose cells lie within this Mahalanobis distance of its mean (module docstring)."""
@@ -66,10 +67,15 @@ class FreeRegions:
 
 
 def free_regions(
-    model: SpatialConceptModel, traversable: np.ndarray, centres: np.ndarray, offset: tuple[int, int] = (0, 0)
+    model: SpatialConceptModel,
+    traversable: np.ndarray,
+    centres: np.ndarray,
+    offset: tuple[int, int] = (0, 0),
+    parallel: bool = False,
 ) -> FreeRegions:
     """The regions of ``traversable`` (crop cells whose centres are ``centres``, its corner at map cell ``offset``)
-    and the territories of every place in each (module docstring).
+    and the territories of every place in each (module docstring); ``parallel``: the most probable places on
+    numba's threads (:func:`~spcotmhp.learning.territory.posterior_arg_max`).
 
     >>> from spcotmhp.learning.model import SpatialConceptModel
     >>> from spcotmhp.metric.maps import OccupancyMap
@@ -91,19 +97,18 @@ def free_regions(
     ([1, 2], [2])
     """
     labels, n = label4(traversable)
-    sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    sizes = label_sizes(labels, n)
     sizes[0] = 0
     main = int(np.argmax(sizes)) if n else 0
     act = np.flatnonzero(model.active_places)
-    best = most_probable_labels(model, traversable, centres)
+    best = most_probable_labels(model, traversable, centres, parallel=parallel)
     home = np.zeros(model.K, dtype=np.int64)
     territory = np.full(labels.shape, -1, dtype=np.int64)
     if n == 0 or len(act) == 0:
         return FreeRegions(labels, main, territory, home)
     anchors = place_anchors(model, traversable, offset)
     base = partition(best, anchors)
-    held = base >= 0
-    home[act[base[held]]] = labels[held]  # one region per place: its territory grows from one seed
+    _set_homes(home, act, base, labels)  # one region per place: its territory grows from one seed
     place, cell, region = reach_seeds(model, labels, centres, home)
     out = partition(best, anchors, np.searchsorted(act, place), cell) if len(place) else base
     territory = np.where(out >= 0, act[np.maximum(out, 0)], -1)
@@ -163,3 +168,14 @@ def _log_odds(xy: np.ndarray, mu: np.ndarray, Sigma: np.ndarray, prior: np.ndarr
     others = np.delete(score, i, axis=1)
     rest = logsumexp(others, axis=1) if others.shape[1] else np.full(len(xy), -np.inf)
     return score[:, i] - rest
+
+
+@njit(cache=True)
+def _set_homes(home, act, base, labels):  # pragma: no cover - numba
+    """``home[act[base[c]]] = labels[c]`` for every cell c of ``base`` >= 0 in raster order, the last one kept (as
+    the fancy assignment it replaces, 0.8 s at 16 megapixels; a place's cells lie in one region)."""
+    h, w = base.shape
+    for r in range(h):
+        for c in range(w):
+            if base[r, c] >= 0:
+                home[act[base[r, c]]] = labels[r, c]

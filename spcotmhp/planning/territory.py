@@ -9,23 +9,27 @@ from __future__ import annotations
 
 import numpy as np
 
-from spcotmhp.metric.grid_ops import dilate_square
+from spcotmhp.metric.grid_ops import dilate_square, find_boxes
 
 
 def grown_territories(territory: np.ndarray, places: np.ndarray, margin_cells: float) -> dict:
     """place -> (row, col, mask): the cells of ``territory == place`` grown by ``margin_cells`` (chessboard
-    distance, rounded), as a mask over the window whose corner is (row, col)."""
+    distance, rounded), as a mask over the window whose corner is (row, col). Each place's cells are sought in
+    its bounding box only (:func:`find_boxes`, one pass over the crop for all places, not one a place)."""
     m = max(0, round(margin_cells))
     h, w = territory.shape
+    places = np.asarray(places, dtype=np.int64)
+    top = int(places.max(initial=-1)) + 1
+    boxes = find_boxes(territory + 1, max_label=top) if top > 0 else []  # place k is label k + 1
     out = {}
     for k in places:
-        own = territory == k
-        if not own.any():
+        box = boxes[k] if 0 <= k < len(boxes) else None
+        if box is None:
             continue
-        rows, cols = np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))
-        r0, r1 = max(rows[0] - m, 0), min(rows[-1] + m + 1, h)
-        c0, c1 = max(cols[0] - m, 0), min(cols[-1] + m + 1, w)
-        window = own[r0:r1, c0:c1]
+        rows, cols = box
+        r0, r1 = max(rows.start - m, 0), min(rows.stop + m, h)
+        c0, c1 = max(cols.start - m, 0), min(cols.stop + m, w)
+        window = territory[r0:r1, c0:c1] == k
         if m:
             window = dilate_square(window, m)
         out[int(k)] = (int(r0), int(c0), window)

@@ -358,7 +358,8 @@ def test_cli_unwritable_output(tmp_path: Path) -> None:
 
 def _uncapped(occ: OccupancyMap, cell_radius: int, settings: CostMapSettings) -> np.ndarray:
     """The wavefront with a kernel of any size (what inflate did before the cap)."""
-    from spcotmhp.metric.costmap import _wavefront, inflation_kernel
+    from spcotmhp.metric._wavefront import wavefront as _wavefront
+    from spcotmhp.metric.costmap import inflation_kernel
 
     costs = static_costs(occ, settings.track_unknown_space)
     bins, kernel_costs = inflation_kernel(cell_radius, occ.resolution, settings)
