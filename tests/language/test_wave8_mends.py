@@ -325,3 +325,17 @@ def test_a_cancel_then_a_place_still_restarts(text, goal):
 )
 def test_order_words(text, lang, route):
     assert _route(read(text, PLACE_WORDS_JA if lang == "ja" else PLACE_WORDS_EN, lang)) == route
+
+
+@pytest.mark.parametrize(
+    "text, speed",
+    [
+        ("Speed it up and go to the toilet.", "fast"),  # a speed idiom
+        ("Do one thing, go to the kitchen.", None),  # Indian English: "listen"
+        ("Is possible you go to storage room?", None),  # a learner's request frame
+        ("Sorry for disturb, can you go entrance please", None),  # a learner's apology
+    ],
+)
+def test_frames_apologies_and_idioms(text, speed):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert len(r.visit) == 1 and r.speed == speed
