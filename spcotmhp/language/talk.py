@@ -70,7 +70,7 @@ def pass_over(
         elif k and toks[k - 1].surface in _TITLES and toks[k].kind == "WORD" and toks[k].surface.isalpha():
             ok[k] = True  # "Mr Ortiz is using his walker": a title's name (no dictionary word)
     times = frozenset(table.talk.get("times_in_statements", ()))
-    for a, b in _sentences(toks):  # "It's freezing tonight.": a time in a statement of its own is the statement's
+    for a, b in [*_sentences(toks), *_closing_its(toks)]:  # "It's freezing tonight.", "..., it's late"
         loose = [ok[k] or toks[k].kind == "WORD" and ew.base(toks[k].surface) in times for k in range(a, b)]
         if not all(ok[a:b]) and all(loose) and _statement(toks[a:b], subjects, False):
             ok[a:b] = [True] * (b - a)
@@ -161,6 +161,21 @@ def _sentences(toks: Sequence[Token]) -> list[tuple[int, int]]:
         if t.kind == "_STOP":
             spans.append((a, k))
             a = k + 1
+    return spans
+
+
+def _closing_its(toks: Sequence[Token]) -> list[tuple[int, int]]:
+    """The span of a clause after a comma that closes its sentence and opens with "it's" ("go to the bedroom, it's
+    late", "..., it's dinner time"): a statement about the time, as one of its own sentence is (:func:`_sentences`),
+    never a time of the instruction (that has no subject: "go to the bedroom at six"; or says what the instruction is
+    for: "it's for tonight", refused). Its words after "it's" are words of no class."""
+    spans = []
+    for k, t in enumerate(toks[:-1]):
+        if t.kind == "COMMA" and toks[k + 1].surface in ("it's", "its"):
+            end = next((j for j in range(k + 1, len(toks)) if toks[j].kind in ("COMMA", "_STOP")), len(toks))
+            words = all(x.kind == "WORD" for x in toks[k + 2 : end])  # "it's for tonight": the instruction's time
+            if words and (end == len(toks) or toks[end].kind == "_STOP"):
+                spans.append((k + 1, end))
     return spans
 
 

@@ -339,3 +339,17 @@ def test_order_words(text, lang, route):
 def test_frames_apologies_and_idioms(text, speed):
     r = read(text, PLACE_WORDS_EN, "en")
     assert len(r.visit) == 1 and r.speed == speed
+
+
+@pytest.mark.parametrize(
+    "text", ["Go to the nearest bedroom, please, it's late.", "please go to the dining room, it's dinner time."]
+)
+def test_its_late_closing_a_sentence_is_talk(text):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert len(r.visit) == 1 and r.heard
+
+
+@pytest.mark.parametrize("text", ["go to the bath late", "go to the bath, it's late, go slowly"])
+def test_a_time_word_elsewhere_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
