@@ -301,7 +301,8 @@ def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> l
     machine", "the room where the toilet is", "go where the washing machine is", "the room with the sink and the
     washing machine": the one holding both) is the place of the map that holds that thing (``contents`` in
     ``en.json``), among those the word before may name ("bathroom": bath, toilet or washroom; "room", "one" or
-    nothing: any); where no place or several do, the words stay as said, to be refused."""
+    nothing: any); a thing said as where to go ("go to the sofa", "over to the dining table") is the room that holds
+    it, as "go where the sofa is" is; where no place or several do, the words stay as said, to be refused."""
     out: list[Token] = []
     i = 0
     while i < len(items):
@@ -312,6 +313,16 @@ def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> l
             j += 2  # "the bathroom, the one with the tub"
         elif ambiguous and j < len(items) and items[j].kind == "ONE":
             j += 1  # spoken without the pause: "the bathroom the one with the tub"
+        going = i > 0 and items[i - 1].kind in ("GO", "HURRY") or len(head.surface.split()) > 1  # not "about to"
+        if head.kind == "TO" and going and (thing := _content(items, i + 1, table)) is not None:
+            meant = sorted(set(thing[0]) & set(places.words))
+            if len(meant) == 1 and (thing[1] == len(items) or items[thing[1]].kind not in ("WORD", "PLACE")):
+                out += [
+                    head,
+                    Token("PLACE", meant[0], (meant[0],), start=items[i + 1].start, end=items[thing[1] - 1].end),
+                ]
+                i = thing[1]  # "go to the sofa": to the room that holds it, as "go where the sofa is"
+                continue
         if not (ambiguous or head.surface in _ROOM_HEADS or head.surface == "where"):
             out.append(head)
             i += 1

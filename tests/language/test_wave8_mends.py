@@ -353,3 +353,27 @@ def test_its_late_closing_a_sentence_is_talk(text):
 def test_a_time_word_elsewhere_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [("go to the sofa", "living"), ("hop over to the dining table", "dining"), ("go to the bed", "bedroom")],
+)
+def test_a_thing_said_as_where_to_go_is_its_room(text, goal):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == [goal]
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("Get yourself to the storeroom, we're about to vacuum.", "storeroom"),  # an infinitive's "to": no place
+        ("go to the bed... bed-room. bedroom number two!", "bedroom"),  # a false start of the place said next
+    ],
+)
+def test_a_thing_after_to_elsewhere_keeps_its_reading(text, goal):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == [goal]
+
+
+def test_a_thing_in_several_rooms_stays_refused():
+    with pytest.raises(InstructionError):
+        read("go to the sink", PLACE_WORDS_EN, "en")  # the kitchen's or the washroom's
