@@ -188,7 +188,7 @@ UNKNOWN_JA = "is not a known place word; known place words: キッチン, ダイ
         (
             "go to either the kitchen or the toilet",
             EN,
-            "'either' leaves the choice of a place open (kitchen)",
+            "'or' leaves the choice of a place open (kitchen or toilet)",  # 'either' alone picks any one (session 9)
         ),
         ("キッチンかトイレを通って寝室へ", JA, "'か' leaves the choice of a place open (キッチン or トイレ)"),
         (
