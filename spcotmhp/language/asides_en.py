@@ -50,7 +50,7 @@ from typing import Any
 from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.repairs_en import BOUNDS as _BOUNDS
-from spcotmhp.language.repairs_en import answer, owners, pieces, repairs, requesters, restarts
+from spcotmhp.language.repairs_en import answer, owner_names, owners, pieces, repairs, requesters, restarts
 from spcotmhp.language.statements_en import CLOCK, stated
 from spcotmhp.language.table import WordTable, filler_at
 from spcotmhp.language.talk import admissible
@@ -131,7 +131,7 @@ def ease_en(
     if not talk or table.by_character:
         return None
     notes: list[str] = []
-    people = frozenset(talk.get("kin", ())) | frozenset(w[:-2] for w in place_words if w.endswith("'s"))
+    people = frozenset(talk.get("kin", ())) | owner_names(place_words)
     out = answer(owners(pieces(restarts(list(toks), units), frozenset(place_words), units), frozenset(place_words)))
     out = requesters(out, people)  # after owners: "alice wants you in her room" says whose room first
     out = repairs(_until_told(_manner(_text_speak(_fronted(out)), talk), units), units, notes)

@@ -30,6 +30,7 @@ from spcotmhp.language.asides_en import ease_en
 from spcotmhp.language.errors import refusal
 from spcotmhp.language.lexicon import english_units, tokens
 from spcotmhp.language.meaning import Reading
+from spcotmhp.language.repairs_en import owner_names
 from spcotmhp.language.rewrite_ja import may_pause, pauses_ja
 from spcotmhp.language.spoken_ja import spoken_text
 from spcotmhp.language.table import word_table
@@ -93,7 +94,7 @@ def read(text: str, place_words: Sequence[str], lang: str) -> Reading:
             return _heard(reading, eased, notes)
         except _NoDerivation:
             pass
-    people = frozenset(w[:-2] for w in place_words if w.endswith("'s")) if lang == "en" else frozenset()
+    people = owner_names(place_words) if lang == "en" else frozenset()
     passed = pass_over(toks, table, source, people)
     if passed is not None:
         kept, said = passed

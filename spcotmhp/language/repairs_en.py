@@ -4,7 +4,7 @@ pronoun names, the place said as the answer, repairs said without a correction w
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
@@ -25,13 +25,18 @@ _PRONOUNS = ("my", "his", "her", "their")
 _SPEAKER = ("it's", "i'm", "im", "this is")
 
 
+def owner_names(words: Iterable[str]) -> frozenset[str]:
+    """The people a map's place words name as owners: "alice" of "alice's" (rule 5, the talk's subjects, who asks)."""
+    return frozenset(w[:-2] for w in words if w.endswith("'s"))
+
+
 def owners(toks: list[Token], words: frozenset[str]) -> list[Token]:
     """Rule 5: whose room. A map whose places are named by their owners ("alice's room"): "alice's bedroom" is her
     room; "her / his / my room" is the room of the one person the sentence names ("Alice wants you in her room",
     "Alice here, go to my room": for "my", named as the speaker: "X here", "it's X"); a name said alone before
     its owner's room ("alice alice's room") is a false start, a title before it ("uncle bob's room") who the owner
     is. With no such person, or several, the words stay."""
-    owners = {w[:-2] for w in words if w.endswith("'s")}
+    owners = owner_names(words)
     if not owners:
         return toks
     named = {t.surface for t in toks if t.kind == "WORD" and t.surface in owners}

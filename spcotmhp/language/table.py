@@ -18,6 +18,8 @@ from importlib import resources
 from types import MappingProxyType
 from typing import Any
 
+from spcotmhp.language.english_words import known
+
 EN_UNIT = re.compile(r"\d+(?:\.\d+)?|[^\W_]+(?:'[^\W_]+)*|'s\b|\.\.\.|[,;:.!?&\-]")
 _TEXT_SPEAK = {"u": ("you",), "goto": ("go", "to"), "da": ("the",), "ty": ("thank", "you"), "n": ("and",),
                "thru": ("through",), "rn": ("right", "now"), "tho": ("though",), "ur": ("your",),
@@ -49,8 +51,6 @@ def _g_restored(unit: str) -> str:
     """``unit`` with a dropped g put back (:data:`_G_DROPPED`)."""
     if _G_DROPPED.fullmatch(unit) is None:
         return unit
-    from spcotmhp.language.english_words import known
-
     return unit + "g" if not known(unit) and known(unit + "g") else unit
 
 
