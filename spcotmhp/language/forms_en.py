@@ -98,6 +98,18 @@ _EXCEPTED = _PICKS | {"PLACE", "ONE"}
 """What "but" after "any X" may take out: a place, a size or relation, "the one ..." (:func:`any_but_en`)."""
 
 
+def located_en(items: list[Token]) -> list[Token]:
+    """A word of :data:`_LOCATING` between two places ("the bedroom off the kitchen": where the bedroom is) is a
+    relation the map does not answer (UNSUPPORTED_RELATION, refused with its reason), never a second stop."""
+    located = [
+        k for k in range(1, len(items) - 1) if items[k - 1].kind == "PLACE" and items[k].kind in ("GO", "TO")
+        and items[k].surface in _LOCATING and items[k + 1].kind == "PLACE"
+    ]  # fmt: skip
+    if not located:
+        return items  # most sentences
+    return [t._replace(kind="UNSUPPORTED_RELATION") if k in located else t for k, t in enumerate(items)]
+
+
 def new_clause_en(items: list[Token]) -> list[Token]:
     """A verb that opens a clause right after a place ("go to the living room stop at the kitchen on the way") begins
     a new clause, as the pause a transcript leaves out would: a comma is put between them, so that what the clause
@@ -107,12 +119,6 @@ def new_clause_en(items: list[Token]) -> list[Token]:
         k for k in range(1, len(items)) if items[k - 1].kind == "PLACE" and (items[k].kind in _CLAUSE_VERBS or
         items[k].kind == "ONE" and k + 1 < len(items) and items[k + 1].kind in _PICKS)
     ]  # fmt: skip  # "the bedroom the one nearest the front door": the pause before "the one" left out too
-    located = [
-        k for k in range(1, len(items) - 1) if items[k - 1].kind == "PLACE" and items[k].kind in ("GO", "TO")
-        and items[k].surface in _LOCATING and items[k + 1].kind == "PLACE"
-    ]  # fmt: skip
-    if located:  # "the bedroom off the kitchen": where the bedroom is, a relation the map does not answer
-        return [t._replace(kind="UNSUPPORTED_RELATION") if k in located else t for k, t in enumerate(items)]
     if not starts:
         return items  # the same list: nothing to rewrite (most sentences)
     out: list[Token] = []

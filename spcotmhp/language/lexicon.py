@@ -41,6 +41,7 @@ from collections.abc import Sequence
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.forms_en import (
     any_but_en,
+    located_en,
     loose_ends_en,
     motion_at_en,
     new_clause_en,
@@ -90,7 +91,9 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         return spoken_tokens(out, said)  # rewrite_ja: what people say again, pauses and particles
     out = _tokens_en(normalise(text), table, places)
     kinds = {t.kind for t in out}  # the passes below look only at sentences that hold what they rewrite
-    if kinds & {"STOP_AT", "AVOID", "GO", "ONE", "TO"} and (clauses := new_clause_en(out)) is not out:
+    if kinds & {"GO", "TO"}:
+        out = located_en(out)  # before a verb of going between two places opens a clause
+    if kinds & {"STOP_AT", "AVOID", "GO", "ONE"} and (clauses := new_clause_en(out)) is not out:
         out, kinds = clauses, kinds | {"COMMA"}
     if "MODIFIER" in kinds and "NEG" in kinds:
         out = other_than_excluded(out)  # others.py: "not bedroom 1, one of the other bedrooms"
