@@ -59,6 +59,16 @@ def _same(a: PlaceRef, b: PlaceRef) -> bool:
     return (a.words, a.relation, a.every, a.floor, a.number) == (b.words, b.relation, b.every, b.floor, b.number)
 
 
+def _fresh(before: list[Mention], said: list[Mention]) -> list[Mention]:
+    """The mentions ``said`` after a correction from the first that is not a place of ``before`` said again with the
+    same role (contrasts left out): a restatement's start corrects nothing ("A via B, no, via B to C": C corrects A)."""
+    new = [m for m in said if not m.contrast]
+    k = 0
+    while k < len(new) and any(b.role == new[k].role and _same(b.ref, new[k].ref) for b in before):
+        k += 1
+    return new[k:]
+
+
 def tree(node: object) -> Tree:
     """``node`` as a subtree (the grammar puts one there)."""
     assert isinstance(node, Tree), node
@@ -223,26 +233,17 @@ class Walk:
         if self.correction is None:
             return
         word, start, speeds = self.correction
-        new = bool(self._fresh(start)) or len(self.speeds) > speeds
+        before = [m for m in self.mentions[:start] if not m.dropped]
+        new = bool(_fresh(before, self.mentions[start:])) or len(self.speeds) > speeds
         if new or end:
             self.correction = None
             self.correct(word, start, speeds)
-
-    def _fresh(self, start: int) -> list[Mention]:
-        """The mentions after a correction (from ``start``) from the first that is not a place said before it again
-        with the same role: a restatement's start corrects nothing ("A via B, no, via B to C": C corrects A)."""
-        before = [m for m in self.mentions[:start] if not m.dropped]
-        new = [m for m in self.mentions[start:] if not m.contrast]
-        k = 0
-        while k < len(new) and any(b.role == new[k].role and _same(b.ref, new[k].ref) for b in before):
-            k += 1
-        return new[k:]
 
     def correct(self, word: str, start: int, speeds: int) -> None:
         """A self-correction ("X, no wait, Y", "X sorry I meant Y", X、いや、Y), applied once the phrase after it is
         read (its mentions from index ``start``, its speeds from ``speeds``). The rule: the first place the phrase
         names to visit, avoid or not end in (a negated name, "not the bedroom", only says what is not meant; places
-        said again with their roles first start a restatement: :meth:`_fresh`) replaces the nearest place of the
+        said again with their roles first start a restatement: :func:`_fresh`) replaces the nearest place of the
         same role said before the correction; a bare place after it takes the role of the place said just before it
         (walk_en.py, walk_ja.py), so "go to the kitchen via the hall, sorry, the corridor" passes the corridor. A
         phrase naming no place but a speed replaces the speed said before. With nothing before it to correct (it
@@ -254,7 +255,7 @@ class Walk:
             return
         new = [m for m in self.mentions[start:] if not m.contrast]
         if new:
-            y = next(iter(self._fresh(start)), new[0])
+            y = next(iter(_fresh(before, new)), new[0])
             x = next((m for m in reversed(before) if m.role == y.role), None)
             if x is None and y.role != "not_goal":  # キッチン通って、いや、キッチンは通らないで
                 x = next((m for m in reversed(before) if m.ref == y.ref and self.replaces_again(m, y)), None)
