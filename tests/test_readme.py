@@ -201,9 +201,15 @@ class Workspace:
         try:
             out, _ = proc.communicate(timeout=BLOCK_TIMEOUT)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            out, _ = proc.communicate()
-            self.failed[k] = f"timed out after {BLOCK_TIMEOUT} s:\n{out[-3000:]}"
+            # SIGINT first, as Ctrl+C: Python flushes what it buffered and prints where it waited (the report says
+            # what hung); SIGKILL only what does not stop within 10 s
+            os.killpg(proc.pid, signal.SIGINT)
+            try:
+                out, _ = proc.communicate(timeout=10)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                out, _ = proc.communicate()
+            self.failed[k] = f"timed out after {BLOCK_TIMEOUT} s:\n{out[-6000:]}"
             raise AssertionError(self.failed[k]) from None
         finally:
             with contextlib.suppress(ProcessLookupError):  # a server or node the block started and did not stop

@@ -13,7 +13,8 @@
   most one a PROGRESS_EVERY_S, and at once when a new place is passed), ``arrived`` at every leg's end.
 * "stop", "cancel", "never mind", 止まって... (:func:`is_stop`) cancel the goal; a new instruction pre-empts the
   running one (its goal canceled, its waits dropped); a rejected or aborted goal is an ``error`` status with its
-  cause (typed: Nav2Unavailable, Nav2Rejected, Nav2Failed) and the robot's position.
+  cause (typed: Nav2Unavailable, Nav2Rejected, Nav2Failed) and the robot's position; so is a goal Nav2 never
+  answers (:meth:`Driver.watch`: nothing is left waiting for ever on a message the transport lost).
 """
 
 from __future__ import annotations
@@ -39,7 +40,11 @@ MODES = (FOLLOW_PATH, THROUGH_POSES)
 SERVERS = {FOLLOW_PATH: "follow_path", THROUGH_POSES: "navigate_through_poses"}  # Nav2's default action names
 SLOW_PERCENT = 50.0  # "slowly": half the controller's maximum speed (a parameter: robots differ)
 SERVER_WAIT_S = 2.0  # Nav2 found within this of the node's start is waited for, not an error (discovery lags)
+GOAL_ANSWER_S = 10.0  # a goal Nav2 has not answered in this long was lost on the way (or Nav2 hangs): an error status
+RESULT_AGAIN_S = 2.0  # Nav2 said the goal ended but no result came in this long: the result was lost, asked again
+WATCH_EVERY_S = 0.5
 PROGRESS_EVERY_S = 1.0  # a status a second is what a listener (speech, a screen) can follow
+ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_ABORTED, GoalStatus.STATUS_CANCELED)
 STOP_WORDS = frozenset(
     {"stop", "halt", "cancel", "never mind", "nevermind", "stop there", "stop now", "止まって", "止まれ", "とまって",
      "止まる", "ストップ", "やめて", "キャンセル", "中止"}
@@ -128,6 +133,8 @@ class Run:
     next: int = 0
     handle: Any = None
     timer: Any = None
+    sent_at: float | None = None  # when the running leg's goal was sent, until Nav2 answers it (Driver.watch)
+    ended_at: float | None = None  # when Nav2's status said the goal ended, until its result comes
     said: tuple[str, float] = ("", 0.0)  # the last place said passing, and when
     poses: list | None = None  # the published Path's PoseStamped list (Driver.goal)
 
@@ -166,6 +173,7 @@ class Driver:
         self.client = ActionClient(node, kind, SERVERS[mode])
         self.speed_pub = node.create_publisher(msg.SpeedLimit, "speed_limit", 10)
         self.run: Run | None = None
+        node.create_timer(WATCH_EVERY_S, self.watch)
 
     # ---- commands ----------------------------------------------------------------------------------------------
     def drive(
@@ -237,6 +245,7 @@ class Driver:
         goal = self.goal(run, leg)
         sent = self.client.send_goal_async(goal, feedback_callback=functools.partial(self.on_feedback, run, leg))
         sent.add_done_callback(functools.partial(self.on_sent, run, leg))
+        run.sent_at, run.ended_at = time.monotonic(), None
         self.say(run, "goal", action=SERVERS[self.mode], leg=run.next, legs=len(run.legs), to=leg.to,
                  length_m=round(float(run.cum[leg.end] - run.cum[leg.start]), 3))  # fmt: skip
 
@@ -274,11 +283,35 @@ class Driver:
             if handle.accepted:
                 handle.cancel_goal_async()
             return
+        run.sent_at = None
         if not handle.accepted:
             self.fail(run, Nav2Rejected(f"Nav2 rejected the goal to {leg.to} ({SERVERS[self.mode]})"))
             return
         run.handle = handle
-        handle.get_result_async().add_done_callback(functools.partial(self.on_result, run, leg))
+        handle.get_result_async().add_done_callback(functools.partial(self.on_result, run, leg, handle))
+
+    def watch(self) -> None:
+        """What a ROS 2 transport can lose, watched (a service's request or answer sent before both ends matched is
+        not delivered, and rclpy waits for it for ever): a goal not answered within GOAL_ANSWER_S is a
+        Nav2Unavailable error status (the robot's user hears why, instead of nothing); a goal Nav2's status topic
+        says has ended, with no result RESULT_AGAIN_S later, has its result asked for again."""
+        run, now = self.run, time.monotonic()
+        if run is None:
+            return
+        if run.sent_at is not None and now - run.sent_at > GOAL_ANSWER_S:
+            to = run.legs[run.next - 1].to
+            self.fail(run, Nav2Unavailable(f"Nav2 did not answer the goal to {to} within {GOAL_ANSWER_S:g} s "
+                                           f"({self.node.resolve_topic_name(SERVERS[self.mode])})"))  # fmt: skip
+            return
+        handle = run.handle
+        if handle is None or handle.status not in ENDED:
+            run.ended_at = None
+        elif run.ended_at is None:
+            run.ended_at = now
+        elif now - run.ended_at > RESULT_AGAIN_S:
+            run.ended_at = now
+            leg = run.legs[run.next - 1]
+            handle.get_result_async().add_done_callback(functools.partial(self.on_result, run, leg, handle))
 
     def on_feedback(self, run: Run, leg: Leg, msg: Any) -> None:
         if run is not self.run:
@@ -291,8 +324,8 @@ class Driver:
             run.said = (passing, now)
             self.say(run, "progress", passing=passing, remaining_m=round(total, 2), leg=run.next)
 
-    def on_result(self, run: Run, leg: Leg, future: Any) -> None:
-        if run is not self.run:
+    def on_result(self, run: Run, leg: Leg, handle: Any, future: Any) -> None:
+        if run is not self.run or handle is not run.handle:  # stopped, or a result asked for again came twice
             return
         answer = future.result()
         run.handle = None

@@ -17,9 +17,10 @@ It serves what the node drives on a real robot, with the nav2_msgs built from Na
   finished (succeeded, canceled, aborted, preempted: with the pose) and per speed limit, for tests to read.
 
 As Nav2's servers do, a new goal on an action pre-empts the one running (that one ends aborted, error_msg
-"preempted"); a cancel ends the goal canceled where the pose is. With ``reject`` every goal is rejected. The pose
-moves in steps of ``1 / rate`` s of the clock, so a goal takes its length / speed in real time.
-Run: ``python -m spcotmhp.ros.standin_nav2 [--speed 0.5] [--x 0 --y 0] [--reject]``.
+"preempted"); a cancel ends the goal canceled where the pose is. With ``reject`` every goal is rejected; with
+``mute`` none is answered. The pose moves in steps of ``1 / rate`` s of the clock, so a goal takes its
+length / speed in real time.
+Run: ``python -m spcotmhp.ros.standin_nav2 [--speed 0.5] [--x 0 --y 0] [--reject] [--mute]``.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
+from rclpy.task import Future
 from std_msgs.msg import Empty, String
 
 from spcotmhp.ros.nav2_types import import_nav2_msgs
@@ -104,7 +106,7 @@ class StandInNav2(Node):
     """The stand-in's node: its action servers, the simulated pose and the topics above."""
 
     def __init__(self, speed: float = 0.5, rate: float = 20.0, start: tuple[float, float] = (0.0, 0.0),
-                 reject: bool = False, frame: str = "map") -> None:  # fmt: skip
+                 reject: bool = False, frame: str = "map", mute: bool = False) -> None:  # fmt: skip
         super().__init__("standin_nav2")
         self.action_types, self.msg_types = import_nav2_msgs()
         self.speed, self.step, self.reject, self.frame = speed, 1.0 / rate, reject, frame
@@ -122,7 +124,8 @@ class StandInNav2(Node):
         for name, action in (("follow_path", self.action_types.FollowPath),
                              ("navigate_through_poses", self.action_types.NavigateThroughPoses)):  # fmt: skip
             ActionServer(
-                self, action, name, execute_callback=self.execute, goal_callback=self.on_goal,
+                self, action, name, execute_callback=self.execute,
+                goal_callback=self.on_goal_unanswered if mute else self.on_goal,
                 cancel_callback=lambda _: CancelResponse.ACCEPT, handle_accepted_callback=self.on_accepted,
                 callback_group=group,
             )  # fmt: skip
@@ -151,6 +154,13 @@ class StandInNav2(Node):
             self.event(event="rejected", poses=len(_goal_poses(request)))
             return GoalResponse.REJECT
         return GoalResponse.ACCEPT
+
+    async def on_goal_unanswered(self, request: Any) -> GoalResponse:
+        """``mute``: the goal is never answered, as when the transport loses the answer (rclpy's action server
+        awaits a coroutine goal callback without blocking its executor)."""
+        self.event(event="unanswered", poses=len(_goal_poses(request)))
+        await Future()  # never done
+        return GoalResponse.REJECT
 
     def on_accepted(self, handle: Any) -> None:
         """A new goal pre-empts the one running (that one sees it at its next step and ends aborted)."""
@@ -257,11 +267,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--x", type=float, default=0.0, help="start x in metres")
     parser.add_argument("--y", type=float, default=0.0, help="start y in metres")
     parser.add_argument("--reject", action="store_true", help="reject every goal")
+    parser.add_argument("--mute", action="store_true", help="never answer a goal (as when the answer is lost)")
     args = parser.parse_args(argv)
     if not (args.speed > 0 and args.rate > 0 and math.isfinite(args.speed) and math.isfinite(args.rate)):
         parser.error("--speed and --rate must be positive numbers")
     with ros_running():
-        node = StandInNav2(args.speed, args.rate, (args.x, args.y), args.reject)
+        node = StandInNav2(args.speed, args.rate, (args.x, args.y), args.reject, mute=args.mute)
         executor = MultiThreadedExecutor(num_threads=4)
         executor.add_node(node)
         try:

@@ -2,8 +2,9 @@
 follow_path` in a subprocess beside the stand-in Nav2 (another subprocess, which is also the robot's AMCL pose),
 talked to with real messages: the goal matches the plan, feedback becomes statuses, a wait splits the plan into
 two legs that long apart, a speed word sets the speed limit, "stop" cancels, a new instruction pre-empts, an
-abort or a rejection becomes an error with the robot's position, a wait "until told" holds the robot where it
-arrived until the next instruction, and a restarted node takes over. Skipped only without the extra ros2; with it,
+abort, a rejection or a goal never answered becomes an error with the robot's position, a lost result is asked
+for again, a wait "until told" holds the robot where it arrived until the next instruction, and a restarted node
+takes over. Skipped only without the extra ros2; with it,
 fails (naming `make nav2-msgs`) when nav2_msgs was not built."""
 
 from __future__ import annotations
@@ -194,6 +195,33 @@ def test_a_rejected_goal_is_an_error_with_the_cause_and_position(robot, tmp_path
             stop_node(proc)
 
 
+def test_a_goal_nav2_never_answers_is_an_error_not_silence(robot, tmp_path):
+    """A goal whose answer never comes (the stand-in's --mute: as when ROS 2 loses a service answer sent before
+    both ends matched): after GOAL_ANSWER_S a Nav2Unavailable error status says so, naming the goal and the
+    action, with the robot's position; the node keeps serving (the next instruction is answered the same way)."""
+    from spcotmhp.ros.drive import GOAL_ANSWER_S
+
+    args = ("--mute", "--x", str(START[0]), "--y", str(START[1]))
+    with standin(tmp_path, REJECTING_DOMAIN, *args, client_class=DriveClient) as c:
+        env = {k: os.environ[k] for k in ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_DOMAIN_ID", "ROS_LOG_DIR")}
+        proc = start_node(robot.folder, env)
+        try:
+            node_ready(c, proc)
+            for text in ("go to the bedroom", "go to the kitchen"):
+                status0, events0 = c.tell(text)
+                assert c.event("unanswered", events0)["poses"] > 1  # the goal reached the stand-in
+                assert c.spin_until(lambda: bool(c.errors(status0)), GOAL_ANSWER_S + 30)  # noqa: B023
+                error = c.errors(status0)[0]
+                place = text.split()[3]
+                assert error["type"] == "Nav2Unavailable" and error["instruction"] == text
+                assert f"did not answer the goal to {place}" in error["error"]
+                assert f"within {GOAL_ANSWER_S:g} s (/follow_path)" in error["error"]
+                assert error["where"] == pytest.approx(list(START), abs=1e-3)
+                assert not c.drive_events(status0, "arrived")
+        finally:
+            stop_node(proc)
+
+
 def test_no_nav2_is_an_error_naming_the_action_with_the_position(robot, tmp_path):
     """--drive with no Nav2 action server (none within SERVER_WAIT_S): the plan is still published, then a
     Nav2Unavailable error status names the action and the option, with the robot's position."""
@@ -267,3 +295,53 @@ def test_through_poses_mode_sends_the_stops(robot):
     end = plan.poses[-1].pose.position
     assert goal["poses"][-1] == pytest.approx([end.x, end.y])
     assert [s["place"] for s in c.drive_events(status0, "arrived")] == ["bath"]
+
+
+def test_a_result_lost_is_asked_for_again_and_counted_once(monkeypatch):
+    """Nav2's status says the goal ended but its result never came (a lost service answer): RESULT_AGAIN_S later
+    the result is asked for again (not before); when both answers come, the arrival is said once."""
+    import rclpy
+    from action_msgs.msg import GoalStatus
+    from rclpy.task import Future
+
+    from spcotmhp.ros import drive
+
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node("result_again", context=context)
+    try:
+        reports: list[dict] = []
+        driver = drive.Driver(node, drive.FOLLOW_PATH, "map", reports.append, lambda: (1.0, 0.0, 0.0))
+        run = drive.Run([Leg(0, 1, "bath", (1,), 0.0)], [], np.array([[0.0, 0.0], [1.0, 0.0]]), "go to the bath")
+        run.next = 1
+        asked: list[Future] = []
+
+        class Handle:
+            status = GoalStatus.STATUS_SUCCEEDED
+
+            def get_result_async(self) -> Future:
+                asked.append(Future())
+                return asked[-1]
+
+        handle = Handle()
+        driver.run, run.handle = run, handle
+        first = Future()
+        first.add_done_callback(lambda f: driver.on_result(run, run.legs[0], handle, f))
+        clock = [100.0]
+        monkeypatch.setattr(drive.time, "monotonic", lambda: clock[0])
+        driver.watch()  # the end is seen
+        clock[0] += drive.RESULT_AGAIN_S / 2
+        driver.watch()
+        assert not asked
+        clock[0] += drive.RESULT_AGAIN_S
+        driver.watch()
+        assert len(asked) == 1
+        answer = SimpleNamespace(status=GoalStatus.STATUS_SUCCEEDED, result=None)
+        asked[0].set_result(answer)
+        first.set_result(answer)  # the first answer came after all
+        arrived = [r for r in reports if r.get("event") == "arrived"]
+        assert len(arrived) == 1 and arrived[0]["final"] and arrived[0]["place"] == "bath"
+        assert driver.run is None
+    finally:
+        node.destroy_node()
+        context.try_shutdown()

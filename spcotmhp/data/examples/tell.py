@@ -2,11 +2,13 @@
 
 Run it while `spcotmhp ros2 MODEL_DIR` runs, with the extra 'ros2' (no ROS installation needed). It publishes a
 pose on /amcl_pose as AMCL would (latched), then an instruction on /spcotmhp/instruction, and prints the first
-JSON status the node publishes on /spcotmhp/status (a plan, or an error naming its cause). Arguments: an
-instruction, then x and y in metres in the map frame (default: the README's start in 3LDK_06).
+JSON status the node publishes on /spcotmhp/status (a plan, or an error naming its cause); it says the instruction
+again when no answer comes within 5 s (a node just discovered can miss it, or answer before it hears this one).
+Arguments: an instruction, then x and y in metres in the map frame (default: the README's start in 3LDK_06).
 """
 
 import sys
+import time
 
 import rclpy
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -31,9 +33,11 @@ pose.pose.pose.position.x, pose.pose.pose.position.y = x, y
 pose.pose.pose.orientation.w = 1.0
 pose_pub.publish(pose)
 rclpy.spin_once(node, timeout_sec=0.5)
-say.publish(String(data=instruction))
-while not answers:
-    rclpy.spin_once(node, timeout_sec=0.1)
+while not answers:  # the node answers at once; silence means the instruction or its answer was lost: say it again
+    say.publish(String(data=instruction))
+    said = time.monotonic()
+    while not answers and time.monotonic() - said < 5.0:
+        rclpy.spin_once(node, timeout_sec=0.1)
 print(answers[0].data)
 node.destroy_node()
 rclpy.shutdown()
