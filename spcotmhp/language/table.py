@@ -35,11 +35,14 @@ _DRAWN_OUT = re.compile(r"([a-z])\1{2,}")
 """A letter written three times or more ("pleeease", "kitchennn"): no English word has one, so it is drawn out."""
 
 
-def en_units(text: str) -> list[str]:
+def en_units(text: str, restore_g: bool = True) -> list[str]:
     """The English units of ``text`` (:data:`EN_UNIT`), the words of :data:`_TEXT_SPEAK` written out, a letter
     drawn out ("pleeease") written once and a dropped g put back ("goin"): one splitter for sentences, phrases of
-    the table and place words alike."""
-    units = [_g_restored(_DRAWN_OUT.sub(r"\1", u)) for u in EN_UNIT.findall(text)]
+    the table and place words alike. ``restore_g`` false: the table's own phrases, written in full spellings, which
+    the dropped g's dictionary check leaves as they are (``tests/language/test_table.py`` checks every one), so
+    reading the table does not load the dictionary (0.6 s, most of a ``plan`` command's reading)."""
+    drawn = (_DRAWN_OUT.sub(r"\1", u) for u in EN_UNIT.findall(text))
+    units = [_g_restored(u) for u in drawn] if restore_g else list(drawn)
     return [
         w
         for k, u in enumerate(units)
@@ -100,7 +103,7 @@ class WordTable:
         rule 3, so that a phrase matches whatever fillers are said inside it), or its characters (Japanese)."""
         if self.by_character:
             return tuple(ch for ch in phrase if not ch.isspace())
-        return strip_fillers(tuple(en_units(phrase)), self.fillers, self.filler_keys)
+        return strip_fillers(tuple(en_units(phrase, restore_g=False)), self.fillers, self.filler_keys)
 
 
 def read_table(text: str, source: str) -> WordTable:
@@ -114,7 +117,9 @@ def read_table(text: str, source: str) -> WordTable:
     filler_phrases = [*table.get("filler_phrases", ()), *(table.get("fillers", ()) if by_char else ())]
     fillers_written = [p for item in filler_phrases for p in expand(item)]
     filler_keys = frozenset(
-        key for p in fillers_written if not by_char and (key := tuple(u for u in en_units(p) if u not in fillers))
+        key
+        for p in fillers_written
+        if not by_char and (key := tuple(u for u in en_units(p, restore_g=False) if u not in fillers))
     )
     draft = WordTable(table["lang"], by_char, fillers, {}, {}, {}, frozenset(), filler_keys=filler_keys)
     phrases: dict[tuple[str, ...], str] = {}
@@ -138,7 +143,7 @@ def read_table(text: str, source: str) -> WordTable:
         key = (
             tuple(ch for ch in phrase if not ch.isspace())
             if by_char
-            else tuple(u for u in en_units(phrase) if u not in fillers)
+            else tuple(u for u in en_units(phrase, restore_g=False) if u not in fillers)
         )
         if key:
             phrases.setdefault(key, "")
