@@ -134,8 +134,8 @@ def _synonym_names(table: WordTable, words: frozenset[str]) -> dict[tuple[str, .
         for other in others:
             spellings = [other, *(p + other for p in table.honorifics)] if table.by_character else [other]
             for spelling in spellings:
-                key = table.units(spelling) if table.by_character else tuple(en_units(spelling))
-                if key:
+                key = table.units(spelling) if table.by_character else tuple(en_units(spelling, restore_g=False))
+                if key:  # the table's own phrase, in full spellings (WordTable.units)
                     named.setdefault(key, set()).add(word)
     return named
 
