@@ -7,9 +7,11 @@ both places are bounded: the executor waits at most :data:`SPIN_PERIOD_S` and lo
 waits, and the clean-up after spinning (threads, node, context) runs under a watchdog that ends the process
 after :data:`SHUTDOWN_GRACE_S`, saying so, as ``ros2 launch`` escalates a process that outlives its SIGINT.
 
-Ctrl-C is a request to stop, never a KeyboardInterrupt (:func:`ros_running`): Python's handler raised one wherever
-the main thread was, so a Ctrl-C just after "ready" (docs/ros2.md's blocks, started then stopped) left a traceback
-from inside rclpy's executor being made, or from the shutdown racing rclpy's own, and exit status 130.
+Ctrl-C and SIGTERM are a request to stop, which the spinning loop reads between two waits (:func:`ros_running`):
+never a KeyboardInterrupt, which Python's handler raised wherever the main thread was (a Ctrl-C just after "ready",
+docs/ros2.md's blocks started then stopped, left a traceback and exit status 130), and never rclpy's own handler,
+which shuts the context down from whichever thread the signal lands on, at any moment: under an executor being
+made, whose half-made guard condition and executor then complained from their ``__del__`` (once in a CI run).
 """
 
 from __future__ import annotations
@@ -25,20 +27,28 @@ import rclpy
 from rclpy.exceptions import NotInitializedException
 from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 
 SPIN_PERIOD_S = 0.5  # the longest wait between two looks at the context: a lost wake-up costs at most this
 SHUTDOWN_GRACE_S = 10.0  # clean-up longer than this is stuck (threads joined, DDS participant destroyed)
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)  # what rclpy's own handler stops on (SignalHandlerOptions.ALL)
+_stop = threading.Event()  # set by a stop signal in ros_running; read by spin_until_shutdown
+
+
+def stop_requested() -> bool:
+    """Whether a Ctrl-C or SIGTERM asked this process to stop (inside :func:`ros_running`)."""
+    return _stop.is_set()
 
 
 def spin_until_shutdown(node: Node, executor: Executor | None = None) -> None:
     """Spin ``node`` on ``executor`` (single-threaded by default) until the context shuts down or Ctrl-C."""
     if executor is None:
-        if not rclpy.ok(context=node.context):
+        if not rclpy.ok(context=node.context) or stop_requested():
             return  # stopped already (a Ctrl-C at start-up): no executor can be made on a context shut down
         executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
     try:
-        while rclpy.ok(context=node.context):
+        while rclpy.ok(context=node.context) and not stop_requested():
             try:
                 executor.spin_once(timeout_sec=SPIN_PERIOD_S)
             except RuntimeError:
@@ -84,23 +94,23 @@ def quiet_shutdown() -> None:
 
 @contextmanager
 def ros_running() -> Iterator[None]:
-    """``rclpy.init()`` for the block, and the shutdown after it, with Ctrl-C (SIGINT) a request to stop.
+    """``rclpy.init()`` for the block, and the shutdown after it, with Ctrl-C (SIGINT) and SIGTERM a request to stop.
 
-    The no-op Python handler is put in place before ``rclpy.init`` installs rclpy's, which shuts the contexts down
-    (ending :func:`spin_until_shutdown`) and then calls the handler it found: this one, which only notes the stop. A
-    Ctrl-C before rclpy's handler was there shuts down at once; one that shuts the context down under a node being
-    made (rclpy raises a RuntimeError or NotInitializedException) ends the block as a stop. The previous handler
-    is put back afterwards."""
-    interrupted = threading.Event()
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.set())
+    rclpy is initialised without its signal handlers; a Python handler of this block's only notes the request
+    (:func:`stop_requested`), which Python runs in the main thread between two of its steps, so nothing is shut
+    down under an object being made; :func:`spin_until_shutdown` sees it within SPIN_PERIOD_S and returns, and the
+    block's clean-up and this shutdown run in order. Should rclpy still raise on a context shut down under it
+    (RuntimeError, NotInitializedException: another handler's shutdown), the block ends as a stop. The previous
+    handlers are put back afterwards."""
+    _stop.clear()
+    previous = {s: signal.signal(s, lambda signum, frame: _stop.set()) for s in STOP_SIGNALS}
     try:
-        rclpy.init()
-        if interrupted.is_set():
-            quiet_shutdown()
+        rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
         yield
     except (RuntimeError, NotInitializedException):  # what rclpy raises on a context shut down
         if rclpy.ok():
             raise
     finally:
         quiet_shutdown()
-        signal.signal(signal.SIGINT, previous)
+        for s, handler in previous.items():
+            signal.signal(s, handler)

@@ -135,8 +135,10 @@ def test_the_grace_is_longer_than_a_wait():
     assert spinning.SHUTDOWN_GRACE_S > 4 * SPIN_PERIOD_S > 0
 
 
-def test_a_background_job_node_stops_on_sigint(tmp_path, model_3ldk06_dir):
-    """As ``spcotmhp ros2 m06 &`` in a script: bash starts the job with SIGINT ignored; ``kill -INT`` stops it."""
+@pytest.mark.parametrize("stop", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_background_job_node_stops_on_sigint(tmp_path, model_3ldk06_dir, stop):
+    """As ``spcotmhp ros2 m06 &`` in a script: bash starts the job with SIGINT ignored; ``kill -INT`` stops it, and
+    so does SIGTERM (what ``ros2 launch`` and systemd send), with exit 0 and no traceback."""
     with ros_environment(tmp_path, DOMAIN) as env:
         proc = subprocess.Popen(
             [EXE, "ros2", str(model_3ldk06_dir)],
@@ -151,7 +153,7 @@ def test_a_background_job_node_stops_on_sigint(tmp_path, model_3ldk06_dir):
             line = proc.stdout.readline()
             assert "spcotmhp node ready" in line, line
             time.sleep(0.5)
-            proc.send_signal(signal.SIGINT)
+            proc.send_signal(stop)
             out, _ = proc.communicate(timeout=30)
             assert proc.returncode == 0 and "Traceback" not in out, out
         finally:
