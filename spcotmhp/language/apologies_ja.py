@@ -50,6 +50,10 @@ _MARKED |= {"AVOID": "avoid", "NOT_GOAL": "not_goal"}
 apology after one still follows the place."""
 
 
+_TRAILING = frozenset({"_STOP", "COMMA", "WORD", "AND"})
+"""What may follow a place that ends a sentence (玄関やった: や, then った; a full stop): no part of an instruction."""
+
+
 def after_a_place(out: list[Token]) -> bool:
     """Whether the tokens so far end with a place phrase: a place or its number (:func:`_named`), or a place with
     its marker (お風呂に ごめん 洗面所に: the apology corrects the phrase, its particle with it)."""
@@ -73,11 +77,14 @@ def apologies(out: list[Token]) -> list[Token]:
 def corrects(out: list[Token], k: int) -> bool:
     """Whether the apology ``out[k]`` stands between two place phrases it corrects: a place (or number) follows it,
     and where a marker ended the phrase before it, a marker of the same role ends the phrase after it (お風呂にごめん
-    洗面所に, 洗面所行って: the goal said again; リビングを避けてすみません寝室へ says another part: a filler)."""
+    洗面所に, 洗面所行って: the goal said again; after a goal's marker, a place ending the sentence, which is a goal
+    unmarked: リビング行ってごめん玄関; リビングを避けてすみません寝室へ says another part: a filler)."""
     if k + 1 >= len(out) or not _named(out[k + 1]):
         return False
     if out[k - 1].kind not in _MARKED:
         return True
+    if _MARKED[out[k - 1].kind] == "goal" and all(t.kind in _TRAILING for t in out[k + 2 :]):
+        return True  # リビング行って ごめん玄関(やった): a place that ends the sentence is its goal, said again
     return k + 2 < len(out) and _MARKED.get(out[k + 2].kind) == _MARKED[out[k - 1].kind]
 
 

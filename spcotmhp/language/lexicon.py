@@ -58,6 +58,7 @@ from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
     contents_en,
     corrections_en,
+    go_and_come_en,
     master_en,
     numbered_en,
     relations_en,
@@ -123,6 +124,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = master_en(out)
     if "AND" in kinds:
         out = shared_head_en(out)
+    if kinds & {"AND", "THEN"} and "GO" in kinds:
+        out = go_and_come_en(out)
     if "HALT" in kinds and "DURATION" in kinds:
         out = timed_stops_en(out)
     if "WAIT" in kinds:
@@ -358,7 +361,38 @@ def _merge(items: list[Token]) -> list[Token]:
             )  # fmt: skip
         else:
             out.append(it)
-    return [_once(t) if t.kind == "PLACE" else t for t in out]
+    return _refined([_once(t) if t.kind == "PLACE" else t for t in out])
+
+
+_BEFORE_BARE = frozenset({"GO", "TO", "COMMA", "_STOP"})
+"""What may come before a place said bare that :func:`_refined` drops: nothing said of the place itself."""
+
+
+def _refined(items: list[Token]) -> list[Token]:
+    """A place said bare, then right after (a pause or 関西 や between) the same name with a size that picks one
+    ("the bedroom, the biggest bedroom", 寝室、一番広い寝室, 寝室や 一番広い寝室や) is one place, the one picked:
+    the speaker names the kind, then narrows it. Read as two, the plan would pass through another bedroom on the
+    way, which nobody asked for."""
+    out: list[Token] = []
+    k = 0
+    while k < len(items):
+        t, j = items[k], k + 1
+        if j < len(items) and (items[j].kind == "COMMA" or items[j].kind == "AND" and items[j].surface == "や"):
+            j += 1
+        if (
+            t.kind == "PLACE"
+            and t.number is None
+            and (not out or out[-1].kind in _BEFORE_BARE)
+            and j + 1 < len(items)
+            and items[j].kind in ("LARGEST", "SMALLEST")
+            and items[j + 1].kind == "PLACE"
+            and items[j + 1].words == t.words
+        ):
+            k = j
+            continue
+        out.append(t)
+        k += 1
+    return out
 
 
 def _once(tok: Token) -> Token:

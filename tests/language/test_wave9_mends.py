@@ -1,0 +1,76 @@
+"""What wave 9 (tests/data/blind36, blind37) and the English development corpora misread or refused (issue 34),
+read as meant or refused by name: "go and come" (Indian English: there and back) refused as "come back" is, never
+read as the going alone; terms of address (beta, yaar, bhai) and the hesitations "ehm" and "arre" passed over.
+Each with neighbours that must keep their reading."""
+
+from __future__ import annotations
+
+import pytest
+
+from spcotmhp.errors import InstructionError
+from spcotmhp.language.meaning import Reading
+from spcotmhp.language.reading import read
+from tests.helpers.vocabulary import PLACE_WORDS_EN
+
+
+def _route(r: Reading) -> list[str]:
+    return [" ".join(p.words) for p in r.visit]
+
+
+@pytest.mark.parametrize(
+    "text, said",
+    [
+        ("go to the bedroom and come", "and come"),
+        ("please go to the bath and come.", "and come"),
+        ("go to the hall then come", "then come"),
+        ("go via the corridor to the toilet and then come", "and then come"),
+    ],
+)
+def test_go_and_come_is_refused_as_coming_back(text, said):
+    with pytest.raises(InstructionError) as err:
+        read(text, PLACE_WORDS_EN, "en")
+    assert f"'{said}' asks to come back" in str(err.value)
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("go to the kitchen and come to the bedroom", ["kitchen", "bedroom"]),  # a place after it: a route
+        ("come to the kitchen", ["kitchen"]),
+        ("go to the kitchen and come back to the hall", ["kitchen", "hall"]),
+    ],
+)
+def test_come_with_a_place_keeps_its_reading(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+def test_go_and_come_with_no_place_is_refused_as_before():
+    with pytest.raises(InstructionError, match="names no place"):
+        read("go and come", PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "go to the toilet, beta",
+        "beta go to the toilet",
+        "yaar go to the toilet",
+        "go to the toilet yaar",
+        "bhai, go to the toilet please",
+        "arre go to the toilet",
+        "go to the ehm toilet",
+    ],
+)
+def test_address_and_hesitations_are_passed_over(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
+
+
+@pytest.mark.parametrize("text", ["go to the bedroom, the biggest bedroom", "the bedroom, the largest bedroom please"])
+def test_a_place_said_bare_then_narrowed_is_one_place(text):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert len(r.visit) == 1 and r.visit[0].relation is not None and r.visit[0].relation.kind == "largest"
+
+
+def test_another_place_before_a_narrowed_one_stays_on_the_route():
+    r = read("go to the kitchen, the biggest bedroom", PLACE_WORDS_EN, "en")
+    assert _route(r) == ["kitchen", "bedroom"]
