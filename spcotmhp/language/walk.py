@@ -133,6 +133,11 @@ class Walk:
         end = len(self.mentions) if before is None else before
         return next((k for k in range(end - 1, -1, -1) if self.mentions[k].role in VISIT_ROLES), None)
 
+    def last_goal(self, before: int) -> int | None:
+        """Index of the last place to go to said before index ``before``: the destination a place passed "on the
+        way" is on the way to."""
+        return next((k for k in range(before - 1, -1, -1) if self.mentions[k].role == "goal"), None)
+
     def destination(self) -> int | None:
         """Index of the place the robot is going to at this point ("wait there"): the last place to go to of the
         current step, else of the step before it (where that step ends: "go to the washroom via the bath, and then
@@ -147,16 +152,22 @@ class Walk:
 
     def apply_orders(self, orders: list[str], mine: list[Mention], start: int) -> None:
         """Order words on the mentions they apply to: "first" / まず rank them first, "finally" / 最後に last, "on
-        the way" / 途中で make a place to go to one to pass, "before that" / その前に puts them right before the
-        place said before index ``start``."""
+        the way" / 途中で make a place to go to one to pass (unless the clause passes one itself), passed before
+        the place to go to said before them ("toilet next, and pass through the kitchen on the way": on the way to
+        the toilet), "before that" / その前に puts them right before the place said before index ``start``."""
+        passed = any(m.role == "via" for m in mine)  # "go to the kitchen passing the hall on the way": the hall
         for order in orders:
             for m in mine:
                 if order == "first":
                     m.rank = 0
                 elif order == "last":
                     m.rank = 2
-                elif order == "on_the_way" and m.role == "goal":
-                    m.role = "via"
+                elif order == "on_the_way":
+                    m.role = "via" if m.role == "goal" and not passed else m.role
+                    target = self.last_goal(start)
+                    if m.role == "via" and target is not None:  # "toilet next, and pass the kitchen on the way"
+                        m.tied, m.step = True, self.mentions[target].step  # on the way there: that step's
+                        self.pairs.append((self.mentions.index(m), target))
                 elif order == "before_that":
                     target = self.last_visit(start)
                     if target is not None:

@@ -74,3 +74,22 @@ def test_a_place_said_bare_then_narrowed_is_one_place(text):
 def test_another_place_before_a_narrowed_one_stays_on_the_route():
     r = read("go to the kitchen, the biggest bedroom", PLACE_WORDS_EN, "en")
     assert _route(r) == ["kitchen", "bedroom"]
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        # issue 34's own case: read before as kitchen then toilet (goal and waypoint swapped, silently)
+        ("toilet next, and pass through the kitchen on the way", ["kitchen", "toilet"]),
+        ("go to the hall, then the toilet, and pass through the kitchen on the way", ["hall", "kitchen", "toilet"]),
+        ("go to the bath and go through the corridor on the way", ["corridor", "bath"]),
+        # a place passed in the clause of the goal is what is on the way; the goal stays the goal
+        ("go to the kitchen pass through the dining room on the way", ["dining", "kitchen"]),
+        ("go to the kitchen pass through the hall on the way and go fast", ["hall", "kitchen"]),
+        # the place to go to "on the way" is passed on the way (as before)
+        ("on the way go to the kitchen, then go to the toilet", ["kitchen", "toilet"]),
+    ],
+)
+def test_what_is_passed_on_the_way_is_passed_before_the_goal(text, route):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert _route(r) == route
