@@ -93,3 +93,19 @@ def test_another_place_before_a_narrowed_one_stays_on_the_route():
 def test_what_is_passed_on_the_way_is_passed_before_the_goal(text, route):
     r = read(text, PLACE_WORDS_EN, "en")
     assert _route(r) == route
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "come on, go to the toilet",
+        "c'mon go to the toilet",
+        "cmon go to the toilet",
+        "righty-o, go to the toilet",
+        "righto go to the toilet",
+        "come on into the toilet",  # "come on" urging before a way of going: the going stays
+        "come on over to the toilet",
+    ],
+)
+def test_urging_is_passed_over(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
