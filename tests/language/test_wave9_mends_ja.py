@@ -86,3 +86,26 @@ def test_an_apology_before_another_part_stays_a_filler():
 def test_a_place_said_bare_then_narrowed_is_one_place(text):
     r = read(text, PLACE_WORDS_JA, "ja")
     assert len(r.visit) == 1 and r.visit[0].relation is not None and r.visit[0].relation.kind == "largest"
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("寝室に移動していただいてもよろしいですか", ["寝室"]),  # よろしい is not the filler よろ (よろしく) and しい
+        ("トイレまでお願いしてもよろしいでしょうか", ["トイレ"]),
+        ("廊下通って玄関行ってもよろしいですか", ["廊下", "玄関"]),
+        ("寝室行ってくれたらいいな", ["寝室"]),  # a wish that is a request, not a condition
+        ("トイレ行ってくれたら助かる", ["トイレ"]),
+        ("玄関行ってくれたらええねん", ["玄関"]),
+        ("もしもし 寝室行って", ["寝室"]),  # the telephone's hello, not the もし of a condition
+    ],
+)
+def test_polite_requests_and_hello(text, route):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == route
+
+
+def test_a_condition_is_still_refused():
+    from spcotmhp.errors import InstructionError
+
+    with pytest.raises(InstructionError, match="condition"):
+        read("もし寝室が空いてたら行って", PLACE_WORDS_JA, "ja")
