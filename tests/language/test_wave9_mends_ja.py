@@ -109,3 +109,8 @@ def test_a_condition_is_still_refused():
 
     with pytest.raises(InstructionError, match="condition"):
         read("もし寝室が空いてたら行って", PLACE_WORDS_JA, "ja")
+
+
+@pytest.mark.parametrize("text", ["寝室に。どれでも構いません", "寝室へ、どれでもかまわない", "とりま寝室"])
+def test_any_one_will_do_and_for_now(text):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == ["寝室"]
