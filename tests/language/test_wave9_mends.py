@@ -109,3 +109,19 @@ def test_what_is_passed_on_the_way_is_passed_before_the_goal(text, route):
 )
 def test_urging_is_passed_over(text):
     assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("go to the lumber room", ["storeroom"]),
+        ("take me to the stockroom", ["storeroom"]),
+        ("go to the stock room via the hall", ["hall", "storeroom"]),
+        ("go to the main door", ["entrance"]),
+        ("is it too much to ask for you to go to the toilet", ["toilet"]),
+        ("could I ask you to go to the toilet?", ["toilet"]),
+        ("may I ask you to go to the toilet", ["toilet"]),
+    ],
+)
+def test_more_names_and_request_frames(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
