@@ -31,6 +31,9 @@ in Merriam-Webster). The one-letter ones ("n", "d") only between two longer word
 _G_DROPPED = re.compile(r"[a-z]{2,}in")
 """A word said with its -ing as -in ("goin", "fixin", "sittin room", "darlin"; the apostrophe of "goin'" is not
 part of the unit): the -ing form, where the dictionary holds it and not the word as said ("robin", "cabin" stay)."""
+_DEFINITE_T = re.compile(r"t'[a-z]{2,}")
+"""Northern English's reduced article written with the word it goes with ("go through to t'kitchen", "t'other
+room"): "the" and the word. No standard English word begins with "t'" ("'twas" begins with the apostrophe)."""
 _DRAWN_OUT = re.compile(r"([a-z])\1{2,}")
 """A letter written three times or more ("pleeease", "kitchennn"): no English word has one, so it is drawn out."""
 
@@ -42,6 +45,7 @@ def en_units(text: str, restore_g: bool = True) -> list[str]:
     the dropped g's dictionary check leaves as they are (``tests/language/test_table.py`` checks every one), so
     reading the table does not load the dictionary (0.6 s, most of a ``plan`` command's reading)."""
     drawn = (_DRAWN_OUT.sub(r"\1", u) for u in EN_UNIT.findall(text))
+    drawn = (w for u in drawn for w in (("the", u[2:]) if _DEFINITE_T.fullmatch(u) else (u,)))
     units = [_g_restored(u) for u in drawn] if restore_g else list(drawn)
     return [
         w

@@ -33,3 +33,9 @@ def test_reading_the_tables_loads_no_dictionary():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120)
     assert out.stdout.strip() == "False"
+
+
+def test_the_northern_reduced_article_is_the():
+    assert en_units("go through to t'kitchen") == ["go", "through", "to", "the", "kitchen"]
+    assert en_units("t'other room") == ["the", "other", "room"]
+    assert en_units("don't can't i'm t'") == ["don't", "can't", "i'm", "t"]  # no word after it: as before

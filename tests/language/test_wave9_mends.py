@@ -125,3 +125,10 @@ def test_urging_is_passed_over(text):
 )
 def test_more_names_and_request_frames(text, route):
     assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+@pytest.mark.parametrize(
+    "text", ["ey up, go to t'toilet", "eh up love, go through to t'toilet would you", "go t'toilet"]
+)
+def test_northern_english(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
