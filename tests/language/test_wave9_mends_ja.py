@@ -114,3 +114,15 @@ def test_a_condition_is_still_refused():
 @pytest.mark.parametrize("text", ["寝室に。どれでも構いません", "寝室へ、どれでもかまわない", "とりま寝室"])
 def test_any_one_will_do_and_for_now(text):
     assert _route(read(text, PLACE_WORDS_JA, "ja")) == ["寝室"]
+
+
+@pytest.mark.parametrize("text", ["寝室だったらどこでもいい", "寝室やったらどれでもええわ", "寝室行っとこか"])
+def test_any_of_a_kind_and_lets(text):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == ["寝室"]
+
+
+def test_a_condition_with_da_ttara_is_still_refused():
+    from spcotmhp.errors import InstructionError
+
+    with pytest.raises(InstructionError, match="condition"):
+        read("寝室だったら行って", PLACE_WORDS_JA, "ja")
