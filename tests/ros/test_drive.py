@@ -9,9 +9,11 @@ fails (naming `make nav2-msgs`) when nav2_msgs was not built."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import warnings
+from collections.abc import Iterator
 from types import SimpleNamespace
 
 import numpy as np
@@ -175,22 +177,29 @@ def test_a_rejected_goal_is_an_error_with_the_cause_and_position(robot, tmp_path
     """Nav2 rejecting the goal (as a Nav2 that is up but not yet active does): a Nav2Rejected error status naming
     the goal and the action, with the robot's position; nothing is said to be driven or reached; the node keeps
     serving."""
-    args = ("--reject", "--x", str(START[0]), "--y", str(START[1]))
+    with _node_beside_a_standin(robot, tmp_path, "--reject") as c:
+        for text in ("go to the bedroom", "go to the kitchen via the corridor"):  # twice: it keeps serving
+            status0, events0 = c.tell(text)
+            assert c.spin_until(lambda: bool(c.errors(status0)))  # noqa: B023 - called here, in this turn
+            error = c.errors(status0)[0]
+            place = text.split()[3]
+            assert error["type"] == "Nav2Rejected" and error["instruction"] == text
+            assert f"rejected the goal to {place}" in error["error"] and "follow_path" in error["error"]
+            assert error["where"] == pytest.approx(list(START), abs=1e-3)  # the stand-in never moved
+            assert c.event("rejected", events0)["poses"] > 1
+            assert not c.drive_events(status0, "arrived") and not c.drive_events(status0, "progress")
+
+
+@contextlib.contextmanager
+def _node_beside_a_standin(robot, tmp_path, option: str) -> Iterator[DriveClient]:
+    """A stand-in of its own at START with ``option`` (--reject, --mute), and a node of its own driving it."""
+    args = (option, "--x", str(START[0]), "--y", str(START[1]))
     with standin(tmp_path, REJECTING_DOMAIN, *args, client_class=DriveClient) as c:
         env = {k: os.environ[k] for k in ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_DOMAIN_ID", "ROS_LOG_DIR")}
         proc = start_node(robot.folder, env)
         try:
             node_ready(c, proc)
-            for text in ("go to the bedroom", "go to the kitchen via the corridor"):  # twice: it keeps serving
-                status0, events0 = c.tell(text)
-                assert c.spin_until(lambda: bool(c.errors(status0)))  # noqa: B023 - called here, in this turn
-                error = c.errors(status0)[0]
-                place = text.split()[3]
-                assert error["type"] == "Nav2Rejected" and error["instruction"] == text
-                assert f"rejected the goal to {place}" in error["error"] and "follow_path" in error["error"]
-                assert error["where"] == pytest.approx(list(START), abs=1e-3)  # the stand-in never moved
-                assert c.event("rejected", events0)["poses"] > 1
-                assert not c.drive_events(status0, "arrived") and not c.drive_events(status0, "progress")
+            yield c
         finally:
             stop_node(proc)
 
@@ -201,25 +210,18 @@ def test_a_goal_nav2_never_answers_is_an_error_not_silence(robot, tmp_path):
     action, with the robot's position; the node keeps serving (the next instruction is answered the same way)."""
     from spcotmhp.ros.drive import GOAL_ANSWER_S
 
-    args = ("--mute", "--x", str(START[0]), "--y", str(START[1]))
-    with standin(tmp_path, REJECTING_DOMAIN, *args, client_class=DriveClient) as c:
-        env = {k: os.environ[k] for k in ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_DOMAIN_ID", "ROS_LOG_DIR")}
-        proc = start_node(robot.folder, env)
-        try:
-            node_ready(c, proc)
-            for text in ("go to the bedroom", "go to the kitchen"):
-                status0, events0 = c.tell(text)
-                assert c.event("unanswered", events0)["poses"] > 1  # the goal reached the stand-in
-                assert c.spin_until(lambda: bool(c.errors(status0)), GOAL_ANSWER_S + 30)  # noqa: B023
-                error = c.errors(status0)[0]
-                place = text.split()[3]
-                assert error["type"] == "Nav2Unavailable" and error["instruction"] == text
-                assert f"did not answer the goal to {place}" in error["error"]
-                assert f"within {GOAL_ANSWER_S:g} s (/follow_path)" in error["error"]
-                assert error["where"] == pytest.approx(list(START), abs=1e-3)
-                assert not c.drive_events(status0, "arrived")
-        finally:
-            stop_node(proc)
+    with _node_beside_a_standin(robot, tmp_path, "--mute") as c:
+        for text in ("go to the bedroom", "go to the kitchen"):
+            status0, events0 = c.tell(text)
+            assert c.event("unanswered", events0)["poses"] > 1  # the goal reached the stand-in
+            assert c.spin_until(lambda: bool(c.errors(status0)), GOAL_ANSWER_S + 30)  # noqa: B023
+            error = c.errors(status0)[0]
+            place = text.split()[3]
+            assert error["type"] == "Nav2Unavailable" and error["instruction"] == text
+            assert f"did not answer the goal to {place}" in error["error"]
+            assert f"within {GOAL_ANSWER_S:g} s (/follow_path)" in error["error"]
+            assert error["where"] == pytest.approx(list(START), abs=1e-3)
+            assert not c.drive_events(status0, "arrived")
 
 
 def test_no_nav2_is_an_error_naming_the_action_with_the_position(robot, tmp_path):
