@@ -38,6 +38,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
+from spcotmhp.language.endings_en import emphasis_en, go_and_come_en
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.forms_en import (
     any_but_en,
@@ -59,7 +60,6 @@ from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
     contents_en,
     corrections_en,
-    go_and_come_en,
     master_en,
     numbered_en,
     relations_en,
@@ -127,6 +127,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = shared_head_en(out)
     if kinds & {"AND", "THEN"} and "GO" in kinds:
         out = go_and_come_en(out)
+    if "WORD" in kinds and "TO" in kinds:
+        out = emphasis_en(out)
     if "HALT" in kinds and "DURATION" in kinds:
         out = timed_stops_en(out)
     if "WAIT" in kinds:

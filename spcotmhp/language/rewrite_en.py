@@ -259,26 +259,6 @@ def master_en(items: list[Token]) -> list[Token]:
     ]  # fmt: skip
 
 
-def go_and_come_en(items: list[Token]) -> list[Token]:
-    """ "Go to the kitchen and come": Indian English's "go and come" is going there and coming back (as "go and
-    come" is glossed in Indian English usage guides); a "come" that ends the sentence (a full stop after it at
-    most) right after "and" or "then", with a place before it, names no place of its own: it asks to come back,
-    refused as "come back" is (BACK), naming the words said, never dropped."""
-    end = len(items) - (1 if items and items[-1].kind == "_STOP" else 0)
-    if (
-        end < 3
-        or items[end - 1].kind != "GO"
-        or items[end - 1].surface != "come"
-        or items[end - 2].kind not in ("AND", "THEN")
-    ):
-        return items
-    if not any(t.kind == "PLACE" for t in items[: end - 2]):
-        return items
-    said, come = items[end - 2], items[end - 1]
-    back = Token("BACK", f"{said.surface} {come.surface}", start=said.start, end=come.end)
-    return [*items[: end - 2], back, *items[end:]]
-
-
 def said_again(items: list[Token]) -> list[Token]:
     """Rule 6 again: a number alone after a negation or a correction ("any bedroom except number 1", "bedroom two,
     no, three") names that instance of the place said last; said again right after it ("bedroom number one number

@@ -132,3 +132,14 @@ def test_more_names_and_request_frames(text, route):
 )
 def test_northern_english(text):
     assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
+
+
+@pytest.mark.parametrize("text", ["go to the toilet only", "Please go to the toilet only.", "go to the toilet itself"])
+def test_emphasis_after_the_goal_is_left_out(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
+
+
+@pytest.mark.parametrize("text", ["go to the bath via the kitchen only", "go to the bath only through the kitchen"])
+def test_only_constraining_the_route_is_refused(text):
+    with pytest.raises(InstructionError, match="'only'"):
+        read(text, PLACE_WORDS_EN, "en")

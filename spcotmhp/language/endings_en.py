@@ -1,0 +1,43 @@
+"""What closes an English sentence after the place gone to, read by :mod:`spcotmhp.language.lexicon`: "and come"
+(there and back, refused as "come back" is) and the emphatic "only" / "itself" (left out)."""
+
+from __future__ import annotations
+
+from spcotmhp.language.placewords import Token
+
+
+def go_and_come_en(items: list[Token]) -> list[Token]:
+    """ "Go to the kitchen and come": Indian English's "go and come" is going there and coming back (as "go and
+    come" is glossed in Indian English usage guides); a "come" that ends the sentence (a full stop after it at
+    most) right after "and" or "then", with a place before it, names no place of its own: it asks to come back,
+    refused as "come back" is (BACK), naming the words said, never dropped."""
+    end = len(items) - (1 if items and items[-1].kind == "_STOP" else 0)
+    if (
+        end < 3
+        or items[end - 1].kind != "GO"
+        or items[end - 1].surface != "come"
+        or items[end - 2].kind not in ("AND", "THEN")
+    ):
+        return items
+    if not any(t.kind == "PLACE" for t in items[: end - 2]):
+        return items
+    said, come = items[end - 2], items[end - 1]
+    back = Token("BACK", f"{said.surface} {come.surface}", start=said.start, end=come.end)
+    return [*items[: end - 2], back, *items[end:]]
+
+
+_EMPHASIS = frozenset({"only", "itself"})
+
+
+def emphasis_en(items: list[Token]) -> list[Token]:
+    """Indian English's emphatic "only" and "itself" closing a sentence right after the place gone to ("go to the
+    washroom only", "go to the corridor itself": that place and no other, which is what a plan to it is) are left
+    out; after a place passed or avoided ("via the kitchen only": no other way) they would constrain the route,
+    and stay, refused."""
+    end = len(items) - (1 if items and items[-1].kind == "_STOP" else 0)
+    last = items[end - 1] if end >= 3 else None
+    if last is None or last.kind != "WORD" or last.surface not in _EMPHASIS:
+        return items
+    if items[end - 2].kind != "PLACE" or items[end - 3].kind != "TO":
+        return items
+    return [*items[: end - 1], *items[end:]]
