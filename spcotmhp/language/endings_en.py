@@ -1,5 +1,6 @@
 """What closes an English sentence after the place gone to, read by :mod:`spcotmhp.language.lexicon`: "and come"
-(there and back, refused as "come back" is) and the emphatic "only" / "itself" (left out)."""
+(there and back, refused as "come back" is) and the emphatic "only" / "itself" (left out); and the question a
+"go there" answers ("Where's the kitchen? Go there.")."""
 
 from __future__ import annotations
 
@@ -41,3 +42,23 @@ def emphasis_en(items: list[Token]) -> list[Token]:
     if items[end - 2].kind != "PLACE" or items[end - 3].kind != "TO":
         return items
     return [*items[: end - 1], *items[end:]]
+
+
+_ASKING = frozenset({"where", "where's", "which"})
+
+
+def asked_then_there_en(items: list[Token]) -> list[Token]:
+    """A question that names a place, answered by "go there" after it ("Where's the kitchen? Go there.", "do you
+    know where the kitchen is go there", "which bedroom is closest to the dining room? go there"): "there" is the
+    place the question names, so the question's own words (where, which, the "is" beside the place) are left out
+    and the place stays, with its relation. Only where the sentence opens with the question and holds "go there"."""
+    if len(items) < 4 or items[0].kind != "WORD" or items[0].surface not in _ASKING:
+        return items
+    if not any(t.kind == "THERE" and k > 0 and items[k - 1].kind == "GO" for k, t in enumerate(items)):
+        return items
+    stop = next((k for k, t in enumerate(items) if t.kind in ("_STOP", "GO")), len(items))
+    head = items[1:stop]
+    if not head or not any(t.kind == "PLACE" for t in head):
+        return items
+    kept = [t for k, t in enumerate(head) if not (t.kind == "IS" and (k == 0 or head[k - 1].kind == "PLACE"))]
+    return [*kept, *items[stop:]]

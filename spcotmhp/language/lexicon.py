@@ -38,7 +38,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from spcotmhp.language.endings_en import emphasis_en, go_and_come_en
+from spcotmhp.language.endings_en import asked_then_there_en, emphasis_en, go_and_come_en
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.forms_en import (
     any_but_en,
@@ -129,6 +129,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = go_and_come_en(out)
     if "WORD" in kinds and "TO" in kinds:
         out = emphasis_en(out)
+    if "WORD" in kinds and "THERE" in kinds:
+        out = asked_then_there_en(out)
     if "HALT" in kinds and "DURATION" in kinds:
         out = timed_stops_en(out)
     if "WAIT" in kinds:

@@ -143,3 +143,28 @@ def test_emphasis_after_the_goal_is_left_out(text):
 def test_only_constraining_the_route_is_refused(text):
     with pytest.raises(InstructionError, match="'only'"):
         read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("Where's the toilet? Go there.", ["toilet"]),
+        ("where is the toilet? go there please", ["toilet"]),
+        ("do you know where the toilet is go there", ["toilet"]),
+        ("which bedroom is closest to the kitchen? go there", ["bedroom"]),
+    ],
+)
+def test_a_question_answered_by_go_there(text, route):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert _route(r) == route
+
+
+@pytest.mark.parametrize("text", ["where's the toilet", "which bedroom is closest to the kitchen?"])
+def test_a_question_alone_is_still_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
+
+
+def test_the_question_keeps_its_relation():
+    r = read("which bedroom is closest to the kitchen? go there", PLACE_WORDS_EN, "en")
+    assert r.visit[0].relation is not None and r.visit[0].relation.kind == "closest"
