@@ -168,3 +168,16 @@ def test_a_question_alone_is_still_refused(text):
 def test_the_question_keeps_its_relation():
     r = read("which bedroom is closest to the kitchen? go there", PLACE_WORDS_EN, "en")
     assert r.visit[0].relation is not None and r.visit[0].relation.kind == "closest"
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Amma says go to the toilet.",  # a family word of South Asian English, as mum says
+        "go to the toilet so nani can see you",
+        "lowkey need you in the toilet",  # texting's hedges
+        "can u head to the toilet fr",
+    ],
+)
+def test_family_words_and_hedges(text):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == ["toilet"]
