@@ -9,6 +9,10 @@ sentence with no derivation as said. Each rule has its reason; the classes are d
    crawl, creep, tiptoe); other manners (a hop, a roll) are nothing a wheeled robot can do differently. "skip",
    "avoid", "pass", "return" and the like are no such verbs (they are other classes, or refused). In texts, "2"
    between a verb of going and a place is "to" ("go 2 the kitchen").
+1b. **Taking a position at the goal** (``talk.posture``: verbs of assuming a position, Levin 1993 §50, with verbs
+   of putting oneself somewhere): such a verb, maybe with "yourself" and "down" or "up", right before "in" or "at"
+   a place ("go stand at the front door", "go and sit yourself down in the lounge", "park yourself at the
+   entrance") says where the robot is to end up: it is read as "to", and a "go (and)" before it is that going.
 2. **Addresses and interjections** (``talk.address``, ``talk.interjections``, ``talk.kin``): a part of the sentence
    between its edges, commas and full stops made only of terms of address ("love", "my dude", "you little rascal"),
    interjections ("huh", "nah", "g'day") or a name introducing its speaker ("Gran here") names whom the speaker
@@ -134,7 +138,7 @@ def ease_en(
     people = frozenset(talk.get("kin", ())) | owner_names(place_words)
     out = answer(owners(pieces(restarts(list(toks), units), frozenset(place_words), units), frozenset(place_words)))
     out = requesters(out, people)  # after owners: "alice wants you in her room" says whose room first
-    out = repairs(_until_told(_manner(_text_speak(_fronted(out)), talk), units), units, notes)
+    out = repairs(_until_told(_manner(_posture(_text_speak(_fronted(out)), talk), talk), units), units, notes)
     kept, said = _asides(out, talk, units, table)
     if said or kept != list(toks):
         return kept, said, notes
@@ -170,6 +174,32 @@ def _manner(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
                 if manner == "slow":
                     out.append(Token("SLOW", said, start=a, end=b))
             i = j
+            continue
+        out.append(t)
+        i += 1
+    return out
+
+
+def _posture(toks: list[Token], talk: Mapping[str, Any]) -> list[Token]:
+    """Rule 1b: a posture verb ("yourself", "down", "up" after it) before "in" / "at" and a place, as TO; a "go
+    (and)" right before it is that going ("go and stand at the entrance": go to the entrance)."""
+    posture = frozenset(talk.get("posture", ()))
+    out: list[Token] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        j = i + 1
+        verb = t.kind == "WORD" and ew.lemma(t.surface, "VERB") in posture
+        while verb and j < len(toks) and toks[j].surface in ("yourself", "urself", "down", "up"):
+            j += 1
+        if verb and j + 1 < len(toks) and toks[j].kind in ("AT", "TO") and toks[j + 1].kind == "PLACE":
+            if len(out) > 1 and out[-1].kind == "AND" and out[-2].kind == "GO":
+                out.pop()  # "go and stand at": the going is the standing's
+            said = " ".join(x.surface for x in toks[i : j + 1])
+            if not (out and out[-1].kind == "GO"):
+                out.append(Token("GO", said, start=t.start, end=toks[j].end))
+            out.append(Token("TO", said, start=t.start, end=toks[j].end))
+            i = j + 1
             continue
         out.append(t)
         i += 1

@@ -5,6 +5,8 @@ Rules, in this order (English; Japanese below):
 
 1. The text is normalised (:func:`spcotmhp.language.text.normalise`) and cut into units: words (inner apostrophes
    kept) and the punctuation that separates clauses; a hyphen inside a word is a space ("living-room").
+1b. A word written as a dialect says it is read as the word it spells (the table's ``spellings``: Scots "ye",
+   "wi", "dinnae"), one unit for one unit.
 2. Lengths of time become one DURATION token: an optional "for", a number (digits or a number word, "a", "an",
    "half a") and a unit (seconds, minutes, hours): "for two minutes" is 120 s. Floor phrases ("on the second
    floor", "upstairs") become one FLOOR token, or FLOOR_TO before "to" (:mod:`spcotmhp.language.floors`).
@@ -145,7 +147,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
 def english_units(text: str) -> list[str]:
     """Rule 1: the units of a normalised English sentence (:func:`~spcotmhp.language.table.en_units`)."""
     units = en_units(_INNER_HYPHEN.sub(" ", normalise(text).translate(_DASHES)))
-    return [u for u in units if u != "..."]  # an ellipsis is a hesitation ("go to the... the bedroom")
+    spelled = word_table("en").spellings  # rule 1b: a dialect's spelling of a word read as the word
+    return [spelled.get(u, u) for u in units if u != "..."]  # an ellipsis is a hesitation ("go to the... the bedroom")
 
 
 def _tokens_en(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
