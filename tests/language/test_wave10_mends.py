@@ -1,7 +1,8 @@
 """What wave 10 (tests/data/blind40, blind42) and the development corpora refused or misread (issue 34), read as
 meant: a posture verb before "in" / "at" a place says where the robot ends up ("go stand at the front door"); Scots
 spellings read as the words they spell (ye, wi, dinnae, the noo); a text's kisses closing it ("x", "xx"); いや待って
-as one correction ("no, wait"), never a wait. Each with neighbours that must keep their reading or refusal."""
+as one correction ("no, wait"), never a wait; Philippine English room names (CR, comfort room, sala); 東北 さ (へ) and
+〜てけさい / 〜てけらいん / 〜てけね, 北海道 なまら. Each with neighbours that must keep their reading or refusal."""
 
 from __future__ import annotations
 
@@ -58,3 +59,33 @@ def test_iya_matte_is_a_correction_not_a_wait():
     assert _route(r) == ["トイレ"] and r.speed == "fast" and r.waits == ()
     assert _route(read("キッチン、いや待って、リビング", PLACE_WORDS_JA, "ja")) == ["リビング"]
     assert read("トイレで待って", PLACE_WORDS_JA, "ja").waits  # a wait said as one stays a wait
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("Robot pls go to the CR", ["toilet"]),
+        ("go to the comfort room please", ["toilet"]),
+        ("pls go to the sala", ["living"]),
+    ],
+)
+def test_philippine_english_names_of_rooms(text, route):
+    assert _route(read(text, PLACE_WORDS_EN, "en")) == route
+
+
+@pytest.mark.parametrize(
+    "text, route",
+    [
+        ("物置きさ行ってけさいん", ["物置き"]),  # 東北 さ (へ), 仙台 〜てけさいん (ください)
+        ("洗面所さ行ってけらいね", ["洗面所"]),
+        ("台所さ行ってけねすか", ["キッチン"]),
+        ("物置きさ寄って、したっけ玄関行ってくれや", ["物置き", "玄関"]),
+    ],
+)
+def test_tohoku_endings_and_the_direction_sa(text, route):
+    assert _route(read(text, PLACE_WORDS_JA, "ja")) == route
+
+
+def test_namara_says_only_how_much():
+    assert read("なまら急いで玄関行って！", PLACE_WORDS_JA, "ja").speed == "fast"
+    assert read("なまらゆっくり玄関行って", PLACE_WORDS_JA, "ja").speed == "slow"
