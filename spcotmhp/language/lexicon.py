@@ -6,7 +6,7 @@ Rules, in this order (English; Japanese below):
 1. The text is normalised (:func:`spcotmhp.language.text.normalise`) and cut into units: words (inner apostrophes
    kept) and the punctuation that separates clauses; a hyphen inside a word is a space ("living-room").
 1b. A word written as a dialect says it is read as the word it spells (the table's ``spellings``: Scots "ye",
-   "wi", "dinnae"), one unit for one unit.
+   "wi", "dinnae"), one unit for one unit (a refusal quotes the standard word).
 2. Lengths of time become one DURATION token: an optional "for", a number (digits or a number word, "a", "an",
    "half a") and a unit (seconds, minutes, hours): "for two minutes" is 120 s. Floor phrases ("on the second
    floor", "upstairs") become one FLOOR token, or FLOOR_TO before "to" (:mod:`spcotmhp.language.floors`).
