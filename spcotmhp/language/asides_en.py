@@ -55,7 +55,7 @@ from spcotmhp.language import english_words as ew
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.repairs_en import BOUNDS as _BOUNDS
 from spcotmhp.language.repairs_en import answer, owner_names, owners, pieces, repairs, requesters, restarts
-from spcotmhp.language.statements_en import CLOCK, stated
+from spcotmhp.language.statements_en import CLOCK, about_places, stated
 from spcotmhp.language.table import WordTable, filler_at
 from spcotmhp.language.talk import admissible
 
@@ -140,6 +140,10 @@ def ease_en(
     out = requesters(out, people)  # after owners: "alice wants you in her room" says whose room first
     out = repairs(_until_told(_manner(_posture(_text_speak(_fronted(out)), talk), talk), units), units, notes)
     kept, said = _asides(out, talk, units, table)
+    subjects = frozenset(talk.get("subjects", ())) | people
+    times = frozenset(talk.get("times_in_statements", ())) | CLOCK
+    if (places := about_places(kept, subjects, frozenset(talk.get("meaning", ())), times)) is not None:
+        kept, said = places[0], [*said, *places[1]]  # rule 3c
     if said or kept != list(toks):
         return kept, said, notes
     return None

@@ -50,6 +50,7 @@ def _filler_fitting(
 
 def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     chars = [ch for ch in text if not ch.isspace()]
+    nouns = _nouns("".join(chars))
     out: list[Token] = []
     i = 0
     while i < len(chars):
@@ -83,6 +84,8 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
         hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places))
         if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _SMALL_KANA:
             hit = _shorter_filler(chars, i, hit, table, places)
+        if hit is not None and not hit[0] and _in_a_noun(chars, i, hit[2], nouns, out, table, places):
+            hit = None  # おばあちゃん, おなか: a filler's characters inside a noun janome knows are the noun's
         if hit is not None:
             kind, value, n = hit
             if kind:
@@ -104,6 +107,45 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
     return held(apologies(reasons(_nearest_to(out))))
+
+
+def _nouns(text: str) -> list[tuple[int, int]]:
+    """(start, end) of each noun of janome's dictionary in ``text`` (spaces left out), as janome segments it."""
+    from spcotmhp.language.text import _tokenizer
+
+    spans, at = [], 0
+    for m in _tokenizer().tokenize(text):
+        if m.part_of_speech.startswith("名詞") and m.node_type == "SYS_DICT" and len(m.surface) > 1:
+            spans.append((at, at + len(m.surface)))
+        at += len(m.surface)
+    return spans
+
+
+def _in_a_noun(
+    chars: list[str],
+    i: int,
+    n: int,
+    nouns: list[tuple[int, int]],
+    out: list[Token],
+    table: WordTable,
+    places: PlaceLexicon,
+) -> bool:
+    """Whether the filler ``chars[i : i + n]`` lies inside a noun janome knows (お|ば|あ|ちゃん, お|な|か) that
+    overlaps no place or longer word matched before it and holds no start of a place or of a word of a class after
+    the filler (a one-character word of a class before it, か of おかあさん, is the noun's character too):
+    where janome's noun runs into a word the table knows (その|もの|おき: ものおき; あい|や: いや), the table wins."""
+    for a, b in nouns:
+        taken = any(t.kind == "PLACE" or t.kind != "WORD" and t.end - t.start > 1 for t in out if t.end > a)
+        if taken or not (a <= i < b and (a < i or i + n < b)):
+            continue
+        if not any(_starts_word(chars, k, table, places) for k in range(i + 1, b)):
+            return True
+    return False
+
+
+def _starts_word(chars: list[str], k: int, table: WordTable, places: PlaceLexicon) -> bool:
+    hit = longest_match(chars, k, table, places)
+    return hit is not None and bool(hit[0])
 
 
 def _nearest_to(out: list[Token]) -> list[Token]:

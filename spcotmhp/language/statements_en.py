@@ -124,3 +124,117 @@ def _verb(word: str) -> bool:
     """A verb or an auxiliary ("left", "coming", "want"), or a word with a verb's contraction ("i'll", "footy's")."""
     pos = ew.pos(word)
     return "AUX" in pos or "VERB" in pos or "'" in word and word.rsplit("'", 1)[1] in ("ll", "re", "ve", "d", "m", "s")
+
+
+_ROBOT = frozenset({"you", "u", "yourself", "ya", "ye"})
+_ANAPHORS = frozenset({"IT", "THERE"})
+_AFTER_ANAPHOR = frozenset({"AVOID", "GO", "VIA", "HURRY", "ENTER", "NOT_ENTER", "AT"})
+"""Classes before "it" / "there" that make them the place gone to, passed or avoided ("avoid it", "go there")."""
+_IN_A_PLACE_STATEMENT = _ALLOWED | {"PLACE", "MODIFIER"}
+
+
+def about_places(
+    toks: Sequence[Token], subjects: frozenset[str], meaning: frozenset[str], times: frozenset[str]
+) -> tuple[list[Token], list[str]] | None:
+    """Rule 3c of :mod:`spcotmhp.language.asides_en`: a statement of someone other than the robot that names a
+    place ("I'm mopping the kitchen, go to the hall", "guests will be in the living room tonight, so head to the
+    washroom", "could you go to the hall please i'm vacuuming the corridor") says why the speaker asks, as the
+    writers of every corpus label it: its place is neither avoided nor gone to unless the instruction refers back
+    to it. Passed over, when the rest of the sentence names a place of its own; "it" or "there" right after a verb
+    of going, passing or avoiding with no place before it in the rest ("the dog made a mess in the corridor, so
+    avoid it"; "I left my phone in the kitchen, go there") is the statement's one place, put in its stead. The
+    statement opens where a part opens or with a subject word ("i'm") after a place or a word, holds a verb and
+    only words a statement may hold (:func:`stated`'s classes, places and possessives; "to" only before a place;
+    no word of ``meaning``, no robot, no length of time, no time after "it's"), and ends before the first word that
+    may not stand in it. None when no statement is found or the rest would be no instruction."""
+    toks = list(toks)
+    for s in range(len(toks)):
+        if not _may_open(toks, s, subjects):
+            continue
+        e = _statement_end(toks, s, meaning, times)
+        clause = toks[s:e]
+        places = [t for t in clause if t.kind == "PLACE"]
+        verb = any((k > 0 or "'" in t.surface) and (t.kind == "IS" or t.kind == "GO" and t.surface in _BE or
+                                                      t.kind == "WORD" and _verb(t.surface))
+                   for k, t in enumerate(clause))  # fmt: skip
+        if not places or not verb or not (_opens(clause, subjects, False) or _place_first(clause)) or e - s < 2:
+            continue
+        if e < len(toks) and not (toks[e].kind in _OPENERS and not toks[e].surface.endswith("ing")):
+            continue  # "... bath is | running": a statement ends where a part ends or an instruction opens
+        rest = toks[:s] + toks[e:]
+        anaphors = [k for k, t in enumerate(rest) if t.kind in _ANAPHORS and k >= s]
+        if anaphors:
+            k = anaphors[0]
+            names = {t.words for t in places}
+            if (
+                len(names) != 1
+                or k == 0
+                or rest[k - 1].kind not in _AFTER_ANAPHOR
+                or len(anaphors) > 1
+                or any(t.kind == "PLACE" for t in rest[s:k])
+            ):
+                return None  # "it" may stand for more than one place, or for one the rest names
+            rest[k] = places[-1]._replace(start=rest[k].start, end=rest[k].end)
+        while rest and rest[0].kind in ("COMMA", "_STOP", "AND"):
+            rest.pop(0)
+        while rest and rest[-1].kind in ("COMMA", "AND"):
+            rest.pop()
+        if not any(t.kind == "PLACE" for t in rest):
+            return None
+        return rest, [" ".join(t.surface for t in clause)]
+    return None
+
+
+_BE = frozenset({"be", "been", "being"})
+_OPENERS = frozenset({"COMMA", "_STOP", "AND", "GO", "HURRY", "VIA", "AVOID", "NEG", "WAIT", "ENTER", "NO", "WITHOUT"})
+
+
+def _place_first(clause: Sequence[Token]) -> bool:
+    """A place as the subject: before "is" or a word with its contraction ("the kitchen is being cleaned", "the
+    living room's a mess")."""
+    second = clause[1]
+    return clause[0].kind == "PLACE" and (second.kind == "IS" or second.kind == "WORD" and (
+        second.surface.endswith(("'s", "'re")) and second.surface.split("'")[0] in ("room", "rooms")))  # fmt: skip
+
+
+def _may_open(toks: Sequence[Token], s: int, subjects: frozenset[str]) -> bool:
+    """Where a statement may open: a part's start, or a subject word right after a place or a word ("... the hall
+    i'm vacuuming the corridor"), never a word for the robot."""
+    t = toks[s]
+    if t.kind == "WORD" and t.surface.split("'")[0] in _ROBOT:
+        return False
+    if s == 0 or toks[s - 1].kind in ("COMMA", "_STOP"):
+        return True
+    return t.kind == "WORD" and t.surface in subjects and toks[s - 1].kind in ("PLACE", "WORD")
+
+
+def _statement_end(toks: Sequence[Token], s: int, meaning: frozenset[str], times: frozenset[str]) -> int:
+    """The end of a statement opening at ``s``: the first token that may not stand in one (:func:`about_places`)."""
+    someone = toks[s].kind != "IT" and toks[s].surface not in _INSTRUCTION_SUBJECTS
+    e = s
+    while e < len(toks):
+        t = toks[e]
+        nxt = toks[e + 1] if e + 1 < len(toks) else None
+        after = (
+            t.kind == "AFTER"
+            and e > s
+            and _verb(toks[e - 1].surface)
+            and nxt is not None
+            and (nxt.kind == "WORD" and nxt.surface.endswith("ing"))
+        )  # "I'm after mopping the kitchen": Irish English for "I have just mopped"
+        if not after and (t.kind not in _IN_A_PLACE_STATEMENT or t.kind == "GO" and t.surface not in _BE):
+            break
+        timed = ew.base(t.surface) in times
+        if t.kind == "WORD" and (
+            t.surface.split("'")[0] in _ROBOT or t.surface in _OBJECTS or t.surface in meaning and not timed
+            or timed and not someone or t.surface in CLOCK
+        ):  # fmt: skip
+            break
+        if t.kind == "TO" and (nxt is None or nxt.kind != "PLACE"):
+            break
+        if t.kind == "AND" and (nxt is None or nxt.kind not in ("PLACE", "WORD", "MODIFIER")):
+            break
+        e += 1
+    while e > s and toks[e - 1].kind in ("AND", "TO", "AT", "OF", "LINK", "THAT"):
+        e -= 1  # "... the kitchen and | go": a connector at its end belongs to what follows
+    return e

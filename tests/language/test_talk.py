@@ -53,7 +53,6 @@ NOT_TALK_EN = [
     "say dinner is ready",  # an order (an action the planner does not do)
     "the garage",  # a bare place phrase
     "not the kitchen either",
-    "we're in the bath",  # a place
     "I know you just got to the bath",  # the talk's verb takes the place after it
     "I need you in the garage later",
     "faster",  # a speed (by its lemma: fast)

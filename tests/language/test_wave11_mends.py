@@ -1,0 +1,82 @@
+"""Issue 34, session 12: a statement that names a place (rule 3c of spcotmhp/language/asides_en.py) and fillers
+inside a Japanese noun (spcotmhp/language/lexicon_ja.py), read as meant or refused, never misread."""
+
+from __future__ import annotations
+
+import pytest
+
+from spcotmhp.errors import InstructionError
+from spcotmhp.language.reading import read
+from tests.helpers.vocabulary import PLACE_WORDS_EN, PLACE_WORDS_JA
+
+
+def _plan(text: str, lang: str = "en") -> tuple[list[str], list[str], str]:
+    r = read(text, PLACE_WORDS_EN if lang == "en" else PLACE_WORDS_JA, lang)
+    return [p.words[0] for p in r.visit], sorted(p.words[0] for p in r.avoid), r.speed or ""
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("Robot, I'm mopping the kitchen, go to the hall.", ["hall"]),
+        ("could you go over to the hall please i'm vacuuming the corridor", ["hall"]),  # no pause before it
+        ("I'm changing a dressing in the bedroom, so could you go to the dining room, love?", ["dining"]),
+        ("Into the corridor please, the cleaner needs the dining room.", ["corridor"]),
+        ("Would you mind moving into the corridor? We're hoovering the lounge.", ["corridor"]),
+        ("I'm after mopping the kitchen so go to the living room", ["living"]),  # Irish "I'm after" = just did
+        ("go to the kitchen, we're in the bath", ["kitchen"]),  # where people are: "Gran's napping in the lounge"
+    ],
+)
+def test_a_place_in_a_statement_of_someone_else_is_neither_avoided_nor_gone_to(text, visit):
+    assert _plan(text) == (visit, [], "")
+
+
+@pytest.mark.parametrize(
+    "text, visit, avoid",
+    [
+        ("The dog made a mess in the corridor, so avoid it and go to the kitchen.", ["kitchen"], ["corridor"]),
+        ("Go to the bedroom. The kitchen is being cleaned, so don't go in there.", ["bedroom"], ["kitchen"]),
+        ("The living room's a mess, so steer clear of it and head to the dining room.", ["dining"], ["living"]),
+        ("I left my phone in the kitchen, go there please", ["kitchen"], []),
+    ],
+)
+def test_it_or_there_after_a_statement_is_its_place(text, visit, avoid):
+    assert _plan(text)[:2] == (visit, avoid)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "i'm mopping the kitchen and the hall",  # a statement and nothing asked
+        "The kids are playing in the living room, go join them.",  # the rest names no place
+        "I'm cooking in the kitchen and bob's in the hall, go there",  # "there": which of the two?
+        "the kitchen is wet, go to the hall and avoid it and there",  # two references back
+    ],
+)
+def test_a_statement_with_a_place_and_no_instruction_of_its_own_is_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
+
+
+def test_a_statement_ends_where_an_instruction_opens_not_inside_its_verb():
+    """'... bath is running': "running" is the statement's verb, not the robot's speed (refused, never fast)."""
+    try:
+        r = read("Right, could you make your way to the bath now? Mr Doherty's bath is running.", PLACE_WORDS_EN, "en")
+    except InstructionError:
+        return
+    assert [p.words[0] for p in r.visit] == ["bath"] and r.speed != "fast"
+
+
+@pytest.mark.parametrize(
+    "text, word",
+    [("おかあさんが キッチンいってって", "おかあさん"), ("お父さんの寝室に行って", "お父さん")],
+)
+def test_a_filler_inside_a_noun_janome_knows_stays_the_nouns(text, word):
+    """あ of おかあさん and さん of お父さん are characters of the noun: a refusal names the noun whole."""
+    with pytest.raises(InstructionError, match=word):
+        read(text, PLACE_WORDS_JA, "ja")
+
+
+def test_a_filler_where_janome_runs_a_noun_into_a_place_word_is_still_left_out():
+    """まあ その ものおき: janome reads そのもの; the place word ものおき wins and その is a filler."""
+    assert _plan("まあ その ものおきにいってほしい", "ja")[0] == ["物置き"]
