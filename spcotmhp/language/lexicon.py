@@ -58,6 +58,7 @@ from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_j
 from spcotmhp.language.merging import merge
 from spcotmhp.language.others import other_than_excluded
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
+from spcotmhp.language.repairs_en import taken_back_en
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
     contents_en,
@@ -118,6 +119,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     if "WORD" in kinds and "PLACE" in kinds:
         out = owners_and_sides(out, places.words)
     out = merge(out)
+    if "CORRECTION" in kinds and "NEG" in kinds:
+        out = taken_back_en(out)  # repairs_en: "X. Sorry, not X, Y"
     numbered = kinds & {"NEG", "NO", "CORRECTION"} or any(t.number is not None for t in out)
     if numbered and kinds & {"WORD", "ONE"}:
         out = said_again(out)

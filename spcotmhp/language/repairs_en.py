@@ -251,3 +251,38 @@ def requesters(toks: list[Token], people: frozenset[str]) -> list[Token]:
     if len(rest) > 3 and said[0] in _ASKING and said[1] == "you" and rest[2].kind == "TO" and rest[3].kind == "GO":
         return rest[3:]  # "Nana wants you to go into the sitting room"
     return toks
+
+
+def taken_back_en(items: list[Token]) -> list[Token]:
+    """A correction that names what it takes back: "X. Sorry, not X, Y", "X no sorry not the X the Y", "X, actually
+    scratch that, not the X, the Y": "not X" right after the correction word repeats the place the correction
+    replaces (the last place said before it), so it is no place not to end in of its own: left out, and Y replaces
+    X as any correction's place does. With no pause between them ("not the X the Y") the two were read as one name
+    (merging's rule 5); the name is split where X ends. Any other "not" stays as said."""
+    out: list[Token] = []
+    k = 0
+    while k < len(items):
+        it = items[k]
+        before = [t for t in out if t.kind != "COMMA"]
+        place = items[k + 1] if k + 1 < len(items) else None
+        said = next((t for t in reversed(before[:-1]) if t.kind == "PLACE"), None) if before else None
+        if it.kind == "NEG" and before and before[-1].kind == "CORRECTION" and place is not None and said is not None:
+            n = len(said.words)
+            again = place.kind == "PLACE" and place.words[:n] == said.words and place.number == said.number
+            rest = place.words[n:] if again else ()
+            after = items[k + 2 : k + 4]
+            if (
+                again
+                and not rest
+                and any(t.kind == "PLACE" for t in after)
+                and all(t.kind in ("PLACE", "COMMA") for t in after[: 1 + (after[0].kind == "COMMA")])
+            ):
+                k += 2 + (after[0].kind == "COMMA")  # "not the hall, the family room": the family room replaces it
+                continue
+            if again and rest and place.surface.startswith(said.surface + " ") and place.number is None:
+                out.append(place._replace(surface=place.surface[len(said.surface) + 1 :], words=rest))
+                k += 2
+                continue
+        out.append(it)
+        k += 1
+    return out

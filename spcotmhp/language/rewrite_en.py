@@ -68,7 +68,7 @@ def numbered_en(items: list[Token], units: Sequence[str] = ()) -> list[Token]:
         it = items[i]
         if it.kind == "PLACE" and it.number is None:
             j = i + 1 + _number_word(items, i + 1)
-            n = _said_number(items[j]) if j < len(items) else None
+            n = (_number_after if j > i + 1 else _said_number)(items[j]) if j < len(items) else None
             the = j < len(items) and "the" in units[it.end : items[j].start]  # "the bedroom, the one nearest ..."
             if n is not None and not the:
                 said = " ".join(t.surface for t in items[i : j + 1])
@@ -104,7 +104,18 @@ def _number_word(items: list[Token], j: int) -> int:
         return 0
     stop = j + 1 < len(items) and items[j + 1].kind == "_STOP" and items[j].surface == "no"
     k = j + 1 + stop
-    return 1 + stop if k < len(items) and _said_number(items[k]) is not None else 0
+    return 1 + stop if k < len(items) and _number_after(items[k]) is not None else 0
+
+
+_HEARD_AS = {"to": 2, "too": 2, "for": 4, "won": 1}
+"""Words a speech recogniser writes for a number word it heard ("bedroom number to"): only after "number", where
+a number must follow."""
+
+
+def _number_after(tok: Token) -> int | None:
+    """The number a token says after "number": a number, or a word a recogniser writes for one (:data:`_HEARD_AS`)."""
+    n = _said_number(tok)
+    return n if n is not None else _HEARD_AS.get(tok.surface)
 
 
 def relations_en(items: list[Token]) -> list[Token]:

@@ -201,11 +201,20 @@ def _may_open(toks: Sequence[Token], s: int, subjects: frozenset[str]) -> bool:
     """Where a statement may open: a part's start, or a subject word right after a place or a word ("... the hall
     i'm vacuuming the corridor"), never a word for the robot."""
     t = toks[s]
-    if t.kind == "WORD" and t.surface.split("'")[0] in _ROBOT:
+    if t.kind == "WORD" and t.surface.split("'")[0] in _ROBOT and not _robot_doing(toks, s):
         return False
     if s == 0 or toks[s - 1].kind in ("COMMA", "_STOP"):
         return True
     return t.kind == "WORD" and t.surface in subjects and toks[s - 1].kind in ("PLACE", "WORD")
+
+
+def _robot_doing(toks: Sequence[Token], s: int) -> bool:
+    """ "you're" (or "you are") before a verb's -ing form that is no verb of going: what the robot is doing where
+    it stands ("you're blocking the kitchen"), which the plan's start (the robot's pose) already holds."""
+    k = s + 1 + (toks[s].surface == "you" and s + 1 < len(toks) and toks[s + 1].kind == "IS")
+    if toks[s].surface not in ("you're", "youre") and k == s + 1:
+        return False
+    return k < len(toks) and toks[k].kind == "WORD" and toks[k].surface.endswith("ing")
 
 
 def _statement_end(toks: Sequence[Token], s: int, meaning: frozenset[str], times: frozenset[str]) -> int:
@@ -225,9 +234,10 @@ def _statement_end(toks: Sequence[Token], s: int, meaning: frozenset[str], times
         if not after and (t.kind not in _IN_A_PLACE_STATEMENT or t.kind == "GO" and t.surface not in _BE):
             break
         timed = ew.base(t.surface) in times
+        robot = t.surface.split("'")[0] in _ROBOT and not (e == s and _robot_doing(toks, s))
         if t.kind == "WORD" and (
-            t.surface.split("'")[0] in _ROBOT or t.surface in _OBJECTS or t.surface in meaning and not timed
-            or timed and not someone or t.surface in CLOCK
+            robot or t.surface in _OBJECTS or t.surface in meaning and not timed or timed and not someone
+            or t.surface in CLOCK
         ):  # fmt: skip
             break
         if t.kind == "TO" and (nxt is None or nxt.kind != "PLACE"):

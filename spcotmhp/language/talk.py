@@ -106,7 +106,8 @@ def pass_over(
 def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str]) -> bool:
     """Whether the run before a place makes the place its own, so that the run is no talk around it: a possessive
     ("Bobby's room": whose place), or a statement of someone other than the robot ending in a verb that takes the
-    place, named as such, as its object ("the cleaner needs the dining room")."""
+    place, named as such, as its object ("the cleaner needs the dining room"), or of the robot doing something
+    where it stands ("you're blocking the hall": never a place to go; "after you've checked the toilet" visits it)."""
     last = run[-1]
     if last.kind != "WORD":
         return False
@@ -114,8 +115,9 @@ def _takes_the_place(run: Sequence[Token], place: Token, subjects: frozenset[str
         return True
     named = all(w in place.surface for w in place.words)  # not a room told by its contents ("the laundry")
     someone = run[0].kind == "WORD" and not run[0].surface.startswith(("you", "u"))
+    doing = last.surface.endswith("ing")  # "you're blocking the hall": where the robot stands, never where to go
     verb = "VERB" in pos(last.surface) and "AUX" not in pos(last.surface)
-    return named and someone and verb and len(run) > 1 and _statement(run, subjects, True)
+    return named and (someone or doing) and verb and len(run) > 1 and _statement(run, subjects, True)
 
 
 _TITLES = frozenset({"mr", "mrs", "ms", "miss", "dr", "mx"})

@@ -324,7 +324,7 @@ class Walk:
             [Visit(k, m.rank, m.step, m.role, m.tied, m.clause) for k, m in ((k, self.mentions[k]) for k in visits)],
             [(visits.index(a), visits.index(b)) for a, b in self.pairs if a in visits and b in visits],
         )
-        ordered = [self.mentions[visits[i]] for i in order]
+        ordered = self._once([self.mentions[visits[i]] for i in order])
         self._check(ordered, avoid, not_goal)
         waits = tuple((i, m.wait) for i, m in enumerate(ordered) if m.wait is not False)
         for i, wait in waits:
@@ -346,6 +346,19 @@ class Walk:
             tuple((i, w if isinstance(w, float) else None) for i, w in waits),
             tuple(self.heard),
         )
+
+    def _once(self, ordered: list[Mention]) -> list[Mention]:
+        """A place to visit said again right after itself, with no wait at the first saying ("ダイニングに行って。
+        キッチンじゃないよ、ダイニング。", "go to the kitchen, the kitchen I said"), is one visit: going from a place
+        to itself is no way through it, and read as two the plan would name it a waypoint nobody asked for."""
+        out: list[Mention] = []
+        for m in ordered:
+            if out and out[-1].wait is False and _same(out[-1].ref, m.ref):
+                self.heard.append(f"{m.ref.describe()} said again: one visit")
+                out[-1] = m
+            else:
+                out.append(m)
+        return out
 
     def _check(self, ordered: list[Mention], avoid: list[PlaceRef], not_goal: list[PlaceRef]) -> None:
         for m in ordered:

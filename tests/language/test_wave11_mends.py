@@ -80,3 +80,39 @@ def test_a_filler_inside_a_noun_janome_knows_stays_the_nouns(text, word):
 def test_a_filler_where_janome_runs_a_noun_into_a_place_word_is_still_left_out():
     """まあ その ものおき: janome reads そのもの; the place word ものおき wins and その is a filler."""
     assert _plan("まあ その ものおきにいってほしい", "ja")[0] == ["物置き"]
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("Go to the kitchen please, you're blocking the hall", ["kitchen"]),  # where the robot stands
+        ("robot go into the loo please you're blocking the corridor", ["toilet"]),
+        ("Go into the powder room.", ["toilet"]),  # the toilet only, never the washroom
+        ("go to bed room number to", ["bedroom"]),  # a recogniser's "to" after "number"
+        ("Go to the hall. Sorry, not the hall, the family room.", ["living"]),
+        ("kitchen no sorry not the kitchen the dining room", ["dining"]),
+    ],
+)
+def test_wave11_first_sight_refusals_and_misreadings_read_as_meant(text, visit):
+    assert _plan(text)[0] == visit
+
+
+def test_number_to_after_number_is_two_and_to_elsewhere_stays_to():
+    r = read("go to bed room number to", PLACE_WORDS_EN, "en")
+    assert r.visit[-1].number == 2
+    r = read("go to the bedroom to the kitchen", PLACE_WORDS_EN, "en")
+    assert [p.number for p in r.visit] == [None, None]
+
+
+def test_a_place_said_again_as_where_to_go_is_one_visit():
+    r = read("ダイニングに行って。キッチンじゃないよ、ダイニング。", PLACE_WORDS_JA, "ja")
+    assert [p.words[0] for p in r.visit] == ["ダイニング"] and [p.words[0] for p in r.not_goal] == ["キッチン"]
+    assert any("said again" in h for h in r.heard)
+    r = read("wait in the kitchen for 2 minutes then go to the kitchen", PLACE_WORDS_EN, "en")
+    assert len(r.visit) == 2 and r.waits == ((0, 120.0),)  # a wait at the first saying keeps both
+
+
+def test_after_the_robot_has_done_something_at_a_place_it_visits_it():
+    """ "after you've checked the toilet" (blind): the robot's past action at a place makes it a waypoint; only a
+    present -ing ("you're blocking the hall") says where it stands."""
+    assert _plan("after you've checked the toilet go to the bedroom")[0] == ["toilet", "bedroom"]
