@@ -51,6 +51,7 @@ def _filler_fitting(
 def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     chars = [ch for ch in text if not ch.isspace()]
     nouns = _nouns("".join(chars))
+    predicates = _nouns("".join(chars), ("動詞", "形容詞"))
     out: list[Token] = []
     i = 0
     while i < len(chars):
@@ -86,6 +87,8 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             hit = _shorter_filler(chars, i, hit, table, places)
         if hit is not None and not hit[0] and _in_a_noun(chars, i, hit[2], nouns, out, table, places):
             hit = None  # おばあちゃん, おなか: a filler's characters inside a noun janome knows are the noun's
+        if hit is not None and hit[2] == 1 and hit[0] in _PARTICLES and any(a <= i < b for a, b in predicates):
+            hit = None  # で of できる, と of とる: a particle's character inside a verb or adjective janome knows
         if hit is not None:
             kind, value, n = hit
             if kind:
@@ -109,13 +112,18 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     return held(apologies(reasons(_nearest_to(out))))
 
 
-def _nouns(text: str) -> list[tuple[int, int]]:
-    """(start, end) of each noun of janome's dictionary in ``text`` (spaces left out), as janome segments it."""
+_PARTICLES = frozenset({"DE", "AND", "ALTERNATIVE"})
+"""Classes of one-character particles (で, と, や, か) that a verb or adjective may begin or hold (できる, とる)."""
+
+
+def _nouns(text: str, parts: tuple[str, ...] = ("名詞",)) -> list[tuple[int, int]]:
+    """(start, end) of each word of janome's dictionary of the parts of speech ``parts`` (nouns unless said) and
+    more than one character in ``text`` (spaces left out), as janome segments it."""
     from spcotmhp.language.text import _tokenizer
 
     spans, at = [], 0
     for m in _tokenizer().tokenize(text):
-        if m.part_of_speech.startswith("名詞") and m.node_type == "SYS_DICT" and len(m.surface) > 1:
+        if m.part_of_speech.startswith(parts) and m.node_type == "SYS_DICT" and len(m.surface) > 1:
             spans.append((at, at + len(m.surface)))
         at += len(m.surface)
     return spans

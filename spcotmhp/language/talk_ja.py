@@ -223,6 +223,7 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
     the fillers said inside and after it (ぐずぐずするな: the な that forbids)."""
     chars = [ch for ch in text if not ch.isspace()]
     meaning = frozenset(table.talk.get("meaning", ()))
+    verbs = frozenset(table.talk.get("verbs", {}))
     cut: set[int] = set()
     said: list[str] = []
     i = 0
@@ -248,7 +249,7 @@ def pass_over_ja(toks: Sequence[Token], table: WordTable, text: str = "") -> tup
         run = toks[i:j]
         said_as = "".join(chars[run[0].start : toks[j].start if j < len(toks) else len(chars)]) if chars else ""
         ends = ends or said_as.endswith(_FINAL)  # お客さん来たよ玄関行って: a sentence-final particle is a pause
-        if ends and (starts or subject) and _reason(run, meaning, said_as):
+        if ends and (starts or subject) and _reason(run, meaning, said_as, verbs):
             cut.update(range(i - subject, j))
             said.append("".join(t.surface for t in toks[i - subject : j]))
         i = j
@@ -286,9 +287,12 @@ def without(toks: Sequence[Token], cut: set[int], said: list[str]) -> tuple[list
     return kept, said
 
 
-def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") -> bool:
-    """Whether a run of words is talk: every word known to janome, no number, none of ``meaning``, and a verb or
-    an adjective among them (a statement, not a name); ``said_as``: the run with its fillers, as said."""
+def _reason(
+    run: Sequence[Token], meaning: frozenset[str], said_as: str = "", verbs: frozenset[str] = frozenset()
+) -> bool:
+    """Whether a run of words is talk: every word known to janome, no number, none of ``meaning`` but the
+    statement's own (:func:`_own`), and a verb or an adjective among them (a statement, not a name); ``said_as``:
+    the run with its fillers, as said; ``verbs``: the table's verbs of going, waiting and asking."""
     text = said_as or "".join(t.surface for t in run)
     if not any(t.kind == "WORD" for t in run):
         return False
@@ -297,7 +301,7 @@ def _reason(run: Sequence[Token], meaning: frozenset[str], said_as: str = "") ->
     morphemes = _known(text)
     if morphemes is None:
         return False
-    theirs = _someone_moves(morphemes)
+    theirs = _someone_moves(morphemes) | _own(morphemes, verbs)
     if any(m[1] == "名詞" and m[2] == "数" or _means(m, meaning) and k not in theirs for k, m in enumerate(morphemes)):
         return False
     if any(m[3] in _REQUESTING for m in morphemes) or _ordered(morphemes):
@@ -328,6 +332,28 @@ def _someone_moves(morphemes: Sequence[tuple[str, str, str, str]]) -> set[int]:
         if marked or before[1] == "名詞" and PEOPLE.search(before[0]):
             out.add(k)
     return out
+
+
+_OWN = frozenset(
+    {"今", "今日", "きょう", "明日", "あした", "今夜", "夜", "朝", "昼", "夕方", "もう", "あと", "後", "あとで", "後で",
+     "ない", "ず", "ぬ", "ん", "静か"}
+)  # fmt: skip
+
+
+def _own(morphemes: Sequence[tuple[str, str, str, str]], verbs: frozenset[str]) -> set[int]:
+    """The words of time, negation and quiet a statement holds of itself, when none of its verbs is one of
+    going, waiting or asking (``verbs``): 今会議中だから (the meeting is now), 手が離せない (the speaker
+    cannot), あとで呼ぶけん (the speaker calls later), 静かにね (six writers mark a slow trip with ゆっくり,
+    never with 静か alone); 中 after a noun (会議中, テレビ中: during) is no place, and 時間 after の
+    (歯磨きの時間だから: time for) no length. With a verb of the table (今行くから, 入らないから) they may be
+    the robot's, and keep the run."""
+    if any(m[1] == "動詞" and m[3] in verbs for m in morphemes):
+        return set()
+    return {
+        k for k, m in enumerate(morphemes)
+        if m[0] in _OWN or m[3] in _OWN or m[0] == "中" and m[2] == "接尾"
+        or m[0] == "時間" and k > 0 and morphemes[k - 1][0] == "の"
+    }  # fmt: skip
 
 
 def _means(m: tuple[str, str, str, str], meaning: frozenset[str]) -> bool:

@@ -116,3 +116,26 @@ def test_after_the_robot_has_done_something_at_a_place_it_visits_it():
     """ "after you've checked the toilet" (blind): the robot's past action at a place makes it a waypoint; only a
     present -ing ("you're blocking the hall") says where it stands."""
     assert _plan("after you've checked the toilet go to the bedroom")[0] == ["toilet", "bedroom"]
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("今会議中だから、ダイニングに行ってて。", "ダイニング"),  # the meeting is now: the statement's time
+        ("ごめん手が離せない、物置き行っといて。", "物置き"),  # the speaker cannot: the statement's negation
+        ("歯磨きの時間だから洗面所に行っといて。", "洗面所"),  # time for: no length
+        ("ご飯もうすぐできるよ、ダイニング行ってて", "ダイニング"),  # で of できる is no particle
+    ],
+)
+def test_a_japanese_statement_keeps_its_own_time_and_negation(text, goal):
+    assert _plan(text, "ja")[0] == [goal]
+
+
+@pytest.mark.parametrize("text", ["今行くから、ダイニングに行ってて", "入らないから、キッチンに行って"])
+def test_time_or_negation_with_a_verb_of_going_keeps_the_clause(text):
+    """With a verb of the table the time or negation may be the robot's: the clause stays (read or refused)."""
+    try:
+        r = read(text, PLACE_WORDS_JA, "ja")
+    except InstructionError:
+        return
+    assert not any("今行く" in h or "入らない" in h for h in r.heard), r.heard
