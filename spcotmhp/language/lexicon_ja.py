@@ -20,15 +20,16 @@ _JA_KANA_NUMBER = re.compile(
 """A kana number right after a place (寝室にばん); not いちばん before an adjective (寝室 いちばん ちいさい: "most")."""
 _JA_KANA_BEFORE = re.compile(r"(?:いち|さん|よん|ご)(?:ばん|番)の")
 _JA_DURATION = re.compile(
-    r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+|半(?=時間))(秒|分|時間)(半)?(?:間)?(?:ほど|くらい|ぐらい|程度|だけ)?(?:だけ)?"
+    r"(\d+(?:\.\d+)?|[一二三四五六七八九十]+|半(?=時間))(秒|分|時間|びょう|ぷん|ふん|じかん)(半)?(?:間)?"
+    r"(?:ほど|くらい|ぐらい|程度|だけ|ばかり)?(?:だけ)?"
 )
-"""A length of time: 2分, 十五秒, 1分半, 半時間 (half an hour); ほど, くらい, 程度 (about) and だけ (only) say nothing
-more of its length."""
+"""A length of time: 2分, 十五秒, 1分半, 半時間 (half an hour), in kana too (10ぷん, 30びょう: children, learners);
+ほど, くらい, 程度, ばかり (about) and だけ (only) say nothing more of its length."""
 _JA_LATER = re.compile(r"(?:後|あと|ご(?=に|で|から))(?:に|で|から)?")
 """After a length of time: a delay (10分後に, 5分あとで), which the planner cannot honour."""
 _KANJI_DIGITS = {"一": 1, "二": 2, "三": 3, "四": 4, "五": 5, "六": 6, "七": 7, "八": 8, "九": 9}
 _FLOOR_STARTS = frozenset("0123456789一二三四五六七八九十地上下ひ")
-_JA_UNITS = {"秒": 1, "分": 60, "時間": 3600}
+_JA_UNITS = {"秒": 1, "分": 60, "時間": 3600, "びょう": 1, "ぷん": 60, "ふん": 60, "じかん": 3600}
 
 
 def _filler_fitting(

@@ -106,6 +106,8 @@ def _variants(word: str, table: WordTable) -> list[tuple[str, ...]]:
             reading = _reading(word)
             if reading and len(reading) >= 2:
                 spellings.append(reading)  # 風呂, ふろ
+            if len(reading) >= 3:  # 廊下, ロウカ: the sound in katakana (learners, recognisers); not フロ of フロア
+                spellings.append("".join(chr(ord(ch) + 0x60) for ch in reading))
             if len(word) >= 3 and "\u3041" <= word[-1] <= "\u3096" and "\u4e00" <= word[-2] <= "\u9fff":
                 spellings.append(word[:-1])  # 物置き, 物置: okurigana written or left out
         return [tuple(p + w) for w in spellings for p in ("", *table.honorifics) if (p + w) != word]

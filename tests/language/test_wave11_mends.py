@@ -139,3 +139,35 @@ def test_time_or_negation_with_a_verb_of_going_keeps_the_clause(text):
     except InstructionError:
         return
     assert not any("今行く" in h or "入らない" in h for h in r.heard), r.heard
+
+
+@pytest.mark.parametrize(
+    "text, visit, wait",
+    [
+        ("リビングの方へいらして。", ["リビング"], ()),  # いらっしゃる: the honorific of 行く / 来る
+        ("食堂へお行きになって。", ["ダイニング"], ()),
+        ("ロボットさん、キッチンを行ってください。", ["キッチン"], ()),  # を 行く: along it, to it (learners)
+        ("廊下を行って玄関まで", ["廊下", "玄関"], ()),  # along the corridor, then to the entrance
+        ("ロウカ に いって ください", ["廊下"], ()),  # a place word's sound in katakana
+        ("ひろばで10びょうまってて", ["広場"], ((0, 10.0),)),  # a length in kana
+        ("半時間ばかり風呂場で待っててくんな", ["風呂"], ((0, 1800.0),)),  # ばかり: about
+    ],
+)
+def test_wave11_japanese_forms(text, visit, wait):
+    r = read(text, PLACE_WORDS_JA, "ja")
+    assert [p.words[0] for p in r.visit] == visit and r.waits == wait
+
+
+def test_back_and_forth_stays_refused():
+    """行ったり来たり (back and forth) is no plain 行って: its たり keeps it as said, and it is refused."""
+    with pytest.raises(InstructionError):
+        read("キッチンとお風呂を行ったり来たりして", PLACE_WORDS_JA, "ja")
+
+
+def test_a_katakana_reading_of_two_kana_is_no_place_word():
+    """フロ (風呂) is no spelling: it is the start of フロア (a floor)."""
+    from spcotmhp.language.lexicon import tokens
+    from spcotmhp.language.table import word_table
+
+    toks = tokens("フロアに行って", word_table("ja"), PLACE_WORDS_JA)
+    assert not any(t.kind == "PLACE" for t in toks)
