@@ -27,6 +27,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from spcotmhp.language import english_words as ew
+from spcotmhp.language.addressed import before_the_address
 from spcotmhp.language.english_words import infinitive, known, pos
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.rewrite_en import NUMBERS
@@ -53,7 +54,19 @@ def pass_over(
     """``toks`` without the talk in them, and the talk as said (for the explanation); None when there is none or
     nothing would be left to read (module docstring). ``units``: the sentence's units, fillers included (a
     token's ``start`` indexes them), which show a determiner before a noun ("the baby"); ``people``: the names of
-    the map's owners ("bob" of "bob's room"), subjects as the table's are ("bob says go to his room")."""
+    the map's owners ("bob" of "bob's room"), subjects as the table's are ("bob says go to his room"). Talk said
+    to someone else before the robot's name goes first (:mod:`spcotmhp.language.addressed`)."""
+    addressed = before_the_address(toks, table, units)
+    if addressed is None:
+        return _pass_over(toks, table, units, people)
+    kept, said = addressed
+    more = _pass_over(kept, table, units, people)
+    return (more[0], [*said, *more[1]]) if more is not None else (kept, said)
+
+
+def _pass_over(
+    toks: Sequence[Token], table: WordTable, units: Sequence[str], people: frozenset[str]
+) -> tuple[list[Token], list[str]] | None:
     if table.by_character:
         return pass_over_ja(toks, table, "".join(units))
     if not table.talk:

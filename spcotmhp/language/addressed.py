@@ -1,0 +1,73 @@
+"""Talk said to someone else before the robot is addressed (issue 34): "Kids, watch this. Robot, go to the living
+room!", "Jake, stop pushing it! Sorry. Robot, please go to the kitchen.", "えーこの人だれだっけ あロボット台所行ってて",
+"え待ってこのCMかわいい ロボットは物置き行って".
+
+A speaker who calls the robot by its name (the table's ``talk.robot_names``: "robot", ロボット, ロボ, with
+さん / くん / ちゃん) turns to it there: what was said before the name, in the same utterance, was said to someone
+else (the children, the television, a partner). It is passed over, and said in the explanation, when it names no
+place, no length of time and no word of a class that says how or where to go (``_SAID_TO_OTHERS`` lists the classes
+it may hold: words, pauses, a correction or a "stop" to someone else), and the part after the name names a place.
+English: the name opens a sentence (after a full stop, "!" or "?"), so a name said as a subject ("the robot is
+blocking the door") is none. Japanese: the name is followed by a pause, a space, the topic's は or the instruction
+itself, never by が / を / の / に (ロボットが動くよ: the robot as a subject, not addressed).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+from spcotmhp.language.placewords import Token
+from spcotmhp.language.table import WordTable
+
+_SAID_TO_OTHERS = frozenset(
+    {"WORD", "COMMA", "_STOP", "IS", "AND", "IT", "THAT", "OF", "LINK", "ALL", "HALT", "CORRECTION", "NO", "NEG",
+     "DE", "ALTERNATIVE", "FROM"}
+)  # fmt: skip
+_SENTENCE_ENDS = frozenset({".", "!", "?"})
+_JA_AFTER = r"(?:さん|くん|君|ちゃん|公)?(?:[、,。！？!?\s]|は|(?![がをのにへとで]))"
+
+
+def before_the_address(
+    toks: Sequence[Token], table: WordTable, units: Sequence[str] | str
+) -> tuple[list[Token], list[str]] | None:
+    """``toks`` without what was said before the robot's name to someone else, and that talk as said; None when the
+    sentence holds no such talk (module docstring). ``units``: the English units or the Japanese sentence (spaces
+    left out when the tokens index it) that the tokens' ``start`` index."""
+    names = tuple(table.talk.get("robot_names", ()))
+    if not names or not toks:
+        return None
+    at = _address_ja(str(units), names) if table.by_character else _address_en(list(units), names)
+    if at is None:
+        return None
+    before = [t for t in toks if t.start < at]
+    after = [t for t in toks if t.start >= at]
+    topic = table.by_character and bool(after) and after[0].kind == "WORD" and after[0].surface == "は"
+    after = after[topic:]  # ロボットさんは リビングへ: the topic's は after the name says whom the speaker asks
+    if not any(t.kind == "PLACE" for t in after) or not (before or topic) or not all(_to_others(t) for t in before):
+        return None
+    joiner = "" if table.by_character else " "
+    said = joiner.join(t.surface for t in before if t.kind not in ("COMMA", "_STOP"))
+    return after, [said] if said else ["は"]
+
+
+def _to_others(tok: Token) -> bool:
+    """Whether a token may be said to someone else: a class of :data:`_SAID_TO_OTHERS`, or a bare に / へ
+    (CMのうちに: while the advertisement runs), which marks no place of the map where none is said."""
+    return tok.kind in _SAID_TO_OTHERS or tok.kind == "GOAL" and tok.surface in ("に", "へ")
+
+
+def _address_en(units: list[str], names: tuple[str, ...]) -> int | None:
+    """The index of the last unit that calls the robot by name at a sentence's start (after "." "!" or "?")."""
+    for p in range(len(units) - 1, 0, -1):
+        if units[p] in names and units[p - 1] in _SENTENCE_ENDS:
+            return p
+    return None
+
+
+def _address_ja(text: str, names: tuple[str, ...]) -> int | None:
+    """The character index (spaces left out) of the last place the robot is called by name."""
+    chars = "".join(ch for ch in text if not ch.isspace())
+    pattern = re.compile("(?:" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + ")" + _JA_AFTER)
+    found = [m.start() for m in pattern.finditer(chars)]
+    return found[-1] if found else None
