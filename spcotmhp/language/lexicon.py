@@ -58,7 +58,7 @@ from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_j
 from spcotmhp.language.merging import merge
 from spcotmhp.language.others import other_than_excluded
 from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
-from spcotmhp.language.repairs_en import taken_back_en
+from spcotmhp.language.repairs_en import echoes_en, taken_back_en
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
     contents_en,
@@ -118,9 +118,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = numbered_en(out, english_units(text))
     if "WORD" in kinds and "PLACE" in kinds:
         out = owners_and_sides(out, places.words)
-    out = merge(out)
-    if "CORRECTION" in kinds and "NEG" in kinds:
-        out = taken_back_en(out)  # repairs_en: "X. Sorry, not X, Y"
+    out = _said_again_en(merge(out), kinds)
     numbered = kinds & {"NEG", "NO", "CORRECTION"} or any(t.number is not None for t in out)
     if numbered and kinds & {"WORD", "ONE"}:
         out = said_again(out)
@@ -144,6 +142,16 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = any_but_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
+    return out
+
+
+def _said_again_en(out: list[Token], kinds: set[str]) -> list[Token]:
+    """What is said again (repairs_en): a sentence that only echoes an earlier run ("... nearest the laundry. The
+    laundry."), and "not X" after a correction, repeating the place it takes back ("X. Sorry, not X, Y")."""
+    if "_STOP" in kinds:
+        out = echoes_en(out)
+    if "CORRECTION" in kinds and "NEG" in kinds:
+        out = taken_back_en(out)
     return out
 
 

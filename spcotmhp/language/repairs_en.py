@@ -286,3 +286,36 @@ def taken_back_en(items: list[Token]) -> list[Token]:
         out.append(it)
         k += 1
     return out
+
+
+def echoes_en(items: list[Token]) -> list[Token]:
+    """A sentence that only says again part of what was said before it ("Go to the bedroom nearest the laundry. The
+    laundry. Nearest the laundry.", "Go to the kitchen. The kitchen!"): the same tokens, in the same order, as a run
+    of an earlier sentence, said for emphasis or to a listener who did not hear. It adds nothing and is left out;
+    read alone, a bare place in it would be a second goal. A place said again alone is left to the walk (one visit)
+    unless it was said as a relation's place; a sentence that says anything new stays."""
+    sentences: list[list[Token]] = [[]]
+    for t in items:
+        sentences[-1].append(t)
+        if t.kind == "_STOP":
+            sentences.append([])
+    if len(sentences) < 2:
+        return items
+    out: list[Token] = []
+    said: list[tuple[str, tuple[str, ...], int | None]] = []
+    for sentence in sentences:
+        key = [_said(t) for t in sentence if t.kind not in ("COMMA", "_STOP")]
+        at = [k for k in range(len(said) - len(key) + 1) if key and said[k : k + len(key)] == key]
+        lone = len(key) == 1 and key[0][0] == "PLACE"  # a place said again alone is one visit (walk's _once)
+        if out and at and (not lone or any(k and said[k - 1][0] in _RELATIONS for k in at)):
+            continue
+        out += sentence
+        said += key
+    return out
+
+
+_RELATIONS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", "AS_FAR_FROM"})
+
+
+def _said(tok: Token) -> tuple[str, tuple[str, ...], int | None]:
+    return tok.kind, tok.words if tok.kind == "PLACE" else (tok.surface.lower(),), tok.number

@@ -133,6 +133,8 @@ def _tail(morphemes: Sequence[tuple[str, str, str, str]], j: int) -> tuple[int, 
             break
         if surface in _CONDITION or base in _CONDITION or surface == "ら" and j > 0 and morphemes[j - 1][0] == "た":
             condition = True
+        if surface == "も" and j > start and morphemes[j - 1][0] in ("て", "で"):
+            condition = True  # 通ってもいい (may pass), 行っても (even if): a permission or a concession, as said
         if surface in ("たり", "だり"):
             condition = True  # 行ったり来たり (back and forth), 寄ったり: a listing of doings, left as said (refused)
         if negative and (surface in ("も", "いい", "よい", "良い") or base in ("いい", "よい", "良い", "大丈夫")):

@@ -25,7 +25,13 @@ def withdrawals_ja(items: list[Token]) -> list[Token]:
             waiver = "なくて" in out[k].surface or "んで" in out[k].surface
             said = out[k].surface.removeprefix("は")
             return [*out[:k], out[k]._replace(kind="WAIVER", surface=said) if waiver else out[k], *out[k + 1 :]]
-        start = k - (out[k].kind == "WITHDRAW")  # the place said with は
+        again = (
+            out[k].kind == "ALLOW"
+            and k > 0
+            and out[k - 1].kind == "PLACE"
+            and any(out[j].kind == "PLACE" and out[j].words == out[k - 1].words for j in taken)
+        )  # リビング避けて、いや、リビング通ってもいいや: the place allowed, said again with it
+        start = k - (out[k].kind == "WITHDRAW" or again)  # the place said with は
         while start > 0 and out[start - 1].kind in _BETWEEN:
             start -= 1
         out = [t for j, t in enumerate(out) if j not in taken and not start <= j <= k]

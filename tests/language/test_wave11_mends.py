@@ -171,3 +171,28 @@ def test_a_katakana_reading_of_two_kana_is_no_place_word():
 
     toks = tokens("フロアに行って", word_table("ja"), PLACE_WORDS_JA)
     assert not any(t.kind == "PLACE" for t in toks)
+
+
+def test_a_place_allowed_again_after_its_avoidance_is_no_waypoint():
+    """リビング避けて、いや、リビング通ってもいいや: passing is allowed, not asked (blind50)."""
+    r = read("リビングを避けて、いや、リビング通ってもいいや、キッチンまで", PLACE_WORDS_JA, "ja")
+    assert [p.words[0] for p in r.visit] == ["キッチン"] and r.avoid == ()
+
+
+def test_going_to_x_instead_is_not_ending_there():
+    """お風呂に行くんじゃなくて、脱衣所で: X じゃなくて with its verb, a place not to end in (blind51)."""
+    r = read("お風呂に行くんじゃなくて、脱衣所でお願いします。", PLACE_WORDS_JA, "ja")
+    assert [p.words[0] for p in r.not_goal] == ["風呂"] and r.avoid == ()
+
+
+@pytest.mark.parametrize(
+    "text, goal, visits",
+    [
+        ("Go to the bedroom nearest the laundry. The laundry. Nearest the laundry.", "bedroom", 1),
+        ("Go to the kitchen. The kitchen!", "kitchen", 1),
+        ("Go to the kitchen. The hall.", "hall", 2),  # a new place is no echo
+    ],
+)
+def test_a_sentence_that_only_says_again_what_was_said_adds_nothing(text, goal, visits):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert r.visit[-1].words[0] == goal and len(r.visit) == visits
