@@ -38,12 +38,12 @@ def _filler_fitting(
     """The longest match, or a shorter entry when the longest filler strands the character after it and the
     shorter one lets a match reach past it (えっと + ねえ, not えっとね + a stray え; で + すみません, not です +
     みません): a filler said next to another word is left out, whichever way their characters could be cut."""
-    if hit is None or hit[0] or i + hit[2] >= len(chars) or longest_match(chars, i + hit[2], table, places):
+    if hit is None or hit[0] or i + hit[2] >= len(chars) or longest_match(chars, i + hit[2], table, places, True):
         return hit
     for k in range(hit[2] - 1, 0, -1):
         kind = table.phrases.get(tuple(chars[i : i + k]))
         if kind is not None:  # a shorter filler, or a word of a class (で + すみません, not です + a stray みません)
-            after = longest_match(chars, i + k, table, places)
+            after = longest_match(chars, i + k, table, places, True)
             if after is not None and k + after[2] > hit[2]:
                 return kind, "", k
     return hit
@@ -51,8 +51,7 @@ def _filler_fitting(
 
 def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
     chars = [ch for ch in text if not ch.isspace()]
-    nouns = _nouns("".join(chars))
-    predicates = _nouns("".join(chars), ("動詞", "形容詞"))
+    janome = _Words("".join(chars))
     out: list[Token] = []
     i = 0
     while i < len(chars):
@@ -83,12 +82,18 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
             i += n
             continue
-        hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places))
+        hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places, True))
         if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _SMALL_KANA:
             hit = _shorter_filler(chars, i, hit, table, places)
-        if hit is not None and not hit[0] and _in_a_noun(chars, i, hit[2], nouns, out, table, places):
+        loose = hit is not None and _loose(chars, i, hit[2], out, table, places)
+        if (
+            loose
+            and hit is not None
+            and not hit[0]
+            and _in_a_noun(chars, i, hit[2], janome.nouns(), out, table, places)
+        ):
             hit = None  # おばあちゃん, おなか: a filler's characters inside a noun janome knows are the noun's
-        if hit is not None and hit[2] == 1 and hit[0] in _PARTICLES and any(a <= i < b for a, b in predicates):
+        if loose and hit is not None and hit[2] == 1 and hit[0] in _PARTICLES and janome.inside_predicate(i):
             hit = None  # で of できる, と of とる: a particle's character inside a verb or adjective janome knows
         if hit is not None:
             kind, value, n = hit
@@ -111,6 +116,41 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
     return held(apologies(reasons(_nearest_to(out))))
+
+
+class _Words:
+    """janome's words of a sentence, analysed once and only when asked: most sentences never need them."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self._nouns: list[tuple[int, int]] | None = None
+        self._predicates: list[tuple[int, int]] | None = None
+
+    def nouns(self) -> list[tuple[int, int]]:
+        if self._nouns is None:
+            self._nouns = _nouns(self.text)
+        return self._nouns
+
+    def inside_predicate(self, i: int) -> bool:
+        if self._predicates is None:
+            self._predicates = _nouns(self.text, ("動詞", "形容詞"))
+        return any(a <= i < b for a, b in self._predicates)
+
+
+def _loose(chars: list[str], i: int, n: int, out: list[Token], table: WordTable, places: PlaceLexicon) -> bool:
+    """Whether a match may be a piece of a word around it: an unknown word or a one-character match runs up to it,
+    or no entry but a filler starts right after it (お|ば|あ|ちゃん, お|か|あ|さん, すぐ|で|きる); a match between
+    two words the table knows is a word of its own, and janome is not asked."""
+    last = out[-1] if out else None
+    glued = (
+        last is not None
+        and last.end == i
+        and (last.kind == "WORD" or last.kind != "PLACE" and last.end - last.start == 1)
+    )
+    if glued or i + n >= len(chars):
+        return glued
+    after = longest_match(chars, i + n, table, places, True)
+    return after is None or not after[0]
 
 
 _PARTICLES = frozenset({"DE", "AND", "ALTERNATIVE"})
@@ -153,7 +193,7 @@ def _in_a_noun(
 
 
 def _starts_word(chars: list[str], k: int, table: WordTable, places: PlaceLexicon) -> bool:
-    hit = longest_match(chars, k, table, places)
+    hit = longest_match(chars, k, table, places, True)
     return hit is not None and bool(hit[0])
 
 
@@ -177,7 +217,7 @@ def _shorter_filler(
     """A filler that would leave a character no word starts with (ねえ|っと, said ね + えっと) gives way to a
     shorter filler there, so the word after it keeps its first character; else the longest stays."""
     for m in range(hit[2] - 1, 0, -1):
-        short = longest_match(chars[: i + m], i, table, places)
+        short = longest_match(chars[: i + m], i, table, places, True)
         if short is not None and not short[0] and chars[i + short[2]] not in _SMALL_KANA:
             return short
     return hit
@@ -185,7 +225,7 @@ def _shorter_filler(
 
 def _place_within(chars: list[str], i: int, n: int, table: WordTable, places: PlaceLexicon) -> bool:
     """Whether a place word at least ``n`` characters long starts at ``chars[i]`` (地下室 is a room, not 地下)."""
-    hit = longest_match(chars, i, table, places)
+    hit = longest_match(chars, i, table, places, True)
     return hit is not None and hit[0] == "PLACE" and hit[2] >= n
 
 
