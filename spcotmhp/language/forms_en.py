@@ -31,6 +31,9 @@ def _said_after(items: list[Token]) -> list[Token]:
     the dining room, sorry": left out); alone, it marks the phrase after the last pause as the replacement ("through
     the kitchen, er, through the hall I mean": the correction stands at that pause)."""
     end = len(items) - (bool(items) and items[-1].kind == "_STOP")
+    if end >= 3 and items[end - 1].kind == "CORRECTION" and items[end - 2].kind == "COMMA":
+        items = [*items[: end - 2], *items[end - 1 :]]  # "the bathroom, the toilet, I mean": the pause before it
+        end -= 1
     if end < 2 or items[end - 1].kind != "CORRECTION" or items[end - 2].kind != "PLACE":
         return items
     last, before = items[end - 1], items[: end - 1]

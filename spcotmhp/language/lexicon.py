@@ -57,7 +57,7 @@ from spcotmhp.language.forms_en import (
 from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_ja
 from spcotmhp.language.merging import merge
 from spcotmhp.language.others import other_than_excluded
-from spcotmhp.language.placewords import PlaceLexicon, Token, longest_match, place_lexicon
+from spcotmhp.language.placewords import PlaceLexicon, Token, contrasted, longest_match, place_lexicon
 from spcotmhp.language.repairs_en import echoes_en, taken_back_en
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
@@ -108,6 +108,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = no_stop_en(out)
     if "GO" in kinds and ("AT" in kinds or out[0].kind == "TO"):
         out = motion_at_en(out)
+    if "WORD" in kinds and "PLACE" in kinds:  # "go to the toilet, then the bathroom": the bath
+        out = contrasted(out, places, frozenset(table.talk.get("activities", ())))
     if kinds & {"CORRECTION", "NO", "CANCEL"} and kinds & {"WAIT", "VIA", "SLOW", "FAST", "AVOID"}:
         out = withdrawals_en(out)
     if "COMMA" in kinds or "CORRECTION" in kinds or "NO" in kinds and "WAIT" in kinds:

@@ -225,3 +225,29 @@ def _within(short: str, word: str) -> bool:
     """Whether the letters of ``short`` appear in ``word`` in order (a word with letters left out)."""
     letters = iter(word)
     return all(c in letters for c in short)
+
+
+_TELLING = frozenset({"with", "w", "where", "that", "which", "one"})
+"""Words after an ambiguous word that tell its place by what is in it (rewrite_en's contents rule, rule 9)."""
+
+
+def contrasted(items: list[Token], places: PlaceLexicon, activities: frozenset[str]) -> list[Token]:
+    """A word that may name places of several kinds ("bathroom": the bath or the toilet), said in a sentence that
+    names one of those kinds by its own word ("go to the toilet, then the bathroom", "keep out of the toilet and
+    the bathroom"), names another of them: a speaker who meant the toilet twice would not call it by two names in
+    one breath. Where exactly one kind is left, the word is read as it. A place word that also names what is done
+    there (``activities``: "bath" of "run a bath", "bath night") rules out nothing, nor does a place said as what
+    is in it ("the bathroom where the toilet is": rule 9 reads it). Else the word stays, refused with "say which"."""
+    named = {t.words[0] for t in items if t.kind == "PLACE" and t.words and t.words[0] not in activities}
+    if not named:
+        return items
+    out: list[Token] = []
+    for k, t in enumerate(items):
+        kinds = places.ambiguous.get((t.surface,)) if t.kind == "WORD" else None
+        left = [w for w in kinds if w not in named] if kinds else []
+        told = any(u.surface in _TELLING for u in items[k + 1 : k + 4])  # "the bathroom where the toilet is"
+        if kinds and len(left) == 1 and len(left) < len(kinds) and not told:
+            out.append(Token("PLACE", t.surface, (left[0],), start=t.start, end=t.end))
+        else:
+            out.append(t)
+    return out

@@ -351,6 +351,7 @@ def contents_en(items: list[Token], table: WordTable, places: PlaceLexicon) -> l
             if k + 1 < len(items) and items[k].kind == "AT" and items[k + 1].kind == "IT":
                 k += 2  # "with the bath in it"
             allowed = set(places.ambiguous[(head.surface,)]) if ambiguous else set(places.words)
+            allowed |= set(table.told_senses.get(head.surface, ())) if ambiguous else set()  # "bathroom with the sink"
             meant = sorted(set(names) & allowed & set(places.words))
             if len(meant) == 1:
                 k += k < len(items) and items[k].kind in ("IS", "WORD") and items[k].surface in ("is", "are", "'s")

@@ -92,6 +92,7 @@ class WordTable:
     talk: Mapping[str, Any] = field(default_factory=dict)  # what talk around an instruction may hold (talk.py)
     contents: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # what is in a place -> its place words
     senses: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # other name -> place words, first sense first
+    told_senses: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # other name -> places told by contents
     spellings: Mapping[str, str] = field(default_factory=dict)  # a dialect's spelling -> the word (lexicon rule 1b)
 
     @property
@@ -171,6 +172,7 @@ def read_table(text: str, source: str) -> WordTable:
         talk=MappingProxyType({str(k): v for k, v in table.get("talk", {}).items()}),
         contents=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("contents", {}).items()}),
         senses=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("senses", {}).items()}),
+        told_senses=MappingProxyType({str(k): tuple(map(str, v)) for k, v in table.get("told_senses", {}).items()}),
         spellings=MappingProxyType({str(k): str(v) for k, v in table.get("spellings", {}).items()}),
     )
 

@@ -142,7 +142,7 @@ def test_a_room_told_by_what_is_in_it(text, visit):
     [
         "go to the room with the sink",  # kitchen or washroom
         "go to the bathroom with the sofa",  # no place "bathroom" names holds a sofa
-        "go to the bathroom",  # bath, toilet or washroom: still which one
+        "go to the bathroom",  # the bath or the toilet: still which one
         "go to the room with the sink and the bath",  # no room holds both
     ],
 )

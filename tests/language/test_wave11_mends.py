@@ -196,3 +196,28 @@ def test_going_to_x_instead_is_not_ending_there():
 def test_a_sentence_that_only_says_again_what_was_said_adds_nothing(text, goal, visits):
     r = read(text, PLACE_WORDS_EN, "en")
     assert r.visit[-1].words[0] == goal and len(r.visit) == visits
+
+
+@pytest.mark.parametrize(
+    "text, visit, avoid",
+    [
+        ("Go to the toilet, then the bathroom.", ["toilet", "bath"], []),  # the toilet named: the bathroom is the bath
+        ("Don't go in the bathroom. Go to the toilet.", ["toilet"], ["bath"]),
+        ("keep out of the toilet and the bathroom and go to the storeroom", ["storeroom"], ["bath", "toilet"]),
+        ("Go to the bathroom, the toilet, I mean.", ["toilet"], []),  # an afterthought correction after a pause
+        ("the bathroom with the washing machine", ["washroom"], []),  # the thing tells the room
+        ("go to the bathroom where the toilet is", ["toilet"], []),  # the toilet as what is in it: no contrast
+    ],
+)
+def test_bathroom_beside_the_toilet_named_is_the_bath(text, visit, avoid):
+    assert _plan(text)[:2] == (visit, avoid)
+
+
+@pytest.mark.parametrize(
+    "text", ["go to the bathroom", "I'm gonna take a bath, go to the bathroom", "Make your way to the bathroom please"]
+)
+def test_bathroom_alone_or_beside_the_bath_as_an_activity_stays_refused(text):
+    """The bath or the toilet: writers split on the bare word (55 the bath, 27 refused, the frozen held-out among
+    them); "a bath" names what is done as well as the room, and rules nothing out."""
+    with pytest.raises(InstructionError, match="say which"):
+        read(text, PLACE_WORDS_EN, "en")
