@@ -221,3 +221,8 @@ def test_bathroom_alone_or_beside_the_bath_as_an_activity_stays_refused(text):
     them); "a bath" names what is done as well as the room, and rules nothing out."""
     with pytest.raises(InstructionError, match="say which"):
         read(text, PLACE_WORDS_EN, "en")
+
+
+def test_hang_out_is_a_wait():
+    r = read("go to the hall and hang out there for ten minutes", PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == ["hall"] and r.waits == ((0, 600.0),)
