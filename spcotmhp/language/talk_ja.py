@@ -56,6 +56,7 @@ def plain_verbs(text: str, table: WordTable) -> str:
     text = _ELONGATION.sub("", text)
     for said, standard in _dialect(table):
         text = said.sub(standard, text)
+    text = relayed(text)
     morphemes = _analyse(text)
     out: list[str] = []
     i = 0
@@ -320,6 +321,28 @@ def _reason(
 _FINAL = ("よ", "ね", "わ", "ぞ", "よね", "よー", "ねー")
 """Sentence-final particles: a clause ending in one is a sentence, though no mark of a pause follows it."""
 _THEIR_MOTIONS = frozenset({"帰る", "戻る", "来る", "出る"})
+_SAID = re.compile(r"(?<=[てけろいよ])\s*(?:って|と)\s*(?:言|い)(?:っ|わ|う|い)[ぁ-ゖ]*(?=[。！!、,\s]|$)")
+_SAID_BUT = re.compile(r"(?<=[てけろいよ])\s*(?:って|と)\s*(?:言|い)った(?:けど|けれど|が)(?=[、,\s])")
+_SAYER = re.compile(r"^\s*([^、。,\s]{1,12}?)が(?:ね|さ|な)?(?:[、,\s]|(?=[^、。,\s]))")
+_KIN = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|ぱぱ|まま|じい|ばあ|父|母|兄|姉|弟|妹|先生)$")
+
+
+def relayed(text: str) -> str:
+    """A request said with the words that say it was said (風呂へ行けと言っとるんだ: "I'm telling you, go to the
+    bath"; おばあちゃんがね、風呂場に行ってって言ってたよ: granny said go to the bathroom) is that request: the
+    saying is left out, and with it the person who said it, a kin word or a name with さん / ちゃん before が
+    opening the sentence; "X って言ったけど、" (I said X, but) before a correction is a pause before it
+    (キッチン通ってって言ったけど、やっぱりダイニング通って...). A quote of anything but a request (te-form,
+    imperative) stays as said."""
+    said = _SAID_BUT.sub("", text)
+    quoted = _SAID.sub("", said)
+    if quoted != said:
+        sayer = _SAYER.match(quoted)
+        if sayer and _KIN.search(sayer.group(1)):
+            quoted = quoted[sayer.end() :]
+    return quoted
+
+
 PEOPLE = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客|人)$")
 """A word naming a person: before 帰る / 来る the person comes or goes home, not the robot (rewrite_ja too)."""
 

@@ -226,3 +226,21 @@ def test_bathroom_alone_or_beside_the_bath_as_an_activity_stays_refused(text):
 def test_hang_out_is_a_wait():
     r = read("go to the hall and hang out there for ten minutes", PLACE_WORDS_EN, "en")
     assert [p.words[0] for p in r.visit] == ["hall"] and r.waits == ((0, 600.0),)
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("おばあちゃんがね、風呂場に行ってって言ってたよ", ["風呂"]),  # a request relayed: granny said go
+        ("広場へ行けと言っとる、広場だ。", ["広場"]),  # "I'm telling you": the request said again
+        ("キッチン通ってって言ったけど、やっぱりダイニング通ってリビングに行って", ["ダイニング", "リビング"]),
+    ],
+)
+def test_a_request_said_with_its_saying_is_the_request(text, visit):
+    assert _plan(text, "ja")[0] == visit
+
+
+def test_a_quote_of_no_request_stays_as_said():
+    from spcotmhp.language.talk_ja import relayed
+
+    assert relayed("キッチンが広いって言ってた") == "キッチンが広いって言ってた"  # no te-form or imperative quoted
