@@ -321,8 +321,9 @@ def _reason(
 _FINAL = ("よ", "ね", "わ", "ぞ", "よね", "よー", "ねー")
 """Sentence-final particles: a clause ending in one is a sentence, though no mark of a pause follows it."""
 _THEIR_MOTIONS = frozenset({"帰る", "戻る", "来る", "出る"})
-_SAID = re.compile(r"(?<=[てけろいよ])\s*(?:って|と)\s*(?:言|い)(?:っ|わ|う|い)[ぁ-ゖ]*(?=[。！!、,\s]|$)")
-_SAID_BUT = re.compile(r"(?<=[てけろいよ])\s*(?:って|と)\s*(?:言|い)った(?:けど|けれど|が)(?=[、,\s])")
+_REQUESTED = r"(?:(?<=[てでけろ])|(?<=なさい)|(?<=ください))"
+_SAID = re.compile(_REQUESTED + r"\s*(?:って|と)\s*(?:言|い)(?:っ|わ|う|い)[ぁ-ゖ]*(?=[。！!、,\s]|$)")
+_SAID_BUT = re.compile(_REQUESTED + r"\s*(?:って|と)\s*(?:言|い)った(?:けど|けれど|が)(?=[、,\s])")
 _SAYER = re.compile(r"^\s*([^、。,\s]{1,12}?)が(?:ね|さ|な)?(?:[、,\s]|(?=[^、。,\s]))")
 _KIN = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|ぱぱ|まま|じい|ばあ|父|母|兄|姉|弟|妹|先生)$")
 
