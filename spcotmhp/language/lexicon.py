@@ -40,7 +40,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from spcotmhp.language.endings_en import asked_then_there_en, emphasis_en, go_and_come_en
+from spcotmhp.language.endings_en import along_only_en, asked_then_there_en, emphasis_en, go_and_come_en
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.forms_en import (
     any_but_en,
@@ -130,12 +130,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = master_en(out)
     if "AND" in kinds:
         out = shared_head_en(out)
-    if kinds & {"AND", "THEN"} and "GO" in kinds:
-        out = go_and_come_en(out)
-    if "WORD" in kinds and "TO" in kinds:
-        out = emphasis_en(out)
-    if "WORD" in kinds and "THERE" in kinds:
-        out = asked_then_there_en(out)
+    out = _endings_en(out, kinds, table)
     if "HALT" in kinds and "DURATION" in kinds:
         out = timed_stops_en(out)
     if "WAIT" in kinds:
@@ -144,6 +139,20 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = any_but_en(out)
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
+    return out
+
+
+def _endings_en(out: list[Token], kinds: set[str], table: WordTable) -> list[Token]:
+    """How an English sentence closes (endings_en): "and come", the emphatic "only", a question "go there"
+    answers, and a place gone along alone ("go down the corridor": there)."""
+    if kinds & {"AND", "THEN"} and "GO" in kinds:
+        out = go_and_come_en(out)
+    if "WORD" in kinds and "TO" in kinds:
+        out = emphasis_en(out)
+    if "VIA" in kinds:
+        out = along_only_en(out, frozenset(table.senses))
+    if "WORD" in kinds and "THERE" in kinds:
+        out = asked_then_there_en(out)
     return out
 
 

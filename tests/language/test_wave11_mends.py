@@ -244,3 +244,17 @@ def test_a_quote_of_no_request_stays_as_said():
     from spcotmhp.language.talk_ja import relayed
 
     assert relayed("キッチンが広いって言ってた") == "キッチンが広いって言ってた"  # no te-form or imperative quoted
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [("go along the corridor please", "corridor"), ("would you head down the corridor", "corridor")],
+)
+def test_a_place_gone_along_alone_is_where_to_go(text, goal):
+    assert _plan(text)[0] == [goal]
+
+
+@pytest.mark.parametrize("text", ["go through the kitchen", "head down the hallway"])
+def test_through_alone_or_along_a_word_of_two_senses_stays_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
