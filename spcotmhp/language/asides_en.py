@@ -142,7 +142,7 @@ def ease_en(
     kept, said = _asides(out, talk, units, table)
     subjects = frozenset(talk.get("subjects", ())) | people
     times = frozenset(talk.get("times_in_statements", ())) | CLOCK
-    if (places := about_places(kept, subjects, frozenset(talk.get("meaning", ())), times)) is not None:
+    if (places := about_places(kept, subjects, frozenset(talk.get("meaning", ())), times, units)) is not None:
         kept, said = places[0], [*said, *places[1]]  # rule 3c
     if said or kept != list(toks):
         return kept, said, notes

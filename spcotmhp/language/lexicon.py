@@ -58,7 +58,7 @@ from spcotmhp.language.lexicon_ja import glue_ja, join_no, numbered_ja, tokens_j
 from spcotmhp.language.merging import merge
 from spcotmhp.language.others import other_than_excluded
 from spcotmhp.language.placewords import PlaceLexicon, Token, contrasted, longest_match, place_lexicon
-from spcotmhp.language.repairs_en import echoes_en, taken_back_en
+from spcotmhp.language.repairs_en import apposed_en, echoes_en, taken_back_en
 from spcotmhp.language.rewrite_en import NUMBERS as _NUMBERS
 from spcotmhp.language.rewrite_en import (
     contents_en,
@@ -137,6 +137,8 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = wait_by_en(out)
     if "BUT" in kinds and "ONE_OF" in kinds:
         out = any_but_en(out)
+    if kinds & {"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"} and kinds & {"COMMA", "_STOP"}:
+        out = apposed_en(out)  # repairs_en: "the bedroom, nearest the kitchen"
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

@@ -319,3 +319,42 @@ _RELATIONS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", 
 
 def _said(tok: Token) -> tuple[str, tuple[str, ...], int | None]:
     return tok.kind, tok.words if tok.kind == "PLACE" else (tok.surface.lower(),), tok.number
+
+
+_RELATION_WORDS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"})
+
+
+def apposed_en(items: list[Token]) -> list[Token]:
+    """A relation said after a pause that follows a place ("go to the bedroom, nearest the kitchen", "goto bedroom
+    --nearest kitchen") picks that place, as "the bedroom nearest the kitchen" does: read as a place of its own
+    ("the nearest kitchen") it would make the bedroom a waypoint nobody asked for. And a question naming a place
+    answered by "the one ..." ("Which bedroom? The one nearest the storeroom.") is that place with the answer's
+    relation: the question is no place to visit."""
+    out: list[Token] = []
+    k = 0
+    while k < len(items):
+        t = items[k]
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        prev = out[-1] if out else None
+        if (
+            prev is not None
+            and prev.kind == "PLACE"
+            and t.kind == "COMMA"
+            and nxt is not None
+            and (nxt.kind in _RELATION_WORDS)
+        ):
+            k += 1  # "bedroom, nearest the kitchen": the pause between the place and its relation
+            continue
+        asked = t.kind == "_STOP" and t.surface == "?" and prev is not None and prev.kind == "PLACE"
+        if (
+            asked
+            and nxt is not None
+            and nxt.kind == "ONE"
+            and k + 2 < len(items)
+            and items[k + 2].kind in (_RELATION_WORDS)
+        ):
+            k += 2  # "Which bedroom? The one nearest ...": the answer's relation picks the place asked about
+            continue
+        out.append(t)
+        k += 1
+    return out

@@ -185,8 +185,9 @@ def _of_the(items: list[Token]) -> list[Token]:
 
 def corrections_en(items: list[Token]) -> list[Token]:
     """Rule 8: commas that separate nothing are left out (before a full stop, at the end, twice in a row); "no,
-    wait," and "wait, no," are one correction (the "wait" is no wait at a place); a last "sorry" after a correction
-    apologises for it ("the bath, I mean the toilet, sorry"): no second correction, left out."""
+    wait," and "wait, no," are one correction (the "wait" is no wait at a place), so is "wait, I meant"; a last
+    "sorry" after a correction apologises for it ("the bath, I mean the toilet, sorry"): no second correction,
+    left out."""
     out: list[Token] = []
     for it in items:
         if it.kind == "_STOP" and out and out[-1].kind == "COMMA":
@@ -206,7 +207,7 @@ def corrections_en(items: list[Token]) -> list[Token]:
         it = out[i]
         j = i + 1 + (i + 1 < len(out) and out[i + 1].kind == "COMMA")
         pair = {it.kind, out[j].kind} if j < len(out) else set()
-        if pair == {"NO", "WAIT"} and it.kind != out[j].kind:
+        if pair == {"NO", "WAIT"} and it.kind != out[j].kind or pair == {"WAIT", "CORRECTION"} and it.kind == "WAIT":
             merged.append(Token("CORRECTION", f"{it.surface} {out[j].surface}", start=it.start, end=out[j].end))
             i = j + 1
             continue

@@ -134,7 +134,11 @@ _IN_A_PLACE_STATEMENT = _ALLOWED | {"PLACE", "MODIFIER"}
 
 
 def about_places(
-    toks: Sequence[Token], subjects: frozenset[str], meaning: frozenset[str], times: frozenset[str]
+    toks: Sequence[Token],
+    subjects: frozenset[str],
+    meaning: frozenset[str],
+    times: frozenset[str],
+    units: Sequence[str] = (),
 ) -> tuple[list[Token], list[str]] | None:
     """Rule 3c of :mod:`spcotmhp.language.asides_en`: a statement of someone other than the robot that names a
     place ("I'm mopping the kitchen, go to the hall", "guests will be in the living room tonight, so head to the
@@ -146,12 +150,14 @@ def about_places(
     statement opens where a part opens or with a subject word ("i'm") after a place or a word, holds a verb and
     only words a statement may hold (:func:`stated`'s classes, places and possessives; "to" only before a place;
     no word of ``meaning``, no robot, no length of time, no time after "it's"), and ends before the first word that
-    may not stand in it. None when no statement is found or the rest would be no instruction."""
+    may not stand in it. A third person's motion with a modal, after "so" or "because" (``units`` show them: "go
+    to the hallway so the aide can get the wheelchair through the living room") is theirs, and may stand in it.
+    None when no statement is found or the rest would be no instruction."""
     toks = list(toks)
     for s in range(len(toks)):
-        if not _may_open(toks, s, subjects):
+        if not _may_open(toks, s, subjects, units):
             continue
-        e = _statement_end(toks, s, meaning, times)
+        e = _statement_end(toks, s, meaning, times, _theirs(toks, s))
         clause = toks[s:e]
         places = [t for t in clause if t.kind == "PLACE"]
         verb = any((k > 0 or "'" in t.surface) and (t.kind == "IS" or t.kind == "GO" and t.surface in _BE or
@@ -197,15 +203,34 @@ def _place_first(clause: Sequence[Token]) -> bool:
         second.surface.endswith(("'s", "'re")) and second.surface.split("'")[0] in ("room", "rooms")))  # fmt: skip
 
 
-def _may_open(toks: Sequence[Token], s: int, subjects: frozenset[str]) -> bool:
-    """Where a statement may open: a part's start, or a subject word right after a place or a word ("... the hall
-    i'm vacuuming the corridor"), never a word for the robot."""
+def _may_open(toks: Sequence[Token], s: int, subjects: frozenset[str], units: Sequence[str] = ()) -> bool:
+    """Where a statement may open: a part's start, a subject word right after a place or a word ("... the hall
+    i'm vacuuming the corridor"), or a word after "so" or "because" (and a determiner: "so the aide can ..."),
+    never a word for the robot."""
     t = toks[s]
     if t.kind == "WORD" and t.surface.split("'")[0] in _ROBOT and not _robot_doing(toks, s):
         return False
     if s == 0 or toks[s - 1].kind in ("COMMA", "_STOP"):
         return True
+    before = [u for u in units[max(0, t.start - 2) : t.start] if u not in _DETERMINERS] if t.start <= len(units) else []
+    if t.kind == "WORD" and before and before[-1] in _CONNECTIVES:
+        return True
     return t.kind == "WORD" and t.surface in subjects and toks[s - 1].kind in ("PLACE", "WORD")
+
+
+_CONNECTIVES = frozenset({"so", "because", "cos", "coz", "cause", "since", "while"})
+_DETERMINERS = frozenset({"the", "a", "an", "my", "our", "his", "her", "their", "that"})
+_MODALS = frozenset({"can", "could", "will", "would", "might", "may", "must", "needs", "wants", "has"})
+_OWN_PEOPLE = ("i", "i'", "we", "let", "us", "you", "u", "ya", "ye")
+
+
+def _theirs(toks: Sequence[Token], s: int) -> bool:
+    """Whether the clause opening at ``s`` is a third person's with a modal after its subject ("the aide can",
+    "grandma will"): a motion in it is theirs. Not "I", "we", "let's" (they may take the robot along) or "you"."""
+    first = toks[s]
+    if first.kind != "WORD" or first.surface.startswith(_OWN_PEOPLE) and first.surface not in ("uncle", "usher"):
+        return False
+    return any(t.kind == "WORD" and t.surface.split("'")[0] in _MODALS for t in toks[s + 1 : s + 3])
 
 
 def _robot_doing(toks: Sequence[Token], s: int) -> bool:
@@ -217,7 +242,9 @@ def _robot_doing(toks: Sequence[Token], s: int) -> bool:
     return k < len(toks) and toks[k].kind == "WORD" and toks[k].surface.endswith("ing")
 
 
-def _statement_end(toks: Sequence[Token], s: int, meaning: frozenset[str], times: frozenset[str]) -> int:
+def _statement_end(
+    toks: Sequence[Token], s: int, meaning: frozenset[str], times: frozenset[str], theirs: bool = False
+) -> int:
     """The end of a statement opening at ``s``: the first token that may not stand in one (:func:`about_places`)."""
     someone = toks[s].kind != "IT" and toks[s].surface not in _INSTRUCTION_SUBJECTS
     e = s
@@ -231,7 +258,13 @@ def _statement_end(toks: Sequence[Token], s: int, meaning: frozenset[str], times
             and nxt is not None
             and (nxt.kind == "WORD" and nxt.surface.endswith("ing"))
         )  # "I'm after mopping the kitchen": Irish English for "I have just mopped"
-        if not after and (t.kind not in _IN_A_PLACE_STATEMENT or t.kind == "GO" and t.surface not in _BE):
+        motion = theirs and t.kind in ("GO", "VIA", "TO", "ENTER") and not any(u.kind == "PLACE" for u in toks[s:e])
+        # "so the aide can get the wheelchair through the lounge": their motion, before the place it takes
+        if (
+            not after
+            and not motion
+            and (t.kind not in _IN_A_PLACE_STATEMENT or t.kind == "GO" and t.surface not in _BE)
+        ):
             break
         timed = ew.base(t.surface) in times
         robot = t.surface.split("'")[0] in _ROBOT and not (e == s and _robot_doing(toks, s))

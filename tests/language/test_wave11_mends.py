@@ -258,3 +258,31 @@ def test_a_place_gone_along_alone_is_where_to_go(text, goal):
 def test_through_alone_or_along_a_word_of_two_senses_stays_refused(text):
     with pytest.raises(InstructionError):
         read(text, PLACE_WORDS_EN, "en")
+
+
+@pytest.mark.parametrize(
+    "text, goal, visits",
+    [
+        ("go to the bedroom, nearest the kitchen", "bedroom", 1),  # the relation after a pause picks the bedroom
+        ("goto bedroom --nearest kitchen", "bedroom", 1),
+        ("Which bedroom? The one nearest the storeroom. Go there.", "bedroom", 1),  # the question is no visit
+        ("Robot please go to the hallway so the aide can get the wheelchair through the living room.", "corridor", 1),
+    ],
+)
+def test_wave13_misreadings_read_as_meant(text, goal, visits):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert r.visit[-1].words[0] == goal and len(r.visit) == visits
+    if "nearest" in text:
+        assert r.visit[-1].relation is not None
+
+
+def test_wait_then_a_correction_is_one_correction_not_a_wait():
+    r = read("Go to the kitchen avoiding the hall, wait, I meant avoiding the hallway.", PLACE_WORDS_EN, "en")
+    assert r.waits == () and [p.words[0] for p in r.avoid] == ["corridor"]
+
+
+def test_a_third_persons_motion_stays_theirs_only_before_its_place():
+    """ "the babysitter needs the kitchen free go to the corridor": the robot's "go" is no motion of the
+    babysitter's statement."""
+    r = read("hey so the babysitter needs the kitchen free go to the corridor", PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == ["corridor"]
