@@ -163,7 +163,7 @@ def _said_again_en(out: list[Token], kinds: set[str]) -> list[Token]:
     laundry."), and "not X" after a correction, repeating the place it takes back ("X. Sorry, not X, Y")."""
     if "_STOP" in kinds:
         out = echoes_en(out)
-    if "CORRECTION" in kinds and "NEG" in kinds:
+    if kinds & {"CORRECTION", "WAIT"} and "NEG" in kinds:
         out = taken_back_en(out)
     return out
 

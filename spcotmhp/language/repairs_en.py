@@ -257,7 +257,8 @@ def taken_back_en(items: list[Token]) -> list[Token]:
     """A correction that names what it takes back: "X. Sorry, not X, Y", "X no sorry not the X the Y", "X, actually
     scratch that, not the X, the Y": "not X" right after the correction word repeats the place the correction
     replaces (the last place said before it), so it is no place not to end in of its own: left out, and Y replaces
-    X as any correction's place does. With no pause between them ("not the X the Y") the two were read as one name
+    X as any correction's place does ("wait," opening the sentence is such a correction word: "Go to the hall.
+    Wait, not the hall, the corridor."). With no pause between them ("not the X the Y") the two were read as one name
     (merging's rule 5); the name is split where X ends. Any other "not" stays as said."""
     out: list[Token] = []
     k = 0
@@ -266,7 +267,15 @@ def taken_back_en(items: list[Token]) -> list[Token]:
         before = [t for t in out if t.kind != "COMMA"]
         place = items[k + 1] if k + 1 < len(items) else None
         said = next((t for t in reversed(before[:-1]) if t.kind == "PLACE"), None) if before else None
-        if it.kind == "NEG" and before and before[-1].kind == "CORRECTION" and place is not None and said is not None:
+        waited = (
+            bool(before)
+            and before[-1].kind == "WAIT"
+            and before[-1].surface == "wait"
+            and len(before) > 1
+            and (out[-1].kind == "COMMA" and before[-2].kind == "_STOP")
+        )  # "Go to the hall. Wait, not the hall, the corridor.": "wait," opening a sentence is a correction
+        corrected = bool(before) and (before[-1].kind == "CORRECTION" or waited)
+        if it.kind == "NEG" and corrected and place is not None and said is not None:
             n = len(said.words)
             again = place.kind == "PLACE" and place.words[:n] == said.words and place.number == said.number
             rest = place.words[n:] if again else ()
@@ -277,15 +286,23 @@ def taken_back_en(items: list[Token]) -> list[Token]:
                 and any(t.kind == "PLACE" for t in after)
                 and all(t.kind in ("PLACE", "COMMA") for t in after[: 1 + (after[0].kind == "COMMA")])
             ):
+                _as_correction(out, before[-1])
                 k += 2 + (after[0].kind == "COMMA")  # "not the hall, the family room": the family room replaces it
                 continue
             if again and rest and place.surface.startswith(said.surface + " ") and place.number is None:
+                _as_correction(out, before[-1])
                 out.append(place._replace(surface=place.surface[len(said.surface) + 1 :], words=rest))
                 k += 2
                 continue
         out.append(it)
         k += 1
     return out
+
+
+def _as_correction(out: list[Token], word: Token) -> None:
+    """The "wait" opening the sentence of a correction (taken_back_en) made the correction word it is."""
+    if word.kind == "WAIT":
+        out[next(k for k in range(len(out) - 1, -1, -1) if out[k] is word)] = word._replace(kind="CORRECTION")
 
 
 def echoes_en(items: list[Token]) -> list[Token]:

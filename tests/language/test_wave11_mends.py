@@ -286,3 +286,17 @@ def test_a_third_persons_motion_stays_theirs_only_before_its_place():
     babysitter's statement."""
     r = read("hey so the babysitter needs the kitchen free go to the corridor", PLACE_WORDS_EN, "en")
     assert [p.words[0] for p in r.visit] == ["corridor"]
+
+
+@pytest.mark.parametrize(
+    "text, visit, avoid, speed",
+    [
+        ("nav kitchen via hall", ["hall", "kitchen"], [], None),  # "nav": navigate, as a terminal user types it
+        ("nav bath --avoid kitchen --slow", ["bath"], ["kitchen"], "slow"),
+        ("Robot, go inna di kitchen nuh.", ["kitchen"], [], None),  # Jamaican Creole: into the kitchen
+        ("Go to the hall. Wait, not the hall, the corridor.", ["corridor"], [], None),  # "wait," a correction
+    ],
+)
+def test_wave13_forms(text, visit, avoid, speed):
+    r = read(text, PLACE_WORDS_EN, "en")
+    assert [p.words[0] for p in r.visit] == visit and [p.words[0] for p in r.avoid] == avoid and r.speed == speed
