@@ -25,7 +25,7 @@ _SAID_TO_OTHERS = frozenset(
      "DE", "ALTERNATIVE", "FROM"}
 )  # fmt: skip
 _SENTENCE_ENDS = frozenset({".", "!", "?"})
-_JA_AFTER = r"(?:さん|くん|君|ちゃん|公)?(?:[、,。！？!?\s]|は|(?![がをのにへとで]))"
+_JA_AFTER = r"(?:さん|はん|くん|君|ちゃん|公)?(?=[、,。！？!?\s]|は|(?![がをのにへとで]))"
 
 
 def before_the_address(
@@ -37,14 +37,17 @@ def before_the_address(
     names = tuple(table.talk.get("robot_names", ()))
     if not names or not toks:
         return None
-    at = _address_ja(str(units), names) if table.by_character else _address_en(list(units), names)
-    if at is None:
+    span = _address_ja(str(units), names) if table.by_character else _address_en(list(units), names)
+    if span is None:
         return None
+    at, end = span
     before = [t for t in toks if t.start < at]
-    after = [t for t in toks if t.start >= at]
+    after = [t for t in toks if t.start >= at and not (t.kind == "WORD" and t.end <= end)]  # ロボットはん: はん
+    named = len(after) < len([t for t in toks if t.start >= at])
     topic = table.by_character and bool(after) and after[0].kind == "WORD" and after[0].surface == "は"
     after = after[topic:]  # ロボットさんは リビングへ: the topic's は after the name says whom the speaker asks
-    if not any(t.kind == "PLACE" for t in after) or not (before or topic) or not all(_to_others(t) for t in before):
+    said_to = before or topic or named
+    if not any(t.kind == "PLACE" for t in after) or not said_to or not all(_to_others(t) for t in before):
         return None
     joiner = "" if table.by_character else " "
     said = joiner.join(t.surface for t in before if t.kind not in ("COMMA", "_STOP"))
@@ -57,17 +60,18 @@ def _to_others(tok: Token) -> bool:
     return tok.kind in _SAID_TO_OTHERS or tok.kind == "GOAL" and tok.surface in ("に", "へ")
 
 
-def _address_en(units: list[str], names: tuple[str, ...]) -> int | None:
-    """The index of the last unit that calls the robot by name at a sentence's start (after "." "!" or "?")."""
+def _address_en(units: list[str], names: tuple[str, ...]) -> tuple[int, int] | None:
+    """The span of the last unit that calls the robot by name at a sentence's start (after "." "!" or "?")."""
     for p in range(len(units) - 1, 0, -1):
         if units[p] in names and units[p - 1] in _SENTENCE_ENDS:
-            return p
+            return p, p + 1
     return None
 
 
-def _address_ja(text: str, names: tuple[str, ...]) -> int | None:
-    """The character index (spaces left out) of the last place the robot is called by name."""
+def _address_ja(text: str, names: tuple[str, ...]) -> tuple[int, int] | None:
+    """The span (character indices, spaces left out) of the last place the robot is called by name, with its
+    honorific (ロボットはん, ロボ公) and the pause after it."""
     chars = "".join(ch for ch in text if not ch.isspace())
     pattern = re.compile("(?:" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + ")" + _JA_AFTER)
-    found = [m.start() for m in pattern.finditer(chars)]
+    found = [(m.start(), m.end()) for m in pattern.finditer(chars)]
     return found[-1] if found else None

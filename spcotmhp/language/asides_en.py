@@ -139,11 +139,15 @@ def ease_en(
     out = answer(owners(pieces(restarts(list(toks), units), frozenset(place_words), units), frozenset(place_words)))
     out = requesters(out, people)  # after owners: "alice wants you in her room" says whose room first
     out = repairs(_until_told(_manner(_posture(_text_speak(_fronted(out)), talk), talk), units), units, notes)
-    kept, said = _asides(out, talk, units, table)
     subjects = frozenset(talk.get("subjects", ())) | people
     times = frozenset(talk.get("times_in_statements", ())) | CLOCK
-    if (places := about_places(kept, subjects, frozenset(talk.get("meaning", ())), times, units)) is not None:
-        kept, said = places[0], [*said, *places[1]]  # rule 3c
+    stated_places: list[str] = []
+    for _ in range(4):  # rule 3c, before addresses are cut ("grandma is in the bath": her statement); a few of them
+        if (places := about_places(out, subjects, frozenset(talk.get("meaning", ())), times, units)) is None:
+            break
+        out, stated_places = places[0], [*stated_places, *places[1]]
+    kept, said = _asides(out, talk, units, table)
+    said = [*stated_places, *said]
     if said or kept != list(toks):
         return kept, said, notes
     return None

@@ -82,19 +82,7 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("DURATION", duration.group(0), seconds=_ja_seconds(duration), start=i, end=i + n))
             i += n
             continue
-        hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places, True))
-        if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _SMALL_KANA:
-            hit = _shorter_filler(chars, i, hit, table, places)
-        loose = hit is not None and _loose(chars, i, hit[2], out, table, places)
-        if (
-            loose
-            and hit is not None
-            and not hit[0]
-            and _in_a_noun(chars, i, hit[2], janome.nouns(), out, table, places)
-        ):
-            hit = None  # おばあちゃん, おなか: a filler's characters inside a noun janome knows are the noun's
-        if loose and hit is not None and hit[2] == 1 and hit[0] in _PARTICLES and janome.inside_predicate(i):
-            hit = None  # で of できる, と of とる: a particle's character inside a verb or adjective janome knows
+        hit = _match(chars, i, out, table, places, janome)
         if hit is not None:
             kind, value, n = hit
             if kind:
@@ -116,6 +104,23 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
     return held(apologies(reasons(_nearest_to(out))))
+
+
+def _match(
+    chars: list[str], i: int, out: list[Token], table: WordTable, places: PlaceLexicon, janome: _Words
+) -> tuple[str, str, int] | None:
+    """The entry matched at ``chars[i]`` (the longest, a filler fitted to what follows it), or None where the
+    match is a piece of a word janome knows around it."""
+    hit = _filler_fitting(chars, i, table, places, longest_match(chars, i, table, places, True))
+    if hit is not None and not hit[0] and i + hit[2] < len(chars) and chars[i + hit[2]] in _SMALL_KANA:
+        hit = _shorter_filler(chars, i, hit, table, places)
+    if hit is None or not _loose(chars, i, hit[2], out, table, places):
+        return hit
+    if not hit[0] and _in_a_noun(chars, i, hit[2], janome.nouns(), out, table, places):
+        return None  # おばあちゃん, おなか: a filler's characters inside a noun janome knows are the noun's
+    if hit[2] == 1 and hit[0] in _PARTICLES and janome.inside_predicate(i):
+        return None  # で of できる, と of とる: a particle's character inside a verb or adjective janome knows
+    return hit
 
 
 class _Words:

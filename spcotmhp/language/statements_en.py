@@ -169,16 +169,10 @@ def about_places(
             continue  # "... bath is | running": a statement ends where a part ends or an instruction opens
         rest = toks[:s] + toks[e:]
         anaphors = [k for k, t in enumerate(rest) if t.kind in _ANAPHORS and k >= s]
-        if anaphors:
+        if anaphors and not any(t.kind == "PLACE" for t in rest[s : anaphors[0]]):  # else the rest's own place
             k = anaphors[0]
             names = {t.words for t in places}
-            if (
-                len(names) != 1
-                or k == 0
-                or rest[k - 1].kind not in _AFTER_ANAPHOR
-                or len(anaphors) > 1
-                or any(t.kind == "PLACE" for t in rest[s:k])
-            ):
+            if len(names) != 1 or k == 0 or rest[k - 1].kind not in _AFTER_ANAPHOR:
                 return None  # "it" may stand for more than one place, or for one the rest names
             rest[k] = places[-1]._replace(start=rest[k].start, end=rest[k].end)
         while rest and rest[0].kind in ("COMMA", "_STOP", "AND"):
@@ -192,6 +186,11 @@ def about_places(
 
 
 _BE = frozenset({"be", "been", "being"})
+_PASSABILITY = frozenset(
+    {"closed", "locked", "shut", "blocked", "barricaded", "flooded", "cordoned", "sealed", "impassable"}
+)
+"""Words that say whether a place can be entered or passed ("the bath is closed"): navigation meaning the
+planner cannot take from a statement (it avoids only what it is told to), so they keep the statement, refused."""
 _OPENERS = frozenset({"COMMA", "_STOP", "AND", "GO", "HURRY", "VIA", "AVOID", "NEG", "WAIT", "ENTER", "NO", "WITHOUT"})
 
 
@@ -270,7 +269,7 @@ def _statement_end(
         robot = t.surface.split("'")[0] in _ROBOT and not (e == s and _robot_doing(toks, s))
         if t.kind == "WORD" and (
             robot or t.surface in _OBJECTS or t.surface in meaning and not timed or timed and not someone
-            or t.surface in CLOCK
+            or t.surface in CLOCK or t.surface in _PASSABILITY
         ):  # fmt: skip
             break
         if t.kind == "TO" and (nxt is None or nxt.kind != "PLACE"):

@@ -41,6 +41,11 @@ TALK_EN = [
     "someone's at the door",  # a position noun saying where someone is
     "it's getting crowded in here",
     "Mr Ahmed is waiting",  # a title's name as the subject
+    "I'm mopping the kitchen",  # statements of someone else naming a place (rule 3c of asides_en)
+    "we're hoovering the lounge",
+    "the kids are playing in the bedroom",
+    "guests will be in the living room tonight",
+    "grandma is in the bath",
 ]
 """Clauses the rule passes over (each says something about the world, with no place, time, order or motion)."""
 

@@ -300,3 +300,15 @@ def test_a_third_persons_motion_stays_theirs_only_before_its_place():
 def test_wave13_forms(text, visit, avoid, speed):
     r = read(text, PLACE_WORDS_EN, "en")
     assert [p.words[0] for p in r.visit] == visit and [p.words[0] for p in r.avoid] == avoid and r.speed == speed
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("ロボットはん、広場まで行っとくれやす", "広場"),  # 京都: 〜とくれやす, はん
+        ("納戸まで行っとくれ、おおきに", "物置き"),  # 京都: 〜とくれ; おおきに thanks
+        ("おう、ロボ公、玄関先まで行ってくんな。", "玄関"),  # 下町: 〜てくんな, ロボ公
+    ],
+)
+def test_kyoto_and_shitamachi_endings(text, goal):
+    assert _plan(text, "ja")[0] == [goal]
