@@ -87,3 +87,23 @@ def along_only_en(items: list[Token], senses: frozenset[str] = frozenset()) -> l
     verb, _, particle = via.surface.rpartition(" ")
     go = Token("GO", verb, start=via.start, end=via.end)
     return [*items[: k - 1], go, Token("TO", particle, start=via.end, end=via.end), *items[k:]]
+
+
+_CHOOSING = frozenset({"pick", "choose", "select"})
+_CHOSEN = frozenset({"PLACE", "ONE_OF", "WHICHEVER", "ANY_ONE", "LARGEST", "SMALLEST", "NEAREST", "MODIFIER"})
+
+
+def chosen_en(items: list[Token]) -> list[Token]:
+    """ "Pick the bedroom closest to the hall (and go there)", "choose whichever bedroom is nearest the dining room":
+    a verb of choosing opening a clause, right before the place chosen, asks the robot to go there, the one thing it
+    can do with a place (six writers of six label it so); read as "go to". Before anything else ("pick up the
+    towel") it stays a word, refused."""
+    out: list[Token] = []
+    for k, t in enumerate(items):
+        opens = k == 0 or items[k - 1].kind in ("COMMA", "_STOP")
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        if t.kind == "WORD" and t.surface in _CHOOSING and opens and nxt is not None and nxt.kind in _CHOSEN:
+            out.append(Token("GO", t.surface, start=t.start, end=t.end))  # as "go kitchen" is read
+        else:
+            out.append(t)
+    return out

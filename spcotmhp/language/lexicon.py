@@ -40,7 +40,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from spcotmhp.language.endings_en import along_only_en, asked_then_there_en, emphasis_en, go_and_come_en
+from spcotmhp.language.endings_en import along_only_en, asked_then_there_en, chosen_en, emphasis_en, go_and_come_en
 from spcotmhp.language.floors import CUES, floor_en
 from spcotmhp.language.forms_en import (
     any_but_en,
@@ -153,6 +153,8 @@ def _endings_en(out: list[Token], kinds: set[str], table: WordTable) -> list[Tok
         out = emphasis_en(out)
     if "VIA" in kinds:
         out = along_only_en(out, frozenset(table.senses))
+    if "WORD" in kinds and "PLACE" in kinds:
+        out = chosen_en(out)
     if "WORD" in kinds and "THERE" in kinds:
         out = asked_then_there_en(out)
     return out

@@ -54,6 +54,22 @@ def en_units(text: str, restore_g: bool = True) -> list[str]:
     ]
 
 
+def _written_out(classes: Mapping[str, Any], source: str) -> None:
+    """Refuse a class phrase holding a text-speak word (:data:`_TEXT_SPEAK`) unless its written-out form is a phrase
+    of the same class ("thru" beside "through"): written out, "goto" in GO would make "go to" one GO token and
+    silently take the "to" from every "go to the kitchen"."""
+    for kind, items in classes.items():
+        phrases = items if isinstance(items, list) else items.get("phrases", ())
+        texted = [p for p in phrases if any(u in _TEXT_SPEAK for u in EN_UNIT.findall(p))]
+        own = {tuple(en_units(p, restore_g=False)) for p in phrases if p not in texted}
+        for phrase in texted:
+            if tuple(en_units(phrase, restore_g=False)) not in own:
+                raise ValueError(
+                    f"{source}: {phrase!r} in {kind} is written out as {' '.join(en_units(phrase, restore_g=False))!r},"
+                    f" which is no phrase of {kind}; write that phrase instead"
+                )
+
+
 def _g_restored(unit: str) -> str:
     """``unit`` with a dropped g put back (:data:`_G_DROPPED`)."""
     if _G_DROPPED.fullmatch(unit) is None:
@@ -141,6 +157,8 @@ def read_table(text: str, source: str) -> WordTable:
 
     for kind, items in table["classes"].items():
         add(kind, items)
+    if not by_char:
+        _written_out(table["classes"], source)
     reasons = {}
     for kind, spec in table.get("refusals", {}).items():
         add(kind, spec["phrases"])

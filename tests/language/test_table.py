@@ -39,3 +39,17 @@ def test_the_northern_reduced_article_is_the():
     assert en_units("go through to t'kitchen") == ["go", "through", "to", "the", "kitchen"]
     assert en_units("t'other room") == ["the", "other", "room"]
     assert en_units("don't can't i'm t'") == ["don't", "can't", "i'm", "t"]  # no word after it: as before
+
+
+def test_a_class_phrase_written_as_a_text_word_must_be_written_out_in_its_class():
+    """ "goto" in GO is written out as "go to", which would make "go to" one GO token: refused with a clear message;
+    "thru" beside "through" in one class is fine."""
+    import json
+
+    import pytest
+
+    from spcotmhp.language.table import read_table
+
+    with pytest.raises(ValueError, match="'goto' in GO is written out as 'go to'"):
+        read_table(json.dumps({"lang": "en", "classes": {"GO": ["go", "goto"], "TO": ["to"]}}), "test.json")
+    read_table(json.dumps({"lang": "en", "classes": {"VIA": ["through", "thru"]}}), "test.json")

@@ -312,3 +312,20 @@ def test_wave13_forms(text, visit, avoid, speed):
 )
 def test_kyoto_and_shitamachi_endings(text, goal):
     assert _plan(text, "ja")[0] == [goal]
+
+
+@pytest.mark.parametrize(
+    "text, goal",
+    [
+        ("Pick the bedroom closest to the hall and go there.", "bedroom"),
+        ("Pick whichever bedroom is nearest the dining room", "bedroom"),
+        ("choose the kitchen", "kitchen"),
+    ],
+)
+def test_a_verb_of_choosing_before_a_place_is_going_there(text, goal):
+    assert _plan(text)[0] == [goal]
+
+
+def test_pick_up_stays_refused():
+    with pytest.raises(InstructionError):
+        read("pick up the towel in the bath", PLACE_WORDS_EN, "en")
