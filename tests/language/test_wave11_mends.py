@@ -329,3 +329,7 @@ def test_a_verb_of_choosing_before_a_place_is_going_there(text, goal):
 def test_pick_up_stays_refused():
     with pytest.raises(InstructionError):
         read("pick up the towel in the bath", PLACE_WORDS_EN, "en")
+
+
+def test_slowly_will_do_with_a_reasons_shi_is_slow():
+    assert _plan("ゆっくりでいいし、物置きまで行って", "ja") == (["物置き"], [], "slow")
