@@ -6,7 +6,9 @@ A speaker who calls the robot by its name (the table's ``talk.robot_names``: "ro
 さん / くん / ちゃん) turns to it there: what was said before the name, in the same utterance, was said to someone
 else (the children, the television, a partner). It is passed over, and said in the explanation, when it names no
 place, no length of time and no word of a class that says how or where to go (``_SAID_TO_OTHERS`` lists the classes
-it may hold: words, pauses, a correction or a "stop" to someone else), and the part after the name names a place.
+it may hold: words, pauses, a correction or a "stop" to someone else), no word of time, manner, way, number or order
+(the table's ``talk.meaning``: "Tonight. Robot, go to the kitchen." may say when), and the part after the name
+names a place.
 English: the name opens a sentence (after a full stop, "!" or "?"), so a name said as a subject ("the robot is
 blocking the door") is none. Japanese: the name is followed by a pause, a space, the topic's は or the instruction
 itself, never by が / を / の / に (ロボットが動くよ: the robot as a subject, not addressed).
@@ -47,11 +49,33 @@ def before_the_address(
     topic = table.by_character and bool(after) and after[0].kind == "WORD" and after[0].surface == "は"
     after = after[topic:]  # ロボットさんは リビングへ: the topic's は after the name says whom the speaker asks
     said_to = before or topic or named
+    meaning = frozenset(table.talk.get("meaning", ())) | frozenset(table.talk.get("times_in_statements", ()))
+    meaning -= {"this", "that", "am"}  # "Kids, watch this.", "Am I muted?": a time only with a noun or a number
     if not any(t.kind == "PLACE" for t in after) or not said_to or not all(_to_others(t) for t in before):
         return None
+    if any(_means(t, meaning, table.by_character) for t in before):
+        return None  # "Tonight. Robot, go to the kitchen.", "The short way.", 明日 ロボット: may be the robot's
     joiner = "" if table.by_character else " "
     said = joiner.join(t.surface for t in before if t.kind not in ("COMMA", "_STOP"))
     return after, [said] if said else ["は"]
+
+
+def _means(tok: Token, meaning: frozenset[str], by_character: bool) -> bool:
+    """Whether a word said before the name may carry navigation meaning for the robot: a time, a manner, a way, a
+    number or an order word (the table's ``talk.meaning`` and ``times_in_statements``, checked in each word; in
+    Japanese inside the run of characters)."""
+    if tok.kind != "WORD":
+        return False
+    if by_character:
+        return any(w in tok.surface for w in meaning if len(w) > 1) or any(ch.isdigit() for ch in tok.surface)
+    from spcotmhp.language.english_words import base
+
+    words = tok.surface.split()
+    return any(w in meaning or base(w) in meaning or w in _WAYS or w.isdigit() or w in _NUMBER_WORDS for w in words)
+
+
+_WAYS = frozenset({"way", "route", "short", "long", "usual", "backwards", "stairs", "round", "around", "number"})
+_NUMBER_WORDS = frozenset("one two three four five six seven eight nine ten first second third last".split())  # noqa: SIM905
 
 
 def _to_others(tok: Token) -> bool:

@@ -138,7 +138,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     if "BUT" in kinds and "ONE_OF" in kinds:
         out = any_but_en(out)
     if kinds & {"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"} and kinds & {"COMMA", "_STOP"}:
-        out = apposed_en(out)  # repairs_en: "the bedroom, nearest the kitchen"
+        out = apposed_en(out, english_units(text))  # repairs_en: "the bedroom, nearest the kitchen"
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

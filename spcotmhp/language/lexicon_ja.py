@@ -90,6 +90,8 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
                 out.append(Token(kind, "".join(chars[i : i + n]), words, start=i, end=i + n))
             elif "".join(chars[i : i + n]) in APOLOGIES and after_a_place(out):
                 out.append(Token("_APOLOGY", "".join(chars[i : i + n]), start=i, end=i + n))
+            elif _hesitation(chars, i, n, out, table, places):
+                out.append(Token("HESITATION", "".join(chars[i : i + n]), start=i, end=i + n))
             i += n
             continue
         last = out[-1] if out else None
@@ -104,6 +106,32 @@ def tokens_ja(text: str, table: WordTable, places: PlaceLexicon) -> list[Token]:
             out.append(Token("WORD", chars[i], start=i, end=i + 1))
         i += 1
     return held(apologies(reasons(_nearest_to(out))))
+
+
+_PAUSES = frozenset("、,。.!！?？…‥ー〜~")
+
+
+def _hesitation(chars: list[str], i: int, n: int, out: list[Token], table: WordTable, places: PlaceLexicon) -> bool:
+    """Whether the filler ``chars[i : i + n]`` stands between two places said bare, nothing but pauses around it
+    (りびんぐ… えっとね… きっちん！): the speaker searched for the word, and whether the second place replaces the first
+    or follows it is a guess, as "the kitchen... uh... the dining room" is in English; kept, to be refused."""
+    before = [t for t in out if t.kind != "COMMA"]
+    if not before or before[-1].kind != "PLACE":
+        return False
+    k = i + n
+    after = None
+    while k < len(chars):
+        if chars[k] in _PAUSES:
+            k += 1
+            continue
+        after = longest_match(chars, k, table, places, True)
+        if after is None or after[0]:
+            break
+        k += after[2]  # another filler (えっと|ね)
+    if after is None or after[0] != "PLACE" or after[1] in before[-1].words:
+        return False  # 風呂ね風呂場: the same place said again is no hesitation between two
+    nxt = k + after[2]
+    return nxt >= len(chars) or chars[nxt] in _PAUSES
 
 
 def _match(

@@ -228,6 +228,8 @@ def _within(short: str, word: str) -> bool:
 
 
 _TELLING = frozenset({"with", "w", "where", "that", "which", "one"})
+_GOING = frozenset({"TO", "GO", "VIA", "AVOID", "ENTER", "AT", "STOP_AT", "NEG", "WITHOUT", "NO"})
+"""Classes right before a place that say it is where to go, pass or keep out of."""
 """Words after an ambiguous word that tell its place by what is in it (rewrite_en's contents rule, rule 9)."""
 
 
@@ -237,8 +239,28 @@ def contrasted(items: list[Token], places: PlaceLexicon, activities: frozenset[s
     the bathroom"), names another of them: a speaker who meant the toilet twice would not call it by two names in
     one breath. Where exactly one kind is left, the word is read as it. A place word that also names what is done
     there (``activities``: "bath" of "run a bath", "bath night") rules out nothing, nor does a place said as what
-    is in it ("the bathroom where the toilet is": rule 9 reads it). Else the word stays, refused with "say which"."""
-    named = {t.words[0] for t in items if t.kind == "PLACE" and t.words and t.words[0] not in activities}
+    is in it ("the bathroom where the toilet is": rule 9 reads it), said beside it ("the bathroom, the toilet") or
+    after a verb of no class ("and use the toilet"); with a correction in the sentence ("the toilet, I mean the
+    bathroom": a politer name, or another room) nothing is ruled out. Else the word stays, refused with "say
+    which"."""
+    if any(t.kind == "CORRECTION" for t in items):
+        return items  # "the toilet, I mean the bathroom": a politer name for one room, or another room: a guess
+    named = {
+        t.words[0]
+        for k, t in enumerate(items)
+        if t.kind == "PLACE"
+        and t.words
+        and t.words[0] not in activities
+        and k
+        and (
+            items[k - 1].kind in _GOING
+            and not items[k - 1].surface.startswith("us")
+            or items[k - 1].kind in ("AND", "OR")
+            and k >= 2
+            and items[k - 2].kind in ("PLACE", "WORD")  # "the bathroom or the toilet": a list of two rooms
+        )
+    }  # named as where to go, pass or keep out of ("go to the toilet"), not beside ("the bathroom, the toilet") and
+    # not as a room used ("and use the toilet": the bathroom may be the room whose toilet is used)
     if not named:
         return items
     out: list[Token] = []
@@ -246,6 +268,12 @@ def contrasted(items: list[Token], places: PlaceLexicon, activities: frozenset[s
         kinds = places.ambiguous.get((t.surface,)) if t.kind == "WORD" else None
         left = [w for w in kinds if w not in named] if kinds else []
         told = any(u.surface in _TELLING for u in items[k + 1 : k + 4])  # "the bathroom where the toilet is"
+        told |= (
+            k >= 2
+            and items[k - 1].kind == "COMMA"
+            and items[k - 2].kind == "PLACE"
+            and not (k >= 3 and items[k - 3].kind == "NEG")
+        )  # "the loo, the bathroom" (but "not the toilet, the bathroom" names it again)
         if kinds and len(left) == 1 and len(left) < len(kinds) and not told:
             out.append(Token("PLACE", t.surface, (left[0],), start=t.start, end=t.end))
         else:

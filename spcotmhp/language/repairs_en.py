@@ -322,7 +322,8 @@ def echoes_en(items: list[Token]) -> list[Token]:
     said: list[tuple[str, tuple[str, ...], int | None]] = []
     for sentence in sentences:
         key = [_said(t) for t in sentence if t.kind not in ("COMMA", "_STOP")]
-        at = [k for k in range(len(said) - len(key) + 1) if key and said[k : k + len(key)] == key]
+        fragment = all(k[0] in _ECHOED for k in key)  # with a verb or an order it says something of its own
+        at = [k for k in range(len(said) - len(key) + 1) if key and fragment and said[k : k + len(key)] == key]
         lone = len(key) == 1 and key[0][0] == "PLACE"  # a place said again alone is one visit (walk's _once)
         if out and at and (not lone or any(k and said[k - 1][0] in _RELATIONS for k in at)):
             continue
@@ -332,6 +333,8 @@ def echoes_en(items: list[Token]) -> list[Token]:
 
 
 _RELATIONS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", "AS_FAR_FROM"})
+_ECHOED = _RELATIONS | {"PLACE", "ONE", "AND", "LARGEST", "SMALLEST", "OF"}
+"""What an echo may hold: places and their relations ("The laundry. Nearest the laundry."), no verb or order."""
 
 
 def _said(tok: Token) -> tuple[str, tuple[str, ...], int | None]:
@@ -339,9 +342,11 @@ def _said(tok: Token) -> tuple[str, tuple[str, ...], int | None]:
 
 
 _RELATION_WORDS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"})
+_APPOSED = frozenset({"NEAREST", "CLOSEST", "FARTHEST"})
+"""Relations that may follow a place after a pause ("next to the hall, then ..." may be "next, to the hall")."""
 
 
-def apposed_en(items: list[Token]) -> list[Token]:
+def apposed_en(items: list[Token], units: Sequence[str] = ()) -> list[Token]:
     """A relation said after a pause that follows a place ("go to the bedroom, nearest the kitchen", "goto bedroom
     --nearest kitchen") picks that place, as "the bedroom nearest the kitchen" does: read as a place of its own
     ("the nearest kitchen") it would make the bedroom a waypoint nobody asked for. And a question naming a place
@@ -353,12 +358,14 @@ def apposed_en(items: list[Token]) -> list[Token]:
         t = items[k]
         nxt = items[k + 1] if k + 1 < len(items) else None
         prev = out[-1] if out else None
+        the = nxt is not None and 0 < nxt.start <= len(units) and units[nxt.start - 1] in ("the", "a")
         if (
             prev is not None
             and prev.kind == "PLACE"
             and t.kind == "COMMA"
             and nxt is not None
-            and (nxt.kind in _RELATION_WORDS)
+            and nxt.kind in _APPOSED
+            and not the  # "the kitchen, the nearest bedroom": a place of its own
         ):
             k += 1  # "bedroom, nearest the kitchen": the pause between the place and its relation
             continue

@@ -169,12 +169,14 @@ def about_places(
             continue  # "... bath is | running": a statement ends where a part ends or an instruction opens
         rest = toks[:s] + toks[e:]
         anaphors = [k for k, t in enumerate(rest) if t.kind in _ANAPHORS and k >= s]
-        if anaphors and not any(t.kind == "PLACE" for t in rest[s : anaphors[0]]):  # else the rest's own place
-            k = anaphors[0]
-            names = {t.words for t in places}
+        names = {(t.words, t.number) for t in places}
+        for k in anaphors:
+            if any(t.kind == "PLACE" for t in rest[s:k]):
+                continue  # "... go to the toilet, avoiding the bedroom next to it": the nearest place said before it
             if len(names) != 1 or k == 0 or rest[k - 1].kind not in _AFTER_ANAPHOR:
-                return None  # "it" may stand for more than one place, or for one the rest names
+                return None  # "it" may stand for several places ("bedroom 1 and bedroom 2 ... out of there")
             rest[k] = places[-1]._replace(start=rest[k].start, end=rest[k].end)
+            break
         while rest and rest[0].kind in ("COMMA", "_STOP", "AND"):
             rest.pop(0)
         while rest and rest[-1].kind in ("COMMA", "AND"):
@@ -187,10 +189,14 @@ def about_places(
 
 _BE = frozenset({"be", "been", "being"})
 _PASSABILITY = frozenset(
-    {"closed", "locked", "shut", "blocked", "barricaded", "flooded", "cordoned", "sealed", "impassable"}
-)
-"""Words that say whether a place can be entered or passed ("the bath is closed"): navigation meaning the
-planner cannot take from a statement (it avoids only what it is told to), so they keep the statement, refused."""
+    {"closed", "locked", "shut", "blocked", "barricaded", "flooded", "cordoned", "sealed", "impassable", "forbidden",
+     "inaccessible", "unsafe", "hazardous", "dangerous", "danger", "restricted", "obstructed", "unreachable",
+     "quarantined", "limits", "bounds", "quicker", "quickest", "shorter", "shortest", "shortcut", "faster",
+     "fastest", "slower", "longer"}
+)  # fmt: skip
+"""Words that say whether a place can be entered or passed ("the bath is closed", "off limits", "unsafe"), or that
+a way through it is better ("the corridor is quicker", "a shortcut"): navigation meaning the planner cannot take
+from a statement (it avoids and passes only what it is told to), so they keep the statement, refused."""
 _OPENERS = frozenset({"COMMA", "_STOP", "AND", "GO", "HURRY", "VIA", "AVOID", "NEG", "WAIT", "ENTER", "NO", "WITHOUT"})
 
 
@@ -245,7 +251,8 @@ def _statement_end(
     toks: Sequence[Token], s: int, meaning: frozenset[str], times: frozenset[str], theirs: bool = False
 ) -> int:
     """The end of a statement opening at ``s``: the first token that may not stand in one (:func:`about_places`)."""
-    someone = toks[s].kind != "IT" and toks[s].surface not in _INSTRUCTION_SUBJECTS
+    someone = toks[s].kind != "IT" and toks[s].surface not in _INSTRUCTION_SUBJECTS and not _robot_doing(toks, s)
+    # "you're vacuuming the hall later": a time in the robot's own statement may be when it is to go
     e = s
     while e < len(toks):
         t = toks[e]

@@ -322,8 +322,16 @@ _FINAL = ("よ", "ね", "わ", "ぞ", "よね", "よー", "ねー")
 """Sentence-final particles: a clause ending in one is a sentence, though no mark of a pause follows it."""
 _THEIR_MOTIONS = frozenset({"帰る", "戻る", "来る", "出る"})
 _REQUESTED = r"(?:(?<=[てでけろ])|(?<=なさい)|(?<=ください))"
-_SAID = re.compile(_REQUESTED + r"\s*(?:って|と)\s*(?:言|い)(?:っ|わ|う|い)[ぁ-ゖ]*(?=[。！!、,\s]|$)")
-_SAID_BUT = re.compile(_REQUESTED + r"\s*(?:って|と)\s*(?:言|い)った(?:けど|けれど|が)(?=[、,\s])")
+_SAY_ENDS = (
+    r"(?:っ(?:て(?:る|た|いる|いた|ます|ました)?|た|とる|とった)|う|います|いました)(?:んだ|の|よ|でしょ|だろ|ぞ|ね)*"
+)
+"""The saying said as done or being done, affirmative (言ってた, 言っとるんだ, 言うたよ): never 言ってない, 言わないで,
+言うな, 言いたかった, 言いかけた, 言っといて (tell them), 言われた (was told), which stay as said."""
+_SAID = re.compile(_REQUESTED + r"\s*(?:って|と)\s*(?:言|い)" + _SAY_ENDS + r"(?=[。！!、,\s]|$)")
+_SAID_BUT = re.compile(
+    _REQUESTED
+    + r"\s*(?:って|と)\s*(?:言|い)(?:った|ってた|ってたん|われた|われてた)(?:だ)?(?:けど|けれど|が)(?=[、,\s])"
+)
 _SAYER = re.compile(r"^\s*([^、。,\s]{1,12}?)が(?:ね|さ|な)?(?:[、,\s]|(?=[^、。,\s]))")
 _KIN = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|ぱぱ|まま|じい|ばあ|父|母|兄|姉|弟|妹|先生)$")
 
@@ -332,10 +340,10 @@ def relayed(text: str) -> str:
     """A request said with the words that say it was said (風呂へ行けと言っとるんだ: "I'm telling you, go to the
     bath"; おばあちゃんがね、風呂場に行ってって言ってたよ: granny said go to the bathroom) is that request: the
     saying is left out, and with it the person who said it, a kin word or a name with さん / ちゃん before が
-    opening the sentence; "X って言ったけど、" (I said X, but) before a correction is a pause before it
-    (キッチン通ってって言ったけど、やっぱりダイニング通って...). A quote of anything but a request (te-form,
-    imperative) stays as said."""
-    said = _SAID_BUT.sub("", text)
+    opening the sentence; "X って言ったけど、" (I said X, but; was told X, but) is a correction of X
+    (キッチン通ってって言ったけど、ダイニング通って...). A quote of anything but a request (te-form, imperative),
+    and a saying denied, forbidden, wished or asked for (言ってない, 言うな, 言いたかった, 言っといて), stay as said."""
+    said = _SAID_BUT.sub("、いや", text)  # "I said X, but": a correction of X
     quoted = _SAID.sub("", said)
     if quoted != said:
         sayer = _SAYER.match(quoted)
@@ -375,8 +383,8 @@ def _own(morphemes: Sequence[tuple[str, str, str, str]], verbs: frozenset[str]) 
     never with 静か alone); 中 after a noun (会議中, テレビ中: during) is no place, and 時間 after の
     (歯磨きの時間だから: time for) no length. With a verb of the table (今行くから, 入らないから) they may be
     the robot's, and keep the run."""
-    if any(m[1] == "動詞" and m[3] in verbs for m in morphemes):
-        return set()
+    if any(m[1] == "動詞" and (m[3] in verbs or m[3] == "言う") for m in morphemes):
+        return set()  # 言う may carry a quoted request (行けなんて言ってない): its negation is no statement's own
     return {
         k for k, m in enumerate(morphemes)
         if m[0] in _OWN or m[3] in _OWN or m[0] == "中" and m[2] == "接尾"

@@ -204,7 +204,6 @@ def test_a_sentence_that_only_says_again_what_was_said_adds_nothing(text, goal, 
         ("Go to the toilet, then the bathroom.", ["toilet", "bath"], []),  # the toilet named: the bathroom is the bath
         ("Don't go in the bathroom. Go to the toilet.", ["toilet"], ["bath"]),
         ("keep out of the toilet and the bathroom and go to the storeroom", ["storeroom"], ["bath", "toilet"]),
-        ("Go to the bathroom, the toilet, I mean.", ["toilet"], []),  # an afterthought correction after a pause
         ("the bathroom with the washing machine", ["washroom"], []),  # the thing tells the room
         ("go to the bathroom where the toilet is", ["toilet"], []),  # the toilet as what is in it: no contrast
     ],
@@ -214,7 +213,15 @@ def test_bathroom_beside_the_toilet_named_is_the_bath(text, visit, avoid):
 
 
 @pytest.mark.parametrize(
-    "text", ["go to the bathroom", "I'm gonna take a bath, go to the bathroom", "Make your way to the bathroom please"]
+    "text",
+    [
+        "go to the bathroom",
+        "I'm gonna take a bath, go to the bathroom",
+        "Make your way to the bathroom please",
+        "go to the loo, the bathroom",  # said beside it: maybe another name of the same room
+        "go to the toilet, I mean the bathroom",  # a correction: a politer name of the room, or another room
+        "go to the bathroom and use the toilet",  # the room whose toilet is used
+    ],
 )
 def test_bathroom_alone_or_beside_the_bath_as_an_activity_stays_refused(text):
     """The bath or the toilet: writers split on the bare word (55 the bath, 27 refused, the frozen held-out among
@@ -333,3 +340,65 @@ def test_pick_up_stays_refused():
 
 def test_slowly_will_do_with_a_reasons_shi_is_slow():
     assert _plan("ゆっくりでいいし、物置きまで行って", "ja") == (["物置き"], [], "slow")
+
+
+@pytest.mark.parametrize("text", ["りびんぐ… えっとね… きっちん！", "キッチン あの えっと リビング"])
+def test_a_hesitation_between_two_bare_places_is_refused_not_read_as_a_way(text):
+    """Whether the second place replaces the first or follows it is a guess (as "the kitchen... uh... the dining
+    room" is refused in English): refused naming the hesitation (blind59 had read it as a waypoint)."""
+    with pytest.raises(InstructionError, match="hesitation"):
+        read(text, PLACE_WORDS_JA, "ja")
+
+
+def test_the_same_place_after_a_filler_is_no_hesitation():
+    assert _plan("洗面所じゃなくて風呂ね風呂場", "ja")[0] == ["風呂"]
+
+
+def test_i_beg_your_pardon_corrects():
+    assert _plan("Make your way to the kitchen - I beg your pardon, the dining room.")[0] == ["dining"]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "寝室に行けって言ってない",  # a saying denied, forbidden, wished or asked for stays as said
+        "トイレに行ってって言わないで",
+        "風呂に行ってって言うな",
+        "寝室に行けって言っといて",
+        "リビングに行けなんて言ってない、キッチンに行って",
+    ],
+)
+def test_a_saying_denied_or_asked_for_is_no_request(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_JA, "ja")
+
+
+def test_i_was_told_x_but_y_corrects_x():
+    assert _plan("キッチンに行けって言ってたけど、寝室に行って", "ja")[0] == ["寝室"]
+    assert _plan("リビングに行けって言われたけど、キッチンに行って", "ja")[0] == ["キッチン"]
+
+
+@pytest.mark.parametrize(
+    "text, visit",
+    [
+        ("Go to the kitchen. Go to the hall. Go to the kitchen.", ["kitchen", "hall", "kitchen"]),  # no echo
+        ("go to the kitchen, the nearest bedroom", ["kitchen", "bedroom"]),  # "the nearest X": a place of its own
+    ],
+)
+def test_reviewed_sentences_keep_their_places(text, visit):
+    assert _plan(text)[0] == visit
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "the kitchen is forbidden, go to the hall",  # passability
+        "go to the hall, the corridor is quicker",  # a way through advised
+        "you're vacuuming the hall later, go to the kitchen now",  # the robot's time
+        "Tonight. Robot, go to the kitchen.",  # a time before the robot's name may be the robot's
+        "the kids are asleep in bedroom 1 and bedroom 2, so stay out of there and go to the kitchen",
+    ],
+)
+def test_reviewed_sentences_are_refused(text):
+    with pytest.raises(InstructionError):
+        read(text, PLACE_WORDS_EN, "en")
