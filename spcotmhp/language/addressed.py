@@ -16,10 +16,12 @@ itself, never by が / を / の / に (ロボットが動くよ: the robot as a
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Sequence
 
 from spcotmhp.language.placewords import Token
+from spcotmhp.language.rewrite_en import NUMBERS
 from spcotmhp.language.table import WordTable
 
 _SAID_TO_OTHERS = frozenset(
@@ -75,7 +77,7 @@ def _means(tok: Token, meaning: frozenset[str], by_character: bool) -> bool:
 
 
 _WAYS = frozenset({"way", "route", "short", "long", "usual", "backwards", "stairs", "round", "around", "number"})
-_NUMBER_WORDS = frozenset("one two three four five six seven eight nine ten first second third last".split())  # noqa: SIM905
+_NUMBER_WORDS = (frozenset(NUMBERS) - {"a", "an"}) | {"first", "second", "third", "last"}
 
 
 def _to_others(tok: Token) -> bool:
@@ -92,10 +94,16 @@ def _address_en(units: list[str], names: tuple[str, ...]) -> tuple[int, int] | N
     return None
 
 
+@functools.cache
+def _name_pattern(names: tuple[str, ...]) -> re.Pattern[str]:
+    """The robot's names, longest first, with what may follow an address (:data:`_JA_AFTER`), compiled once."""
+    return re.compile("(?:" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + ")" + _JA_AFTER)
+
+
 def _address_ja(text: str, names: tuple[str, ...]) -> tuple[int, int] | None:
     """The span (character indices, spaces left out) of the last place the robot is called by name, with its
     honorific (ロボットはん, ロボ公) and the pause after it."""
     chars = "".join(ch for ch in text if not ch.isspace())
-    pattern = re.compile("(?:" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + ")" + _JA_AFTER)
+    pattern = _name_pattern(names)
     found = [(m.start(), m.end()) for m in pattern.finditer(chars)]
     return found[-1] if found else None

@@ -45,7 +45,8 @@ def _said_after(items: list[Token]) -> list[Token]:
     return [*before[: pause + 1], last, *before[pause + 1 :], *items[end:]]
 
 
-_RELATION_KINDS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"})
+RELATION_KINDS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"})
+"""The English classes of a relation said with its place ("nearest the kitchen"); one home for forms and repairs."""
 
 
 def _relation_again(items: list[Token]) -> list[Token]:
@@ -56,9 +57,9 @@ def _relation_again(items: list[Token]) -> list[Token]:
         if it.kind != "CORRECTION":
             continue
         j = k + 1 + (items[k + 1].kind == "COMMA")
-        if j + 1 < len(items) and items[j].kind in _RELATION_KINDS and items[j + 1].kind == "PLACE":
+        if j + 1 < len(items) and items[j].kind in RELATION_KINDS and items[j + 1].kind == "PLACE":
             head = next((items[m] for m in range(k - 1, -1, -1)
-                         if items[m].kind == "PLACE" and items[m + 1].kind in _RELATION_KINDS), None)  # fmt: skip
+                         if items[m].kind == "PLACE" and items[m + 1].kind in RELATION_KINDS), None)  # fmt: skip
             if head is not None:
                 heads[j] = head._replace(start=items[j].start, end=items[j].start)
     if not heads:

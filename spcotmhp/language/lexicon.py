@@ -116,8 +116,9 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
         out = corrections_en(out)
     if "WORD" in kinds:  # a room told by what is in it (rule 9) always holds a word of no class
         out = contents_en(out, table, places)
+    units = english_units(text) if kinds & {"WORD", "ONE", "NEAREST", "CLOSEST", "FARTHEST"} else []
     if "WORD" in kinds or "ONE" in kinds:
-        out = numbered_en(out, english_units(text))
+        out = numbered_en(out, units)
     if "WORD" in kinds and "PLACE" in kinds:
         out = owners_and_sides(out, places.words)
     out = _said_again_en(merge(out), kinds)
@@ -138,7 +139,7 @@ def tokens(text: str, table: WordTable, place_words: Sequence[str]) -> list[Toke
     if "BUT" in kinds and "ONE_OF" in kinds:
         out = any_but_en(out)
     if kinds & {"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"} and kinds & {"COMMA", "_STOP"}:
-        out = apposed_en(out, english_units(text))  # repairs_en: "the bedroom, nearest the kitchen"
+        out = apposed_en(out, units)  # repairs_en: "the bedroom, nearest the kitchen"
     if kinds & {"NEAREST", "MODIFIER", "OF"}:
         out = relations_en(out)
     return out

@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 
 from spcotmhp.language import english_words as ew
+from spcotmhp.language.forms_en import RELATION_KINDS
 from spcotmhp.language.placewords import Token
 from spcotmhp.language.rewrite_en import instance_number
 from spcotmhp.language.wording import excerpt
@@ -332,7 +333,7 @@ def echoes_en(items: list[Token]) -> list[Token]:
     return out
 
 
-_RELATIONS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO", "BETWEEN", "AS_FAR_FROM"})
+_RELATIONS = RELATION_KINDS | {"BETWEEN", "AS_FAR_FROM"}
 _ECHOED = _RELATIONS | {"PLACE", "ONE", "AND", "LARGEST", "SMALLEST", "OF"}
 """What an echo may hold: places and their relations ("The laundry. Nearest the laundry."), no verb or order."""
 
@@ -341,8 +342,7 @@ def _said(tok: Token) -> tuple[str, tuple[str, ...], int | None]:
     return tok.kind, tok.words if tok.kind == "PLACE" else (tok.surface.lower(),), tok.number
 
 
-_RELATION_WORDS = frozenset({"NEAREST", "CLOSEST", "FARTHEST", "NEXT_TO"})
-_APPOSED = frozenset({"NEAREST", "CLOSEST", "FARTHEST"})
+_APPOSED = RELATION_KINDS - {"NEXT_TO"}
 """Relations that may follow a place after a pause ("next to the hall, then ..." may be "next, to the hall")."""
 
 
@@ -375,7 +375,7 @@ def apposed_en(items: list[Token], units: Sequence[str] = ()) -> list[Token]:
             and nxt is not None
             and nxt.kind == "ONE"
             and k + 2 < len(items)
-            and items[k + 2].kind in (_RELATION_WORDS)
+            and items[k + 2].kind in RELATION_KINDS
         ):
             k += 2  # "Which bedroom? The one nearest ...": the answer's relation picks the place asked about
             continue

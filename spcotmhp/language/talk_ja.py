@@ -332,8 +332,10 @@ _SAID_BUT = re.compile(
     _REQUESTED
     + r"\s*(?:って|と)\s*(?:言|い)(?:った|ってた|ってたん|われた|われてた)(?:だ)?(?:けど|けれど|が)(?=[、,\s])"
 )
+_KIN_ENDINGS = "さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹"
+"""Endings of a word naming a person (ちゃん, 母): one list for the sayer of a request and someone who moves."""
 _SAYER = re.compile(r"^\s*([^、。,\s]{1,12}?)が(?:ね|さ|な)?(?:[、,\s]|(?=[^、。,\s]))")
-_KIN = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|ぱぱ|まま|じい|ばあ|父|母|兄|姉|弟|妹|先生)$")
+_KIN = re.compile(rf"(?:{_KIN_ENDINGS}|ぱぱ|まま|先生)$")
 
 
 def relayed(text: str) -> str:
@@ -352,7 +354,7 @@ def relayed(text: str) -> str:
     return quoted
 
 
-PEOPLE = re.compile(r"(?:さん|ちゃん|くん|様|パパ|ママ|じい|ばあ|父|母|兄|姉|弟|妹|客|人)$")
+PEOPLE = re.compile(rf"(?:{_KIN_ENDINGS}|客|人)$")
 """A word naming a person: before 帰る / 来る the person comes or goes home, not the robot (rewrite_ja too)."""
 
 
